@@ -1,0 +1,27 @@
+# Two commands: `make run` and `make test`. Both create .venv if it is missing and (re)install when
+# pyproject.toml changed.
+PYTHON ?= python3.11
+VENV   := .venv
+BIN    := $(VENV)/bin
+STAMP  := $(VENV)/.installed
+
+.PHONY: run test lint clean
+
+$(STAMP): pyproject.toml
+	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV) || python3 -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e '.[dev]'
+	@touch $(STAMP)
+
+run: $(STAMP)
+	@mkdir -p runs
+	$(BIN)/scone-run --robot sim --headless --seed 0 --save runs/episode.rrd
+
+test: $(STAMP)
+	$(BIN)/python -m pytest
+
+lint: $(STAMP)
+	$(BIN)/ruff check scone_bt tests tools
+	$(BIN)/ruff format --check scone_bt tests tools
+
+clean:
+	rm -rf $(VENV) runs .pytest_cache

@@ -1,0 +1,71 @@
+"""Reading YAML with errors that name the file and the problem in one line."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from scone_bt.errors import ConfigError
+
+__all__ = ["read_yaml", "require", "Fields"]
+
+
+def read_yaml(path: Path) -> dict[str, Any]:
+    """Parse a YAML mapping or raise ConfigError naming the file."""
+    try:
+        data = yaml.safe_load(Path(path).read_text())
+    except FileNotFoundError:
+        raise ConfigError(f"{path}: file not found") from None
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f" line {mark.line + 1}" if mark is not None else ""
+        raise ConfigError(f"{path}:{where} is not valid YAML ({getattr(exc, 'problem', exc)})") from None
+    if not isinstance(data, dict):
+        raise ConfigError(f"{path}: expected a mapping at the top level, got {type(data).__name__}")
+    return data
+
+
+class Fields:
+    """Typed access to one mapping of a config file, with errors that say where."""
+
+    def __init__(self, data: Mapping[str, Any], where: str) -> None:
+        if not isinstance(data, Mapping):
+            raise ConfigError(f"{where}: expected a mapping, got {type(data).__name__}")
+        self.data = data
+        self.where = where
+
+    def get(self, key: str, kind: type | tuple[type, ...], default: Any = ...) -> Any:
+        if key not in self.data:
+            if default is ...:
+                raise ConfigError(f"{self.where}: missing key {key!r}; present: {', '.join(self.data) or '(none)'}")
+            return default
+        value = self.data[key]
+        if kind is float and isinstance(value, int) and not isinstance(value, bool):
+            value = float(value)
+        if not isinstance(value, kind):
+            name = kind.__name__ if isinstance(kind, type) else "/".join(k.__name__ for k in kind)
+            raise ConfigError(f"{self.where}.{key}: expected {name}, got {value!r}")
+        return value
+
+    def vector(self, key: str, length: int | None = None, default: Any = ...) -> tuple[float, ...]:
+        value = self.get(key, list, default)
+        if value is default and default is not ...:
+            return default
+        try:
+            out = tuple(float(v) for v in value)
+        except (TypeError, ValueError):
+            raise ConfigError(f"{self.where}.{key}: expected a list of numbers, got {value!r}") from None
+        if length is not None and len(out) != length:
+            raise ConfigError(f"{self.where}.{key}: expected {length} numbers, got {len(out)}")
+        return out
+
+    def sub(self, key: str) -> Fields:
+        return Fields(self.get(key, dict), f"{self.where}.{key}")
+
+
+def require(cond: bool, message: str) -> None:
+    if not cond:
+        raise ConfigError(message)

@@ -1,0 +1,63 @@
+"""Finds the declarative inputs (robots/, perception/, trees/) in a checkout or in an installed wheel."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Literal
+
+from scone_bt.errors import ConfigError, UnknownNameError
+
+__all__ = ["DataKind", "data_dir", "resolve_file", "repo_root", "shared_dir"]
+
+DataKind = Literal["robots", "perception", "trees"]
+_PACKAGE = Path(__file__).resolve().parent
+
+
+def repo_root() -> Path | None:
+    """The checkout root when running from a source tree, else None."""
+    root = _PACKAGE.parent
+    return root if (root / "pyproject.toml").is_file() and (root / "robots").is_dir() else None
+
+
+def data_dir(kind: DataKind) -> Path:
+    """Directory holding the user-editable files of one kind.
+
+    Order: $SCONE_BT_DATA/<kind>, the checkout's top-level folder, the copy inside the wheel.
+    """
+    candidates = []
+    if env := os.environ.get("SCONE_BT_DATA"):
+        candidates.append(Path(env) / kind)
+    if (root := repo_root()) is not None:
+        candidates.append(root / kind)
+    candidates.append(_PACKAGE / "_data" / kind)
+    for path in candidates:
+        if path.is_dir():
+            return path
+    raise ConfigError(f"cannot find the {kind}/ folder; looked in: {', '.join(map(str, candidates))}")
+
+
+def resolve_file(kind: DataKind, name_or_path: str | os.PathLike[str], suffixes: tuple[str, ...]) -> Path:
+    """A file given by path, or by bare name inside data_dir(kind) (e.g. 'panda' → robots/panda.yaml)."""
+    path = Path(name_or_path)
+    if path.is_file():
+        return path
+    folder = data_dir(kind)
+    for suffix in ("", *suffixes):
+        candidate = folder / f"{name_or_path}{suffix}"
+        if candidate.is_file():
+            return candidate
+    names = sorted({p.stem for p in folder.iterdir() if p.suffix in suffixes})
+    raise UnknownNameError(kind.rstrip("s"), str(name_or_path), names)
+
+
+def shared_dir() -> Path | None:
+    """The workplace's shared/ folder beside the checkout (holds the recipe corpus), if present."""
+    for candidate in (
+        Path(os.environ["SCONE_BT_SHARED"]) if "SCONE_BT_SHARED" in os.environ else None,
+        (repo_root() or Path.cwd()).parent / "shared",
+        Path.cwd().parent / "shared",
+    ):
+        if candidate is not None and candidate.is_dir():
+            return candidate
+    return None

@@ -1,0 +1,293 @@
+"""A PyBullet kitchen: a robot on a pedestal between a stepped shelf and a table.
+
+This module is the only place (besides the perception and motion adapters) that talks to PyBullet. The robot's
+own stages never read ground truth from here; the simulated human, outcome checks and tests do.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
+from scone_bt.errors import ConfigError, UnknownNameError
+from scone_bt.world.visuals import create_object_visual
+
+__all__ = ["Kitchen", "ObjectState", "StaticBox", "Controller"]
+
+Controller = Callable[["Kitchen"], None]
+"""Called before every physics step, e.g. to send joint targets. Returns nothing."""
+
+
+@dataclass(frozen=True)
+class StaticBox:
+    """An immovable box of the scene. Centre and full size in metres, world frame."""
+
+    name: str
+    center: tuple[float, float, float]
+    size: tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class ObjectState:
+    """Ground-truth pose of one spawned object: position (m) and quaternion (x, y, z, w)."""
+
+    name: str
+    body_id: int
+    position: tuple[float, float, float]
+    orientation: tuple[float, float, float, float]
+
+
+class Kitchen:
+    """The simulated world. Create with `Kitchen(kitchen_cfg, robot_cfg)`; spawn objects with `spawn`.
+
+    Args:
+        kitchen: Scene, camera and catalogue.
+        robot: The arm to load.
+        gui: Open PyBullet's own window (debugging only; scone-run uses rerun instead).
+        time_step: Physics step in seconds.
+    """
+
+    def __init__(
+        self, kitchen: KitchenConfig, robot: RobotConfig, *, gui: bool = False, time_step: float = 1.0 / 240.0
+    ) -> None:
+        import pybullet as p
+        from pybullet_utils.bullet_client import BulletClient
+
+        self.config = kitchen
+        self.robot_config = robot
+        self.bc = BulletClient(connection_mode=p.GUI if gui else p.DIRECT)
+        self.time_step = time_step
+        self.sim_time = 0.0
+        self.steps = 0
+        self._controllers: list[Controller] = []
+        self.objects: dict[str, int] = {}
+        self.specs: dict[str, ObjectSpec] = {}
+        self.spawn_slots: dict[str, tuple[float, float, float]] = {}
+
+        bc = self.bc
+        bc.resetSimulation()
+        bc.setGravity(0, 0, -9.81)
+        bc.setTimeStep(time_step)
+        bc.setPhysicsEngineParameter(numSolverIterations=150, deterministicOverlappingPairs=1)
+        self.static_boxes = self._build_static_scene()
+        self.robot_id, self.joint_index = self._load_robot()
+
+    # ----------------------------------------------------------------------------------------- scene
+    def _build_static_scene(self) -> list[StaticBox]:
+        import pybullet as p
+
+        scene = self.config.scene
+        boxes = [
+            StaticBox("pedestal", *scene.pedestal),
+            StaticBox("table", *scene.table),
+        ]
+        y0, y1 = scene.shelf_y_range
+        for i, (cx, top) in enumerate(scene.shelf_tiers):
+            height = top - scene.floor_z
+            boxes.append(
+                StaticBox(f"shelf_tier{i}", (cx, (y0 + y1) / 2, scene.floor_z + height / 2), (scene.tier_depth, y1 - y0, height))
+            )
+        colours = {"pedestal": (0.3, 0.3, 0.3, 1), "table": (0.55, 0.40, 0.25, 1)}
+        self.static_body_ids: dict[str, int] = {}
+        for box in boxes:
+            half = [s / 2 for s in box.size]
+            col = self.bc.createCollisionShape(p.GEOM_BOX, halfExtents=half)
+            vis = self.bc.createVisualShape(p.GEOM_BOX, halfExtents=half, rgbaColor=colours.get(box.name, (0.75, 0.72, 0.65, 1)))
+            body = self.bc.createMultiBody(0, col, vis, basePosition=box.center)
+            self.bc.changeDynamics(body, -1, lateralFriction=0.8)
+            self.static_body_ids[box.name] = body
+        plane = self.bc.createCollisionShape(p.GEOM_PLANE)
+        plane_vis = self.bc.createVisualShape(p.GEOM_BOX, halfExtents=[2, 2, 0.001], rgbaColor=(0.9, 0.9, 0.9, 1))
+        self.floor_id = self.bc.createMultiBody(0, plane, plane_vis, basePosition=(0, 0, scene.floor_z))
+        return boxes
+
+    def _load_robot(self) -> tuple[int, dict[str, int]]:
+        import pybullet as p
+
+        cfg = self.robot_config
+        try:
+            rid = self.bc.loadURDF(
+                str(cfg.urdf), basePosition=cfg.base_position, useFixedBase=True, flags=p.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT
+            )
+        except p.error as exc:
+            raise ConfigError(f"{cfg.source}: PyBullet could not load URDF {cfg.urdf} ({exc})") from None
+        index = {}
+        for j in range(self.bc.getNumJoints(rid)):
+            info = self.bc.getJointInfo(rid, j)
+            index[info[1].decode()] = j
+        missing = [n for n in (*cfg.arm_joints, *cfg.gripper.joints) if n not in index]
+        if missing:
+            raise UnknownNameError("joint", missing[0], index)
+        for name, q in zip(cfg.arm_joints, cfg.home, strict=True):
+            self.bc.resetJointState(rid, index[name], q)
+        for name in cfg.gripper.joints:
+            self.bc.resetJointState(rid, index[name], cfg.gripper.open_position)
+            self.bc.changeDynamics(rid, index[name], lateralFriction=cfg.gripper.finger_friction)
+        self.robot_id, self.joint_index = rid, index
+        self.hold_arm(cfg.home)
+        self.set_gripper_target(cfg.gripper.open_position)
+        return rid, index
+
+    # ----------------------------------------------------------------------------------------- objects
+    def spawn(self, specs: Sequence[ObjectSpec], rng: np.random.Generator) -> dict[str, tuple[float, float, float]]:
+        """Place objects at distinct random shelf slots and let them settle. Returns name → slot."""
+        import pybullet as p
+
+        slots = self.config.scene.shelf_slots()
+        if len(specs) > len(slots):
+            raise ConfigError(f"{len(specs)} objects do not fit on the shelf's {len(slots)} slots")
+        chosen = rng.permutation(len(slots))[: len(specs)]
+        for spec, slot_index in zip(specs, chosen, strict=True):
+            if spec.name in self.objects:
+                raise ConfigError(f"object {spec.name!r} is already in the kitchen")
+            x, y, z = slots[int(slot_index)]
+            sx, sy, sz = spec.size
+            if spec.shape == "box":
+                col = self.bc.createCollisionShape(p.GEOM_BOX, halfExtents=[sx / 2, sy / 2, sz / 2])
+            else:
+                col = self.bc.createCollisionShape(p.GEOM_CYLINDER, radius=sx / 2, height=sz)
+            vis = create_object_visual(self.bc, spec)
+            yaw = float(rng.uniform(-0.3, 0.3))
+            body = self.bc.createMultiBody(
+                spec.mass, col, vis, basePosition=(x, y, z + sz / 2 + 1e-3), baseOrientation=self.bc.getQuaternionFromEuler((0, 0, yaw))
+            )
+            self.bc.changeDynamics(body, -1, lateralFriction=spec.friction, spinningFriction=0.001, rollingFriction=0.0005)
+            self.objects[spec.name] = body
+            self.specs[spec.name] = spec
+            self.spawn_slots[spec.name] = (x, y, z)
+        self.advance(0.5)
+        return dict(self.spawn_slots)
+
+    def object_state(self, name: str) -> ObjectState:
+        body = self._body(name)
+        pos, orn = self.bc.getBasePositionAndOrientation(body)
+        return ObjectState(name, body, tuple(pos), tuple(orn))  # type: ignore[arg-type]
+
+    def _body(self, name: str) -> int:
+        try:
+            return self.objects[name]
+        except KeyError:
+            raise UnknownNameError("object in the kitchen", name, self.objects) from None
+
+    def is_on_table(self, name: str) -> bool:
+        """True if the object rests upright on the table top (ground truth)."""
+        (cx, cy, cz), (sx, sy, sz) = self.config.scene.table
+        st = self.object_state(name)
+        x, y, z = st.position
+        spec = self.specs[name]
+        inside = abs(x - cx) <= sx / 2 and abs(y - cy) <= sy / 2
+        resting = abs(z - (cz + sz / 2) - spec.height / 2) < 0.03
+        return inside and resting and self._upright(st)
+
+    def is_on_shelf(self, name: str) -> bool:
+        scene = self.config.scene
+        x, y, z = self.object_state(name).position
+        y0, y1 = scene.shelf_y_range
+        x0 = min(cx for cx, _ in scene.shelf_tiers) - scene.tier_depth / 2
+        x1 = max(cx for cx, _ in scene.shelf_tiers) + scene.tier_depth / 2
+        return x0 <= x <= x1 and y0 <= y <= y1 and z > scene.floor_z + 0.2
+
+    def _upright(self, st: ObjectState) -> bool:
+        rot = np.array(self.bc.getMatrixFromQuaternion(st.orientation)).reshape(3, 3)
+        return bool(rot[2, 2] > 0.9)
+
+    def free_place_spot(self) -> tuple[float, float, float] | None:
+        """First table spot with no object within 7 cm; (x, y, table top z)."""
+        top = self.config.scene.table_top_z
+        occupied = [self.object_state(n).position for n in self.objects]
+        for x, y in self.config.scene.place_spots:
+            if all(np.hypot(x - ox, y - oy) > 0.07 or oz > top + 0.3 or oz < top - 0.05 for ox, oy, oz in occupied):
+                return (x, y, top)
+        return None
+
+    def human_place_on_table(self, name: str) -> bool:
+        """The simulated human carries the object to a free table spot (by hand, not by the robot)."""
+        spot = self.free_place_spot()
+        if spot is None:
+            return False
+        spec = self.specs[name]
+        x, y, top = spot
+        self.bc.resetBasePositionAndOrientation(self._body(name), (x, y, top + spec.height / 2 + 1e-3), (0, 0, 0, 1))
+        self.bc.resetBaseVelocity(self._body(name), (0, 0, 0), (0, 0, 0))
+        return True
+
+    # ----------------------------------------------------------------------------------------- robot
+    def arm_joint_positions(self) -> np.ndarray:
+        ids = [self.joint_index[n] for n in self.robot_config.arm_joints]
+        return np.array([s[0] for s in self.bc.getJointStates(self.robot_id, ids)])
+
+    def arm_joint_velocities(self) -> np.ndarray:
+        ids = [self.joint_index[n] for n in self.robot_config.arm_joints]
+        return np.array([s[1] for s in self.bc.getJointStates(self.robot_id, ids)])
+
+    def gripper_positions(self) -> np.ndarray:
+        ids = [self.joint_index[n] for n in self.robot_config.gripper.joints]
+        return np.array([s[0] for s in self.bc.getJointStates(self.robot_id, ids)])
+
+    def hold_arm(self, q: Sequence[float]) -> None:
+        """Command arm joint position targets (PyBullet position control)."""
+        import pybullet as p
+
+        cfg = self.robot_config
+        ids = [self.joint_index[n] for n in cfg.arm_joints]
+        self.bc.setJointMotorControlArray(
+            self.robot_id,
+            ids,
+            p.POSITION_CONTROL,
+            targetPositions=list(q),
+            forces=[cfg.control.max_joint_force] * len(ids),
+            positionGains=[cfg.control.position_gain] * len(ids),
+        )
+
+    def set_gripper_target(self, position: float, force: float | None = None) -> None:
+        import pybullet as p
+
+        g = self.robot_config.gripper
+        ids = [self.joint_index[n] for n in g.joints]
+        f = g.max_force if force is None else force
+        self.bc.setJointMotorControlArray(
+            self.robot_id, ids, p.POSITION_CONTROL, targetPositions=[position] * len(ids), forces=[f] * len(ids)
+        )
+
+    def link_poses(self) -> dict[str, tuple[tuple[float, ...], tuple[float, ...]]]:
+        """World pose (position, quaternion xyzw) of every robot link, by link name; the base is 'base'."""
+        out = {}
+        pos, orn = self.bc.getBasePositionAndOrientation(self.robot_id)
+        out["base"] = (tuple(pos), tuple(orn))
+        for j in range(self.bc.getNumJoints(self.robot_id)):
+            name = self.bc.getJointInfo(self.robot_id, j)[12].decode()
+            st = self.bc.getLinkState(self.robot_id, j, computeForwardKinematics=True)
+            out[name] = (tuple(st[4]), tuple(st[5]))
+        return out
+
+    # ----------------------------------------------------------------------------------------- time
+    def add_controller(self, controller: Controller) -> None:
+        self._controllers.append(controller)
+
+    def remove_controller(self, controller: Controller) -> None:
+        if controller in self._controllers:
+            self._controllers.remove(controller)
+
+    def advance(self, seconds: float) -> None:
+        """Step physics for `seconds` of simulated time, running the active controllers before each step."""
+        for _ in range(max(1, round(seconds / self.time_step))):
+            for controller in list(self._controllers):
+                controller(self)
+            self.bc.stepSimulation()
+            self.steps += 1
+            self.sim_time += self.time_step
+
+    def close(self) -> None:
+        try:
+            self.bc.disconnect()
+        except Exception:  # already disconnected; closing twice must be harmless
+            pass
+
+    def __enter__(self) -> Kitchen:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
