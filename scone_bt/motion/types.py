@@ -1,0 +1,104 @@
+"""Data that leaves the motion stage: typed plans, trajectories and pick-and-place outcomes."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from enum import Enum
+
+import numpy as np
+
+__all__ = ["FailureStage", "PlanStatus", "PlanResult", "TimedTrajectory", "MotionOutcome", "MotionProgress"]
+
+
+class FailureStage(str, Enum):
+    """Where a pick-and-place failed. The values are stored in the experience database."""
+
+    PERCEPTION = "perception"
+    IK = "ik"
+    PLANNING = "planning"
+    GRASP = "grasp"  # the object slipped out while closing or lifting
+    TRANSIT = "transit"  # dropped while carrying
+    COLLISION = "collision"
+    PLACE = "place"  # released but not resting upright on the table
+    TIMEOUT = "timeout"
+    CANCELLED = "cancelled"  # the human took over
+
+
+class PlanStatus(str, Enum):
+    SUCCESS = "success"
+    START_INVALID = "start_invalid"
+    GOAL_INVALID = "goal_invalid"
+    IK_FAILED = "ik_failed"
+    TIMED_OUT = "timed_out"
+    NO_SOLUTION = "no_solution"
+
+
+@dataclass(frozen=True, eq=False)
+class PlanResult:
+    """Result of one joint-space planning query.
+
+    Attributes:
+        status: SUCCESS or why it failed.
+        path: (N, dof) joint waypoints in radians when successful, else None.
+        planning_time: Wall time spent, seconds.
+        message: Human-readable detail.
+    """
+
+    status: PlanStatus
+    path: np.ndarray | None
+    planning_time: float
+    message: str = ""
+
+    @property
+    def success(self) -> bool:
+        return self.status is PlanStatus.SUCCESS
+
+
+@dataclass(frozen=True, eq=False)
+class TimedTrajectory:
+    """A jerk-limited trajectory sampled at the control rate.
+
+    Attributes:
+        times: (T,) seconds from the start.
+        positions: (T, dof) radians.
+        velocities: (T, dof) rad/s.
+        accelerations: (T, dof) rad/s².
+    """
+
+    times: np.ndarray
+    positions: np.ndarray
+    velocities: np.ndarray
+    accelerations: np.ndarray
+
+    @property
+    def duration(self) -> float:
+        return float(self.times[-1]) if len(self.times) else 0.0
+
+
+@dataclass(frozen=True, eq=False)
+class MotionOutcome:
+    """How one pick-and-place ended.
+
+    Attributes:
+        success: The object rests upright on the table.
+        stage: None on success, else where it failed.
+        message: Human-readable detail.
+        duration: Simulated seconds from start to end.
+        trajectories: Every timed segment that was executed (for plots and limit checks).
+        ee_path: (N, 3) planned end-effector positions, metres (for the 3D trace).
+    """
+
+    success: bool
+    stage: FailureStage | None
+    message: str
+    duration: float
+    trajectories: tuple[TimedTrajectory, ...] = ()
+    ee_path: np.ndarray | None = field(default=None)
+
+
+@dataclass(frozen=True)
+class MotionProgress:
+    """What a running pick-and-place is doing now (phase name, fraction done in [0, 1])."""
+
+    phase: str
+    fraction: float
