@@ -1,22 +1,176 @@
-"""How catalogue objects look in the simulator: a coloured body with the object's fiducial on its lid."""
+"""How catalogue objects look in the simulator: a coloured body with the object's fiducial on its lid.
+
+Each object is one rigid body whose visual is a compound of PyBullet primitives: the body (box or cylinder in the
+catalogue's colour), a thin white cap on the lid, and the black cells of an ArUco marker (DICT_4X4_50, the
+catalogue's ``marker_id``) laid on the cap. Building the marker from boxes instead of a texture keeps the scene free
+of image files and renders identically in every PyBullet renderer. The collision shape is untouched.
+
+The marker's layout is public (`lid_marker`) because a detector needs it the way a real robot needs the printed
+tag size: it is appearance knowledge, not simulator state.
+"""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from functools import cache
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from scone_bt.config import ObjectSpec
+from scone_bt.errors import ConfigError
 
 if TYPE_CHECKING:
     from pybullet_utils.bullet_client import BulletClient
 
-__all__ = ["create_object_visual"]
+__all__ = [
+    "ARUCO_DICTIONARY",
+    "MARKER_CELLS",
+    "LidMarker",
+    "lid_marker",
+    "marker_cells",
+    "create_object_visual",
+]
+
+ARUCO_DICTIONARY = "DICT_4X4_50"
+"""The cv2.aruco dictionary the markers come from."""
+MARKER_CELLS = 6
+"""Cells per marker side: 4 data bits plus a one-cell black border on each side."""
+DICTIONARY_SIZE = 50
+
+_CAP_THICKNESS = 0.0015  # metres: the white cap that carries the marker
+# TinyRenderer tessellates a cylinder's flat end as a shallow cone (about 0.9 mm high at the centre), so the black
+# cells float a little above the cap to stay visible on round lids too.
+_INK_GAP = 0.001  # metres
+_INK_THICKNESS = 0.0005  # metres
+_MAX_SHAPES = 14  # PyBullet keeps at most this many primitives per visual shape array
+_QUIET_FRACTION = 0.06  # white margin around the marker as a fraction of the lid's usable square
+_MIN_QUIET = 0.0015  # metres
+_CAP_RGBA = (0.97, 0.97, 0.97, 1.0)
+_INK_RGBA = (0.03, 0.03, 0.03, 1.0)
+
+
+@dataclass(frozen=True)
+class LidMarker:
+    """Where an object's fiducial sits, in the object's body frame.
+
+    Attributes:
+        marker_id: ArUco id (DICT_4X4_50).
+        side: Side length of the marker including its black border, metres.
+        lift: Height of the printed surface above the object's top face, metres.
+        top_z: Height of the top face above the body origin (the body's centre), metres.
+
+    The marker is centred on the lid; its image x axis (corner 0 → corner 1) points along the body's +x axis and
+    its image y axis (corner 0 → corner 3) along the body's -y axis, so a camera above reads the body's yaw.
+    """
+
+    marker_id: int
+    side: float
+    lift: float
+    top_z: float
+
+
+def lid_marker(spec: ObjectSpec) -> LidMarker:
+    """The marker layout on one catalogue object's lid.
+
+    Raises:
+        ConfigError: If the marker id is outside the dictionary.
+    """
+    if not 0 <= spec.marker_id < DICTIONARY_SIZE:
+        raise ConfigError(
+            f"object {spec.name!r}: marker_id {spec.marker_id} is not in {ARUCO_DICTIONARY} (valid: 0-{DICTIONARY_SIZE - 1})"
+        )
+    sx, sy, sz = spec.size
+    # The largest square on the lid: the whole short side of a box, the inscribed square of a disc.
+    usable = min(sx, sy) if spec.shape == "box" else sx / np.sqrt(2.0)
+    quiet = max(_QUIET_FRACTION * usable, _MIN_QUIET)
+    return LidMarker(
+        marker_id=spec.marker_id,
+        side=float(usable - 2 * quiet),
+        lift=_CAP_THICKNESS + _INK_GAP + _INK_THICKNESS,
+        top_z=sz / 2,
+    )
+
+
+@cache
+def marker_cells(marker_id: int) -> np.ndarray:
+    """(6, 6) bool array, True where the marker is black; row 0 is the marker's top edge."""
+    import cv2
+
+    dictionary = cv2.aruco.getPredefinedDictionary(getattr(cv2.aruco, ARUCO_DICTIONARY))
+    image = cv2.aruco.generateImageMarker(dictionary, marker_id, MARKER_CELLS)
+    cells = image < 128
+    cells.setflags(write=False)
+    return cells
+
+
+def _black_runs(cells: np.ndarray) -> list[tuple[int, int, int, int]]:
+    """Black cells merged into rectangles (row, column, rows, columns): rows or columns, whichever needs fewer."""
+    across = [(r, c, 1, n) for r, c, n in _row_runs(cells)]
+    down = [(r, c, n, 1) for c, r, n in _row_runs(cells.T)]
+    return across if len(across) <= len(down) else down
+
+
+def _row_runs(cells: np.ndarray) -> list[tuple[int, int, int]]:
+    """Horizontal runs of black cells as (row, first column, length)."""
+    runs = []
+    for r, row in enumerate(cells):
+        c = 0
+        while c < len(row):
+            if row[c]:
+                start = c
+                while c < len(row) and row[c]:
+                    c += 1
+                runs.append((r, start, c - start))
+            else:
+                c += 1
+    return runs
 
 
 def create_object_visual(bc: BulletClient, spec: ObjectSpec) -> int:
-    """Return a PyBullet visual shape id for the object."""
+    """Return a PyBullet visual shape id for the object: body, white cap and marker, one rigid visual."""
     import pybullet as p
 
     sx, sy, sz = spec.size
+    marker = lid_marker(spec)
+    types: list[int] = []
+    half: list[list[float]] = []
+    radii: list[float] = []
+    lengths: list[float] = []
+    colours: list[list[float]] = []
+    frames: list[list[float]] = []
+
+    def add(kind: int, position: list[float], rgba: tuple[float, ...], *, he=(0.0, 0.0, 0.0), radius=0.0, length=0.0):
+        types.append(kind)
+        half.append(list(he))
+        radii.append(radius)
+        lengths.append(length)
+        colours.append(list(rgba))
+        frames.append(position)
+
     if spec.shape == "box":
-        return bc.createVisualShape(p.GEOM_BOX, halfExtents=[sx / 2, sy / 2, sz / 2], rgbaColor=list(spec.rgba))
-    return bc.createVisualShape(p.GEOM_CYLINDER, radius=sx / 2, length=sz, rgbaColor=list(spec.rgba))
+        add(p.GEOM_BOX, [0, 0, 0], spec.rgba, he=(sx / 2, sy / 2, sz / 2))
+        add(p.GEOM_BOX, [0, 0, sz / 2 + _CAP_THICKNESS / 2], _CAP_RGBA, he=(sx / 2, sy / 2, _CAP_THICKNESS / 2))
+    else:
+        add(p.GEOM_CYLINDER, [0, 0, 0], spec.rgba, radius=sx / 2, length=sz)
+        add(p.GEOM_CYLINDER, [0, 0, sz / 2 + _CAP_THICKNESS / 2], _CAP_RGBA, radius=sx / 2, length=_CAP_THICKNESS)
+
+    cell = marker.side / MARKER_CELLS
+    z = sz / 2 + marker.lift - _INK_THICKNESS / 2
+    runs = _black_runs(marker_cells(spec.marker_id))
+    if len(runs) + len(types) > _MAX_SHAPES:
+        raise ConfigError(f"object {spec.name!r}: marker {spec.marker_id} needs too many primitives to draw")
+    for row, col, rows, cols in runs:
+        # Column grows along +x, row grows along -y (see LidMarker).
+        cx = (col + cols / 2) * cell - marker.side / 2
+        cy = marker.side / 2 - (row + rows / 2) * cell
+        add(p.GEOM_BOX, [cx, cy, z], _INK_RGBA, he=(cols * cell / 2, rows * cell / 2, _INK_THICKNESS / 2))
+
+    return bc.createVisualShapeArray(
+        shapeTypes=types,
+        halfExtents=half,
+        radii=radii,
+        lengths=lengths,
+        rgbaColors=colours,
+        visualFramePositions=frames,
+    )

@@ -1,0 +1,30 @@
+"""From detections to affordances, using only the known shelf geometry."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from scone_bt.affordances.types import Affordance, action_text
+from scone_bt.config import SceneSpec
+from scone_bt.perception.types import Detection
+
+__all__ = ["on_shelf", "generate_affordances"]
+
+
+def on_shelf(position: Sequence[float], scene: SceneSpec, margin: float = 0.03) -> bool:
+    """True if a world position lies above the shelf's footprint (metres)."""
+    x, y, z = position
+    y0, y1 = scene.shelf_y_range
+    xs = [cx for cx, _ in scene.shelf_tiers]
+    x0, x1 = min(xs) - scene.tier_depth / 2, max(xs) + scene.tier_depth / 2
+    lowest = min(top for _, top in scene.shelf_tiers)
+    return x0 - margin <= x <= x1 + margin and y0 - margin <= y <= y1 + margin and z >= lowest - margin
+
+
+def generate_affordances(detections: Sequence[Detection], scene: SceneSpec) -> list[Affordance]:
+    """One "Put X on table" per distinct object seen on the shelf, most confident detection first."""
+    best: dict[str, Detection] = {}
+    for det in detections:
+        if on_shelf(det.position, scene) and (det.name not in best or det.confidence > best[det.name].confidence):
+            best[det.name] = det
+    return [Affordance(name, action_text(name), det) for name, det in sorted(best.items())]

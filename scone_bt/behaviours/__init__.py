@@ -1,0 +1,49 @@
+"""py_trees behaviours: thin wrappers that move data between the stages via the blackboard."""
+
+from scone_bt.behaviours.affordances import GenerateAffordances
+from scone_bt.behaviours.base import Keys, StageBehaviour
+from scone_bt.behaviours.gate import ConfidenceGate, DecisionIs
+from scone_bt.behaviours.help import AskForHelp, WaitForHuman
+from scone_bt.behaviours.outcome import ObserveOutcome, UpdateSelfConfidence
+from scone_bt.behaviours.perceive import Perceive
+from scone_bt.behaviours.pick_and_place import PickAndPlace
+from scone_bt.behaviours.recipe import RecipeDone
+from scone_bt.behaviours.relevance import RankByRelevance
+from scone_bt.behaviours.services import BehaviourOptions, EpisodeStats, Services
+
+BEHAVIOURS = {
+    cls.__name__: cls
+    for cls in (
+        Perceive,
+        GenerateAffordances,
+        RankByRelevance,
+        ConfidenceGate,
+        DecisionIs,
+        AskForHelp,
+        WaitForHuman,
+        PickAndPlace,
+        ObserveOutcome,
+        UpdateSelfConfidence,
+        RecipeDone,
+    )
+}
+
+__all__ = [
+    "AskForHelp",
+    "BEHAVIOURS",
+    "BehaviourOptions",
+    "ConfidenceGate",
+    "DecisionIs",
+    "EpisodeStats",
+    "GenerateAffordances",
+    "Keys",
+    "ObserveOutcome",
+    "Perceive",
+    "PickAndPlace",
+    "RankByRelevance",
+    "RecipeDone",
+    "Services",
+    "StageBehaviour",
+    "UpdateSelfConfidence",
+    "WaitForHuman",
+]

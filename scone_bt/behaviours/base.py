@@ -1,0 +1,54 @@
+"""A small base class: blackboard access with declared READ/WRITE keys under stage namespaces."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import py_trees
+from py_trees.common import Access
+
+from scone_bt.behaviours.services import Services
+
+__all__ = ["StageBehaviour", "Keys"]
+
+
+class Keys:
+    """Blackboard keys, one namespace per stage of the data flow."""
+
+    FRAME = "/perception/frame"
+    DETECTIONS = "/perception/detections"
+    AFFORDANCES = "/affordances/list"
+    INSTRUCTION = "/relevance/instruction"
+    RANKED = "/relevance/ranked"
+    ACTION_EMBEDDINGS = "/relevance/action_embeddings"
+    CONFIDENCES = "/gate/confidences"
+    DECISION = "/gate/decision"
+    MOTION_OUTCOME = "/motion/outcome"
+    MOTION_TASK = "/motion/task"
+    MOTION_COMPUTING = "/motion/computing"
+    OUTCOME = "/experience/last_outcome"
+
+
+class StageBehaviour(py_trees.behaviour.Behaviour):
+    """A behaviour bound to the episode's services, declaring the keys it reads and writes."""
+
+    READS: tuple[str, ...] = ()
+    WRITES: tuple[str, ...] = ()
+
+    def __init__(self, name: str, services: Services) -> None:
+        super().__init__(name=name)
+        self.services = services
+        self.bb = self.attach_blackboard_client(name=name)
+        for key in self.READS:
+            self.bb.register_key(key=key, access=Access.READ)
+        for key in self.WRITES:
+            self.bb.register_key(key=key, access=Access.WRITE)
+
+    def read(self, key: str, default: Any = None) -> Any:
+        try:
+            return self.bb.get(key)
+        except KeyError:
+            return default
+
+    def write(self, key: str, value: Any) -> None:
+        self.bb.set(key, value, overwrite=True)

@@ -1,0 +1,66 @@
+"""PickAndPlace: an OMPL-planned, ruckig-timed pick-and-place; planning runs in a worker thread."""
+
+from __future__ import annotations
+
+import py_trees
+
+from scone_bt.behaviours.base import Keys, StageBehaviour
+from scone_bt.motion.types import FailureStage, MotionOutcome
+
+__all__ = ["PickAndPlace"]
+
+
+class PickAndPlace(StageBehaviour):
+    READS = (Keys.DECISION, Keys.AFFORDANCES, Keys.DETECTIONS)
+    WRITES = (Keys.MOTION_OUTCOME, Keys.MOTION_TASK, Keys.MOTION_COMPUTING)
+
+    def setup(self, **kwargs: object) -> None:
+        self.system = self.services.motion()
+        self.write(Keys.MOTION_COMPUTING, False)
+
+    def initialise(self) -> None:
+        s = self.services
+        decision = self.read(Keys.DECISION)
+        by_text = {a.text: a for a in self.read(Keys.AFFORDANCES, [])}
+        target = by_text[decision.action]
+        catalogue = s.kitchen_config.catalogue
+        obstacles = [
+            (d, catalogue.get(d.name)) for d in self.read(Keys.DETECTIONS, []) if d.name != target.object_name
+        ]
+        self.object_name = target.object_name
+        self.task = self.system.pick_and_place(
+            target.detection, catalogue.get(target.object_name), obstacles, rng_seed=s.options.seed + s.stats.attempted
+        )
+        s.stats.attempted += 1
+        s.human.robot_busy(True)
+        self.takeover_at = s.human.decide_takeover()
+        self.task.start()
+        self.write(Keys.MOTION_TASK, self.task)
+        self.write(Keys.MOTION_OUTCOME, None)
+
+    def update(self) -> py_trees.common.Status:
+        s = self.services
+        if self.takeover_at is not None and s.kitchen.sim_time >= self.takeover_at and not self.task.done():
+            self.task.cancel()
+            s.human.take_over(self.object_name)
+            self.takeover_at = None
+        progress = self.task.progress()
+        self.write(Keys.MOTION_COMPUTING, progress.phase == "planning")
+        if not self.task.done():
+            self.feedback_message = f"{progress.phase} {progress.fraction:.0%}"
+            return py_trees.common.Status.RUNNING
+        outcome = self.task.outcome()
+        self.write(Keys.MOTION_OUTCOME, outcome)
+        self.write(Keys.MOTION_COMPUTING, False)
+        self.feedback_message = "done" if outcome.success else f"failed at {outcome.stage.value}"
+        return py_trees.common.Status.SUCCESS
+
+    def terminate(self, new_status: py_trees.common.Status) -> None:
+        task = getattr(self, "task", None)
+        if new_status is py_trees.common.Status.INVALID and task is not None and not task.done():
+            task.cancel()
+            self.write(
+                Keys.MOTION_OUTCOME, MotionOutcome(False, FailureStage.CANCELLED, "interrupted by the tree", 0.0)
+            )
+        self.write(Keys.MOTION_COMPUTING, False)
+        self.services.human.robot_busy(False)

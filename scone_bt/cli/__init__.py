@@ -1,0 +1,1 @@
+"""Command-line entry points: scone-run and scone-models."""

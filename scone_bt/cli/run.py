@@ -1,0 +1,153 @@
+"""scone-run: one assistive-cooking episode in simulation.
+
+Examples:
+    scone-run --robot sim                                  # default recipe, seed 0, headless
+    scone-run --robot sim --recipe example:pancakes --save runs/pancakes.rrd
+    scone-run --robot sim --recipe "nw:asian/Banh Mi Sandwich" --viewer
+    scone-run --robot sim --experience runs/panda.db       # learning carries over between runs
+    scone-run --robot sim --no-self-confidence             # the paper's control condition: always act
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import os
+import sys
+import warnings
+from pathlib import Path
+
+from scone_bt.errors import SconeError
+
+__all__ = ["main", "build_parser"]
+
+BACKENDS = ("sim",)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="scone-run",
+        description=(
+            "Run the SCONE assistive-cooking robot: it perceives the shelf, ranks 'Put X on table' actions against "
+            "the current recipe step, predicts its own success (self-confidence) and either acts or asks the human "
+            "for help. Prints one line per decision and a summary."
+        ),
+        epilog=__doc__.split("Examples:", 1)[1] and "examples:" + __doc__.split("Examples:", 1)[1],
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    g = p.add_argument_group("input")
+    g.add_argument("--robot", default="sim", help="robot backend; valid: %(choices)s (default: %(default)s)", choices=BACKENDS)
+    g.add_argument("--arm", default="panda", help="arm model: a file name in robots/ (panda, iiwa, ...) or a YAML path")
+    g.add_argument(
+        "--recipe",
+        default="example:tomato-pasta",
+        help="recipe: example:<name> (tomato-pasta, pancakes, hummus), an id from ../shared/data/recipes/recipes.jsonl, "
+        "or a JSON/YAML file of the same shape (default: %(default)s)",
+    )
+    g.add_argument("--kitchen", default="kitchen", help="kitchen file in perception/ or a path (default: %(default)s)")
+    g.add_argument("--tree", default="assistive_cooking", help="tree file in trees/ or a path (default: %(default)s)")
+    g.add_argument("--distractors", type=int, default=6, help="objects not in the recipe put on the shelf (default: 6)")
+
+    g = p.add_argument_group("run control")
+    g.add_argument("--seed", type=int, default=0, help="seeds everything; a seeded run repeats exactly (default: 0)")
+    g.add_argument("--max-ticks", type=int, default=4000, help="limit on 0.1 s control ticks (default: 4000)")
+    g.add_argument("--headless", action="store_true", help="no windows (the default; kept for scripts)")
+    g.add_argument("--gui", action="store_true", help="open PyBullet's own window (needs a display)")
+    g.add_argument("--quiet", action="store_true", help="print only the summary")
+
+    g = p.add_argument_group("rerun output")
+    g.add_argument("--save", type=Path, metavar="FILE.rrd", help="record the episode for the rerun viewer")
+    g.add_argument("--viewer", action="store_true", help="spawn the rerun live viewer")
+    g.add_argument("--connect", metavar="ADDR", help="stream to a running rerun viewer (e.g. rerun+http://127.0.0.1:9876/proxy)")
+
+    g = p.add_argument_group("self-confidence")
+    g.add_argument("--confidence-threshold", type=float, help="act when κ̂ ≥ this, else ask (tree default: 0.5)")
+    g.add_argument("--no-self-confidence", action="store_true", help="the paper's control condition: always act")
+    g.add_argument("--experience", type=Path, metavar="DB", help="SQLite outcome store; κ̂ is rebuilt from it at start")
+    g.add_argument("--embedder", help="ζ: minilm, mpnet, glove, onehot, finetuned:<dir> or a model directory")
+    g.add_argument("--estimator", help="κ̂ estimator, e.g. eps-knn, knn, lgbm, rf, svm, mlp, xgb")
+    g.add_argument("--relevance-threshold", type=float, help="ρ: minimum cosine similarity of a relevant action")
+
+    g = p.add_argument_group("simulated human")
+    g.add_argument("--takeover-probability", type=float, default=0.0, help="chance the human takes over an action (default: 0)")
+    return p
+
+
+def _quiet_backends() -> None:
+    os.environ.setdefault("TOKENIZERS_PARALLELISM", "false")
+    os.environ.setdefault("HF_HUB_OFFLINE", "1")
+    os.environ.setdefault("TRANSFORMERS_OFFLINE", "1")
+    warnings.filterwarnings("ignore")
+    logging.getLogger("sentence_transformers").setLevel(logging.ERROR)
+    logging.getLogger("transformers").setLevel(logging.ERROR)
+
+
+def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
+    from scone_bt.behaviours import BehaviourOptions
+    from scone_bt.episode import EpisodeOptions
+    from scone_bt.human import HumanOptions
+    from scone_bt.tree import load_tree_spec
+
+    params = load_tree_spec(args.tree).parameters
+
+    def pick(cli_value, key, default):
+        return cli_value if cli_value is not None else params.get(key, default)
+
+    if not 0.0 <= args.takeover_probability <= 1.0:
+        raise SconeError("--takeover-probability must be in [0, 1]")
+    threshold = pick(args.confidence_threshold, "confidence_threshold", 0.5)
+    if not 0.0 <= threshold <= 1.0:
+        raise SconeError("--confidence-threshold must be in [0, 1]")
+    if args.max_ticks <= 0 or args.distractors < 0:
+        raise SconeError("--max-ticks must be positive and --distractors non-negative")
+    behaviour = BehaviourOptions(
+        embedder=pick(args.embedder, "embedder", "minilm"),
+        estimator=pick(args.estimator, "estimator", "eps-knn"),
+        confidence_threshold=float(threshold),
+        relevance_threshold=float(pick(args.relevance_threshold, "relevance_threshold", 0.25)),
+        use_self_confidence=not args.no_self_confidence,
+        max_failures_per_action=int(params.get("max_failures_per_action", 3)),
+        experience_path=args.experience,
+        seed=args.seed,
+    )
+    return EpisodeOptions(
+        robot=args.arm,
+        kitchen=args.kitchen,
+        tree=args.tree,
+        recipe=args.recipe,
+        seed=args.seed,
+        max_ticks=args.max_ticks,
+        distractors=args.distractors,
+        behaviour=behaviour,
+        human=HumanOptions(takeover_probability=args.takeover_probability),
+        save=args.save,
+        viewer=args.viewer,
+        connect=args.connect,
+        gui=args.gui,
+    )
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    _quiet_backends()
+    try:
+        from scone_bt.episode import run_episode
+
+        options = options_from_args(args)
+        if args.save is not None:
+            args.save.parent.mkdir(parents=True, exist_ok=True)
+        summary = run_episode(options, printer=(lambda _line: None) if args.quiet else print)
+    except SconeError as exc:
+        print(f"scone-run: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("scone-run: interrupted; outcomes observed so far are in the experience store", file=sys.stderr)
+        return 130
+    print(summary.format())
+    if args.save is not None:
+        print(f"recording: {args.save}  (open with: rerun {args.save})")
+    return 0 if summary.completed else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

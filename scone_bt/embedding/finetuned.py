@@ -1,0 +1,325 @@
+"""The paper's fine-tuned embedder: a frozen sentence encoder plus a small MLP head trained with a triplet loss.
+
+Training (torch, imported inside `train_finetuned` only): anchor = instruction, positive = one of its relevant
+actions, 10 random negatives = other available actions; loss = triplet margin on cosine distance; the head maps
+the encoder's vector through Linear → ReLU → Dropout → Linear to 128-d, normalised. The same head embeds
+instructions and actions, so both stay in one joint space.
+
+Inference runs the head in NumPy (no torch), after the frozen encoder's cached vectors. Saved as
+`head.safetensors` + `finetuned.json`; loading never unpickles anything.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import time
+from collections.abc import Iterable, Sequence
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+
+from scone_bt.embedding.base import Embedder, normalize_rows
+from scone_bt.errors import ModelUnavailableError, SconeError
+
+__all__ = [
+    "FORMAT",
+    "FinetuneOptions",
+    "FinetunedEmbedder",
+    "InstructionExample",
+    "ranking_accuracy",
+    "train_finetuned",
+]
+
+FORMAT = "scone-bt-finetuned-embedder"
+_VERSION = 1
+_TENSORS = ("w1", "b1", "w2", "b2")
+
+
+@dataclass(frozen=True)
+class InstructionExample:
+    """One labelled instruction.
+
+    Attributes:
+        instruction: Recipe instruction text ("Season with salt and pepper").
+        relevant: Action texts that serve it ("Put salt on table", "Put pepper on table"); may be empty for an
+            instruction the robot cannot help with (it then only contributes negatives' geometry, not triplets).
+        available: Action texts the robot could take at that moment (relevant ones may be included); negatives
+            are drawn from available minus relevant, or from every action in the data set when that is empty.
+    """
+
+    instruction: str
+    relevant: tuple[str, ...]
+    available: tuple[str, ...] = ()
+
+    @classmethod
+    def coerce(cls, item: InstructionExample | Sequence) -> InstructionExample:
+        """Accept an InstructionExample or an (instruction, relevant, available) tuple."""
+        if isinstance(item, InstructionExample):
+            return item
+        instruction, relevant, *rest = item
+        available = rest[0] if rest else ()
+        return cls(str(instruction), tuple(relevant), tuple(available))
+
+
+@dataclass(frozen=True)
+class FinetuneOptions:
+    """Training settings (defaults follow the paper where it says, else chosen for a few-minute CPU run).
+
+    Attributes:
+        dim: Output length.
+        hidden: Hidden layer width.
+        dropout: Dropout probability after the hidden layer (training only).
+        negatives: Random negative actions per (instruction, relevant action) pair, redrawn every epoch.
+        margin: Triplet margin on cosine distance (1 - cos), in (0, 2).
+        epochs: Passes over all triplets.
+        batch_size: Triplets per step.
+        learning_rate: Adam step size.
+        weight_decay: Adam L2 penalty.
+        seed: Seeds initialisation, negative sampling, dropout and batch order.
+    """
+
+    dim: int = 128
+    hidden: int = 256
+    dropout: float = 0.2
+    negatives: int = 10
+    margin: float = 0.4
+    epochs: int = 30
+    batch_size: int = 256
+    learning_rate: float = 1e-3
+    weight_decay: float = 1e-5
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        if not 0.0 <= self.dropout < 1.0:
+            raise SconeError(f"dropout must be in [0, 1), got {self.dropout}")
+        if not 0.0 < self.margin < 2.0:
+            raise SconeError(f"margin must be in (0, 2), got {self.margin}")
+        for name in ("dim", "hidden", "negatives", "epochs", "batch_size"):
+            if getattr(self, name) < 1:
+                raise SconeError(f"{name} must be at least 1, got {getattr(self, name)}")
+
+
+@dataclass(frozen=True)
+class _Head:
+    w1: np.ndarray  # (hidden, base_dim)
+    b1: np.ndarray  # (hidden,)
+    w2: np.ndarray  # (dim, hidden)
+    b2: np.ndarray  # (dim,)
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        h = np.maximum(x @ self.w1.T + self.b1, 0.0)
+        return normalize_rows(h @ self.w2.T + self.b2)
+
+
+class FinetunedEmbedder(Embedder):
+    """Frozen base embedder followed by a trained MLP head; `name` is "finetuned:<dir>" once saved.
+
+    Args:
+        base: The frozen encoder (its own cache serves repeated texts).
+        head: Trained weights.
+        meta: JSON-serialisable description (base spec, options, training history).
+        directory: Where it was saved or loaded from, or None.
+        cache_file: SQLite embedding cache, or None for memory only.
+    """
+
+    def __init__(
+        self,
+        base: Embedder,
+        head: _Head,
+        meta: dict,
+        directory: Path | None = None,
+        cache_file: Path | None = None,
+    ) -> None:
+        self.base = base
+        self.head = head
+        self.meta = meta
+        self.directory = directory
+        digest = hashlib.sha1(b"".join(np.ascontiguousarray(getattr(head, k)).tobytes() for k in _TENSORS))
+        name = f"finetuned:{directory}" if directory is not None else "finetuned"
+        key = f"finetuned[{base.cache_key}]@{digest.hexdigest()[:12]}"
+        super().__init__(name, int(head.w2.shape[0]), key, cache_file)
+
+    def _encode(self, texts: Sequence[str]) -> np.ndarray:
+        return self.head(self.base.embed(texts))
+
+    def save(self, directory: Path) -> Path:
+        """Write head.safetensors and finetuned.json into `directory` (created); returns it."""
+        from safetensors.numpy import save_file
+
+        directory = Path(directory)
+        directory.mkdir(parents=True, exist_ok=True)
+        tensors = {k: np.ascontiguousarray(getattr(self.head, k), dtype=np.float32) for k in _TENSORS}
+        save_file(tensors, str(directory / "head.safetensors"))
+        (directory / "finetuned.json").write_text(json.dumps(self.meta, indent=2) + "\n")
+        self.directory = directory
+        self.name = f"finetuned:{directory}"
+        return directory
+
+    @classmethod
+    def load(cls, directory: Path, cache_dir: Path | None = None, *, disk_cache: bool = True) -> FinetunedEmbedder:
+        """Load a saved head and its base embedder (by the name or path recorded at training)."""
+        from safetensors.numpy import load_file
+
+        from scone_bt.embedding.registry import cache_file_for, load_embedder
+
+        directory = Path(directory)
+        meta_path, head_path = directory / "finetuned.json", directory / "head.safetensors"
+        if not meta_path.is_file() or not head_path.is_file():
+            raise ModelUnavailableError(
+                f"{directory} is not a fine-tuned embedder (needs finetuned.json and head.safetensors); "
+                "train one with scone_bt.embedding.train_finetuned"
+            )
+        try:
+            meta = json.loads(meta_path.read_text())
+            tensors = load_file(str(head_path))
+            head = _Head(*(tensors[k] for k in _TENSORS))
+        except (ValueError, KeyError, OSError) as exc:
+            raise ModelUnavailableError(f"cannot read fine-tuned embedder {directory}: {exc}") from None
+        if meta.get("format") != FORMAT or meta.get("version") != _VERSION:
+            raise ModelUnavailableError(
+                f"{meta_path} is not a version-{_VERSION} {FORMAT} file "
+                f"(format={meta.get('format')!r}, version={meta.get('version')!r})"
+            )
+        base = load_embedder(meta["base"], cache_dir, disk_cache=disk_cache)
+        if base.dim != head.w1.shape[1]:
+            raise ModelUnavailableError(
+                f"fine-tuned head in {directory} expects {head.w1.shape[1]}-d input but {meta['base']!r} is {base.dim}-d"
+            )
+        return cls(base, head, meta, directory.resolve(), cache_file_for(cache_dir) if disk_cache else None)
+
+
+def ranking_accuracy(examples: Iterable[InstructionExample | Sequence], embedder: Embedder) -> float:
+    """Fraction of examples with relevant actions whose most similar available action is a relevant one."""
+    hits = total = 0
+    for item in examples:
+        ex = InstructionExample.coerce(item)
+        candidates = list(dict.fromkeys((*ex.available, *ex.relevant)))
+        if not ex.relevant or not candidates:
+            continue
+        scores = embedder.embed(candidates) @ embedder.embed_one(ex.instruction)
+        hits += candidates[int(np.argmax(scores))] in ex.relevant
+        total += 1
+    return hits / total if total else float("nan")
+
+
+def train_finetuned(
+    examples: Iterable[InstructionExample | Sequence],
+    base: Embedder | str = "minilm",
+    out_dir: Path | None = None,
+    *,
+    options: FinetuneOptions | None = None,
+    cache_dir: Path | None = None,
+) -> FinetunedEmbedder:
+    """Train the paper's MLP head on labelled instructions and return the fine-tuned embedder.
+
+    Args:
+        examples: InstructionExample objects, or (instruction, relevant actions, available actions) tuples.
+        base: Frozen encoder, as an Embedder or a name/path for `load_embedder` ("minilm", "mpnet", a dir).
+        out_dir: If given, the result is saved there (load it later with load_embedder("finetuned:<out_dir>")).
+        options: Training settings (FinetuneOptions()); seeded, so a run is reproducible on one machine.
+        cache_dir: Embedding cache directory when `base` is a name.
+
+    Returns:
+        The trained embedder (`meta["history"]` holds the mean loss per epoch).
+
+    Raises:
+        SconeError: no example has both a relevant action and a negative to contrast it with.
+    """
+    import torch
+
+    from scone_bt.embedding.registry import cache_file_for, load_embedder
+
+    opts = options or FinetuneOptions()
+    data = [InstructionExample.coerce(e) for e in examples]
+    base_spec = base if isinstance(base, str) else _base_spec(base)
+    encoder = load_embedder(base, cache_dir) if isinstance(base, str) else base
+
+    actions = sorted({a for ex in data for a in (*ex.relevant, *ex.available)})
+    instructions = sorted({ex.instruction for ex in data})
+    action_id = {a: i for i, a in enumerate(actions)}
+    inst_id = {t: i for i, t in enumerate(instructions)}
+    # (instruction, positive, pool of negatives) for every relevant action that has something to contrast with
+    pairs: list[tuple[int, int, np.ndarray]] = []
+    for ex in data:
+        relevant = set(ex.relevant)
+        pool = [a for a in dict.fromkeys(ex.available) if a not in relevant]
+        if not pool:
+            pool = [a for a in actions if a not in relevant]
+        if not pool:
+            continue
+        pool_ids = np.array([action_id[a] for a in pool])
+        pairs.extend((inst_id[ex.instruction], action_id[p], pool_ids) for p in dict.fromkeys(ex.relevant))
+    if not pairs:
+        raise SconeError("no training triplets: give examples with relevant actions and other available actions")
+
+    torch.manual_seed(opts.seed)
+    rng = np.random.default_rng(opts.seed)
+    x_inst = torch.from_numpy(encoder.embed(instructions))
+    x_act = torch.from_numpy(encoder.embed(actions))
+    model = torch.nn.Sequential(
+        torch.nn.Linear(encoder.dim, opts.hidden),
+        torch.nn.ReLU(),
+        torch.nn.Dropout(opts.dropout),
+        torch.nn.Linear(opts.hidden, opts.dim),
+    )
+    loss_fn = torch.nn.TripletMarginWithDistanceLoss(
+        distance_function=lambda a, b: 1.0 - torch.nn.functional.cosine_similarity(a, b), margin=opts.margin
+    )
+    optim = torch.optim.Adam(model.parameters(), lr=opts.learning_rate, weight_decay=opts.weight_decay)
+    anchors = np.repeat([p[0] for p in pairs], opts.negatives)
+    positives = np.repeat([p[1] for p in pairs], opts.negatives)
+    history = []
+    start = time.perf_counter()
+    model.train()
+    for _ in range(opts.epochs):
+        negatives = np.concatenate([rng.choice(p[2], size=opts.negatives, replace=True) for p in pairs])
+        order = rng.permutation(len(anchors))
+        total = 0.0
+        for lo in range(0, len(order), opts.batch_size):
+            idx = order[lo : lo + opts.batch_size]
+            a = model(x_inst[anchors[idx]])
+            p = model(x_act[positives[idx]])
+            n = model(x_act[negatives[idx]])
+            loss = loss_fn(a, p, n)
+            optim.zero_grad()
+            loss.backward()
+            optim.step()
+            total += float(loss) * len(idx)
+        history.append(total / len(order))
+    model.eval()
+    lin1, lin2 = model[0], model[3]
+    head = _Head(
+        lin1.weight.detach().numpy().copy(),
+        lin1.bias.detach().numpy().copy(),
+        lin2.weight.detach().numpy().copy(),
+        lin2.bias.detach().numpy().copy(),
+    )
+    meta = {
+        "format": FORMAT,
+        "version": _VERSION,
+        "base": base_spec,
+        "base_dim": encoder.dim,
+        "options": asdict(opts),
+        "n_examples": len(data),
+        "n_triplets_per_epoch": len(anchors),
+        "train_seconds": round(time.perf_counter() - start, 3),
+        "history": [round(h, 6) for h in history],
+    }
+    cache_file = encoder.cache.path if cache_dir is None and not isinstance(base, str) else cache_file_for(cache_dir)
+    result = FinetunedEmbedder(encoder, head, meta, None, cache_file)
+    if out_dir is not None:
+        result.save(Path(out_dir))
+    return result
+
+
+def _base_spec(base: Embedder) -> str:
+    """How to find `base` again at load time: its registry name, or its model directory."""
+    model_dir = getattr(base, "model_dir", None)
+    if base.name in {"minilm", "mpnet", "glove"} or model_dir is None:
+        if base.name == "onehot":
+            raise SconeError("a fine-tuned head needs a semantic base embedder; valid: minilm, mpnet, glove, a dir")
+        return base.name
+    return str(Path(model_dir).resolve())
+

@@ -1,0 +1,96 @@
+"""Adapter for sentence-transformers models loaded from a local directory (MiniLM, MPNet, BGE, ...).
+
+torch and sentence_transformers are imported here only, and only when a model is first loaded.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import threading
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from scone_bt.embedding.base import Embedder
+from scone_bt.errors import ModelUnavailableError
+
+__all__ = ["SentenceTransformerEmbedder", "is_sentence_transformer_dir", "model_fingerprint"]
+
+_MODELS: dict[str, object] = {}  # loaded once per process, shared by every embedder of the same directory
+_LOCK = threading.Lock()
+
+
+def is_sentence_transformer_dir(path: Path) -> bool:
+    """True if `path` looks like a saved sentence-transformers (or plain Hugging Face) model."""
+    return path.is_dir() and ((path / "modules.json").is_file() or (path / "config.json").is_file())
+
+
+def model_fingerprint(path: Path) -> str:
+    """Short hash of a model directory's weight files (names, sizes, mtimes): changes when the weights do."""
+    h = hashlib.sha1()
+    for f in sorted(path.rglob("*")):
+        if f.is_file() and f.suffix in {".safetensors", ".bin", ".json", ".npz", ".npy", ".txt"}:
+            st = f.stat()
+            h.update(f"{f.relative_to(path)}:{st.st_size}:{int(st.st_mtime)}".encode())
+    return h.hexdigest()[:12]
+
+
+def _load_model(path: Path) -> object:
+    key = str(path.resolve())
+    with _LOCK:
+        if key not in _MODELS:
+            # No hub traffic, ever: the workplace is offline and a run must not wait on a network timeout.
+            os.environ.setdefault("HF_HUB_OFFLINE", "1")
+            os.environ.setdefault("TRANSFORMERS_OFFLINE", "1")
+            os.environ.setdefault("HF_HUB_DISABLE_PROGRESS_BARS", "1")
+            os.environ.setdefault("TOKENIZERS_PARALLELISM", "false")
+            from sentence_transformers import SentenceTransformer
+            from transformers.utils import logging as hf_logging
+
+            hf_logging.set_verbosity_error()
+            hf_logging.disable_progress_bar()
+            try:
+                _MODELS[key] = SentenceTransformer(key, device="cpu", local_files_only=True)
+            except Exception as exc:  # the library raises many types for a broken directory
+                raise ModelUnavailableError(
+                    f"cannot load a sentence-transformers model from {path}: {type(exc).__name__}: {exc}"
+                ) from None
+        return _MODELS[key]
+
+
+class SentenceTransformerEmbedder(Embedder):
+    """A sentence-transformers model from a local directory; vectors are the model's pooled, normalised output.
+
+    Args:
+        name: Name reported to users and stored with outcomes.
+        model_dir: Directory holding the saved model (modules.json, config.json, weights).
+        cache_file: SQLite embedding cache, or None for memory only.
+        batch_size: Texts per forward pass.
+    """
+
+    def __init__(self, name: str, model_dir: Path, cache_file: Path | None, batch_size: int = 64) -> None:
+        model_dir = Path(model_dir)
+        if not is_sentence_transformer_dir(model_dir):
+            raise ModelUnavailableError(
+                f"{model_dir} is not a sentence-transformers model directory (no modules.json or config.json)"
+            )
+        self.model_dir = model_dir
+        self.batch_size = batch_size
+        self._model = _load_model(model_dir)
+        dim = int(self._raw_encode(["probe"]).shape[1])
+        super().__init__(name, dim, f"{name}@{model_fingerprint(model_dir)}", cache_file)
+
+    def _raw_encode(self, texts: Sequence[str]) -> np.ndarray:
+        out = self._model.encode(  # type: ignore[attr-defined]
+            list(texts),
+            batch_size=self.batch_size,
+            convert_to_numpy=True,
+            normalize_embeddings=True,
+            show_progress_bar=False,
+        )
+        return np.asarray(out, dtype=np.float32)
+
+    def _encode(self, texts: Sequence[str]) -> np.ndarray:
+        return self._raw_encode(texts)

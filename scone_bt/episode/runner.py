@@ -1,0 +1,215 @@
+"""The episode loop.
+
+Each control tick: tick the tree once, then advance the world by `tick_period` of simulated time and let the
+simulated human act. While the motion planner is still computing in its worker thread, simulated time stands
+still (the robot is thinking; nothing in the world moves), so a seeded episode repeats exactly whatever the
+machine's speed.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import py_trees
+
+from scone_bt.behaviours import BehaviourOptions, Keys, Services
+from scone_bt.config import load_kitchen, load_robot
+from scone_bt.errors import ConfigError
+from scone_bt.human import HumanOptions, SimulatedHuman
+from scone_bt.recipes import load_recipe, stock_recipe
+from scone_bt.tree import build_tree, load_tree_spec
+from scone_bt.world import Kitchen
+
+__all__ = ["EpisodeOptions", "EpisodeSummary", "run_episode"]
+
+
+@dataclass(frozen=True)
+class EpisodeOptions:
+    """Everything that defines an episode.
+
+    Attributes:
+        robot: Robot file name in robots/ or a path.
+        kitchen: Kitchen file name in perception/ or a path.
+        tree: Tree file name in trees/ or a path.
+        recipe: Recipe id ("example:<name>", a corpus id) or a JSON/YAML path.
+        seed: Seeds object placement, distractors, perception noise, planners and the human.
+        max_ticks: Limit on control ticks (each advances the world by tick_period).
+        tick_period: Simulated seconds per control tick.
+        distractors: Objects not in the recipe, spawned on the shelf too.
+        behaviour: Settings of the robot's decision making.
+        human: Settings of the simulated human.
+        save: Write a rerun recording (.rrd) here.
+        viewer: Spawn the rerun viewer.
+        connect: Stream to a running rerun viewer at this address.
+        gui: Open PyBullet's own window (debugging).
+    """
+
+    robot: str = "panda"
+    kitchen: str = "kitchen"
+    tree: str = "assistive_cooking"
+    recipe: str = "example:tomato-pasta"
+    seed: int = 0
+    max_ticks: int = 4000
+    tick_period: float = 0.1
+    distractors: int = 6
+    behaviour: BehaviourOptions = field(default_factory=BehaviourOptions)
+    human: HumanOptions = field(default_factory=HumanOptions)
+    save: Path | None = None
+    viewer: bool = False
+    connect: str | None = None
+    gui: bool = False
+
+
+@dataclass(frozen=True)
+class EpisodeSummary:
+    """What happened. All counts are deterministic for a given seed; times are not."""
+
+    recipe_id: str
+    recipe_title: str
+    robot: str
+    completed: bool
+    steps_completed: int
+    steps_total: int
+    attempted: int
+    successes: int
+    failures: int
+    failures_by_stage: dict[str, int]
+    help_requests: int
+    interventions: int
+    decisions: int
+    control_ticks: int
+    sim_time: float
+    wall_time: float
+    needed_on_table: dict[str, bool]
+    decision_log: tuple[str, ...]
+
+    def deterministic_part(self) -> dict[str, Any]:
+        """The fields a seeded rerun must reproduce exactly."""
+        d = asdict(self)
+        d.pop("wall_time")
+        return d
+
+    def format(self) -> str:
+        fails = ", ".join(f"{k} {v}" for k, v in sorted(self.failures_by_stage.items())) or "none"
+        on_table = sum(self.needed_on_table.values())
+        return "\n".join(
+            [
+                f"── summary: {self.recipe_title} ({self.recipe_id}) with {self.robot} ──",
+                f"steps completed    {self.steps_completed}/{self.steps_total}{'' if self.completed else '  (stopped early)'}",
+                f"ingredients        {on_table}/{len(self.needed_on_table)} on the table",
+                f"actions attempted  {self.attempted}   successes {self.successes}   failures {self.failures} ({fails})",
+                f"help requests      {self.help_requests}   interventions {self.interventions}",
+                f"decisions          {self.decisions}   control ticks {self.control_ticks}",
+                f"time               {self.sim_time:.1f} s simulated, {self.wall_time:.1f} s wall",
+            ]
+        )
+
+
+def _make_recorder(options: EpisodeOptions) -> Any:
+    from scone_bt.viz import NullRecorder, Recorder
+
+    if options.save is None and not options.viewer and options.connect is None:
+        return NullRecorder()
+    return Recorder(
+        save=options.save, spawn_viewer=options.viewer, connect=options.connect, recording_id=f"episode-seed{options.seed}"
+    )
+
+
+def run_episode(options: EpisodeOptions, printer: Callable[[str], None] = print) -> EpisodeSummary:
+    """Run one episode to completion (or to max_ticks) and return its summary."""
+    started = time.perf_counter()
+    kitchen_cfg = load_kitchen(options.kitchen)
+    robot_cfg = load_robot(options.robot)
+    spec = load_tree_spec(options.tree)
+    recipe = stock_recipe(load_recipe(options.recipe), kitchen_cfg.catalogue)
+    catalogue = kitchen_cfg.catalogue
+    rng = np.random.default_rng(options.seed)
+    others = [n for n in catalogue.names() if n not in recipe.needed]
+    n_distractors = min(options.distractors, len(others), len(kitchen_cfg.scene.shelf_slots()) - len(recipe.needed))
+    if n_distractors < 0:
+        raise ConfigError(f"recipe needs {len(recipe.needed)} objects but the shelf has {len(kitchen_cfg.scene.shelf_slots())} slots")
+    distractors = [str(n) for n in rng.choice(others, size=n_distractors, replace=False)] if n_distractors else []
+    specs = [catalogue.get(n) for n in (*recipe.needed, *distractors)]
+
+    kitchen = Kitchen(kitchen_cfg, robot_cfg, gui=options.gui)
+    recorder = None
+    try:
+        kitchen.spawn(specs, rng)
+        human = SimulatedHuman(kitchen, recipe, options.human, seed=options.seed)
+        services = Services(
+            kitchen=kitchen,
+            kitchen_config=kitchen_cfg,
+            robot_config=robot_cfg,
+            recipe=recipe,
+            human=human,
+            options=options.behaviour,
+            printer=printer,
+            context={"robot": robot_cfg.name, "seed": options.seed, "recipe": recipe.recipe.id},
+        )
+        printer(
+            f"{recipe.recipe.title}: {len(recipe.steps)} steps, needs {', '.join(recipe.needed)}; "
+            f"distractors: {', '.join(distractors) or 'none'}"
+        )
+        if recipe.unstocked:
+            printer(f"not stocked (the human brings them): {', '.join(recipe.unstocked)}")
+        root = build_tree(spec, services)
+        tree = py_trees.trees.BehaviourTree(root)
+        tree.setup(timeout=120)
+        recorder = _make_recorder(options)
+        recorder.log_static_scene(kitchen)
+        reader = py_trees.blackboard.Client(name="episode")
+        reader.register_key(key=Keys.MOTION_COMPUTING, access=py_trees.common.Access.READ)
+
+        ticks = control_ticks = 0
+        while control_ticks < options.max_ticks:
+            tree.tick()
+            ticks += 1
+            if root.status is py_trees.common.Status.SUCCESS:
+                break
+            computing = reader.get(Keys.MOTION_COMPUTING) if reader.exists(Keys.MOTION_COMPUTING) else False
+            if computing:
+                time.sleep(0.002)  # give the planner thread the interpreter
+            else:
+                kitchen.advance(options.tick_period)
+                human.update()
+                control_ticks += 1
+            recorder.log_tick(_snapshot(ticks, services, tree))
+        stats = services.stats
+        summary = EpisodeSummary(
+            recipe_id=recipe.recipe.id,
+            recipe_title=recipe.recipe.title,
+            robot=robot_cfg.name,
+            completed=human.done,
+            steps_completed=human.steps_completed(),
+            steps_total=len(recipe.steps),
+            attempted=stats.attempted,
+            successes=stats.successes,
+            failures=stats.failures,
+            failures_by_stage=dict(stats.failures_by_stage),
+            help_requests=stats.help_requests,
+            interventions=human.interventions,
+            decisions=stats.decisions,
+            control_ticks=control_ticks,
+            sim_time=round(kitchen.sim_time, 3),
+            wall_time=time.perf_counter() - started,
+            needed_on_table={n: kitchen.is_on_table(n) for n in recipe.needed},
+            decision_log=tuple(stats.decision_log),
+        )
+        tree.shutdown()
+        return summary
+    finally:
+        if recorder is not None:
+            recorder.close()
+        kitchen.close()
+        py_trees.blackboard.Blackboard.clear()
+
+
+def _snapshot(tick: int, services: Services, tree: py_trees.trees.BehaviourTree) -> Any:
+    from scone_bt.viz import TickSnapshot
+
+    return TickSnapshot.from_services(tick, services, tree.root)

@@ -1,0 +1,167 @@
+"""A simulated human who cooks alongside the robot.
+
+The human reads the recipe step by step. A step is done once every object it needs is on the table; the human
+then cooks it (``cook_time_s``) and moves to the next step. The human fetches objects by hand in three cases:
+- help: the robot asked for help with an object (counted as a help request answered);
+- take-over: the human intervenes on an action the robot is attempting (a seeded coin per act decision, with
+  probability ``takeover_probability``);
+- clean-up: a needed object is neither on the shelf nor on the table (the robot dropped it), or the robot has been
+  idle on this step for ``patience_s`` (the human stops waiting).
+Take-overs and clean-ups are interventions. Fetching takes ``fetch_time_s`` of simulated time.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from scone_bt.recipes import StockedRecipe
+from scone_bt.world import Kitchen
+
+__all__ = ["HumanOptions", "HumanEvent", "SimulatedHuman"]
+
+
+@dataclass(frozen=True)
+class HumanOptions:
+    """How the simulated human behaves. Times in simulated seconds.
+
+    Attributes:
+        fetch_time_s: Time to walk to the shelf and bring one object.
+        cook_time_s: Time spent on a step once its objects are on the table.
+        patience_s: Idle robot time on a step before the human fetches what is missing.
+        takeover_probability: Chance that the human intervenes on an action the robot attempts.
+        takeover_delay_s: How long into the robot's action the take-over happens.
+    """
+
+    fetch_time_s: float = 6.0
+    cook_time_s: float = 2.0
+    patience_s: float = 20.0
+    takeover_probability: float = 0.0
+    takeover_delay_s: float = 1.0
+
+
+@dataclass(frozen=True)
+class HumanEvent:
+    """Something the human did, for the log: kind is 'help', 'intervention', 'step_done'."""
+
+    kind: str
+    object_name: str | None
+    sim_time: float
+    detail: str = ""
+
+
+@dataclass
+class _Fetch:
+    object_name: str
+    ready_at: float
+    kind: str  # help | intervention
+
+
+@dataclass
+class SimulatedHuman:
+    """The human's state machine; call `update()` once per control tick after the world advanced."""
+
+    kitchen: Kitchen
+    recipe: StockedRecipe
+    options: HumanOptions = field(default_factory=HumanOptions)
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        self.rng = np.random.default_rng(self.seed)
+        self.step_index = 0
+        self.step_done = [False] * len(self.recipe.steps)
+        self._cooking_until: float | None = None
+        self._step_started = self.kitchen.sim_time
+        self._robot_busy_since: float | None = None
+        self._fetches: list[_Fetch] = []
+        self.help_given = 0
+        self.interventions = 0
+        self.events: list[HumanEvent] = []
+
+    # -------------------------------------------------------------------------------------------- state
+    @property
+    def done(self) -> bool:
+        return all(self.step_done)
+
+    @property
+    def current_instruction(self) -> str | None:
+        return None if self.done else self.recipe.steps[self.step_index].instruction
+
+    def steps_completed(self) -> int:
+        return sum(self.step_done)
+
+    def is_fetching(self, object_name: str) -> bool:
+        return any(f.object_name == object_name for f in self._fetches)
+
+    def help_pending(self, object_name: str) -> bool:
+        return any(f.object_name == object_name and f.kind == "help" for f in self._fetches)
+
+    # -------------------------------------------------------------------------------------------- robot → human
+    def request_help(self, object_name: str) -> None:
+        """The robot asks the human to fetch this object."""
+        if not self.is_fetching(object_name):
+            self._fetches.append(_Fetch(object_name, self.kitchen.sim_time + self.options.fetch_time_s, "help"))
+
+    def decide_takeover(self) -> float | None:
+        """Called once when the robot starts an action: sim time at which the human takes over, or None."""
+        if self.options.takeover_probability > 0 and self.rng.random() < self.options.takeover_probability:
+            return self.kitchen.sim_time + self.options.takeover_delay_s
+        return None
+
+    def take_over(self, object_name: str) -> None:
+        """The human intervenes: the robot's action is cancelled and the human fetches the object."""
+        if not self.is_fetching(object_name):
+            self._fetches.append(_Fetch(object_name, self.kitchen.sim_time + self.options.fetch_time_s, "intervention"))
+
+    def robot_busy(self, busy: bool) -> None:
+        """The robot reports whether it is working on the current step (resets the human's patience)."""
+        self._robot_busy_since = self.kitchen.sim_time if busy else None
+        if busy:
+            self._step_started = self.kitchen.sim_time
+
+    # -------------------------------------------------------------------------------------------- tick
+    def update(self) -> list[HumanEvent]:
+        """Advance the human by one tick; returns the events of this tick."""
+        now = self.kitchen.sim_time
+        new: list[HumanEvent] = []
+        for fetch in list(self._fetches):
+            if now >= fetch.ready_at:
+                self._fetches.remove(fetch)
+                if self.kitchen.is_on_table(fetch.object_name):
+                    continue
+                if self.kitchen.human_place_on_table(fetch.object_name):
+                    if fetch.kind == "help":
+                        self.help_given += 1
+                    else:
+                        self.interventions += 1
+                    new.append(HumanEvent(fetch.kind, fetch.object_name, now, "fetched by the human"))
+        if self.done:
+            self.events += new
+            return new
+        step = self.recipe.steps[self.step_index]
+        missing = [o for o in step.objects if not self.kitchen.is_on_table(o)]
+        if self._cooking_until is not None:
+            if now >= self._cooking_until:
+                self.step_done[self.step_index] = True
+                new.append(HumanEvent("step_done", None, now, step.instruction))
+                self._cooking_until = None
+                self.step_index = min(self.step_index + 1, len(self.recipe.steps) - 1)
+                self._step_started = now
+        elif not missing:
+            self._cooking_until = now + self.options.cook_time_s
+        else:
+            for name in missing:
+                dropped = not self.kitchen.is_on_shelf(name) and not self._held_by_robot(name)
+                waited = self._robot_busy_since is None and now - self._step_started >= self.options.patience_s
+                if (dropped or waited) and not self.is_fetching(name):
+                    reason = "the robot dropped it" if dropped else "the robot was idle too long"
+                    self._fetches.append(_Fetch(name, now + self.options.fetch_time_s, "intervention"))
+                    new.append(HumanEvent("fetching", name, now, reason))
+        self.events += new
+        return new
+
+    def _held_by_robot(self, name: str) -> bool:
+        """True if the object touches the robot (the human does not grab it out of the gripper)."""
+        body = self.kitchen.objects[name]
+        return bool(self.kitchen.bc.getContactPoints(bodyA=body, bodyB=self.kitchen.robot_id))

@@ -1,0 +1,317 @@
+"""Labelled instruction-following states built from real recipes.
+
+A simulated kitchen holds one recipe's ingredients plus distractors drawn from other recipes, each on a random
+shelf slot. The simulated human works through the steps; a step's relevant actions are the ingredients it uses
+that are still in the kitchen, and an ingredient is used up after the last step that uses it.
+
+File schema (JSON Lines, one state per line): ``instruction`` (str), ``available`` (action texts, "Put X on
+table"), ``relevant`` (a subset of ``available``); optional ``recipe_id``, ``step`` (0-based), ``split``
+("train", "dev", "test"), ``labels`` ("author": the recipe author's Cooklang markup; "mentions": items named in
+the step text) and ``locations`` (action text → [shelf tier, slot], tier 0 lowest).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import re
+from collections import Counter
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+
+from scone_bt.affordances.types import action_text
+from scone_bt.errors import RecipeError
+from scone_bt.recipes.normalise import is_fetchable, item_key, normalise_ingredient
+from scone_bt.recipes.recipe import Recipe, recipe_from_record
+
+__all__ = [
+    "IfState",
+    "StateOptions",
+    "Labels",
+    "Split",
+    "SPLITS",
+    "build_states",
+    "recipe_split",
+    "mentioned_items",
+    "item_of_action",
+    "load_corpus",
+    "load_states",
+    "save_states",
+]
+
+Labels = Literal["author", "mentions"]
+Split = Literal["train", "dev", "test"]
+SPLITS: tuple[Split, ...] = ("train", "dev", "test")
+_ACTION = re.compile(r"^Put (.+) on table$")
+
+
+@dataclass(frozen=True)
+class IfState:
+    """One instruction with the actions available then and the relevant ones.
+
+    Attributes:
+        instruction: The recipe step, verbatim.
+        available: Action texts of every item in the kitchen, in shelf order.
+        relevant: The available actions that the step needs (subset of ``available``).
+        recipe_id: Source recipe id ("" when unknown).
+        step: 0-based step index in the recipe (-1 when unknown).
+        split: "train", "dev", "test" or "" when the file does not say.
+        labels: How ``relevant`` was obtained: "author", "mentions" or "".
+        locations: Action text → (shelf tier, slot index); tier 0 is the lowest.
+    """
+
+    instruction: str
+    available: tuple[str, ...]
+    relevant: frozenset[str]
+    recipe_id: str = ""
+    step: int = -1
+    split: str = ""
+    labels: str = ""
+    locations: dict[str, tuple[int, int]] = field(default_factory=dict, compare=False, hash=False)
+
+    def to_json(self) -> dict[str, object]:
+        """The state as one JSON object of the documented schema."""
+        return {
+            "instruction": self.instruction,
+            "available": list(self.available),
+            "relevant": [a for a in self.available if a in self.relevant],
+            "recipe_id": self.recipe_id,
+            "step": self.step,
+            "split": self.split,
+            "labels": self.labels,
+            "locations": {a: list(loc) for a, loc in self.locations.items()},
+        }
+
+
+@dataclass(frozen=True)
+class StateOptions:
+    """How the simulated kitchen is stocked.
+
+    Attributes:
+        labels: "author" uses per-step Cooklang markup (``nw:`` recipes only); "mentions" labels the kitchen
+            items named in each step (any recipe).
+        distractors: Items from other recipes added to each kitchen.
+        tiers: Shelf tiers (perception/kitchen.yaml has 3).
+        slots_per_tier: Slots on each tier (perception/kitchen.yaml has 5).
+        min_recipe_items: Recipes with fewer fetchable items are skipped.
+        split_fractions: Shares of recipes for train and dev; the rest is test.
+        seed: Seeds distractor choice and placement.
+    """
+
+    labels: Labels = "author"
+    distractors: int = 5
+    tiers: int = 3
+    slots_per_tier: int = 5
+    min_recipe_items: int = 2
+    split_fractions: tuple[float, float] = (0.7, 0.1)
+    seed: int = 0
+
+    @property
+    def capacity(self) -> int:
+        """Shelf slots in the kitchen."""
+        return self.tiers * self.slots_per_tier
+
+
+def recipe_split(recipe_id: str, fractions: tuple[float, float] = (0.7, 0.1)) -> Split:
+    """Deterministic split of a recipe by a hash of its id, so every step of a recipe lands in one split."""
+    u = int(hashlib.sha256(recipe_id.encode()).hexdigest()[:12], 16) / float(1 << 48)
+    if u < fractions[0]:
+        return "train"
+    return "dev" if u < fractions[0] + fractions[1] else "test"
+
+
+def item_of_action(action: str) -> str:
+    """The item an action text acts on ("Put salt on table" → "salt")."""
+    m = _ACTION.match(action)
+    return m.group(1) if m else action
+
+
+def _surface_forms(item: str) -> set[str]:
+    key = item_key(item)
+    forms = {item, key}
+    for base in (item, key):
+        if base.endswith("y") and not base.endswith(("ay", "ey", "oy", "uy")):
+            forms.add(base[:-1] + "ies")
+        elif base.endswith(("ch", "sh", "s", "x", "o")):
+            forms.add(base + "es")
+        else:
+            forms.add(base + "s")
+    return forms
+
+
+def mentioned_items(text: str, items: Iterable[str], head_nouns: bool = True) -> list[str]:
+    """Items a text names, in the order given: the whole name in singular or plural form, or (if
+    ``head_nouns``) its last word when no other item ends in it ("add the liver" names "beef liver")."""
+    items = list(items)
+    lowered = " " + re.sub(r"[^a-z0-9' -]+", " ", text.lower()) + " "
+    heads = Counter(item_key(i.split()[-1]) for i in items if i.split())
+    found = []
+    for item in items:
+        forms = _surface_forms(item)
+        head = item.split()[-1] if item.split() else ""
+        if head_nouns and " " in item and heads[item_key(head)] == 1:
+            forms |= _surface_forms(head)
+        if any(f" {form} " in lowered for form in forms if form):
+            found.append(item)
+    return found
+
+
+def load_corpus(path: str | os.PathLike[str] | None = None) -> list[Recipe]:
+    """Every recipe in the shared corpus (../shared/data/recipes/recipes.jsonl by default)."""
+    from scone_bt.recipes.recipe import recipe_corpus_path
+
+    corpus = Path(path) if path is not None else recipe_corpus_path()
+    if corpus is None or not corpus.is_file():
+        raise RecipeError(f"recipe corpus not found: {corpus or '../shared/data/recipes/recipes.jsonl'}")
+    recipes = []
+    with corpus.open() as fh:
+        for line_no, line in enumerate(fh, 1):
+            if line.strip():
+                recipes.append(recipe_from_record(json.loads(line), f"{corpus}:{line_no}"))
+    return recipes
+
+
+def _items(names: Iterable[str]) -> list[str]:
+    """Normalised fetchable items, first spelling of each plural-insensitive key."""
+    out: dict[str, str] = {}
+    for name in names:
+        item = normalise_ingredient(name)
+        if is_fetchable(item) and item_key(item) not in out:
+            out[item_key(item)] = item
+    return list(out.values())
+
+
+def _step_items(recipe: Recipe, items: list[str], labels: Labels) -> list[list[str]]:
+    by_key = {item_key(i): i for i in items}
+    per_step: list[list[str]] = []
+    for i, step in enumerate(recipe.steps):
+        if labels == "author":
+            assert recipe.step_ingredients is not None
+            keys = [item_key(x) for x in _items(recipe.step_ingredients[i])]
+            per_step.append([by_key[k] for k in keys if k in by_key])
+        else:
+            per_step.append(mentioned_items(step, items))
+    return per_step
+
+
+def build_states(recipes: Sequence[Recipe], options: StateOptions | None = None) -> list[IfState]:
+    """Labelled states for every step that needs at least one item still in the kitchen.
+
+    Args:
+        recipes: Source recipes; with ``labels="author"`` those without ``step_ingredients`` are skipped.
+        options: Kitchen and split settings.
+
+    Returns:
+        States in recipe order, then step order.
+    """
+    opts = options or StateOptions()
+    if opts.labels not in ("author", "mentions"):
+        raise RecipeError(f"unknown labels {opts.labels!r}; valid: author, mentions")
+    usable = [r for r in recipes if opts.labels == "mentions" or r.step_ingredients is not None]
+    recipe_items = {r.id: _items(r.ingredients) for r in usable}
+    # Distractor pool: every item of every usable recipe, weighted by how many recipes use it.
+    pool = Counter(item for items in recipe_items.values() for item in items)
+    pool_items = sorted(pool)
+    pool_p = np.array([pool[i] for i in pool_items], dtype=float)
+    pool_p /= pool_p.sum()
+    rng = np.random.default_rng(opts.seed)
+    states: list[IfState] = []
+    for recipe in usable:
+        items = recipe_items[recipe.id]
+        if opts.labels == "author":
+            # Marked step ingredients missing from the list (rare) are still ingredients.
+            extra = _items(x for step in recipe.step_ingredients or () for x in step)
+            known = {item_key(i) for i in items}
+            items = items + [x for x in extra if item_key(x) not in known]
+        if len(items) < opts.min_recipe_items or len(items) > opts.capacity - opts.distractors:
+            continue
+        keys = {item_key(i) for i in items}
+        distractors: list[str] = []
+        while len(distractors) < opts.distractors:
+            cand = pool_items[int(rng.choice(len(pool_items), p=pool_p))]
+            if item_key(cand) not in keys:
+                keys.add(item_key(cand))
+                distractors.append(cand)
+        kitchen = items + distractors
+        slots = rng.permutation(opts.capacity)[: len(kitchen)]
+        where = {item: (int(s) // opts.slots_per_tier, int(s) % opts.slots_per_tier) for item, s in zip(kitchen, slots, strict=True)}
+        shelf_order = sorted(kitchen, key=lambda i: where[i])
+        per_step = _step_items(recipe, items, opts.labels)
+        last_use = {item: max((k for k, s in enumerate(per_step) if item in s), default=-1) for item in items}
+        split = recipe_split(recipe.id, opts.split_fractions)
+        for k, (instruction, used) in enumerate(zip(recipe.steps, per_step, strict=True)):
+            in_kitchen = [i for i in shelf_order if i not in items or last_use[i] >= k]
+            relevant = [i for i in used if i in in_kitchen]
+            if relevant:
+                available = tuple(action_text(i) for i in in_kitchen)
+                states.append(
+                    IfState(
+                        instruction=instruction,
+                        available=available,
+                        relevant=frozenset(action_text(i) for i in relevant),
+                        recipe_id=recipe.id,
+                        step=k,
+                        split=split,
+                        labels=opts.labels,
+                        locations={action_text(i): where[i] for i in in_kitchen},
+                    )
+                )
+    return states
+
+
+def save_states(path: str | os.PathLike[str], states: Iterable[IfState]) -> int:
+    """Write states as JSON Lines; returns how many were written."""
+    n = 0
+    with Path(path).open("w") as fh:
+        for s in states:
+            fh.write(json.dumps(s.to_json(), ensure_ascii=False) + "\n")
+            n += 1
+    return n
+
+
+def load_states(path: str | os.PathLike[str], split: str | None = None) -> list[IfState]:
+    """Read a states file of the documented schema, optionally keeping one split.
+
+    Raises:
+        RecipeError: The file is missing or a line breaks the schema (the message names the line).
+    """
+    file = Path(path)
+    if not file.is_file():
+        raise RecipeError(f"states file not found: {file}")
+    states = []
+    with file.open() as fh:
+        for n, line in enumerate(fh, 1):
+            if not line.strip():
+                continue
+            try:
+                rec = json.loads(line)
+                instruction, available, relevant = rec["instruction"], rec["available"], rec["relevant"]
+            except (json.JSONDecodeError, KeyError, TypeError):
+                raise RecipeError(f"{file}:{n}: not a state; required keys: instruction, available, relevant") from None
+            if not isinstance(instruction, str) or not isinstance(available, list) or not isinstance(relevant, list):
+                raise RecipeError(f"{file}:{n}: instruction must be a string, available and relevant lists of strings")
+            if not set(relevant) <= set(available):
+                raise RecipeError(f"{file}:{n}: relevant actions must be a subset of the available ones")
+            locations = {str(a): (int(v[0]), int(v[1])) for a, v in (rec.get("locations") or {}).items()}
+            states.append(
+                IfState(
+                    instruction=instruction,
+                    available=tuple(str(a) for a in available),
+                    relevant=frozenset(str(a) for a in relevant),
+                    recipe_id=str(rec.get("recipe_id", "")),
+                    step=int(rec.get("step", -1)),
+                    split=str(rec.get("split", "")),
+                    labels=str(rec.get("labels", "")),
+                    locations=locations,
+                )
+            )
+    if split is not None:
+        if split not in SPLITS:
+            raise RecipeError(f"unknown split {split!r}; valid: {', '.join(SPLITS)}")
+        states = [s for s in states if s.split == split]
+    return states

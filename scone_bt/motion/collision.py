@@ -1,0 +1,141 @@
+"""The collision world the planner checks joint states against (Pinocchio geometry + coal adapter).
+
+Obstacles are boxes and cylinders fixed in the world: the scene's static boxes (known geometry) and the other
+detected objects. An object held in the gripper is attached to the end-effector's joint and moves with the arm.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from scone_bt.motion.model import ArmModel
+
+__all__ = ["Obstacle", "CollisionWorld"]
+
+
+@dataclass(frozen=True)
+class Obstacle:
+    """A primitive obstacle.
+
+    Attributes:
+        name: Unique name in the world.
+        shape: "box" or "cylinder".
+        size: Box extents (x, y, z) or cylinder (diameter, diameter, height), metres.
+        pose: (4, 4) world pose of the shape's centre (for an attached object: relative to the end-effector frame).
+    """
+
+    name: str
+    shape: str
+    size: tuple[float, float, float]
+    pose: np.ndarray
+
+
+def _geometry(shape: str, size: Sequence[float], padding: float) -> object:
+    import coal
+
+    sx, sy, sz = (float(s) + 2 * padding for s in size)
+    if shape == "box":
+        return coal.Box(sx, sy, sz)
+    return coal.Cylinder(sx / 2, sz)
+
+
+class CollisionWorld:
+    """The arm plus fixed obstacles and an optional attached object; answers `is_valid(q)`.
+
+    Args:
+        arm: The arm model (its geometry is copied, not modified).
+        obstacles: Fixed obstacles in the world frame.
+        attached: An object held by the gripper, pose relative to the end-effector frame, or None.
+        padding: Metres added on every side of every obstacle (a safety margin for perception error).
+        ignore_for_hand: Obstacle names the gripper (hand and fingers) may touch, e.g. the object being grasped.
+    """
+
+    def __init__(
+        self,
+        arm: ArmModel,
+        obstacles: Sequence[Obstacle],
+        attached: Obstacle | None = None,
+        *,
+        padding: float = 0.01,
+        ignore_for_hand: Sequence[str] = (),
+    ) -> None:
+        import pinocchio as pin
+
+        self.arm = arm
+        self.model = arm.model
+        self.data = arm.model.createData()
+        gm = arm.geom_model.copy()
+        n_robot = gm.ngeoms
+        base = np.asarray(arm.config.base_position)
+        obstacle_ids = []
+        for ob in obstacles:
+            pose = ob.pose.copy()
+            pose[:3, 3] -= base
+            obj = pin.GeometryObject(f"obstacle:{ob.name}", 0, 0, pin.SE3(pose[:3, :3], pose[:3, 3]), _geometry(ob.shape, ob.size, padding))
+            obstacle_ids.append((ob.name, gm.addGeometryObject(obj)))
+        attached_id = None
+        if attached is not None:
+            ee = self.model.frames[arm.ee_frame]
+            joint_from_ee = ee.placement.homogeneous
+            pose = joint_from_ee @ attached.pose
+            # Slightly smaller than the object: it rests on (touches) its support when the grasp closes.
+            obj = pin.GeometryObject(
+                f"attached:{attached.name}", arm.ee_joint, ee.parentFrame, pin.SE3(pose[:3, :3], pose[:3, 3]), _geometry(attached.shape, attached.size, -0.005)
+            )
+            attached_id = gm.addGeometryObject(obj)
+        hand_links = set(arm.config.raw.get("collision", {}).get("hand_links", []) or []) | self._gripper_links()
+        pairs = [pin.CollisionPair(i, j) for i, j in arm.self_collision_pairs()]
+        base_link = arm.link_of_geometry[gm.geometryObjects[0].name]
+        for r in range(n_robot):
+            link = arm.link_of_geometry[gm.geometryObjects[r].name]
+            if link == base_link:
+                continue  # the base never moves; it sits on the pedestal
+            for name, oid in obstacle_ids:
+                if name in ignore_for_hand and link in hand_links:
+                    continue
+                pairs.append(pin.CollisionPair(r, oid))
+            if attached_id is not None and link not in hand_links:
+                pairs.append(pin.CollisionPair(r, attached_id))
+        if attached_id is not None:
+            for _, oid in obstacle_ids:
+                pairs.append(pin.CollisionPair(oid, attached_id) if oid < attached_id else pin.CollisionPair(attached_id, oid))
+        for pair in pairs:
+            gm.addCollisionPair(pair)
+        self.geom_model = gm
+        self.geom_data = gm.createData()
+        self.checks = 0
+
+    def _gripper_links(self) -> set[str]:
+        """The end-effector's link and every link downstream of it (hand, fingers)."""
+        model = self.arm.model
+        ee_joint = self.arm.ee_joint
+        return {f.name for f in model.frames if f.parentJoint == ee_joint and f.type.name == "BODY"}
+
+    def is_valid(self, q: np.ndarray) -> bool:
+        """True if q is within joint limits and nothing collides (self, obstacles, attached object)."""
+        import pinocchio as pin
+
+        self.checks += 1
+        if not self.arm.within_limits(q):
+            return False
+        return not pin.computeCollisions(self.model, self.data, self.geom_model, self.geom_data, q, True)
+
+    def colliding_pairs(self, q: np.ndarray) -> list[tuple[str, str]]:
+        """Names of the geometry pairs in collision at q (for messages)."""
+        import pinocchio as pin
+
+        pin.computeCollisions(self.model, self.data, self.geom_model, self.geom_data, q, False)
+        out = []
+        for k, res in enumerate(self.geom_data.collisionResults):
+            if res.isCollision():
+                pair = self.geom_model.collisionPairs[k]
+                out.append((self.geom_model.geometryObjects[pair.first].name, self.geom_model.geometryObjects[pair.second].name))
+        return out
+
+    def segment_valid(self, qa: np.ndarray, qb: np.ndarray, resolution: float = 0.02) -> bool:
+        """Check a straight joint-space segment at `resolution` rad spacing (max-norm)."""
+        n = max(2, int(np.ceil(np.max(np.abs(qb - qa)) / resolution)) + 1)
+        return all(self.is_valid(qa + (qb - qa) * t) for t in np.linspace(0.0, 1.0, n))

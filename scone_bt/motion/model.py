@@ -1,0 +1,196 @@
+"""The arm's kinematic and collision model (Pinocchio + coal adapter), built from a robot YAML.
+
+The gripper joints are locked at their open position, so the model has exactly the arm's degrees of freedom.
+Self-collision pairs between adjacent links and pairs listed under `collision.disabled_pairs` in the YAML (links
+that can never touch, found offline by sampling) are not checked.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from scone_bt.config import RobotConfig
+from scone_bt.errors import ConfigError, UnknownNameError
+
+__all__ = ["ArmModel", "IKOptions", "IKSolution", "pose_matrix"]
+
+
+def pose_matrix(rotation: np.ndarray, translation: Sequence[float]) -> np.ndarray:
+    """A (4, 4) homogeneous transform from a (3, 3) rotation and a translation in metres."""
+    out = np.eye(4)
+    out[:3, :3] = rotation
+    out[:3, 3] = translation
+    return out
+
+
+@dataclass(frozen=True)
+class IKOptions:
+    """Damped least-squares IK settings.
+
+    Attributes:
+        max_iterations: Iterations per seed.
+        restarts: Extra random seeds tried after the given one.
+        position_tolerance: Metres.
+        rotation_tolerance: Radians.
+        damping: Levenberg-Marquardt damping (unitless).
+        step: Fraction of the Newton step taken per iteration.
+    """
+
+    max_iterations: int = 150
+    restarts: int = 12
+    position_tolerance: float = 1e-3
+    rotation_tolerance: float = 1e-2
+    damping: float = 1e-3
+    step: float = 0.8
+
+
+@dataclass(frozen=True, eq=False)
+class IKSolution:
+    """An IK answer: joint positions (rad) and the final position (m) and rotation (rad) errors."""
+
+    q: np.ndarray
+    position_error: float
+    rotation_error: float
+
+
+class ArmModel:
+    """Pinocchio kinematics and coal collision geometry of one arm, with its gripper fixed open.
+
+    Args:
+        robot: The robot file's contents.
+    """
+
+    def __init__(self, robot: RobotConfig) -> None:
+        import pinocchio as pin
+
+        self.config = robot
+        try:
+            full, full_geom, _ = pin.buildModelsFromUrdf(str(robot.urdf), package_dirs=[str(robot.urdf.parent)])
+        except (RuntimeError, ValueError) as exc:
+            raise ConfigError(f"{robot.source}: Pinocchio could not load {robot.urdf} ({exc})") from None
+        names = list(full.names)
+        for joint in (*robot.arm_joints, *robot.gripper.joints):
+            if joint not in names:
+                raise UnknownNameError("joint", joint, names[1:])
+        q_ref = pin.neutral(full)
+        lock = []
+        for i in range(1, full.njoints):
+            name = full.names[i]
+            if name in robot.gripper.joints:
+                q_ref[full.idx_qs[i]] = robot.gripper.open_position
+                lock.append(i)
+            elif name not in robot.arm_joints:
+                lock.append(i)
+        self.model, self.geom_model = pin.buildReducedModel(full, full_geom, lock, q_ref)
+        arm_order = [self.model.names[i] for i in range(1, self.model.njoints)]
+        if arm_order != list(robot.arm_joints):
+            raise ConfigError(f"{robot.source}: arm_joints must list the chain's joints in order: {', '.join(arm_order)}")
+        if not self.model.existFrame(robot.end_effector_frame):
+            raise UnknownNameError("frame", robot.end_effector_frame, [f.name for f in self.model.frames])
+        self.ee_frame = self.model.getFrameId(robot.end_effector_frame)
+        self.ee_joint = self.model.frames[self.ee_frame].parentJoint
+        self.data = self.model.createData()
+        self.lower = np.array(self.model.lowerPositionLimit, dtype=float)
+        self.upper = np.array(self.model.upperPositionLimit, dtype=float)
+        self.dof = self.model.nq
+        self.robot_geometry = [g.name for g in self.geom_model.geometryObjects]
+        self.link_of_geometry = {g.name: self.model.frames[g.parentFrame].name for g in self.geom_model.geometryObjects}
+        self.disabled_pairs = self._disabled_link_pairs(full)
+
+    # ------------------------------------------------------------------------------------------ kinematics
+    def clamp(self, q: np.ndarray) -> np.ndarray:
+        return np.clip(q, self.lower, self.upper)
+
+    def within_limits(self, q: np.ndarray, tol: float = 1e-9) -> bool:
+        return bool(np.all(q >= self.lower - tol) and np.all(q <= self.upper + tol))
+
+    def fk(self, q: np.ndarray, frame: str | None = None) -> np.ndarray:
+        """World (4, 4) pose of a frame (default: the end-effector frame) at joint positions q (rad)."""
+        import pinocchio as pin
+
+        fid = self.ee_frame if frame is None else self.model.getFrameId(frame)
+        pin.framesForwardKinematics(self.model, self.data, np.asarray(q, dtype=float))
+        return self._with_base(self.data.oMf[fid].homogeneous)
+
+    def _with_base(self, pose: np.ndarray) -> np.ndarray:
+        out = pose.copy()
+        out[:3, 3] += np.asarray(self.config.base_position)
+        return out
+
+    def ik(
+        self,
+        target: np.ndarray,
+        seed: np.ndarray,
+        rng: np.random.Generator,
+        options: IKOptions = IKOptions(),
+    ) -> IKSolution | None:
+        """Joint positions that put the end-effector frame at `target` (world 4x4), within joint limits.
+
+        Tries the seed first, then `options.restarts` random seeds drawn from `rng`. Returns None if none converged.
+        """
+        import pinocchio as pin
+
+        goal = target.copy()
+        goal[:3, 3] -= np.asarray(self.config.base_position)
+        oMgoal = pin.SE3(goal[:3, :3], goal[:3, 3])
+        seeds = [self.clamp(np.asarray(seed, dtype=float))]
+        for _ in range(options.restarts):
+            seeds.append(rng.uniform(self.lower, self.upper))
+        eye = np.eye(6)
+        for q0 in seeds:
+            q = q0.copy()
+            for _ in range(options.max_iterations):
+                pin.framesForwardKinematics(self.model, self.data, q)
+                current = self.data.oMf[self.ee_frame]
+                err = pin.log6(current.actInv(oMgoal)).vector  # in the local frame
+                pos_err = float(np.linalg.norm(current.rotation @ err[:3]))
+                rot_err = float(np.linalg.norm(err[3:]))
+                if pos_err < options.position_tolerance and rot_err < options.rotation_tolerance:
+                    return IKSolution(q, pos_err, rot_err)
+                jac = pin.computeFrameJacobian(self.model, self.data, q, self.ee_frame, pin.LOCAL)
+                jac = pin.Jlog6(current.actInv(oMgoal)) @ jac
+                dq = jac.T @ np.linalg.solve(jac @ jac.T + options.damping * eye, err)
+                q = self.clamp(q + options.step * dq)
+        return None
+
+    # ------------------------------------------------------------------------------------------ collisions
+    def _disabled_link_pairs(self, full: object) -> set[frozenset[str]]:
+        """Link pairs never checked: parent/child links plus the YAML's `collision.disabled_pairs`."""
+        pairs: set[frozenset[str]] = set()
+        model = full
+        links_of_joint: dict[int, list[str]] = {}
+        for frame in model.frames:  # type: ignore[attr-defined]
+            if frame.type.name == "BODY":
+                links_of_joint.setdefault(frame.parentJoint, []).append(frame.name)
+        for j in range(1, model.njoints):  # type: ignore[attr-defined]
+            parent = model.parents[j]  # type: ignore[attr-defined]
+            for a in links_of_joint.get(parent, []):
+                for b in links_of_joint.get(j, []):
+                    pairs.add(frozenset((a, b)))
+        # Links rigidly attached to the same joint cannot move relative to each other.
+        for links in links_of_joint.values():
+            for a in links:
+                for b in links:
+                    if a != b:
+                        pairs.add(frozenset((a, b)))
+        raw = self.config.raw.get("collision", {}) or {}
+        for i, pair in enumerate(raw.get("disabled_pairs", []) or []):
+            if not (isinstance(pair, list) and len(pair) == 2):
+                raise ConfigError(f"{self.config.source}: collision.disabled_pairs[{i}] must be a list of two link names")
+            pairs.add(frozenset(str(p) for p in pair))
+        return pairs
+
+    def self_collision_pairs(self) -> list[tuple[int, int]]:
+        """Index pairs of robot geometries to check against each other."""
+        out = []
+        geoms = self.geom_model.geometryObjects
+        for i in range(len(geoms)):
+            for j in range(i + 1, len(geoms)):
+                a, b = self.link_of_geometry[geoms[i].name], self.link_of_geometry[geoms[j].name]
+                if a == b or frozenset((a, b)) in self.disabled_pairs:
+                    continue
+                out.append((i, j))
+        return out

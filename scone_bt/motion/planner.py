@@ -1,0 +1,154 @@
+"""Joint-space planning with OMPL (adapter): typed options in, a typed PlanResult out.
+
+Determinism: OMPL draws every sampler's seed from one process-wide generator; it is reseeded from
+`PlannerOptions.rng_seed` before each query and queries are serialised by a lock, so the same query with the same
+seed yields the same path. Path simplification runs a fixed number of shortcut rounds (not a wall-time budget) for
+the same reason.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from scone_bt.errors import UnknownNameError
+from scone_bt.motion.types import PlanResult, PlanStatus
+
+__all__ = ["PlannerOptions", "PLANNERS", "plan_joint_path", "silence_ompl"]
+
+PLANNERS = ("RRTConnect", "RRT", "RRTstar", "PRM", "KPIECE1", "BKPIECE1", "LBKPIECE1", "BITstar", "AORRTC")
+"""OMPL geometric planners selectable by name."""
+
+_LOCK = threading.Lock()
+
+
+@dataclass(frozen=True)
+class PlannerOptions:
+    """Settings of one planning query.
+
+    Attributes:
+        name: OMPL planner, one of PLANNERS.
+        time_limit_s: Wall-time budget for finding a first solution, seconds.
+        simplify: Shortcut and prune the path afterwards.
+        rng_seed: Seed of OMPL's samplers.
+        resolution: Motion-checking step as a fraction of the joint space's largest extent.
+        simplify_rounds: Shortcutting rounds when simplifying.
+    """
+
+    name: str = "RRTConnect"
+    time_limit_s: float = 1.0
+    simplify: bool = True
+    rng_seed: int = 0
+    resolution: float = 0.004
+    simplify_rounds: int = 3
+
+
+def silence_ompl() -> None:
+    """Keep OMPL's info/debug chatter off the user's terminal; failures reach users as typed results."""
+    from ompl import util as ou
+
+    ou.setLogLevel(ou.LogLevel.LOG_NONE)
+
+
+def _planner(name: str, si: object) -> object:
+    from ompl import geometric as og
+
+    if name not in PLANNERS:
+        raise UnknownNameError("planner", name, PLANNERS)
+    return getattr(og, name)(si)
+
+
+def plan_joint_path(
+    start: np.ndarray,
+    goal: np.ndarray,
+    lower: np.ndarray,
+    upper: np.ndarray,
+    is_valid: Callable[[np.ndarray], bool],
+    options: PlannerOptions = PlannerOptions(),
+) -> PlanResult:
+    """Plan a collision-free joint path from start to goal (radians) with OMPL.
+
+    Args:
+        start: (dof,) start configuration.
+        goal: (dof,) goal configuration.
+        lower: (dof,) lower joint limits.
+        upper: (dof,) upper joint limits.
+        is_valid: Returns True for a collision-free configuration within limits.
+        options: Planner name, time limit, simplification and seed.
+
+    Returns:
+        SUCCESS with an (N, dof) path, or the reason it failed (START_INVALID, GOAL_INVALID, TIMED_OUT, ...).
+    """
+    t0 = time.perf_counter()
+    start = np.asarray(start, dtype=float)
+    goal = np.asarray(goal, dtype=float)
+    if options.name not in PLANNERS:
+        raise UnknownNameError("planner", options.name, PLANNERS)
+    if not is_valid(start):
+        return PlanResult(PlanStatus.START_INVALID, None, time.perf_counter() - t0, "start configuration is in collision")
+    if not is_valid(goal):
+        return PlanResult(PlanStatus.GOAL_INVALID, None, time.perf_counter() - t0, "goal configuration is in collision")
+    with _LOCK:
+        return _solve(start, goal, lower, upper, is_valid, options, t0)
+
+
+def _solve(
+    start: np.ndarray,
+    goal: np.ndarray,
+    lower: np.ndarray,
+    upper: np.ndarray,
+    is_valid: Callable[[np.ndarray], bool],
+    options: PlannerOptions,
+    t0: float,
+) -> PlanResult:
+    from ompl import base as ob
+    from ompl import geometric as og
+    from ompl import util as ou
+
+    silence_ompl()
+    dof = len(start)
+    ou.RNG.setSeed(int(options.rng_seed) % 2_147_483_646 + 1)  # OMPL treats 0 as "pick a random seed"
+    space = ob.RealVectorStateSpace(dof)
+    bounds = ob.RealVectorBounds(dof)
+    for i in range(dof):
+        bounds.setLow(i, float(lower[i]))
+        bounds.setHigh(i, float(upper[i]))
+    space.setBounds(bounds)
+    si = ob.SpaceInformation(space)
+    # The callback must not hold OMPL objects: a C++ -> Python -> C++ cycle would leak (and nanobind reports it).
+    si.setStateValidityChecker(lambda s: is_valid(np.fromiter((s[i] for i in range(dof)), float, dof)))
+    si.setStateValidityCheckingResolution(options.resolution)
+    si.setup()
+    ss = og.SimpleSetup(si)
+    a, b = space.allocState(), space.allocState()
+    for i in range(dof):
+        a[i] = float(start[i])
+        b[i] = float(goal[i])
+    ss.setStartAndGoalStates(a, b)
+    ss.setPlanner(_planner(options.name, si))
+    status = ss.solve(float(options.time_limit_s))
+    kind = status.getStatus().name
+    if kind != "EXACT_SOLUTION":
+        reason = {
+            "TIMEOUT": PlanStatus.TIMED_OUT,
+            "APPROXIMATE_SOLUTION": PlanStatus.TIMED_OUT,
+            "INVALID_START": PlanStatus.START_INVALID,
+            "INVALID_GOAL": PlanStatus.GOAL_INVALID,
+        }.get(kind, PlanStatus.NO_SOLUTION)
+        return PlanResult(reason, None, time.perf_counter() - t0, f"OMPL {options.name}: {status.asString()}")
+    path = ss.getSolutionPath()
+    if options.simplify:
+        simplifier = og.PathSimplifier(si)
+        for _ in range(options.simplify_rounds):
+            changed = simplifier.reduceVertices(path)
+            changed = simplifier.shortcutPath(path) or changed if hasattr(simplifier, "shortcutPath") else changed
+            changed = simplifier.collapseCloseVertices(path) or changed
+            if not changed:
+                break
+    points = np.array([[path.getState(k)[i] for i in range(dof)] for k in range(path.getStateCount())])
+    points[0], points[-1] = start, goal
+    return PlanResult(PlanStatus.SUCCESS, points, time.perf_counter() - t0, f"{options.name}: {len(points)} waypoints")

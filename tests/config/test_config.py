@@ -1,0 +1,56 @@
+from pathlib import Path
+
+import pytest
+
+from scone_bt.config import load_kitchen, load_robot
+from scone_bt.errors import ConfigError, UnknownNameError
+
+
+def test_catalogue_has_enough_distinct_objects(kitchen_cfg):
+    cat = kitchen_cfg.catalogue
+    assert len(cat) >= 21
+    assert len(set(cat.names())) == len(cat)
+    for obj in cat.objects:
+        assert obj.mass > 0 and obj.friction > 0 and all(s > 0 for s in obj.size)
+        assert cat.by_marker(obj.marker_id) is obj
+
+
+def test_unknown_object_names_the_valid_ones(kitchen_cfg):
+    with pytest.raises(UnknownNameError) as err:
+        kitchen_cfg.catalogue.get("unicorn")
+    assert "unicorn" in str(err.value) and "salt" in str(err.value)
+    assert "\n" not in str(err.value)
+
+
+def test_robot_config_has_consistent_dimensions(robot_cfg):
+    assert robot_cfg.dof == len(robot_cfg.home) == len(robot_cfg.limits.velocity)
+    assert robot_cfg.urdf.is_file()
+
+
+def test_unknown_robot_lists_available():
+    with pytest.raises(UnknownNameError, match="panda"):
+        load_robot("no_such_robot")
+
+
+def test_malformed_yaml_is_one_line_error(tmp_path: Path):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("scene: [unclosed\n")
+    with pytest.raises(ConfigError) as err:
+        load_kitchen(bad)
+    assert str(bad) in str(err.value) and "\n" not in str(err.value)
+
+
+def test_missing_urdf_is_reported(tmp_path: Path):
+    text = (Path(load_robot().source)).read_text().replace("pybullet_data://franka_panda/panda.urdf", "missing.urdf")
+    path = tmp_path / "arm.yaml"
+    path.write_text(text)
+    with pytest.raises(ConfigError, match="URDF not found"):
+        load_robot(path)
+
+
+def test_bad_object_shape_names_valid_shapes(tmp_path: Path, kitchen_cfg):
+    text = Path(kitchen_cfg.source).read_text().replace("shape: cylinder", "shape: sphere", 1)
+    path = tmp_path / "k.yaml"
+    path.write_text(text)
+    with pytest.raises(ConfigError, match="box, cylinder"):
+        load_kitchen(path)

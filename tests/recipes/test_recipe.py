@@ -1,0 +1,54 @@
+import json
+
+import pytest
+
+from scone_bt.errors import RecipeError
+from scone_bt.recipes import load_recipe, match_catalogue, stock_recipe
+from scone_bt.recipes.recipe import recipe_corpus_path
+
+
+def test_examples_load_and_stock(kitchen_cfg):
+    stocked = stock_recipe(load_recipe("example:tomato-pasta"), kitchen_cfg.catalogue)
+    assert [s.objects for s in stocked.steps] == [
+        ("salt",),
+        ("pasta",),
+        ("olive oil", "garlic"),
+        ("canned tomatoes",),
+        ("cheese",),
+    ]
+    assert stocked.needed == ("salt", "pasta", "olive oil", "garlic", "canned tomatoes", "cheese")
+
+
+def test_longest_alias_wins(kitchen_cfg):
+    assert match_catalogue("2 tbsp extra virgin olive oil", kitchen_cfg.catalogue) == ["olive oil"]
+    assert match_catalogue("salt and pepper to taste", kitchen_cfg.catalogue) == ["salt", "black pepper"]
+
+
+def test_unknown_example_names_valid_ones():
+    with pytest.raises(RecipeError, match="example:tomato-pasta"):
+        load_recipe("example:nope")
+
+
+@pytest.mark.skipif(recipe_corpus_path() is None, reason="../shared recipe corpus not present")
+def test_corpus_lookup_and_suggestion(kitchen_cfg):
+    recipe = load_recipe("pdr:aelplermagronen")
+    assert recipe.steps and recipe.ingredients
+    stocked = stock_recipe(recipe, kitchen_cfg.catalogue)
+    assert "milk" in stocked.needed
+    with pytest.raises(RecipeError, match="did you mean"):
+        load_recipe("pdr:aelplermagronenn")
+
+
+def test_malformed_and_empty_recipes(tmp_path, kitchen_cfg):
+    bad = tmp_path / "r.json"
+    bad.write_text("{not json")
+    with pytest.raises(RecipeError, match="not valid JSON"):
+        load_recipe(str(bad))
+    empty = tmp_path / "e.json"
+    empty.write_text(json.dumps({"ingredients": ["salt"], "steps": ["  "]}))
+    with pytest.raises(RecipeError, match="non-empty"):
+        load_recipe(str(empty))
+    nothing = tmp_path / "n.json"
+    nothing.write_text(json.dumps({"ingredients": ["unobtainium"], "steps": ["Admire it."]}))
+    with pytest.raises(RecipeError, match="stocked items"):
+        stock_recipe(load_recipe(str(nothing)), kitchen_cfg.catalogue)

@@ -1,0 +1,31 @@
+from pathlib import Path
+from types import SimpleNamespace
+
+import pytest
+
+from scone_bt.errors import ConfigError, UnknownNameError
+from scone_bt.tree import build_tree, load_tree_spec, render_tree
+
+
+def test_default_tree_builds_and_renders():
+    spec = load_tree_spec("assistive_cooking")
+    root = build_tree(spec, SimpleNamespace())
+    text = render_tree(root)
+    order = ["Perceive", "GenerateAffordances", "RankByRelevance", "ConfidenceGate", "AskForHelp", "PickAndPlace", "ObserveOutcome", "UpdateSelfConfidence"]
+    positions = [text.index(name) for name in order]
+    assert positions == sorted(positions)
+    assert spec.parameters["confidence_threshold"] == 0.5
+
+
+def test_unknown_behaviour_lists_valid(tmp_path: Path):
+    path = tmp_path / "t.yaml"
+    path.write_text("root:\n  sequence: S\n  children:\n    - behaviour: Dance\n")
+    with pytest.raises(UnknownNameError, match="Perceive"):
+        load_tree_spec(path)
+
+
+def test_composite_without_children(tmp_path: Path):
+    path = tmp_path / "t.yaml"
+    path.write_text("root:\n  selector: S\n")
+    with pytest.raises(ConfigError, match="children"):
+        load_tree_spec(path)
