@@ -19,6 +19,7 @@ class AskForHelp(StageBehaviour):
         self.services.human.request_help(self.object_name)
         self.services.human.robot_busy(True)
         self.services.stats.help_requests += 1
+        self.services.emit("help_request", action=decision.action, object=self.object_name)
 
     def update(self) -> py_trees.common.Status:
         if self.services.human.help_pending(self.object_name):

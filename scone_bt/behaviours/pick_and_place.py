@@ -33,17 +33,18 @@ class PickAndPlace(StageBehaviour):
         )
         s.stats.attempted += 1
         s.human.robot_busy(True)
-        self.takeover_at = s.human.decide_takeover()
+        s.human.decide_takeover(self.object_name)
+        s.emit("act", action=decision.action, object=self.object_name, confidence=decision.confidence)
         self.task.start()
         self.write(Keys.MOTION_TASK, self.task)
         self.write(Keys.MOTION_OUTCOME, None)
 
     def update(self) -> py_trees.common.Status:
         s = self.services
-        if self.takeover_at is not None and s.kitchen.sim_time >= self.takeover_at and not self.task.done():
+        if not self.task.done() and s.human.wants_takeover(self.object_name):
             self.task.cancel()
             s.human.take_over(self.object_name)
-            self.takeover_at = None
+            s.emit("intervention", action=self.read(Keys.DECISION).action, object=self.object_name)
         progress = self.task.progress()
         self.write(Keys.MOTION_COMPUTING, progress.phase == "planning")
         if not self.task.done():

@@ -16,7 +16,6 @@ import numpy as np
 
 from scone_bt.config import KitchenConfig, RobotConfig
 from scone_bt.gate.types import Decision
-from scone_bt.human import SimulatedHuman
 from scone_bt.recipes import StockedRecipe
 from scone_bt.world import Kitchen
 
@@ -77,9 +76,10 @@ class Services:
     kitchen_config: KitchenConfig
     robot_config: RobotConfig
     recipe: StockedRecipe
-    human: SimulatedHuman
+    human: Any  # SimulatedHuman or a UI-driven human with the same interface
     options: BehaviourOptions
     printer: Callable[[str], None] = print
+    on_event: Callable[[str, dict[str, Any]], None] | None = None
     stats: EpisodeStats = field(default_factory=EpisodeStats)
     context: dict[str, Any] = field(default_factory=dict)
     _cache: dict[str, Any] = field(default_factory=dict)
@@ -127,6 +127,11 @@ class Services:
 
         return self._once("motion", lambda: MotionSystem.build(self.kitchen, self.robot_config))
 
+    def emit(self, kind: str, **data: Any) -> None:
+        """Send an event (decision, act, outcome, help_request, intervention) to the episode's listener."""
+        if self.on_event is not None:
+            self.on_event(kind, {"sim_time": round(self.kitchen.sim_time, 3), **data})
+
     def report_decision(self, instruction: str, decision: Decision) -> None:
         step = self.human.step_index + 1
         total = len(self.recipe.steps)
@@ -134,6 +139,15 @@ class Services:
         line = (
             f"[step {step}/{total}] {short!r:52} -> {decision.action or '(none)':28} "
             f"rel {decision.relevance:5.2f}  conf {decision.confidence:4.2f}  {decision.kind.value.upper()}"
+        )
+        self.emit(
+            "decision",
+            step=step,
+            instruction=instruction,
+            action=decision.action,
+            relevance=round(decision.relevance, 4),
+            confidence=round(decision.confidence, 4),
+            kind=decision.kind.value,
         )
         self.stats.decisions += 1
         self.stats.decision_log.append(line)

@@ -81,6 +81,7 @@ class EpisodeSummary:
     failures_by_stage: dict[str, int]
     help_requests: int
     interventions: int
+    takeovers: int
     decisions: int
     control_ticks: int
     sim_time: float
@@ -102,7 +103,8 @@ class EpisodeSummary:
                 f"── summary: {self.recipe_title} ({self.recipe_id}) with {self.robot} ──",
                 f"steps completed    {self.steps_completed}/{self.steps_total}{'' if self.completed else '  (stopped early)'}",
                 f"ingredients        {on_table}/{len(self.needed_on_table)} on the table",
-                f"actions attempted  {self.attempted}   successes {self.successes}   failures {self.failures} ({fails})",
+                f"actions attempted  {self.attempted}   successes {self.successes}   failures {self.failures} ({fails})"
+                + (f"   taken over {self.takeovers}" if self.takeovers else ""),
                 f"help requests      {self.help_requests}   interventions {self.interventions}",
                 f"decisions          {self.decisions}   control ticks {self.control_ticks}",
                 f"time               {self.sim_time:.1f} s simulated, {self.wall_time:.1f} s wall",
@@ -120,8 +122,25 @@ def _make_recorder(options: EpisodeOptions) -> Any:
     )
 
 
-def run_episode(options: EpisodeOptions, printer: Callable[[str], None] = print) -> EpisodeSummary:
-    """Run one episode to completion (or to max_ticks) and return its summary."""
+HumanFactory = Callable[[Kitchen, Any, HumanOptions, int], Any]
+
+
+def run_episode(
+    options: EpisodeOptions,
+    printer: Callable[[str], None] = print,
+    on_event: Callable[[str, dict[str, Any]], None] | None = None,
+    human_factory: HumanFactory | None = None,
+    realtime: bool = False,
+) -> EpisodeSummary:
+    """Run one episode to completion (or to max_ticks) and return its summary.
+
+    Args:
+        options: What to run.
+        printer: Receives the human-readable log lines.
+        on_event: Receives structured events (decision, act, outcome, help_request, intervention, step_done).
+        human_factory: Builds the human (default: SimulatedHuman); the study UI passes a tablet-driven one.
+        realtime: Pace control ticks to wall-clock time (needed when a real person takes part).
+    """
     started = time.perf_counter()
     kitchen_cfg = load_kitchen(options.kitchen)
     robot_cfg = load_robot(options.robot)
@@ -140,7 +159,8 @@ def run_episode(options: EpisodeOptions, printer: Callable[[str], None] = print)
     recorder = None
     try:
         kitchen.spawn(specs, rng)
-        human = SimulatedHuman(kitchen, recipe, options.human, seed=options.seed)
+        factory = human_factory or (lambda k, r, o, seed: SimulatedHuman(k, r, o, seed=seed))
+        human = factory(kitchen, recipe, options.human, options.seed)
         services = Services(
             kitchen=kitchen,
             kitchen_config=kitchen_cfg,
@@ -149,6 +169,7 @@ def run_episode(options: EpisodeOptions, printer: Callable[[str], None] = print)
             human=human,
             options=options.behaviour,
             printer=printer,
+            on_event=on_event,
             context={"robot": robot_cfg.name, "seed": options.seed, "recipe": recipe.recipe.id},
         )
         printer(
@@ -166,6 +187,7 @@ def run_episode(options: EpisodeOptions, printer: Callable[[str], None] = print)
         reader.register_key(key=Keys.MOTION_COMPUTING, access=py_trees.common.Access.READ)
 
         ticks = control_ticks = 0
+        next_tick = time.perf_counter() + options.tick_period
         while control_ticks < options.max_ticks:
             tree.tick()
             ticks += 1
@@ -176,8 +198,13 @@ def run_episode(options: EpisodeOptions, printer: Callable[[str], None] = print)
                 time.sleep(0.002)  # give the planner thread the interpreter
             else:
                 kitchen.advance(options.tick_period)
-                human.update()
+                for event in human.update():
+                    if on_event is not None:
+                        on_event(event.kind, {"sim_time": round(event.sim_time, 3), "object": event.object_name, "detail": event.detail})
                 control_ticks += 1
+                if realtime:
+                    time.sleep(max(0.0, next_tick - time.perf_counter()))
+                    next_tick = max(next_tick + options.tick_period, time.perf_counter())
             recorder.log_tick(_snapshot(ticks, services, tree))
         stats = services.stats
         summary = EpisodeSummary(
@@ -193,6 +220,7 @@ def run_episode(options: EpisodeOptions, printer: Callable[[str], None] = print)
             failures_by_stage=dict(stats.failures_by_stage),
             help_requests=stats.help_requests,
             interventions=human.interventions,
+            takeovers=stats.cancelled,
             decisions=stats.decisions,
             control_ticks=control_ticks,
             sim_time=round(kitchen.sim_time, 3),

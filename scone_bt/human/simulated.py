@@ -103,14 +103,20 @@ class SimulatedHuman:
         if not self.is_fetching(object_name):
             self._fetches.append(_Fetch(object_name, self.kitchen.sim_time + self.options.fetch_time_s, "help"))
 
-    def decide_takeover(self) -> float | None:
-        """Called once when the robot starts an action: sim time at which the human takes over, or None."""
+    def decide_takeover(self, object_name: str) -> None:
+        """Called once when the robot starts an action on an object: the human decides whether to take over."""
+        self._takeover_at = None
         if self.options.takeover_probability > 0 and self.rng.random() < self.options.takeover_probability:
-            return self.kitchen.sim_time + self.options.takeover_delay_s
-        return None
+            self._takeover_at = (object_name, self.kitchen.sim_time + self.options.takeover_delay_s)
+
+    def wants_takeover(self, object_name: str) -> bool:
+        """Polled every tick while the robot acts on the object: True once the human intervenes."""
+        planned = getattr(self, "_takeover_at", None)
+        return planned is not None and planned[0] == object_name and self.kitchen.sim_time >= planned[1]
 
     def take_over(self, object_name: str) -> None:
         """The human intervenes: the robot's action is cancelled and the human fetches the object."""
+        self._takeover_at = None
         if not self.is_fetching(object_name):
             self._fetches.append(_Fetch(object_name, self.kitchen.sim_time + self.options.fetch_time_s, "intervention"))
 

@@ -16,6 +16,7 @@ import hashlib
 import json
 import os
 import re
+import unicodedata
 from collections import Counter
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
@@ -148,7 +149,8 @@ def mentioned_items(text: str, items: Iterable[str], head_nouns: bool = True) ->
     """Items a text names, in the order given: the whole name in singular or plural form, or (if
     ``head_nouns``) its last word when no other item ends in it ("add the liver" names "beef liver")."""
     items = list(items)
-    lowered = " " + re.sub(r"[^a-z0-9' -]+", " ", text.lower()) + " "
+    folded = unicodedata.normalize("NFKD", text).encode("ascii", "ignore").decode()
+    lowered = " " + re.sub(r"[^a-z0-9' -]+", " ", folded.lower()) + " "
     heads = Counter(item_key(i.split()[-1]) for i in items if i.split())
     found = []
     for item in items:

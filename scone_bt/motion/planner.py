@@ -145,7 +145,7 @@ def _solve(
         simplifier = og.PathSimplifier(si)
         for _ in range(options.simplify_rounds):
             changed = simplifier.reduceVertices(path)
-            changed = simplifier.shortcutPath(path) or changed if hasattr(simplifier, "shortcutPath") else changed
+            changed = simplifier.partialShortcutPath(path) or changed
             changed = simplifier.collapseCloseVertices(path) or changed
             if not changed:
                 break

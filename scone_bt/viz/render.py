@@ -94,7 +94,9 @@ def flatten_tree(root: Any) -> list[TreeNode]:
     return out
 
 
-def layout_tree(nodes: Sequence[TreeNode], dx: float = 150.0, dy: float = 90.0) -> dict[str, tuple[float, float]]:
+def layout_tree(
+    nodes: Sequence[TreeNode], dx: float = 150.0, dy: float = 90.0
+) -> dict[str, tuple[float, float]]:
     """Tidy top-down positions: leaves side by side, each parent centred over its children (graph-view units)."""
     children: dict[str | None, list[str]] = {}
     for node in nodes:

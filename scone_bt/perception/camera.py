@@ -1,0 +1,120 @@
+"""A simulated RGB-D camera (PyBullet adapter): renders the kitchen with the CPU TinyRenderer.
+
+The pinhole model is kept in OpenCV's convention (x right, y down, z forward; pixel centres at integer
+coordinates) so the detector works the same on a real camera's images.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from scone_bt.config import CameraSpec
+from scone_bt.errors import ConfigError
+from scone_bt.perception.types import Frame
+
+if TYPE_CHECKING:
+    from scone_bt.world import Kitchen
+
+__all__ = ["Camera", "intrinsics", "world_from_camera", "project"]
+
+
+def intrinsics(spec: CameraSpec) -> np.ndarray:
+    """(3, 3) pinhole matrix K in pixels; fov_deg is the vertical field of view, pixels are square."""
+    fy = (spec.height / 2.0) / np.tan(np.radians(spec.fov_deg) / 2.0)
+    return np.array([[fy, 0.0, (spec.width - 1) / 2.0], [0.0, fy, (spec.height - 1) / 2.0], [0.0, 0.0, 1.0]])
+
+
+def world_from_camera(spec: CameraSpec) -> np.ndarray:
+    """(4, 4) camera pose in the world frame, OpenCV axes (x right, y down, z toward the target)."""
+    eye = np.asarray(spec.position, dtype=float)
+    forward = np.asarray(spec.target, dtype=float) - eye
+    forward /= np.linalg.norm(forward)
+    right = np.cross(forward, np.asarray(spec.up, dtype=float))
+    right /= np.linalg.norm(right)
+    down = np.cross(forward, right)
+    pose = np.eye(4)
+    pose[:3, 0], pose[:3, 1], pose[:3, 2], pose[:3, 3] = right, down, forward, eye
+    return pose
+
+
+def project(points_world: np.ndarray, k: np.ndarray, pose: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Pixel coordinates (N, 2) and depths (N,) in metres of world points (N, 3)."""
+    pts = np.atleast_2d(points_world) - pose[:3, 3]
+    cam = pts @ pose[:3, :3]
+    z = cam[:, 2]
+    uv = (cam[:, :2] / z[:, None]) * np.diag(k)[:2] + k[:2, 2]
+    return uv, z
+
+
+def _check(spec: CameraSpec) -> None:
+    where = "camera"
+    if spec.width < 16 or spec.height < 16:
+        raise ConfigError(f"{where}: width and height must be at least 16 pixels, got {spec.width}x{spec.height}")
+    if not 1.0 <= spec.fov_deg <= 170.0:
+        raise ConfigError(f"{where}.fov_deg must be in 1-170 degrees, got {spec.fov_deg}")
+    if not 0 < spec.near < spec.far:
+        raise ConfigError(f"{where}: need 0 < near < far, got near={spec.near}, far={spec.far}")
+    if spec.noise_std < 0 or spec.depth_noise_std < 0:
+        raise ConfigError(f"{where}: noise_std and depth_noise_std must be >= 0")
+    forward = np.subtract(spec.target, spec.position)
+    if np.linalg.norm(forward) < 1e-6:
+        raise ConfigError(f"{where}: position and target must differ")
+    if np.linalg.norm(np.cross(forward, spec.up)) < 1e-6 * np.linalg.norm(forward):
+        raise ConfigError(f"{where}: up must not be parallel to the viewing direction")
+
+
+class Camera:
+    """A fixed pinhole RGB-D camera. Construction is cheap; `capture` renders.
+
+    Args:
+        spec: Placement, resolution, field of view, clipping planes and noise levels (from kitchen.yaml).
+    """
+
+    def __init__(self, spec: CameraSpec) -> None:
+        _check(spec)
+        self.spec = spec
+        self.intrinsics = intrinsics(spec)
+        self.world_from_camera = world_from_camera(spec)
+
+    def capture(self, kitchen: Kitchen, rng: np.random.Generator) -> Frame:
+        """Render one RGB-D frame of the kitchen with TinyRenderer (CPU only) and add the configured noise.
+
+        Args:
+            kitchen: The simulated world to look at.
+            rng: Source of the image noise (used only when noise_std or depth_noise_std is non-zero).
+        """
+        import pybullet as p
+
+        s = self.spec
+        view = p.computeViewMatrix(s.position, s.target, s.up)
+        proj = p.computeProjectionMatrixFOV(s.fov_deg, s.width / s.height, s.near, s.far)
+        _, _, rgba, depth_buffer, _ = kitchen.bc.getCameraImage(
+            s.width,
+            s.height,
+            view,
+            proj,
+            renderer=p.ER_TINY_RENDERER,
+            flags=p.ER_NO_SEGMENTATION_MASK,
+            shadow=0,
+            lightDirection=(0.3, 0.2, 1.0),
+        )
+        rgb = np.asarray(rgba, dtype=np.uint8).reshape(s.height, s.width, 4)[:, :, :3]
+        buffer = np.asarray(depth_buffer, dtype=np.float64).reshape(s.height, s.width)
+        # OpenGL's non-linear depth buffer to metric depth along the optical axis.
+        depth = (s.far * s.near / (s.far - (s.far - s.near) * buffer)).astype(np.float32)
+        if s.noise_std > 0:
+            noisy = rgb.astype(np.float32) + rng.normal(0.0, s.noise_std, rgb.shape).astype(np.float32)
+            rgb = np.clip(np.rint(noisy), 0, 255).astype(np.uint8)
+        else:
+            rgb = np.ascontiguousarray(rgb)
+        if s.depth_noise_std > 0:
+            depth = depth + rng.normal(0.0, s.depth_noise_std, depth.shape).astype(np.float32)
+        return Frame(
+            rgb=rgb,
+            depth=depth,
+            intrinsics=self.intrinsics.copy(),
+            world_from_camera=self.world_from_camera.copy(),
+            sim_time=float(kitchen.sim_time),
+        )

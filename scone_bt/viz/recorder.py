@@ -1,0 +1,605 @@
+"""rerun adapter: logs the static kitchen once and every tick's snapshot on the `tick` and `sim_time` timelines."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import rerun as rr
+
+from scone_bt.errors import ConfigError, UnknownNameError
+from scone_bt.gate.types import Decision, DecisionKind
+from scone_bt.viz import paths as P
+from scone_bt.viz.blueprint import default_blueprint
+from scone_bt.viz.render import (
+    STATUSES,
+    TreeNode,
+    affordances_markdown,
+    decision_markdown,
+    flatten_tree,
+    layout_tree,
+    rank_affordances,
+    recipe_markdown,
+    slug,
+    tree_text,
+)
+from scone_bt.viz.snapshot import AffordanceRow, Pose, RecipeView, TickSnapshot
+from scone_bt.viz.urdf_visuals import GEOMETRY_SOURCES, RobotVisuals, read_robot_visuals
+
+if TYPE_CHECKING:
+    from scone_bt.config import CameraSpec, ObjectSpec
+    from scone_bt.motion.types import TimedTrajectory
+    from scone_bt.perception.types import Detection, Frame
+    from scone_bt.world import Kitchen
+
+__all__ = ["Recorder", "camera_pose_from_spec", "intrinsics_from_spec"]
+
+APPLICATION_ID = "scone_bt"
+
+_STATUS_COLOURS = {
+    "SUCCESS": (46, 160, 67, 255),
+    "FAILURE": (218, 54, 51, 255),
+    "RUNNING": (230, 165, 20, 255),
+    "INVALID": (140, 140, 140, 255),
+}
+_GATE_COLOURS = {"act": (46, 160, 67, 255), "ask": (230, 120, 20, 255), "idle": (140, 140, 140, 255)}
+_SCENE_COLOURS = {"pedestal": (77, 77, 77, 255), "table": (140, 102, 64, 255), "floor": (225, 225, 225, 255)}
+_SHELF_COLOUR = (191, 184, 166, 255)
+_PALETTE = [
+    (31, 119, 180),
+    (255, 127, 14),
+    (44, 160, 44),
+    (214, 39, 40),
+    (148, 103, 189),
+    (140, 86, 75),
+    (227, 119, 194),
+    (23, 190, 207),
+]
+_POSE_EPS = 1e-5  # metres / quaternion units: below this a link or object has not moved and is not re-logged
+_TRACE_STEP = 0.005  # metres between points of the executed end-effector trace
+_TRACE_MAX = 4000
+
+
+# ---------------------------------------------------------------------------------------------- geometry helpers
+def _quat_mul(a: Sequence[float], b: Sequence[float]) -> np.ndarray:
+    ax, ay, az, aw = a
+    bx, by, bz, bw = b
+    return np.array(
+        [
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+            aw * bw - ax * bx - ay * by - az * bz,
+        ]
+    )
+
+
+def _quat_rotate(q: Sequence[float], v: Sequence[float]) -> np.ndarray:
+    qv = np.array([v[0], v[1], v[2], 0.0])
+    conj = np.array([-q[0], -q[1], -q[2], q[3]])
+    return _quat_mul(_quat_mul(q, qv), conj)[:3]
+
+
+def _matrix_to_quat(m: np.ndarray) -> tuple[float, float, float, float]:
+    """Rotation matrix → quaternion (x, y, z, w), Shepperd's method."""
+    t = float(np.trace(m))
+    if t > 0:
+        s = math.sqrt(t + 1.0) * 2
+        return ((m[2, 1] - m[1, 2]) / s, (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s, 0.25 * s)
+    i = int(np.argmax(np.diag(m)))
+    j, k = (i + 1) % 3, (i + 2) % 3
+    s = math.sqrt(1.0 + m[i, i] - m[j, j] - m[k, k]) * 2
+    q = [0.0, 0.0, 0.0, 0.0]
+    q[i] = 0.25 * s
+    q[j] = (m[j, i] + m[i, j]) / s
+    q[k] = (m[k, i] + m[i, k]) / s
+    q[3] = (m[k, j] - m[j, k]) / s
+    return (q[0], q[1], q[2], q[3])
+
+
+def camera_pose_from_spec(cam: CameraSpec) -> np.ndarray:
+    """(4, 4) world_from_camera of a look-at camera, OpenCV axes (x right, y down, z forward)."""
+    eye = np.asarray(cam.position, dtype=float)
+    forward = np.asarray(cam.target, dtype=float) - eye
+    forward /= np.linalg.norm(forward)
+    right = np.cross(forward, np.asarray(cam.up, dtype=float))
+    right /= np.linalg.norm(right)
+    down = np.cross(forward, right)
+    pose = np.eye(4)
+    pose[:3, 0], pose[:3, 1], pose[:3, 2], pose[:3, 3] = right, down, forward, eye
+    return pose
+
+
+def intrinsics_from_spec(cam: CameraSpec) -> np.ndarray:
+    """(3, 3) pinhole matrix from the vertical field of view, square pixels, centred principal point."""
+    f = (cam.height / 2) / math.tan(math.radians(cam.fov_deg) / 2)
+    return np.array([[f, 0.0, cam.width / 2], [0.0, f, cam.height / 2], [0.0, 0.0, 1.0]])
+
+
+def _moved(a: Pose | None, b: Pose) -> bool:
+    if a is None:
+        return True
+    return bool(
+        np.max(np.abs(np.subtract(a[0], b[0]))) > _POSE_EPS
+        or np.max(np.abs(np.subtract(a[1], b[1]))) > _POSE_EPS
+    )
+
+
+def _rgba255(rgba: Sequence[float]) -> tuple[int, int, int, int]:
+    return tuple(int(round(255 * max(0.0, min(1.0, float(c))))) for c in rgba)  # type: ignore[return-value]
+
+
+class Recorder:
+    """Streams a SCONE-BT run to rerun: a `.rrd` file, a spawned viewer and/or a running viewer.
+
+    Args:
+        save: Write the recording to this `.rrd` file.
+        spawn_viewer: Start a native viewer and stream to it live.
+        connect: Stream to a running viewer at this gRPC address (e.g. rerun+http://127.0.0.1:9876/proxy or
+            host:port).
+        recording_id: Id shared by everything logged in one run (several processes may log into one recording).
+        robot_geometry: "visual" (detailed meshes, ~10 MB per recording for the Panda) or "collision" (coarse).
+        jpeg_quality: RGB images are stored as JPEG of this quality (1-100); None stores raw pixels.
+        spawn_port: Port of the spawned viewer.
+    """
+
+    def __init__(
+        self,
+        save: Path | str | None = None,
+        spawn_viewer: bool = False,
+        connect: str | None = None,
+        recording_id: str | None = None,
+        *,
+        robot_geometry: str = "visual",
+        jpeg_quality: int | None = 85,
+        spawn_port: int = 9876,
+    ) -> None:
+        if save is None and not spawn_viewer and connect is None:
+            raise ConfigError(
+                "Recorder needs a sink: save=FILE.rrd, spawn_viewer=True or connect=ADDR (or use NullRecorder)"
+            )
+        if robot_geometry not in GEOMETRY_SOURCES:
+            raise UnknownNameError("robot geometry source", robot_geometry, GEOMETRY_SOURCES)
+        if jpeg_quality is not None and not 1 <= jpeg_quality <= 100:
+            raise ConfigError(f"jpeg_quality must be in 1..100 or None, got {jpeg_quality}")
+        self.save_path = Path(save) if save is not None else None
+        self.robot_geometry = robot_geometry
+        self.jpeg_quality = jpeg_quality
+        self._rec = rr.RecordingStream(APPLICATION_ID, recording_id=recording_id)
+        self._rec.set_log_tick_enabled(False)  # our own `tick` timeline is the one that matters
+        sinks: list[Any] = []
+        if self.save_path is not None:
+            self.save_path.parent.mkdir(parents=True, exist_ok=True)
+            sinks.append(rr.FileSink(str(self.save_path)))
+        urls: list[str] = []
+        if spawn_viewer:
+            self._rec.spawn(port=spawn_port, connect=False)
+            urls.append(f"rerun+http://127.0.0.1:{spawn_port}/proxy")
+        if connect is not None:
+            url = connect if "://" in connect else f"rerun+http://{connect}/proxy"
+            if url not in urls:  # rerun refuses two sinks to one address
+                urls.append(url)
+        sinks += [rr.GrpcSink(url) for url in urls]
+        self._rec.set_sinks(*sinks, default_blueprint=default_blueprint())
+        self._closed = False
+        self._robot: RobotVisuals | None = None
+        self._link_entity: dict[str, str] = {}  # link_poses key → entity path
+        self._ee_link: str | None = None
+        self._joint_names: list[str] = []
+        self._specs: Mapping[str, ObjectSpec] = {}
+        self._last_link: dict[str, Pose] = {}
+        self._last_object: dict[str, Pose] = {}
+        self._objects_drawn: set[str] = set()
+        self._camera_pose: np.ndarray | None = None
+        self._camera_k: np.ndarray | None = None
+        self._camera_res: tuple[int, int] | None = None
+        self._tree_shape: tuple[str, ...] = ()
+        self._tree_state: dict[str, tuple[str, str]] = {}
+        self._tree_layout: dict[str, tuple[float, float]] = {}
+        self._rows: list[AffordanceRow] = []
+        self._decision: Decision | None = None
+        self._recipe: RecipeView | None = None
+        self._counters: dict[str, int] = {}
+        self._named_series: set[str] = set()
+        self._trace: list[np.ndarray] = []
+        self.ticks_logged = 0
+
+    # ------------------------------------------------------------------------------------------ public API
+    @property
+    def recording_id(self) -> str:
+        return self._rec.get_recording_id()
+
+    def log_static_scene(self, kitchen: Kitchen) -> None:
+        """Log the kitchen once: scene boxes, robot geometry, object geometry, camera; then its current state."""
+        rec = self._rec
+        rec.log(P.WORLD, rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
+        for box in kitchen.static_boxes:
+            colour = _SCENE_COLOURS.get(box.name, _SHELF_COLOUR)
+            rec.log(
+                f"{P.SCENE}/{slug(box.name)}",
+                rr.Boxes3D(centers=[box.center], sizes=[box.size], colors=[colour], fill_mode="solid"),
+                static=True,
+            )
+        scene = kitchen.config.scene
+        rec.log(
+            f"{P.SCENE}/floor",
+            rr.Boxes3D(
+                centers=[(0.3, 0.0, scene.floor_z - 0.005)],
+                sizes=[(2.0, 2.0, 0.01)],
+                colors=[_SCENE_COLOURS["floor"]],
+                fill_mode="solid",
+            ),
+            static=True,
+        )
+        self._log_robot_geometry(kitchen)
+        self._specs = kitchen.specs  # a live reference: objects spawned later are drawn when first seen
+
+        cam = kitchen.config.camera
+        self._camera_res = (cam.width, cam.height)
+        self._joint_names = list(kitchen.robot_config.arm_joints)
+        for entity in (P.PLANNED_POSITION, P.PLANNED_VELOCITY, P.EXECUTED_POSITION):
+            suffix = {
+                P.PLANNED_POSITION: " planned",
+                P.PLANNED_VELOCITY: " velocity",
+                P.EXECUTED_POSITION: " executed",
+            }[entity]
+            rec.log(entity, rr.SeriesLines(names=[f"{j}{suffix}" for j in self._joint_names]), static=True)
+        rec.log(
+            P.GATE_KIND,
+            rr.StateConfiguration(values=list(_GATE_COLOURS), colors=list(_GATE_COLOURS.values())),
+            static=True,
+        )
+        rec.log(P.GATE_CONFIDENCE, rr.SeriesLines(names=["chosen action κ̂"]), static=True)
+        rec.log(P.GATE_RELEVANCE, rr.SeriesLines(names=["chosen action relevance"]), static=True)
+
+        # The initial state, so the scene is complete before the first tick.
+        self._set_time(0, kitchen.sim_time)
+        self._log_camera(camera_pose_from_spec(cam), intrinsics_from_spec(cam), (cam.width, cam.height))
+        self._log_links(kitchen.link_poses())
+        self._log_objects(
+            {n: (s.position, s.orientation) for n in kitchen.objects for s in [kitchen.object_state(n)]}
+        )
+
+    def log_tick(self, snap: TickSnapshot) -> None:
+        """Log everything of one tick; fields that are None or empty log nothing."""
+        if self._closed:
+            raise ConfigError("Recorder is closed; create a new one to log more ticks")
+        self._set_time(snap.tick, snap.sim_time)
+        if snap.link_poses:
+            self._log_links(snap.link_poses)
+        if snap.object_poses:
+            self._log_objects(snap.object_poses)
+        if snap.frame is not None:
+            self._log_frame(snap.frame, snap.detections)
+        if snap.affordances is not None or snap.decision is not None:
+            self._log_gate(snap.affordances, snap.decision)
+        if snap.ee_path is not None:
+            self._log_ee_path(np.asarray(snap.ee_path, dtype=float))
+        if snap.trajectory is not None:
+            self._log_trajectory(snap.trajectory, snap.sim_time)
+        if snap.executed_q is not None:
+            self._rec.log(P.EXECUTED_POSITION, rr.Scalars(np.asarray(snap.executed_q, dtype=float)))
+        if snap.tree is not None:
+            self._log_tree(snap.tree)
+        for name, value in snap.confidences.items():
+            self._log_scalar(P.CONFIDENCE, name, float(value))
+        for name, value in snap.counters.items():
+            if self._counters.get(name) != value:
+                self._counters[name] = int(value)
+                self._log_scalar(P.COUNTERS, name, float(value), step=True)
+        if snap.recipe is not None and snap.recipe != self._recipe:
+            self._recipe = snap.recipe
+            self._rec.log(
+                P.RECIPE, rr.TextDocument(recipe_markdown(snap.recipe), media_type=rr.MediaType.MARKDOWN)
+            )
+        for line in snap.log_lines:
+            self._rec.log(P.LOG, rr.TextLog(line, level=_log_level(line)))
+        self.ticks_logged += 1
+
+    def flush(self) -> None:
+        self._rec.flush()
+
+    def close(self) -> None:
+        """Flush everything to the sinks and finish the `.rrd` (closing twice is harmless)."""
+        if self._closed:
+            return
+        self._closed = True
+        self._rec.flush()
+        self._rec.disconnect()
+
+    def __enter__(self) -> Recorder:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    # ------------------------------------------------------------------------------------------ pieces
+    def _set_time(self, tick: int, sim_time: float) -> None:
+        self._rec.set_time(P.TICK, sequence=int(tick))
+        self._rec.set_time(P.SIM_TIME, duration=float(sim_time))
+
+    def _log_robot_geometry(self, kitchen: Kitchen) -> None:
+        cfg = kitchen.robot_config
+        robot = read_robot_visuals(cfg.urdf, self.robot_geometry)
+        self._robot = robot
+        self._ee_link = cfg.end_effector_frame
+        counts: dict[str, int] = {}
+        for vis in robot.visuals:
+            i = counts.get(vis.link, 0)
+            counts[vis.link] = i + 1
+            link_entity = f"{P.ROBOT}/{slug(vis.link)}"
+            self._link_entity["base" if vis.link == robot.root_link else vis.link] = link_entity
+            entity = f"{link_entity}/geometry_{i}"
+            scale = vis.scale if vis.kind == "mesh" else None
+            self._rec.log(
+                entity,
+                rr.Transform3D(translation=vis.position, quaternion=vis.quaternion, scale=scale),
+                static=True,
+            )
+            colour = _rgba255(vis.rgba)
+            if vis.kind == "mesh":
+                assert vis.mesh is not None
+                self._rec.log(entity, rr.Asset3D(path=vis.mesh, albedo_factor=colour), static=True)
+            elif vis.kind == "box":
+                self._rec.log(
+                    entity, rr.Boxes3D(sizes=[vis.size], colors=[colour], fill_mode="solid"), static=True
+                )
+            elif vis.kind == "cylinder":
+                self._rec.log(
+                    entity,
+                    rr.Cylinders3D(
+                        lengths=[vis.size[2]], radii=[vis.size[0]], colors=[colour], fill_mode="solid"
+                    ),
+                    static=True,
+                )
+            else:
+                self._rec.log(
+                    entity,
+                    rr.Ellipsoids3D(half_sizes=[vis.size], colors=[colour], fill_mode="solid"),
+                    static=True,
+                )
+        for note in robot.skipped:
+            self._rec.log(
+                P.LOG, rr.TextLog(f"robot geometry: {note}", level=rr.TextLogLevel.WARN), static=False
+            )
+
+    def _root_link_frame(self, com_pose: Pose) -> Pose:
+        """PyBullet gives the base at its centre of mass; shift it back to the URDF link frame."""
+        assert self._robot is not None
+        pos, quat = np.asarray(com_pose[0], dtype=float), np.asarray(com_pose[1], dtype=float)
+        ip, iq = self._robot.root_inertial_position, self._robot.root_inertial_quaternion
+        iq_inv = np.array([-iq[0], -iq[1], -iq[2], iq[3]])
+        link_quat = _quat_mul(quat, iq_inv)
+        link_pos = pos - _quat_rotate(link_quat, ip)
+        return (tuple(link_pos), tuple(link_quat))
+
+    def _log_links(self, link_poses: Mapping[str, Pose]) -> None:
+        for name, pose in link_poses.items():
+            if name == self._ee_link:
+                self._extend_trace(np.asarray(pose[0], dtype=float))
+            entity = self._link_entity.get(name)
+            if entity is None or not _moved(self._last_link.get(name), pose):
+                continue
+            self._last_link[name] = pose
+            if name == "base" and self._robot is not None:
+                pose = self._root_link_frame(pose)
+            self._rec.log(entity, rr.Transform3D(translation=pose[0], quaternion=pose[1]))
+
+    def _extend_trace(self, position: np.ndarray) -> None:
+        if self._trace and np.linalg.norm(position - self._trace[-1]) < _TRACE_STEP:
+            return
+        self._trace.append(position)
+        if len(self._trace) > _TRACE_MAX:
+            self._trace = self._trace[::2]  # keep the whole shape at half resolution
+        if len(self._trace) >= 2:
+            self._rec.log(
+                P.EE_EXECUTED,
+                rr.LineStrips3D([np.array(self._trace)], colors=[(30, 120, 230)], radii=[0.003]),
+            )
+
+    def _log_objects(self, poses: Mapping[str, Pose]) -> None:
+        for name, pose in poses.items():
+            entity = f"{P.OBJECTS}/{slug(name)}"
+            if name not in self._objects_drawn:
+                self._objects_drawn.add(name)
+                self._log_object_geometry(name, entity)
+            if not _moved(self._last_object.get(name), pose):
+                continue
+            self._last_object[name] = pose
+            self._rec.log(entity, rr.Transform3D(translation=pose[0], quaternion=pose[1]))
+
+    def _log_object_geometry(self, name: str, entity: str) -> None:
+        spec = self._specs.get(name)
+        if spec is None:  # not from the catalogue: a marker-sized cube keeps it visible
+            geometry: Any = rr.Boxes3D(
+                sizes=[(0.05, 0.05, 0.05)], labels=[name], colors=[(200, 200, 200)], fill_mode="solid"
+            )
+        elif spec.shape == "box":
+            geometry = rr.Boxes3D(
+                sizes=[spec.size], colors=[_rgba255(spec.rgba)], labels=[name], fill_mode="solid"
+            )
+        else:
+            geometry = rr.Cylinders3D(
+                lengths=[spec.size[2]],
+                radii=[spec.size[0] / 2],
+                colors=[_rgba255(spec.rgba)],
+                labels=[name],
+                fill_mode="solid",
+            )
+        self._rec.log(f"{entity}/geometry", geometry, static=True)
+
+    def _log_camera(self, world_from_camera: np.ndarray, k: np.ndarray, resolution: tuple[int, int]) -> None:
+        if self._camera_pose is None or not np.allclose(self._camera_pose, world_from_camera, atol=1e-6):
+            self._camera_pose = np.array(world_from_camera, dtype=float)
+            rot = self._camera_pose[:3, :3]
+            self._rec.log(
+                P.CAMERA,
+                rr.Transform3D(translation=self._camera_pose[:3, 3], quaternion=_matrix_to_quat(rot)),
+            )
+        if self._camera_k is None or not np.allclose(self._camera_k, k) or self._camera_res != resolution:
+            self._camera_k, self._camera_res = np.array(k, dtype=float), resolution
+            self._rec.log(
+                P.IMAGE,
+                rr.Pinhole(
+                    image_from_camera=self._camera_k,
+                    resolution=resolution,
+                    camera_xyz=rr.ViewCoordinates.RDF,
+                    image_plane_distance=0.25,
+                ),
+            )
+
+    def _log_frame(self, frame: Frame, detections: Sequence[Detection]) -> None:
+        h, w = frame.rgb.shape[:2]
+        self._log_camera(frame.world_from_camera, frame.intrinsics, (w, h))
+        self._rec.log(P.RGB, self._rgb_image(frame.rgb))
+        depth_mm = np.clip(np.nan_to_num(frame.depth, nan=0.0, posinf=0.0) * 1000.0, 0, 65535).astype(
+            np.uint16
+        )
+        self._rec.log(P.DEPTH, rr.DepthImage(depth_mm, meter=1000.0, colormap="turbo"))
+        if detections:
+            boxes = np.array([d.bbox for d in detections], dtype=float)
+            colours = [_PALETTE[d.track_id % len(_PALETTE)] for d in detections]
+            labels = [f"{d.name} #{d.track_id} ({d.confidence:.2f})" for d in detections]
+            self._rec.log(
+                P.DETECTIONS_2D,
+                rr.Boxes2D(array=boxes, array_format=rr.Box2DFormat.XYXY, labels=labels, colors=colours),
+            )
+            self._rec.log(
+                P.DETECTIONS_3D,
+                rr.Points3D(
+                    [d.position for d in detections],
+                    labels=[d.name for d in detections],
+                    colors=colours,
+                    radii=[0.01],
+                ),
+            )
+        else:
+            self._rec.log(P.DETECTIONS_2D, rr.Boxes2D.cleared())
+            self._rec.log(P.DETECTIONS_3D, rr.Points3D.cleared())
+
+    def _rgb_image(self, rgb: np.ndarray) -> Any:
+        if self.jpeg_quality is None:
+            return rr.Image(rgb, color_model="RGB")
+        import cv2
+
+        ok, buf = cv2.imencode(
+            ".jpg", np.ascontiguousarray(rgb[..., ::-1]), [cv2.IMWRITE_JPEG_QUALITY, self.jpeg_quality]
+        )
+        if not ok:  # pragma: no cover - OpenCV refuses only malformed arrays
+            return rr.Image(rgb, color_model="RGB")
+        return rr.EncodedImage(contents=buf.tobytes(), media_type="image/jpeg")
+
+    def _log_gate(self, rows: Sequence[AffordanceRow] | None, decision: Decision | None) -> None:
+        if rows is not None:
+            self._rows = rank_affordances(rows)
+            relevance = np.array([r[1] for r in self._rows], dtype=float)
+            confidence = np.array([r[2] for r in self._rows], dtype=float)
+            self._rec.log(P.AFFORDANCE_RELEVANCE, rr.BarChart(relevance, color=(31, 119, 180)))
+            self._rec.log(P.AFFORDANCE_CONFIDENCE, rr.BarChart(confidence, color=(44, 160, 44)))
+        if decision is not None:
+            self._decision = decision
+            self._rec.log(
+                P.GATE_DECISION,
+                rr.TextDocument(decision_markdown(decision), media_type=rr.MediaType.MARKDOWN),
+            )
+            self._rec.log(P.GATE_KIND, rr.StateChange(state=[decision.kind.value]))
+            if decision.kind is not DecisionKind.IDLE:
+                self._rec.log(P.GATE_CONFIDENCE, rr.Scalars(float(decision.confidence)))
+                self._rec.log(P.GATE_RELEVANCE, rr.Scalars(float(decision.relevance)))
+            level = rr.TextLogLevel.WARN if decision.kind is DecisionKind.ASK else rr.TextLogLevel.INFO
+            self._rec.log(
+                P.LOG,
+                rr.TextLog(
+                    f"gate: {decision.kind.value} {decision.action or ''} — {decision.reason}", level=level
+                ),
+            )
+        self._rec.log(
+            P.AFFORDANCE_TABLE,
+            rr.TextDocument(
+                affordances_markdown(self._rows, self._decision), media_type=rr.MediaType.MARKDOWN
+            ),
+        )
+
+    def _log_ee_path(self, path: np.ndarray) -> None:
+        if path.ndim != 2 or path.shape[1] != 3:
+            raise ConfigError(f"ee_path must be an (N, 3) array of metres, got shape {path.shape}")
+        self._rec.log(P.EE_PATH, rr.LineStrips3D([path], colors=[(230, 120, 20)], radii=[0.004]))
+        self._trace = []  # the executed trace restarts with each new plan
+
+    def _log_trajectory(self, traj: TimedTrajectory, start: float) -> None:
+        if len(traj.times) == 0:
+            return
+        index = [rr.TimeColumn(P.SIM_TIME, duration=start + np.asarray(traj.times, dtype=float))]
+        self._rec.send_columns(
+            P.PLANNED_POSITION,
+            indexes=index,
+            columns=rr.Scalars.columns(scalars=np.asarray(traj.positions, dtype=float)),
+        )
+        self._rec.send_columns(
+            P.PLANNED_VELOCITY,
+            indexes=index,
+            columns=rr.Scalars.columns(scalars=np.asarray(traj.velocities, dtype=float)),
+        )
+
+    def _log_tree(self, root: Any) -> None:
+        nodes = flatten_tree(root)
+        shape = tuple(n.node_id for n in nodes)
+        if shape != self._tree_shape:
+            self._tree_shape = shape
+            self._tree_state = {}
+            self._tree_layout = layout_tree(nodes)
+            edges = [(n.parent, n.node_id) for n in nodes if n.parent is not None]
+            self._rec.log(P.TREE_GRAPH, rr.GraphEdges(edges, graph_type="directed"))
+            for node in nodes:
+                self._rec.log(
+                    f"{P.TREE_STATUS}/{node.node_id}",
+                    rr.StateConfiguration(
+                        values=list(STATUSES), colors=[_STATUS_COLOURS[s] for s in STATUSES]
+                    ),
+                    static=True,
+                )
+        changed = False
+        for node in nodes:
+            state = (node.status, node.feedback)
+            previous = self._tree_state.get(node.node_id)
+            if previous == state:
+                continue
+            changed = True
+            if previous is None or previous[0] != node.status:
+                self._rec.log(f"{P.TREE_STATUS}/{node.node_id}", rr.StateChange(state=[node.status]))
+            self._tree_state[node.node_id] = state
+        if changed:
+            self._log_tree_views(nodes)
+
+    def _log_tree_views(self, nodes: list[TreeNode]) -> None:
+        self._rec.log(
+            P.TREE_GRAPH,
+            rr.GraphNodes(
+                [n.node_id for n in nodes],
+                positions=[self._tree_layout[n.node_id] for n in nodes],
+                labels=[f"{n.name}: {n.status.lower()}" for n in nodes],
+                colors=[_STATUS_COLOURS.get(n.status, _STATUS_COLOURS["INVALID"]) for n in nodes],
+                radii=[10.0 if n.is_leaf else 14.0 for n in nodes],
+            ),
+        )
+        self._rec.log(P.TREE_TEXT, rr.TextDocument(tree_text(nodes)))
+
+    def _log_scalar(self, root: str, name: str, value: float, step: bool = False) -> None:
+        entity = f"{root}/{slug(name)}"
+        if entity not in self._named_series:
+            self._named_series.add(entity)
+            mode = rr.components.InterpolationMode.StepAfter if step else None
+            self._rec.log(entity, rr.SeriesLines(names=[name], interpolation_mode=mode), static=True)
+        self._rec.log(entity, rr.Scalars(value))
+
+
+def _log_level(line: str) -> str:
+    head = line.lstrip().lower()
+    if head.startswith(("error", "failed", "failure")):
+        return rr.TextLogLevel.ERROR
+    if head.startswith(("warn", "ask", "help")):
+        return rr.TextLogLevel.WARN
+    return rr.TextLogLevel.INFO
