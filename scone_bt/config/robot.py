@@ -10,7 +10,15 @@ from scone_bt.config.yaml_io import Fields, read_yaml, require
 from scone_bt.errors import ConfigError
 from scone_bt.resources import resolve_file
 
-__all__ = ["GripperSpec", "LimitsSpec", "PlannerSpec", "ControlSpec", "RobotConfig", "load_robot", "resolve_urdf"]
+__all__ = [
+    "GripperSpec",
+    "LimitsSpec",
+    "PlannerSpec",
+    "ControlSpec",
+    "RobotConfig",
+    "load_robot",
+    "resolve_urdf",
+]
 
 
 @dataclass(frozen=True)
@@ -69,6 +77,9 @@ class RobotConfig:
     control: ControlSpec
     source: Path
     raw: dict[str, Any] = field(default_factory=dict, compare=False, repr=False)
+    disabled_collisions: tuple[tuple[str, str], ...] = ()
+    """Link pairs never checked for self-collision besides adjacent links (an SRDF's list), from
+    `collision.disabled_pairs`."""
 
     @property
     def dof(self) -> int:
@@ -88,6 +99,21 @@ def resolve_urdf(spec: str, relative_to: Path) -> Path:
     if not path.is_file():
         raise ConfigError(f"{relative_to}: URDF not found: {spec} (resolved to {path})")
     return path
+
+
+def _disabled_pairs(raw: dict[str, Any], path: Path) -> tuple[tuple[str, str], ...]:
+    section = raw.get("collision") or {}
+    require(isinstance(section, dict), f"{path}.collision: expected a mapping")
+    pairs = section.get("disabled_pairs") or []
+    require(
+        isinstance(pairs, list), f"{path}.collision.disabled_pairs: expected a list of [link, link] pairs"
+    )
+    out = []
+    for i, pair in enumerate(pairs):
+        ok = isinstance(pair, list) and len(pair) == 2 and all(isinstance(x, str) for x in pair)
+        require(ok, f"{path}.collision.disabled_pairs[{i}]: expected two link names, got {pair!r}")
+        out.append((pair[0], pair[1]))
+    return tuple(out)
 
 
 def load_robot(name_or_path: str | Path = "panda") -> RobotConfig:
@@ -137,6 +163,7 @@ def load_robot(name_or_path: str | Path = "panda") -> RobotConfig:
         ),
         source=path,
         raw=raw,
+        disabled_collisions=_disabled_pairs(raw, path),
     )
     require(cfg.limits.velocity_scale > 0, f"{path}: limits.velocity_scale must be positive")
     return cfg

@@ -17,11 +17,15 @@ import time
 from collections.abc import Iterable, Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from scone_bt.embedding.base import Embedder, normalize_rows
 from scone_bt.errors import ModelUnavailableError, SconeError
+
+if TYPE_CHECKING:
+    import torch
 
 __all__ = [
     "FORMAT",
@@ -158,7 +162,9 @@ class FinetunedEmbedder(Embedder):
         return directory
 
     @classmethod
-    def load(cls, directory: Path, cache_dir: Path | None = None, *, disk_cache: bool = True) -> FinetunedEmbedder:
+    def load(
+        cls, directory: Path, cache_dir: Path | None = None, *, disk_cache: bool = True
+    ) -> FinetunedEmbedder:
         """Load a saved head and its base embedder (by the name or path recorded at training)."""
         from safetensors.numpy import load_file
 
@@ -233,8 +239,8 @@ def train_finetuned(
 
     opts = options or FinetuneOptions()
     data = [InstructionExample.coerce(e) for e in examples]
-    base_spec = base if isinstance(base, str) else _base_spec(base)
     encoder = load_embedder(base, cache_dir) if isinstance(base, str) else base
+    base_spec = _base_spec(encoder)
 
     actions = sorted({a for ex in data for a in (*ex.relevant, *ex.available)})
     instructions = sorted({ex.instruction for ex in data})
@@ -252,7 +258,9 @@ def train_finetuned(
         pool_ids = np.array([action_id[a] for a in pool])
         pairs.extend((inst_id[ex.instruction], action_id[p], pool_ids) for p in dict.fromkeys(ex.relevant))
     if not pairs:
-        raise SconeError("no training triplets: give examples with relevant actions and other available actions")
+        raise SconeError(
+            "no training triplets: give examples with relevant actions and other available actions"
+        )
 
     torch.manual_seed(opts.seed)
     rng = np.random.default_rng(opts.seed)
@@ -272,22 +280,13 @@ def train_finetuned(
     positives = np.repeat([p[1] for p in pairs], opts.negatives)
     history = []
     start = time.perf_counter()
-    model.train()
-    for _ in range(opts.epochs):
-        negatives = np.concatenate([rng.choice(p[2], size=opts.negatives, replace=True) for p in pairs])
-        order = rng.permutation(len(anchors))
-        total = 0.0
-        for lo in range(0, len(order), opts.batch_size):
-            idx = order[lo : lo + opts.batch_size]
-            a = model(x_inst[anchors[idx]])
-            p = model(x_act[positives[idx]])
-            n = model(x_act[negatives[idx]])
-            loss = loss_fn(a, p, n)
-            optim.zero_grad()
-            loss.backward()
-            optim.step()
-            total += float(loss) * len(idx)
-        history.append(total / len(order))
+    threads = torch.get_num_threads()
+    # a 2-layer head on a few thousand triplets gains nothing from threads, and on a loaded machine loses a lot
+    torch.set_num_threads(1)
+    try:
+        _run_epochs(model, loss_fn, optim, x_inst, x_act, pairs, anchors, positives, opts, rng, history)
+    finally:
+        torch.set_num_threads(threads)
     model.eval()
     lin1, lin2 = model[0], model[3]
     head = _Head(
@@ -307,11 +306,45 @@ def train_finetuned(
         "train_seconds": round(time.perf_counter() - start, 3),
         "history": [round(h, 6) for h in history],
     }
-    cache_file = encoder.cache.path if cache_dir is None and not isinstance(base, str) else cache_file_for(cache_dir)
+    cache_file = (
+        encoder.cache.path if cache_dir is None and not isinstance(base, str) else cache_file_for(cache_dir)
+    )
     result = FinetunedEmbedder(encoder, head, meta, None, cache_file)
     if out_dir is not None:
         result.save(Path(out_dir))
     return result
+
+
+def _run_epochs(
+    model: torch.nn.Module,
+    loss_fn: torch.nn.Module,
+    optim: torch.optim.Optimizer,
+    x_inst: torch.Tensor,
+    x_act: torch.Tensor,
+    pairs: list[tuple[int, int, np.ndarray]],
+    anchors: np.ndarray,
+    positives: np.ndarray,
+    opts: FinetuneOptions,
+    rng: np.random.Generator,
+    history: list[float],
+) -> None:
+    """Triplet training epochs (negatives redrawn each epoch); appends the mean loss of each to `history`."""
+    model.train()
+    for _ in range(opts.epochs):
+        negatives = np.concatenate([rng.choice(p[2], size=opts.negatives, replace=True) for p in pairs])
+        order = rng.permutation(len(anchors))
+        total = 0.0
+        for lo in range(0, len(order), opts.batch_size):
+            idx = order[lo : lo + opts.batch_size]
+            a = model(x_inst[anchors[idx]])
+            p = model(x_act[positives[idx]])
+            n = model(x_act[negatives[idx]])
+            loss = loss_fn(a, p, n)
+            optim.zero_grad()
+            loss.backward()
+            optim.step()
+            total += float(loss.detach()) * len(idx)
+        history.append(total / len(order))
 
 
 def _base_spec(base: Embedder) -> str:
@@ -319,7 +352,8 @@ def _base_spec(base: Embedder) -> str:
     model_dir = getattr(base, "model_dir", None)
     if base.name in {"minilm", "mpnet", "glove"} or model_dir is None:
         if base.name == "onehot":
-            raise SconeError("a fine-tuned head needs a semantic base embedder; valid: minilm, mpnet, glove, a dir")
+            raise SconeError(
+                "a fine-tuned head needs a semantic base embedder; valid: minilm, mpnet, glove, a dir"
+            )
         return base.name
     return str(Path(model_dir).resolve())
-

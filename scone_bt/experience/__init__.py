@@ -1,8 +1,8 @@
 """Experience: every observed outcome, stored durably so κ̂ can be rebuilt after any crash.
 
-    store = ExperienceStore("runs/experience.sqlite")
-    store.append(Outcome(time.time(), "Put salt on table", "salt", "minilm", success=True))
-    store.outcomes(embedder="minilm")
+store = ExperienceStore("runs/experience.sqlite")
+store.append(Outcome(time.time(), "Put salt on table", "salt", "minilm", success=True))
+store.outcomes(embedder="minilm")
 """
 
 from scone_bt.experience.store import APPLICATION_ID, SCHEMA_VERSION, ExperienceStore

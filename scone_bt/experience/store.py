@@ -147,7 +147,9 @@ class ExperienceStore:
             conn = self._connection()
             try:
                 conn.execute("BEGIN IMMEDIATE")
-                cur = conn.execute(f"INSERT INTO outcomes ({', '.join(_COLUMNS)}) VALUES (?, ?, ?, ?, ?, ?, ?)", row)
+                cur = conn.execute(
+                    f"INSERT INTO outcomes ({', '.join(_COLUMNS)}) VALUES (?, ?, ?, ?, ?, ?, ?)", row
+                )
                 conn.execute("COMMIT")
             except sqlite3.Error as exc:
                 if conn.in_transaction:

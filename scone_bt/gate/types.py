@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from enum import Enum
+from enum import StrEnum
 
 __all__ = ["DecisionKind", "Decision"]
 
 
-class DecisionKind(str, Enum):
+class DecisionKind(StrEnum):
     ACT = "act"  # confident enough: attempt the action
     ASK = "ask"  # not confident: ask the human for help with this action
     IDLE = "idle"  # no relevant action for the current instruction

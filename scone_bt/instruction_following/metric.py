@@ -81,10 +81,8 @@ class IfScore:
 def score_episode(state: IfState, picks: Sequence[str]) -> Episode:
     """Accuracy and recall of one sequence of picks."""
     hits = sum(1 for p in picks if p in state.relevant)
-    if picks:
-        accuracy = hits / len(picks)
-    else:
-        accuracy = 0.0 if state.relevant else 1.0
+    # No picks: right only when nothing was relevant.
+    accuracy = hits / len(picks) if picks else float(not state.relevant)
     recall = hits / len(state.relevant) if state.relevant else 1.0
     return Episode(state=state, picks=tuple(picks), accuracy=accuracy, recall=recall)
 
@@ -98,7 +96,9 @@ def run_episode(policy: Policy, state: IfState) -> Episode:
         if choice is None:
             break
         if choice not in remaining:
-            raise ValueError(f"policy {policy.name!r} picked {choice!r}, which is not among the remaining actions")
+            raise ValueError(
+                f"policy {policy.name!r} picked {choice!r}, which is not among the remaining actions"
+            )
         picks.append(choice)
         remaining.remove(choice)
     return score_episode(state, picks)

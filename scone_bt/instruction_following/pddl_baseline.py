@@ -138,7 +138,10 @@ def plan_fetches(
     by_symbol = {o.name: it for it, o in item_obj.items()}
     with ups.OneshotPlanner(name="fast-downward", params={"fast_downward_alias": opts.alias}) as planner:
         result = planner.solve(problem)
-    if result.status not in (PlanGenerationResultStatus.SOLVED_SATISFICING, PlanGenerationResultStatus.SOLVED_OPTIMALLY):
+    if result.status not in (
+        PlanGenerationResultStatus.SOLVED_SATISFICING,
+        PlanGenerationResultStatus.SOLVED_OPTIMALLY,
+    ):
         return PddlPlan(goal=tuple(goal), actions=(), placed=(), status=result.status.name)
     actions, placed = [], []
     for a in result.plan.actions:

@@ -22,6 +22,7 @@ __all__ = [
     "state_scores",
     "fit_threshold",
     "threshold_picks_score",
+    "relative_scores",
 ]
 
 Objective = Literal["accuracy", "f1"]
@@ -40,22 +41,41 @@ def state_scores(embedder: Embedder, states: Sequence[IfState]) -> list[np.ndarr
     return out
 
 
+def relative_scores(scores: Sequence[np.ndarray]) -> list[np.ndarray]:
+    """Each state's similarities minus its best one (≤ 0), for a threshold relative to the top action."""
+    return [
+        np.asarray(s, dtype=float) - float(np.max(s)) if len(s) else np.asarray(s, dtype=float)
+        for s in scores
+    ]
+
+
 def threshold_picks_score(
-    scores: Sequence[np.ndarray], states: Sequence[IfState], threshold: float
+    scores: Sequence[np.ndarray], states: Sequence[IfState], threshold: float | np.ndarray
 ) -> tuple[float, float]:
-    """Mean IF accuracy and recall of "pick while the best remaining scores ≥ threshold" (vectorised)."""
-    acc = rec = 0.0
-    for sc, s in zip(scores, states, strict=True):
-        chosen = sc >= threshold
-        rel = np.array([a in s.relevant for a in s.available])
-        hits = int(np.sum(chosen & rel))
-        n = int(np.sum(chosen))
-        acc += hits / n if n else (0.0 if rel.any() else 1.0)
-        rec += hits / rel.sum() if rel.any() else 1.0
-    return acc / len(states), rec / len(states)
+    """Mean IF accuracy and recall of "pick while the best remaining scores ≥ threshold"; with an array of
+    thresholds, arrays of both (one entry per threshold)."""
+    flat = np.concatenate([np.asarray(sc, dtype=float) for sc in scores])
+    owner = np.repeat(np.arange(len(states)), [len(sc) for sc in scores])
+    rel = np.concatenate([[a in s.relevant for a in s.available] for s in states]).astype(bool)
+    n_rel = np.bincount(owner, weights=rel, minlength=len(states))
+    thresholds = np.atleast_1d(np.asarray(threshold, dtype=float))
+    accs, recs = [], []
+    for t in thresholds:
+        chosen = flat >= t
+        n = np.bincount(owner, weights=chosen, minlength=len(states))
+        hits = np.bincount(owner, weights=chosen & rel, minlength=len(states))
+        acc = np.where(n > 0, hits / np.maximum(n, 1), (n_rel == 0).astype(float))
+        rec = np.where(n_rel > 0, hits / np.maximum(n_rel, 1), 1.0)
+        accs.append(acc.mean())
+        recs.append(rec.mean())
+    if np.ndim(threshold) == 0:
+        return float(accs[0]), float(recs[0])
+    return np.array(accs), np.array(recs)  # type: ignore[return-value]
 
 
-def fit_threshold(scores: Sequence[np.ndarray], states: Sequence[IfState], objective: Objective = "accuracy") -> float:
+def fit_threshold(
+    scores: Sequence[np.ndarray], states: Sequence[IfState], objective: Objective = "accuracy"
+) -> float:
     """The stopping threshold ρ that maximises the IF objective on labelled (training) states.
 
     Args:
@@ -70,13 +90,10 @@ def fit_threshold(scores: Sequence[np.ndarray], states: Sequence[IfState], objec
         raise ValueError(f"unknown objective {objective!r}; valid: accuracy, f1")
     pooled = np.concatenate([np.asarray(s, dtype=float) for s in scores])
     candidates = np.unique(np.quantile(pooled, np.linspace(0.0, 1.0, 201)))
-    best, best_t = -1.0, float(candidates[0])
-    for t in candidates:
-        acc, rec = threshold_picks_score(scores, states, float(t))
-        value = acc if objective == "accuracy" else (2 * acc * rec / (acc + rec) if acc + rec else 0.0)
-        if value > best + 1e-12:
-            best, best_t = value, float(t)
-    return best_t
+    acc, rec = threshold_picks_score(scores, states, candidates)
+    value = acc if objective == "accuracy" else np.where(acc + rec > 0, 2 * acc * rec / np.maximum(acc + rec, 1e-12), 0.0)
+    # argmax takes the first (lowest) of equally good thresholds.
+    return float(candidates[int(np.argmax(np.round(value, 12)))])
 
 
 @dataclass
@@ -87,6 +104,7 @@ class SimilarityPolicy:
         embedder: The joint embedder ζ.
         name: Row label in the results table.
         threshold: ρ; stop when the best remaining action's similarity is below it (None: never).
+        relative: Compare ρ with the similarity minus the state's best similarity, so the first pick is free.
         oracle_count: Stop after len(relevant) picks (reads the labels: an analysis upper bound on stopping).
         score_fn: Replaces the cosine similarity (used by tests and by calibrated variants).
     """
@@ -94,6 +112,7 @@ class SimilarityPolicy:
     embedder: Embedder | None
     name: str
     threshold: float | None = None
+    relative: bool = False
     oracle_count: bool = False
     score_fn: Callable[[IfState], dict[str, float]] | None = None
     _cache: dict[tuple[str, tuple[str, ...]], dict[str, float]] = field(default_factory=dict, repr=False)
@@ -116,6 +135,7 @@ class SimilarityPolicy:
             return None
         scores = self.scores(state)
         best = max(remaining, key=lambda a: scores[a])
-        if self.threshold is not None and scores[best] < self.threshold:
+        offset = max(scores.values()) if self.relative else 0.0
+        if self.threshold is not None and scores[best] - offset < self.threshold:
             return None
         return best

@@ -241,7 +241,10 @@ def build_states(recipes: Sequence[Recipe], options: StateOptions | None = None)
                 distractors.append(cand)
         kitchen = items + distractors
         slots = rng.permutation(opts.capacity)[: len(kitchen)]
-        where = {item: (int(s) // opts.slots_per_tier, int(s) % opts.slots_per_tier) for item, s in zip(kitchen, slots, strict=True)}
+        where = {
+            item: (int(s) // opts.slots_per_tier, int(s) % opts.slots_per_tier)
+            for item, s in zip(kitchen, slots, strict=True)
+        }
         shelf_order = sorted(kitchen, key=lambda i: where[i])
         per_step = _step_items(recipe, items, opts.labels)
         last_use = {item: max((k for k, s in enumerate(per_step) if item in s), default=-1) for item in items}
@@ -282,6 +285,8 @@ def load_states(path: str | os.PathLike[str], split: str | None = None) -> list[
     Raises:
         RecipeError: The file is missing or a line breaks the schema (the message names the line).
     """
+    if split is not None and split not in SPLITS:
+        raise RecipeError(f"unknown split {split!r}; valid: {', '.join(SPLITS)}")
     file = Path(path)
     if not file.is_file():
         raise RecipeError(f"states file not found: {file}")
@@ -294,9 +299,17 @@ def load_states(path: str | os.PathLike[str], split: str | None = None) -> list[
                 rec = json.loads(line)
                 instruction, available, relevant = rec["instruction"], rec["available"], rec["relevant"]
             except (json.JSONDecodeError, KeyError, TypeError):
-                raise RecipeError(f"{file}:{n}: not a state; required keys: instruction, available, relevant") from None
-            if not isinstance(instruction, str) or not isinstance(available, list) or not isinstance(relevant, list):
-                raise RecipeError(f"{file}:{n}: instruction must be a string, available and relevant lists of strings")
+                raise RecipeError(
+                    f"{file}:{n}: not a state; required keys: instruction, available, relevant"
+                ) from None
+            if (
+                not isinstance(instruction, str)
+                or not isinstance(available, list)
+                or not isinstance(relevant, list)
+            ):
+                raise RecipeError(
+                    f"{file}:{n}: instruction must be a string, available and relevant lists of strings"
+                )
             if not set(relevant) <= set(available):
                 raise RecipeError(f"{file}:{n}: relevant actions must be a subset of the available ones")
             locations = {str(a): (int(v[0]), int(v[1])) for a, v in (rec.get("locations") or {}).items()}
@@ -313,7 +326,5 @@ def load_states(path: str | os.PathLike[str], split: str | None = None) -> list[
                 )
             )
     if split is not None:
-        if split not in SPLITS:
-            raise RecipeError(f"unknown split {split!r}; valid: {', '.join(SPLITS)}")
         states = [s for s in states if s.split == split]
     return states

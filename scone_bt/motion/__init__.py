@@ -1,1 +1,52 @@
-"""(stage package; see its modules)."""
+"""Motion stage: Pinocchio arm model, OMPL planning, ruckig timing and physical pick-and-place in PyBullet.
+
+Heavy backends (pinocchio, coal, ompl, ruckig, pybullet) are imported inside the adapter functions only.
+"""
+
+from scone_bt.motion.collision import CollisionWorld, Obstacle
+from scone_bt.motion.execution import ExecutionSettings
+from scone_bt.motion.grasp import GraspCandidate, GraspParams, grasp_candidates, place_pose
+from scone_bt.motion.model import ArmModel, IKOptions, IKSolution
+from scone_bt.motion.pick_place import PickPlaceFailure, PickPlacePlan, PickPlaceRequest, plan_pick_and_place
+from scone_bt.motion.planner import PLANNERS, PlannerOptions, plan_joint_path
+from scone_bt.motion.system import MotionSystem, PickAndPlace
+from scone_bt.motion.timing import KinematicLimits, limits_of, time_path
+from scone_bt.motion.types import (
+    FailureStage,
+    MotionOutcome,
+    MotionProgress,
+    PlanResult,
+    PlanStatus,
+    TimedTrajectory,
+)
+
+__all__ = [
+    "PLANNERS",
+    "ArmModel",
+    "CollisionWorld",
+    "ExecutionSettings",
+    "FailureStage",
+    "GraspCandidate",
+    "GraspParams",
+    "IKOptions",
+    "IKSolution",
+    "KinematicLimits",
+    "MotionOutcome",
+    "MotionProgress",
+    "MotionSystem",
+    "Obstacle",
+    "PickAndPlace",
+    "PickPlaceFailure",
+    "PickPlacePlan",
+    "PickPlaceRequest",
+    "PlanResult",
+    "PlanStatus",
+    "PlannerOptions",
+    "TimedTrajectory",
+    "grasp_candidates",
+    "limits_of",
+    "place_pose",
+    "plan_joint_path",
+    "plan_pick_and_place",
+    "time_path",
+]

@@ -6,6 +6,7 @@ detected objects. An object held in the gripper is attached to the end-effector'
 
 from __future__ import annotations
 
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -51,6 +52,8 @@ class CollisionWorld:
         attached: An object held by the gripper, pose relative to the end-effector frame, or None.
         padding: Metres added on every side of every obstacle (a safety margin for perception error).
         ignore_for_hand: Obstacle names the gripper (hand and fingers) may touch, e.g. the object being grasped.
+        max_tilt: If set, the largest angle (rad) between the end-effector's approach axis and straight down: keeps
+            a held object upright while it is carried (a path constraint, checked like a collision).
     """
 
     def __init__(
@@ -61,6 +64,7 @@ class CollisionWorld:
         *,
         padding: float = 0.01,
         ignore_for_hand: Sequence[str] = (),
+        max_tilt: float | None = None,
     ) -> None:
         import pinocchio as pin
 
@@ -74,7 +78,13 @@ class CollisionWorld:
         for ob in obstacles:
             pose = ob.pose.copy()
             pose[:3, 3] -= base
-            obj = pin.GeometryObject(f"obstacle:{ob.name}", 0, 0, pin.SE3(pose[:3, :3], pose[:3, 3]), _geometry(ob.shape, ob.size, padding))
+            obj = pin.GeometryObject(
+                f"obstacle:{ob.name}",
+                0,
+                0,
+                pin.SE3(pose[:3, :3], pose[:3, 3]),
+                _geometry(ob.shape, ob.size, padding),
+            )
             obstacle_ids.append((ob.name, gm.addGeometryObject(obj)))
         attached_id = None
         if attached is not None:
@@ -83,10 +93,16 @@ class CollisionWorld:
             pose = joint_from_ee @ attached.pose
             # Slightly smaller than the object: it rests on (touches) its support when the grasp closes.
             obj = pin.GeometryObject(
-                f"attached:{attached.name}", arm.ee_joint, ee.parentFrame, pin.SE3(pose[:3, :3], pose[:3, 3]), _geometry(attached.shape, attached.size, -0.005)
+                f"attached:{attached.name}",
+                arm.ee_joint,
+                ee.parentFrame,
+                pin.SE3(pose[:3, :3], pose[:3, 3]),
+                _geometry(attached.shape, attached.size, -0.005),
             )
             attached_id = gm.addGeometryObject(obj)
-        hand_links = set(arm.config.raw.get("collision", {}).get("hand_links", []) or []) | self._gripper_links()
+        hand_links = (
+            set(arm.config.raw.get("collision", {}).get("hand_links", []) or []) | self._gripper_links()
+        )
         pairs = [pin.CollisionPair(i, j) for i, j in arm.self_collision_pairs()]
         base_link = arm.link_of_geometry[gm.geometryObjects[0].name]
         for r in range(n_robot):
@@ -101,12 +117,21 @@ class CollisionWorld:
                 pairs.append(pin.CollisionPair(r, attached_id))
         if attached_id is not None:
             for _, oid in obstacle_ids:
-                pairs.append(pin.CollisionPair(oid, attached_id) if oid < attached_id else pin.CollisionPair(attached_id, oid))
+                pairs.append(
+                    pin.CollisionPair(oid, attached_id)
+                    if oid < attached_id
+                    else pin.CollisionPair(attached_id, oid)
+                )
         for pair in pairs:
             gm.addCollisionPair(pair)
         self.geom_model = gm
         self.geom_data = gm.createData()
         self.checks = 0
+        self.check_time = 0.0  # wall seconds spent in is_valid
+        self.min_down = None if max_tilt is None else float(np.cos(max_tilt))
+        ee = self.model.frames[arm.ee_frame]
+        self._ee_joint = ee.parentJoint
+        self._ee_axis_in_joint = np.asarray(ee.placement.rotation[:, 2])
 
     def _gripper_links(self) -> set[str]:
         """The end-effector's link and every link downstream of it (hand, fingers)."""
@@ -116,12 +141,25 @@ class CollisionWorld:
 
     def is_valid(self, q: np.ndarray) -> bool:
         """True if q is within joint limits and nothing collides (self, obstacles, attached object)."""
+        t = time.perf_counter()
+        self.checks += 1
+        valid = self._valid(q)
+        self.check_time += time.perf_counter() - t
+        return valid
+
+    def _valid(self, q: np.ndarray) -> bool:
         import pinocchio as pin
 
-        self.checks += 1
         if not self.arm.within_limits(q):
             return False
-        return not pin.computeCollisions(self.model, self.data, self.geom_model, self.geom_data, q, True)
+        if self.min_down is None:
+            return not pin.computeCollisions(self.model, self.data, self.geom_model, self.geom_data, q, True)
+        pin.forwardKinematics(self.model, self.data, q)
+        approach = self.data.oMi[self._ee_joint].rotation @ self._ee_axis_in_joint
+        if -approach[2] < self.min_down:
+            return False
+        pin.updateGeometryPlacements(self.model, self.data, self.geom_model, self.geom_data)
+        return not pin.computeCollisions(self.geom_model, self.geom_data, True)
 
     def colliding_pairs(self, q: np.ndarray) -> list[tuple[str, str]]:
         """Names of the geometry pairs in collision at q (for messages)."""
@@ -132,7 +170,12 @@ class CollisionWorld:
         for k, res in enumerate(self.geom_data.collisionResults):
             if res.isCollision():
                 pair = self.geom_model.collisionPairs[k]
-                out.append((self.geom_model.geometryObjects[pair.first].name, self.geom_model.geometryObjects[pair.second].name))
+                out.append(
+                    (
+                        self.geom_model.geometryObjects[pair.first].name,
+                        self.geom_model.geometryObjects[pair.second].name,
+                    )
+                )
         return out
 
     def segment_valid(self, qa: np.ndarray, qb: np.ndarray, resolution: float = 0.02) -> bool:

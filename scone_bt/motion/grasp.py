@@ -13,7 +13,15 @@ import numpy as np
 from scone_bt.config import ObjectSpec
 from scone_bt.perception.types import Detection
 
-__all__ = ["GraspCandidate", "GraspParams", "grasp_candidates", "top_down_rotation", "place_pose", "object_pose", "lifted"]
+__all__ = [
+    "GraspCandidate",
+    "GraspParams",
+    "grasp_candidates",
+    "top_down_rotation",
+    "place_pose",
+    "object_pose",
+    "lifted",
+]
 
 
 @dataclass(frozen=True)
@@ -27,6 +35,7 @@ class GraspParams:
         min_clearance: Minimum height of the grasp point above the supporting surface.
         place_drop: Gap between the object's bottom and the table when it is released.
         retreat: How far the hand backs off upwards after releasing.
+        max_carry_tilt: Largest tilt of the hand from vertical while carrying, radians.
     """
 
     approach: float = 0.10
@@ -35,6 +44,7 @@ class GraspParams:
     min_clearance: float = 0.015
     place_drop: float = 0.006
     retreat: float = 0.10
+    max_carry_tilt: float = 0.35
 
 
 @dataclass(frozen=True, eq=False)
@@ -93,7 +103,10 @@ def _wrap_near(angle: float, reference: float) -> float:
 
 
 def grasp_candidates(
-    detection: Detection, spec: ObjectSpec, params: GraspParams = GraspParams(), preferred_yaw: float = -np.pi / 2
+    detection: Detection,
+    spec: ObjectSpec,
+    params: GraspParams = GraspParams(),
+    preferred_yaw: float = -np.pi / 2,
 ) -> list[GraspCandidate]:
     """Top-down grasps of a detected object, best first.
 
@@ -113,8 +126,11 @@ def grasp_candidates(
     grasp_point = top - np.array([0.0, 0.0, depth])
     obj_world = object_pose(detection, spec)
     out = []
-    for yaw in yaws:
-        yaw = _wrap_near(yaw, preferred_yaw)
+    # The yaw nearest the home wrist first; the half-turned one (same grasp, other wrist angle) as a fallback for
+    # wrist joint limits.
+    ordered = [_wrap_near(y, preferred_yaw) for y in yaws]
+    ordered += [y + np.pi if y < preferred_yaw else y - np.pi for y in ordered]
+    for yaw in ordered:
         grasp = _pose(top_down_rotation(yaw), grasp_point)
         out.append(
             GraspCandidate(

@@ -7,6 +7,7 @@ that can never touch, found offline by sampling) are not checked.
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -37,14 +38,18 @@ class IKOptions:
         rotation_tolerance: Radians.
         damping: Levenberg-Marquardt damping (unitless).
         step: Fraction of the Newton step taken per iteration.
+        posture_gain: Pull towards the seed in the null space (per iteration, unitless).
+        stall_iterations: A seed is abandoned after this many iterations without a 2% improvement.
     """
 
     max_iterations: int = 150
     restarts: int = 12
     position_tolerance: float = 1e-3
     rotation_tolerance: float = 1e-2
-    damping: float = 1e-3
-    step: float = 0.8
+    damping: float = 1e-4
+    step: float = 1.0
+    posture_gain: float = 0.05
+    stall_iterations: int = 20
 
 
 @dataclass(frozen=True, eq=False)
@@ -68,7 +73,9 @@ class ArmModel:
 
         self.config = robot
         try:
-            full, full_geom, _ = pin.buildModelsFromUrdf(str(robot.urdf), package_dirs=[str(robot.urdf.parent)])
+            full, full_geom, _ = pin.buildModelsFromUrdf(
+                str(robot.urdf), package_dirs=[str(robot.urdf.parent)]
+            )
         except (RuntimeError, ValueError) as exc:
             raise ConfigError(f"{robot.source}: Pinocchio could not load {robot.urdf} ({exc})") from None
         names = list(full.names)
@@ -85,20 +92,42 @@ class ArmModel:
             elif name not in robot.arm_joints:
                 lock.append(i)
         self.model, self.geom_model = pin.buildReducedModel(full, full_geom, lock, q_ref)
+        self._convexify()
         arm_order = [self.model.names[i] for i in range(1, self.model.njoints)]
         if arm_order != list(robot.arm_joints):
-            raise ConfigError(f"{robot.source}: arm_joints must list the chain's joints in order: {', '.join(arm_order)}")
+            raise ConfigError(
+                f"{robot.source}: arm_joints must list the chain's joints in order: {', '.join(arm_order)}"
+            )
         if not self.model.existFrame(robot.end_effector_frame):
             raise UnknownNameError("frame", robot.end_effector_frame, [f.name for f in self.model.frames])
         self.ee_frame = self.model.getFrameId(robot.end_effector_frame)
         self.ee_joint = self.model.frames[self.ee_frame].parentJoint
-        self.data = self.model.createData()
+        self._local = threading.local()
         self.lower = np.array(self.model.lowerPositionLimit, dtype=float)
         self.upper = np.array(self.model.upperPositionLimit, dtype=float)
         self.dof = self.model.nq
         self.robot_geometry = [g.name for g in self.geom_model.geometryObjects]
-        self.link_of_geometry = {g.name: self.model.frames[g.parentFrame].name for g in self.geom_model.geometryObjects}
+        self.link_of_geometry = {
+            g.name: self.model.frames[g.parentFrame].name for g in self.geom_model.geometryObjects
+        }
         self.disabled_pairs = self._disabled_link_pairs(full)
+
+    def _convexify(self) -> None:
+        """Replace link meshes by their convex hulls: GJK on hulls is several times faster than BVH traversal,
+        and a hull only ever over-approximates the link (conservative for planning)."""
+        for geom in self.geom_model.geometryObjects:
+            mesh = geom.geometry
+            if hasattr(mesh, "buildConvexHull") and mesh.num_vertices > 0:
+                mesh.buildConvexHull(False, "Qt")
+                geom.geometry = mesh.convex
+
+    @property
+    def data(self) -> object:
+        """Pinocchio workspace of the calling thread (planning runs in a worker while the main thread reads FK)."""
+        data = getattr(self._local, "data", None)
+        if data is None:
+            data = self._local.data = self.model.createData()
+        return data
 
     # ------------------------------------------------------------------------------------------ kinematics
     def clamp(self, q: np.ndarray) -> np.ndarray:
@@ -112,8 +141,9 @@ class ArmModel:
         import pinocchio as pin
 
         fid = self.ee_frame if frame is None else self.model.getFrameId(frame)
-        pin.framesForwardKinematics(self.model, self.data, np.asarray(q, dtype=float))
-        return self._with_base(self.data.oMf[fid].homogeneous)
+        data = self.data
+        pin.framesForwardKinematics(self.model, data, np.asarray(q, dtype=float))
+        return self._with_base(data.oMf[fid].homogeneous)
 
     def _with_base(self, pose: np.ndarray) -> np.ndarray:
         out = pose.copy()
@@ -139,20 +169,39 @@ class ArmModel:
         seeds = [self.clamp(np.asarray(seed, dtype=float))]
         for _ in range(options.restarts):
             seeds.append(rng.uniform(self.lower, self.upper))
-        eye = np.eye(6)
+        data = self.data
+        damping = options.damping * np.eye(6)
+        identity = np.eye(self.dof)
         for q0 in seeds:
             q = q0.copy()
+            best, since_best = np.inf, 0
             for _ in range(options.max_iterations):
-                pin.framesForwardKinematics(self.model, self.data, q)
-                current = self.data.oMf[self.ee_frame]
-                err = pin.log6(current.actInv(oMgoal)).vector  # in the local frame
-                pos_err = float(np.linalg.norm(current.rotation @ err[:3]))
-                rot_err = float(np.linalg.norm(err[3:]))
+                pin.framesForwardKinematics(self.model, data, q)
+                current = data.oMf[self.ee_frame]
+                i_m_goal = current.actInv(oMgoal)
+                err = pin.log6(i_m_goal).vector  # twist to the goal, in the end-effector frame
+                pos_err = float(np.sqrt(err[0] ** 2 + err[1] ** 2 + err[2] ** 2))
+                rot_err = float(np.sqrt(err[3] ** 2 + err[4] ** 2 + err[5] ** 2))
                 if pos_err < options.position_tolerance and rot_err < options.rotation_tolerance:
                     return IKSolution(q, pos_err, rot_err)
-                jac = pin.computeFrameJacobian(self.model, self.data, q, self.ee_frame, pin.LOCAL)
-                jac = pin.Jlog6(current.actInv(oMgoal)) @ jac
-                dq = jac.T @ np.linalg.solve(jac @ jac.T + options.damping * eye, err)
+                # Give up on a seed that stopped improving (unreachable target or stuck at a joint limit).
+                total = pos_err + 0.1 * rot_err
+                if total < 0.98 * best:
+                    best, since_best = total, 0
+                else:
+                    since_best += 1
+                    if since_best > options.stall_iterations:
+                        break
+                jac = pin.computeFrameJacobian(self.model, data, q, self.ee_frame, pin.LOCAL)
+                jac = pin.Jlog6(i_m_goal.inverse()) @ jac
+                solved = np.linalg.solve(jac @ jac.T + damping, np.column_stack([err, jac]))
+                # Redundancy: drift towards the seed in the null space, so nearby targets get nearby solutions.
+                dq = jac.T @ solved[:, 0] + (identity - jac.T @ solved[:, 1:]) @ (
+                    options.posture_gain * (q0 - q)
+                )
+                norm = np.max(np.abs(dq))
+                if norm > 0.5:  # small steps keep the solution on the seed's branch
+                    dq *= 0.5 / norm
                 q = self.clamp(q + options.step * dq)
         return None
 
@@ -176,11 +225,13 @@ class ArmModel:
                 for b in links:
                     if a != b:
                         pairs.add(frozenset((a, b)))
-        raw = self.config.raw.get("collision", {}) or {}
-        for i, pair in enumerate(raw.get("disabled_pairs", []) or []):
-            if not (isinstance(pair, list) and len(pair) == 2):
-                raise ConfigError(f"{self.config.source}: collision.disabled_pairs[{i}] must be a list of two link names")
-            pairs.add(frozenset(str(p) for p in pair))
+        known = {f.name for f in model.frames}  # type: ignore[attr-defined]
+        for a, b in self.config.disabled_collisions:
+            for link in (a, b):
+                if link not in known:
+                    links = sorted(n for names in links_of_joint.values() for n in names)
+                    raise UnknownNameError("link in collision.disabled_pairs", link, links)
+            pairs.add(frozenset((a, b)))
         return pairs
 
     def self_collision_pairs(self) -> list[tuple[int, int]]:

@@ -89,9 +89,13 @@ def plan_joint_path(
     if options.name not in PLANNERS:
         raise UnknownNameError("planner", options.name, PLANNERS)
     if not is_valid(start):
-        return PlanResult(PlanStatus.START_INVALID, None, time.perf_counter() - t0, "start configuration is in collision")
+        return PlanResult(
+            PlanStatus.START_INVALID, None, time.perf_counter() - t0, "start configuration is in collision"
+        )
     if not is_valid(goal):
-        return PlanResult(PlanStatus.GOAL_INVALID, None, time.perf_counter() - t0, "goal configuration is in collision")
+        return PlanResult(
+            PlanStatus.GOAL_INVALID, None, time.perf_counter() - t0, "goal configuration is in collision"
+        )
     with _LOCK:
         return _solve(start, goal, lower, upper, is_valid, options, t0)
 
@@ -151,4 +155,6 @@ def _solve(
                 break
     points = np.array([[path.getState(k)[i] for i in range(dof)] for k in range(path.getStateCount())])
     points[0], points[-1] = start, goal
-    return PlanResult(PlanStatus.SUCCESS, points, time.perf_counter() - t0, f"{options.name}: {len(points)} waypoints")
+    return PlanResult(
+        PlanStatus.SUCCESS, points, time.perf_counter() - t0, f"{options.name}: {len(points)} waypoints"
+    )

@@ -1,8 +1,11 @@
 """Time-parameterisation with ruckig (adapter): jerk-limited, time-optimal segments through a path's waypoints.
 
 The community ruckig has no intermediate waypoints, so the trajectory chains state-to-state segments that stop at
-every waypoint. With zero boundary velocities and phase synchronisation every segment is a straight line in joint
-space, so the executed motion stays on the path the planner checked for collisions.
+every waypoint. Each segment is timed as one degree of freedom, the path parameter s in [0, 1] of the straight
+joint-space line a + s (b - a), with the tightest of the joints' limits divided by their travel: the motion is
+exactly the straight line the planner checked for collisions, time-optimal along it, and within every joint's
+velocity, acceleration and jerk limit. (Phase synchronisation of seven DoFs gives the same line only when ruckig
+finds it feasible; otherwise it silently falls back to time synchronisation and leaves the line.)
 """
 
 from __future__ import annotations
@@ -58,49 +61,46 @@ def time_path(
     Raises:
         SconeError: ruckig rejected the input (e.g. non-positive limits).
     """
-    from ruckig import InputParameter, Result, Ruckig, Synchronization, Trajectory
+    from ruckig import InputParameter, Result, Ruckig, Trajectory
 
     path = np.asarray(path, dtype=float)
     dof = path.shape[1]
-    otg = Ruckig(dof)
+    otg = Ruckig(1)
     segments = []
     t_calc = time.perf_counter()
     for a, b in zip(path[:-1], path[1:], strict=True):
-        if np.max(np.abs(b - a)) < 1e-9:
+        delta = b - a
+        travel = np.abs(delta)
+        if np.max(travel) < 1e-9:
             continue
-        inp = InputParameter(dof)
-        inp.current_position = a.tolist()
-        inp.current_velocity = [0.0] * dof
-        inp.current_acceleration = [0.0] * dof
-        inp.target_position = b.tolist()
-        inp.target_velocity = [0.0] * dof
-        inp.target_acceleration = [0.0] * dof
-        inp.max_velocity = limits.velocity.tolist()
-        inp.max_acceleration = limits.acceleration.tolist()
-        inp.max_jerk = limits.jerk.tolist()
-        inp.synchronization = Synchronization.Phase
-        traj = Trajectory(dof)
+        moving = travel > 1e-12
+        inp = InputParameter(1)
+        inp.current_position = [0.0]
+        inp.target_position = [1.0]
+        inp.max_velocity = [float(np.min(limits.velocity[moving] / travel[moving]))]
+        inp.max_acceleration = [float(np.min(limits.acceleration[moving] / travel[moving]))]
+        inp.max_jerk = [float(np.min(limits.jerk[moving] / travel[moving]))]
+        traj = Trajectory(1)
         result = otg.calculate(inp, traj)
         if result not in (Result.Working, Result.Finished):
             raise SconeError(f"ruckig could not time a segment ({result.name}); check the robot's limits")
-        segments.append(traj)
+        segments.append((a, delta, traj))
     t_calc = time.perf_counter() - t_calc
 
     t_sample = time.perf_counter()
     dt = 1.0 / rate_hz
-    times, pos, vel, acc = [0.0], [path[0]], [np.zeros(dof)], [np.zeros(dof)]
+    times, pos, vel, acc = [np.zeros(1)], [path[:1]], [np.zeros((1, dof))], [np.zeros((1, dof))]
     offset = 0.0
-    for traj in segments:
+    for a, delta, traj in segments:
         duration = traj.duration
         n = int(np.ceil(duration / dt - 1e-9))
-        for k in range(1, n + 1):
-            t = min(k * dt, duration)
-            p, v, a = traj.at_time(t)
-            times.append(offset + t)
-            pos.append(np.asarray(p))
-            vel.append(np.asarray(v))
-            acc.append(np.asarray(a))
+        ts = np.minimum(np.arange(1, n + 1) * dt, duration)
+        sva = np.array([[x[0] for x in traj.at_time(float(t))] for t in ts])  # (n, 3): s, ds/dt, d2s/dt2
+        times.append(offset + ts)
+        pos.append(a + sva[:, :1] * delta)
+        vel.append(sva[:, 1:2] * delta)
+        acc.append(sva[:, 2:3] * delta)
         offset += duration
     t_sample = time.perf_counter() - t_sample
-    trajectory = TimedTrajectory(np.asarray(times), np.asarray(pos), np.asarray(vel), np.asarray(acc))
+    trajectory = TimedTrajectory(np.concatenate(times), np.vstack(pos), np.vstack(vel), np.vstack(acc))
     return trajectory, TimingReport(t_calc, t_sample)

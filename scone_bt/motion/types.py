@@ -10,7 +10,7 @@ import numpy as np
 __all__ = ["FailureStage", "PlanStatus", "PlanResult", "TimedTrajectory", "MotionOutcome", "MotionProgress"]
 
 
-class FailureStage(str, Enum):
+class FailureStage(str, Enum):  # noqa: UP042 (str() of members is relied upon elsewhere)
     """Where a pick-and-place failed. The values are stored in the experience database."""
 
     PERCEPTION = "perception"
@@ -24,7 +24,7 @@ class FailureStage(str, Enum):
     CANCELLED = "cancelled"  # the human took over
 
 
-class PlanStatus(str, Enum):
+class PlanStatus(str, Enum):  # noqa: UP042
     SUCCESS = "success"
     START_INVALID = "start_invalid"
     GOAL_INVALID = "goal_invalid"

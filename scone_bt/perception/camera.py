@@ -51,7 +51,9 @@ def project(points_world: np.ndarray, k: np.ndarray, pose: np.ndarray) -> tuple[
 def _check(spec: CameraSpec) -> None:
     where = "camera"
     if spec.width < 16 or spec.height < 16:
-        raise ConfigError(f"{where}: width and height must be at least 16 pixels, got {spec.width}x{spec.height}")
+        raise ConfigError(
+            f"{where}: width and height must be at least 16 pixels, got {spec.width}x{spec.height}"
+        )
     if not 1.0 <= spec.fov_deg <= 170.0:
         raise ConfigError(f"{where}.fov_deg must be in 1-170 degrees, got {spec.fov_deg}")
     if not 0 < spec.near < spec.far:
@@ -98,7 +100,12 @@ class Camera:
             renderer=p.ER_TINY_RENDERER,
             flags=p.ER_NO_SEGMENTATION_MASK,
             shadow=0,
+            # A soft, mostly ambient light without highlights, like a diffuse kitchen ceiling light: specular
+            # glints on white lids would otherwise bleach marker cells.
             lightDirection=(0.3, 0.2, 1.0),
+            lightAmbientCoeff=0.6,
+            lightDiffuseCoeff=0.4,
+            lightSpecularCoeff=0.0,
         )
         rgb = np.asarray(rgba, dtype=np.uint8).reshape(s.height, s.width, 4)[:, :, :3]
         buffer = np.asarray(depth_buffer, dtype=np.float64).reshape(s.height, s.width)

@@ -57,7 +57,9 @@ class DetectorOptions:
         if not 0 <= self.error_correction_rate <= 1:
             raise ConfigError("detector: error_correction_rate must be in [0, 1]")
         if self.min_depth_pixels < 3 or self.depth_outlier_m <= 0 or self.full_confidence_cell_px <= 0:
-            raise ConfigError("detector: min_depth_pixels >= 3, depth_outlier_m > 0, full_confidence_cell_px > 0")
+            raise ConfigError(
+                "detector: min_depth_pixels >= 3, depth_outlier_m > 0, full_confidence_cell_px > 0"
+            )
 
 
 @dataclass(frozen=True)
@@ -86,29 +88,41 @@ class Detector:
         params = cv2.aruco.DetectorParameters()
         params.cornerRefinementMethod = cv2.aruco.CORNER_REFINE_SUBPIX
         params.errorCorrectionRate = self.options.error_correction_rate
+        # Small, aliased markers (three or four pixels per cell): more threshold windows and finer bit sampling
+        # find most of the markers that OpenCV's defaults miss.
+        params.adaptiveThreshWinSizeStep = 4
+        params.perspectiveRemovePixelPerCell = 8
         dictionary = cv2.aruco.getPredefinedDictionary(getattr(cv2.aruco, ARUCO_DICTIONARY))
         self._aruco = cv2.aruco.ArucoDetector(dictionary, params)
 
     def detect(self, frame: Frame) -> list[Detection]:
         """Detections in this frame, one per object at most, sorted by name; track_id is UNTRACKED."""
         gray = cv2.cvtColor(frame.rgb, cv2.COLOR_RGB2GRAY)
-        corners, ids, _ = self._aruco.detectMarkers(gray)
-        if ids is None:
-            return []
         best: dict[str, Detection] = {}
-        for quad, marker_id in zip(corners, ids.ravel(), strict=True):
-            entry = self._by_id.get(int(marker_id))
+        for quad, marker_id in self._find_markers(gray):
+            entry = self._by_id.get(marker_id)
             if entry is None:
                 continue
-            detection = self._locate(frame, quad.reshape(4, 2).astype(np.float64), *entry)
+            detection = self._locate(frame, quad, *entry)
             if detection is not None and (
                 detection.name not in best or detection.confidence > best[detection.name].confidence
             ):
                 best[detection.name] = detection
         return [best[name] for name in sorted(best)]
 
+    def _find_markers(self, gray: np.ndarray) -> list[tuple[np.ndarray, int]]:
+        """Decoded markers as ((4, 2) corner pixels, id)."""
+        corners, ids, _ = self._aruco.detectMarkers(gray)
+        if ids is None:
+            return []
+        return [
+            (q.reshape(4, 2).astype(np.float64), int(i)) for q, i in zip(corners, ids.ravel(), strict=True)
+        ]
+
     # ----------------------------------------------------------------------------------------- geometry
-    def _locate(self, frame: Frame, quad: np.ndarray, spec: ObjectSpec, marker: LidMarker) -> Detection | None:
+    def _locate(
+        self, frame: Frame, quad: np.ndarray, spec: ObjectSpec, marker: LidMarker
+    ) -> Detection | None:
         opt = self.options
         lid = _fit_lid(frame, quad, opt.min_depth_pixels, opt.depth_outlier_m)
         if lid is None:

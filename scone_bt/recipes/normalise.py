@@ -24,8 +24,14 @@ _UNITS = (
     "glugs?|shots?|wedges?|fillets?|leaves|leaf|ears?|rashers?|strips?|cubes?|bars?|envelopes?|servings?|"
     "squares?|dollops?|sachets?|punnets?|loaf|loaves|links?|bulbs?"
 )
+
+
+def _words(text: str) -> frozenset[str]:
+    return frozenset(text.split())
+
+
 # Words about size, state or preparation that do not change which container the robot fetches.
-_PREP_WORDS = frozenset(
+_PREP_WORDS = _words(
     """
     chopped diced minced sliced thinly thickly finely roughly coarsely freshly fresh large medium small big
     extra-large jumbo peeled drained rinsed softened melted cooled beaten whisked sifted packed heaping heaped
@@ -35,13 +41,13 @@ _PREP_WORDS = frozenset(
     overfilled half quarter whole-kernel
     your favourite favorite store-bought homemade prepared ripe firm to taste softly boneless skinless
     julienned torn juiced zested cut into
-    """.split()
+    """
 )
-_ADJ_ALTERNATIVES = frozenset(
+_ADJ_ALTERNATIVES = _words(
     """
     red green yellow orange white black brown dark light sweet smooth crunchy salted unsalted hot mild fresh
     dried whole low-fat full-fat nonfat skim regular large small medium fine coarse
-    """.split()
+    """
 )
 _NOT_FETCHABLE = frozenset(
     {
@@ -80,7 +86,9 @@ _QUANTITY = re.compile(
 )
 _UNIT_ALONE = re.compile(rf"^(?:a|an|one|some|few)?\s*(?:{_UNITS})\b\.?(?:\s+of\b)?\s*", re.IGNORECASE)
 _PAREN = re.compile(r"\([^)]*\)|\[[^\]]*\]")
-_CUT = re.compile(r",|;|:|/|\*|\.\s|\.$|\s-\s|\s–\s|\bfor\b|\bper\b|\bwithout\b|\bor less\b|\bor more\b|\bto taste\b|\bas needed\b|\bif desired\b|\bplus\b|\bsuch as\b")
+_CUT = re.compile(
+    r",|;|:|/|\*|\.\s|\.$|\s-\s|\s–\s|\bfor\b|\bper\b|\bwithout\b|\bor less\b|\bor more\b|\bto taste\b|\bas needed\b|\bif desired\b|\bplus\b|\bsuch as\b"
+)
 _WORD = re.compile(r"[a-z][a-z'&-]*")
 
 

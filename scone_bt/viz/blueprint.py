@@ -18,9 +18,10 @@ def default_blueprint() -> rrb.Blueprint:
 
     scene = rrb.Spatial3DView(
         origin=P.WORLD,
+        contents=["$origin/**", f"- /{P.DEPTH}"],  # the depth image would cover the RGB one in the frustum
         name="Kitchen",
         eye_controls=rrb.EyeControls3D(
-            position=(1.9, -1.1, 1.3), look_target=(0.35, 0.05, 0.0), eye_up=(0, 0, 1)
+            position=(1.5, -1.0, 0.85), look_target=(0.3, 0.0, 0.0), eye_up=(0, 0, 1)
         ),
     )
     camera = rrb.Horizontal(
@@ -61,8 +62,13 @@ def default_blueprint() -> rrb.Blueprint:
                 origin=P.TRAJECTORY,
                 contents=[P.PLANNED_POSITION, P.EXECUTED_POSITION],
                 name="Joints: planned vs executed (rad)",
+                plot_legend=rrb.PlotLegend(visible=False),  # 14 series: the legend would hide the plot
             ),
-            rrb.TimeSeriesView(origin=P.PLANNED_VELOCITY, name="Joint velocities (rad/s)"),
+            rrb.TimeSeriesView(
+                origin=P.PLANNED_VELOCITY,
+                name="Joint velocities (rad/s)",
+                plot_legend=rrb.PlotLegend(visible=False),
+            ),
             rrb.StateTimelineView(origin=P.GATE_KIND, name="Gate: act / ask"),
         ),
         rrb.TextLogView(origin=P.LOG, name="Log"),
@@ -70,6 +76,7 @@ def default_blueprint() -> rrb.Blueprint:
     )
     return rrb.Blueprint(
         rrb.Horizontal(left, middle, plots, column_shares=[2.2, 1.6, 1.6]),
-        rrb.TimePanel(timeline=P.SIM_TIME),
-        collapse_panels=False,
+        rrb.TimePanel(timeline=P.SIM_TIME, state="expanded"),
+        rrb.BlueprintPanel(state="collapsed"),
+        rrb.SelectionPanel(state="collapsed"),
     )

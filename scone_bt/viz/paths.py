@@ -6,6 +6,7 @@ __all__ = [
     "TICK",
     "SIM_TIME",
     "WORLD",
+    "POSES",
     "SCENE",
     "ROBOT",
     "OBJECTS",
@@ -44,9 +45,10 @@ TICK = "tick"  # sequence timeline: the behaviour tree's tick counter
 SIM_TIME = "sim_time"  # duration timeline: simulated seconds
 
 WORLD = "world"
+POSES = f"{WORLD}/poses"  # per tick, one row per moved body: Transform3D tf#/world → robot/<link> or object/<name>
 SCENE = f"{WORLD}/scene"  # table, shelf tiers, pedestal, floor (static boxes)
-ROBOT = f"{WORLD}/robot"  # one child per link: its pose per tick, its geometry below it
-OBJECTS = f"{WORLD}/objects"  # one child per object: pose per tick, geometry below it
+ROBOT = f"{WORLD}/robot"  # one child per link (in frame robot/<link>), its geometry pieces below it
+OBJECTS = f"{WORLD}/objects"  # one child per object (in frame object/<name>) with its geometry
 CAMERA = f"{WORLD}/camera"  # camera pose (OpenCV axes)
 IMAGE = f"{CAMERA}/image"  # pinhole: frustum in 3D, image plane in 2D
 RGB = f"{IMAGE}/rgb"

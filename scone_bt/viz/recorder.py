@@ -3,15 +3,19 @@
 from __future__ import annotations
 
 import math
+import shutil
+import sys
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import py_trees
 import rerun as rr
 
 from scone_bt.errors import ConfigError, UnknownNameError
 from scone_bt.gate.types import Decision, DecisionKind
+from scone_bt.perception.camera import intrinsics, world_from_camera
 from scone_bt.viz import paths as P
 from scone_bt.viz.blueprint import default_blueprint
 from scone_bt.viz.render import (
@@ -30,12 +34,12 @@ from scone_bt.viz.snapshot import AffordanceRow, Pose, RecipeView, TickSnapshot
 from scone_bt.viz.urdf_visuals import GEOMETRY_SOURCES, RobotVisuals, read_robot_visuals
 
 if TYPE_CHECKING:
-    from scone_bt.config import CameraSpec, ObjectSpec
+    from scone_bt.config import ObjectSpec
     from scone_bt.motion.types import TimedTrajectory
     from scone_bt.perception.types import Detection, Frame
     from scone_bt.world import Kitchen
 
-__all__ = ["Recorder", "camera_pose_from_spec", "intrinsics_from_spec"]
+__all__ = ["Recorder"]
 
 APPLICATION_ID = "scone_bt"
 
@@ -58,9 +62,12 @@ _PALETTE = [
     (227, 119, 194),
     (23, 190, 207),
 ]
+_ROBOT_FRAME = "robot"  # transform frame ids: robot/<link>, robot/<link>/geometry_<i>, object/<name>
+_OBJECT_FRAME = "object"
 _POSE_EPS = 1e-5  # metres / quaternion units: below this a link or object has not moved and is not re-logged
 _TRACE_STEP = 0.005  # metres between points of the executed end-effector trace
 _TRACE_MAX = 4000
+_TRACE_PERIOD = 0.25  # simulated seconds between updates of the executed trace
 
 
 # ---------------------------------------------------------------------------------------------- geometry helpers
@@ -100,32 +107,27 @@ def _matrix_to_quat(m: np.ndarray) -> tuple[float, float, float, float]:
     return (q[0], q[1], q[2], q[3])
 
 
-def camera_pose_from_spec(cam: CameraSpec) -> np.ndarray:
-    """(4, 4) world_from_camera of a look-at camera, OpenCV axes (x right, y down, z forward)."""
-    eye = np.asarray(cam.position, dtype=float)
-    forward = np.asarray(cam.target, dtype=float) - eye
-    forward /= np.linalg.norm(forward)
-    right = np.cross(forward, np.asarray(cam.up, dtype=float))
-    right /= np.linalg.norm(right)
-    down = np.cross(forward, right)
-    pose = np.eye(4)
-    pose[:3, 0], pose[:3, 1], pose[:3, 2], pose[:3, 3] = right, down, forward, eye
-    return pose
-
-
-def intrinsics_from_spec(cam: CameraSpec) -> np.ndarray:
-    """(3, 3) pinhole matrix from the vertical field of view, square pixels, centred principal point."""
-    f = (cam.height / 2) / math.tan(math.radians(cam.fov_deg) / 2)
-    return np.array([[f, 0.0, cam.width / 2], [0.0, f, cam.height / 2], [0.0, 0.0, 1.0]])
-
-
 def _moved(a: Pose | None, b: Pose) -> bool:
+    # Plain Python: numpy's per-call overhead dominates for 3- and 4-vectors.
     if a is None:
         return True
-    return bool(
-        np.max(np.abs(np.subtract(a[0], b[0]))) > _POSE_EPS
-        or np.max(np.abs(np.subtract(a[1], b[1]))) > _POSE_EPS
+    return any(abs(x - y) > _POSE_EPS for x, y in zip(a[0], b[0], strict=True)) or any(
+        abs(x - y) > _POSE_EPS for x, y in zip(a[1], b[1], strict=True)
     )
+
+
+def _tree_signature(root: Any) -> tuple[tuple[int, Any, str, int], ...]:
+    """Identity, status, feedback and child count of every behaviour: equal signatures, nothing to log."""
+    out = []
+    stack = [root]
+    while stack:
+        behaviour = stack.pop()
+        children = getattr(behaviour, "children", None) or ()
+        out.append(
+            (id(behaviour), behaviour.status, getattr(behaviour, "feedback_message", ""), len(children))
+        )
+        stack.extend(reversed(children))
+    return tuple(out)
 
 
 def _rgba255(rgba: Sequence[float]) -> tuple[int, int, int, int]:
@@ -176,7 +178,9 @@ class Recorder:
             sinks.append(rr.FileSink(str(self.save_path)))
         urls: list[str] = []
         if spawn_viewer:
-            self._rec.spawn(port=spawn_port, connect=False)
+            rr.spawn(
+                port=spawn_port, connect=False, executable_path=_viewer_executable(), recording=self._rec
+            )
             urls.append(f"rerun+http://127.0.0.1:{spawn_port}/proxy")
         if connect is not None:
             url = connect if "://" in connect else f"rerun+http://{connect}/proxy"
@@ -186,7 +190,8 @@ class Recorder:
         self._rec.set_sinks(*sinks, default_blueprint=default_blueprint())
         self._closed = False
         self._robot: RobotVisuals | None = None
-        self._link_entity: dict[str, str] = {}  # link_poses key → entity path
+        self._link_frame: dict[str, str] = {}  # link_poses key → transform frame id
+        self._pending: list[tuple[str, Pose]] = []  # moved bodies of this tick, sent together
         self._ee_link: str | None = None
         self._joint_names: list[str] = []
         self._specs: Mapping[str, ObjectSpec] = {}
@@ -197,6 +202,7 @@ class Recorder:
         self._camera_k: np.ndarray | None = None
         self._camera_res: tuple[int, int] | None = None
         self._tree_shape: tuple[str, ...] = ()
+        self._tree_signature: tuple[tuple[int, Any, str, int], ...] = ()
         self._tree_state: dict[str, tuple[str, str]] = {}
         self._tree_layout: dict[str, tuple[float, float]] = {}
         self._rows: list[AffordanceRow] = []
@@ -205,6 +211,10 @@ class Recorder:
         self._counters: dict[str, int] = {}
         self._named_series: set[str] = set()
         self._trace: list[np.ndarray] = []
+        self._last_q: np.ndarray | None = None
+        self._now = 0.0  # sim_time of the tick being logged
+        self._trace_logged_at = -math.inf
+        self._trace_logged_len = 0
         self.ticks_logged = 0
 
     # ------------------------------------------------------------------------------------------ public API
@@ -257,11 +267,12 @@ class Recorder:
 
         # The initial state, so the scene is complete before the first tick.
         self._set_time(0, kitchen.sim_time)
-        self._log_camera(camera_pose_from_spec(cam), intrinsics_from_spec(cam), (cam.width, cam.height))
+        self._log_camera(world_from_camera(cam), intrinsics(cam), (cam.width, cam.height))
         self._log_links(kitchen.link_poses())
         self._log_objects(
             {n: (s.position, s.orientation) for n in kitchen.objects for s in [kitchen.object_state(n)]}
         )
+        self._send_poses(0, kitchen.sim_time)
 
     def log_tick(self, snap: TickSnapshot) -> None:
         """Log everything of one tick; fields that are None or empty log nothing."""
@@ -272,6 +283,7 @@ class Recorder:
             self._log_links(snap.link_poses)
         if snap.object_poses:
             self._log_objects(snap.object_poses)
+        self._send_poses(snap.tick, snap.sim_time)
         if snap.frame is not None:
             self._log_frame(snap.frame, snap.detections)
         if snap.affordances is not None or snap.decision is not None:
@@ -281,11 +293,22 @@ class Recorder:
         if snap.trajectory is not None:
             self._log_trajectory(snap.trajectory, snap.sim_time)
         if snap.executed_q is not None:
-            self._rec.log(P.EXECUTED_POSITION, rr.Scalars(np.asarray(snap.executed_q, dtype=float)))
+            q = np.asarray(snap.executed_q, dtype=float)
+            if (
+                self._last_q is None
+                or q.shape != self._last_q.shape
+                or np.max(np.abs(q - self._last_q)) > 1e-6
+            ):
+                self._last_q = q
+                self._rec.log(P.EXECUTED_POSITION, rr.Scalars(q))
         if snap.tree is not None:
-            self._log_tree(snap.tree)
+            # a py_trees BehaviourTree is accepted as well as its root behaviour
+            self._log_tree(
+                snap.tree.root if isinstance(snap.tree, py_trees.trees.BehaviourTree) else snap.tree
+            )
         for name, value in snap.confidences.items():
-            self._log_scalar(P.CONFIDENCE, name, float(value))
+            if math.isfinite(value):
+                self._log_scalar(P.CONFIDENCE, name, float(value))
         for name, value in snap.counters.items():
             if self._counters.get(name) != value:
                 self._counters[name] = int(value)
@@ -307,6 +330,7 @@ class Recorder:
         if self._closed:
             return
         self._closed = True
+        self._log_trace()  # at the last tick's time
         self._rec.flush()
         self._rec.disconnect()
 
@@ -318,6 +342,7 @@ class Recorder:
 
     # ------------------------------------------------------------------------------------------ pieces
     def _set_time(self, tick: int, sim_time: float) -> None:
+        self._now = float(sim_time)
         self._rec.set_time(P.TICK, sequence=int(tick))
         self._rec.set_time(P.SIM_TIME, duration=float(sim_time))
 
@@ -330,41 +355,41 @@ class Recorder:
         for vis in robot.visuals:
             i = counts.get(vis.link, 0)
             counts[vis.link] = i + 1
+            link_frame = f"{_ROBOT_FRAME}/{vis.link}"
             link_entity = f"{P.ROBOT}/{slug(vis.link)}"
-            self._link_entity["base" if vis.link == robot.root_link else vis.link] = link_entity
-            entity = f"{link_entity}/geometry_{i}"
+            if i == 0:
+                self._link_frame["base" if vis.link == robot.root_link else vis.link] = link_frame
+                self._rec.log(link_entity, rr.CoordinateFrame(link_frame), static=True)
+            # Each piece sits in its own frame, fixed to the link frame by the URDF's visual origin.
+            piece_frame = f"{link_frame}/geometry_{i}"
             scale = vis.scale if vis.kind == "mesh" else None
-            self._rec.log(
-                entity,
-                rr.Transform3D(translation=vis.position, quaternion=vis.quaternion, scale=scale),
-                static=True,
-            )
             colour = _rgba255(vis.rgba)
             if vis.kind == "mesh":
                 assert vis.mesh is not None
-                self._rec.log(entity, rr.Asset3D(path=vis.mesh, albedo_factor=colour), static=True)
+                geometry: Any = rr.Asset3D(path=vis.mesh, albedo_factor=colour)
             elif vis.kind == "box":
-                self._rec.log(
-                    entity, rr.Boxes3D(sizes=[vis.size], colors=[colour], fill_mode="solid"), static=True
-                )
+                geometry = rr.Boxes3D(sizes=[vis.size], colors=[colour], fill_mode="solid")
             elif vis.kind == "cylinder":
-                self._rec.log(
-                    entity,
-                    rr.Cylinders3D(
-                        lengths=[vis.size[2]], radii=[vis.size[0]], colors=[colour], fill_mode="solid"
-                    ),
-                    static=True,
+                geometry = rr.Cylinders3D(
+                    lengths=[vis.size[2]], radii=[vis.size[0]], colors=[colour], fill_mode="solid"
                 )
             else:
-                self._rec.log(
-                    entity,
-                    rr.Ellipsoids3D(half_sizes=[vis.size], colors=[colour], fill_mode="solid"),
-                    static=True,
-                )
-        for note in robot.skipped:
+                geometry = rr.Ellipsoids3D(half_sizes=[vis.size], colors=[colour], fill_mode="solid")
             self._rec.log(
-                P.LOG, rr.TextLog(f"robot geometry: {note}", level=rr.TextLogLevel.WARN), static=False
+                f"{link_entity}/geometry_{i}",
+                rr.Transform3D(
+                    translation=vis.position,
+                    quaternion=vis.quaternion,
+                    scale=scale,
+                    parent_frame=link_frame,
+                    child_frame=piece_frame,
+                ),
+                rr.CoordinateFrame(piece_frame),
+                geometry,
+                static=True,
             )
+        for note in robot.skipped:
+            self._rec.log(P.LOG, rr.TextLog(f"robot geometry: {note}", level=rr.TextLogLevel.WARN))
 
     def _root_link_frame(self, com_pose: Pose) -> Pose:
         """PyBullet gives the base at its centre of mass; shift it back to the URDF link frame."""
@@ -380,13 +405,36 @@ class Recorder:
         for name, pose in link_poses.items():
             if name == self._ee_link:
                 self._extend_trace(np.asarray(pose[0], dtype=float))
-            entity = self._link_entity.get(name)
-            if entity is None or not _moved(self._last_link.get(name), pose):
+            frame = self._link_frame.get(name)
+            if frame is None or not _moved(self._last_link.get(name), pose):
                 continue
             self._last_link[name] = pose
             if name == "base" and self._robot is not None:
                 pose = self._root_link_frame(pose)
-            self._rec.log(entity, rr.Transform3D(translation=pose[0], quaternion=pose[1]))
+            self._pending.append((frame, pose))
+
+    def _send_poses(self, tick: int, sim_time: float) -> None:
+        """All moved links and objects of this tick in one row batch: one call instead of one per body."""
+        if not self._pending:
+            return
+        n = len(self._pending)
+        frames = [f for f, _ in self._pending]
+        translations = np.array([p[0] for _, p in self._pending], dtype=float)
+        quaternions = np.array([p[1] for _, p in self._pending], dtype=float)
+        self._pending = []
+        self._rec.send_columns(
+            P.POSES,
+            indexes=[
+                rr.TimeColumn(P.TICK, sequence=[tick] * n),
+                rr.TimeColumn(P.SIM_TIME, duration=[sim_time] * n),
+            ],
+            columns=rr.Transform3D.columns(
+                translation=translations,
+                quaternion=quaternions,
+                parent_frame=[f"tf#/{P.WORLD}"] * n,
+                child_frame=frames,
+            ),
+        )
 
     def _extend_trace(self, position: np.ndarray) -> None:
         if self._trace and np.linalg.norm(position - self._trace[-1]) < _TRACE_STEP:
@@ -394,7 +442,13 @@ class Recorder:
         self._trace.append(position)
         if len(self._trace) > _TRACE_MAX:
             self._trace = self._trace[::2]  # keep the whole shape at half resolution
-        if len(self._trace) >= 2:
+        # The whole strip is re-sent when it is logged, so it is logged a few times a second, not every tick.
+        if self._now - self._trace_logged_at >= _TRACE_PERIOD:
+            self._log_trace()
+
+    def _log_trace(self) -> None:
+        if len(self._trace) >= 2 and len(self._trace) != self._trace_logged_len:
+            self._trace_logged_at, self._trace_logged_len = self._now, len(self._trace)
             self._rec.log(
                 P.EE_EXECUTED,
                 rr.LineStrips3D([np.array(self._trace)], colors=[(30, 120, 230)], radii=[0.003]),
@@ -402,16 +456,16 @@ class Recorder:
 
     def _log_objects(self, poses: Mapping[str, Pose]) -> None:
         for name, pose in poses.items():
-            entity = f"{P.OBJECTS}/{slug(name)}"
+            frame = f"{_OBJECT_FRAME}/{name}"
             if name not in self._objects_drawn:
                 self._objects_drawn.add(name)
-                self._log_object_geometry(name, entity)
+                self._log_object_geometry(name, f"{P.OBJECTS}/{slug(name)}", frame)
             if not _moved(self._last_object.get(name), pose):
                 continue
             self._last_object[name] = pose
-            self._rec.log(entity, rr.Transform3D(translation=pose[0], quaternion=pose[1]))
+            self._pending.append((frame, pose))
 
-    def _log_object_geometry(self, name: str, entity: str) -> None:
+    def _log_object_geometry(self, name: str, entity: str, frame: str) -> None:
         spec = self._specs.get(name)
         if spec is None:  # not from the catalogue: a marker-sized cube keeps it visible
             geometry: Any = rr.Boxes3D(
@@ -429,7 +483,7 @@ class Recorder:
                 labels=[name],
                 fill_mode="solid",
             )
-        self._rec.log(f"{entity}/geometry", geometry, static=True)
+        self._rec.log(entity, rr.CoordinateFrame(frame), geometry, static=True)
 
     def _log_camera(self, world_from_camera: np.ndarray, k: np.ndarray, resolution: tuple[int, int]) -> None:
         if self._camera_pose is None or not np.allclose(self._camera_pose, world_from_camera, atol=1e-6):
@@ -455,14 +509,20 @@ class Recorder:
         h, w = frame.rgb.shape[:2]
         self._log_camera(frame.world_from_camera, frame.intrinsics, (w, h))
         self._rec.log(P.RGB, self._rgb_image(frame.rgb))
-        depth_mm = np.clip(np.nan_to_num(frame.depth, nan=0.0, posinf=0.0) * 1000.0, 0, 65535).astype(
-            np.uint16
-        )
-        self._rec.log(P.DEPTH, rr.DepthImage(depth_mm, meter=1000.0, colormap="turbo"))
+        # Millimetres in uint16: a quarter of the bytes of float32 metres, and cheaper to log.
+        depth_mm = np.asarray(frame.depth, dtype=np.float32) * np.float32(1000.0)
+        np.nan_to_num(depth_mm, copy=False, nan=0.0, posinf=0.0, neginf=0.0)
+        np.clip(depth_mm, 0, 65535, out=depth_mm)
+        self._rec.log(P.DEPTH, rr.DepthImage(depth_mm.astype(np.uint16), meter=1000.0, colormap="turbo"))
         if detections:
             boxes = np.array([d.bbox for d in detections], dtype=float)
             colours = [_PALETTE[d.track_id % len(_PALETTE)] for d in detections]
-            labels = [f"{d.name} #{d.track_id} ({d.confidence:.2f})" for d in detections]
+            labels = [
+                f"{d.name} #{d.track_id} ({d.confidence:.2f})"
+                if d.track_id >= 0
+                else f"{d.name} ({d.confidence:.2f})"
+                for d in detections
+            ]
             self._rec.log(
                 P.DETECTIONS_2D,
                 rr.Boxes2D(array=boxes, array_format=rr.Box2DFormat.XYXY, labels=labels, colors=colours),
@@ -495,8 +555,8 @@ class Recorder:
     def _log_gate(self, rows: Sequence[AffordanceRow] | None, decision: Decision | None) -> None:
         if rows is not None:
             self._rows = rank_affordances(rows)
-            relevance = np.array([r[1] for r in self._rows], dtype=float)
-            confidence = np.array([r[2] for r in self._rows], dtype=float)
+            relevance = np.nan_to_num(np.array([r[1] for r in self._rows], dtype=float))
+            confidence = np.nan_to_num(np.array([r[2] for r in self._rows], dtype=float))
             self._rec.log(P.AFFORDANCE_RELEVANCE, rr.BarChart(relevance, color=(31, 119, 180)))
             self._rec.log(P.AFFORDANCE_CONFIDENCE, rr.BarChart(confidence, color=(44, 160, 44)))
         if decision is not None:
@@ -506,7 +566,7 @@ class Recorder:
                 rr.TextDocument(decision_markdown(decision), media_type=rr.MediaType.MARKDOWN),
             )
             self._rec.log(P.GATE_KIND, rr.StateChange(state=[decision.kind.value]))
-            if decision.kind is not DecisionKind.IDLE:
+            if decision.kind is not DecisionKind.IDLE and math.isfinite(decision.confidence):
                 self._rec.log(P.GATE_CONFIDENCE, rr.Scalars(float(decision.confidence)))
                 self._rec.log(P.GATE_RELEVANCE, rr.Scalars(float(decision.relevance)))
             level = rr.TextLogLevel.WARN if decision.kind is DecisionKind.ASK else rr.TextLogLevel.INFO
@@ -527,7 +587,8 @@ class Recorder:
         if path.ndim != 2 or path.shape[1] != 3:
             raise ConfigError(f"ee_path must be an (N, 3) array of metres, got shape {path.shape}")
         self._rec.log(P.EE_PATH, rr.LineStrips3D([path], colors=[(230, 120, 20)], radii=[0.004]))
-        self._trace = []  # the executed trace restarts with each new plan
+        self._log_trace()  # finish the previous motion's trace, then start a new one with the new plan
+        self._trace, self._trace_logged_len = [], 0
 
     def _log_trajectory(self, traj: TimedTrajectory, start: float) -> None:
         if len(traj.times) == 0:
@@ -545,6 +606,10 @@ class Recorder:
         )
 
     def _log_tree(self, root: Any) -> None:
+        signature = _tree_signature(root)
+        if signature == self._tree_signature:
+            return
+        self._tree_signature = signature
         nodes = flatten_tree(root)
         shape = tuple(n.node_id for n in nodes)
         if shape != self._tree_shape:
@@ -594,6 +659,17 @@ class Recorder:
             mode = rr.components.InterpolationMode.StepAfter if step else None
             self._rec.log(entity, rr.SeriesLines(names=[name], interpolation_mode=mode), static=True)
         self._rec.log(entity, rr.Scalars(value))
+
+
+def _viewer_executable() -> str:
+    """The `rerun` viewer beside this interpreter (a venv's scripts need not be on PATH), else from PATH."""
+    beside = Path(sys.executable).parent / "rerun"
+    found = str(beside) if beside.is_file() else shutil.which("rerun")
+    if found is None:
+        raise ConfigError(
+            "cannot spawn the rerun viewer: no 'rerun' executable beside Python or on PATH (pip install rerun-sdk)"
+        )
+    return found
 
 
 def _log_level(line: str) -> str:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -126,14 +127,20 @@ def tree_text(nodes: Sequence[TreeNode]) -> str:
     for node in nodes:
         mark = _SYMBOL.get(node.status, "?")
         kind = "" if node.is_leaf else f" ({node.kind})"
-        feedback = f" — {node.feedback}" if node.feedback else ""
+        feedback = (
+            f" — {node.feedback}" if node.feedback and node.feedback.lower() != node.status.lower() else ""
+        )
         lines.append(f"{'    ' * node.depth}[{mark}] {node.name}{kind}: {node.status.lower()}{feedback}")
     return "\n".join(lines)
 
 
 def rank_affordances(rows: Sequence[AffordanceRow]) -> list[AffordanceRow]:
-    """Most relevant first; ties keep their order."""
-    return sorted(rows, key=lambda r: -float(r[1]))
+    """Most relevant first; ties keep their order; unknown (NaN) relevance last."""
+    return sorted(rows, key=lambda r: -float(r[1]) if math.isfinite(float(r[1])) else math.inf)
+
+
+def _num(value: float, digits: int) -> str:
+    return "—" if not math.isfinite(value) else f"{value:.{digits}f}"
 
 
 def _cell(text: str) -> str:
@@ -147,14 +154,16 @@ def affordances_markdown(rows: Sequence[AffordanceRow], decision: Decision | Non
     chosen = decision.action if decision is not None else None
     verdict = ""
     if decision is not None and decision.kind is DecisionKind.ACT:
-        verdict = "**ACT** ✅"
+        verdict = "**ACT**"
     elif decision is not None and decision.kind is DecisionKind.ASK:
-        verdict = "**ASK** 🙋"
+        verdict = "**ASK for help**"
     lines = ["| # | action | relevance | confidence | gate |", "|---|---|---:|---:|---|"]
     for i, (text, relevance, confidence) in enumerate(rank_affordances(rows), start=1):
         mark = text == chosen
         name = f"**▶ {_cell(text)}**" if mark else _cell(text)
-        lines.append(f"| {i} | {name} | {relevance:.3f} | {confidence:.2f} | {verdict if mark else ''} |")
+        lines.append(
+            f"| {i} | {name} | {_num(relevance, 3)} | {_num(confidence, 2)} | {verdict if mark else ''} |"
+        )
     return "\n".join(lines)
 
 
@@ -163,7 +172,7 @@ def decision_markdown(decision: Decision) -> str:
     action = decision.action or "—"
     return (
         f"### {decision.kind.value.upper()}: {_cell(action)}\n\n"
-        f"relevance {decision.relevance:.3f} · confidence {decision.confidence:.2f}\n\n{decision.reason}"
+        f"relevance {_num(decision.relevance, 3)} · confidence {_num(decision.confidence, 2)}\n\n{decision.reason}"
     )
 
 
@@ -172,11 +181,11 @@ def recipe_markdown(recipe: RecipeView) -> str:
     lines = [f"## {recipe.title}", ""]
     for i, (step, done) in enumerate(zip(recipe.steps, recipe.done, strict=True), start=1):
         if done:
-            lines.append(f"{i}. ✅ ~~{step}~~")
+            lines.append(f"{i}. ✔ ~~{step}~~")
         elif recipe.current is not None and i - 1 == recipe.current:
             lines.append(f"{i}. ▶ **{step}**")
         else:
-            lines.append(f"{i}. ◻ {step}")
+            lines.append(f"{i}. ○ {step}")
     if recipe.current is None:
         lines += ["", "_recipe finished_"]
     return "\n".join(lines)

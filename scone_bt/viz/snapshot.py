@@ -59,7 +59,7 @@ class TickSnapshot:
         ee_path: (N, 3) planned end-effector positions in metres, when a new plan was made this tick.
         trajectory: The jerk-limited trajectory that starts executing at `sim_time`, when a new one exists.
         executed_q: (dof,) arm joint positions measured at the end of this tick, radians.
-        tree: Root behaviour of the py_trees tree; every node's status is logged.
+        tree: Root behaviour of the py_trees tree (or the BehaviourTree); every node's status is logged.
         confidences: Object name → κ̂ success probability in [0, 1], for the objects re-estimated this tick.
         counters: Counter name → running total (successes, failures, help requests, interventions, ...).
         recipe: The recipe's state, when it changed (or every tick; unchanged states are not re-logged).

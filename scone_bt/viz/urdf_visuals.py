@@ -193,13 +193,15 @@ def read_robot_visuals(urdf: str | Path, source: str = "visual") -> RobotVisuals
             if shape is None:
                 skipped.append(f"{name}: {source} without geometry")
             elif shape.tag == "mesh":
-                mesh = _resolve_mesh(shape.get("filename", ""), path)
-                if mesh is None:
-                    skipped.append(f"{name}: mesh {shape.get('filename')!r} not found")
-                elif mesh.suffix.lower() not in MESH_SUFFIXES:
+                filename = shape.get("filename", "")
+                suffix = Path(filename).suffix.lower()
+                mesh = _resolve_mesh(filename, path) if suffix in MESH_SUFFIXES else None
+                if suffix not in MESH_SUFFIXES:
                     skipped.append(
-                        f"{name}: mesh format {mesh.suffix} not drawable (use {', '.join(MESH_SUFFIXES)})"
+                        f"{name}: mesh format {suffix or '(none)'} not drawable (use {', '.join(MESH_SUFFIXES)})"
                     )
+                elif mesh is None:
+                    skipped.append(f"{name}: mesh {filename!r} not found")
                 else:
                     scale = _floats(shape.get("scale"), 3, (1.0, 1.0, 1.0), f"{lw} mesh scale")
                     visuals.append(LinkVisual(kind="mesh", mesh=mesh, scale=scale, **common))  # type: ignore[arg-type]

@@ -13,6 +13,7 @@ import numpy as np
 
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
 from scone_bt.errors import ConfigError, UnknownNameError
+from scone_bt.world.quiet import c_stdout_silenced
 from scone_bt.world.visuals import create_object_visual
 
 __all__ = ["Kitchen", "ObjectState", "StaticBox", "Controller"]
@@ -53,12 +54,14 @@ class Kitchen:
     def __init__(
         self, kitchen: KitchenConfig, robot: RobotConfig, *, gui: bool = False, time_step: float = 1.0 / 240.0
     ) -> None:
-        import pybullet as p
-        from pybullet_utils.bullet_client import BulletClient
+        with c_stdout_silenced():
+            import pybullet as p
+            from pybullet_utils.bullet_client import BulletClient
 
+            bc = BulletClient(connection_mode=p.GUI if gui else p.DIRECT)
         self.config = kitchen
         self.robot_config = robot
-        self.bc = BulletClient(connection_mode=p.GUI if gui else p.DIRECT)
+        self.bc = bc
         self.time_step = time_step
         self.sim_time = 0.0
         self.steps = 0

@@ -140,7 +140,15 @@ def create_object_visual(bc: BulletClient, spec: ObjectSpec) -> int:
     colours: list[list[float]] = []
     frames: list[list[float]] = []
 
-    def add(kind: int, position: list[float], rgba: tuple[float, ...], *, he=(0.0, 0.0, 0.0), radius=0.0, length=0.0):
+    def add(
+        kind: int,
+        position: list[float],
+        rgba: tuple[float, ...],
+        *,
+        he=(0.0, 0.0, 0.0),
+        radius=0.0,
+        length=0.0,
+    ):
         types.append(kind)
         half.append(list(he))
         radii.append(radius)
@@ -150,10 +158,21 @@ def create_object_visual(bc: BulletClient, spec: ObjectSpec) -> int:
 
     if spec.shape == "box":
         add(p.GEOM_BOX, [0, 0, 0], spec.rgba, he=(sx / 2, sy / 2, sz / 2))
-        add(p.GEOM_BOX, [0, 0, sz / 2 + _CAP_THICKNESS / 2], _CAP_RGBA, he=(sx / 2, sy / 2, _CAP_THICKNESS / 2))
+        add(
+            p.GEOM_BOX,
+            [0, 0, sz / 2 + _CAP_THICKNESS / 2],
+            _CAP_RGBA,
+            he=(sx / 2, sy / 2, _CAP_THICKNESS / 2),
+        )
     else:
         add(p.GEOM_CYLINDER, [0, 0, 0], spec.rgba, radius=sx / 2, length=sz)
-        add(p.GEOM_CYLINDER, [0, 0, sz / 2 + _CAP_THICKNESS / 2], _CAP_RGBA, radius=sx / 2, length=_CAP_THICKNESS)
+        add(
+            p.GEOM_CYLINDER,
+            [0, 0, sz / 2 + _CAP_THICKNESS / 2],
+            _CAP_RGBA,
+            radius=sx / 2,
+            length=_CAP_THICKNESS,
+        )
 
     cell = marker.side / MARKER_CELLS
     z = sz / 2 + marker.lift - _INK_THICKNESS / 2

@@ -1,0 +1,1 @@
+"""Benchmarks that regenerate and evaluate the paper's results (one subpackage per benchmark)."""

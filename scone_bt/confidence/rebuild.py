@@ -1,0 +1,45 @@
+"""Rebuilding κ̂ from the experience store at start-up (stored action texts re-embedded with today's embedder)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from scone_bt.confidence.base import ConfidenceEstimator
+from scone_bt.embedding.base import Embedder
+from scone_bt.experience.store import ExperienceStore
+from scone_bt.experience.types import Outcome
+
+__all__ = ["rebuild_estimator", "training_data"]
+
+
+def training_data(outcomes: list[Outcome], embedder: Embedder) -> tuple[np.ndarray, np.ndarray]:
+    """(X, y) for an estimator: the outcomes' action embeddings and success flags, in stored order."""
+    if not outcomes:
+        return np.zeros((0, embedder.dim), dtype=np.float32), np.zeros(0, dtype=bool)
+    X = embedder.embed([o.action for o in outcomes])
+    return X, np.array([o.success for o in outcomes], dtype=bool)
+
+
+def rebuild_estimator(
+    estimator: ConfidenceEstimator,
+    store: ExperienceStore,
+    embedder: Embedder,
+    *,
+    only_embedder: str | None = None,
+    where: Callable[[Outcome], bool] | None = None,
+) -> int:
+    """Fit `estimator` on the stored outcomes (all of them, or those of one embedder / predicate).
+
+    An outcome does not depend on the embedder that was active when it was observed, so by default every stored
+    outcome is used and re-embedded with `embedder`; pass `only_embedder` for experiments that must not mix.
+
+    Returns:
+        The number of outcomes learnt from.
+    """
+    outcomes = store.outcomes(only_embedder, where)
+    X, y = training_data(outcomes, embedder)
+    if len(y) or estimator.n_observations:
+        estimator.fit(X, y)
+    return len(y)

@@ -1,0 +1,107 @@
+"""The gate: act on the best relevant action, or ask the human for help with it.
+
+`decide` is a pure function of the ranked actions, their κ̂ confidences and the options:
+
+1. No action, or the best one's relevance is below `relevance_threshold` → IDLE (the instruction is not
+   something the robot can help with, or it is already done).
+2. `use_self_confidence=False` (the paper's control condition) → ACT on the best relevant action, always.
+3. Otherwise ACT if its confidence ≥ the threshold, else ASK. The threshold is `confidence_threshold`, or
+   `1 - target_error_rate` when a target error rate is given; with the conformal estimator (whose confidence is
+   1 − the conformal p-value of failure) that bounds the fraction of would-fail actions attempted by that rate.
+
+Only the single most relevant action is considered (as in the paper); ties in relevance go to the earlier one.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from scone_bt.errors import SconeError
+from scone_bt.gate.types import Decision, DecisionKind
+from scone_bt.relevance.types import RankedAction
+
+__all__ = ["GateOptions", "decide"]
+
+
+@dataclass(frozen=True)
+class GateOptions:
+    """How the gate decides.
+
+    Attributes:
+        confidence_threshold: Act when κ̂ ≥ this success probability, in [0, 1].
+        relevance_threshold: Cosine similarity an action needs to count as relevant, in [-1, 1]
+            (use RelevanceFilter.threshold learnt from labelled data).
+        use_self_confidence: False is the paper's control: always act on the best relevant action.
+        target_error_rate: If set, in (0, 1), replaces confidence_threshold by 1 − target_error_rate; meant for
+            the conformal estimator, where it is the tolerated fraction of would-fail actions attempted.
+    """
+
+    confidence_threshold: float = 0.5
+    relevance_threshold: float = 0.0
+    use_self_confidence: bool = True
+    target_error_rate: float | None = None
+
+    def __post_init__(self) -> None:
+        if not 0.0 <= self.confidence_threshold <= 1.0:
+            raise SconeError(f"confidence_threshold must be in [0, 1], got {self.confidence_threshold}")
+        if not -1.0 <= self.relevance_threshold <= 1.0:
+            raise SconeError(f"relevance_threshold must be in [-1, 1], got {self.relevance_threshold}")
+        if self.target_error_rate is not None and not 0.0 < self.target_error_rate < 1.0:
+            raise SconeError(f"target_error_rate must be in (0, 1) or None, got {self.target_error_rate}")
+
+    @property
+    def act_threshold(self) -> float:
+        """The confidence an action needs for ACT."""
+        if self.target_error_rate is not None:
+            return 1.0 - self.target_error_rate
+        return self.confidence_threshold
+
+
+def decide(ranked: Sequence[RankedAction], confidences: Sequence[float], options: GateOptions) -> Decision:
+    """Act on the most relevant action, ask for help with it, or idle; see the module docstring.
+
+    Args:
+        ranked: Candidate actions with their relevance (any order; usually rank_actions' best-first list).
+        confidences: κ̂ success probability of each, aligned with `ranked`.
+        options: Thresholds and mode.
+
+    Raises:
+        SconeError: lengths differ, or a confidence is not a number in [0, 1].
+    """
+    if len(ranked) != len(confidences):
+        raise SconeError(
+            f"{len(ranked)} ranked actions but {len(confidences)} confidences; pass one per action"
+        )
+    if not ranked:
+        return Decision(DecisionKind.IDLE, None, float("nan"), float("nan"), "no actions are available")
+    best = max(range(len(ranked)), key=lambda i: (ranked[i].relevance, -i))
+    action, conf = ranked[best], float(confidences[best])
+    if not (0.0 <= conf <= 1.0) or math.isnan(conf):
+        raise SconeError(f"confidence of {action.text!r} is {conf}; κ̂ must give a probability in [0, 1]")
+    if action.relevance < options.relevance_threshold:
+        return Decision(
+            DecisionKind.IDLE,
+            None,
+            action.relevance,
+            conf,
+            f"no action is relevant (best {action.text!r} {action.relevance:.2f} "
+            f"< {options.relevance_threshold:.2f})",
+        )
+    if not options.use_self_confidence:
+        return Decision(
+            DecisionKind.ACT, action.text, action.relevance, conf, "acting: self-confidence is off"
+        )
+    threshold = options.act_threshold
+    if conf >= threshold:
+        return Decision(
+            DecisionKind.ACT, action.text, action.relevance, conf, f"confident: {conf:.2f} ≥ {threshold:.2f}"
+        )
+    return Decision(
+        DecisionKind.ASK,
+        action.text,
+        action.relevance,
+        conf,
+        f"asking for help: confidence {conf:.2f} < {threshold:.2f}",
+    )

@@ -1,0 +1,356 @@
+"""Runs every IF policy on a states file and lays the scores out like the IF column of the paper's Table I.
+
+Fitting uses only the train split (the fine-tuned head, every ρ, the TICC intent model); the dev split picks
+between an absolute and a relative IF-tuned threshold; the scores are on the evaluated states.
+"""
+
+from __future__ import annotations
+
+import re
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from scone_bt.embedding.base import Embedder
+from scone_bt.errors import ModelUnavailableError, SconeError, UnknownNameError
+from scone_bt.instruction_following.mcts_baseline import MctsOptions, TiccMctsPolicy
+from scone_bt.instruction_following.metric import Episode, IfScore, evaluate
+from scone_bt.instruction_following.pddl_baseline import PddlPolicy
+from scone_bt.instruction_following.policies import (
+    SimilarityPolicy,
+    fit_threshold,
+    relative_scores,
+    state_scores,
+    threshold_picks_score,
+)
+from scone_bt.instruction_following.states import IfState
+
+__all__ = [
+    "BenchOptions",
+    "EmbedderRow",
+    "BenchResult",
+    "run_benchmark",
+    "format_table",
+    "state_category",
+    "fit_intent_model",
+]
+
+_NEGATION = re.compile(
+    r"\b(?:not|don't|do not|without|no|never|avoid|except|instead of|reserv\w*|set aside)\b", re.I
+)
+
+
+@dataclass(frozen=True)
+class BenchOptions:
+    """What the benchmark runs.
+
+    Attributes:
+        embedders: Embedder names to score (one-hot is excluded by design); unavailable ones are skipped.
+        finetune: Train the fine-tuned embedder on the train split.
+        finetune_base: Frozen encoder for it; "auto" takes MPNet when installed, else MiniLM.
+        finetune_dir: Where to save the fine-tuned head (None: not saved).
+        ticc_embedder: Embedder behind the TICC baseline's intent model.
+        mcts: TICC search settings.
+        pddl: Run the PDDL (LAMA) baseline.
+        ticc: Run the TICC-style baseline.
+        cache_dir: Embedding cache folder (None: the default).
+    """
+
+    embedders: tuple[str, ...] = ("minilm", "mpnet", "glove")
+    finetune: bool = True
+    finetune_base: str = "auto"
+    finetune_dir: Path | None = None
+    ticc_embedder: str = "minilm"
+    mcts: MctsOptions = field(default_factory=MctsOptions)
+    pddl: bool = True
+    ticc: bool = True
+    cache_dir: Path | None = None
+
+
+@dataclass(frozen=True)
+class EmbedderRow:
+    """One embedder's scores with each stopping rule.
+
+    Attributes:
+        name: Embedder label.
+        rho: ρ from ``RelevanceFilter.fit`` on train (balanced accuracy on action labels), cosine similarity.
+        rho_if: ρ tuned on train for IF accuracy; relative to the best action's similarity when ``rho_if_relative``.
+        rho_if_relative: Whether dev preferred the relative threshold.
+        with_rho: Scores stopping at ``rho``.
+        with_rho_if: Scores stopping at ``rho_if``.
+        oracle_stop: Scores stopping after len(relevant) picks (ranking quality alone).
+    """
+
+    name: str
+    rho: float
+    rho_if: float
+    rho_if_relative: bool
+    with_rho: IfScore
+    with_rho_if: IfScore
+    oracle_stop: IfScore
+
+
+@dataclass(frozen=True)
+class BenchResult:
+    """Everything the benchmark measured.
+
+    Attributes:
+        rows: Embedding policies.
+        baselines: PDDL, TICC-style and pick-everything scores.
+        skipped: Embedder → why it was not run.
+        counts: Number of train, dev and evaluated states.
+        seconds: Wall time per part.
+        finetuned: Training facts of the fine-tuned embedder (empty if not trained).
+    """
+
+    rows: tuple[EmbedderRow, ...]
+    baselines: tuple[IfScore, ...]
+    skipped: dict[str, str]
+    counts: dict[str, int]
+    seconds: dict[str, float]
+    finetuned: dict[str, object]
+
+    def best_row(self) -> EmbedderRow | None:
+        """The embedding row with the highest IF accuracy (either ρ)."""
+        if not self.rows:
+            return None
+        return max(self.rows, key=lambda r: max(r.with_rho.accuracy, r.with_rho_if.accuracy))
+
+    def to_json(self) -> dict[str, object]:
+        """Summary numbers, the per-category breakdown of the best policy, and a few failure examples."""
+        best = self.best_row()
+        out: dict[str, object] = {
+            "counts": self.counts,
+            "embedding_policies": [
+                {
+                    "embedder": r.name,
+                    "rho": round(r.rho, 4),
+                    "rho_if": round(r.rho_if, 4),
+                    "rho_if_relative": r.rho_if_relative,
+                    "with_rho": r.with_rho.to_json(),
+                    "with_rho_if": r.with_rho_if.to_json(),
+                    "oracle_stop": r.oracle_stop.to_json(),
+                }
+                for r in self.rows
+            ],
+            "baselines": [b.to_json() for b in self.baselines],
+            "skipped": self.skipped,
+            "seconds": {k: round(v, 1) for k, v in self.seconds.items()},
+            "finetuned": self.finetuned,
+        }
+        if best is not None:
+            score = best.with_rho_if if best.with_rho_if.accuracy >= best.with_rho.accuracy else best.with_rho
+            out["best"] = {"policy": score.policy, "accuracy": round(score.accuracy, 4)}
+            out["breakdown"] = {"best": _breakdown(score.episodes)}
+            for b in self.baselines:
+                out["breakdown"][b.policy] = _breakdown(b.episodes)  # type: ignore[index]
+            out["failures"] = _failures(score.episodes)
+        return out
+
+
+def state_category(state: IfState) -> str:
+    """ "negation" (the step says not/without/reserve…), "multi" (≥ 3 relevant actions) or "single-few"."""
+    if _NEGATION.search(state.instruction):
+        return "negation"
+    return "multi" if len(state.relevant) >= 3 else "single-few"
+
+
+def _breakdown(episodes: Sequence[Episode]) -> dict[str, dict[str, float]]:
+    out: dict[str, dict[str, float]] = {}
+    for cat in ("negation", "multi", "single-few"):
+        eps = [e for e in episodes if state_category(e.state) == cat]
+        if eps:
+            out[cat] = {
+                "states": len(eps),
+                "accuracy": round(float(np.mean([e.accuracy for e in eps])), 4),
+                "recall": round(float(np.mean([e.recall for e in eps])), 4),
+            }
+    return out
+
+
+def _failures(episodes: Sequence[Episode], per_category: int = 3) -> list[dict[str, object]]:
+    out: list[dict[str, object]] = []
+    for cat in ("negation", "multi"):
+        bad = [e for e in episodes if state_category(e.state) == cat and e.accuracy < 1.0]
+        bad.sort(key=lambda e: (e.accuracy, len(e.state.instruction)))
+        for e in bad[:per_category]:
+            out.append(
+                {
+                    "category": cat,
+                    "recipe_id": e.state.recipe_id,
+                    "instruction": e.state.instruction,
+                    "relevant": sorted(e.state.relevant),
+                    "picks": list(e.picks),
+                    "accuracy": round(e.accuracy, 3),
+                }
+            )
+    return out
+
+
+def fit_intent_model(embedder: Embedder, train: Sequence[IfState]) -> Callable[[IfState], dict[str, float]]:
+    """P(action needed | instruction): logistic regression on the similarity and its gap to the state's best."""
+    from sklearn.linear_model import LogisticRegression
+
+    def features(states: Sequence[IfState]) -> list[np.ndarray]:
+        sc = state_scores(embedder, states)
+        return [np.stack([s, r], axis=1) for s, r in zip(sc, relative_scores(sc), strict=True)]
+
+    x = np.concatenate(features(train))
+    y = np.concatenate([[a in s.relevant for a in s.available] for s in train])
+    model = LogisticRegression(C=1.0).fit(x, y)
+
+    def belief(state: IfState) -> dict[str, float]:
+        (f,) = features([state])
+        return dict(zip(state.available, map(float, model.predict_proba(f)[:, 1]), strict=True))
+
+    return belief
+
+
+def _embedding_row(
+    name: str, emb: Embedder, train: Sequence[IfState], dev: Sequence[IfState], test: Sequence[IfState]
+) -> EmbedderRow:
+    from scone_bt.relevance.filter import RelevanceFilter
+
+    train_sc = state_scores(emb, train)
+    pooled = np.concatenate(train_sc)
+    labels = np.concatenate([[a in s.relevant for a in s.available] for s in train])
+    rho = RelevanceFilter.fit(pooled, labels, embedder=name).threshold
+    rho_abs = fit_threshold(train_sc, train)
+    rho_rel = fit_threshold(relative_scores(train_sc), train)
+    relative = False
+    rho_if = rho_abs
+    if dev:
+        dev_sc = state_scores(emb, dev)
+        acc_abs = threshold_picks_score(dev_sc, dev, rho_abs)[0]
+        acc_rel = threshold_picks_score(relative_scores(dev_sc), dev, rho_rel)[0]
+        if acc_rel > acc_abs:
+            relative, rho_if = True, rho_rel
+    state_scores(emb, test)  # one batched pass; the policies then read the embedder's cache
+    return EmbedderRow(
+        name=name,
+        rho=rho,
+        rho_if=rho_if,
+        rho_if_relative=relative,
+        with_rho=evaluate(SimilarityPolicy(emb, f"{name} + ρ", threshold=rho), test),
+        with_rho_if=evaluate(
+            SimilarityPolicy(emb, f"{name} + ρ_IF", threshold=rho_if, relative=relative), test
+        ),
+        oracle_stop=evaluate(SimilarityPolicy(emb, f"{name}, oracle stop", oracle_count=True), test),
+    )
+
+
+def run_benchmark(
+    test: Sequence[IfState],
+    train: Sequence[IfState],
+    dev: Sequence[IfState] = (),
+    options: BenchOptions | None = None,
+    log: Callable[[str], None] = lambda _m: None,
+) -> BenchResult:
+    """Fit on ``train`` (and select on ``dev``), score every policy on ``test``.
+
+    Raises:
+        SconeError: no test or no train states.
+    """
+    from scone_bt.embedding import FinetuneOptions, load_embedder, train_finetuned
+
+    opts = options or BenchOptions()
+    if not test or not train:
+        raise SconeError(
+            f"the IF benchmark needs train and test states; got {len(train)} train, {len(test)} test"
+        )
+    if "onehot" in opts.embedders:
+        raise UnknownNameError("IF embedder", "onehot", ["minilm", "mpnet", "glove", "<model directory>"])
+    rows: list[EmbedderRow] = []
+    skipped: dict[str, str] = {}
+    seconds: dict[str, float] = {}
+    loaded: dict[str, Embedder] = {}
+    for name in opts.embedders:
+        t0 = time.perf_counter()
+        try:
+            emb = load_embedder(name, opts.cache_dir)
+        except ModelUnavailableError as exc:
+            skipped[name] = str(exc)
+            log(f"skip {name}: {exc}")
+            continue
+        loaded[name] = emb
+        log(f"scoring {name} ...")
+        rows.append(_embedding_row(name, emb, train, dev, test))
+        seconds[name] = time.perf_counter() - t0
+    finetuned: dict[str, object] = {}
+    if opts.finetune:
+        base = opts.finetune_base
+        if base == "auto":
+            base = "mpnet" if "mpnet" in loaded else "minilm"
+        t0 = time.perf_counter()
+        encoder = loaded.get(base) or load_embedder(base, opts.cache_dir)
+        log(f"fine-tuning on {base} ({len(train)} train states) ...")
+        examples = [(s.instruction, tuple(sorted(s.relevant)), s.available) for s in train]
+        ft_opts = FinetuneOptions()
+        emb = train_finetuned(examples, encoder, opts.finetune_dir, options=ft_opts)
+        label = f"fine-tuned {base}"
+        rows.append(_embedding_row(label, emb, train, dev, test))
+        seconds[label] = time.perf_counter() - t0
+        finetuned = {
+            "base": base,
+            "dim": emb.dim,
+            "epochs": ft_opts.epochs,
+            "train_seconds": emb.meta.get("train_seconds"),
+        }
+    baselines: list[IfScore] = []
+    if opts.pddl:
+        t0 = time.perf_counter()
+        log("PDDL (LAMA) ...")
+        baselines.append(evaluate(PddlPolicy(), test))
+        seconds["pddl"] = time.perf_counter() - t0
+    if opts.ticc:
+        t0 = time.perf_counter()
+        log(f"TICC-style MCTS (intent model on {opts.ticc_embedder}) ...")
+        intent_emb = loaded.get(opts.ticc_embedder) or load_embedder(opts.ticc_embedder, opts.cache_dir)
+        belief = fit_intent_model(intent_emb, train)
+        baselines.append(
+            evaluate(TiccMctsPolicy(belief, opts.mcts, name=f"TICC-style MCTS ({opts.ticc_embedder})"), test)
+        )
+        seconds["ticc"] = time.perf_counter() - t0
+    baselines.append(evaluate(SimilarityPolicy(None, "pick everything (chance)", score_fn=_zeros), test))
+    return BenchResult(
+        rows=tuple(rows),
+        baselines=tuple(baselines),
+        skipped=skipped,
+        counts={"train": len(train), "dev": len(dev), "test": len(test)},
+        seconds=seconds,
+        finetuned=finetuned,
+    )
+
+
+def _zeros(state: IfState) -> dict[str, float]:
+    return dict.fromkeys(state.available, 0.0)
+
+
+def format_table(result: BenchResult) -> str:
+    """A Markdown table in the layout of Table I's IF column, one policy per row."""
+    lines = [
+        "| Method | IF accuracy | recall | picks/state | stop rule |",
+        "|---|---|---|---|---|",
+    ]
+    for r in result.rows:
+        kind = "relative" if r.rho_if_relative else "absolute"
+        lines.append(
+            f"| {r.name}, ρ (RelevanceFilter) | {r.with_rho.accuracy:.2f} | {r.with_rho.recall:.2f} | "
+            f"{r.with_rho.picks_per_state:.2f} | cos ≥ {r.rho:.3f} |"
+        )
+        lines.append(
+            f"| {r.name}, ρ tuned for IF | {r.with_rho_if.accuracy:.2f} | {r.with_rho_if.recall:.2f} | "
+            f"{r.with_rho_if.picks_per_state:.2f} | {kind} {r.rho_if:.3f} |"
+        )
+        lines.append(
+            f"| {r.name}, oracle stop | {r.oracle_stop.accuracy:.2f} | {r.oracle_stop.recall:.2f} | "
+            f"{r.oracle_stop.picks_per_state:.2f} | after len(relevant) picks |"
+        )
+    for b in result.baselines:
+        lines.append(f"| {b.policy} | {b.accuracy:.2f} | {b.recall:.2f} | {b.picks_per_state:.2f} | own |")
+    for name, why in result.skipped.items():
+        lines.append(f"| {name} | — | — | — | skipped: {why.split(';')[0]} |")
+    return "\n".join(lines)

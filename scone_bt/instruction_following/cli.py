@@ -1,0 +1,139 @@
+"""``scone-bench``: ``if`` scores every IF policy on a states file; ``if-states`` builds the states files.
+
+scone-bench if --states tools/data/if/test.jsonl            # table + JSON
+scone-bench if-states --out tools/data/if                   # regenerate the committed states files
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Sequence
+from dataclasses import replace
+from pathlib import Path
+
+from scone_bt.errors import SconeError
+from scone_bt.resources import repo_root
+
+__all__ = ["main", "default_states_dir"]
+
+
+def default_states_dir() -> Path | None:
+    """tools/data/if in a checkout, else None."""
+    root = repo_root()
+    return root / "tools" / "data" / "if" if root is not None else None
+
+
+def _bench(args: argparse.Namespace) -> int:
+    from scone_bt.instruction_following.bench import BenchOptions, format_table, run_benchmark
+    from scone_bt.instruction_following.mcts_baseline import MctsOptions
+    from scone_bt.instruction_following.states import load_states
+
+    folder = default_states_dir()
+    train_path = args.train or (folder / "train.jsonl" if folder else None)
+    dev_path = args.dev or (folder / "dev.jsonl" if folder else None)
+    if train_path is None:
+        raise SconeError("no default train states outside a checkout; pass --train FILE")
+    test = load_states(args.states, args.split)
+    if args.limit:
+        test = test[: args.limit]
+    train = load_states(train_path)
+    dev = load_states(dev_path) if dev_path is not None and Path(dev_path).is_file() else []
+    overlap = {s.recipe_id for s in test if s.recipe_id} & {s.recipe_id for s in train if s.recipe_id}
+    if overlap:
+        print(
+            f"warning: {len(overlap)} recipes occur in both the evaluated and the train states",
+            file=sys.stderr,
+        )
+    options = BenchOptions(
+        embedders=tuple(e for e in args.embedders.split(",") if e),
+        finetune=not args.no_finetune,
+        finetune_base=args.finetune_base,
+        finetune_dir=args.save_finetuned,
+        ticc_embedder=args.ticc_embedder,
+        mcts=replace(MctsOptions(), simulations=args.simulations),
+        pddl=not args.no_pddl,
+        ticc=not args.no_ticc,
+    )
+    log = (lambda m: print(m, file=sys.stderr)) if not args.quiet else (lambda _m: None)
+    result = run_benchmark(test, train, dev, options, log=log)
+    report = {"states_file": str(args.states), **result.to_json()}
+    print(
+        f"IF benchmark on {args.states} ({len(test)} states; fitted on {len(train)} train, {len(dev)} dev states)"
+    )
+    print(format_table(result))
+    print(json.dumps(report, ensure_ascii=False))
+    if args.json:
+        Path(args.json).write_text(json.dumps(report, indent=2, ensure_ascii=False) + "\n")
+    return 0
+
+
+def _build(args: argparse.Namespace) -> int:
+    from scone_bt.instruction_following.states import (
+        SPLITS,
+        StateOptions,
+        build_states,
+        load_corpus,
+        save_states,
+    )
+
+    recipes = load_corpus(args.corpus)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    opts = StateOptions(distractors=args.distractors, seed=args.seed)
+    nw = build_states([r for r in recipes if r.step_ingredients is not None], opts)
+    counts = {}
+    for split in SPLITS:
+        counts[split] = save_states(out / f"{split}.jsonl", (s for s in nw if s.split == split))
+    pdr = build_states([r for r in recipes if r.id.startswith("pdr:")], replace(opts, labels="mentions"))
+    counts["pdr_mentions"] = save_states(out / "pdr_mentions.jsonl", pdr)
+    print(json.dumps({"out": str(out), "states": counts, "seed": args.seed, "distractors": args.distractors}))
+    return 0
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="scone-bench", description=__doc__.splitlines()[0])
+    sub = p.add_subparsers(dest="command", required=True)
+    b = sub.add_parser("if", help="score every instruction-following policy on a states file")
+    b.add_argument("--states", required=True, help="JSONL states file (instruction, available, relevant)")
+    b.add_argument("--split", choices=["train", "dev", "test"], help="keep only this split of --states")
+    b.add_argument("--train", help="train states (default tools/data/if/train.jsonl)")
+    b.add_argument("--dev", help="dev states for choosing the stop rule (default tools/data/if/dev.jsonl)")
+    b.add_argument(
+        "--embedders", default="minilm,mpnet,glove", help="comma-separated (default minilm,mpnet,glove)"
+    )
+    b.add_argument(
+        "--finetune-base", default="auto", help="encoder under the fine-tuned head (auto: mpnet if installed)"
+    )
+    b.add_argument("--save-finetuned", type=Path, help="folder to save the fine-tuned head in")
+    b.add_argument("--no-finetune", action="store_true")
+    b.add_argument("--no-pddl", action="store_true")
+    b.add_argument("--no-ticc", action="store_true")
+    b.add_argument("--ticc-embedder", default="minilm", help="embedder behind the TICC intent model")
+    b.add_argument("--simulations", type=int, default=300, help="MCTS simulations per decision")
+    b.add_argument("--limit", type=int, default=0, help="score only the first N states (quick runs)")
+    b.add_argument("--json", help="also write the JSON report to this file")
+    b.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    b.set_defaults(func=_bench)
+    s = sub.add_parser("if-states", help="build the IF states files from the recipe corpus")
+    s.add_argument("--out", default=str(default_states_dir() or "if-states"), help="output folder")
+    s.add_argument("--corpus", help="recipes.jsonl (default ../shared/data/recipes/recipes.jsonl)")
+    s.add_argument("--distractors", type=int, default=5, help="items from other recipes per kitchen")
+    s.add_argument("--seed", type=int, default=0)
+    s.set_defaults(func=_build)
+    return p
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of ``scone-bench``; errors print one line and exit with status 2."""
+    args = _parser().parse_args(argv)
+    try:
+        return int(args.func(args))
+    except SconeError as exc:
+        print(f"scone-bench: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,310 @@
+"""The motion stage's entry point: build the arm model once, then run non-blocking pick-and-place tasks.
+
+    system = MotionSystem.build(kitchen, robot_cfg)       # heavy: Pinocchio + coal models (once, in setup())
+    task = system.pick_and_place(detection, spec, obstacles, rng_seed=7)
+    task.start()                                          # planning starts in the worker thread
+    while not task.done():
+        kitchen.advance(0.1)                              # execution advances only with physics steps
+    outcome = task.outcome()
+
+Planning (IK, OMPL, ruckig) runs in one worker thread and never calls PyBullet. Execution is a Kitchen controller
+(main thread, inside `kitchen.advance`) that holds the arm until the plan is ready, so what the arm does depends only
+on the seed and the physics steps: the arm thinks for a fixed simulated time (ExecutionSettings.think_s) and
+only blocks a physics step if the worker has not finished by then.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from scone_bt.config import ObjectSpec, RobotConfig
+from scone_bt.motion.collision import Obstacle
+from scone_bt.motion.execution import ExecutionSettings, PickPlaceController
+from scone_bt.motion.grasp import GraspParams
+from scone_bt.motion.model import ArmModel, pose_matrix
+from scone_bt.motion.pick_place import (
+    PickPlaceFailure,
+    PickPlacePlan,
+    PickPlaceRequest,
+    Segment,
+    plan_home,
+    plan_pick_and_place,
+)
+from scone_bt.motion.planner import PlannerOptions, silence_ompl
+from scone_bt.motion.timing import KinematicLimits, limits_of
+from scone_bt.motion.types import FailureStage, MotionOutcome, MotionProgress
+from scone_bt.perception.types import Detection
+
+if TYPE_CHECKING:
+    from scone_bt.world import Kitchen
+
+__all__ = ["MotionSystem", "PickAndPlace"]
+
+
+class MotionSystem:
+    """The arm model, the static collision scene and the planning worker of one Kitchen.
+
+    Build with `MotionSystem.build(kitchen, robot_cfg)`; call `close()` (or use it as a context manager) to stop the
+    worker thread.
+    """
+
+    def __init__(
+        self,
+        kitchen: Kitchen,
+        arm: ArmModel,
+        planner: PlannerOptions,
+        limits: KinematicLimits,
+        params: GraspParams,
+        settings: ExecutionSettings,
+        robot: RobotConfig | None = None,
+    ) -> None:
+        self.kitchen = kitchen
+        self.arm = arm
+        # The robot in the kitchen (its gripper and control settings may differ from the file the model came from).
+        self.robot = robot or kitchen.robot_config
+        self.planner = planner
+        self.limits = limits
+        self.params = params
+        self.settings = settings
+        self.static = self._static_obstacles()
+        self._worker = cf.ThreadPoolExecutor(max_workers=1, thread_name_prefix="scone-motion")
+        self._active: PickAndPlace | None = None
+        y_axis = arm.fk(self.home)[:3, 1]  # the fingers' closing axis at home
+        self.preferred_yaw = float(np.arctan2(y_axis[1], y_axis[0]))
+
+    @classmethod
+    def build(
+        cls,
+        kitchen: Kitchen,
+        robot: RobotConfig | None = None,
+        *,
+        planner: PlannerOptions | None = None,
+        params: GraspParams | None = None,
+        settings: ExecutionSettings | None = None,
+    ) -> MotionSystem:
+        """Load the arm's Pinocchio and collision models (robot defaults to the kitchen's robot)."""
+        silence_ompl()
+        robot = robot or kitchen.robot_config
+        p = robot.planner
+        options = planner or PlannerOptions(
+            name=p.name, time_limit_s=p.time_limit_s, simplify=p.simplify, rng_seed=p.rng_seed
+        )
+        return cls(
+            kitchen,
+            ArmModel(robot),
+            options,
+            limits_of(robot),
+            params or GraspParams(),
+            settings or ExecutionSettings(),
+        )
+
+    def _static_obstacles(self) -> tuple[Obstacle, ...]:
+        out = [
+            Obstacle(b.name, "box", b.size, pose_matrix(np.eye(3), b.center))
+            for b in self.kitchen.static_boxes
+        ]
+        floor = self.kitchen.config.scene.floor_z
+        out.append(
+            Obstacle("floor", "box", (4.0, 4.0, 0.02), pose_matrix(np.eye(3), (0.0, 0.0, floor - 0.01)))
+        )
+        return tuple(out)
+
+    @property
+    def home(self) -> np.ndarray:
+        return np.asarray(self.robot.home, dtype=float)
+
+    def pick_and_place(
+        self,
+        target: Detection,
+        spec: ObjectSpec,
+        obstacles: Sequence[tuple[Detection, ObjectSpec]],
+        rng_seed: int,
+        place_spot: tuple[float, float, float] | None = None,
+    ) -> PickAndPlace:
+        """A task that moves `target` to a free table spot (default: `kitchen.free_place_spot()`). Cheap; starts nothing."""
+        return PickAndPlace(self, target, spec, tuple(obstacles), int(rng_seed), place_spot)
+
+    def close(self) -> None:
+        self._worker.shutdown(wait=True, cancel_futures=True)
+
+    def __enter__(self) -> MotionSystem:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+class PickAndPlace:
+    """One non-blocking pick-and-place: `start()`, then poll `done()` while the kitchen advances."""
+
+    def __init__(
+        self,
+        system: MotionSystem,
+        target: Detection,
+        spec: ObjectSpec,
+        obstacles: tuple[tuple[Detection, ObjectSpec], ...],
+        rng_seed: int,
+        place_spot: tuple[float, float, float] | None,
+    ) -> None:
+        self.system = system
+        self.target = target
+        self.spec = spec
+        self.obstacles = obstacles
+        self.rng_seed = rng_seed
+        self.place_spot = place_spot
+        self._future: cf.Future[PickPlacePlan | PickPlaceFailure] | None = None
+        self._controller: PickPlaceController | None = None
+        self._outcome: MotionOutcome | None = None
+
+    # ------------------------------------------------------------------------------------- lifecycle
+    def start(self) -> None:
+        """Read the arm's joints, submit planning to the worker and register the execution controller."""
+        if self._controller is not None or self._outcome is not None:
+            return
+        sys_ = self.system
+        kitchen = sys_.kitchen
+        if sys_._active is not None and not sys_._active.done():
+            sys_._active._abandon()
+        sys_._active = self
+        q_start = kitchen.arm_joint_positions()
+        spot = self.place_spot if self.place_spot is not None else kitchen.free_place_spot()
+        if spot is None:
+            self._outcome = MotionOutcome(False, FailureStage.PLACE, "no free spot on the table", 0.0)
+            return
+        request = PickPlaceRequest(
+            q_start=q_start,
+            target=self.target,
+            spec=self.spec,
+            obstacles=self.obstacles,
+            static=sys_.static,
+            place_spot=tuple(spot),  # type: ignore[arg-type]
+            home=sys_.home,
+            rng_seed=self.rng_seed,
+            params=sys_.params,
+            preferred_yaw=sys_.preferred_yaw,
+        )
+        self._future = sys_._worker.submit(
+            plan_pick_and_place, sys_.arm, request, sys_.planner, sys_.limits, sys_.robot.control.rate_hz
+        )
+        self._controller = PickPlaceController(
+            kitchen, self.target.name, q_start, self._poll_plan, self._request_home, sys_.settings
+        )
+        kitchen.add_controller(self._controller)
+
+    def _poll_plan(self, block: bool) -> object | None:
+        fut = self._future
+        if fut is None or fut.cancelled():
+            return None
+        if not block and not fut.done():
+            return None
+        exc = fut.exception()
+        return exc if exc is not None else fut.result()
+
+    def _request_home(self, q: np.ndarray) -> Callable[[bool], tuple[bool, Segment | None]]:
+        sys_ = self.system
+        fut = sys_._worker.submit(
+            plan_home,
+            sys_.arm,
+            q,
+            sys_.home,
+            sys_.static,
+            sys_.planner,
+            sys_.limits,
+            sys_.robot.control.rate_hz,
+            self.rng_seed + 1,
+        )
+
+        def poll(block: bool) -> tuple[bool, Segment | None]:
+            if not block and not fut.done():
+                return False, None
+            return True, (None if fut.exception() is not None else fut.result())
+
+        return poll
+
+    def cancel(self) -> None:
+        """The human takes over: hold, open the gripper, go home; the outcome's stage is CANCELLED."""
+        if self._outcome is not None:
+            return
+        if self._controller is None:
+            self._outcome = MotionOutcome(False, FailureStage.CANCELLED, "cancelled before it started", 0.0)
+            return
+        if self._future is not None:
+            self._future.cancel()
+        self._controller.fail(FailureStage.CANCELLED, "the human took over")
+
+    def _abandon(self) -> None:
+        """Another task takes the arm: stop this one where it is."""
+        c = self._controller
+        if c is not None and not c.finished:
+            c.fail(FailureStage.CANCELLED, "superseded by another motion")
+            c.finished = True
+            self.system.kitchen.remove_controller(c)
+
+    # ------------------------------------------------------------------------------------- polling
+    def is_planning(self) -> bool:
+        """True while the worker is still planning the pick-and-place."""
+        return self._future is not None and not self._future.done()
+
+    def wait_planned(self, timeout: float | None = None) -> bool:
+        """Block until planning finished (tests and benchmarks only; behaviours poll instead)."""
+        if self._future is None:
+            return True
+        try:
+            self._future.exception(timeout=timeout)
+        except cf.TimeoutError:
+            return False
+        except cf.CancelledError:
+            return True
+        return True
+
+    @property
+    def plan(self) -> PickPlacePlan | PickPlaceFailure | None:
+        """The worker's result once it is ready."""
+        fut = self._future
+        if fut is None or not fut.done() or fut.cancelled() or fut.exception() is not None:
+            return None
+        return fut.result()
+
+    def done(self) -> bool:
+        if self._outcome is not None:
+            return True
+        c = self._controller
+        return c is not None and c.finished
+
+    def progress(self) -> MotionProgress:
+        """Current phase and the fraction of the planned motion executed so far."""
+        if self.done():
+            return MotionProgress("done", 1.0)
+        c = self._controller
+        if c is None:
+            return MotionProgress("idle", 0.0)
+        if c.phase == "planning":
+            # "planning" only while the worker computes: a caller may pause simulated time during it.
+            return MotionProgress("planning" if self.is_planning() else "ready", 0.0)
+        frac = c.done_exec_s / c.total_exec_s if c.total_exec_s > 0 else 0.0
+        return MotionProgress(c.phase, float(min(1.0, frac)))
+
+    def outcome(self) -> MotionOutcome | None:
+        """How it ended, once `done()`; else None."""
+        if self._outcome is not None:
+            return self._outcome
+        c = self._controller
+        if c is None or not c.finished:
+            return None
+        start = c.exec_start if c.exec_start is not None else c.start_time
+        end = c.end_time if c.end_time is not None else self.system.kitchen.sim_time
+        ee = c.plan.ee_path(self.system.arm) if c.plan is not None else None
+        stage = None if c.success else (c.stage or FailureStage.PLACE)
+        self._outcome = MotionOutcome(
+            success=c.success,
+            stage=stage,
+            message=c.message,
+            duration=float(end - start),
+            trajectories=tuple(c.executed),
+            ee_path=ee,
+        )
+        return self._outcome

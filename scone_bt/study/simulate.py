@@ -1,0 +1,147 @@
+"""The whole study in simulation: N simulated participants, two counterbalanced sessions each, questionnaires.
+
+Two modes:
+- physics (default): every session is a real run_episode in PyBullet with a TrustfulHuman (30-90 s each);
+- fast (``fast=True``): synthetic episodes without physics (synthetic.py), a second or so for a whole study.
+Everything goes into a StudyLog labelled SIMULATED, which `scone-study analyze` reads like a real study.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+from scone_bt.errors import SconeError
+from scone_bt.study.design import Condition, assign_group, plan_session
+from scone_bt.study.log import StudyLog
+from scone_bt.study.questionnaires import QUESTIONNAIRES
+from scone_bt.study.synthetic import SyntheticOptions, SyntheticRobot, run_synthetic_episode
+from scone_bt.study.trust import SimulatedParticipant, TrustfulHuman, TrustParameters
+
+__all__ = ["SimulationOptions", "simulate_study"]
+
+
+@dataclass(frozen=True)
+class SimulationOptions:
+    """What to simulate.
+
+    Attributes:
+        participants: Number of simulated participants (groups alternate A, B, A, ...).
+        seed: Seeds participants, robot and episodes.
+        fast: Synthetic episodes (no physics).
+        trust: The participants' trust model.
+        synthetic: Fast-mode episode settings.
+        recipe: Recipe of physics episodes (short by default).
+        distractors: Distractors on the shelf in physics episodes.
+        max_ticks: Limit of physics episodes (0.1 s ticks).
+        robot: Arm model of physics episodes.
+        experience_path: Experience store κ̂ is rebuilt from in physics episodes (None: learn within each episode).
+    """
+
+    participants: int = 10
+    seed: int = 0
+    fast: bool = False
+    trust: TrustParameters = field(default_factory=TrustParameters)
+    synthetic: SyntheticOptions = field(default_factory=SyntheticOptions)
+    recipe: str = "example:hummus"
+    distractors: int = 2
+    max_ticks: int = 3000
+    robot: str = "panda"
+    experience_path: Path | None = None
+
+    def __post_init__(self) -> None:
+        if self.participants < 2:
+            raise SconeError(
+                f"a simulated study needs at least 2 participants (one per group), got {self.participants}"
+            )
+
+
+def _catalogue_names() -> list[str]:
+    from scone_bt.config import load_kitchen
+
+    return list(load_kitchen().catalogue.names())
+
+
+def _physics_episode(
+    options: SimulationOptions,
+    condition: Condition,
+    participant: SimulatedParticipant,
+    seed: int,
+    sink: Callable[[str, dict[str, Any]], None],
+) -> dict[str, Any]:
+    from scone_bt.behaviours import BehaviourOptions
+    from scone_bt.episode import EpisodeOptions, run_episode
+
+    behaviour = BehaviourOptions(
+        use_self_confidence=condition is Condition.ON, experience_path=options.experience_path, seed=seed
+    )
+    episode = EpisodeOptions(
+        robot=options.robot,
+        recipe=options.recipe,
+        seed=seed,
+        max_ticks=options.max_ticks,
+        distractors=options.distractors,
+        behaviour=behaviour,
+    )
+
+    def factory(kitchen, recipe, human_options, human_seed):  # noqa: ANN001 - run_episode's HumanFactory
+        return TrustfulHuman(
+            kitchen, recipe, replace(human_options), seed=human_seed, participant=participant
+        )
+
+    def on_event(kind: str, data: dict[str, Any]) -> None:
+        sink(kind, data)
+        participant.observe(kind, data)
+
+    summary = run_episode(episode, printer=lambda _line: None, on_event=on_event, human_factory=factory)
+    return {"synthetic": False, **summary.deterministic_part()}
+
+
+def simulate_study(
+    db_path: str | Path, options: SimulationOptions, printer: Callable[[str], None] = print
+) -> StudyLog:
+    """Run the simulated study into a new SIMULATED StudyLog at db_path (refuses an existing file)."""
+    path = Path(db_path)
+    if path.exists():
+        raise SconeError(f"{path} exists; a simulated study writes a new file (choose another --db)")
+    log = StudyLog(path, simulated=True)
+    robot = SyntheticRobot.sample(_catalogue_names(), options.seed) if options.fast else None
+    mode = "fast (synthetic episodes, no physics)" if options.fast else "physics episodes"
+    printer(f"SIMULATED study: {options.participants} participants, {mode}, seed {options.seed} -> {path}")
+    for i in range(options.participants):
+        pid = f"SIM{i + 1:03d}"
+        group = assign_group(i)
+        participant = SimulatedParticipant(pid, group, options.trust, seed=options.seed * 100_003 + i)
+        for session_index in (1, 2):
+            plan = plan_session(pid, group, session_index)
+            participant.start_session(session_index)
+            seed = options.seed * 1_000 + 10 * i + session_index
+            info = {
+                "simulated": True,
+                "mode": "fast" if options.fast else "physics",
+                "seed": seed,
+                "trust_model": options.trust.__dict__,
+            }
+            # A simulated session is one transaction: the seed regenerates it, and per-event fsyncs would dominate.
+            with log.batch():
+                sid = log.start_session(plan, info)
+                sink = log.event_sink(sid)
+                if robot is not None:
+                    summary = run_synthetic_episode(
+                        robot, plan.condition, participant, sink, seed, options.synthetic
+                    )
+                else:
+                    summary = _physics_episode(options, plan.condition, participant, seed, sink)
+                summary["final_trust"] = round(participant.trust, 4)
+                for q in QUESTIONNAIRES.values():
+                    log.record_responses(sid, q.name, participant.answer(q, plan.condition, session_index))
+                log.end_session(sid, summary)
+            printer(
+                f"  {pid} group {group.value} session {session_index} ({plan.condition.value:>3}): "
+                f"{summary.get('successes', 0)} successes, {summary.get('failures', 0)} failures, "
+                f"{summary.get('help_requests', 0)} help requests, {summary.get('interventions', 0)} interventions, "
+                f"trust {participant.trust:.2f}"
+            )
+    return log

@@ -1,0 +1,266 @@
+"""The tablet's shared state and the tablet-driven human.
+
+The web server (a background thread) and the episode loop (the main thread) share one `TabletState`; every access
+goes through its lock. The episode side never blocks on the participant: a help request or a take-over becomes a
+pending fetch that the participant confirms on the tablet, and the next `TabletHuman.update()` (main thread, the
+only one that touches PyBullet) carries it out.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+from collections import deque
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from scone_bt.human import HumanEvent, SimulatedHuman
+from scone_bt.human.simulated import _Fetch
+from scone_bt.study.questionnaires import (
+    Questionnaire,
+    QuestionnaireError,
+    get_questionnaire,
+    validate_answers,
+)
+
+__all__ = ["TabletState", "TabletHuman", "PHASES"]
+
+PHASES = ("waiting", "episode", "questionnaire", "done")
+_REASONS = {
+    "help": "The robot asks for your help: please bring it to the table.",
+    "intervention": "You took over: please bring it to the table.",
+}
+
+
+class TabletState:
+    """What the tablet shows and what the participant did, guarded by one lock."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._version = 0
+        self.phase = "waiting"
+        self.label = ""
+        self.steps: list[str] = []
+        self.step_index = 0
+        self.step_done: list[bool] = []
+        self.robot: dict[str, Any] = {"action": None, "confidence": None, "kind": None, "status": "idle"}
+        self.acting_object: str | None = None
+        self.takeover_object: str | None = None
+        self._fetches: dict[str, dict[str, Any]] = {}  # object name → {object, kind, reason}
+        self._confirmed: set[str] = set()
+        self.feed: deque[str] = deque(maxlen=8)
+        self._questionnaires: list[Questionnaire] = []
+        self._submitted: set[str] = set()
+        self._on_submit: Callable[[str, dict[str, float | None]], None] | None = None
+        self.questionnaires_done = threading.Event()
+
+    def _touch(self) -> None:
+        self._version += 1
+
+    # ----------------------------------------------------------------------------------------- episode side
+    def start_episode(self, steps: Sequence[str], label: str = "") -> None:
+        with self._lock:
+            self.phase, self.label = "episode", label or self.label
+            self.steps, self.step_index, self.step_done = list(steps), 0, [False] * len(steps)
+            self.robot = {"action": None, "confidence": None, "kind": None, "status": "idle"}
+            self.acting_object = self.takeover_object = None
+            self._fetches.clear()
+            self._confirmed.clear()
+            self.feed.clear()
+            self._touch()
+
+    def sync_recipe(self, step_index: int, step_done: Sequence[bool]) -> None:
+        with self._lock:
+            if step_index != self.step_index or list(step_done) != self.step_done:
+                self.step_index, self.step_done = step_index, list(step_done)
+                self._touch()
+
+    def set_robot(self, **fields: Any) -> None:
+        with self._lock:
+            self.robot.update(fields)
+            self._touch()
+
+    def set_acting(self, object_name: str | None) -> None:
+        with self._lock:
+            self.acting_object = object_name
+            if object_name is None:
+                self.takeover_object = None
+                if self.robot.get("status") == "acting":
+                    self.robot["status"] = "idle"
+            self._touch()
+
+    def add_fetch(self, object_name: str, kind: str, reason: str | None = None) -> None:
+        with self._lock:
+            self._fetches[object_name] = {
+                "object": object_name,
+                "kind": kind,
+                "reason": reason or _REASONS.get(kind, ""),
+            }
+            self._touch()
+
+    def retain_fetches(self, objects: set[str]) -> None:
+        """Forget fetches the human has finished."""
+        with self._lock:
+            for name in [n for n in self._fetches if n not in objects]:
+                del self._fetches[name]
+                self._touch()
+
+    def pop_confirmed(self) -> set[str]:
+        with self._lock:
+            out, self._confirmed = self._confirmed, set()
+            return out
+
+    def wants_takeover(self, object_name: str) -> bool:
+        with self._lock:
+            return self.takeover_object == object_name
+
+    def clear_takeover(self) -> None:
+        with self._lock:
+            self.takeover_object = None
+            self.acting_object = None
+            self._touch()
+
+    def note(self, line: str) -> None:
+        with self._lock:
+            self.feed.appendleft(line)
+            self._touch()
+
+    def finish_episode(self) -> None:
+        with self._lock:
+            self.acting_object = self.takeover_object = None
+            self.robot["status"] = "finished"
+            self._touch()
+
+    # ----------------------------------------------------------------------------------------- participant side
+    def confirm(self, object_name: str) -> bool:
+        """The participant says the object is on the table. False if nothing was pending for it."""
+        with self._lock:
+            if object_name not in self._fetches or object_name in self._confirmed:
+                return False
+            self._confirmed.add(object_name)
+            self._fetches[object_name]["confirmed"] = True
+            self._touch()
+            return True
+
+    def request_takeover(self) -> str | None:
+        """The participant takes over the current action; returns its object, or None if the robot is not acting."""
+        with self._lock:
+            if self.acting_object is None:
+                return None
+            self.takeover_object = self.acting_object
+            self._touch()
+            return self.takeover_object
+
+    # ----------------------------------------------------------------------------------------- questionnaires
+    def ask(
+        self,
+        questionnaires: Sequence[Questionnaire],
+        on_submit: Callable[[str, dict[str, float | None]], None],
+    ) -> None:
+        with self._lock:
+            self._questionnaires, self._submitted, self._on_submit = list(questionnaires), set(), on_submit
+            self.phase = "questionnaire"
+            self.questionnaires_done.clear()
+            self._touch()
+
+    def submit(self, name: str, answers: dict[str, Any]) -> None:
+        """Validate and store one questionnaire (raises QuestionnaireError or UnknownNameError)."""
+        q = get_questionnaire(name)
+        with self._lock:
+            if self.phase != "questionnaire" or q.name not in {x.name for x in self._questionnaires}:
+                raise QuestionnaireError(f"questionnaire {name!r} is not being asked now")
+            if q.name in self._submitted:
+                raise QuestionnaireError(f"questionnaire {name!r} was already submitted")
+            callback = self._on_submit
+        checked = validate_answers(q, {k: (None if v is None else float(v)) for k, v in answers.items()})
+        if callback is not None:
+            callback(q.name, checked)  # durable before the tablet hears "saved"
+        with self._lock:
+            self._submitted.add(q.name)
+            if all(x.name in self._submitted for x in self._questionnaires):
+                self.phase = "done"
+                self.questionnaires_done.set()
+            self._touch()
+
+    # ----------------------------------------------------------------------------------------- view
+    def snapshot(self) -> dict[str, Any]:
+        with self._lock:
+            return {
+                "version": self._version,
+                "phase": self.phase,
+                "label": self.label,
+                "steps": [
+                    {
+                        "text": t,
+                        "done": d,
+                        "current": i == self.step_index and not d and self.phase == "episode",
+                    }
+                    for i, (t, d) in enumerate(zip(self.steps, self.step_done, strict=True))
+                ],
+                "robot": dict(self.robot),
+                "can_take_over": self.acting_object is not None and self.takeover_object is None,
+                "acting_object": self.acting_object,
+                "requests": [dict(f) for f in self._fetches.values()],
+                "feed": list(self.feed),
+                "questionnaires": [
+                    q.as_json() for q in self._questionnaires if q.name not in self._submitted
+                ],
+            }
+
+
+@dataclass
+class TabletHuman(SimulatedHuman):
+    """A human driven by the tablet, with SimulatedHuman's interface and recipe progress.
+
+    Help requests and take-overs wait for the participant's "done" on the tablet (the object is then moved to the
+    table in simulation); the take-over button makes `wants_takeover` True for the robot's current action.
+    """
+
+    state: TabletState = field(default_factory=TabletState)
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        self.state.start_episode([s.instruction for s in self.recipe.steps], self.state.label)
+
+    def request_help(self, object_name: str) -> None:
+        if not self.is_fetching(object_name):
+            self._fetches.append(_Fetch(object_name, math.inf, "help"))
+            self.state.add_fetch(object_name, "help")
+
+    def decide_takeover(self, object_name: str) -> None:
+        self.state.set_acting(object_name)
+
+    def wants_takeover(self, object_name: str) -> bool:
+        return self.state.wants_takeover(object_name)
+
+    def take_over(self, object_name: str) -> None:
+        self.state.clear_takeover()
+        if not self.is_fetching(object_name):
+            self._fetches.append(_Fetch(object_name, math.inf, "intervention"))
+            self.state.add_fetch(object_name, "intervention")
+
+    def robot_busy(self, busy: bool) -> None:
+        super().robot_busy(busy)
+        if not busy:
+            self.state.set_acting(None)
+
+    def update(self) -> list[HumanEvent]:
+        now = self.kitchen.sim_time
+        confirmed = self.state.pop_confirmed()
+        for f in self._fetches:
+            if f.object_name in confirmed:
+                f.ready_at = now  # the participant has brought it: SimulatedHuman places it this tick
+        new = super().update()
+        for f in self._fetches:
+            if math.isfinite(
+                f.ready_at
+            ):  # a clean-up SimulatedHuman started: the participant does it instead
+                f.ready_at = math.inf
+                reason = next(
+                    (e.detail for e in new if e.kind == "fetching" and e.object_name == f.object_name), ""
+                )
+                self.state.add_fetch(f.object_name, f.kind, f"Please bring it to the table ({reason}).")
+        self.state.retain_fetches({f.object_name for f in self._fetches})
+        self.state.sync_recipe(self.step_index, self.step_done)
+        return new

@@ -1,0 +1,253 @@
+"""The tablet web UI: a FastAPI app served by uvicorn in a background thread.
+
+`serve_tablet(host, port, token)` is what `scone-run --ui` and `scone-study session` call. It binds to localhost by
+default; any other address requires a session token, which every request must carry (``?token=`` on the page URL,
+the page then sends it as the ``X-Session-Token`` header).
+"""
+
+from __future__ import annotations
+
+import hmac
+import ipaddress
+import threading
+import time
+from collections.abc import Callable, Sequence
+from importlib import resources
+from typing import Any
+
+from scone_bt.errors import SconeError
+from scone_bt.study.questionnaires import QUESTIONNAIRES, Questionnaire
+from scone_bt.study.tablet import TabletHuman, TabletState
+
+__all__ = [
+    "TabletServer",
+    "serve_tablet",
+    "build_app",
+    "LOCAL_HOSTS",
+    "UIError",
+    "add_ui_arguments",
+    "tablet_from_args",
+]
+
+LOCAL_HOSTS = ("127.0.0.1", "localhost", "::1")
+MIN_TOKEN_LENGTH = 8
+
+
+class UIError(SconeError):
+    """The tablet server cannot start as asked."""
+
+
+def _is_local(host: str) -> bool:
+    if host == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
+def _page() -> str:
+    return resources.files("scone_bt.study").joinpath("static/tablet.html").read_text(encoding="utf-8")
+
+
+def build_app(state: TabletState, token: str | None) -> Any:
+    """The FastAPI application over a TabletState."""
+    from fastapi import Body, Depends, FastAPI, Header, HTTPException, Query
+    from fastapi.responses import HTMLResponse, JSONResponse
+
+    from scone_bt.errors import UnknownNameError
+    from scone_bt.study.questionnaires import QuestionnaireError
+
+    def check(
+        token_q: str | None = Query(None, alias="token"),
+        token_h: str | None = Header(None, alias="X-Session-Token"),
+    ) -> None:
+        if token is None:
+            return
+        given = token_h or token_q or ""
+        if not hmac.compare_digest(given.encode(), token.encode()):
+            raise HTTPException(status_code=403, detail="missing or wrong session token")
+
+    app = FastAPI(
+        title="SCONE-BT tablet",
+        docs_url=None,
+        redoc_url=None,
+        openapi_url=None,
+        dependencies=[Depends(check)],
+    )
+    page = _page()
+
+    @app.get("/", response_class=HTMLResponse)
+    def index() -> str:
+        return page
+
+    @app.get("/api/state")
+    def get_state() -> dict[str, Any]:
+        return state.snapshot()
+
+    @app.post("/api/requests/{object_name}/done")
+    def confirm(object_name: str) -> dict[str, Any]:
+        if not state.confirm(object_name):
+            raise HTTPException(status_code=409, detail=f"no pending request for {object_name!r}")
+        return {"ok": True}
+
+    @app.post("/api/takeover")
+    def takeover() -> dict[str, Any]:
+        name = state.request_takeover()
+        if name is None:
+            raise HTTPException(status_code=409, detail="the robot is not acting now")
+        return {"ok": True, "object": name}
+
+    @app.post("/api/questionnaires/{name}")
+    def submit(name: str, answers: dict[str, float | None] = Body(...)) -> Any:  # noqa: B008 - FastAPI idiom
+        try:
+            state.submit(name, answers)
+        except (QuestionnaireError, UnknownNameError) as exc:
+            return JSONResponse({"detail": str(exc)}, status_code=422)
+        return {"ok": True}
+
+    return app
+
+
+class TabletServer:
+    """A running tablet UI. Use `.human_factory` and `.on_event` with run_episode, `.url` for the tablet.
+
+    Attributes:
+        state: The shared state (tests and the session runner read it).
+        url: The page's address, token included.
+    """
+
+    def __init__(self, host: str, port: int, token: str | None, state: TabletState | None = None) -> None:
+        import uvicorn
+
+        if token is not None and len(token) < MIN_TOKEN_LENGTH:
+            raise UIError(f"the session token must have at least {MIN_TOKEN_LENGTH} characters")
+        if not _is_local(host) and token is None:
+            raise UIError(
+                f"serving the tablet UI on {host} makes it reachable from the network and needs a session token "
+                f"(--ui-token, at least {MIN_TOKEN_LENGTH} characters); without one, use --ui-host 127.0.0.1"
+            )
+        self.state = state or TabletState()
+        self.token = token
+        self.host = host
+        config = uvicorn.Config(
+            build_app(self.state, token),
+            host=host,
+            port=port,
+            log_level="warning",
+            lifespan="off",
+            access_log=False,
+        )
+        self._server = uvicorn.Server(config)
+        self._thread = threading.Thread(target=self._server.run, name="tablet-ui", daemon=True)
+        self._thread.start()
+        deadline = time.monotonic() + 15.0
+        while not self._server.started:
+            if not self._thread.is_alive() or time.monotonic() > deadline:
+                self._server.should_exit = True
+                raise UIError(
+                    f"the tablet UI could not listen on {host}:{port} (port in use or address not available)"
+                )
+            time.sleep(0.02)
+        self.port = int(self._server.servers[0].sockets[0].getsockname()[1])
+        shown = f"[{host}]" if ":" in host else host
+        self.url = f"http://{shown}:{self.port}/" + (f"?token={token}" if token else "")
+
+    # ----------------------------------------------------------------------------------------- episode hooks
+    def human_factory(self, kitchen: Any, recipe: Any, options: Any, seed: int) -> TabletHuman:
+        """run_episode's human_factory: a TabletHuman on this server's state."""
+        return TabletHuman(kitchen, recipe, options, seed=seed, state=self.state)
+
+    def on_event(self, kind: str, data: dict[str, Any]) -> None:
+        """run_episode's on_event: keep the tablet's view of the robot up to date."""
+        s = self.state
+        obj = data.get("object")
+        if kind == "decision":
+            status = {"act": "deciding", "ask": "asking", "idle": "waiting"}.get(
+                str(data.get("kind")), "idle"
+            )
+            s.set_robot(
+                action=data.get("action"),
+                confidence=data.get("confidence"),
+                kind=data.get("kind"),
+                status=status,
+            )
+        elif kind == "act":
+            s.set_robot(action=data.get("action"), confidence=data.get("confidence"), status="acting")
+            s.note(f"The robot is fetching the {obj}.")
+        elif kind == "outcome":
+            s.set_robot(status="idle")
+            s.note(
+                f"The {obj} is on the table."
+                if data.get("success")
+                else f"The robot failed with the {obj} ({data.get('stage')})."
+            )
+        elif kind == "help_request":
+            s.note(f"The robot asks for help with the {obj}.")
+        elif kind == "intervention" and "action" in data:
+            s.note(f"You took over: {data.get('action')}.")
+        elif kind == "step_done":
+            s.note(f"Step done: {data.get('detail')}")
+
+    def chain(self, *sinks: Callable[[str, dict[str, Any]], None]) -> Callable[[str, dict[str, Any]], None]:
+        """An on_event that feeds the tablet and the given sinks (e.g. a StudyLog's event_sink)."""
+
+        def on_event(kind: str, data: dict[str, Any]) -> None:
+            for sink in sinks:
+                sink(kind, data)
+            self.on_event(kind, data)
+
+        return on_event
+
+    # ----------------------------------------------------------------------------------------- questionnaires
+    def ask_questionnaires(
+        self,
+        on_submit: Callable[[str, dict[str, float | None]], None],
+        questionnaires: Sequence[Questionnaire] = tuple(QUESTIONNAIRES.values()),
+    ) -> None:
+        """Show the questionnaires; on_submit(name, answers) stores each one (it runs in the web thread)."""
+        self.state.finish_episode()
+        self.state.ask(questionnaires, on_submit)
+
+    def wait_questionnaires(self, timeout: float | None = None) -> bool:
+        """Block until every questionnaire is submitted; False on timeout."""
+        return self.state.questionnaires_done.wait(timeout)
+
+    def close(self) -> None:
+        self._server.should_exit = True
+        self._thread.join(timeout=5.0)
+
+    def __enter__(self) -> TabletServer:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def serve_tablet(host: str = "127.0.0.1", port: int = 8765, token: str | None = None) -> TabletServer:
+    """Start the tablet UI in a background thread (port 0 picks a free port); raises UIError when it cannot."""
+    return TabletServer(host, port, token)
+
+
+def add_ui_arguments(parser: Any) -> None:
+    """The --ui flags of scone-run (argparse): --ui, --ui-host, --ui-port, --ui-token."""
+    g = parser.add_argument_group("tablet UI (a person takes part; the episode runs in real time)")
+    g.add_argument(
+        "--ui", action="store_true", help="serve the tablet page and let a person help and take over"
+    )
+    g.add_argument(
+        "--ui-host", default="127.0.0.1", help="address to bind; anything but localhost needs --ui-token"
+    )
+    g.add_argument("--ui-port", type=int, default=8765, help="port of the tablet page (0: any free port)")
+    g.add_argument(
+        "--ui-token", help=f"session token (at least {MIN_TOKEN_LENGTH} characters) the tablet must present"
+    )
+
+
+def tablet_from_args(args: Any) -> TabletServer | None:
+    """Start the tablet server when --ui was given (None otherwise); raises UIError with a one-line reason."""
+    if not getattr(args, "ui", False):
+        if getattr(args, "ui_token", None) or getattr(args, "ui_host", "127.0.0.1") != "127.0.0.1":
+            raise UIError("--ui-host and --ui-token only apply with --ui")
+        return None
+    return serve_tablet(args.ui_host, args.ui_port, args.ui_token)

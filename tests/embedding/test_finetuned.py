@@ -1,0 +1,86 @@
+"""The fine-tuned embedder: learns labelled instruction→action pairs, saves and loads without pickle."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from scone_bt.embedding import (
+    FinetunedEmbedder,
+    FinetuneOptions,
+    InstructionExample,
+    load_embedder,
+    ranking_accuracy,
+    train_finetuned,
+)
+from scone_bt.errors import ModelUnavailableError, SconeError
+
+ACTIONS = [f"Put {o} on table" for o in ("salt", "flour", "milk", "lemon", "rice", "honey", "tea", "butter")]
+# arbitrary pairings a general-purpose encoder cannot know: only training makes them rank first
+PAIRS = {
+    "Start the bread": "Put honey on table",
+    "Prepare the dessert": "Put rice on table",
+    "Make the sauce": "Put tea on table",
+    "Bake the crust": "Put lemon on table",
+    "Finish the salad": "Put milk on table",
+    "Brew the drink": "Put salt on table",
+}
+
+
+def _examples() -> list[InstructionExample]:
+    return [InstructionExample(i, (a,), tuple(ACTIONS)) for i, a in PAIRS.items()]
+
+
+@pytest.fixture(scope="module")
+def trained(tmp_path_factory):
+    base = load_embedder("glove", tmp_path_factory.mktemp("cache"))
+    out = tmp_path_factory.mktemp("ft") / "head"
+    opts = FinetuneOptions(epochs=150, hidden=64, seed=0)
+    return base, train_finetuned(_examples(), base, out, options=opts), out
+
+
+def test_training_learns_the_pairs(trained):
+    base, emb, _ = trained
+    assert emb.dim == 128
+    vectors = emb.embed(ACTIONS)
+    np.testing.assert_allclose(np.linalg.norm(vectors, axis=1), 1.0, atol=1e-5)
+    assert ranking_accuracy(_examples(), base) < 0.5
+    assert ranking_accuracy(_examples(), emb) == 1.0
+    history = emb.meta["history"]
+    assert history[-1] < history[0]
+    assert emb.meta["n_triplets_per_epoch"] == len(PAIRS) * 10
+
+
+def test_save_load_round_trip_without_pickle(trained, tmp_path):
+    _, emb, out = trained
+    assert sorted(p.name for p in out.iterdir()) == ["finetuned.json", "head.safetensors"]
+    assert json.loads((out / "finetuned.json").read_text())["base"] == "glove"
+    loaded = load_embedder(f"finetuned:{out}", tmp_path)
+    assert isinstance(loaded, FinetunedEmbedder)
+    assert loaded.name == f"finetuned:{out.resolve()}"
+    np.testing.assert_allclose(loaded.embed(ACTIONS), emb.embed(ACTIONS), atol=1e-6)
+    also = load_embedder(str(out), tmp_path)  # the bare directory works too
+    np.testing.assert_allclose(also.embed(ACTIONS[:1]), emb.embed(ACTIONS[:1]), atol=1e-6)
+
+
+def test_training_is_seeded(trained):
+    base, emb, _ = trained
+    again = train_finetuned(_examples(), base, options=FinetuneOptions(epochs=150, hidden=64, seed=0))
+    np.testing.assert_allclose(again.head.w2, emb.head.w2, atol=1e-6)
+
+
+def test_tuple_examples_and_bad_inputs(trained, tmp_path):
+    base, _, _ = trained
+    tuples = [(i, [a], ACTIONS) for i, a in PAIRS.items()]
+    emb = train_finetuned(tuples, base, options=FinetuneOptions(epochs=2, hidden=16, dim=8))
+    assert emb.dim == 8
+    with pytest.raises(SconeError, match="no training triplets"):
+        train_finetuned([("Preheat the oven", [], ACTIONS)], base)
+    with pytest.raises(SconeError, match="semantic base embedder"):
+        train_finetuned(tuples, "onehot")
+    with pytest.raises(SconeError, match="dropout"):
+        FinetuneOptions(dropout=1.5)
+    with pytest.raises(ModelUnavailableError, match="train_finetuned"):
+        load_embedder(f"finetuned:{tmp_path}", tmp_path)

@@ -1,0 +1,64 @@
+"""`scone-models`: listing, the MPNet assembly steps (on a fake split archive), and one-line errors."""
+
+from __future__ import annotations
+
+import zipfile
+
+import pytest
+
+from scone_bt.cli.models import main
+from scone_bt.embedding import install_mpnet, registry
+from scone_bt.errors import ModelUnavailableError
+
+
+def test_list_shows_every_embedder(capsys, tmp_path):
+    assert main(["--cache-dir", str(tmp_path), "list"]) == 0
+    out = capsys.readouterr().out
+    for name in ("minilm", "mpnet", "glove", "onehot", "finetuned:<dir>"):
+        assert name in out
+
+
+def test_unknown_model_is_a_one_line_error(capsys):
+    assert main(["install", "bge"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "valid: mpnet" in err
+
+
+def test_embed_prints_similarities(capsys, tmp_path):
+    assert main(["--cache-dir", str(tmp_path), "embed", "glove", "salt", "pepper"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0] == "glove: 50-d" and lines[1].startswith("+1.000")
+
+
+def _split_archive(tmp_path, pieces: int) -> list:
+    archive = tmp_path / "model.zip"
+    with zipfile.ZipFile(archive, "w") as zf:
+        zf.writestr("all-mpnet-base-v2/modules.json", "[]")
+        zf.writestr("all-mpnet-base-v2/config.json", "{}")
+    data = archive.read_bytes()
+    size = len(data) // pieces + 1
+    parts = []
+    for i in range(pieces):
+        part = tmp_path / f"all-mpnet-base-v2.zip.{i + 1:03d}"
+        part.write_bytes(data[i * size : (i + 1) * size])
+        parts.append(part)
+    return parts
+
+
+def test_install_mpnet_concatenates_and_unzips(tmp_path, monkeypatch):
+    parts = _split_archive(tmp_path, 5)
+    monkeypatch.setattr(registry, "_mpnet_zip_parts", lambda: (parts, []))
+    target = install_mpnet(tmp_path / "cache", log=lambda _: None)
+    assert target == tmp_path / "cache" / "models" / "all-mpnet-base-v2"
+    assert (target / "modules.json").read_text() == "[]"
+    assert registry.mpnet_dir(tmp_path / "cache") == target
+    assert [p.name for p in target.parent.iterdir()] == ["all-mpnet-base-v2"]  # no temporary left over
+
+
+def test_install_mpnet_rejects_a_broken_archive(tmp_path, monkeypatch):
+    parts = _split_archive(tmp_path, 5)
+    parts[2].write_bytes(b"garbage")
+    monkeypatch.setattr(registry, "_mpnet_zip_parts", lambda: (parts, []))
+    with pytest.raises(ModelUnavailableError, match="valid zip"):
+        install_mpnet(tmp_path / "cache", log=lambda _: None)
+    assert not (tmp_path / "cache" / "models" / "all-mpnet-base-v2").exists()

@@ -1,0 +1,76 @@
+"""The gate: act, ask or idle from ranked actions, confidences and options."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from scone_bt.errors import SconeError
+from scone_bt.gate import DecisionKind, GateOptions, decide
+from scone_bt.relevance import RankedAction
+
+RANKED = [RankedAction("Put salt on table", 0.62), RankedAction("Put sugar on table", 0.31)]
+
+
+def test_acts_when_confident_and_asks_when_not():
+    options = GateOptions(confidence_threshold=0.5, relevance_threshold=0.4)
+    act = decide(RANKED, [0.8, 0.99], options)
+    assert (act.kind, act.action, act.confidence) == (DecisionKind.ACT, "Put salt on table", 0.8)
+    ask = decide(RANKED, [0.2, 0.99], options)
+    # only the most relevant action counts, however confident the robot is about another
+    assert (ask.kind, ask.action) == (DecisionKind.ASK, "Put salt on table")
+    assert "0.20 < 0.50" in ask.reason
+    assert decide(RANKED, [0.5, 0.0], options).kind == DecisionKind.ACT  # the threshold itself acts
+
+
+def test_idle_when_nothing_is_relevant_or_available():
+    options = GateOptions(relevance_threshold=0.7)
+    idle = decide(RANKED, [0.9, 0.9], options)
+    assert idle.kind == DecisionKind.IDLE and idle.action is None
+    assert "Put salt on table" in idle.reason
+    empty = decide([], [], options)
+    assert empty.kind == DecisionKind.IDLE and math.isnan(empty.confidence)
+
+
+def test_control_condition_always_acts_on_the_best_relevant_action():
+    options = GateOptions(relevance_threshold=0.4, use_self_confidence=False)
+    decision = decide(RANKED, [0.0, 1.0], options)
+    assert (decision.kind, decision.action) == (DecisionKind.ACT, "Put salt on table")
+    assert decide(
+        RANKED, [0.0, 1.0], GateOptions(relevance_threshold=0.9, use_self_confidence=False)
+    ).kind == (DecisionKind.IDLE)
+
+
+def test_target_error_rate_sets_the_threshold():
+    options = GateOptions(confidence_threshold=0.1, target_error_rate=0.2)
+    assert options.act_threshold == pytest.approx(0.8)
+    assert decide(RANKED, [0.79, 1.0], options).kind == DecisionKind.ASK
+    assert decide(RANKED, [0.81, 1.0], options).kind == DecisionKind.ACT
+
+
+def test_unsorted_input_uses_the_most_relevant_and_ties_go_first():
+    ranked = [RankedAction("b", 0.3), RankedAction("a", 0.9), RankedAction("c", 0.9)]
+    assert decide(ranked, [0.9, 0.9, 0.1], GateOptions()).action == "a"
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"confidence_threshold": 1.5}, "confidence_threshold"),
+        ({"relevance_threshold": -2.0}, "relevance_threshold"),
+        ({"target_error_rate": 0.0}, "target_error_rate"),
+    ],
+)
+def test_bad_options(kwargs, message):
+    with pytest.raises(SconeError, match=message):
+        GateOptions(**kwargs)
+
+
+def test_bad_confidences():
+    with pytest.raises(SconeError, match="one per action"):
+        decide(RANKED, [0.5], GateOptions())
+    with pytest.raises(SconeError, match="probability"):
+        decide(RANKED, [float("nan"), 0.5], GateOptions())
+    with pytest.raises(SconeError, match="probability"):
+        decide(RANKED, [1.2, 0.5], GateOptions())

@@ -1,0 +1,96 @@
+"""Arm model: kinematics, IK and the collision model built from robots/*.yaml."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from scone_bt.config import load_robot
+from scone_bt.errors import ConfigError, UnknownNameError
+from scone_bt.motion import ArmModel, CollisionWorld
+from scone_bt.motion.grasp import top_down_rotation
+from scone_bt.motion.model import pose_matrix
+
+
+def test_model_has_the_arm_dofs_and_urdf_limits(arm, robot_cfg):
+    assert arm.dof == robot_cfg.dof == 7
+    assert np.all(arm.lower < arm.upper)
+    assert arm.upper[3] == pytest.approx(0.0)  # panda_joint4 is always bent
+
+
+def test_home_pose_points_down(arm, robot_cfg):
+    pose = arm.fk(np.asarray(robot_cfg.home))
+    assert pose[:3, 2] @ np.array([0, 0, -1.0]) > 0.99
+    assert 0.2 < pose[0, 3] < 0.4 and pose[2, 3] > 0.3
+
+
+@pytest.mark.parametrize("target", [(0.37, 0.3, 0.08), (0.5, -0.4, 0.15), (0.45, 0.2, 0.3)])
+def test_ik_reaches_grasp_poses_within_limits(arm, robot_cfg, target):
+    goal = pose_matrix(top_down_rotation(-np.pi / 2), target)
+    sol = arm.ik(goal, np.asarray(robot_cfg.home), np.random.default_rng(0))
+    assert sol is not None
+    assert arm.within_limits(sol.q)
+    reached = arm.fk(sol.q)
+    assert np.linalg.norm(reached[:3, 3] - goal[:3, 3]) < 2e-3
+    assert np.allclose(reached[:3, :3], goal[:3, :3], atol=2e-2)
+
+
+def test_ik_fails_out_of_reach(arm, robot_cfg):
+    goal = pose_matrix(top_down_rotation(0.0), (1.5, 0.0, 0.2))
+    assert arm.ik(goal, np.asarray(robot_cfg.home), np.random.default_rng(0)) is None
+
+
+def test_self_collision_pairs_skip_adjacent_and_yaml_disabled_links(arm):
+    names = [g.name for g in arm.geom_model.geometryObjects]
+    pairs = {
+        frozenset((arm.link_of_geometry[names[i]], arm.link_of_geometry[names[j]]))
+        for i, j in arm.self_collision_pairs()
+    }
+    assert frozenset(("panda_link1", "panda_link2")) not in pairs  # adjacent
+    assert frozenset(("panda_link0", "panda_link2")) not in pairs  # listed in the YAML
+    assert frozenset(("panda_link1", "panda_hand")) in pairs
+
+
+def test_collision_world_sees_obstacles(arm, robot_cfg, static_obstacles):
+    world = CollisionWorld(arm, static_obstacles)
+    home = np.asarray(robot_cfg.home)
+    assert world.is_valid(home)
+    down = arm.ik(
+        pose_matrix(top_down_rotation(-np.pi / 2), (0.47, -0.43, -0.05)), home, np.random.default_rng(1)
+    )
+    assert down is not None  # kinematically fine, but the hand is inside the table
+    assert not world.is_valid(down.q)
+    assert any("table" in b for _, b in world.colliding_pairs(down.q))
+
+
+def test_unknown_end_effector_frame_names_the_frames(robot_cfg, tmp_path):
+    text = robot_cfg.source.read_text().replace(
+        "end_effector_frame: panda_grasptarget", "end_effector_frame: nope"
+    )
+    path = tmp_path / "bad.yaml"
+    path.write_text(text)
+    with pytest.raises(UnknownNameError, match="panda_grasptarget"):
+        ArmModel(load_robot(path))
+
+
+def test_second_robot_loads(robot_cfg):
+    iiwa = ArmModel(load_robot("iiwa7"))
+    assert iiwa.dof == 7
+    home = np.asarray(iiwa.config.home)
+    assert iiwa.fk(home)[:3, 2] @ np.array([0, 0, -1.0]) > 0.99
+
+
+def test_disabled_pair_with_unknown_link_names_the_links(robot_cfg, tmp_path):
+    text = robot_cfg.source.read_text().replace("- [panda_link0, panda_link2]", "- [panda_link0, panda_link99]")
+    path = tmp_path / "bad.yaml"
+    path.write_text(text)
+    with pytest.raises(UnknownNameError, match="panda_link99.*panda_hand"):
+        ArmModel(load_robot(path))
+
+
+def test_malformed_disabled_pair_is_a_config_error(robot_cfg, tmp_path):
+    text = robot_cfg.source.read_text().replace("- [panda_link0, panda_link2]", "- [panda_link0]")
+    path = tmp_path / "bad.yaml"
+    path.write_text(text)
+    with pytest.raises(ConfigError, match="disabled_pairs\\[0\\]"):
+        load_robot(path)

@@ -1,0 +1,133 @@
+"""Physical pick-and-place in PyBullet (DIRECT): success, failures that come from physics, cancel, determinism."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from scone_bt.config import load_robot
+from scone_bt.motion import FailureStage, MotionSystem, limits_of
+from scone_bt.world import Kitchen
+
+pytestmark = pytest.mark.slow
+
+
+@pytest.fixture
+def task_for(detect):
+    """task_for(kitchen, system, name, seed) -> a PickAndPlace of that object, the others as obstacles."""
+
+    def make(kitchen, system, name, seed=3):
+        others = [(detect(kitchen, n), kitchen.specs[n]) for n in kitchen.objects if n != name]
+        return system.pick_and_place(detect(kitchen, name), kitchen.specs[name], others, rng_seed=seed)
+
+    return make
+
+
+@pytest.fixture
+def stocked(kitchen_cfg, robot_cfg):
+    """salt at (0.37, 0.3), sugar at (0.63, 0.4), honey at (0.5, 0.4) on the shelf."""
+    with Kitchen(kitchen_cfg, robot_cfg) as k:
+        k.spawn([kitchen_cfg.catalogue.get(n) for n in ("salt", "sugar", "honey")], np.random.default_rng(1))
+        with MotionSystem.build(k) as system:
+            yield k, system
+
+
+def test_pick_and_place_puts_the_object_on_the_table(stocked, arm, robot_cfg, assert_within_limits, task_for):
+    kitchen, system = stocked
+    assert kitchen.spawn_slots["salt"][:2] == (0.37, 0.3)
+    task = task_for(kitchen, system, "salt")
+    assert task.progress().phase == "idle"
+    task.start()
+    assert task.progress().phase in ("planning", "ready") and not task.done()
+    phases = []
+    while not task.done():
+        kitchen.advance(0.1)
+        phase = task.progress().phase
+        if not phases or phases[-1] != phase:
+            phases.append(phase)
+    outcome = task.outcome()
+    assert outcome.success and outcome.stage is None, outcome.message
+    assert kitchen.is_on_table("salt")
+    assert kitchen.bc.getNumConstraints() == 0  # the grasp held by friction alone
+    for phase in ("approach", "descend", "close", "lift", "transit", "lower", "release", "retreat", "home"):
+        assert phase in phases
+    assert 0 < outcome.duration < 20.0
+    assert len(outcome.trajectories) == 7 and outcome.ee_path.shape[1] == 3
+    limits = limits_of(robot_cfg)
+    for traj in outcome.trajectories:
+        assert_within_limits(traj, arm.lower, arm.upper, limits)
+    # Back home, and the neighbours were not disturbed.
+    assert np.allclose(kitchen.arm_joint_positions(), robot_cfg.home, atol=0.05)
+    assert kitchen.is_on_shelf("sugar") and kitchen.is_on_shelf("honey")
+
+
+def test_object_wider_than_the_gripper_cannot_be_grasped(kitchen_cfg, robot_cfg, task_for, run_to_end):
+    with Kitchen(kitchen_cfg, robot_cfg) as k:
+        k.spawn([kitchen_cfg.catalogue.get(n) for n in ("coffee", "salt")], np.random.default_rng(5))
+        assert kitchen_cfg.catalogue.get("coffee").grasp_width > 2 * robot_cfg.gripper.open_position
+        with MotionSystem.build(k) as system:
+            outcome = run_to_end(k, task_for(k, system, "coffee"))
+        assert not outcome.success and outcome.stage is FailureStage.GRASP, outcome.message
+        assert not k.is_on_table("coffee")
+
+
+def test_weak_gripper_lets_a_heavy_slippery_bottle_slip(kitchen_cfg, robot_cfg, task_for, run_to_end):
+    weak = replace(robot_cfg, gripper=replace(robot_cfg.gripper, max_force=5.0))
+    with Kitchen(kitchen_cfg, weak) as k:
+        k.spawn([kitchen_cfg.catalogue.get(n) for n in ("olive oil", "salt")], np.random.default_rng(5))
+        with MotionSystem.build(k) as system:
+            outcome = run_to_end(k, task_for(k, system, "olive oil"))
+        assert outcome.stage in (FailureStage.GRASP, FailureStage.TRANSIT), outcome.message
+        assert not k.is_on_table("olive oil")
+
+
+def test_unreachable_object_fails_at_ik_without_moving(kitchen_cfg, robot_cfg, task_for, run_to_end):
+    with Kitchen(kitchen_cfg, robot_cfg) as k:
+        k.spawn([kitchen_cfg.catalogue.get("coffee")], np.random.default_rng(17))
+        assert k.spawn_slots["coffee"][:2] == (0.63, 0.6)
+        before = k.arm_joint_positions()
+        with MotionSystem.build(k) as system:
+            outcome = run_to_end(k, task_for(k, system, "coffee"))
+        assert outcome.stage is FailureStage.IK and "coffee" in outcome.message
+        assert outcome.trajectories == ()
+        assert np.allclose(k.arm_joint_positions(), before, atol=0.01)
+
+
+def test_cancel_opens_the_hand_and_returns_home(stocked, robot_cfg, task_for):
+    kitchen, system = stocked
+    task = task_for(kitchen, system, "honey")
+    task.start()
+    while task.progress().phase not in ("transit", "done"):
+        kitchen.advance(0.1)
+    task.cancel()
+    while not task.done():
+        kitchen.advance(0.1)
+    outcome = task.outcome()
+    assert not outcome.success and outcome.stage is FailureStage.CANCELLED
+    assert np.allclose(kitchen.arm_joint_positions(), robot_cfg.home, atol=0.05)
+    assert np.sum(kitchen.gripper_positions()) > 0.07  # open
+
+
+def test_same_seed_repeats_exactly(kitchen_cfg, robot_cfg, task_for, run_to_end):
+    results = []
+    for _ in range(2):
+        with Kitchen(kitchen_cfg, robot_cfg) as k:
+            k.spawn(
+                [kitchen_cfg.catalogue.get(n) for n in ("salt", "sugar", "honey")], np.random.default_rng(1)
+            )
+            with MotionSystem.build(k) as system:
+                outcome = run_to_end(k, task_for(k, system, "honey", seed=11))
+            results.append((outcome.success, outcome.stage, k.sim_time, k.object_state("honey").position))
+    assert results[0] == results[1]
+
+
+def test_second_robot_picks_and_places(kitchen_cfg, task_for, run_to_end):
+    iiwa = load_robot("iiwa7")
+    with Kitchen(kitchen_cfg, iiwa) as k:
+        k.spawn([kitchen_cfg.catalogue.get(n) for n in ("salt", "sugar", "honey")], np.random.default_rng(1))
+        with MotionSystem.build(k) as system:
+            outcome = run_to_end(k, task_for(k, system, "salt"))
+        assert outcome.success, outcome.message
+        assert k.is_on_table("salt")

@@ -1,0 +1,50 @@
+"""ruckig timing: limit compliance from the commanded samples, and path following."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from scone_bt.motion import limits_of, time_path
+
+
+@pytest.fixture
+def path(arm, robot_cfg):
+    rng = np.random.default_rng(3)
+    home = np.asarray(robot_cfg.home)
+    pts = [home] + [np.clip(home + rng.normal(0, 0.6, arm.dof), arm.lower, arm.upper) for _ in range(4)]
+    return np.array(pts)
+
+
+def test_trajectory_respects_position_velocity_acceleration_and_jerk_limits(
+    arm, robot_cfg, path, assert_within_limits
+):
+    limits = limits_of(robot_cfg)
+    traj, report = time_path(path, limits, robot_cfg.control.rate_hz)
+    assert_within_limits(traj, arm.lower, arm.upper, limits)
+    assert report.calculation_s >= 0
+    assert np.max(np.diff(traj.times)) <= 1.0 / robot_cfg.control.rate_hz + 1e-9
+
+
+def test_trajectory_starts_and_ends_at_rest_on_the_path(robot_cfg, path):
+    traj, _ = time_path(path, limits_of(robot_cfg), robot_cfg.control.rate_hz)
+    assert np.allclose(traj.positions[0], path[0]) and np.allclose(traj.positions[-1], path[-1], atol=1e-9)
+    assert np.allclose(traj.velocities[[0, -1]], 0.0, atol=1e-9)
+
+
+def test_samples_stay_on_the_straight_segments(robot_cfg, path):
+    """With phase synchronisation each segment is a straight joint-space line (what the planner checked)."""
+    traj, _ = time_path(path, limits_of(robot_cfg), robot_cfg.control.rate_hz)
+    for q in traj.positions:
+        dist = []
+        for a, b in zip(path[:-1], path[1:], strict=True):
+            t = np.clip((q - a) @ (b - a) / ((b - a) @ (b - a)), 0, 1)
+            dist.append(np.linalg.norm(q - (a + t * (b - a))))
+        assert min(dist) < 1e-6
+
+
+def test_lower_scale_gives_a_slower_trajectory(robot_cfg, path):
+    limits = limits_of(robot_cfg)
+    fast, _ = time_path(path, limits, 240)
+    slow, _ = time_path(path, limits.scaled(0.5), 240)
+    assert slow.duration > fast.duration * 1.5

@@ -1,0 +1,53 @@
+"""Pinhole model of the simulated camera (no rendering)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from scone_bt.errors import ConfigError
+from scone_bt.perception import Camera
+from scone_bt.perception.camera import intrinsics, project, world_from_camera
+
+
+def test_target_projects_to_the_image_centre(kitchen_cfg):
+    spec = kitchen_cfg.camera
+    uv, depth = project(np.array([spec.target]), intrinsics(spec), world_from_camera(spec))
+    np.testing.assert_allclose(uv[0], [(spec.width - 1) / 2, (spec.height - 1) / 2], atol=1e-9)
+    assert depth[0] == pytest.approx(np.linalg.norm(np.subtract(spec.target, spec.position)))
+
+
+def test_pose_is_a_right_handed_rotation_with_up_pointing_up_the_image(kitchen_cfg):
+    pose = world_from_camera(kitchen_cfg.camera)
+    rot = pose[:3, :3]
+    np.testing.assert_allclose(rot.T @ rot, np.eye(3), atol=1e-12)
+    assert np.linalg.det(rot) == pytest.approx(1.0)
+    assert rot[:, 1] @ np.array(kitchen_cfg.camera.up) < 0  # image y (down) points against world up
+
+
+def test_every_shelf_slot_is_in_view(kitchen_cfg):
+    camera = Camera(kitchen_cfg.camera)
+    lids = np.array([(x, y, z + h) for x, y, z in kitchen_cfg.scene.shelf_slots() for h in (0.02, 0.23)])
+    uv, depth = project(lids, camera.intrinsics, camera.world_from_camera)
+    assert np.all(depth > 0)
+    assert np.all((uv >= 0) & (uv <= [camera.spec.width - 1, camera.spec.height - 1]))
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        ({"width": 8}, "width"),
+        ({"fov_deg": 0.0}, "fov_deg"),
+        ({"near": 2.0, "far": 1.0}, "near"),
+        ({"noise_std": -1.0}, "noise_std"),
+        ({"up": (-0.5, 0.0, -0.85)}, "parallel"),
+    ],
+)
+def test_bad_camera_specs_are_one_line_errors(kitchen_cfg, change, message):
+    spec = replace(kitchen_cfg.camera, **change)
+    if "up" in change:  # make the viewing direction parallel to up
+        spec = replace(spec, up=tuple(np.subtract(spec.target, spec.position)))
+    with pytest.raises(ConfigError, match=message):
+        Camera(spec)

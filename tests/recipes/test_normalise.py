@@ -1,0 +1,55 @@
+"""Ingredient strings → fetchable items."""
+
+from __future__ import annotations
+
+import pytest
+
+from scone_bt.recipes.normalise import is_fetchable, item_key, normalise_ingredient
+
+
+@pytest.mark.parametrize(
+    ("text", "item"),
+    [
+        ("1 can chickpeas, drained", "chickpeas"),
+        ("1 15-oz can chickpeas", "chickpeas"),
+        ("~150g (1/3 lb) bacon cubes", "bacon cubes"),
+        ("3 onions (medium size)", "onions"),
+        ("A bunch of fresh parsley", "parsley"),
+        ("5-6 cloves of garlic", "garlic"),
+        ("1/2 cup (110g) extra virgin olive oil", "extra virgin olive oil"),
+        ("a jar of apple sauce", "apple sauce"),
+        ("1 - 2L (1/4 - 1/2 gal) milk", "milk"),
+        ("½ tsp ground cinnamon", "ground cinnamon"),
+        ("2 large eggs", "eggs"),
+        ("butter for greasing", "butter"),
+        ("salt and pepper to taste", "salt"),
+        ("cilantro or flat-leaf parsley", "cilantro"),
+        ("brown or green lentils", "green lentils"),
+        ("peanut butter (smooth supermarket style, not natural)", "peanut butter"),
+        ("2 tsp cream of tartar", "cream of tartar"),
+        ("1 cup Gruyère", "gruyere"),
+        ("Garam Masala/Chicken Masala 1 tbsp", "garam masala"),
+        ("half a tin (200g) of baked beans", "baked beans"),
+    ],
+)
+def test_normalise_ingredient(text: str, item: str) -> None:
+    assert normalise_ingredient(text) == item
+
+
+def test_quantity_only_names_nothing() -> None:
+    assert normalise_ingredient("2 Tbsp") == ""
+    assert normalise_ingredient("") == ""
+
+
+def test_fetchable_excludes_water_and_tools() -> None:
+    assert is_fetchable("chickpeas")
+    assert not is_fetchable("water")
+    assert not is_fetchable("thermometer")
+    assert not is_fetchable("")
+
+
+def test_item_key_ignores_plural() -> None:
+    assert item_key("eggs") == item_key("egg")
+    assert item_key("cherries") == item_key("cherry")
+    assert item_key("tomatoes") == item_key("tomato")
+    assert item_key("hummus") == "hummus"
