@@ -7,8 +7,9 @@
 Query i: a fresh kitchen with the catalogue's object i (mod 25) and 4 other random objects on random shelf slots
 (seed i); the target goes to the first free table spot. Detections are the objects' true top-face poses: this
 measures motion, not perception. Reported:
-- planning: success rate of whole pick-and-place plans whose grasp and place poses are reachable (IK found), and of
-  the OMPL queries themselves; time per OMPL query (p50/p95) and per whole plan (IK + 3 OMPL queries + timing);
+- planning: success rate of whole pick-and-place plans whose grasp and place poses are reachable and collision-free
+  (goals where IK finds no pose, or every pose collides with the clutter, are counted apart), and of the OMPL queries
+  themselves; time per OMPL query (p50/p95) and per whole plan (IK + 3 OMPL queries + timing);
 - collision checks per second (random configurations in the kitchen scene, and during planning);
 - ruckig solver time per trajectory segment, in the worker while physics runs, and alone on the main thread;
 - physical success rate with the failure breakdown by stage; simulated, wall and CPU time per pick-and-place
@@ -83,7 +84,9 @@ def main() -> None:
         name=p.name, time_limit_s=p.time_limit_s, simplify=p.simplify, rng_seed=p.rng_seed
     )
 
-    plan_ok = plan_reachable = 0
+    plan_ok = plan_reachable = plan_valid = 0
+    blocked: Counter[str] = Counter()
+    by_object: Counter[str] = Counter()
     ompl_times, ompl_ok, ompl_total = [], 0, 0
     plan_walls, ruckig_ms, checks, check_time = [], [], 0, 0.0
     stages: Counter[str] = Counter()
@@ -121,6 +124,7 @@ def main() -> None:
             if isinstance(plan, PickPlacePlan):
                 plan_ok += 1
                 plan_reachable += 1
+                plan_valid += 1
                 plan_walls.append(plan.planning_wall_s * 1000)
                 ruckig_ms.extend(t * 1000 for t in plan.ruckig_times)
                 for seg in plan.segments:  # again on the main thread, with no physics thread competing
@@ -130,9 +134,16 @@ def main() -> None:
                 check_time += plan.collision_time
             elif plan.stage is not FailureStage.IK:
                 plan_reachable += 1
-                plan_failures[plan.message.split(":")[0]] += 1
+                # Grasp or place poses that all collide (clutter) are invalid goals; anything else is the planner's.
+                if "no feasible grasp" in plan.message or "no way to place" in plan.message:
+                    blocked[plan.message.split(":")[0]] += 1
+                else:
+                    plan_valid += 1
+                    plan_failures[plan.message] += 1
         successes += outcome.success
         stages["success" if outcome.success else outcome.stage.value] += 1
+        if not outcome.success:
+            by_object[f"{outcome.stage.value}: {target.name}"] += 1
 
     n = args.queries
     report = {
@@ -143,8 +154,10 @@ def main() -> None:
         "machine": {"python": platform.python_version(), "processor": platform.machine()},
         "model_load_s": round(model_load_s, 3),
         "planning": {
-            "reachable_goals": plan_reachable,
-            "plan_success_rate_on_reachable": round(plan_ok / plan_reachable, 4) if plan_reachable else None,
+            "kinematically_reachable": plan_reachable,
+            "blocked_by_clutter": dict(blocked),
+            "reachable_collision_free_goals": plan_valid,
+            "plan_success_rate_on_reachable": round(plan_ok / plan_valid, 4) if plan_valid else None,
             "plan_failures_on_reachable": dict(plan_failures),
             "ompl_queries": ompl_total,
             "ompl_success_rate": round(ompl_ok / ompl_total, 4) if ompl_total else None,
@@ -168,6 +181,7 @@ def main() -> None:
         "physical": {
             "success_rate": round(successes / n, 4),
             "outcomes": dict(sorted(stages.items())),
+            "failures_by_object": dict(sorted(by_object.items())),
             "sim_s_p50": _pct(sim_s, 50),
             "sim_s_p95": _pct(sim_s, 95),
             "wall_s_p50": _pct(wall_s, 50),

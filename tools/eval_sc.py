@@ -38,6 +38,7 @@ from scone_bt.benchmarks.self_confidence import (  # noqa: E402
     evaluate_pair,
     load_datasets,
     markdown_tables,
+    outcome_structure,
     plot_learning_curves,
     prior_baseline,
     write_json,
@@ -53,7 +54,9 @@ def _run_pair(emb: str, est: str, datasets, features, options: EvalOptions) -> P
     return evaluate_pair(emb, est, datasets, features, lambda seed: make_estimator(est, seed=seed), options)
 
 
-def _embedders(names: list[str], datasets, cache_dir: Path | None) -> tuple[dict[str, list[np.ndarray]], dict]:
+def _embedders(
+    names: list[str], datasets, cache_dir: Path | None
+) -> tuple[dict[str, list[np.ndarray]], dict]:
     from scone_bt.embedding import load_embedder
 
     features, skipped = {}, {}
@@ -69,18 +72,32 @@ def _embedders(names: list[str], datasets, cache_dir: Path | None) -> tuple[dict
 
 
 def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawTextHelpFormatter)
+    ap = argparse.ArgumentParser(
+        description=__doc__.split("\n\n")[0], formatter_class=argparse.RawTextHelpFormatter
+    )
     ap.add_argument("--datasets", type=Path, default=ROOT / "tools" / "data" / "sc", help="dataset directory")
     ap.add_argument("--out-dir", type=Path, default=ROOT / "docs" / "results", help="where the results go")
     ap.add_argument("--name", default="self_confidence", help="stem of the output files")
-    ap.add_argument("--embedders", nargs="+", default=list(DEFAULT_EMBEDDERS), help="onehot glove minilm mpnet finetuned:<dir> ...")
-    ap.add_argument("--estimators", nargs="+", default=None, help="default: every name in scone_bt.confidence.ESTIMATORS")
+    ap.add_argument(
+        "--embedders",
+        nargs="+",
+        default=list(DEFAULT_EMBEDDERS),
+        help="onehot glove minilm mpnet finetuned:<dir> ...",
+    )
+    ap.add_argument(
+        "--estimators", nargs="+", default=None, help="default: every name in scone_bt.confidence.ESTIMATORS"
+    )
     ap.add_argument("--shuffles", type=int, default=5)
     ap.add_argument("--n-test", type=int, default=20)
-    ap.add_argument("--steps", type=int, nargs="+", default=[10, 20, 30, 40, 50, 60, 70, 80], help="n_train values")
+    ap.add_argument(
+        "--steps", type=int, nargs="+", default=[10, 20, 30, 40, 50, 60, 70, 80], help="n_train values"
+    )
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--jobs", type=int, default=2, help="parallel worker processes")
     ap.add_argument("--cache-dir", type=Path, default=None, help="embedding cache (default: scone_bt's)")
+    ap.add_argument(
+        "--kitchen", default="kitchen", help="kitchen file whose catalogue gives object properties"
+    )
     ap.add_argument("--no-plot", action="store_true")
     return ap.parse_args(argv)
 
@@ -99,6 +116,7 @@ def _main(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from scone_bt.confidence import ESTIMATORS
+    from scone_bt.config import load_kitchen
     from scone_bt.errors import UnknownNameError
 
     t0 = time.perf_counter()
@@ -140,6 +158,7 @@ def _main(args: argparse.Namespace) -> int:
         },
         "datasets_dir": str(args.datasets),
         "datasets": dataset_summary(datasets),
+        "outcome_structure": outcome_structure(datasets, load_kitchen(args.kitchen).catalogue),
         "embedders": embedders,
         "embedders_skipped": skipped,
         "estimators": estimators,

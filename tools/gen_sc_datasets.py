@@ -46,7 +46,9 @@ def _execute(profile: Profile, index: int, kitchen: str, robot: str) -> tuple[st
 
 def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--profiles", type=Path, default=ROOT / "tools" / "profiles", help="directory of profile YAMLs")
+    ap.add_argument(
+        "--profiles", type=Path, default=ROOT / "tools" / "profiles", help="directory of profile YAMLs"
+    )
     ap.add_argument("--only", nargs="+", default=None, help="profile names to run (default: all)")
     ap.add_argument("--out", type=Path, default=ROOT / "tools" / "data" / "sc", help="output directory")
     ap.add_argument("--executions", type=int, default=100, help="executions per profile")
@@ -100,7 +102,9 @@ def _main(args: argparse.Namespace) -> int:
     if skipped:
         bar.write(f"resuming: {skipped} executions already recorded, {len(todo)} to run")
     try:
-        for name, record, wall in Parallel(n_jobs=args.jobs, return_as="generator_unordered", pre_dispatch="2*n_jobs")(tasks()):
+        for name, record, wall in Parallel(
+            n_jobs=args.jobs, return_as="generator_unordered", pre_dispatch="2*n_jobs"
+        )(tasks()):
             done[name][record.index] = record
             walls[name].append(wall)
             _save(out, by_name[name], done[name], args.executions)
@@ -114,9 +118,13 @@ def _main(args: argparse.Namespace) -> int:
             p.name: {
                 "rows": len(done[p.name]),
                 "complete": len(done[p.name]) >= args.executions,
-                "success_rate": round(sum(r.success for r in done[p.name].values()) / max(1, len(done[p.name])), 3),
+                "success_rate": round(
+                    sum(r.success for r in done[p.name].values()) / max(1, len(done[p.name])), 3
+                ),
                 "seeds": [p.execution_seed(0), p.execution_seed(args.executions - 1)],
-                "mean_execution_wall_s": round(sum(walls[p.name]) / len(walls[p.name]), 3) if walls[p.name] else None,
+                "mean_execution_wall_s": round(sum(walls[p.name]) / len(walls[p.name]), 3)
+                if walls[p.name]
+                else None,
             }
             for p in profiles
         },
@@ -142,8 +150,6 @@ def _write_log(out: Path, args: argparse.Namespace, summary: dict) -> None:
     """Append this run to generation.json (command, software, timings), keeping earlier runs."""
     log_path = out / "generation.json"
     log = json.loads(log_path.read_text()) if log_path.is_file() else {"runs": []}
-    import pybullet  # noqa: F401  (version below)
-
     from importlib.metadata import version
 
     log["runs"].append(

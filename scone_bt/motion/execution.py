@@ -115,6 +115,7 @@ class PickPlaceController:
         plan_ready: plan_ready(block) returns the finished plan (or a failure), else None; block=True waits for it.
         request_home: Asks the worker for a way home from given joints; returns a poll(block) function.
         settings: Durations and thresholds.
+        on_placed: Called once when the object is seen resting on the table after the release.
     """
 
     def __init__(
@@ -125,8 +126,10 @@ class PickPlaceController:
         plan_ready: Callable[[bool], object | None],
         request_home: Callable[[np.ndarray], Callable[[bool], tuple[bool, Segment | None]]],
         settings: ExecutionSettings = ExecutionSettings(),
+        on_placed: Callable[[], None] | None = None,
     ) -> None:
         self.kitchen = kitchen
+        self._on_placed = on_placed
         self.target_name = target_name
         self.settings = settings
         self.sensors = ArmSensors(kitchen)
@@ -297,6 +300,8 @@ class PickPlaceController:
             if self.kitchen.is_on_table(self.target_name):
                 self.success = True
                 self.message = "placed upright on the table"
+                if self._on_placed is not None:
+                    self._on_placed()
             else:
                 self.stage = FailureStage.PLACE
                 self.message = "released, but the object is not resting upright on the table"

@@ -69,6 +69,7 @@ class PickPlacePlan:
         planning_wall_s: Total wall seconds of this plan.
         ruckig_times: Wall seconds in ruckig's solver per segment.
         collision_time: Wall seconds spent in those validity checks.
+        placed: The object's collision shape where it will stand after the release (world frame).
     """
 
     segments: tuple[Segment, ...]
@@ -80,6 +81,7 @@ class PickPlacePlan:
     planning_wall_s: float
     ruckig_times: tuple[float, ...] = ()
     collision_time: float = 0.0
+    placed: Obstacle | None = None
 
     def ee_path(self, arm: ArmModel, stride: int = 12) -> np.ndarray:
         """(N, 3) planned end-effector positions, metres."""
@@ -111,6 +113,7 @@ class PickPlaceRequest:
         place_spot: (x, y, table top z) where the object goes.
         home: (dof,) joints to return to.
         rng_seed: Seeds IK restarts and OMPL.
+        remembered: Objects this robot placed earlier and has not seen since (the camera watches only the shelf).
         params: Approach, lift and place distances.
         preferred_yaw: Closing-axis yaw (rad) of the home pose; the symmetric grasp nearest to it is used.
     """
@@ -123,6 +126,7 @@ class PickPlaceRequest:
     place_spot: tuple[float, float, float]
     home: np.ndarray
     rng_seed: int
+    remembered: tuple[Obstacle, ...] = ()
     params: GraspParams = field(default_factory=GraspParams)
     preferred_yaw: float = -np.pi / 2
 
@@ -233,7 +237,7 @@ def plan_pick_and_place(
     req = request
     target = detected_obstacle(req.target, req.spec)
     others = [detected_obstacle(d, s) for d, s in req.obstacles if d.name != req.target.name]
-    fixed = list(req.static) + others
+    fixed = [*req.static, *others, *req.remembered]
 
     def fail(stage: FailureStage, message: str) -> PickPlaceFailure:
         return PickPlaceFailure(stage, message, tuple(p.plans), p.checks, time.perf_counter() - t0)
@@ -342,6 +346,7 @@ def plan_pick_and_place(
         time.perf_counter() - t0,
         tuple(p.ruckig_times),
         sum(w.check_time for w in p.worlds),
+        placed_obstacle,
     )
 
 

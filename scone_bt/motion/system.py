@@ -9,8 +9,9 @@
 
 Planning (IK, OMPL, ruckig) runs in one worker thread and never calls PyBullet. Execution is a Kitchen controller
 (main thread, inside `kitchen.advance`) that holds the arm until the plan is ready, so what the arm does depends only
-on the seed and the physics steps: the arm thinks for a fixed simulated time (ExecutionSettings.think_s) and
-only blocks a physics step if the worker has not finished by then.
+on the seed and the physics steps: the arm holds still for a fixed simulated time (ExecutionSettings.think_s) and
+only blocks a physics step if the worker has not finished by then. `progress().phase` is "planning" exactly while
+the worker computes (a caller may pause simulated time meanwhile), then "ready", then the motion phases.
 """
 
 from __future__ import annotations
@@ -73,6 +74,8 @@ class MotionSystem:
         self.static = self._static_obstacles()
         self._worker = cf.ThreadPoolExecutor(max_workers=1, thread_name_prefix="scone-motion")
         self._active: PickAndPlace | None = None
+        # Where this robot put objects on the table: obstacles the shelf camera cannot see.
+        self.placed: dict[str, Obstacle] = {}
         y_axis = arm.fk(self.home)[:3, 1]  # the fingers' closing axis at home
         self.preferred_yaw = float(np.arctan2(y_axis[1], y_axis[0]))
 
@@ -171,6 +174,9 @@ class PickAndPlace:
             sys_._active._abandon()
         sys_._active = self
         q_start = kitchen.arm_joint_positions()
+        seen = {d.name for d, _ in self.obstacles} | {self.target.name}
+        for name in seen:
+            sys_.placed.pop(name, None)  # seen again (or being moved): the detection is the truth now
         spot = self.place_spot if self.place_spot is not None else kitchen.free_place_spot()
         if spot is None:
             self._outcome = MotionOutcome(False, FailureStage.PLACE, "no free spot on the table", 0.0)
@@ -184,6 +190,7 @@ class PickAndPlace:
             place_spot=tuple(spot),  # type: ignore[arg-type]
             home=sys_.home,
             rng_seed=self.rng_seed,
+            remembered=tuple(sys_.placed.values()),
             params=sys_.params,
             preferred_yaw=sys_.preferred_yaw,
         )
@@ -191,7 +198,13 @@ class PickAndPlace:
             plan_pick_and_place, sys_.arm, request, sys_.planner, sys_.limits, sys_.robot.control.rate_hz
         )
         self._controller = PickPlaceController(
-            kitchen, self.target.name, q_start, self._poll_plan, self._request_home, sys_.settings
+            kitchen,
+            self.target.name,
+            q_start,
+            self._poll_plan,
+            self._request_home,
+            sys_.settings,
+            self._remember,
         )
         kitchen.add_controller(self._controller)
 
@@ -203,6 +216,11 @@ class PickAndPlace:
             return None
         exc = fut.exception()
         return exc if exc is not None else fut.result()
+
+    def _remember(self) -> None:
+        plan = self.plan
+        if isinstance(plan, PickPlacePlan) and plan.placed is not None:
+            self.system.placed[self.target.name] = plan.placed
 
     def _request_home(self, q: np.ndarray) -> Callable[[bool], tuple[bool, Segment | None]]:
         sys_ = self.system

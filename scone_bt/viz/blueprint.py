@@ -70,6 +70,7 @@ def default_blueprint() -> rrb.Blueprint:
                 plot_legend=rrb.PlotLegend(visible=False),
             ),
             rrb.StateTimelineView(origin=P.GATE_KIND, name="Gate: act / ask"),
+            rrb.TimeSeriesView(origin=P.EPISODE_SIM_TIME, name="Simulated time (flat: planning)"),
         ),
         rrb.TextLogView(origin=P.LOG, name="Log"),
         row_shares=[2, 1.4, 2, 1.6],

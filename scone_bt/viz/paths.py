@@ -39,6 +39,7 @@ __all__ = [
     "EXECUTED_POSITION",
     "RECIPE",
     "LOG",
+    "EPISODE_SIM_TIME",
 ]
 
 TICK = "tick"  # sequence timeline: the behaviour tree's tick counter
@@ -84,3 +85,6 @@ EXECUTED_POSITION = f"{TRAJECTORY}/executed/position"
 
 RECIPE = "recipe"
 LOG = "log"
+EPISODE_SIM_TIME = (
+    "episode/sim_time"  # logged every tick (so every tick is in the recording); flat while planning
+)

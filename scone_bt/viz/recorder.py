@@ -248,7 +248,6 @@ class Recorder:
         self._specs = kitchen.specs  # a live reference: objects spawned later are drawn when first seen
 
         cam = kitchen.config.camera
-        self._camera_res = (cam.width, cam.height)
         self._joint_names = list(kitchen.robot_config.arm_joints)
         for entity in (P.PLANNED_POSITION, P.PLANNED_VELOCITY, P.EXECUTED_POSITION):
             suffix = {
@@ -262,6 +261,7 @@ class Recorder:
             rr.StateConfiguration(values=list(_GATE_COLOURS), colors=list(_GATE_COLOURS.values())),
             static=True,
         )
+        rec.log(P.EPISODE_SIM_TIME, rr.SeriesLines(names=["simulated time (s)"]), static=True)
         rec.log(P.GATE_CONFIDENCE, rr.SeriesLines(names=["chosen action κ̂"]), static=True)
         rec.log(P.GATE_RELEVANCE, rr.SeriesLines(names=["chosen action relevance"]), static=True)
 
@@ -279,6 +279,7 @@ class Recorder:
         if self._closed:
             raise ConfigError("Recorder is closed; create a new one to log more ticks")
         self._set_time(snap.tick, snap.sim_time)
+        self._rec.log(P.EPISODE_SIM_TIME, rr.Scalars(float(snap.sim_time)))
         if snap.link_poses:
             self._log_links(snap.link_poses)
         if snap.object_poses:
@@ -323,6 +324,7 @@ class Recorder:
         self.ticks_logged += 1
 
     def flush(self) -> None:
+        """Push everything logged so far to the sinks (blocks until written)."""
         self._rec.flush()
 
     def close(self) -> None:

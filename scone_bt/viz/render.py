@@ -96,29 +96,30 @@ def flatten_tree(root: Any) -> list[TreeNode]:
 
 
 def layout_tree(
-    nodes: Sequence[TreeNode], dx: float = 150.0, dy: float = 90.0
+    nodes: Sequence[TreeNode], dx: float = 260.0, dy: float = 44.0
 ) -> dict[str, tuple[float, float]]:
-    """Tidy top-down positions: leaves side by side, each parent centred over its children (graph-view units)."""
+    """Tidy left-to-right positions (graph-view units): depth along x, leaves stacked along y, each parent
+    centred beside its children. Trees are wider than deep, so this fills a landscape panel with legible labels."""
     children: dict[str | None, list[str]] = {}
     for node in nodes:
         children.setdefault(node.parent, []).append(node.node_id)
     depth = {node.node_id: node.depth for node in nodes}
-    xs: dict[str, float] = {}
+    ys: dict[str, float] = {}
     next_leaf = [0.0]
 
     def place(node_id: str) -> float:
         kids = children.get(node_id, [])
         if not kids:
-            xs[node_id] = next_leaf[0]
-            next_leaf[0] += dx
+            ys[node_id] = next_leaf[0]
+            next_leaf[0] += dy
         else:
             placed = [place(k) for k in kids]
-            xs[node_id] = (placed[0] + placed[-1]) / 2
-        return xs[node_id]
+            ys[node_id] = (placed[0] + placed[-1]) / 2
+        return ys[node_id]
 
     for root_id in children.get(None, []):
         place(root_id)
-    return {nid: (x, depth[nid] * dy) for nid, x in xs.items()}
+    return {nid: (depth[nid] * dx, y) for nid, y in ys.items()}
 
 
 def tree_text(nodes: Sequence[TreeNode]) -> str:

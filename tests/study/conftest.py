@@ -2,9 +2,17 @@
 
 from __future__ import annotations
 
+import importlib.util
 import shutil
+import sys
 
 import pytest
+
+# The rootdir conftest puts tests/ on sys.path, so the folder tests/tree shadows the optional dm-tree package that
+# ArviZ probes for with `import tree`; make that probe fail as it does outside pytest.
+_spec = importlib.util.find_spec("tree")
+if _spec is not None and _spec.origin in (None, "namespace"):
+    sys.modules["tree"] = None  # type: ignore[assignment]
 
 CHROMIUM = "/usr/bin/chromium"
 

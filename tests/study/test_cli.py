@@ -8,9 +8,29 @@ from scone_bt.study.cli import main
 def test_simulate_fast_then_analyze_writes_labelled_outputs(tmp_path, capsys):
     db, out = tmp_path / "sim.db", tmp_path / "analysis"
     args = ["simulate", "--participants", "6", "--fast", "--db", str(db), "--analyze", str(out)]
-    assert main([*args, "--chains", "1", "--tune", "60", "--draws", "60", "--cores", "1", "--models", "interventions"]) == 0
+    assert (
+        main(
+            [
+                *args,
+                "--chains",
+                "1",
+                "--tune",
+                "60",
+                "--draws",
+                "60",
+                "--cores",
+                "1",
+                "--models",
+                "interventions",
+            ]
+        )
+        == 0
+    )
     text = capsys.readouterr().out
-    assert "SIMULATED study: 6 participants" in text and "NOTE: these results come from SIMULATED participants" in text
+    assert (
+        "SIMULATED study: 6 participants" in text
+        and "NOTE: these results come from SIMULATED participants" in text
+    )
     result = json.loads((out / "results.json").read_text())
     assert result["data"] == "SIMULATED" and result["options"]["rope"] == [-0.18, 0.18]
     assert {c["parameter"] for c in result["contrasts"]} == {"b_C", "b_G", "b_S"}
@@ -27,8 +47,37 @@ def test_simulate_fast_then_analyze_writes_labelled_outputs(tmp_path, capsys):
         (["analyze", "--db", "nowhere.db"], "study log not found"),
         (["session", "--db", "x.db", "--participant", "P1", "--group", "C", "--session", "1"], "valid: A, B"),
         (["simulate", "--participants", "1", "--fast", "--db", "y.db"], "at least 2 participants"),
-        (["simulate", "--participants", "4", "--fast", "--db", "z.db", "--analyze", "o", "--models", "sus"], "valid: interventions, mdmt"),
-        (["simulate", "--participants", "4", "--fast", "--db", "w.db", "--analyze", "o", "--rope", "0.2", "-0.2"], "ROPE must be"),
+        (
+            [
+                "simulate",
+                "--participants",
+                "4",
+                "--fast",
+                "--db",
+                "z.db",
+                "--analyze",
+                "o",
+                "--models",
+                "sus",
+            ],
+            "valid: interventions, mdmt",
+        ),
+        (
+            [
+                "simulate",
+                "--participants",
+                "4",
+                "--fast",
+                "--db",
+                "w.db",
+                "--analyze",
+                "o",
+                "--rope",
+                "0.2",
+                "-0.2",
+            ],
+            "ROPE must be",
+        ),
     ],
 )
 def test_errors_are_one_line(argv, message, capsys, tmp_path, monkeypatch):

@@ -30,7 +30,19 @@ ROOT = Path(__file__).resolve().parents[2]
 
 # Synthetic robot: glass and heavy things fail, everything else succeeds (plus one noisy object).
 _FAILS = {"olive oil", "vinegar", "soy sauce", "honey", "flour", "milk"}
-_OBJECTS = [*sorted(_FAILS), "salt", "sugar", "butter", "pasta", "rice", "garlic", "onion", "lemon", "cheese", "eggs"]
+_OBJECTS = [
+    *sorted(_FAILS),
+    "salt",
+    "sugar",
+    "butter",
+    "pasta",
+    "rice",
+    "garlic",
+    "onion",
+    "lemon",
+    "cheese",
+    "eggs",
+]
 
 
 def _load_tool(name: str):
@@ -50,7 +62,9 @@ def _write_synthetic(directory: Path, n_datasets: int = 3, rows: int = 40) -> No
             for i in range(rows):
                 obj = _OBJECTS[int(rng.integers(len(_OBJECTS)))]
                 ok = obj not in _FAILS if obj != "eggs" else bool(rng.random() < 0.5)
-                w.writerow([f"Put {obj} on table", obj, "success" if ok else "failure", "" if ok else "grasp", i])
+                w.writerow(
+                    [f"Put {obj} on table", obj, "success" if ok else "failure", "" if ok else "grasp", i]
+                )
 
 
 # ----------------------------------------------------------------------------------------------- metrics
@@ -77,7 +91,17 @@ def test_reads_experience_export_and_splits_robots(tmp_path):
         w.writerow(["time", "action", "object_name", "embedder", "success", "failure_stage", "context"])
         for i in range(6):
             robot = "a" if i % 2 else "b"
-            w.writerow([i, "Put salt on table", "salt", "minilm", i % 3 != 0, "" if i % 3 else "grasp", json.dumps({"robot": robot})])
+            w.writerow(
+                [
+                    i,
+                    "Put salt on table",
+                    "salt",
+                    "minilm",
+                    i % 3 != 0,
+                    "" if i % 3 else "grasp",
+                    json.dumps({"robot": robot}),
+                ]
+            )
     sets = read_dataset(path)
     assert sorted(d.name for d in sets) == ["export:a", "export:b"]
     assert all(len(d) == 3 for d in sets)
@@ -104,7 +128,11 @@ def test_shipped_profiles_are_documented_and_distinct(kitchen_cfg, robot_cfg):
     assert len({p.seed for p in profiles}) == len(profiles)
     assert all(len(p.description) > 40 for p in profiles)
     applied = {p.name: p.apply(kitchen_cfg, robot_cfg) for p in profiles}
-    distinct = {(r.gripper, r.limits, r.planner, k.camera, p.calibration_offset, p.injected, p.objects_on_shelf) for p in profiles for k, r in [applied[p.name]]}
+    distinct = {
+        (r.gripper, r.limits, r.planner, k.camera, p.calibration_offset, p.injected, p.objects_on_shelf)
+        for p in profiles
+        for k, r in [applied[p.name]]
+    }
     assert len(distinct) == len(profiles)
     weak = next(p for p in profiles if p.name == "p01_weak_gripper")
     assert applied[weak.name][1].gripper.max_force == weak.gripper_max_force < robot_cfg.gripper.max_force
@@ -146,7 +174,19 @@ def test_eval_cli_end_to_end(tmp_path):
     _write_synthetic(data)
     tool = _load_tool("eval_sc")
     argv = ["--datasets", str(data), "--out-dir", str(out), "--embedders", "onehot", "glove", "nonexistent"]
-    argv += ["--estimators", "knn", "eps-lgbm", "--shuffles", "2", "--n-test", "10", "--steps", "10", "20", "30"]
+    argv += [
+        "--estimators",
+        "knn",
+        "eps-lgbm",
+        "--shuffles",
+        "2",
+        "--n-test",
+        "10",
+        "--steps",
+        "10",
+        "20",
+        "30",
+    ]
     assert tool.main([*argv, "--jobs", "1"]) == 0
     payload = json.loads((out / "self_confidence.json").read_text())
     assert payload["embedders"] == ["onehot", "glove"]

@@ -173,6 +173,8 @@ def test_images_and_trajectories_are_logged_once_per_new_item(recording):
     assert summary.rows["/trajectory/planned/position"] == 121 + 1
     assert summary.rows["/trajectory/executed/position"] == TICKS + 1
     assert summary.rows["/gate/decision"] == 2
+    # a tick in which nothing changed is still in the recording: simulated time is logged every tick
+    assert summary.rows["/episode/sim_time"] == TICKS + 1
     # help requests went 0 → 1 once: logged on change only (+ static series style)
     assert summary.rows["/counters/help_requests"] == 2 + 1
 
@@ -241,3 +243,11 @@ def test_readback_rejects_missing_and_foreign_files(tmp_path):
     junk.write_bytes(b"not a recording")
     with pytest.raises(ConfigError, match="not a readable .rrd"):
         summarize_recording(junk)
+
+
+def test_quiet_ticks_are_still_recorded(tmp_path):
+    path = tmp_path / "quiet.rrd"
+    with Recorder(save=path, robot_geometry="collision") as rec:
+        rec.log_tick(TickSnapshot(tick=5, sim_time=1.0))
+        rec.log_tick(TickSnapshot(tick=6, sim_time=1.0))  # planning: simulated time stands still
+    assert summarize_recording(path).ticks == (5, 6)

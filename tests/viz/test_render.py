@@ -58,15 +58,15 @@ def test_flatten_tree_is_preorder_with_unique_ids_and_statuses():
     assert nodes[3].parent == "Root/Gate" and nodes[3].depth == 2 and nodes[3].is_leaf
 
 
-def test_layout_centres_parents_over_children_and_separates_leaves():
+def test_layout_centres_parents_beside_children_and_separates_leaves():
     nodes = flatten_tree(small_tree())
     pos = layout_tree(nodes, dx=100, dy=50)
     leaves = [pos[n.node_id] for n in nodes if n.is_leaf]
-    assert len({x for x, _ in leaves}) == len(leaves)
-    assert pos["Root/Gate"][0] == pytest.approx(
-        (pos["Root/Gate/Confident"][0] + pos["Root/Gate/Ask_help"][0]) / 2
+    assert len({y for _, y in leaves}) == len(leaves)
+    assert pos["Root/Gate"][1] == pytest.approx(
+        (pos["Root/Gate/Confident"][1] + pos["Root/Gate/Ask_help"][1]) / 2
     )
-    assert pos["Root/Gate/Ask_help"][1] == 100 and pos["Root"][1] == 0
+    assert pos["Root/Gate/Ask_help"][0] == 200 and pos["Root"][0] == 0
 
 
 def test_tree_text_shows_every_node_with_status():

@@ -45,6 +45,7 @@ from scone_bt.benchmarks.self_confidence.profiles import (
 from scone_bt.benchmarks.self_confidence.report import (
     dataset_summary,
     markdown_tables,
+    outcome_structure,
     plot_learning_curves,
     write_json,
 )
@@ -72,6 +73,7 @@ __all__ = [
     "load_profiles",
     "markdown_tables",
     "normalised_auc",
+    "outcome_structure",
     "plot_learning_curves",
     "prior_baseline",
     "read_dataset",

@@ -26,7 +26,15 @@ import numpy as np
 
 from scone_bt.errors import ConfigError
 
-__all__ = ["COLUMNS", "Dataset", "ExecutionRecord", "load_datasets", "read_dataset", "read_records", "write_records"]
+__all__ = [
+    "COLUMNS",
+    "Dataset",
+    "ExecutionRecord",
+    "load_datasets",
+    "read_dataset",
+    "read_records",
+    "write_records",
+]
 
 COLUMNS = ("index", "action", "object", "outcome", "failure_stage", "seed", "detail")
 """Columns the generator writes; `index` and `detail` are informative, the evaluator needs the others."""
@@ -119,7 +127,9 @@ def read_records(path: Path | str) -> list[ExecutionRecord]:
         rows = list(csv.DictReader(f))
     missing = [c for c in COLUMNS if rows and c not in rows[0]]
     if missing:
-        raise ConfigError(f"{path}: not a generator file (missing column {missing[0]!r}); delete it to regenerate")
+        raise ConfigError(
+            f"{path}: not a generator file (missing column {missing[0]!r}); delete it to regenerate"
+        )
     return [
         ExecutionRecord(
             index=int(r["index"]),
@@ -140,7 +150,9 @@ def _outcome(value: object, path: Path, row: int) -> bool:
         return True
     if text in _FALSE:
         return False
-    raise ConfigError(f"{path} row {row + 2}: outcome {value!r} is not one of success, failure, 1, 0, true, false")
+    raise ConfigError(
+        f"{path} row {row + 2}: outcome {value!r} is not one of success, failure, 1, 0, true, false"
+    )
 
 
 def _table(path: Path) -> list[dict[str, object]]:
@@ -161,7 +173,11 @@ def read_dataset(path: Path | str) -> list[Dataset]:
     cols = set(rows[0])
     obj_col = "object" if "object" in cols else "object_name" if "object_name" in cols else None
     out_col = "outcome" if "outcome" in cols else "success" if "success" in cols else None
-    needed = [("action", "action" in cols), ("object (or object_name)", obj_col), ("outcome (or success)", out_col)]
+    needed = [
+        ("action", "action" in cols),
+        ("object (or object_name)", obj_col),
+        ("outcome (or success)", out_col),
+    ]
     missing = [name for name, ok in needed if not ok]
     if missing:
         raise ConfigError(
@@ -198,7 +214,9 @@ def _group(row: dict[str, object], path: Path, index: int) -> str:
     return "/".join(str(ctx[k]) for k in _SPLIT_KEYS if k in ctx)
 
 
-def load_datasets(directory: Path | str, min_rows: int = 0, names: Sequence[str] | None = None) -> list[Dataset]:
+def load_datasets(
+    directory: Path | str, min_rows: int = 0, names: Sequence[str] | None = None
+) -> list[Dataset]:
     """Every *.csv / *.parquet dataset in `directory`, sorted by name.
 
     Args:
@@ -209,17 +227,23 @@ def load_datasets(directory: Path | str, min_rows: int = 0, names: Sequence[str]
     directory = Path(directory)
     if not directory.is_dir():
         raise ConfigError(f"dataset directory {directory} does not exist")
-    files = sorted(p for p in directory.iterdir() if p.suffix in (".csv", ".parquet") and not p.name.startswith("."))
+    files = sorted(
+        p for p in directory.iterdir() if p.suffix in (".csv", ".parquet") and not p.name.startswith(".")
+    )
     if names:
         stems = {p.stem for p in files}
         missing = [n for n in names if n not in stems]
         if missing:
-            raise ConfigError(f"unknown dataset {missing[0]!r} in {directory}; valid: {', '.join(sorted(stems))}")
+            raise ConfigError(
+                f"unknown dataset {missing[0]!r} in {directory}; valid: {', '.join(sorted(stems))}"
+            )
         files = [p for p in files if p.stem in names]
     if not files:
         raise ConfigError(f"{directory}: no dataset files (*.csv or *.parquet)")
     datasets = [d for p in files for d in read_dataset(p)]
     short = [d for d in datasets if len(d) < min_rows]
     if short:
-        raise ConfigError(f"dataset {short[0].name} has {len(short[0])} rows; the evaluation needs at least {min_rows}")
+        raise ConfigError(
+            f"dataset {short[0].name} has {len(short[0])} rows; the evaluation needs at least {min_rows}"
+        )
     return datasets

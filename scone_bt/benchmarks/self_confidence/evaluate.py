@@ -115,7 +115,11 @@ class PairResult:
     @staticmethod
     def _ms(values: Sequence[float]) -> dict[str, float]:
         v = np.asarray(values, dtype=float)
-        return {"mean": float(np.nanmean(v)), "std": float(np.nanstd(v)), "per_shuffle": [float(x) for x in v]}
+        return {
+            "mean": float(np.nanmean(v)),
+            "std": float(np.nanstd(v)),
+            "per_shuffle": [float(x) for x in v],
+        }
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready numbers."""

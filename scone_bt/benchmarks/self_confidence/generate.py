@@ -35,17 +35,28 @@ def _motion_system(kitchen: object, robot: RobotConfig) -> object:
     A profile never changes what the arm model holds (URDF, joints, frames, collision pairs), only the gripper,
     limits and planner settings, which are passed here.
     """
-    from scone_bt.motion import ArmModel, ExecutionSettings, GraspParams, MotionSystem, PlannerOptions, limits_of
+    from scone_bt.motion import (
+        ArmModel,
+        ExecutionSettings,
+        GraspParams,
+        MotionSystem,
+        PlannerOptions,
+        limits_of,
+    )
 
     key = (str(robot.source), str(robot.urdf))
     if key not in _ARMS:
         _ARMS[key] = ArmModel(robot)
     p = robot.planner
-    options = PlannerOptions(name=p.name, time_limit_s=p.time_limit_s, simplify=p.simplify, rng_seed=p.rng_seed)
+    options = PlannerOptions(
+        name=p.name, time_limit_s=p.time_limit_s, simplify=p.simplify, rng_seed=p.rng_seed
+    )
     return MotionSystem(kitchen, _ARMS[key], options, limits_of(robot), GraspParams(), ExecutionSettings())  # type: ignore[arg-type]
 
 
-def choose_objects(profile: Profile, index: int, catalogue: Sequence[ObjectSpec]) -> tuple[ObjectSpec, list[ObjectSpec]]:
+def choose_objects(
+    profile: Profile, index: int, catalogue: Sequence[ObjectSpec]
+) -> tuple[ObjectSpec, list[ObjectSpec]]:
     """The target and the distractors of execution `index` (uniform draws, seeded by the execution seed)."""
     rng = np.random.default_rng([profile.execution_seed(index), 0])
     order = rng.permutation(len(catalogue))
@@ -55,7 +66,9 @@ def choose_objects(profile: Profile, index: int, catalogue: Sequence[ObjectSpec]
 
 
 def _shifted(det: Detection, offset: Sequence[float]) -> Detection:
-    return dataclasses.replace(det, position=tuple(float(a + b) for a, b in zip(det.position, offset, strict=True)))
+    return dataclasses.replace(
+        det, position=tuple(float(a + b) for a, b in zip(det.position, offset, strict=True))
+    )
 
 
 def run_execution(
@@ -90,7 +103,9 @@ def run_execution(
     kcfg, rcfg = profile.apply(kitchen_cfg, robot_cfg)
     if "grasp" in injected:
         g = rcfg.gripper
-        rcfg = dataclasses.replace(rcfg, gripper=dataclasses.replace(g, max_force=g.max_force * INJECTED_FORCE_FACTOR))
+        rcfg = dataclasses.replace(
+            rcfg, gripper=dataclasses.replace(g, max_force=g.max_force * INJECTED_FORCE_FACTOR)
+        )
 
     def record(success: bool, stage: str | None, detail: str) -> tuple[ExecutionRecord, float]:
         rec = ExecutionRecord(index, action_text(target.name), target.name, success, stage, seed, detail)

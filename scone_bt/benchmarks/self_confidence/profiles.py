@@ -155,7 +155,9 @@ class Profile:
 def _injection(raw: object, where: str) -> InjectedFailure:
     f = Fields(raw, where)  # type: ignore[arg-type]
     stage = f.get("stage", str)
-    require(stage in INJECTABLE_STAGES, f"{where}.stage: {stage!r} is not one of {', '.join(INJECTABLE_STAGES)}")
+    require(
+        stage in INJECTABLE_STAGES, f"{where}.stage: {stage!r} is not one of {', '.join(INJECTABLE_STAGES)}"
+    )
     rate = f.get("rate", float)
     require(0.0 <= rate <= 1.0, f"{where}.rate must be in [0, 1], got {rate}")
     return InjectedFailure(
@@ -243,7 +245,9 @@ def load_profiles(directory: Path | str, names: Sequence[str] | None = None) -> 
     seen: dict[str, Path] = {}
     for prof in profiles:
         if prof.name in seen:
-            raise ConfigError(f"profile name {prof.name!r} is used by both {seen[prof.name]} and {prof.source}")
+            raise ConfigError(
+                f"profile name {prof.name!r} is used by both {seen[prof.name]} and {prof.source}"
+            )
         seen[prof.name] = prof.source
     if names:
         missing = [n for n in names if n not in seen]

@@ -11,8 +11,9 @@ import numpy as np
 
 from scone_bt.benchmarks.self_confidence.dataset import Dataset
 from scone_bt.benchmarks.self_confidence.evaluate import PairResult
+from scone_bt.config import Catalogue
 
-__all__ = ["dataset_summary", "markdown_tables", "plot_learning_curves", "write_json"]
+__all__ = ["dataset_summary", "markdown_tables", "outcome_structure", "plot_learning_curves", "write_json"]
 
 _METRICS = (
     ("auc", "Normalised area under the learning curve (the paper's metric; higher is better)", True),
@@ -43,6 +44,45 @@ def dataset_summary(datasets: Sequence[Dataset]) -> list[dict[str, Any]]:
     return out
 
 
+def outcome_structure(datasets: Sequence[Dataset], catalogue: Catalogue | None = None) -> dict[str, Any]:
+    """How much of each dataset's outcomes the object explains, and how they correlate with its properties.
+
+    object_r2 is 1 − (within-object variance of the outcome) / (total variance): 1 when the object alone
+    decides the outcome, 0 when it carries no information. The correlations are Pearson coefficients between the
+    outcome (1 = success) and the object's mass, grasp width, height and surface friction, over rows whose object
+    is in the catalogue.
+    """
+    out: dict[str, Any] = {}
+    for d in datasets:
+        y = d.success.astype(float)
+        entry: dict[str, Any] = {"object_r2": None, "per_object_success": {}}
+        total = float(np.var(y)) if len(y) else 0.0
+        objects = sorted(set(d.objects))
+        within = 0.0
+        for name in objects:
+            mask = np.array([o == name for o in d.objects])
+            within += float(np.var(y[mask])) * mask.sum()
+            entry["per_object_success"][name] = [int(y[mask].sum()), int(mask.sum())]
+        if total > 0:
+            entry["object_r2"] = round(1.0 - within / len(y) / total, 4)
+        if catalogue is not None:
+            known = {o.name: o for o in catalogue.objects}
+            rows = [i for i, o in enumerate(d.objects) if o in known]
+            if len(rows) > 2 and np.var(y[rows]) > 0:
+                props = {
+                    "mass": [known[d.objects[i]].mass for i in rows],
+                    "grasp_width": [known[d.objects[i]].grasp_width for i in rows],
+                    "height": [known[d.objects[i]].height for i in rows],
+                    "friction": [known[d.objects[i]].friction for i in rows],
+                }
+                entry["correlation"] = {
+                    k: round(float(np.corrcoef(v, y[rows])[0, 1]), 4) if np.var(v) > 0 else None
+                    for k, v in props.items()
+                }
+        out[d.name] = entry
+    return out
+
+
 def _cell(values: Sequence[float], best: bool) -> str:
     v = np.asarray(values, dtype=float)
     if np.all(np.isnan(v)):
@@ -51,7 +91,9 @@ def _cell(values: Sequence[float], best: bool) -> str:
     return f"**{text}**" if best else text
 
 
-def markdown_tables(results: Sequence[PairResult], embedders: Sequence[str], estimators: Sequence[str]) -> str:
+def markdown_tables(
+    results: Sequence[PairResult], embedders: Sequence[str], estimators: Sequence[str]
+) -> str:
     """One table per metric: rows are embedders, columns estimators; the best cell of each column in bold."""
     by = {(r.embedder, r.estimator): r for r in results}
     parts = []
@@ -91,7 +133,9 @@ def plot_learning_curves(
     by = {(r.embedder, r.estimator): r for r in results}
     cols = min(4, len(estimators))
     rows = int(np.ceil(len(estimators) / cols))
-    fig, axes = plt.subplots(rows, cols, figsize=(3.6 * cols, 2.9 * rows), sharex=True, sharey=True, squeeze=False)
+    fig, axes = plt.subplots(
+        rows, cols, figsize=(3.6 * cols, 2.9 * rows), sharex=True, sharey=True, squeeze=False
+    )
     colours = plt.get_cmap("tab10")
     for i, est in enumerate(estimators):
         ax = axes[i // cols][i % cols]
@@ -103,7 +147,13 @@ def plot_learning_curves(
             ax.plot(r.steps, m, marker="o", ms=3, color=colours(j), label=f"{emb} ({np.mean(r.auc):.2f})")
             ax.fill_between(r.steps, m - s, m + s, color=colours(j), alpha=0.15)
         if prior is not None:
-            ax.plot(prior.steps, prior.curve_mean, ls="--", color="grey", label=f"prior ({np.mean(prior.auc):.2f})")
+            ax.plot(
+                prior.steps,
+                prior.curve_mean,
+                ls="--",
+                color="grey",
+                label=f"prior ({np.mean(prior.auc):.2f})",
+            )
         ax.set_title(est)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=6, loc="lower right")
@@ -113,7 +163,9 @@ def plot_learning_curves(
             ax.set_xlabel("n_train")
     for k in range(len(estimators), rows * cols):
         axes[k // cols][k % cols].axis("off")
-    fig.suptitle("Self-confidence learning curves (mean ± std over shuffles; legend: normalised AUC)", fontsize=9)
+    fig.suptitle(
+        "Self-confidence learning curves (mean ± std over shuffles; legend: normalised AUC)", fontsize=9
+    )
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)
