@@ -91,7 +91,11 @@ def fit_threshold(
     pooled = np.concatenate([np.asarray(s, dtype=float) for s in scores])
     candidates = np.unique(np.quantile(pooled, np.linspace(0.0, 1.0, 201)))
     acc, rec = threshold_picks_score(scores, states, candidates)
-    value = acc if objective == "accuracy" else np.where(acc + rec > 0, 2 * acc * rec / np.maximum(acc + rec, 1e-12), 0.0)
+    value = (
+        acc
+        if objective == "accuracy"
+        else np.where(acc + rec > 0, 2 * acc * rec / np.maximum(acc + rec, 1e-12), 0.0)
+    )
     # argmax takes the first (lowest) of equally good thresholds.
     return float(candidates[int(np.argmax(np.round(value, 12)))])
 

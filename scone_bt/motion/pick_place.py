@@ -111,6 +111,7 @@ class PickPlaceRequest:
         obstacles: Other detected objects with their catalogue models.
         static: Known scene boxes (world-frame obstacles).
         place_spot: (x, y, table top z) where the object goes.
+        other_spots: Further free spots to try, in order, if no collision-free place pose exists at place_spot.
         home: (dof,) joints to return to.
         rng_seed: Seeds IK restarts and OMPL.
         remembered: Objects this robot placed earlier and has not seen since (the camera watches only the shelf).
@@ -127,6 +128,7 @@ class PickPlaceRequest:
     home: np.ndarray
     rng_seed: int
     remembered: tuple[Obstacle, ...] = ()
+    other_spots: tuple[tuple[float, float, float], ...] = ()
     params: GraspParams = field(default_factory=GraspParams)
     preferred_yaw: float = -np.pi / 2
 
@@ -288,18 +290,19 @@ def plan_pick_and_place(
     placed = None
     reasons = []
     place_reachable = False
-    for dyaw in (0.0, np.pi / 4, -np.pi / 4, np.pi / 2):
+    spots = [req.place_spot, *(sp for sp in req.other_spots if sp != req.place_spot)]
+    for spot, dyaw in ((sp, d) for sp in spots for d in (0.0, np.pi / 4, -np.pi / 4, np.pi / 2)):
         yaw = cand.closing_yaw + dyaw
-        ee_place = place_pose(req.place_spot, req.spec, cand.object_in_ee, yaw, req.params)
+        ee_place = place_pose(spot, req.spec, cand.object_in_ee, yaw, req.params)
         q_pp = p.ik(lifted(ee_place, req.params.approach), q_lift)
         if q_pp is None:
-            reasons.append("above the spot out of reach")
+            reasons.append(f"above {_fmt(spot[:2])} out of reach")
             continue
         place_reachable = True
         if not w_carry.is_valid(q_pp):
-            reasons.append(f"above the spot collides ({_pair(w_carry, q_pp)})")
+            reasons.append(f"above {_fmt(spot[:2])} collides ({_pair(w_carry, q_pp)})")
             continue
-        q_place, why = p.line(q_pp, ee_place, w_other, "lowering")
+        q_place, why = p.line(q_pp, ee_place, w_other, f"lowering to {_fmt(spot[:2])}")
         if q_place is None:
             reasons.append(why)
             continue
@@ -311,7 +314,8 @@ def plan_pick_and_place(
         break
     if placed is None:
         stage = FailureStage.PLANNING if place_reachable else FailureStage.IK
-        return fail(stage, f"no way to place at {_fmt(req.place_spot)}: {'; '.join(dict.fromkeys(reasons))}")
+        where = "the free table spots" if len(spots) > 1 else _fmt(req.place_spot)
+        return fail(stage, f"no way to place on {where}: {'; '.join(dict.fromkeys(reasons))}")
     ee_place, q_pp, q_place, q_ret = placed
 
     # 3. The free-space motions, planned with OMPL.

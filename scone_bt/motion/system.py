@@ -76,6 +76,7 @@ class MotionSystem:
         self._active: PickAndPlace | None = None
         # Where this robot put objects on the table: obstacles the shelf camera cannot see.
         self.placed: dict[str, Obstacle] = {}
+        self.max_other_spots = 3
         y_axis = arm.fk(self.home)[:3, 1]  # the fingers' closing axis at home
         self.preferred_yaw = float(np.arctan2(y_axis[1], y_axis[0]))
 
@@ -178,6 +179,7 @@ class PickAndPlace:
         for name in seen:
             sys_.placed.pop(name, None)  # seen again (or being moved): the detection is the truth now
         spot = self.place_spot if self.place_spot is not None else kitchen.free_place_spot()
+        others = () if self.place_spot is not None else _free_spots(kitchen)[1 : 1 + sys_.max_other_spots]
         if spot is None:
             self._outcome = MotionOutcome(False, FailureStage.PLACE, "no free spot on the table", 0.0)
             return
@@ -188,6 +190,7 @@ class PickAndPlace:
             obstacles=self.obstacles,
             static=sys_.static,
             place_spot=tuple(spot),  # type: ignore[arg-type]
+            other_spots=others,
             home=sys_.home,
             rng_seed=self.rng_seed,
             remembered=tuple(sys_.placed.values()),
@@ -326,3 +329,16 @@ class PickAndPlace:
             ee_path=ee,
         )
         return self._outcome
+
+
+def _free_spots(kitchen: Kitchen) -> tuple[tuple[float, float, float], ...]:
+    """Every table spot `kitchen.free_place_spot()` would accept, in its order (the first is the one it returns)."""
+    top = kitchen.config.scene.table_top_z
+    occupied = [kitchen.object_state(n).position for n in kitchen.objects]
+    return tuple(
+        (x, y, top)
+        for x, y in kitchen.config.scene.place_spots
+        if all(
+            np.hypot(x - ox, y - oy) > 0.07 or oz > top + 0.3 or oz < top - 0.05 for ox, oy, oz in occupied
+        )
+    )

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import hmac
 import ipaddress
+import math
 import threading
 import time
 from collections.abc import Callable, Sequence
@@ -161,6 +162,9 @@ class TabletServer:
     def on_event(self, kind: str, data: dict[str, Any]) -> None:
         """run_episode's on_event: keep the tablet's view of the robot up to date."""
         s = self.state
+        data = {
+            k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in data.items()
+        }  # JSON has no NaN
         obj = data.get("object")
         if kind == "decision":
             status = {"act": "deciding", "ask": "asking", "idle": "waiting"}.get(

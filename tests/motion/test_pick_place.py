@@ -61,6 +61,9 @@ def test_pick_and_place_puts_the_object_on_the_table(stocked, arm, robot_cfg, as
     # Back home, and the neighbours were not disturbed.
     assert np.allclose(kitchen.arm_joint_positions(), robot_cfg.home, atol=0.05)
     assert kitchen.is_on_shelf("sugar") and kitchen.is_on_shelf("honey")
+    # The robot remembers what it put on the table (the shelf camera cannot see it) as an obstacle for later plans.
+    placed = system.placed["salt"]
+    assert np.allclose(placed.pose[:2, 3], kitchen.object_state("salt").position[:2], atol=0.02)
 
 
 def test_object_wider_than_the_gripper_cannot_be_grasped(kitchen_cfg, robot_cfg, task_for, run_to_end):

@@ -26,6 +26,7 @@ def test_decision_rule():
         AnalysisOptions(models=("sus",))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("condition_effect", "session_effect"), [(0.0, 1.0), (1.0, 0.0)])
 def test_recovers_known_condition_effect(condition_effect, session_effect, tmp_path):
     # Static trust: the episodes do not move trust, so the only difference between conditions is the known effect.

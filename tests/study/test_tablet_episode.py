@@ -1,0 +1,74 @@
+"""A real PyBullet episode driven through the tablet's HTTP API: help requests wait for "done", a take-over cancels."""
+
+from __future__ import annotations
+
+import json
+import threading
+import time
+import urllib.parse
+import urllib.request
+
+import pytest
+
+from scone_bt.study import StudyLog, plan_session
+from scone_bt.study.ui import serve_tablet
+
+
+class _Participant(threading.Thread):
+    """Polls the tablet like a person: confirms every request, takes over the first action it sees."""
+
+    def __init__(self, base: str) -> None:
+        super().__init__(daemon=True)
+        self.base, self.stop, self.actions = base, threading.Event(), []
+
+    def _post(self, path: str) -> None:
+        urllib.request.urlopen(urllib.request.Request(self.base + path, data=b"", method="POST"), timeout=10)
+
+    def run(self) -> None:
+        took_over = False
+        while not self.stop.is_set():
+            state = json.load(urllib.request.urlopen(self.base + "api/state", timeout=10))
+            for r in state["requests"]:
+                if not r.get("confirmed"):
+                    self._post(f"api/requests/{urllib.parse.quote(r['object'])}/done")
+                    self.actions.append(("done", r["object"], r["kind"]))
+            if state["can_take_over"] and not took_over:
+                self._post("api/takeover")
+                took_over = True
+                self.actions.append(("takeover", state["acting_object"], ""))
+            time.sleep(0.02)
+
+
+@pytest.mark.slow
+def test_episode_with_tablet(tmp_path):
+    from scone_bt.episode import EpisodeOptions, run_episode
+
+    log = StudyLog(tmp_path / "study.db")
+    sid = log.start_session(plan_session("P01", "A", 1))
+    with serve_tablet("127.0.0.1", 0, None) as server:
+        participant = _Participant(server.url)
+        participant.start()
+        try:
+            summary = run_episode(
+                EpisodeOptions(recipe="example:hummus", distractors=2, max_ticks=3000, seed=0),
+                printer=lambda _l: None,
+                on_event=server.chain(log.event_sink(sid)),
+                human_factory=server.human_factory,
+            )
+        finally:
+            participant.stop.set()
+            participant.join(5)
+    assert summary.completed
+    kinds = [e.kind for e in log.events(sid)]
+    took = [a for a in participant.actions if a[0] == "takeover"]
+    assert len(took) == 1
+    assert (
+        "done",
+        took[0][1],
+        "intervention",
+    ) in participant.actions  # the participant fetched it after taking over
+    cancelled = [e for e in log.events(sid) if e.kind == "intervention" and "action" in e.data]
+    assert [e.data["object"] for e in cancelled] == [took[0][1]]  # the robot's action was cancelled
+    helps = [a for a in participant.actions if a[0] == "done" and a[2] == "help"]
+    assert kinds.count("help_request") == summary.help_requests and len(helps) == kinds.count("help")
+    assert summary.interventions == log.interventions(sid) >= 1
