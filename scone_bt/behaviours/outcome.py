@@ -47,7 +47,7 @@ class ObserveOutcome(StageBehaviour):
             s.stats.failures += 1
             s.stats.failures_by_stage[stage] = s.stats.failures_by_stage.get(stage, 0) + 1
             s.stats.failures_by_action[decision.action] = s.stats.failures_by_action.get(decision.action, 0) + 1
-            s.printer(f"    x failure at {stage}: {motion.message}")
+            s.printer(f"    x failure at {stage}: {motion.message.split(';')[0]}")
         s.emit("outcome", action=decision.action, object=name, success=success, stage=stage)
         self.write(Keys.OUTCOME, outcome)
         return py_trees.common.Status.SUCCESS

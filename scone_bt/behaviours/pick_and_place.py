@@ -5,6 +5,8 @@ from __future__ import annotations
 import py_trees
 
 from scone_bt.behaviours.base import Keys, StageBehaviour
+from scone_bt.config import ObjectSpec
+from scone_bt.perception.types import Detection
 from scone_bt.motion.types import FailureStage, MotionOutcome
 
 __all__ = ["PickAndPlace"]
@@ -24,9 +26,8 @@ class PickAndPlace(StageBehaviour):
         by_text = {a.text: a for a in self.read(Keys.AFFORDANCES, [])}
         target = by_text[decision.action]
         catalogue = s.kitchen_config.catalogue
-        obstacles = [
-            (d, catalogue.get(d.name)) for d in self.read(Keys.DETECTIONS, []) if d.name != target.object_name
-        ]
+        seen = [d for d in self.read(Keys.DETECTIONS, []) if d.name != target.object_name]
+        obstacles = [(d, catalogue.get(d.name)) for d in seen] + self._table_objects(target.object_name, seen)
         self.object_name = target.object_name
         self.task = self.system.pick_and_place(
             target.detection, catalogue.get(target.object_name), obstacles, rng_seed=s.options.seed + s.stats.attempted
@@ -38,6 +39,26 @@ class PickAndPlace(StageBehaviour):
         self.task.start()
         self.write(Keys.MOTION_TASK, self.task)
         self.write(Keys.MOTION_OUTCOME, None)
+
+    def _table_objects(self, target: str, seen: list[Detection]) -> list[tuple[Detection, ObjectSpec]]:
+        """Objects standing on the table, as obstacles.
+
+        The shelf camera does not see the table. Whoever puts something there (the robot or the human) puts it
+        on one of the table's marked spots, and the table's occupancy is shared with the robot: that is what
+        this reads (in a real kitchen: a second camera or the human's tablet).
+        """
+        k = self.services.kitchen
+        seen_names = {d.name for d in seen}
+        out = []
+        for name in k.objects:
+            if name == target or name in seen_names or not k.is_on_table(name):
+                continue
+            st = k.object_state(name)
+            spec = k.specs[name]
+            x, y, z = st.position
+            yaw = float(k.bc.getEulerFromQuaternion(st.orientation)[2])
+            out.append((Detection(name, -1, (x, y, z + spec.height / 2), yaw, 1.0, (0, 0, 0, 0)), spec))
+        return out
 
     def update(self) -> py_trees.common.Status:
         s = self.services

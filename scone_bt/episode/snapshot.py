@@ -4,11 +4,27 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
 import py_trees
 
 from scone_bt.behaviours import Keys, Services
+from scone_bt.motion.types import TimedTrajectory
 
 __all__ = ["SnapshotBuilder"]
+
+
+def _concatenate(parts: list[TimedTrajectory]) -> TimedTrajectory | None:
+    """One trajectory from consecutive segments (times made continuous)."""
+    parts = [p for p in parts if len(p.times)]
+    if not parts:
+        return None
+    offsets = np.cumsum([0.0] + [p.duration + (p.times[1] - p.times[0] if len(p.times) > 1 else 0.0) for p in parts[:-1]])
+    return TimedTrajectory(
+        times=np.concatenate([p.times + o for p, o in zip(parts, offsets, strict=True)]),
+        positions=np.concatenate([p.positions for p in parts]),
+        velocities=np.concatenate([p.velocities for p in parts]),
+        accelerations=np.concatenate([p.accelerations for p in parts]),
+    )
 
 
 class SnapshotBuilder:
@@ -48,11 +64,11 @@ class SnapshotBuilder:
         ee_path = trajectory = None
         task = self.reader.get(Keys.MOTION_TASK) if self.reader.exists(Keys.MOTION_TASK) else None
         if task is not None:
-            plan = getattr(task, "current_segment", lambda: None)()
-            if plan is not None and self._seen.get("segment") != id(plan):
-                self._seen["segment"] = id(plan)
-                trajectory = getattr(plan, "trajectory", None)
-                ee_path = getattr(plan, "ee_path", None)
+            plan = task.plan
+            if plan is not None and hasattr(plan, "segments") and self._seen.get("plan") != id(plan):
+                self._seen["plan"] = id(plan)
+                ee_path = plan.ee_path(task.system.arm)
+                trajectory = _concatenate([seg.trajectory for seg in plan.segments])
         human = s.human
         recipe = RecipeView(
             title=s.recipe.recipe.title,

@@ -52,8 +52,9 @@ class CollisionWorld:
         attached: An object held by the gripper, pose relative to the end-effector frame, or None.
         padding: Metres added on every side of every obstacle (a safety margin for perception error).
         ignore_for_hand: Obstacle names the gripper (hand and fingers) may touch, e.g. the object being grasped.
-        max_tilt: If set, the largest angle (rad) between the end-effector's approach axis and straight down: keeps
-            a held object upright while it is carried (a path constraint, checked like a collision).
+        max_tilt: If set, the largest angle (rad) between the held object's up axis (without one: the hand's
+            approach axis, reversed) and straight up: keeps a carried object upright (a path constraint, checked
+            like a collision).
     """
 
     def __init__(
@@ -128,10 +129,12 @@ class CollisionWorld:
         self.geom_data = gm.createData()
         self.checks = 0
         self.check_time = 0.0  # wall seconds spent in is_valid
-        self.min_down = None if max_tilt is None else float(np.cos(max_tilt))
+        self.min_up = None if max_tilt is None else float(np.cos(max_tilt))
         ee = self.model.frames[arm.ee_frame]
         self._ee_joint = ee.parentJoint
-        self._ee_axis_in_joint = np.asarray(ee.placement.rotation[:, 2])
+        # The axis kept vertical: the held object's up axis, or else the hand's approach axis pointing down.
+        up_in_ee = attached.pose[:3, 2] if attached is not None else np.array([0.0, 0.0, -1.0])
+        self._up_in_joint = np.asarray(ee.placement.rotation) @ up_in_ee
 
     def _gripper_links(self) -> set[str]:
         """The end-effector's link and every link downstream of it (hand, fingers)."""
@@ -152,11 +155,11 @@ class CollisionWorld:
 
         if not self.arm.within_limits(q):
             return False
-        if self.min_down is None:
+        if self.min_up is None:
             return not pin.computeCollisions(self.model, self.data, self.geom_model, self.geom_data, q, True)
         pin.forwardKinematics(self.model, self.data, q)
-        approach = self.data.oMi[self._ee_joint].rotation @ self._ee_axis_in_joint
-        if -approach[2] < self.min_down:
+        up = self.data.oMi[self._ee_joint].rotation @ self._up_in_joint
+        if up[2] < self.min_up:
             return False
         pin.updateGeometryPlacements(self.model, self.data, self.geom_model, self.geom_data)
         return not pin.computeCollisions(self.geom_model, self.geom_data, True)

@@ -35,7 +35,9 @@ class GraspParams:
         min_clearance: Minimum height of the grasp point above the supporting surface.
         place_drop: Gap between the object's bottom and the table when it is released.
         retreat: How far the hand backs off upwards after releasing.
-        max_carry_tilt: Largest tilt of the hand from vertical while carrying, radians.
+        max_carry_tilt: Largest tilt of the carried object from upright, radians.
+        reach_tilts: Tilts (rad) of the approach away from the robot, tried after the top-down grasps: a tilted
+            hand reaches objects at the back of the shelf that a vertical one cannot.
     """
 
     approach: float = 0.10
@@ -45,6 +47,7 @@ class GraspParams:
     place_drop: float = 0.006
     retreat: float = 0.10
     max_carry_tilt: float = 0.35
+    reach_tilts: tuple[float, ...] = (0.45, 0.8)
 
 
 @dataclass(frozen=True, eq=False)
@@ -57,6 +60,7 @@ class GraspCandidate:
         pregrasp: (4, 4) end-effector pose above the grasp.
         object_in_ee: (4, 4) pose of the object's centre in the end-effector frame while held.
         span: Object extent between the fingers, metres.
+        tilt: Rotation (rad) of the approach about the closing axis, away from vertical (0: top-down).
     """
 
     closing_yaw: float
@@ -64,12 +68,21 @@ class GraspCandidate:
     pregrasp: np.ndarray
     object_in_ee: np.ndarray
     span: float
+    tilt: float = 0.0
 
 
-def top_down_rotation(closing_yaw: float) -> np.ndarray:
-    """End-effector rotation pointing straight down with the fingers closing along `closing_yaw`."""
+def top_down_rotation(closing_yaw: float, tilt: float = 0.0) -> np.ndarray:
+    """End-effector rotation pointing down with the fingers closing along `closing_yaw`.
+
+    A non-zero `tilt` turns the approach about the closing axis towards the end-effector's x axis, (-sin, cos, 0)
+    of the closing yaw; the fingers still close horizontally.
+    """
     c, s = np.cos(closing_yaw), np.sin(closing_yaw)
-    return np.array([[-s, c, 0.0], [c, s, 0.0], [0.0, 0.0, -1.0]])
+    rot = np.array([[-s, c, 0.0], [c, s, 0.0], [0.0, 0.0, -1.0]])
+    if tilt == 0.0:
+        return rot
+    ct, st = np.cos(tilt), np.sin(tilt)
+    return rot @ np.array([[ct, 0.0, st], [0.0, 1.0, 0.0], [-st, 0.0, ct]])
 
 
 def _rz(yaw: float) -> np.ndarray:
@@ -130,15 +143,29 @@ def grasp_candidates(
     # wrist joint limits.
     ordered = [_wrap_near(y, preferred_yaw) for y in yaws]
     ordered += [y + np.pi if y < preferred_yaw else y - np.pi for y in ordered]
-    for yaw in ordered:
-        grasp = _pose(top_down_rotation(yaw), grasp_point)
+    poses = [(yaw, 0.0) for yaw in ordered]
+    # Tilted approaches, away from the robot, for objects at the limit of the arm's reach: the fingers close across
+    # the direction from the robot, so only cylinders and boxes whose narrow side lies that way qualify.
+    radial = float(np.arctan2(top[1], top[0]))
+    tangential = radial - np.pi / 2  # closing yaw whose x axis points away from the robot
+    if spec.shape == "cylinder" or abs(np.cos(yaws[0] - tangential)) > np.cos(0.3):
+        # A box keeps closing across its narrow side; the lean then follows the box, within 0.3 rad of radial.
+        closing = tangential if spec.shape == "cylinder" else _wrap_near(yaws[0], tangential)
+        for tilt in params.reach_tilts:
+            poses += [(closing, tilt), (closing + np.pi, -tilt)]
+    for yaw, tilt in poses:
+        grasp = _pose(top_down_rotation(yaw, tilt), grasp_point)
+        approach = grasp[:3, 2]
+        pregrasp = grasp.copy()
+        pregrasp[:3, 3] -= approach * params.approach
         out.append(
             GraspCandidate(
                 closing_yaw=float(yaw),
                 grasp=grasp,
-                pregrasp=lifted(grasp, params.approach),
+                pregrasp=pregrasp,
                 object_in_ee=np.linalg.inv(grasp) @ obj_world,
                 span=span,
+                tilt=float(tilt),
             )
         )
     return out
@@ -150,10 +177,15 @@ def place_pose(
     object_in_ee: np.ndarray,
     closing_yaw: float,
     params: GraspParams = GraspParams(),
+    tilt: float = 0.0,
 ) -> np.ndarray:
-    """End-effector pose that holds the object upright just above the table at `spot` (x, y, table top z)."""
+    """End-effector pose that holds the object upright just above the table at `spot` (x, y, table top z).
+
+    `closing_yaw` and `tilt` orient the hand as in `top_down_rotation`; use the grasp's tilt so the object stays
+    upright.
+    """
     x, y, top = spot
-    ee = _pose(top_down_rotation(closing_yaw), np.zeros(3))
+    ee = _pose(top_down_rotation(closing_yaw, tilt), np.zeros(3))
     # Where the object's centre would be with the hand at the origin, then shift so it lands on the spot.
     centre = (ee @ object_in_ee)[:3, 3]
     target_centre = np.array([x, y, top + params.place_drop + spec.height / 2])

@@ -276,7 +276,7 @@ def plan_pick_and_place(
         if not reachable:
             return fail(
                 FailureStage.IK,
-                f"no IK solution for a top-down grasp of {req.target.name} at {_fmt(req.target.position)}",
+                f"no IK solution for any grasp of {req.target.name} at {_fmt(req.target.position)}",
             )
         return fail(
             FailureStage.PLANNING,
@@ -291,9 +291,18 @@ def plan_pick_and_place(
     reasons = []
     place_reachable = False
     spots = [req.place_spot, *(sp for sp in req.other_spots if sp != req.place_spot)]
-    for spot, dyaw in ((sp, d) for sp in spots for d in (0.0, np.pi / 4, -np.pi / 4, np.pi / 2)):
+    target_dir = float(np.arctan2(req.target.position[1], req.target.position[0]))
+
+    def turns(spot: tuple[float, float, float]) -> tuple[float, ...]:
+        if cand.tilt == 0.0:
+            return (0.0, np.pi / 4, -np.pi / 4, np.pi / 2)
+        # A tilted hand keeps leaning away from the robot: turn it with the direction to the spot.
+        radial = float(np.arctan2(spot[1], spot[0])) - target_dir
+        return (radial, radial + np.pi / 4, radial - np.pi / 4)
+
+    for spot, dyaw in ((sp, d) for sp in spots for d in turns(sp)):
         yaw = cand.closing_yaw + dyaw
-        ee_place = place_pose(spot, req.spec, cand.object_in_ee, yaw, req.params)
+        ee_place = place_pose(spot, req.spec, cand.object_in_ee, yaw, req.params, cand.tilt)
         q_pp = p.ik(lifted(ee_place, req.params.approach), q_lift)
         if q_pp is None:
             reasons.append(f"above {_fmt(spot[:2])} out of reach")

@@ -4,7 +4,7 @@ Eq. (3), one ordered-logit model per questionnaire (or pooled over both with ``p
 
     R_i ~ OrderedLogit(phi_i, c[questionnaire_i])
     phi_i = a_P[participant_i] + g_Q[question_i] + b_C * on_i + b_G * groupB_i + b_S * second_i
-    a_P ~ ZeroSumNormal(sigma_P),  g_Q ~ ZeroSumNormal(sigma_Q),  sigma ~ Exponential(1)
+    a_P = sigma_P * z_P,  g_Q = sigma_Q * z_Q,  z ~ ZeroSumNormal(1),  sigma ~ Exponential(1)
     b_C, b_G, b_S ~ Normal(0, 1),   c ~ ordered, Normal(evenly spaced, 1.5)
 
 Eq. (4), a Poisson model of the interventions per session::
@@ -50,6 +50,7 @@ __all__ = [
 ]
 
 MODELS = ("mdmt", "tps_hri", "trust", "interventions")
+CUTPOINT_PRIOR_SD = 1.5  # around evenly spaced means; wide enough for any Likert use of the scale
 CONTRASTS = {"b_C": "condition (on - off)", "b_G": "group (B - A)", "b_S": "session (2 - 1)"}
 
 
@@ -340,10 +341,11 @@ def fit_ordinal(ratings: Any, options: AnalysisOptions, name: str = "trust") -> 
     with pm.Model() as model:
         # Zero-sum participant and question effects: the cut-points carry the location, which removes the ridge
         # between them and the effects' means (faster mixing; the contrasts are unchanged).
+        # Non-centred (sigma * z) against the funnel of small studies.
         sigma_p = pm.Exponential("sigma_P", 1.0)
-        a_p = pm.ZeroSumNormal("a_P", sigma=sigma_p, shape=n_p)
+        a_p = pm.Deterministic("a_P", sigma_p * pm.ZeroSumNormal("z_P", sigma=1.0, shape=n_p))
         sigma_q = pm.Exponential("sigma_Q", 1.0)
-        g_q = pm.ZeroSumNormal("g_Q", sigma=sigma_q, shape=len(items))
+        g_q = pm.Deterministic("g_Q", sigma_q * pm.ZeroSumNormal("z_Q", sigma=1.0, shape=len(items)))
         b_c = pm.Normal("b_C", 0.0, 1.0)
         b_g = pm.Normal("b_G", 0.0, 1.0)
         b_s = pm.Normal("b_S", 0.0, 1.0)
@@ -355,7 +357,7 @@ def fit_ordinal(ratings: Any, options: AnalysisOptions, name: str = "trust") -> 
             cuts = pm.Normal(
                 f"c_{qname}",
                 mu=mu,
-                sigma=1.5,
+                sigma=CUTPOINT_PRIOR_SD,
                 shape=k - 1,
                 transform=pm.distributions.transforms.ordered,
                 initval=mu,

@@ -71,6 +71,7 @@ def plot_results(result: AnalysisResult, data: StudyData, path: str | Path) -> P
                 positions.append(x)
                 labels.append(f"SC {cond}\ngroup {grp}")
         ax.set_xticks(positions, labels, fontsize=7)
+        ax.set_xlim(-0.8, 4.8)
         ax.set_ylabel(ylabel)
         ax.set_title(f"{title}: mean ± sd", fontsize=9)
     label = "SIMULATED DATA — " if result.simulated else ""

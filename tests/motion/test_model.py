@@ -81,7 +81,9 @@ def test_second_robot_loads(robot_cfg):
 
 
 def test_disabled_pair_with_unknown_link_names_the_links(robot_cfg, tmp_path):
-    text = robot_cfg.source.read_text().replace("- [panda_link0, panda_link2]", "- [panda_link0, panda_link99]")
+    text = robot_cfg.source.read_text().replace(
+        "- [panda_link0, panda_link2]", "- [panda_link0, panda_link99]"
+    )
     path = tmp_path / "bad.yaml"
     path.write_text(text)
     with pytest.raises(UnknownNameError, match="panda_link99.*panda_hand"):
