@@ -25,6 +25,8 @@ def generate_affordances(detections: Sequence[Detection], scene: SceneSpec) -> l
     """One "Put X on table" per distinct object seen on the shelf, most confident detection first."""
     best: dict[str, Detection] = {}
     for det in detections:
-        if on_shelf(det.position, scene) and (det.name not in best or det.confidence > best[det.name].confidence):
+        if on_shelf(det.position, scene) and (
+            det.name not in best or det.confidence > best[det.name].confidence
+        ):
             best[det.name] = det
     return [Affordance(name, action_text(name), det) for name, det in sorted(best.items())]

@@ -34,7 +34,9 @@ class ConfidenceGate(StageBehaviour):
         ranked = self.read(Keys.RANKED, [])
         vectors = self.read(Keys.ACTION_EMBEDDINGS, {})
         confidences = (
-            [float(c) for c in self.estimator.predict(np.stack([vectors[r.text] for r in ranked]))] if ranked else []
+            [float(c) for c in self.estimator.predict(np.stack([vectors[r.text] for r in ranked]))]
+            if ranked
+            else []
         )
         decision = decide(ranked, confidences, self.gate_options)
         decision = self._failure_limit(decision)
@@ -48,9 +50,9 @@ class ConfidenceGate(StageBehaviour):
     def _failure_limit(self, decision: Decision) -> Decision:
         """The paper's rule: after N failures on the same action, ask for help whatever κ̂ says."""
         limit = self.services.options.max_failures_per_action
-        if decision.kind is DecisionKind.ACT and decision.action is not None:
-            if self.services.stats.failures_by_action.get(decision.action, 0) >= limit:
-                return replace(decision, kind=DecisionKind.ASK, reason=f"failed {limit} times on this action")
+        failed = self.services.stats.failures_by_action.get(decision.action or "", 0)
+        if decision.kind is DecisionKind.ACT and decision.action is not None and failed >= limit:
+            return replace(decision, kind=DecisionKind.ASK, reason=f"failed {limit} times on this action")
         return decision
 
 

@@ -46,7 +46,9 @@ class ObserveOutcome(StageBehaviour):
         else:
             s.stats.failures += 1
             s.stats.failures_by_stage[stage] = s.stats.failures_by_stage.get(stage, 0) + 1
-            s.stats.failures_by_action[decision.action] = s.stats.failures_by_action.get(decision.action, 0) + 1
+            s.stats.failures_by_action[decision.action] = (
+                s.stats.failures_by_action.get(decision.action, 0) + 1
+            )
             s.printer(f"    x failure at {stage}: {motion.message.split(';')[0]}")
         s.emit("outcome", action=decision.action, object=name, success=success, stage=stage)
         self.write(Keys.OUTCOME, outcome)
@@ -69,5 +71,7 @@ class UpdateSelfConfidence(StageBehaviour):
             self.store.append(outcome)  # committed before κ̂ changes: a crash never loses an observed outcome
         vector = self.read(Keys.ACTION_EMBEDDINGS, {})[outcome.action]
         self.estimator.update(vector, outcome.success)
-        self.feedback_message = f"κ̂ updated with {'success' if outcome.success else 'failure'} of {outcome.action}"
+        self.feedback_message = (
+            f"κ̂ updated with {'success' if outcome.success else 'failure'} of {outcome.action}"
+        )
         return py_trees.common.Status.SUCCESS

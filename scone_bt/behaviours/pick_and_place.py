@@ -6,8 +6,8 @@ import py_trees
 
 from scone_bt.behaviours.base import Keys, StageBehaviour
 from scone_bt.config import ObjectSpec
-from scone_bt.perception.types import Detection
 from scone_bt.motion.types import FailureStage, MotionOutcome
+from scone_bt.perception.types import Detection
 
 __all__ = ["PickAndPlace"]
 
@@ -30,7 +30,10 @@ class PickAndPlace(StageBehaviour):
         obstacles = [(d, catalogue.get(d.name)) for d in seen] + self._table_objects(target.object_name, seen)
         self.object_name = target.object_name
         self.task = self.system.pick_and_place(
-            target.detection, catalogue.get(target.object_name), obstacles, rng_seed=s.options.seed + s.stats.attempted
+            target.detection,
+            catalogue.get(target.object_name),
+            obstacles,
+            rng_seed=s.options.seed + s.stats.attempted,
         )
         s.stats.attempted += 1
         s.human.robot_busy(True)
@@ -82,7 +85,8 @@ class PickAndPlace(StageBehaviour):
         if new_status is py_trees.common.Status.INVALID and task is not None and not task.done():
             task.cancel()
             self.write(
-                Keys.MOTION_OUTCOME, MotionOutcome(False, FailureStage.CANCELLED, "interrupted by the tree", 0.0)
+                Keys.MOTION_OUTCOME,
+                MotionOutcome(False, FailureStage.CANCELLED, "interrupted by the tree", 0.0),
             )
         self.write(Keys.MOTION_COMPUTING, False)
         self.services.human.robot_busy(False)

@@ -32,5 +32,7 @@ class RankByRelevance(StageBehaviour):
         vectors = self.embedder.embed(texts) if texts else []
         self.write(Keys.RANKED, ranked)
         self.write(Keys.ACTION_EMBEDDINGS, dict(zip(texts, vectors, strict=True)))
-        self.feedback_message = f"best: {ranked[0].text} ({ranked[0].relevance:.2f})" if ranked else "nothing to rank"
+        self.feedback_message = (
+            f"best: {ranked[0].text} ({ranked[0].relevance:.2f})" if ranked else "nothing to rank"
+        )
         return py_trees.common.Status.SUCCESS

@@ -96,7 +96,9 @@ class Services:
     def embedder(self) -> Embedder:
         from scone_bt.embedding import load_embedder
 
-        return self._once("embedder", lambda: load_embedder(self.options.embedder, cache_dir=self.options.cache_dir))
+        return self._once(
+            "embedder", lambda: load_embedder(self.options.embedder, cache_dir=self.options.cache_dir)
+        )
 
     def store(self) -> ExperienceStore | None:
         if self.options.experience_path is None:
@@ -119,7 +121,9 @@ class Services:
             if past:
                 X = self.embedder().embed([o.action for o in past])
                 est.fit(X, np.array([o.success for o in past], dtype=bool))
-                self.printer(f"κ̂ rebuilt from {len(past)} stored outcomes of robot {self.context.get('robot')!r}")
+                self.printer(
+                    f"κ̂ rebuilt from {len(past)} stored outcomes of robot {self.context.get('robot')!r}"
+                )
         return est
 
     def motion(self) -> MotionSystem:

@@ -36,20 +36,35 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     g = p.add_argument_group("input")
-    g.add_argument("--robot", default="sim", help="robot backend; valid: %(choices)s (default: %(default)s)", choices=BACKENDS)
-    g.add_argument("--arm", default="panda", help="arm model: a file name in robots/ (panda, iiwa, ...) or a YAML path")
+    g.add_argument(
+        "--robot",
+        default="sim",
+        help="robot backend; valid: %(choices)s (default: %(default)s)",
+        choices=BACKENDS,
+    )
+    g.add_argument(
+        "--arm", default="panda", help="arm model: a file name in robots/ (panda, iiwa, ...) or a YAML path"
+    )
     g.add_argument(
         "--recipe",
         default="example:tomato-pasta",
         help="recipe: example:<name> (tomato-pasta, pancakes, hummus), an id from ../shared/data/recipes/recipes.jsonl, "
         "or a JSON/YAML file of the same shape (default: %(default)s)",
     )
-    g.add_argument("--kitchen", default="kitchen", help="kitchen file in perception/ or a path (default: %(default)s)")
-    g.add_argument("--tree", default="assistive_cooking", help="tree file in trees/ or a path (default: %(default)s)")
-    g.add_argument("--distractors", type=int, default=6, help="objects not in the recipe put on the shelf (default: 6)")
+    g.add_argument(
+        "--kitchen", default="kitchen", help="kitchen file in perception/ or a path (default: %(default)s)"
+    )
+    g.add_argument(
+        "--tree", default="assistive_cooking", help="tree file in trees/ or a path (default: %(default)s)"
+    )
+    g.add_argument(
+        "--distractors", type=int, default=6, help="objects not in the recipe put on the shelf (default: 6)"
+    )
 
     g = p.add_argument_group("run control")
-    g.add_argument("--seed", type=int, default=0, help="seeds everything; a seeded run repeats exactly (default: 0)")
+    g.add_argument(
+        "--seed", type=int, default=0, help="seeds everything; a seeded run repeats exactly (default: 0)"
+    )
     g.add_argument("--max-ticks", type=int, default=4000, help="limit on 0.1 s control ticks (default: 4000)")
     g.add_argument("--headless", action="store_true", help="no windows (the default; kept for scripts)")
     g.add_argument("--gui", action="store_true", help="open PyBullet's own window (needs a display)")
@@ -58,18 +73,40 @@ def build_parser() -> argparse.ArgumentParser:
     g = p.add_argument_group("rerun output")
     g.add_argument("--save", type=Path, metavar="FILE.rrd", help="record the episode for the rerun viewer")
     g.add_argument("--viewer", action="store_true", help="spawn the rerun live viewer")
-    g.add_argument("--connect", metavar="ADDR", help="stream to a running rerun viewer (e.g. rerun+http://127.0.0.1:9876/proxy)")
+    g.add_argument(
+        "--connect",
+        metavar="ADDR",
+        help="stream to a running rerun viewer (e.g. rerun+http://127.0.0.1:9876/proxy)",
+    )
 
     g = p.add_argument_group("self-confidence")
-    g.add_argument("--confidence-threshold", type=float, help="act when κ̂ ≥ this, else ask (tree default: 0.5)")
-    g.add_argument("--no-self-confidence", action="store_true", help="the paper's control condition: always act")
-    g.add_argument("--experience", type=Path, metavar="DB", help="SQLite outcome store; κ̂ is rebuilt from it at start")
+    g.add_argument(
+        "--confidence-threshold", type=float, help="act when κ̂ ≥ this, else ask (tree default: 0.5)"
+    )
+    g.add_argument(
+        "--no-self-confidence", action="store_true", help="the paper's control condition: always act"
+    )
+    g.add_argument(
+        "--experience", type=Path, metavar="DB", help="SQLite outcome store; κ̂ is rebuilt from it at start"
+    )
     g.add_argument("--embedder", help="ζ: minilm, mpnet, glove, onehot, finetuned:<dir> or a model directory")
     g.add_argument("--estimator", help="κ̂ estimator, e.g. eps-knn, knn, lgbm, rf, svm, mlp, xgb")
-    g.add_argument("--relevance-threshold", type=float, help="ρ: minimum cosine similarity of a relevant action")
+    g.add_argument(
+        "--relevance-threshold", type=float, help="ρ: minimum cosine similarity of a relevant action"
+    )
 
     g = p.add_argument_group("simulated human")
-    g.add_argument("--takeover-probability", type=float, default=0.0, help="chance the human takes over an action (default: 0)")
+    g.add_argument(
+        "--takeover-probability",
+        type=float,
+        default=0.0,
+        help="chance the human takes over an action (default: 0)",
+    )
+
+    # A real person instead of the simulated human: the tablet UI (scone_bt/study).
+    from scone_bt.study.ui import add_ui_arguments
+
+    add_ui_arguments(p)
     return p
 
 
@@ -132,15 +169,30 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
     _quiet_backends()
+    args = build_parser().parse_args(argv)
     try:
         from scone_bt.episode import run_episode
+
+        from scone_bt.study.ui import tablet_from_args
 
         options = options_from_args(args)
         if args.save is not None:
             args.save.parent.mkdir(parents=True, exist_ok=True)
-        summary = run_episode(options, printer=(lambda _line: None) if args.quiet else print)
+        server = tablet_from_args(args)  # None without --ui
+        try:
+            if server is not None:
+                print(f"tablet: {server.url}")
+            summary = run_episode(
+                options,
+                printer=(lambda _line: None) if args.quiet else print,
+                on_event=server.on_event if server is not None else None,
+                human_factory=server.human_factory if server is not None else None,
+                realtime=server is not None,
+            )
+        finally:
+            if server is not None:
+                server.close()
     except SconeError as exc:
         print(f"scone-run: error: {exc}", file=sys.stderr)
         return 2

@@ -40,7 +40,9 @@ class Fields:
     def get(self, key: str, kind: type | tuple[type, ...], default: Any = ...) -> Any:
         if key not in self.data:
             if default is ...:
-                raise ConfigError(f"{self.where}: missing key {key!r}; present: {', '.join(self.data) or '(none)'}")
+                raise ConfigError(
+                    f"{self.where}: missing key {key!r}; present: {', '.join(self.data) or '(none)'}"
+                )
             return default
         value = self.data[key]
         if kind is float and isinstance(value, int) and not isinstance(value, bool):

@@ -123,7 +123,10 @@ def _make_recorder(options: EpisodeOptions) -> Any:
     if not _recording(options):
         return NullRecorder()
     return Recorder(
-        save=options.save, spawn_viewer=options.viewer, connect=options.connect, recording_id=f"episode-seed{options.seed}"
+        save=options.save,
+        spawn_viewer=options.viewer,
+        connect=options.connect,
+        recording_id=f"episode-seed{options.seed}",
     )
 
 
@@ -154,10 +157,16 @@ def run_episode(
     catalogue = kitchen_cfg.catalogue
     rng = np.random.default_rng(options.seed)
     others = [n for n in catalogue.names() if n not in recipe.needed]
-    n_distractors = min(options.distractors, len(others), len(kitchen_cfg.scene.shelf_slots()) - len(recipe.needed))
+    n_distractors = min(
+        options.distractors, len(others), len(kitchen_cfg.scene.shelf_slots()) - len(recipe.needed)
+    )
     if n_distractors < 0:
-        raise ConfigError(f"recipe needs {len(recipe.needed)} objects but the shelf has {len(kitchen_cfg.scene.shelf_slots())} slots")
-    distractors = [str(n) for n in rng.choice(others, size=n_distractors, replace=False)] if n_distractors else []
+        raise ConfigError(
+            f"recipe needs {len(recipe.needed)} objects but the shelf has {len(kitchen_cfg.scene.shelf_slots())} slots"
+        )
+    distractors = (
+        [str(n) for n in rng.choice(others, size=n_distractors, replace=False)] if n_distractors else []
+    )
     specs = [catalogue.get(n) for n in (*recipe.needed, *distractors)]
 
     kitchen = Kitchen(kitchen_cfg, robot_cfg, gui=options.gui)
@@ -209,7 +218,14 @@ def run_episode(
                 kitchen.advance(options.tick_period)
                 for event in human.update():
                     if on_event is not None:
-                        on_event(event.kind, {"sim_time": round(event.sim_time, 3), "object": event.object_name, "detail": event.detail})
+                        on_event(
+                            event.kind,
+                            {
+                                "sim_time": round(event.sim_time, 3),
+                                "object": event.object_name,
+                                "detail": event.detail,
+                            },
+                        )
                 control_ticks += 1
                 if realtime:
                     time.sleep(max(0.0, next_tick - time.perf_counter()))

@@ -18,7 +18,9 @@ def _concatenate(parts: list[TimedTrajectory]) -> TimedTrajectory | None:
     parts = [p for p in parts if len(p.times)]
     if not parts:
         return None
-    offsets = np.cumsum([0.0] + [p.duration + (p.times[1] - p.times[0] if len(p.times) > 1 else 0.0) for p in parts[:-1]])
+    offsets = np.cumsum(
+        [0.0] + [p.duration + (p.times[1] - p.times[0] if len(p.times) > 1 else 0.0) for p in parts[:-1]]
+    )
     return TimedTrajectory(
         times=np.concatenate([p.times + o for p, o in zip(parts, offsets, strict=True)]),
         positions=np.concatenate([p.positions for p in parts]),
@@ -33,8 +35,16 @@ class SnapshotBuilder:
     def __init__(self, services: Services) -> None:
         self.services = services
         self.reader = py_trees.blackboard.Client(name="viz")
-        for key in (Keys.FRAME, Keys.DETECTIONS, Keys.RANKED, Keys.CONFIDENCES, Keys.DECISION, Keys.AFFORDANCES,
-                    Keys.MOTION_TASK, Keys.MOTION_OUTCOME):
+        for key in (
+            Keys.FRAME,
+            Keys.DETECTIONS,
+            Keys.RANKED,
+            Keys.CONFIDENCES,
+            Keys.DECISION,
+            Keys.AFFORDANCES,
+            Keys.MOTION_TASK,
+            Keys.MOTION_OUTCOME,
+        ):
             self.reader.register_key(key=key, access=py_trees.common.Access.READ)
         self._seen: dict[str, int] = {}
         self.lines: list[str] = []
@@ -58,7 +68,9 @@ class SnapshotBuilder:
         if decision is not None:
             ranked = self.reader.get(Keys.RANKED) or []
             conf = self.reader.get(Keys.CONFIDENCES) or {}
-            affordances = [(r.text, float(r.relevance), float(conf.get(r.text, float("nan")))) for r in ranked]
+            affordances = [
+                (r.text, float(r.relevance), float(conf.get(r.text, float("nan")))) for r in ranked
+            ]
             by_text = {a.text: a.object_name for a in (self.reader.get(Keys.AFFORDANCES) or [])}
             confidences = {by_text[t]: float(c) for t, c in conf.items() if t in by_text}
         ee_path = trajectory = None
@@ -90,7 +102,9 @@ class SnapshotBuilder:
             tick=tick,
             sim_time=kitchen.sim_time,
             link_poses=kitchen.link_poses(),
-            object_poses={n: (o.position, o.orientation) for n in kitchen.objects for o in [kitchen.object_state(n)]},
+            object_poses={
+                n: (o.position, o.orientation) for n in kitchen.objects for o in [kitchen.object_state(n)]
+            },
             frame=frame,
             detections=(self.reader.get(Keys.DETECTIONS) or []) if frame is not None else (),
             affordances=affordances,

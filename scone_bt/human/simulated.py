@@ -101,7 +101,9 @@ class SimulatedHuman:
     def request_help(self, object_name: str) -> None:
         """The robot asks the human to fetch this object."""
         if not self.is_fetching(object_name):
-            self._fetches.append(_Fetch(object_name, self.kitchen.sim_time + self.options.fetch_time_s, "help"))
+            self._fetches.append(
+                _Fetch(object_name, self.kitchen.sim_time + self.options.fetch_time_s, "help")
+            )
 
     def decide_takeover(self, object_name: str) -> None:
         """Called once when the robot starts an action on an object: the human decides whether to take over."""
@@ -118,7 +120,9 @@ class SimulatedHuman:
         """The human intervenes: the robot's action is cancelled and the human fetches the object."""
         self._takeover_at = None
         if not self.is_fetching(object_name):
-            self._fetches.append(_Fetch(object_name, self.kitchen.sim_time + self.options.fetch_time_s, "intervention"))
+            self._fetches.append(
+                _Fetch(object_name, self.kitchen.sim_time + self.options.fetch_time_s, "intervention")
+            )
 
     def robot_busy(self, busy: bool) -> None:
         """The robot reports whether it is working on the current step (resets the human's patience)."""
@@ -159,7 +163,9 @@ class SimulatedHuman:
         else:
             for name in missing:
                 dropped = not self.kitchen.is_on_shelf(name) and not self._held_by_robot(name)
-                waited = self._robot_busy_since is None and now - self._step_started >= self.options.patience_s
+                waited = (
+                    self._robot_busy_since is None and now - self._step_started >= self.options.patience_s
+                )
                 if (dropped or waited) and not self.is_fetching(name):
                     reason = "the robot dropped it" if dropped else "the robot was idle too long"
                     self._fetches.append(_Fetch(name, now + self.options.fetch_time_s, "intervention"))

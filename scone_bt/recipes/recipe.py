@@ -51,7 +51,9 @@ def recipe_from_record(record: Any, where: str) -> Recipe:
         raise RecipeError(f"{where}: a recipe must be a mapping with id, title, ingredients, steps")
     missing = [k for k in ("ingredients", "steps") if k not in record]
     if missing:
-        raise RecipeError(f"{where}: recipe lacks {', '.join(missing)}; required: ingredients, steps (optional: id, title, step_ingredients)")
+        raise RecipeError(
+            f"{where}: recipe lacks {', '.join(missing)}; required: ingredients, steps (optional: id, title, step_ingredients)"
+        )
     ingredients, steps = record["ingredients"], record["steps"]
     if not isinstance(ingredients, list) or not all(isinstance(i, str) for i in ingredients):
         raise RecipeError(f"{where}: 'ingredients' must be a list of strings")
@@ -79,7 +81,9 @@ def _load_file(path: Path) -> Recipe:
         text = path.read_text()
         record = json.loads(text) if path.suffix == ".json" else yaml.safe_load(text)
     except (json.JSONDecodeError, yaml.YAMLError) as exc:
-        raise RecipeError(f"{path}: not valid {'JSON' if path.suffix == '.json' else 'YAML'} ({exc})".splitlines()[0]) from None
+        raise RecipeError(
+            f"{path}: not valid {'JSON' if path.suffix == '.json' else 'YAML'} ({exc})".splitlines()[0]
+        ) from None
     return recipe_from_record(record, str(path))
 
 
@@ -98,7 +102,9 @@ def load_recipe(id_or_path: str) -> Recipe:
         name = id_or_path.removeprefix("example:")
         file = EXAMPLES_DIR / f"{name}.yaml"
         if not file.is_file():
-            raise RecipeError(f"unknown example recipe {name!r}; valid: {', '.join('example:' + n for n in example_names())}")
+            raise RecipeError(
+                f"unknown example recipe {name!r}; valid: {', '.join('example:' + n for n in example_names())}"
+            )
         return _load_file(file)
     corpus = recipe_corpus_path()
     if corpus is None:

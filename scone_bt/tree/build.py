@@ -31,10 +31,14 @@ def _validate(node: Any, where: str) -> None:
     from scone_bt.behaviours import BEHAVIOURS
 
     if not isinstance(node, dict):
-        raise ConfigError(f"{where}: a node must be a mapping with one of: {', '.join(COMPOSITES)}, behaviour")
+        raise ConfigError(
+            f"{where}: a node must be a mapping with one of: {', '.join(COMPOSITES)}, behaviour"
+        )
     kinds = [k for k in (*COMPOSITES, "behaviour") if k in node]
     if len(kinds) != 1:
-        raise ConfigError(f"{where}: a node needs exactly one of: {', '.join(COMPOSITES)}, behaviour (got {sorted(node)})")
+        raise ConfigError(
+            f"{where}: a node needs exactly one of: {', '.join(COMPOSITES)}, behaviour (got {sorted(node)})"
+        )
     if kinds[0] == "behaviour":
         if node["behaviour"] not in BEHAVIOURS:
             raise UnknownNameError(f"behaviour at {where}", str(node["behaviour"]), BEHAVIOURS)

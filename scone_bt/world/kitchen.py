@@ -6,6 +6,7 @@ own stages never read ground truth from here; the simulated human, outcome check
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -91,19 +92,27 @@ class Kitchen:
         for i, (cx, top) in enumerate(scene.shelf_tiers):
             height = top - scene.floor_z
             boxes.append(
-                StaticBox(f"shelf_tier{i}", (cx, (y0 + y1) / 2, scene.floor_z + height / 2), (scene.tier_depth, y1 - y0, height))
+                StaticBox(
+                    f"shelf_tier{i}",
+                    (cx, (y0 + y1) / 2, scene.floor_z + height / 2),
+                    (scene.tier_depth, y1 - y0, height),
+                )
             )
         colours = {"pedestal": (0.3, 0.3, 0.3, 1), "table": (0.55, 0.40, 0.25, 1)}
         self.static_body_ids: dict[str, int] = {}
         for box in boxes:
             half = [s / 2 for s in box.size]
             col = self.bc.createCollisionShape(p.GEOM_BOX, halfExtents=half)
-            vis = self.bc.createVisualShape(p.GEOM_BOX, halfExtents=half, rgbaColor=colours.get(box.name, (0.75, 0.72, 0.65, 1)))
+            vis = self.bc.createVisualShape(
+                p.GEOM_BOX, halfExtents=half, rgbaColor=colours.get(box.name, (0.75, 0.72, 0.65, 1))
+            )
             body = self.bc.createMultiBody(0, col, vis, basePosition=box.center)
             self.bc.changeDynamics(body, -1, lateralFriction=0.8)
             self.static_body_ids[box.name] = body
         plane = self.bc.createCollisionShape(p.GEOM_PLANE)
-        plane_vis = self.bc.createVisualShape(p.GEOM_BOX, halfExtents=[2, 2, 0.001], rgbaColor=(0.9, 0.9, 0.9, 1))
+        plane_vis = self.bc.createVisualShape(
+            p.GEOM_BOX, halfExtents=[2, 2, 0.001], rgbaColor=(0.9, 0.9, 0.9, 1)
+        )
         self.floor_id = self.bc.createMultiBody(0, plane, plane_vis, basePosition=(0, 0, scene.floor_z))
         return boxes
 
@@ -113,7 +122,10 @@ class Kitchen:
         cfg = self.robot_config
         try:
             rid = self.bc.loadURDF(
-                str(cfg.urdf), basePosition=cfg.base_position, useFixedBase=True, flags=p.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT
+                str(cfg.urdf),
+                basePosition=cfg.base_position,
+                useFixedBase=True,
+                flags=p.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT,
             )
         except p.error as exc:
             raise ConfigError(f"{cfg.source}: PyBullet could not load URDF {cfg.urdf} ({exc})") from None
@@ -135,7 +147,9 @@ class Kitchen:
         return rid, index
 
     # ----------------------------------------------------------------------------------------- objects
-    def spawn(self, specs: Sequence[ObjectSpec], rng: np.random.Generator) -> dict[str, tuple[float, float, float]]:
+    def spawn(
+        self, specs: Sequence[ObjectSpec], rng: np.random.Generator
+    ) -> dict[str, tuple[float, float, float]]:
         """Place objects at distinct random shelf slots and let them settle. Returns name → slot."""
         import pybullet as p
 
@@ -155,9 +169,15 @@ class Kitchen:
             vis = create_object_visual(self.bc, spec)
             yaw = float(rng.uniform(-0.3, 0.3))
             body = self.bc.createMultiBody(
-                spec.mass, col, vis, basePosition=(x, y, z + sz / 2 + 1e-3), baseOrientation=self.bc.getQuaternionFromEuler((0, 0, yaw))
+                spec.mass,
+                col,
+                vis,
+                basePosition=(x, y, z + sz / 2 + 1e-3),
+                baseOrientation=self.bc.getQuaternionFromEuler((0, 0, yaw)),
             )
-            self.bc.changeDynamics(body, -1, lateralFriction=spec.friction, spinningFriction=0.001, rollingFriction=0.0005)
+            self.bc.changeDynamics(
+                body, -1, lateralFriction=spec.friction, spinningFriction=0.001, rollingFriction=0.0005
+            )
             self.objects[spec.name] = body
             self.specs[spec.name] = spec
             self.spawn_slots[spec.name] = (x, y, z)
@@ -202,7 +222,10 @@ class Kitchen:
         top = self.config.scene.table_top_z
         occupied = [self.object_state(n).position for n in self.objects]
         for x, y in self.config.scene.place_spots:
-            if all(np.hypot(x - ox, y - oy) > 0.07 or oz > top + 0.3 or oz < top - 0.05 for ox, oy, oz in occupied):
+            if all(
+                np.hypot(x - ox, y - oy) > 0.07 or oz > top + 0.3 or oz < top - 0.05
+                for ox, oy, oz in occupied
+            ):
                 return (x, y, top)
         return None
 
@@ -213,7 +236,9 @@ class Kitchen:
             return False
         spec = self.specs[name]
         x, y, top = spot
-        self.bc.resetBasePositionAndOrientation(self._body(name), (x, y, top + spec.height / 2 + 1e-3), (0, 0, 0, 1))
+        self.bc.resetBasePositionAndOrientation(
+            self._body(name), (x, y, top + spec.height / 2 + 1e-3), (0, 0, 0, 1)
+        )
         self.bc.resetBaseVelocity(self._body(name), (0, 0, 0), (0, 0, 0))
         return True
 
@@ -252,7 +277,11 @@ class Kitchen:
         ids = [self.joint_index[n] for n in g.joints]
         f = g.max_force if force is None else force
         self.bc.setJointMotorControlArray(
-            self.robot_id, ids, p.POSITION_CONTROL, targetPositions=[position] * len(ids), forces=[f] * len(ids)
+            self.robot_id,
+            ids,
+            p.POSITION_CONTROL,
+            targetPositions=[position] * len(ids),
+            forces=[f] * len(ids),
         )
 
     def link_poses(self) -> dict[str, tuple[tuple[float, ...], tuple[float, ...]]]:
@@ -284,10 +313,8 @@ class Kitchen:
             self.sim_time += self.time_step
 
     def close(self) -> None:
-        try:
+        with contextlib.suppress(Exception):  # already disconnected: closing twice must be harmless
             self.bc.disconnect()
-        except Exception:  # already disconnected; closing twice must be harmless
-            pass
 
     def __enter__(self) -> Kitchen:
         return self

@@ -41,7 +41,11 @@ def test_malformed_yaml_is_one_line_error(tmp_path: Path):
 
 
 def test_missing_urdf_is_reported(tmp_path: Path):
-    text = (Path(load_robot().source)).read_text().replace("pybullet_data://franka_panda/panda.urdf", "missing.urdf")
+    text = (
+        (Path(load_robot().source))
+        .read_text()
+        .replace("pybullet_data://franka_panda/panda.urdf", "missing.urdf")
+    )
     path = tmp_path / "arm.yaml"
     path.write_text(text)
     with pytest.raises(ConfigError, match="URDF not found"):

@@ -12,7 +12,11 @@ pytestmark = pytest.mark.slow
 
 def _run(recipe: str, seed: int = 0, events: list | None = None, robot: str = "panda", **behaviour) -> object:
     options = EpisodeOptions(
-        recipe=recipe, seed=seed, robot=robot, distractors=4, behaviour=BehaviourOptions(seed=seed, **behaviour)
+        recipe=recipe,
+        seed=seed,
+        robot=robot,
+        distractors=4,
+        behaviour=BehaviourOptions(seed=seed, **behaviour),
     )
     sink = (lambda kind, data: events.append((kind, data))) if events is not None else None
     return run_episode(options, printer=lambda _line: None, on_event=sink)
@@ -36,13 +40,16 @@ def test_self_confidence_asks_where_the_control_condition_fails(tmp_path):
     """Pancakes need the egg carton, wider than the Panda's fingers open: acting on it fails for real."""
     db = tmp_path / "experience.db"
     control_events: list = []
-    control = _run("example:pancakes", events=control_events, use_self_confidence=False, experience_path=db)
+    _run("example:pancakes", events=control_events, use_self_confidence=False, experience_path=db)
     failed = {d["action"] for k, d in control_events if k == "outcome" and not d["success"]}
     assert "Put eggs on table" in failed, failed
     # The control condition never asks because of κ̂; only the paper's rule (3 failures on one action) makes it ask.
     control_asked = [d["action"] for k, d in control_events if k == "help_request"]
     for action in control_asked:
-        assert sum(1 for k, d in control_events if k == "outcome" and d["action"] == action and not d["success"]) >= 3
+        assert (
+            sum(1 for k, d in control_events if k == "outcome" and d["action"] == action and not d["success"])
+            >= 3
+        )
 
     scone_events: list = []
     scone = _run("example:pancakes", events=scone_events, use_self_confidence=True, experience_path=db)

@@ -27,15 +27,31 @@ def wheel(tmp_path_factory) -> Path:
 
 def test_wheel_carries_declarative_files(wheel):
     names = zipfile.ZipFile(wheel).namelist()
-    for required in ("scone_bt/_data/robots/panda.yaml", "scone_bt/_data/perception/kitchen.yaml", "scone_bt/_data/trees/assistive_cooking.yaml"):
+    for required in (
+        "scone_bt/_data/robots/panda.yaml",
+        "scone_bt/_data/perception/kitchen.yaml",
+        "scone_bt/_data/trees/assistive_cooking.yaml",
+    ):
         assert required in names
-    assert not any(n.startswith(("robots/", "perception/", "trees/")) for n in names), "no top-level data packages"
+    assert not any(n.startswith(("robots/", "perception/", "trees/")) for n in names), (
+        "no top-level data packages"
+    )
 
 
 def test_installed_wheel_finds_its_files(wheel, tmp_path):
     target = tmp_path / "site"
-    subprocess.run([sys.executable, "-m", "pip", "install", "--no-deps", "--quiet", "--target", str(target), str(wheel)], check=True)
+    subprocess.run(
+        [sys.executable, "-m", "pip", "install", "--no-deps", "--quiet", "--target", str(target), str(wheel)],
+        check=True,
+    )
     code = "from scone_bt.resources import data_dir; from scone_bt.config import load_kitchen; print(data_dir('robots')); print(len(load_kitchen().catalogue))"
-    out = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env={"PYTHONPATH": str(target)}, capture_output=True, text=True, check=True)
+    out = subprocess.run(
+        [sys.executable, "-c", code],
+        cwd=tmp_path,
+        env={"PYTHONPATH": str(target)},
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     robots_dir, n_objects = out.stdout.split()
     assert Path(robots_dir).is_relative_to(target) and int(n_objects) >= 21

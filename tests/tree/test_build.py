@@ -11,7 +11,16 @@ def test_default_tree_builds_and_renders():
     spec = load_tree_spec("assistive_cooking")
     root = build_tree(spec, SimpleNamespace())
     text = render_tree(root)
-    order = ["Perceive", "GenerateAffordances", "RankByRelevance", "ConfidenceGate", "AskForHelp", "PickAndPlace", "ObserveOutcome", "UpdateSelfConfidence"]
+    order = [
+        "Perceive",
+        "GenerateAffordances",
+        "RankByRelevance",
+        "ConfidenceGate",
+        "AskForHelp",
+        "PickAndPlace",
+        "ObserveOutcome",
+        "UpdateSelfConfidence",
+    ]
     positions = [text.index(name) for name in order]
     assert positions == sorted(positions)
     assert spec.parameters["confidence_threshold"] == 0.5
