@@ -117,7 +117,7 @@ def _quiet_backends() -> None:
     warnings.filterwarnings("ignore")
     logging.getLogger("sentence_transformers").setLevel(logging.ERROR)
     logging.getLogger("transformers").setLevel(logging.ERROR)
-    from scone_bt.world.quiet import c_stdout_silenced
+    from scone_bt.quiet import c_stdout_silenced
 
     with c_stdout_silenced():  # PyBullet prints a build banner from C on first import
         import pybullet  # noqa: F401

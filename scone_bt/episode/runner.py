@@ -85,6 +85,7 @@ class EpisodeSummary:
     takeovers: int
     decisions: int
     control_ticks: int
+    tree_ticks: int
     sim_time: float
     wall_time: float
     needed_on_table: dict[str, bool]
@@ -94,6 +95,7 @@ class EpisodeSummary:
         """The fields a seeded rerun must reproduce exactly."""
         d = asdict(self)
         d.pop("wall_time")
+        d.pop("tree_ticks")  # ticks while the planner thread computes depend on the machine's speed
         return d
 
     def format(self) -> str:
@@ -210,6 +212,8 @@ def run_episode(
             tree.tick()
             ticks += 1
             if human.done and root.status is not py_trees.common.Status.RUNNING:
+                if snapshots is not None:
+                    recorder.log_tick(snapshots.build(ticks, root))
                 break  # the recipe is done and the robot finished its last cycle
             computing = reader.get(Keys.MOTION_COMPUTING) if reader.exists(Keys.MOTION_COMPUTING) else False
             if computing:
@@ -249,6 +253,7 @@ def run_episode(
             takeovers=stats.cancelled,
             decisions=stats.decisions,
             control_ticks=control_ticks,
+            tree_ticks=ticks,
             sim_time=round(kitchen.sim_time, 3),
             wall_time=time.perf_counter() - started,
             needed_on_table={n: kitchen.is_on_table(n) for n in recipe.needed},
