@@ -8,7 +8,7 @@ import os
 import sys
 from collections.abc import Iterator
 
-__all__ = ["c_stdout_silenced"]
+__all__ = ["c_stdout_silenced", "quiet_backends"]
 
 
 def _flush_c_stdio() -> None:
@@ -22,10 +22,9 @@ def c_stdout_silenced() -> Iterator[None]:
     """Send the process's stdout and stderr descriptors to /dev/null, C-level printf included."""
     fds = []
     for stream in (sys.stdout, sys.stderr):
-        try:
+        # pytest's capture or a replaced stream has no descriptor: leave it alone
+        with contextlib.suppress(AttributeError, OSError, ValueError):
             fds.append(stream.fileno())
-        except (AttributeError, OSError, ValueError):  # pytest capture or a replaced stream: leave it alone
-            pass
     for stream in (sys.stdout, sys.stderr):
         stream.flush()
     saved = [os.dup(fd) for fd in fds]
@@ -42,3 +41,18 @@ def c_stdout_silenced() -> Iterator[None]:
             os.dup2(copy, fd)
             os.close(copy)
         os.close(devnull)
+
+
+def quiet_backends(loggers: tuple[str, ...] = ()) -> None:
+    """Offline, quiet third-party libraries for command-line use: no hub look-ups, no banners, no warnings."""
+    import logging
+    import warnings
+
+    os.environ.setdefault("TOKENIZERS_PARALLELISM", "false")
+    os.environ.setdefault("HF_HUB_OFFLINE", "1")
+    os.environ.setdefault("TRANSFORMERS_OFFLINE", "1")
+    warnings.filterwarnings("ignore")
+    for name in ("sentence_transformers", "transformers", *loggers):
+        logging.getLogger(name).setLevel(logging.ERROR)
+    with c_stdout_silenced():  # PyBullet prints a build banner from C on first import
+        import pybullet  # noqa: F401

@@ -11,10 +11,7 @@ Examples:
 from __future__ import annotations
 
 import argparse
-import logging
-import os
 import sys
-import warnings
 from pathlib import Path
 
 from scone_bt.errors import SconeError
@@ -111,16 +108,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _quiet_backends() -> None:
-    os.environ.setdefault("TOKENIZERS_PARALLELISM", "false")
-    os.environ.setdefault("HF_HUB_OFFLINE", "1")
-    os.environ.setdefault("TRANSFORMERS_OFFLINE", "1")
-    warnings.filterwarnings("ignore")
-    logging.getLogger("sentence_transformers").setLevel(logging.ERROR)
-    logging.getLogger("transformers").setLevel(logging.ERROR)
-    from scone_bt.quiet import c_stdout_silenced
+    from scone_bt.quiet import quiet_backends
 
-    with c_stdout_silenced():  # PyBullet prints a build banner from C on first import
-        import pybullet  # noqa: F401
+    quiet_backends()
 
 
 def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
@@ -173,7 +163,6 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
         from scone_bt.episode import run_episode
-
         from scone_bt.study.ui import tablet_from_args
 
         options = options_from_args(args)

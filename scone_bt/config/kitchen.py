@@ -103,6 +103,9 @@ class SceneSpec:
     shelf_y_range: tuple[float, float]
     slot_y: tuple[float, ...]
     place_spots: tuple[tuple[float, float], ...]
+    tier_slot_y: tuple[
+        tuple[float, ...] | None, ...
+    ] = ()  # per tier: its own slot_y, or None for the default
 
     @property
     def table_top_z(self) -> float:
@@ -111,7 +114,10 @@ class SceneSpec:
 
     def shelf_slots(self) -> list[tuple[float, float, float]]:
         """All shelf locations as (x, y, surface z)."""
-        return [(x, y, z) for (x, z) in self.shelf_tiers for y in self.slot_y]
+        own = self.tier_slot_y or (None,) * len(self.shelf_tiers)
+        return [
+            (x, y, z) for (x, z), ys in zip(self.shelf_tiers, own, strict=True) for y in (ys or self.slot_y)
+        ]
 
 
 @dataclass(frozen=True)
@@ -156,14 +162,17 @@ def load_kitchen(name_or_path: str | Path = "kitchen") -> KitchenConfig:
     s = f.sub("scene")
     shelf = s.sub("shelf")
     tiers = []
+    tier_slots: list[tuple[float, ...] | None] = []
     for i, t in enumerate(shelf.get("tiers", list)):
         tf = Fields(t, f"{shelf.where}.tiers[{i}]")
         tiers.append((tf.get("center_x", float), tf.get("top_z", float)))
+        tier_slots.append(tf.vector("slot_y", default=None) if "slot_y" in t else None)
     scene = SceneSpec(
         floor_z=s.get("floor_z", float),
         pedestal=_box(s, "pedestal"),
         table=_box(s, "table"),
         shelf_tiers=tuple(tiers),
+        tier_slot_y=tuple(tier_slots),
         tier_depth=shelf.get("tier_depth", float),
         shelf_y_range=shelf.vector("y_range", 2),  # type: ignore[arg-type]
         slot_y=shelf.vector("slot_y"),

@@ -12,10 +12,7 @@ Examples:
 from __future__ import annotations
 
 import argparse
-import logging
-import os
 import sys
-import warnings
 from pathlib import Path
 
 from scone_bt.errors import SconeError
@@ -123,12 +120,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _quiet() -> None:
-    os.environ.setdefault("TOKENIZERS_PARALLELISM", "false")
-    os.environ.setdefault("HF_HUB_OFFLINE", "1")
-    os.environ.setdefault("TRANSFORMERS_OFFLINE", "1")
-    warnings.filterwarnings("ignore")
-    for name in ("pymc", "pytensor", "sentence_transformers", "transformers", "uvicorn"):
-        logging.getLogger(name).setLevel(logging.ERROR)
+    from scone_bt.quiet import quiet_backends
+
+    quiet_backends(("pymc", "pytensor", "uvicorn"))
 
 
 def _open_log(path: Path, expect_existing: bool = True):  # -> StudyLog

@@ -14,7 +14,12 @@ pytestmark = pytest.mark.slow
 def test_saved_episode_reads_back(tmp_path):
     path = tmp_path / "episode.rrd"
     options = EpisodeOptions(
-        recipe="example:hummus", seed=1, distractors=2, max_ticks=150, save=path, behaviour=BehaviourOptions(seed=1)
+        recipe="example:hummus",
+        seed=1,
+        distractors=2,
+        max_ticks=150,
+        save=path,
+        behaviour=BehaviourOptions(seed=1),
     )
     summary = run_episode(options, printer=lambda _line: None)
     rec = summarize_recording(path)
