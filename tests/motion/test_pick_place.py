@@ -27,7 +27,7 @@ def task_for(detect):
 
 @pytest.fixture
 def stocked(kitchen_cfg, robot_cfg):
-    """salt at (0.37, 0.3), sugar at (0.63, 0.4), honey at (0.5, 0.4) on the shelf."""
+    """salt at (0.5, 0.5), sugar at (0.63, 0.4), honey at (0.37, 0.6) on the shelf."""
     with Kitchen(kitchen_cfg, robot_cfg) as k:
         k.spawn([kitchen_cfg.catalogue.get(n) for n in ("salt", "sugar", "honey")], np.random.default_rng(1))
         with MotionSystem.build(k) as system:
@@ -36,7 +36,7 @@ def stocked(kitchen_cfg, robot_cfg):
 
 def test_pick_and_place_puts_the_object_on_the_table(stocked, arm, robot_cfg, assert_within_limits, task_for):
     kitchen, system = stocked
-    assert kitchen.spawn_slots["salt"][:2] == (0.37, 0.3)
+    assert kitchen.spawn_slots["salt"][:2] == (0.5, 0.5)
     task = task_for(kitchen, system, "salt")
     assert task.progress().phase == "idle"
     task.start()
