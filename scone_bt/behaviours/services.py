@@ -6,7 +6,6 @@ through the cached factories below, so that the embedder, κ̂ and the motion sy
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -86,7 +85,6 @@ class Services:
 
     def __post_init__(self) -> None:
         self.rng = np.random.default_rng(self.options.seed)
-        self.started = time.perf_counter()
 
     def _once(self, key: str, build: Callable[[], Any]) -> Any:
         if key not in self._cache:
@@ -112,18 +110,17 @@ class Services:
         return self._once("estimator", self._build_estimator)
 
     def _build_estimator(self) -> ConfidenceEstimator:
-        from scone_bt.confidence import make_estimator
+        from scone_bt.confidence import make_estimator, rebuild_estimator
 
         est = make_estimator(self.options.estimator, seed=self.options.seed)
         store = self.store()
         if store is not None:
-            past = [o for o in store.outcomes() if o.context.get("robot") == self.context.get("robot")]
-            if past:
-                X = self.embedder().embed([o.action for o in past])
-                est.fit(X, np.array([o.success for o in past], dtype=bool))
-                self.printer(
-                    f"κ̂ rebuilt from {len(past)} stored outcomes of robot {self.context.get('robot')!r}"
-                )
+            robot = self.context.get("robot")
+            n = rebuild_estimator(
+                est, store, self.embedder(), where=lambda o: o.context.get("robot") == robot
+            )
+            if n:
+                self.printer(f"κ̂ rebuilt from {n} stored outcomes of robot {robot!r}")
         return est
 
     def motion(self) -> MotionSystem:

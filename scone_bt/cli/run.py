@@ -29,7 +29,7 @@ def build_parser() -> argparse.ArgumentParser:
             "the current recipe step, predicts its own success (self-confidence) and either acts or asks the human "
             "for help. Prints one line per decision and a summary."
         ),
-        epilog=__doc__.split("Examples:", 1)[1] and "examples:" + __doc__.split("Examples:", 1)[1],
+        epilog="examples:" + __doc__.split("Examples:", 1)[1],
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     g = p.add_argument_group("input")

@@ -171,14 +171,11 @@ def _analyze(log, args: argparse.Namespace, out: Path) -> None:  # noqa: ANN001
 
 
 def _session(args: argparse.Namespace) -> int:
-    from scone_bt.cli.run import _quiet_backends
+    from scone_bt.behaviours import BehaviourOptions
+    from scone_bt.episode import EpisodeOptions
     from scone_bt.study.design import plan_session
     from scone_bt.study.session import run_study_session
     from scone_bt.study.ui import serve_tablet
-
-    _quiet_backends()
-    from scone_bt.behaviours import BehaviourOptions
-    from scone_bt.episode import EpisodeOptions
 
     plan = plan_session(args.participant, args.group, args.session)
     if args.max_ticks <= 0 or args.distractors < 0:
@@ -217,10 +214,6 @@ def _simulate(args: argparse.Namespace) -> int:
         )
     if args.analyze is not None:
         _analysis_options(args)  # fail early on bad analysis settings
-    if not args.fast:
-        from scone_bt.cli.run import _quiet_backends
-
-        _quiet_backends()
     options = SimulationOptions(
         participants=args.participants,
         seed=args.seed,
