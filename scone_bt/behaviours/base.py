@@ -17,6 +17,8 @@ class Keys:
 
     FRAME = "/perception/frame"
     DETECTIONS = "/perception/detections"
+    # What stands on the table, as the table camera sees it: tuple[Detection, ...] (position = top-face centre).
+    TABLE_DETECTIONS = "/perception/table_detections"
     AFFORDANCES = "/affordances/list"
     INSTRUCTION = "/relevance/instruction"
     RANKED = "/relevance/ranked"

@@ -16,7 +16,7 @@ from pathlib import Path
 from scone_bt.errors import SconeError
 from scone_bt.resources import repo_root
 
-__all__ = ["main", "default_states_dir"]
+__all__ = ["main", "register", "default_states_dir"]
 
 
 def default_states_dir() -> Path | None:
@@ -92,9 +92,8 @@ def _build(args: argparse.Namespace) -> int:
     return 0
 
 
-def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="scone-bench", description=__doc__.splitlines()[0])
-    sub = p.add_subparsers(dest="command", required=True)
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add ``if`` and ``if-states`` to ``scone-bench``."""
     b = sub.add_parser("if", help="score every instruction-following policy on a states file")
     b.add_argument("--states", required=True, help="JSONL states file (instruction, available, relevant)")
     b.add_argument("--split", choices=["train", "dev", "test"], help="keep only this split of --states")
@@ -122,18 +121,10 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--distractors", type=int, default=5, help="items from other recipes per kitchen")
     s.add_argument("--seed", type=int, default=0)
     s.set_defaults(func=_build)
-    return p
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of ``scone-bench``; errors print one line and exit with status 2."""
-    args = _parser().parse_args(argv)
-    try:
-        return int(args.func(args))
-    except SconeError as exc:
-        print(f"scone-bench: {exc}", file=sys.stderr)
-        return 2
+    """``scone-bench`` restricted to nothing: kept so ``python -m`` and old imports still work."""
+    from scone_bt.cli.bench import main as bench_main
 
-
-if __name__ == "__main__":
-    sys.exit(main())
+    return bench_main(argv)

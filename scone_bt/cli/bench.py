@@ -1,0 +1,45 @@
+"""``scone-bench``: every benchmark of the project as one subcommand.
+
+Each benchmark lives beside the stage it measures and exposes ``register(subparsers)``, which adds its
+subcommand(s) and sets ``func`` (a callable ``(argparse.Namespace) -> int``). Registration must stay cheap:
+heavy imports happen inside ``func``.
+
+    scone-bench --help
+    scone-bench if --states tools/data/if/test.jsonl
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from collections.abc import Sequence
+
+from scone_bt.errors import SconeError
+
+__all__ = ["main", "BENCHMARK_MODULES"]
+
+# One line per benchmark module; its register() adds the subcommands.
+BENCHMARK_MODULES: tuple[str, ...] = ("scone_bt.instruction_following.cli",)
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="scone-bench", description=__doc__.splitlines()[0])
+    sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for name in BENCHMARK_MODULES:
+        importlib.import_module(name).register(sub)
+    return p
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of ``scone-bench``; errors print one line and exit with status 2."""
+    args = _parser().parse_args(argv)
+    try:
+        return int(args.func(args))
+    except SconeError as exc:
+        print(f"scone-bench: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())
