@@ -20,11 +20,16 @@ from scone_bt.errors import SconeError
 __all__ = ["main", "BENCHMARK_MODULES"]
 
 # One line per benchmark module; its register() adds the subcommands.
-BENCHMARK_MODULES: tuple[str, ...] = ("scone_bt.instruction_following.cli",)
+BENCHMARK_MODULES: tuple[str, ...] = (
+    "scone_bt.instruction_following.cli",
+    "scone_bt.benchmarks.cli",
+)
 
 
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="scone-bench", description=__doc__.splitlines()[0])
+    p = argparse.ArgumentParser(
+        prog="scone-bench", description="Every benchmark of SCONE-BT as one subcommand; each prints JSON."
+    )
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for name in BENCHMARK_MODULES:
         importlib.import_module(name).register(sub)

@@ -1,7 +1,7 @@
 """Benchmark of the SCONE core: embedding throughput, κ̂ latency, and the decision path. Prints JSON.
 
-    .venv/bin/python tools/bench_core.py            # full run (about a minute; MPNet included if assembled)
-    .venv/bin/python tools/bench_core.py --quick    # fewer repetitions, for development
+    scone-bench core            # full run (about a minute; MPNet included if assembled)
+    scone-bench core --quick    # fewer repetitions, for development
 
 Decision path = rank 21 actions against an instruction (warm embedding cache) + κ̂ predict for the 21 actions +
 gate, timed right after an outcome (memoised κ̂ predictions dropped, a real prediction) and in steady ticks
@@ -161,11 +161,8 @@ def bench_decision_path(emb, estimators: list[str], reps: int) -> dict:  # noqa:
     return out
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="fewer repetitions")
-    parser.add_argument("--out", type=Path, help="also write the JSON here")
-    args = parser.parse_args(argv)
+def run(args: argparse.Namespace) -> int:
+    """``scone-bench core``: print (and with ``--json FILE`` write) the JSON report."""
     reps = 5 if args.quick else 30
     names = ["minilm", "glove", "onehot"] + (["mpnet"] if mpnet_dir() is not None else [])
     with tempfile.TemporaryDirectory(prefix="bench-core-") as tmp:
@@ -198,10 +195,6 @@ def main(argv: list[str] | None = None) -> int:
         }
     text = json.dumps(result, indent=2)
     print(text)
-    if args.out:
-        args.out.write_text(text + "\n")
+    if args.json:
+        Path(args.json).write_text(text + "\n")
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -1,6 +1,6 @@
 """Logging overhead of the rerun recorder on a headless episode tick, against a no-op recorder. Prints JSON.
 
-    .venv/bin/python tools/bench_viz.py [--ticks 120] [--frame-every 10] [--save-demo runs/demo.rrd]
+    scone-bench viz [--ticks 120] [--frame-every 10] [--save-demo runs/demo.rrd] [--json FILE]
 
 The episode is the real world at work: PyBullet physics with the arm following a moving joint target on every
 tick (so every link is re-posed: the worst case for logging), the real camera (TinyRenderer) and marker
@@ -174,22 +174,8 @@ def run(recorder: NullRecorder | Recorder, args: argparse.Namespace) -> dict[str
     }
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--ticks", type=int, default=120, help="control ticks per run (default: 120)")
-    parser.add_argument(
-        "--tick-seconds", type=float, default=0.1, help="simulated seconds per tick (default: 0.1)"
-    )
-    parser.add_argument(
-        "--frame-every", type=int, default=10, help="camera frame every N ticks (default: 10)"
-    )
-    parser.add_argument(
-        "--robot-geometry", default="visual", help="visual or collision meshes (default: visual)"
-    )
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--save-demo", type=Path, help="keep the recording here (else a temporary file)")
-    args = parser.parse_args()
-
+def main(args: argparse.Namespace) -> int:
+    """``scone-bench viz``: run the episode with and without the recorder and print the JSON report."""
     null = run(NullRecorder(), args)
     with tempfile.TemporaryDirectory() as tmp:
         path = args.save_demo or Path(tmp) / "bench.rrd"
@@ -204,28 +190,26 @@ def main() -> None:
     # Wall times and all-thread CPU seconds (rerun's writer threads included) are reported beside it.
     overhead = rec["log_cpu_ms_mean"] / rec["episode_work_cpu_ms_mean"]
     overhead_wall = rec["log_ms_mean"] / rec["episode_work_ms_mean"]
-    print(
-        json.dumps(
-            {
-                "benchmark": "viz_logging_overhead",
-                "ticks": args.ticks,
-                "tick_seconds": args.tick_seconds,
-                "frame_every": args.frame_every,
-                "robot_geometry": args.robot_geometry,
-                "null_recorder": null,
-                "rerun_recorder": rec,
-                "overhead_pct_of_episode_tick_cpu": round(100 * overhead, 2),
-                "overhead_pct_of_episode_tick_wall": round(100 * overhead_wall, 2),
-                "wall_tick_ratio_recorder_vs_null": round(rec["tick_ms_mean"] / null["tick_ms_mean"], 3),
-                "process_cpu_ratio_recorder_vs_null": round(rec["process_cpu_s"] / null["process_cpu_s"], 3),
-                "rrd_mb": round(size_mb, 2),
-                "target_pct": 20.0,
-                "meets_target": overhead <= 0.20,
-            },
-            indent=2,
-        )
+    text = json.dumps(
+        {
+            "benchmark": "viz_logging_overhead",
+            "ticks": args.ticks,
+            "tick_seconds": args.tick_seconds,
+            "frame_every": args.frame_every,
+            "robot_geometry": args.robot_geometry,
+            "null_recorder": null,
+            "rerun_recorder": rec,
+            "overhead_pct_of_episode_tick_cpu": round(100 * overhead, 2),
+            "overhead_pct_of_episode_tick_wall": round(100 * overhead_wall, 2),
+            "wall_tick_ratio_recorder_vs_null": round(rec["tick_ms_mean"] / null["tick_ms_mean"], 3),
+            "process_cpu_ratio_recorder_vs_null": round(rec["process_cpu_s"] / null["process_cpu_s"], 3),
+            "rrd_mb": round(size_mb, 2),
+            "target_pct": 20.0,
+            "meets_target": overhead <= 0.20,
+        },
+        indent=2,
     )
-
-
-if __name__ == "__main__":
-    main()
+    print(text)
+    if args.json:
+        Path(args.json).write_text(text + "\n")
+    return 0

@@ -1,0 +1,42 @@
+"""``scone-bench core`` and ``scone-bench viz``: the SCONE core's latency and rerun's logging overhead.
+
+Registration is cheap; each handler imports its benchmark module (which pulls in rerun, PyBullet or the embedders).
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+__all__ = ["register"]
+
+
+def _core(args: argparse.Namespace) -> int:
+    from scone_bt.benchmarks.core import run
+
+    return run(args)
+
+
+def _viz(args: argparse.Namespace) -> int:
+    from scone_bt.benchmarks.viz import main
+
+    return main(args)
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add ``core`` and ``viz`` to ``scone-bench``."""
+    c = sub.add_parser("core", help="embedding throughput, κ̂ latency and the decision path (JSON)")
+    c.add_argument("--quick", action="store_true", help="fewer repetitions")
+    c.add_argument("--json", type=Path, help="also write the JSON report to this file")
+    c.set_defaults(func=_core)
+    v = sub.add_parser("viz", help="rerun logging overhead on a headless episode tick (JSON)")
+    v.add_argument("--ticks", type=int, default=120, help="control ticks per run (default: 120)")
+    v.add_argument(
+        "--tick-seconds", type=float, default=0.1, help="simulated seconds per tick (default: 0.1)"
+    )
+    v.add_argument("--frame-every", type=int, default=10, help="camera frame every N ticks (default: 10)")
+    v.add_argument("--robot-geometry", default="visual", choices=["visual", "collision"], help="robot meshes")
+    v.add_argument("--seed", type=int, default=0)
+    v.add_argument("--save-demo", type=Path, help="keep the recording here (else a temporary file)")
+    v.add_argument("--json", type=Path, help="also write the JSON report to this file")
+    v.set_defaults(func=_viz)
