@@ -2,77 +2,15 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from scone_bt.config.yaml_io import Fields, read_yaml, require
-from scone_bt.errors import ConfigError, UnknownNameError
-from scone_bt.resources import resolve_file
+from scone_bt.config.catalogue import Catalogue, ObjectSpec, catalogue_files, load_catalogue
+from scone_bt.config.yaml_io import Fields, read_yaml
+from scone_bt.resources import data_dir, resolve_file
 
 __all__ = ["ObjectSpec", "Catalogue", "CameraSpec", "SceneSpec", "KitchenConfig", "load_kitchen"]
-
-SHAPES = ("box", "cylinder")
-
-
-@dataclass(frozen=True)
-class ObjectSpec:
-    """One catalogue object.
-
-    Attributes:
-        name: Canonical name, used in action texts ("Put <name> on table").
-        aliases: Other names recipes use for it.
-        shape: "box" or "cylinder".
-        size: Extent along x, y, z in metres (cylinder: diameter, diameter, height).
-        mass: Kilograms.
-        friction: Lateral friction coefficient of its surface.
-        material: Free text (glass, metal, paper, ...).
-        rgba: Body colour, components in [0, 1].
-        marker_id: ArUco (DICT_4X4_50) id printed on the lid.
-    """
-
-    name: str
-    aliases: tuple[str, ...]
-    shape: str
-    size: tuple[float, float, float]
-    mass: float
-    friction: float
-    material: str
-    rgba: tuple[float, float, float, float]
-    marker_id: int
-
-    @property
-    def grasp_width(self) -> float:
-        """Narrowest horizontal extent in metres (what the fingers must span)."""
-        return min(self.size[0], self.size[1])
-
-    @property
-    def height(self) -> float:
-        return self.size[2]
-
-
-@dataclass(frozen=True)
-class Catalogue:
-    """All objects the kitchen can stock, by canonical name."""
-
-    objects: tuple[ObjectSpec, ...]
-
-    def names(self) -> list[str]:
-        return [o.name for o in self.objects]
-
-    def get(self, name: str) -> ObjectSpec:
-        for obj in self.objects:
-            if obj.name == name:
-                return obj
-        raise UnknownNameError("object", name, self.names())
-
-    def by_marker(self, marker_id: int) -> ObjectSpec | None:
-        for obj in self.objects:
-            if obj.marker_id == marker_id:
-                return obj
-        return None
-
-    def __len__(self) -> int:
-        return len(self.objects)
 
 
 @dataclass(frozen=True)
@@ -133,30 +71,15 @@ def _box(f: Fields, key: str) -> tuple[tuple[float, float, float], tuple[float, 
     return sub.vector("center", 3), sub.vector("size", 3)  # type: ignore[return-value]
 
 
-def _object(raw: object, index: int, where: str) -> ObjectSpec:
-    f = Fields(raw, f"{where}.objects[{index}]")  # type: ignore[arg-type]
-    shape = f.get("shape", str)
-    require(shape in SHAPES, f"{f.where}.shape: {shape!r} is not one of {', '.join(SHAPES)}")
-    size = f.vector("size", 3)
-    require(all(s > 0 for s in size), f"{f.where}.size: all extents must be positive")
-    mass = f.get("mass", float)
-    require(mass > 0, f"{f.where}.mass must be positive")
-    rgba = f.vector("rgba", 4)
-    return ObjectSpec(
-        name=f.get("name", str).strip(),
-        aliases=tuple(str(a).strip() for a in f.get("aliases", list, [])),
-        shape=shape,
-        size=size,  # type: ignore[arg-type]
-        mass=mass,
-        friction=f.get("friction", float),
-        material=f.get("material", str, "unknown"),
-        rgba=rgba,  # type: ignore[arg-type]
-        marker_id=f.get("marker_id", int),
-    )
+def load_kitchen(
+    name_or_path: str | Path = "kitchen", catalogues: Sequence[str | Path] = ()
+) -> KitchenConfig:
+    """Load a kitchen file by name (perception/<name>.yaml) or path.
 
-
-def load_kitchen(name_or_path: str | Path = "kitchen") -> KitchenConfig:
-    """Load a kitchen file by name (perception/<name>.yaml) or path."""
+    Args:
+        name_or_path: The kitchen file.
+        catalogues: Extra product files (a user's own products), merged after the kitchen's ``catalogue:`` list.
+    """
     path = resolve_file("perception", name_or_path, (".yaml", ".yml"))
     f = Fields(read_yaml(path), str(path))
     s = f.sub("scene")
@@ -194,12 +117,7 @@ def load_kitchen(name_or_path: str | Path = "kitchen") -> KitchenConfig:
         noise_std=c.get("noise_std", float, 0.0),
         depth_noise_std=c.get("depth_noise_std", float, 0.0),
     )
-    objects = tuple(_object(o, i, str(path)) for i, o in enumerate(f.get("objects", list)))
-    names = [o.name for o in objects]
-    dupes = sorted({n for n in names if names.count(n) > 1})
-    if dupes:
-        raise ConfigError(f"{path}: duplicate object names: {', '.join(dupes)}")
-    markers = [o.marker_id for o in objects]
-    if len(set(markers)) != len(markers):
-        raise ConfigError(f"{path}: marker_id values must be unique")
-    return KitchenConfig(scene=scene, camera=camera, catalogue=Catalogue(objects), source=path)
+    entries = f.get("catalogue", list)
+    files = catalogue_files(entries, path.parent, data_dir("perception")) + [Path(c) for c in catalogues]
+    catalogue = load_catalogue(files)
+    return KitchenConfig(scene=scene, camera=camera, catalogue=catalogue, source=path)

@@ -53,8 +53,10 @@ def test_missing_urdf_is_reported(tmp_path: Path):
 
 
 def test_bad_object_shape_names_valid_shapes(tmp_path: Path, kitchen_cfg):
-    text = Path(kitchen_cfg.source).read_text().replace("shape: cylinder", "shape: sphere", 1)
-    path = tmp_path / "k.yaml"
-    path.write_text(text)
+    path = tmp_path / "mine.yaml"
+    path.write_text(
+        "family: mine\nsource: test\nproducts:\n  - {name: orb, shape: sphere, size: [0.05, 0.05, 0.05],"
+        " mass: 0.1, friction: 0.5, material: glass, rgba: [1, 1, 1, 1], marker_id: 999}\n"
+    )
     with pytest.raises(ConfigError, match="box, cylinder"):
-        load_kitchen(path)
+        load_kitchen(catalogues=[path])
