@@ -7,7 +7,8 @@ that are still in the kitchen, and an ingredient is used up after the last step 
 File schema (JSON Lines, one state per line): ``instruction`` (str), ``available`` (action texts, "Put X on
 table"), ``relevant`` (a subset of ``available``); optional ``recipe_id``, ``step`` (0-based), ``split``
 ("train", "dev", "test"), ``labels`` ("author": the recipe author's Cooklang markup; "mentions": items named in
-the step text) and ``locations`` (action text → [shelf tier, slot], tier 0 lowest).
+the step text), ``locations`` (action text → [shelf tier, slot], tier 0 lowest) and ``recipe_items`` (the
+recipe's ingredient list as kitchen items, in list order: what the robot knows from the recipe card, not a label).
 """
 
 from __future__ import annotations
@@ -64,6 +65,7 @@ class IfState:
         split: "train", "dev", "test" or "" when the file does not say.
         labels: How ``relevant`` was obtained: "author", "mentions" or "".
         locations: Action text → (shelf tier, slot index); tier 0 is the lowest.
+        recipe_items: The recipe's ingredient list as kitchen items (empty when the file does not say).
     """
 
     instruction: str
@@ -74,6 +76,7 @@ class IfState:
     split: str = ""
     labels: str = ""
     locations: dict[str, tuple[int, int]] = field(default_factory=dict, compare=False, hash=False)
+    recipe_items: tuple[str, ...] = ()
 
     def to_json(self) -> dict[str, object]:
         """The state as one JSON object of the documented schema."""
@@ -86,6 +89,7 @@ class IfState:
             "split": self.split,
             "labels": self.labels,
             "locations": {a: list(loc) for a, loc in self.locations.items()},
+            "recipe_items": list(self.recipe_items),
         }
 
 
@@ -264,6 +268,7 @@ def build_states(recipes: Sequence[Recipe], options: StateOptions | None = None)
                         split=split,
                         labels=opts.labels,
                         locations={action_text(i): where[i] for i in in_kitchen},
+                        recipe_items=tuple(items),
                     )
                 )
     return states
@@ -313,6 +318,9 @@ def load_states(path: str | os.PathLike[str], split: str | None = None) -> list[
             if not set(relevant) <= set(available):
                 raise RecipeError(f"{file}:{n}: relevant actions must be a subset of the available ones")
             locations = {str(a): (int(v[0]), int(v[1])) for a, v in (rec.get("locations") or {}).items()}
+            recipe_items = rec.get("recipe_items") or []
+            if not isinstance(recipe_items, list) or not all(isinstance(i, str) for i in recipe_items):
+                raise RecipeError(f"{file}:{n}: recipe_items must be a list of strings")
             states.append(
                 IfState(
                     instruction=instruction,
@@ -323,6 +331,7 @@ def load_states(path: str | os.PathLike[str], split: str | None = None) -> list[
                     split=str(rec.get("split", "")),
                     labels=str(rec.get("labels", "")),
                     locations=locations,
+                    recipe_items=tuple(recipe_items),
                 )
             )
     if split is not None:
