@@ -11,9 +11,11 @@ Examples:
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
+from scone_bt.cli.checks import internal_error_line
 from scone_bt.errors import SconeError
 
 __all__ = ["main", "build_parser"]
@@ -115,22 +117,35 @@ def _quiet_backends() -> None:
 
 def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
     from scone_bt.behaviours import BehaviourOptions
+    from scone_bt.cli import checks
     from scone_bt.episode import EpisodeOptions
     from scone_bt.human import HumanOptions
     from scone_bt.tree import load_tree_spec
 
-    params = load_tree_spec(args.tree).parameters
+    # Every value is checked here, before the kitchen is built or a model is loaded.
+    checks.check_seed(args.seed)
+    checks.check_positive_int(args.max_ticks, "--max-ticks")
+    if args.distractors < 0:
+        raise SconeError(f"--distractors {args.distractors}: must be 0 or more")
+    checks.check_range(args.takeover_probability, "--takeover-probability", 0.0, 1.0)
+    if args.confidence_threshold is not None:
+        checks.check_range(args.confidence_threshold, "--confidence-threshold", 0.0, 1.0)
+    if args.relevance_threshold is not None:
+        checks.check_range(args.relevance_threshold, "--relevance-threshold", -1.0, 1.0)
+    if args.save is not None:
+        checks.check_output_file(args.save, "--save")
+    if isinstance(args.experience, Path):
+        checks.check_output_file(args.experience, "--experience")
+    if args.connect is not None:
+        from scone_bt.viz.connect import check_viewer_address
+
+        check_viewer_address(args.connect)
+    params = load_tree_spec(args.tree).parameters  # validated: types and ranges
 
     def pick(cli_value, key, default):
         return cli_value if cli_value is not None else params.get(key, default)
 
-    if not 0.0 <= args.takeover_probability <= 1.0:
-        raise SconeError("--takeover-probability must be in [0, 1]")
     threshold = pick(args.confidence_threshold, "confidence_threshold", 0.5)
-    if not 0.0 <= threshold <= 1.0:
-        raise SconeError("--confidence-threshold must be in [0, 1]")
-    if args.max_ticks <= 0 or args.distractors < 0:
-        raise SconeError("--max-ticks must be positive and --distractors non-negative")
     behaviour = BehaviourOptions(
         embedder=pick(args.embedder, "embedder", "minilm"),
         estimator=pick(args.estimator, "estimator", "eps-knn"),
@@ -188,6 +203,13 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("scone-run: interrupted; outcomes observed so far are in the experience store", file=sys.stderr)
         return 130
+    except (
+        Exception
+    ) as exc:  # a bug, not an outcome: stop with its message (SCONE_BT_DEBUG=1 shows the traceback)
+        if os.environ.get("SCONE_BT_DEBUG"):
+            raise
+        print(f"scone-run: internal error: {internal_error_line(exc)}", file=sys.stderr)
+        return 3
     print(summary.format())
     if args.save is not None:
         print(f"recording: {args.save}  (open with: rerun {args.save})")

@@ -4,9 +4,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Annotated, Any
 
-from scone_bt.config.yaml_io import Fields, read_yaml, require
+from pydantic import Field, field_validator, model_validator
+
+from scone_bt.config.schema import FiniteFloat, NonNegativeFloat, PositiveFloat, StrictModel, validate
+from scone_bt.config.yaml_io import read_yaml
 from scone_bt.errors import ConfigError
 from scone_bt.resources import resolve_file
 
@@ -16,6 +19,7 @@ __all__ = [
     "PlannerSpec",
     "ControlSpec",
     "RobotConfig",
+    "RobotFile",
     "load_robot",
     "resolve_urdf",
 ]
@@ -101,69 +105,134 @@ def resolve_urdf(spec: str, relative_to: Path) -> Path:
     return path
 
 
-def _disabled_pairs(raw: dict[str, Any], path: Path) -> tuple[tuple[str, str], ...]:
-    section = raw.get("collision") or {}
-    require(isinstance(section, dict), f"{path}.collision: expected a mapping")
-    pairs = section.get("disabled_pairs") or []
-    require(
-        isinstance(pairs, list), f"{path}.collision.disabled_pairs: expected a list of [link, link] pairs"
-    )
-    out = []
-    for i, pair in enumerate(pairs):
-        ok = isinstance(pair, list) and len(pair) == 2 and all(isinstance(x, str) for x in pair)
-        require(ok, f"{path}.collision.disabled_pairs[{i}]: expected two link names, got {pair!r}")
-        out.append((pair[0], pair[1]))
-    return tuple(out)
+_Name = Annotated[str, Field(min_length=1)]
+_Pair = Annotated[list[_Name], Field(min_length=2, max_length=2)]
+_Scale = Annotated[float, Field(gt=0, le=1, allow_inf_nan=False)]
+
+
+class _GripperModel(StrictModel):
+    joints: Annotated[list[_Name], Field(min_length=1)]
+    open_position: NonNegativeFloat
+    closed_position: NonNegativeFloat = 0.0
+    max_force: PositiveFloat
+    finger_friction: NonNegativeFloat = 1.0
+
+    @model_validator(mode="after")
+    def _opens(self) -> _GripperModel:
+        if self.open_position <= self.closed_position:
+            raise ValueError(
+                f"open_position ({self.open_position}) must be larger than closed_position ({self.closed_position})"
+            )
+        return self
+
+
+class _LimitsModel(StrictModel):
+    velocity: list[PositiveFloat]
+    acceleration: list[PositiveFloat]
+    jerk: list[PositiveFloat]
+    velocity_scale: _Scale = 1.0
+    acceleration_scale: _Scale = 1.0
+    jerk_scale: _Scale = 1.0
+
+
+class _PlannerModel(StrictModel):
+    name: str = "RRTConnect"
+    time_limit_s: Annotated[float, Field(gt=0, le=600, allow_inf_nan=False)] = 1.0
+    simplify: bool = True
+    rng_seed: Annotated[int, Field(ge=0, le=2**32 - 1)] = 0
+
+    @field_validator("name")
+    @classmethod
+    def _known_planner(cls, name: str) -> str:
+        from scone_bt.motion.planner import PLANNERS  # imported here: scone_bt.motion imports this module
+
+        if name not in PLANNERS:
+            raise ValueError(f"unknown planner {name!r}; valid: {', '.join(PLANNERS)}")
+        return name
+
+
+class _ControlModel(StrictModel):
+    rate_hz: Annotated[float, Field(gt=0, le=10_000, allow_inf_nan=False)] = 240.0
+    position_gain: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False)] = 0.3
+    max_joint_force: PositiveFloat = 87.0
+
+
+class _CollisionModel(StrictModel):
+    disabled_pairs: list[_Pair] = []
+    hand_links: list[_Name] = []
+
+
+class RobotFile(StrictModel):
+    """The schema of robots/<name>.yaml (units: metres, radians, seconds, newtons)."""
+
+    name: _Name
+    urdf: _Name
+    base_position: Annotated[list[FiniteFloat], Field(min_length=3, max_length=3)] = [0.0, 0.0, 0.0]
+    arm_joints: Annotated[list[_Name], Field(min_length=1, max_length=32)]
+    end_effector_frame: _Name
+    home: list[FiniteFloat]
+    gripper: _GripperModel
+    limits: _LimitsModel
+    planner: _PlannerModel = _PlannerModel()
+    control: _ControlModel = _ControlModel()
+    collision: _CollisionModel = _CollisionModel()
+
+    @model_validator(mode="after")
+    def _one_value_per_joint(self) -> RobotFile:
+        n = len(self.arm_joints)
+        if len(set(self.arm_joints)) != n:
+            raise ValueError("arm_joints: a joint is listed twice")
+        for key, values in (
+            ("home", self.home),
+            ("limits.velocity", self.limits.velocity),
+            ("limits.acceleration", self.limits.acceleration),
+            ("limits.jerk", self.limits.jerk),
+        ):
+            if len(values) != n:
+                raise ValueError(f"{key}: expected {n} numbers (one per arm joint), got {len(values)}")
+        return self
 
 
 def load_robot(name_or_path: str | Path = "panda") -> RobotConfig:
-    """Load a robot by name (robots/<name>.yaml) or path."""
+    """Load a robot by name (robots/<name>.yaml) or path; every key is validated before anything runs.
+
+    Raises:
+        ConfigError: one line naming the file, the key and what is allowed (unknown planner, `rate_hz: 0`,
+            negative gripper force or friction, wrong types, unknown keys, wrong encoding, ...).
+    """
     path = resolve_file("robots", name_or_path, (".yaml", ".yml"))
     raw = read_yaml(path)
-    f = Fields(raw, str(path))
-    arm = tuple(str(j) for j in f.get("arm_joints", list))
-    home = f.vector("home", len(arm))
-    g = f.sub("gripper")
-    lim = f.sub("limits")
-    limits = LimitsSpec(
-        velocity=lim.vector("velocity", len(arm)),
-        acceleration=lim.vector("acceleration", len(arm)),
-        jerk=lim.vector("jerk", len(arm)),
-        velocity_scale=lim.get("velocity_scale", float, 1.0),
-        acceleration_scale=lim.get("acceleration_scale", float, 1.0),
-        jerk_scale=lim.get("jerk_scale", float, 1.0),
-    )
-    p = f.sub("planner") if "planner" in raw else Fields({}, f"{path}.planner")
-    c = f.sub("control") if "control" in raw else Fields({}, f"{path}.control")
-    cfg = RobotConfig(
-        name=f.get("name", str),
-        urdf=resolve_urdf(f.get("urdf", str), path),
-        base_position=f.vector("base_position", 3, (0.0, 0.0, 0.0)),  # type: ignore[arg-type]
-        arm_joints=arm,
-        end_effector_frame=f.get("end_effector_frame", str),
-        home=home,
+    m = validate(RobotFile, raw, str(path))
+    g, lim, p, c = m.gripper, m.limits, m.planner, m.control
+    return RobotConfig(
+        name=m.name,
+        urdf=resolve_urdf(m.urdf, path),
+        base_position=tuple(m.base_position),  # type: ignore[arg-type]
+        arm_joints=tuple(m.arm_joints),
+        end_effector_frame=m.end_effector_frame,
+        home=tuple(m.home),
         gripper=GripperSpec(
-            joints=tuple(str(j) for j in g.get("joints", list)),
-            open_position=g.get("open_position", float),
-            closed_position=g.get("closed_position", float, 0.0),
-            max_force=g.get("max_force", float),
-            finger_friction=g.get("finger_friction", float, 1.0),
+            joints=tuple(g.joints),
+            open_position=g.open_position,
+            closed_position=g.closed_position,
+            max_force=g.max_force,
+            finger_friction=g.finger_friction,
         ),
-        limits=limits,
+        limits=LimitsSpec(
+            velocity=tuple(lim.velocity),
+            acceleration=tuple(lim.acceleration),
+            jerk=tuple(lim.jerk),
+            velocity_scale=lim.velocity_scale,
+            acceleration_scale=lim.acceleration_scale,
+            jerk_scale=lim.jerk_scale,
+        ),
         planner=PlannerSpec(
-            name=p.get("name", str, "RRTConnect"),
-            time_limit_s=p.get("time_limit_s", float, 1.0),
-            simplify=p.get("simplify", bool, True),
-            rng_seed=p.get("rng_seed", int, 0),
+            name=p.name, time_limit_s=p.time_limit_s, simplify=p.simplify, rng_seed=p.rng_seed
         ),
         control=ControlSpec(
-            rate_hz=c.get("rate_hz", float, 240.0),
-            position_gain=c.get("position_gain", float, 0.3),
-            max_joint_force=c.get("max_joint_force", float, 87.0),
+            rate_hz=c.rate_hz, position_gain=c.position_gain, max_joint_force=c.max_joint_force
         ),
         source=path,
         raw=raw,
-        disabled_collisions=_disabled_pairs(raw, path),
+        disabled_collisions=tuple((a, b) for a, b in m.collision.disabled_pairs),
     )
-    require(cfg.limits.velocity_scale > 0, f"{path}: limits.velocity_scale must be positive")
-    return cfg

@@ -8,21 +8,28 @@ from typing import Any
 
 import yaml
 
+from scone_bt.config.schema import read_text
 from scone_bt.errors import ConfigError
 
 __all__ = ["read_yaml", "require", "Fields"]
 
 
 def read_yaml(path: Path) -> dict[str, Any]:
-    """Parse a YAML mapping or raise ConfigError naming the file."""
+    """Parse a UTF-8 YAML mapping or raise ConfigError naming the file (and the line, for syntax errors)."""
+    text = read_text(path)
     try:
-        data = yaml.safe_load(Path(path).read_text())
-    except FileNotFoundError:
-        raise ConfigError(f"{path}: file not found") from None
+        data = yaml.safe_load(text)
+    except RecursionError:
+        raise ConfigError(f"{path}: nested too deeply to be a configuration file") from None
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f" line {mark.line + 1}" if mark is not None else ""
-        raise ConfigError(f"{path}:{where} is not valid YAML ({getattr(exc, 'problem', exc)})") from None
+        problem = getattr(exc, "problem", None) or (str(exc).splitlines() or ["syntax error"])[0]
+        raise ConfigError(f"{path}:{where} is not valid YAML ({problem})") from None
+    except (ValueError, TypeError, OverflowError) as exc:  # e.g. a date like 2020-13-45
+        raise ConfigError(f"{path}: is not valid YAML ({exc})") from None
+    if data is None:
+        raise ConfigError(f"{path}: is empty; expected a mapping of keys to values")
     if not isinstance(data, dict):
         raise ConfigError(f"{path}: expected a mapping at the top level, got {type(data).__name__}")
     return data

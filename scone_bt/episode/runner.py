@@ -166,6 +166,11 @@ def run_episode(
         raise ConfigError(
             f"recipe needs {len(recipe.needed)} objects but the shelf has {len(kitchen_cfg.scene.shelf_slots())} slots"
         )
+    if options.distractors > n_distractors:
+        raise ConfigError(
+            f"--distractors {options.distractors}: {n_distractors} available for this recipe and shelf "
+            f"({len(others)} other products, {len(kitchen_cfg.scene.shelf_slots()) - len(recipe.needed)} free slots)"
+        )
     distractors = (
         [str(n) for n in rng.choice(others, size=n_distractors, replace=False)] if n_distractors else []
     )

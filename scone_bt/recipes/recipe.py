@@ -6,16 +6,31 @@ import difflib
 import json
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Annotated, Any
 
 import yaml
+from pydantic import Field, field_validator, model_validator
 
+from scone_bt.config.schema import StrictModel, read_text, validate
 from scone_bt.errors import RecipeError
 from scone_bt.resources import shared_dir
 
-__all__ = ["Recipe", "load_recipe", "recipe_corpus_path", "recipe_from_record", "EXAMPLES_DIR"]
+__all__ = [
+    "Recipe",
+    "RecipeRecord",
+    "load_recipe",
+    "recipe_corpus_path",
+    "recipe_from_record",
+    "EXAMPLES_DIR",
+    "MAX_ITEMS",
+    "MAX_TEXT",
+]
 
 EXAMPLES_DIR = Path(__file__).resolve().parent / "examples"
+MAX_ITEMS = 500
+"""At most this many ingredients, steps or per-step ingredients in one recipe."""
+MAX_TEXT = 5000
+"""At most this many characters in one ingredient, step or title."""
 
 
 @dataclass(frozen=True)
@@ -45,45 +60,90 @@ def recipe_corpus_path() -> Path | None:
     return path if path.is_file() else None
 
 
+_Text = Annotated[str, Field(min_length=1, max_length=MAX_TEXT)]
+
+
+class RecipeRecord(StrictModel):
+    """The schema of one recipe (a JSON/YAML file, or one line of recipes.jsonl).
+
+    Corpus metadata (source, license, tags, ...) is accepted and not used; any other key is an error, so a typo
+    like `stpes` is reported rather than ignored.
+    """
+
+    id: Annotated[str, Field(min_length=1, max_length=MAX_TEXT)] | None = None
+    title: Annotated[str, Field(max_length=MAX_TEXT)] | None = None
+    ingredients: Annotated[list[Annotated[str, Field(max_length=MAX_TEXT)]], Field(max_length=MAX_ITEMS)]
+    steps: Annotated[list[str], Field(min_length=1, max_length=MAX_ITEMS)]
+    step_ingredients: (
+        Annotated[
+            list[Annotated[list[Annotated[str, Field(max_length=MAX_TEXT)]], Field(max_length=MAX_ITEMS)]],
+            Field(max_length=MAX_ITEMS),
+        ]
+        | None
+    ) = None
+    # corpus metadata, see ../shared/data/recipes/SOURCE.md
+    source: Any = None
+    license: Any = None
+    category: Any = None
+    ingredients_structured: Any = None
+    original_source: Any = None
+    serves: Any = None
+    tags: Any = None
+    author: Any = None
+    direction_notes: Any = None
+    ingredient_groups: Any = None
+    notes: Any = None
+
+    @field_validator("steps")
+    @classmethod
+    def _steps_are_instructions(cls, steps: list[str]) -> list[str]:
+        for i, step in enumerate(steps):
+            if not step.strip():
+                raise ValueError(
+                    f"step {i + 1} of {len(steps)} is empty; every step must be a non-empty instruction"
+                )
+            if len(step) > MAX_TEXT:
+                raise ValueError(f"step {i + 1} has {len(step)} characters (at most {MAX_TEXT})")
+        return steps
+
+    @model_validator(mode="after")
+    def _one_list_per_step(self) -> RecipeRecord:
+        if self.step_ingredients is not None and len(self.step_ingredients) != len(self.steps):
+            raise ValueError(
+                f"step_ingredients must have one list per step ({len(self.steps)}), got {len(self.step_ingredients)}"
+            )
+        return self
+
+
 def recipe_from_record(record: Any, where: str) -> Recipe:
-    """Validate one JSON/YAML record of the corpus's shape."""
+    """Validate one JSON/YAML record of the corpus's shape; RecipeError (one line) if it does not fit."""
     if not isinstance(record, dict):
-        raise RecipeError(f"{where}: a recipe must be a mapping with id, title, ingredients, steps")
-    missing = [k for k in ("ingredients", "steps") if k not in record]
-    if missing:
         raise RecipeError(
-            f"{where}: recipe lacks {', '.join(missing)}; required: ingredients, steps (optional: id, title, step_ingredients)"
+            f"{where}: a recipe must be a mapping with ingredients and steps (optional: id, title, step_ingredients), "
+            f"got {type(record).__name__}"
         )
-    ingredients, steps = record["ingredients"], record["steps"]
-    if not isinstance(ingredients, list) or not all(isinstance(i, str) for i in ingredients):
-        raise RecipeError(f"{where}: 'ingredients' must be a list of strings")
-    if not isinstance(steps, list) or not all(isinstance(s, str) for s in steps):
-        raise RecipeError(f"{where}: 'steps' must be a list of strings")
-    steps = [s.strip() for s in steps]
-    if not steps or any(not s for s in steps):
-        raise RecipeError(f"{where}: every step must be a non-empty instruction (found {len(steps)} steps)")
-    per_step = record.get("step_ingredients")
-    if per_step is not None:
-        if not isinstance(per_step, list) or len(per_step) != len(steps):
-            raise RecipeError(f"{where}: 'step_ingredients' must have one list per step ({len(steps)})")
-        per_step = tuple(tuple(str(i) for i in s) for s in per_step)
+    r = validate(RecipeRecord, record, where, error=RecipeError)
     return Recipe(
-        id=str(record.get("id", where)),
-        title=str(record.get("title", record.get("id", where))),
-        ingredients=tuple(ingredients),
-        steps=tuple(steps),
-        step_ingredients=per_step,
+        id=r.id if r.id is not None else where,
+        title=r.title if r.title else (r.id if r.id is not None else where),
+        ingredients=tuple(r.ingredients),
+        steps=tuple(s.strip() for s in r.steps),
+        step_ingredients=(
+            tuple(tuple(x) for x in r.step_ingredients) if r.step_ingredients is not None else None
+        ),
     )
 
 
 def _load_file(path: Path) -> Recipe:
+    text = read_text(path, error=RecipeError)
     try:
-        text = path.read_text()
         record = json.loads(text) if path.suffix == ".json" else yaml.safe_load(text)
-    except (json.JSONDecodeError, yaml.YAMLError) as exc:
-        raise RecipeError(
-            f"{path}: not valid {'JSON' if path.suffix == '.json' else 'YAML'} ({exc})".splitlines()[0]
-        ) from None
+    except RecursionError:
+        raise RecipeError(f"{path}: nested too deeply to be a recipe") from None
+    except (json.JSONDecodeError, yaml.YAMLError, ValueError, TypeError, OverflowError) as exc:
+        kind = "JSON" if path.suffix == ".json" else "YAML"
+        first = (str(exc).splitlines() or ["syntax error"])[0]
+        raise RecipeError(f"{path}: not valid {kind} ({first})") from None
     return recipe_from_record(record, str(path))
 
 
@@ -113,12 +173,24 @@ def load_recipe(id_or_path: str) -> Recipe:
             f"use a JSON/YAML file or one of: {', '.join('example:' + n for n in example_names())}"
         )
     ids = []
-    with corpus.open() as fh:
-        for line_no, line in enumerate(fh, 1):
+    for line_no, line in enumerate(read_text(corpus, error=RecipeError).splitlines(), 1):
+        if not line.strip():
+            continue
+        try:
             record = json.loads(line)
-            if record.get("id") == id_or_path:
-                return recipe_from_record(record, f"{corpus}:{line_no}")
-            ids.append(record.get("id", ""))
+        except (json.JSONDecodeError, RecursionError):
+            raise RecipeError(f"{corpus}:{line_no}: not valid JSON; the corpus file is damaged") from None
+        if not isinstance(record, dict):
+            raise RecipeError(
+                f"{corpus}:{line_no}: a recipe must be a JSON object; the corpus file is damaged"
+            )
+        if record.get("id") == id_or_path:
+            return recipe_from_record(record, f"{corpus}:{line_no}")
+        ids.append(str(record.get("id", "")))
     close = difflib.get_close_matches(id_or_path, ids, n=3, cutoff=0.5)
-    hint = f"; did you mean {', '.join(close)}?" if close else f"; ids look like {ids[0]!r} (see {corpus})"
+    hint = (
+        f"; did you mean {', '.join(close)}?"
+        if close
+        else (f"; ids look like {ids[0]!r} (see {corpus})" if ids else f"; {corpus} holds none")
+    )
     raise RecipeError(f"unknown recipe id {id_or_path!r} among {len(ids)} recipes{hint}")

@@ -2,17 +2,21 @@
 
 from __future__ import annotations
 
+import inspect
+import typing
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Annotated, Any
 
 import py_trees
+from pydantic import BaseModel, Field, create_model, field_validator
 
+from scone_bt.config.schema import StrictModel, validate
 from scone_bt.config.yaml_io import read_yaml
 from scone_bt.errors import ConfigError, UnknownNameError
 from scone_bt.resources import resolve_file
 
-__all__ = ["TreeSpec", "load_tree_spec", "build_tree", "render_tree"]
+__all__ = ["TreeSpec", "TreeParameters", "ARG_MODELS", "load_tree_spec", "build_tree", "render_tree"]
 
 COMPOSITES = ("sequence", "selector")
 
@@ -27,9 +31,72 @@ class TreeSpec:
     source: Path = Path(".")
 
 
-def _validate(node: Any, where: str) -> None:
+MAX_DEPTH = 64
+"""Nesting limit of a tree file (a deeper one is refused rather than overflowing the stack)."""
+
+_NODE_KEYS = {"behaviour": ("behaviour", "name", "args"), "composite": ("name", "memory", "children")}
+
+
+class _DecisionIsArgs(StrictModel):
+    kind: str
+
+    @field_validator("kind")
+    @classmethod
+    def _known_kind(cls, kind: str) -> str:
+        from scone_bt.gate.types import DecisionKind
+
+        valid = [k.value for k in DecisionKind]
+        if kind not in valid:
+            raise ValueError(f"unknown decision kind {kind!r}; valid: {', '.join(valid)}")
+        return kind
+
+
+class _WaitForHumanArgs(StrictModel):
+    seconds: Annotated[float, Field(gt=0, le=3600, allow_inf_nan=False)] = 1.0
+
+
+ARG_MODELS: dict[str, type[StrictModel]] = {"DecisionIs": _DecisionIsArgs, "WaitForHuman": _WaitForHumanArgs}
+"""Argument schemas of behaviours that take arguments; others are checked against their constructor's signature."""
+
+
+class TreeParameters(StrictModel):
+    """The `parameters:` section: defaults of scone-run's options."""
+
+    embedder: Annotated[str, Field(min_length=1)] = "minilm"
+    estimator: Annotated[str, Field(min_length=1)] = "eps-knn"
+    confidence_threshold: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)] = 0.5
+    relevance_threshold: Annotated[float, Field(ge=-1, le=1, allow_inf_nan=False)] = 0.25
+    max_failures_per_action: Annotated[int, Field(ge=1, le=1000)] = 3
+
+
+def _signature_model(cls: type) -> type[BaseModel]:
+    """A pydantic model of a behaviour's keyword arguments (those after name and services)."""
+    hints = typing.get_type_hints(cls.__init__)
+    fields: dict[str, Any] = {}
+    for pname, param in list(inspect.signature(cls.__init__).parameters.items())[3:]:
+        if param.kind not in (param.POSITIONAL_OR_KEYWORD, param.KEYWORD_ONLY):
+            continue
+        default = ... if param.default is inspect.Parameter.empty else param.default
+        fields[pname] = (hints.get(pname, Any), default)
+    return create_model(f"{cls.__name__}Args", __base__=StrictModel, **fields)
+
+
+def _check_args(behaviour: str, args: Any, where: str) -> dict[str, Any]:
     from scone_bt.behaviours import BEHAVIOURS
 
+    model = ARG_MODELS.get(behaviour) or _signature_model(BEHAVIOURS[behaviour])
+    if not isinstance(args, dict):
+        raise ConfigError(f"{where}: 'args' must be a mapping, got {type(args).__name__}")
+    if not model.model_fields and args:
+        raise ConfigError(f"{where}: behaviour {behaviour} takes no args (got {', '.join(map(str, args))})")
+    return validate(model, args, f"{where} ({behaviour} args)").model_dump()
+
+
+def _validate(node: Any, where: str, depth: int = 0) -> None:
+    from scone_bt.behaviours import BEHAVIOURS
+
+    if depth > MAX_DEPTH:
+        raise ConfigError(f"{where}: the tree is nested deeper than {MAX_DEPTH} levels")
     if not isinstance(node, dict):
         raise ConfigError(
             f"{where}: a node must be a mapping with one of: {', '.join(COMPOSITES)}, behaviour"
@@ -37,31 +104,53 @@ def _validate(node: Any, where: str) -> None:
     kinds = [k for k in (*COMPOSITES, "behaviour") if k in node]
     if len(kinds) != 1:
         raise ConfigError(
-            f"{where}: a node needs exactly one of: {', '.join(COMPOSITES)}, behaviour (got {sorted(node)})"
+            f"{where}: a node needs exactly one of: {', '.join(COMPOSITES)}, behaviour (got {sorted(map(str, node))})"
         )
-    if kinds[0] == "behaviour":
-        if node["behaviour"] not in BEHAVIOURS:
+    kind = kinds[0]
+    allowed = _NODE_KEYS["behaviour" if kind == "behaviour" else "composite"]
+    unknown = [str(k) for k in node if k != kind and k not in allowed]
+    if unknown:
+        raise ConfigError(
+            f"{where}: unknown key {unknown[0]!r}; valid: {kind}, {', '.join(allowed[1:] if kind == 'behaviour' else allowed)}"
+        )
+    if "name" in node and not isinstance(node["name"], str):
+        raise ConfigError(f"{where}: 'name' must be text, got {node['name']!r}")
+    if kind == "behaviour":
+        if not isinstance(node["behaviour"], str) or node["behaviour"] not in BEHAVIOURS:
             raise UnknownNameError(f"behaviour at {where}", str(node["behaviour"]), BEHAVIOURS)
-        if not isinstance(node.get("args", {}), dict):
-            raise ConfigError(f"{where}: 'args' must be a mapping")
+        _check_args(node["behaviour"], node.get("args", {}) if node.get("args") is not None else {}, where)
         return
+    if not isinstance(node[kind], str):
+        raise ConfigError(f"{where}: the {kind}'s name must be text, got {node[kind]!r}")
+    if "memory" in node and not isinstance(node["memory"], bool):
+        raise ConfigError(f"{where}: 'memory' must be true or false, got {node['memory']!r}")
     children = node.get("children")
     if not isinstance(children, list) or not children:
-        raise ConfigError(f"{where}: {kinds[0]} {node[kinds[0]]!r} needs a non-empty 'children' list")
+        raise ConfigError(f"{where}: {kind} {node[kind]!r} needs a non-empty 'children' list")
     for i, child in enumerate(children):
-        _validate(child, f"{where}/{node[kinds[0]]}[{i}]")
+        _validate(child, f"{where}/{node[kind]}[{i}]", depth + 1)
 
 
 def load_tree_spec(name_or_path: str | Path = "assistive_cooking") -> TreeSpec:
-    """Read and validate trees/<name>.yaml (or a path)."""
+    """Read and validate trees/<name>.yaml (or a path): nodes, behaviour names, their args and the parameters.
+
+    Everything a tick would trip over (`{seconds: soon}`, `{kind: maybe}`, `confidence_threshold: high`) is a
+    one-line ConfigError here, before the robot acts.
+    """
     path = resolve_file("trees", name_or_path, (".yaml", ".yml"))
     data = read_yaml(path)
+    unknown = [str(k) for k in data if k not in ("name", "root", "parameters")]
+    if unknown:
+        raise ConfigError(f"{path}: unknown key {unknown[0]!r}; valid: name, root, parameters")
     if "root" not in data:
         raise ConfigError(f"{path}: missing 'root'")
+    if "name" in data and not isinstance(data["name"], str):
+        raise ConfigError(f"{path}: 'name' must be text, got {data['name']!r}")
     _validate(data["root"], f"{path}:root")
     params = data.get("parameters", {}) or {}
     if not isinstance(params, dict):
         raise ConfigError(f"{path}: 'parameters' must be a mapping")
+    validate(TreeParameters, params, f"{path}: parameters")
     return TreeSpec(str(data.get("name", path.stem)), data["root"], params, path)
 
 
@@ -71,9 +160,10 @@ def _build(node: dict[str, Any], services: Any) -> py_trees.behaviour.Behaviour:
     if "behaviour" in node:
         cls = BEHAVIOURS[node["behaviour"]]
         name = str(node.get("name", node["behaviour"]))
+        args = _check_args(node["behaviour"], node.get("args") or {}, f"tree node {name!r}")
         try:
-            return cls(name, services, **node.get("args", {}))
-        except TypeError as exc:
+            return cls(name, services, **args)
+        except (TypeError, ValueError) as exc:
             raise ConfigError(f"tree node {name!r}: bad args {node.get('args')} ({exc})") from None
     kind = "sequence" if "sequence" in node else "selector"
     composite = py_trees.composites.Sequence if kind == "sequence" else py_trees.composites.Selector

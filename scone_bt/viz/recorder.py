@@ -18,6 +18,7 @@ from scone_bt.gate.types import Decision, DecisionKind
 from scone_bt.perception.camera import intrinsics, world_from_camera
 from scone_bt.viz import paths as P
 from scone_bt.viz.blueprint import default_blueprint
+from scone_bt.viz.connect import check_viewer_address
 from scone_bt.viz.render import (
     STATUSES,
     TreeNode,
@@ -42,6 +43,8 @@ if TYPE_CHECKING:
 __all__ = ["Recorder"]
 
 APPLICATION_ID = "scone_bt"
+STREAM_FLUSH_TIMEOUT_S = 3.0
+"""Longest wait for a live viewer to take the buffered data at close (seconds); a gone viewer costs this once."""
 
 _STATUS_COLOURS = {
     "SUCCESS": (46, 160, 67, 255),
@@ -183,12 +186,15 @@ class Recorder:
             )
             urls.append(f"rerun+http://127.0.0.1:{spawn_port}/proxy")
         if connect is not None:
-            url = connect if "://" in connect else f"rerun+http://{connect}/proxy"
+            url = check_viewer_address(connect)  # a bad or unreachable address fails here, within seconds
             if url not in urls:  # rerun refuses two sinks to one address
                 urls.append(url)
+        self._streams = bool(urls)
         sinks += [rr.GrpcSink(url) for url in urls]
         self._rec.set_sinks(*sinks, default_blueprint=default_blueprint())
         self._closed = False
+        self.stream_error: str | None = None
+        """Why the live viewer stopped taking data (None while it does, or without one)."""
         self._robot: RobotVisuals | None = None
         self._link_frame: dict[str, str] = {}  # link_poses key → transform frame id
         self._pending: list[tuple[str, Pose]] = []  # moved bodies of this tick, sent together
@@ -323,9 +329,20 @@ class Recorder:
             self._rec.log(P.LOG, rr.TextLog(line, level=_log_level(line)))
         self.ticks_logged += 1
 
-    def flush(self) -> None:
-        """Push everything logged so far to the sinks (blocks until written)."""
-        self._rec.flush()
+    def flush(self, timeout_s: float | None = None) -> bool:
+        """Push everything logged so far to the sinks; False if a viewer did not take it within timeout_s.
+
+        With a live viewer the wait is bounded (STREAM_FLUSH_TIMEOUT_S by default): a viewer that went away
+        must not stop the episode. A file-only recording waits until written.
+        """
+        if timeout_s is None:
+            timeout_s = STREAM_FLUSH_TIMEOUT_S if self._streams else 1e38
+        try:
+            self._rec.flush(timeout_sec=timeout_s)
+        except RuntimeError as exc:  # rerun reports an unreachable gRPC sink this way
+            self.stream_error = " ".join(str(exc).split())
+            return False
+        return True
 
     def close(self) -> None:
         """Flush everything to the sinks and finish the `.rrd` (closing twice is harmless)."""
@@ -333,7 +350,7 @@ class Recorder:
             return
         self._closed = True
         self._log_trace()  # at the last tick's time
-        self._rec.flush()
+        self.flush()
         self._rec.disconnect()
 
     def __enter__(self) -> Recorder:

@@ -1,0 +1,153 @@
+"""Validating declarative files with pydantic: one model per file type, one line per error.
+
+Every loader reads its file with `read_text` (strict UTF-8: a UTF-16 byte-order mark or random bytes is a one-line
+error, not a UnicodeDecodeError), parses it, then checks the result with `validate(Model, data, where)`. pydantic's
+ValidationError becomes ONE line naming the file, the key path and what is allowed, raised as the loader's own
+`SconeError` subclass.
+"""
+
+from __future__ import annotations
+
+import codecs
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Annotated, Any, TypeVar
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from scone_bt.errors import ConfigError, SconeError
+
+__all__ = [
+    "StrictModel",
+    "FiniteFloat",
+    "PositiveFloat",
+    "NonNegativeFloat",
+    "UnitFloat",
+    "read_text",
+    "validate",
+    "format_validation_error",
+    "MAX_FILE_BYTES",
+]
+
+MAX_FILE_BYTES = 64 * 1024 * 1024
+"""Declarative files larger than this are refused before they are read (a recipe or robot file is a few kB)."""
+
+FiniteFloat = Annotated[float, Field(allow_inf_nan=False)]
+PositiveFloat = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+NonNegativeFloat = Annotated[float, Field(ge=0, allow_inf_nan=False)]
+UnitFloat = Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)]
+
+M = TypeVar("M", bound=BaseModel)
+
+_BOMS = (
+    (codecs.BOM_UTF32_LE, "UTF-32"),
+    (codecs.BOM_UTF32_BE, "UTF-32"),
+    (codecs.BOM_UTF16_LE, "UTF-16"),
+    (codecs.BOM_UTF16_BE, "UTF-16"),
+)
+
+
+class StrictModel(BaseModel):
+    """Base of the file models: unknown keys, wrong types (no "3" for 3, no true for 1) and NaN are rejected."""
+
+    model_config = ConfigDict(extra="forbid", strict=True, frozen=True)
+
+
+def read_text(path: Path | str, error: type[SconeError] = ConfigError) -> str:
+    """A file's text as strict UTF-8 (a UTF-8 byte-order mark is dropped); anything else is one-line `error`."""
+    path = Path(path)
+    try:
+        if path.is_dir():
+            raise error(f"{path}: is a directory, not a file")
+        size = path.stat().st_size
+        if size > MAX_FILE_BYTES:
+            raise error(f"{path}: {size} bytes is too large (at most {MAX_FILE_BYTES} bytes)")
+        data = path.read_bytes()
+    except FileNotFoundError:
+        raise error(f"{path}: file not found") from None
+    except OSError as exc:
+        raise error(f"{path}: cannot read ({exc.strerror or exc})") from None
+    for bom, name in _BOMS:  # UTF-32-LE starts like UTF-16-LE: test the longer marks first
+        if data.startswith(bom):
+            raise error(f"{path}: is {name} text; save it as UTF-8")
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data[: exc.start].count(b"\n") + 1
+        raise error(
+            f"{path}: line {line} is not UTF-8 text (byte 0x{data[exc.start]:02x}); save it as UTF-8"
+        ) from None
+    if "\x00" in text:
+        raise error(f"{path}: contains NUL characters; it is not a text file")
+    return text.removeprefix("\ufeff")
+
+
+def _loc(loc: tuple[Any, ...]) -> str:
+    out = ""
+    for part in loc:
+        if isinstance(part, int):
+            out += f"[{part}]"
+        else:
+            out += ("." if out else "") + str(part)
+    return out
+
+
+def _short(value: Any, limit: int = 60) -> str:
+    text = repr(value)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def _model_at(model: type[BaseModel], loc: tuple[Any, ...]) -> type[BaseModel] | None:
+    """The nested model that owns the last key of `loc` (for listing its valid keys)."""
+    current: Any = model
+    for part in loc[:-1]:
+        if isinstance(part, int) or not (isinstance(current, type) and issubclass(current, BaseModel)):
+            continue
+        field = current.model_fields.get(str(part))
+        if field is None:
+            return None
+        ann = field.annotation
+        for candidate in (ann, *getattr(ann, "__args__", ())):
+            for inner in (candidate, *getattr(candidate, "__args__", ())):
+                if isinstance(inner, type) and issubclass(inner, BaseModel):
+                    current = inner
+                    break
+    return current if isinstance(current, type) and issubclass(current, BaseModel) else None
+
+
+def format_validation_error(exc: ValidationError, where: str, model: type[BaseModel] | None = None) -> str:
+    """ONE line for a pydantic error: `where: key.path: problem (got value)`, plus how many more problems."""
+    errors = exc.errors(include_url=False)
+    first = errors[0]
+    loc = tuple(first.get("loc", ()))
+    kind = first.get("type", "")
+    key = _loc(loc)
+    if kind == "extra_forbidden":
+        owner = _model_at(model, loc) if model is not None else None
+        valid = ", ".join(owner.model_fields) if owner is not None else ""
+        msg = f"unknown key {str(loc[-1])!r}" + (f"; valid: {valid}" if valid else "")
+        key = _loc(loc[:-1])
+    elif kind == "missing":
+        msg = "missing (required)"
+    else:
+        msg = " ".join(str(first.get("msg", "invalid")).split()).removeprefix("Value error, ")
+        value = first.get("input")
+        if "input" in first and kind != "value_error" and not isinstance(value, (dict, list)):
+            msg += f" (got {_short(value)})"
+    more = f" (and {len(errors) - 1} more problem{'s' if len(errors) > 2 else ''})" if len(errors) > 1 else ""
+    head = f"{where}: {key}: " if key and (loc or kind != "value_error") else f"{where}: "
+    return f"{head}{msg}{more}"
+
+
+def validate(
+    model: type[M],
+    data: Any,
+    where: str,
+    error: type[SconeError] = ConfigError,
+    context: Mapping | None = None,
+) -> M:
+    """`model` validated from `data`, or `error` with one line naming `where`, the key path and what is allowed."""
+    try:
+        return model.model_validate(data, context=dict(context) if context is not None else None)
+    except ValidationError as exc:
+        raise error(format_validation_error(exc, where, model)) from None
