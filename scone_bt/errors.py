@@ -14,6 +14,7 @@ __all__ = [
     "RecipeError",
     "ExperienceStoreError",
     "ModelUnavailableError",
+    "DistributedError",
 ]
 
 
@@ -48,3 +49,7 @@ class ExperienceStoreError(SconeError):
 
 class ModelUnavailableError(SconeError):
     """An embedding model that is not installed locally (no downloads happen at run time)."""
+
+
+class DistributedError(SconeError):
+    """A Ray cluster that cannot be reached, a bad --ray address, or a task that failed on every retry."""

@@ -1,11 +1,28 @@
 """Experience: every observed outcome, stored durably so κ̂ can be rebuilt after any crash.
 
-store = ExperienceStore("runs/experience.sqlite")
-store.append(Outcome(time.time(), "Put salt on table", "salt", "minilm", success=True))
-store.outcomes(embedder="minilm")
+store = open_store("runs/experience.sqlite")              # or "postgresql://robot@fleet-db/scone" for a fleet
+store.append(Outcome(time.time(), "Put salt on table", "salt", "minilm", success=True, robot_id="panda-1",
+                     arm="panda"))
+store.outcomes(arm="panda")                                 # LearnFrom.SAME_MODEL.filters(...)
 """
 
-from scone_bt.experience.store import APPLICATION_ID, SCHEMA_VERSION, ExperienceStore
-from scone_bt.experience.types import Outcome
+from scone_bt.experience.base import SCHEMA_VERSION, OutcomeStore
+from scone_bt.experience.learn_from import LearnFrom
+from scone_bt.experience.open import open_store
+from scone_bt.experience.postgres import PostgresExperienceStore, is_postgres_url, redact_url
+from scone_bt.experience.store import APPLICATION_ID, ExperienceStore
+from scone_bt.experience.types import Outcome, new_outcome_id
 
-__all__ = ["APPLICATION_ID", "SCHEMA_VERSION", "ExperienceStore", "Outcome"]
+__all__ = [
+    "APPLICATION_ID",
+    "SCHEMA_VERSION",
+    "ExperienceStore",
+    "LearnFrom",
+    "Outcome",
+    "OutcomeStore",
+    "PostgresExperienceStore",
+    "is_postgres_url",
+    "new_outcome_id",
+    "open_store",
+    "redact_url",
+]

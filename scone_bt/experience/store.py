@@ -1,29 +1,35 @@
-"""The experience store: every observed outcome appended to SQLite and committed before `append` returns.
+"""The SQLite experience store: every observed outcome appended and committed before `append` returns.
 
 The file is WAL-mode SQLite with synchronous=FULL, so a run killed at any point (even by SIGKILL or power loss)
-keeps every outcome whose `append` returned. A file that is not ours (another SQLite database, or not SQLite at
-all) or that fails SQLite's integrity check raises ExperienceStoreError and is left untouched.
+keeps every outcome whose `append` returned. Several robot processes may share one file: writers take turns
+(BEGIN IMMEDIATE with a 30 s busy timeout) and an outcome_id stored twice keeps one row. A file that is not ours
+(another SQLite database, or not SQLite at all) or that fails SQLite's integrity check raises
+ExperienceStoreError and is left untouched.
+
+Schema 1 files (before robot ids) still open: they are upgraded to schema 2 in one transaction, after a
+byte-for-byte backup beside them (`<name>.v1-backup<suffix>`), and `notice` says so. The upgrade only adds
+columns (robot_id and arm from each row's context "robot", profile from "profile", outcome_id "v1-<row id>");
+no existing value changes.
 """
 
 from __future__ import annotations
 
-import csv
 import json
+import shutil
 import sqlite3
 import threading
-from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 from scone_bt.errors import ExperienceStoreError
+from scone_bt.experience.base import COLUMNS, SCHEMA_VERSION, OutcomeStore, context_json
 from scone_bt.experience.types import Outcome
 
 __all__ = ["APPLICATION_ID", "SCHEMA_VERSION", "ExperienceStore"]
 
 APPLICATION_ID = 0x5C0E0B7  # "SCONE-BT": marks the file as ours (PRAGMA application_id)
-SCHEMA_VERSION = 1
 _SQLITE_MAGIC = b"SQLite format 3\x00"
-_COLUMNS = ("time", "action", "object_name", "embedder", "success", "failure_stage", "context")
-_SCHEMA = """
+_SCHEMA_V1 = """
 CREATE TABLE outcomes (
     id INTEGER PRIMARY KEY AUTOINCREMENT,
     time REAL NOT NULL,
@@ -36,13 +42,32 @@ CREATE TABLE outcomes (
 );
 CREATE INDEX outcomes_embedder ON outcomes (embedder);
 """
+# v1 -> v2 adds columns only; a new file is made as v1 + this, so new and upgraded files have the same shape.
+_UPGRADE_V2 = """
+ALTER TABLE outcomes ADD COLUMN outcome_id TEXT;
+ALTER TABLE outcomes ADD COLUMN robot_id TEXT NOT NULL DEFAULT '';
+ALTER TABLE outcomes ADD COLUMN arm TEXT NOT NULL DEFAULT '';
+ALTER TABLE outcomes ADD COLUMN profile TEXT NOT NULL DEFAULT '';
+"""
+_INDEXES_V2 = """
+CREATE UNIQUE INDEX outcomes_outcome_id ON outcomes (outcome_id);
+CREATE INDEX outcomes_robot ON outcomes (robot_id);
+CREATE INDEX outcomes_arm ON outcomes (arm);
+"""
 
 
-class ExperienceStore:
-    """Durable, append-only log of outcomes.
+def _statements(script: str) -> list[str]:
+    return [s for s in (p.strip() for p in script.split(";")) if s]
+
+
+class ExperienceStore(OutcomeStore):
+    """Durable, append-only log of outcomes in one SQLite file.
 
     Args:
         path: SQLite file; created (with its folder) if missing, opened if it is an experience store.
+
+    Attributes:
+        notice: One line to show the user when opening changed something (a schema upgrade), else None.
 
     Raises:
         ExperienceStoreError: the file is corrupt, belongs to something else, has a newer schema, or cannot be
@@ -51,15 +76,17 @@ class ExperienceStore:
 
     def __init__(self, path: Path | str) -> None:
         self.path = Path(path)
+        self.location = str(self.path)
+        self.notice: str | None = None
         self._lock = threading.Lock()
-        self._conn = self._open()
+        self._conn: sqlite3.Connection | None = self._open()
 
     # ----- opening -----------------------------------------------------------------------------------------
     def _open(self) -> sqlite3.Connection:
         path = self.path
-        existing = path.exists() and path.stat().st_size > 0
         if path.is_dir():
             raise ExperienceStoreError(f"experience store {path} is a directory; give a file path")
+        existing = path.exists() and path.stat().st_size > 0
         if existing:
             with path.open("rb") as f:
                 if f.read(16) != _SQLITE_MAGIC:
@@ -75,50 +102,53 @@ class ExperienceStore:
         except sqlite3.Error as exc:
             raise ExperienceStoreError(f"cannot open experience store {path}: {exc}") from None
         try:
-            if existing:
-                self._check(conn)
-            conn.execute("PRAGMA journal_mode=WAL")
+            version = self._check(conn) if existing else 0
             conn.execute("PRAGMA synchronous=FULL")
-            if not existing:
+            if (
+                version == 1
+            ):  # upgraded before the switch to WAL, so a failed upgrade leaves the file as it was
+                self._upgrade_v1(conn, self._backup(conn))
+            conn.execute("PRAGMA journal_mode=WAL")
+            if version == 0:
                 self._create(conn)
         except sqlite3.DatabaseError as exc:
             conn.close()
             raise ExperienceStoreError(f"experience store {path} is unusable: {exc}") from None
+        except BaseException:
+            conn.close()
+            raise
         return conn
 
-    def _check(self, conn: sqlite3.Connection) -> None:
+    def _check(self, conn: sqlite3.Connection) -> int:
+        """The schema version of an existing file (0: empty, create it); refuses anything not ours."""
         path = self.path
         try:
             app_id = conn.execute("PRAGMA application_id").fetchone()[0]
             version = conn.execute("PRAGMA user_version").fetchone()[0]
             tables = {r[0] for r in conn.execute("SELECT name FROM sqlite_master WHERE type = 'table'")}
         except sqlite3.DatabaseError as exc:
-            conn.close()
             raise ExperienceStoreError(f"{path} is corrupt ({exc}); it was left as it is") from None
         if app_id == 0 and not tables:
-            self._create(conn)  # an empty SQLite database (e.g. made by `sqlite3 file ''`): nothing to lose
-            return
+            return 0  # an empty SQLite database (e.g. made by `sqlite3 file ''`): nothing to lose
         if app_id != APPLICATION_ID or "outcomes" not in tables:
-            conn.close()
             raise ExperienceStoreError(
                 f"{path} is an SQLite database of something else (tables: {', '.join(sorted(tables)) or 'none'}); "
                 "give a new file path"
             )
         if version > SCHEMA_VERSION:
-            conn.close()
             raise ExperienceStoreError(
                 f"{path} has schema version {version}; this scone-bt reads up to {SCHEMA_VERSION}; upgrade scone-bt"
             )
         check = conn.execute("PRAGMA quick_check").fetchone()[0]
         if check != "ok":
-            conn.close()
             raise ExperienceStoreError(f"{path} is corrupt (quick_check: {check}); it was left as it is")
+        return int(version)
 
     @staticmethod
     def _create(conn: sqlite3.Connection) -> None:
         conn.execute("BEGIN IMMEDIATE")
         try:
-            for stmt in filter(str.strip, _SCHEMA.split(";")):
+            for stmt in _statements(_SCHEMA_V1) + _statements(_UPGRADE_V2) + _statements(_INDEXES_V2):
                 conn.execute(stmt)
             conn.execute(f"PRAGMA application_id = {APPLICATION_ID}")
             conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
@@ -127,86 +157,128 @@ class ExperienceStore:
             conn.execute("ROLLBACK")
             raise
 
+    def _backup_path(self) -> Path:
+        p = self.path
+        candidate = p.with_name(f"{p.stem}.v1-backup{p.suffix}")
+        n = 1
+        while candidate.exists():
+            n += 1
+            candidate = p.with_name(f"{p.stem}.v1-backup{n}{p.suffix}")
+        return candidate
+
+    def _backup(self, conn: sqlite3.Connection) -> Path:
+        """A copy of a schema 1 file before its upgrade: byte for byte, or a snapshot if a WAL holds data."""
+        backup = self._backup_path()
+        wal = self.path.with_name(self.path.name + "-wal")
+        try:
+            if wal.exists() and wal.stat().st_size > 0:
+                with sqlite3.connect(backup) as copy:
+                    conn.backup(copy)  # a consistent snapshot including the WAL's pages
+                copy.close()
+            else:
+                shutil.copyfile(self.path, backup)
+        except (sqlite3.Error, OSError) as exc:
+            backup.unlink(missing_ok=True)
+            raise ExperienceStoreError(
+                f"{self.path} has schema 1 and needs an upgrade, but its backup {backup} could not be written "
+                f"({exc}); the file was left as it is"
+            ) from None
+        return backup
+
+    def _upgrade_v1(self, conn: sqlite3.Connection, backup: Path | None) -> None:
+        """Schema 1 → 2: add the columns in one transaction (all or nothing), after the backup was written."""
+        conn.execute("BEGIN IMMEDIATE")
+        try:
+            if (
+                conn.execute("PRAGMA user_version").fetchone()[0] != 1
+            ):  # another process upgraded it meanwhile
+                conn.execute("ROLLBACK")
+                if backup is not None:
+                    backup.unlink(missing_ok=True)
+                return
+            for stmt in _statements(_UPGRADE_V2):
+                conn.execute(stmt)
+            rows = conn.execute("SELECT id, context FROM outcomes").fetchall()
+            for row_id, ctx_text in rows:
+                try:
+                    ctx = json.loads(ctx_text)
+                except json.JSONDecodeError:
+                    ctx = {}
+                ctx = ctx if isinstance(ctx, dict) else {}
+                robot = str(ctx.get("robot", ""))
+                conn.execute(
+                    "UPDATE outcomes SET outcome_id = ?, robot_id = ?, arm = ?, profile = ? WHERE id = ?",
+                    (f"v1-{row_id}", robot, robot, str(ctx.get("profile", "")), row_id),
+                )
+            for stmt in _statements(_INDEXES_V2):
+                conn.execute(stmt)
+            conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
+            conn.execute("COMMIT")
+        except BaseException:
+            if conn.in_transaction:
+                conn.execute("ROLLBACK")
+            if backup is not None:
+                backup.unlink(missing_ok=True)  # nothing changed: the backup would only confuse
+            raise
+        self.notice = (
+            f"upgraded {self.path} from schema 1 to {SCHEMA_VERSION} ({len(rows)} outcomes kept, robot ids added); "
+            f"the original is saved as {backup}"
+        )
+
     # ----- writing -----------------------------------------------------------------------------------------
     def append(self, outcome: Outcome) -> int:
-        """Store one outcome; it is committed to disk before this returns. Returns its row id."""
-        try:
-            context = json.dumps(outcome.context, sort_keys=True, allow_nan=False)
-        except (TypeError, ValueError) as exc:
-            raise ExperienceStoreError(f"outcome context must be JSON-serialisable: {exc}") from None
+        """Store one outcome; it is committed to disk before this returns. Returns its row id.
+
+        An outcome whose outcome_id is already stored is not stored again; its existing row id is returned.
+        """
         row = (
+            outcome.outcome_id,
             float(outcome.time),
             outcome.action,
             outcome.object_name,
             outcome.embedder,
             int(bool(outcome.success)),
             outcome.failure_stage,
-            context,
+            context_json(outcome),
+            outcome.robot_id,
+            outcome.arm,
+            outcome.profile,
         )
         with self._lock:
             conn = self._connection()
             try:
                 conn.execute("BEGIN IMMEDIATE")
-                cur = conn.execute(
-                    f"INSERT INTO outcomes ({', '.join(_COLUMNS)}) VALUES (?, ?, ?, ?, ?, ?, ?)", row
+                conn.execute(
+                    f"INSERT INTO outcomes ({', '.join(COLUMNS)}) VALUES ({', '.join('?' * len(COLUMNS))}) "
+                    "ON CONFLICT (outcome_id) DO NOTHING",
+                    row,
                 )
+                row_id = conn.execute(
+                    "SELECT id FROM outcomes WHERE outcome_id = ?", (outcome.outcome_id,)
+                ).fetchone()[0]
                 conn.execute("COMMIT")
             except sqlite3.Error as exc:
                 if conn.in_transaction:
                     conn.execute("ROLLBACK")
                 raise ExperienceStoreError(f"cannot write to experience store {self.path}: {exc}") from None
-            return int(cur.lastrowid)
+            return int(row_id)
 
     # ----- reading -----------------------------------------------------------------------------------------
-    def outcomes(
-        self, embedder: str | None = None, where: Callable[[Outcome], bool] | None = None
-    ) -> list[Outcome]:
-        """Stored outcomes in the order they were observed, optionally only those of one embedder / predicate."""
-        sql = f"SELECT {', '.join(_COLUMNS)} FROM outcomes"
-        args: tuple = ()
-        if embedder is not None:
-            sql += " WHERE embedder = ?"
-            args = (embedder,)
+    def _select(self, embedder: str | None, robot_id: str | None, arm: str | None) -> list[tuple[Any, ...]]:
+        conditions, args = [], []
+        for column, value in (("embedder", embedder), ("robot_id", robot_id), ("arm", arm)):
+            if value is not None:
+                conditions.append(f"{column} = ?")
+                args.append(value)
+        sql = f"SELECT {', '.join(COLUMNS)} FROM outcomes"
+        if conditions:
+            sql += " WHERE " + " AND ".join(conditions)
         with self._lock:
-            rows = self._connection().execute(sql + " ORDER BY id", args).fetchall()
-        out = [
-            Outcome(
-                time=t,
-                action=a,
-                object_name=o,
-                embedder=e,
-                success=bool(s),
-                failure_stage=f,
-                context=json.loads(c),
-            )
-            for t, a, o, e, s, f, c in rows
-        ]
-        return [o for o in out if where(o)] if where is not None else out
+            return self._connection().execute(sql + " ORDER BY id", args).fetchall()
 
     def __len__(self) -> int:
         with self._lock:
             return int(self._connection().execute("SELECT COUNT(*) FROM outcomes").fetchone()[0])
-
-    def export_csv(self, path: Path | str) -> Path:
-        """Write every outcome to a CSV file (context as a JSON column); returns the path."""
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        with path.open("w", newline="") as f:
-            writer = csv.writer(f)
-            writer.writerow(_COLUMNS)
-            for o in self.outcomes():
-                writer.writerow(
-                    [
-                        repr(o.time),
-                        o.action,
-                        o.object_name,
-                        o.embedder,
-                        int(o.success),
-                        o.failure_stage or "",
-                        json.dumps(o.context, sort_keys=True),
-                    ]
-                )
-        return path
 
     # ----- lifetime ----------------------------------------------------------------------------------------
     def _connection(self) -> sqlite3.Connection:
@@ -223,9 +295,6 @@ class ExperienceStore:
 
     def __enter__(self) -> ExperienceStore:
         return self
-
-    def __exit__(self, *exc: object) -> None:
-        self.close()
 
     def __repr__(self) -> str:
         return f"ExperienceStore({str(self.path)!r})"

@@ -1,0 +1,132 @@
+"""What every experience store guarantees, and the parts the SQLite and PostgreSQL backends share.
+
+Guarantees: `append` returns only after the outcome is committed durably; appending an outcome whose
+`outcome_id` is already stored is a no-op that returns the existing row id (so a retry never duplicates); rows
+come back in the order they were committed; filters select by embedder, robot id, arm model or a predicate.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from abc import ABC, abstractmethod
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from scone_bt.errors import ExperienceStoreError
+from scone_bt.experience.types import Outcome
+
+__all__ = ["COLUMNS", "SCHEMA_VERSION", "OutcomeStore", "outcome_from_row"]
+
+SCHEMA_VERSION = 2
+"""1: the first SQLite schema; 2: adds outcome_id (unique), robot_id, arm and profile."""
+
+COLUMNS = (
+    "outcome_id",
+    "time",
+    "action",
+    "object_name",
+    "embedder",
+    "success",
+    "failure_stage",
+    "context",
+    "robot_id",
+    "arm",
+    "profile",
+)
+
+
+def context_json(outcome: Outcome) -> str:
+    """The outcome's context as canonical JSON (one-line error if it is not serialisable)."""
+    try:
+        return json.dumps(outcome.context, sort_keys=True, allow_nan=False)
+    except (TypeError, ValueError) as exc:
+        raise ExperienceStoreError(f"outcome context must be JSON-serialisable: {exc}") from None
+
+
+def outcome_from_row(row: tuple[Any, ...]) -> Outcome:
+    """An Outcome from a row in COLUMNS order (context as JSON text or an already decoded dict)."""
+    oid, t, a, o, e, s, f, c, r, arm, p = row
+    return Outcome(
+        time=float(t),
+        action=a,
+        object_name=o,
+        embedder=e,
+        success=bool(s),
+        failure_stage=f,
+        context=json.loads(c) if isinstance(c, str) else dict(c),
+        robot_id=r,
+        arm=arm,
+        profile=p,
+        outcome_id=oid,
+    )
+
+
+class OutcomeStore(ABC):
+    """Durable, append-only log of outcomes (SQLite file or PostgreSQL database)."""
+
+    #: Where the store lives, for messages (a path, or a URL without its password).
+    location: str
+
+    @abstractmethod
+    def append(self, outcome: Outcome) -> int:
+        """Store one outcome, committed before this returns (a no-op if its outcome_id is stored); its row id."""
+
+    @abstractmethod
+    def _select(self, embedder: str | None, robot_id: str | None, arm: str | None) -> list[tuple[Any, ...]]:
+        """Rows in COLUMNS order, in commit order, with the given equality filters."""
+
+    @abstractmethod
+    def __len__(self) -> int: ...
+
+    @abstractmethod
+    def close(self) -> None:
+        """Release the connection (everything appended is already durable)."""
+
+    def outcomes(
+        self,
+        embedder: str | None = None,
+        where: Callable[[Outcome], bool] | None = None,
+        *,
+        robot_id: str | None = None,
+        arm: str | None = None,
+    ) -> list[Outcome]:
+        """Stored outcomes in commit order, optionally of one embedder / robot / arm model / predicate."""
+        out = [outcome_from_row(r) for r in self._select(embedder, robot_id, arm)]
+        return [o for o in out if where(o)] if where is not None else out
+
+    def outcome_ids(self) -> set[str]:
+        """Every stored idempotency key."""
+        return {o.outcome_id for o in self.outcomes()}
+
+    def export_csv(self, path: Path | str) -> Path:
+        """Write every outcome to a CSV file (context as a JSON column); returns the path."""
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with path.open("w", newline="") as f:
+            writer = csv.writer(f)
+            writer.writerow(COLUMNS)
+            for o in self.outcomes():
+                writer.writerow(
+                    [
+                        o.outcome_id,
+                        repr(o.time),
+                        o.action,
+                        o.object_name,
+                        o.embedder,
+                        int(o.success),
+                        o.failure_stage or "",
+                        json.dumps(o.context, sort_keys=True),
+                        o.robot_id,
+                        o.arm,
+                        o.profile,
+                    ]
+                )
+        return path
+
+    def __enter__(self) -> OutcomeStore:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
