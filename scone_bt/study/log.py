@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import csv
 import json
+import os
 import sqlite3
 import threading
 import time
@@ -22,9 +23,20 @@ from scone_bt.errors import SconeError
 from scone_bt.study.design import SessionPlan
 from scone_bt.study.questionnaires import get_questionnaire, validate_answers
 
-__all__ = ["StudyLog", "StudyLogError", "SessionRow", "EventRow", "ResponseRow", "SCHEMA_VERSION"]
+__all__ = [
+    "StudyLog",
+    "StudyLogError",
+    "SessionRow",
+    "EventRow",
+    "ResponseRow",
+    "SCHEMA_VERSION",
+    "EXPORT_FILES",
+]
 
 SCHEMA_VERSION = 1
+_SQLITE_MAGIC = b"SQLite format 3\x00"
+EXPORT_FILES = ("sessions.csv", "events.csv", "responses.csv", "scores.csv")
+"""What `export_csv` writes into its folder."""
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
@@ -112,45 +124,140 @@ class StudyLog:
         simulated: Label for a new file; an existing file must carry the same label.
     """
 
-    def __init__(self, path: str | Path, simulated: bool = False) -> None:
+    def __init__(self, path: str | Path, simulated: bool = False, readonly: bool = False) -> None:
         self.path = Path(path)
-        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self.readonly = readonly
         self._lock = threading.Lock()
-        try:
-            self._db = sqlite3.connect(self.path, check_same_thread=False, isolation_level=None)
-            self._db.execute("PRAGMA journal_mode=WAL")
-            self._db.execute("PRAGMA synchronous=FULL")
-            tables = {r[0] for r in self._db.execute("SELECT name FROM sqlite_master WHERE type='table'")}
-        except sqlite3.DatabaseError as exc:
-            raise StudyLogError(f"{self.path} is not an SQLite study log ({exc})") from None
-        if tables and "sessions" not in tables:
+        existing = self.path.exists()
+        if existing:
+            meta = self._inspect()  # read-only: a file that is not ours is refused unchanged
+        elif readonly:
+            raise StudyLogError(f"study log not found: {self.path}")
+        else:
+            meta = {}
+        self._db = self._connect(existing)
+        if not meta and not readonly:
+            meta = {"schema_version": str(SCHEMA_VERSION), "simulated": "1" if simulated else "0"}
+            with self._lock:
+                try:  # one transaction: a crash leaves no half-made schema
+                    self._db.executescript(
+                        "BEGIN IMMEDIATE;"
+                        + _SCHEMA
+                        + f"INSERT INTO meta VALUES ('schema_version', '{meta['schema_version']}');"
+                        + f"INSERT INTO meta VALUES ('simulated', '{meta['simulated']}');"
+                        + "COMMIT;"
+                    )
+                except sqlite3.Error as exc:
+                    self._db.close()
+                    raise StudyLogError(f"cannot create study log {self.path}: {exc}") from None
+        self.simulated = meta.get("simulated") == "1"
+        if self.simulated != simulated and not readonly:
             self._db.close()
-            raise StudyLogError(
-                f"{self.path} is an SQLite file but not a study log (tables: {', '.join(sorted(tables))})"
-            )
-        with self._lock:
-            self._db.executescript(_SCHEMA)
-            meta = dict(self._db.execute("SELECT key, value FROM meta").fetchall())
-            if not meta:
-                self._db.execute("INSERT INTO meta VALUES ('schema_version', ?)", (str(SCHEMA_VERSION),))
-                self._db.execute("INSERT INTO meta VALUES ('simulated', ?)", ("1" if simulated else "0",))
-                meta = {"schema_version": str(SCHEMA_VERSION), "simulated": "1" if simulated else "0"}
-        if int(meta["schema_version"]) > SCHEMA_VERSION:
-            raise StudyLogError(
-                f"{self.path} has schema {meta['schema_version']}; this version reads up to {SCHEMA_VERSION}"
-            )
-        self.simulated = meta["simulated"] == "1"
-        if self.simulated != simulated:
             kind = "SIMULATED" if self.simulated else "real"
             raise StudyLogError(
                 f"{self.path} holds {kind} data; use another file rather than mixing real and simulated sessions"
             )
 
+    def _inspect(self) -> dict[str, str]:
+        """Check an existing file without writing to it; its meta table, or StudyLogError saying what it is."""
+        path = self.path
+        if path.is_dir():
+            raise StudyLogError(f"{path} is a folder; give a study log file")
+        try:
+            with path.open("rb") as fh:
+                head = fh.read(16)
+        except OSError as exc:
+            raise StudyLogError(f"cannot read {path}: {exc.strerror or exc}") from None
+        if not head:
+            raise StudyLogError(
+                f"{path} is an empty file, not a study log; it was left as it is (give a new path)"
+            )
+        if head != _SQLITE_MAGIC:
+            raise StudyLogError(f"{path} is not an SQLite study log; it was left as it is")
+        try:
+            db = sqlite3.connect(f"{path.absolute().as_uri()}?mode=ro", uri=True)
+        except sqlite3.Error as exc:
+            raise StudyLogError(f"cannot open {path}: {exc}") from None
+        try:
+            tables = {r[0] for r in db.execute("SELECT name FROM sqlite_master WHERE type='table'")}
+            if not {"meta", "sessions", "events", "responses"} <= tables:
+                raise StudyLogError(
+                    f"{path} is an SQLite file but not a study log (tables: {', '.join(sorted(tables)) or 'none'}); "
+                    "it was left as it is"
+                )
+            check = db.execute("PRAGMA quick_check").fetchone()[0]
+            if check != "ok":
+                raise StudyLogError(
+                    f"{path} is corrupt (quick_check: {' '.join(str(check).split())[:200]}); it was left as it is"
+                )
+            meta = {str(k): str(v) for k, v in db.execute("SELECT key, value FROM meta").fetchall()}
+        except sqlite3.DatabaseError as exc:
+            raise StudyLogError(
+                f"{path} is corrupt or not a study log ({exc}); it was left as it is"
+            ) from None
+        finally:
+            db.close()
+        version = meta.get("schema_version", "")
+        if not version.isdigit() or "simulated" not in meta:
+            raise StudyLogError(f"{path} has no valid schema_version/simulated entries; it was left as it is")
+        if int(version) > SCHEMA_VERSION:
+            raise StudyLogError(f"{path} has schema {version}; this version reads up to {SCHEMA_VERSION}")
+        return meta
+
+    def _connect(self, existing: bool) -> sqlite3.Connection:
+        path = self.path
+        if self.readonly:
+            try:
+                return sqlite3.connect(
+                    f"{path.absolute().as_uri()}?mode=ro",
+                    uri=True,
+                    check_same_thread=False,
+                    isolation_level=None,
+                )
+            except sqlite3.Error as exc:
+                raise StudyLogError(f"cannot open {path}: {exc}") from None
+        if existing and not os.access(path, os.W_OK):
+            raise StudyLogError(
+                f"{path} is read-only; sessions cannot be recorded in it (it was left as it is)"
+            )
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise StudyLogError(f"cannot create a folder for {path}: {exc.strerror or exc}") from None
+        if not os.access(path.parent, os.W_OK | os.X_OK):
+            raise StudyLogError(f"{path.parent} is read-only; the study log needs to write its journal there")
+        try:
+            db = sqlite3.connect(path, check_same_thread=False, isolation_level=None, timeout=30.0)
+            db.execute("PRAGMA journal_mode=WAL")
+            db.execute("PRAGMA synchronous=FULL")
+        except sqlite3.OperationalError as exc:
+            raise StudyLogError(f"cannot write study log {path} ({exc}); read-only or disk full?") from None
+        except sqlite3.DatabaseError as exc:
+            raise StudyLogError(f"{path} is not a usable study log ({exc})") from None
+        return db
+
     # ----------------------------------------------------------------------------------------- writing
+    def _writable(self) -> None:
+        if self.readonly:
+            raise StudyLogError(f"{self.path} was opened read-only")
+
     def _write(self, sql: str, args: tuple[Any, ...]) -> int:
         with self._lock:
-            cur = self._db.execute(sql, args)  # autocommit: one durable transaction per statement
+            self._writable()
+            try:
+                cur = self._db.execute(sql, args)  # autocommit: one durable transaction per statement
+            except sqlite3.Error as exc:
+                raise StudyLogError(f"cannot write to study log {self.path}: {exc}") from None
             return int(cur.lastrowid or 0)
+
+    def _read(self, sql: str, args: tuple[Any, ...] = ()) -> list[tuple[Any, ...]]:
+        with self._lock:
+            try:
+                return self._db.execute(sql, args).fetchall()
+            except sqlite3.DatabaseError as exc:
+                raise StudyLogError(
+                    f"cannot read study log {self.path} ({exc}); it was left as it is"
+                ) from None
 
     @contextmanager
     def batch(self) -> Iterator[None]:
@@ -207,19 +314,31 @@ class StudyLog:
         now = time.time()
         order = {it.key: i for i, it in enumerate(q.items)}
         with self._lock:
+            self._writable()
             own = not self._db.in_transaction
             if own:
-                self._db.execute("BEGIN")
+                self._db.execute("BEGIN IMMEDIATE")
             try:
                 for key, value in checked.items():
                     self._db.execute(
-                        "INSERT OR REPLACE INTO responses (session_id, time, questionnaire, item, item_index, value) VALUES (?,?,?,?,?,?)",
+                        "INSERT INTO responses (session_id, time, questionnaire, item, item_index, value) VALUES (?,?,?,?,?,?)",
                         (session_id, now, q.name, key, order[key], value),
                     )
                 if own:
                     self._db.execute("COMMIT")
-            except BaseException:
+            except sqlite3.IntegrityError:
                 if own:
+                    self._db.execute("ROLLBACK")
+                raise StudyLogError(
+                    f"{self.path}: questionnaire {q.name!r} of session {session_id} is stored already; "
+                    "answers are never replaced"
+                ) from None
+            except sqlite3.Error as exc:
+                if own and self._db.in_transaction:
+                    self._db.execute("ROLLBACK")
+                raise StudyLogError(f"cannot write to study log {self.path}: {exc}") from None
+            except BaseException:
+                if own and self._db.in_transaction:
                     self._db.execute("ROLLBACK")
                 raise
 
@@ -235,10 +354,9 @@ class StudyLog:
 
     # ----------------------------------------------------------------------------------------- reading
     def sessions(self) -> list[SessionRow]:
-        with self._lock:
-            rows = self._db.execute(
-                "SELECT id, participant, grp, session_index, condition, simulated, started, ended, info, summary FROM sessions ORDER BY id"
-            ).fetchall()
+        rows = self._read(
+            "SELECT id, participant, grp, session_index, condition, simulated, started, ended, info, summary FROM sessions ORDER BY id"
+        )
         return [
             SessionRow(
                 r[0],
@@ -249,8 +367,8 @@ class StudyLog:
                 bool(r[5]),
                 r[6],
                 r[7],
-                json.loads(r[8]),
-                json.loads(r[9]) if r[9] else None,
+                self._json(r[8], f"session {r[0]} info"),
+                self._json(r[9], f"session {r[0]} summary") if r[9] else None,
             )
             for r in rows
         ]
@@ -260,15 +378,19 @@ class StudyLog:
         args: tuple[Any, ...] = ()
         if session_id is not None:
             sql, args = sql + " WHERE session_id = ?", (session_id,)
-        with self._lock:
-            rows = self._db.execute(sql + " ORDER BY id", args).fetchall()
-        return [EventRow(r[0], r[1], r[2], r[3], json.loads(r[4])) for r in rows]
+        rows = self._read(sql + " ORDER BY id", args)
+        return [EventRow(r[0], r[1], r[2], r[3], self._json(r[4], f"event {r[0]}")) for r in rows]
+
+    def _json(self, text: Any, what: str) -> Any:
+        try:
+            return json.loads(text)
+        except (TypeError, ValueError, RecursionError):
+            raise StudyLogError(f"{self.path}: {what} is not valid JSON; the file is damaged") from None
 
     def responses(self) -> list[ResponseRow]:
-        with self._lock:
-            rows = self._db.execute(
-                "SELECT session_id, questionnaire, item, item_index, value, time FROM responses ORDER BY session_id, questionnaire, item_index"
-            ).fetchall()
+        rows = self._read(
+            "SELECT session_id, questionnaire, item, item_index, value, time FROM responses ORDER BY session_id, questionnaire, item_index"
+        )
         return [ResponseRow(*r) for r in rows]
 
     def interventions(self, session_id: int) -> int:
@@ -279,7 +401,13 @@ class StudyLog:
     def export_csv(self, folder: str | Path) -> dict[str, Path]:
         """sessions.csv, events.csv, responses.csv (per item) and scores.csv (published scores) in `folder`."""
         out = Path(folder)
-        out.mkdir(parents=True, exist_ok=True)
+        try:
+            out.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise StudyLogError(f"cannot create the export folder {out}: {exc.strerror or exc}") from None
+        clash = [name for name in EXPORT_FILES if (out / name).exists()]
+        if clash:
+            raise StudyLogError(f"{out}: {', '.join(clash)} exist already and are never overwritten")
         label = "SIMULATED" if self.simulated else "real"
         sessions = self.sessions()
         paths = {name: out / f"{name}.csv" for name in ("sessions", "events", "responses", "scores")}
@@ -380,7 +508,14 @@ class StudyLog:
 
 class _csv:
     def __init__(self, path: Path) -> None:
-        self.fh = path.open("w", newline="")
+        try:
+            self.fh = path.open(
+                "x", newline="", encoding="utf-8"
+            )  # "x": an existing file is never overwritten
+        except FileExistsError:
+            raise StudyLogError(f"{path} exists already; export into a new folder") from None
+        except OSError as exc:
+            raise StudyLogError(f"cannot write {path}: {exc.strerror or exc}") from None
 
     def __enter__(self):  # -> csv writer
         return csv.writer(self.fh)

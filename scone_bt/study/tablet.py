@@ -24,13 +24,17 @@ from scone_bt.study.questionnaires import (
     validate_answers,
 )
 
-__all__ = ["TabletState", "TabletHuman", "PHASES"]
+__all__ = ["TabletState", "TabletHuman", "PHASES", "AlreadySubmittedError"]
 
 PHASES = ("waiting", "episode", "questionnaire", "done")
 _REASONS = {
     "help": "The robot asks for your help: please bring it to the table.",
     "intervention": "You took over: please bring it to the table.",
 }
+
+
+class AlreadySubmittedError(QuestionnaireError):
+    """A questionnaire submitted a second time: the first answers stand."""
 
 
 class TabletState:
@@ -52,6 +56,7 @@ class TabletState:
         self.feed: deque[str] = deque(maxlen=8)
         self._questionnaires: list[Questionnaire] = []
         self._submitted: set[str] = set()
+        self._storing: set[str] = set()  # claimed by a submission whose answers are being written
         self._on_submit: Callable[[str, dict[str, float | None]], None] | None = None
         self.questionnaires_done = threading.Event()
 
@@ -160,23 +165,43 @@ class TabletState:
     ) -> None:
         with self._lock:
             self._questionnaires, self._submitted, self._on_submit = list(questionnaires), set(), on_submit
+            self._storing = set()
             self.phase = "questionnaire"
             self.questionnaires_done.clear()
             self._touch()
 
     def submit(self, name: str, answers: dict[str, Any]) -> None:
-        """Validate and store one questionnaire (raises QuestionnaireError or UnknownNameError)."""
+        """Validate and store one questionnaire, once.
+
+        The first valid submission claims the questionnaire under the lock, so a concurrent or later one is
+        refused (AlreadySubmittedError), never stored over the first. A claim whose storing fails is released.
+
+        Raises:
+            AlreadySubmittedError: it was submitted (or is being stored) already.
+            QuestionnaireError, UnknownNameError: not asked now, or answers outside the scale.
+        """
         q = get_questionnaire(name)
-        with self._lock:
-            if self.phase != "questionnaire" or q.name not in {x.name for x in self._questionnaires}:
-                raise QuestionnaireError(f"questionnaire {name!r} is not being asked now")
-            if q.name in self._submitted:
-                raise QuestionnaireError(f"questionnaire {name!r} was already submitted")
-            callback = self._on_submit
         checked = validate_answers(q, {k: (None if v is None else float(v)) for k, v in answers.items()})
-        if callback is not None:
-            callback(q.name, checked)  # durable before the tablet hears "saved"
         with self._lock:
+            if self.phase not in ("questionnaire", "done") or q.name not in {
+                x.name for x in self._questionnaires
+            }:
+                raise QuestionnaireError(f"questionnaire {name!r} is not being asked now")
+            if q.name in self._submitted or q.name in self._storing:
+                raise AlreadySubmittedError(
+                    f"questionnaire {name!r} was already submitted; answers are not replaced"
+                )
+            self._storing.add(q.name)
+            callback = self._on_submit
+        try:
+            if callback is not None:
+                callback(q.name, checked)  # durable before the tablet hears "saved"
+        except BaseException:
+            with self._lock:
+                self._storing.discard(q.name)
+            raise
+        with self._lock:
+            self._storing.discard(q.name)
             self._submitted.add(q.name)
             if all(x.name in self._submitted for x in self._questionnaires):
                 self.phase = "done"

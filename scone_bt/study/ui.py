@@ -18,7 +18,7 @@ from typing import Any
 
 from scone_bt.errors import SconeError
 from scone_bt.study.questionnaires import QUESTIONNAIRES, Questionnaire
-from scone_bt.study.tablet import TabletHuman, TabletState
+from scone_bt.study.tablet import AlreadySubmittedError, TabletHuman, TabletState
 
 __all__ = [
     "TabletServer",
@@ -28,10 +28,15 @@ __all__ = [
     "UIError",
     "add_ui_arguments",
     "tablet_from_args",
+    "RequestGuard",
+    "MAX_BODY_BYTES",
+    "reachable_address",
 ]
 
 LOCAL_HOSTS = ("127.0.0.1", "localhost", "::1")
 MIN_TOKEN_LENGTH = 8
+MAX_BODY_BYTES = 16 * 1024
+"""Largest request body accepted (a questionnaire's answers are well under 1 kB); larger ones get 413 unread."""
 
 
 class UIError(SconeError):
@@ -47,35 +52,160 @@ def _is_local(host: str) -> bool:
         return False
 
 
+def _host_name(host_header: str) -> str:
+    """The host part of a Host header ("[::1]:8765" → "::1", "localhost:80" → "localhost")."""
+    h = host_header.strip().lower()
+    if h.startswith("["):
+        return h[1 : h.find("]")] if "]" in h else h
+    return h.rsplit(":", 1)[0] if h.count(":") == 1 else h
+
+
+def _origin_host(origin: str) -> str | None:
+    """The host[:port] of an Origin header, or None for "null" and malformed values."""
+    from urllib.parse import urlsplit
+
+    try:
+        parts = urlsplit(origin.strip())
+    except ValueError:
+        return None
+    return parts.netloc.lower() if parts.scheme in ("http", "https") and parts.netloc else None
+
+
+class RequestGuard:
+    """ASGI middleware that refuses a request before its body is read.
+
+    In order: the Host header (in localhost mode only local names, against DNS rebinding), the session token
+    (header or ``?token=``), the body size (Content-Length and the bytes actually received), and for writes the
+    Origin (only same-origin browser requests; clients without an Origin, such as scripts, are not browsers).
+    """
+
+    def __init__(self, app: Any, token: str | None, local_only: bool, max_body: int = MAX_BODY_BYTES) -> None:
+        self.app = app
+        self.token = token
+        self.local_only = local_only
+        self.max_body = max_body
+
+    async def _refuse(self, send: Any, status: int, detail: str) -> None:
+        import json
+
+        body = json.dumps({"detail": detail}).encode()
+        await send(
+            {
+                "type": "http.response.start",
+                "status": status,
+                "headers": [
+                    (b"content-type", b"application/json"),
+                    (b"content-length", str(len(body)).encode()),
+                    (b"connection", b"close"),
+                ],
+            }
+        )
+        await send({"type": "http.response.body", "body": body})
+
+    async def __call__(self, scope: dict, receive: Any, send: Any) -> None:
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+        headers = {k.decode("latin-1").lower(): v.decode("latin-1") for k, v in scope.get("headers", [])}
+        host = headers.get("host", "")
+        if self.local_only and _host_name(host) not in LOCAL_HOSTS:
+            await self._refuse(send, 421, "this tablet server answers only to localhost, 127.0.0.1 or [::1]")
+            return
+        if self.token is not None:
+            from urllib.parse import parse_qs
+
+            query = parse_qs(scope.get("query_string", b"").decode("latin-1"))
+            given = headers.get("x-session-token") or (query.get("token") or [""])[0]
+            if not hmac.compare_digest(given.encode("utf-8", "replace"), self.token.encode()):
+                await self._refuse(send, 403, "missing or wrong session token")
+                return
+        length = headers.get("content-length")
+        if length is not None and (not length.isdigit() or int(length) > self.max_body):
+            await self._refuse(send, 413, f"request body larger than {self.max_body} bytes")
+            return
+        if scope.get("method") not in ("GET", "HEAD", "OPTIONS"):
+            origin = headers.get("origin")
+            if origin is not None and _origin_host(origin) != host.lower():
+                await self._refuse(send, 403, "cross-origin write refused")
+                return
+            if headers.get("sec-fetch-site", "same-origin") not in ("same-origin", "none"):
+                await self._refuse(send, 403, "cross-site write refused")
+                return
+        received = 0
+        too_large = False
+
+        async def limited_receive() -> dict:
+            nonlocal received, too_large
+            message = await receive()
+            if message["type"] == "http.request":
+                received += len(message.get("body", b""))
+                if received > self.max_body:
+                    too_large = True
+                    return {"type": "http.disconnect"}  # the app stops reading; nothing of it is used
+            return message
+
+        started = False
+
+        async def tracking_send(message: dict) -> None:
+            nonlocal started
+            if message["type"] == "http.response.start":
+                started = True
+            await send(message)
+
+        await self.app(scope, limited_receive, tracking_send)
+        if too_large and not started:
+            await self._refuse(send, 413, f"request body larger than {self.max_body} bytes")
+
+
+def reachable_address(host: str) -> str:
+    """An address a tablet can open for a server bound to `host` (not 0.0.0.0 or ::, which mean "every interface").
+
+    For a wildcard bind this is the address of the interface that routes outwards (no packet is sent), else the
+    host's own name's address, else 127.0.0.1.
+    """
+    import socket
+
+    if host not in ("0.0.0.0", "::", ""):
+        return host
+    family = socket.AF_INET6 if host == "::" else socket.AF_INET
+    probe = ("2001:db8::1", 9) if family == socket.AF_INET6 else ("192.0.2.1", 9)  # documentation addresses
+    try:
+        with socket.socket(family, socket.SOCK_DGRAM) as s:
+            s.connect(probe)  # UDP connect only picks the route
+            addr = s.getsockname()[0]
+            if addr and not ipaddress.ip_address(addr).is_unspecified:
+                return addr
+    except OSError:
+        pass
+    try:
+        addr = socket.gethostbyname(socket.gethostname())
+        if not ipaddress.ip_address(addr).is_loopback:
+            return addr
+    except OSError:
+        pass
+    return "127.0.0.1"
+
+
 def _page() -> str:
     return resources.files("scone_bt.study").joinpath("static/tablet.html").read_text(encoding="utf-8")
 
 
-def build_app(state: TabletState, token: str | None) -> Any:
-    """The FastAPI application over a TabletState."""
-    from fastapi import Body, Depends, FastAPI, Header, HTTPException, Query
+def build_app(state: TabletState, token: str | None, local_only: bool = True) -> Any:
+    """The FastAPI application over a TabletState, behind RequestGuard (Host, token, body size, Origin).
+
+    Args:
+        state: What the tablet shows and what the participant did.
+        token: Session token every request must carry, or None (localhost only).
+        local_only: Answer only requests whose Host is a local name (the server is bound to localhost).
+    """
+    from fastapi import Body, FastAPI, HTTPException
     from fastapi.responses import HTMLResponse, JSONResponse
 
     from scone_bt.errors import UnknownNameError
     from scone_bt.study.questionnaires import QuestionnaireError
 
-    def check(
-        token_q: str | None = Query(None, alias="token"),
-        token_h: str | None = Header(None, alias="X-Session-Token"),
-    ) -> None:
-        if token is None:
-            return
-        given = token_h or token_q or ""
-        if not hmac.compare_digest(given.encode(), token.encode()):
-            raise HTTPException(status_code=403, detail="missing or wrong session token")
-
-    app = FastAPI(
-        title="SCONE-BT tablet",
-        docs_url=None,
-        redoc_url=None,
-        openapi_url=None,
-        dependencies=[Depends(check)],
-    )
+    app = FastAPI(title="SCONE-BT tablet", docs_url=None, redoc_url=None, openapi_url=None)
+    app.add_middleware(RequestGuard, token=token, local_only=local_only)  # type: ignore[arg-type]
     page = _page()
 
     @app.get("/", response_class=HTMLResponse)
@@ -103,8 +233,12 @@ def build_app(state: TabletState, token: str | None) -> Any:
     def submit(name: str, answers: dict[str, float | None] = Body(...)) -> Any:  # noqa: B008 - FastAPI idiom
         try:
             state.submit(name, answers)
+        except AlreadySubmittedError as exc:
+            return JSONResponse({"detail": str(exc)}, status_code=409)
         except (QuestionnaireError, UnknownNameError) as exc:
             return JSONResponse({"detail": str(exc)}, status_code=422)
+        except SconeError as exc:  # the study log refused it (e.g. stored already by another process)
+            return JSONResponse({"detail": str(exc)}, status_code=409)
         return {"ok": True}
 
     return app
@@ -131,13 +265,18 @@ class TabletServer:
         self.state = state or TabletState()
         self.token = token
         self.host = host
+        if not 0 <= port <= 65535:
+            raise UIError(f"port {port}: must be a TCP port in 0..65535 (0: any free port)")
         config = uvicorn.Config(
-            build_app(self.state, token),
+            build_app(self.state, token, local_only=_is_local(host)),
             host=host,
             port=port,
             log_level="warning",
             lifespan="off",
             access_log=False,
+            limit_concurrency=256,  # beyond this, 503 rather than unbounded memory
+            timeout_keep_alive=5,
+            h11_max_incomplete_event_size=16 * 1024,  # headers larger than this are refused
         )
         self._server = uvicorn.Server(config)
         self._thread = threading.Thread(target=self._server.run, name="tablet-ui", daemon=True)
@@ -151,7 +290,8 @@ class TabletServer:
                 )
             time.sleep(0.02)
         self.port = int(self._server.servers[0].sockets[0].getsockname()[1])
-        shown = f"[{host}]" if ":" in host else host
+        reach = reachable_address(host)
+        shown = f"[{reach}]" if ":" in reach else reach
         self.url = f"http://{shown}:{self.port}/" + (f"?token={token}" if token else "")
 
     # ----------------------------------------------------------------------------------------- episode hooks
