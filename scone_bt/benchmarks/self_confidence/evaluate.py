@@ -34,6 +34,8 @@ __all__ = [
     "EstimatorFactory",
     "embed_datasets",
     "evaluate_pair",
+    "GridInputs",
+    "evaluate_grid_pair",
     "prior_baseline",
     "shuffled_order",
 ]
@@ -238,3 +240,33 @@ def prior_baseline(datasets: Sequence[Dataset], options: EvalOptions = EvalOptio
     """Algorithm 1 for a predictor that ignores the action (the majority outcome seen so far)."""
     zeros = [np.zeros((len(d), 1)) for d in datasets]
     return evaluate_pair("none", "prior", datasets, zeros, lambda seed: _Prior(), options)
+
+
+@dataclass(frozen=True)
+class GridInputs:
+    """What every pair of the embedder × estimator grid reads (shipped once per worker by scone_bt.distributed).
+
+    Attributes:
+        datasets: The datasets.
+        features: Embedded actions per dataset, per embedder name.
+        options: Protocol settings.
+    """
+
+    datasets: tuple[Dataset, ...]
+    features: dict[str, list[np.ndarray]]
+    options: EvalOptions
+
+
+def evaluate_grid_pair(pair: tuple[str, str], inputs: GridInputs) -> PairResult:
+    """Algorithm 1 for one (embedder, estimator) pair of the grid, with scone_bt.confidence's estimator."""
+    from scone_bt.confidence import make_estimator
+
+    emb, est = pair
+    return evaluate_pair(
+        emb,
+        est,
+        inputs.datasets,
+        inputs.features[emb],
+        lambda seed: make_estimator(est, seed=seed),
+        inputs.options,
+    )

@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 import time
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -19,7 +20,7 @@ from scone_bt.benchmarks.self_confidence.profiles import Profile
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
 from scone_bt.perception.types import Detection
 
-__all__ = ["INJECTED_FORCE_FACTOR", "choose_objects", "run_execution"]
+__all__ = ["INJECTED_FORCE_FACTOR", "ExecutionTask", "choose_objects", "execute_task", "run_execution"]
 
 INJECTED_FORCE_FACTOR = 0.1
 """An injected grasp failure closes the gripper with this fraction of its force."""
@@ -138,3 +139,35 @@ def run_execution(
         stage = None if outcome.success else (outcome.stage.value if outcome.stage is not None else "place")
         detail = ("injected weak grasp; " if "grasp" in injected else "") + outcome.message
         return record(outcome.success, stage, detail)
+
+
+@dataclass(frozen=True)
+class ExecutionTask:
+    """One execution as a work item for scone_bt.distributed: small to ship, self-seeded (profile and index).
+
+    Attributes:
+        profile: The robot's proficiency.
+        index: Execution number (fixes the seed).
+        kitchen: Kitchen file name or path, loaded in the worker.
+        robot: Robot file name or path, loaded in the worker.
+    """
+
+    profile: Profile
+    index: int
+    kitchen: str = "kitchen"
+    robot: str = "panda"
+
+
+_CONFIGS: dict[tuple[str, str], tuple[KitchenConfig, RobotConfig]] = {}
+
+
+def execute_task(task: ExecutionTask) -> tuple[str, ExecutionRecord, float]:
+    """Run one ExecutionTask (configs loaded once per worker process); (profile name, record, wall s)."""
+    from scone_bt.config import load_kitchen, load_robot
+
+    key = (task.kitchen, task.robot)
+    if key not in _CONFIGS:
+        _CONFIGS[key] = (load_kitchen(task.kitchen), load_robot(task.robot))
+    kitchen_cfg, robot_cfg = _CONFIGS[key]
+    record, wall = run_execution(task.profile, task.index, kitchen_cfg, robot_cfg)
+    return task.profile.name, record, wall
