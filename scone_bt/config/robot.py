@@ -176,6 +176,7 @@ class RobotFile(StrictModel):
     planner: _PlannerModel = _PlannerModel()
     control: _ControlModel = _ControlModel()
     collision: _CollisionModel = _CollisionModel()
+    grasp: dict[str, Any] = {}  # checked by scone_bt.motion.grasp.GraspParams.from_section
 
     @model_validator(mode="after")
     def _one_value_per_joint(self) -> RobotFile:

@@ -3,11 +3,19 @@
 Heavy backends (pinocchio, coal, ompl, ruckig, pybullet) are imported inside the adapter functions only.
 """
 
-from scone_bt.motion.collision import CollisionWorld, Obstacle
+from scone_bt.motion.collision import CollisionWorld, HandModel, Obstacle
 from scone_bt.motion.execution import ExecutionSettings
-from scone_bt.motion.grasp import GraspCandidate, GraspParams, grasp_candidates, place_pose
+from scone_bt.motion.grasp import GraspCandidate, GraspFamily, GraspParams, grasp_candidates, place_pose
 from scone_bt.motion.model import ArmModel, IKOptions, IKSolution
 from scone_bt.motion.pick_place import PickPlaceFailure, PickPlacePlan, PickPlaceRequest, plan_pick_and_place
+from scone_bt.motion.placement import (
+    Footprint,
+    PlacementOptions,
+    PlacementSet,
+    PlacementSpot,
+    TableRegion,
+    sample_placements,
+)
 from scone_bt.motion.planner import PLANNERS, PlannerOptions, plan_joint_path
 from scone_bt.motion.system import MotionSystem, PickAndPlace
 from scone_bt.motion.timing import KinematicLimits, limits_of, time_path
@@ -15,6 +23,7 @@ from scone_bt.motion.types import (
     FailureStage,
     MotionOutcome,
     MotionProgress,
+    PlanFailureReason,
     PlanResult,
     PlanStatus,
     TimedTrajectory,
@@ -26,8 +35,11 @@ __all__ = [
     "CollisionWorld",
     "ExecutionSettings",
     "FailureStage",
+    "Footprint",
     "GraspCandidate",
+    "GraspFamily",
     "GraspParams",
+    "HandModel",
     "IKOptions",
     "IKSolution",
     "KinematicLimits",
@@ -39,14 +51,20 @@ __all__ = [
     "PickPlaceFailure",
     "PickPlacePlan",
     "PickPlaceRequest",
+    "PlacementOptions",
+    "PlacementSet",
+    "PlacementSpot",
+    "PlanFailureReason",
     "PlanResult",
     "PlanStatus",
     "PlannerOptions",
+    "TableRegion",
     "TimedTrajectory",
     "grasp_candidates",
     "limits_of",
     "place_pose",
     "plan_joint_path",
     "plan_pick_and_place",
+    "sample_placements",
     "time_path",
 ]

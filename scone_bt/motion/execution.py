@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from scone_bt.motion.pick_place import PickPlacePlan, Segment
-from scone_bt.motion.types import FailureStage, TimedTrajectory
+from scone_bt.motion.types import FailureStage, PlanFailureReason, TimedTrajectory
 
 if TYPE_CHECKING:
     from scone_bt.world import Kitchen
@@ -147,6 +147,7 @@ class PickPlaceController:
         self.executed: list[TimedTrajectory] = []
         self.held: int | None = None
         self.stage: FailureStage | None = None
+        self.reason: PlanFailureReason | None = None
         self.message = ""
         self.success = False
         self.finished = False
@@ -262,11 +263,14 @@ class PickPlaceController:
         if ready is None:
             self.fail(FailureStage.PLANNING, "planning was cancelled")
             return
-        if isinstance(ready, PickPlaceFailure):
-            self.fail(ready.stage, ready.message)
-            return
         if isinstance(ready, BaseException):
-            self.fail(FailureStage.PLANNING, f"planning raised {type(ready).__name__}: {ready}")
+            # A bug or a configuration error, not an outcome of the attempt: stop here and let it end the run
+            # (it propagates out of kitchen.advance) instead of being stored as experience.
+            self._finish()
+            raise ready
+        if isinstance(ready, PickPlaceFailure):
+            self.reason = ready.reason
+            self.fail(ready.stage, ready.message)
             return
         assert isinstance(ready, PickPlacePlan)
         self.plan = ready

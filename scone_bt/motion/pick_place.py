@@ -1,30 +1,53 @@
-"""Planning a whole pick-and-place up front: grasp choice, IK, OMPL queries and ruckig timing of every segment.
+"""Planning a whole pick-and-place up front: grasp choice, placement, OMPL queries and ruckig timing.
 
 Runs in a worker thread: it touches only Pinocchio, coal, OMPL and ruckig, never the simulator.
+
+The strategy, in a fixed order:
+
+1. Grasps (`grasp.grasp_candidates`, cheapest first) are filtered by the hand alone against the scene (no IK),
+   then by IK of the pre-grasp pose, the arm's collisions there, and a straight collision-free descent and lift.
+   The first `GraspParams.max_goal_grasps` feasible ones form a goal set.
+2. OMPL plans the approach to the goal set at once and reports which grasp it reached.
+3. Placements for that grasp: seeded spots on the observed free table area (`placement.sample_placements`),
+   filtered by IK above the spot with the object in the hand, a collision-free lowering and retreat; the first
+   `max_goal_placements` feasible ones form the transit's goal set; OMPL plans the transit, then the way home.
+4. Fallbacks: a grasp without a feasible placement or transit is dropped and the approach is planned again to
+   the other grasps (more candidates are examined as the set empties); every spot the sampler returned is tried
+   before giving up on placements; then a typed failure (`PlanFailureReason`) says which stage ran out and what
+   blocked it.
 """
 
 from __future__ import annotations
 
 import time
+from collections import Counter
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from scone_bt.config import ObjectSpec
-from scone_bt.motion.collision import CollisionWorld, Obstacle
+from scone_bt.motion.collision import CollisionWorld, HandModel, Obstacle
 from scone_bt.motion.grasp import (
     GraspCandidate,
+    GraspFamily,
     GraspParams,
     grasp_candidates,
     lifted,
     object_pose,
     place_pose,
 )
-from scone_bt.motion.model import ArmModel
+from scone_bt.motion.model import ArmModel, IKOptions
+from scone_bt.motion.placement import (
+    Footprint,
+    PlacementOptions,
+    TableRegion,
+    footprint_radius,
+    sample_placements,
+)
 from scone_bt.motion.planner import PlannerOptions, plan_joint_path
 from scone_bt.motion.timing import KinematicLimits, time_path
-from scone_bt.motion.types import FailureStage, PlanResult, TimedTrajectory
+from scone_bt.motion.types import FailureStage, PlanFailureReason, PlanResult, TimedTrajectory
 from scone_bt.perception.types import Detection
 
 __all__ = [
@@ -32,6 +55,8 @@ __all__ = [
     "PickPlacePlan",
     "PickPlaceFailure",
     "PickPlaceRequest",
+    "detected_obstacle",
+    "obstacle_footprint",
     "plan_pick_and_place",
     "plan_home",
 ]
@@ -70,6 +95,10 @@ class PickPlacePlan:
         ruckig_times: Wall seconds in ruckig's solver per segment.
         collision_time: Wall seconds spent in those validity checks.
         placed: The object's collision shape where it will stand after the release (world frame).
+        planning_cpu_s: CPU seconds the planning thread used (wall time includes waiting for the interpreter).
+        place_spot: (x, y, table top z) where the object's centre goes.
+        grasps_tried: Grasp candidates examined.
+        goal_set_sizes: Number of goals handed to OMPL for the approach and the transit.
     """
 
     segments: tuple[Segment, ...]
@@ -82,6 +111,10 @@ class PickPlacePlan:
     ruckig_times: tuple[float, ...] = ()
     collision_time: float = 0.0
     placed: Obstacle | None = None
+    planning_cpu_s: float = 0.0
+    place_spot: tuple[float, float, float] | None = None
+    grasps_tried: int = 0
+    goal_set_sizes: tuple[int, int] = (1, 1)
 
     def ee_path(self, arm: ArmModel, stride: int = 12) -> np.ndarray:
         """(N, 3) planned end-effector positions, metres."""
@@ -91,13 +124,27 @@ class PickPlacePlan:
 
 @dataclass(frozen=True, eq=False)
 class PickPlaceFailure:
-    """Why no plan exists: stage (IK or PLANNING), message, and any OMPL results made before failing."""
+    """Why no plan exists.
+
+    Attributes:
+        stage: IK (nothing within reach) or PLANNING.
+        message: One line naming the stage that ran out and what blocked it.
+        reason: Which stage ran out of options.
+        blockers: Obstacles (scene boxes or object names) that blocked the most candidates, most frequent first.
+        plans: OMPL results made before failing.
+        collision_checks: State validity checks made.
+        planning_wall_s: Wall seconds spent.
+        planning_cpu_s: CPU seconds the planning thread used.
+    """
 
     stage: FailureStage
     message: str
+    reason: PlanFailureReason = PlanFailureReason.NO_PATH
+    blockers: tuple[str, ...] = ()
     plans: tuple[PlanResult, ...] = ()
     collision_checks: int = 0
     planning_wall_s: float = 0.0
+    planning_cpu_s: float = 0.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -108,15 +155,17 @@ class PickPlaceRequest:
         q_start: (dof,) current arm joints, radians.
         target: Detection of the object to move.
         spec: Its catalogue model.
-        obstacles: Other detected objects with their catalogue models.
+        obstacles: Other detected objects (on the shelf) with their catalogue models.
         static: Known scene boxes (world-frame obstacles).
-        place_spot: (x, y, table top z) where the object goes.
-        other_spots: Further free spots to try, in order, if no collision-free place pose exists at place_spot.
         home: (dof,) joints to return to.
-        rng_seed: Seeds IK restarts and OMPL.
-        remembered: Objects this robot placed earlier and has not seen since (the camera watches only the shelf).
-        params: Approach, lift and place distances.
-        preferred_yaw: Closing-axis yaw (rad) of the home pose; the symmetric grasp nearest to it is used.
+        rng_seed: Seeds IK restarts, placement sampling and OMPL.
+        table: The table's rectangle, for placement sampling (None: only `place_spots`).
+        table_obstacles: What stands on the table (seen there, or remembered by the robot), world frame.
+        place_spots: Explicit (x, y, table top z) spots tried in order instead of sampling.
+        params: Grasp generation and approach, lift and place distances.
+        placement: Placement sampling settings (its rng_seed is replaced by `rng_seed`).
+        preferred_yaw: Closing-axis yaw (rad) of the home pose; grasps nearest to it cost least.
+        opening: The gripper's full opening, metres (None: no span filter).
     """
 
     q_start: np.ndarray
@@ -124,18 +173,27 @@ class PickPlaceRequest:
     spec: ObjectSpec
     obstacles: tuple[tuple[Detection, ObjectSpec], ...]
     static: tuple[Obstacle, ...]
-    place_spot: tuple[float, float, float]
     home: np.ndarray
     rng_seed: int
-    remembered: tuple[Obstacle, ...] = ()
-    other_spots: tuple[tuple[float, float, float], ...] = ()
+    table: TableRegion | None = None
+    table_obstacles: tuple[Obstacle, ...] = ()
+    place_spots: tuple[tuple[float, float, float], ...] = ()
     params: GraspParams = field(default_factory=GraspParams)
+    placement: PlacementOptions = field(default_factory=PlacementOptions)
     preferred_yaw: float = -np.pi / 2
+    opening: float | None = None
 
 
 def detected_obstacle(det: Detection, spec: ObjectSpec) -> Obstacle:
     """The collision shape of a detected object (its catalogue model at the detected pose)."""
     return Obstacle(det.name, spec.shape, spec.size, object_pose(det, spec))
+
+
+def obstacle_footprint(ob: Obstacle) -> Footprint:
+    """The table footprint of an obstacle standing upright (bounding circle, height)."""
+    sx, sy, sz = ob.size
+    radius = 0.5 * float(np.hypot(sx, sy)) if ob.shape == "box" else sx / 2
+    return Footprint(ob.name, float(ob.pose[0, 3]), float(ob.pose[1, 3]), radius, float(sz))
 
 
 class _Planner:
@@ -165,8 +223,6 @@ class _Planner:
         return sum(w.checks for w in self.worlds)
 
     def ik(self, pose: np.ndarray, seed: np.ndarray, restarts: int | None = None) -> np.ndarray | None:
-        from scone_bt.motion.model import IKOptions
-
         t = time.perf_counter()
         opts = IKOptions() if restarts is None else IKOptions(restarts=restarts)
         sol = self.arm.ik(pose, seed, self.rng, opts)
@@ -175,34 +231,38 @@ class _Planner:
 
     def line(
         self, q_from: np.ndarray, pose_to: np.ndarray, world: CollisionWorld, what: str
-    ) -> tuple[np.ndarray | None, str]:
-        """Joints at `pose_to` reached by a straight end-effector line from q_from, or None and why.
+    ) -> tuple[np.ndarray | None, str, list[str]]:
+        """Joints at `pose_to` reached by a straight end-effector line from q_from, or None, why, and blockers.
 
         IK follows the line in small steps (each seeded by the last) so the solution stays on the same branch; the
-        joint-space segment between the ends must then stay within 1 cm of the line and be collision-free.
+        joint-space segment between the ends must then stay within 6 mm of the line and be collision-free.
         """
         pose_from = self.arm.fk(q_from)
         q = q_from
-        for t in np.linspace(0.0, 1.0, 5)[1:]:
+        for t in np.linspace(0.0, 1.0, 3)[1:]:
             pose = pose_to.copy()
             pose[:3, 3] = pose_from[:3, 3] + (pose_to[:3, 3] - pose_from[:3, 3]) * t
             q = self.ik(pose, q, restarts=0)
             if q is None:
-                return None, f"{what}: out of reach"
+                return None, f"{what}: out of reach", []
         pa, pb = pose_from[:3, 3], pose_to[:3, 3]
         axis = (pb - pa) / max(float(np.linalg.norm(pb - pa)), 1e-9)
-        for t in np.linspace(0.0, 1.0, 9):
+        for t in np.linspace(0.0, 1.0, 7)[1:-1]:
             off = self.arm.fk(q_from + (q - q_from) * t)[:3, 3] - pa
             if np.linalg.norm(off - axis * (off @ axis)) > 0.006:  # sideways drift pushes the object
-                return None, f"{what}: the joint motion leaves the straight line"
+                return None, f"{what}: the joint motion leaves the straight line", []
         if not world.segment_valid(q_from, q):
             bad = next(
-                q_from + (q - q_from) * t
-                for t in np.linspace(0, 1, 21)
-                if not world.is_valid(q_from + (q - q_from) * t)
+                (
+                    q_from + (q - q_from) * t
+                    for t in np.linspace(0, 1, 21)
+                    if not world.is_valid(q_from + (q - q_from) * t)
+                ),
+                q,
             )
-            return None, f"{what}: collides ({_pair(world, bad)})"
-        return q, ""
+            names = _blockers(world, bad)
+            return None, f"{what}: collides ({_pair(world, bad)})", names
+        return q, "", []
 
     def plan(self, qa: np.ndarray, qb: np.ndarray, world: CollisionWorld) -> PlanResult:
         opts = PlannerOptions(
@@ -212,6 +272,7 @@ class _Planner:
             rng_seed=self.seed * 16 + self.queries,
             resolution=self.options.resolution,
             simplify_rounds=self.options.simplify_rounds,
+            try_direct=self.options.try_direct,
         )
         self.queries += 1
         result = plan_joint_path(qa, qb, self.arm.lower, self.arm.upper, world.is_valid, opts)
@@ -226,6 +287,42 @@ class _Planner:
         return Segment(phase, traj, np.asarray(path))
 
 
+@dataclass(frozen=True, eq=False)
+class _Grasp:
+    cand: GraspCandidate
+    q_pre: np.ndarray
+    q_grasp: np.ndarray
+    q_lift: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class _Placement:
+    spot: tuple[float, float, float]
+    ee_place: np.ndarray
+    q_pp: np.ndarray
+    q_place: np.ndarray
+    q_ret: np.ndarray
+
+
+class _Tally:
+    """Why candidates were rejected: reachable ones, reasons and the obstacles that blocked them."""
+
+    def __init__(self) -> None:
+        self.reachable = False
+        self.reasons: list[str] = []
+        self.blockers: Counter[str] = Counter()
+
+    def blocked(self, why: str, names: Sequence[str]) -> None:
+        self.reasons.append(why)
+        self.blockers.update(names)
+
+    def top(self, n: int = 3) -> tuple[str, ...]:
+        return tuple(name for name, _ in self.blockers.most_common(n))
+
+    def summary(self, n: int = 3) -> str:
+        return "; ".join(list(dict.fromkeys(self.reasons))[:n])
+
+
 def plan_pick_and_place(
     arm: ArmModel,
     request: PickPlaceRequest,
@@ -233,133 +330,260 @@ def plan_pick_and_place(
     limits: KinematicLimits,
     rate_hz: float,
 ) -> PickPlacePlan | PickPlaceFailure:
-    """Choose a grasp and plan every segment of the pick-and-place; or say which stage makes it impossible."""
-    t0 = time.perf_counter()
+    """Choose a grasp and a placement and plan every segment; or say which stage ran out of options and why.
+
+    Raises:
+        SconeError: a configuration error (e.g. an unknown planner); it is not an outcome of the attempt.
+    """
+    t0, c0 = time.perf_counter(), time.thread_time()
     p = _Planner(arm, options, limits, rate_hz, request.rng_seed)
     req = request
+    params = req.params
+    name = req.target.name
     target = detected_obstacle(req.target, req.spec)
-    others = [detected_obstacle(d, s) for d, s in req.obstacles if d.name != req.target.name]
-    fixed = [*req.static, *others, *req.remembered]
+    others = [detected_obstacle(d, s) for d, s in req.obstacles if d.name != name]
+    table_objs = [o for o in req.table_obstacles if o.name != name]
+    fixed = [*req.static, *others, *table_objs]
 
-    def fail(stage: FailureStage, message: str) -> PickPlaceFailure:
-        return PickPlaceFailure(stage, message, tuple(p.plans), p.checks, time.perf_counter() - t0)
+    def fail(reason: PlanFailureReason, message: str, blockers: Sequence[str] = ()) -> PickPlaceFailure:
+        stage = (
+            FailureStage.IK
+            if reason in (PlanFailureReason.NO_GRASP_IK, PlanFailureReason.NO_PLACEMENT_IK)
+            else FailureStage.PLANNING
+        )
+        return PickPlaceFailure(
+            stage,
+            message,
+            reason,
+            tuple(blockers),
+            tuple(p.plans),
+            p.checks,
+            time.perf_counter() - t0,
+            time.thread_time() - c0,
+        )
 
     w_free = p.world([*fixed, target])
     # Near the grasp the fingers come within millimetres of the supporting shelf: a thinner margin there.
-    w_grasp = p.world([*fixed, target], ignore_for_hand=[target.name], padding=0.004)
+    w_grasp = p.world([*fixed, target], ignore_for_hand=[name], padding=0.004)
     w_other = p.world(fixed, padding=0.004)
+    hand_free = HandModel(arm, [*fixed, target], padding=0.01)
+    hand_near = HandModel(arm, [*fixed, target], padding=0.004)
 
-    # 1. A grasp whose pre-grasp pose is reachable and collision-free, with a clear straight descent and lift.
-    chosen = None
-    reasons: list[str] = []
-    reachable = False
-    for cand in grasp_candidates(req.target, req.spec, req.params, req.preferred_yaw):
-        q_pre = p.ik(cand.pregrasp, req.q_start)
-        if q_pre is None:
-            reasons.append("pre-grasp out of reach")
-            continue
-        reachable = True
-        if not w_free.is_valid(q_pre):
-            reasons.append(f"pre-grasp collides ({_pair(w_free, q_pre)})")
-            continue
-        q_grasp, why = p.line(q_pre, cand.grasp, w_grasp, "descent")
-        if q_grasp is None:
-            reasons.append(why)
-            continue
-        q_lift, why = p.line(q_grasp, lifted(cand.grasp, req.params.lift), w_grasp, "lift")
-        if q_lift is None:
-            reasons.append(why)
-            continue
-        chosen = (cand, q_pre, q_grasp, q_lift)
-        break
-    if chosen is None:
-        if not reachable:
-            return fail(
-                FailureStage.IK,
-                f"no IK solution for any grasp of {req.target.name} at {_fmt(req.target.position)}",
-            )
-        return fail(
-            FailureStage.PLANNING,
-            f"no feasible grasp of {req.target.name}: {'; '.join(dict.fromkeys(reasons))}",
+    # 1. Grasp candidates, examined lazily in cost order.
+    candidates = grasp_candidates(req.target, req.spec, params, req.preferred_yaw, req.opening)
+    tally = _Tally()
+    examined = 0
+
+    def next_feasible() -> _Grasp | None:
+        nonlocal examined
+        while examined < len(candidates):
+            cand = candidates[examined]
+            examined += 1
+            hits = hand_free.colliding(cand.pregrasp)
+            if not hits:
+                for pose in (
+                    _between(cand.pregrasp, cand.grasp, 0.5),
+                    cand.grasp,
+                    lifted(cand.grasp, params.lift),
+                ):
+                    hits = hand_near.colliding(pose, ignore=(name,))
+                    if hits:
+                        break
+            if hits:
+                tally.blocked(f"{cand.family.value} grasps: the hand collides with {hits[0]}", hits)
+                continue
+            q_pre = p.ik(cand.pregrasp, req.q_start, restarts=4)
+            if q_pre is None:
+                tally.reasons.append(f"{cand.family.value} pre-grasp out of reach")
+                continue
+            tally.reachable = True
+            if not w_free.is_valid(q_pre):
+                names = _blockers(w_free, q_pre)
+                tally.blocked(f"{cand.family.value} pre-grasp collides ({_pair(w_free, q_pre)})", names)
+                continue
+            q_grasp, why, names = p.line(q_pre, cand.grasp, w_grasp, f"{cand.family.value} descent")
+            if q_grasp is None:
+                tally.blocked(why, names)
+                continue
+            q_lift, why, names = p.line(q_grasp, lifted(cand.grasp, params.lift), w_grasp, "lift")
+            if q_lift is None:
+                tally.blocked(why, names)
+                continue
+            return _Grasp(cand, q_pre, q_grasp, q_lift)
+        return None
+
+    # 2. Placement spots: sampled on the observed free area of the table, or given.
+    if req.place_spots:
+        spots = list(req.place_spots)
+        table_blockers: tuple[str, ...] = ()
+    elif req.table is not None:
+        sampled = sample_placements(
+            req.table,
+            [obstacle_footprint(o) for o in table_objs],
+            footprint_radius(req.spec),
+            req.spec.height,
+            replace(req.placement, rng_seed=req.rng_seed),
+            tuple(arm.config.base_position[:2]),  # type: ignore[arg-type]
         )
-    cand, q_pre, q_grasp, q_lift = chosen
-
-    # 2. A place pose above the spot, reachable with the object in the hand.
-    carried = Obstacle(req.target.name, req.spec.shape, req.spec.size, cand.object_in_ee)
-    w_carry = p.world(fixed, attached=carried, max_tilt=req.params.max_carry_tilt)
-    placed = None
-    reasons = []
-    place_reachable = False
-    spots = [req.place_spot, *(sp for sp in req.other_spots if sp != req.place_spot)]
+        spots = [s.xyz for s in sampled.spots]
+        table_blockers = sampled.blockers
+    else:
+        spots, table_blockers = [], ()
+    place_tally = _Tally()
     target_dir = float(np.arctan2(req.target.position[1], req.target.position[0]))
 
-    def turns(spot: tuple[float, float, float]) -> tuple[float, ...]:
-        if cand.tilt == 0.0:
-            return (0.0, np.pi / 4, -np.pi / 4, np.pi / 2)
-        # A tilted hand keeps leaning away from the robot: turn it with the direction to the spot.
-        radial = float(np.arctan2(spot[1], spot[0])) - target_dir
-        return (radial, radial + np.pi / 4, radial - np.pi / 4)
+    def placements_for(g: _Grasp) -> list[_Placement]:
+        cand = g.cand
+        carried = Obstacle(name, req.spec.shape, req.spec.size, cand.object_in_ee)
+        w_carry = p.world(fixed, attached=carried, max_tilt=params.max_carry_tilt)
+        w_lower = p.world(fixed, attached=carried, padding=0.004, max_tilt=params.max_carry_tilt)
+        hand_table = HandModel(arm, fixed, padding=0.004)
+        out: list[_Placement] = []
+        seed = g.q_lift
+        for spot in spots:
+            if len(out) >= params.max_goal_placements:
+                break
+            radial = float(np.arctan2(spot[1], spot[0])) - target_dir
+            turns = (
+                (0.0, radial, np.pi / 4, -np.pi / 4, np.pi / 2)
+                if cand.family is GraspFamily.TOP
+                else (
+                    radial,
+                    radial + np.pi / 4,
+                    radial - np.pi / 4,
+                )
+            )
+            for turn in turns:
+                ee_place = place_pose(spot, req.spec, cand.object_in_ee, cand.grasp, turn, params)
+                where = _fmt(spot[:2])
+                hits = hand_table.colliding(ee_place) or hand_table.colliding(
+                    lifted(ee_place, params.retreat)
+                )
+                if hits:
+                    place_tally.blocked(f"at {where} the hand collides with {hits[0]}", hits)
+                    continue
+                q_pp = p.ik(lifted(ee_place, params.approach), seed, restarts=3)
+                if q_pp is None:
+                    place_tally.reasons.append(f"above {where} out of reach")
+                    continue
+                place_tally.reachable = True
+                if not w_carry.is_valid(q_pp):
+                    place_tally.blocked(
+                        f"above {where} collides ({_pair(w_carry, q_pp)})", _blockers(w_carry, q_pp)
+                    )
+                    continue
+                q_place, why, names = p.line(q_pp, ee_place, w_lower, f"lowering to {where}")
+                if q_place is None:
+                    place_tally.blocked(why, names)
+                    continue
+                q_ret, why, names = p.line(q_place, lifted(ee_place, params.retreat), w_other, "retreat")
+                if q_ret is None:
+                    place_tally.blocked(why, names)
+                    continue
+                out.append(_Placement(tuple(spot), ee_place, q_pp, q_place, q_ret))  # type: ignore[arg-type]
+                seed = q_pp
+                break
+        return out
 
-    for spot, dyaw in ((sp, d) for sp in spots for d in turns(sp)):
-        yaw = cand.closing_yaw + dyaw
-        ee_place = place_pose(spot, req.spec, cand.object_in_ee, yaw, req.params, cand.tilt)
-        q_pp = p.ik(lifted(ee_place, req.params.approach), q_lift)
-        if q_pp is None:
-            reasons.append(f"above {_fmt(spot[:2])} out of reach")
+    # 3. Approach to the goal set of grasps; placements and transit for the grasp reached; fall back.
+    pool: list[_Grasp] = []
+    path_failures: list[str] = []
+    placement_failed = False
+    while True:
+        while len(pool) < params.max_goal_grasps:
+            g = next_feasible()
+            if g is None:
+                break
+            pool.append(g)
+        if not pool:
+            break
+        approach_set = len(pool)
+        approach = p.plan(req.q_start, np.array([g.q_pre for g in pool]), w_free)
+        if not approach.success:
+            path_failures.append(f"approach: {approach.status.value} ({approach.message})")
+            pool = []  # none of these grasps can be reached: examine the next candidates
             continue
-        place_reachable = True
-        if not w_carry.is_valid(q_pp):
-            reasons.append(f"above {_fmt(spot[:2])} collides ({_pair(w_carry, q_pp)})")
+        chosen = pool[approach.goal_index]
+        placements = placements_for(chosen)
+        if not placements:
+            placement_failed = True
+            pool.remove(chosen)
             continue
-        q_place, why = p.line(q_pp, ee_place, w_other, f"lowering to {_fmt(spot[:2])}")
-        if q_place is None:
-            reasons.append(why)
+        carried = Obstacle(name, req.spec.shape, req.spec.size, chosen.cand.object_in_ee)
+        w_carry = p.world(fixed, attached=carried, max_tilt=params.max_carry_tilt)
+        transit = p.plan(chosen.q_lift, np.array([pl.q_pp for pl in placements]), w_carry)
+        if not transit.success:
+            path_failures.append(f"transit: {transit.status.value} ({transit.message})")
+            pool.remove(chosen)
             continue
-        q_ret, why = p.line(q_place, lifted(ee_place, req.params.retreat), w_other, "retreat")
-        if q_ret is None:
-            reasons.append(why)
-            continue
-        placed = (ee_place, q_pp, q_place, q_ret)
-        break
-    if placed is None:
-        stage = FailureStage.PLANNING if place_reachable else FailureStage.IK
-        where = "the free table spots" if len(spots) > 1 else _fmt(req.place_spot)
-        return fail(stage, f"no way to place on {where}: {'; '.join(dict.fromkeys(reasons))}")
-    ee_place, q_pp, q_place, q_ret = placed
+        placed = placements[transit.goal_index]
+        placed_obstacle = Obstacle(
+            name, req.spec.shape, req.spec.size, placed.ee_place @ chosen.cand.object_in_ee
+        )
+        w_after = p.world([*fixed, placed_obstacle])
+        home = p.plan(placed.q_ret, np.asarray(req.home, dtype=float), w_after)
+        if not home.success:
+            # Home is the same for every grasp; another grasp would not change the way back.
+            return fail(PlanFailureReason.NO_PATH, f"return home: {home.status.value} ({home.message})")
+        segments = (
+            p.timed("approach", approach.path),  # type: ignore[arg-type]
+            p.timed("descend", np.array([chosen.q_pre, chosen.q_grasp]), slow=True),
+            p.timed("lift", np.array([chosen.q_grasp, chosen.q_lift]), slow=True),
+            p.timed("transit", transit.path),  # type: ignore[arg-type]
+            p.timed("lower", np.array([placed.q_pp, placed.q_place]), slow=True),
+            p.timed("retreat", np.array([placed.q_place, placed.q_ret]), slow=True),
+            p.timed("home", home.path),  # type: ignore[arg-type]
+        )
+        return PickPlacePlan(
+            segments,
+            chosen.cand,
+            tuple(p.plans),
+            p.ik_time,
+            p.checks,
+            p.ruckig_time,
+            time.perf_counter() - t0,
+            tuple(p.ruckig_times),
+            sum(w.check_time for w in p.worlds),
+            placed_obstacle,
+            time.thread_time() - c0,
+            placed.spot,
+            examined,
+            (approach_set, len(placements)),
+        )
 
-    # 3. The free-space motions, planned with OMPL.
-    approach = p.plan(req.q_start, q_pre, w_free)
-    if not approach.success:
-        return fail(FailureStage.PLANNING, f"approach: {approach.status.value} ({approach.message})")
-    transit = p.plan(q_lift, q_pp, w_carry)
-    if not transit.success:
-        return fail(FailureStage.PLANNING, f"transit: {transit.status.value} ({transit.message})")
-    placed_obstacle = Obstacle(req.target.name, req.spec.shape, req.spec.size, ee_place @ cand.object_in_ee)
-    w_after = p.world([*fixed, placed_obstacle])
-    home = p.plan(q_ret, np.asarray(req.home, dtype=float), w_after)
-    if not home.success:
-        return fail(FailureStage.PLANNING, f"return home: {home.status.value} ({home.message})")
-
-    segments = (
-        p.timed("approach", approach.path),  # type: ignore[arg-type]
-        p.timed("descend", np.array([q_pre, q_grasp]), slow=True),
-        p.timed("lift", np.array([q_grasp, q_lift]), slow=True),
-        p.timed("transit", transit.path),  # type: ignore[arg-type]
-        p.timed("lower", np.array([q_pp, q_place]), slow=True),
-        p.timed("retreat", np.array([q_place, q_ret]), slow=True),
-        p.timed("home", home.path),  # type: ignore[arg-type]
-    )
-    return PickPlacePlan(
-        segments,
-        cand,
-        tuple(p.plans),
-        p.ik_time,
-        p.checks,
-        p.ruckig_time,
-        time.perf_counter() - t0,
-        tuple(p.ruckig_times),
-        sum(w.check_time for w in p.worlds),
-        placed_obstacle,
+    # 4. Out of options: say which stage ran out, and what blocked it.
+    if placement_failed:
+        if not spots:
+            where = ", ".join(table_blockers) or "the table's edges"
+            return fail(
+                PlanFailureReason.NO_TABLE_SPACE,
+                f"no free spot on the table for {name}: none clears {where}",
+                table_blockers,
+            )
+        if not place_tally.reachable and not place_tally.blockers:
+            return fail(
+                PlanFailureReason.NO_PLACEMENT_IK,
+                f"no free table spot is within reach with {name} in the hand ({len(spots)} spots tried)",
+            )
+        blockers = place_tally.top()
+        return fail(
+            PlanFailureReason.PLACEMENTS_BLOCKED,
+            f"no placement of {name} clears {', '.join(blockers) or 'the arm'}: {place_tally.summary()}",
+            blockers,
+        )
+    if path_failures:
+        return fail(PlanFailureReason.NO_PATH, f"no path to any grasp of {name}: {path_failures[-1]}")
+    if not tally.reachable and not tally.blockers:
+        return fail(
+            PlanFailureReason.NO_GRASP_IK,
+            f"no IK solution for any grasp of {name} at {_fmt(req.target.position)}",
+        )
+    blockers = tally.top()
+    return fail(
+        PlanFailureReason.GRASPS_BLOCKED,
+        f"every grasp of {name} collides with {', '.join(blockers) or 'the arm itself'} "
+        f"({len(candidates)} tried): {tally.summary()}",
+        blockers,
     )
 
 
@@ -389,6 +613,23 @@ def plan_home(
     if not result.success:
         return None
     return p.timed("home", result.path)  # type: ignore[arg-type]
+
+
+def _between(a: np.ndarray, b: np.ndarray, t: float) -> np.ndarray:
+    """The pose a fraction t of the way from a to b (translation only; both share a rotation here)."""
+    out = b.copy()
+    out[:3, 3] = a[:3, 3] + (b[:3, 3] - a[:3, 3]) * t
+    return out
+
+
+def _blockers(world: CollisionWorld, q: np.ndarray) -> list[str]:
+    """The obstacles (not arm links) in collision at q."""
+    names = []
+    for a, b in world.colliding_pairs(q):
+        for n in (a, b):
+            if n.startswith("obstacle:") and n[9:] not in names:
+                names.append(n[9:])
+    return names
 
 
 def _pair(world: CollisionWorld, q: np.ndarray) -> str:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import threading
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -37,6 +37,9 @@ class PlannerOptions:
         rng_seed: Seed of OMPL's samplers.
         resolution: Motion-checking step as a fraction of the joint space's largest extent.
         simplify_rounds: Shortcutting rounds when simplifying.
+        try_direct: First check the straight joint-space segment to each goal (at the same resolution OMPL's
+            motion validator uses) and return it when it is collision-free, as MoveIt's planners do; OMPL runs
+            only when no goal is directly reachable.
     """
 
     name: str = "RRTConnect"
@@ -45,6 +48,7 @@ class PlannerOptions:
     rng_seed: int = 0
     resolution: float = 0.004
     simplify_rounds: int = 3
+    try_direct: bool = True
 
 
 def silence_ompl() -> None:
@@ -70,11 +74,15 @@ def plan_joint_path(
     is_valid: Callable[[np.ndarray], bool],
     options: PlannerOptions = PlannerOptions(),
 ) -> PlanResult:
-    """Plan a collision-free joint path from start to goal (radians) with OMPL.
+    """Plan a collision-free joint path from start to a goal, or to any goal of a set, with OMPL (radians).
+
+    A (k, dof) `goal` is a goal set: the valid ones are handed to OMPL together (`ompl.base.GoalStates`), so the
+    planner grows towards all of them at once and stops at the first it connects; `PlanResult.goal_index` says
+    which.
 
     Args:
         start: (dof,) start configuration.
-        goal: (dof,) goal configuration.
+        goal: (dof,) goal configuration, or (k, dof) goal set.
         lower: (dof,) lower joint limits.
         upper: (dof,) upper joint limits.
         is_valid: Returns True for a collision-free configuration within limits.
@@ -82,27 +90,46 @@ def plan_joint_path(
 
     Returns:
         SUCCESS with an (N, dof) path, or the reason it failed (START_INVALID, GOAL_INVALID, TIMED_OUT, ...).
+
+    Raises:
+        UnknownNameError: the planner name is not one of PLANNERS (a configuration error, not an outcome).
     """
     t0 = time.perf_counter()
     start = np.asarray(start, dtype=float)
-    goal = np.asarray(goal, dtype=float)
+    goals = np.atleast_2d(np.asarray(goal, dtype=float))
     if options.name not in PLANNERS:
         raise UnknownNameError("planner", options.name, PLANNERS)
     if not is_valid(start):
         return PlanResult(
             PlanStatus.START_INVALID, None, time.perf_counter() - t0, "start configuration is in collision"
         )
-    if not is_valid(goal):
-        return PlanResult(
-            PlanStatus.GOAL_INVALID, None, time.perf_counter() - t0, "goal configuration is in collision"
-        )
+    valid = [i for i, g in enumerate(goals) if is_valid(g)]
+    if not valid:
+        what = "goal configuration is" if len(goals) == 1 else f"all {len(goals)} goal configurations are"
+        return PlanResult(PlanStatus.GOAL_INVALID, None, time.perf_counter() - t0, f"{what} in collision")
+    if options.try_direct:
+        # OMPL's discrete motion validator: steps of resolution x the space's largest extent (L2).
+        step = options.resolution * float(np.linalg.norm(np.asarray(upper) - np.asarray(lower)))
+        for i in valid:
+            n = max(2, int(np.ceil(np.linalg.norm(goals[i] - start) / step)) + 1)
+            if all(is_valid(start + (goals[i] - start) * t) for t in np.linspace(0.0, 1.0, n)[1:-1]):
+                return PlanResult(
+                    PlanStatus.SUCCESS,
+                    np.array([start, goals[i]]),
+                    time.perf_counter() - t0,
+                    "direct: the straight joint-space segment is collision-free",
+                    goal_index=i,
+                )
     with _LOCK:
-        return _solve(start, goal, lower, upper, is_valid, options, t0)
+        result = _solve(start, goals[valid], lower, upper, is_valid, options, t0)
+    if result.success:
+        return replace(result, goal_index=valid[result.goal_index])
+    return result
 
 
 def _solve(
     start: np.ndarray,
-    goal: np.ndarray,
+    goals: np.ndarray,
     lower: np.ndarray,
     upper: np.ndarray,
     is_valid: Callable[[np.ndarray], bool],
@@ -128,11 +155,24 @@ def _solve(
     si.setStateValidityCheckingResolution(options.resolution)
     si.setup()
     ss = og.SimpleSetup(si)
-    a, b = space.allocState(), space.allocState()
+    a = space.allocState()
     for i in range(dof):
         a[i] = float(start[i])
-        b[i] = float(goal[i])
-    ss.setStartAndGoalStates(a, b)
+    if len(goals) == 1:
+        b = space.allocState()
+        for i in range(dof):
+            b[i] = float(goals[0][i])
+        ss.setStartAndGoalStates(a, b)
+    else:
+        ss.setStartState(a)
+        goal_set = ob.GoalStates(si)
+        for g in goals:
+            b = space.allocState()
+            for i in range(dof):
+                b[i] = float(g[i])
+            goal_set.addState(b)
+        goal_set.setThreshold(1e-9)
+        ss.setGoal(goal_set)
     ss.setPlanner(_planner(options.name, si))
     status = ss.solve(float(options.time_limit_s))
     kind = status.getStatus().name
@@ -154,7 +194,12 @@ def _solve(
             if not changed:
                 break
     points = np.array([[path.getState(k)[i] for i in range(dof)] for k in range(path.getStateCount())])
-    points[0], points[-1] = start, goal
+    index = int(np.argmin(np.max(np.abs(goals - points[-1]), axis=1)))
+    points[0], points[-1] = start, goals[index]
     return PlanResult(
-        PlanStatus.SUCCESS, points, time.perf_counter() - t0, f"{options.name}: {len(points)} waypoints"
+        PlanStatus.SUCCESS,
+        points,
+        time.perf_counter() - t0,
+        f"{options.name}: {len(points)} waypoints",
+        goal_index=index,
     )

@@ -1,7 +1,7 @@
 """The motion stage's entry point: build the arm model once, then run non-blocking pick-and-place tasks.
 
     system = MotionSystem.build(kitchen, robot_cfg)       # heavy: Pinocchio + coal models (once, in setup())
-    task = system.pick_and_place(detection, spec, obstacles, rng_seed=7)
+    task = system.pick_and_place(detection, spec, obstacles, rng_seed=7, table_obstacles=seen_on_table)
     task.start()                                          # planning starts in the worker thread
     while not task.done():
         kitchen.advance(0.1)                              # execution advances only with physics steps
@@ -12,6 +12,11 @@ Planning (IK, OMPL, ruckig) runs in one worker thread and never calls PyBullet. 
 on the seed and the physics steps: the arm holds still for a fixed simulated time (ExecutionSettings.think_s) and
 only blocks a physics step if the worker has not finished by then. `progress().phase` is "planning" exactly while
 the worker computes (a caller may pause simulated time meanwhile), then "ready", then the motion phases.
+
+What stands on the table comes from the caller (the table camera's detections) or, without them, from the
+robot's memory of its own placements (`MotionSystem.placed`); never from the simulator's ground truth. An
+exception in the planner (a bug, or a configuration error) is not an outcome of the attempt: it is raised from
+`kitchen.advance` and stops the run.
 """
 
 from __future__ import annotations
@@ -23,6 +28,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from scone_bt.config import ObjectSpec, RobotConfig
+from scone_bt.errors import UnknownNameError
 from scone_bt.motion.collision import Obstacle
 from scone_bt.motion.execution import ExecutionSettings, PickPlaceController
 from scone_bt.motion.grasp import GraspParams
@@ -32,10 +38,12 @@ from scone_bt.motion.pick_place import (
     PickPlacePlan,
     PickPlaceRequest,
     Segment,
+    detected_obstacle,
     plan_home,
     plan_pick_and_place,
 )
-from scone_bt.motion.planner import PlannerOptions, silence_ompl
+from scone_bt.motion.placement import PlacementOptions, TableRegion
+from scone_bt.motion.planner import PLANNERS, PlannerOptions, silence_ompl
 from scone_bt.motion.timing import KinematicLimits, limits_of
 from scone_bt.motion.types import FailureStage, MotionOutcome, MotionProgress
 from scone_bt.perception.types import Detection
@@ -62,6 +70,7 @@ class MotionSystem:
         params: GraspParams,
         settings: ExecutionSettings,
         robot: RobotConfig | None = None,
+        placement: PlacementOptions | None = None,
     ) -> None:
         self.kitchen = kitchen
         self.arm = arm
@@ -71,12 +80,13 @@ class MotionSystem:
         self.limits = limits
         self.params = params
         self.settings = settings
+        self.placement = placement or PlacementOptions()
+        self.table = TableRegion.from_scene(kitchen.config.scene)
         self.static = self._static_obstacles()
         self._worker = cf.ThreadPoolExecutor(max_workers=1, thread_name_prefix="scone-motion")
         self._active: PickAndPlace | None = None
-        # Where this robot put objects on the table: obstacles the shelf camera cannot see.
+        # Where this robot put objects on the table: what it knows stands there when the table is not observed.
         self.placed: dict[str, Obstacle] = {}
-        self.max_other_spots = 3
         y_axis = arm.fk(self.home)[:3, 1]  # the fingers' closing axis at home
         self.preferred_yaw = float(np.arctan2(y_axis[1], y_axis[0]))
 
@@ -90,10 +100,16 @@ class MotionSystem:
         params: GraspParams | None = None,
         settings: ExecutionSettings | None = None,
     ) -> MotionSystem:
-        """Load the arm's Pinocchio and collision models (robot defaults to the kitchen's robot)."""
+        """Load the arm's Pinocchio and collision models (robot defaults to the kitchen's robot).
+
+        Grasp settings come from the robot file's `grasp:` section. Raises SconeError for a configuration error
+        (unknown planner, bad grasp setting) before the robot acts.
+        """
         silence_ompl()
         robot = robot or kitchen.robot_config
         p = robot.planner
+        if planner is not None and planner.name not in PLANNERS:
+            raise UnknownNameError("planner", planner.name, PLANNERS)
         options = planner or PlannerOptions(
             name=p.name, time_limit_s=p.time_limit_s, simplify=p.simplify, rng_seed=p.rng_seed
         )
@@ -102,8 +118,9 @@ class MotionSystem:
             ArmModel(robot),
             options,
             limits_of(robot),
-            params or GraspParams(),
+            params or GraspParams.from_section(robot.raw.get("grasp"), str(robot.source)),
             settings or ExecutionSettings(),
+            robot,
         )
 
     def _static_obstacles(self) -> tuple[Obstacle, ...]:
@@ -121,6 +138,12 @@ class MotionSystem:
     def home(self) -> np.ndarray:
         return np.asarray(self.robot.home, dtype=float)
 
+    @property
+    def opening(self) -> float:
+        """The gripper's full opening, metres."""
+        g = self.robot.gripper
+        return 2.0 * (g.open_position - g.closed_position)
+
     def pick_and_place(
         self,
         target: Detection,
@@ -128,9 +151,21 @@ class MotionSystem:
         obstacles: Sequence[tuple[Detection, ObjectSpec]],
         rng_seed: int,
         place_spot: tuple[float, float, float] | None = None,
+        table_obstacles: Sequence[tuple[Detection, ObjectSpec]] | None = None,
     ) -> PickAndPlace:
-        """A task that moves `target` to a free table spot (default: `kitchen.free_place_spot()`). Cheap; starts nothing."""
-        return PickAndPlace(self, target, spec, tuple(obstacles), int(rng_seed), place_spot)
+        """A task that moves `target` from the shelf to the table. Cheap; starts nothing.
+
+        Args:
+            target: The detected object.
+            spec: Its catalogue model.
+            obstacles: The other objects seen (on the shelf).
+            rng_seed: Seeds planning.
+            place_spot: Put it exactly there (x, y, table top z) instead of sampling a free spot.
+            table_obstacles: What the table camera sees on the table; None when the table is not observed
+                (then the robot knows only what it placed itself).
+        """
+        table = None if table_obstacles is None else tuple(table_obstacles)
+        return PickAndPlace(self, target, spec, tuple(obstacles), int(rng_seed), place_spot, table)
 
     def close(self) -> None:
         self._worker.shutdown(wait=True, cancel_futures=True)
@@ -153,8 +188,10 @@ class PickAndPlace:
         obstacles: tuple[tuple[Detection, ObjectSpec], ...],
         rng_seed: int,
         place_spot: tuple[float, float, float] | None,
+        table_obstacles: tuple[tuple[Detection, ObjectSpec], ...] | None = None,
     ) -> None:
         self.system = system
+        self.table_obstacles = table_obstacles
         self.target = target
         self.spec = spec
         self.obstacles = obstacles
@@ -176,26 +213,29 @@ class PickAndPlace:
         sys_._active = self
         q_start = kitchen.arm_joint_positions()
         seen = {d.name for d, _ in self.obstacles} | {self.target.name}
+        on_table: dict[str, Obstacle] = {}
+        if self.table_obstacles is not None:
+            on_table = {d.name: detected_obstacle(d, s) for d, s in self.table_obstacles}
+            seen |= set(on_table)
         for name in seen:
             sys_.placed.pop(name, None)  # seen again (or being moved): the detection is the truth now
-        spot = self.place_spot if self.place_spot is not None else kitchen.free_place_spot()
-        others = () if self.place_spot is not None else _free_spots(kitchen)[1 : 1 + sys_.max_other_spots]
-        if spot is None:
-            self._outcome = MotionOutcome(False, FailureStage.PLACE, "no free spot on the table", 0.0)
-            return
+        # Seen on the table, plus what the robot put there and the camera does not show now.
+        table_objects = (*on_table.values(), *sys_.placed.values())
         request = PickPlaceRequest(
             q_start=q_start,
             target=self.target,
             spec=self.spec,
             obstacles=self.obstacles,
             static=sys_.static,
-            place_spot=tuple(spot),  # type: ignore[arg-type]
-            other_spots=others,
             home=sys_.home,
             rng_seed=self.rng_seed,
-            remembered=tuple(sys_.placed.values()),
+            table=sys_.table,
+            table_obstacles=table_objects,
+            place_spots=() if self.place_spot is None else (tuple(self.place_spot),),  # type: ignore[arg-type]
             params=sys_.params,
+            placement=sys_.placement,
             preferred_yaw=sys_.preferred_yaw,
+            opening=sys_.opening,
         )
         self._future = sys_._worker.submit(
             plan_pick_and_place, sys_.arm, request, sys_.planner, sys_.limits, sys_.robot.control.rate_hz
@@ -242,7 +282,7 @@ class PickAndPlace:
         def poll(block: bool) -> tuple[bool, Segment | None]:
             if not block and not fut.done():
                 return False, None
-            return True, (None if fut.exception() is not None else fut.result())
+            return True, fut.result()  # a planner exception is an error, raised into kitchen.advance
 
         return poll
 
@@ -327,18 +367,6 @@ class PickAndPlace:
             duration=float(end - start),
             trajectories=tuple(c.executed),
             ee_path=ee,
+            reason=c.reason,
         )
         return self._outcome
-
-
-def _free_spots(kitchen: Kitchen) -> tuple[tuple[float, float, float], ...]:
-    """Every table spot `kitchen.free_place_spot()` would accept, in its order (the first is the one it returns)."""
-    top = kitchen.config.scene.table_top_z
-    occupied = [kitchen.object_state(n).position for n in kitchen.objects]
-    return tuple(
-        (x, y, top)
-        for x, y in kitchen.config.scene.place_spots
-        if all(
-            np.hypot(x - ox, y - oy) > 0.07 or oz > top + 0.3 or oz < top - 0.05 for ox, oy, oz in occupied
-        )
-    )

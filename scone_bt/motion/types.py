@@ -7,7 +7,15 @@ from enum import Enum
 
 import numpy as np
 
-__all__ = ["FailureStage", "PlanStatus", "PlanResult", "TimedTrajectory", "MotionOutcome", "MotionProgress"]
+__all__ = [
+    "FailureStage",
+    "PlanFailureReason",
+    "PlanStatus",
+    "PlanResult",
+    "TimedTrajectory",
+    "MotionOutcome",
+    "MotionProgress",
+]
 
 
 class FailureStage(str, Enum):  # noqa: UP042 (str() of members is relied upon elsewhere)
@@ -22,6 +30,17 @@ class FailureStage(str, Enum):  # noqa: UP042 (str() of members is relied upon e
     PLACE = "place"  # released but not resting upright on the table
     TIMEOUT = "timeout"
     CANCELLED = "cancelled"  # the human took over
+
+
+class PlanFailureReason(str, Enum):  # noqa: UP042
+    """Which stage of planning a pick-and-place ran out of options (the fallbacks are tried in this order)."""
+
+    NO_GRASP_IK = "no_grasp_ik"  # no grasp pose of the object is within the arm's reach
+    GRASPS_BLOCKED = "grasps_blocked"  # every reachable grasp collides (with the named obstacles)
+    NO_TABLE_SPACE = "no_table_space"  # no free spot on the table clears what stands there
+    NO_PLACEMENT_IK = "no_placement_ik"  # no free spot is within reach with the object in the hand
+    PLACEMENTS_BLOCKED = "placements_blocked"  # every reachable placement collides (with the named obstacles)
+    NO_PATH = "no_path"  # OMPL found no collision-free path to any goal of the set within its time limit
 
 
 class PlanStatus(str, Enum):  # noqa: UP042
@@ -42,12 +61,14 @@ class PlanResult:
         path: (N, dof) joint waypoints in radians when successful, else None.
         planning_time: Wall time spent, seconds.
         message: Human-readable detail.
+        goal_index: Which goal of the goal set the path ends at (0 for a single goal).
     """
 
     status: PlanStatus
     path: np.ndarray | None
     planning_time: float
     message: str = ""
+    goal_index: int = 0
 
     @property
     def success(self) -> bool:
@@ -86,6 +107,7 @@ class MotionOutcome:
         duration: Simulated seconds from start to end.
         trajectories: Every timed segment that was executed (for plots and limit checks).
         ee_path: (N, 3) planned end-effector positions, metres (for the 3D trace).
+        reason: For a planning or IK failure, which stage ran out of options; else None.
     """
 
     success: bool
@@ -94,6 +116,7 @@ class MotionOutcome:
     duration: float
     trajectories: tuple[TimedTrajectory, ...] = ()
     ee_path: np.ndarray | None = field(default=None)
+    reason: PlanFailureReason | None = None
 
 
 @dataclass(frozen=True)
