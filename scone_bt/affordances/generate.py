@@ -13,12 +13,7 @@ __all__ = ["on_shelf", "generate_affordances"]
 
 def on_shelf(position: Sequence[float], scene: SceneSpec, margin: float = 0.03) -> bool:
     """True if a world position lies above the shelf's footprint (metres)."""
-    x, y, z = position
-    y0, y1 = scene.shelf_y_range
-    xs = [cx for cx, _ in scene.shelf_tiers]
-    x0, x1 = min(xs) - scene.tier_depth / 2, max(xs) + scene.tier_depth / 2
-    lowest = min(top for _, top in scene.shelf_tiers)
-    return x0 - margin <= x <= x1 + margin and y0 - margin <= y <= y1 + margin and z >= lowest - margin
+    return scene.on_shelf(position, margin)
 
 
 def generate_affordances(detections: Sequence[Detection], scene: SceneSpec) -> list[Affordance]:

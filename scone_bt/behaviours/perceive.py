@@ -1,4 +1,4 @@
-"""Perceive: one RGB-D capture → tracked detections."""
+"""Perceive: one capture per camera → tracked detections of the shelf and of the table."""
 
 from __future__ import annotations
 
@@ -10,21 +10,24 @@ __all__ = ["Perceive"]
 
 
 class Perceive(StageBehaviour):
-    WRITES = (Keys.FRAME, Keys.DETECTIONS)
+    """Writes the first shelf camera's frame, every tracked detection, and what stands on the table.
+
+    ``Keys.TABLE_DETECTIONS`` comes from the table camera alone (empty if the kitchen has none or it is covered):
+    the robot's only knowledge of table obstacles and free placing area.
+    """
+
+    WRITES = (Keys.FRAME, Keys.DETECTIONS, Keys.TABLE_DETECTIONS)
 
     def setup(self, **kwargs: object) -> None:
-        from scone_bt.perception import Camera, Detector, Tracker
+        from scone_bt.perception.observe import Observer
 
-        cfg = self.services.kitchen_config
-        self.camera = Camera(cfg.camera)
-        self.detector = Detector(cfg.catalogue)
-        self.tracker = Tracker()
+        self.observer = Observer(self.services.kitchen_config)
 
     def update(self) -> py_trees.common.Status:
-        kitchen = self.services.kitchen
-        frame = self.camera.capture(kitchen, self.services.rng)
-        detections = self.tracker.update(self.detector.detect(frame), frame.sim_time)
-        self.write(Keys.FRAME, frame)
-        self.write(Keys.DETECTIONS, detections)
-        self.feedback_message = f"{len(detections)} objects detected"
+        seen = self.observer.observe(self.services.kitchen, self.services.rng)
+        self.write(Keys.FRAME, seen.frame)
+        self.write(Keys.DETECTIONS, list(seen.detections))
+        self.write(Keys.TABLE_DETECTIONS, seen.table_detections)
+        on_table = len(seen.table_detections)
+        self.feedback_message = f"{len(seen.detections)} objects detected, {on_table} of them on the table"
         return py_trees.common.Status.SUCCESS

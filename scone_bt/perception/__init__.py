@@ -9,7 +9,19 @@ Typical use, once per decision::
 
 from scone_bt.perception.camera import Camera
 from scone_bt.perception.detector import UNTRACKED, Detector, DetectorOptions
+from scone_bt.perception.observe import Observation, Observer
 from scone_bt.perception.tracker import Track, Tracker
 from scone_bt.perception.types import Detection, Frame
 
-__all__ = ["Camera", "Detection", "Detector", "DetectorOptions", "Frame", "Track", "Tracker", "UNTRACKED"]
+__all__ = [
+    "Camera",
+    "Detection",
+    "Detector",
+    "DetectorOptions",
+    "Frame",
+    "Observation",
+    "Observer",
+    "Track",
+    "Tracker",
+    "UNTRACKED",
+]

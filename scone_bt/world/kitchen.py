@@ -7,6 +7,7 @@ own stages never read ground truth from here; the simulated human, outcome check
 from __future__ import annotations
 
 import contextlib
+import itertools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -21,6 +22,18 @@ __all__ = ["Kitchen", "ObjectState", "StaticBox", "Controller"]
 
 Controller = Callable[["Kitchen"], None]
 """Called before every physics step, e.g. to send joint targets. Returns nothing."""
+
+SOLVER_ITERATIONS = 150
+"""PyBullet constraint-solver iterations per step (the grasp tests and the motion benchmark were tuned with it)."""
+REST_LINEAR_M_S = 1e-3
+"""A body slower than this (m/s, every axis) counts as at rest."""
+REST_ANGULAR_RAD_S = 1e-2
+"""... and turning slower than this (rad/s, every axis)."""
+REST_JOINT_RAD_S = 1e-3
+"""A robot joint slower than this (rad/s) counts as at rest."""
+WAKE_S = 0.5
+"""Simulated seconds the physics keeps stepping after the world was changed from outside."""
+_KITCHEN_IDS = itertools.count()
 
 
 @dataclass(frozen=True)
@@ -70,12 +83,17 @@ class Kitchen:
         self.objects: dict[str, int] = {}
         self.specs: dict[str, ObjectSpec] = {}
         self.spawn_slots: dict[str, tuple[float, float, float]] = {}
+        self.steps_skipped = 0  # physics steps not taken because the scene was asleep
+        # Bumped whenever the world may look different (a step taken, a body moved): cameras re-render only then.
+        self.state_version = 0
+        self.uid = next(_KITCHEN_IDS)  # unlike id(), never reused by a later Kitchen
+        self._awake_until = 0.0
 
         bc = self.bc
         bc.resetSimulation()
         bc.setGravity(0, 0, -9.81)
         bc.setTimeStep(time_step)
-        bc.setPhysicsEngineParameter(numSolverIterations=150, deterministicOverlappingPairs=1)
+        bc.setPhysicsEngineParameter(numSolverIterations=SOLVER_ITERATIONS, deterministicOverlappingPairs=1)
         self.static_boxes = self._build_static_scene()
         self.robot_id, self.joint_index = self._load_robot()
 
@@ -88,16 +106,11 @@ class Kitchen:
             StaticBox("pedestal", *scene.pedestal),
             StaticBox("table", *scene.table),
         ]
-        y0, y1 = scene.shelf_y_range
-        for i, (cx, top) in enumerate(scene.shelf_tiers):
-            height = top - scene.floor_z
-            boxes.append(
-                StaticBox(
-                    f"shelf_tier{i}",
-                    (cx, (y0 + y1) / 2, scene.floor_z + height / 2),
-                    (scene.tier_depth, y1 - y0, height),
-                )
-            )
+        for unit in scene.shelves:
+            for i, (center, size) in enumerate(unit.boxes(scene.floor_z)):
+                # The first unit keeps the historical names (shelf_tier0...), which logs and tests refer to.
+                prefix = "shelf" if unit is scene.shelves[0] else f"shelf_{unit.name}"
+                boxes.append(StaticBox(f"{prefix}_tier{i}", center, size))
         colours = {"pedestal": (0.3, 0.3, 0.3, 1), "table": (0.55, 0.40, 0.25, 1)}
         self.static_body_ids: dict[str, int] = {}
         for box in boxes:
@@ -142,6 +155,7 @@ class Kitchen:
             self.bc.resetJointState(rid, index[name], cfg.gripper.open_position)
             self.bc.changeDynamics(rid, index[name], lateralFriction=cfg.gripper.finger_friction)
         self.robot_id, self.joint_index = rid, index
+        self._moving_joints = [index[n] for n in (*cfg.arm_joints, *cfg.gripper.joints)]
         self.hold_arm(cfg.home)
         self.set_gripper_target(cfg.gripper.open_position)
         return rid, index
@@ -150,24 +164,34 @@ class Kitchen:
     def spawn(
         self, specs: Sequence[ObjectSpec], rng: np.random.Generator
     ) -> dict[str, tuple[float, float, float]]:
-        """Place objects at distinct random shelf slots and let them settle. Returns name → slot."""
+        """Stock the shelving and let the objects settle. Returns name → slot (x, y, surface z).
+
+        Random distinct slots are drawn, then filled as a person stocks a shelf: the heaviest product goes to the
+        lowest of the drawn slots, each stands facing the robot (the unit's u axis) within ±0.3 rad.
+        """
         import pybullet as p
 
-        slots = self.config.scene.shelf_slots()
+        slots = self.config.scene.slots()
         if len(specs) > len(slots):
             raise ConfigError(f"{len(specs)} objects do not fit on the shelf's {len(slots)} slots")
-        chosen = rng.permutation(len(slots))[: len(specs)]
-        for spec, slot_index in zip(specs, chosen, strict=True):
+        for spec in specs:
             if spec.name in self.objects:
                 raise ConfigError(f"object {spec.name!r} is already in the kitchen")
-            x, y, z = slots[int(slot_index)]
+        chosen = [slots[int(i)] for i in rng.permutation(len(slots))[: len(specs)]]
+        # Stable sorts: equal heights keep the random draw order, equal masses the order given.
+        chosen.sort(key=lambda slot: slot.position[2])
+        by_mass = sorted(range(len(specs)), key=lambda i: -specs[i].mass)
+        assignment = {i: chosen[rank] for rank, i in enumerate(by_mass)}
+        for i, spec in enumerate(specs):
+            slot = assignment[i]
+            x, y, z = slot.position
             sx, sy, sz = spec.size
             if spec.shape == "box":
                 col = self.bc.createCollisionShape(p.GEOM_BOX, halfExtents=[sx / 2, sy / 2, sz / 2])
             else:
                 col = self.bc.createCollisionShape(p.GEOM_CYLINDER, radius=sx / 2, height=sz)
             vis = create_object_visual(self.bc, spec)
-            yaw = float(rng.uniform(-0.3, 0.3))
+            yaw = slot.yaw + float(rng.uniform(-0.3, 0.3))
             body = self.bc.createMultiBody(
                 spec.mass,
                 col,
@@ -181,6 +205,7 @@ class Kitchen:
             self.objects[spec.name] = body
             self.specs[spec.name] = spec
             self.spawn_slots[spec.name] = (x, y, z)
+        self.wake()
         self.advance(0.5)
         return dict(self.spawn_slots)
 
@@ -206,12 +231,8 @@ class Kitchen:
         return inside and resting and self._upright(st)
 
     def is_on_shelf(self, name: str) -> bool:
-        scene = self.config.scene
-        x, y, z = self.object_state(name).position
-        y0, y1 = scene.shelf_y_range
-        x0 = min(cx for cx, _ in scene.shelf_tiers) - scene.tier_depth / 2
-        x1 = max(cx for cx, _ in scene.shelf_tiers) + scene.tier_depth / 2
-        return x0 <= x <= x1 and y0 <= y <= y1 and z > scene.floor_z + 0.2
+        """True if the object stands above the footprint of a shelf unit (ground truth)."""
+        return self.config.scene.on_shelf(self.object_state(name).position, margin=0.0)
 
     def _upright(self, st: ObjectState) -> bool:
         rot = np.array(self.bc.getMatrixFromQuaternion(st.orientation)).reshape(3, 3)
@@ -240,6 +261,7 @@ class Kitchen:
             self._body(name), (x, y, top + spec.height / 2 + 1e-3), (0, 0, 0, 1)
         )
         self.bc.resetBaseVelocity(self._body(name), (0, 0, 0), (0, 0, 0))
+        self.wake()
         return True
 
     # ----------------------------------------------------------------------------------------- robot
@@ -269,6 +291,7 @@ class Kitchen:
             forces=[cfg.control.max_joint_force] * len(ids),
             positionGains=[cfg.control.position_gain] * len(ids),
         )
+        self.wake()
 
     def set_gripper_target(self, position: float, force: float | None = None) -> None:
         import pybullet as p
@@ -283,6 +306,7 @@ class Kitchen:
             targetPositions=[position] * len(ids),
             forces=[f] * len(ids),
         )
+        self.wake()
 
     def link_poses(self) -> dict[str, tuple[tuple[float, ...], tuple[float, ...]]]:
         """World pose (position, quaternion xyzw) of every robot link, by link name; the base is 'base'."""
@@ -298,19 +322,52 @@ class Kitchen:
     # ----------------------------------------------------------------------------------------- time
     def add_controller(self, controller: Controller) -> None:
         self._controllers.append(controller)
+        self.wake()
 
     def remove_controller(self, controller: Controller) -> None:
         if controller in self._controllers:
             self._controllers.remove(controller)
+            self.wake()
+
+    def wake(self, seconds: float = WAKE_S) -> None:
+        """Step the physics for at least `seconds` of simulated time from now, even if everything is at rest.
+
+        Call it after changing the world from outside the physics (moving a body, new motor targets): a resting
+        scene is otherwise not stepped (see `advance`).
+        """
+        self._awake_until = max(self._awake_until, self.sim_time + seconds)
+        self.state_version += 1
+
+    def at_rest(self) -> bool:
+        """True if no object and no robot joint moves faster than the rest thresholds (ground truth)."""
+        for body in self.objects.values():
+            linear, angular = self.bc.getBaseVelocity(body)
+            if max(map(abs, linear)) > REST_LINEAR_M_S or max(map(abs, angular)) > REST_ANGULAR_RAD_S:
+                return False
+        states = self.bc.getJointStates(self.robot_id, self._moving_joints)
+        return all(abs(st[1]) <= REST_JOINT_RAD_S for st in states)
 
     def advance(self, seconds: float) -> None:
-        """Step physics for `seconds` of simulated time, running the active controllers before each step."""
-        for _ in range(max(1, round(seconds / self.time_step))):
+        """Advance simulated time by `seconds`, running the active controllers before each physics step.
+
+        A sleeping scene is not stepped: with no controller registered, no `wake()` pending and everything at
+        rest (`at_rest`), the clock moves on and the world stays exactly as it is, which is what stepping a
+        resting scene would give up to solver jitter of micrometres. The decision depends only on the simulated
+        state, so seeded runs still repeat exactly.
+        """
+        n = max(1, round(seconds / self.time_step))
+        if not self._controllers and self.sim_time >= self._awake_until and self.at_rest():
+            self.steps_skipped += n
+            self.steps += n
+            self.sim_time += n * self.time_step
+            return
+        for _ in range(n):
             for controller in list(self._controllers):
                 controller(self)
             self.bc.stepSimulation()
             self.steps += 1
             self.sim_time += self.time_step
+        self.state_version += 1
 
     def close(self) -> None:
         with contextlib.suppress(Exception):  # already disconnected: closing twice must be harmless

@@ -1,9 +1,12 @@
 """How catalogue objects look in the simulator: a coloured body with the object's fiducial on its lid.
 
 Each object is one rigid body whose visual is a compound of PyBullet primitives: the body (box or cylinder in the
-catalogue's colour), a thin white cap on the lid, and the black cells of an ArUco marker (DICT_4X4_50, the
-catalogue's ``marker_id``) laid on the cap. Building the marker from boxes instead of a texture keeps the scene free
-of image files and renders identically in every PyBullet renderer. The collision shape is untouched.
+catalogue's colour), a thin white cap on the lid, and an AprilTag 36h11 marker (587 ids, the catalogue's
+``marker_id``; read through OpenCV's ``cv2.aruco.DICT_APRILTAG_36h11``) laid on the cap. The marker is drawn as few
+rectangles as possible: either its black border plus its black data cells, or a black square with its white data
+cells on top, whichever needs fewer; every one of the 587 ids fits PyBullet's 16 primitives per visual. Building the
+marker from boxes instead of a texture keeps the scene free of image files and renders identically in every
+PyBullet renderer. The collision shape is untouched.
 
 The marker's layout is public (`lid_marker`) because a detector needs it the way a real robot needs the printed
 tag size: it is appearance knowledge, not simulator state.
@@ -29,21 +32,26 @@ __all__ = [
     "LidMarker",
     "lid_marker",
     "marker_cells",
+    "marker_layers",
     "create_object_visual",
 ]
 
-ARUCO_DICTIONARY = "DICT_4X4_50"
-"""The cv2.aruco dictionary the markers come from."""
-MARKER_CELLS = 6
-"""Cells per marker side: 4 data bits plus a one-cell black border on each side."""
-DICTIONARY_SIZE = 50
+ARUCO_DICTIONARY = "DICT_APRILTAG_36h11"
+"""The cv2.aruco dictionary the markers come from (AprilTag 36h11: minimum Hamming distance 11)."""
+MARKER_CELLS = 8
+"""Cells per marker side: 6 data bits plus a one-cell black border on each side."""
+DICTIONARY_SIZE = 587
 
 _CAP_THICKNESS = 0.0015  # metres: the white cap that carries the marker
 # TinyRenderer tessellates a cylinder's flat end as a shallow cone (about 0.9 mm high at the centre), so the black
 # cells float a little above the cap to stay visible on round lids too.
 _INK_GAP = 0.001  # metres
 _INK_THICKNESS = 0.0005  # metres
-_MAX_SHAPES = 14  # PyBullet keeps at most this many primitives per visual shape array
+# White cells drawn over a black square sit this much higher, so the two never fight in the depth buffer.
+_LAYER_GAP = 0.0003  # metres
+_MAX_SHAPES = (
+    16  # PyBullet's MAX_COMPOUND_COLLISION_SHAPES: at most this many primitives per visual shape array
+)
 _QUIET_FRACTION = 0.06  # white margin around the marker as a fraction of the lid's usable square
 _MIN_QUIET = 0.0015  # metres
 _CAP_RGBA = (0.97, 0.97, 0.97, 1.0)
@@ -55,7 +63,7 @@ class LidMarker:
     """Where an object's fiducial sits, in the object's body frame.
 
     Attributes:
-        marker_id: ArUco id (DICT_4X4_50).
+        marker_id: AprilTag 36h11 id.
         side: Side length of the marker including its black border, metres.
         lift: Height of the printed surface above the object's top face, metres.
         top_z: Height of the top face above the body origin (the body's centre), metres.
@@ -87,14 +95,14 @@ def lid_marker(spec: ObjectSpec) -> LidMarker:
     return LidMarker(
         marker_id=spec.marker_id,
         side=float(usable - 2 * quiet),
-        lift=_CAP_THICKNESS + _INK_GAP + _INK_THICKNESS,
+        lift=_CAP_THICKNESS + _INK_GAP + _INK_THICKNESS + _LAYER_GAP,
         top_z=sz / 2,
     )
 
 
 @cache
 def marker_cells(marker_id: int) -> np.ndarray:
-    """(6, 6) bool array, True where the marker is black; row 0 is the marker's top edge."""
+    """(8, 8) bool array, True where the marker is black; row 0 is the marker's top edge."""
     import cv2
 
     dictionary = cv2.aruco.getPredefinedDictionary(getattr(cv2.aruco, ARUCO_DICTIONARY))
@@ -104,27 +112,57 @@ def marker_cells(marker_id: int) -> np.ndarray:
     return cells
 
 
-def _black_runs(cells: np.ndarray) -> list[tuple[int, int, int, int]]:
-    """Black cells merged into rectangles (row, column, rows, columns): rows or columns, whichever needs fewer."""
-    across = [(r, c, 1, n) for r, c, n in _row_runs(cells)]
-    down = [(r, c, n, 1) for c, r, n in _row_runs(cells.T)]
+Rect = tuple[int, int, int, int]
+"""A block of marker cells: (first row, first column, rows, columns)."""
+
+
+def _rectangles(mask: np.ndarray) -> list[Rect]:
+    """Cover the True cells with disjoint rectangles: row runs grown downwards, or the same on the transpose."""
+
+    def cover(cells: np.ndarray) -> list[Rect]:
+        rows, cols = cells.shape
+        taken = np.zeros_like(cells)
+        out = []
+        for r in range(rows):
+            c = 0
+            while c < cols:
+                if not cells[r, c] or taken[r, c]:
+                    c += 1
+                    continue
+                start = c
+                while c < cols and cells[r, c] and not taken[r, c]:
+                    c += 1
+                end = r + 1
+                while end < rows and cells[end, start:c].all() and not taken[end, start:c].any():
+                    end += 1
+                taken[r:end, start:c] = True
+                out.append((r, start, end - r, c - start))
+        return out
+
+    across = cover(mask)
+    down = [(r, c, nr, nc) for c, r, nc, nr in cover(mask.T)]
     return across if len(across) <= len(down) else down
 
 
-def _row_runs(cells: np.ndarray) -> list[tuple[int, int, int]]:
-    """Horizontal runs of black cells as (row, first column, length)."""
-    runs = []
-    for r, row in enumerate(cells):
-        c = 0
-        while c < len(row):
-            if row[c]:
-                start = c
-                while c < len(row) and row[c]:
-                    c += 1
-                runs.append((r, start, c - start))
-            else:
-                c += 1
-    return runs
+def marker_layers(marker_id: int) -> tuple[list[Rect], list[Rect]]:
+    """The marker as (black rectangles, white rectangles drawn over them), in whole-marker cell coordinates.
+
+    Either the black border (four bars) plus the black data cells and no white, or one black square plus the white
+    data cells, whichever needs fewer primitives.
+    """
+    cells = marker_cells(marker_id)
+    inner = cells[1:-1, 1:-1]
+    n = MARKER_CELLS
+
+    def shift(rects: list[Rect]) -> list[Rect]:
+        return [(r + 1, c + 1, nr, nc) for r, c, nr, nc in rects]
+
+    border: list[Rect] = [(0, 0, 1, n), (n - 1, 0, 1, n), (1, 0, n - 2, 1), (1, n - 1, n - 2, 1)]
+    black_cells = shift(_rectangles(inner))
+    white_cells = shift(_rectangles(~inner))
+    if len(border) + len(black_cells) <= 1 + len(white_cells):
+        return border + black_cells, []
+    return [(0, 0, n, n)], white_cells
 
 
 def create_object_visual(bc: BulletClient, spec: ObjectSpec) -> int:
@@ -175,15 +213,22 @@ def create_object_visual(bc: BulletClient, spec: ObjectSpec) -> int:
         )
 
     cell = marker.side / MARKER_CELLS
-    z = sz / 2 + marker.lift - _INK_THICKNESS / 2
-    runs = _black_runs(marker_cells(spec.marker_id))
-    if len(runs) + len(types) > _MAX_SHAPES:
+    black, white = marker_layers(spec.marker_id)
+    if len(black) + len(white) + len(types) > _MAX_SHAPES:
         raise ConfigError(f"object {spec.name!r}: marker {spec.marker_id} needs too many primitives to draw")
-    for row, col, rows, cols in runs:
-        # Column grows along +x, row grows along -y (see LidMarker).
-        cx = (col + cols / 2) * cell - marker.side / 2
-        cy = marker.side / 2 - (row + rows / 2) * cell
-        add(p.GEOM_BOX, [cx, cy, z], _INK_RGBA, he=(cols * cell / 2, rows * cell / 2, _INK_THICKNESS / 2))
+    top = sz / 2 + marker.lift
+    layers = ((black, _INK_RGBA, top - (_LAYER_GAP if white else 0.0)), (white, _CAP_RGBA, top))
+    for rects, rgba, surface in layers:
+        for row, col, rows, cols in rects:
+            # Column grows along +x, row grows along -y (see LidMarker).
+            cx = (col + cols / 2) * cell - marker.side / 2
+            cy = marker.side / 2 - (row + rows / 2) * cell
+            add(
+                p.GEOM_BOX,
+                [cx, cy, surface - _INK_THICKNESS / 2],
+                rgba,
+                he=(cols * cell / 2, rows * cell / 2, _INK_THICKNESS / 2),
+            )
 
     return bc.createVisualShapeArray(
         shapeTypes=types,

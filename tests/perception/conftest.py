@@ -7,17 +7,24 @@ import pytest
 
 
 def place(kitchen, placements: dict[str, tuple[int, int]], yaw: float = 0.0) -> None:
-    """Move spawned objects to (tier, slot) = (index into shelf tiers, index into slot_y), upright, then settle."""
-    scene = kitchen.config.scene
+    """Move spawned objects to (tier, slot) of the first shelf unit, upright, then settle.
+
+    tier indexes the unit's tiers; slot indexes the positions of its longest (lowest) row, which the upper tiers
+    share even where they list no slot (the camera still sees them there).
+    """
+    unit = kitchen.config.scene.shelves[0]
+    row = max((t.slots for t in unit.tiers), key=len)
     for name, (tier, slot) in placements.items():
-        x, top = scene.shelf_tiers[tier]
-        y = scene.slot_y[slot]
+        step = unit.tiers[tier]
+        x, y = unit.to_world(step.center, row[slot])
+        top = step.top_z
         height = kitchen.specs[name].height
         orientation = kitchen.bc.getQuaternionFromEuler((0.0, 0.0, yaw))
         kitchen.bc.resetBasePositionAndOrientation(
             kitchen.objects[name], (x, y, top + height / 2 + 1e-3), orientation
         )
         kitchen.bc.resetBaseVelocity(kitchen.objects[name], (0, 0, 0), (0, 0, 0))
+    kitchen.wake()
     kitchen.advance(0.3)
 
 

@@ -27,12 +27,25 @@ def test_pose_is_a_right_handed_rotation_with_up_pointing_up_the_image(kitchen_c
     assert rot[:, 1] @ np.array(kitchen_cfg.camera.up) < 0  # image y (down) points against world up
 
 
-def test_every_shelf_slot_is_in_view(kitchen_cfg):
-    camera = Camera(kitchen_cfg.camera)
-    lids = np.array([(x, y, z + h) for x, y, z in kitchen_cfg.scene.shelf_slots() for h in (0.02, 0.23)])
-    uv, depth = project(lids, camera.intrinsics, camera.world_from_camera)
-    assert np.all(depth > 0)
-    assert np.all((uv >= 0) & (uv <= [camera.spec.width - 1, camera.spec.height - 1]))
+def _in_view(camera, points):
+    uv, depth = project(points, camera.intrinsics, camera.world_from_camera)
+    inside = (uv >= 0) & (uv <= [camera.spec.width - 1, camera.spec.height - 1])
+    return (depth > 0) & inside.all(axis=1)
+
+
+def test_every_shelf_slot_is_in_view_of_a_shelf_camera(kitchen_cfg):
+    cameras = [Camera(spec) for spec in kitchen_cfg.shelf_cameras]
+    assert len(cameras) >= 2
+    for x, y, z in kitchen_cfg.scene.shelf_slots():
+        lids = np.array([(x, y, z + h) for h in (0.02, 0.23)])  # a low lid and a tall bottle's
+        assert any(_in_view(camera, lids).all() for camera in cameras), (x, y, z)
+
+
+def test_every_place_spot_is_in_view_of_the_table_camera(kitchen_cfg):
+    camera = Camera(kitchen_cfg.table_camera)
+    top = kitchen_cfg.scene.table_top_z
+    spots = np.array([(x, y, top + h) for x, y in kitchen_cfg.scene.place_spots for h in (0.02, 0.25)])
+    assert _in_view(camera, spots).all()
 
 
 @pytest.mark.parametrize(

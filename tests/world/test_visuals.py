@@ -9,12 +9,20 @@ import numpy as np
 import pytest
 
 from scone_bt.errors import ConfigError
-from scone_bt.world.visuals import MARKER_CELLS, create_object_visual, lid_marker, marker_cells
+from scone_bt.world.visuals import (
+    _MAX_SHAPES,
+    DICTIONARY_SIZE,
+    MARKER_CELLS,
+    create_object_visual,
+    lid_marker,
+    marker_cells,
+    marker_layers,
+)
 
 
 def test_every_marker_pattern_decodes_to_its_own_id():
-    detector = cv2.aruco.ArucoDetector(cv2.aruco.getPredefinedDictionary(cv2.aruco.DICT_4X4_50))
-    for marker_id in range(50):
+    detector = cv2.aruco.ArucoDetector(cv2.aruco.getPredefinedDictionary(cv2.aruco.DICT_APRILTAG_36h11))
+    for marker_id in range(DICTIONARY_SIZE):
         cells = np.where(marker_cells(marker_id), 0, 255).astype(np.uint8)
         image = np.pad(
             cv2.resize(cells, None, fx=10, fy=10, interpolation=cv2.INTER_NEAREST), 20, constant_values=255
@@ -33,9 +41,21 @@ def test_markers_fit_on_their_lids(kitchen_cfg):
 
 
 def test_marker_id_outside_the_dictionary_is_a_config_error(kitchen_cfg):
-    spec = replace(kitchen_cfg.catalogue.get("salt"), marker_id=50)
-    with pytest.raises(ConfigError, match="0-49"):
+    spec = replace(kitchen_cfg.catalogue.get("salt"), marker_id=DICTIONARY_SIZE)
+    with pytest.raises(ConfigError, match="0-586"):
         lid_marker(spec)
+
+
+def test_marker_layers_paint_exactly_the_marker_within_pybullets_primitive_limit():
+    for marker_id in range(DICTIONARY_SIZE):
+        black, white = marker_layers(marker_id)
+        painted = np.zeros((MARKER_CELLS, MARKER_CELLS), bool)
+        for r, c, nr, nc in black:
+            painted[r : r + nr, c : c + nc] = True
+        for r, c, nr, nc in white:
+            painted[r : r + nr, c : c + nc] = False
+        assert (painted == marker_cells(marker_id)).all(), marker_id
+        assert 2 + len(black) + len(white) <= _MAX_SHAPES  # plus the body and the cap
 
 
 def test_visual_is_one_body_with_body_cap_and_marker_cells(kitchen, kitchen_cfg):
@@ -47,9 +67,10 @@ def test_visual_is_one_body_with_body_cap_and_marker_cells(kitchen, kitchen_cfg)
         body = kitchen.bc.createMultiBody(0.1, -1, visual)
         shapes = kitchen.bc.getVisualShapeData(body)
         assert shapes[0][2] == (p.GEOM_BOX if spec.shape == "box" else p.GEOM_CYLINDER)
-        black = int(marker_cells(spec.marker_id).sum())
-        cell_area = (lid_marker(spec).side / MARKER_CELLS) ** 2
-        # PyBullet reports a box's full extents; the black boxes together cover exactly the black cells.
-        ink = sum(s[3][0] * s[3][1] for s in shapes[2:])
-        assert ink == pytest.approx(black * cell_area, rel=1e-6)
+        black, white = marker_layers(spec.marker_id)
+        assert len(shapes) == 2 + len(black) + len(white)
+        cell = lid_marker(spec).side / MARKER_CELLS
+        # PyBullet reports a box's full extents: every marker box has the size of its block of cells.
+        for shape, (_, _, rows, cols) in zip(shapes[2:], [*black, *white], strict=True):
+            assert shape[3][0] == pytest.approx(cols * cell) and shape[3][1] == pytest.approx(rows * cell)
         assert all(s[1] == -1 for s in shapes)  # all on the base link: one rigid body
