@@ -26,6 +26,7 @@ from scone_bt.instruction_following.policies import (
     state_scores,
     threshold_picks_score,
 )
+from scone_bt.instruction_following.product_policy import RecipeAwarePolicy, fit_selection_options
 from scone_bt.instruction_following.states import IfState
 
 __all__ = [
@@ -82,6 +83,10 @@ class EmbedderRow:
         with_rho: Scores stopping at ``rho``.
         with_rho_if: Scores stopping at ``rho_if``.
         oracle_stop: Scores stopping after len(relevant) picks (ranking quality alone).
+        product: The policy the robot runs (recipe-aware selection with its own stop rule), fitted on train.
+        product_rho: Its semantic fallback's ρ, cosine similarity.
+        product_margin: Its ambiguity margin, cosine similarity.
+        product_named: Share of evaluated states where the step names at least one candidate item.
     """
 
     name: str
@@ -91,6 +96,10 @@ class EmbedderRow:
     with_rho: IfScore
     with_rho_if: IfScore
     oracle_stop: IfScore
+    product: IfScore
+    product_rho: float
+    product_margin: float
+    product_named: float
 
 
 @dataclass(frozen=True)
@@ -133,6 +142,7 @@ class BenchResult:
                     "with_rho": r.with_rho.to_json(),
                     "with_rho_if": r.with_rho_if.to_json(),
                     "oracle_stop": r.oracle_stop.to_json(),
+                    "product_policy": _product_json(r),
                 }
                 for r in self.rows
             ],
@@ -141,6 +151,8 @@ class BenchResult:
             "seconds": {k: round(v, 1) for k, v in self.seconds.items()},
             "finetuned": self.finetuned,
         }
+        if self.rows:
+            out["product_policy"] = {"embedder": self.rows[0].name, **_product_json(self.rows[0])}
         if best is not None:
             score = best.with_rho_if if best.with_rho_if.accuracy >= best.with_rho.accuracy else best.with_rho
             out["best"] = {"policy": score.policy, "accuracy": round(score.accuracy, 4)}
@@ -149,6 +161,17 @@ class BenchResult:
                 out["breakdown"][b.policy] = _breakdown(b.episodes)  # type: ignore[index]
             out["failures"] = _failures(score.episodes)
         return out
+
+
+def _product_json(row: EmbedderRow) -> dict[str, object]:
+    return {
+        "accuracy": round(row.product.accuracy, 4),
+        "recall": round(row.product.recall, 4),
+        "picks_per_state": round(row.product.picks_per_state, 3),
+        "rho": round(row.product_rho, 3),
+        "margin": round(row.product_margin, 3),
+        "states_naming_an_item": round(row.product_named, 4),
+    }
 
 
 def state_category(state: IfState) -> str:
@@ -229,6 +252,9 @@ def _embedding_row(
         if acc_rel > acc_abs:
             relative, rho_if = True, rho_rel
     state_scores(emb, test)  # one batched pass; the policies then read the embedder's cache
+    sel_opts = fit_selection_options(emb, train, name)
+    product = RecipeAwarePolicy(emb, f"{name}, recipe-aware (product)", sel_opts)
+    named = float(np.mean([bool(product.selection(s).named) for s in test]))
     return EmbedderRow(
         name=name,
         rho=rho,
@@ -239,6 +265,10 @@ def _embedding_row(
             SimilarityPolicy(emb, f"{name} + ρ_IF", threshold=rho_if, relative=relative), test
         ),
         oracle_stop=evaluate(SimilarityPolicy(emb, f"{name}, oracle stop", oracle_count=True), test),
+        product=evaluate(product, test),
+        product_rho=sel_opts.rho,
+        product_margin=sel_opts.margin,
+        product_named=named,
     )
 
 
@@ -348,6 +378,10 @@ def format_table(result: BenchResult) -> str:
         lines.append(
             f"| {r.name}, oracle stop | {r.oracle_stop.accuracy:.2f} | {r.oracle_stop.recall:.2f} | "
             f"{r.oracle_stop.picks_per_state:.2f} | after len(relevant) picks |"
+        )
+        lines.append(
+            f"| {r.name}, recipe-aware (the robot's policy) | {r.product.accuracy:.2f} | {r.product.recall:.2f} | "
+            f"{r.product.picks_per_state:.2f} | named items, else cos ≥ {r.product_rho:.2f} |"
         )
     for b in result.baselines:
         lines.append(f"| {b.policy} | {b.accuracy:.2f} | {b.recall:.2f} | {b.picks_per_state:.2f} | own |")

@@ -17,7 +17,6 @@ import hashlib
 import json
 import os
 import re
-import unicodedata
 from collections import Counter
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
@@ -30,6 +29,7 @@ from scone_bt.affordances.types import action_text
 from scone_bt.errors import RecipeError
 from scone_bt.recipes.normalise import is_fetchable, item_key, normalise_ingredient
 from scone_bt.recipes.recipe import Recipe, recipe_from_record
+from scone_bt.relevance.mentions import mentioned_items
 
 __all__ = [
     "IfState",
@@ -134,37 +134,6 @@ def item_of_action(action: str) -> str:
     """The item an action text acts on ("Put salt on table" → "salt")."""
     m = _ACTION.match(action)
     return m.group(1) if m else action
-
-
-def _surface_forms(item: str) -> set[str]:
-    key = item_key(item)
-    forms = {item, key}
-    for base in (item, key):
-        if base.endswith("y") and not base.endswith(("ay", "ey", "oy", "uy")):
-            forms.add(base[:-1] + "ies")
-        elif base.endswith(("ch", "sh", "s", "x", "o")):
-            forms.add(base + "es")
-        else:
-            forms.add(base + "s")
-    return forms
-
-
-def mentioned_items(text: str, items: Iterable[str], head_nouns: bool = True) -> list[str]:
-    """Items a text names, in the order given: the whole name in singular or plural form, or (if
-    ``head_nouns``) its last word when no other item ends in it ("add the liver" names "beef liver")."""
-    items = list(items)
-    folded = unicodedata.normalize("NFKD", text).encode("ascii", "ignore").decode()
-    lowered = " " + re.sub(r"[^a-z0-9' -]+", " ", folded.lower()) + " "
-    heads = Counter(item_key(i.split()[-1]) for i in items if i.split())
-    found = []
-    for item in items:
-        forms = _surface_forms(item)
-        head = item.split()[-1] if item.split() else ""
-        if head_nouns and " " in item and heads[item_key(head)] == 1:
-            forms |= _surface_forms(head)
-        if any(f" {form} " in lowered for form in forms if form):
-            found.append(item)
-    return found
 
 
 def load_corpus(path: str | os.PathLike[str] | None = None) -> list[Recipe]:
