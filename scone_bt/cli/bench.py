@@ -23,6 +23,7 @@ __all__ = ["main", "BENCHMARK_MODULES"]
 BENCHMARK_MODULES: tuple[str, ...] = (
     "scone_bt.instruction_following.cli",
     "scone_bt.benchmarks.cli",
+    "scone_bt.study.loadtest",
 )
 
 

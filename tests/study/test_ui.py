@@ -58,3 +58,119 @@ def test_localhost_without_token():
     with serve_tablet("127.0.0.1", 0, None) as server:
         assert "token" not in server.url
         assert _get(server.url + "api/state")[0] == 200
+
+
+# ---------------------------------------------------------------------------------------------- hardening (issue 18)
+import http.client  # noqa: E402
+import socket  # noqa: E402
+import threading  # noqa: E402
+
+from scone_bt.study import MDMT_PERFORMANCE, StudyLog, plan_session  # noqa: E402
+from scone_bt.study.ui import MAX_BODY_BYTES  # noqa: E402
+
+TOKEN = "abcdefgh-123"
+
+
+def _raw(port: int, method: str, path: str, headers: dict, body: bytes = b"") -> tuple[int, str]:
+    conn = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
+    conn.putrequest(method, path, skip_host=True, skip_accept_encoding=True)
+    for k, v in headers.items():
+        conn.putheader(k, v)
+    if body:
+        conn.putheader("Content-Length", str(len(body)))
+    conn.endheaders(body or None)
+    r = conn.getresponse()
+    out = r.status, r.read().decode()
+    conn.close()
+    return out
+
+
+def test_token_is_checked_before_the_body_is_read():
+    with serve_tablet("127.0.0.1", 0, TOKEN) as server:
+        # announce 28 MB and send none of it: an answer proves the server did not wait for (or read) the body
+        with socket.create_connection(("127.0.0.1", server.port), timeout=10) as s:
+            s.sendall(
+                b"POST /api/questionnaires/mdmt HTTP/1.1\r\nHost: 127.0.0.1\r\n"
+                b"Content-Type: application/json\r\nContent-Length: 28000000\r\n\r\n"
+            )
+            head = s.recv(4096).decode()
+        assert head.startswith("HTTP/1.1 403"), head
+
+
+def test_body_size_limit_announced_and_streamed():
+    with serve_tablet("127.0.0.1", 0, TOKEN) as server:
+        auth = {"Host": "127.0.0.1", "X-Session-Token": TOKEN, "Content-Type": "application/json"}
+        big = b'{"mdmt_reliable": ' + b" " * (MAX_BODY_BYTES + 10) + b"3}"
+        status, _ = _raw(server.port, "POST", "/api/questionnaires/mdmt", auth, big)
+        assert status == 413
+        # chunked, no Content-Length: the limit counts the bytes actually received
+        with socket.create_connection(("127.0.0.1", server.port), timeout=10) as s:
+            s.sendall(
+                b"POST /api/questionnaires/mdmt HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Session-Token: "
+                + TOKEN.encode()
+                + b"\r\nContent-Type: application/json\r\nTransfer-Encoding: chunked\r\n\r\n"
+            )
+            chunk = b" " * 8192
+            for _ in range(4):
+                s.sendall(f"{len(chunk):x}\r\n".encode() + chunk + b"\r\n")
+            s.sendall(b"0\r\n\r\n")
+            head = s.recv(4096).decode()
+        assert head.startswith("HTTP/1.1 413"), head
+
+
+def test_localhost_mode_checks_host_and_origin():
+    with serve_tablet("127.0.0.1", 0, None) as server:
+        port = server.port
+        # DNS rebinding: a page at evil.example resolved to 127.0.0.1 sends Host: evil.example
+        assert _raw(port, "GET", "/api/state", {"Host": f"evil.example:{port}"})[0] == 421
+        for host in (f"127.0.0.1:{port}", f"localhost:{port}", "localhost"):
+            assert _raw(port, "GET", "/api/state", {"Host": host})[0] == 200
+        same = {"Host": f"127.0.0.1:{port}"}
+        # a cross-site POST does not reach /api/takeover; a same-origin one does (409: the robot is not acting)
+        assert _raw(port, "POST", "/api/takeover", {**same, "Origin": "http://evil.example"})[0] == 403
+        assert _raw(port, "POST", "/api/takeover", {**same, "Origin": "null"})[0] == 403
+        assert _raw(port, "POST", "/api/takeover", {**same, "Sec-Fetch-Site": "cross-site"})[0] == 403
+        assert _raw(port, "POST", "/api/takeover", {**same, "Origin": f"http://127.0.0.1:{port}"})[0] == 409
+        assert _raw(port, "POST", "/api/takeover", same)[0] == 409  # scripts send no Origin
+
+
+def test_a_questionnaire_is_stored_once_under_concurrent_submissions(tmp_path):
+    log = StudyLog(tmp_path / "study.db")
+    sid = log.start_session(plan_session("P01", "A", 1))
+    with serve_tablet("127.0.0.1", 0, TOKEN) as server:
+        server.ask_questionnaires(lambda name, answers: log.record_responses(sid, name, answers))
+        base = server.url.split("?")[0]
+        results: list[tuple[int, int]] = []
+        barrier = threading.Barrier(12)
+
+        def submit(k: int) -> None:
+            answers = {item.key: float(k % 8) for item in MDMT_PERFORMANCE.items}
+            barrier.wait()
+            results.append((k, _post(base + "api/questionnaires/mdmt", answers, {"X-Session-Token": TOKEN})))
+
+        threads = [threading.Thread(target=submit, args=(k,)) for k in range(12)]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join(30)
+        assert sorted(code for _, code in results) == [200] + [409] * 11
+        (winner,) = [k for k, code in results if code == 200]
+        stored = [r for r in log.responses() if r.questionnaire == "mdmt"]
+        assert len(stored) == len(MDMT_PERFORMANCE.items)
+        assert {r.value for r in stored} == {float(winner % 8)}  # the first answers stand, not the last
+        # later, the same answers again: refused, not overwritten
+        again = {item.key: 7.0 for item in MDMT_PERFORMANCE.items}
+        assert _post(base + "api/questionnaires/mdmt", again, {"X-Session-Token": TOKEN}) == 409
+    log.close()
+
+
+def test_wildcard_bind_prints_a_reachable_url_and_bad_ports_are_refused():
+    with serve_tablet("0.0.0.0", 0, TOKEN) as server:
+        host = server.url.split("//", 1)[1].split(":", 1)[0]
+        assert host != "0.0.0.0" and host
+        status, _ = _get(
+            server.url.split("?")[0].replace(host, "127.0.0.1") + "api/state", {"X-Session-Token": TOKEN}
+        )
+        assert status == 200
+    with pytest.raises(UIError, match="0..65535"):
+        serve_tablet("127.0.0.1", 99999, None)
