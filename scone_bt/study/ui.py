@@ -132,29 +132,29 @@ class RequestGuard:
                 await self._refuse(send, 403, "cross-site write refused")
                 return
         received = 0
-        too_large = False
+        refused = started = False
 
         async def limited_receive() -> dict:
-            nonlocal received, too_large
+            nonlocal received, refused
             message = await receive()
             if message["type"] == "http.request":
                 received += len(message.get("body", b""))
                 if received > self.max_body:
-                    too_large = True
+                    if not started and not refused:
+                        refused = True
+                        await self._refuse(send, 413, f"request body larger than {self.max_body} bytes")
                     return {"type": "http.disconnect"}  # the app stops reading; nothing of it is used
             return message
 
-        started = False
-
         async def tracking_send(message: dict) -> None:
             nonlocal started
+            if refused:
+                return  # the 413 went out already; the app's answer to a cut-off body is dropped
             if message["type"] == "http.response.start":
                 started = True
             await send(message)
 
         await self.app(scope, limited_receive, tracking_send)
-        if too_large and not started:
-            await self._refuse(send, 413, f"request body larger than {self.max_body} bytes")
 
 
 def reachable_address(host: str) -> str:
