@@ -15,6 +15,7 @@ no existing value changes.
 from __future__ import annotations
 
 import json
+import os
 import shutil
 import sqlite3
 import threading
@@ -60,6 +61,28 @@ def _statements(script: str) -> list[str]:
     return [s for s in (p.strip() for p in script.split(";")) if s]
 
 
+MIN_FREE_BYTES = 1 << 20
+"""Free space the store needs at open (an outcome is about 1 kB; SQLite's journal needs a few pages)."""
+
+
+def _check_writable(path: Path, existing: bool) -> None:
+    """A read-only file, folder or mount, or a full disk, as ExperienceStoreError (the file is not touched)."""
+    if existing and not os.access(path, os.W_OK):
+        raise ExperienceStoreError(
+            f"experience store {path} is read-only: outcomes could not be stored; give a writable path"
+        )
+    if not os.access(path.parent, os.W_OK | os.X_OK):
+        raise ExperienceStoreError(
+            f"experience store {path}: its folder is read-only (SQLite writes {path.name}-wal beside it); "
+            "give a writable path"
+        )
+    free = shutil.disk_usage(path.parent).free
+    if free < MIN_FREE_BYTES:
+        raise ExperienceStoreError(
+            f"experience store {path}: disk full ({free} bytes free, at least {MIN_FREE_BYTES} needed)"
+        )
+
+
 class ExperienceStore(OutcomeStore):
     """Durable, append-only log of outcomes in one SQLite file.
 
@@ -96,6 +119,7 @@ class ExperienceStore(OutcomeStore):
                 path.parent.mkdir(parents=True, exist_ok=True)
             except OSError as exc:
                 raise ExperienceStoreError(f"cannot create a folder for {path}: {exc.strerror}") from None
+        _check_writable(path, existing)  # at open: before the first outcome, not after it
         try:
             # isolation_level=None: we issue BEGIN/COMMIT ourselves, so each append is exactly one transaction
             conn = sqlite3.connect(path, timeout=30.0, isolation_level=None, check_same_thread=False)

@@ -73,6 +73,13 @@ CREATE INDEX IF NOT EXISTS events_session ON events(session_id);
 """
 
 
+def _readonly_uri(path: Path) -> str:
+    """An SQLite URI that never writes: mode=ro, and immutable=1 where the folder is read-only (a read-only mount,
+    where SQLite could not create the WAL index it needs even for reading)."""
+    uri = f"{path.absolute().as_uri()}?mode=ro"
+    return uri + ("&immutable=1" if not os.access(path.absolute().parent, os.W_OK) else "")
+
+
 class StudyLogError(SconeError):
     """A study log that is not one, is from a newer version, or mixes simulated and real data."""
 
@@ -129,6 +136,10 @@ class StudyLog:
         self.readonly = readonly
         self._lock = threading.Lock()
         existing = self.path.exists()
+        if existing and not readonly and not os.access(self.path, os.W_OK):
+            raise StudyLogError(
+                f"{self.path} is read-only; sessions cannot be recorded in it (it was left as it is)"
+            )
         if existing:
             meta = self._inspect()  # read-only: a file that is not ours is refused unchanged
         elif readonly:
@@ -175,7 +186,7 @@ class StudyLog:
         if head != _SQLITE_MAGIC:
             raise StudyLogError(f"{path} is not an SQLite study log; it was left as it is")
         try:
-            db = sqlite3.connect(f"{path.absolute().as_uri()}?mode=ro", uri=True)
+            db = sqlite3.connect(_readonly_uri(path), uri=True)
         except sqlite3.Error as exc:
             raise StudyLogError(f"cannot open {path}: {exc}") from None
         try:
@@ -209,7 +220,7 @@ class StudyLog:
         if self.readonly:
             try:
                 return sqlite3.connect(
-                    f"{path.absolute().as_uri()}?mode=ro",
+                    _readonly_uri(path),
                     uri=True,
                     check_same_thread=False,
                     isolation_level=None,

@@ -86,3 +86,102 @@ def test_refuses_foreign_files_and_mixing(tmp_path):
     StudyLog(tmp_path / "sim.db", simulated=True).close()
     with pytest.raises(StudyLogError, match="SIMULATED"):
         StudyLog(tmp_path / "sim.db")
+
+
+# ---------------------------------------------------------------------------------------------- hostile files (issue 18)
+import hashlib  # noqa: E402
+import os  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+from scone_bt.study.cli import main as study_main  # noqa: E402
+
+
+def _digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def _siblings(path: Path) -> set[str]:
+    return {p.name for p in path.parent.iterdir()}
+
+
+def test_foreign_and_empty_files_are_refused_unchanged(tmp_path, capsys):
+    foreign = tmp_path / "foreign.db"
+    with sqlite3.connect(foreign) as db:
+        db.execute("CREATE TABLE t (x)")  # rollback journal, not WAL
+    empty = tmp_path / "empty.db"
+    empty.write_bytes(b"")
+    before = {p: _digest(p) for p in (foreign, empty)}
+    names = _siblings(foreign)
+    for path in (foreign, empty):
+        for opener in (lambda p: StudyLog(p), lambda p: StudyLog(p, readonly=True)):
+            with pytest.raises(StudyLogError, match="left as it is"):
+                opener(path)
+        for argv in (["export", "--db", str(path), "--out", str(tmp_path / "csv")],):
+            assert study_main(argv) == 2
+            err = capsys.readouterr().err.strip()
+            assert err.startswith("scone-study: error:") and "\n" not in err
+    assert {p: _digest(p) for p in (foreign, empty)} == before
+    assert _siblings(foreign) == names  # no -wal / -shm appeared: no journal switch
+    with sqlite3.connect(foreign) as db:
+        assert db.execute("PRAGMA journal_mode").fetchone()[0] == "delete"
+
+
+def test_a_corrupt_page_is_reported_not_a_traceback(tmp_path, capsys):
+    db = tmp_path / "s.db"
+    with StudyLog(db) as log:
+        sid = log.start_session(plan_session("P01", "A", 1))
+        for i in range(400):
+            log.record_event(sid, "outcome", {"object": "salt", "i": i, "pad": "x" * 200})
+    raw = bytearray(db.read_bytes())
+    page = 4096
+    raw[page * 3 : page * 3 + 64] = b"\xa5" * 64  # damage one page of the events table
+    db.write_bytes(bytes(raw))
+    before = _digest(db)
+    assert study_main(["export", "--db", str(db), "--out", str(tmp_path / "csv")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "corrupt" in err and "\n" not in err and "Traceback" not in err
+    assert _digest(db) == before
+
+
+def test_answers_are_never_replaced(tmp_path):
+    from scone_bt.study.questionnaires import MDMT_PERFORMANCE
+
+    with StudyLog(tmp_path / "s.db") as log:
+        sid = log.start_session(plan_session("P01", "A", 1))
+        log.record_responses(sid, "mdmt", {i.key: 2.0 for i in MDMT_PERFORMANCE.items})
+        with pytest.raises(StudyLogError, match="never replaced"):
+            log.record_responses(sid, "mdmt", {i.key: 6.0 for i in MDMT_PERFORMANCE.items})
+        assert {r.value for r in log.responses()} == {2.0}
+
+
+def test_readonly_opening_and_export_never_overwrites(tmp_path, capsys):
+    db = tmp_path / "s.db"
+    with StudyLog(db) as log:
+        log.start_session(plan_session("P01", "A", 1))
+    before = _digest(db)
+    with StudyLog(db, readonly=True) as log:
+        assert len(log.sessions()) == 1
+        with pytest.raises(StudyLogError, match="read-only"):
+            log.start_session(plan_session("P02", "A", 1))
+    assert _digest(db) == before
+    out = tmp_path / "csv"
+    assert study_main(["export", "--db", str(db), "--out", str(out)]) == 0
+    capsys.readouterr()
+    first = (out / "sessions.csv").read_bytes()
+    assert study_main(["export", "--db", str(db), "--out", str(out)]) == 2
+    assert "never overwritten" in capsys.readouterr().err
+    assert (out / "sessions.csv").read_bytes() == first
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    assert study_main(["export", "--db", str(db), "--out", str(blocker / "csv")]) == 2
+    assert "is a file" in capsys.readouterr().err
+    assert blocker.read_text() == "x"
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root writes through file permissions")
+def test_readonly_file_is_reported_as_readonly(tmp_path):
+    db = tmp_path / "s.db"
+    StudyLog(db).close()
+    db.chmod(0o444)
+    with pytest.raises(StudyLogError, match="read-only"):
+        StudyLog(db)
