@@ -24,6 +24,10 @@ BENCHMARK_MODULES: tuple[str, ...] = (
     "scone_bt.instruction_following.cli",
     "scone_bt.benchmarks.cli",
     "scone_bt.study.loadtest",
+    "scone_bt.benchmarks.scale",
+    "scone_bt.benchmarks.fleet",
+    "scone_bt.benchmarks.perception",
+    "scone_bt.benchmarks.catalogue",
 )
 
 

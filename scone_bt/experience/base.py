@@ -74,7 +74,9 @@ class OutcomeStore(ABC):
         """Store one outcome, committed before this returns (a no-op if its outcome_id is stored); its row id."""
 
     @abstractmethod
-    def _select(self, embedder: str | None, robot_id: str | None, arm: str | None) -> list[tuple[Any, ...]]:
+    def _select(
+        self, embedder: str | None, robot_id: str | None, arm: str | None, profile: str | None
+    ) -> list[tuple[Any, ...]]:
         """Rows in COLUMNS order, in commit order, with the given equality filters."""
 
     @abstractmethod
@@ -91,9 +93,10 @@ class OutcomeStore(ABC):
         *,
         robot_id: str | None = None,
         arm: str | None = None,
+        profile: str | None = None,
     ) -> list[Outcome]:
-        """Stored outcomes in commit order, optionally of one embedder / robot / arm model / predicate."""
-        out = [outcome_from_row(r) for r in self._select(embedder, robot_id, arm)]
+        """Stored outcomes in commit order, optionally of one embedder / robot / arm / profile / predicate."""
+        out = [outcome_from_row(r) for r in self._select(embedder, robot_id, arm, profile)]
         return [o for o in out if where(o)] if where is not None else out
 
     def outcome_ids(self) -> set[str]:

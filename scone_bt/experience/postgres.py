@@ -200,11 +200,18 @@ class PostgresExperienceStore(OutcomeStore):
         raise AssertionError("unreachable")
 
     # ----- reading -----------------------------------------------------------------------------------------
-    def _select(self, embedder: str | None, robot_id: str | None, arm: str | None) -> list[tuple[Any, ...]]:
+    def _select(
+        self, embedder: str | None, robot_id: str | None, arm: str | None, profile: str | None
+    ) -> list[tuple[Any, ...]]:
         import psycopg
 
         conditions, args = [], []
-        for column, value in (("embedder", embedder), ("robot_id", robot_id), ("arm", arm)):
+        for column, value in (
+            ("embedder", embedder),
+            ("robot_id", robot_id),
+            ("arm", arm),
+            ("profile", profile),
+        ):
             if value is not None:
                 conditions.append(f"{column} = %s")
                 args.append(value)
