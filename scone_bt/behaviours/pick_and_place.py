@@ -13,7 +13,14 @@ __all__ = ["PickAndPlace"]
 
 
 class PickAndPlace(StageBehaviour):
-    READS = (Keys.DECISION, Keys.AFFORDANCES, Keys.DETECTIONS)
+    """Moves the decided object from the shelf to the table.
+
+    Obstacles are what perception reports: the shelf detections, and what stands on the table from
+    `Keys.TABLE_DETECTIONS` (sizes from the catalogue by name). While that key is absent (no table camera), the
+    robot knows only what it placed itself (`MotionSystem.placed`); it never reads the simulator's true poses.
+    """
+
+    READS = (Keys.DECISION, Keys.AFFORDANCES, Keys.DETECTIONS, Keys.TABLE_DETECTIONS)
     WRITES = (Keys.MOTION_OUTCOME, Keys.MOTION_TASK, Keys.MOTION_COMPUTING)
 
     def setup(self, **kwargs: object) -> None:
@@ -27,13 +34,14 @@ class PickAndPlace(StageBehaviour):
         target = by_text[decision.action]
         catalogue = s.kitchen_config.catalogue
         seen = [d for d in self.read(Keys.DETECTIONS, []) if d.name != target.object_name]
-        obstacles = [(d, catalogue.get(d.name)) for d in seen] + self._table_objects(target.object_name, seen)
+        obstacles = [(d, catalogue.get(d.name)) for d in seen]
         self.object_name = target.object_name
         self.task = self.system.pick_and_place(
             target.detection,
             catalogue.get(target.object_name),
             obstacles,
             rng_seed=s.options.seed + s.stats.attempted,
+            table_obstacles=self._table_obstacles(target.object_name),
         )
         s.stats.attempted += 1
         s.human.robot_busy(True)
@@ -43,25 +51,13 @@ class PickAndPlace(StageBehaviour):
         self.write(Keys.MOTION_TASK, self.task)
         self.write(Keys.MOTION_OUTCOME, None)
 
-    def _table_objects(self, target: str, seen: list[Detection]) -> list[tuple[Detection, ObjectSpec]]:
-        """Objects standing on the table, as obstacles.
-
-        The shelf camera does not see the table. Whoever puts something there (the robot or the human) puts it
-        on one of the table's marked spots, and the table's occupancy is shared with the robot: that is what
-        this reads (in a real kitchen: a second camera or the human's tablet).
-        """
-        k = self.services.kitchen
-        seen_names = {d.name for d in seen}
-        out = []
-        for name in k.objects:
-            if name == target or name in seen_names or not k.is_on_table(name):
-                continue
-            st = k.object_state(name)
-            spec = k.specs[name]
-            x, y, z = st.position
-            yaw = float(k.bc.getEulerFromQuaternion(st.orientation)[2])
-            out.append((Detection(name, -1, (x, y, z + spec.height / 2), yaw, 1.0, (0, 0, 0, 0)), spec))
-        return out
+    def _table_obstacles(self, target: str) -> list[tuple[Detection, ObjectSpec]] | None:
+        """What the table camera sees on the table, with catalogue sizes; None while the table is not observed."""
+        seen: tuple[Detection, ...] | None = self.read(Keys.TABLE_DETECTIONS, None)
+        if seen is None:
+            return None
+        catalogue = self.services.kitchen_config.catalogue
+        return [(d, catalogue.get(d.name)) for d in seen if d.name != target]
 
     def update(self) -> py_trees.common.Status:
         s = self.services

@@ -148,6 +148,7 @@ class PickPlaceController:
         self.held: int | None = None
         self.stage: FailureStage | None = None
         self.reason: PlanFailureReason | None = None
+        self.error: BaseException | None = None  # a planner exception: the run stops, no outcome
         self.message = ""
         self.success = False
         self.finished = False
@@ -266,6 +267,7 @@ class PickPlaceController:
         if isinstance(ready, BaseException):
             # A bug or a configuration error, not an outcome of the attempt: stop here and let it end the run
             # (it propagates out of kitchen.advance) instead of being stored as experience.
+            self.error = ready
             self._finish()
             raise ready
         if isinstance(ready, PickPlaceFailure):

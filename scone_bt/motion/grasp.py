@@ -70,7 +70,10 @@ class GraspParams:
 
     Attributes:
         approach: Distance of the pre-grasp pose from the grasp pose, along the approach.
-        lift: How far the object is lifted straight up before carrying it.
+        lift: How far the object is lifted straight up before carrying it, at least.
+        max_lift: How far at most: the lift is raised until the object clears its neighbours within
+            `clear_radius`, up to this.
+        clear_radius: Horizontal distance (m) of the neighbours the lifted object must clear.
         max_depth: Deepest a top grasp point goes below the object's top face.
         min_clearance: Minimum height of a top grasp point above the supporting surface.
         place_drop: Gap between the object's bottom and the table when it is released.
@@ -95,6 +98,8 @@ class GraspParams:
 
     approach: float = 0.10
     lift: float = 0.10
+    max_lift: float = 0.25
+    clear_radius: float = 0.25
     max_depth: float = 0.03
     min_clearance: float = 0.015
     place_drop: float = 0.006

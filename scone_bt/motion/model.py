@@ -111,6 +111,29 @@ class ArmModel:
             g.name: self.model.frames[g.parentFrame].name for g in self.geom_model.geometryObjects
         }
         self.disabled_pairs = self._disabled_link_pairs(full)
+        self.shoulder, self.reach = self._reach_bound()
+
+    def _reach_bound(self) -> tuple[np.ndarray, float]:
+        """The shoulder (second joint's origin, world frame) and an upper bound of its distance to the end-effector.
+
+        The distances between successive joint origins do not depend on q, so their sum bounds the reach: a pose
+        farther than that from the shoulder needs no IK to be rejected.
+        """
+        import pinocchio as pin
+
+        data = self.model.createData()
+        pin.framesForwardKinematics(self.model, data, pin.neutral(self.model))
+        points = [
+            np.asarray(data.oMi[j].translation)
+            for j in range(min(2, self.model.njoints - 1), self.model.njoints)
+        ]
+        points.append(np.asarray(data.oMf[self.ee_frame].translation))
+        reach = float(sum(np.linalg.norm(b - a) for a, b in zip(points[:-1], points[1:], strict=True)))
+        return points[0] + np.asarray(self.config.base_position), reach
+
+    def can_reach(self, position: Sequence[float], margin: float = 0.0) -> bool:
+        """False if the point (world, metres) is certainly beyond the end-effector's reach."""
+        return float(np.linalg.norm(np.asarray(position) - self.shoulder)) <= self.reach + margin
 
     def _convexify(self) -> None:
         """Replace link meshes by their convex hulls: GJK on hulls is several times faster than BVH traversal,

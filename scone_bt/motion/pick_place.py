@@ -61,6 +61,9 @@ __all__ = [
     "plan_home",
 ]
 
+CARRY_PADDING = 0.006
+"""Safety margin (m) around obstacles while carrying: the lifted object starts close to its neighbours."""
+
 CARTESIAN_SPEED = 0.8
 """Fraction of the robot's limits used for the short straight moves near objects (descend, lift, lower, retreat)."""
 
@@ -369,6 +372,16 @@ def plan_pick_and_place(
     hand_free = HandModel(arm, [*fixed, target], padding=0.01)
     hand_near = HandModel(arm, [*fixed, target], padding=0.004)
 
+    # Lift the object until its bottom clears the tops of its neighbours: from there the straight carry towards
+    # the table is usually free, and OMPL is needed far less often.
+    bottom = req.target.position[2] - req.spec.height
+    near_tops = [
+        float(o.pose[2, 3] + o.size[2] / 2)
+        for o in others
+        if np.hypot(*(o.pose[:2, 3] - np.asarray(req.target.position[:2]))) < params.clear_radius
+    ]
+    lift = float(np.clip(max(near_tops, default=0.0) + 0.03 - bottom, params.lift, params.max_lift))
+
     # 1. Grasp candidates, examined lazily in cost order.
     candidates = grasp_candidates(req.target, req.spec, params, req.preferred_yaw, req.opening)
     tally = _Tally()
@@ -384,13 +397,16 @@ def plan_pick_and_place(
                 for pose in (
                     _between(cand.pregrasp, cand.grasp, 0.5),
                     cand.grasp,
-                    lifted(cand.grasp, params.lift),
+                    lifted(cand.grasp, lift),
                 ):
                     hits = hand_near.colliding(pose, ignore=(name,))
                     if hits:
                         break
             if hits:
                 tally.blocked(f"{cand.family.value} grasps: the hand collides with {hits[0]}", hits)
+                continue
+            if not (arm.can_reach(cand.pregrasp[:3, 3]) and arm.can_reach(cand.grasp[:3, 3])):
+                tally.reasons.append(f"{cand.family.value} grasp beyond the arm's reach")
                 continue
             q_pre = p.ik(cand.pregrasp, req.q_start, restarts=4)
             if q_pre is None:
@@ -405,7 +421,9 @@ def plan_pick_and_place(
             if q_grasp is None:
                 tally.blocked(why, names)
                 continue
-            q_lift, why, names = p.line(q_grasp, lifted(cand.grasp, params.lift), w_grasp, "lift")
+            q_lift, why, names = p.line(q_grasp, lifted(cand.grasp, lift), w_grasp, "lift")
+            if q_lift is None and lift > params.lift:  # too high to reach: the plain lift, a harder transit
+                q_lift, why, names = p.line(q_grasp, lifted(cand.grasp, params.lift), w_grasp, "lift")
             if q_lift is None:
                 tally.blocked(why, names)
                 continue
@@ -430,12 +448,19 @@ def plan_pick_and_place(
     else:
         spots, table_blockers = [], ()
     place_tally = _Tally()
-    target_dir = float(np.arctan2(req.target.position[1], req.target.position[0]))
+    base = np.asarray(arm.config.base_position, dtype=float)
+    target_dir = float(np.arctan2(req.target.position[1] - base[1], req.target.position[0] - base[0]))
 
-    def placements_for(g: _Grasp) -> list[_Placement]:
+    def placements_for(g: _Grasp) -> tuple[list[_Placement], CollisionWorld | None]:
+        """Feasible placements with this grasp, and the carry world; None if the lifted object collides."""
         cand = g.cand
         carried = Obstacle(name, req.spec.shape, req.spec.size, cand.object_in_ee)
-        w_carry = p.world(fixed, attached=carried, max_tilt=params.max_carry_tilt)
+        w_carry = p.world(fixed, attached=carried, padding=CARRY_PADDING, max_tilt=params.max_carry_tilt)
+        if not w_carry.is_valid(g.q_lift):
+            tally.blocked(
+                f"lifted {name} collides ({_pair(w_carry, g.q_lift)})", _blockers(w_carry, g.q_lift)
+            )
+            return [], None
         w_lower = p.world(fixed, attached=carried, padding=0.004, max_tilt=params.max_carry_tilt)
         hand_table = HandModel(arm, fixed, padding=0.004)
         out: list[_Placement] = []
@@ -443,15 +468,14 @@ def plan_pick_and_place(
         for spot in spots:
             if len(out) >= params.max_goal_placements:
                 break
-            radial = float(np.arctan2(spot[1], spot[0])) - target_dir
+            radial = float(np.arctan2(spot[1] - base[1], spot[0] - base[0])) - target_dir
+            radial = (radial + np.pi) % (2 * np.pi) - np.pi
+            # The hand turned with the base first: then the carry is close to a pure rotation of the first joint
+            # (vertical for both arms), which keeps the object upright and at its lifted height.
             turns = (
-                (0.0, radial, np.pi / 4, -np.pi / 4, np.pi / 2)
+                (radial, 0.0, radial + np.pi / 4, radial - np.pi / 4, np.pi / 2)
                 if cand.family is GraspFamily.TOP
-                else (
-                    radial,
-                    radial + np.pi / 4,
-                    radial - np.pi / 4,
-                )
+                else (radial, radial + np.pi / 4, radial - np.pi / 4)
             )
             for turn in turns:
                 ee_place = place_pose(spot, req.spec, cand.object_in_ee, cand.grasp, turn, params)
@@ -462,7 +486,11 @@ def plan_pick_and_place(
                 if hits:
                     place_tally.blocked(f"at {where} the hand collides with {hits[0]}", hits)
                     continue
-                q_pp = p.ik(lifted(ee_place, params.approach), seed, restarts=3)
+                rotated = g.q_lift.copy()
+                rotated[0] += turn
+                q_pp = p.ik(lifted(ee_place, params.approach), rotated, restarts=0)
+                if q_pp is None:
+                    q_pp = p.ik(lifted(ee_place, params.approach), seed, restarts=3)
                 if q_pp is None:
                     place_tally.reasons.append(f"above {where} out of reach")
                     continue
@@ -483,7 +511,7 @@ def plan_pick_and_place(
                 out.append(_Placement(tuple(spot), ee_place, q_pp, q_place, q_ret))  # type: ignore[arg-type]
                 seed = q_pp
                 break
-        return out
+        return out, w_carry
 
     # 3. Approach to the goal set of grasps; placements and transit for the grasp reached; fall back.
     pool: list[_Grasp] = []
@@ -504,13 +532,11 @@ def plan_pick_and_place(
             pool = []  # none of these grasps can be reached: examine the next candidates
             continue
         chosen = pool[approach.goal_index]
-        placements = placements_for(chosen)
-        if not placements:
-            placement_failed = True
+        placements, w_carry = placements_for(chosen)
+        if not placements or w_carry is None:
+            placement_failed = placement_failed or w_carry is not None
             pool.remove(chosen)
             continue
-        carried = Obstacle(name, req.spec.shape, req.spec.size, chosen.cand.object_in_ee)
-        w_carry = p.world(fixed, attached=carried, max_tilt=params.max_carry_tilt)
         transit = p.plan(chosen.q_lift, np.array([pl.q_pp for pl in placements]), w_carry)
         if not transit.success:
             path_failures.append(f"transit: {transit.status.value} ({transit.message})")

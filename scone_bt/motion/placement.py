@@ -5,12 +5,13 @@ remembered, standing on it. Candidates are a regular grid plus seeded uniform sa
 `PlacementOptions.edge_margin`; a candidate is kept if its footprint circle clears every obstacle's footprint
 circle by `clearance`. Kept candidates are ordered by the cost
 
-    cost = reach_weight * |r - preferred_reach| / table diagonal
+    cost = reach_weight * |r - preferred reach| / table diagonal
          + block_weight * blocking
          + crowd_weight * (1 - min(gap, crowd_gap) / crowd_gap)
          + shadow_weight * (tall obstacles between the robot and the spot)
 
-where r is the spot's distance from the robot's base and gap its clearance to the nearest obstacle. The arm
+where r is the spot's distance from the robot's base, the preferred reach `preferred_reach` (`tall_reach` for an
+object at least `tall_height` tall) and gap its clearance to the nearest obstacle. The arm
 reaches every spot from its base outwards, so `blocking` keeps tall objects out of the way of later placements:
 with depth = (r - r_min) / (r_max - r_min) over the table's candidates, it is 1 - depth for an object at least
 `tall_height` tall (tall objects go to the table's far rim) and 0.3 * depth for a short one (a mild preference for
@@ -82,6 +83,7 @@ class PlacementOptions:
         random_samples: Seeded uniform candidates added to the grid.
         tall_height: Objects at least this tall are placed away from the entry edge.
         preferred_reach: Distance from the robot's base the arm places at most comfortably.
+        tall_reach: The same for tall objects: farther out, where they do not stand in the way.
         reach_weight, block_weight, crowd_weight, shadow_weight: Cost weights (module docstring).
         crowd_gap: Gap beyond which more room no longer lowers the cost.
         max_spots: Spots returned at most.
@@ -93,7 +95,8 @@ class PlacementOptions:
     grid_step: float = 0.04
     random_samples: int = 48
     tall_height: float = 0.15
-    preferred_reach: float = 0.55
+    preferred_reach: float = 0.5
+    tall_reach: float = 0.68
     reach_weight: float = 1.0
     block_weight: float = 0.6
     crowd_weight: float = 0.3
@@ -185,10 +188,12 @@ def sample_placements(
     diag = float(np.hypot(sx, sy))
     rel = pts - np.asarray(base_xy, dtype=float)
     reach = np.linalg.norm(rel, axis=1)
-    cost = options.reach_weight * np.abs(reach - options.preferred_reach) / diag
+    tall = height >= options.tall_height
+    preferred = options.tall_reach if tall else options.preferred_reach
+    cost = options.reach_weight * np.abs(reach - preferred) / diag
     span = max(float(reach.max() - reach.min()), 1e-9)
     depth = (reach - reach.min()) / span  # 0 at the spot nearest the robot, 1 at the farthest
-    cost += options.block_weight * ((1.0 - depth) if height >= options.tall_height else 0.3 * depth)
+    cost += options.block_weight * ((1.0 - depth) if tall else 0.3 * depth)
     cost += options.crowd_weight * (1.0 - np.minimum(nearest_gap, options.crowd_gap) / options.crowd_gap)
     ray = rel / np.maximum(reach, 1e-9)[:, None]
     for o in obstacles:

@@ -350,12 +350,18 @@ class PickAndPlace:
         return MotionProgress(c.phase, float(min(1.0, frac)))
 
     def outcome(self) -> MotionOutcome | None:
-        """How it ended, once `done()`; else None."""
+        """How it ended, once `done()`; else None.
+
+        Raises:
+            Exception: the planner's own exception, if planning raised one (it is not an outcome).
+        """
         if self._outcome is not None:
             return self._outcome
         c = self._controller
         if c is None or not c.finished:
             return None
+        if c.error is not None:
+            raise c.error  # planning broke (a bug or a configuration error): there is no outcome to record
         start = c.exec_start if c.exec_start is not None else c.start_time
         end = c.end_time if c.end_time is not None else self.system.kitchen.sim_time
         ee = c.plan.ee_path(self.system.arm) if c.plan is not None else None

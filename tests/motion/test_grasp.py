@@ -1,91 +1,132 @@
-"""Grasp and place geometry from a detection and the catalogue model (no simulator)."""
+"""Grasp generation and place geometry from a detection and a catalogue model (no simulator)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from scone_bt.motion import GraspParams, grasp_candidates, place_pose
-from scone_bt.motion.grasp import object_pose, top_down_rotation
+from scone_bt.config import ObjectSpec
+from scone_bt.errors import ConfigError
+from scone_bt.motion import GraspFamily, GraspParams, grasp_candidates, place_pose
+from scone_bt.motion.grasp import object_pose, side_rotation, top_down_rotation
 from scone_bt.perception.types import Detection
+
+
+def _spec(name, shape, size):
+    return ObjectSpec(name, (), shape, size, 0.3, 0.6, "test", (1, 1, 1, 1), 0)
+
+
+BOTTLE = _spec("bottle", "cylinder", (0.05, 0.05, 0.18))
+BOX = _spec("box", "box", (0.07, 0.05, 0.12))
+FLAT = _spec("flat", "box", (0.065, 0.035, 0.03))
+WIDE = _spec("wide", "cylinder", (0.09, 0.09, 0.12))
 
 
 def _det(name, xyz, yaw=0.0):
     return Detection(name, 0, xyz, yaw, 1.0, (0, 0, 1, 1))
 
 
+def _is_rotation(r):
+    return np.allclose(r @ r.T, np.eye(3)) and np.linalg.det(r) == pytest.approx(1.0)
+
+
 @pytest.mark.parametrize("yaw", [-2.0, -0.5, 0.0, 1.0, 3.0])
-def test_top_down_rotation_is_a_rotation_pointing_down(yaw):
-    r = top_down_rotation(yaw)
-    assert np.allclose(r @ r.T, np.eye(3)) and np.linalg.det(r) == pytest.approx(1.0)
-    assert np.allclose(r[:, 2], [0, 0, -1])
-    assert np.allclose(r[:, 1], [np.cos(yaw), np.sin(yaw), 0])
+def test_top_down_and_side_rotations_close_along_the_yaw(yaw):
+    top = top_down_rotation(yaw)
+    assert _is_rotation(top) and np.allclose(top[:, 2], [0, 0, -1])
+    assert np.allclose(top[:, 1], [np.cos(yaw), np.sin(yaw), 0])
+    side = side_rotation(yaw)
+    assert _is_rotation(side) and abs(side[2, 2]) < 1e-12  # horizontal approach
+    assert np.allclose(side[:, 1], [np.cos(yaw), np.sin(yaw), 0])
 
 
-def test_box_is_grasped_across_its_narrow_side(kitchen_cfg):
-    sugar = kitchen_cfg.catalogue.get("sugar")  # 7 x 5 cm: the narrow side is the object's y axis
-    det = _det("sugar", (0.5, 0.3, 0.18), yaw=0.3)
-    cands = grasp_candidates(det, sugar)
-    assert (
-        len([c for c in cands if c.tilt == 0.0]) == 2
-    )  # the same grasp with the wrist half-turned, as a fallback
-    narrow_axis = np.array([-np.sin(0.3), np.cos(0.3), 0.0])
-    for cand in cands:
-        assert abs(cand.grasp[:3, 1] @ narrow_axis) == pytest.approx(1.0, abs=1e-9)
-        assert cand.span == pytest.approx(0.05)
-    assert abs(cands[0].closing_yaw - (-np.pi / 2)) <= np.pi / 2  # nearest the home wrist first
+def test_a_tall_cylinder_gets_all_three_families_ordered_by_cost():
+    cands = grasp_candidates(_det("bottle", (0.5, 0.3, 0.24)), BOTTLE, GraspParams(), opening=0.08)
+    families = {c.family for c in cands}
+    assert families == {GraspFamily.TOP, GraspFamily.TILTED, GraspFamily.SIDE}
+    costs = [c.cost for c in cands]
+    assert costs == sorted(costs)
+    assert cands[0].family is GraspFamily.TOP
+    # The yaw sweep: 8 closing axes x 2 wrist angles of top grasps.
+    assert len([c for c in cands if c.family is GraspFamily.TOP]) == 16
+    # The first grasp's wrist is nearest the preferred yaw (-pi/2).
+    assert abs(np.cos(cands[0].closing_yaw + np.pi / 2)) > np.cos(np.pi / 8) - 1e-9
 
 
-def test_grasp_is_below_the_top_and_above_the_support(kitchen_cfg):
+def test_side_grasps_approach_horizontally_from_the_robots_side():
+    det = _det("bottle", (0.5, 0.3, 0.24))
     params = GraspParams()
-    for name in ("butter", "salt", "olive oil"):
-        spec = kitchen_cfg.catalogue.get(name)
-        top = 0.06 + spec.height
-        cand = grasp_candidates(_det(name, (0.5, 0.3, top)), spec, params)[0]
-        z = cand.grasp[2, 3]
-        assert top - params.max_depth - 1e-9 <= z < top
+    sides = [c for c in grasp_candidates(det, BOTTLE, params) if c.family is GraspFamily.SIDE]
+    assert sides
+    outward = np.array([0.5, 0.3, 0.0]) / np.hypot(0.5, 0.3)
+    support = 0.24 - BOTTLE.height
+    for c in sides:
+        approach = c.grasp[:3, 2]
+        assert abs(approach[2]) < 1e-9 and approach @ outward >= -1e-9  # never from behind
+        assert abs(c.grasp[2, 1]) < 1e-9  # fingers close horizontally
+        assert support + params.side_min_height - 1e-9 <= c.grasp[2, 3] <= 0.24 - params.side_top_margin
+        assert np.allclose(c.grasp[:3, 3] - c.pregrasp[:3, 3], approach * params.approach)
+        # The grasp point lies on the bottle's axis (its radius is within side_depth).
+        assert np.allclose(c.grasp[:2, 3], [0.5, 0.3], atol=1e-9)
+
+
+def test_a_flat_object_gets_no_side_grasp_and_stays_above_its_support():
+    params = GraspParams()
+    cands = grasp_candidates(_det("flat", (0.5, 0.3, 0.09)), FLAT, params, opening=0.08)
+    assert cands and all(c.family is not GraspFamily.SIDE for c in cands)
+    for c in cands:
+        z = c.grasp[2, 3]
+        assert 0.09 - params.max_depth - 1e-9 <= z < 0.09
         assert z >= 0.06 + params.min_clearance - 1e-9
-        assert cand.pregrasp[2, 3] == pytest.approx(z + params.approach)
 
 
-def test_cylinder_prefers_closing_along_the_shelf_depth(kitchen_cfg):
-    salt = kitchen_cfg.catalogue.get("salt")
-    first = grasp_candidates(_det("salt", (0.5, 0.3, 0.16)), salt)[0]
-    assert abs(first.grasp[:3, 1] @ np.array([1.0, 0, 0])) == pytest.approx(1.0)
+def test_the_opening_filters_spans_unless_nothing_fits():
+    det = _det("box", (0.5, 0.3, 0.18), yaw=0.3)
+    both = grasp_candidates(det, BOX, opening=0.08)
+    assert {round(c.span, 3) for c in both if c.family is GraspFamily.TOP} == {0.05, 0.07}
+    narrow = grasp_candidates(det, BOX, opening=0.06)
+    assert {round(c.span, 3) for c in narrow} == {0.05}
+    axis = np.array([-np.sin(0.3), np.cos(0.3), 0.0])  # the box's narrow side
+    for c in narrow:
+        assert abs(c.grasp[:3, 1] @ axis) == pytest.approx(1.0, abs=1e-9)
+    # Wider than the gripper every way: the narrowest grasps stay, for the physics to decide.
+    wide = grasp_candidates(_det("wide", (0.5, 0.3, 0.18)), WIDE, opening=0.08)
+    assert wide and all(c.span == pytest.approx(0.09) for c in wide)
 
 
-def test_place_pose_sets_the_object_upright_just_above_the_spot(kitchen_cfg):
-    spec = kitchen_cfg.catalogue.get("milk")
-    det = _det("milk", (0.37, 0.3, spec.height), yaw=0.2)
-    cand = grasp_candidates(det, spec)[0]
-    params = GraspParams()
-    ee = place_pose((0.49, -0.42, 0.0), spec, cand.object_in_ee, cand.closing_yaw + 0.5, params)
-    obj = ee @ cand.object_in_ee
-    assert np.allclose(obj[:3, 3], [0.49, -0.42, params.place_drop + spec.height / 2])
-    assert obj[:3, 2] @ np.array([0, 0, 1.0]) == pytest.approx(1.0)
-    assert np.allclose(object_pose(det, spec)[:3, 3], [0.37, 0.3, spec.height / 2])
-
-
-def test_far_objects_get_tilted_approaches_leaning_away_from_the_robot(kitchen_cfg):
-    salt = kitchen_cfg.catalogue.get("salt")
-    cands = grasp_candidates(_det("salt", (0.63, 0.6, 0.22)), salt)
-    assert cands[0].tilt == 0.0  # top-down first
-    tilted = [c for c in cands if c.tilt != 0.0]
+def test_tilted_grasps_never_lean_towards_the_robot():
+    det = _det("bottle", (0.63, 0.6, 0.3))
+    tilted = [c for c in grasp_candidates(det, BOTTLE) if c.family is GraspFamily.TILTED]
     assert tilted
     outward = np.array([0.63, 0.6, 0.0]) / np.hypot(0.63, 0.6)
     for c in tilted:
         approach = c.grasp[:3, 2]
-        assert approach[2] < 0 and approach @ outward > 0  # down and away from the robot
-        assert abs(c.grasp[2, 1]) < 1e-9  # the fingers still close horizontally
-        assert np.allclose(c.grasp[:3, 3] - c.pregrasp[:3, 3], approach * GraspParams().approach)
+        assert approach[2] < 0 and approach @ outward >= -1e-9
+        assert abs(c.grasp[2, 1]) < 1e-9
 
 
-def test_tilted_place_pose_keeps_the_object_upright(kitchen_cfg):
-    salt = kitchen_cfg.catalogue.get("salt")
-    cand = next(c for c in grasp_candidates(_det("salt", (0.63, 0.6, 0.22)), salt) if c.tilt != 0.0)
-    ee = place_pose(
-        (0.37, -0.3, 0.0), salt, cand.object_in_ee, cand.closing_yaw - 1.0, GraspParams(), cand.tilt
-    )
-    obj = ee @ cand.object_in_ee
-    assert obj[:3, 2] @ np.array([0, 0, 1.0]) == pytest.approx(1.0)
-    assert np.allclose(obj[:2, 3], [0.37, -0.3])
+@pytest.mark.parametrize("family", list(GraspFamily))
+def test_place_pose_sets_the_object_upright_on_the_spot(family):
+    det = _det("bottle", (0.5, 0.3, 0.24), yaw=0.2)
+    cand = next(c for c in grasp_candidates(det, BOTTLE) if c.family is family)
+    params = GraspParams()
+    for turn in (0.0, -1.2, 0.7):
+        ee = place_pose((0.49, -0.42, 0.0), BOTTLE, cand.object_in_ee, cand.grasp, turn, params)
+        obj = ee @ cand.object_in_ee
+        assert np.allclose(obj[:3, 3], [0.49, -0.42, params.place_drop + BOTTLE.height / 2])
+        assert obj[2, 2] == pytest.approx(1.0)
+    assert np.allclose(object_pose(det, BOTTLE)[:3, 3], [0.5, 0.3, 0.24 - BOTTLE.height / 2])
+
+
+def test_grasp_settings_come_from_the_robot_file_section():
+    params = GraspParams.from_section({"yaw_step_deg": 30, "side_grasps": False, "tilts_deg": [20]}, "r.yaml")
+    assert params.yaw_step == pytest.approx(np.pi / 6) and not params.side_grasps
+    assert params.tilts == pytest.approx((np.radians(20),))
+    with pytest.raises(
+        ConfigError, match=r"r\.yaml: grasp\.yaw_step is not a grasp setting; valid: .*yaw_step_deg"
+    ):
+        GraspParams.from_section({"yaw_step": 0.3}, "r.yaml")
+    with pytest.raises(ConfigError, match="grasp.approach must be non-negative"):
+        GraspParams.from_section({"approach": -0.1}, "r.yaml")
+    with pytest.raises(ConfigError, match="grasp.side_grasps must be bool"):
+        GraspParams.from_section({"side_grasps": "yes"}, "r.yaml")

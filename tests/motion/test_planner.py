@@ -108,3 +108,24 @@ def test_second_robot_plans(static_obstacles):
     assert goal is not None
     result = plan_joint_path(home, goal.q, iiwa.lower, iiwa.upper, world.is_valid, PlannerOptions(rng_seed=2))
     assert result.success, result.message
+
+
+def test_plans_to_a_goal_set_and_says_which_goal_it_reached(arm, scene):
+    world, home = scene
+    start = _goal(arm, home, (0.37, 0.5, 0.2))
+    inside = _goal(arm, home, (0.37, 0.3, 0.2))  # in the tall box: dropped from the set
+    far = _goal(arm, home, (0.45, -0.4, 0.15))
+    near = _goal(arm, home, (0.5, -0.3, 0.2))
+    for direct in (True, False):
+        opts = PlannerOptions(rng_seed=2, try_direct=direct)
+        result = plan_joint_path(
+            start, np.array([inside, far, near]), arm.lower, arm.upper, world.is_valid, opts
+        )
+        assert result.success and result.goal_index in (1, 2), result.message
+        assert np.allclose(result.path[-1], [inside, far, near][result.goal_index])
+        if not direct:
+            assert "direct" not in result.message  # OMPL's GoalStates did it
+        for a, b in zip(result.path[:-1], result.path[1:], strict=True):
+            assert world.segment_valid(a, b, resolution=0.01)
+    all_bad = plan_joint_path(start, np.array([inside, inside]), arm.lower, arm.upper, world.is_valid)
+    assert all_bad.status is PlanStatus.GOAL_INVALID and "all 2 goal configurations" in all_bad.message

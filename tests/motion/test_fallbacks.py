@@ -1,0 +1,189 @@
+"""Planning's fallbacks, in a scene built here (not from the kitchen file): side grasps when top grasps are
+blocked, a free spot on a crowded table, typed failures, and planner errors that stop the run."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from scone_bt.config import ObjectSpec
+from scone_bt.errors import UnknownNameError
+from scone_bt.motion import (
+    FailureStage,
+    GraspFamily,
+    GraspParams,
+    MotionSystem,
+    Obstacle,
+    PickPlaceFailure,
+    PickPlacePlan,
+    PickPlaceRequest,
+    PlanFailureReason,
+    PlannerOptions,
+    TableRegion,
+    limits_of,
+    plan_pick_and_place,
+)
+from scone_bt.motion.model import pose_matrix
+from scone_bt.perception.types import Detection
+
+
+def _spec(name, shape, size):
+    return ObjectSpec(name, (), shape, size, 0.3, 0.6, "test", (1, 1, 1, 1), 0)
+
+
+def _box(name, center, size):
+    return Obstacle(name, "box", size, pose_matrix(np.eye(3), center))
+
+
+# A two-step shelf in front of the robot, the table to its right, the pedestal under it.
+STATIC = (
+    _box("step0", (0.37, 0.4, -0.3), (0.13, 0.52, 0.6)),
+    _box("step1", (0.50, 0.4, -0.27), (0.13, 0.52, 0.66)),
+    _box("table", (0.47, -0.43, -0.3), (0.44, 0.40, 0.6)),
+    _box("pedestal", (0.0, 0.0, -0.3), (0.22, 0.22, 0.6)),
+)
+TABLE = TableRegion((0.47, -0.43), (0.44, 0.40), 0.0)
+BOTTLE = _spec("bottle", "cylinder", (0.05, 0.05, 0.14))
+TALL = _spec("tall", "box", (0.05, 0.05, 0.27))
+WALL = _spec("wall", "box", (0.06, 0.22, 0.30))
+JAR = _spec("jar", "cylinder", (0.06, 0.06, 0.10))
+
+
+def _det(name, x, y, top):
+    return Detection(name, 0, (x, y, top), 0.0, 1.0, (0, 0, 1, 1))
+
+
+def make_planner(arm, robot_cfg):
+    """plan(target, spec, shelf=(), table=(), seed=0, params=...) -> the plan or typed failure in this scene."""
+    home = np.asarray(robot_cfg.home, dtype=float)
+    y_axis = arm.fk(home)[:3, 1]
+    params = GraspParams.from_section(robot_cfg.raw.get("grasp"), str(robot_cfg.source))
+    p = robot_cfg.planner
+    options = PlannerOptions(name=p.name, time_limit_s=p.time_limit_s, simplify=p.simplify)
+
+    def plan(target, spec, shelf=(), table=(), **kw):
+        request = PickPlaceRequest(
+            q_start=home,
+            target=target,
+            spec=spec,
+            obstacles=tuple(shelf),
+            static=STATIC,
+            home=home,
+            rng_seed=kw.pop("seed", 0),
+            table=TABLE,
+            table_obstacles=tuple(table),
+            params=kw.pop("params", params),
+            preferred_yaw=float(np.arctan2(y_axis[1], y_axis[0])),
+            opening=0.08,
+        )
+        return plan_pick_and_place(arm, request, options, limits_of(robot_cfg), robot_cfg.control.rate_hz)
+
+    return plan, params
+
+
+@pytest.fixture(scope="module")
+def setup(arm, robot_cfg):
+    return make_planner(arm, robot_cfg)
+
+
+def _boxed_in(front: bool):
+    """A bottle on the lowest step between two tall boxes, a wall behind it, and optionally one in front."""
+    shelf = [
+        (_det("left", 0.39, 0.20, TALL.height), TALL),
+        (_det("right", 0.39, 0.40, TALL.height), TALL),
+        (_det("wall", 0.47, 0.30, 0.06 + WALL.height), WALL),
+    ]
+    if front:
+        shelf.append((_det("front", 0.30, 0.30, TALL.height), TALL))
+    return _det("bottle", 0.37, 0.30, BOTTLE.height), shelf
+
+
+def test_top_grasp_blocked_by_tall_neighbours_succeeds_from_the_side(setup):
+    plan, params = setup
+    target, shelf = _boxed_in(front=False)
+    without_side = plan(target, BOTTLE, shelf, params=replace(params, side_grasps=False))
+    assert isinstance(without_side, PickPlaceFailure)
+    assert without_side.reason is PlanFailureReason.GRASPS_BLOCKED
+    assert set(without_side.blockers) & {"left", "right", "wall"}
+    result = plan(target, BOTTLE, shelf)
+    assert isinstance(result, PickPlacePlan), result.message
+    assert result.grasp.family is GraspFamily.SIDE
+    assert abs(result.grasp.grasp[2, 2]) < 1e-9  # a horizontal approach
+
+
+def test_a_crowded_table_still_takes_an_object(setup):
+    plan, _ = setup
+    # Every one of the nine marked spots of the old fixed scheme is taken, by jars and tall bottles.
+    spots = [(x, y) for x in (0.37, 0.49, 0.61) for y in (-0.30, -0.42, -0.54)]
+    table = [
+        Obstacle(
+            f"o{i}", "cylinder", (0.06, 0.06, 0.20 if i % 2 else 0.10), pose_matrix(np.eye(3), (x, y, 0.05))
+        )
+        for i, (x, y) in enumerate(spots)
+    ]
+    result = plan(_det("jar", 0.37, 0.30, JAR.height), JAR, table=table)
+    assert isinstance(result, PickPlacePlan), result.message
+    x, y, z = result.place_spot
+    assert z == TABLE.top_z
+    for ob in table:
+        assert np.hypot(x - ob.pose[0, 3], y - ob.pose[1, 3]) >= 0.03 + 0.03 + 0.02 - 1e-9
+    assert result.placed is not None and np.allclose(result.placed.pose[:2, 3], (x, y), atol=1e-6)
+
+
+def test_a_boxed_in_object_fails_naming_what_blocks_it(setup):
+    plan, _ = setup
+    target, shelf = _boxed_in(front=True)
+    result = plan(target, BOTTLE, shelf)
+    assert isinstance(result, PickPlaceFailure)
+    assert result.reason is PlanFailureReason.GRASPS_BLOCKED and result.stage is FailureStage.PLANNING
+    assert result.blockers and set(result.blockers) <= {"left", "right", "wall", "front", "step0", "step1"}
+    assert result.message.startswith("every grasp of bottle collides with ")
+
+
+def test_an_object_out_of_reach_fails_at_ik(setup):
+    plan, _ = setup
+    result = plan(_det("jar", 1.3, 0.3, JAR.height), JAR)
+    assert isinstance(result, PickPlaceFailure)
+    assert result.reason is PlanFailureReason.NO_GRASP_IK and result.stage is FailureStage.IK
+
+
+def test_a_full_table_fails_naming_what_fills_it(setup):
+    plan, _ = setup
+    tray = Obstacle("tray", "box", (0.44, 0.40, 0.02), pose_matrix(np.eye(3), (0.47, -0.43, 0.01)))
+    result = plan(_det("jar", 0.37, 0.30, JAR.height), JAR, table=[tray])
+    assert isinstance(result, PickPlaceFailure)
+    assert result.reason is PlanFailureReason.NO_TABLE_SPACE and result.blockers == ("tray",)
+    assert "tray" in result.message
+
+
+def test_same_request_same_plan(setup):
+    plan, _ = setup
+    target, shelf = _boxed_in(front=False)
+    a, b = plan(target, BOTTLE, shelf, seed=5), plan(target, BOTTLE, shelf, seed=5)
+    assert a.place_spot == b.place_spot and a.grasp.label == b.grasp.label
+    for sa, sb in zip(a.segments, b.segments, strict=True):
+        assert np.array_equal(sa.trajectory.positions, sb.trajectory.positions)
+
+
+def test_an_unknown_planner_is_a_configuration_error(kitchen):
+    with pytest.raises(UnknownNameError, match="RRTConnect"):
+        MotionSystem.build(kitchen, planner=PlannerOptions(name="Teleport"))
+
+
+def test_a_planner_exception_stops_the_run_instead_of_becoming_an_outcome(kitchen, monkeypatch):
+    import scone_bt.motion.system as system_module
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("planner bug")
+
+    monkeypatch.setattr(system_module, "plan_pick_and_place", broken)
+    with MotionSystem.build(kitchen) as system:
+        task = system.pick_and_place(_det("jar", 0.37, 0.30, JAR.height), JAR, [], rng_seed=0)
+        task.start()
+        with pytest.raises(RuntimeError, match="planner bug"):
+            for _ in range(50):
+                kitchen.advance(0.1)
+        with pytest.raises(RuntimeError, match="planner bug"):
+            task.outcome()  # nothing to store as experience
