@@ -390,8 +390,15 @@ def add_ui_arguments(parser: Any) -> None:
 
 def tablet_from_args(args: Any) -> TabletServer | None:
     """Start the tablet server when --ui was given (None otherwise); raises UIError with a one-line reason."""
+    port = getattr(args, "ui_port", 8765)
+    if not 0 <= port <= 65535:
+        raise UIError(f"--ui-port {port}: must be a TCP port in 0..65535 (0: any free port)")
     if not getattr(args, "ui", False):
-        if getattr(args, "ui_token", None) or getattr(args, "ui_host", "127.0.0.1") != "127.0.0.1":
-            raise UIError("--ui-host and --ui-token only apply with --ui")
+        if (
+            getattr(args, "ui_token", None)
+            or getattr(args, "ui_host", "127.0.0.1") != "127.0.0.1"
+            or port != 8765
+        ):
+            raise UIError("--ui-host, --ui-port and --ui-token only apply with --ui")
         return None
     return serve_tablet(args.ui_host, args.ui_port, args.ui_token)

@@ -26,3 +26,132 @@ def test_bad_backend_is_rejected_by_argparse(capsys):
         main(["--robot", "real"])
     assert exit_.value.code == 2
     assert "sim" in capsys.readouterr().err
+
+
+# ---------------------------------------------------------------------------------------------- issue 18: hostile input
+import socket  # noqa: E402
+import threading  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def _one_line_error(argv, capsys) -> str:
+    code = main(["--robot", "sim", "--quiet", "--max-ticks", "1", *argv])  # bounded if no error came
+    out = capsys.readouterr()
+    err = out.err.strip()
+    assert code == 2, (code, err)
+    assert err.startswith("scone-run: error:") and "\n" not in err and "Traceback" not in err, err
+    assert out.out == ""  # nothing ran: no decision, no summary
+    return err
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.mark.parametrize(
+    ("argv", "expected"),
+    [
+        (["--seed", "-1"], "0..4294967295"),
+        (["--seed", str(2**40)], "0..4294967295"),
+        (["--ui-port", "99999"], "0..65535"),
+        (["--ui", "--ui-port", "99999"], "0..65535"),
+        (["--max-ticks", "0"], "1.."),
+        (["--distractors", "-3"], "0 or more"),
+        (["--takeover-probability", "nan"], "[0, 1]"),
+        (["--relevance-threshold", "7"], "[-1, 1]"),
+        (["--connect", "not-an-address"], "no port"),
+        (["--connect", "ftp://127.0.0.1:9876"], "valid: rerun"),
+        (["--distractors", "1000"], "available"),
+    ],
+)
+def test_bad_values_are_one_line_errors(argv, expected, capsys):
+    assert expected in _one_line_error(argv, capsys)
+
+
+def test_connect_to_a_viewer_that_is_not_running_fails_fast(capsys):
+    result: list[str] = []
+    port = _free_port()
+    worker = threading.Thread(
+        target=lambda: result.append(_one_line_error(["--connect", f"127.0.0.1:{port}"], capsys))
+    )
+    worker.start()
+    worker.join(60)
+    assert not worker.is_alive(), "--connect to an address without a viewer hangs"
+    assert "cannot reach a rerun viewer" in result[0]
+
+
+def test_output_paths_are_checked_before_the_run(tmp_path, capsys):
+    blocker = tmp_path / "a-file"
+    blocker.write_text("keep me")
+    err = _one_line_error(["--save", str(blocker / "run.rrd")], capsys)
+    assert "is a file, not a folder" in err
+    err = _one_line_error(["--experience", str(blocker / "x" / "exp.db")], capsys)
+    assert "is a file, not a folder" in err
+    assert "is a folder" in _one_line_error(["--save", str(tmp_path)], capsys)
+    assert blocker.read_text() == "keep me" and sorted(p.name for p in tmp_path.iterdir()) == ["a-file"]
+
+
+def _edited(tmp_path: Path, source: Path, old: str, new: str) -> Path:
+    text = source.read_text()
+    assert old in text
+    out = tmp_path / source.name
+    out.write_text(text.replace(old, new, 1))
+    return out
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "expected"),
+    [
+        (
+            "name: RRTConnect",
+            "name: NoSuchPlanner",
+            "planner.name: unknown planner 'NoSuchPlanner'; valid: RRTConnect",
+        ),
+        ("rate_hz: 240", "rate_hz: 0", "control.rate_hz: Input should be greater than 0"),
+        ("max_force: 40.0 ", "max_force: -5.0 ", "gripper.max_force: Input should be greater than 0"),
+        ("finger_friction: 1.0", "finger_friction: -0.2", "gripper.finger_friction"),
+        ("time_limit_s: 2.0", "time_limit_s: soon", "planner.time_limit_s: Input should be a valid number"),
+    ],
+)
+def test_bad_robot_files_stop_before_the_robot_acts(tmp_path, capsys, old, new, expected):
+    arm = _edited(tmp_path, REPO / "robots" / "panda.yaml", old, new)
+    db = tmp_path / "exp.db"
+    err = _one_line_error(["--arm", str(arm), "--experience", str(db)], capsys)
+    assert expected in err and str(arm) in err
+    assert not db.exists()  # a configuration error is not an outcome: nothing stored, nothing created
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "expected"),
+    [
+        ("{seconds: 1.0}", "{seconds: soon}", "seconds: Input should be a valid number (got 'soon')"),
+        ("{kind: ask}", "{kind: maybe}", "unknown decision kind 'maybe'; valid: act, ask"),
+        ("confidence_threshold: 0.5", "confidence_threshold: high", "confidence_threshold"),
+        ("max_failures_per_action: 3", "max_failures_per_action: many", "max_failures_per_action"),
+        ("behaviour: AskForHelp", "behaviour: AskForHelp\n                  args: {x: 1}", "takes no args"),
+    ],
+)
+def test_bad_tree_files_stop_before_the_first_tick(tmp_path, capsys, old, new, expected):
+    tree = _edited(tmp_path, REPO / "trees" / "assistive_cooking.yaml", old, new)
+    assert expected in _one_line_error(["--tree", str(tree)], capsys)
+
+
+@pytest.mark.parametrize(
+    ("content", "expected"),
+    [
+        ('{"ingredients": ["salt"], "steps": ["Salt it."]}'.encode("utf-16"), "UTF-16"),
+        (bytes(range(128, 256)) * 4, "not UTF-8"),
+        (b'{"ingredients": ["salt"], "steps": ["Salt it."], "step_ingredients": [5]}', "step_ingredients[0]"),
+        (b'{"ingredients": ["salt"], "steps": ["Salt it."', "not valid JSON"),
+        (b"", "not valid JSON"),
+    ],
+)
+def test_bad_recipe_files_are_one_line_errors(tmp_path, capsys, content, expected):
+    recipe = tmp_path / "recipe.json"
+    recipe.write_bytes(content)
+    assert expected in _one_line_error(["--recipe", str(recipe)], capsys)
+    assert recipe.read_bytes() == content
