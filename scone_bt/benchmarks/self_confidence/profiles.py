@@ -21,14 +21,17 @@ import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Annotated
 
 import numpy as np
+from pydantic import Field, field_validator
 
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
-from scone_bt.config.yaml_io import Fields, read_yaml, require
+from scone_bt.config.schema import StrictModel, validate
+from scone_bt.config.yaml_io import read_yaml
 from scone_bt.errors import ConfigError
 
-__all__ = ["INJECTABLE_STAGES", "InjectedFailure", "Profile", "load_profile", "load_profiles"]
+__all__ = ["INJECTABLE_STAGES", "InjectedFailure", "Profile", "ProfileFile", "load_profile", "load_profiles"]
 
 INJECTABLE_STAGES = ("perception", "planning", "grasp")
 """Stages a profile can inject failures into.
@@ -152,87 +155,96 @@ class Profile:
         return frozenset(hits)
 
 
-def _injection(raw: object, where: str) -> InjectedFailure:
-    f = Fields(raw, where)  # type: ignore[arg-type]
-    stage = f.get("stage", str)
-    require(
-        stage in INJECTABLE_STAGES, f"{where}.stage: {stage!r} is not one of {', '.join(INJECTABLE_STAGES)}"
-    )
-    rate = f.get("rate", float)
-    require(0.0 <= rate <= 1.0, f"{where}.rate must be in [0, 1], got {rate}")
-    return InjectedFailure(
-        stage=stage,
-        rate=rate,
-        materials=tuple(str(m) for m in f.get("materials", list, [])),
-        shapes=tuple(str(s) for s in f.get("shapes", list, [])),
-        min_mass=f.get("min_mass", float, 0.0),
-        max_width=f.get("max_width", float, float("inf")),
-    )
+_Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+_NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
+_Scale = Annotated[float, Field(gt=0, le=4, allow_inf_nan=False)]
+_Text = Annotated[str, Field(min_length=1, max_length=200)]
 
 
-_TOP_KEYS = (
-    "name",
-    "description",
-    "seed",
-    "objects_on_shelf",
-    "gripper",
-    "camera",
-    "planner",
-    "limits",
-    "calibration_offset",
-    "injected",
-)
+class _InjectedModel(StrictModel):
+    stage: str
+    rate: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)]
+    materials: list[_Text] = []
+    shapes: list[_Text] = []
+    min_mass: _NonNegative = 0.0
+    max_width: Annotated[float, Field(gt=0)] = float("inf")
+
+    @field_validator("stage")
+    @classmethod
+    def _known_stage(cls, stage: str) -> str:
+        if stage not in INJECTABLE_STAGES:
+            raise ValueError(f"{stage!r} is not one of {', '.join(INJECTABLE_STAGES)}")
+        return stage
+
+
+class _GripperSection(StrictModel):
+    max_force: _Positive | None = None
+    finger_friction: _NonNegative | None = None
+
+
+class _CameraSection(StrictModel):
+    noise_std: Annotated[float, Field(ge=0, le=255, allow_inf_nan=False)] | None = None
+    depth_noise_std: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)] | None = None
+
+
+class _PlannerSection(StrictModel):
+    time_limit_s: Annotated[float, Field(gt=0, le=600, allow_inf_nan=False)] | None = None
+
+
+class _LimitsSection(StrictModel):
+    velocity_scale: _Scale | None = None
+    acceleration_scale: _Scale | None = None
+    jerk_scale: _Scale | None = None
+
+
+class ProfileFile(StrictModel):
+    """The schema of a profile YAML file (tools/profiles/*.yaml); units as in Profile."""
+
+    name: Annotated[str, Field(min_length=1, max_length=100, pattern=r"^[A-Za-z0-9_.-]+$")]
+    description: Annotated[str, Field(min_length=1, max_length=5000)]
+    seed: Annotated[int, Field(ge=0, le=42_949)]  # execution seeds seed * 100_000 + i stay 32-bit
+    objects_on_shelf: Annotated[int, Field(ge=1, le=15)] = 4
+    gripper: _GripperSection = _GripperSection()
+    camera: _CameraSection = _CameraSection()
+    planner: _PlannerSection = _PlannerSection()
+    limits: _LimitsSection = _LimitsSection()
+    calibration_offset: Annotated[
+        list[Annotated[float, Field(ge=-1, le=1, allow_inf_nan=False)]], Field(min_length=3, max_length=3)
+    ] = [0.0, 0.0, 0.0]
+    injected: Annotated[list[_InjectedModel], Field(max_length=100)] = []
 
 
 def load_profile(path: Path | str) -> Profile:
-    """Read one profile YAML file; errors name the file, the key and the valid options."""
+    """Read one profile YAML file; errors name the file, the key and the valid options (one line)."""
     path = Path(path)
-    raw = read_yaml(path)
-    unknown = sorted(set(raw) - set(_TOP_KEYS))
-    if unknown:
-        raise ConfigError(f"{path}: unknown key {unknown[0]!r}; valid: {', '.join(_TOP_KEYS)}")
-    f = Fields(raw, str(path))
-
-    def section(key: str, allowed: Sequence[str]) -> Fields:
-        sub = f.sub(key) if key in raw else Fields({}, f"{path}.{key}")
-        bad = sorted(set(sub.data) - set(allowed))
-        if bad:
-            raise ConfigError(f"{path}.{key}: unknown key {bad[0]!r}; valid: {', '.join(allowed)}")
-        return sub
-
-    g = section("gripper", ("max_force", "finger_friction"))
-    c = section("camera", ("noise_std", "depth_noise_std"))
-    p = section("planner", ("time_limit_s",))
-    lim = section("limits", ("velocity_scale", "acceleration_scale", "jerk_scale"))
-    profile = Profile(
-        name=f.get("name", str),
-        description=" ".join(f.get("description", str).split()),
-        seed=f.get("seed", int),
-        objects_on_shelf=f.get("objects_on_shelf", int, 4),
-        gripper_max_force=g.get("max_force", float, None),
-        finger_friction=g.get("finger_friction", float, None),
-        camera_noise_std=c.get("noise_std", float, None),
-        depth_noise_std=c.get("depth_noise_std", float, None),
-        planner_time_limit_s=p.get("time_limit_s", float, None),
-        velocity_scale=lim.get("velocity_scale", float, None),
-        acceleration_scale=lim.get("acceleration_scale", float, None),
-        jerk_scale=lim.get("jerk_scale", float, None),
-        calibration_offset=f.vector("calibration_offset", 3, (0.0, 0.0, 0.0)),  # type: ignore[arg-type]
+    m = validate(ProfileFile, read_yaml(path), str(path))
+    return Profile(
+        name=m.name,
+        description=" ".join(m.description.split()),
+        seed=m.seed,
+        objects_on_shelf=m.objects_on_shelf,
+        gripper_max_force=m.gripper.max_force,
+        finger_friction=m.gripper.finger_friction,
+        camera_noise_std=m.camera.noise_std,
+        depth_noise_std=m.camera.depth_noise_std,
+        planner_time_limit_s=m.planner.time_limit_s,
+        velocity_scale=m.limits.velocity_scale,
+        acceleration_scale=m.limits.acceleration_scale,
+        jerk_scale=m.limits.jerk_scale,
+        calibration_offset=tuple(m.calibration_offset),  # type: ignore[arg-type]
         injected=tuple(
-            _injection(item, f"{path}.injected[{i}]") for i, item in enumerate(f.get("injected", list, []))
+            InjectedFailure(
+                stage=i.stage,
+                rate=i.rate,
+                materials=tuple(i.materials),
+                shapes=tuple(i.shapes),
+                min_mass=i.min_mass,
+                max_width=i.max_width,
+            )
+            for i in m.injected
         ),
         source=path,
     )
-    require(1 <= profile.objects_on_shelf <= 15, f"{path}.objects_on_shelf must be in 1..15")
-    for key, value in (
-        ("gripper.max_force", profile.gripper_max_force),
-        ("planner.time_limit_s", profile.planner_time_limit_s),
-        ("limits.velocity_scale", profile.velocity_scale),
-        ("limits.acceleration_scale", profile.acceleration_scale),
-        ("limits.jerk_scale", profile.jerk_scale),
-    ):
-        require(value is None or value > 0, f"{path}.{key} must be positive")
-    return profile
 
 
 def load_profiles(directory: Path | str, names: Sequence[str] | None = None) -> list[Profile]:
