@@ -3,7 +3,7 @@
 from scone_bt.behaviours.affordances import GenerateAffordances
 from scone_bt.behaviours.base import Keys, StageBehaviour
 from scone_bt.behaviours.gate import ConfidenceGate, DecisionIs
-from scone_bt.behaviours.help import AskForHelp, WaitForHuman
+from scone_bt.behaviours.help import AskForHelp, AskToClarify, WaitForHuman
 from scone_bt.behaviours.outcome import ObserveOutcome, UpdateSelfConfidence
 from scone_bt.behaviours.perceive import Perceive
 from scone_bt.behaviours.pick_and_place import PickAndPlace
@@ -20,6 +20,7 @@ BEHAVIOURS = {
         ConfidenceGate,
         DecisionIs,
         AskForHelp,
+        AskToClarify,
         WaitForHuman,
         PickAndPlace,
         ObserveOutcome,
@@ -30,6 +31,7 @@ BEHAVIOURS = {
 
 __all__ = [
     "AskForHelp",
+    "AskToClarify",
     "BEHAVIOURS",
     "BehaviourOptions",
     "ConfidenceGate",

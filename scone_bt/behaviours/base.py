@@ -23,6 +23,10 @@ class Keys:
     INSTRUCTION = "/relevance/instruction"
     RANKED = "/relevance/ranked"
     ACTION_EMBEDDINGS = "/relevance/action_embeddings"
+    # The robot's own place in the recipe: a StepView (scone_bt.relevance.tracker).
+    STEP = "/relevance/step"
+    # Answers to ASK-CLARIFY: dict[step index, tuple[item, ...]] (what the human said the step wants).
+    CLARIFIED = "/relevance/clarified"
     CONFIDENCES = "/gate/confidences"
     DECISION = "/gate/decision"
     MOTION_OUTCOME = "/motion/outcome"

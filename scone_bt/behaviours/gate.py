@@ -7,6 +7,7 @@ from dataclasses import replace
 import numpy as np
 import py_trees
 
+from scone_bt.affordances.types import action_text
 from scone_bt.behaviours.base import Keys, StageBehaviour
 from scone_bt.gate.types import Decision, DecisionKind
 
@@ -14,7 +15,7 @@ __all__ = ["ConfidenceGate", "DecisionIs"]
 
 
 class ConfidenceGate(StageBehaviour):
-    READS = (Keys.RANKED, Keys.ACTION_EMBEDDINGS, Keys.INSTRUCTION)
+    READS = (Keys.RANKED, Keys.ACTION_EMBEDDINGS, Keys.INSTRUCTION, Keys.STEP)
     WRITES = (Keys.CONFIDENCES, Keys.DECISION)
 
     def setup(self, **kwargs: object) -> None:
@@ -26,6 +27,7 @@ class ConfidenceGate(StageBehaviour):
             confidence_threshold=opts.confidence_threshold,
             relevance_threshold=opts.relevance_threshold,
             use_self_confidence=opts.use_self_confidence,
+            recipe_aware=opts.recipe_aware,
         )
 
     def update(self) -> py_trees.common.Status:
@@ -38,12 +40,15 @@ class ConfidenceGate(StageBehaviour):
             if ranked
             else []
         )
-        decision = decide(ranked, confidences, self.gate_options)
+        view = self.read(Keys.STEP)
+        ambiguous = tuple(action_text(i) for i in view.selection.ambiguous) if view is not None else ()
+        by_text = {r.text for r in ranked}
+        decision = decide(ranked, confidences, self.gate_options, tuple(a for a in ambiguous if a in by_text))
         decision = self._failure_limit(decision)
         self.write(Keys.CONFIDENCES, dict(zip([r.text for r in ranked], confidences, strict=True)))
         self.write(Keys.DECISION, decision)
         instruction = self.read(Keys.INSTRUCTION) or ""
-        self.services.report_decision(instruction, decision)
+        self.services.report_decision(instruction, decision, None if view is None else view.index)
         self.feedback_message = decision.reason
         return py_trees.common.Status.SUCCESS
 

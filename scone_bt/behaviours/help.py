@@ -1,4 +1,5 @@
-"""AskForHelp: the human fetches the object; the robot waits until it is on the table."""
+"""AskForHelp (ASK-HELP): the human fetches the object; the robot waits until it is on the table.
+AskToClarify (ASK-CLARIFY): the robot asks which item the step means and remembers the answer for that step."""
 
 from __future__ import annotations
 
@@ -6,7 +7,7 @@ import py_trees
 
 from scone_bt.behaviours.base import Keys, StageBehaviour
 
-__all__ = ["AskForHelp", "WaitForHuman"]
+__all__ = ["AskForHelp", "AskToClarify", "WaitForHuman"]
 
 
 class AskForHelp(StageBehaviour):
@@ -29,6 +30,34 @@ class AskForHelp(StageBehaviour):
 
     def terminate(self, new_status: py_trees.common.Status) -> None:
         self.services.human.robot_busy(False)
+
+
+class AskToClarify(StageBehaviour):
+    READS = (Keys.DECISION, Keys.STEP, Keys.CLARIFIED)
+    WRITES = (Keys.CLARIFIED,)
+
+    def initialise(self) -> None:
+        decision = self.read(Keys.DECISION)
+        view = self.read(Keys.STEP)
+        human = self.services.human
+        items = tuple(c.removeprefix("Put ").removesuffix(" on table") for c in decision.candidates)
+        self.answer = human.answer_clarification(items)
+        self.until = self.services.kitchen.sim_time + human.options.clarify_time_s
+        clarified = dict(self.read(Keys.CLARIFIED, {}) or {})
+        clarified[view.index] = self.answer
+        self.write(Keys.CLARIFIED, clarified)
+        self.services.stats.clarifications += 1
+        self.services.emit(
+            "clarification", candidates=list(items), answer=list(self.answer), step=view.index + 1
+        )
+        said = ", ".join(self.answer) or "none of those"
+        self.services.printer(f"    ? asked which of {', '.join(items)}: the human says {said}")
+
+    def update(self) -> py_trees.common.Status:
+        if self.services.kitchen.sim_time < self.until:
+            self.feedback_message = "waiting for the human's answer"
+            return py_trees.common.Status.RUNNING
+        return py_trees.common.Status.SUCCESS
 
 
 class WaitForHuman(StageBehaviour):

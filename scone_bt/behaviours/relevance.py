@@ -1,4 +1,9 @@
-"""RankByRelevance (ζ, ρ): rank the affordances by similarity to the current instruction."""
+"""RankByRelevance (ζ, ρ): where the robot is in the recipe, and the affordances ranked against that step.
+
+Recipe-aware (the default): the robot tracks its own step from what it observes (`scone_bt.relevance.tracker`),
+and each action carries why it is a candidate ("now", "later", or "" when the recipe never uses it). With
+``recipe_aware`` off, the paper's setting: the human's current step text alone, every action a candidate.
+"""
 
 from __future__ import annotations
 
@@ -10,29 +15,76 @@ __all__ = ["RankByRelevance"]
 
 
 class RankByRelevance(StageBehaviour):
-    READS = (Keys.AFFORDANCES,)
-    WRITES = (Keys.INSTRUCTION, Keys.RANKED, Keys.ACTION_EMBEDDINGS)
+    READS = (Keys.AFFORDANCES, Keys.TABLE_DETECTIONS, Keys.CLARIFIED)
+    WRITES = (Keys.INSTRUCTION, Keys.RANKED, Keys.ACTION_EMBEDDINGS, Keys.STEP)
 
     def setup(self, **kwargs: object) -> None:
-        self.embedder = self.services.embedder()
+        from scone_bt.relevance.recipe_aware import SelectionOptions
+
+        s = self.services
+        self.embedder = s.embedder()
+        self.step = 0
+        self.steps = tuple(step.instruction for step in s.recipe.steps)
+        catalogue = s.kitchen_config.catalogue
+        self.items = tuple(s.recipe.needed)
+        self.wordings = {n: tuple(catalogue.get(n).aliases) for n in self.items}
+        self.selection_options = SelectionOptions(
+            rho=s.options.relevance_threshold, margin=s.options.clarify_margin
+        )
 
     def update(self) -> py_trees.common.Status:
-        from scone_bt.relevance import rank_actions
+        from scone_bt.relevance import RankedAction, rank_actions, relevance_matrix
+        from scone_bt.relevance.tracker import track_recipe
 
-        instruction = self.services.human.current_instruction
         affordances = self.read(Keys.AFFORDANCES, [])
-        self.write(Keys.INSTRUCTION, instruction)
-        if instruction is None:
-            self.write(Keys.RANKED, [])
-            self.write(Keys.ACTION_EMBEDDINGS, {})
-            self.feedback_message = "recipe finished"
-            return py_trees.common.Status.SUCCESS
         texts = [a.text for a in affordances]
-        ranked = rank_actions(instruction, texts, self.embedder) if texts else []
         vectors = self.embedder.embed(texts) if texts else []
-        self.write(Keys.RANKED, ranked)
         self.write(Keys.ACTION_EMBEDDINGS, dict(zip(texts, vectors, strict=True)))
+        if not self.services.options.recipe_aware:
+            instruction = self.services.human.current_instruction
+            self.write(Keys.INSTRUCTION, instruction)
+            self.write(Keys.STEP, None)
+            ranked = rank_actions(instruction, texts, self.embedder) if texts and instruction else []
+            self.write(Keys.RANKED, ranked)
+            self.feedback_message = (
+                f"best: {ranked[0].text} ({ranked[0].relevance:.2f})" if ranked else "idle"
+            )
+            return py_trees.common.Status.SUCCESS
+        names = [a.object_name for a in affordances]
+
+        def similarity(step: str) -> dict[str, float]:
+            return dict(
+                zip(names, map(float, relevance_matrix([step], texts, self.embedder)[0]), strict=True)
+            )
+
+        on_table = frozenset(d.name for d in self.read(Keys.TABLE_DETECTIONS, ()) or ())
+        view = track_recipe(
+            self.steps,
+            self.step,
+            names,
+            self.items,
+            self.wordings,
+            on_table,
+            similarity,
+            self.selection_options,
+            self.read(Keys.CLARIFIED, {}),
+        )
+        self.step = view.index
+        self.write(Keys.STEP, view)
+        self.write(Keys.INSTRUCTION, view.instruction or None)
+        step_text = view.instruction or (self.steps[-1] if self.steps else "")
+        scores = similarity(step_text) if texts and step_text else {}
+        ranked = sorted(
+            (
+                RankedAction(a.text, scores.get(a.object_name, 0.0), view.selection.need(a.object_name) or "")
+                for a in affordances
+            ),
+            key=lambda r: -r.relevance,
+        )
+        self.write(Keys.RANKED, ranked)
+        sel = view.selection
         self.feedback_message = (
-            f"best: {ranked[0].text} ({ranked[0].relevance:.2f})" if ranked else "nothing to rank"
+            f"step {view.index + 1}: now {', '.join(sel.now) or '-'}; later {', '.join(sel.later) or '-'}"
+            + (f"; which of {', '.join(sel.ambiguous)}?" if sel.ambiguous else "")
         )
         return py_trees.common.Status.SUCCESS

@@ -14,17 +14,22 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from scone_bt.config import KitchenConfig, RobotConfig
-from scone_bt.gate.types import Decision
+from scone_bt.gate.types import Decision, DecisionKind
 from scone_bt.recipes import StockedRecipe
 from scone_bt.world import Kitchen
 
 if TYPE_CHECKING:
     from scone_bt.confidence import ConfidenceEstimator
     from scone_bt.embedding import Embedder
-    from scone_bt.experience import ExperienceStore
+    from scone_bt.experience import OutcomeStore
     from scone_bt.motion import MotionSystem
 
 __all__ = ["EpisodeStats", "BehaviourOptions", "Services"]
+
+
+def _item(action: str) -> str:
+    """The object of an action text ("Put salt on table" → "salt")."""
+    return action.removeprefix("Put ").removesuffix(" on table")
 
 
 @dataclass
@@ -36,6 +41,7 @@ class EpisodeStats:
     successes: int = 0
     failures: int = 0
     help_requests: int = 0
+    clarifications: int = 0
     cancelled: int = 0
     failures_by_stage: dict[str, int] = field(default_factory=dict)
     failures_by_action: dict[str, int] = field(default_factory=dict)
@@ -52,9 +58,16 @@ class BehaviourOptions:
         confidence_threshold: Act when κ̂ ≥ this, else ask.
         relevance_threshold: Cosine similarity below which no action is relevant (ρ).
         use_self_confidence: False is the paper's control condition: always act.
+        recipe_aware: Rank against the recipe the robot knows and track its step from observations; False is
+            the paper's setting (the human's current step text alone, ρ on the similarity).
+        clarify_margin: Unnamed candidates closer than this in cosine similarity are ambiguous (ASK-CLARIFY).
         max_failures_per_action: After this many failures on one action in an episode, ask (the paper used 3).
         cache_dir: On-disk embedding cache, or None.
-        experience_path: SQLite experience store, or None for in-memory learning only.
+        experience_path: Experience store: an SQLite file, a postgresql:// URL (a fleet's shared store), or None
+            for in-memory learning only.
+        robot_id: This robot's id in a fleet, recorded with each outcome ("": the arm's name).
+        learn_from: Whose stored outcomes rebuild κ̂: "self", "same-model" (same arm and profile) or "fleet".
+        profile: Configuration label recorded with each outcome (e.g. a proficiency profile; "" for none).
         seed: Seeds perception noise, the estimators and the planners.
     """
 
@@ -63,9 +76,14 @@ class BehaviourOptions:
     confidence_threshold: float = 0.5
     relevance_threshold: float = 0.25
     use_self_confidence: bool = True
+    recipe_aware: bool = True
+    clarify_margin: float = 0.03
     max_failures_per_action: int = 3
     cache_dir: Path | None = None
-    experience_path: Path | None = None
+    experience_path: Path | str | None = None
+    robot_id: str = ""
+    learn_from: str = "self"
+    profile: str = ""
     seed: int = 0
 
 
@@ -98,12 +116,23 @@ class Services:
             "embedder", lambda: load_embedder(self.options.embedder, cache_dir=self.options.cache_dir)
         )
 
-    def store(self) -> ExperienceStore | None:
+    @property
+    def robot_id(self) -> str:
+        """This robot's id in the experience store (the arm's name unless one was given)."""
+        return self.options.robot_id or self.robot_config.name
+
+    def store(self) -> OutcomeStore | None:
         if self.options.experience_path is None:
             return None
-        from scone_bt.experience import ExperienceStore
+        from scone_bt.experience import open_store
 
-        return self._once("store", lambda: ExperienceStore(self.options.experience_path))
+        def build() -> OutcomeStore:
+            store = open_store(self.options.experience_path)
+            if getattr(store, "notice", None):
+                self.printer(store.notice)
+            return store
+
+        return self._once("store", build)
 
     def estimator(self) -> ConfidenceEstimator:
         """κ̂, rebuilt from this robot's stored outcomes on first use."""
@@ -115,12 +144,13 @@ class Services:
         est = make_estimator(self.options.estimator, seed=self.options.seed)
         store = self.store()
         if store is not None:
-            robot = self.context.get("robot")
-            n = rebuild_estimator(
-                est, store, self.embedder(), where=lambda o: o.context.get("robot") == robot
-            )
+            from scone_bt.experience import LearnFrom
+
+            learn_from = LearnFrom.parse(self.options.learn_from)
+            who = (self.robot_id, self.robot_config.name, self.options.profile)
+            n = rebuild_estimator(est, store, self.embedder(), **learn_from.filters(*who))
             if n:
-                self.printer(f"κ̂ rebuilt from {n} stored outcomes of robot {robot!r}")
+                self.printer(f"κ̂ rebuilt from {n} stored outcomes {learn_from.describe(*who)}")
         return est
 
     def motion(self) -> MotionSystem:
@@ -133,13 +163,22 @@ class Services:
         if self.on_event is not None:
             self.on_event(event, {"sim_time": round(self.kitchen.sim_time, 3), **data})
 
-    def report_decision(self, instruction: str, decision: Decision) -> None:
-        step = self.human.step_index + 1
+    def report_decision(self, instruction: str, decision: Decision, step_index: int | None = None) -> None:
+        """Print and emit one decision; ``step_index`` is the robot's own place in the recipe (0-based; None:
+        the human's current step, the recipe-blind setting)."""
         total = len(self.recipe.steps)
+        step = min(total, (self.human.step_index if step_index is None else step_index) + 1)
+        if not instruction:
+            instruction = "(every step is served)"
         short = instruction if len(instruction) <= 48 else instruction[:45] + "..."
+        if decision.kind is DecisionKind.CLARIFY:
+            target = "which: " + " | ".join(_item(c) for c in decision.candidates) + "?"
+        else:
+            target = decision.action or "(none)"
+        note = "  (needed later)" if decision.need == "later" and decision.action else ""
         line = (
-            f"[step {step}/{total}] {short!r:52} -> {decision.action or '(none)':28} "
-            f"rel {decision.relevance:5.2f}  conf {decision.confidence:4.2f}  {decision.kind.value.upper()}"
+            f"[step {step}/{total}] {short!r:52} -> {target:28} "
+            f"rel {decision.relevance:5.2f}  conf {decision.confidence:4.2f}  {decision.kind.label}{note}"
         )
         self.emit(
             "decision",
@@ -149,6 +188,8 @@ class Services:
             relevance=round(decision.relevance, 4),
             confidence=round(decision.confidence, 4),
             kind=decision.kind.value,
+            need=decision.need,
+            candidates=list(decision.candidates),
         )
         self.stats.decisions += 1
         self.stats.decision_log.append(line)

@@ -1,9 +1,12 @@
-"""The gate: act on the best relevant action, or ask the human for help with it.
+"""The gate: act on the best relevant action, ask the human for help with it, or ask which item is meant.
 
-`decide` is a pure function of the ranked actions, their κ̂ confidences and the options:
+`decide` is a pure function of the ranked actions, their κ̂ confidences, the ambiguous candidates and the options:
 
-1. No action, or the best one's relevance is below `relevance_threshold` → IDLE (the instruction is not
-   something the robot can help with, or it is already done).
+0. Recipe-aware ranking (`recipe_aware`; actions carry a ``need``, "" for those no step wants): the candidate is the most relevant "now" action; with none,
+   ``ambiguous`` candidates → CLARIFY (ask which one the step means); else the most relevant "later" action;
+   else IDLE. The relevance threshold is not applied: the ranking already decided.
+1. Otherwise (the step's text alone, the paper's setting): no action, or the best one's relevance is below
+   `relevance_threshold` → IDLE (the instruction is not something the robot can help with, or it is done).
 2. `use_self_confidence=False` (the paper's control condition) → ACT on the best relevant action, always.
 3. Otherwise ACT if its confidence ≥ the threshold, else ASK. The threshold is `confidence_threshold`, or
    `1 - target_error_rate` when a target error rate is given; with the conformal estimator (whose confidence is
@@ -36,12 +39,14 @@ class GateOptions:
         use_self_confidence: False is the paper's control: always act on the best relevant action.
         target_error_rate: If set, in (0, 1), replaces confidence_threshold by 1 − target_error_rate; meant for
             the conformal estimator, where it is the tolerated fraction of would-fail actions attempted.
+        recipe_aware: The ranking knows the recipe (rule 0); False is the paper's step-text-only gate (rule 1).
     """
 
     confidence_threshold: float = 0.5
     relevance_threshold: float = 0.0
     use_self_confidence: bool = True
     target_error_rate: float | None = None
+    recipe_aware: bool = False
 
     def __post_init__(self) -> None:
         if not 0.0 <= self.confidence_threshold <= 1.0:
@@ -59,13 +64,21 @@ class GateOptions:
         return self.confidence_threshold
 
 
-def decide(ranked: Sequence[RankedAction], confidences: Sequence[float], options: GateOptions) -> Decision:
-    """Act on the most relevant action, ask for help with it, or idle; see the module docstring.
+def decide(
+    ranked: Sequence[RankedAction],
+    confidences: Sequence[float],
+    options: GateOptions,
+    ambiguous: Sequence[str] = (),
+) -> Decision:
+    """Act on the most relevant action, ask for help with it, ask which item is meant, or idle; see the module
+    docstring.
 
     Args:
         ranked: Candidate actions with their relevance (any order; usually rank_actions' best-first list).
         confidences: κ̂ success probability of each, aligned with `ranked`.
         options: Thresholds and mode.
+        ambiguous: Action texts the step could mean about equally (recipe-aware ranking); asked about when
+            no action is needed now or later.
 
     Raises:
         SconeError: lengths differ, or a confidence is not a number in [0, 1].
@@ -74,13 +87,29 @@ def decide(ranked: Sequence[RankedAction], confidences: Sequence[float], options
         raise SconeError(
             f"{len(ranked)} ranked actions but {len(confidences)} confidences; pass one per action"
         )
-    if not ranked:
+    recipe_aware = options.recipe_aware
+    pool = list(range(len(ranked)))
+    if recipe_aware:
+        now = [i for i, r in enumerate(ranked) if r.need == "now"]
+        # an ambiguous step still needs something: ask which before fetching for steps ahead
+        pool = now or ([] if ambiguous else [i for i, r in enumerate(ranked) if r.need == "later"])
+    if not pool:
+        if ambiguous:
+            return Decision(
+                DecisionKind.CLARIFY,
+                None,
+                float("nan"),
+                float("nan"),
+                "which one does the step mean: " + ", ".join(ambiguous),
+                candidates=tuple(ambiguous),
+            )
         return Decision(DecisionKind.IDLE, None, float("nan"), float("nan"), "no actions are available")
-    best = max(range(len(ranked)), key=lambda i: (ranked[i].relevance, -i))
+    best = max(pool, key=lambda i: (ranked[i].relevance, -i))
     action, conf = ranked[best], float(confidences[best])
     if not (0.0 <= conf <= 1.0) or math.isnan(conf):
         raise SconeError(f"confidence of {action.text!r} is {conf}; κ̂ must give a probability in [0, 1]")
-    if action.relevance < options.relevance_threshold:
+    need = action.need
+    if not recipe_aware and action.relevance < options.relevance_threshold:
         return Decision(
             DecisionKind.IDLE,
             None,
@@ -91,12 +120,17 @@ def decide(ranked: Sequence[RankedAction], confidences: Sequence[float], options
         )
     if not options.use_self_confidence:
         return Decision(
-            DecisionKind.ACT, action.text, action.relevance, conf, "acting: self-confidence is off"
+            DecisionKind.ACT, action.text, action.relevance, conf, "acting: self-confidence is off", need
         )
     threshold = options.act_threshold
     if conf >= threshold:
         return Decision(
-            DecisionKind.ACT, action.text, action.relevance, conf, f"confident: {conf:.2f} ≥ {threshold:.2f}"
+            DecisionKind.ACT,
+            action.text,
+            action.relevance,
+            conf,
+            f"confident: {conf:.2f} ≥ {threshold:.2f}",
+            need,
         )
     return Decision(
         DecisionKind.ASK,
@@ -104,4 +138,5 @@ def decide(ranked: Sequence[RankedAction], confidences: Sequence[float], options
         action.relevance,
         conf,
         f"asking for help: confidence {conf:.2f} < {threshold:.2f}",
+        need,
     )

@@ -10,8 +10,14 @@ __all__ = ["DecisionKind", "Decision"]
 
 class DecisionKind(StrEnum):
     ACT = "act"  # confident enough: attempt the action
-    ASK = "ask"  # not confident: ask the human for help with this action
+    ASK = "ask"  # ASK-HELP: not confident it can do the action; ask the human to do it
+    CLARIFY = "clarify"  # ASK-CLARIFY: cannot tell which item the step wants; ask which one
     IDLE = "idle"  # no relevant action for the current instruction
+
+    @property
+    def label(self) -> str:
+        """How the decision line and the viewers show it (ACT, ASK-HELP, ASK-CLARIFY, IDLE)."""
+        return {"ask": "ASK-HELP", "clarify": "ASK-CLARIFY"}.get(self.value, self.value.upper())
 
 
 @dataclass(frozen=True)
@@ -19,11 +25,13 @@ class Decision:
     """What the robot will do this cycle.
 
     Attributes:
-        kind: act, ask or idle.
-        action: The chosen action text (None when idle).
+        kind: act, ask (for help), clarify or idle.
+        action: The chosen action text (None when idle or clarifying).
         relevance: Its cosine similarity to the instruction.
         confidence: κ̂'s success probability for it, in [0, 1].
         reason: One short sentence a user can read in the log.
+        need: "now", "later" (recipe-aware ranking) or "" (the step's text alone).
+        candidates: With clarify, the action texts the robot asks the human to choose between.
     """
 
     kind: DecisionKind
@@ -31,3 +39,5 @@ class Decision:
     relevance: float
     confidence: float
     reason: str
+    need: str = ""
+    candidates: tuple[str, ...] = ()

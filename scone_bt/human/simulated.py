@@ -8,6 +8,10 @@ then cooks it (``cook_time_s``) and moves to the next step. The human fetches ob
 - clean-up: a needed object is neither on the shelf nor on the table (the robot dropped it), or the robot has been
   idle on this step for ``patience_s`` (the human stops waiting).
 Take-overs and clean-ups are interventions. Fetching takes ``fetch_time_s`` of simulated time.
+
+When the robot asks which item a step means (ASK-CLARIFY), the human names the candidates its current step
+needs, else those the next step that needs any of them needs, else none ("none of those"); answering takes
+``clarify_time_s``.
 """
 
 from __future__ import annotations
@@ -32,6 +36,7 @@ class HumanOptions:
         patience_s: Idle robot time on a step before the human fetches what is missing.
         takeover_probability: Chance that the human intervenes on an action the robot attempts.
         takeover_delay_s: How long into the robot's action the take-over happens.
+        clarify_time_s: Time to answer the robot's "which one?" question.
     """
 
     fetch_time_s: float = 6.0
@@ -39,6 +44,7 @@ class HumanOptions:
     patience_s: float = 20.0
     takeover_probability: float = 0.0
     takeover_delay_s: float = 1.0
+    clarify_time_s: float = 2.0
 
 
 @dataclass(frozen=True)
@@ -76,6 +82,7 @@ class SimulatedHuman:
         self._robot_busy_since: float | None = None
         self._fetches: list[_Fetch] = []
         self.help_given = 0
+        self.clarifications = 0
         self.interventions = 0
         self.events: list[HumanEvent] = []
 
@@ -104,6 +111,15 @@ class SimulatedHuman:
             self._fetches.append(
                 _Fetch(object_name, self.kitchen.sim_time + self.options.fetch_time_s, "help")
             )
+
+    def answer_clarification(self, candidates: tuple[str, ...]) -> tuple[str, ...]:
+        """The robot asks which of ``candidates`` the step wants; see the module docstring."""
+        self.clarifications += 1
+        for step in self.recipe.steps[self.step_index :]:
+            wanted = tuple(c for c in candidates if c in step.objects and not self.kitchen.is_on_table(c))
+            if wanted:
+                return wanted
+        return ()
 
     def decide_takeover(self, object_name: str) -> None:
         """Called once when the robot starts an action on an object: the human decides whether to take over."""

@@ -11,8 +11,8 @@ wordings its ingredient lines use for them, and the steps ahead. `select_for_ste
    reaches ``rho`` and beats the runner-up by ``margin``; two or more candidates within ``margin`` of each other
    above ``rho`` are AMBIGUOUS (the robot should ask which one is meant). A shared head noun the step uses alone
    ("the oil" with canola and sesame oil on the shelf) is ambiguous too.
-4. LATER: the other candidates that a step ahead names, in the order they are first needed. They are fetched only
-   when the step has nothing left to fetch now.
+4. LATER: the other candidates, those a step ahead names first, in the order they are needed, then the rest of
+   the recipe card. They are fetched only when the step has nothing left to fetch now.
 5. The step is DONE when it names items and every named item is on the table (observed) and none is left on the
    shelf.
 """
@@ -147,6 +147,8 @@ def select_for_step(
     for ahead in context.steps_ahead:
         rest = [i for i in candidates if i not in now and i not in later]
         later += mentioned_items(ahead, rest, wordings=wordings)
+    # what no step ahead names is still on the recipe card: gathered last
+    later += [i for i in candidates if i not in now and i not in later and i not in ambiguous]
     shelf_keys = {item_key(i) for i in shelf}
     table_keys = {item_key(i) for i in context.on_table}
     done = bool(named) and all(item_key(i) in table_keys and item_key(i) not in shelf_keys for i in named)

@@ -74,3 +74,38 @@ def test_bad_confidences():
         decide(RANKED, [float("nan"), 0.5], GateOptions())
     with pytest.raises(SconeError, match="probability"):
         decide(RANKED, [1.2, 0.5], GateOptions())
+
+
+NEEDS = [
+    RankedAction("Put honey on table", 0.9, ""),  # the recipe does not use it: never a candidate
+    RankedAction("Put garlic on table", 0.6, "later"),
+    RankedAction("Put pasta on table", 0.4, "now"),
+    RankedAction("Put salt on table", 0.5, "now"),
+]
+
+
+def test_recipe_aware_prefers_now_over_later_and_ignores_rho():
+    options = GateOptions(relevance_threshold=0.99, recipe_aware=True)
+    d = decide(NEEDS, [0.9, 0.9, 0.9, 0.9], options)
+    assert (d.kind, d.action, d.need) == (DecisionKind.ACT, "Put salt on table", "now")
+    later = decide(NEEDS[:2], [0.9, 0.9], options)
+    assert (later.action, later.need) == ("Put garlic on table", "later")
+    assert decide(NEEDS[:1], [0.9], options).kind is DecisionKind.IDLE
+
+
+def test_ambiguous_step_asks_which_before_fetching_for_later_steps():
+    aware = GateOptions(recipe_aware=True)
+    d = decide(NEEDS[:2], [0.9, 0.9], aware, ambiguous=("Put salt on table", "Put sugar on table"))
+    assert d.kind is DecisionKind.CLARIFY and d.action is None
+    assert d.candidates == ("Put salt on table", "Put sugar on table")
+    assert DecisionKind.CLARIFY.label == "ASK-CLARIFY" and DecisionKind.ASK.label == "ASK-HELP"
+    # a step that names an item needs no clarification
+    assert decide(NEEDS, [0.9] * 4, aware, ambiguous=("Put a on table",)).kind is DecisionKind.ACT
+    # nothing the recipe wants: idle, however relevant a distractor looks
+    assert decide(NEEDS[:1], [0.9], aware).kind is DecisionKind.IDLE
+    assert decide(NEEDS[:1], [0.9], GateOptions()).kind is DecisionKind.ACT  # the paper's gate fetches it
+
+
+def test_recipe_aware_low_confidence_asks_for_help():
+    d = decide(NEEDS, [0.9, 0.9, 0.9, 0.1], GateOptions(confidence_threshold=0.5, recipe_aware=True))
+    assert (d.kind, d.action) == (DecisionKind.ASK, "Put salt on table")

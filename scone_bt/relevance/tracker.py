@@ -1,0 +1,83 @@
+"""The robot's own place in the recipe, from what it observes (ρ's second role: completed and irrelevant steps).
+
+The robot does not read the human's step counter. It starts at the first step and moves past a step when the
+step is *completed* (every item it names is observed on the table) or *irrelevant to the robot* (it names no
+recipe item and the similarity fallback finds none). A step that names an item the robot cannot see yet keeps it
+waiting (the human may be fetching it). Answers to clarification questions are kept per step.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, replace
+
+from scone_bt.recipes.normalise import item_key
+from scone_bt.relevance.recipe_aware import RecipeContext, SelectionOptions, StepSelection, select_for_step
+
+__all__ = ["StepView", "track_recipe"]
+
+
+@dataclass(frozen=True)
+class StepView:
+    """Where the robot is in the recipe and what that step wants.
+
+    Attributes:
+        index: 0-based index of the step the robot works on (== number of steps when it sees nothing left).
+        instruction: That step's text ("" past the end).
+        selection: The step's selection (empty past the end).
+        skipped: Steps passed over on the way, each with why ("completed" or "nothing to fetch").
+    """
+
+    index: int
+    instruction: str
+    selection: StepSelection
+    skipped: tuple[tuple[int, str], ...] = ()
+
+
+_EMPTY = StepSelection(now=(), later=(), ambiguous=(), named=(), done=True, reason="recipe finished")
+
+
+def track_recipe(
+    steps: Sequence[str],
+    start: int,
+    shelf: Sequence[str],
+    items: Sequence[str],
+    wordings: Mapping[str, tuple[str, ...]],
+    on_table: frozenset[str],
+    similarity: Callable[[str], Mapping[str, float]],
+    options: SelectionOptions,
+    clarified: Mapping[int, tuple[str, ...]] | None = None,
+) -> StepView:
+    """From step ``start`` on, the first step that still wants something of the robot.
+
+    Args:
+        steps: The recipe's step texts.
+        start: Where the robot was (it never moves back).
+        shelf: Items seen on the shelf.
+        items: The recipe's items as kitchen products.
+        wordings: Product → other names the recipe or catalogue use for it.
+        on_table: Items observed on the table.
+        similarity: Step text → item → cosine similarity of its action to the step.
+        options: The selection's thresholds.
+        clarified: Step index → the items the human said it wants (empty: none of those asked about).
+    """
+    clarified = clarified or {}
+    skipped: list[tuple[int, str]] = []
+    for k in range(max(0, start), len(steps)):
+        context = RecipeContext(
+            items=tuple(items), wordings=dict(wordings), steps_ahead=tuple(steps[k + 1 :]), on_table=on_table
+        )
+        sel = select_for_step(steps[k], shelf, context, similarity(steps[k]), options)
+        if k in clarified:
+            answer = tuple(i for i in clarified[k] if i in shelf)
+            sel = replace(sel, now=answer or sel.now, ambiguous=(), reason="the human said which")
+        if sel.done:
+            skipped.append((k, "completed"))
+            continue
+        if not sel.named and not sel.now and not sel.ambiguous:
+            skipped.append((k, "nothing to fetch"))
+            continue
+        return StepView(k, steps[k], sel, tuple(skipped))
+    keys = {item_key(i) for i in items}
+    left = tuple(i for i in shelf if item_key(i) in keys)  # on the card, named by no step still open
+    return StepView(len(steps), "", replace(_EMPTY, later=left, done=not left), tuple(skipped))

@@ -1,0 +1,147 @@
+"""RankByRelevance, ConfidenceGate and AskToClarify ticked with fakes (no simulator): the robot's own step,
+never-used items, items needed later, and the clarification round trip."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from types import SimpleNamespace
+
+import numpy as np
+import py_trees
+import pytest
+
+from scone_bt.affordances.types import Affordance, action_text
+from scone_bt.behaviours import AskToClarify, BehaviourOptions, ConfidenceGate, Keys, RankByRelevance
+from scone_bt.behaviours.services import EpisodeStats
+from scone_bt.embedding import load_embedder
+from scone_bt.gate.types import DecisionKind
+from scone_bt.perception.types import Detection
+from scone_bt.recipes.stocking import StockedStep
+
+
+class _Confident:
+    def predict(self, x: np.ndarray) -> np.ndarray:
+        return np.full(len(x), 0.9)
+
+
+@dataclass
+class _Human:
+    wanted: tuple[str, ...]
+    options: SimpleNamespace = field(default_factory=lambda: SimpleNamespace(clarify_time_s=2.0))
+    asked: list[tuple[str, ...]] = field(default_factory=list)
+
+    def answer_clarification(self, candidates: tuple[str, ...]) -> tuple[str, ...]:
+        self.asked.append(candidates)
+        return tuple(c for c in candidates if c in self.wanted)
+
+
+class _Services:
+    def __init__(self, tmp_path, steps, needed, human=None, aliases=None) -> None:
+        aliases = aliases or {}
+        self.recipe = SimpleNamespace(
+            steps=tuple(StockedStep(s, ()) for s in steps), needed=tuple(needed), unstocked=()
+        )
+        self.kitchen_config = SimpleNamespace(
+            catalogue=SimpleNamespace(get=lambda n: SimpleNamespace(aliases=aliases.get(n, ())))
+        )
+        self.kitchen = SimpleNamespace(sim_time=0.0)
+        self.options = BehaviourOptions(relevance_threshold=0.5)
+        self.human = human or _Human(())
+        self.stats = EpisodeStats()
+        self.events: list[tuple[str, dict]] = []
+        self.lines: list[str] = []
+        self._emb = load_embedder("onehot", tmp_path)
+
+    def embedder(self):
+        return self._emb
+
+    def estimator(self):
+        return _Confident()
+
+    def emit(self, kind: str, **data) -> None:
+        self.events.append((kind, data))
+
+    def printer(self, line: str) -> None:
+        self.lines.append(line)
+
+    def report_decision(self, instruction, decision, step_index=None) -> None:
+        self.events.append(("decision", {"decision": decision, "step": step_index}))
+
+
+def _shelf(*names: str) -> list[Affordance]:
+    return [
+        Affordance(n, action_text(n), Detection(n, i, (0.5, 0.3, 0.1), 0.0, 1.0, (0, 0, 1, 1)))
+        for i, n in enumerate(names)
+    ]
+
+
+@pytest.fixture(autouse=True)
+def _clean_blackboard():
+    py_trees.blackboard.Blackboard.clear()
+    yield
+    py_trees.blackboard.Blackboard.clear()
+
+
+def _tick(services, shelf, table=()):
+    writer = py_trees.blackboard.Client(name="test")
+    for key in (Keys.AFFORDANCES, Keys.TABLE_DETECTIONS):
+        writer.register_key(key=key, access=py_trees.common.Access.WRITE)
+    writer.set(Keys.AFFORDANCES, shelf)
+    writer.set(
+        Keys.TABLE_DETECTIONS,
+        tuple(Detection(n, -1, (0.4, -0.4, 0.1), 0.0, 1.0, (0, 0, 1, 1)) for n in table),
+    )
+    rank = RankByRelevance("rank", services)
+    gate = ConfidenceGate("gate", services)
+    rank.setup()
+    gate.setup()
+    rank.tick_once()
+    gate.tick_once()
+    reader = py_trees.blackboard.Client(name="reader")
+    for key in (Keys.DECISION, Keys.STEP):
+        reader.register_key(key=key, access=py_trees.common.Access.READ)
+    return reader.get(Keys.DECISION), reader.get(Keys.STEP)
+
+
+STEPS = ("Bring water to the boil.", "Cook the spaghetti.", "Fry the garlic in the oil.")
+
+
+def test_a_never_used_item_is_not_fetched_and_the_step_is_the_robots_own(tmp_path) -> None:
+    services = _Services(tmp_path, STEPS, ["pasta", "garlic"], aliases={"pasta": ("spaghetti",)})
+    decision, view = _tick(services, _shelf("honey", "pasta", "garlic"))
+    # step 1 names nothing the robot can fetch: it moves to step 2 by itself
+    assert view.index == 1 and view.skipped == ((0, "nothing to fetch"),)
+    assert (decision.kind, decision.action, decision.need) == (DecisionKind.ACT, "Put pasta on table", "now")
+
+
+def test_a_completed_step_is_recognised_from_the_table_camera(tmp_path) -> None:
+    services = _Services(tmp_path, STEPS, ["pasta", "garlic"], aliases={"pasta": ("spaghetti",)})
+    decision, view = _tick(services, _shelf("honey", "garlic"), table=("pasta",))
+    assert view.index == 2 and (1, "completed") in view.skipped
+    assert decision.action == "Put garlic on table"
+
+
+def test_items_for_later_steps_are_fetched_only_when_the_step_has_nothing_left(tmp_path) -> None:
+    services = _Services(tmp_path, ("Cook the spaghetti.", "Add the garlic."), ["pasta", "garlic"])
+    services.recipe.needed = ("spaghetti", "garlic")
+    decision, view = _tick(services, _shelf("garlic"), table=())
+    # spaghetti is named but not on the shelf (the human may be fetching it): garlic is fetched, marked later
+    assert view.index == 0
+    assert (decision.action, decision.need) == ("Put garlic on table", "later")
+
+
+def test_ambiguous_step_asks_and_the_answer_is_used(tmp_path) -> None:
+    human = _Human(wanted=("sesame oil",))
+    services = _Services(tmp_path, ("Heat the oil in a wok.",), ["canola oil", "sesame oil"], human=human)
+    decision, view = _tick(services, _shelf("canola oil", "sesame oil"))
+    assert decision.kind is DecisionKind.CLARIFY
+    assert set(decision.candidates) == {"Put canola oil on table", "Put sesame oil on table"}
+    ask = AskToClarify("clarify", services)
+    ask.tick_once()
+    assert ask.status is py_trees.common.Status.RUNNING  # the human takes a moment to answer
+    services.kitchen.sim_time = 2.5
+    ask.tick_once()
+    assert ask.status is py_trees.common.Status.SUCCESS
+    assert services.stats.clarifications == 1 and human.asked
+    decision, _ = _tick(services, _shelf("canola oil", "sesame oil"))
+    assert (decision.kind, decision.action) == (DecisionKind.ACT, "Put sesame oil on table")
