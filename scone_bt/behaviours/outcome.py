@@ -39,6 +39,9 @@ class ObserveOutcome(StageBehaviour):
             success=success,
             failure_stage=stage,
             context={**s.context, "sim_time": round(s.kitchen.sim_time, 3)},
+            robot_id=s.robot_id,
+            arm=s.robot_config.name,
+            profile=s.options.profile,
         )
         if success:
             s.stats.successes += 1

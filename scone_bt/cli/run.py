@@ -5,6 +5,7 @@ Examples:
     scone-run --robot sim --recipe example:pancakes --save runs/pancakes.rrd
     scone-run --robot sim --recipe "nw:asian/Banh Mi Sandwich" --viewer
     scone-run --robot sim --experience runs/panda.db       # learning carries over between runs
+    scone-run --robot sim --experience postgresql://robot@fleet-db/scone --robot-id panda-2 --learn-from same-model
     scone-run --robot sim --no-self-confidence             # the paper's control condition: always act
 """
 
@@ -86,7 +87,22 @@ def build_parser() -> argparse.ArgumentParser:
         "--no-self-confidence", action="store_true", help="the paper's control condition: always act"
     )
     g.add_argument(
-        "--experience", type=Path, metavar="DB", help="SQLite outcome store; κ̂ is rebuilt from it at start"
+        "--experience",
+        metavar="DB|URL",
+        help="outcome store κ̂ is rebuilt from at start: an SQLite file, or postgresql://user@host/db shared by a fleet",
+    )
+    g.add_argument(
+        "--learn-from",
+        default="self",
+        choices=("self", "same-model", "fleet"),
+        help="whose stored outcomes rebuild κ̂: this robot's, every robot's with the same arm and --profile, "
+        "or the whole fleet's (default: %(default)s)",
+    )
+    g.add_argument(
+        "--robot-id", default="", help="this robot's id in a shared store (default: the arm's name)"
+    )
+    g.add_argument(
+        "--profile", default="", help="configuration label stored with each outcome (default: none)"
     )
     g.add_argument("--embedder", help="ζ: minilm, mpnet, glove, onehot, finetuned:<dir> or a model directory")
     g.add_argument("--estimator", help="κ̂ estimator, e.g. eps-knn, knn, lgbm, rf, svm, mlp, xgb")
@@ -115,6 +131,15 @@ def _quiet_backends() -> None:
     quiet_backends()
 
 
+def _experience(spec: str | None) -> Path | str | None:
+    """A PostgreSQL URL stays a string; anything else is an SQLite file path."""
+    from scone_bt.experience import is_postgres_url
+
+    if spec is None or is_postgres_url(spec):
+        return spec
+    return Path(spec)
+
+
 def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
     from scone_bt.behaviours import BehaviourOptions
     from scone_bt.cli import checks
@@ -134,8 +159,12 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
         checks.check_range(args.relevance_threshold, "--relevance-threshold", -1.0, 1.0)
     if args.save is not None:
         checks.check_output_file(args.save, "--save")
-    if isinstance(args.experience, Path):
-        checks.check_output_file(args.experience, "--experience")
+    if isinstance(_experience(args.experience), Path):  # a postgresql:// URL is checked when it is opened
+        checks.check_output_file(Path(args.experience), "--experience")
+    elif args.experience is not None:  # probe the fleet's server now, not after the kitchen and models are loaded
+        from scone_bt.experience import open_store
+
+        open_store(args.experience).close()
     if args.connect is not None:
         from scone_bt.viz.connect import check_viewer_address
 
@@ -153,7 +182,10 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
         relevance_threshold=float(pick(args.relevance_threshold, "relevance_threshold", 0.25)),
         use_self_confidence=not args.no_self_confidence,
         max_failures_per_action=int(params.get("max_failures_per_action", 3)),
-        experience_path=args.experience,
+        experience_path=_experience(args.experience),
+        robot_id=args.robot_id,
+        learn_from=args.learn_from,
+        profile=args.profile,
         seed=args.seed,
     )
     return EpisodeOptions(

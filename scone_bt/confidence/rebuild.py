@@ -8,7 +8,7 @@ import numpy as np
 
 from scone_bt.confidence.base import ConfidenceEstimator
 from scone_bt.embedding.base import Embedder
-from scone_bt.experience.store import ExperienceStore
+from scone_bt.experience.base import OutcomeStore
 from scone_bt.experience.types import Outcome
 
 __all__ = ["rebuild_estimator", "training_data"]
@@ -24,13 +24,18 @@ def training_data(outcomes: list[Outcome], embedder: Embedder) -> tuple[np.ndarr
 
 def rebuild_estimator(
     estimator: ConfidenceEstimator,
-    store: ExperienceStore,
+    store: OutcomeStore,
     embedder: Embedder,
     *,
     only_embedder: str | None = None,
     where: Callable[[Outcome], bool] | None = None,
+    robot_id: str | None = None,
+    arm: str | None = None,
+    profile: str | None = None,
 ) -> int:
-    """Fit `estimator` on the stored outcomes (all of them, or those of one embedder / predicate).
+    """Fit `estimator` on the stored outcomes (all, or those of one embedder / robot / arm / profile / predicate).
+
+    The robot, arm and profile filters are what `LearnFrom.filters` returns (--learn-from self|same-model|fleet).
 
     An outcome does not depend on the embedder that was active when it was observed, so by default every stored
     outcome is used and re-embedded with `embedder`; pass `only_embedder` for experiments that must not mix.
@@ -38,7 +43,7 @@ def rebuild_estimator(
     Returns:
         The number of outcomes learnt from.
     """
-    outcomes = store.outcomes(only_embedder, where)
+    outcomes = store.outcomes(only_embedder, where, robot_id=robot_id, arm=arm, profile=profile)
     X, y = training_data(outcomes, embedder)
     if len(y) or estimator.n_observations:
         estimator.fit(X, y)
