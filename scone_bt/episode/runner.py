@@ -26,7 +26,7 @@ from scone_bt.recipes import load_recipe, stock_recipe
 from scone_bt.tree import build_tree, load_tree_spec
 from scone_bt.world import Kitchen
 
-__all__ = ["EpisodeOptions", "EpisodeSummary", "run_episode"]
+__all__ = ["EpisodeOptions", "EpisodeSummary", "WallClock", "run_episode"]
 
 
 @dataclass(frozen=True)
@@ -90,11 +90,17 @@ class EpisodeSummary:
     wall_time: float
     needed_on_table: dict[str, bool]
     decision_log: tuple[str, ...]
+    startup_to_first_decision_s: float | None = None
+    wall_breakdown: dict[str, float] = field(default_factory=dict)
+    physics_steps: int = 0
+    physics_steps_skipped: int = 0
+    renders: int = 0
 
     def deterministic_part(self) -> dict[str, Any]:
         """The fields a seeded rerun must reproduce exactly."""
         d = asdict(self)
-        d.pop("wall_time")
+        for timing in ("wall_time", "startup_to_first_decision_s", "wall_breakdown"):
+            d.pop(timing)
         d.pop("tree_ticks")  # ticks while the planner thread computes depend on the machine's speed
         return d
 
@@ -135,6 +141,49 @@ def _make_recorder(options: EpisodeOptions) -> Any:
 HumanFactory = Callable[[Kitchen, Any, HumanOptions, int], Any]
 
 
+class WallClock:
+    """Wall seconds spent per part of the episode loop (``with clock("physics"): ...``)."""
+
+    def __init__(self) -> None:
+        self.seconds: dict[str, float] = {}
+        self._part = ""
+        self._since = 0.0
+
+    def __call__(self, part: str) -> WallClock:
+        self._part = part
+        return self
+
+    def __enter__(self) -> None:
+        self._since = time.perf_counter()
+
+    def __exit__(self, *exc: object) -> None:
+        self.add(self._part, time.perf_counter() - self._since)
+
+    def add(self, part: str, seconds: float) -> None:
+        self.seconds[part] = self.seconds.get(part, 0.0) + seconds
+
+
+def _time_embedding(services: Services, clock: WallClock) -> None:
+    """Count the embedder's wall time (if the tree built one) under "embedding"."""
+    embedder = services._cache.get("embedder")
+    if embedder is None:
+        return
+    inner = embedder.embed
+
+    def embed(texts: Any) -> Any:
+        t = time.perf_counter()
+        try:
+            return inner(texts)
+        finally:
+            clock.add("embedding", time.perf_counter() - t)
+
+    embedder.embed = embed
+
+
+def _observers(root: py_trees.behaviour.Behaviour) -> list[Any]:
+    return [b.observer for b in root.iterate() if hasattr(b, "observer")]
+
+
 def run_episode(
     options: EpisodeOptions,
     printer: Callable[[str], None] = print,
@@ -152,6 +201,15 @@ def run_episode(
         realtime: Pace control ticks to wall-clock time (needed when a real person takes part).
     """
     started = time.perf_counter()
+    clock = WallClock()
+    first_decision: list[float] = []
+
+    def events(kind: str, data: dict[str, Any]) -> None:
+        if kind == "decision" and not first_decision:
+            first_decision.append(time.perf_counter() - started)
+        if on_event is not None:
+            on_event(kind, data)
+
     kitchen_cfg = load_kitchen(options.kitchen)
     robot_cfg = load_robot(options.robot)
     spec = load_tree_spec(options.tree)
@@ -190,7 +248,7 @@ def run_episode(
             human=human,
             options=options.behaviour,
             printer=printer,
-            on_event=on_event,
+            on_event=events,
             context={"robot": robot_cfg.name, "seed": options.seed, "recipe": recipe.recipe.id},
         )
         printer(
@@ -211,10 +269,14 @@ def run_episode(
         reader = py_trees.blackboard.Client(name="episode")
         reader.register_key(key=Keys.MOTION_COMPUTING, access=py_trees.common.Access.READ)
 
+        _time_embedding(services, clock)
+        observers = _observers(root)
+        clock.add("startup", time.perf_counter() - started)
         ticks = control_ticks = 0
         next_tick = time.perf_counter() + options.tick_period
         while control_ticks < options.max_ticks:
-            tree.tick()
+            with clock("tree"):
+                tree.tick()
             ticks += 1
             if human.done and root.status is not py_trees.common.Status.RUNNING:
                 if snapshots is not None:
@@ -222,10 +284,14 @@ def run_episode(
                 break  # the recipe is done and the robot finished its last cycle
             computing = reader.get(Keys.MOTION_COMPUTING) if reader.exists(Keys.MOTION_COMPUTING) else False
             if computing:
-                time.sleep(0.002)  # give the planner thread the interpreter
+                with clock("planning_wait"):
+                    time.sleep(0.002)  # give the planner thread the interpreter
             else:
-                kitchen.advance(options.tick_period)
-                for event in human.update():
+                with clock("physics"):
+                    kitchen.advance(options.tick_period)
+                with clock("human"):
+                    human_events = human.update()
+                for event in human_events:
                     if on_event is not None:
                         on_event(
                             event.kind,
@@ -240,8 +306,13 @@ def run_episode(
                     time.sleep(max(0.0, next_tick - time.perf_counter()))
                     next_tick = max(next_tick + options.tick_period, time.perf_counter())
             if snapshots is not None:
-                recorder.log_tick(snapshots.build(ticks, root))
+                with clock("logging"):
+                    recorder.log_tick(snapshots.build(ticks, root))
         stats = services.stats
+        parts = dict(clock.seconds)
+        # Perception and embedding run inside tree ticks: report them on their own and the rest as "tree".
+        parts["perception"] = sum(o.wall_s for o in observers)
+        parts["tree"] = parts.get("tree", 0.0) - parts["perception"] - parts.get("embedding", 0.0)
         summary = EpisodeSummary(
             recipe_id=recipe.recipe.id,
             recipe_title=recipe.recipe.title,
@@ -263,6 +334,11 @@ def run_episode(
             wall_time=time.perf_counter() - started,
             needed_on_table={n: kitchen.is_on_table(n) for n in recipe.needed},
             decision_log=tuple(stats.decision_log),
+            startup_to_first_decision_s=first_decision[0] if first_decision else None,
+            wall_breakdown={k: round(v, 4) for k, v in sorted(parts.items())},
+            physics_steps=kitchen.steps - kitchen.steps_skipped,
+            physics_steps_skipped=kitchen.steps_skipped,
+            renders=sum(c.renders for o in observers for c in o.cameras),
         )
         tree.shutdown()
         return summary

@@ -6,6 +6,7 @@ empty table as far as the robot can tell (the planner then meets whatever it did
 
 from __future__ import annotations
 
+import time
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -92,6 +93,7 @@ class Observer:
         self.table_camera = Camera(table) if table is not None else None
         self.detector = Detector(kitchen.catalogue, options)
         self.tracker = Tracker()
+        self.wall_s = 0.0  # spent in observe(), for the episode's wall-time breakdown
 
     @property
     def cameras(self) -> list[Camera]:
@@ -99,6 +101,7 @@ class Observer:
 
     def observe(self, kitchen: Kitchen, rng: np.random.Generator) -> Observation:
         """Capture every camera once (a camera re-renders only if the world changed), detect, track."""
+        started = time.perf_counter()
         frames = {cam.spec.name: cam.capture(kitchen, rng) for cam in self.cameras}
         shelf = [self.detector.detect(frames[cam.spec.name]) for cam in self.shelf_cameras]
         scene, catalogue = self.config.scene, self.config.catalogue
@@ -115,6 +118,7 @@ class Observer:
         sim_time = frames[self.shelf_cameras[0].spec.name].sim_time
         tracked = tuple(self.tracker.update(merged, sim_time))
         table_names = {d.name for d in table}
+        self.wall_s += time.perf_counter() - started
         return Observation(
             frame=frames[self.shelf_cameras[0].spec.name],
             frames=frames,

@@ -1,4 +1,4 @@
-"""A PyBullet kitchen: a robot on a pedestal between a stepped shelf and a table.
+"""A PyBullet kitchen: a robot on a pedestal between stepped shelf units and a table.
 
 This module is the only place (besides the perception and motion adapters) that talks to PyBullet. The robot's
 own stages never read ground truth from here; the simulated human, outcome checks and tests do.
@@ -16,6 +16,7 @@ import numpy as np
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
 from scone_bt.errors import ConfigError, UnknownNameError
 from scone_bt.quiet import c_stdout_silenced
+from scone_bt.world.stocking import plan_stocking
 from scone_bt.world.visuals import create_object_visual
 
 __all__ = ["Kitchen", "ObjectState", "StaticBox", "Controller"]
@@ -33,6 +34,10 @@ REST_JOINT_RAD_S = 1e-3
 """A robot joint slower than this (rad/s) counts as at rest."""
 WAKE_S = 0.5
 """Simulated seconds the physics keeps stepping after the world was changed from outside."""
+FREEZE_MARGIN_M = 0.15
+"""A resting object is frozen only if no robot link or moving object comes within this of it (bounding boxes)."""
+FREEZE_CHECK_STEPS = 12
+"""Physics steps between freeze checks (0.05 s at 240 Hz: the hand moves well under FREEZE_MARGIN_M meanwhile)."""
 _KITCHEN_IDS = itertools.count()
 
 
@@ -63,10 +68,20 @@ class Kitchen:
         robot: The arm to load.
         gui: Open PyBullet's own window (debugging only; scone-run uses rerun instead).
         time_step: Physics step in seconds.
+        freeze_resting: Freeze resting objects far from anything moving (see `advance`); off only to compare.
     """
 
+    FREEZE_RESTING_DEFAULT = True
+    """`freeze_resting` when not given (benchmarks flip it to compare outcomes with and without freezing)."""
+
     def __init__(
-        self, kitchen: KitchenConfig, robot: RobotConfig, *, gui: bool = False, time_step: float = 1.0 / 240.0
+        self,
+        kitchen: KitchenConfig,
+        robot: RobotConfig,
+        *,
+        gui: bool = False,
+        time_step: float = 1.0 / 240.0,
+        freeze_resting: bool | None = None,
     ) -> None:
         with c_stdout_silenced():
             import pybullet as p
@@ -88,6 +103,9 @@ class Kitchen:
         self.state_version = 0
         self.uid = next(_KITCHEN_IDS)  # unlike id(), never reused by a later Kitchen
         self._awake_until = 0.0
+        self._frozen: set[str] = set()
+        self._settle_until = 0.0
+        self.freeze_resting = self.FREEZE_RESTING_DEFAULT if freeze_resting is None else freeze_resting
 
         bc = self.bc
         bc.resetSimulation()
@@ -164,40 +182,30 @@ class Kitchen:
     def spawn(
         self, specs: Sequence[ObjectSpec], rng: np.random.Generator
     ) -> dict[str, tuple[float, float, float]]:
-        """Stock the shelving and let the objects settle. Returns name → slot (x, y, surface z).
+        """Stock the shelving (`plan_stocking`: heaviest lowest, facing the robot) and let the objects settle.
 
-        Random distinct slots are drawn, then filled as a person stocks a shelf: the heaviest product goes to the
-        lowest of the drawn slots, each stands facing the robot (the unit's u axis) within ±0.3 rad.
+        Returns:
+            name → surface point under the object's centre (x, y, z), metres.
         """
         import pybullet as p
 
-        slots = self.config.scene.slots()
-        if len(specs) > len(slots):
-            raise ConfigError(f"{len(specs)} objects do not fit on the shelf's {len(slots)} slots")
         for spec in specs:
             if spec.name in self.objects:
                 raise ConfigError(f"object {spec.name!r} is already in the kitchen")
-        chosen = [slots[int(i)] for i in rng.permutation(len(slots))[: len(specs)]]
-        # Stable sorts: equal heights keep the random draw order, equal masses the order given.
-        chosen.sort(key=lambda slot: slot.position[2])
-        by_mass = sorted(range(len(specs)), key=lambda i: -specs[i].mass)
-        assignment = {i: chosen[rank] for rank, i in enumerate(by_mass)}
-        for i, spec in enumerate(specs):
-            slot = assignment[i]
-            x, y, z = slot.position
+        for spec, place in zip(specs, plan_stocking(self.config.scene, specs, rng), strict=True):
+            x, y, z = place.position
             sx, sy, sz = spec.size
             if spec.shape == "box":
                 col = self.bc.createCollisionShape(p.GEOM_BOX, halfExtents=[sx / 2, sy / 2, sz / 2])
             else:
                 col = self.bc.createCollisionShape(p.GEOM_CYLINDER, radius=sx / 2, height=sz)
             vis = create_object_visual(self.bc, spec)
-            yaw = slot.yaw + float(rng.uniform(-0.3, 0.3))
             body = self.bc.createMultiBody(
                 spec.mass,
                 col,
                 vis,
                 basePosition=(x, y, z + sz / 2 + 1e-3),
-                baseOrientation=self.bc.getQuaternionFromEuler((0, 0, yaw)),
+                baseOrientation=self.bc.getQuaternionFromEuler((0, 0, place.yaw)),
             )
             self.bc.changeDynamics(
                 body, -1, lateralFriction=spec.friction, spinningFriction=0.001, rollingFriction=0.0005
@@ -291,7 +299,7 @@ class Kitchen:
             forces=[cfg.control.max_joint_force] * len(ids),
             positionGains=[cfg.control.position_gain] * len(ids),
         )
-        self.wake()
+        self._keep_stepping()
 
     def set_gripper_target(self, position: float, force: float | None = None) -> None:
         import pybullet as p
@@ -306,7 +314,7 @@ class Kitchen:
             targetPositions=[position] * len(ids),
             forces=[f] * len(ids),
         )
-        self.wake()
+        self._keep_stepping()
 
     def link_poses(self) -> dict[str, tuple[tuple[float, ...], tuple[float, ...]]]:
         """World pose (position, quaternion xyzw) of every robot link, by link name; the base is 'base'."""
@@ -322,38 +330,90 @@ class Kitchen:
     # ----------------------------------------------------------------------------------------- time
     def add_controller(self, controller: Controller) -> None:
         self._controllers.append(controller)
-        self.wake()
+        self._keep_stepping()
 
     def remove_controller(self, controller: Controller) -> None:
         if controller in self._controllers:
             self._controllers.remove(controller)
-            self.wake()
+            self._keep_stepping()
 
     def wake(self, seconds: float = WAKE_S) -> None:
-        """Step the physics for at least `seconds` of simulated time from now, even if everything is at rest.
+        """Thaw every frozen object and step the physics for at least `seconds` from now, even if all is at rest.
 
-        Call it after changing the world from outside the physics (moving a body, new motor targets): a resting
-        scene is otherwise not stepped (see `advance`).
+        Call it after changing the world from outside the physics (moving a body): a resting scene is otherwise
+        not stepped, and a resting object far from the robot is frozen (see `advance`).
         """
+        for name in list(self._frozen):
+            self._thaw(name)
+        self._settle_until = max(self._settle_until, self.sim_time + seconds)
+        self._keep_stepping(seconds)
+
+    def _keep_stepping(self, seconds: float = WAKE_S) -> None:
         self._awake_until = max(self._awake_until, self.sim_time + seconds)
         self.state_version += 1
 
     def at_rest(self) -> bool:
         """True if no object and no robot joint moves faster than the rest thresholds (ground truth)."""
-        for body in self.objects.values():
-            linear, angular = self.bc.getBaseVelocity(body)
-            if max(map(abs, linear)) > REST_LINEAR_M_S or max(map(abs, angular)) > REST_ANGULAR_RAD_S:
-                return False
+        if not all(self._body_at_rest(body) for body in self.objects.values()):
+            return False
         states = self.bc.getJointStates(self.robot_id, self._moving_joints)
         return all(abs(st[1]) <= REST_JOINT_RAD_S for st in states)
+
+    def _body_at_rest(self, body: int) -> bool:
+        linear, angular = self.bc.getBaseVelocity(body)
+        return max(map(abs, linear)) <= REST_LINEAR_M_S and max(map(abs, angular)) <= REST_ANGULAR_RAD_S
+
+    @property
+    def frozen(self) -> frozenset[str]:
+        """Objects currently frozen (made static while at rest and far from the robot)."""
+        return frozenset(self._frozen)
+
+    def _freeze(self, name: str) -> None:
+        self.bc.changeDynamics(self.objects[name], -1, mass=0.0)
+        self._frozen.add(name)
+
+    def _thaw(self, name: str) -> None:
+        # Restoring the mass restores the inertia PyBullet computed from the collision shape at creation.
+        self.bc.changeDynamics(self.objects[name], -1, mass=self.specs[name].mass)
+        self._frozen.discard(name)
+
+    def _update_frozen(self) -> None:
+        """Freeze resting objects that nothing moving comes near; thaw frozen ones something moving approaches.
+
+        "Near" is FREEZE_MARGIN_M between bounding boxes: more than the hand travels between two checks
+        (FREEZE_CHECK_STEPS), so the arm never meets a frozen object.
+        """
+        if not self.freeze_resting or self.sim_time < self._settle_until:
+            return  # off, or the world was just changed from outside: let everything settle first
+        m = FREEZE_MARGIN_M
+        movers = [self.bc.getAABB(self.robot_id, j) for j in range(-1, self.bc.getNumJoints(self.robot_id))]
+        awake = [n for n in self.objects if n not in self._frozen]
+        movers += [self.bc.getAABB(self.objects[n]) for n in awake if not self._body_at_rest(self.objects[n])]
+
+        def near(name: str) -> bool:
+            lo, hi = self.bc.getAABB(self.objects[name])
+            return any(
+                all(lo[k] - m <= b_hi[k] and b_lo[k] <= hi[k] + m for k in range(3)) for b_lo, b_hi in movers
+            )
+
+        for name in self.objects:
+            if name in self._frozen:
+                if near(name):
+                    self._thaw(name)
+            elif self._body_at_rest(self.objects[name]) and not near(name):
+                self._freeze(name)
 
     def advance(self, seconds: float) -> None:
         """Advance simulated time by `seconds`, running the active controllers before each physics step.
 
-        A sleeping scene is not stepped: with no controller registered, no `wake()` pending and everything at
-        rest (`at_rest`), the clock moves on and the world stays exactly as it is, which is what stepping a
-        resting scene would give up to solver jitter of micrometres. The decision depends only on the simulated
-        state, so seeded runs still repeat exactly.
+        Two shortcuts keep a mostly idle kitchen cheap, both decided from the simulated state alone (so seeded
+        runs still repeat exactly):
+        - a sleeping scene is not stepped: with no controller registered, no `wake()` pending and everything at
+          rest (`at_rest`), the clock moves on and the world stays as it is (what stepping it would give, up to
+          solver jitter of micrometres);
+        - a resting object that neither the robot nor a moving object comes within FREEZE_MARGIN_M of is frozen
+          (static) until something does: the contacts of products standing on the shelf are most of the
+          constraint solver's work, and they do not change the motion of anything else.
         """
         n = max(1, round(seconds / self.time_step))
         if not self._controllers and self.sim_time >= self._awake_until and self.at_rest():
@@ -361,7 +421,9 @@ class Kitchen:
             self.steps += n
             self.sim_time += n * self.time_step
             return
-        for _ in range(n):
+        for i in range(n):
+            if i % FREEZE_CHECK_STEPS == 0:
+                self._update_frozen()
             for controller in list(self._controllers):
                 controller(self)
             self.bc.stepSimulation()

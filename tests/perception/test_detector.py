@@ -8,7 +8,7 @@ import pytest
 
 from scone_bt.errors import ConfigError
 from scone_bt.perception import UNTRACKED, Detector, DetectorOptions, Frame
-from scone_bt.world.visuals import MARKER_CELLS, lid_marker, marker_cells
+from scone_bt.world.visuals import DICTIONARY_SIZE, MARKER_CELLS, lid_marker, marker_cells
 
 W, H, F = 640, 480, 600.0
 CAMERA_HEIGHT = 0.6  # metres above the floor (z = 0)
@@ -86,7 +86,7 @@ def test_marker_of_the_wrong_printed_size_is_rejected(kitchen_cfg):
 
 
 def test_marker_outside_the_catalogue_is_ignored(kitchen_cfg):
-    unused = next(i for i in range(50) if kitchen_cfg.catalogue.by_marker(i) is None)
+    unused = next(i for i in range(DICTIONARY_SIZE) if kitchen_cfg.catalogue.by_marker(i) is None)
     frame = _frame_with_lid((0.0, 0.0, 0.1), 0.0, unused, 0.05, 0.003, 0.07)
     assert Detector(kitchen_cfg.catalogue).detect(frame) == []
 

@@ -1,0 +1,141 @@
+"""``scone-bench episode``: how fast whole seeded episodes run, and where their wall time goes (JSON).
+
+Each recipe runs as one headless episode (``run_episode``: same tree, robot and human as ``scone-run``).
+``sim_per_wall`` is simulated seconds per wall second over all episodes together, start-up included;
+``startup_to_first_decision_s`` is the median over episodes of the wall time from the start of ``run_episode`` to
+the robot's first decision. The breakdown splits wall time into start-up, physics (``Kitchen.advance``, with the
+arm's execution controller), perception (render and detect), embedding, waiting for the planner thread, the rest of
+the tree, the simulated human and logging. CPU seconds of the process (all threads) and the load average are
+reported beside the wall figures, since wall time on a shared machine says as much about the neighbours.
+
+    scone-bench episode                          # the five default recipes, seed 0
+    scone-bench episode --recipes example:hummus --json out.json
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import time
+from pathlib import Path
+from typing import Any
+
+__all__ = ["register", "run", "DEFAULT_RECIPES", "TARGETS"]
+
+DEFAULT_RECIPES = (
+    "example:tomato-pasta",
+    "example:hummus",
+    "example:pancakes",
+    "pdr:aglio-e-olio",
+    "pdr:baked-salmon",
+)
+"""Three hand-written recipes and two from the corpus (../shared/data/recipes)."""
+TARGETS = {"sim_per_wall": 5.0, "startup_to_first_decision_s": 5.0}
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the episodes; print the JSON report (and write it to --json)."""
+    import numpy as np
+
+    from scone_bt.behaviours import BehaviourOptions
+    from scone_bt.episode import EpisodeOptions, run_episode
+    from scone_bt.errors import ConfigError
+    from scone_bt.quiet import c_stdout_silenced
+
+    recipes = [r.strip() for r in args.recipes.split(",") if r.strip()]
+    if not recipes:
+        raise ConfigError("--recipes: list at least one recipe id (e.g. example:hummus)")
+    load_before = os.getloadavg()
+    episodes: list[dict[str, Any]] = []
+    total_sim = total_wall = total_cpu = 0.0
+    breakdown: dict[str, float] = {}
+    for i, recipe in enumerate(recipes):
+        options = EpisodeOptions(
+            robot=args.robot,
+            recipe=recipe,
+            seed=args.seed + i,
+            distractors=args.distractors,
+            max_ticks=args.max_ticks,
+            behaviour=BehaviourOptions(seed=args.seed + i),
+        )
+        cpu0 = time.process_time()
+        with c_stdout_silenced():
+            summary = run_episode(options, printer=lambda _line: None)
+        cpu = time.process_time() - cpu0
+        total_sim += summary.sim_time
+        total_wall += summary.wall_time
+        total_cpu += cpu
+        for part, seconds in summary.wall_breakdown.items():
+            breakdown[part] = breakdown.get(part, 0.0) + seconds
+        episodes.append(
+            {
+                "recipe": recipe,
+                "seed": options.seed,
+                "completed": summary.completed,
+                "steps": f"{summary.steps_completed}/{summary.steps_total}",
+                "decisions": summary.decisions,
+                "attempted": summary.attempted,
+                "successes": summary.successes,
+                "help_requests": summary.help_requests,
+                "sim_s": summary.sim_time,
+                "wall_s": round(summary.wall_time, 3),
+                "cpu_s": round(cpu, 3),
+                "sim_per_wall": round(summary.sim_time / summary.wall_time, 3),
+                "startup_to_first_decision_s": summary.startup_to_first_decision_s,
+                "physics_steps": summary.physics_steps,
+                "physics_steps_skipped": summary.physics_steps_skipped,
+                "renders": summary.renders,
+                "wall_breakdown_s": summary.wall_breakdown,
+            }
+        )
+    firsts = [
+        e["startup_to_first_decision_s"] for e in episodes if e["startup_to_first_decision_s"] is not None
+    ]
+    result: dict[str, Any] = {
+        "recipes": recipes,
+        "robot": args.robot,
+        "seed": args.seed,
+        "episodes": episodes,
+        "sim_s": round(total_sim, 3),
+        "wall_s": round(total_wall, 3),
+        "cpu_s": round(total_cpu, 3),
+        "sim_per_wall": round(total_sim / total_wall, 3),
+        "sim_per_cpu": round(total_sim / total_cpu, 3) if total_cpu > 0 else None,
+        "startup_to_first_decision_s": round(float(np.median(firsts)), 3) if firsts else None,
+        "startup_to_first_decision_max_s": round(max(firsts), 3) if firsts else None,
+        "wall_breakdown_s": {k: round(v, 3) for k, v in sorted(breakdown.items())},
+        "wall_breakdown_fraction": {k: round(v / total_wall, 4) for k, v in sorted(breakdown.items())},
+        "load_average_before": [round(v, 2) for v in load_before],
+        "load_average_after": [round(v, 2) for v in os.getloadavg()],
+        "cpu_count": os.cpu_count(),
+        "targets": TARGETS,
+    }
+    result["meets_targets"] = bool(
+        result["sim_per_wall"] >= TARGETS["sim_per_wall"]
+        and firsts
+        and result["startup_to_first_decision_s"] <= TARGETS["startup_to_first_decision_s"]
+    )
+    text = json.dumps(result, indent=2)
+    print(text)
+    if args.json:
+        Path(args.json).write_text(text + "\n")
+    return 0
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add ``episode`` to ``scone-bench``."""
+    p = sub.add_parser("episode", help="simulated seconds per wall second of whole episodes, start-up (JSON)")
+    p.add_argument(
+        "--recipes",
+        default=",".join(DEFAULT_RECIPES),
+        help="comma-separated recipe ids (default: five recipes)",
+    )
+    p.add_argument("--robot", default="panda", help="robot file name or path (default panda)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the first episode; episode i uses seed + i")
+    p.add_argument("--distractors", type=int, default=4, help="distractor products per episode (default 4)")
+    p.add_argument(
+        "--max-ticks", type=int, default=4000, help="control-tick limit per episode (default 4000)"
+    )
+    p.add_argument("--json", type=Path, help="also write the JSON report to this file")
+    p.set_defaults(func=run)

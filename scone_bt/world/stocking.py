@@ -1,0 +1,167 @@
+"""Where each product stands on the shelving: heaviest lowest, side by side in lanes wide enough for the fingers.
+
+Pure geometry (numpy only), so it is tested without a simulator and usable by capacity figures. A product takes a
+lane along its tier: its footprint along the tier plus room for a finger on each side, at least one slot pitch
+(`LANE_MIN_M`). Random slots are drawn as a person would pick free places, then filled heaviest-first from the
+lowest tier up; a tier whose products are too wide for it passes its lightest ones to the next tier with room. On
+a tier, products keep the order of their drawn slots and are pushed apart only as far as their lanes need, so
+products of ordinary width stand exactly on their slots.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from scone_bt.config import ObjectSpec, SceneSpec
+from scone_bt.config.scene import ShelfUnit
+from scone_bt.errors import ConfigError
+
+__all__ = ["LANE_MIN_M", "FINGER_ROOM_M", "Placement", "footprint", "fits_shelf", "plan_stocking"]
+
+LANE_MIN_M = 0.10
+"""The narrowest lane: the slot pitch of perception/kitchen.yaml."""
+FINGER_ROOM_M = 0.03
+"""Free space beside a product for a finger (both sides together), metres."""
+MAX_OVERHANG_M = 0.03
+"""How far a product may stick out over the front edge of its tier, metres."""
+YAW_JITTER_RAD = 0.3
+"""Products stand facing the robot within ± this."""
+
+
+@dataclass(frozen=True)
+class Placement:
+    """Where one product stands: surface point under its centre (world, metres) and its yaw (radians)."""
+
+    name: str
+    position: tuple[float, float, float]
+    yaw: float
+    unit: str
+    tier: int
+
+
+def footprint(spec: ObjectSpec, yaw: float) -> tuple[float, float]:
+    """Extent of the product along a unit's (u, v) axes when turned by `yaw` from facing the robot, metres."""
+    sx, sy, _ = spec.size
+    if spec.shape != "box":
+        return sx, sx
+    c, s = abs(np.cos(yaw)), abs(np.sin(yaw))
+    return sx * c + sy * s, sx * s + sy * c
+
+
+def _turn(spec: ObjectSpec, depth: float) -> float:
+    """0, or a quarter turn for a box too deep for the tier whose other side fits."""
+    sx, sy, _ = spec.size
+    if spec.shape == "box" and sx > depth + MAX_OVERHANG_M and sy < sx:
+        return np.pi / 2
+    return 0.0
+
+
+def fits_shelf(spec: ObjectSpec, scene: SceneSpec) -> bool:
+    """True if the product can stand on some tier (depth with the allowed overhang, width within the tier)."""
+    for unit in scene.shelves:
+        u, v = footprint(spec, _turn(spec, unit.tier_depth))
+        if u <= unit.tier_depth + 2 * MAX_OVERHANG_M and any(
+            max(LANE_MIN_M, v + FINGER_ROOM_M) <= _length(unit, i) for i in range(len(unit.tiers))
+        ):
+            return True
+    return False
+
+
+def _segment(unit: ShelfUnit, tier: int) -> tuple[float, float]:
+    """The stretch of a tier products may occupy: from half a pitch before its first slot to after its last."""
+    slots = unit.tiers[tier].slots
+    return min(slots) - LANE_MIN_M / 2, max(slots) + LANE_MIN_M / 2
+
+
+def _length(unit: ShelfUnit, tier: int) -> float:
+    a, b = _segment(unit, tier)
+    return b - a
+
+
+def plan_stocking(scene: SceneSpec, specs: Sequence[ObjectSpec], rng: np.random.Generator) -> list[Placement]:
+    """Places for `specs` (same order), drawn from `rng`.
+
+    Raises:
+        ConfigError: If the products outnumber the slots or do not fit the shelving side by side.
+    """
+    slots = scene.slots()
+    if len(specs) > len(slots):
+        raise ConfigError(f"{len(specs)} objects do not fit on the shelf's {len(slots)} slots")
+    units = {u.name: u for u in scene.shelves}
+    chosen = [slots[int(i)] for i in rng.permutation(len(slots))[: len(specs)]]
+    yaws = [float(rng.uniform(-YAW_JITTER_RAD, YAW_JITTER_RAD)) for _ in specs]
+    # Stable sorts: equal heights keep the random draw order, equal masses the order given.
+    chosen.sort(key=lambda slot: slot.position[2])
+    by_mass = sorted(range(len(specs)), key=lambda i: -specs[i].mass)
+    tier_keys = list(dict.fromkeys((s.unit, s.tier) for s in chosen))
+    tier_keys += [(s.unit, s.tier) for s in sorted(slots, key=lambda s: s.position[2])]
+    tier_keys = list(
+        dict.fromkeys(tier_keys)
+    )  # drawn tiers first (lowest first), then every other, lowest first
+    wanted: dict[int, float] = {}  # product index -> v of its drawn slot
+    tier_of: dict[int, tuple[str, int]] = {}
+    for rank, i in enumerate(by_mass):
+        slot = chosen[rank]
+        unit = units[slot.unit]
+        wanted[i] = unit.to_unit(slot.position[0], slot.position[1])[1]
+        tier_of[i] = (slot.unit, slot.tier)
+
+    def lane(i: int) -> float:
+        unit = units[tier_of[i][0]]
+        _, v = footprint(specs[i], yaws[i] + _turn(specs[i], unit.tier_depth))
+        return max(LANE_MIN_M, v + FINGER_ROOM_M)
+
+    # Too wide for their tier: the lightest products move up to the next tier with room.
+    for key in tier_keys:
+        members = sorted((i for i in tier_of if tier_of[i] == key), key=lambda i: specs[i].mass)
+        while members and sum(lane(i) for i in members) > _length(units[key[0]], key[1]) + 1e-9:
+            moved = members.pop(0)
+            here = tier_keys.index(key)
+            # The next tiers up first, then any other (a wide product may still fit a lower tier's spare room).
+            order = tier_keys[here + 1 :] + tier_keys[:here]
+            room = [
+                k
+                for k in order
+                if sum(lane(j) for j in tier_of if tier_of[j] == k)
+                + max(LANE_MIN_M, footprint(specs[moved], yaws[moved])[1] + FINGER_ROOM_M)
+                <= _length(units[k[0]], k[1])
+            ]
+            if not room:
+                raise ConfigError(
+                    f"{len(specs)} products do not fit the shelving side by side ({specs[moved].name!r} finds no "
+                    f"room); stock fewer or narrower products"
+                )
+            tier_of[moved] = room[0]
+            unit = units[room[0][0]]
+            wanted[moved] = float(np.mean(unit.tiers[room[0][1]].slots))
+
+    out: dict[int, Placement] = {}
+    for key in tier_keys:
+        unit, tier_index = units[key[0]], key[1]
+        tier = unit.tiers[tier_index]
+        members = sorted((i for i in tier_of if tier_of[i] == key), key=lambda i: wanted[i])
+        if not members:
+            continue
+        a, b = _segment(unit, tier_index)
+        v = [wanted[i] for i in members]
+        widths = [lane(i) for i in members]
+        # Push apart left to right, then back from the far end: the least movement that gives every lane room.
+        v[0] = max(v[0], a + widths[0] / 2)
+        for k in range(1, len(v)):
+            v[k] = max(v[k], v[k - 1] + (widths[k - 1] + widths[k]) / 2)
+        v[-1] = min(v[-1], b - widths[-1] / 2)
+        for k in range(len(v) - 2, -1, -1):
+            v[k] = min(v[k], v[k + 1] - (widths[k] + widths[k + 1]) / 2)
+        for i, vi in zip(members, v, strict=True):
+            turn = _turn(specs[i], unit.tier_depth)
+            depth, _ = footprint(specs[i], yaws[i] + turn)
+            # Centred on the tier; a product deeper than the tier stands against the riser behind it.
+            u = min(tier.center, tier.center + unit.tier_depth / 2 - depth / 2 - 0.003)
+            x, y = unit.to_world(u, vi)
+            out[i] = Placement(
+                specs[i].name, (x, y, tier.top_z), unit.facing_yaw + turn + yaws[i], unit.name, tier_index
+            )
+    return [out[i] for i in range(len(specs))]

@@ -1,0 +1,74 @@
+"""Stocking the shelving: heaviest lowest, side by side with room for the fingers, seeded."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from scone_bt.config import ObjectSpec
+from scone_bt.errors import ConfigError
+from scone_bt.world.stocking import FINGER_ROOM_M, LANE_MIN_M, footprint, plan_stocking
+
+
+def _product(name: str, mass: float, size=(0.06, 0.06, 0.10), shape: str = "cylinder") -> ObjectSpec:
+    return ObjectSpec(name, (), shape, size, mass, 0.5, "test", (1.0, 1.0, 1.0, 1.0), 0)
+
+
+def _unit_v(scene, place):
+    unit = next(u for u in scene.shelves if u.name == place.unit)
+    return unit.to_unit(place.position[0], place.position[1])
+
+
+def test_heavier_products_stand_lower(kitchen_cfg):
+    scene = kitchen_cfg.scene
+    specs = [_product(f"p{i}", mass) for i, mass in enumerate(np.linspace(0.1, 2.0, 20))]
+    for seed in range(5):
+        places = plan_stocking(scene, specs, np.random.default_rng(seed))
+        by_mass = sorted(zip(specs, places, strict=True), key=lambda sp: -sp[0].mass)
+        heights = [p.position[2] for _, p in by_mass]
+        assert heights == sorted(heights), seed
+
+
+def test_narrow_products_stand_on_distinct_slots(kitchen_cfg):
+    scene = kitchen_cfg.scene
+    slots = {tuple(np.round(s.position, 6)) for s in scene.slots()}
+    specs = [_product(f"p{i}", 0.3) for i in range(len(slots))]
+    places = plan_stocking(scene, specs, np.random.default_rng(1))
+    spots = [tuple(np.round(p.position, 6)) for p in places]
+    assert len(set(spots)) == len(specs) and set(spots) <= slots
+
+
+def test_wide_products_get_wide_lanes_without_overlap(kitchen_cfg):
+    scene = kitchen_cfg.scene
+    specs = [_product(f"box{i}", 0.5, (0.08, 0.16, 0.2), "box") for i in range(8)]
+    specs += [_product(f"can{i}", 0.4, (0.074, 0.074, 0.11)) for i in range(8)]
+    places = plan_stocking(scene, specs, np.random.default_rng(2))
+    rows: dict[tuple[str, int], list[tuple[float, float]]] = {}
+    for spec, place in zip(specs, places, strict=True):
+        unit = next(u for u in scene.shelves if u.name == place.unit)
+        _, v = _unit_v(scene, place)
+        _, width = footprint(spec, place.yaw - unit.facing_yaw)
+        rows.setdefault((place.unit, place.tier), []).append((v, width))
+    for row in rows.values():
+        row.sort()
+        for (va, wa), (vb, wb) in zip(row, row[1:], strict=False):
+            assert vb - va >= (wa + wb) / 2 + FINGER_ROOM_M - 1e-9
+            assert vb - va >= LANE_MIN_M - 1e-9
+
+
+def test_stocking_is_seeded(kitchen_cfg):
+    specs = [_product(f"p{i}", 0.1 * i + 0.1) for i in range(12)]
+    a = plan_stocking(kitchen_cfg.scene, specs, np.random.default_rng(7))
+    b = plan_stocking(kitchen_cfg.scene, specs, np.random.default_rng(7))
+    c = plan_stocking(kitchen_cfg.scene, specs, np.random.default_rng(8))
+    assert a == b and a != c
+
+
+def test_too_many_or_too_wide_is_a_config_error(kitchen_cfg):
+    scene = kitchen_cfg.scene
+    many = [_product(f"p{i}", 0.3) for i in range(len(scene.slots()) + 1)]
+    with pytest.raises(ConfigError, match="do not fit"):
+        plan_stocking(scene, many, np.random.default_rng(0))
+    wide = [_product(f"w{i}", 0.3, (0.08, 0.30, 0.1), "box") for i in range(len(scene.slots()))]
+    with pytest.raises(ConfigError, match="side by side"):
+        plan_stocking(scene, wide, np.random.default_rng(0))
