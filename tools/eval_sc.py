@@ -3,6 +3,7 @@
 
     .venv/bin/python tools/eval_sc.py                          # shipped datasets → docs/results/self_confidence.*
     .venv/bin/python tools/eval_sc.py --datasets my_logs/ --out-dir /tmp/sc --embedders minilm onehot
+    .venv/bin/python tools/eval_sc.py --ray auto --jobs 16                 # the grid on a Ray cluster, same numbers
 
 A dataset is a CSV/Parquet file with columns action, object, outcome, failure_stage, seed (extra columns are
 ignored); an experience store export (`ExperienceStore.export_csv`) works as is. Prints a JSON summary on stdout;
@@ -32,10 +33,8 @@ import numpy as np  # noqa: E402
 
 from scone_bt.benchmarks.self_confidence import (  # noqa: E402
     EvalOptions,
-    PairResult,
     dataset_summary,
     embed_datasets,
-    evaluate_pair,
     load_datasets,
     markdown_tables,
     outcome_structure,
@@ -43,15 +42,11 @@ from scone_bt.benchmarks.self_confidence import (  # noqa: E402
     prior_baseline,
     write_json,
 )
+from scone_bt.benchmarks.self_confidence.evaluate import GridInputs, evaluate_grid_pair  # noqa: E402
+from scone_bt.distributed import add_engine_arguments, engine_from_args, map_tasks  # noqa: E402
 from scone_bt.errors import SconeError  # noqa: E402
 
 DEFAULT_EMBEDDERS = ("onehot", "glove", "minilm", "mpnet")
-
-
-def _run_pair(emb: str, est: str, datasets, features, options: EvalOptions) -> PairResult:
-    from scone_bt.confidence import make_estimator
-
-    return evaluate_pair(emb, est, datasets, features, lambda seed: make_estimator(est, seed=seed), options)
 
 
 def _embedders(
@@ -93,7 +88,8 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
         "--steps", type=int, nargs="+", default=[10, 20, 30, 40, 50, 60, 70, 80], help="n_train values"
     )
     ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--jobs", type=int, default=2, help="parallel worker processes")
+    ap.add_argument("--jobs", type=int, default=2, help="parallel worker processes (Ray workers with --ray)")
+    add_engine_arguments(ap)
     ap.add_argument("--cache-dir", type=Path, default=None, help="embedding cache (default: scone_bt's)")
     ap.add_argument(
         "--kitchen", default="kitchen", help="kitchen file whose catalogue gives object properties"
@@ -112,9 +108,6 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _main(args: argparse.Namespace) -> int:
-    from joblib import Parallel, delayed
-    from tqdm import tqdm
-
     from scone_bt.confidence import ESTIMATORS
     from scone_bt.config import load_kitchen
     from scone_bt.errors import UnknownNameError
@@ -132,12 +125,9 @@ def _main(args: argparse.Namespace) -> int:
         raise SconeError(f"no embedder could be loaded ({'; '.join(skipped.values())})")
     t_embed = time.perf_counter() - t0
     pairs = [(emb, est) for emb in embedders for est in estimators]
-    jobs = Parallel(n_jobs=args.jobs, return_as="generator_unordered")(
-        delayed(_run_pair)(emb, est, datasets, features[emb], options) for emb, est in pairs
-    )
-    results = list(tqdm(jobs, total=len(pairs), desc="embedder × estimator", unit="pair", file=sys.stderr))
-    order = {p: i for i, p in enumerate(pairs)}
-    results.sort(key=lambda r: order[r.embedder, r.estimator])
+    engine = engine_from_args(args, args.jobs, progress="embedder × estimator")
+    inputs = GridInputs(tuple(datasets), {e: features[e] for e in embedders}, options)
+    results = map_tasks(evaluate_grid_pair, pairs, engine=engine, shared=inputs)  # in pair order
     prior = prior_baseline(datasets, options)
     wall = time.perf_counter() - t0
 
@@ -165,7 +155,12 @@ def _main(args: argparse.Namespace) -> int:
         "results": [r.to_dict() for r in results],
         "prior_baseline": prior.to_dict(),
         "best": {"embedder": best.embedder, "estimator": best.estimator, "auc": float(np.mean(best.auc))},
-        "timing_s": {"embedding": round(t_embed, 2), "total": round(wall, 2), "jobs": args.jobs},
+        "timing_s": {
+            "embedding": round(t_embed, 2),
+            "total": round(wall, 2),
+            "jobs": args.jobs,
+            "engine": engine.label,
+        },
     }
     write_json(out / f"{stem}.json", payload)
     tables = markdown_tables(results, embedders, estimators)

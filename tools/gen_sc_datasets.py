@@ -3,9 +3,10 @@
 
     .venv/bin/python tools/gen_sc_datasets.py                       # every profile in tools/profiles, 100 each
     .venv/bin/python tools/gen_sc_datasets.py --only p01_weak_gripper --executions 20 --out /tmp/sc
+    .venv/bin/python tools/gen_sc_datasets.py --ray auto --jobs 32             # on a Ray cluster (docs/distributed.md)
 
 One CSV per profile (<out>/<profile>.csv: index, action, object, outcome, failure_stage, seed, detail). Runs in
-parallel over --jobs processes and resumes where it stopped: finished rows are kept in <out>/.<profile>.partial.csv
+parallel over --jobs processes (or --jobs Ray workers with --ray; the rows are identical) and resumes where it stopped: finished rows are kept in <out>/.<profile>.partial.csv
 until the profile is complete, then renamed to <profile>.csv. Execution i of a profile uses seed
 profile.seed * 100000 + i, so any row can be regenerated alone. Prints a JSON summary on stdout and records the
 command, seeds and timings in <out>/generation.json.
@@ -33,15 +34,9 @@ from scone_bt.benchmarks.self_confidence import (  # noqa: E402
     read_records,
     write_records,
 )
+from scone_bt.benchmarks.self_confidence.generate import ExecutionTask, execute_task  # noqa: E402
+from scone_bt.distributed import add_engine_arguments, engine_from_args, imap_tasks  # noqa: E402
 from scone_bt.errors import SconeError  # noqa: E402
-
-
-def _execute(profile: Profile, index: int, kitchen: str, robot: str) -> tuple[str, ExecutionRecord, float]:
-    from scone_bt.benchmarks.self_confidence.generate import run_execution
-    from scone_bt.config import load_kitchen, load_robot
-
-    record, wall = run_execution(profile, index, load_kitchen(kitchen), load_robot(robot))
-    return profile.name, record, wall
 
 
 def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
@@ -52,7 +47,8 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     ap.add_argument("--only", nargs="+", default=None, help="profile names to run (default: all)")
     ap.add_argument("--out", type=Path, default=ROOT / "tools" / "data" / "sc", help="output directory")
     ap.add_argument("--executions", type=int, default=100, help="executions per profile")
-    ap.add_argument("--jobs", type=int, default=2, help="parallel worker processes")
+    ap.add_argument("--jobs", type=int, default=2, help="parallel worker processes (Ray workers with --ray)")
+    add_engine_arguments(ap)
     ap.add_argument("--kitchen", default="kitchen", help="kitchen file name or path")
     ap.add_argument("--robot", default="panda", help="robot file name or path")
     ap.add_argument("--max-minutes", type=float, default=None, help="stop submitting work after this long")
@@ -69,7 +65,6 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _main(args: argparse.Namespace) -> int:
-    from joblib import Parallel, delayed
     from tqdm import tqdm
 
     from scone_bt.config import load_kitchen, load_robot
@@ -91,26 +86,25 @@ def _main(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     deadline = None if args.max_minutes is None else t0 + 60.0 * args.max_minutes
 
-    def tasks():
-        for prof, i in todo:
-            if deadline is not None and time.perf_counter() > deadline:
-                return
-            yield delayed(_execute)(prof, i, args.kitchen, args.robot)
-
+    tasks = [ExecutionTask(prof, i, args.kitchen, args.robot) for prof, i in todo]
+    engine = engine_from_args(args, args.jobs)
     skipped = sum(len(v) for v in done.values())
     bar = tqdm(total=len(todo), desc="executions", unit="run", file=sys.stderr)
     if skipped:
         bar.write(f"resuming: {skipped} executions already recorded, {len(todo)} to run")
+    results = imap_tasks(execute_task, tasks, engine=engine)
     try:
-        for name, record, wall in Parallel(
-            n_jobs=args.jobs, return_as="generator_unordered", pre_dispatch="2*n_jobs"
-        )(tasks()):
+        for _i, (name, record, wall) in results:
+            if deadline is not None and time.perf_counter() > deadline:
+                bar.write("--max-minutes reached: stopping (finished rows are saved)")
+                break
             done[name][record.index] = record
             walls[name].append(wall)
             _save(out, by_name[name], done[name], args.executions)
             bar.set_postfix_str(f"{name} {len(done[name])}/{args.executions}")
             bar.update(1)
     finally:
+        results.close()  # stops the pool or cancels the Ray tasks still running
         bar.close()
     elapsed = time.perf_counter() - t0
     summary = {
@@ -131,6 +125,7 @@ def _main(args: argparse.Namespace) -> int:
         "executions_run": sum(len(w) for w in walls.values()),
         "wall_s": round(elapsed, 1),
         "jobs": args.jobs,
+        "engine": engine.label,
     }
     _write_log(out, args, summary)
     print(json.dumps(summary, indent=1))
