@@ -110,6 +110,10 @@ class ExperienceStore(OutcomeStore):
         if path.is_dir():
             raise ExperienceStoreError(f"experience store {path} is a directory; give a file path")
         existing = path.exists() and path.stat().st_size > 0
+        if path.exists() and not existing:
+            raise ExperienceStoreError(
+                f"{path} is an empty file, not an experience store; it was left as it is (give a new path)"
+            )
         if existing:
             with path.open("rb") as f:
                 if f.read(16) != _SQLITE_MAGIC:
@@ -165,7 +169,7 @@ class ExperienceStore(OutcomeStore):
             )
         check = conn.execute("PRAGMA quick_check").fetchone()[0]
         if check != "ok":
-            raise ExperienceStoreError(f"{path} is corrupt (quick_check: {check}); it was left as it is")
+            raise ExperienceStoreError(f"{path} is corrupt (quick_check: {' '.join(str(check).split())[:200]}); it was left as it is")
         return int(version)
 
     @staticmethod

@@ -74,10 +74,17 @@ CREATE INDEX IF NOT EXISTS events_session ON events(session_id);
 
 
 def _readonly_uri(path: Path) -> str:
-    """An SQLite URI that never writes: mode=ro, and immutable=1 where the folder is read-only (a read-only mount,
-    where SQLite could not create the WAL index it needs even for reading)."""
-    uri = f"{path.absolute().as_uri()}?mode=ro"
-    return uri + ("&immutable=1" if not os.access(path.absolute().parent, os.W_OK) else "")
+    """An SQLite URI that reads without creating or changing any file.
+
+    mode=ro alone still creates `-wal` and `-shm` files beside a WAL database (and leaves them, since a read-only
+    connection cannot remove them) or fails on a read-only mount. Without a `-wal` file there is nothing
+    uncommitted to read, so the file is opened immutable: no journal files, no locks. With one (a live writer, or
+    a crash), mode=ro reads it through the existing files.
+    """
+    path = path.absolute()
+    uri = f"{path.as_uri()}?mode=ro"
+    wal = path.with_name(path.name + "-wal")
+    return uri + ("&immutable=1" if not wal.exists() or not os.access(path.parent, os.W_OK) else "")
 
 
 class StudyLogError(SconeError):

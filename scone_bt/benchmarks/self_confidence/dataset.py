@@ -15,6 +15,7 @@ own dataset.
 from __future__ import annotations
 
 import csv
+import io
 import json
 import os
 import tempfile
@@ -160,8 +161,12 @@ def _table(path: Path) -> list[dict[str, object]]:
         import pyarrow.parquet as pq
 
         return pq.read_table(path).to_pylist()
-    with path.open(newline="") as f:
-        return list(csv.DictReader(f))
+    from scone_bt.config.schema import read_text
+
+    try:  # strict UTF-8, and csv's own complaints (NUL bytes, a field too large) as one line
+        return list(csv.DictReader(io.StringIO(read_text(path), newline="")))
+    except csv.Error as exc:
+        raise ConfigError(f"{path}: not a readable CSV file ({exc})") from None
 
 
 def read_dataset(path: Path | str) -> list[Dataset]:
