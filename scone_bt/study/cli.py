@@ -81,6 +81,12 @@ def build_parser() -> argparse.ArgumentParser:
         "--static-trust", action="store_true", help="trust ignores the episodes (for effect-recovery checks)"
     )
     m.add_argument("--analyze", type=Path, metavar="DIR", help="analyse the result into DIR afterwards")
+    m.add_argument(
+        "--jobs", type=int, default=1, help="participants simulated in parallel (processes, or Ray workers with --ray)"
+    )
+    from scone_bt.distributed import add_engine_arguments
+
+    add_engine_arguments(m)
 
     a = sub.add_parser(
         "analyze",
@@ -223,7 +229,10 @@ def _simulate(args: argparse.Namespace) -> int:
         recipe=args.recipe,
         distractors=args.distractors,
     )
-    log = simulate_study(args.db, options)
+    from scone_bt.distributed import engine_from_args
+
+    engine = engine_from_args(args, args.jobs) if args.ray or args.jobs > 1 else None
+    log = simulate_study(args.db, options, engine=engine)  # the same log on any engine and worker count
     print(f"SIMULATED study written to {args.db}")
     if args.analyze is not None:
         _analyze(log, args, args.analyze)

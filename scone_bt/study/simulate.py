@@ -8,6 +8,7 @@ Everything goes into a StudyLog labelled SIMULATED, which `scone-study analyze` 
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -20,7 +21,7 @@ from scone_bt.study.questionnaires import QUESTIONNAIRES
 from scone_bt.study.synthetic import SyntheticOptions, SyntheticRobot, run_synthetic_episode
 from scone_bt.study.trust import SimulatedParticipant, TrustfulHuman, TrustParameters
 
-__all__ = ["SimulationOptions", "simulate_study"]
+__all__ = ["SimulationOptions", "simulate_participant", "simulate_study"]
 
 
 @dataclass(frozen=True)
@@ -58,10 +59,12 @@ class SimulationOptions:
             )
 
 
-def _catalogue_names() -> list[str]:
+@functools.lru_cache(maxsize=1)
+def _catalogue_names() -> tuple[str, ...]:
+    """The kitchen catalogue's object names (loaded once per process: every participant task needs them)."""
     from scone_bt.config import load_kitchen
 
-    return list(load_kitchen().catalogue.names())
+    return tuple(load_kitchen().catalogue.names())
 
 
 def _physics_episode(
@@ -99,49 +102,97 @@ def _physics_episode(
     return {"synthetic": False, **summary.deterministic_part()}
 
 
+@dataclass(frozen=True)
+class _SessionRecord:
+    """One simulated session, computed in a worker and written to the log by the caller, in participant order."""
+
+    plan: Any  # SessionPlan
+    info: dict[str, Any]
+    events: list[tuple[str, dict[str, Any]]]
+    responses: list[tuple[str, dict[str, Any]]]
+    summary: dict[str, Any]
+    line: str
+
+
+def simulate_participant(index: int, options: SimulationOptions) -> list[_SessionRecord]:
+    """Both sessions of participant `index` (a work item: seeded by options.seed and index alone)."""
+    robot = SyntheticRobot.sample(_catalogue_names(), options.seed) if options.fast else None
+    pid = f"SIM{index + 1:03d}"
+    group = assign_group(index)
+    participant = SimulatedParticipant(pid, group, options.trust, seed=options.seed * 100_003 + index)
+    records = []
+    for session_index in (1, 2):
+        plan = plan_session(pid, group, session_index)
+        participant.start_session(session_index)
+        seed = options.seed * 1_000 + 10 * index + session_index
+        info = {
+            "simulated": True,
+            "mode": "fast" if options.fast else "physics",
+            "seed": seed,
+            "trust_model": options.trust.__dict__,
+        }
+        events: list[tuple[str, dict[str, Any]]] = []
+
+        def sink(kind: str, data: dict[str, Any], events: list = events) -> None:
+            events.append((kind, data))
+
+        if robot is not None:
+            summary = run_synthetic_episode(robot, plan.condition, participant, sink, seed, options.synthetic)
+        else:
+            summary = _physics_episode(options, plan.condition, participant, seed, sink)
+        summary["final_trust"] = round(participant.trust, 4)
+        responses = [
+            (q.name, dict(participant.answer(q, plan.condition, session_index)))
+            for q in QUESTIONNAIRES.values()
+        ]
+        line = (
+            f"  {pid} group {group.value} session {session_index} ({plan.condition.value:>3}): "
+            f"{summary.get('successes', 0)} successes, {summary.get('failures', 0)} failures, "
+            f"{summary.get('help_requests', 0)} help requests, {summary.get('interventions', 0)} interventions, "
+            f"trust {participant.trust:.2f}"
+        )
+        records.append(_SessionRecord(plan, info, events, responses, summary, line))
+    return records
+
+
 def simulate_study(
-    db_path: str | Path, options: SimulationOptions, printer: Callable[[str], None] = print
+    db_path: str | Path,
+    options: SimulationOptions,
+    printer: Callable[[str], None] = print,
+    engine: Any = None,
 ) -> StudyLog:
-    """Run the simulated study into a new SIMULATED StudyLog at db_path (refuses an existing file)."""
+    """Run the simulated study into a new SIMULATED StudyLog at db_path (refuses an existing file).
+
+    Participants are independent work items: with `engine` (scone_bt.distributed.EngineOptions, e.g. Ray) they
+    run in parallel; the log is written in participant order whatever order they finish in, so the file's
+    content does not depend on the engine or the number of workers. Default: one after another, in this process.
+    """
+    from scone_bt.distributed import EngineOptions, imap_tasks
+
     path = Path(db_path)
     if path.exists():
         raise SconeError(f"{path} exists; a simulated study writes a new file (choose another --db)")
     log = StudyLog(path, simulated=True)
-    robot = SyntheticRobot.sample(_catalogue_names(), options.seed) if options.fast else None
     mode = "fast (synthetic episodes, no physics)" if options.fast else "physics episodes"
     printer(f"SIMULATED study: {options.participants} participants, {mode}, seed {options.seed} -> {path}")
-    for i in range(options.participants):
-        pid = f"SIM{i + 1:03d}"
-        group = assign_group(i)
-        participant = SimulatedParticipant(pid, group, options.trust, seed=options.seed * 100_003 + i)
-        for session_index in (1, 2):
-            plan = plan_session(pid, group, session_index)
-            participant.start_session(session_index)
-            seed = options.seed * 1_000 + 10 * i + session_index
-            info = {
-                "simulated": True,
-                "mode": "fast" if options.fast else "physics",
-                "seed": seed,
-                "trust_model": options.trust.__dict__,
-            }
-            # A simulated session is one transaction: the seed regenerates it, and per-event fsyncs would dominate.
-            with log.batch():
-                sid = log.start_session(plan, info)
-                sink = log.event_sink(sid)
-                if robot is not None:
-                    summary = run_synthetic_episode(
-                        robot, plan.condition, participant, sink, seed, options.synthetic
-                    )
-                else:
-                    summary = _physics_episode(options, plan.condition, participant, seed, sink)
-                summary["final_trust"] = round(participant.trust, 4)
-                for q in QUESTIONNAIRES.values():
-                    log.record_responses(sid, q.name, participant.answer(q, plan.condition, session_index))
-                log.end_session(sid, summary)
-            printer(
-                f"  {pid} group {group.value} session {session_index} ({plan.condition.value:>3}): "
-                f"{summary.get('successes', 0)} successes, {summary.get('failures', 0)} failures, "
-                f"{summary.get('help_requests', 0)} help requests, {summary.get('interventions', 0)} interventions, "
-                f"trust {participant.trust:.2f}"
-            )
+    pending: dict[int, list[_SessionRecord]] = {}
+    next_index = 0
+    items = list(range(options.participants))
+    for i, records in imap_tasks(
+        simulate_participant, items, engine=engine or EngineOptions(workers=1), shared=options
+    ):
+        pending[i] = records
+        while next_index in pending:
+            for rec in pending.pop(next_index):
+                # A simulated session is one transaction: the seed regenerates it, and per-event fsyncs would dominate.
+                with log.batch():
+                    sid = log.start_session(rec.plan, rec.info)
+                    sink = log.event_sink(sid)
+                    for kind, data in rec.events:
+                        sink(kind, data)
+                    for name, answers in rec.responses:
+                        log.record_responses(sid, name, answers)
+                    log.end_session(sid, rec.summary)
+                printer(rec.line)
+            next_index += 1
     return log
