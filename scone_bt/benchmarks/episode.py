@@ -50,6 +50,7 @@ def run(args: argparse.Namespace) -> int:
     episodes: list[dict[str, Any]] = []
     total_sim = total_wall = total_cpu = 0.0
     breakdown: dict[str, float] = {}
+    cpu_breakdown: dict[str, float] = {}
     for i, recipe in enumerate(recipes):
         options = EpisodeOptions(
             robot=args.robot,
@@ -68,6 +69,8 @@ def run(args: argparse.Namespace) -> int:
         total_cpu += cpu
         for part, seconds in summary.wall_breakdown.items():
             breakdown[part] = breakdown.get(part, 0.0) + seconds
+        for part, seconds in summary.cpu_breakdown.items():
+            cpu_breakdown[part] = cpu_breakdown.get(part, 0.0) + seconds
         episodes.append(
             {
                 "recipe": recipe,
@@ -87,6 +90,7 @@ def run(args: argparse.Namespace) -> int:
                 "physics_steps_skipped": summary.physics_steps_skipped,
                 "renders": summary.renders,
                 "wall_breakdown_s": summary.wall_breakdown,
+                "cpu_breakdown_s": summary.cpu_breakdown,
             }
         )
     firsts = [
@@ -106,6 +110,8 @@ def run(args: argparse.Namespace) -> int:
         "startup_to_first_decision_max_s": round(max(firsts), 3) if firsts else None,
         "wall_breakdown_s": {k: round(v, 3) for k, v in sorted(breakdown.items())},
         "wall_breakdown_fraction": {k: round(v / total_wall, 4) for k, v in sorted(breakdown.items())},
+        # Main-thread CPU per part; cpu_s (the process, all threads) also counts the planner thread.
+        "cpu_breakdown_s": {k: round(v, 3) for k, v in sorted(cpu_breakdown.items())},
         "load_average_before": [round(v, 2) for v in load_before],
         "load_average_after": [round(v, 2) for v in os.getloadavg()],
         "cpu_count": os.cpu_count(),

@@ -92,6 +92,7 @@ class EpisodeSummary:
     decision_log: tuple[str, ...]
     startup_to_first_decision_s: float | None = None
     wall_breakdown: dict[str, float] = field(default_factory=dict)
+    cpu_breakdown: dict[str, float] = field(default_factory=dict)
     physics_steps: int = 0
     physics_steps_skipped: int = 0
     renders: int = 0
@@ -99,7 +100,7 @@ class EpisodeSummary:
     def deterministic_part(self) -> dict[str, Any]:
         """The fields a seeded rerun must reproduce exactly."""
         d = asdict(self)
-        for timing in ("wall_time", "startup_to_first_decision_s", "wall_breakdown"):
+        for timing in ("wall_time", "startup_to_first_decision_s", "wall_breakdown", "cpu_breakdown"):
             d.pop(timing)
         d.pop("tree_ticks")  # ticks while the planner thread computes depend on the machine's speed
         return d
@@ -142,25 +143,27 @@ HumanFactory = Callable[[Kitchen, Any, HumanOptions, int], Any]
 
 
 class WallClock:
-    """Wall seconds spent per part of the episode loop (``with clock("physics"): ...``)."""
+    """Wall and main-thread CPU seconds per part of the episode loop (``with clock("physics"): ...``)."""
 
     def __init__(self) -> None:
         self.seconds: dict[str, float] = {}
+        self.cpu_seconds: dict[str, float] = {}
         self._part = ""
-        self._since = 0.0
+        self._since = self._cpu_since = 0.0
 
     def __call__(self, part: str) -> WallClock:
         self._part = part
         return self
 
     def __enter__(self) -> None:
-        self._since = time.perf_counter()
+        self._since, self._cpu_since = time.perf_counter(), time.thread_time()
 
     def __exit__(self, *exc: object) -> None:
-        self.add(self._part, time.perf_counter() - self._since)
+        self.add(self._part, time.perf_counter() - self._since, time.thread_time() - self._cpu_since)
 
-    def add(self, part: str, seconds: float) -> None:
+    def add(self, part: str, seconds: float, cpu_seconds: float = 0.0) -> None:
         self.seconds[part] = self.seconds.get(part, 0.0) + seconds
+        self.cpu_seconds[part] = self.cpu_seconds.get(part, 0.0) + cpu_seconds
 
 
 def _time_embedding(services: Services, clock: WallClock) -> None:
@@ -171,11 +174,11 @@ def _time_embedding(services: Services, clock: WallClock) -> None:
     inner = embedder.embed
 
     def embed(texts: Any) -> Any:
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.thread_time()
         try:
             return inner(texts)
         finally:
-            clock.add("embedding", time.perf_counter() - t)
+            clock.add("embedding", time.perf_counter() - t, time.thread_time() - c)
 
     embedder.embed = embed
 
@@ -200,7 +203,7 @@ def run_episode(
         human_factory: Builds the human (default: SimulatedHuman); the study UI passes a tablet-driven one.
         realtime: Pace control ticks to wall-clock time (needed when a real person takes part).
     """
-    started = time.perf_counter()
+    started, started_cpu = time.perf_counter(), time.thread_time()
     clock = WallClock()
     first_decision: list[float] = []
 
@@ -271,7 +274,7 @@ def run_episode(
 
         _time_embedding(services, clock)
         observers = _observers(root)
-        clock.add("startup", time.perf_counter() - started)
+        clock.add("startup", time.perf_counter() - started, time.thread_time() - started_cpu)
         ticks = control_ticks = 0
         next_tick = time.perf_counter() + options.tick_period
         while control_ticks < options.max_ticks:
@@ -309,10 +312,11 @@ def run_episode(
                 with clock("logging"):
                     recorder.log_tick(snapshots.build(ticks, root))
         stats = services.stats
-        parts = dict(clock.seconds)
+        parts, cpu_parts = dict(clock.seconds), dict(clock.cpu_seconds)
         # Perception and embedding run inside tree ticks: report them on their own and the rest as "tree".
-        parts["perception"] = sum(o.wall_s for o in observers)
-        parts["tree"] = parts.get("tree", 0.0) - parts["perception"] - parts.get("embedding", 0.0)
+        for table, key in ((parts, "wall_s"), (cpu_parts, "cpu_s")):
+            table["perception"] = sum(getattr(o, key) for o in observers)
+            table["tree"] = table.get("tree", 0.0) - table["perception"] - table.get("embedding", 0.0)
         summary = EpisodeSummary(
             recipe_id=recipe.recipe.id,
             recipe_title=recipe.recipe.title,
@@ -336,6 +340,7 @@ def run_episode(
             decision_log=tuple(stats.decision_log),
             startup_to_first_decision_s=first_decision[0] if first_decision else None,
             wall_breakdown={k: round(v, 4) for k, v in sorted(parts.items())},
+            cpu_breakdown={k: round(v, 4) for k, v in sorted(cpu_parts.items())},
             physics_steps=kitchen.steps - kitchen.steps_skipped,
             physics_steps_skipped=kitchen.steps_skipped,
             renders=sum(c.renders for o in observers for c in o.cameras),

@@ -6,6 +6,7 @@ coordinates) so the detector works the same on a real camera's images.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -17,7 +18,12 @@ from scone_bt.perception.types import Frame
 if TYPE_CHECKING:
     from scone_bt.world import Kitchen
 
-__all__ = ["Camera", "intrinsics", "world_from_camera", "project"]
+__all__ = ["Camera", "intrinsics", "world_from_camera", "project", "REUSE_MAX_MOVE_M", "REUSE_MAX_TURN_RAD"]
+
+REUSE_MAX_MOVE_M = 5e-4
+"""A render is reused while nothing in view moved more than this (about half a pixel at the shelf's distance)."""
+REUSE_MAX_TURN_RAD = 5e-3
+"""... nor turned more than this (0.15 mm at the edge of a 6 cm lid)."""
 
 
 def intrinsics(spec: CameraSpec) -> np.ndarray:
@@ -81,14 +87,16 @@ class Camera:
         self.world_from_camera = world_from_camera(spec)
         self.renders = 0
         self.reuses = 0
-        # The last noise-free render and the world state it shows: a world that has not changed since renders to
+        # The last noise-free render and what it showed: while nothing in view has moved, a new render would give
         # the same pixels, so it is reused (the noise is still drawn afresh).
-        self._cached: tuple[int, int, np.ndarray, np.ndarray] | None = None
+        self._cached: tuple[tuple[tuple[object, ...], np.ndarray], np.ndarray, np.ndarray] | None = None
 
     def capture(self, kitchen: Kitchen, rng: np.random.Generator) -> Frame:
         """Render one RGB-D frame of the kitchen with TinyRenderer (CPU only) and add the configured noise.
 
-        The frame's arrays are read-only; the render is reused while the kitchen's state has not changed.
+        The frame's arrays are read-only. The render is reused while no object or robot link in view has moved
+        by more than REUSE_MAX_MOVE_M or turned by more than REUSE_MAX_TURN_RAD since it was made (a fresh render
+        would differ by under half a pixel: products creep by tenths of a millimetre in PyBullet).
 
         Args:
             kitchen: The simulated world to look at.
@@ -109,12 +117,63 @@ class Camera:
             sim_time=float(kitchen.sim_time),
         )
 
+    def _sees(self, lo: Sequence[float], hi: Sequence[float]) -> bool:
+        """True if an axis-aligned box (world, metres) may show in the image (its corners' bounding rectangle)."""
+        corners = np.array(
+            [(x, y, z) for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
+        )
+        uv, depth = project(corners, self.intrinsics, self.world_from_camera)
+        if np.all(depth <= self.spec.near):
+            return False
+        if np.any(depth <= self.spec.near):
+            return True  # straddles the camera plane: assume it shows
+        return bool(
+            uv[:, 0].max() >= 0
+            and uv[:, 0].min() <= self.spec.width - 1
+            and uv[:, 1].max() >= 0
+            and uv[:, 1].min() <= self.spec.height - 1
+        )
+
+    def _view(self, kitchen: Kitchen) -> tuple[tuple[object, ...], np.ndarray]:
+        """What this camera would show: which objects and robot links have their bounding box in view, and their
+        poses as rows (x, y, z, qx, qy, qz, qw). The static scene never changes."""
+        bc = kitchen.bc
+        shown: list[object] = [kitchen.uid]
+        poses: list[list[float]] = []
+        for body in kitchen.objects.values():
+            lo, hi = bc.getAABB(body)
+            if self._sees(lo, hi):
+                pos, orn = bc.getBasePositionAndOrientation(body)
+                shown.append(body)
+                poses.append([*pos, *orn])
+        rid = kitchen.robot_id
+        links = list(range(bc.getNumJoints(rid)))
+        for link, state in zip(links, bc.getLinkStates(rid, links), strict=True):
+            lo, hi = bc.getAABB(rid, link)
+            if self._sees(lo, hi):
+                shown.append((rid, link))
+                poses.append([*state[4], *state[5]])
+        return tuple(shown), np.asarray(poses, dtype=float).reshape(-1, 7)
+
+    def _unchanged(self, view: tuple[tuple[object, ...], np.ndarray]) -> bool:
+        """True if the cached render shows the same bodies, none moved or turned beyond the reuse limits."""
+        if self._cached is None or self._cached[0][0] != view[0]:
+            return False
+        before, now = self._cached[0][1], view[1]
+        if not len(now):
+            return True
+        moved = np.abs(now[:, :3] - before[:, :3]).max()
+        # Angle between unit quaternions q1, q2: 2 acos |q1 . q2|.
+        dots = np.clip(np.abs(np.sum(now[:, 3:] * before[:, 3:], axis=1)), 0.0, 1.0)
+        turned = float(2 * np.arccos(dots).max())
+        return bool(moved <= REUSE_MAX_MOVE_M and turned <= REUSE_MAX_TURN_RAD)
+
     def _render(self, kitchen: Kitchen) -> tuple[np.ndarray, np.ndarray]:
         """Noise-free RGB (H, W, 3) uint8 and metric depth (H, W) float32 of the kitchen as it is now."""
-        key = (kitchen.uid, kitchen.state_version)
-        if self._cached is not None and self._cached[:2] == key:
+        shown = self._view(kitchen)
+        if self._cached is not None and self._unchanged(shown):
             self.reuses += 1
-            return self._cached[2], self._cached[3]
+            return self._cached[1], self._cached[2]
         import pybullet as p
 
         s = self.spec
@@ -141,6 +200,6 @@ class Camera:
         depth = (s.far * s.near / (s.far - (s.far - s.near) * buffer)).astype(np.float32)
         rgb.setflags(write=False)
         depth.setflags(write=False)
-        self._cached = (*key, rgb, depth)
+        self._cached = (shown, rgb, depth)
         self.renders += 1
         return rgb, depth

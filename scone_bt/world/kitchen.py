@@ -103,7 +103,7 @@ class Kitchen:
         self.state_version = 0
         self.uid = next(_KITCHEN_IDS)  # unlike id(), never reused by a later Kitchen
         self._awake_until = 0.0
-        self._frozen: set[str] = set()
+        self._frozen: dict[str, tuple[object, object]] = {}  # name -> pose when frozen
         self._settle_until = 0.0
         self.freeze_resting = self.FREEZE_RESTING_DEFAULT if freeze_resting is None else freeze_resting
 
@@ -338,13 +338,11 @@ class Kitchen:
             self._keep_stepping()
 
     def wake(self, seconds: float = WAKE_S) -> None:
-        """Thaw every frozen object and step the physics for at least `seconds` from now, even if all is at rest.
+        """Step the physics for at least `seconds` from now, even if all is at rest, and freeze nothing meanwhile.
 
         Call it after changing the world from outside the physics (moving a body): a resting scene is otherwise
-        not stepped, and a resting object far from the robot is frozen (see `advance`).
+        not stepped (see `advance`). A frozen object that was moved from outside thaws at the next step.
         """
-        for name in list(self._frozen):
-            self._thaw(name)
         self._settle_until = max(self._settle_until, self.sim_time + seconds)
         self._keep_stepping(seconds)
 
@@ -369,13 +367,14 @@ class Kitchen:
         return frozenset(self._frozen)
 
     def _freeze(self, name: str) -> None:
-        self.bc.changeDynamics(self.objects[name], -1, mass=0.0)
-        self._frozen.add(name)
+        body = self.objects[name]
+        self.bc.changeDynamics(body, -1, mass=0.0)
+        self._frozen[name] = self.bc.getBasePositionAndOrientation(body)
 
     def _thaw(self, name: str) -> None:
         # Restoring the mass restores the inertia PyBullet computed from the collision shape at creation.
         self.bc.changeDynamics(self.objects[name], -1, mass=self.specs[name].mass)
-        self._frozen.discard(name)
+        del self._frozen[name]
 
     def _update_frozen(self) -> None:
         """Freeze resting objects that nothing moving comes near; thaw frozen ones something moving approaches.
@@ -383,8 +382,11 @@ class Kitchen:
         "Near" is FREEZE_MARGIN_M between bounding boxes: more than the hand travels between two checks
         (FREEZE_CHECK_STEPS), so the arm never meets a frozen object.
         """
-        if not self.freeze_resting or self.sim_time < self._settle_until:
-            return  # off, or the world was just changed from outside: let everything settle first
+        if not self.freeze_resting:
+            return
+        settling = (
+            self.sim_time < self._settle_until
+        )  # the world was just changed from outside: freeze nothing
         m = FREEZE_MARGIN_M
         movers = [self.bc.getAABB(self.robot_id, j) for j in range(-1, self.bc.getNumJoints(self.robot_id))]
         awake = [n for n in self.objects if n not in self._frozen]
@@ -398,9 +400,13 @@ class Kitchen:
 
         for name in self.objects:
             if name in self._frozen:
-                if near(name):
+                # Thaw when something moving comes near, or when the object was moved from outside the physics.
+                if (
+                    near(name)
+                    or self.bc.getBasePositionAndOrientation(self.objects[name]) != self._frozen[name]
+                ):
                     self._thaw(name)
-            elif self._body_at_rest(self.objects[name]) and not near(name):
+            elif not settling and self._body_at_rest(self.objects[name]) and not near(name):
                 self._freeze(name)
 
     def advance(self, seconds: float) -> None:
