@@ -64,6 +64,9 @@ __all__ = [
 CARRY_PADDING = 0.006
 """Safety margin (m) around obstacles while carrying: the lifted object starts close to its neighbours."""
 
+LOCAL_IK_ITERATIONS = 40
+"""Iterations of an IK solve seeded nearby (line steps, placements seeded from the lifted arm)."""
+
 CARTESIAN_SPEED = 0.8
 """Fraction of the robot's limits used for the short straight moves near objects (descend, lift, lower, retreat)."""
 
@@ -227,7 +230,13 @@ class _Planner:
 
     def ik(self, pose: np.ndarray, seed: np.ndarray, restarts: int | None = None) -> np.ndarray | None:
         t = time.perf_counter()
-        opts = IKOptions() if restarts is None else IKOptions(restarts=restarts)
+        if restarts is None:
+            opts = IKOptions()
+        elif restarts == 0:
+            # From a nearby seed a reachable pose converges in a few iterations; an unreachable one is dropped fast.
+            opts = IKOptions(restarts=0, max_iterations=LOCAL_IK_ITERATIONS)
+        else:
+            opts = IKOptions(restarts=restarts)
         sol = self.arm.ik(pose, seed, self.rng, opts)
         self.ik_time += time.perf_counter() - t
         return None if sol is None else sol.q
@@ -464,7 +473,8 @@ def plan_pick_and_place(
         w_lower = p.world(fixed, attached=carried, padding=0.004, max_tilt=params.max_carry_tilt)
         hand_table = HandModel(arm, fixed, padding=0.004)
         out: list[_Placement] = []
-        seed = g.q_lift
+        seed: np.ndarray | None = None
+        searched = False
         for spot in spots:
             if len(out) >= params.max_goal_placements:
                 break
@@ -473,7 +483,7 @@ def plan_pick_and_place(
             # The hand turned with the base first: then the carry is close to a pure rotation of the first joint
             # (vertical for both arms), which keeps the object upright and at its lifted height.
             turns = (
-                (radial, 0.0, radial + np.pi / 4, radial - np.pi / 4, np.pi / 2)
+                (radial, radial + np.pi / 4, radial - np.pi / 4, radial + np.pi / 2, radial - np.pi / 2)
                 if cand.family is GraspFamily.TOP
                 else (radial, radial + np.pi / 4, radial - np.pi / 4)
             )
@@ -486,11 +496,26 @@ def plan_pick_and_place(
                 if hits:
                     place_tally.blocked(f"at {where} the hand collides with {hits[0]}", hits)
                     continue
+                # Seed: the lifted arm turned by the base joint, and a top-down hand's extra turn by the wrist
+                # (the last joint turns a downward-pointing hand the other way about world z).
                 rotated = g.q_lift.copy()
-                rotated[0] += turn
+                # The base turns the way its joint limits allow (the short way round may cross them).
+                rotated[0] += min(
+                    (radial + k * 2 * np.pi for k in (-1, 0, 1)),
+                    key=lambda r: (not arm.lower[0] <= g.q_lift[0] + r <= arm.upper[0], abs(r)),
+                )
+                if cand.family is GraspFamily.TOP:
+                    rotated[-1] -= turn - radial
                 q_pp = p.ik(lifted(ee_place, params.approach), rotated, restarts=0)
-                if q_pp is None:
-                    q_pp = p.ik(lifted(ee_place, params.approach), seed, restarts=3)
+                if q_pp is None and seed is not None:
+                    q_pp = p.ik(lifted(ee_place, params.approach), seed, restarts=0)
+                elif q_pp is None and not searched:
+                    # The lifted posture does not carry over (e.g. a shelf behind the robot): one full search
+                    # from home, whose answer seeds every later spot.
+                    searched = True
+                    q_pp = p.ik(
+                        lifted(ee_place, params.approach), np.asarray(req.home, dtype=float), restarts=4
+                    )
                 if q_pp is None:
                     place_tally.reasons.append(f"above {where} out of reach")
                     continue
@@ -546,7 +571,8 @@ def plan_pick_and_place(
         placed_obstacle = Obstacle(
             name, req.spec.shape, req.spec.size, placed.ee_place @ chosen.cand.object_in_ee
         )
-        w_after = p.world([*fixed, placed_obstacle])
+        # The hand has just retreated straight up from the object: the near-object margin, as for the retreat.
+        w_after = p.world([*fixed, placed_obstacle], padding=0.004)
         home = p.plan(placed.q_ret, np.asarray(req.home, dtype=float), w_after)
         if not home.success:
             # Home is the same for every grasp; another grasp would not change the way back.

@@ -27,7 +27,7 @@ def task_for(detect):
 
 @pytest.fixture
 def stocked(kitchen_cfg, robot_cfg):
-    """salt at (0.5, 0.5), sugar at (0.63, 0.4), honey at (0.37, 0.6) on the shelf."""
+    """salt, sugar and honey on the shelving (slots drawn with seed 1)."""
     with Kitchen(kitchen_cfg, robot_cfg) as k:
         k.spawn([kitchen_cfg.catalogue.get(n) for n in ("salt", "sugar", "honey")], np.random.default_rng(1))
         with MotionSystem.build(k) as system:
@@ -36,7 +36,7 @@ def stocked(kitchen_cfg, robot_cfg):
 
 def test_pick_and_place_puts_the_object_on_the_table(stocked, arm, robot_cfg, assert_within_limits, task_for):
     kitchen, system = stocked
-    assert kitchen.spawn_slots["salt"][:2] == (0.5, 0.5)
+    assert kitchen.is_on_shelf("salt")
     task = task_for(kitchen, system, "salt")
     assert task.progress().phase == "idle"
     task.start()
@@ -67,13 +67,20 @@ def test_pick_and_place_puts_the_object_on_the_table(stocked, arm, robot_cfg, as
 
 
 def test_object_wider_than_the_gripper_cannot_be_grasped(kitchen_cfg, robot_cfg, task_for, run_to_end):
+    opening = 2 * robot_cfg.gripper.open_position
+    # A can a little wider than the opening every way: the robot tries, the fingers land on its lid.
+    wide = min(
+        (o for o in kitchen_cfg.catalogue.objects if o.shape == "cylinder" and opening < o.grasp_width < 0.1),
+        key=lambda o: (o.height > 0.15, o.name),
+    )
     with Kitchen(kitchen_cfg, robot_cfg) as k:
-        k.spawn([kitchen_cfg.catalogue.get(n) for n in ("coffee", "salt")], np.random.default_rng(5))
-        assert kitchen_cfg.catalogue.get("coffee").grasp_width > 2 * robot_cfg.gripper.open_position
+        k.spawn([wide, kitchen_cfg.catalogue.get("salt")], np.random.default_rng(5))
         with MotionSystem.build(k) as system:
-            outcome = run_to_end(k, task_for(k, system, "coffee"))
-        assert not outcome.success and outcome.stage is FailureStage.GRASP, outcome.message
-        assert not k.is_on_table("coffee")
+            outcome = run_to_end(k, task_for(k, system, wide.name))
+        # It fails in the physics (the fingers slip off or tip it over), not in planning.
+        physical = (FailureStage.GRASP, FailureStage.TRANSIT, FailureStage.PLACE)
+        assert not outcome.success and outcome.stage in physical, outcome.message
+        assert not k.is_on_table(wide.name)
 
 
 def test_weak_gripper_lets_a_heavy_slippery_bottle_slip(kitchen_cfg, robot_cfg, task_for, run_to_end):

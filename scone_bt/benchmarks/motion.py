@@ -1,0 +1,240 @@
+"""``scone-bench motion``: seeded shelf-to-table pick-and-place queries over the catalogue, for each arm (JSON).
+
+Query i (per arm): a fresh kitchen whose shelving holds the target and `--clutter` other products (12 objects in
+all by default, as an episode stocks it: the recipe's ingredients and six distractors), on random slots (seed
+[seed, i]); `--table-objects` more products have been carried to the table by the simulated human. Targets run
+through a seeded permutation of whatever `KitchenConfig.catalogue` holds. Detections are the objects' true
+top-face poses, on the shelf and on the table (a perfect table camera): this measures motion, not perception.
+Each query is planned and then executed in the physics.
+
+Reported per arm under ``arms.<name>``:
+- ``blocked_by_clutter_rate``: queries whose every grasp collides with the clutter (typed reason
+  grasps_blocked), among queries whose object fits the gripper (narrowest side <= opening - margin);
+- ``physical_success_rate_graspable``: the object stands upright on the table, among queries whose object fits
+  the gripper and the payload (the fingers' friction, 2 F mu_finger mu_object, holds its weight);
+- ``plan_success_rate_on_reachable``: whole plans found, among queries where a feasible grasp and placement
+  exist (success, or the typed reason no_path);
+- ``pick_place_plan_ms_p50/p95`` (wall) and ``pick_place_plan_cpu_ms_p50/p95`` (CPU time of the planning
+  thread: wall time on a loaded machine includes waiting for a core), ``ruckig_ms_p50`` per trajectory segment;
+- ``failures_by_reason``: typed planning reasons and physical failure stages; the chosen grasp families.
+
+    scone-bench motion --queries 20                     # development
+    scone-bench motion --json runs/motion.json          # 200 queries x both arms (long on 2 cores)
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import time
+from collections import Counter
+from pathlib import Path
+from typing import Any
+
+__all__ = ["register", "run", "TARGETS"]
+
+TARGETS = {
+    "blocked_by_clutter_rate": ("<=", 0.02),
+    "physical_success_rate_graspable": (">=", 0.97),
+    "plan_success_rate_on_reachable": (">=", 1.0),
+    "pick_place_plan_ms_p50": ("<=", 50.0),
+    "pick_place_plan_ms_p95": ("<=", 150.0),
+    "ruckig_ms_p50": ("<=", 1.0),
+}
+G = 9.81
+
+
+def _pct(values: list[float], q: float) -> float | None:
+    import numpy as np
+
+    return round(float(np.percentile(values, q)), 3) if values else None
+
+
+def _rate(num: int, den: int) -> float | None:
+    return round(num / den, 4) if den else None
+
+
+def _detect(kitchen: Any, name: str) -> Any:
+    from scone_bt.perception.types import Detection
+
+    st = kitchen.object_state(name)
+    yaw = kitchen.bc.getEulerFromQuaternion(st.orientation)[2]
+    x, y, z = st.position
+    return Detection(name, 0, (x, y, z + kitchen.specs[name].height / 2), yaw, 1.0, (0, 0, 1, 1))
+
+
+def _bench_arm(args: argparse.Namespace, kcfg: Any, arm_name: str) -> dict[str, Any]:
+    import numpy as np
+
+    from scone_bt.config import load_robot
+    from scone_bt.motion import ArmModel, GraspParams, MotionSystem, PickPlacePlan
+    from scone_bt.motion.execution import ExecutionSettings
+    from scone_bt.motion.planner import PlannerOptions
+    from scone_bt.motion.timing import limits_of
+    from scone_bt.world import Kitchen
+
+    rcfg = load_robot(arm_name)
+    arm = ArmModel(rcfg)
+    params = GraspParams.from_section(rcfg.raw.get("grasp"), str(rcfg.source))
+    p = rcfg.planner
+    options = PlannerOptions(
+        name=p.name, time_limit_s=p.time_limit_s, simplify=p.simplify, rng_seed=p.rng_seed
+    )
+    g = rcfg.gripper
+    opening = 2.0 * (g.open_position - g.closed_position)
+    catalogue = list(kcfg.catalogue.objects)
+    slots = len(kcfg.scene.shelf_slots())
+    clutter = min(args.clutter, slots - 1 - args.table_objects, len(catalogue) - 1 - args.table_objects)
+    order = np.random.default_rng(args.seed).permutation(len(catalogue))
+
+    counts: Counter[str] = Counter()
+    reasons: Counter[str] = Counter()
+    families: Counter[str] = Counter()
+    failed_objects: Counter[str] = Counter()
+    plan_ms: list[float] = []
+    plan_cpu_ms: list[float] = []
+    ruckig_ms: list[float] = []
+    ompl_ms: list[float] = []
+    sim_s: list[float] = []
+    cpu0 = time.process_time()
+    for i in range(args.queries):
+        rng = np.random.default_rng([args.seed, i])
+        target = catalogue[int(order[i % len(order)])]
+        others = [o for o in catalogue if o.name != target.name]
+        picks = rng.choice(len(others), size=clutter + args.table_objects, replace=False)
+        extra = [others[int(j)] for j in picks]
+        specs = [target, *extra]
+        fits_gripper = target.grasp_width <= opening - params.opening_margin
+        fits_payload = 2 * g.max_force * g.finger_friction * target.friction >= target.mass * G
+        with Kitchen(kcfg, rcfg) as kitchen:
+            kitchen.spawn(specs, rng)
+            on_table = [s.name for s in extra[clutter:] if kitchen.human_place_on_table(s.name)]
+            kitchen.advance(0.3)
+            system = MotionSystem(kitchen, arm, options, limits_of(rcfg), params, ExecutionSettings(), rcfg)
+            shelf = [(_detect(kitchen, s.name), s) for s in extra if s.name not in on_table]
+            table = [(_detect(kitchen, n), kitchen.specs[n]) for n in on_table]
+            task = system.pick_and_place(
+                _detect(kitchen, target.name), target, shelf, rng_seed=i, table_obstacles=table
+            )
+            start = kitchen.sim_time
+            task.start()
+            while not task.done():
+                if task.is_planning():
+                    task.wait_planned()  # simulated time must not depend on the planning thread's speed
+                kitchen.advance(0.1)
+            outcome = task.outcome()
+            sim_s.append(kitchen.sim_time - start)
+            system.close()
+        plan = task.plan
+        counts["queries"] += 1
+        counts["fits_gripper"] += fits_gripper
+        counts["fits_gripper_and_payload"] += fits_gripper and fits_payload
+        if isinstance(plan, PickPlacePlan):
+            counts["planned"] += 1
+            counts["reachable"] += 1
+            families[plan.grasp.family.value] += 1
+            plan_ms.append(plan.planning_wall_s * 1000)
+            plan_cpu_ms.append(plan.planning_cpu_s * 1000)
+            ruckig_ms.extend(t * 1000 for t in plan.ruckig_times)
+            ompl_ms.extend(r.planning_time * 1000 for r in plan.plans)
+        elif plan is not None:
+            reasons[f"planning: {plan.reason.value}"] += 1
+            counts["reachable"] += plan.reason.value == "no_path"
+            counts["blocked_graspable"] += fits_gripper and plan.reason.value == "grasps_blocked"
+        assert outcome is not None
+        if outcome.success:
+            counts["success"] += 1
+            counts["success_graspable"] += fits_gripper and fits_payload
+        else:
+            failed_objects[target.name] += 1
+            if isinstance(plan, PickPlacePlan):
+                reasons[f"physical: {outcome.stage.value if outcome.stage else 'place'}"] += 1
+        if args.verbose:
+            what = "ok" if outcome.success else outcome.message[:120]
+            print(f"[{arm_name} {i}] {target.name}: {what}", flush=True)
+    cpu_total = time.process_time() - cpu0
+
+    report = {
+        "queries": counts["queries"],
+        "fits_gripper": counts["fits_gripper"],
+        "fits_gripper_and_payload": counts["fits_gripper_and_payload"],
+        "blocked_by_clutter_rate": _rate(counts["blocked_graspable"], counts["fits_gripper"]),
+        "physical_success_rate_graspable": _rate(
+            counts["success_graspable"], counts["fits_gripper_and_payload"]
+        ),
+        "physical_success_rate_all": _rate(counts["success"], counts["queries"]),
+        "plan_success_rate_on_reachable": _rate(counts["planned"], counts["reachable"]),
+        "pick_place_plan_ms_p50": _pct(plan_ms, 50),
+        "pick_place_plan_ms_p95": _pct(plan_ms, 95),
+        "pick_place_plan_cpu_ms_p50": _pct(plan_cpu_ms, 50),
+        "pick_place_plan_cpu_ms_p95": _pct(plan_cpu_ms, 95),
+        "ompl_query_ms_p50": _pct(ompl_ms, 50),
+        "ruckig_ms_p50": _pct(ruckig_ms, 50),
+        "ruckig_ms_max": round(max(ruckig_ms), 3) if ruckig_ms else None,
+        "failures_by_reason": dict(sorted(reasons.items())),
+        "grasp_families": dict(sorted(families.items())),
+        "failed_objects": dict(failed_objects.most_common(12)),
+        "sim_s_per_query_p50": _pct(sim_s, 50),
+        "cpu_s_total": round(cpu_total, 1),
+    }
+    report["targets_met"] = {
+        key: (
+            None if report[key] is None else (report[key] <= bound if op == "<=" else report[key] >= bound)  # type: ignore[operator]
+        )
+        for key, (op, bound) in TARGETS.items()
+    }
+    return report
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the queries for every arm; print the JSON report (and write it to --json)."""
+    from scone_bt.config import load_kitchen
+    from scone_bt.errors import ConfigError
+    from scone_bt.quiet import quiet_backends
+
+    if args.queries < 1 or args.clutter < 0 or args.table_objects < 0:
+        raise ConfigError("--queries must be >= 1, --clutter and --table-objects >= 0")
+    quiet_backends()
+    kcfg = load_kitchen(args.kitchen)
+    arms = [a for a in args.arms.split(",") if a]
+    t0 = time.perf_counter()
+    report: dict[str, Any] = {
+        "benchmark": "motion",
+        "queries_per_arm": args.queries,
+        "clutter": args.clutter,
+        "table_objects": args.table_objects,
+        "catalogue_size": len(kcfg.catalogue),
+        "seed": args.seed,
+        "targets": {k: f"{op} {v}" for k, (op, v) in TARGETS.items()},
+        "arms": {arm: _bench_arm(args, kcfg, arm) for arm in arms},
+        "wall_s": None,
+        "machine": {
+            "python": platform.python_version(),
+            "processor": platform.machine(),
+            "cpus": os.cpu_count(),
+        },
+        "load_average_1min": round(os.getloadavg()[0], 2),
+        "note": "wall times measured on a shared, loaded machine; CPU times are the planning thread's own",
+    }
+    report["wall_s"] = round(time.perf_counter() - t0, 1)
+    text = json.dumps(report, indent=2)
+    print(text)
+    if args.json:
+        Path(args.json).write_text(text + "\n")
+    return 0
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add ``motion`` to ``scone-bench``."""
+    b = sub.add_parser("motion", help="pick-and-place planning and physics over the catalogue, both arms")
+    b.add_argument("--queries", type=int, default=200, help="queries per arm (default 200)")
+    b.add_argument("--arms", default="panda,iiwa7", help="comma-separated robot files (default panda,iiwa7)")
+    b.add_argument("--clutter", type=int, default=11, help="other products on the shelving (default 11)")
+    b.add_argument("--table-objects", type=int, default=2, help="products already on the table (default 2)")
+    b.add_argument("--kitchen", default="kitchen", help="kitchen file (default perception/kitchen.yaml)")
+    b.add_argument("--seed", type=int, default=0)
+    b.add_argument("--json", help="also write the JSON report to this file")
+    b.add_argument("--verbose", action="store_true", help="one line per query")
+    b.set_defaults(func=run)
