@@ -64,3 +64,30 @@ def test_bad_camera_specs_are_one_line_errors(kitchen_cfg, change, message):
         spec = replace(spec, up=tuple(np.subtract(spec.target, spec.position)))
     with pytest.raises(ConfigError, match=message):
         Camera(spec)
+
+
+def test_a_render_is_reused_until_something_in_view_moves(kitchen_cfg, robot_cfg):
+    from scone_bt.world import Kitchen
+
+    with Kitchen(kitchen_cfg, robot_cfg) as kitchen:
+        kitchen.spawn([kitchen_cfg.catalogue.get(n) for n in ("salt", "sugar")], np.random.default_rng(0))
+        kitchen.advance(1.0)
+        shelf = {spec.name: Camera(spec) for spec in kitchen_cfg.shelf_cameras}
+        table = Camera(kitchen_cfg.table_camera)
+        rng = np.random.default_rng(0)
+        first = {name: cam.capture(kitchen, rng) for name, cam in shelf.items()}
+        table.capture(kitchen, rng)
+        kitchen.advance(1.0)
+        again = {name: cam.capture(kitchen, rng) for name, cam in shelf.items()}
+        assert all(cam.renders == 1 and cam.reuses == 1 for cam in shelf.values())
+        assert all(np.array_equal(first[n].rgb, again[n].rgb) for n in shelf)
+        assert again["shelf_front"].sim_time == kitchen.sim_time  # a reused render still has the frame's time
+
+        assert kitchen.human_place_on_table("salt")
+        kitchen.advance(1.0)
+        for cam in shelf.values():
+            cam.capture(kitchen, rng)
+        table.capture(kitchen, rng)
+        moved_from = next(n for n, cam in shelf.items() if cam.renders == 2)
+        assert table.renders == 2  # the salt is in its view now
+        assert sum(cam.renders for cam in shelf.values()) <= len(shelf) + 1, moved_from

@@ -21,3 +21,35 @@ def test_human_places_object_on_table(kitchen, kitchen_cfg, rng):
 def test_unknown_object_in_kitchen(kitchen):
     with pytest.raises(UnknownNameError):
         kitchen.object_state("salt")
+
+
+def test_a_resting_scene_is_not_stepped(kitchen, kitchen_cfg, rng):
+    kitchen.spawn([kitchen_cfg.catalogue.get(n) for n in ("salt", "sugar")], rng)
+    kitchen.advance(1.0)
+    before = {n: kitchen.object_state(n).position for n in kitchen.objects}
+    skipped, stepped = kitchen.steps_skipped, kitchen.steps - kitchen.steps_skipped
+    kitchen.advance(2.0)
+    assert kitchen.steps_skipped == skipped + 480 and kitchen.steps - kitchen.steps_skipped == stepped
+    assert kitchen.sim_time == pytest.approx(3.5)
+    assert {n: kitchen.object_state(n).position for n in kitchen.objects} == before
+    kitchen.hold_arm([q + 0.3 for q in kitchen.robot_config.home])  # a new motor target wakes the scene
+    kitchen.advance(0.5)
+    assert kitchen.steps - kitchen.steps_skipped == stepped + 120
+
+
+def test_resting_objects_far_from_the_moving_arm_freeze_without_changing_the_outcome(kitchen_cfg, robot_cfg):
+    import numpy as np
+
+    from scone_bt.world import Kitchen
+
+    names = kitchen_cfg.catalogue.names()[:8]
+    end = {}
+    for freeze in (False, True):
+        with Kitchen(kitchen_cfg, robot_cfg, freeze_resting=freeze) as k:
+            k.spawn([kitchen_cfg.catalogue.get(n) for n in names], np.random.default_rng(3))
+            k.hold_arm([q + (0.6 if i == 0 else 0.0) for i, q in enumerate(robot_cfg.home)])
+            k.advance(3.0)
+            assert bool(k.frozen) == freeze
+            assert all(k.is_on_shelf(n) for n in names)
+            end[freeze] = {n: np.array(k.object_state(n).position) for n in names}
+    assert max(np.abs(end[True][n] - end[False][n]).max() for n in names) < 0.003
