@@ -155,3 +155,27 @@ def test_bad_recipe_files_are_one_line_errors(tmp_path, capsys, content, expecte
     recipe.write_bytes(content)
     assert expected in _one_line_error(["--recipe", str(recipe)], capsys)
     assert recipe.read_bytes() == content
+
+
+@pytest.mark.slow
+def test_a_planner_bug_stops_the_run_and_stores_nothing(tmp_path, capsys, monkeypatch):
+    """A program error is not an outcome: the run stops with one line and the store holds no outcome of it."""
+    import scone_bt.motion.system as system
+    from scone_bt.experience import ExperienceStore
+
+    def broken_planner(*args, **kwargs):  # a bug inside planning, as a crash in OMPL or our IK would be
+        raise RuntimeError("simulated planner bug")
+
+    monkeypatch.setattr(system, "plan_pick_and_place", broken_planner)
+    db = tmp_path / "exp.db"
+    argv = ["--robot", "sim", "--recipe", "example:hummus", "--distractors", "0", "--no-self-confidence"]
+    code = main([*argv, "--experience", str(db), "--max-ticks", "600", "--seed", "3"])
+    out = capsys.readouterr()
+    err = out.err.strip()
+    assert code == 3, (code, err, out.out[-500:])
+    assert (
+        err.startswith("scone-run: internal error: RuntimeError: simulated planner bug") and "\n" not in err
+    )
+    assert "failure at planning" not in out.out  # not reported as the robot's failure...
+    with ExperienceStore(db) as store:
+        assert len(store) == 0  # ...and not learnt from
