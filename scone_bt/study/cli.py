@@ -134,19 +134,24 @@ def _quiet() -> None:
 def _open_log(path: Path, expect_existing: bool = True):  # -> StudyLog
     from scone_bt.study.log import StudyLog
 
-    if expect_existing and not path.is_file():
-        raise SconeError(f"study log not found: {path}")
-    import sqlite3
+    if expect_existing:
+        if not path.is_file():
+            raise SconeError(f"study log not found: {path}")
+        return StudyLog(path, readonly=True)  # reading never changes the file (no WAL switch, no schema)
+    return StudyLog(path, simulated=False)  # a SIMULATED log is refused, not mixed with real sessions
 
-    simulated = False
-    if path.is_file():
-        try:
-            with sqlite3.connect(path) as db:
-                row = db.execute("SELECT value FROM meta WHERE key='simulated'").fetchone()
-            simulated = bool(row and row[0] == "1")
-        except sqlite3.DatabaseError:
-            pass  # StudyLog reports it properly
-    return StudyLog(path, simulated=simulated)
+
+def _check_export_out(out: Path) -> None:
+    """Export's folder: writable, and none of its CSV files there already (they are never overwritten)."""
+    from scone_bt.cli.checks import check_output_dir
+    from scone_bt.study.log import EXPORT_FILES
+
+    check_output_dir(out, "--out")
+    clash = [name for name in EXPORT_FILES if (out / name).exists()]
+    if clash:
+        raise SconeError(
+            f"--out {out}: {', '.join(clash)} exist already and are never overwritten; give a new folder"
+        )
 
 
 def _analysis_options(args: argparse.Namespace):  # -> AnalysisOptions
@@ -178,14 +183,26 @@ def _analyze(log, args: argparse.Namespace, out: Path) -> None:  # noqa: ANN001
 
 def _session(args: argparse.Namespace) -> int:
     from scone_bt.behaviours import BehaviourOptions
+    from scone_bt.cli import checks
+    from scone_bt.config import load_robot
     from scone_bt.episode import EpisodeOptions
+    from scone_bt.recipes import load_recipe
     from scone_bt.study.design import plan_session
     from scone_bt.study.session import run_study_session
     from scone_bt.study.ui import serve_tablet
 
     plan = plan_session(args.participant, args.group, args.session)
-    if args.max_ticks <= 0 or args.distractors < 0:
-        raise SconeError("--max-ticks must be positive and --distractors non-negative")
+    # everything is checked before a session row exists: a configuration error is not a session
+    checks.check_seed(args.seed)
+    checks.check_port(args.port)
+    checks.check_positive_int(args.max_ticks, "--max-ticks")
+    if args.distractors < 0:
+        raise SconeError(f"--distractors {args.distractors}: must be 0 or more")
+    checks.check_output_file(args.db, "--db")
+    if isinstance(args.experience, Path):
+        checks.check_output_file(args.experience, "--experience")
+    load_robot(args.arm)
+    load_recipe(args.recipe)
     options = EpisodeOptions(
         robot=args.arm,
         recipe=args.recipe,
@@ -248,6 +265,8 @@ def main(argv: list[str] | None = None) -> int:
             return _session(args)
         if args.command == "simulate":
             return _simulate(args)
+        if args.command == "export":
+            _check_export_out(args.out)
         log = _open_log(args.db)
         try:
             if args.command == "analyze":
