@@ -1,0 +1,30 @@
+"""``scone-bench perception``: runs with its defaults' shape on a small scene count and reports the issue's keys."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from scone_bt.cli.bench import main
+
+
+@pytest.mark.slow
+def test_perception_benchmark_reports_accuracy_of_shelf_and_table(tmp_path, capsys):
+    out = tmp_path / "perception.json"
+    assert main(["perception", "--scenes", "1", "--objects", "6", "--noise", "--json", str(out)]) == 0
+    report = json.loads(out.read_text())
+    assert json.loads(capsys.readouterr().out) == report
+    for key in ("recall_unoccluded", "precision", "position_error_median_m"):
+        assert key in report and report[key] == report["default"][key]
+    assert report["objects_per_scene"] == 6 and report["table_objects_per_scene"] == 3
+    assert 0.0 <= report["recall_unoccluded"] <= 1.0 and report["precision"] > 0.9
+    assert report["table"]["objects"] == 3  # the table camera is scored on the table's products
+    assert set(report["resolutions"]) == {"320x240", "640x480"}
+
+
+def test_default_object_count_fills_the_shelving(capsys):
+    # More products than the shelving holds is a one-line error naming the valid range.
+    assert main(["perception", "--scenes", "1", "--objects", "999"]) == 2
+    err = capsys.readouterr().err
+    assert "--objects 999: must be in 1-" in err and "Traceback" not in err
