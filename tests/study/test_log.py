@@ -185,3 +185,18 @@ def test_readonly_file_is_reported_as_readonly(tmp_path):
     db.chmod(0o444)
     with pytest.raises(StudyLogError, match="read-only"):
         StudyLog(db)
+
+
+def test_session_arguments_are_checked_before_a_session_exists(tmp_path, capsys):
+    db = tmp_path / "study.db"
+    base = ["session", "--db", str(db), "--participant", "P01", "--group", "A", "--session", "1"]
+    for extra, expected in (
+        (["--port", "99999"], "0..65535"),
+        (["--seed", "-1"], "0..4294967295"),
+        (["--recipe", "example:nope"], "example:"),
+        (["--arm", "no_such_arm"], "panda"),
+    ):
+        assert study_main([*base, *extra]) == 2
+        err = capsys.readouterr().err.strip()
+        assert expected in err and "\n" not in err
+    assert not db.exists()  # no session row, no file: a configuration error is not a session
