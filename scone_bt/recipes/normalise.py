@@ -12,8 +12,9 @@ from __future__ import annotations
 
 import re
 import unicodedata
+from enum import Enum
 
-__all__ = ["normalise_ingredient", "is_fetchable", "item_key"]
+__all__ = ["ItemClass", "classify_item", "normalise_ingredient", "is_fetchable", "item_key"]
 
 _UNITS = (
     "cups?|c|t|table ?spoons?|tea ?spoons?|spoons?|tbsps?|tbs|tbl|tb|tsps?|teaspoons?|grams?|g|gr|kilograms?|kgs?|millilit(?:re|er)s?|ml|"
@@ -22,7 +23,8 @@ _UNITS = (
     "cans?|tins?|jars?|bottles?|packages?|pkgs?|packets?|pouch(?:es)?|bags?|boxes|box|containers?|cartons?|sticks?|"
     "cloves?|heads?|sprigs?|stalks?|slices?|pieces?|pcs?|sheets?|knobs?|blocks?|scoops?|splash(?:es)?|"
     "glugs?|shots?|wedges?|fillets?|leaves|leaf|ears?|rashers?|strips?|cubes?|bars?|envelopes?|servings?|"
-    "squares?|dollops?|sachets?|punnets?|loaf|loaves|links?|bulbs?"
+    "squares?|dollops?|sachets?|punnets?|loaf|loaves|links?|bulbs?|dozen|pods?|sleeves?|tubs?|each|recipes?|ribs?|"
+    "bricks?|stems?|sprigs?|fl|quarts?|bowls?|mugs?|glass(?:es)?|pats?|tubes?|batch(?:es)?"
 )
 
 
@@ -49,42 +51,58 @@ _ADJ_ALTERNATIVES = _words(
     dried whole low-fat full-fat nonfat skim regular large small medium fine coarse
     """
 )
-_NOT_FETCHABLE = frozenset(
-    {
-        "water",
-        "ice",
-        "ice cubes",
-        "boiling water",
-        "hot water",
-        "cold water",
-        "warm water",
-        "tap water",
-        "thermometer",
-        "cheesecloth",
-        "parchment",
-        "parchment paper",
-        "baking paper",
-        "foil",
-        "aluminum foil",
-        "aluminium foil",
-        "plastic wrap",
-        "cling film",
-        "skewers",
-        "toothpicks",
-        "kitchen twine",
-        "twine",
-        "paper towels",
-        "muffin liners",
-        "cupcake liners",
-    }
+# Not fetched from a shelf: water comes from the tap and ice from the freezer; tools and consumables are not food.
+_WATER_HEADS = (("water",), ("ice",), ("ice", "cube"))
+_WATER_NOT = _words("rose coconut tonic sparkling soda orange-blossom blossom flower chestnut seltzer")
+
+
+def _phrases(text: str) -> frozenset[str]:
+    return frozenset(p.strip() for p in text.replace("\n", " ").split(",") if p.strip())
+
+
+_TOOLS = _phrases(
+    """
+    thermometer, candy thermometer, meat thermometer, cheesecloth, parchment, parchment paper, baking paper,
+    wax paper, waxed paper, foil, aluminum foil, aluminium foil, tin foil, plastic wrap, cling film, skewer,
+    wooden skewer, bamboo skewer, toothpick, kitchen twine, twine, butcher's twine, cooking twine, string,
+    paper towel, muffin liner, cupcake liner, paper liner, baking cup, piping bag, zip-top bag, ziploc bag,
+    freezer bag, sealable bag, mason jar, jar, bowl, pan, baking sheet, baking pan, cake pan, pie dish,
+    baking dish, springform pan, loaf pan, sheet pan, muffin tin, ramekin, mold, mould, cookie cutter,
+    food processor, blender, mixer, stand mixer, hand mixer, whisk, spatula, knife, cutting board, rolling pin,
+    sieve, strainer, colander, cooling rack, wire rack, ladle, tongs, grater, zester, kitchen scale, scale,
+    oven, grill, skillet, saucepan, pot, dutch oven, wok, steamer, popsicle stick, popsicle mold,
+    ice cream maker, coffee filter, tea towel, kitchen towel, rubber band, cooking spray bottle, chopsticks
+    """
 )
 
-_NUMBER = r"(?:\d+(?:[.,]\d+)?(?:\s*/\s*\d+)?|[¼½¾⅓⅔⅛⅜⅝⅞⅕])"
+
+class ItemClass(Enum):
+    """What a normalised ingredient item is, for stocking a kitchen."""
+
+    FOOD = "food"
+    """Something fetched from the shelf (whether or not this kitchen stocks it)."""
+    WATER = "water"
+    """Water or ice: from the tap or the freezer, not the shelf."""
+    TOOL = "tool"
+    """Equipment or a consumable (thermometer, cheesecloth, foil): not an ingredient."""
+    NOTHING = "nothing"
+    """No item left after normalising ("2 Tbsp")."""
+
+
+_NUMBER_WORDS = "one|two|three|four|five|six|seven|eight|nine|ten|eleven|twelve|a dozen|dozen"
+_NUMBER = rf"(?:\d+(?:[.,]\d+)?(?:\s*/\s*\d+)?|[¼½¾⅓⅔⅛⅜⅝⅞⅕]|\b(?:{_NUMBER_WORDS})\b)"
+# Size words a quantity may carry before its unit ("1 small handful", "1 heaping tbsp", "2 large cloves").
+_SIZES = "small|medium|large|big|heaping|heaped|level|generous|scant|good|rounded|baby|extra-large|whole|thick|thin"
 _QUANTITY = re.compile(
-    rf"(?<![a-z]){_NUMBER}(?:\s*(?:-|–|to|or)\s*{_NUMBER})*(?:\s*-?\s*(?:{_UNITS})\b\.?)?(?:\s+of\b)?",
+    rf"(?<![a-z]){_NUMBER}(?:\s*(?:-|–|to|or)\s*{_NUMBER})*"
+    rf"(?:(?:\s+(?:{_SIZES}))?\s*-?\s*(?:{_UNITS})\b\.?)?(?:\s+of\b)?",
     re.IGNORECASE,
 )
-_UNIT_ALONE = re.compile(rf"^(?:a|an|one|some|few)?\s*(?:{_UNITS})\b\.?(?:\s+of\b)?\s*", re.IGNORECASE)
+# Unit words that are also the item when nothing else is left ("3 cloves" of the spice).
+_UNIT_ITEMS = frozenset({"cloves", "clove", "bay leaves", "leaves", "sticks"})
+_UNIT_ALONE = re.compile(
+    rf"^(?:a|an|one|some|few)?\s*(?:(?:{_SIZES})\s+)?(?:{_UNITS})\b\.?(?:\s+of\b)?\s*", re.IGNORECASE
+)
 _PAREN = re.compile(r"\([^)]*\)|\[[^\]]*\]")
 _CUT = re.compile(
     r",|;|:|/|\*|\.\s|\.$|\s-\s|\s–\s|\bfor\b|\bper\b|\bwithout\b|\bor less\b|\bor more\b|\bto taste\b|\bas needed\b|\bif desired\b|\bplus\b|\bsuch as\b"
@@ -112,7 +130,7 @@ def _pick_alternative(text: str) -> str:
     # "brown or green lentils": the left side only qualifies the right side's noun.
     if " or " in f" {text} ":
         left, _, right = text.partition(" or ")
-        left, right = left.strip(), right.strip()
+        left, right = " ".join(w for w in left.split() if w not in _PREP_WORDS), right.strip()
         if left and right and len(left.split()) == 1 and left in _ADJ_ALTERNATIVES and len(right.split()) > 1:
             return right
         return left or right
@@ -128,10 +146,11 @@ def normalise_ingredient(text: str) -> str:
     Returns:
         The item, e.g. "chickpeas"; "" for strings without any food word left ("2 Tbsp", "").
     """
-    s = _ascii_fold(text).lower().replace("&", " and ").replace("~", " ")
+    s = _ascii_fold(text).lower().replace("&", " and ").replace("~", " ").replace("\u2019", "'")
     s = _PAREN.sub(" ", s)
     s = s.replace("(", " ").replace(")", " ").replace("and/or", "or")
     s = re.sub(r"\b(?:half|quarter|third)\s+(?:of\s+)?an?\b", " ", s)
+    unit_only = _unit_item(s)
     s = _QUANTITY.sub(" ", s)
     s = re.sub(r"\s+", " ", s).strip()
     s = _CUT.split(f"{s} ", maxsplit=1)[0]
@@ -139,20 +158,49 @@ def normalise_ingredient(text: str) -> str:
     for _ in range(2):  # "a jar of" then "a bunch of"
         s = _UNIT_ALONE.sub("", s).strip()
     s = _pick_alternative(s)
-    s = s.partition(" and ")[0] if " and " in f" {s} " else s
+    parts = s.split(" and ")
+    while len(parts) > 1 and all(w in _PREP_WORDS for w in parts[0].split()):  # "peeled and chopped ginger"
+        parts = parts[1:]
+    s = parts[0]
     s = s.partition(" with ")[0]
     words = _WORD.findall(s)
     while words and words[0] in ("of", "and", "or"):
         words = words[1:]
     if not words:
-        return ""
+        return unit_only
+    # A unit word repeated as part of the name ("1/2 lemon lemon juice", "3 yolks egg yolks"): keep the name.
+    if len(words) > 1 and item_key(words[0]) in {item_key(w) for w in words[1:]}:
+        words = words[1:]
     words = _strip_prep(words)
     return " ".join(words).strip(" -'")
 
 
+def _unit_item(text: str) -> str:
+    """The item when a line is only a count and a unit word that is also a food ("3 cloves" of the spice)."""
+    words = _WORD.findall(text)
+    units = re.compile(rf"(?:{_UNITS})", re.IGNORECASE)
+    if words and words[-1] in _UNIT_ITEMS and all(units.fullmatch(w) for w in words[:-1]) and _QUANTITY.search(text):
+        return words[-1]
+    return ""
+
+
+def classify_item(item: str) -> ItemClass:
+    """Whether a normalised item is food for the shelf, water or ice, a tool, or nothing at all."""
+    if not item:
+        return ItemClass.NOTHING
+    key = item_key(item)
+    words = key.split()
+    if key in _TOOLS or item in _TOOLS:
+        return ItemClass.TOOL
+    # "boiling water", "ice water", "crushed ice", but not "rose water" or "coconut water"
+    if any(tuple(words[-len(h) :]) == h for h in _WATER_HEADS) and not any(w in _WATER_NOT for w in words):
+        return ItemClass.WATER
+    return ItemClass.FOOD
+
+
 def is_fetchable(item: str) -> bool:
     """Whether a normalised item is something a robot fetches from a shelf (not water, ice or a tool)."""
-    return bool(item) and item not in _NOT_FETCHABLE
+    return classify_item(item) is ItemClass.FOOD
 
 
 def item_key(item: str) -> str:

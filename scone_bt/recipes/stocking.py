@@ -1,15 +1,73 @@
-"""Which catalogue objects a recipe's steps need, i.e. what the robot can fetch for each step."""
+"""Which catalogue products a recipe's steps need, i.e. what the robot can fetch for each step.
+
+An ingredient line is normalised to one item ("1 15-oz can chickpeas, drained" → "chickpeas") and classified: food,
+water or ice, a tool, or nothing. A food item is looked up in the catalogue (`ProductIndex.resolve`), in this order:
+
+1. the most specific product named in the line that contains the item ("1 can diced tomatoes" → diced tomatoes,
+   although "diced" is a preparation word the normaliser drops);
+2. a product name or alias equal to the item, plural-insensitive;
+3. the same after dropping grade words that do not change the product on the shelf ("sharp cheddar cheese",
+   "unsweetened almond milk", "ground cinnamon");
+4. the same after dropping a trailing part word: the product is where that part comes from ("lemon juice",
+   "egg yolks", "garlic cloves", "basil leaves").
+
+Each product is then assigned to the first step that mentions it (its name, an alias, or the recipe's own item
+words); a product no step names is needed from the first step on (it is gathered before cooking starts).
+"""
 
 from __future__ import annotations
 
+import difflib
 import re
+import unicodedata
 from dataclasses import dataclass
+from enum import Enum
 
 from scone_bt.config import Catalogue
-from scone_bt.errors import RecipeError
+from scone_bt.recipes.normalise import ItemClass, classify_item, item_key, normalise_ingredient
 from scone_bt.recipes.recipe import Recipe
 
-__all__ = ["StockedStep", "StockedRecipe", "match_catalogue", "stock_recipe"]
+__all__ = ["MatchRule", "ProductMatch", "StockedStep", "StockedRecipe", "ProductIndex", "match_catalogue", "stock_recipe"]
+
+# Grade words: the same product on the shelf whatever the word says.
+_GRADE_WORDS = frozenset(
+    """
+    whole ground pure organic natural plain regular fine coarse freshly sharp mild lean extra-lean baby mini
+    low-sodium reduced-sodium no-salt-added sodium low-fat full-fat fat-free nonfat non-fat reduced-fat
+    unsweetened tj's tjs trader joe's good-quality quality store-bought homemade canned tinned bottled
+    mashed sized medium-sized stale toasted roasted preroasted crumbled quick-cooking hot little bit melty soft
+    hard-boiled boiled
+    """.split()
+)
+# Part words: the product is the whole the part comes from.
+_PART_WORDS = frozenset(
+    "juice zest peel rind yolk white clove leave leaf sprig stalk rib floret wedge slice half segment crumb green"
+    " puree flake wash".split()
+)
+_WORD = re.compile(r"[a-z][a-z'&-]*")
+
+
+class MatchRule(Enum):
+    """How an item was matched to a product (the order `ProductIndex.lookup` tries them in)."""
+
+    IN_LINE = "in_line"
+    """A more specific product name in the ingredient line ("can diced tomatoes")."""
+    EXACT = "exact"
+    """The item is a product name or alias."""
+    GRADE = "grade"
+    """The item less grade words ("sharp cheddar" → cheddar cheese)."""
+    PART = "part"
+    """The item less a trailing part word ("lemon juice" → lemon), or the whole of "A of B" ("zest of lemon")."""
+    SPELLING = "spelling"
+    """A misspelt product name or alias, word for word ("broccli", "ground tumeric")."""
+
+
+@dataclass(frozen=True)
+class ProductMatch:
+    """A catalogue product found for an item, and the rule that found it."""
+
+    product: str
+    rule: MatchRule
 
 
 @dataclass(frozen=True)
@@ -27,14 +85,104 @@ class StockedRecipe:
     Attributes:
         recipe: The source recipe.
         steps: One StockedStep per recipe step (objects may be empty: the human does that step alone).
-        needed: Every catalogue object the recipe needs, in first-use order.
-        unstocked: Ingredient strings no catalogue object matches (the human brings those).
+        needed: Every catalogue object the robot may fetch, in first-use order.
+        unstocked: Food ingredient lines no catalogue product matches (the human brings those).
+        not_fetchable: Ingredient lines that name water, ice or a tool (not fetched from a shelf).
+        off_shelf: Stocked products that did not fit on the shelf (the human brings those too).
     """
 
     recipe: Recipe
     steps: tuple[StockedStep, ...]
     needed: tuple[str, ...]
     unstocked: tuple[str, ...]
+    not_fetchable: tuple[str, ...] = ()
+    off_shelf: tuple[str, ...] = ()
+
+
+def _lower(text: str) -> str:
+    """Lower case, accents folded, typographic apostrophes straightened."""
+    return unicodedata.normalize("NFKD", text.replace("\u2019", "'")).encode("ascii", "ignore").decode().lower()
+
+
+def _fold(text: str) -> str:
+    return " ".join(_WORD.findall(_lower(text)))
+
+
+class ProductIndex:
+    """Looks up normalised items in a catalogue (built once per catalogue)."""
+
+    def __init__(self, catalogue: Catalogue) -> None:
+        self.catalogue = catalogue
+        self._by_key: dict[str, str] = {}
+        phrases: list[tuple[str, str]] = []
+        for obj in catalogue.objects:
+            for label in (obj.name, *obj.aliases):
+                folded = _fold(label)
+                self._by_key.setdefault(item_key(folded), obj.name)
+                phrases.append((folded, obj.name))
+        phrases.sort(key=lambda p: -len(p[0]))
+        self._keys = sorted(self._by_key)
+        self._phrases = [(re.compile(rf"\b{re.escape(a)}\b"), a, n) for a, n in phrases if " " in a]
+
+    def _exact(self, words: list[str]) -> str | None:
+        return self._by_key.get(item_key(" ".join(words))) if words else None
+
+    def resolve(self, item: str, line: str = "") -> str | None:
+        """The catalogue product a normalised item names, or None (see the module docstring for the order)."""
+        match = self.lookup(item, line)
+        return match.product if match is not None else None
+
+    def lookup(self, item: str, line: str = "") -> ProductMatch | None:
+        """Like `resolve`, with the rule that matched."""
+        words = _WORD.findall(_lower(item))
+        if not words:
+            return None
+        if line:
+            # Only a phrase around the item's first mention: "milk or almond milk" is milk.
+            head = item_key(words[-1])
+            text = _fold(re.sub(r"\([^)]*\)", " ", line))
+            first = re.search(rf"\b{re.escape(words[-1])}\b", text)
+            for pattern, alias, name in self._phrases if first else ():
+                if head not in {item_key(w) for w in alias.split()}:
+                    continue
+                for m in pattern.finditer(text):
+                    if m.start() <= first.start() < m.end():
+                        exact = self._exact(words)
+                        return ProductMatch(name, MatchRule.EXACT if exact == name else MatchRule.IN_LINE)
+        graded = [w for w in words if w not in _GRADE_WORDS] or words
+        for candidate, rule in ((words, MatchRule.EXACT), (graded, MatchRule.GRADE)):
+            if (hit := self._exact(candidate)) is not None:
+                return ProductMatch(hit, rule)
+            if len(candidate) > 1 and item_key(candidate[-1]) in _PART_WORDS:
+                if (hit := self._exact(candidate[:-1])) is not None:
+                    return ProductMatch(hit, MatchRule.PART)
+        if "of" in graded[1:-1]:  # "zest of lemon", "twigs of thyme"; "cheese of choice"
+            at = graded.index("of")
+            whole, part = graded[at + 1 :], graded[:at]
+            if whole and whole[-1] in ("choice", "variety", "kind"):
+                whole = part
+            if (hit := self._exact(whole)) is not None:
+                return ProductMatch(hit, MatchRule.PART)
+        key = item_key(" ".join(graded))
+        if len(key) >= 6:
+            for close in difflib.get_close_matches(key, self._keys, n=5, cutoff=0.8):
+                if _same_words_misspelt(key.split(), close.split()):
+                    return ProductMatch(self._by_key[close], MatchRule.SPELLING)
+        return None
+
+
+def _same_words_misspelt(words: list[str], target: list[str]) -> bool:
+    """Word for word the same but for small misspellings ("broccli" / "broccoli"; not "rye flour" / "rice flour")."""
+    return len(words) == len(target) and all(
+        w == t
+        or (
+            len(t) >= 5
+            and w[0] == t[0]
+            and abs(len(w) - len(t)) <= 2
+            and difflib.SequenceMatcher(None, w, t).ratio() >= 0.8
+        )
+        for w, t in zip(words, target, strict=True)
+    )
 
 
 def _patterns(catalogue: Catalogue) -> list[tuple[re.Pattern[str], str]]:
@@ -46,46 +194,82 @@ def _patterns(catalogue: Catalogue) -> list[tuple[re.Pattern[str], str]]:
 
 def match_catalogue(text: str, catalogue: Catalogue) -> list[str]:
     """Catalogue objects named in a text, in order of first mention, each once."""
-    lowered = text.lower()
+    return [name for _, name in _mentions(text.lower(), _patterns(catalogue))]
+
+
+def _mentions(lowered: str, patterns: list[tuple[re.Pattern[str], str]]) -> list[tuple[int, str]]:
+    """(position, product) of each product named in a lower-case text, first mention only, in text order."""
     hits: list[tuple[int, str]] = []
     taken = [False] * len(lowered)
-    for pattern, name in _patterns(catalogue):
+    for pattern, name in patterns:
         for m in pattern.finditer(lowered):
             if any(taken[m.start() : m.end()]):
                 continue
             for i in range(m.start(), m.end()):
                 taken[i] = True
             hits.append((m.start(), name))
-    seen: list[str] = []
-    for _, name in sorted(hits):
-        if name not in seen:
-            seen.append(name)
-    return seen
+    first: dict[str, int] = {}
+    for pos, name in sorted(hits):
+        first.setdefault(name, pos)
+    return sorted(((p, n) for n, p in first.items()), key=lambda h: h[0])
 
 
-def stock_recipe(recipe: Recipe, catalogue: Catalogue) -> StockedRecipe:
-    """Map ingredients to catalogue objects and assign each object to the first step that uses it."""
-    ingredient_objects: list[str] = []
+def stock_recipe(
+    recipe: Recipe, catalogue: Catalogue, capacity: int | None = None, index: ProductIndex | None = None
+) -> StockedRecipe:
+    """Map ingredients to catalogue products and assign each product to the first step that uses it.
+
+    Args:
+        recipe: The recipe.
+        catalogue: What the kitchen can stock.
+        capacity: Shelf slots for the recipe's products; products past it (in first-use order) are left off the
+            shelf, listed in ``off_shelf`` and dropped from the steps (the human brings them).
+        index: A prebuilt index of the same catalogue (saves rebuilding it for many recipes).
+    """
+    index = index or ProductIndex(catalogue)
+    products: dict[str, str] = {}  # product → the recipe's item for it
     unstocked: list[str] = []
-    for ingredient in recipe.ingredients:
-        names = match_catalogue(ingredient, catalogue)
-        if not names:
-            unstocked.append(ingredient)
-        for n in names:
-            if n not in ingredient_objects:
-                ingredient_objects.append(n)
+    not_fetchable: list[str] = []
+    for line in recipe.ingredients:
+        item = normalise_ingredient(line)
+        kind = classify_item(item)
+        if kind in (ItemClass.WATER, ItemClass.TOOL):
+            not_fetchable.append(line)
+            continue
+        product = index.resolve(item, line) if kind is ItemClass.FOOD else None
+        if product is None:
+            if kind is ItemClass.FOOD:
+                unstocked.append(line)
+            continue
+        products.setdefault(product, item)
+    # A step names a product by its catalogue name or alias, or by the words the recipe itself used for it.
+    patterns = _patterns(catalogue)
+    for product, item in products.items():
+        for label in {item, item.split()[-1]} if item else ():
+            patterns.append((re.compile(rf"\b{re.escape(label)}s?\b"), product))
+    patterns.sort(key=lambda p: -len(p[0].pattern))
     used: set[str] = set()
-    steps = []
+    per_step: list[list[str]] = []
     for i, instruction in enumerate(recipe.steps):
         text = instruction
         if recipe.step_ingredients is not None and recipe.step_ingredients[i]:
             text = " ; ".join(recipe.step_ingredients[i]) + " ; " + instruction
-        mentioned = [n for n in match_catalogue(text, catalogue) if n in ingredient_objects and n not in used]
+        mentioned = [n for _, n in _mentions(text.lower(), patterns) if n in products and n not in used]
         used.update(mentioned)
-        steps.append(StockedStep(instruction, tuple(mentioned)))
-    if not used:
-        raise RecipeError(
-            f"recipe {recipe.id!r} needs nothing this kitchen stocks; stocked items: {', '.join(catalogue.names())}"
-        )
-    needed = tuple(n for s in steps for n in s.objects)
-    return StockedRecipe(recipe, tuple(steps), needed, tuple(unstocked))
+        per_step.append(mentioned)
+    if per_step:
+        per_step[0][:0] = [p for p in products if p not in used]
+    order = [n for s in per_step for n in s]
+    keep = set(order if capacity is None else order[: max(capacity, 0)])
+    steps = tuple(
+        StockedStep(instruction, tuple(n for n in names if n in keep))
+        for instruction, names in zip(recipe.steps, per_step, strict=True)
+    )
+    return StockedRecipe(
+        recipe=recipe,
+        steps=steps,
+        needed=tuple(n for n in order if n in keep),
+        unstocked=tuple(unstocked),
+        not_fetchable=tuple(not_fetchable),
+        off_shelf=tuple(n for n in order if n not in keep),
+    )

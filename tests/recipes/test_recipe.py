@@ -11,16 +11,17 @@ def test_examples_load_and_stock(kitchen_cfg):
     stocked = stock_recipe(load_recipe("example:tomato-pasta"), kitchen_cfg.catalogue)
     assert [s.objects for s in stocked.steps] == [
         ("salt",),
-        ("pasta",),
+        ("spaghetti",),
         ("olive oil", "garlic"),
-        ("canned tomatoes",),
-        ("cheese",),
+        ("crushed tomatoes",),
+        ("parmesan",),
     ]
-    assert stocked.needed == ("salt", "pasta", "olive oil", "garlic", "canned tomatoes", "cheese")
+    assert stocked.needed == ("salt", "spaghetti", "olive oil", "garlic", "crushed tomatoes", "parmesan")
+    assert stocked.unstocked == () and stocked.off_shelf == ()
 
 
 def test_longest_alias_wins(kitchen_cfg):
-    assert match_catalogue("2 tbsp extra virgin olive oil", kitchen_cfg.catalogue) == ["olive oil"]
+    assert match_catalogue("2 tbsp extra virgin olive oil", kitchen_cfg.catalogue) == ["extra virgin olive oil"]
     assert match_catalogue("salt and pepper to taste", kitchen_cfg.catalogue) == ["salt", "black pepper"]
 
 
@@ -48,7 +49,9 @@ def test_malformed_and_empty_recipes(tmp_path, kitchen_cfg):
     empty.write_text(json.dumps({"ingredients": ["salt"], "steps": ["  "]}))
     with pytest.raises(RecipeError, match="non-empty"):
         load_recipe(str(empty))
+    # A recipe with nothing stocked still runs: the human brings everything.
     nothing = tmp_path / "n.json"
-    nothing.write_text(json.dumps({"ingredients": ["unobtainium"], "steps": ["Admire it."]}))
-    with pytest.raises(RecipeError, match="stocked items"):
-        stock_recipe(load_recipe(str(nothing)), kitchen_cfg.catalogue)
+    nothing.write_text(json.dumps({"ingredients": ["unobtainium", "1 cup water"], "steps": ["Admire it."]}))
+    stocked = stock_recipe(load_recipe(str(nothing)), kitchen_cfg.catalogue)
+    assert stocked.needed == () and stocked.unstocked == ("unobtainium",)
+    assert stocked.not_fetchable == ("1 cup water",)
