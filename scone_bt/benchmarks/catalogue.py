@@ -209,7 +209,9 @@ def register(subparsers: Any) -> None:
         help="catalogue size, ingredient normalisation accuracy and recipe coverage (JSON)",
         description=__doc__.split("\n\n")[0],
     )
-    p.add_argument("--kitchen", default="kitchen", help="kitchen file in perception/ or a path (default: kitchen)")
+    p.add_argument(
+        "--kitchen", default="kitchen", help="kitchen file in perception/ or a path (default: kitchen)"
+    )
     p.add_argument(
         "--catalogue",
         action="append",

@@ -179,7 +179,12 @@ def _unit_item(text: str) -> str:
     """The item when a line is only a count and a unit word that is also a food ("3 cloves" of the spice)."""
     words = _WORD.findall(text)
     units = re.compile(rf"(?:{_UNITS})", re.IGNORECASE)
-    if words and words[-1] in _UNIT_ITEMS and all(units.fullmatch(w) for w in words[:-1]) and _QUANTITY.search(text):
+    if (
+        words
+        and words[-1] in _UNIT_ITEMS
+        and all(units.fullmatch(w) for w in words[:-1])
+        and _QUANTITY.search(text)
+    ):
         return words[-1]
     return ""
 

@@ -27,22 +27,35 @@ from scone_bt.config import Catalogue
 from scone_bt.recipes.normalise import ItemClass, classify_item, item_key, normalise_ingredient
 from scone_bt.recipes.recipe import Recipe
 
-__all__ = ["MatchRule", "ProductMatch", "StockedStep", "StockedRecipe", "ProductIndex", "match_catalogue", "stock_recipe"]
+__all__ = [
+    "MatchRule",
+    "ProductMatch",
+    "StockedStep",
+    "StockedRecipe",
+    "ProductIndex",
+    "match_catalogue",
+    "stock_recipe",
+]
+
 
 # Grade words: the same product on the shelf whatever the word says.
-_GRADE_WORDS = frozenset(
+def _words(text: str) -> frozenset[str]:
+    return frozenset(text.split())
+
+
+_GRADE_WORDS = _words(
     """
     whole ground pure organic natural plain regular fine coarse freshly sharp mild lean extra-lean baby mini
     low-sodium reduced-sodium no-salt-added sodium low-fat full-fat fat-free nonfat non-fat reduced-fat
     unsweetened tj's tjs trader joe's good-quality quality store-bought homemade canned tinned bottled
     mashed sized medium-sized stale toasted roasted preroasted crumbled quick-cooking hot little bit melty soft
     hard-boiled boiled
-    """.split()
+    """
 )
 # Part words: the product is the whole the part comes from.
-_PART_WORDS = frozenset(
+_PART_WORDS = _words(
     "juice zest peel rind yolk white clove leave leaf sprig stalk rib floret wedge slice half segment crumb green"
-    " puree flake wash".split()
+    " puree flake wash"
 )
 _WORD = re.compile(r"[a-z][a-z'&-]*")
 
@@ -101,7 +114,9 @@ class StockedRecipe:
 
 def _lower(text: str) -> str:
     """Lower case, accents folded, typographic apostrophes straightened."""
-    return unicodedata.normalize("NFKD", text.replace("\u2019", "'")).encode("ascii", "ignore").decode().lower()
+    return (
+        unicodedata.normalize("NFKD", text.replace("\u2019", "'")).encode("ascii", "ignore").decode().lower()
+    )
 
 
 def _fold(text: str) -> str:
@@ -153,9 +168,9 @@ class ProductIndex:
         for candidate, rule in ((words, MatchRule.EXACT), (graded, MatchRule.GRADE)):
             if (hit := self._exact(candidate)) is not None:
                 return ProductMatch(hit, rule)
-            if len(candidate) > 1 and item_key(candidate[-1]) in _PART_WORDS:
-                if (hit := self._exact(candidate[:-1])) is not None:
-                    return ProductMatch(hit, MatchRule.PART)
+            part_of = len(candidate) > 1 and item_key(candidate[-1]) in _PART_WORDS
+            if part_of and (hit := self._exact(candidate[:-1])) is not None:
+                return ProductMatch(hit, MatchRule.PART)
         if "of" in graded[1:-1]:  # "zest of lemon", "twigs of thyme"; "cheese of choice"
             at = graded.index("of")
             whole, part = graded[at + 1 :], graded[:at]

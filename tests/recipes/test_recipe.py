@@ -21,7 +21,9 @@ def test_examples_load_and_stock(kitchen_cfg):
 
 
 def test_longest_alias_wins(kitchen_cfg):
-    assert match_catalogue("2 tbsp extra virgin olive oil", kitchen_cfg.catalogue) == ["extra virgin olive oil"]
+    assert match_catalogue("2 tbsp extra virgin olive oil", kitchen_cfg.catalogue) == [
+        "extra virgin olive oil"
+    ]
     assert match_catalogue("salt and pepper to taste", kitchen_cfg.catalogue) == ["salt", "black pepper"]
 
 
