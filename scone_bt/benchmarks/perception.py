@@ -1,14 +1,15 @@
 """``scone-bench perception``: detection accuracy of the shelf and table cameras on seeded scenes (JSON).
 
-Each scene fills the shelving with a random draw of the catalogue (random slots, heaviest lowest, random yaws,
-settled by physics, the arm at home) and puts a few more products on the table by the simulated human's hand. Every
+Each scene stocks the shelving with a random draw of the catalogue (21 products by default, drawn again if they
+do not fit side by side; random slots, heaviest lowest, random yaws, settled by physics, the arm at home) and puts
+three more on the table by the simulated human's hand. Every
 shelf camera renders once (TinyRenderer) at the kitchen file's resolution, at 320x240 and 640x480, and with extra
 pixel noise; the detections of all shelf cameras are merged (most confident per product) and scored against the
 simulator's ground truth: precision, recall on objects whose marker some shelf camera sees unoccluded (and on all),
 3D error of the top-face centre (median, p95), and milliseconds per frame. The table camera is scored the same way
 on the table's products.
 
-    scone-bench perception                      # 20 scenes, every slot filled
+    scone-bench perception                      # 20 scenes of 21 + 3 products
     scone-bench perception --scenes 3 --json out.json
 """
 
@@ -23,6 +24,8 @@ from typing import Any
 
 __all__ = ["register", "run", "TARGETS"]
 
+DEFAULT_OBJECTS = 21
+"""Products on the shelving per scene by default: a long recipe's ingredients and four distractors."""
 TARGETS = {"recall_unoccluded": 0.95, "precision": 0.99, "position_error_median_m": 0.01}
 RESOLUTIONS = ((320, 240), (640, 480))
 
@@ -48,6 +51,7 @@ def run(args: argparse.Namespace) -> int:
     from scone_bt.perception.observe import merge_detections
     from scone_bt.quiet import c_stdout_silenced
     from scone_bt.world import Kitchen
+    from scone_bt.world.stocking import plan_stocking
 
     kitchen_cfg = load_kitchen(args.kitchen, args.catalogue or ())
     robot_cfg = load_robot(args.robot)
@@ -55,9 +59,8 @@ def run(args: argparse.Namespace) -> int:
     catalogue = kitchen_cfg.catalogue
     if args.scenes < 1 or args.table_objects < 0:
         raise ConfigError("--scenes must be >= 1 and --table-objects >= 0")
-    # Every slot is stocked, then the human carries table_objects of them to the table.
     most = min(slots, len(catalogue)) - args.table_objects
-    objects = most if args.objects is None else args.objects
+    objects = min(DEFAULT_OBJECTS, most) if args.objects is None else args.objects
     if not 1 <= objects <= most:
         raise ConfigError(
             f"--objects {objects}: must be in 1-{most} ({slots} shelf slots, {len(catalogue)} products, "
@@ -105,8 +108,16 @@ def run(args: argparse.Namespace) -> int:
 
     for scene in range(args.scenes):
         rng = np.random.default_rng(args.seed + scene)
-        chosen = rng.choice(len(catalogue), size=objects + args.table_objects, replace=False)
-        specs = [catalogue.objects[int(i)] for i in chosen]
+        for _ in range(100):  # a draw of products too wide to stand side by side is drawn again
+            chosen = rng.choice(len(catalogue), size=objects + args.table_objects, replace=False)
+            specs = [catalogue.objects[int(i)] for i in chosen]
+            try:
+                plan_stocking(kitchen_cfg.scene, specs, np.random.default_rng(0))
+                break
+            except ConfigError:
+                continue
+        else:
+            raise ConfigError(f"--objects {objects}: no draw of that many products fits the shelving")
         with c_stdout_silenced():
             kitchen = Kitchen(kitchen_cfg, robot_cfg)
         with kitchen:
@@ -179,7 +190,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("perception", help="marker detection accuracy of the shelf and table cameras (JSON)")
     p.add_argument("--scenes", type=int, default=20, help="seeded scenes to render (default 20)")
     p.add_argument(
-        "--objects", type=int, default=None, help="products on the shelf per scene (default: every slot)"
+        "--objects",
+        type=int,
+        default=None,
+        help=f"products on the shelf per scene (default {DEFAULT_OBJECTS})",
     )
     p.add_argument("--table-objects", type=int, default=3, help="products on the table per scene (default 3)")
     p.add_argument("--seed", type=int, default=0, help="seed of the first scene (default 0)")

@@ -109,34 +109,50 @@ def plan_stocking(scene: SceneSpec, specs: Sequence[ObjectSpec], rng: np.random.
         wanted[i] = unit.to_unit(slot.position[0], slot.position[1])[1]
         tier_of[i] = (slot.unit, slot.tier)
 
-    def lane(i: int) -> float:
-        unit = units[tier_of[i][0]]
+    def used(key: tuple[str, int], extra: int | None = None) -> float:
+        members = [j for j in tier_of if tier_of[j] == key]
+        return sum(lane_on(j, key) for j in members) + (lane_on(extra, key) if extra is not None else 0.0)
+
+    def lane_on(i: int, key: tuple[str, int]) -> float:
+        unit = units[key[0]]
         _, v = footprint(specs[i], yaws[i] + _turn(specs[i], unit.tier_depth))
         return max(LANE_MIN_M, v + FINGER_ROOM_M)
 
     # Too wide for their tier: the lightest products move up to the next tier with room.
+    feasible = True
     for key in tier_keys:
         members = sorted((i for i in tier_of if tier_of[i] == key), key=lambda i: specs[i].mass)
-        while members and sum(lane(i) for i in members) > _length(units[key[0]], key[1]) + 1e-9:
+        while members and used(key) > _length(units[key[0]], key[1]) + 1e-9:
             moved = members.pop(0)
             here = tier_keys.index(key)
             # The next tiers up first, then any other (a wide product may still fit a lower tier's spare room).
             order = tier_keys[here + 1 :] + tier_keys[:here]
-            room = [
-                k
-                for k in order
-                if sum(lane(j) for j in tier_of if tier_of[j] == k)
-                + max(LANE_MIN_M, footprint(specs[moved], yaws[moved])[1] + FINGER_ROOM_M)
-                <= _length(units[k[0]], k[1])
-            ]
+            room = [k for k in order if used(k, moved) <= _length(units[k[0]], k[1]) + 1e-9]
             if not room:
-                raise ConfigError(
-                    f"{len(specs)} products do not fit the shelving side by side ({specs[moved].name!r} finds no "
-                    f"room); stock fewer or narrower products"
-                )
+                feasible = False
+                break
             tier_of[moved] = room[0]
-            unit = units[room[0][0]]
-            wanted[moved] = float(np.mean(unit.tiers[room[0][1]].slots))
+            tier = units[room[0][0]].tiers[room[0][1]]
+            wanted[moved] = float(np.mean(tier.slots))
+        if not feasible:
+            break
+    if not feasible:
+        # The drawn slots crowd wide products together: pack first-fit instead, heaviest first, lowest tier first.
+        tier_of.clear()
+        for i in by_mass:
+            key = next(
+                (k for k in tier_keys if used(k, i) <= _length(units[k[0]], k[1]) + 1e-9),
+                None,
+            )
+            if key is None:
+                total = sum(lane_on(j, tier_keys[0]) for j in range(len(specs)))
+                raise ConfigError(
+                    f"{len(specs)} products do not fit the shelving side by side ({specs[i].name!r} finds no "
+                    f"room; they need about {total:.2f} m of shelf); stock fewer or narrower products"
+                )
+            tier = units[key[0]].tiers[key[1]]
+            wanted[i] = tier.slots[sum(1 for j in tier_of if tier_of[j] == key) % len(tier.slots)]
+            tier_of[i] = key
 
     out: dict[int, Placement] = {}
     for key in tier_keys:
@@ -147,7 +163,7 @@ def plan_stocking(scene: SceneSpec, specs: Sequence[ObjectSpec], rng: np.random.
             continue
         a, b = _segment(unit, tier_index)
         v = [wanted[i] for i in members]
-        widths = [lane(i) for i in members]
+        widths = [lane_on(i, key) for i in members]
         # Push apart left to right, then back from the far end: the least movement that gives every lane room.
         v[0] = max(v[0], a + widths[0] / 2)
         for k in range(1, len(v)):
