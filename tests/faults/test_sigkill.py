@@ -129,6 +129,9 @@ def test_sigkill_during_a_study_session_keeps_every_acknowledged_answer(tmp_path
         responses = log.responses()
         events = log.events(info["session"])
     stored = {r.questionnaire: r.value for r in responses}
+    print(
+        f"SIGKILL session: acknowledged {len(acked)} questionnaires, stored {len(stored)}; printed {printed} events, stored {len(events)}"
+    )
     assert {q: stored.get(q) for q in acked} == acked  # every acknowledged answer is in the log
     assert len([r for r in responses if r.questionnaire == "mdmt"]) == len(MDMT_PERFORMANCE.items)
     assert len(events) >= printed > 0  # every printed event too
