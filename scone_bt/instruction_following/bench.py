@@ -9,8 +9,9 @@ from __future__ import annotations
 import re
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -58,6 +59,8 @@ class BenchOptions:
         pddl: Run the PDDL (LAMA) baseline.
         ticc: Run the TICC-style baseline.
         cache_dir: Embedding cache folder (None: the default).
+        engine: scone_bt.distributed.EngineOptions running the embedder rows and the PDDL and TICC baselines as
+            parallel tasks (local pool or Ray); None: one after another in this process. Same scores either way.
     """
 
     embedders: tuple[str, ...] = ("minilm", "mpnet", "glove")
@@ -69,6 +72,7 @@ class BenchOptions:
     pddl: bool = True
     ticc: bool = True
     cache_dir: Path | None = None
+    engine: Any = None
 
 
 @dataclass(frozen=True)
@@ -272,6 +276,40 @@ def _embedding_row(
     )
 
 
+@dataclass(frozen=True)
+class _PartInputs:
+    """What every part of the benchmark reads (shipped once per worker)."""
+
+    train: tuple[IfState, ...]
+    dev: tuple[IfState, ...]
+    test: tuple[IfState, ...]
+    options: BenchOptions
+
+
+def _run_part(part: tuple[str, str], inputs: _PartInputs) -> tuple[str, str, object, float]:
+    """One independent part: ("row", embedder), ("pddl", "") or ("ticc", embedder); (kind, name, result, s).
+
+    A row whose embedder is not installed returns the reason as its result (a string).
+    """
+    from scone_bt.embedding import load_embedder
+
+    kind, name = part
+    t0 = time.perf_counter()
+    if kind == "row":
+        try:
+            emb = load_embedder(name, inputs.options.cache_dir)
+        except ModelUnavailableError as exc:
+            return kind, name, str(exc), 0.0
+        result: object = _embedding_row(name, emb, inputs.train, inputs.dev, inputs.test)
+    elif kind == "pddl":
+        result = evaluate(PddlPolicy(), inputs.test)
+    else:
+        belief = fit_intent_model(load_embedder(name, inputs.options.cache_dir), inputs.train)
+        policy = TiccMctsPolicy(belief, inputs.options.mcts, name=f"TICC-style MCTS ({name})")
+        result = evaluate(policy, inputs.test)
+    return kind, name, result, time.perf_counter() - t0
+
+
 def run_benchmark(
     test: Sequence[IfState],
     train: Sequence[IfState],
@@ -281,9 +319,13 @@ def run_benchmark(
 ) -> BenchResult:
     """Fit on ``train`` (and select on ``dev``), score every policy on ``test``.
 
+    The embedder rows and the PDDL and TICC baselines are independent tasks (run on ``options.engine``); the
+    fine-tuned row is trained here, after them.
+
     Raises:
         SconeError: no test or no train states.
     """
+    from scone_bt.distributed import EngineOptions, imap_tasks
     from scone_bt.embedding import FinetuneOptions, load_embedder, train_finetuned
 
     opts = options or BenchOptions()
@@ -293,29 +335,35 @@ def run_benchmark(
         )
     if "onehot" in opts.embedders:
         raise UnknownNameError("IF embedder", "onehot", ["minilm", "mpnet", "glove", "<model directory>"])
+    parts = [("row", name) for name in opts.embedders]
+    parts += [("pddl", "")] if opts.pddl else []
+    parts += [("ticc", opts.ticc_embedder)] if opts.ticc else []
+    inputs = _PartInputs(tuple(train), tuple(dev), tuple(test), replace(opts, engine=None))
+    done: dict[tuple[str, str], tuple[object, float]] = {}
+    labels = {"row": "scoring {}", "pddl": "PDDL (LAMA)", "ticc": "TICC-style MCTS (intent model on {})"}
+    for _i, (kind, name, result, sec) in imap_tasks(
+        _run_part, parts, engine=opts.engine or EngineOptions(workers=1), shared=inputs
+    ):
+        done[kind, name] = (result, sec)
+        log(labels[kind].format(name) + f": done ({sec:.0f} s)")
     rows: list[EmbedderRow] = []
     skipped: dict[str, str] = {}
     seconds: dict[str, float] = {}
-    loaded: dict[str, Embedder] = {}
     for name in opts.embedders:
-        t0 = time.perf_counter()
-        try:
-            emb = load_embedder(name, opts.cache_dir)
-        except ModelUnavailableError as exc:
-            skipped[name] = str(exc)
-            log(f"skip {name}: {exc}")
+        result, sec = done["row", name]
+        if isinstance(result, str):
+            skipped[name] = result
+            log(f"skip {name}: {result}")
             continue
-        loaded[name] = emb
-        log(f"scoring {name} ...")
-        rows.append(_embedding_row(name, emb, train, dev, test))
-        seconds[name] = time.perf_counter() - t0
+        rows.append(result)  # type: ignore[arg-type]
+        seconds[name] = sec
     finetuned: dict[str, object] = {}
     if opts.finetune:
         base = opts.finetune_base
         if base == "auto":
-            base = "mpnet" if "mpnet" in loaded else "minilm"
+            base = "mpnet" if "mpnet" in opts.embedders and "mpnet" not in skipped else "minilm"
         t0 = time.perf_counter()
-        encoder = loaded.get(base) or load_embedder(base, opts.cache_dir)
+        encoder = load_embedder(base, opts.cache_dir)
         log(f"fine-tuning on {base} ({len(train)} train states) ...")
         examples = [(s.instruction, tuple(sorted(s.relevant)), s.available) for s in train]
         ft_opts = FinetuneOptions()
@@ -330,20 +378,11 @@ def run_benchmark(
             "train_seconds": emb.meta.get("train_seconds"),
         }
     baselines: list[IfScore] = []
-    if opts.pddl:
-        t0 = time.perf_counter()
-        log("PDDL (LAMA) ...")
-        baselines.append(evaluate(PddlPolicy(), test))
-        seconds["pddl"] = time.perf_counter() - t0
-    if opts.ticc:
-        t0 = time.perf_counter()
-        log(f"TICC-style MCTS (intent model on {opts.ticc_embedder}) ...")
-        intent_emb = loaded.get(opts.ticc_embedder) or load_embedder(opts.ticc_embedder, opts.cache_dir)
-        belief = fit_intent_model(intent_emb, train)
-        baselines.append(
-            evaluate(TiccMctsPolicy(belief, opts.mcts, name=f"TICC-style MCTS ({opts.ticc_embedder})"), test)
-        )
-        seconds["ticc"] = time.perf_counter() - t0
+    for kind, name in parts:
+        if kind != "row":
+            result, sec = done[kind, name]
+            baselines.append(result)  # type: ignore[arg-type]
+            seconds[kind] = sec
     baselines.append(evaluate(SimilarityPolicy(None, "pick everything (chance)", score_fn=_zeros), test))
     return BenchResult(
         rows=tuple(rows),

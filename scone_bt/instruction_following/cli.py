@@ -1,6 +1,7 @@
 """``scone-bench``: ``if`` scores every IF policy on a states file; ``if-states`` builds the states files.
 
 scone-bench if --states tools/data/if/test.jsonl            # table + JSON
+scone-bench if --states tools/data/if/test.jsonl --ray auto --jobs 4   # rows and baselines as Ray tasks
 scone-bench if-states --out tools/data/if                   # regenerate the committed states files
 """
 
@@ -23,6 +24,13 @@ def default_states_dir() -> Path | None:
     """tools/data/if in a checkout, else None."""
     root = repo_root()
     return root / "tools" / "data" / "if" if root is not None else None
+
+
+def _engine(args: argparse.Namespace):  # -> EngineOptions | None
+    """None (in-process, one part after another) unless --jobs > 1 or --ray."""
+    from scone_bt.distributed import engine_from_args
+
+    return engine_from_args(args, args.jobs) if args.ray or args.jobs > 1 else None
 
 
 def _bench(args: argparse.Namespace) -> int:
@@ -55,6 +63,7 @@ def _bench(args: argparse.Namespace) -> int:
         mcts=replace(MctsOptions(), simulations=args.simulations),
         pddl=not args.no_pddl,
         ticc=not args.no_ticc,
+        engine=_engine(args),
     )
     log = (lambda m: print(m, file=sys.stderr)) if not args.quiet else (lambda _m: None)
     result = run_benchmark(test, train, dev, options, log=log)
@@ -114,6 +123,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--limit", type=int, default=0, help="score only the first N states (quick runs)")
     b.add_argument("--json", help="also write the JSON report to this file")
     b.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    b.add_argument(
+        "--jobs", type=int, default=1, help="embedder rows and baselines in parallel (Ray workers with --ray)"
+    )
+    from scone_bt.distributed import add_engine_arguments
+
+    add_engine_arguments(b)
     b.set_defaults(func=_bench)
     s = sub.add_parser("if-states", help="build the IF states files from the recipe corpus")
     s.add_argument("--out", default=str(default_states_dir() or "if-states"), help="output folder")
