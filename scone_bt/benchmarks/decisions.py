@@ -1,0 +1,282 @@
+"""``scone-bench decisions``: are the robot's choices ones a cook would trust? Prints JSON.
+
+Two parts:
+
+1. **Episodes** (relevance and asking): seeded episodes over corpus recipes with the product's defaults. Every
+   fetch decision (ACT or ASK-HELP) is judged against the recipe's own stocking (`StockedStep.objects`, the
+   simulated human's definition of what a step needs):
+   - wrong fetch: the recipe never uses the item; or it is fetched as *now* for a step that does not need it; or
+     as *later* when no later step needs it. ``wrong_fetch_rate`` = wrong fetches / decisions.
+   - ``never_used_fetches``: fetches of items the recipe does not use (target 0).
+   - ``clarify_rate``: ASK-CLARIFY decisions / decisions.
+2. **Gate metrics per estimator** (the ask-for-help literature's, KnowNo / IntroPlan): the online robot replayed over
+   the self-confidence datasets (`tools/data/sc`, real physical executions with their outcomes, one per profile):
+   for each execution in order κ̂ predicts, the gate acts (the outcome is observed and learnt) or asks (nothing is
+   learnt; the recorded outcome says whether the robot would have succeeded). Rates are per decision:
+   ``success_rate`` (acted, succeeded), ``help_rate`` (asked), ``over_ask_rate`` (asked, would have succeeded),
+   ``over_step_rate`` (acted, failed), and ``attempted_failure_rate`` = P(act | would fail), the quantity a
+   conformal gate with a target error rate bounds.
+
+    scone-bench decisions --episodes 50 --recipes 20 --json docs/results/decisions.json
+    scone-bench decisions --episodes 0            # the gate metrics only (a minute)
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+from collections import Counter
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+__all__ = ["register", "GateCounts", "replay_gate", "judge_fetches", "pick_recipes"]
+
+
+@dataclass(frozen=True)
+class GateCounts:
+    """What the online gate did over one stream of executions (counts of decisions)."""
+
+    decisions: int
+    acted_success: int
+    acted_failure: int
+    asked_would_succeed: int
+    asked_would_fail: int
+
+    def rates(self) -> dict[str, float]:
+        n = max(self.decisions, 1)
+        would_fail = self.acted_failure + self.asked_would_fail
+        return {
+            "success_rate": self.acted_success / n,
+            "help_rate": (self.asked_would_succeed + self.asked_would_fail) / n,
+            "over_ask_rate": self.asked_would_succeed / n,
+            "over_step_rate": self.acted_failure / n,
+            "attempted_failure_rate": self.acted_failure / would_fail if would_fail else 0.0,
+        }
+
+
+def replay_gate(
+    actions: Sequence[str],
+    success: Sequence[bool],
+    vectors: dict[str, np.ndarray],
+    estimator: str,
+    seed: int,
+    confidence_threshold: float = 0.5,
+    target_error_rate: float | None = None,
+) -> GateCounts:
+    """The online robot over one stream of physical executions; see the module docstring."""
+    from scone_bt.confidence import make_estimator
+    from scone_bt.gate import GateOptions, decide
+    from scone_bt.gate.types import DecisionKind
+    from scone_bt.relevance import RankedAction
+
+    est = make_estimator(estimator, seed=seed)
+    options = GateOptions(confidence_threshold=confidence_threshold, target_error_rate=target_error_rate)
+    counts = Counter()
+    for action, ok in zip(actions, success, strict=True):
+        x = vectors[action]
+        conf = float(est.predict(x[None, :])[0])
+        decision = decide([RankedAction(action, 1.0)], [conf], options)
+        if decision.kind is DecisionKind.ACT:
+            counts["acted_success" if ok else "acted_failure"] += 1
+            est.update(x, bool(ok))
+        else:
+            counts["asked_would_succeed" if ok else "asked_would_fail"] += 1
+    return GateCounts(
+        decisions=len(actions),
+        acted_success=counts["acted_success"],
+        acted_failure=counts["acted_failure"],
+        asked_would_succeed=counts["asked_would_succeed"],
+        asked_would_fail=counts["asked_would_fail"],
+    )
+
+
+def judge_fetches(decisions: Sequence[dict[str, Any]], steps: Sequence[Sequence[str]]) -> dict[str, int]:
+    """Count decisions, fetches, wrong fetches, never-used fetches and clarifications of one episode.
+
+    Args:
+        decisions: The episode's "decision" events (kind, action, need, step 1-based).
+        steps: Each step's needed objects (the recipe's stocking).
+    """
+    used = {o for s in steps for o in s}
+    out = Counter()
+    for d in decisions:
+        out["decisions"] += 1
+        if d["kind"] == "clarify":
+            out["clarifications"] += 1
+            continue
+        if d["kind"] not in ("act", "ask") or not d.get("action"):
+            continue
+        item = str(d["action"]).removeprefix("Put ").removesuffix(" on table")
+        k = int(d["step"]) - 1
+        out["fetches"] += 1
+        if item not in used:
+            out["never_used"] += 1
+            out["wrong"] += 1
+        elif d.get("need") == "later":
+            out["wrong"] += not any(item in s for s in steps[k + 1 :])
+        else:
+            out["wrong"] += item not in (steps[k] if 0 <= k < len(steps) else ())
+    return dict(out)
+
+
+def pick_recipes(n: int, seed: int, max_needed: int) -> list[str]:
+    """``n`` corpus recipe ids, drawn with ``seed`` from those whose stocked items fit ``max_needed``."""
+    from scone_bt.config import load_kitchen
+    from scone_bt.instruction_following.states import load_corpus
+    from scone_bt.recipes import stock_recipe
+
+    catalogue = load_kitchen().catalogue
+    fits = []
+    for recipe in load_corpus():
+        stocked = stock_recipe(recipe, catalogue)
+        if 2 <= len(stocked.needed) <= max_needed and any(s.objects for s in stocked.steps):
+            fits.append(recipe.id)
+    rng = np.random.default_rng(seed)
+    return [str(r) for r in rng.choice(sorted(fits), size=min(n, len(fits)), replace=False)]
+
+
+def _episodes(args: argparse.Namespace) -> dict[str, Any]:
+    from scone_bt.behaviours import BehaviourOptions
+    from scone_bt.config import load_kitchen, load_robot
+    from scone_bt.episode import EpisodeOptions, run_episode
+    from scone_bt.recipes import load_recipe, stock_recipe
+
+    kitchen = load_kitchen()
+    slots = len(kitchen.scene.shelf_slots())
+    recipes = pick_recipes(args.recipes, args.seed, slots - args.distractors)
+    load_robot("panda")
+    totals: Counter[str] = Counter()
+    outcomes: Counter[str] = Counter()
+    per_recipe = []
+    t0 = time.perf_counter()
+    for i in range(args.episodes):
+        recipe_id = recipes[i % len(recipes)]
+        seed = args.seed + i
+        events: list[tuple[str, dict[str, Any]]] = []
+        summary = run_episode(
+            EpisodeOptions(
+                recipe=recipe_id,
+                seed=seed,
+                distractors=args.distractors,
+                behaviour=BehaviourOptions(
+                    estimator=args.estimator, relevance_threshold=args.relevance_threshold, seed=seed
+                ),
+            ),
+            printer=lambda _line: None,
+            on_event=lambda kind, data, sink=events: sink.append((kind, data)),
+        )
+        stocked = stock_recipe(load_recipe(recipe_id), kitchen.catalogue)
+        counts = judge_fetches([d for k, d in events if k == "decision"], [s.objects for s in stocked.steps])
+        totals.update(counts)
+        outcomes.update(
+            {"attempted": summary.attempted, "successes": summary.successes, "help": summary.help_requests}
+        )
+        per_recipe.append({"recipe": recipe_id, "seed": seed, "completed": summary.completed, **counts})
+        if not args.quiet:
+            print(f"episode {i + 1}/{args.episodes} {recipe_id}: {counts}", file=sys.stderr)
+    n = max(totals["decisions"], 1)
+    return {
+        "episodes": args.episodes,
+        "recipes": len(set(recipes[: max(args.episodes, 1)])),
+        "decisions": totals["decisions"],
+        "fetches": totals["fetches"],
+        "wrong_fetch_rate": round(totals["wrong"] / n, 4),
+        "never_used_fetches": totals["never_used"],
+        "clarify_rate": round(totals["clarifications"] / n, 4),
+        "robot_success_rate": round(outcomes["successes"] / max(outcomes["attempted"], 1), 4),
+        "help_requests": outcomes["help"],
+        "completed": sum(r["completed"] for r in per_recipe),
+        "wall_s": round(time.perf_counter() - t0, 1),
+        "per_episode": per_recipe,
+    }
+
+
+def _gate_metrics(args: argparse.Namespace) -> dict[str, Any]:
+    from scone_bt.benchmarks.self_confidence.dataset import load_datasets
+    from scone_bt.confidence import BASE_ESTIMATORS
+    from scone_bt.embedding import load_embedder
+    from scone_bt.resources import repo_root
+
+    folder = Path(args.datasets) if args.datasets else (repo_root() or Path(".")) / "tools" / "data" / "sc"
+    datasets = load_datasets(folder)
+    emb = load_embedder(args.embedder)
+    actions = sorted({a for d in datasets for a in d.actions})
+    vectors = dict(zip(actions, emb.embed(actions), strict=True))
+    names = [e for e in args.estimators.split(",") if e] or [
+        *BASE_ESTIMATORS,
+        *(f"eps-{b}" for b in BASE_ESTIMATORS),
+    ]
+    out: dict[str, Any] = {}
+    variants = [(name, None) for name in names] + [("conformal", t) for t in args.target_error_rates]
+    for name, target in variants:
+        label = name if target is None else f"conformal@{target:g}"
+        per = [
+            replay_gate(d.actions, d.success, vectors, name, args.seed + j, target_error_rate=target)
+            for j, d in enumerate(datasets)
+        ]
+        total = GateCounts(*(sum(getattr(c, f) for c in per) for f in GateCounts.__dataclass_fields__))
+        out[label] = {k: round(v, 4) for k, v in total.rates().items()} | {"decisions": total.decisions}
+        if target is not None:
+            out[label]["target_error_rate"] = target
+            out[label]["meets_target"] = total.rates()["attempted_failure_rate"] <= target
+    return {"embedder": args.embedder, "datasets": [d.name for d in datasets], "estimators": out}
+
+
+def _run(args: argparse.Namespace) -> int:
+    from scone_bt.errors import SconeError
+
+    if args.episodes < 0 or args.recipes < 1:
+        raise SconeError("--episodes must be ≥ 0 and --recipes ≥ 1")
+    if args.json is not None and not Path(args.json).parent.exists():
+        raise SconeError(f"--json {args.json}: folder {Path(args.json).parent} does not exist")
+    started = time.perf_counter()
+    report: dict[str, Any] = {
+        "benchmark": "decisions",
+        "seed": args.seed,
+        "machine": {"cpus": os.cpu_count(), "load_average_1min": round(os.getloadavg()[0], 2)},
+    }
+    report["gate"] = _gate_metrics(args)
+    if args.episodes:
+        ep = _episodes(args)
+        report.update({k: ep[k] for k in ("wrong_fetch_rate", "never_used_fetches", "clarify_rate")})
+        report["episodes"] = ep
+    report["per_estimator"] = report["gate"]["estimators"]
+    report["wall_s"] = round(time.perf_counter() - started, 1)
+    text = json.dumps(report, indent=2)
+    print(text)
+    if args.json:
+        Path(args.json).write_text(text + "\n")
+    return 0
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add ``decisions`` to ``scone-bench``."""
+    p = sub.add_parser(
+        "decisions", help="wrong fetches, clarifications and gate metrics per estimator (JSON)"
+    )
+    p.add_argument("--episodes", type=int, default=50, help="seeded episodes (0: the gate metrics only)")
+    p.add_argument("--recipes", type=int, default=20, help="corpus recipes the episodes cycle through")
+    p.add_argument("--distractors", type=int, default=4, help="distractor products per episode")
+    p.add_argument("--estimator", default="eps-knn", help="κ̂ in the episodes")
+    p.add_argument("--relevance-threshold", type=float, default=0.33, help="ρ of the semantic fallback")
+    p.add_argument("--embedder", default="minilm", help="ζ of the gate replay")
+    p.add_argument("--estimators", default="", help="comma-separated (default: all, with ε-greedy variants)")
+    p.add_argument(
+        "--target-error-rates",
+        type=float,
+        nargs="*",
+        default=[0.1, 0.2],
+        help="conformal gate targets to check",
+    )
+    p.add_argument("--datasets", help="self-confidence datasets folder (default tools/data/sc)")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--json", type=Path, help="also write the JSON report to this file")
+    p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    p.set_defaults(func=_run)
