@@ -93,3 +93,31 @@ def test_help_takeover_and_questionnaire_in_chromium(kitchen, stocked, browser_p
     assert got[("tps_hri", "tps_provide_feedback")] == 10 * (13 % 11)
     kinds = [e.kind for e in log.events(sid)]
     assert kinds == ["decision", "help_request", "act"]
+
+
+def test_a_page_of_another_origin_cannot_take_over(browser_page, tmp_path):
+    """In localhost mode a cross-site page in a real browser reaches neither /api/takeover nor /api/state."""
+    import http.server
+    import threading
+
+    (tmp_path / "evil.html").write_text("<html><body>evil</body></html>")
+    handler = lambda *a, **k: http.server.SimpleHTTPRequestHandler(*a, directory=str(tmp_path), **k)  # noqa: E731
+    evil = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
+    threading.Thread(target=evil.serve_forever, daemon=True).start()
+    try:
+        with serve_tablet("127.0.0.1", 0, None) as server:
+            server.state.set_acting("salt")  # the robot is acting: a take-over would be accepted
+            page = browser_page
+            page.goto(f"http://127.0.0.1:{evil.server_address[1]}/evil.html")
+            target = f"http://127.0.0.1:{server.port}/api/takeover"
+            page.evaluate(
+                "url => fetch(url, {method: 'POST', mode: 'no-cors', body: 'x'}).catch(() => null)", target
+            )
+            page.wait_for_timeout(500)
+            assert not server.state.wants_takeover("salt")  # refused: the Origin is not the tablet's
+            # the same request from the tablet's own page is accepted
+            page.goto(f"http://127.0.0.1:{server.port}/")
+            status = page.evaluate("url => fetch(url, {method: 'POST'}).then(r => r.status)", target)
+            assert status == 200 and server.state.wants_takeover("salt")
+    finally:
+        evil.shutdown()
