@@ -48,6 +48,15 @@ def context_json(outcome: Outcome) -> str:
 def outcome_from_row(row: tuple[Any, ...]) -> Outcome:
     """An Outcome from a row in COLUMNS order (context as JSON text or an already decoded dict)."""
     oid, t, a, o, e, s, f, c, r, arm, p = row
+    if isinstance(c, str):
+        try:
+            c = json.loads(c)
+        except (ValueError, RecursionError):
+            c = None
+        if not isinstance(c, dict):
+            raise ExperienceStoreError(
+                f"stored outcome {oid}: its context is not a JSON object; the store is damaged (it was left as it is)"
+            )
     return Outcome(
         time=float(t),
         action=a,
@@ -55,7 +64,7 @@ def outcome_from_row(row: tuple[Any, ...]) -> Outcome:
         embedder=e,
         success=bool(s),
         failure_stage=f,
-        context=json.loads(c) if isinstance(c, str) else dict(c),
+        context=dict(c),
         robot_id=r,
         arm=arm,
         profile=p,

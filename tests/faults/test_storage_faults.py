@@ -173,3 +173,21 @@ print("done", k)
     with StudyLog(study, readonly=True) as log:
         events = sorted((e.data["writer"], e.data["i"]) for e in log.events(sid))
     assert events == pairs
+
+
+def test_a_row_whose_context_is_not_json_is_a_one_line_error(tmp_path):
+    import sqlite3
+
+    from scone_bt.errors import ExperienceStoreError
+
+    db = tmp_path / "exp.db"
+    with ExperienceStore(db) as store:
+        store.append(_outcome(0))
+        store.append(_outcome(1))
+    with sqlite3.connect(db) as conn:  # damage made outside the program, e.g. by hand-editing
+        conn.execute("UPDATE outcomes SET context = 'not json' WHERE time = 1001.0")
+    before = hashlib.sha256(db.read_bytes()).hexdigest()
+    with ExperienceStore(db) as store, pytest.raises(ExperienceStoreError, match="not a JSON object") as err:
+        store.outcomes()
+    assert "\n" not in str(err.value)
+    assert hashlib.sha256(db.read_bytes()).hexdigest() == before
