@@ -11,8 +11,10 @@ Two parts:
    - ``clarify_rate``: ASK-CLARIFY decisions / decisions.
 2. **Gate metrics per estimator** (the ask-for-help literature's, KnowNo / IntroPlan): the online robot replayed over
    the self-confidence datasets (`tools/data/sc`, real physical executions with their outcomes, one per profile):
-   for each execution in order κ̂ predicts, the gate acts (the outcome is observed and learnt) or asks (nothing is
-   learnt; the recorded outcome says whether the robot would have succeeded). Rates are per decision:
+   the first ``--warmup`` executions of each stream are a calibration period (the robot attempts them all and
+   learns; they are not scored), then for each execution in order κ̂ predicts, the gate acts (the outcome is
+   observed and learnt) or asks (nothing is learnt; the recorded outcome says whether the robot would have
+   succeeded). Rates are per decision:
    ``success_rate`` (acted, succeeded), ``help_rate`` (asked), ``over_ask_rate`` (asked, would have succeeded),
    ``over_step_rate`` (acted, failed), and ``attempted_failure_rate`` = P(act | would fail), the quantity a
    conformal gate with a target error rate bounds.
@@ -69,8 +71,12 @@ def replay_gate(
     seed: int,
     confidence_threshold: float = 0.5,
     target_error_rate: float | None = None,
+    warmup: int = 0,
 ) -> GateCounts:
-    """The online robot over one stream of physical executions; see the module docstring."""
+    """The online robot over one stream of physical executions; see the module docstring.
+
+    The first ``warmup`` executions are attempted whatever κ̂ says (calibration) and are not counted.
+    """
     from scone_bt.confidence import make_estimator
     from scone_bt.gate import GateOptions, decide
     from scone_bt.gate.types import DecisionKind
@@ -78,7 +84,10 @@ def replay_gate(
 
     est = make_estimator(estimator, seed=seed)
     options = GateOptions(confidence_threshold=confidence_threshold, target_error_rate=target_error_rate)
-    counts = Counter()
+    counts: Counter[str] = Counter()
+    for action, ok in zip(actions[:warmup], success[:warmup], strict=True):
+        est.update(vectors[action], bool(ok))
+    actions, success = actions[warmup:], success[warmup:]
     for action, ok in zip(actions, success, strict=True):
         x = vectors[action]
         conf = float(est.predict(x[None, :])[0])
@@ -218,7 +227,15 @@ def _gate_metrics(args: argparse.Namespace) -> dict[str, Any]:
     for name, target in variants:
         label = name if target is None else f"conformal@{target:g}"
         per = [
-            replay_gate(d.actions, d.success, vectors, name, args.seed + j, target_error_rate=target)
+            replay_gate(
+                d.actions,
+                d.success,
+                vectors,
+                name,
+                args.seed + j,
+                target_error_rate=target,
+                warmup=args.warmup,
+            )
             for j, d in enumerate(datasets)
         ]
         total = GateCounts(*(sum(getattr(c, f) for c in per) for f in GateCounts.__dataclass_fields__))
@@ -226,7 +243,12 @@ def _gate_metrics(args: argparse.Namespace) -> dict[str, Any]:
         if target is not None:
             out[label]["target_error_rate"] = target
             out[label]["meets_target"] = total.rates()["attempted_failure_rate"] <= target
-    return {"embedder": args.embedder, "datasets": [d.name for d in datasets], "estimators": out}
+    return {
+        "embedder": args.embedder,
+        "warmup": args.warmup,
+        "datasets": [d.name for d in datasets],
+        "estimators": out,
+    }
 
 
 def _run(args: argparse.Namespace) -> int:
@@ -276,6 +298,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="conformal gate targets to check",
     )
     p.add_argument("--datasets", help="self-confidence datasets folder (default tools/data/sc)")
+    p.add_argument("--warmup", type=int, default=20, help="calibration executions per stream, not scored")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--json", type=Path, help="also write the JSON report to this file")
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")

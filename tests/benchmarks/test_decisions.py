@@ -43,3 +43,10 @@ def test_gate_replay_acts_learns_and_asks_without_learning() -> None:
 def test_rates_of_an_all_success_stream() -> None:
     c = GateCounts(decisions=4, acted_success=3, acted_failure=0, asked_would_succeed=1, asked_would_fail=0)
     assert c.rates()["over_ask_rate"] == 0.25 and c.rates()["attempted_failure_rate"] == 0.0
+
+
+def test_warmup_is_learnt_but_not_scored() -> None:
+    vectors = {"Put a on table": np.array([1.0, 0.0], dtype=np.float32)}
+    counts = replay_gate(["Put a on table"] * 6, [False] * 6, vectors, "knn", seed=0, warmup=4)
+    assert counts.decisions == 2
+    assert counts.asked_would_fail == 2  # four failures seen: it asks
