@@ -1,0 +1,21 @@
+"""scone-bench scale on a real local Ray runtime: the same physical executions on 1 and 2 workers."""
+
+from __future__ import annotations
+
+import pytest
+
+from scone_bt.benchmarks.scale import run_scale
+
+
+@pytest.mark.slow
+def test_scale_runs_the_same_executions_on_one_and_two_workers():
+    report = run_scale(executions=1, workers=(1, 2), overhead_tasks=10)  # tiny: Ray start-up dominates
+    assert report["identical_results"] == 1
+    assert set(report["executions_per_s"]) == {"1", "2"} and all(
+        v > 0 for v in report["executions_per_s"].values()
+    )
+    assert report["speedup"] == pytest.approx(
+        report["executions_per_s"]["2"] / report["executions_per_s"]["1"], rel=0.01
+    )
+    assert report["overhead"]["noop_task_roundtrip_ms"] > 0
+    assert 0 < report["projection_100_workers"]["speedup"] <= 100
