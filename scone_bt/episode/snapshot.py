@@ -94,6 +94,7 @@ class SnapshotBuilder:
             "successes": st.successes,
             "failures": st.failures,
             "help_requests": st.help_requests,
+            "clarifications": st.clarifications,
             "interventions": human.interventions,
             "steps_done": human.steps_completed(),
         }

@@ -157,10 +157,13 @@ def affordances_markdown(rows: Sequence[AffordanceRow], decision: Decision | Non
     if decision is not None and decision.kind is DecisionKind.ACT:
         verdict = "**ACT**"
     elif decision is not None and decision.kind is DecisionKind.ASK:
-        verdict = "**ASK for help**"
+        verdict = "**ASK-HELP**"
+    elif decision is not None and decision.kind is DecisionKind.CLARIFY:
+        verdict = "**ASK-CLARIFY: which?**"
+    candidates = set(decision.candidates) if decision is not None else set()
     lines = ["| # | action | relevance | confidence | gate |", "|---|---|---:|---:|---|"]
     for i, (text, relevance, confidence) in enumerate(rank_affordances(rows), start=1):
-        mark = text == chosen
+        mark = text == chosen or text in candidates
         name = f"**▶ {_cell(text)}**" if mark else _cell(text)
         lines.append(
             f"| {i} | {name} | {_num(relevance, 3)} | {_num(confidence, 2)} | {verdict if mark else ''} |"
@@ -170,9 +173,10 @@ def affordances_markdown(rows: Sequence[AffordanceRow], decision: Decision | Non
 
 def decision_markdown(decision: Decision) -> str:
     """The gate's decision as a short card."""
-    action = decision.action or "—"
+    action = decision.action or (" or ".join(decision.candidates) if decision.candidates else "—")
+    later = " (needed later)" if decision.need == "later" else ""
     return (
-        f"### {decision.kind.value.upper()}: {_cell(action)}\n\n"
+        f"### {decision.kind.label}: {_cell(action)}{later}\n\n"
         f"relevance {_num(decision.relevance, 3)} · confidence {_num(decision.confidence, 2)}\n\n{decision.reason}"
     )
 

@@ -90,7 +90,7 @@ def test_affordances_are_ranked_and_the_choice_marked():
     act = Decision(DecisionKind.ACT, "Put salt on table", 0.2, 0.9, "confident")
     assert "ACT" in affordances_markdown(rows, act).splitlines()[3]
     assert "no affordances" in affordances_markdown([], None)
-    assert decision_markdown(ask).startswith("### ASK: Put flour on table")
+    assert decision_markdown(ask).startswith("### ASK-HELP: Put flour on table")
 
 
 def test_recipe_markdown_marks_done_and_current_steps():
@@ -107,3 +107,23 @@ def test_recipe_markdown_marks_done_and_current_steps():
 def test_recipe_view_rejects_mismatched_flags():
     with pytest.raises(ValueError, match="2 steps but 1 done flags"):
         RecipeView("x", ("a", "b"), 0, (False,))
+
+
+def test_clarify_marks_every_candidate_and_names_them() -> None:
+    rows = [
+        ("Put canola oil on table", 0.5, 0.9),
+        ("Put sesame oil on table", 0.5, 0.9),
+        ("Put honey on table", 0.2, 0.9),
+    ]
+    which = Decision(
+        DecisionKind.CLARIFY,
+        None,
+        float("nan"),
+        float("nan"),
+        "which one",
+        candidates=("Put canola oil on table", "Put sesame oil on table"),
+    )
+    body = affordances_markdown(rows, which).splitlines()[2:]
+    assert sum("ASK-CLARIFY" in line for line in body) == 2 and "ASK-CLARIFY" not in body[2]
+    card = decision_markdown(which)
+    assert card.startswith("### ASK-CLARIFY: Put canola oil on table or Put sesame oil on table")
