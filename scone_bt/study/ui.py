@@ -307,7 +307,7 @@ class TabletServer:
         }  # JSON has no NaN
         obj = data.get("object")
         if kind == "decision":
-            status = {"act": "deciding", "ask": "asking", "idle": "waiting"}.get(
+            status = {"act": "deciding", "ask": "asking", "clarify": "asking which", "idle": "waiting"}.get(
                 str(data.get("kind")), "idle"
             )
             s.set_robot(
@@ -328,6 +328,9 @@ class TabletServer:
             )
         elif kind == "help_request":
             s.note(f"The robot asks for help with the {obj}.")
+        elif kind == "clarification":
+            said = ", ".join(data.get("answer") or []) or "none of those"
+            s.note(f"The robot asked which of {', '.join(data.get('candidates') or [])} the step means: {said}.")
         elif kind == "intervention" and "action" in data:
             s.note(f"You took over: {data.get('action')}.")
         elif kind == "step_done":
