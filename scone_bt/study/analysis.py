@@ -1,29 +1,26 @@
 """The paper's Bayesian analysis, with PyMC + ArviZ in place of R's rethinking/ulam.
 
-Eq. (3), one ordered-logit model per questionnaire (or pooled over both with ``pooled=True``)::
+The models are in models.py: ``paper`` (default) is Eq. (3), an index-coded ordered logit of every answer with
+condition, session order (G), question and participant terms, and Eq. (4), a Poisson model of the interventions
+per session; ``extended`` adds the counterbalancing group (A/B) and codes effects as single differences.
 
-    R_i ~ OrderedLogit(phi_i, c[questionnaire_i])
-    phi_i = a_P[participant_i] + g_Q[question_i] + b_C * on_i + b_G * groupB_i + b_S * second_i
-    a_P = sigma_P * z_P,  g_Q = sigma_Q * z_Q,  z ~ ZeroSumNormal(1),  sigma ~ Exponential(1)
-    b_C, b_G, b_S ~ Normal(0, 1),   c ~ ordered, Normal(evenly spaced, 1.5)
-
-Eq. (4), a Poisson model of the interventions per session::
-
-    I_s ~ Poisson(lambda_s),  log lambda_s = a + a_P[participant_s] + b_C * on_s + b_G * groupB_s + b_S * second_s
-
-Contrasts (condition on - off, group B - A, session 2 - 1) are the b coefficients, on the logit (Eq. 3) or log-rate
-(Eq. 4) scale. Each gets a 95 % HDI and a decision about the null hypothesis "no difference" with a region of
-practical equivalence (ROPE, default [-0.18, 0.18] as published: 0.1 sd of the logistic): HDI inside the ROPE =
+Contrasts (condition on - off, session 2 - 1, and group B - A in ``extended``) are on the logit (Eq. 3) or
+log-rate (Eq. 4) scale. Each gets a 95 % HDI and a decision about the null hypothesis "no difference" with a region
+of practical equivalence (ROPE, default [-0.18, 0.18] as published: 0.1 sd of the logistic): HDI inside the ROPE =
 accept, HDI outside the ROPE = reject, otherwise undecided.
+
+Data come from a StudyLog (``load_study``) or from anyone's CSV files (ratings_csv.py); both give a StudyData.
 """
 
 from __future__ import annotations
 
 import json
 import logging
+import os
+import time
 import warnings
 from collections.abc import Callable, Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -31,6 +28,17 @@ import numpy as np
 
 from scone_bt.errors import SconeError, UnknownNameError
 from scone_bt.study.log import StudyLog
+from scone_bt.study.models import (
+    QUESTION_MEAN_SD,
+    SPECIFICATIONS,
+    CountDesign,
+    Factor,
+    OrdinalDesign,
+    Priors,
+    contrast_variable,
+    count_model,
+    ordinal_model,
+)
 from scone_bt.study.questionnaires import QUESTIONNAIRES, get_questionnaire
 
 __all__ = [
@@ -41,24 +49,54 @@ __all__ = [
     "StudyData",
     "load_study",
     "decide",
+    "check_models",
+    "ordinal_design",
+    "count_design",
+    "sample_model",
     "fit_ordinal",
     "fit_poisson",
+    "contrasts_of",
+    "summarize_fit",
     "analyze",
     "MODELS",
     "CONTRASTS",
+    "FACTORS",
+    "output_paths",
+    "check_outputs",
     "write_outputs",
 ]
 
-MODELS = ("mdmt", "tps_hri", "trust", "interventions")
-CUTPOINT_PRIOR_SD = 1.5  # around evenly spaced means; wide enough for any Likert use of the scale
-CONTRASTS = {"b_C": "condition (on - off)", "b_G": "group (B - A)", "b_S": "session (2 - 1)"}
+MODELS = ("mdmt", "tps_hri", "trust", "interventions")  # what a StudyLog holds; CSV data name their own
+POOLED = "trust"  # all questionnaires in one model, each with its own cut-points
+COUNTS = "interventions"
+CONTRASTS = {"condition": "condition (on - off)", "session": "session (2 - 1)", "group": "group (B - A)"}
+FACTORS = {"paper": ("condition", "session"), "extended": ("condition", "group", "session")}
+_PARAMETERS = {
+    ("paper", "condition"): "alpha_C[on] - alpha_C[off]",
+    ("paper", "session"): "alpha_G[2] - alpha_G[1]",
+    ("extended", "condition"): "b_C",
+    ("extended", "group"): "b_G",
+    ("extended", "session"): "b_S",
+}
+_LEVELS = {"condition": ("off", "on"), "session": ("1", "2"), "group": ("A", "B")}
+# A dense mass matrix: the index-coded levels, the question mean and the cut-points share one location the data do
+# not fix, a ridge a diagonal mass matrix cannot follow (4x fewer leapfrog steps per draw on the study's models).
+NUTS_INIT = "jitter+adapt_full"
+OUTPUT_FILES = {
+    "json": "results.json",
+    "scores": "scores.csv",
+    "figure": "fig3.png",
+    "figure_pdf": "fig3.pdf",
+}
 
 
 @dataclass(frozen=True)
 class AnalysisOptions:
-    """Sampler and decision settings; the defaults are the paper's.
+    """Model, priors, sampler and decision settings; the defaults are the paper's.
 
     Attributes:
+        specification: "paper" (Eq. 3/4 as published) or "extended".
+        priors: Prior scales (None: the specification's defaults, filled in on construction).
         chains: MCMC chains.
         tune: Warm-up draws per chain.
         draws: Kept draws per chain.
@@ -66,9 +104,12 @@ class AnalysisOptions:
         rope: Region of practical equivalence around 0, on the model's scale.
         hdi_prob: Mass of the highest density interval.
         seed: Sampler seed.
-        models: Which of mdmt, tps_hri, trust (both questionnaires pooled), interventions to fit.
+        models: Questionnaires to fit, "trust" (all pooled) and/or "interventions" (None: every questionnaire in
+            the data, plus interventions where the data have them).
     """
 
+    specification: str = "paper"
+    priors: Priors | None = None
     chains: int = 6
     tune: int = 500
     draws: int = 500
@@ -76,19 +117,52 @@ class AnalysisOptions:
     rope: tuple[float, float] = (-0.18, 0.18)
     hdi_prob: float = 0.95
     seed: int = 0
-    models: tuple[str, ...] = ("mdmt", "tps_hri", "interventions")
+    models: tuple[str, ...] | None = None
 
     def __post_init__(self) -> None:
+        if self.specification not in SPECIFICATIONS:
+            raise UnknownNameError("model", self.specification, SPECIFICATIONS)
+        if self.priors is None:
+            object.__setattr__(self, "priors", Priors.defaults(self.specification))
         if self.chains < 1 or self.tune < 0 or self.draws < 10:
             raise SconeError("sampler settings: chains >= 1, tune >= 0, draws >= 10")
+        if self.cores is not None and self.cores < 1:
+            raise SconeError(f"--cores must be at least 1, got {self.cores}")
         lo, hi = self.rope
         if not lo < hi:
             raise SconeError(f"ROPE must be an interval low < high, got [{lo}, {hi}]")
         if not 0.5 <= self.hdi_prob < 1:
             raise SconeError(f"hdi_prob must be in [0.5, 1), got {self.hdi_prob}")
-        for m in self.models:
-            if m not in MODELS:
-                raise UnknownNameError("model", m, MODELS)
+        if self.models is not None:
+            object.__setattr__(self, "models", tuple(self.models))
+            if not self.models:
+                raise SconeError("no model to fit; name at least one questionnaire, trust or interventions")
+
+    @property
+    def factors(self) -> tuple[str, ...]:
+        return FACTORS[self.specification]
+
+    def priors_json(self) -> dict[str, Any]:
+        out: dict[str, Any] = asdict(self.priors)
+        if self.specification == "paper":
+            out["question_mean_sd"] = QUESTION_MEAN_SD
+            out["scale_family"] = "HalfNormal"
+        else:
+            out["scale_family"] = "Exponential (mean scale_sd)"
+        return out
+
+    def sampler_json(self) -> dict[str, Any]:
+        import pymc as pm
+
+        return {
+            "sampler": f"NUTS (PyMC {pm.__version__})",
+            "init": NUTS_INIT,
+            "chains": self.chains,
+            "tune": self.tune,
+            "draws": self.draws,
+            "cores": self.cores,
+            "seed": self.seed,
+        }
 
 
 @dataclass(frozen=True)
@@ -96,9 +170,11 @@ class Contrast:
     """A posterior contrast with its decision about "no difference".
 
     Attributes:
-        model: Which model ("mdmt", "tps_hri", "trust", "interventions").
-        name: What is compared ("condition (on - off)", ...).
-        parameter: The coefficient ("b_C", "b_G", "b_S").
+        model: What was fitted ("mdmt", "tps_hri", "trust", "interventions", or a CSV questionnaire).
+        contrast: condition, session or group.
+        label: What is compared ("condition (on - off)", ...).
+        parameter: The model's expression for it ("alpha_C[on] - alpha_C[off]", "b_C", ...).
+        specification: paper or extended.
         mean: Posterior mean (logit or log-rate units).
         sd: Posterior sd.
         hdi: (low, high) of the HDI.
@@ -108,8 +184,10 @@ class Contrast:
     """
 
     model: str
-    name: str
+    contrast: str
+    label: str
     parameter: str
+    specification: str
     mean: float
     sd: float
     hdi: tuple[float, float]
@@ -120,15 +198,16 @@ class Contrast:
 
 @dataclass(frozen=True)
 class ModelFit:
-    """One fitted model: samples of its contrasts and convergence diagnostics.
+    """One fitted model: samples of its contrasts and group-level sds, and convergence diagnostics.
 
     Attributes:
         model: Model name.
         n_observations: Ratings (Eq. 3) or sessions (Eq. 4).
-        samples: Coefficient name → flattened posterior draws.
+        samples: Contrast name ("condition", ...) or sd name ("sigma_P", "sigma_Q") → flattened posterior draws.
         r_hat_max: Largest split R-hat over all parameters.
         ess_bulk_min: Smallest bulk effective sample size.
         divergences: Divergent transitions.
+        seconds: Wall time of building, compiling and sampling the model.
     """
 
     model: str
@@ -137,6 +216,7 @@ class ModelFit:
     r_hat_max: float
     ess_bulk_min: float
     divergences: int
+    seconds: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -147,13 +227,27 @@ class StudyData:
         ratings: One row per answered item: session_id, participant, group, condition, session_index,
             questionnaire, item, category (0..K-1, higher = more trust), n_categories.
         sessions: One row per finished session: session_id, participant, group, condition, session_index,
-            interventions, and one score column per questionnaire (published scoring).
-        simulated: Whether the log is labelled SIMULATED.
+            interventions (NaN where unknown), and one score column per questionnaire.
+        simulated: Whether the data are labelled SIMULATED.
+        source: Where the data came from (for messages and results.json).
+        questionnaires: The questionnaires in the ratings, in order.
+        score_units: Questionnaire → how its score column is scaled (for the figure's axis labels).
     """
 
     ratings: Any  # pandas.DataFrame
     sessions: Any  # pandas.DataFrame
     simulated: bool
+    source: str = ""
+    questionnaires: tuple[str, ...] = tuple(QUESTIONNAIRES)
+    score_units: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def has_interventions(self) -> bool:
+        return "interventions" in self.sessions and bool(self.sessions["interventions"].notna().all())
+
+    def available_models(self) -> tuple[str, ...]:
+        pooled = (POOLED,) if len(self.questionnaires) > 1 else ()
+        return (*self.questionnaires, *pooled, *((COUNTS,) if self.has_interventions else ()))
 
 
 @dataclass(frozen=True)
@@ -165,18 +259,26 @@ class AnalysisResult:
     contrasts: tuple[Contrast, ...]
     fits: dict[str, ModelFit]
     scores: list[dict[str, Any]]
+    source: str = ""
+    seconds: float = 0.0
 
-    def contrast(self, model: str, parameter: str = "b_C") -> Contrast:
+    def contrast(self, model: str, contrast: str = "condition") -> Contrast:
         for c in self.contrasts:
-            if c.model == model and c.parameter == parameter:
+            if c.model == model and c.contrast == contrast:
                 return c
         raise UnknownNameError(
-            "contrast", f"{model}/{parameter}", [f"{c.model}/{c.parameter}" for c in self.contrasts]
+            "contrast", f"{model}/{contrast}", [f"{c.model}/{c.contrast}" for c in self.contrasts]
         )
 
     def to_json(self) -> dict[str, Any]:
         return {
             "data": "SIMULATED" if self.simulated else "real",
+            "source": self.source,
+            "model": self.options.specification,
+            "priors": self.options.priors_json(),
+            "sampler": self.options.sampler_json(),
+            "rope": list(self.options.rope),
+            "hdi_prob": self.options.hdi_prob,
             "options": asdict(self.options),
             "contrasts": [asdict(c) for c in self.contrasts],
             "diagnostics": {
@@ -185,27 +287,30 @@ class AnalysisResult:
                     "r_hat_max": f.r_hat_max,
                     "ess_bulk_min": f.ess_bulk_min,
                     "divergences": f.divergences,
+                    "seconds": round(f.seconds, 2),
                 }
                 for m, f in self.fits.items()
             },
+            "seconds": round(self.seconds, 2),
             "scores": self.scores,
         }
 
     def format(self) -> str:
         label = "SIMULATED DATA" if self.simulated else "study data"
-        lines = [f"── analysis of {label}: {len({s['participant'] for s in self.scores})} participants ──"]
+        n = len({s["participant"] for s in self.scores})
+        lines = [f"── analysis of {label}: {n} participants, model {self.options.specification} ──"]
         lo, hi = self.options.rope
         lines.append(
             f"{'model':14} {'contrast':22} {'mean':>7} {'sd':>6} {'95% HDI':>17}  {'P(>0)':>6}  decision (ROPE [{lo:g}, {hi:g}])"
         )
         for c in self.contrasts:
             lines.append(
-                f"{c.model:14} {c.name:22} {c.mean:7.3f} {c.sd:6.3f} [{c.hdi[0]:7.3f}, {c.hdi[1]:7.3f}]  {c.p_positive:6.3f}  {c.decision}"
+                f"{c.model:14} {c.label:22} {c.mean:7.3f} {c.sd:6.3f} [{c.hdi[0]:7.3f}, {c.hdi[1]:7.3f}]  {c.p_positive:6.3f}  {c.decision}"
             )
         for m, f in self.fits.items():
             flag = "" if f.r_hat_max < 1.05 and f.divergences == 0 else "  <- check convergence"
             lines.append(
-                f"{m:14} n={f.n_observations:<6} R-hat max {f.r_hat_max:.3f}  ESS min {f.ess_bulk_min:.0f}  divergences {f.divergences}{flag}"
+                f"{m:14} n={f.n_observations:<6} R-hat max {f.r_hat_max:.3f}  ESS min {f.ess_bulk_min:.0f}  divergences {f.divergences}  {f.seconds:.0f} s{flag}"
             )
         return "\n".join(lines)
 
@@ -255,7 +360,8 @@ def load_study(log: StudyLog) -> StudyData:
         for name, q in QUESTIONNAIRES.items():
             row[name] = q.score(answers.get((s.id, name), {}))
         table.append(row)
-    return StudyData(pd.DataFrame(rows), pd.DataFrame(table), log.simulated)
+    units = {"mdmt": "score (0-7)", "tps_hri": "score (%)"}
+    return StudyData(pd.DataFrame(rows), pd.DataFrame(table), log.simulated, str(log.path), score_units=units)
 
 
 def decide(hdi: tuple[float, float], rope: tuple[float, float]) -> str:
@@ -268,17 +374,60 @@ def decide(hdi: tuple[float, float], rope: tuple[float, float]) -> str:
     return "undecided"
 
 
-# --------------------------------------------------------------------------------------------- models
-def _indicators(df: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:
-    participants = sorted(df["participant"].unique())
-    pidx = df["participant"].map({p: i for i, p in enumerate(participants)}).to_numpy()
-    on = (df["condition"] == "on").to_numpy(dtype=float)
-    grp_b = (df["group"] == "B").to_numpy(dtype=float)
-    second = (df["session_index"] == 2).to_numpy(dtype=float)
-    return pidx, on, grp_b, second, len(participants)
+def check_models(models: Sequence[str], available: Sequence[str], source: str = "the data") -> None:
+    """Every requested model must be one the data can support."""
+    for m in models:
+        if m not in available:
+            raise UnknownNameError(f"model for {source}", m, available)
 
 
-def _sample(model: Any, options: AnalysisOptions) -> Any:
+# --------------------------------------------------------------------------------------------- designs
+def _factors(df: Any, names: Sequence[str]) -> tuple[Factor, ...]:
+    columns = {"condition": "condition", "session": "session_index", "group": "group"}
+    out = []
+    for name in names:
+        values = df[columns[name]].astype(str).to_numpy()
+        out.append(Factor(name, _LEVELS[name], (values == _LEVELS[name][1]).astype(np.int64)))
+    return tuple(out)
+
+
+def _index(values: Any) -> np.ndarray:
+    levels = sorted(set(values))
+    lookup = {v: i for i, v in enumerate(levels)}
+    return np.array([lookup[v] for v in values], dtype=np.int64)
+
+
+def ordinal_design(ratings: Any, specification: str = "paper") -> OrdinalDesign:
+    """Eq. (3)'s design from long-form ratings; each questionnaire keeps its own cut-points."""
+    df = ratings.reset_index(drop=True)
+    questionnaire = df["questionnaire"].astype(str).to_numpy()
+    blocks = []
+    for name in sorted(set(questionnaire)):
+        rows = np.flatnonzero(questionnaire == name)
+        blocks.append((name, rows, int(df["n_categories"].iloc[rows[0]])))
+    questions = list(zip(questionnaire, df["item"].astype(str), strict=True))
+    return OrdinalDesign(
+        y=df["category"].to_numpy(dtype=np.int64),
+        blocks=tuple(blocks),
+        factors=_factors(df, FACTORS[specification]),
+        participant=_index(df["participant"].astype(str)),
+        question=_index(questions),
+    )
+
+
+def count_design(sessions: Any, specification: str = "paper") -> CountDesign:
+    """Eq. (4)'s design from the per-session table."""
+    df = sessions.reset_index(drop=True)
+    return CountDesign(
+        counts=df["interventions"].to_numpy(dtype=np.int64),
+        factors=_factors(df, FACTORS[specification]),
+        participant=_index(df["participant"].astype(str)),
+    )
+
+
+# --------------------------------------------------------------------------------------------- fitting
+def sample_model(model: Any, options: AnalysisOptions) -> Any:
+    """NUTS with the options' sampler settings; returns ArviZ InferenceData."""
     import pymc as pm
 
     logging.getLogger("pymc").setLevel(logging.ERROR)
@@ -290,116 +439,66 @@ def _sample(model: Any, options: AnalysisOptions) -> Any:
             chains=options.chains,
             cores=options.cores,
             random_seed=options.seed,
+            init=NUTS_INIT,
             progressbar=False,
             compute_convergence_checks=False,
         )
 
 
-def _fit(name: str, idata: Any, n_obs: int) -> ModelFit:
+def summarize_fit(name: str, idata: Any, n_obs: int, factors: Sequence[str], seconds: float) -> ModelFit:
+    """Contrast and group-sd draws plus R-hat, ESS and divergences of one sampled model."""
     import arviz as az
 
     post = idata.posterior
-    samples = {k: post[k].values.reshape(-1) for k in CONTRASTS if k in post}
+    samples = {f: post[contrast_variable(f)].values.reshape(-1) for f in factors}
+    samples.update({k: post[k].values.reshape(-1) for k in ("sigma_P", "sigma_Q") if k in post})
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         rhat = az.rhat(idata)
         ess = az.ess(idata, method="bulk")
     r_hat_max = float(max(np.nanmax(rhat[v].values) for v in rhat.data_vars))
     ess_min = float(min(np.nanmin(ess[v].values) for v in ess.data_vars))
-    divergences = (
-        int(idata.sample_stats["diverging"].values.sum()) if "diverging" in idata.sample_stats else 0
-    )
-    return ModelFit(name, n_obs, samples, round(r_hat_max, 4), round(ess_min, 1), divergences)
+    stats = idata.sample_stats
+    divergences = int(stats["diverging"].values.sum()) if "diverging" in stats else 0
+    return ModelFit(name, n_obs, samples, round(r_hat_max, 4), round(ess_min, 1), divergences, seconds)
 
 
-def _ordered_logit_logp(eta: Any, cuts: Any, y: np.ndarray) -> Any:
-    """Sum of log P(y | eta, cuts) of the ordered logit, O(n) rather than pm.OrderedLogistic's O(n K).
-
-    P(y = k) = sigmoid(c_k - eta) - sigmoid(c_{k-1} - eta) with c_{-1} = -inf and c_{K-1} = +inf, computed as
-    log sigmoid(a) + log sigmoid(-b) + log(1 - exp(b - a)) for a = c_k - eta > b = c_{k-1} - eta.
-    """
-    import pytensor.tensor as pt
-
-    big = np.array([1e6])
-    ext = pt.concatenate([-big, cuts, big])
-    a = ext[y + 1] - eta
-    b = ext[y] - eta
-    log_sigmoid = lambda x: -pt.softplus(-x)  # noqa: E731
-    return pt.sum(log_sigmoid(a) + log_sigmoid(-b) + pt.log1mexp(b - a))
-
-
-def fit_ordinal(ratings: Any, options: AnalysisOptions, name: str = "trust") -> ModelFit:
+def fit_ordinal(ratings: Any, options: AnalysisOptions, name: str = POOLED) -> ModelFit:
     """Eq. (3) on the given ratings (one or more questionnaires; each has its own cut-points)."""
-    import pymc as pm
-
     if len(ratings) == 0:
         raise SconeError(f"model {name}: no questionnaire answers to analyse")
-    df = ratings.reset_index(drop=True)
-    pidx, on, grp_b, second, n_p = _indicators(df)
-    items = sorted(df["item"].unique())
-    qidx = df["item"].map({q: i for i, q in enumerate(items)}).to_numpy()
-    with pm.Model() as model:
-        # Zero-sum participant and question effects: the cut-points carry the location, which removes the ridge
-        # between them and the effects' means (faster mixing; the contrasts are unchanged).
-        # Non-centred (sigma * z) against the funnel of small studies.
-        sigma_p = pm.Exponential("sigma_P", 1.0)
-        a_p = pm.Deterministic("a_P", sigma_p * pm.ZeroSumNormal("z_P", sigma=1.0, shape=n_p))
-        sigma_q = pm.Exponential("sigma_Q", 1.0)
-        g_q = pm.Deterministic("g_Q", sigma_q * pm.ZeroSumNormal("z_Q", sigma=1.0, shape=len(items)))
-        b_c = pm.Normal("b_C", 0.0, 1.0)
-        b_g = pm.Normal("b_G", 0.0, 1.0)
-        b_s = pm.Normal("b_S", 0.0, 1.0)
-        phi = a_p[pidx] + g_q[qidx] + b_c * on + b_g * grp_b + b_s * second
-        for qname in sorted(df["questionnaire"].unique()):
-            rows = np.flatnonzero((df["questionnaire"] == qname).to_numpy())
-            k = int(df["n_categories"].iloc[rows[0]])
-            mu = np.linspace(-2.5, 2.5, k - 1)
-            cuts = pm.Normal(
-                f"c_{qname}",
-                mu=mu,
-                sigma=CUTPOINT_PRIOR_SD,
-                shape=k - 1,
-                transform=pm.distributions.transforms.ordered,
-                initval=mu,
-            )
-            pm.Potential(f"R_{qname}", _ordered_logit_logp(phi[rows], cuts, df["category"].to_numpy()[rows]))
-    return _fit(name, _sample(model, options), len(df))
+    start = time.perf_counter()
+    design = ordinal_design(ratings, options.specification)
+    model = ordinal_model(design, options.specification, options.priors)
+    idata = sample_model(model, options)
+    return summarize_fit(name, idata, len(design.y), options.factors, time.perf_counter() - start)
 
 
-def fit_poisson(sessions: Any, options: AnalysisOptions, name: str = "interventions") -> ModelFit:
+def fit_poisson(sessions: Any, options: AnalysisOptions, name: str = COUNTS) -> ModelFit:
     """Eq. (4): intervention counts per session."""
-    import pymc as pm
-
-    df = sessions.reset_index(drop=True)
-    pidx, on, grp_b, second, n_p = _indicators(df)
-    with pm.Model() as model:
-        a = pm.Normal("a", 0.0, 1.5)
-        sigma_p = pm.Exponential("sigma_P", 1.0)
-        a_p = pm.Deterministic("a_P", sigma_p * pm.Normal("z_P", 0.0, 1.0, shape=n_p))
-        b_c = pm.Normal("b_C", 0.0, 1.0)
-        b_g = pm.Normal("b_G", 0.0, 1.0)
-        b_s = pm.Normal("b_S", 0.0, 1.0)
-        pm.Poisson(
-            "I",
-            mu=pm.math.exp(a + a_p[pidx] + b_c * on + b_g * grp_b + b_s * second),
-            observed=df["interventions"].to_numpy(),
-        )
-    return _fit(name, _sample(model, options), len(df))
+    start = time.perf_counter()
+    design = count_design(sessions, options.specification)
+    model = count_model(design, options.specification, options.priors)
+    idata = sample_model(model, options)
+    return summarize_fit(name, idata, len(design.counts), options.factors, time.perf_counter() - start)
 
 
-def _contrasts(fit: ModelFit, options: AnalysisOptions) -> list[Contrast]:
+def contrasts_of(fit: ModelFit, options: AnalysisOptions) -> list[Contrast]:
+    """The fit's contrasts with HDI, P(> 0) and the HDI+ROPE decision."""
     import arviz as az
 
     out = []
-    for param, label in CONTRASTS.items():
-        s = fit.samples[param]
+    for factor in options.factors:
+        s = fit.samples[factor]
         hdi = az.hdi(s, hdi_prob=options.hdi_prob)
         interval = (round(float(hdi[0]), 4), round(float(hdi[1]), 4))
         out.append(
             Contrast(
                 model=fit.model,
-                name=label,
-                parameter=param,
+                contrast=factor,
+                label=CONTRASTS[factor],
+                parameter=_PARAMETERS[(options.specification, factor)],
+                specification=options.specification,
                 mean=round(float(s.mean()), 4),
                 sd=round(float(s.std()), 4),
                 hdi=interval,
@@ -416,35 +515,72 @@ def analyze(
     options: AnalysisOptions = AnalysisOptions(),
     printer: Callable[[str], None] = lambda _l: None,
 ) -> AnalysisResult:
-    """Fit the requested models and compute contrasts, HDIs, decisions and the questionnaires' original scores."""
+    """Fit the requested models and compute contrasts, HDIs, decisions and the questionnaires' scores."""
+    start = time.perf_counter()
     data = load_study(source) if isinstance(source, StudyLog) else source
+    models = options.models if options.models is not None else data.available_models()
+    if options.models is None:
+        models = tuple(m for m in models if m != POOLED)
+    check_models(models, data.available_models(), data.source or "the data")
     fits: dict[str, ModelFit] = {}
-    for m in options.models:
-        printer(f"fitting {m} ({options.chains} chains, {options.tune} warm-up + {options.draws} draws)")
-        if m == "interventions":
+    for m in models:
+        printer(
+            f"fitting {m} ({options.specification} model; {options.chains} chains, "
+            f"{options.tune} warm-up + {options.draws} draws)"
+        )
+        if m == COUNTS:
             fits[m] = fit_poisson(data.sessions, options, m)
         else:
-            ratings = data.ratings if m == "trust" else data.ratings[data.ratings["questionnaire"] == m]
+            ratings = data.ratings if m == POOLED else data.ratings[data.ratings["questionnaire"] == m]
             fits[m] = fit_ordinal(ratings, options, m)
-    contrasts = tuple(c for f in fits.values() for c in _contrasts(f, options))
+    contrasts = tuple(c for f in fits.values() for c in contrasts_of(f, options))
     scores = [
         {k: (None if v != v else v) for k, v in row.items()} for row in data.sessions.to_dict("records")
     ]  # NaN → None
-    return AnalysisResult(data.simulated, options, contrasts, fits, scores)
+    return AnalysisResult(
+        data.simulated, options, contrasts, fits, scores, data.source, time.perf_counter() - start
+    )
 
 
-def write_outputs(result: AnalysisResult, data: StudyData, folder: str | Path) -> dict[str, Path]:
-    """results.json, scores.csv and the Fig. 3-style figure in `folder`."""
+# --------------------------------------------------------------------------------------------- outputs
+def output_paths(folder: str | Path) -> dict[str, Path]:
+    """Where write_outputs puts results.json, scores.csv and the figure (PNG and PDF)."""
+    out = Path(folder)
+    return {key: out / name for key, name in OUTPUT_FILES.items()}
+
+
+def check_outputs(folder: str | Path, force: bool = False) -> dict[str, Path]:
+    """Refuse, before any sampling, an output folder that cannot be written or would lose earlier results."""
+    out = Path(folder)
+    if out.exists() and not out.is_dir():
+        raise SconeError(f"--out {out} is a file; give a folder for results.json, scores.csv, fig3.png/pdf")
+    paths = output_paths(out)
+    existing = [p.name for p in paths.values() if p.exists()]
+    if existing and not force:
+        raise SconeError(
+            f"--out {out} already holds {', '.join(existing)}; choose another folder or pass --force to overwrite"
+        )
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise SconeError(f"--out {out}: cannot create the folder ({exc.strerror})") from None
+    if not os.access(out, os.W_OK):
+        raise SconeError(f"--out {out}: the folder is not writable")
+    return paths
+
+
+def write_outputs(
+    result: AnalysisResult, data: StudyData, folder: str | Path, force: bool = False
+) -> dict[str, Path]:
+    """results.json, scores.csv and the Fig. 3 figure (PNG and PDF) in `folder`."""
     from scone_bt.study.figure import plot_results
 
-    out = Path(folder)
-    out.mkdir(parents=True, exist_ok=True)
-    paths = {"json": out / "results.json", "scores": out / "scores.csv", "figure": out / "fig3.png"}
+    paths = check_outputs(folder, force)
     paths["json"].write_text(json.dumps(result.to_json(), indent=2, default=_json_default))
     frame = data.sessions.copy()
     frame.insert(0, "data", "SIMULATED" if data.simulated else "real")
     frame.to_csv(paths["scores"], index=False)
-    plot_results(result, data, paths["figure"])
+    plot_results(result, data, paths["figure"], pdf=paths["figure_pdf"])
     return paths
 
 

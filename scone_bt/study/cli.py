@@ -6,6 +6,8 @@ Examples:
     scone-study simulate --participants 31 --fast --db runs/sim.db --analyze runs/sim-analysis
     scone-study simulate --participants 4 --db runs/sim-physics.db            # real PyBullet episodes (slow)
     scone-study analyze --db runs/study.db --out runs/analysis
+    scone-study analyze --ratings ratings.csv --sessions sessions.csv --out runs/lab-analysis
+    scone-study power --n 10,20,31,50 --repetitions 20 --effect 1.0 --out runs/power
     scone-study export --db runs/study.db --out runs/csv
 """
 
@@ -27,7 +29,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="examples:" + __doc__.split("Examples:", 1)[1],
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    sub = p.add_subparsers(dest="command", required=True, metavar="{session,simulate,analyze,export}")
+    sub = p.add_subparsers(dest="command", required=True, metavar="{session,simulate,analyze,power,export}")
 
     s = sub.add_parser(
         "session",
@@ -82,7 +84,10 @@ def build_parser() -> argparse.ArgumentParser:
     )
     m.add_argument("--analyze", type=Path, metavar="DIR", help="analyse the result into DIR afterwards")
     m.add_argument(
-        "--jobs", type=int, default=1, help="participants simulated in parallel (processes, or Ray workers with --ray)"
+        "--jobs",
+        type=int,
+        default=1,
+        help="participants simulated in parallel (processes, or Ray workers with --ray)",
     )
     from scone_bt.distributed import add_engine_arguments
 
@@ -93,14 +98,50 @@ def build_parser() -> argparse.ArgumentParser:
         help="the paper's Bayesian analysis: Eq. (3) ordered logit, Eq. (4) Poisson",
         formatter_class=argparse.ArgumentDefaultsHelpFormatter,
     )
-    a.add_argument("--db", type=Path, required=True, help="study log")
+    source = a.add_mutually_exclusive_group(required=True)
+    source.add_argument("--db", type=Path, help="study log")
+    source.add_argument(
+        "--ratings",
+        type=Path,
+        help="ratings CSV: participant, condition (on/off), session (1/2), group (A/B), question, rating, "
+        "categories[, questionnaire]",
+    )
+    a.add_argument(
+        "--sessions",
+        type=Path,
+        help="with --ratings: sessions CSV (participant, condition, session, group, interventions)",
+    )
+    a.add_argument(
+        "--columns", help="with --ratings: the files' column names, e.g. participant=subject,rating=answer"
+    )
     a.add_argument(
         "--out",
         type=Path,
         default=Path("runs/analysis"),
-        help="folder for results.json, scores.csv, fig3.png",
+        help="folder for results.json, scores.csv, fig3.png, fig3.pdf",
     )
+    a.add_argument("--force", action="store_true", help="overwrite earlier results in --out")
+    _add_power_parser(sub)
     for parser in (a, m):
+        parser.add_argument(
+            "--model",
+            choices=("paper", "extended"),
+            default="paper",
+            help="paper: Eq. (3)/(4) as published; extended: adds group A/B, single-difference coding",
+        )
+        parser.add_argument(
+            "--effect-prior-sd", type=float, help="prior sd of the effects (default: the model's, 1)"
+        )
+        parser.add_argument(
+            "--cutpoint-prior-sd",
+            type=float,
+            help="prior sd of the cut-points (default: the model's; paper 1, extended 1.5)",
+        )
+        parser.add_argument(
+            "--scale-prior-sd",
+            type=float,
+            help="scale of the participant/question sd priors (default: the model's, 1)",
+        )
         parser.add_argument("--chains", type=int, default=6, help="MCMC chains")
         parser.add_argument("--tune", type=int, default=500, help="warm-up draws per chain")
         parser.add_argument("--draws", type=int, default=500, help="kept draws per chain")
@@ -115,8 +156,8 @@ def build_parser() -> argparse.ArgumentParser:
         )
         parser.add_argument(
             "--models",
-            default="mdmt,tps_hri,interventions",
-            help="comma list of mdmt, tps_hri, trust (pooled), interventions",
+            help="comma list of questionnaires (mdmt, tps_hri, ...), trust (pooled), interventions "
+            "(default: every questionnaire, and interventions where known)",
         )
 
     e = sub.add_parser("export", help="write sessions, events, responses and scores as CSV")
@@ -154,11 +195,25 @@ def _check_export_out(out: Path) -> None:
         )
 
 
-def _analysis_options(args: argparse.Namespace):  # -> AnalysisOptions
-    from scone_bt.study.analysis import AnalysisOptions
+def _analysis_options(
+    args: argparse.Namespace, available: tuple[str, ...] | None = None
+):  # -> AnalysisOptions
+    from scone_bt.study.analysis import MODELS, AnalysisOptions, check_models
+    from scone_bt.study.models import Priors
 
-    models = tuple(x.strip() for x in args.models.split(",") if x.strip())
+    models = None
+    if args.models:
+        models = tuple(x.strip() for x in args.models.split(",") if x.strip())
+        check_models(models, available if available is not None else MODELS, "--models")
+    defaults = Priors.defaults(args.model)
+    priors = Priors(
+        effect_sd=defaults.effect_sd if args.effect_prior_sd is None else args.effect_prior_sd,
+        cutpoint_sd=defaults.cutpoint_sd if args.cutpoint_prior_sd is None else args.cutpoint_prior_sd,
+        scale_sd=defaults.scale_sd if args.scale_prior_sd is None else args.scale_prior_sd,
+    )
     return AnalysisOptions(
+        specification=args.model,
+        priors=priors,
         chains=args.chains,
         tune=args.tune,
         draws=args.draws,
@@ -168,17 +223,95 @@ def _analysis_options(args: argparse.Namespace):  # -> AnalysisOptions
     )
 
 
-def _analyze(log, args: argparse.Namespace, out: Path) -> None:  # noqa: ANN001
-    from scone_bt.study.analysis import analyze, load_study, write_outputs
+def _analyze(data, args: argparse.Namespace, out: Path, force: bool = False) -> None:  # noqa: ANN001
+    """Check options and output folder, then sample (the slow part), then write."""
+    from scone_bt.study.analysis import analyze, check_outputs, write_outputs
 
-    options = _analysis_options(args)
-    data = load_study(log)
+    options = _analysis_options(args, data.available_models())
+    check_outputs(out, force)
     result = analyze(data, options, printer=print)
     print(result.format())
-    paths = write_outputs(result, data, out)
-    print(f"results: {paths['json']}  scores: {paths['scores']}  figure: {paths['figure']}")
-    if log.simulated:
+    paths = write_outputs(result, data, out, force=True)
+    print(
+        f"results: {paths['json']}  scores: {paths['scores']}  figure: {paths['figure']}, {paths['figure_pdf']}"
+    )
+    print(f"analysis time {result.seconds:.0f} s")
+    if data.simulated:
         print("NOTE: these results come from SIMULATED participants, not from people.")
+
+
+def _analyze_command(args: argparse.Namespace) -> int:
+    from scone_bt.study.analysis import load_study
+    from scone_bt.study.ratings_csv import load_ratings_csv, parse_column_map
+
+    if args.ratings is None:
+        if args.sessions is not None or args.columns:
+            raise SconeError("--sessions and --columns go with --ratings (a study log has its own sessions)")
+        log = _open_log(args.db)
+        try:
+            data = load_study(log)
+        finally:
+            log.close()
+    else:
+        data = load_ratings_csv(args.ratings, args.sessions, parse_column_map(args.columns))
+    _analyze(data, args, args.out, args.force)
+    return 0
+
+
+def _add_power_parser(sub) -> None:  # noqa: ANN001 - argparse's private subparsers type
+    w = sub.add_parser(
+        "power",
+        help="study planning: P(HDI excludes the ROPE) against the number of participants, by simulation",
+        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+    )
+    w.add_argument("--n", default="10,20,31,50", help="comma list of participant numbers")
+    w.add_argument("--repetitions", type=int, default=20, help="simulated studies per participant number")
+    w.add_argument("--effect", type=float, default=1.0, help="true condition effect (logit, or log-rate)")
+    w.add_argument(
+        "--measure",
+        default="mdmt",
+        help="mdmt or tps_hri (simulated participants' answers) or interventions (Eq. 4 counts)",
+    )
+    w.add_argument("--model", choices=("paper", "extended"), default="paper", help="model fitted")
+    w.add_argument("--rope", type=float, nargs=2, default=(-0.18, 0.18), metavar=("LOW", "HIGH"), help="ROPE")
+    w.add_argument("--chains", type=int, default=2, help="MCMC chains per analysis")
+    w.add_argument("--tune", type=int, default=300, help="warm-up draws per chain")
+    w.add_argument("--draws", type=int, default=300, help="kept draws per chain")
+    w.add_argument("--workers", type=int, help="processes (default: CPU count), or Ray workers with --ray")
+    from scone_bt.distributed import add_engine_arguments
+
+    add_engine_arguments(w)
+    w.add_argument("--seed", type=int, default=0, help="seeds every simulated study and its sampler")
+    w.add_argument("--out", type=Path, default=Path("runs/power"), help="folder for power.json, power.png")
+    w.add_argument("--force", action="store_true", help="overwrite earlier results in --out")
+
+
+def _power(args: argparse.Namespace) -> int:
+    from scone_bt.study.power import PowerOptions, run_power, write_power
+
+    options = PowerOptions.from_text(
+        n=args.n,
+        repetitions=args.repetitions,
+        effect=args.effect,
+        measure=args.measure,
+        specification=args.model,
+        rope=tuple(args.rope),
+        chains=args.chains,
+        tune=args.tune,
+        draws=args.draws,
+        workers=args.workers,
+        seed=args.seed,
+        ray=args.ray,
+    )
+    from scone_bt.study.power import check_power_outputs
+
+    check_power_outputs(args.out, args.force)
+    result = run_power(options, printer=print)
+    print(result.format())
+    paths = write_power(result, args.out, force=True)
+    print(f"results: {paths['json']}  plot: {paths['plot']}")
+    print("NOTE: power comes from SIMULATED participants.")
+    return 0
 
 
 def _session(args: argparse.Namespace) -> int:
@@ -237,6 +370,9 @@ def _simulate(args: argparse.Namespace) -> int:
         )
     if args.analyze is not None:
         _analysis_options(args)  # fail early on bad analysis settings
+        from scone_bt.study.analysis import check_outputs
+
+        check_outputs(args.analyze)
     options = SimulationOptions(
         participants=args.participants,
         seed=args.seed,
@@ -252,7 +388,9 @@ def _simulate(args: argparse.Namespace) -> int:
     log = simulate_study(args.db, options, engine=engine)  # the same log on any engine and worker count
     print(f"SIMULATED study written to {args.db}")
     if args.analyze is not None:
-        _analyze(log, args, args.analyze)
+        from scone_bt.study.analysis import load_study
+
+        _analyze(load_study(log), args, args.analyze, force=True)  # the folder was checked before simulating
     log.close()
     return 0
 
@@ -265,16 +403,16 @@ def main(argv: list[str] | None = None) -> int:
             return _session(args)
         if args.command == "simulate":
             return _simulate(args)
-        if args.command == "export":
-            _check_export_out(args.out)
+        if args.command == "analyze":
+            return _analyze_command(args)
+        if args.command == "power":
+            return _power(args)
+        _check_export_out(args.out)
         log = _open_log(args.db)
         try:
-            if args.command == "analyze":
-                _analyze(log, args, args.out)
-            else:
-                paths = log.export_csv(args.out)
-                label = "SIMULATED data" if log.simulated else "real data"
-                print(f"{label}: " + "  ".join(str(p) for p in paths.values()))
+            paths = log.export_csv(args.out)
+            label = "SIMULATED data" if log.simulated else "real data"
+            print(f"{label}: " + "  ".join(str(p) for p in paths.values()))
         finally:
             log.close()
     except SconeError as exc:

@@ -1,10 +1,11 @@
-"""A figure in the layout of the paper's Fig. 3: per measure, the posterior contrasts between conditions and between
-groups (histograms with the 95 % HDI and the ROPE) and mean ± sd candle plots of the original scores."""
+"""Fig. 3 as published: per measure, the posterior contrasts of policy (self-confidence on - off) and of G
+(session order in the paper model, group B - A in the extended one) as histograms with the 95 % HDI bar, the ROPE
+lines and text labels, and candle plots (mean ± sd, min-max whiskers) of the scores by policy and by G."""
 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from scone_bt.study.analysis import AnalysisResult, StudyData
@@ -12,76 +13,117 @@ if TYPE_CHECKING:
 __all__ = ["plot_results"]
 
 _TITLES = {
-    "mdmt": ("MDMT performance", "score (0-7)", "mdmt"),
-    "tps_hri": ("TPS-HRI", "score (%)", "tps_hri"),
-    "trust": ("trust (MDMT + TPS-HRI)", "MDMT score (0-7)", "mdmt"),
-    "interventions": ("interventions", "count per session", "interventions"),
+    "mdmt": "MDMT performance",
+    "tps_hri": "TPS-HRI",
+    "trust": "trust (all questionnaires)",
+    "interventions": "interventions",
 }
+_SCORE_COLUMN = {"trust": "mdmt"}
+_COLOURS = ("#c4553d", "#3d8c5a")
 
 
-def plot_results(result: AnalysisResult, data: StudyData, path: str | Path) -> Path:
-    """Write the figure as PNG; the title says SIMULATED for simulated data."""
+def _histogram(
+    ax: Any, samples: Any, contrast: Any, rope: tuple[float, float], hdi_prob: float, scale: str
+) -> None:
+    ax.hist(samples, bins=40, color="#9bbcd4", edgecolor="white")
+    ymax = ax.get_ylim()[1]
+    for x in rope:
+        ax.axvline(x, color="#d08a1e", lw=1.2, ls="--")
+    ax.text(rope[1], ymax * 0.95, " ROPE", color="#d08a1e", fontsize=7, va="top")
+    lo, hi = contrast.hdi
+    y = ymax * 0.06
+    ax.plot([lo, hi], [y, y], color="black", lw=4, solid_capstyle="butt")
+    ax.text((lo + hi) / 2, y + ymax * 0.04, f"{hdi_prob:.0%} HDI", ha="center", fontsize=7)
+    ax.text(lo, y - ymax * 0.02, f"{lo:.2f}", ha="center", va="top", fontsize=7)
+    ax.text(hi, y - ymax * 0.02, f"{hi:.2f}", ha="center", va="top", fontsize=7)
+    ax.text(
+        0.02,
+        0.95,
+        f"mean {contrast.mean:.2f}\nP(>0) {contrast.p_positive:.2f}\n{contrast.decision}",
+        transform=ax.transAxes,
+        fontsize=7,
+        va="top",
+    )
+    ax.axvline(0.0, color="grey", lw=0.8, ls=":")
+    ax.set_ylim(0, ymax * 1.05)
+    ax.set_xlabel(f"{contrast.label} ({scale})", fontsize=8)
+    ax.set_yticks([])
+
+
+def _candles(
+    ax: Any, frame: Any, column: str, by: str, levels: tuple[str, str], names: tuple[str, str]
+) -> None:
+    """Mean ± sd as a box, min-max as whiskers, per level."""
+    import numpy as np
+
+    for x, level in enumerate(levels):
+        vals = frame[frame[by].astype(str) == level][column].to_numpy(dtype=float)
+        vals = vals[~np.isnan(vals)]
+        if not len(vals):
+            continue
+        m = vals.mean()
+        s = vals.std(ddof=1) if len(vals) > 1 else 0.0
+        colour = _COLOURS[x]
+        ax.vlines(x, vals.min(), vals.max(), color=colour, lw=1)
+        ax.bar(x, 2 * s, bottom=m - s, width=0.45, color=colour, alpha=0.45, edgecolor=colour)
+        ax.hlines(m, x - 0.22, x + 0.22, color=colour, lw=2.5)
+        ax.text(x + 0.26, m, f"{m:.2f}", fontsize=7, va="center")
+    ax.set_xticks([0, 1], list(names), fontsize=8)
+    ax.set_xlim(-0.6, 1.8)
+
+
+def plot_results(
+    result: AnalysisResult, data: StudyData, path: str | Path, pdf: str | Path | None = None
+) -> Path:
+    """Write the figure as PNG (and PDF when `pdf` is given); the title says SIMULATED for simulated data."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     models = list(result.fits)
-    fig, axes = plt.subplots(len(models), 3, figsize=(12, 3.2 * len(models)), squeeze=False)
-    lo, hi = result.options.rope
+    g = "session" if result.options.specification == "paper" else "group"
+    g_column, g_levels, g_names = {
+        "session": ("session_index", ("1", "2"), ("session 1", "session 2")),
+        "group": ("group", ("A", "B"), ("group A", "group B")),
+    }[g]
+    fig, axes = plt.subplots(len(models), 4, figsize=(15, 3.0 * len(models)), squeeze=False)
     for row, model in enumerate(models):
-        title, ylabel, column = _TITLES[model]
+        title = _TITLES.get(model, model)
         scale = "log-rate" if model == "interventions" else "logit"
-        for col, param in enumerate(("b_C", "b_G")):
-            ax = axes[row][col]
-            c = result.contrast(model, param)
-            samples = result.fits[model].samples[param]
-            ax.hist(samples, bins=40, color="#7aa6c2", edgecolor="white")
-            ax.axvspan(lo, hi, color="#f0b25a", alpha=0.35, label=f"ROPE [{lo:g}, {hi:g}]")
-            ymax = ax.get_ylim()[1]
-            ax.plot(
-                c.hdi,
-                [ymax * 0.05] * 2,
-                color="black",
-                lw=4,
-                solid_capstyle="butt",
-                label=f"{result.options.hdi_prob:.0%} HDI",
+        column = _SCORE_COLUMN.get(model, model)
+        unit = (
+            "count per session" if model == "interventions" else data.score_units.get(column, "mean rating")
+        )
+        for col, factor in enumerate(("condition", g)):
+            c = result.contrast(model, factor)
+            _histogram(
+                axes[row][col],
+                result.fits[model].samples[factor],
+                c,
+                result.options.rope,
+                result.options.hdi_prob,
+                scale,
             )
-            ax.axvline(0.0, color="grey", lw=0.8, ls=":")
-            ax.set_title(
-                f"{title}: {c.name}\nmean {c.mean:.2f}, HDI [{c.hdi[0]:.2f}, {c.hdi[1]:.2f}] → {c.decision}",
-                fontsize=9,
-            )
-            ax.set_xlabel(f"contrast ({scale})")
-            ax.set_yticks([])
-            if row == 0 and col == 0:
-                ax.legend(fontsize=7, loc="upper left")
-        ax = axes[row][2]
-        frame = data.sessions.dropna(subset=[column])
-        positions, labels = [], []
-        for i, (cond, colour) in enumerate((("off", "#c4553d"), ("on", "#3d8c5a"))):
-            for j, grp in enumerate(("A", "B")):
-                vals = frame[(frame["condition"] == cond) & (frame["group"] == grp)][column].to_numpy(
-                    dtype=float
-                )
-                x = i * 3 + j
-                if len(vals):
-                    m, s = vals.mean(), vals.std(ddof=1) if len(vals) > 1 else 0.0
-                    ax.errorbar([x], [m], yerr=[s], fmt="o", color=colour, capsize=6, lw=2, ms=7)
-                positions.append(x)
-                labels.append(f"SC {cond}\ngroup {grp}")
-        ax.set_xticks(positions, labels, fontsize=7)
-        ax.set_xlim(-0.8, 4.8)
-        ax.set_ylabel(ylabel)
-        ax.set_title(f"{title}: mean ± sd", fontsize=9)
+            axes[row][col].set_title(f"{title}: {'policy' if factor == 'condition' else g}", fontsize=9)
+        frame = data.sessions
+        if column in frame:
+            _candles(axes[row][2], frame, column, "condition", ("off", "on"), ("SC off", "SC on"))
+            _candles(axes[row][3], frame, column, g_column, g_levels, g_names)
+        for col in (2, 3):
+            axes[row][col].set_ylabel(unit, fontsize=8)
+        axes[row][2].set_title(f"{title}: scores by policy", fontsize=9)
+        axes[row][3].set_title(f"{title}: scores by {g}", fontsize=9)
     label = "SIMULATED DATA — " if result.simulated else ""
     fig.suptitle(
-        f"{label}posterior contrasts (HDI and ROPE) and original scores",
+        f"{label}posterior contrasts ({result.options.specification} model; HDI and ROPE) and scores",
         fontsize=11,
         color="#b00020" if result.simulated else "black",
     )
     fig.tight_layout()
     out = Path(path)
     fig.savefig(out, dpi=110)
+    if pdf is not None:
+        fig.savefig(Path(pdf))
     plt.close(fig)
     return out

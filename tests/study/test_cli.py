@@ -22,6 +22,8 @@ def test_simulate_fast_then_analyze_writes_labelled_outputs(tmp_path, capsys):
                 "1",
                 "--models",
                 "interventions",
+                "--model",
+                "extended",
             ]
         )
         == 0

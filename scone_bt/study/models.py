@@ -1,0 +1,244 @@
+"""The study's PyMC models: the paper's Eq. (3) and Eq. (4), index-coded as published, and an extended variant.
+
+``paper`` (the default), Eq. (3) for the ordinal answers R_i and Eq. (4) for the intervention counts I_s::
+
+    R_i ~ OrderedLogit(phi_i, alpha)                    alpha_k ~ Normal(0, cutpoint_sd), ordered
+    phi_i = alpha_C[C_i] + alpha_G[G_i] + alpha_Q[Q_i] + alpha_P[P_i]
+    alpha_C[c] ~ Normal(0, effect_sd) for c in (off, on);  alpha_G[g] ~ Normal(0, effect_sd) for g in (1st, 2nd)
+    alpha_Q[q] ~ Normal(alpha_bar, sigma_Q),  alpha_bar ~ Normal(0, 1.5),  sigma_Q ~ HalfNormal(scale_sd)
+    alpha_P[p] ~ Normal(0, sigma_P),  sigma_P ~ HalfNormal(scale_sd)
+
+    I_s ~ Poisson(lambda_s),  log lambda_s = alpha_C[C_s] + alpha_G[G_s] + alpha_P[P_s]   (same priors)
+
+G is the session order. A contrast is the difference of a factor's two levels (on - off, 2nd - 1st): with
+``effect_sd = 1`` its prior sd is sqrt(2). ``extended`` adds the counterbalancing group (A/B) as a third factor and
+codes each factor as a single difference ``b ~ Normal(0, effect_sd)``, with zero-sum participant and question effects
+(``Exponential`` scales of mean ``scale_sd``) and cut-points around evenly spaced means; docs/study.md lists every
+difference. Both models accept any index-coded two-level factors, so the same code fits public ordinal data (the
+R cross-check fits the wine data of R's ``ordinal`` package with temperature and contact as factors).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from scone_bt.errors import SconeError, UnknownNameError
+
+__all__ = [
+    "SPECIFICATIONS",
+    "Priors",
+    "Factor",
+    "OrdinalDesign",
+    "CountDesign",
+    "ordinal_model",
+    "count_model",
+    "contrast_variable",
+]
+
+SPECIFICATIONS = ("paper", "extended")
+QUESTION_MEAN_SD = 1.5  # Eq. (3): alpha_bar ~ Normal(0, 1.5)
+
+
+@dataclass(frozen=True)
+class Priors:
+    """Prior scales, in logit (Eq. 3) or log-rate (Eq. 4) units.
+
+    Attributes:
+        effect_sd: sd of each factor level (paper) or of each single-difference coefficient (extended).
+        cutpoint_sd: sd of the ordered cut-points (around 0 in the paper, around evenly spaced means in extended).
+        scale_sd: HalfNormal scale (paper) or Exponential mean (extended) of the participant and question sds.
+    """
+
+    effect_sd: float = 1.0
+    cutpoint_sd: float = 1.0
+    scale_sd: float = 1.0
+
+    def __post_init__(self) -> None:
+        for name in ("effect_sd", "cutpoint_sd", "scale_sd"):
+            v = getattr(self, name)
+            if not (v > 0 and np.isfinite(v)):
+                raise SconeError(f"prior {name.replace('_', '-')} must be a positive number, got {v}")
+
+    @classmethod
+    def defaults(cls, specification: str) -> Priors:
+        """The published priors (paper) or the extended model's own."""
+        if specification == "paper":
+            return cls(1.0, 1.0, 1.0)
+        if specification == "extended":
+            return cls(1.0, 1.5, 1.0)
+        raise UnknownNameError("model", specification, SPECIFICATIONS)
+
+
+@dataclass(frozen=True)
+class Factor:
+    """A two-level fixed effect.
+
+    Attributes:
+        name: "condition", "session", "group", or a dataset's own factor name.
+        levels: (reference, other); the contrast is other - reference.
+        index: Per row, 0 (reference) or 1 (other).
+    """
+
+    name: str
+    levels: tuple[str, str]
+    index: np.ndarray
+
+
+@dataclass(frozen=True)
+class OrdinalDesign:
+    """Ordinal answers and their design.
+
+    Attributes:
+        y: Per row, the category 0..K-1 (higher = more).
+        blocks: (name, row indices, K) per questionnaire; each block has its own cut-points.
+        factors: The fixed effects.
+        participant: Per row, the participant index 0..n-1 (None: no participant term).
+        question: Per row, the question index 0..m-1 (None: no question term).
+    """
+
+    y: np.ndarray
+    blocks: tuple[tuple[str, np.ndarray, int], ...]
+    factors: tuple[Factor, ...]
+    participant: np.ndarray | None = None
+    question: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class CountDesign:
+    """Counts (interventions per session) and their design.
+
+    Attributes:
+        counts: Per row, a non-negative count.
+        factors: The fixed effects.
+        participant: Per row, the participant index (None: no participant term).
+    """
+
+    counts: np.ndarray
+    factors: tuple[Factor, ...]
+    participant: np.ndarray | None = None
+
+
+def contrast_variable(factor: str) -> str:
+    """Name of the posterior variable that holds a factor's contrast (other level - reference)."""
+    return f"d_{factor}"
+
+
+def _n(index: np.ndarray) -> int:
+    return int(index.max()) + 1
+
+
+def _ordered_logit_logp(eta, cuts, y: np.ndarray):  # noqa: ANN001, ANN202 - pytensor tensors
+    """Sum of log P(y | eta, cuts), O(n) rather than pm.OrderedLogistic's O(n K).
+
+    P(y = k) = sigmoid(c_k - eta) - sigmoid(c_{k-1} - eta) with c_{-1} = -inf and c_{K-1} = +inf, computed as
+    log sigmoid(a) + log sigmoid(-b) + log(1 - exp(b - a)) for a = c_k - eta > b = c_{k-1} - eta.
+    """
+    import pytensor.tensor as pt
+
+    big = np.array([1e6])
+    ext = pt.concatenate([-big, cuts, big])
+    a = ext[y + 1] - eta
+    b = ext[y] - eta
+    return pt.sum(-pt.softplus(-a) - pt.softplus(b) + pt.log1mexp(b - a))
+
+
+def _paper_terms(factors: tuple[Factor, ...], priors: Priors):  # noqa: ANN202
+    """Index-coded factor levels alpha_X[level] ~ Normal(0, effect_sd) and their contrasts."""
+    import pymc as pm
+
+    total = 0.0
+    for f in factors:
+        alpha = pm.Normal(f"alpha_{f.name}", 0.0, priors.effect_sd, shape=2)
+        pm.Deterministic(contrast_variable(f.name), alpha[1] - alpha[0])
+        total = total + alpha[f.index]
+    return total
+
+
+def _extended_terms(factors: tuple[Factor, ...], priors: Priors):  # noqa: ANN202
+    """Single-difference coefficients b_X ~ Normal(0, effect_sd)."""
+    import pymc as pm
+
+    total = 0.0
+    for f in factors:
+        b = pm.Normal(contrast_variable(f.name), 0.0, priors.effect_sd)
+        total = total + b * f.index.astype(float)
+    return total
+
+
+def _group_effect(
+    name: str, index: np.ndarray, specification: str, priors: Priors, mean=0.0, zero_sum: bool = True
+):  # noqa: ANN001, ANN202
+    """A group-level effect, non-centred (sigma * z) against the funnel of small studies."""
+    import pymc as pm
+
+    n = _n(index)
+    if specification == "paper":
+        sigma = pm.HalfNormal(f"sigma_{name}", priors.scale_sd)
+        z = pm.Normal(f"z_{name}", 0.0, 1.0, shape=n)
+    else:
+        sigma = pm.Exponential(f"sigma_{name}", 1.0 / priors.scale_sd)
+        # Zero-sum in Eq. (3): the cut-points carry the location, which removes a ridge between them.
+        z = (
+            pm.ZeroSumNormal(f"z_{name}", sigma=1.0, shape=n)
+            if zero_sum
+            else pm.Normal(f"z_{name}", 0.0, 1.0, shape=n)
+        )
+    effect = pm.Deterministic(f"a_{name}", mean + sigma * z)
+    return effect[index]
+
+
+def ordinal_model(design: OrdinalDesign, specification: str = "paper", priors: Priors | None = None):  # noqa: ANN201
+    """Eq. (3) (``paper``) or its extended variant, as a pm.Model."""
+    import pymc as pm
+
+    if specification not in SPECIFICATIONS:
+        raise UnknownNameError("model", specification, SPECIFICATIONS)
+    priors = priors or Priors.defaults(specification)
+    with pm.Model() as model:
+        terms = _paper_terms if specification == "paper" else _extended_terms
+        phi = terms(design.factors, priors)
+        if design.participant is not None:
+            phi = phi + _group_effect("P", design.participant, specification, priors)
+        if design.question is not None:
+            mean = pm.Normal("alpha_bar", 0.0, QUESTION_MEAN_SD) if specification == "paper" else 0.0
+            phi = phi + _group_effect("Q", design.question, specification, priors, mean)
+        phi = phi + np.zeros(len(design.y))  # a tensor even without any term
+        for name, rows, k in design.blocks:
+            if k < 2:
+                raise SconeError(
+                    f"questionnaire {name}: an ordinal scale needs at least 2 categories, got {k}"
+                )
+            centre = np.linspace(-2.5, 2.5, k - 1) if specification == "extended" else np.zeros(k - 1)
+            cuts = pm.Normal(
+                f"cutpoints_{name}",
+                mu=centre,
+                sigma=priors.cutpoint_sd,
+                shape=k - 1,
+                transform=pm.distributions.transforms.ordered,
+                initval=np.linspace(-1.0, 1.0, k - 1) + centre,
+            )
+            pm.Potential(f"R_{name}", _ordered_logit_logp(phi[rows], cuts, design.y[rows]))
+    return model
+
+
+def count_model(design: CountDesign, specification: str = "paper", priors: Priors | None = None):  # noqa: ANN201
+    """Eq. (4) (``paper``: log-rate = sum of index-coded levels + participant) or its extended variant."""
+    import pymc as pm
+
+    if specification not in SPECIFICATIONS:
+        raise UnknownNameError("model", specification, SPECIFICATIONS)
+    priors = priors or Priors.defaults(specification)
+    with pm.Model() as model:
+        if specification == "paper":
+            log_rate = _paper_terms(design.factors, priors)
+        else:
+            log_rate = pm.Normal("a", 0.0, 1.5) + _extended_terms(design.factors, priors)
+        if design.participant is not None:
+            log_rate = log_rate + _group_effect(
+                "P", design.participant, specification, priors, zero_sum=False
+            )
+        log_rate = log_rate + np.zeros(len(design.counts))
+        pm.Poisson("I", mu=pm.math.exp(log_rate), observed=design.counts)
+    return model

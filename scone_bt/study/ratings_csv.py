@@ -1,0 +1,340 @@
+"""Anyone's study data as CSV: the ratings (one row per answer) and, optionally, the sessions (interventions).
+
+Ratings CSV, one row per answered item::
+
+    participant,condition,session,group,question,rating,categories[,questionnaire]
+    P01,on,1,A,reliable,6,8,mdmt
+
+- ``condition`` is ``on`` or ``off`` (self-confidence), ``session`` 1 or 2 (the order), ``group`` A or B (the
+  counterbalancing order; all participants of a group must share it);
+- ``rating`` is the answer's category, an integer from 0 to ``categories - 1`` with higher meaning more trust
+  (flip reverse-scored items first); an empty rating is a skipped item ("does not fit") and is left out;
+- ``categories`` is the size of the item's scale and must be the same for all items of a questionnaire;
+- ``questionnaire`` is optional (default ``ratings``): each questionnaire is fitted on its own, with its own
+  cut-points.
+
+Sessions CSV, one row per session: ``participant,condition,session,group,interventions`` (a count >= 0).
+
+Every participant needs both conditions. Other column names are mapped with ``columns`` (e.g.
+``{"participant": "subject"}``). Files are read as UTF-8 (a byte-order mark is fine) and never modified. Anything
+wrong is a one-line RatingsFileError naming the file, the row (as a spreadsheet numbers it, header = row 1), the
+column and what is allowed.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+from scone_bt.errors import SconeError
+
+__all__ = [
+    "RatingsFileError",
+    "RATINGS_COLUMNS",
+    "SESSIONS_COLUMNS",
+    "parse_column_map",
+    "load_ratings_csv",
+]
+
+RATINGS_COLUMNS = ("participant", "condition", "session", "group", "question", "rating", "categories")
+OPTIONAL_RATINGS_COLUMNS = ("questionnaire",)
+SESSIONS_COLUMNS = ("participant", "condition", "session", "group", "interventions")
+DEFAULT_QUESTIONNAIRE = "ratings"
+_ALLOWED = {"condition": ("off", "on"), "session": ("1", "2"), "group": ("A", "B")}
+
+
+class RatingsFileError(SconeError):
+    """A ratings or sessions CSV that cannot be analysed as it is."""
+
+
+@dataclass(frozen=True)
+class _Row:
+    line: int
+    values: dict[str, str]
+
+
+def parse_column_map(text: str | None) -> dict[str, str]:
+    """``"participant=subject,rating=answer"`` → {"participant": "subject", "rating": "answer"}."""
+    if not text:
+        return {}
+    known = (*RATINGS_COLUMNS, *OPTIONAL_RATINGS_COLUMNS, "interventions")
+    out: dict[str, str] = {}
+    for part in text.split(","):
+        key, sep, name = (s.strip() for s in part.partition("="))
+        if not sep or not name:
+            raise RatingsFileError(f"--columns: {part!r} is not COLUMN=NAME (e.g. participant=subject)")
+        if key not in known:
+            raise RatingsFileError(f"--columns: unknown column {key!r}; valid: {', '.join(known)}")
+        out[key] = name
+    return out
+
+
+def _read(
+    path: Path, required: tuple[str, ...], optional: tuple[str, ...], columns: Mapping[str, str]
+) -> list[_Row]:
+    if not path.is_file():
+        raise RatingsFileError(f"{path}: file not found")
+    raw = path.read_bytes()
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = raw[: exc.start].count(b"\n") + 1
+        raise RatingsFileError(
+            f"{path}: not UTF-8 text (byte 0x{raw[exc.start]:02x} on row {line}); save the file as UTF-8 CSV"
+        ) from None
+    reader = csv.reader(io.StringIO(text, newline=""))
+    header = next(reader, None)
+    if not header:
+        raise RatingsFileError(f"{path}: empty file; expected a header row with {', '.join(required)}")
+    header = [h.strip() for h in header]
+    position = {}
+    for col in (*required, *optional):
+        name = columns.get(col, col)
+        if name in header:
+            position[col] = header.index(name)
+        elif col in required:
+            mapped = f" (mapped to {name!r})" if name != col else ""
+            raise RatingsFileError(
+                f"{path}: missing column {col!r}{mapped}; the header has {', '.join(header)}; "
+                f"needed: {', '.join(required)} (rename with --columns {col}=NAME)"
+            )
+    rows = []
+    for values in reader:
+        line = reader.line_num
+        if not any(v.strip() for v in values):
+            continue
+        if len(values) != len(header):
+            raise RatingsFileError(f"{path}: row {line} has {len(values)} fields, the header {len(header)}")
+        rows.append(_Row(line, {col: values[i].strip() for col, i in position.items()}))
+    if not rows:
+        raise RatingsFileError(f"{path}: no data rows under the header")
+    return rows
+
+
+def _check_value(path: Path, row: _Row, col: str, columns: Mapping[str, str]) -> str:
+    value = row.values[col]
+    allowed = _ALLOWED[col]
+    normal = value.upper() if col == "group" else value.lower()
+    if normal not in allowed:
+        raise RatingsFileError(
+            f"{path}: row {row.line}, column {columns.get(col, col)!r}: {value!r} is not one of {', '.join(allowed)}"
+        )
+    return normal
+
+
+def _integer(path: Path, row: _Row, col: str, columns: Mapping[str, str], what: str) -> int:
+    value = row.values[col]
+    try:
+        number = float(value)
+    except ValueError:
+        number = float("nan")
+    if not math.isfinite(number) or number != int(number):
+        raise RatingsFileError(
+            f"{path}: row {row.line}, column {columns.get(col, col)!r}: {value!r} is not {what}"
+        )
+    return int(number)
+
+
+def _design_row(path: Path, row: _Row, columns: Mapping[str, str]) -> tuple[str, str, int, str]:
+    participant = row.values["participant"]
+    if not participant:
+        raise RatingsFileError(
+            f"{path}: row {row.line}, column {columns.get('participant', 'participant')!r} is empty"
+        )
+    condition = _check_value(path, row, "condition", columns)
+    session = int(_check_value(path, row, "session", columns))
+    group = _check_value(path, row, "group", columns)
+    return participant, condition, session, group
+
+
+def _check_design(path: Path, plan: dict[str, dict[int, tuple[str, str, int]]]) -> None:
+    """Each participant: one group, one condition per session, both conditions; each group: one order."""
+    orders: dict[str, tuple[str, tuple[str, ...]]] = {}
+    for participant, sessions in sorted(plan.items()):
+        groups = {g for _c, g, _line in sessions.values()}
+        if len(groups) > 1:
+            line = max(line for *_x, line in sessions.values())
+            raise RatingsFileError(
+                f"{path}: participant {participant!r} is in groups {', '.join(sorted(groups))} (row {line}); "
+                "a participant belongs to one group"
+            )
+        conditions = {c for c, _g, _line in sessions.values()}
+        if conditions != {"on", "off"}:
+            only = ", ".join(sorted(conditions))
+            raise RatingsFileError(
+                f"{path}: participant {participant!r} has condition {only} only; "
+                "every participant needs both conditions (on and off)"
+            )
+        group = groups.pop()
+        order = tuple(sessions[s][0] for s in sorted(sessions))
+        first = orders.setdefault(group, (participant, order))
+        if first[1] != order:
+            raise RatingsFileError(
+                f"{path}: participant {participant!r} (group {group}) has the order {'/'.join(order)} but "
+                f"{first[0]!r} in the same group has {'/'.join(first[1])}; a group is one condition order"
+            )
+    if len(orders) == 2 and orders["A"][1] == orders["B"][1]:
+        raise RatingsFileError(
+            f"{path}: groups A and B both have the order {'/'.join(orders['A'][1])} (participants "
+            f"{orders['A'][0]!r}, {orders['B'][0]!r}); the groups are the two condition orders"
+        )
+
+
+def load_ratings_csv(
+    ratings: str | Path,
+    sessions: str | Path | None = None,
+    columns: Mapping[str, str] | None = None,
+    simulated: bool = False,
+):  # -> StudyData
+    """Read and check the CSV files into the StudyData the analysis fits.
+
+    Args:
+        ratings: The ratings CSV.
+        sessions: The sessions CSV with interventions (None: no Poisson model).
+        columns: Our column name → the file's, for files that name them differently.
+        simulated: Label the data SIMULATED.
+
+    Raises:
+        RatingsFileError: A missing column, a value off its scale, a broken design; the message names the file,
+            the row and column, and what is allowed.
+    """
+    import pandas as pd
+
+    from scone_bt.study.analysis import StudyData
+
+    columns = dict(columns or {})
+    rpath = Path(ratings)
+    rows = _read(rpath, RATINGS_COLUMNS, OPTIONAL_RATINGS_COLUMNS, columns)
+    plan: dict[str, dict[int, tuple[str, str, int]]] = {}
+    categories: dict[str, tuple[int, int, str]] = {}
+    seen: dict[tuple[str, int, str, str], int] = {}
+    records = []
+    for row in rows:
+        participant, condition, session, group = _design_row(rpath, row, columns)
+        sessions_of = plan.setdefault(participant, {})
+        known = sessions_of.setdefault(session, (condition, group, row.line))
+        if known[:2] != (condition, group):
+            raise RatingsFileError(
+                f"{rpath}: row {row.line}: participant {participant!r} session {session} is condition {condition} "
+                f"group {group}, but row {known[2]} says condition {known[0]} group {known[1]}"
+            )
+        question = row.values["question"]
+        if not question:
+            raise RatingsFileError(
+                f"{rpath}: row {row.line}, column {columns.get('question', 'question')!r} is empty"
+            )
+        questionnaire = row.values.get("questionnaire") or DEFAULT_QUESTIONNAIRE
+        k = _integer(rpath, row, "categories", columns, "a whole number of categories (2 or more)")
+        if k < 2:
+            raise RatingsFileError(
+                f"{rpath}: row {row.line}, column {columns.get('categories', 'categories')!r}: {k} categories; "
+                "an ordinal scale has 2 or more"
+            )
+        first = categories.setdefault(questionnaire, (k, row.line, question))
+        if first[0] != k:
+            hint = (
+                "" if "questionnaire" in row.values else "; add a questionnaire column to fit them separately"
+            )
+            raise RatingsFileError(
+                f"{rpath}: row {row.line}: question {question!r} has {k} categories but {first[2]!r} "
+                f"(row {first[1]}) of questionnaire {questionnaire!r} has {first[0]}{hint}"
+            )
+        key = (participant, session, questionnaire, question)
+        if key in seen:
+            raise RatingsFileError(
+                f"{rpath}: row {row.line} repeats participant {participant!r} session {session} question "
+                f"{question!r} (first on row {seen[key]})"
+            )
+        seen[key] = row.line
+        if row.values["rating"] == "":
+            continue  # a skipped item ("does not fit")
+        rating = _integer(rpath, row, "rating", columns, f"a whole number from 0 to {k - 1}")
+        if not 0 <= rating < k:
+            raise RatingsFileError(
+                f"{rpath}: row {row.line}, column {columns.get('rating', 'rating')!r}: {rating} is outside the "
+                f"scale 0..{k - 1} ({k} categories); ratings are category numbers from 0"
+            )
+        records.append(
+            {
+                "session_id": f"{participant}/{session}",
+                "participant": participant,
+                "group": group,
+                "condition": condition,
+                "session_index": session,
+                "questionnaire": questionnaire,
+                "item": question,
+                "category": rating,
+                "n_categories": k,
+            }
+        )
+    _check_design(rpath, plan)
+    if not records:
+        raise RatingsFileError(f"{rpath}: every rating is empty; nothing to analyse")
+    frame = pd.DataFrame(records)
+    table = []
+    for participant, sessions_of in sorted(plan.items()):
+        for session, (condition, group, _line) in sorted(sessions_of.items()):
+            table.append(
+                {
+                    "session_id": f"{participant}/{session}",
+                    "participant": participant,
+                    "group": group,
+                    "condition": condition,
+                    "session_index": session,
+                    "interventions": float("nan"),
+                }
+            )
+    table_frame = pd.DataFrame(table)
+    if sessions is not None:
+        counts = _load_sessions(Path(sessions), plan, columns)
+        table_frame["interventions"] = [counts[(r["participant"], r["session_index"])] for r in table]
+    names = tuple(sorted(categories))
+    for name in names:
+        means = frame[frame["questionnaire"] == name].groupby("session_id")["category"].mean()
+        table_frame[name] = table_frame["session_id"].map(means)
+    units = {name: f"mean rating (0-{categories[name][0] - 1})" for name in names}
+    label = str(rpath) + (f" + {sessions}" if sessions is not None else "")
+    return StudyData(frame, table_frame, simulated, label, names, units)
+
+
+def _load_sessions(
+    path: Path, plan: Mapping[str, Mapping[int, tuple[str, str, int]]], columns: Mapping[str, str]
+) -> dict[tuple[str, int], int]:
+    rows = _read(path, SESSIONS_COLUMNS, (), columns)
+    counts: dict[tuple[str, int], int] = {}
+    for row in rows:
+        participant, condition, session, group = _design_row(path, row, columns)
+        expected = plan.get(participant, {}).get(session)
+        if expected is None:
+            raise RatingsFileError(
+                f"{path}: row {row.line}: participant {participant!r} session {session} has no ratings"
+            )
+        if expected[:2] != (condition, group):
+            raise RatingsFileError(
+                f"{path}: row {row.line}: participant {participant!r} session {session} is condition {condition} "
+                f"group {group}, but the ratings say condition {expected[0]} group {expected[1]}"
+            )
+        n = _integer(path, row, "interventions", columns, "a whole number of interventions (0 or more)")
+        if n < 0:
+            raise RatingsFileError(
+                f"{path}: row {row.line}, column {columns.get('interventions', 'interventions')!r}: {n} < 0; "
+                "interventions are counts (0 or more)"
+            )
+        if (participant, session) in counts:
+            raise RatingsFileError(
+                f"{path}: row {row.line} repeats participant {participant!r} session {session}"
+            )
+        counts[(participant, session)] = n
+    missing = [
+        f"{p} session {s}" for p, ss in sorted(plan.items()) for s in sorted(ss) if (p, s) not in counts
+    ]
+    if missing:
+        raise RatingsFileError(
+            f"{path}: no interventions for {missing[0]}"
+            + (f" and {len(missing) - 1} more" if len(missing) > 1 else "")
+        )
+    return counts
