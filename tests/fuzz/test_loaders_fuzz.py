@@ -449,3 +449,21 @@ def test_dataset_csv(tmp_path_factory, fuzz_counts, data):
     path = tmp_path_factory.mktemp("csv") / "d.csv"
     path.write_bytes(raw)
     _check(fuzz_counts, "dataset CSV", path, read_dataset)
+
+
+RATINGS = REPO / "tests" / "study" / "data" / "lab_ratings.csv"
+SESSIONS = REPO / "tests" / "study" / "data" / "lab_sessions.csv"
+
+
+@settings(FUZZ, max_examples=60)
+@given(data=st.data(), which=st.sampled_from(["ratings", "sessions"]))
+def test_ratings_csv(tmp_path_factory, fuzz_counts, data, which):
+    from scone_bt.study.ratings_csv import load_ratings_csv
+
+    folder = tmp_path_factory.mktemp("ratings")
+    ratings, sessions = folder / "ratings.csv", folder / "sessions.csv"
+    ratings.write_bytes(RATINGS.read_bytes())
+    sessions.write_bytes(SESSIONS.read_bytes())
+    target = ratings if which == "ratings" else sessions
+    target.write_bytes(data.draw(damaged_bytes(target.read_bytes())))
+    _check(fuzz_counts, "ratings CSV", target, lambda _p: load_ratings_csv(ratings, sessions))
