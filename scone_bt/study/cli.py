@@ -421,6 +421,15 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("scone-study: interrupted; everything recorded so far is in the study log", file=sys.stderr)
         return 130
+    except Exception as exc:  # a bug, not data: one line (SCONE_BT_DEBUG=1 shows the traceback)
+        import os
+
+        if os.environ.get("SCONE_BT_DEBUG"):
+            raise
+        from scone_bt.cli.checks import internal_error_line
+
+        print(f"scone-study: internal error: {internal_error_line(exc)}", file=sys.stderr)
+        return 3
     return 0
 
 
