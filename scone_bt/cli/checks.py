@@ -108,5 +108,5 @@ def internal_error_line(exc: BaseException) -> str:
     text = text if len(text) <= 300 else text[:297] + "..."
     return (
         f"{type(exc).__name__}: {text or '(no message)'} (a program error, not an outcome of the robot: "
-        "the run stopped and stored nothing for it; SCONE_BT_DEBUG=1 shows the traceback)"
+        "the run stopped; nothing was stored for it; SCONE_BT_DEBUG=1 shows the traceback)"
     )
