@@ -7,6 +7,7 @@ axis-aligned in the world. Slots are the places objects stand on: one per listed
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -221,11 +222,19 @@ def parse_scene(s: Fields) -> SceneSpec:
         pedestal=_box(s, "pedestal"),
         table=_box(s, "table"),
         shelves=units,
-        place_spots=tuple(
-            tuple(float(v) for v in p)  # type: ignore[misc]
-            for p in s.get("place_spots", list)
-        ),
+        place_spots=tuple(_spot(p, i, s.where) for i, p in enumerate(s.get("place_spots", list))),
     )
+
+
+def _spot(raw: object, index: int, where: str) -> tuple[float, float]:
+    """One table spot [x, y] in metres (a number or a string is a one-line error, not a TypeError)."""
+    ok = (
+        isinstance(raw, list)
+        and len(raw) == 2
+        and all(isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) for v in raw)
+    )
+    require(ok, f"{where}.place_spots[{index}]: expected [x, y] in metres, got {raw!r}")
+    return float(raw[0]), float(raw[1])  # type: ignore[index]
 
 
 def _camera(c: Fields, name: str, role: str) -> CameraSpec:

@@ -467,3 +467,19 @@ def test_ratings_csv(tmp_path_factory, fuzz_counts, data, which):
     target = ratings if which == "ratings" else sessions
     target.write_bytes(data.draw(damaged_bytes(target.read_bytes())))
     _check(fuzz_counts, "ratings CSV", target, lambda _p: load_ratings_csv(ratings, sessions))
+
+
+KITCHEN_DOC = yaml.safe_load(KITCHEN.read_text())
+
+
+@settings(FUZZ, max_examples=120)
+@given(doc=mutated_documents(KITCHEN_DOC))
+@example(doc={**KITCHEN_DOC, "scene": {**KITCHEN_DOC["scene"], "place_spots": [5, [0.4, -0.3]]}})
+def test_kitchen_mutations(tmp_path_factory, fuzz_counts, doc):
+    folder = tmp_path_factory.mktemp("kitchen")
+    path = folder / "kitchen.yaml"
+    path.write_bytes(_yaml_bytes(doc))
+    catalogue = KITCHEN.parent / "catalogue"  # relative catalogue paths resolve as beside the real file
+    if catalogue.is_dir():
+        (folder / "catalogue").symlink_to(catalogue)
+    _check(fuzz_counts, "kitchen file", path, _load_kitchen)
