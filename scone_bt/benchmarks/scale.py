@@ -74,9 +74,11 @@ def run_scale(
     log(f"ray: {how} ({cpus} CPUs)")
     tasks = [ExecutionTask(profile, i, robot=robot) for i in range(executions)]
     warm = [ExecutionTask(profile, 100_000 + k, robot=robot) for k in range(max(workers))]
+    t_warm = time.perf_counter()
     map_tasks(
         timed_execution, warm, engine=EngineOptions(EngineKind.RAY, workers=max(workers), address=address)
     )
+    warmup_s = time.perf_counter() - t_warm  # imports + arm model + one execution, on every worker at once
     runs: dict[str, dict[str, Any]] = {}
     records: dict[int, list[Any]] = {}
     for w in workers:
@@ -123,6 +125,7 @@ def run_scale(
         "identical_results": int(identical),
         "runs": runs,
         "overhead": {
+            "warmup_s": round(warmup_s, 2),
             "noop_task_roundtrip_ms": round(1000 * noop_s, 3),
             "overhead_ms_per_task_max_workers": round(
                 1000 * runs[str(max(workers))]["overhead_s_per_task"], 2

@@ -89,7 +89,7 @@ def test_sqlite_replay_is_idempotent_and_filters(tmp_path):
         assert store.append(a) == 1 and store.append(b) == 2 and store.append(a) == 1
         assert len(store) == 2
         assert store.outcomes(**LearnFrom.SELF.filters("r1", "panda")) == [a]
-        assert store.outcomes(**LearnFrom.SAME_MODEL.filters("r9", "iiwa7")) == [b]
+        assert store.outcomes(**LearnFrom.SAME_MODEL.filters("r9", "iiwa7")) == [b]  # profile "" both
         assert store.outcomes(**LearnFrom.FLEET.filters("r1", "panda")) == [a, b]
         assert store.outcome_ids() == {"k1", "k2"}
 
