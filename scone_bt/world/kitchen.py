@@ -369,6 +369,8 @@ class Kitchen:
     def _freeze(self, name: str) -> None:
         body = self.objects[name]
         self.bc.changeDynamics(body, -1, mass=0.0)
+        # A massless body keeps integrating the velocity it had: it must stand still to stay where it was.
+        self.bc.resetBaseVelocity(body, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
         self._frozen[name] = self.bc.getBasePositionAndOrientation(body)
 
     def _thaw(self, name: str) -> None:
