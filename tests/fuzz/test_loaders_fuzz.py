@@ -455,7 +455,7 @@ RATINGS = REPO / "tests" / "study" / "data" / "lab_ratings.csv"
 SESSIONS = REPO / "tests" / "study" / "data" / "lab_sessions.csv"
 
 
-@settings(FUZZ, max_examples=60)
+@settings(FUZZ, max_examples=40)
 @given(data=st.data(), which=st.sampled_from(["ratings", "sessions"]))
 def test_ratings_csv(tmp_path_factory, fuzz_counts, data, which):
     from scone_bt.study.ratings_csv import load_ratings_csv
@@ -472,7 +472,7 @@ def test_ratings_csv(tmp_path_factory, fuzz_counts, data, which):
 KITCHEN_DOC = yaml.safe_load(KITCHEN.read_text())
 
 
-@settings(FUZZ, max_examples=120)
+@settings(FUZZ, max_examples=80)
 @given(doc=mutated_documents(KITCHEN_DOC))
 @example(doc={**KITCHEN_DOC, "scene": {**KITCHEN_DOC["scene"], "place_spots": [5, [0.4, -0.3]]}})
 def test_kitchen_mutations(tmp_path_factory, fuzz_counts, doc):
