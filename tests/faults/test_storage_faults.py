@@ -12,6 +12,7 @@ import os
 import shutil
 import subprocess
 import sys
+import tempfile
 import textwrap
 import time
 from pathlib import Path
@@ -47,7 +48,7 @@ def mounts(tmp_path):
 
 def _in_namespace(setup: str, code: str, timeout: float = 120) -> subprocess.CompletedProcess:
     """Run `code` in Python inside a private mount namespace after the shell commands `setup`."""
-    script = Path(os.environ.get("TMPDIR", "/tmp")) / f"scone-fault-{os.getpid()}-{time.time_ns()}.py"
+    script = Path(tempfile.gettempdir()) / f"scone-fault-{os.getpid()}-{time.time_ns()}.py"
     script.write_text(textwrap.dedent(code))
     try:
         return subprocess.run(
