@@ -52,8 +52,6 @@ class CollisionWorld:
         attached: An object held by the gripper, pose relative to the end-effector frame, or None.
         padding: Metres added on every side of every obstacle (a safety margin for perception error).
         ignore_for_hand: Obstacle names the gripper (hand and fingers) may touch, e.g. the object being grasped.
-        arm_padding: If set, the margin (m) kept by the arm's links other than the gripper, when it differs from
-            `padding` (near a grasp the fingers come within millimetres of the shelf, the elbow need not).
         max_tilt: If set, the largest angle (rad) between the held object's up axis (without one: the hand's
             approach axis, reversed) and straight up: keeps a carried object upright (a path constraint, checked
             like a collision).
@@ -68,7 +66,6 @@ class CollisionWorld:
         padding: float = 0.01,
         ignore_for_hand: Sequence[str] = (),
         max_tilt: float | None = None,
-        arm_padding: float | None = None,
     ) -> None:
         import pinocchio as pin
 
@@ -89,18 +86,7 @@ class CollisionWorld:
                 pin.SE3(pose[:3, :3], pose[:3, 3]),
                 _geometry(ob.shape, ob.size, padding),
             )
-            oid = gm.addGeometryObject(obj)
-            arm_oid = oid
-            if arm_padding is not None and arm_padding != padding:
-                arm_obj = pin.GeometryObject(
-                    f"obstacle:{ob.name}",
-                    0,
-                    0,
-                    pin.SE3(pose[:3, :3], pose[:3, 3]),
-                    _geometry(ob.shape, ob.size, arm_padding),
-                )
-                arm_oid = gm.addGeometryObject(arm_obj)
-            obstacle_ids.append((ob.name, oid, arm_oid))
+            obstacle_ids.append((ob.name, gm.addGeometryObject(obj)))
         attached_id = None
         if attached is not None:
             ee = self.model.frames[arm.ee_frame]
@@ -124,16 +110,14 @@ class CollisionWorld:
             link = arm.link_of_geometry[gm.geometryObjects[r].name]
             if link == base_link:
                 continue  # the base never moves; it sits on the pedestal
-            for name, oid, arm_oid in obstacle_ids:
-                if link in hand_links:
-                    if name not in ignore_for_hand:
-                        pairs.append(pin.CollisionPair(r, oid))
-                else:
-                    pairs.append(pin.CollisionPair(r, arm_oid))
+            for name, oid in obstacle_ids:
+                if name in ignore_for_hand and link in hand_links:
+                    continue
+                pairs.append(pin.CollisionPair(r, oid))
             if attached_id is not None and link not in hand_links:
                 pairs.append(pin.CollisionPair(r, attached_id))
         if attached_id is not None:
-            for _, oid, _ in obstacle_ids:
+            for _, oid in obstacle_ids:
                 pairs.append(
                     pin.CollisionPair(oid, attached_id)
                     if oid < attached_id

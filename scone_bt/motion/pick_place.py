@@ -64,9 +64,6 @@ __all__ = [
 CARRY_PADDING = 0.006
 """Safety margin (m) around obstacles while carrying: the lifted object starts close to its neighbours."""
 
-ARM_PADDING = 0.01
-"""Margin (m) the arm's links keep from obstacles while the fingers descend close to them (tracking lags)."""
-
 LOCAL_IK_ITERATIONS = 40
 """Iterations of an IK solve seeded nearby (line steps, placements seeded from the lifted arm)."""
 
@@ -379,7 +376,7 @@ def plan_pick_and_place(
 
     w_free = p.world([*fixed, target])
     # Near the grasp the fingers come within millimetres of the supporting shelf: a thinner margin there.
-    w_grasp = p.world([*fixed, target], ignore_for_hand=[name], padding=0.004, arm_padding=ARM_PADDING)
+    w_grasp = p.world([*fixed, target], ignore_for_hand=[name], padding=0.004)
     w_other = p.world(fixed, padding=0.004)
     hand_free = HandModel(arm, [*fixed, target], padding=0.01)
     hand_near = HandModel(arm, [*fixed, target], padding=0.004)
