@@ -54,6 +54,7 @@ def label_item(name: str) -> str:
 
     s = n._ascii_fold(name).lower().replace("\u2019", "'")
     s = re.sub(r"\([^)]*\)", " ", s).split(",")[0]
+    s = re.sub(r"\bof (?:your )?(?:choice|favou?rite)\b", " ", s)
     s = n._pick_alternative(re.sub(r"\s+", " ", s).strip())
     words = n._WORD.findall(s)
     return n.item_key(" ".join(n._strip_prep(words))) if words else ""

@@ -55,6 +55,13 @@ def build_parser() -> argparse.ArgumentParser:
         "--kitchen", default="kitchen", help="kitchen file in perception/ or a path (default: %(default)s)"
     )
     g.add_argument(
+        "--catalogue",
+        action="append",
+        default=[],
+        metavar="FILE",
+        help="one more product file (perception/catalogue/*.yaml shape) merged into the catalogue; repeatable",
+    )
+    g.add_argument(
         "--tree", default="assistive_cooking", help="tree file in trees/ or a path (default: %(default)s)"
     )
     g.add_argument(
@@ -161,7 +168,9 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
         checks.check_output_file(args.save, "--save")
     if isinstance(_experience(args.experience), Path):  # a postgresql:// URL is checked when it is opened
         checks.check_output_file(Path(args.experience), "--experience")
-    elif args.experience is not None:  # probe the fleet's server now, not after the kitchen and models are loaded
+    elif (
+        args.experience is not None
+    ):  # probe the fleet's server now, not after the kitchen and models are loaded
         from scone_bt.experience import open_store
 
         open_store(args.experience).close()
@@ -191,6 +200,7 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
     return EpisodeOptions(
         robot=args.arm,
         kitchen=args.kitchen,
+        catalogues=tuple(args.catalogue),
         tree=args.tree,
         recipe=args.recipe,
         seed=args.seed,

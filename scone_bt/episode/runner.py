@@ -36,6 +36,7 @@ class EpisodeOptions:
     Attributes:
         robot: Robot file name in robots/ or a path.
         kitchen: Kitchen file name in perception/ or a path.
+        catalogues: Extra product files merged into the kitchen's catalogue (a user's own products).
         tree: Tree file name in trees/ or a path.
         recipe: Recipe id ("example:<name>", a corpus id) or a JSON/YAML path.
         seed: Seeds object placement, distractors, perception noise, planners and the human.
@@ -52,6 +53,7 @@ class EpisodeOptions:
 
     robot: str = "panda"
     kitchen: str = "kitchen"
+    catalogues: tuple[str, ...] = ()
     tree: str = "assistive_cooking"
     recipe: str = "example:tomato-pasta"
     seed: int = 0
@@ -213,10 +215,12 @@ def run_episode(
         if on_event is not None:
             on_event(kind, data)
 
-    kitchen_cfg = load_kitchen(options.kitchen)
+    kitchen_cfg = load_kitchen(options.kitchen, options.catalogues)
     robot_cfg = load_robot(options.robot)
     spec = load_tree_spec(options.tree)
-    recipe = stock_recipe(load_recipe(options.recipe), kitchen_cfg.catalogue)
+    # Products past the free shelf slots stay off the shelf: the human brings them, like unstocked ones.
+    capacity = max(len(kitchen_cfg.scene.shelf_slots()) - options.distractors, 0)
+    recipe = stock_recipe(load_recipe(options.recipe), kitchen_cfg.catalogue, capacity=capacity)
     catalogue = kitchen_cfg.catalogue
     rng = np.random.default_rng(options.seed)
     others = [n for n in catalogue.names() if n not in recipe.needed]
@@ -258,8 +262,10 @@ def run_episode(
             f"{recipe.recipe.title}: {len(recipe.steps)} steps, needs {', '.join(recipe.needed)}; "
             f"distractors: {', '.join(distractors) or 'none'}"
         )
-        if recipe.unstocked:
-            printer(f"not stocked (the human brings them): {', '.join(recipe.unstocked)}")
+        if recipe.unstocked or recipe.off_shelf:
+            printer(
+                f"not stocked (the human brings them): {', '.join((*recipe.unstocked, *recipe.off_shelf))}"
+            )
         root = build_tree(spec, services)
         tree = py_trees.trees.BehaviourTree(root)
         tree.setup(timeout=120)

@@ -17,9 +17,9 @@ from enum import Enum
 __all__ = ["ItemClass", "classify_item", "normalise_ingredient", "is_fetchable", "item_key"]
 
 _UNITS = (
-    "cups?|c|t|table ?spoons?|tea ?spoons?|spoons?|tbsps?|tbs|tbl|tb|tsps?|teaspoons?|grams?|g|gr|kilograms?|kgs?|millilit(?:re|er)s?|ml|"
+    "cups?|c|t|table ?spoons?|tea ?spoons?|spoons?|tblsps?|tbsps?|tbs|tbl|tb|tsps?|teaspoons?|grams?|g|gr|kilograms?|kgs?|millilit(?:re|er)s?|ml|"
     "centilit(?:re|er)s?|cl|decilit(?:re|er)s?|dl|lit(?:re|er)s?|l|ounces?|oz|fl\\.? ?oz|pounds?|lbs?|quarts?|qts?|"
-    "pints?|pts?|gallons?|gals?|inch(?:es)?|in|cm|mm|pinch(?:es)?|dash(?:es)?|drops?|handfuls?|bunch(?:es)?|"
+    "pints?|pts?|gallons?|gals?|inch(?:es)?|in|cm|mm|pinch(?:es)?|dash(?:es)?|drops?|handfull?s?|bunch(?:es)?|"
     "cans?|tins?|jars?|bottles?|packages?|pkgs?|packets?|pouch(?:es)?|bags?|boxes|box|containers?|cartons?|sticks?|"
     "cloves?|heads?|sprigs?|stalks?|slices?|pieces?|pcs?|sheets?|knobs?|blocks?|scoops?|splash(?:es)?|"
     "glugs?|shots?|wedges?|fillets?|leaves|leaf|ears?|rashers?|strips?|cubes?|bars?|envelopes?|servings?|"
@@ -42,7 +42,7 @@ _PREP_WORDS = _words(
     organic plain about approximately approx roughly generous scant pinch some a an the few more additional
     overfilled half quarter whole-kernel
     your favourite favorite store-bought homemade prepared ripe firm to taste softly boneless skinless
-    julienned torn juiced zested cut into
+    julienned torn juiced zested cut into un-cooked uncooked sized medium-sized free-range quick-cooking overfilled
     """
 )
 _ADJ_ALTERNATIVES = _words(
@@ -105,7 +105,7 @@ _UNIT_ALONE = re.compile(
 )
 _PAREN = re.compile(r"\([^)]*\)|\[[^\]]*\]")
 _CUT = re.compile(
-    r",|;|:|/|\*|\.\s|\.$|\s-\s|\s–\s|\bfor\b|\bper\b|\bwithout\b|\bor less\b|\bor more\b|\bto taste\b|\bas needed\b|\bif desired\b|\bplus\b|\bsuch as\b"
+    r",|;|:|/|\*|\.\s|\.$|\s-\s|\s–\s|\bfor\b|\bper\b|\bwithout\b|\bor less\b|\bor more\b|\bto taste\b|\bas needed\b|\bif desired\b|\bplus\b|\bsuch as\b|\bof (?:your |the )?(?:choice|favou?rite|preference|liking)\b"
 )
 _WORD = re.compile(r"[a-z][a-z'&-]*")
 
@@ -149,6 +149,7 @@ def normalise_ingredient(text: str) -> str:
     s = _ascii_fold(text).lower().replace("&", " and ").replace("~", " ").replace("\u2019", "'")
     s = _PAREN.sub(" ", s)
     s = s.replace("(", " ").replace(")", " ").replace("and/or", "or")
+    s = re.sub(r"\b(?:small|medium|large)/(?=(?:small|medium|large|medium-sized)\b)", "", s)  # "small/medium"
     s = re.sub(r"\b(?:half|quarter|third)\s+(?:of\s+)?an?\b", " ", s)
     unit_only = _unit_item(s)
     s = _QUANTITY.sub(" ", s)

@@ -55,7 +55,7 @@ _GRADE_WORDS = _words(
 # Part words: the product is the whole the part comes from.
 _PART_WORDS = _words(
     "juice zest peel rind yolk white clove leave leaf sprig stalk rib floret wedge slice half segment crumb green"
-    " puree flake wash"
+    " puree flake wash cube"
 )
 _WORD = re.compile(r"[a-z][a-z'&-]*")
 

@@ -58,5 +58,5 @@ def test_bad_object_shape_names_valid_shapes(tmp_path: Path, kitchen_cfg):
         "family: mine\nsource: test\nproducts:\n  - {name: orb, shape: sphere, size: [0.05, 0.05, 0.05],"
         " mass: 0.1, friction: 0.5, material: glass, rgba: [1, 1, 1, 1], marker_id: 999}\n"
     )
-    with pytest.raises(ConfigError, match="box, cylinder"):
+    with pytest.raises(ConfigError, match="'box' or 'cylinder'"):
         load_kitchen(catalogues=[path])

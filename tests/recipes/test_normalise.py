@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from scone_bt.recipes.normalise import is_fetchable, item_key, normalise_ingredient
+from scone_bt.recipes.normalise import ItemClass, classify_item, is_fetchable, item_key, normalise_ingredient
 
 
 @pytest.mark.parametrize(
@@ -30,6 +30,28 @@ from scone_bt.recipes.normalise import is_fetchable, item_key, normalise_ingredi
         ("1 cup Gruyère", "gruyere"),
         ("Garam Masala/Chicken Masala 1 tbsp", "garam masala"),
         ("half a tin (200g) of baked beans", "baked beans"),
+        # The cases issue 12 names, and others from the corpus.
+        ("Six eggs.", "eggs"),
+        ("1 heaping tbsp Cumin", "cumin"),
+        (
+            "~150g (1/3 lb) medium soft cheese. Appenzeller works best. Gruyère would be my go-to alternative.",
+            "soft cheese",
+        ),
+        (
+            "Lamb shoulder, or something similar, like lamb shank, preferably on the bone. Get something that "
+            "will fit in your pot, with room for vegetables around it.",
+            "lamb shoulder",
+        ),
+        ("1 small handful parsley", "parsley"),
+        ("2 small heads cabbage", "cabbage"),
+        ("1 dozen eggs", "eggs"),
+        ("1/4 tsp cloves", "cloves"),
+        ("3 cloves", "cloves"),
+        ("1/2 lemon lemon juice", "lemon juice"),
+        ("1 tsp peeled and chopped fresh ginger", "ginger"),
+        ("1 large white or yellow onion", "yellow onion"),
+        ("Curry powder of your favourite variety", "curry powder"),
+        ("2 small/medium-sized potatoes", "potatoes"),
     ],
 )
 def test_normalise_ingredient(text: str, item: str) -> None:
@@ -46,6 +68,28 @@ def test_fetchable_excludes_water_and_tools() -> None:
     assert not is_fetchable("water")
     assert not is_fetchable("thermometer")
     assert not is_fetchable("")
+
+
+@pytest.mark.parametrize(
+    ("line", "kind"),
+    [
+        ("1 cup water", ItemClass.WATER),
+        ("2 cups boiling water", ItemClass.WATER),
+        ("1 cup crushed ice", ItemClass.WATER),
+        ("ice cubes", ItemClass.WATER),
+        ("candy thermometer", ItemClass.TOOL),
+        ("cheesecloth", ItemClass.TOOL),
+        ("parchment paper", ItemClass.TOOL),
+        ("8 wooden skewers", ItemClass.TOOL),
+        ("salt and pepper to taste", ItemClass.FOOD),
+        ("1 tbsp rose water", ItemClass.FOOD),
+        ("coconut water", ItemClass.FOOD),
+        ("2 tbsp lemon juice", ItemClass.FOOD),
+        ("2 Tbsp", ItemClass.NOTHING),
+    ],
+)
+def test_item_classes(line: str, kind: ItemClass) -> None:
+    assert classify_item(normalise_ingredient(line)) is kind
 
 
 def test_item_key_ignores_plural() -> None:

@@ -1,0 +1,149 @@
+"""The grocery catalogue: family files, validation errors, and a user's own product file."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from scone_bt.config import load_kitchen
+from scone_bt.errors import ConfigError
+
+GOOD = "{name: %s, size: [0.05, 0.05, 0.1], mass: 0.2, rgba: [0.5, 0.5, 0.5, 1], marker_id: %d}"  # noqa: UP031
+
+
+def _user_file(tmp_path: Path, body: str, head: str | None = None) -> Path:
+    path = tmp_path / "mine.yaml"
+    head = (
+        head
+        or "family: my jars\nsource: measured with a ruler\ndefaults: {shape: cylinder, material: glass, friction: 0.4}\n"
+    )
+    path.write_text(head + "products:\n" + body)
+    return path
+
+
+def _error(path: Path) -> str:
+    with pytest.raises(ConfigError) as err:
+        load_kitchen(catalogues=[path])
+    message = str(err.value)
+    assert "\n" not in message and str(path) in message
+    return message
+
+
+def test_shipped_catalogue_is_large_varied_and_dense(kitchen_cfg):
+    cat = kitchen_cfg.catalogue
+    assert len(cat) >= 200 and len(cat.families()) >= 12
+    assert sorted(o.marker_id for o in cat.objects) == list(range(len(cat)))
+    assert len(cat) < 587  # the AprilTag 36h11 dictionary's size
+    names = [o.name for o in cat.objects]
+    assert len(set(names)) == len(names)
+    # Unlike products are distinct; only true synonyms are aliases.
+    for name in ("cumin", "paprika", "cinnamon", "lime", "lemon", "maple syrup", "honey", "vegetable oil"):
+        assert name in names, name
+    assert "garbanzo beans" in cat.get("chickpeas").aliases
+    assert "lime" not in cat.get("lemon").aliases and "cumin" not in cat.get("cinnamon").aliases
+    # A family is handled alike and its products still vary in size and mass.
+    cans = [o for o in cat.objects if o.family == "cans" and o.material == "metal"]
+    assert len({o.shape for o in cans}) == 1 and len({o.mass for o in cans}) > 3
+
+
+def test_every_family_file_says_where_its_figures_come_from():
+    import yaml
+
+    folder = Path(load_kitchen().source).parent / "catalogue"
+    files = sorted(folder.glob("*.yaml"))
+    assert len(files) >= 12
+    for path in files:
+        assert len(yaml.safe_load(path.read_text())["source"]) > 80, path
+
+
+def test_user_file_adds_products_without_code(tmp_path, kitchen_cfg):
+    path = _user_file(tmp_path, "  - " + GOOD % ("saffron syrup", 586) + "\n")
+    cfg = load_kitchen(catalogues=[path])
+    assert len(cfg.catalogue) == len(kitchen_cfg.catalogue) + 1
+    mine = cfg.catalogue.get("saffron syrup")
+    assert (mine.family, mine.shape, mine.material, mine.friction) == ("my jars", "cylinder", "glass", 0.4)
+    assert cfg.catalogue.by_marker(586) is mine
+
+
+def test_user_product_is_stocked_for_a_recipe(tmp_path):
+    from scone_bt.recipes import stock_recipe
+    from scone_bt.recipes.recipe import recipe_from_record
+
+    path = _user_file(tmp_path, "  - " + GOOD % ("yuzu kosho", 586) + "\n")
+    cfg = load_kitchen(catalogues=[path])
+    recipe = recipe_from_record(
+        {
+            "ingredients": ["1 tsp yuzu kosho", "2 tbsp soy sauce"],
+            "steps": ["Mix the yuzu kosho with soy sauce."],
+        },
+        "test",
+    )
+    assert stock_recipe(recipe, cfg.catalogue).needed == ("yuzu kosho", "soy sauce")
+    assert stock_recipe(recipe, load_kitchen().catalogue).unstocked == ("1 tsp yuzu kosho",)
+
+
+@pytest.mark.parametrize(
+    ("product", "expected"),
+    [
+        (GOOD % ("salt", 586), "product 'salt': name: 'salt' is already product 'salt'"),
+        (GOOD.replace("{name: %s,", "{name: %s, aliases: [cumin],") % ("my spice", 586), "aliases: 'cumin'"),
+        (GOOD % ("my spice", 3), "marker_id: 3 is already product 'flour'"),
+        (GOOD.replace("mass: 0.2", "mass: -0.2") % ("my spice", 586), "product 'my spice': mass:"),
+        (GOOD.replace("mass: 0.2", "mass: 0") % ("my spice", 586), "mass: Input should be greater than 0"),
+        (
+            GOOD.replace("0.05, 0.05", "0.05, 0") % ("my spice", 586),
+            "size[1]: Input should be greater than 0",
+        ),
+        (GOOD.replace("{name: %s,", "{name: %s, friction: -0.1,") % ("my spice", 586), "friction:"),
+        (
+            GOOD.replace("{name: %s,", "{name: %s, shape: sphere,") % ("my spice", 586),
+            "shape: Input should be 'box' or 'cylinder'",
+        ),
+        (
+            GOOD.replace("{name: %s,", "{name: %s, colour: red,") % ("my spice", 586),
+            "unknown key 'colour'; valid: name, aliases",
+        ),
+        (
+            GOOD.replace("mass: 0.2", "mass: heavy") % ("my spice", 586),
+            "mass: Input should be a valid number",
+        ),
+        (
+            GOOD.replace("marker_id: %d", "marker_id: '%d'") % ("my spice", 586),
+            "marker_id: Input should be a valid integer",
+        ),
+        (
+            GOOD.replace("size: [0.05, 0.05, 0.1]", "size: [0.05, 0.1]") % ("my spice", 586),
+            "size: List should have at least 3 items",
+        ),
+    ],
+    ids=[
+        "duplicate-name",
+        "alias-is-other-name",
+        "duplicate-marker",
+        "negative-mass",
+        "zero-mass",
+        "zero-size",
+        "negative-friction",
+        "unknown-shape",
+        "unknown-key",
+        "wrong-type",
+        "marker-as-string",
+        "short-size",
+    ],
+)
+def test_bad_product_is_one_line_naming_file_product_and_field(tmp_path, product, expected):
+    message = _error(_user_file(tmp_path, "  - " + product + "\n"))
+    assert expected in message, message
+    assert "my spice" in message or "salt" in message
+
+
+def test_bad_family_header_is_one_line(tmp_path):
+    path = _user_file(tmp_path, "  - " + GOOD % ("my spice", 586) + "\n", head="family: x\n")
+    assert "source: missing (required)" in _error(path)
+    path = _user_file(tmp_path, "  - [not, a, mapping]\n")
+    assert "products[0]: expected a mapping" in _error(path)
+
+
+def test_missing_user_file_is_one_line(tmp_path):
+    assert "file not found" in _error(tmp_path / "nope.yaml")

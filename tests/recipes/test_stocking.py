@@ -1,0 +1,83 @@
+"""Ingredient lines → catalogue products, and products → the steps that need them."""
+
+from __future__ import annotations
+
+import pytest
+
+from scone_bt.recipes import stock_recipe
+from scone_bt.recipes.normalise import normalise_ingredient
+from scone_bt.recipes.recipe import recipe_from_record
+from scone_bt.recipes.stocking import MatchRule, ProductIndex
+
+
+@pytest.fixture(scope="module")
+def index(kitchen_cfg):
+    return ProductIndex(kitchen_cfg.catalogue)
+
+
+@pytest.mark.parametrize(
+    ("line", "product", "rule"),
+    [
+        ("2 large eggs", "eggs", MatchRule.EXACT),
+        ("1 15-oz can garbanzo beans", "chickpeas", MatchRule.EXACT),
+        ("1 tsp cumin", "cumin", MatchRule.EXACT),
+        ("1 tsp paprika", "paprika", MatchRule.EXACT),
+        ("1 tsp ground cinnamon", "cinnamon", MatchRule.EXACT),
+        ("juice of 1 lime", "lime", MatchRule.PART),
+        ("2 tbsp maple syrup", "maple syrup", MatchRule.EXACT),
+        ("1 15-oz can diced tomatoes", "diced tomatoes", MatchRule.IN_LINE),
+        ("1 cup milk or almond milk", "milk", MatchRule.EXACT),
+        ("1 cup extra sharp cheddar", "cheddar cheese", MatchRule.IN_LINE),
+        ("1 cup mild cheddar", "cheddar cheese", MatchRule.GRADE),
+        ("3 egg yolks", "eggs", MatchRule.PART),
+        ("zest of lemon", "lemon", MatchRule.PART),
+        ("2 cups broccli florets", "broccoli", MatchRule.SPELLING),
+    ],
+)
+def test_lookup_rules(index, line, product, rule):
+    match = index.lookup(normalise_ingredient(line), line)
+    assert match is not None and (match.product, match.rule) == (product, rule)
+
+
+@pytest.mark.parametrize(
+    "line", ["1 tbsp grapeseed oil", "1 cup rye flour", "2 tomatillos", "1 tsp lemon extract"]
+)
+def test_unlike_products_are_not_spelling_matches(index, line):
+    match = index.lookup(normalise_ingredient(line), line)
+    assert match is None or match.rule is not MatchRule.SPELLING, match
+
+
+def _recipe(ingredients, steps):
+    return recipe_from_record({"id": "test", "ingredients": ingredients, "steps": steps}, "test")
+
+
+def test_water_and_tools_are_not_fetchable_not_unstocked(kitchen_cfg):
+    recipe = _recipe(
+        ["2 cups flour", "1 cup warm water", "candy thermometer", "1 tsp unobtainium"],
+        ["Mix the flour with the water.", "Check the temperature."],
+    )
+    stocked = stock_recipe(recipe, kitchen_cfg.catalogue)
+    assert stocked.needed == ("flour",)
+    assert stocked.not_fetchable == ("1 cup warm water", "candy thermometer")
+    assert stocked.unstocked == ("1 tsp unobtainium",)
+
+
+def test_steps_name_products_by_the_recipes_own_words(kitchen_cfg):
+    recipe = _recipe(
+        ["1 cup sharp cheddar cheese", "2 tbsp extra virgin olive oil", "1 tsp vanilla"],
+        ["Warm the oil.", "Melt the cheese into it.", "Serve."],
+    )
+    stocked = stock_recipe(recipe, kitchen_cfg.catalogue)
+    # "vanilla" is named by no step: it is gathered before the first step's products.
+    assert [s.objects for s in stocked.steps] == [
+        ("vanilla extract", "extra virgin olive oil"),
+        ("cheddar cheese",),
+        (),
+    ]
+
+
+def test_capacity_leaves_the_last_products_off_the_shelf(kitchen_cfg):
+    recipe = _recipe(["salt", "sugar", "flour", "milk"], ["Add salt and sugar.", "Add flour.", "Add milk."])
+    stocked = stock_recipe(recipe, kitchen_cfg.catalogue, capacity=2)
+    assert stocked.needed == ("salt", "sugar") and stocked.off_shelf == ("flour", "milk")
+    assert [s.objects for s in stocked.steps] == [("salt", "sugar"), (), ()]
