@@ -208,13 +208,15 @@ def learning_trial(models: Sequence[Model], seeds: int = 10, estimator: str = "e
         for mi, m in enumerate(panda):
             order = np.random.default_rng([s, mi]).permutation(len(m.y))
             new, rest = order[:FIRST_N], order[FIRST_N:]
-            others = [o for o in models if o is not m]
+            # Another arm's dataset of the same profile shares this one's execution seeds (row i: same scene):
+            # only its `rest` rows are fleet data, so no scene of the new robot's stream leaks in.
+            others = [(o, rest if o.profile == m.profile else slice(None)) for o in models if o is not m]
             priors = {
                 "cold": (m.X[:0], m.y[:0]),
                 "same_model": (m.X[rest], m.y[rest]),
                 "fleet_pooled": (
-                    np.vstack([m.X[rest], *[o.X for o in others]]),
-                    np.concatenate([m.y[rest], *[o.y for o in others]]),
+                    np.vstack([m.X[rest], *[o.X[idx] for o, idx in others]]),
+                    np.concatenate([m.y[rest], *[o.y[idx] for o, idx in others]]),
                 ),
             }
             for key, (pX, py) in priors.items():
@@ -261,10 +263,13 @@ def _arm_transfer(models: Sequence[Model], arms: list[str], seeds: int, estimato
             order = np.random.default_rng([s, 7]).permutation(len(m.y))
             new, rest = order[:FIRST_N], order[FIRST_N:]
             sX, sy = m.X[new], m.y[new]
-            both_X, both_y = np.vstack([m.X[rest], o.X]), np.concatenate([m.y[rest], o.y])
-            arm_X = np.vstack([_with_arm(m.X[rest], arm, arms), _with_arm(o.X, other_arm, arms)])
+            # Both arms' datasets share execution seeds (row i: same target and scene), so the other arm's rows
+            # are taken at the same `rest` indices: no scene of the new robot's stream is in the fleet's data.
+            oX, oy = o.X[rest], o.y[rest]
+            both_X, both_y = np.vstack([m.X[rest], oX]), np.concatenate([m.y[rest], oy])
+            arm_X = np.vstack([_with_arm(m.X[rest], arm, arms), _with_arm(oX, other_arm, arms)])
             runs["cold"].append(replay_new_robot(sX, sy, sX[:0], sy[:0], estimator, s))
-            runs["other_arm_only"].append(replay_new_robot(sX, sy, o.X, o.y, estimator, s))
+            runs["other_arm_only"].append(replay_new_robot(sX, sy, oX, oy, estimator, s))
             runs["pooled"].append(replay_new_robot(sX, sy, both_X, both_y, estimator, s))
             runs["arm_as_input"].append(
                 replay_new_robot(_with_arm(sX, arm, arms), sy, arm_X, both_y, estimator, s)

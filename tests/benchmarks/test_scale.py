@@ -9,7 +9,14 @@ from scone_bt.benchmarks.scale import run_scale
 
 @pytest.mark.slow
 def test_scale_runs_the_same_executions_on_one_and_two_workers():
-    report = run_scale(executions=1, workers=(1, 2), overhead_tasks=10)  # tiny: Ray start-up dominates
+    import ray
+
+    started_here = not ray.is_initialized()
+    try:
+        report = run_scale(executions=1, workers=(1, 2), overhead_tasks=10)  # tiny: Ray start-up dominates
+    finally:
+        if started_here:
+            ray.shutdown()  # do not keep a runtime's processes for the rest of the suite
     assert report["identical_results"] == 1
     assert set(report["executions_per_s"]) == {"1", "2"} and all(
         v > 0 for v in report["executions_per_s"].values()

@@ -101,8 +101,8 @@ def _writer(url: str, robot: str, n: int) -> subprocess.Popen:
 
 
 @pytest.mark.parametrize("backend", ["postgresql", "sqlite"])
-def test_concurrent_robots_one_killed_lose_and_duplicate_nothing(backend, pg_url, tmp_path):
-    url = pg_url if backend == "postgresql" else str(tmp_path / "fleet.sqlite")
+def test_concurrent_robots_one_killed_lose_and_duplicate_nothing(backend, request, tmp_path):
+    url = request.getfixturevalue("pg_url") if backend == "postgresql" else str(tmp_path / "fleet.sqlite")
     open_store(url).close()  # create the schema once, so start-up order does not matter
     robots = [_writer(url, f"r{k}", 40) for k in range(3)]
     victim = _writer(url, "victim", 10_000)
