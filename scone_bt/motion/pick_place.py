@@ -456,6 +456,14 @@ def plan_pick_and_place(
         table_blockers = sampled.blockers
     else:
         spots, table_blockers = [], ()
+    if not spots:
+        # Nothing to try: the table has no free spot, whichever grasp is used.
+        where = ", ".join(table_blockers) or "the table's edges"
+        return fail(
+            PlanFailureReason.NO_TABLE_SPACE,
+            f"no free spot on the table for {name}: none clears {where}",
+            table_blockers,
+        )
     place_tally = _Tally()
     base = np.asarray(arm.config.base_position, dtype=float)
     target_dir = float(np.arctan2(req.target.position[1] - base[1], req.target.position[0] - base[0]))
@@ -605,13 +613,6 @@ def plan_pick_and_place(
 
     # 4. Out of options: say which stage ran out, and what blocked it.
     if placement_failed:
-        if not spots:
-            where = ", ".join(table_blockers) or "the table's edges"
-            return fail(
-                PlanFailureReason.NO_TABLE_SPACE,
-                f"no free spot on the table for {name}: none clears {where}",
-                table_blockers,
-            )
         if not place_tally.reachable and not place_tally.blockers:
             return fail(
                 PlanFailureReason.NO_PLACEMENT_IK,

@@ -88,6 +88,16 @@ def setup(arm, robot_cfg):
     return make_planner(arm, robot_cfg)
 
 
+@pytest.fixture(scope="module", params=["panda", "iiwa7"])
+def either_arm(request):
+    """The planner of each arm: both get the same abilities from their robot files."""
+    from scone_bt.config import load_robot
+    from scone_bt.motion import ArmModel
+
+    robot_cfg = load_robot(request.param)
+    return make_planner(ArmModel(robot_cfg), robot_cfg)
+
+
 def _boxed_in(front: bool):
     """A bottle on the lowest step between two tall boxes, a wall behind it, and optionally one in front."""
     shelf = [
@@ -113,8 +123,8 @@ def test_top_grasp_blocked_by_tall_neighbours_succeeds_from_the_side(setup):
     assert abs(result.grasp.grasp[2, 2]) < 1e-9  # a horizontal approach
 
 
-def test_a_crowded_table_still_takes_an_object(setup):
-    plan, _ = setup
+def test_a_crowded_table_still_takes_an_object(either_arm):
+    plan, _ = either_arm
     # Every one of the nine marked spots of the old fixed scheme is taken, by jars and tall bottles.
     spots = [(x, y) for x in (0.37, 0.49, 0.61) for y in (-0.30, -0.42, -0.54)]
     table = [
@@ -132,8 +142,8 @@ def test_a_crowded_table_still_takes_an_object(setup):
     assert result.placed is not None and np.allclose(result.placed.pose[:2, 3], (x, y), atol=1e-6)
 
 
-def test_a_boxed_in_object_fails_naming_what_blocks_it(setup):
-    plan, _ = setup
+def test_a_boxed_in_object_fails_naming_what_blocks_it(either_arm):
+    plan, _ = either_arm
     target, shelf = _boxed_in(front=True)
     result = plan(target, BOTTLE, shelf)
     assert isinstance(result, PickPlaceFailure)
@@ -142,15 +152,15 @@ def test_a_boxed_in_object_fails_naming_what_blocks_it(setup):
     assert result.message.startswith("every grasp of bottle collides with ")
 
 
-def test_an_object_out_of_reach_fails_at_ik(setup):
-    plan, _ = setup
+def test_an_object_out_of_reach_fails_at_ik(either_arm):
+    plan, _ = either_arm
     result = plan(_det("jar", 1.3, 0.3, JAR.height), JAR)
     assert isinstance(result, PickPlaceFailure)
     assert result.reason is PlanFailureReason.NO_GRASP_IK and result.stage is FailureStage.IK
 
 
-def test_a_full_table_fails_naming_what_fills_it(setup):
-    plan, _ = setup
+def test_a_full_table_fails_naming_what_fills_it(either_arm):
+    plan, _ = either_arm
     tray = Obstacle("tray", "box", (0.44, 0.40, 0.02), pose_matrix(np.eye(3), (0.47, -0.43, 0.01)))
     result = plan(_det("jar", 0.37, 0.30, JAR.height), JAR, table=[tray])
     assert isinstance(result, PickPlaceFailure)
