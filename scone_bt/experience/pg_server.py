@@ -32,6 +32,12 @@ def find_postgres_bin() -> Path | None:
     return Path(initdb).parent if initdb else None
 
 
+def _others_can_enter(folder: Path) -> bool:
+    """Whether every folder from / down to `folder` lets other users through (o+x)."""
+    folder = folder.resolve()
+    return all(p.stat().st_mode & 0o001 for p in [folder, *folder.parents])
+
+
 def _free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -65,7 +71,12 @@ class TemporaryPostgres:
             raise ExperienceStoreError(f"{Path(args[0]).name} failed: {' | '.join(tail)}")
 
     def start(self) -> TemporaryPostgres:
-        self.folder = Path(tempfile.mkdtemp(prefix="scone-pg-"))
+        parent = Path(tempfile.gettempdir())
+        if os.geteuid() == 0 and not _others_can_enter(parent):
+            parent = Path(
+                "/tmp"
+            )  # e.g. TMPDIR under /root: the postgres user could not reach the data folder
+        self.folder = Path(tempfile.mkdtemp(prefix="scone-pg-", dir=parent))
         if os.geteuid() == 0:
             import pwd
 
