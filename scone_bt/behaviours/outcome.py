@@ -1,4 +1,8 @@
-"""ObserveOutcome and UpdateSelfConfidence: label the attempt, store it durably, update κ̂."""
+"""ObserveOutcome and UpdateSelfConfidence: label the attempt and store it durably, then update κ̂.
+
+The outcome is committed to the experience store before it is printed or emitted: whatever a user or the study
+log has seen reported is stored, even if the process is killed right after.
+"""
 
 from __future__ import annotations
 
@@ -16,6 +20,9 @@ __all__ = ["ObserveOutcome", "UpdateSelfConfidence"]
 class ObserveOutcome(StageBehaviour):
     READS = (Keys.DECISION, Keys.AFFORDANCES, Keys.MOTION_OUTCOME)
     WRITES = (Keys.OUTCOME,)
+
+    def setup(self, **kwargs: object) -> None:
+        self.store = self.services.store()
 
     def update(self) -> py_trees.common.Status:
         s = self.services
@@ -43,6 +50,8 @@ class ObserveOutcome(StageBehaviour):
             arm=s.robot_config.name,
             profile=s.options.profile,
         )
+        if self.store is not None:
+            self.store.append(outcome)  # committed before it is reported, and before κ̂ changes
         if success:
             s.stats.successes += 1
             s.printer(f"    + success: {name} is on the table ({motion.duration:.1f} s)")
@@ -63,15 +72,12 @@ class UpdateSelfConfidence(StageBehaviour):
 
     def setup(self, **kwargs: object) -> None:
         self.estimator = self.services.estimator()
-        self.store = self.services.store()
 
     def update(self) -> py_trees.common.Status:
         outcome: Outcome | None = self.read(Keys.OUTCOME)
         if outcome is None:
             self.feedback_message = "no label (human took over)"
             return py_trees.common.Status.SUCCESS
-        if self.store is not None:
-            self.store.append(outcome)  # committed before κ̂ changes: a crash never loses an observed outcome
         vector = self.read(Keys.ACTION_EMBEDDINGS, {})[outcome.action]
         self.estimator.update(vector, outcome.success)
         self.feedback_message = (
