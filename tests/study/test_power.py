@@ -1,0 +1,64 @@
+"""Study planning: seeded work items, counts drawn from Eq. (4), the same result on 1 and 2 worker processes."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from scone_bt.errors import SconeError, UnknownNameError
+from scone_bt.study.cli import main
+from scone_bt.study.power import PowerOptions, run_power, simulate_counts, work_items, write_power
+
+
+def test_options_are_checked_before_any_work():
+    with pytest.raises(SconeError, match="participant numbers must be 2 or more"):
+        PowerOptions(participants=(1, 10))
+    with pytest.raises(UnknownNameError, match="valid: interventions, mdmt, tps_hri"):
+        PowerOptions(measure="sus")
+    with pytest.raises(SconeError, match="not a comma list of whole numbers"):
+        PowerOptions.from_text("10,x")
+    with pytest.raises(SconeError, match="ROPE must be"):
+        PowerOptions(rope=(0.2, -0.2))
+    assert PowerOptions.from_text("31, 10,10").participants == (10, 31)
+
+
+def test_work_items_have_their_own_seeds_whatever_the_order():
+    a = work_items(PowerOptions(participants=(10, 20), repetitions=3, seed=4))
+    b = work_items(PowerOptions(participants=(20, 10), repetitions=3, seed=4))
+    assert sorted(a, key=lambda w: (w.participants, w.repetition)) == sorted(
+        b, key=lambda w: (w.participants, w.repetition)
+    )
+    assert len({w.study_seed for w in a}) == 6 and len({w.sampler_seed for w in a}) == 6
+    assert work_items(PowerOptions(participants=(10,), repetitions=1, seed=5))[0] != a[0]
+
+
+def test_counts_follow_eq4():
+    data = simulate_counts(400, effect=1.0, seed=3, participant_sd=0.0)
+    s = data.sessions
+    assert data.simulated and len(s) == 800 and set(s["group"]) == {"A", "B"}
+    on, off = s[s["condition"] == "on"]["interventions"], s[s["condition"] == "off"]["interventions"]
+    assert np.log(on.mean() / off.mean()) == pytest.approx(1.0, abs=0.12)
+    assert off.mean() == pytest.approx(1.5, rel=0.15)
+    assert simulate_counts(6, 1.0, seed=3).sessions.equals(simulate_counts(6, 1.0, seed=3).sessions)
+
+
+@pytest.mark.slow
+def test_power_is_the_same_on_one_and_two_workers_and_is_written(tmp_path, capsys):
+    options = dict(
+        participants=(6, 12), repetitions=1, effect=1.0, measure="interventions", chains=1, tune=60, draws=60
+    )
+    one = run_power(PowerOptions(workers=1, **options))
+    two = run_power(PowerOptions(workers=2, **options))
+    strip = [{k: v for k, v in r.items() if k != "seconds"} for r in one.runs]
+    assert strip == [{k: v for k, v in r.items() if k != "seconds"} for r in two.runs]
+    assert [p.participants for p in one.points] == [6, 12]
+    assert all(0.0 <= p.power <= 1.0 and p.power_ci[0] <= p.power <= p.power_ci[1] for p in one.points)
+    paths = write_power(one, tmp_path / "power")
+    assert paths["plot"].stat().st_size > 10_000
+    assert json.loads(paths["json"].read_text())["data"] == "SIMULATED"
+    with pytest.raises(SconeError, match="already holds power.json, power.png"):
+        write_power(one, tmp_path / "power")
+    assert main(["power", "--n", "6,x", "--out", str(tmp_path / "p2")]) == 2
+    assert "not a comma list" in capsys.readouterr().err
