@@ -1,13 +1,13 @@
 """``scone-bench scale``: the same self-confidence generation on 1 and 2 Ray workers, and Ray's per-task cost.
 
-    scone-bench scale --json runs/scale.json                     # 8 executions of p00_nominal, local Ray runtime
+    scone-bench scale --json runs/scale.json          # 8 executions of p00_nominal, local Ray runtime
     scone-bench scale --workers 1 2 4 8 --executions 64 --ray auto   # on a cluster (see docs/distributed.md)
 
 Each run executes the same seeded, physical pick-and-place executions (camera, detector, OMPL, PyBullet) as
 tools/gen_sc_datasets.py. Before timing, every worker runs one untimed execution so that imports and the arm model
-are loaded (a one-off per worker process, not a per-task cost). `identical_results` compares every record of every
-run. The per-task overhead comes from a batch of empty tasks; with the measured task time it gives the
-`projection_100_workers` figures (on paper: see docs/distributed.md).
+are loaded (a one-off per worker process, not a per-task cost). `identical_results` compares every record of
+every run with the same executions run without Ray (in this process). The per-task overhead comes from a batch of
+empty tasks; with the measured task time it gives `projection_100_workers` (on paper: see docs/distributed.md).
 """
 
 from __future__ import annotations
@@ -103,8 +103,10 @@ def run_scale(
     t0 = time.perf_counter()
     map_tasks(noop_task, range(overhead_tasks), engine=engine)
     noop_s = (time.perf_counter() - t0) / overhead_tasks
-    reference = records[workers[0]]
-    identical = all(records[w] == reference for w in workers)
+    # Without Ray: the same executions in this process (the local engine with one worker) are the reference.
+    log("the same executions without Ray (reference) ...")
+    local = [r for r, _, _ in map_tasks(timed_execution, tasks, engine=EngineOptions(workers=1))]
+    identical = all(records[w] == local for w in workers)
     base = runs[str(workers[0])]["executions_per_s"]
     speedups = {str(w): round(runs[str(w)]["executions_per_s"] / base, 3) for w in workers}
     task_s = runs[str(workers[0])]["task_wall_s_mean"]
