@@ -60,6 +60,12 @@ class ObjectState:
     orientation: tuple[float, float, float, float]
 
 
+def _footprint_radius(spec: ObjectSpec) -> float:
+    """Radius of the circle around the product's footprint, metres."""
+    sx, sy, _ = spec.size
+    return float(np.hypot(sx, sy) / 2 if spec.shape == "box" else sx / 2)
+
+
 class Kitchen:
     """The simulated world. Create with `Kitchen(kitchen_cfg, robot_cfg)`; spawn objects with `spawn`.
 
@@ -246,24 +252,44 @@ class Kitchen:
         rot = np.array(self.bc.getMatrixFromQuaternion(st.orientation)).reshape(3, 3)
         return bool(rot[2, 2] > 0.9)
 
-    def free_place_spot(self) -> tuple[float, float, float] | None:
-        """First table spot with no object within 7 cm; (x, y, table top z)."""
-        top = self.config.scene.table_top_z
-        occupied = [self.object_state(n).position for n in self.objects]
-        for x, y in self.config.scene.place_spots:
-            if all(
-                np.hypot(x - ox, y - oy) > 0.07 or oz > top + 0.3 or oz < top - 0.05
-                for ox, oy, oz in occupied
-            ):
+    def free_place_spot(self, spec: ObjectSpec | None = None) -> tuple[float, float, float] | None:
+        """A free table spot (x, y, table top z), ground truth: what the human sees when putting something down.
+
+        The configured place spots come first, then a 2 cm grid over the table top (nearest the robot first), so
+        a long recipe still finds room once the spots are taken. Without `spec` a spot is free when no object
+        stands within 7 cm of it; with it, when the product's footprint clears every footprint on the table by
+        1 cm and stays on the table.
+        """
+        scene = self.config.scene
+        (cx, cy, _), (sx, sy, _) = scene.table
+        top = scene.table_top_z
+        standing = []
+        for n in self.objects:
+            x, y, z = self.object_state(n).position
+            if top - 0.05 <= z <= top + 0.3:
+                standing.append((x, y, _footprint_radius(self.specs[n])))
+        radius = _footprint_radius(spec) if spec is not None else 0.0
+        grid = [
+            (float(x), float(y))
+            for x in np.arange(cx - sx / 2 + 0.04, cx + sx / 2 - 0.04 + 1e-9, 0.02)
+            for y in sorted(np.arange(cy - sy / 2 + 0.04, cy + sy / 2 - 0.04 + 1e-9, 0.02), key=abs)
+        ]
+        for x, y in [*scene.place_spots, *grid]:
+            if spec is None:
+                free = all(np.hypot(x - ox, y - oy) > 0.07 for ox, oy, _ in standing)
+            else:
+                inside = abs(x - cx) <= sx / 2 - radius and abs(y - cy) <= sy / 2 - radius
+                free = inside and all(np.hypot(x - ox, y - oy) >= radius + r + 0.01 for ox, oy, r in standing)
+            if free:
                 return (x, y, top)
         return None
 
     def human_place_on_table(self, name: str) -> bool:
         """The simulated human carries the object to a free table spot (by hand, not by the robot)."""
-        spot = self.free_place_spot()
+        spec = self.specs[name]
+        spot = self.free_place_spot(spec)
         if spot is None:
             return False
-        spec = self.specs[name]
         x, y, top = spot
         self.bc.resetBasePositionAndOrientation(
             self._body(name), (x, y, top + spec.height / 2 + 1e-3), (0, 0, 0, 1)

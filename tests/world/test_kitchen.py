@@ -53,3 +53,14 @@ def test_resting_objects_far_from_the_moving_arm_freeze_without_changing_the_out
             assert all(k.is_on_shelf(n) for n in names)
             end[freeze] = {n: np.array(k.object_state(n).position) for n in names}
     assert max(np.abs(end[True][n] - end[False][n]).max() for n in names) < 0.003
+
+
+def test_the_human_finds_room_on_the_table_for_a_long_recipe(kitchen, kitchen_cfg, rng):
+    cat = kitchen_cfg.catalogue
+    # Fifteen products with small footprints: more than the nine configured place spots.
+    small = sorted(cat.objects, key=lambda o: max(o.size[0], o.size[1]))[:15]
+    kitchen.spawn(small, rng)
+    for spec in small:
+        assert kitchen.human_place_on_table(spec.name), spec.name
+    kitchen.advance(1.0)
+    assert all(kitchen.is_on_table(spec.name) for spec in small)
