@@ -65,6 +65,9 @@ def run_scale(
     if profiles_dir is None or not profiles_dir.is_dir():
         raise SconeError("scone-bench scale needs the profiles in tools/profiles of a checkout")
     (profile,) = load_profiles(profiles_dir, [profile_name])
+    EngineOptions(
+        EngineKind.RAY, address=address
+    )  # a bad --ray value is a one-line error before anything starts
     load_before = _load()
     t_start = time.perf_counter()
     how = connect_ray(address, num_cpus=max(workers) if address in ("local", "auto") else None)
