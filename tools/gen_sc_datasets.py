@@ -35,7 +35,12 @@ from scone_bt.benchmarks.self_confidence import (  # noqa: E402
     write_records,
 )
 from scone_bt.benchmarks.self_confidence.generate import ExecutionTask, execute_task  # noqa: E402
-from scone_bt.distributed import add_engine_arguments, engine_from_args, imap_tasks  # noqa: E402
+from scone_bt.distributed import (  # noqa: E402
+    add_engine_arguments,
+    engine_from_args,
+    imap_tasks,
+    start_engine,
+)
 from scone_bt.errors import SconeError  # noqa: E402
 
 
@@ -88,6 +93,7 @@ def _main(args: argparse.Namespace) -> int:
 
     tasks = [ExecutionTask(prof, i, args.kitchen, args.robot) for prof, i in todo]
     engine = engine_from_args(args, args.jobs)
+    start_engine(engine)  # an unreachable Ray cluster fails here, before any work
     skipped = sum(len(v) for v in done.values())
     bar = tqdm(total=len(todo), desc="executions", unit="run", file=sys.stderr)
     if skipped:

@@ -15,7 +15,7 @@ from scone_bt.distributed.options import (
     engine_from_args,
 )
 from scone_bt.distributed.seeding import task_seed
-from scone_bt.distributed.tasks import imap_tasks, map_tasks
+from scone_bt.distributed.tasks import imap_tasks, map_tasks, start_engine
 
 __all__ = [
     "RAY_ADDRESS_FORMS",
@@ -25,5 +25,6 @@ __all__ = [
     "engine_from_args",
     "imap_tasks",
     "map_tasks",
+    "start_engine",
     "task_seed",
 ]

@@ -17,9 +17,21 @@ from typing import Any, TypeVar
 from scone_bt.distributed.options import EngineKind, EngineOptions
 from scone_bt.distributed.seeding import _NO_SHARED
 
-__all__ = ["imap_tasks", "map_tasks"]
+__all__ = ["imap_tasks", "map_tasks", "start_engine"]
 
 R = TypeVar("R")
+
+
+def start_engine(engine: EngineOptions | None) -> str:
+    """Connect to (or start) the engine's Ray cluster now, so a bad address fails before any output is created.
+
+    A no-op for the local engine; imap_tasks would otherwise connect on first use.
+    """
+    if engine is None or engine.kind is not EngineKind.RAY:
+        return "local"
+    from scone_bt.distributed.ray_engine import connect_ray
+
+    return connect_ray(engine.address, engine.workers)
 
 
 def imap_tasks(

@@ -167,11 +167,12 @@ def simulate_study(
     run in parallel; the log is written in participant order whatever order they finish in, so the file's
     content does not depend on the engine or the number of workers. Default: one after another, in this process.
     """
-    from scone_bt.distributed import EngineOptions, imap_tasks
+    from scone_bt.distributed import EngineOptions, imap_tasks, start_engine
 
     path = Path(db_path)
     if path.exists():
         raise SconeError(f"{path} exists; a simulated study writes a new file (choose another --db)")
+    start_engine(engine)  # an unreachable cluster fails here, before the log file exists
     log = StudyLog(path, simulated=True)
     mode = "fast (synthetic episodes, no physics)" if options.fast else "physics episodes"
     printer(f"SIMULATED study: {options.participants} participants, {mode}, seed {options.seed} -> {path}")
