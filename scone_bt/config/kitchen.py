@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from scone_bt.config.catalogue import Catalogue, ObjectSpec, catalogue_files, load_catalogue
@@ -26,8 +26,18 @@ class KitchenConfig:
 
     @property
     def shelf_cameras(self) -> tuple[CameraSpec, ...]:
-        """The cameras that watch the shelving (at least ``camera``)."""
-        return tuple(c for c in self.cameras if c.role == "shelf") or (self.camera,)
+        """The cameras that watch the shelving: ``camera`` first, then the others with ``camera``'s noise levels.
+
+        The shelf cameras are one model, so replacing ``camera`` (a proficiency profile's noisier camera) changes
+        the noise of all of them.
+        """
+        first = self.camera
+        others = tuple(
+            replace(c, noise_std=first.noise_std, depth_noise_std=first.depth_noise_std)
+            for c in self.cameras
+            if c.role == "shelf" and c.name != first.name
+        )
+        return (first, *others)
 
     @property
     def table_camera(self) -> CameraSpec | None:

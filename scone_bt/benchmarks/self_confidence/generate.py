@@ -88,7 +88,7 @@ def run_execution(
         robot_cfg: The robot before the profile's overrides.
         target_name: Force this target instead of the seeded draw (for per-object calibration sweeps).
     """
-    from scone_bt.perception import Camera, Detector
+    from scone_bt.perception import Observer
     from scone_bt.world import Kitchen
 
     t0 = time.perf_counter()
@@ -114,8 +114,8 @@ def run_execution(
 
     with Kitchen(kcfg, rcfg) as kitchen:
         kitchen.spawn([target, *others], rng)
-        frame = Camera(kcfg.camera).capture(kitchen, rng)
-        detections = Detector(catalogue).detect(frame)
+        # Every shelf camera: the shelving has several units (the table camera plays no part here).
+        detections = list(Observer(kcfg, table_camera=False).observe(kitchen, rng).detections)
         by_name = {d.name: _shifted(d, profile.calibration_offset) for d in detections}
         if "perception" in injected:
             return record(False, "perception", "injected: target not detected")
