@@ -169,7 +169,9 @@ class ExperienceStore(OutcomeStore):
             )
         check = conn.execute("PRAGMA quick_check").fetchone()[0]
         if check != "ok":
-            raise ExperienceStoreError(f"{path} is corrupt (quick_check: {' '.join(str(check).split())[:200]}); it was left as it is")
+            raise ExperienceStoreError(
+                f"{path} is corrupt (quick_check: {' '.join(str(check).split())[:200]}); it was left as it is"
+            )
         return int(version)
 
     @staticmethod
