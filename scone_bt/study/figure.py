@@ -19,7 +19,8 @@ _TITLES = {
     "interventions": "interventions",
 }
 _SCORE_COLUMN = {"trust": "mdmt"}
-_COLOURS = ("#c4553d", "#3d8c5a")
+_POLICY_COLOURS = ("#c4553d", "#3d8c5a")  # off red, on green
+_G_COLOURS = ("#6c7a89", "#3b5b92")  # neutral: G is no treatment
 
 
 def _histogram(
@@ -51,7 +52,13 @@ def _histogram(
 
 
 def _candles(
-    ax: Any, frame: Any, column: str, by: str, levels: tuple[str, str], names: tuple[str, str]
+    ax: Any,
+    frame: Any,
+    column: str,
+    by: str,
+    levels: tuple[str, str],
+    names: tuple[str, str],
+    colours: tuple[str, str],
 ) -> None:
     """Mean ± sd as a box, min-max as whiskers, per level."""
     import numpy as np
@@ -63,7 +70,7 @@ def _candles(
             continue
         m = vals.mean()
         s = vals.std(ddof=1) if len(vals) > 1 else 0.0
-        colour = _COLOURS[x]
+        colour = colours[x]
         ax.vlines(x, vals.min(), vals.max(), color=colour, lw=1)
         ax.bar(x, 2 * s, bottom=m - s, width=0.45, color=colour, alpha=0.45, edgecolor=colour)
         ax.hlines(m, x - 0.22, x + 0.22, color=colour, lw=2.5)
@@ -108,8 +115,10 @@ def plot_results(
             axes[row][col].set_title(f"{title}: {'policy' if factor == 'condition' else g}", fontsize=9)
         frame = data.sessions
         if column in frame:
-            _candles(axes[row][2], frame, column, "condition", ("off", "on"), ("SC off", "SC on"))
-            _candles(axes[row][3], frame, column, g_column, g_levels, g_names)
+            _candles(
+                axes[row][2], frame, column, "condition", ("off", "on"), ("SC off", "SC on"), _POLICY_COLOURS
+            )
+            _candles(axes[row][3], frame, column, g_column, g_levels, g_names, _G_COLOURS)
         for col in (2, 3):
             axes[row][col].set_ylabel(unit, fontsize=8)
         axes[row][2].set_title(f"{title}: scores by policy", fontsize=9)
