@@ -41,11 +41,14 @@ def test_every_shelf_slot_is_in_view_of_a_shelf_camera(kitchen_cfg):
         assert any(_in_view(camera, lids).all() for camera in cameras), (x, y, z)
 
 
-def test_every_place_spot_is_in_view_of_the_table_camera(kitchen_cfg):
+def test_the_whole_table_top_is_in_view_of_the_table_camera(kitchen_cfg):
     camera = Camera(kitchen_cfg.table_camera)
     top = kitchen_cfg.scene.table_top_z
     spots = np.array([(x, y, top + h) for x, y in kitchen_cfg.scene.place_spots for h in (0.02, 0.25)])
     assert _in_view(camera, spots).all()
+    (cx, cy, _), (sx, sy, _) = kitchen_cfg.scene.table
+    corners = np.array([(cx + a * sx / 2, cy + b * sy / 2, top) for a in (-1, 1) for b in (-1, 1)])
+    assert _in_view(camera, corners).all()
 
 
 @pytest.mark.parametrize(
