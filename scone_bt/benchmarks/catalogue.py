@@ -170,7 +170,9 @@ def run_catalogue_benchmark(
         "mentions": mentions,
         "mention_coverage": round(covered / mentions, 4) if mentions else 0.0,
         "mentions_by_class": {k: kinds[k] for k in ("stocked", "water", "tool", "unstocked", "nothing")},
-        "stocked_mentions_by_rule": {r: rules[r] for r in ("exact", "in_line", "grade", "part", "spelling")},
+        "stocked_mentions_by_rule": {
+            r: rules[r] for r in ("exact", "in_line", "grade", "part", "kind", "spelling")
+        },
         "recipes_fully_stocked_fraction": round(fully / len(recipes), 4) if recipes else 0.0,
         "recipes_fit_shelf_fraction": round(fits / len(recipes), 4) if recipes else 0.0,
         "shelf_slots": slots,

@@ -57,6 +57,13 @@ _PART_WORDS = _words(
     "juice zest peel rind yolk white clove leave leaf sprig stalk rib floret wedge slice half segment crumb green"
     " puree flake wash cube"
 )
+# Generic products that stand for their whole kind: a kind the catalogue lacks ("scamorza cheese") is fetched
+# as the generic product, the way a cook takes the cheese there is. Only heads where any kind is a fair stand-in:
+# not "milk" (almond milk), "butter" (peanut butter), "pepper" (bell pepper) or "oil".
+_KIND_HEADS = _words(
+    "cheese mushroom potato onion apple rice sausage salmon peanut tomato bread chocolate honey pasta noodle tea"
+    " lettuce chicken beef pork lamb"
+)
 _WORD = re.compile(r"[a-z][a-z'&-]*")
 
 
@@ -71,6 +78,8 @@ class MatchRule(Enum):
     """The item less grade words ("sharp cheddar" → cheddar cheese)."""
     PART = "part"
     """The item less a trailing part word ("lemon juice" → lemon), or the whole of "A of B" ("zest of lemon")."""
+    KIND = "kind"
+    """An unlisted kind of a generic product ("cotija cheese" → cheese, "porcini mushrooms" → mushrooms)."""
     SPELLING = "spelling"
     """A misspelt product name or alias, word for word ("broccli", "ground tumeric")."""
 
@@ -137,7 +146,12 @@ class ProductIndex:
                 phrases.append((folded, obj.name))
         phrases.sort(key=lambda p: -len(p[0]))
         self._keys = sorted(self._by_key)
+        self.step_patterns = _patterns(catalogue)
         self._phrases = [(re.compile(rf"\b{re.escape(a)}\b"), a, n) for a, n in phrases if " " in a]
+
+    def _kind(self, head: str) -> str | None:
+        """The generic product of a kind: the one named by the head word alone ("cheese", "potatoes")."""
+        return self._by_key.get(head)
 
     def _exact(self, words: list[str]) -> str | None:
         return self._by_key.get(item_key(" ".join(words))) if words else None
@@ -158,7 +172,7 @@ class ProductIndex:
             text = _fold(re.sub(r"\([^)]*\)", " ", line))
             first = re.search(rf"\b{re.escape(words[-1])}\b", text)
             for pattern, alias, name in self._phrases if first else ():
-                if head not in {item_key(w) for w in alias.split()}:
+                if alias not in text or head not in {item_key(w) for w in alias.split()}:
                     continue
                 for m in pattern.finditer(text):
                     if m.start() <= first.start() < m.end():
@@ -179,6 +193,9 @@ class ProductIndex:
             if (hit := self._exact(whole)) is not None:
                 return ProductMatch(hit, MatchRule.PART)
         key = item_key(" ".join(graded))
+        head = key.split()[-1]
+        if head in _KIND_HEADS and len(key.split()) > 1 and (hit := self._kind(head)) is not None:
+            return ProductMatch(hit, MatchRule.KIND)
         if len(key) >= 6:
             for close in difflib.get_close_matches(key, self._keys, n=5, cutoff=0.8):
                 if _same_words_misspelt(key.split(), close.split()):
@@ -200,16 +217,17 @@ def _same_words_misspelt(words: list[str], target: list[str]) -> bool:
     )
 
 
-def _patterns(catalogue: Catalogue) -> list[tuple[re.Pattern[str], str]]:
+def _patterns(catalogue: Catalogue) -> list[tuple[re.Pattern[str], str, str]]:
+    """(pattern, product, alias) for every name and alias, longest first."""
     pairs = [(alias.lower(), obj.name) for obj in catalogue.objects for alias in (obj.name, *obj.aliases)]
     # Longest alias first so "olive oil" wins over "oil" and "canned tomatoes" over "tomatoes".
     pairs.sort(key=lambda p: -len(p[0]))
-    return [(re.compile(rf"\b{re.escape(alias)}\b"), name) for alias, name in pairs]
+    return [(re.compile(rf"\b{re.escape(alias)}\b"), name, alias) for alias, name in pairs]
 
 
 def match_catalogue(text: str, catalogue: Catalogue) -> list[str]:
     """Catalogue objects named in a text, in order of first mention, each once."""
-    return [name for _, name in _mentions(text.lower(), _patterns(catalogue))]
+    return [name for _, name in _mentions(text.lower(), [(p, n) for p, n, _ in _patterns(catalogue)])]
 
 
 def _mentions(lowered: str, patterns: list[tuple[re.Pattern[str], str]]) -> list[tuple[int, str]]:
@@ -258,17 +276,23 @@ def stock_recipe(
             continue
         products.setdefault(product, item)
     # A step names a product by its catalogue name or alias, or by the words the recipe itself used for it.
-    patterns = _patterns(catalogue)
+    # Every catalogue name stays in play (a longer one blocks a shorter inside it: "peanut butter" is not
+    # butter), but only those that occur in the recipe's text at all are searched.
+    texts = [
+        (" ; ".join(recipe.step_ingredients[i]) + " ; " + s)
+        if recipe.step_ingredients is not None and recipe.step_ingredients[i]
+        else s
+        for i, s in enumerate(recipe.steps)
+    ]
+    everything = " ".join(texts).lower()
+    patterns = [(p, n) for p, n, alias in index.step_patterns if alias in everything]
     for product, item in products.items():
         for label in {item, item.split()[-1]} if item else ():
             patterns.append((re.compile(rf"\b{re.escape(label)}s?\b"), product))
     patterns.sort(key=lambda p: -len(p[0].pattern))
     used: set[str] = set()
     per_step: list[list[str]] = []
-    for i, instruction in enumerate(recipe.steps):
-        text = instruction
-        if recipe.step_ingredients is not None and recipe.step_ingredients[i]:
-            text = " ; ".join(recipe.step_ingredients[i]) + " ; " + instruction
+    for text in texts:
         mentioned = [n for _, n in _mentions(text.lower(), patterns) if n in products and n not in used]
         used.update(mentioned)
         per_step.append(mentioned)
