@@ -11,7 +11,7 @@ Asserted: fixed effects within 0.15 logit and within two posterior sd of clmm's 
 25 % (simulated data). With only 9 judges the posterior of the judges' sd is wide and skewed and its mean lies above
 the ML estimate, and integrating over it moves the fixed effects with it; there the check is that clmm's estimates
 lie within two posterior sd and inside the 95 % posterior interval (docs/study.md gives the numbers).
-Sampling is short (2 chains x 300 + 300); the published settings are the CLI default.
+Sampling is short (2 chains x 200 + 250); the published settings are the CLI default.
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ WHY_NOT = r_unavailable()
 pytestmark = pytest.mark.skipif(WHY_NOT is not None, reason=f"R cross-check skipped: {WHY_NOT}")
 
 WIDE = Priors(effect_sd=5.0, cutpoint_sd=5.0, scale_sd=2.5)
-SAMPLER = AnalysisOptions(chains=2, tune=300, draws=300, cores=1, seed=11, priors=WIDE)
+SAMPLER = AnalysisOptions(chains=2, tune=200, draws=250, cores=1, seed=11, priors=WIDE)
 
 
 def _fit(design: OrdinalDesign, factors: tuple[str, ...]):  # noqa: ANN202
