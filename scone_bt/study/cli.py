@@ -130,17 +130,17 @@ def build_parser() -> argparse.ArgumentParser:
             help="paper: Eq. (3)/(4) as published; extended: adds group A/B, single-difference coding",
         )
         parser.add_argument(
-            "--effect-prior-sd", type=float, help="prior sd of the effects (default: the model's, 1)"
+            "--effect-prior-sd", type=float, help="prior sd of the effects (unset: the model's, 1)"
         )
         parser.add_argument(
             "--cutpoint-prior-sd",
             type=float,
-            help="prior sd of the cut-points (default: the model's; paper 1, extended 1.5)",
+            help="prior sd of the cut-points (unset: the model's; paper 1, extended 1.5)",
         )
         parser.add_argument(
             "--scale-prior-sd",
             type=float,
-            help="scale of the participant/question sd priors (default: the model's, 1)",
+            help="scale of the participant/question sd priors (unset: the model's, 1)",
         )
         parser.add_argument("--chains", type=int, default=6, help="MCMC chains")
         parser.add_argument("--tune", type=int, default=500, help="warm-up draws per chain")

@@ -59,7 +59,8 @@ class Priors:
         for name in ("effect_sd", "cutpoint_sd", "scale_sd"):
             v = getattr(self, name)
             if not (v > 0 and np.isfinite(v)):
-                raise SconeError(f"prior {name.replace('_', '-')} must be a positive number, got {v}")
+                flag = "--" + name.removesuffix("_sd").replace("_", "-") + "-prior-sd"
+                raise SconeError(f"{flag} must be a positive number, got {v}")
 
     @classmethod
     def defaults(cls, specification: str) -> Priors:

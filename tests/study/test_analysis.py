@@ -25,7 +25,7 @@ def test_decision_rule():
         AnalysisOptions(rope=(0.2, -0.2))
     with pytest.raises(UnknownNameError, match="valid: extended, paper"):
         AnalysisOptions(specification="bambi")
-    with pytest.raises(SconeError, match="prior effect-sd must be a positive number"):
+    with pytest.raises(SconeError, match="--effect-prior-sd must be a positive number"):
         AnalysisOptions(priors=Priors(effect_sd=0.0))
     assert AnalysisOptions().priors == Priors(1.0, 1.0, 1.0)
     assert AnalysisOptions(specification="extended").priors == Priors(1.0, 1.5, 1.0)
