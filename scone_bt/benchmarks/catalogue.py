@@ -3,7 +3,8 @@
 Measures, over the 1,227 recipes of ../shared/data/recipes/recipes.jsonl:
 
 - normalisation accuracy on the ``nw:`` recipes, whose ``ingredients_structured`` names (the authors' Cooklang
-  markup) are the labels, and on a hand-labelled sample of free-text ``pdr:`` lines (tools/data/normalise/);
+  markup) are the labels, and on two hand-labelled samples of free-text ``pdr:`` lines (tools/data/normalise/):
+  one the rules were revised on, and a held-out one labelled afterwards;
 - mention coverage: the fraction of ingredient lines that name a catalogue product or something not fetched from
   a shelf (water, ice, a tool);
 - the fraction of recipes with every fetchable ingredient stocked, and of recipes whose stocked products plus four
@@ -29,17 +30,33 @@ from typing import Any
 from scone_bt.errors import RecipeError
 from scone_bt.resources import repo_root
 
-__all__ = ["register", "run_catalogue_benchmark", "label_item", "DISTRACTORS", "default_pdr_labels"]
+__all__ = [
+    "register",
+    "run_catalogue_benchmark",
+    "label_item",
+    "DISTRACTORS",
+    "default_pdr_labels",
+    "default_pdr_heldout",
+]
 
 DISTRACTORS = 4
 """Products not in the recipe that share the shelf with it (the episode's default is larger; the issue asks 4)."""
 
 
-def default_pdr_labels() -> Path | None:
-    """tools/data/normalise/pdr_labels.jsonl in a checkout, else None."""
+def _normalise_data(name: str) -> Path | None:
     root = repo_root()
-    path = root / "tools" / "data" / "normalise" / "pdr_labels.jsonl" if root is not None else None
+    path = root / "tools" / "data" / "normalise" / name if root is not None else None
     return path if path is not None and path.is_file() else None
+
+
+def default_pdr_labels() -> Path | None:
+    """tools/data/normalise/pdr_labels.jsonl in a checkout (the normaliser's rules were revised on it), else None."""
+    return _normalise_data("pdr_labels.jsonl")
+
+
+def default_pdr_heldout() -> Path | None:
+    """tools/data/normalise/pdr_labels_heldout.jsonl (labelled after the last rule change, never tuned on)."""
+    return _normalise_data("pdr_labels_heldout.jsonl")
 
 
 def label_item(name: str) -> str:
@@ -105,6 +122,7 @@ def run_catalogue_benchmark(
     catalogues: tuple[str, ...] = (),
     corpus: Path | None = None,
     pdr_labels: Path | None = None,
+    pdr_heldout: Path | None = None,
 ) -> dict[str, Any]:
     """Every figure of the catalogue benchmark as one JSON-ready mapping."""
     from scone_bt.config import load_kitchen
@@ -130,6 +148,8 @@ def run_catalogue_benchmark(
     nw = _accuracy(nw_pairs)
     pdr_path = pdr_labels or default_pdr_labels()
     pdr = _accuracy(_read_pdr_labels(pdr_path)) if pdr_path is not None else None
+    heldout_path = pdr_heldout or (default_pdr_heldout() if pdr_labels is None else None)
+    heldout = _accuracy(_read_pdr_labels(heldout_path)) if heldout_path is not None else None
 
     index = ProductIndex(cat)
     slots = len(cfg.scene.shelf_slots())
@@ -166,6 +186,8 @@ def run_catalogue_benchmark(
         "normalisation_lines": nw.total,
         "pdr_sample_accuracy": round(pdr.value, 4) if pdr is not None else None,
         "pdr_sample_lines": pdr.total if pdr is not None else 0,
+        "pdr_heldout_accuracy": round(heldout.value, 4) if heldout is not None else None,
+        "pdr_heldout_lines": heldout.total if heldout is not None else 0,
         "recipes": len(recipes),
         "mentions": mentions,
         "mention_coverage": round(covered / mentions, 4) if mentions else 0.0,
@@ -185,6 +207,7 @@ def run_catalogue_benchmark(
         "top_unstocked_items": dict(unstocked_items.most_common(15)),
         "nw_errors_sample": [list(e) for e in nw.errors],
         "pdr_errors_sample": [list(e) for e in pdr.errors] if pdr is not None else [],
+        "pdr_heldout_errors_sample": [list(e) for e in heldout.errors] if heldout is not None else [],
         "wall_s": round(time.perf_counter() - wall0, 2),
         "cpu_s": round(time.process_time() - cpu0, 2),
     }
@@ -197,6 +220,7 @@ def _run(args: argparse.Namespace) -> int:
         catalogues=tuple(args.catalogue),
         corpus=args.corpus,
         pdr_labels=args.pdr_labels,
+        pdr_heldout=args.pdr_heldout,
     )
     text = json.dumps(result, indent=2)
     print(text)
@@ -227,6 +251,11 @@ def register(subparsers: Any) -> None:
         "--pdr-labels",
         type=Path,
         help="hand-labelled pdr: lines, JSONL with line and item (default tools/data/normalise/pdr_labels.jsonl)",
+    )
+    p.add_argument(
+        "--pdr-heldout",
+        type=Path,
+        help="a second labelled file never tuned on (default tools/data/normalise/pdr_labels_heldout.jsonl)",
     )
     p.add_argument("--json", metavar="FILE", help="also write the JSON here")
     p.set_defaults(func=_run)
