@@ -71,3 +71,22 @@ def test_merge_keeps_the_most_confident_detection_per_name():
     b = Detection("salt", -1, (0.1, 0.0, 0.0), 0.0, 0.9, (0, 0, 1, 1))
     c = Detection("flour", -1, (0.2, 0.0, 0.0), 0.0, 0.5, (0, 0, 1, 1))
     assert merge_detections([[a, c], [b]]) == [c, b]
+
+
+def test_an_unchanged_view_is_not_detected_again(kitchen_cfg, robot_cfg):
+    with _kitchen_with_table_products(kitchen_cfg, robot_cfg, ["salt", "sugar"]) as kitchen:
+        observer = Observer(kitchen_cfg)
+        calls = []
+        detect = observer.detector.detect
+        observer.detector.detect = lambda frame: calls.append(frame) or detect(frame)
+        rng = np.random.default_rng(0)
+        first = observer.observe(kitchen, rng)
+        kitchen.advance(1.0)
+        second = observer.observe(kitchen, rng)
+        assert len(calls) == len(observer.cameras)  # the second look reused every camera's answer
+        assert [d.name for d in second.detections] == [d.name for d in first.detections]
+        assert kitchen.human_place_on_table("salt")
+        kitchen.advance(1.0)
+        third = observer.observe(kitchen, rng)
+        assert len(calls) > len(observer.cameras)
+        assert {d.name for d in third.table_detections} == {"salt", "sugar"}
