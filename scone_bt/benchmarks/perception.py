@@ -111,8 +111,10 @@ def run(args: argparse.Namespace) -> int:
         for _ in range(100):  # a draw of products too wide to stand side by side is drawn again
             chosen = rng.choice(len(catalogue), size=objects + args.table_objects, replace=False)
             specs = [catalogue.objects[int(i)] for i in chosen]
+            probe = np.random.default_rng()
+            probe.bit_generator.state = rng.bit_generator.state  # the same draws the spawn will make
             try:
-                plan_stocking(kitchen_cfg.scene, specs, np.random.default_rng(0))
+                plan_stocking(kitchen_cfg.scene, specs, probe)
                 break
             except ConfigError:
                 continue
