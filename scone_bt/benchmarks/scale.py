@@ -8,6 +8,8 @@ tools/gen_sc_datasets.py. Before timing, every worker runs one untimed execution
 are loaded (a one-off per worker process, not a per-task cost). `identical_results` compares every record of
 every run with the same executions run without Ray (in this process). The per-task overhead comes from a batch of
 empty tasks; with the measured task time it gives `projection_100_workers` (on paper: see docs/distributed.md).
+`machine_ceiling_speedup` is the speed-up plain processes get on pure CPU work on the same machine at the same
+time: on a machine shared with other work it bounds what any engine can show.
 """
 
 from __future__ import annotations
@@ -35,6 +37,30 @@ def timed_execution(task: Any) -> tuple[Any, float, float]:
     cpu0, wall0 = time.process_time(), time.perf_counter()
     _name, record, _wall = execute_task(task)
     return record, time.perf_counter() - wall0, time.process_time() - cpu0
+
+
+def burn_task(item: int) -> float:
+    """A fixed amount of pure-Python CPU work (the machine's own ceiling on parallel speed-up); its wall s."""
+    t0 = time.perf_counter()
+    x = 0
+    for i in range(3_000_000):
+        x += i ^ item
+    return time.perf_counter() - t0
+
+
+def machine_ceiling(workers: int, tasks: int = 8) -> float:
+    """Speed-up of `workers` plain processes over one on CPU-only tasks, measured now: what the load allows."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    rates = []
+    for w in (1, workers):
+        with ProcessPoolExecutor(w, mp_context=multiprocessing.get_context("spawn")) as pool:
+            list(pool.map(burn_task, range(w)))  # process start-up outside the timing
+            t0 = time.perf_counter()
+            list(pool.map(burn_task, range(tasks)))
+            rates.append(tasks / (time.perf_counter() - t0))
+    return rates[1] / rates[0]
 
 
 def _load() -> list[float]:
@@ -106,6 +132,9 @@ def run_scale(
     t0 = time.perf_counter()
     map_tasks(noop_task, range(overhead_tasks), engine=engine)
     noop_s = (time.perf_counter() - t0) / overhead_tasks
+    # What this machine allows right now: plain processes on pure CPU work, 1 vs the most workers (no Ray).
+    ceiling = machine_ceiling(max(workers)) if max(workers) > 1 else 1.0
+    log(f"machine ceiling (plain processes, CPU-only work): {ceiling:.2f}x")
     # Without Ray: the same executions in this process (the local engine with one worker) are the reference.
     log("the same executions without Ray (reference) ...")
     local = [r for r, _, _ in map_tasks(timed_execution, tasks, engine=EngineOptions(workers=1))]
@@ -127,6 +156,7 @@ def run_scale(
         "executions_per_s": {str(w): runs[str(w)]["executions_per_s"] for w in workers},
         "speedup": speedups[str(workers[-1])] if len(workers) > 1 else 1.0,
         "speedups": speedups,
+        "machine_ceiling_speedup": round(ceiling, 3),
         "identical_results": int(identical),
         "runs": runs,
         "overhead": {
