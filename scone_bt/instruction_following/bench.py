@@ -27,7 +27,11 @@ from scone_bt.instruction_following.policies import (
     state_scores,
     threshold_picks_score,
 )
-from scone_bt.instruction_following.product_policy import RecipeAwarePolicy, fit_selection_options
+from scone_bt.instruction_following.product_policy import (
+    RecipeAwarePolicy,
+    fit_selection_options,
+    fit_similarity_policy,
+)
 from scone_bt.instruction_following.states import IfState
 
 __all__ = [
@@ -91,6 +95,7 @@ class EmbedderRow:
         product_rho: Its semantic fallback's ρ, cosine similarity.
         product_margin: Its ambiguity margin, cosine similarity.
         product_named: Share of evaluated states where the step names at least one candidate item.
+        recipe_similarity: Ablation: the recipe's items chosen by similarity alone (no name reading).
     """
 
     name: str
@@ -104,6 +109,7 @@ class EmbedderRow:
     product_rho: float
     product_margin: float
     product_named: float
+    recipe_similarity: IfScore | None = None
 
 
 @dataclass(frozen=True)
@@ -175,6 +181,7 @@ def _product_json(row: EmbedderRow) -> dict[str, object]:
         "rho": round(row.product_rho, 3),
         "margin": round(row.product_margin, 3),
         "states_naming_an_item": round(row.product_named, 4),
+        "recipe_similarity_only": row.recipe_similarity.to_json() if row.recipe_similarity else None,
     }
 
 
@@ -259,6 +266,7 @@ def _embedding_row(
     sel_opts = fit_selection_options(emb, train, name)
     product = RecipeAwarePolicy(emb, f"{name}, recipe-aware (product)", sel_opts)
     named = float(np.mean([bool(product.selection(s).named) for s in test]))
+    similarity_only = fit_similarity_policy(emb, train, f"{name}, recipe-aware, similarity only")
     return EmbedderRow(
         name=name,
         rho=rho,
@@ -273,6 +281,7 @@ def _embedding_row(
         product_rho=sel_opts.rho,
         product_margin=sel_opts.margin,
         product_named=named,
+        recipe_similarity=evaluate(similarity_only, test),
     )
 
 
@@ -422,6 +431,12 @@ def format_table(result: BenchResult) -> str:
             f"| {r.name}, recipe-aware (the robot's policy) | {r.product.accuracy:.2f} | {r.product.recall:.2f} | "
             f"{r.product.picks_per_state:.2f} | named items, else cos ≥ {r.product_rho:.2f} |"
         )
+        if r.recipe_similarity is not None:
+            sim = r.recipe_similarity
+            lines.append(
+                f"| {r.name}, recipe items by similarity only (ablation) | {sim.accuracy:.2f} | {sim.recall:.2f} | "
+                f"{sim.picks_per_state:.2f} | within δ of the best recipe item |"
+            )
     for b in result.baselines:
         lines.append(f"| {b.policy} | {b.accuracy:.2f} | {b.recall:.2f} | {b.picks_per_state:.2f} | own |")
     for name, why in result.skipped.items():

@@ -20,7 +20,7 @@ from scone_bt.instruction_following.policies import state_scores
 from scone_bt.instruction_following.states import IfState, item_of_action
 from scone_bt.relevance.recipe_aware import RecipeContext, SelectionOptions, StepSelection, select_for_step
 
-__all__ = ["RecipeAwarePolicy", "fit_selection_options"]
+__all__ = ["RecipeAwarePolicy", "RecipeSimilarityPolicy", "fit_selection_options", "fit_similarity_policy"]
 
 
 @dataclass
@@ -77,3 +77,46 @@ def fit_selection_options(embedder: Embedder, train: Sequence[IfState], name: st
                 best = (value, float(rho), margin)
     assert best is not None
     return SelectionOptions(rho=best[1], margin=best[2])
+
+
+@dataclass
+class RecipeSimilarityPolicy:
+    """An ablation: the recipe's items only, chosen by similarity alone (no reading of item names).
+
+    Picks, best first, the recipe's items whose cosine similarity is at least ``rho`` and within ``delta`` of
+    the best recipe item's; it shows what ζ contributes once the robot knows the recipe.
+    """
+
+    embedder: Embedder
+    name: str
+    rho: float = 0.0
+    delta: float = 0.1
+
+    def choose(self, state: IfState, remaining: Sequence[str], picked: Sequence[str]) -> str | None:
+        (sc,) = state_scores(self.embedder, [state])
+        recipe = set(state.recipe_items) or {item_of_action(a) for a in state.available}
+        scores = {
+            a: float(v) for a, v in zip(state.available, sc, strict=True) if item_of_action(a) in recipe
+        }
+        if not scores:
+            return None
+        top = max(scores.values())
+        ok = [a for a in remaining if a in scores and scores[a] >= self.rho and scores[a] >= top - self.delta]
+        if not picked and not ok:
+            ok = [max(scores, key=scores.get)] if max(scores, key=scores.get) in remaining else []
+        return max(ok, key=lambda a: scores[a]) if ok else None
+
+
+def fit_similarity_policy(embedder: Embedder, train: Sequence[IfState], name: str) -> RecipeSimilarityPolicy:
+    """The (rho, delta) of `RecipeSimilarityPolicy` maximising min(accuracy, recall) on the train states."""
+    state_scores(embedder, train)
+    best: tuple[float, RecipeSimilarityPolicy] | None = None
+    for rho in (0.0, 0.1, 0.2, 0.3, 0.4):
+        for delta in (0.02, 0.05, 0.1, 0.15, 0.2, 0.3):
+            policy = RecipeSimilarityPolicy(embedder, name, rho, delta)
+            score = evaluate(policy, train)
+            value = min(score.accuracy, score.recall)
+            if best is None or value > best[0] + 1e-12:
+                best = (value, policy)
+    assert best is not None
+    return best[1]

@@ -46,3 +46,12 @@ def test_fitted_options_come_from_the_grid(tmp_path) -> None:
     emb = load_embedder("onehot", tmp_path)
     opts = fit_selection_options(emb, [_state("Blend the chickpeas.", {"chickpeas"}, RECIPE)])
     assert 0.0 < opts.rho < 0.8 and opts.margin in (0.0, 0.05)
+
+
+def test_similarity_only_ablation_never_picks_outside_the_recipe(tmp_path) -> None:
+    from scone_bt.instruction_following.product_policy import RecipeSimilarityPolicy
+
+    emb = load_embedder("onehot", tmp_path)
+    state = _state("Put honey on table", {"garlic"}, RECIPE)  # the step text equals a distractor's action
+    picks = evaluate(RecipeSimilarityPolicy(emb, "sim", rho=0.0, delta=0.0), [state]).episodes[0].picks
+    assert picks and all(p.removeprefix("Put ").removesuffix(" on table") in RECIPE for p in picks)
