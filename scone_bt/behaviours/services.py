@@ -6,8 +6,8 @@ through the cached factories below, so that the embedder, κ̂ and the motion sy
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass, field
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -69,22 +69,41 @@ class BehaviourOptions:
         learn_from: Whose stored outcomes rebuild κ̂: "self", "same-model" (same arm and profile) or "fleet".
         profile: Configuration label recorded with each outcome (e.g. a proficiency profile; "" for none).
         seed: Seeds perception noise, the estimators and the planners.
+
+    The fields of the tree file's ``parameters:`` (embedder, estimator, the thresholds, recipe_aware,
+    clarify_margin, max_failures_per_action) left at None come from the tree file (`resolve`): one source.
     """
 
-    embedder: str = "minilm"
-    estimator: str = "eps-knn"
-    confidence_threshold: float = 0.5
-    relevance_threshold: float = 0.25
+    embedder: str | None = None
+    estimator: str | None = None
+    confidence_threshold: float | None = None
+    relevance_threshold: float | None = None
     use_self_confidence: bool = True
-    recipe_aware: bool = True
-    clarify_margin: float = 0.03
-    max_failures_per_action: int = 3
+    recipe_aware: bool | None = None
+    clarify_margin: float | None = None
+    max_failures_per_action: int | None = None
     cache_dir: Path | None = None
     experience_path: Path | str | None = None
     robot_id: str = ""
     learn_from: str = "self"
     profile: str = ""
     seed: int = 0
+
+    def resolve(self, parameters: Mapping[str, Any] | None = None) -> BehaviourOptions:
+        """A copy whose unset tree parameters come from ``parameters`` (a tree file's validated section), then
+        from the `TreeParameters` defaults."""
+        from scone_bt.tree.parameters import PARAMETER_NAMES, TreeParameters
+
+        base = TreeParameters(**dict(parameters or {}))
+        filled = {k: getattr(base, k) for k in PARAMETER_NAMES if getattr(self, k) is None}
+        return replace(self, **filled) if filled else self
+
+    @property
+    def resolved(self) -> bool:
+        """Whether every tree parameter is set."""
+        from scone_bt.tree.parameters import PARAMETER_NAMES
+
+        return all(getattr(self, k) is not None for k in PARAMETER_NAMES)
 
 
 @dataclass
@@ -102,6 +121,8 @@ class Services:
     _cache: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
+        if not self.options.resolved:  # built without a tree file (tests, scripts): the defaults' one source
+            self.options = self.options.resolve()
         self.rng = np.random.default_rng(self.options.seed)
 
     def _once(self, key: str, build: Callable[[], Any]) -> Any:

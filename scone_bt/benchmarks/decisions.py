@@ -287,7 +287,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--recipes", type=int, default=20, help="corpus recipes the episodes cycle through")
     p.add_argument("--distractors", type=int, default=4, help="distractor products per episode")
     p.add_argument("--estimator", default="eps-knn", help="κ̂ in the episodes")
-    p.add_argument("--relevance-threshold", type=float, default=0.33, help="ρ of the semantic fallback")
+    p.add_argument(
+        "--relevance-threshold", type=float, help="ρ of the semantic fallback (default: the tree file's)"
+    )
     p.add_argument("--embedder", default="minilm", help="ζ of the gate replay")
     p.add_argument("--estimators", default="", help="comma-separated (default: all, with ε-greedy variants)")
     p.add_argument(

@@ -178,19 +178,14 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
         from scone_bt.viz.connect import check_viewer_address
 
         check_viewer_address(args.connect)
-    params = load_tree_spec(args.tree).parameters  # validated: types and ranges
-
-    def pick(cli_value, key, default):
-        return cli_value if cli_value is not None else params.get(key, default)
-
-    threshold = pick(args.confidence_threshold, "confidence_threshold", 0.5)
+    load_tree_spec(args.tree)  # validated now (types and ranges), before the kitchen is built
+    # Options not given on the command line come from the tree file's parameters (one source of defaults).
     behaviour = BehaviourOptions(
-        embedder=pick(args.embedder, "embedder", "minilm"),
-        estimator=pick(args.estimator, "estimator", "eps-knn"),
-        confidence_threshold=float(threshold),
-        relevance_threshold=float(pick(args.relevance_threshold, "relevance_threshold", 0.25)),
+        embedder=args.embedder,
+        estimator=args.estimator,
+        confidence_threshold=args.confidence_threshold,
+        relevance_threshold=args.relevance_threshold,
         use_self_confidence=not args.no_self_confidence,
-        max_failures_per_action=int(params.get("max_failures_per_action", 3)),
         experience_path=_experience(args.experience),
         robot_id=args.robot_id,
         learn_from=args.learn_from,

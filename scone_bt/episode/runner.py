@@ -253,7 +253,7 @@ def run_episode(
             robot_config=robot_cfg,
             recipe=recipe,
             human=human,
-            options=options.behaviour,
+            options=options.behaviour.resolve(spec.parameters),
             printer=printer,
             on_event=events,
             context={"robot": robot_cfg.name, "seed": options.seed, "recipe": recipe.recipe.id},

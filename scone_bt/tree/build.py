@@ -15,6 +15,7 @@ from scone_bt.config.schema import StrictModel, validate
 from scone_bt.config.yaml_io import read_yaml
 from scone_bt.errors import ConfigError, UnknownNameError
 from scone_bt.resources import resolve_file
+from scone_bt.tree.parameters import TreeParameters
 
 __all__ = ["TreeSpec", "TreeParameters", "ARG_MODELS", "load_tree_spec", "build_tree", "render_tree"]
 
@@ -57,16 +58,6 @@ class _WaitForHumanArgs(StrictModel):
 
 ARG_MODELS: dict[str, type[StrictModel]] = {"DecisionIs": _DecisionIsArgs, "WaitForHuman": _WaitForHumanArgs}
 """Argument schemas of behaviours that take arguments; others are checked against their constructor's signature."""
-
-
-class TreeParameters(StrictModel):
-    """The `parameters:` section: defaults of scone-run's options."""
-
-    embedder: Annotated[str, Field(min_length=1)] = "minilm"
-    estimator: Annotated[str, Field(min_length=1)] = "eps-knn"
-    confidence_threshold: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)] = 0.5
-    relevance_threshold: Annotated[float, Field(ge=-1, le=1, allow_inf_nan=False)] = 0.25
-    max_failures_per_action: Annotated[int, Field(ge=1, le=1000)] = 3
 
 
 def _signature_model(cls: type) -> type[BaseModel]:

@@ -19,7 +19,7 @@ class _Services:
     def __init__(self, on_table: bool) -> None:
         self.log: list[str] = []
         self.kitchen = SimpleNamespace(is_on_table=lambda name: on_table, sim_time=3.0)
-        self.options = BehaviourOptions()
+        self.options = BehaviourOptions().resolve()
         self.context = {"robot": "panda"}
         self.robot_id = "r1"
         self.robot_config = SimpleNamespace(name="panda")

@@ -45,7 +45,7 @@ class _Services:
             catalogue=SimpleNamespace(get=lambda n: SimpleNamespace(aliases=aliases.get(n, ())))
         )
         self.kitchen = SimpleNamespace(sim_time=0.0)
-        self.options = BehaviourOptions(relevance_threshold=0.5)
+        self.options = BehaviourOptions(relevance_threshold=0.5).resolve()
         self.human = human or _Human(())
         self.stats = EpisodeStats()
         self.events: list[tuple[str, dict]] = []
