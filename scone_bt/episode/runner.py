@@ -83,6 +83,7 @@ class EpisodeSummary:
     failures: int
     failures_by_stage: dict[str, int]
     help_requests: int
+    clarifications: int
     interventions: int
     takeovers: int
     decisions: int
@@ -117,7 +118,8 @@ class EpisodeSummary:
                 f"ingredients        {on_table}/{len(self.needed_on_table)} on the table",
                 f"actions attempted  {self.attempted}   successes {self.successes}   failures {self.failures} ({fails})"
                 + (f"   taken over {self.takeovers}" if self.takeovers else ""),
-                f"help requests      {self.help_requests}   interventions {self.interventions}",
+                f"help requests      {self.help_requests}   clarifications {self.clarifications}"
+                f"   interventions {self.interventions}",
                 f"decisions          {self.decisions}   control ticks {self.control_ticks}",
                 f"time               {self.sim_time:.1f} s simulated, {self.wall_time:.1f} s wall",
             ]
@@ -335,6 +337,7 @@ def run_episode(
             failures=stats.failures,
             failures_by_stage=dict(stats.failures_by_stage),
             help_requests=stats.help_requests,
+            clarifications=stats.clarifications,
             interventions=human.interventions,
             takeovers=stats.cancelled,
             decisions=stats.decisions,
