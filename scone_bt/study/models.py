@@ -20,6 +20,7 @@ R cross-check fits the wine data of R's ``ordinal`` package with temperature and
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -146,15 +147,25 @@ def _ordered_logit_logp(eta, cuts, y: np.ndarray):  # noqa: ANN001, ANN202 - pyt
 
 
 def _paper_terms(factors: tuple[Factor, ...], priors: Priors):  # noqa: ANN202
-    """Index-coded factor levels alpha_X[level] ~ Normal(0, effect_sd) and their contrasts."""
+    """The index-coded levels alpha_X[l] ~ Normal(0, effect_sd), written as midpoint + half the contrast.
+
+    alpha_X[0], alpha_X[1] iid Normal(0, sd) is the same as a midpoint h_X ~ Normal(0, sd / sqrt 2) and a contrast
+    d_X ~ Normal(0, sd sqrt 2), independent: alpha_X[l] = h_X + d_X (l - 1/2). The midpoints only shift the
+    location, so they are summed into one location term by the caller (see _location_sd).
+    """
     import pymc as pm
 
     total = 0.0
     for f in factors:
-        alpha = pm.Normal(f"alpha_{f.name}", 0.0, priors.effect_sd, shape=2)
-        pm.Deterministic(contrast_variable(f.name), alpha[1] - alpha[0])
-        total = total + alpha[f.index]
+        d = pm.Normal(contrast_variable(f.name), 0.0, priors.effect_sd * math.sqrt(2.0))
+        total = total + d * (f.index.astype(float) - 0.5)
     return total
+
+
+def _location_sd(n_factors: int, priors: Priors, question_mean: bool) -> float:
+    """sd of the sum of the level midpoints (each sd / sqrt 2) and, in Eq. (3), the question mean alpha_bar."""
+    var = n_factors * priors.effect_sd**2 / 2.0 + (QUESTION_MEAN_SD**2 if question_mean else 0.0)
+    return math.sqrt(var)
 
 
 def _extended_terms(factors: tuple[Factor, ...], priors: Priors):  # noqa: ANN202
@@ -169,8 +180,8 @@ def _extended_terms(factors: tuple[Factor, ...], priors: Priors):  # noqa: ANN20
 
 
 def _group_effect(
-    name: str, index: np.ndarray, specification: str, priors: Priors, mean=0.0, zero_sum: bool = True
-):  # noqa: ANN001, ANN202
+    name: str, index: np.ndarray, specification: str, priors: Priors, zero_sum: bool = True
+):  # noqa: ANN202
     """A group-level effect, non-centred (sigma * z) against the funnel of small studies."""
     import pymc as pm
 
@@ -186,41 +197,62 @@ def _group_effect(
             if zero_sum
             else pm.Normal(f"z_{name}", 0.0, 1.0, shape=n)
         )
-    effect = pm.Deterministic(f"a_{name}", mean + sigma * z)
+    effect = pm.Deterministic(f"a_{name}", sigma * z)
     return effect[index]
 
 
 def ordinal_model(design: OrdinalDesign, specification: str = "paper", priors: Priors | None = None):  # noqa: ANN201
-    """Eq. (3) (``paper``) or its extended variant, as a pm.Model."""
+    """Eq. (3) (``paper``) or its extended variant, as a pm.Model.
+
+    The paper model is sampled in an equivalent parametrisation: the index-coded levels' midpoints, the question
+    mean alpha_bar and the cut-points share one location that the answers do not fix (only cut-point minus
+    location enters the likelihood), a ridge that slows NUTS. So the likelihood uses thresholds
+    ``u = alpha - location``, the location gets its exact prior (the sum of the midpoints and alpha_bar), and the
+    cut-points ``alpha = u + location`` get their Normal(0, cutpoint_sd) prior as a potential (a shift, Jacobian 1).
+    The posterior of every contrast, sd and cut-point is the paper model's.
+    """
     import pymc as pm
 
     if specification not in SPECIFICATIONS:
         raise UnknownNameError("model", specification, SPECIFICATIONS)
     priors = priors or Priors.defaults(specification)
+    paper = specification == "paper"
     with pm.Model() as model:
-        terms = _paper_terms if specification == "paper" else _extended_terms
-        phi = terms(design.factors, priors)
+        phi = (_paper_terms if paper else _extended_terms)(design.factors, priors)
         if design.participant is not None:
             phi = phi + _group_effect("P", design.participant, specification, priors)
         if design.question is not None:
-            mean = pm.Normal("alpha_bar", 0.0, QUESTION_MEAN_SD) if specification == "paper" else 0.0
-            phi = phi + _group_effect("Q", design.question, specification, priors, mean)
+            phi = phi + _group_effect("Q", design.question, specification, priors)
         phi = phi + np.zeros(len(design.y))  # a tensor even without any term
+        if paper:
+            sd = _location_sd(len(design.factors), priors, design.question is not None)
+            location = pm.Normal("location", 0.0, sd)
         for name, rows, k in design.blocks:
             if k < 2:
                 raise SconeError(
                     f"questionnaire {name}: an ordinal scale needs at least 2 categories, got {k}"
                 )
-            centre = np.linspace(-2.5, 2.5, k - 1) if specification == "extended" else np.zeros(k - 1)
-            cuts = pm.Normal(
-                f"cutpoints_{name}",
-                mu=centre,
-                sigma=priors.cutpoint_sd,
-                shape=k - 1,
-                transform=pm.distributions.transforms.ordered,
-                initval=np.linspace(-1.0, 1.0, k - 1) + centre,
-            )
-            pm.Potential(f"R_{name}", _ordered_logit_logp(phi[rows], cuts, design.y[rows]))
+            if paper:
+                u = pm.Flat(
+                    f"thresholds_{name}",
+                    shape=k - 1,
+                    transform=pm.distributions.transforms.ordered,
+                    initval=np.linspace(-1.0, 1.0, k - 1),
+                )
+                cuts = pm.Deterministic(f"cutpoints_{name}", u + location)
+                prior = pm.logp(pm.Normal.dist(0.0, priors.cutpoint_sd), cuts).sum()
+                pm.Potential(f"cutpoint_prior_{name}", prior)
+            else:
+                centre = np.linspace(-2.5, 2.5, k - 1)
+                u = pm.Normal(
+                    f"cutpoints_{name}",
+                    mu=centre,
+                    sigma=priors.cutpoint_sd,
+                    shape=k - 1,
+                    transform=pm.distributions.transforms.ordered,
+                    initval=centre,
+                )
+            pm.Potential(f"R_{name}", _ordered_logit_logp(phi[rows], u, design.y[rows]))
     return model
 
 
@@ -233,7 +265,9 @@ def count_model(design: CountDesign, specification: str = "paper", priors: Prior
     priors = priors or Priors.defaults(specification)
     with pm.Model() as model:
         if specification == "paper":
-            log_rate = _paper_terms(design.factors, priors)
+            # The levels' midpoints sum to the intercept (see _paper_terms).
+            intercept = pm.Normal("location", 0.0, _location_sd(len(design.factors), priors, False))
+            log_rate = intercept + _paper_terms(design.factors, priors)
         else:
             log_rate = pm.Normal("a", 0.0, 1.5) + _extended_terms(design.factors, priors)
         if design.participant is not None:

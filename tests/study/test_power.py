@@ -51,8 +51,11 @@ def test_power_is_the_same_on_one_and_two_workers_and_is_written(tmp_path, capsy
     )
     one = run_power(PowerOptions(workers=1, **options))
     two = run_power(PowerOptions(workers=2, **options))
-    strip = [{k: v for k, v in r.items() if k != "seconds"} for r in one.runs]
-    assert strip == [{k: v for k, v in r.items() if k != "seconds"} for r in two.runs]
+
+    def strip(runs):  # noqa: ANN001, ANN202 - JSON text: R-hat of one chain is NaN, and NaN != NaN
+        return json.dumps([{k: v for k, v in r.items() if k != "seconds"} for r in runs])
+
+    assert strip(one.runs) == strip(two.runs)
     assert [p.participants for p in one.points] == [6, 12]
     assert all(0.0 <= p.power <= 1.0 and p.power_ci[0] <= p.power <= p.power_ci[1] for p in one.points)
     paths = write_power(one, tmp_path / "power")
