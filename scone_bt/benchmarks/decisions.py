@@ -264,12 +264,13 @@ def _run(args: argparse.Namespace) -> int:
         "seed": args.seed,
         "machine": {"cpus": os.cpu_count(), "load_average_1min": round(os.getloadavg()[0], 2)},
     }
-    report["gate"] = _gate_metrics(args)
+    if not args.no_gate:
+        report["gate"] = _gate_metrics(args)
+        report["per_estimator"] = report["gate"]["estimators"]
     if args.episodes:
         ep = _episodes(args)
         report.update({k: ep[k] for k in ("wrong_fetch_rate", "never_used_fetches", "clarify_rate")})
         report["episodes"] = ep
-    report["per_estimator"] = report["gate"]["estimators"]
     report["wall_s"] = round(time.perf_counter() - started, 1)
     text = json.dumps(report, indent=2)
     print(text)
@@ -303,5 +304,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--warmup", type=int, default=20, help="calibration executions per stream, not scored")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--json", type=Path, help="also write the JSON report to this file")
+    p.add_argument("--no-gate", action="store_true", help="skip the gate replay (episodes only)")
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     p.set_defaults(func=_run)
