@@ -4,9 +4,12 @@ Two parts:
 
 1. **Episodes** (relevance and asking): seeded episodes over corpus recipes with the product's defaults. Every
    fetch decision (ACT or ASK-HELP) is judged against the recipe's own stocking (`StockedStep.objects`, the
-   simulated human's definition of what a step needs):
-   - wrong fetch: the recipe never uses the item; or it is fetched as *now* for a step that does not need it; or
-     as *later* when no later step needs it. ``wrong_fetch_rate`` = wrong fetches / decisions.
+   simulated human's definition of what a step needs) and the human's current step at that moment (the
+   ``step_done`` events before it):
+   - wrong fetch: an item that neither the human's current step nor a later one needs (the recipe never uses
+     it, or its step is over). ``wrong_fetch_rate`` = wrong fetches / decisions.
+   - ``ahead_fetches``: fetches of items that only a later step needs (the robot working ahead: allowed, and
+     counted apart).
    - ``never_used_fetches``: fetches of items the recipe does not use (target 0).
    - ``clarify_rate``: ASK-CLARIFY decisions / decisions.
 2. **Gate metrics per estimator** (the ask-for-help literature's, KnowNo / IntroPlan): the online robot replayed over
@@ -106,16 +109,24 @@ def replay_gate(
     )
 
 
-def judge_fetches(decisions: Sequence[dict[str, Any]], steps: Sequence[Sequence[str]]) -> dict[str, int]:
-    """Count decisions, fetches, wrong fetches, never-used fetches and clarifications of one episode.
+def judge_fetches(
+    events: Sequence[tuple[str, dict[str, Any]]], steps: Sequence[Sequence[str]]
+) -> dict[str, int]:
+    """Count decisions, fetches, wrong, ahead and never-used fetches and clarifications of one episode.
 
     Args:
-        decisions: The episode's "decision" events (kind, action, need, step 1-based).
+        events: The episode's events in order ("decision" with kind, action, need; "step_done").
         steps: Each step's needed objects (the recipe's stocking).
     """
     used = {o for s in steps for o in s}
-    out = Counter()
-    for d in decisions:
+    out: Counter[str] = Counter()
+    human_step = 0
+    for kind, d in events:
+        if kind == "step_done":
+            human_step += 1
+            continue
+        if kind != "decision":
+            continue
         out["decisions"] += 1
         if d["kind"] == "clarify":
             out["clarifications"] += 1
@@ -123,15 +134,14 @@ def judge_fetches(decisions: Sequence[dict[str, Any]], steps: Sequence[Sequence[
         if d["kind"] not in ("act", "ask") or not d.get("action"):
             continue
         item = str(d["action"]).removeprefix("Put ").removesuffix(" on table")
-        k = int(d["step"]) - 1
         out["fetches"] += 1
         if item not in used:
             out["never_used"] += 1
             out["wrong"] += 1
-        elif d.get("need") == "later":
-            out["wrong"] += not any(item in s for s in steps[k + 1 :])
-        else:
-            out["wrong"] += item not in (steps[k] if 0 <= k < len(steps) else ())
+        elif not any(item in s for s in steps[human_step:]):
+            out["wrong"] += 1
+        elif item not in (steps[human_step] if human_step < len(steps) else ()):
+            out["ahead"] += 1
     return dict(out)
 
 
@@ -182,7 +192,7 @@ def _episodes(args: argparse.Namespace) -> dict[str, Any]:
             on_event=lambda kind, data, sink=events: sink.append((kind, data)),
         )
         stocked = stock_recipe(load_recipe(recipe_id), kitchen.catalogue)
-        counts = judge_fetches([d for k, d in events if k == "decision"], [s.objects for s in stocked.steps])
+        counts = judge_fetches(events, [s.objects for s in stocked.steps])
         totals.update(counts)
         outcomes.update(
             {"attempted": summary.attempted, "successes": summary.successes, "help": summary.help_requests}
@@ -197,6 +207,7 @@ def _episodes(args: argparse.Namespace) -> dict[str, Any]:
         "decisions": totals["decisions"],
         "fetches": totals["fetches"],
         "wrong_fetch_rate": round(totals["wrong"] / n, 4),
+        "ahead_fetches": totals["ahead"],
         "never_used_fetches": totals["never_used"],
         "clarify_rate": round(totals["clarifications"] / n, 4),
         "robot_success_rate": round(outcomes["successes"] / max(outcomes["attempted"], 1), 4),

@@ -1,6 +1,7 @@
 """The robot's own place in the recipe, from what it observes (ρ's second role: completed and irrelevant steps).
 
-The robot does not read the human's step counter. It starts at the first step and moves past a step when the
+The robot does not read the human's step counter. It starts at the first step (which also gathers the recipe
+items no step names, as the recipe's stocking does) and moves past a step when the
 step is *completed* (every item it names is observed on the table) or *irrelevant to the robot* (it names no
 recipe item and the similarity fallback finds none). A step that names an item the robot cannot see yet keeps it
 waiting (the human may be fetching it). Answers to clarification questions are kept per step.
@@ -12,6 +13,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
 from scone_bt.recipes.normalise import item_key
+from scone_bt.relevance.mentions import mentioned_items
 from scone_bt.relevance.recipe_aware import RecipeContext, SelectionOptions, StepSelection, select_for_step
 
 __all__ = ["StepView", "track_recipe"]
@@ -63,11 +65,19 @@ def track_recipe(
     """
     clarified = clarified or {}
     skipped: list[tuple[int, str]] = []
+    # What no step names is gathered before cooking starts, as a cook reading the card would: needed now at the
+    # first step.
+    unnamed = [i for i in items if not any(mentioned_items(step, [i], wordings=wordings) for step in steps)]
     for k in range(max(0, start), len(steps)):
         context = RecipeContext(
             items=tuple(items), wordings=dict(wordings), steps_ahead=tuple(steps[k + 1 :]), on_table=on_table
         )
         sel = select_for_step(steps[k], shelf, context, similarity(steps[k]), options)
+        if k == 0 and unnamed:
+            first = tuple(i for i in shelf if i in unnamed and i not in sel.now)
+            if first:
+                later = tuple(i for i in sel.later if i not in first)
+                sel = replace(sel, now=sel.now + first, later=later, named=sel.named + first, done=False)
         if k in clarified:
             answer = tuple(i for i in clarified[k] if i in shelf)
             sel = replace(sel, now=answer or sel.now, ambiguous=(), reason="the human said which")

@@ -145,3 +145,11 @@ def test_ambiguous_step_asks_and_the_answer_is_used(tmp_path) -> None:
     assert services.stats.clarifications == 1 and human.asked
     decision, _ = _tick(services, _shelf("canola oil", "sesame oil"))
     assert (decision.kind, decision.action) == (DecisionKind.ACT, "Put sesame oil on table")
+
+
+def test_items_no_step_names_are_gathered_at_the_first_step(tmp_path) -> None:
+    services = _Services(tmp_path, ("Cook the spaghetti.", "Serve."), ["pasta", "vanilla"])
+    services.recipe.needed = ("spaghetti", "vanilla")
+    decision, view = _tick(services, _shelf("vanilla"), table=("spaghetti",))
+    assert view.index == 0 and view.selection.now == ("vanilla",)
+    assert decision.need == "now"

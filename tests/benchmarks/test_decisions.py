@@ -13,18 +13,20 @@ def _d(kind: str, item: str | None, step: int, need: str = "now") -> dict:
     return {"kind": kind, "action": f"Put {item} on table" if item else None, "step": step, "need": need}
 
 
-def test_judge_counts_wrong_never_used_and_clarify() -> None:
-    decisions = [
-        _d("act", "salt", 1),  # right
-        _d("act", "garlic", 1, "later"),  # right: step 3 needs it
-        _d("ask", "pasta", 3),  # wrong: step 3 does not need pasta
-        _d("act", "honey", 2),  # wrong and never used
-        _d("ask", "salt", 3, "later"),  # wrong: no later step needs salt
-        _d("clarify", None, 3),
-        _d("idle", None, 4),
+def test_judge_counts_wrong_ahead_never_used_and_clarify() -> None:
+    events = [
+        ("decision", _d("act", "salt", 1)),  # right: the human's step 1 needs it
+        ("decision", _d("act", "garlic", 1, "later")),  # ahead: step 3 needs it
+        ("decision", _d("act", "honey", 1)),  # wrong and never used
+        ("step_done", {}),
+        ("step_done", {}),
+        ("decision", _d("ask", "pasta", 3)),  # wrong: step 2 (pasta) is over
+        ("decision", _d("ask", "olive oil", 3)),  # right
+        ("decision", _d("clarify", None, 3)),
+        ("decision", _d("idle", None, 4)),
     ]
-    out = judge_fetches(decisions, STEPS)
-    assert out == {"decisions": 7, "fetches": 5, "wrong": 3, "never_used": 1, "clarifications": 1}
+    out = judge_fetches(events, STEPS)
+    assert out == {"decisions": 7, "fetches": 5, "wrong": 2, "ahead": 1, "never_used": 1, "clarifications": 1}
 
 
 def test_gate_replay_acts_learns_and_asks_without_learning() -> None:
