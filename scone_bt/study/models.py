@@ -179,9 +179,7 @@ def _extended_terms(factors: tuple[Factor, ...], priors: Priors):  # noqa: ANN20
     return total
 
 
-def _group_effect(
-    name: str, index: np.ndarray, specification: str, priors: Priors, zero_sum: bool = True
-):  # noqa: ANN202
+def _group_effect(name: str, index: np.ndarray, specification: str, priors: Priors, zero_sum: bool = True):  # noqa: ANN202
     """A group-level effect, non-centred (sigma * z) against the funnel of small studies."""
     import pymc as pm
 
