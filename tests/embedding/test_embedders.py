@@ -113,3 +113,17 @@ def test_mpnet_when_installed(tmp_path):
     emb = load_embedder("mpnet", tmp_path)
     assert emb.dim == 768
     _check_vectors(emb.embed(TEXTS), len(TEXTS), 768)
+
+
+def test_a_warm_cache_serves_minilm_without_loading_the_model(tmp_path) -> None:
+    from scone_bt.embedding import load_embedder
+
+    first = load_embedder("minilm", tmp_path)
+    vec = first.embed(["Put salt on table"])
+    again = load_embedder("minilm", tmp_path)
+    again._model = None  # a fresh embedder of the same directory: nothing loaded yet
+    assert again.dim == 384
+    assert (again.embed(["Put salt on table"]) == vec).all()
+    assert again._model is None  # served from the on-disk cache, torch never asked
+    again.embed(["Put sugar on table"])  # a miss loads the model
+    assert again._model is not None
