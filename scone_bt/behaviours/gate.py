@@ -14,6 +14,11 @@ from scone_bt.gate.types import Decision, DecisionKind
 __all__ = ["ConfidenceGate", "DecisionIs"]
 
 
+def by_item(ranked: list) -> set[str]:
+    """Items of the ranked actions ("Put salt on table" → "salt")."""
+    return {r.text.removeprefix("Put ").removesuffix(" on table") for r in ranked}
+
+
 class ConfidenceGate(StageBehaviour):
     READS = (Keys.RANKED, Keys.ACTION_EMBEDDINGS, Keys.INSTRUCTION, Keys.STEP)
     WRITES = (Keys.CONFIDENCES, Keys.DECISION)
@@ -45,6 +50,10 @@ class ConfidenceGate(StageBehaviour):
         by_text = {r.text for r in ranked}
         decision = decide(ranked, confidences, self.gate_options, tuple(a for a in ambiguous if a in by_text))
         decision = self._failure_limit(decision)
+        if decision.kind is DecisionKind.IDLE and view is not None:
+            missing = [i for i in view.selection.named if i not in by_item(ranked)]
+            if missing:  # the step names an item the robot sees neither on the shelf nor on the table
+                decision = replace(decision, reason=f"waiting: {', '.join(missing)} not in sight")
         self.write(Keys.CONFIDENCES, dict(zip([r.text for r in ranked], confidences, strict=True)))
         self.write(Keys.DECISION, decision)
         instruction = self.read(Keys.INSTRUCTION) or ""

@@ -121,6 +121,8 @@ class Services:
     _cache: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
+        self._last_line: str | None = None
+        self._repeats = 0
         if not self.options.resolved:  # built without a tree file (tests, scripts): the defaults' one source
             self.options = self.options.resolve()
         self.rng = np.random.default_rng(self.options.seed)
@@ -194,6 +196,8 @@ class Services:
         short = instruction if len(instruction) <= 48 else instruction[:45] + "..."
         if decision.kind is DecisionKind.CLARIFY:
             target = "which: " + " | ".join(_item(c) for c in decision.candidates) + "?"
+        elif decision.kind is DecisionKind.IDLE and decision.reason.startswith("waiting: "):
+            target = "(" + decision.reason + ")"
         else:
             target = decision.action or "(none)"
         note = "  (needed later)" if decision.need == "later" and decision.action else ""
@@ -214,4 +218,16 @@ class Services:
         )
         self.stats.decisions += 1
         self.stats.decision_log.append(line)
+        # A run of identical idle decisions is printed once, then counted (the log and the events keep all).
+        if decision.kind is DecisionKind.IDLE and line == self._last_line:
+            self._repeats += 1
+            return
+        self.flush_repeats()
+        self._last_line = line
         self.printer(line)
+
+    def flush_repeats(self) -> None:
+        """Print the count of repeated idle decisions not yet printed (at a change, and at the episode's end)."""
+        if self._repeats:
+            self.printer(f"    … the same {self._repeats} more time{'s' if self._repeats > 1 else ''}")
+        self._repeats = 0

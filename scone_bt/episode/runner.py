@@ -319,6 +319,7 @@ def run_episode(
             if snapshots is not None:
                 with clock("logging"):
                     recorder.log_tick(snapshots.build(ticks, root))
+        services.flush_repeats()
         stats = services.stats
         parts, cpu_parts = dict(clock.seconds), dict(clock.cpu_seconds)
         # Perception and embedding run inside tree ticks: report them on their own and the rest as "tree".
