@@ -17,7 +17,7 @@ from typing import Any
 from scone_bt.errors import ExperienceStoreError
 from scone_bt.experience.types import Outcome
 
-__all__ = ["COLUMNS", "SCHEMA_VERSION", "OutcomeStore", "outcome_from_row"]
+__all__ = ["COLUMNS", "SCHEMA_VERSION", "OutcomeStore", "outcome_from_row", "where_clause"]
 
 SCHEMA_VERSION = 2
 """1: the first SQLite schema; 2: adds outcome_id (unique), robot_id, arm and profile."""
@@ -43,6 +43,16 @@ def context_json(outcome: Outcome) -> str:
         return json.dumps(outcome.context, sort_keys=True, allow_nan=False)
     except (TypeError, ValueError) as exc:
         raise ExperienceStoreError(f"outcome context must be JSON-serialisable: {exc}") from None
+
+
+def where_clause(placeholder: str, **filters: str | None) -> tuple[str, list[str]]:
+    """ " WHERE a = ? AND b = ?" (with the backend's placeholder) and its arguments, for the filters that are set."""
+    conditions, args = [], []
+    for column, value in filters.items():
+        if value is not None:
+            conditions.append(f"{column} = {placeholder}")
+            args.append(value)
+    return (" WHERE " + " AND ".join(conditions) if conditions else ""), args
 
 
 def outcome_from_row(row: tuple[Any, ...]) -> Outcome:

@@ -17,7 +17,7 @@ import threading
 from typing import Any
 
 from scone_bt.errors import ExperienceStoreError
-from scone_bt.experience.base import COLUMNS, SCHEMA_VERSION, OutcomeStore, context_json
+from scone_bt.experience.base import COLUMNS, SCHEMA_VERSION, OutcomeStore, context_json, where_clause
 from scone_bt.experience.types import Outcome
 
 __all__ = ["PostgresExperienceStore", "is_postgres_url", "redact_url"]
@@ -205,19 +205,9 @@ class PostgresExperienceStore(OutcomeStore):
     ) -> list[tuple[Any, ...]]:
         import psycopg
 
-        conditions, args = [], []
-        for column, value in (
-            ("embedder", embedder),
-            ("robot_id", robot_id),
-            ("arm", arm),
-            ("profile", profile),
-        ):
-            if value is not None:
-                conditions.append(f"{column} = %s")
-                args.append(value)
+        where, args = where_clause("%s", embedder=embedder, robot_id=robot_id, arm=arm, profile=profile)
         sql = f"SELECT {_SELECT_COLUMNS} FROM scone_outcomes"
-        if conditions:
-            sql += " WHERE " + " AND ".join(conditions)
+        sql += where
         with self._lock:
             try:
                 return self._connection().execute(sql + " ORDER BY id", args).fetchall()

@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from scone_bt.errors import ExperienceStoreError
-from scone_bt.experience.base import COLUMNS, SCHEMA_VERSION, OutcomeStore, context_json
+from scone_bt.experience.base import COLUMNS, SCHEMA_VERSION, OutcomeStore, context_json, where_clause
 from scone_bt.experience.types import Outcome
 
 __all__ = ["APPLICATION_ID", "SCHEMA_VERSION", "ExperienceStore"]
@@ -297,19 +297,9 @@ class ExperienceStore(OutcomeStore):
     def _select(
         self, embedder: str | None, robot_id: str | None, arm: str | None, profile: str | None
     ) -> list[tuple[Any, ...]]:
-        conditions, args = [], []
-        for column, value in (
-            ("embedder", embedder),
-            ("robot_id", robot_id),
-            ("arm", arm),
-            ("profile", profile),
-        ):
-            if value is not None:
-                conditions.append(f"{column} = ?")
-                args.append(value)
+        where, args = where_clause("?", embedder=embedder, robot_id=robot_id, arm=arm, profile=profile)
         sql = f"SELECT {', '.join(COLUMNS)} FROM outcomes"
-        if conditions:
-            sql += " WHERE " + " AND ".join(conditions)
+        sql += where
         with self._lock:
             return self._connection().execute(sql + " ORDER BY id", args).fetchall()
 
