@@ -330,7 +330,9 @@ class TabletServer:
             s.note(f"The robot asks for help with the {obj}.")
         elif kind == "clarification":
             said = ", ".join(data.get("answer") or []) or "none of those"
-            s.note(f"The robot asked which of {', '.join(data.get('candidates') or [])} the step means: {said}.")
+            s.note(
+                f"The robot asked which of {', '.join(data.get('candidates') or [])} the step means: {said}."
+            )
         elif kind == "intervention" and "action" in data:
             s.note(f"You took over: {data.get('action')}.")
         elif kind == "step_done":
