@@ -27,6 +27,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from scone_bt.cli.bench import emit_report
 from scone_bt.errors import RecipeError
 from scone_bt.resources import repo_root
 
@@ -222,10 +223,7 @@ def _run(args: argparse.Namespace) -> int:
         pdr_labels=args.pdr_labels,
         pdr_heldout=args.pdr_heldout,
     )
-    text = json.dumps(result, indent=2)
-    print(text)
-    if args.json is not None:
-        Path(args.json).write_text(text + "\n")
+    emit_report(result, args.json)
     return 0
 
 

@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from scone_bt.cli.bench import emit_report
 from scone_bt.confidence import ESTIMATORS, make_estimator
 from scone_bt.embedding import load_embedder, mpnet_dir
 from scone_bt.gate import GateOptions, decide
@@ -238,8 +239,5 @@ def run(args: argparse.Namespace) -> int:
                 v["after_update"]["p50_ms"] for v in result["decision_path_recipe_aware"]["minilm"].values()
             ),
         }
-    text = json.dumps(result, indent=2)
-    print(text)
-    if args.json:
-        Path(args.json).write_text(text + "\n")
+    emit_report(result, args.json)
     return 0

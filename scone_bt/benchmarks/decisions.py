@@ -29,7 +29,6 @@ Two parts:
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import sys
 import time
@@ -40,6 +39,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from scone_bt.cli.bench import emit_report
 
 __all__ = ["register", "GateCounts", "replay_gate", "judge_fetches", "pick_recipes"]
 
@@ -283,10 +284,7 @@ def _run(args: argparse.Namespace) -> int:
         report.update({k: ep[k] for k in ("wrong_fetch_rate", "never_used_fetches", "clarify_rate")})
         report["episodes"] = ep
     report["wall_s"] = round(time.perf_counter() - started, 1)
-    text = json.dumps(report, indent=2)
-    print(text)
-    if args.json:
-        Path(args.json).write_text(text + "\n")
+    emit_report(report, args.json)
     return 0
 
 

@@ -15,11 +15,12 @@ reported beside the wall figures, since wall time on a shared machine says as mu
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import time
 from pathlib import Path
 from typing import Any
+
+from scone_bt.cli.bench import emit_report
 
 __all__ = ["register", "run", "DEFAULT_RECIPES", "TARGETS"]
 
@@ -126,10 +127,7 @@ def run(args: argparse.Namespace) -> int:
         and firsts
         and result["startup_to_first_decision_s"] <= TARGETS["startup_to_first_decision_s"]
     )
-    text = json.dumps(result, indent=2)
-    print(text)
-    if args.json:
-        Path(args.json).write_text(text + "\n")
+    emit_report(result, args.json)
     return 0
 
 

@@ -23,7 +23,6 @@ the arm one-hot as part of κ̂'s input, or filtered to its own arm.
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import signal
 import subprocess
@@ -36,6 +35,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from scone_bt.cli.bench import emit_report
 
 __all__ = ["register", "store_trial", "learning_trial", "ReplayResult", "replay_new_robot"]
 
@@ -328,11 +329,7 @@ def _handler(args: argparse.Namespace) -> int:
             report[key] = report["learning"][key]
     report["wall_s"] = round(time.perf_counter() - t0, 1)
     report["load_average"] = [round(x, 2) for x in os.getloadavg()]
-    text = json.dumps(report, indent=1)
-    print(text)
-    if args.json:
-        Path(args.json).parent.mkdir(parents=True, exist_ok=True)
-        Path(args.json).write_text(text + "\n")
+    emit_report(report, args.json, indent=1, make_parent=True)
     ok = all(r["lost"] == 0 and r["duplicated"] == 0 and not r["errors"] for r in report["stores"].values())
     return 0 if ok else 1
 

@@ -26,13 +26,13 @@ Reported per arm under ``arms.<name>``:
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import platform
 import time
 from collections import Counter
-from pathlib import Path
 from typing import Any
+
+from scone_bt.cli.bench import emit_report
 
 __all__ = ["register", "run", "TARGETS"]
 
@@ -225,10 +225,7 @@ def run(args: argparse.Namespace) -> int:
         "note": "wall times measured on a shared, loaded machine; CPU times are the planning thread's own",
     }
     report["wall_s"] = round(time.perf_counter() - t0, 1)
-    text = json.dumps(report, indent=2)
-    print(text)
-    if args.json:
-        Path(args.json).write_text(text + "\n")
+    emit_report(report, args.json)
     return 0
 
 

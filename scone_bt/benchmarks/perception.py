@@ -16,11 +16,12 @@ on the table's products.
 from __future__ import annotations
 
 import argparse
-import json
 import time
 from dataclasses import asdict, replace
 from pathlib import Path
 from typing import Any
+
+from scone_bt.cli.bench import emit_report
 
 __all__ = ["register", "run", "TARGETS"]
 
@@ -180,10 +181,7 @@ def run(args: argparse.Namespace) -> int:
         and headline["precision"] >= TARGETS["precision"]
         and headline["position_error_median_m"] <= TARGETS["position_error_median_m"]
     )
-    text = json.dumps(result, indent=2)
-    print(text)
-    if args.json:
-        Path(args.json).write_text(text + "\n")
+    emit_report(result, args.json)
     return 0
 
 

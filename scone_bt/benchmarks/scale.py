@@ -15,12 +15,13 @@ time: on a machine shared with other work it bounds what any engine can show.
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import sys
 import time
 from pathlib import Path
 from typing import Any
+
+from scone_bt.cli.bench import emit_report
 
 __all__ = ["register", "run_scale", "noop_task", "timed_execution"]
 
@@ -195,11 +196,7 @@ def _handler(args: argparse.Namespace) -> int:
         overhead_tasks=args.overhead_tasks,
         log=lambda m: print(m, file=sys.stderr),
     )
-    text = json.dumps(report, indent=1)
-    print(text)
-    if args.json:
-        Path(args.json).parent.mkdir(parents=True, exist_ok=True)
-        Path(args.json).write_text(text + "\n")
+    emit_report(report, args.json, indent=1, make_parent=True)
     return 0 if report["identical_results"] else 1
 
 

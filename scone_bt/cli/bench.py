@@ -12,12 +12,14 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import json
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 from scone_bt.errors import SconeError
 
-__all__ = ["main", "BENCHMARK_MODULES"]
+__all__ = ["main", "emit_report", "BENCHMARK_MODULES"]
 
 # One line per benchmark module; its register() adds the subcommands.
 BENCHMARK_MODULES: tuple[str, ...] = (
@@ -33,6 +35,19 @@ BENCHMARK_MODULES: tuple[str, ...] = (
     "scone_bt.benchmarks.decisions",
     "scone_bt.study.analysis_bench",
 )
+
+
+def emit_report(
+    report: object, json_path: str | Path | None, indent: int = 2, make_parent: bool = False
+) -> None:
+    """Print a benchmark's JSON report and, with ``--json FILE``, write the same text there."""
+    text = json.dumps(report, indent=indent)
+    print(text)
+    if json_path:
+        path = Path(json_path)
+        if make_parent:
+            path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text + "\n")
 
 
 def _parser() -> argparse.ArgumentParser:

@@ -11,12 +11,13 @@ seconds, the condition contrasts with whether their 95 % HDI contains the truth,
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import resource
 import tempfile
 import time
 from pathlib import Path
+
+from scone_bt.cli.bench import emit_report
 
 __all__ = ["register"]
 
@@ -101,10 +102,7 @@ def _bench(args: argparse.Namespace) -> int:
         "load_average_at_start": round(load, 2),
         "cpu_count": os.cpu_count(),
     }
-    text = json.dumps(report, indent=2)
-    print(text)
-    if args.json:
-        Path(args.json).write_text(text + "\n")
+    emit_report(report, args.json)
     return 0
 
 

@@ -26,6 +26,8 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
+from scone_bt.cli.bench import emit_report
+
 __all__ = ["LoadTestOptions", "LoadTestResult", "run_load_test", "register"]
 
 
@@ -320,11 +322,7 @@ def _bench(args: argparse.Namespace) -> int:
         "wall_s": round(time.perf_counter() - t0, 2),
         "server_process_cpu_s": round(time.process_time() - c0, 2),
     }
-    text = json.dumps(out, indent=2)
-    print(text)
-    if args.json is not None:
-        args.json.parent.mkdir(parents=True, exist_ok=True)
-        args.json.write_text(text + "\n")
+    emit_report(out, args.json, indent=2, make_parent=True)
     ok = (
         result.lost == 0
         and result.duplicated == 0
