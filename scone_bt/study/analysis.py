@@ -552,9 +552,14 @@ def output_paths(folder: str | Path) -> dict[str, Path]:
 def check_outputs(folder: str | Path, force: bool = False) -> dict[str, Path]:
     """Refuse, before any sampling, an output folder that cannot be written or would lose earlier results."""
     out = Path(folder)
+    return check_output_folder(out, output_paths(out), force, "results.json, scores.csv, fig3.png/pdf")
+
+
+def check_output_folder(out: Path, paths: dict[str, Path], force: bool, holds: str) -> dict[str, Path]:
+    """Refuse an output folder that is a file, would lose earlier results (unless ``force``), cannot be created
+    or is not writable; ``holds`` names what goes there, for the message."""
     if out.exists() and not out.is_dir():
-        raise SconeError(f"--out {out} is a file; give a folder for results.json, scores.csv, fig3.png/pdf")
-    paths = output_paths(out)
+        raise SconeError(f"--out {out} is a file; give a folder for {holds}")
     existing = [p.name for p in paths.values() if p.exists()]
     if existing and not force:
         raise SconeError(

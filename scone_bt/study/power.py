@@ -362,20 +362,11 @@ def run_power(options: PowerOptions, printer: Callable[[str], None] = lambda _l:
 
 def check_power_outputs(folder: str | Path, force: bool = False) -> dict[str, Path]:
     """Refuse, before any simulation, an output folder that would lose earlier results."""
+    from scone_bt.study.analysis import check_output_folder
+
     out = Path(folder)
-    if out.exists() and not out.is_dir():
-        raise SconeError(f"--out {out} is a file; give a folder for power.json and power.png")
     paths = {"json": out / "power.json", "plot": out / "power.png"}
-    existing = [p.name for p in paths.values() if p.exists()]
-    if existing and not force:
-        raise SconeError(
-            f"--out {out} already holds {', '.join(existing)}; choose another folder or pass --force to overwrite"
-        )
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise SconeError(f"--out {out}: cannot create the folder ({exc.strerror})") from None
-    return paths
+    return check_output_folder(out, paths, force, "power.json and power.png")
 
 
 def write_power(result: PowerResult, folder: str | Path, force: bool = False) -> dict[str, Path]:
