@@ -7,16 +7,11 @@ from dataclasses import replace
 import numpy as np
 import py_trees
 
-from scone_bt.affordances.types import action_text
+from scone_bt.affordances.types import action_text, object_of_action
 from scone_bt.behaviours.base import Keys, StageBehaviour
 from scone_bt.gate.types import Decision, DecisionKind
 
 __all__ = ["ConfidenceGate", "DecisionIs"]
-
-
-def by_item(ranked: list) -> set[str]:
-    """Items of the ranked actions ("Put salt on table" → "salt")."""
-    return {r.text.removeprefix("Put ").removesuffix(" on table") for r in ranked}
 
 
 class ConfidenceGate(StageBehaviour):
@@ -51,7 +46,8 @@ class ConfidenceGate(StageBehaviour):
         decision = decide(ranked, confidences, self.gate_options, tuple(a for a in ambiguous if a in by_text))
         decision = self._failure_limit(decision)
         if decision.kind is DecisionKind.IDLE and view is not None:
-            missing = [i for i in view.selection.named if i not in by_item(ranked)]
+            shelf = {object_of_action(r.text) for r in ranked}
+            missing = [i for i in view.selection.named if i not in shelf]
             if missing:  # the step names an item the robot sees neither on the shelf nor on the table
                 decision = replace(decision, reason=f"waiting: {', '.join(missing)} not in sight")
         self.write(Keys.CONFIDENCES, dict(zip([r.text for r in ranked], confidences, strict=True)))

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import py_trees
 
+from scone_bt.affordances.types import object_of_action
 from scone_bt.behaviours.base import Keys, StageBehaviour
 
 __all__ = ["AskForHelp", "AskToClarify", "WaitForHuman"]
@@ -40,7 +41,7 @@ class AskToClarify(StageBehaviour):
         decision = self.read(Keys.DECISION)
         view = self.read(Keys.STEP)
         human = self.services.human
-        items = tuple(c.removeprefix("Put ").removesuffix(" on table") for c in decision.candidates)
+        items = tuple(object_of_action(c) for c in decision.candidates)
         self.answer = human.answer_clarification(items)
         self.until = self.services.kitchen.sim_time + human.options.clarify_time_s
         clarified = dict(self.read(Keys.CLARIFIED, {}) or {})

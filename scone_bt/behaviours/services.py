@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from scone_bt.affordances.types import object_of_action
 from scone_bt.config import KitchenConfig, RobotConfig
 from scone_bt.gate.types import Decision, DecisionKind
 from scone_bt.recipes import StockedRecipe
@@ -25,11 +26,6 @@ if TYPE_CHECKING:
     from scone_bt.motion import MotionSystem
 
 __all__ = ["EpisodeStats", "BehaviourOptions", "Services"]
-
-
-def _item(action: str) -> str:
-    """The object of an action text ("Put salt on table" → "salt")."""
-    return action.removeprefix("Put ").removesuffix(" on table")
 
 
 @dataclass
@@ -195,7 +191,7 @@ class Services:
             instruction = "(every step is served)"
         short = instruction if len(instruction) <= 48 else instruction[:45] + "..."
         if decision.kind is DecisionKind.CLARIFY:
-            target = "which: " + " | ".join(_item(c) for c in decision.candidates) + "?"
+            target = "which: " + " | ".join(object_of_action(c) for c in decision.candidates) + "?"
         elif decision.kind is DecisionKind.IDLE and decision.reason.startswith("waiting: "):
             target = "(" + decision.reason + ")"
         else:

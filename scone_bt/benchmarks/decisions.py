@@ -40,6 +40,7 @@ from typing import Any
 
 import numpy as np
 
+from scone_bt.affordances.types import object_of_action
 from scone_bt.cli.bench import emit_report
 
 __all__ = ["register", "GateCounts", "replay_gate", "judge_fetches", "pick_recipes"]
@@ -134,7 +135,7 @@ def judge_fetches(
             continue
         if d["kind"] not in ("act", "ask") or not d.get("action"):
             continue
-        item = str(d["action"]).removeprefix("Put ").removesuffix(" on table")
+        item = object_of_action(str(d["action"]))
         out["fetches"] += 1
         if item not in used:
             out["never_used"] += 1

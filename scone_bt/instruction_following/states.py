@@ -16,7 +16,6 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import re
 from collections import Counter
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
@@ -25,7 +24,7 @@ from typing import Literal
 
 import numpy as np
 
-from scone_bt.affordances.types import action_text
+from scone_bt.affordances.types import action_text, object_of_action
 from scone_bt.errors import RecipeError
 from scone_bt.recipes.normalise import is_fetchable, item_key, normalise_ingredient
 from scone_bt.recipes.recipe import Recipe, recipe_from_record
@@ -49,7 +48,7 @@ __all__ = [
 Labels = Literal["author", "mentions"]
 Split = Literal["train", "dev", "test"]
 SPLITS: tuple[Split, ...] = ("train", "dev", "test")
-_ACTION = re.compile(r"^Put (.+) on table$")
+item_of_action = object_of_action  # the IF benchmark's name for it
 
 
 @dataclass(frozen=True)
@@ -128,12 +127,6 @@ def recipe_split(recipe_id: str, fractions: tuple[float, float] = (0.7, 0.1)) ->
     if u < fractions[0]:
         return "train"
     return "dev" if u < fractions[0] + fractions[1] else "test"
-
-
-def item_of_action(action: str) -> str:
-    """The item an action text acts on ("Put salt on table" → "salt")."""
-    m = _ACTION.match(action)
-    return m.group(1) if m else action
 
 
 def load_corpus(path: str | os.PathLike[str] | None = None) -> list[Recipe]:
