@@ -52,10 +52,13 @@ class RankByRelevance(StageBehaviour):
             return py_trees.common.Status.SUCCESS
         names = [a.object_name for a in affordances]
 
+        scored: dict[str, dict[str, float]] = {}  # the tracker and the ranking below ask for the same steps
+
         def similarity(step: str) -> dict[str, float]:
-            return dict(
-                zip(names, map(float, relevance_matrix([step], texts, self.embedder)[0]), strict=True)
-            )
+            if step not in scored:
+                row = relevance_matrix([step], texts, self.embedder)[0]
+                scored[step] = dict(zip(names, map(float, row), strict=True))
+            return scored[step]
 
         on_table = frozenset(d.name for d in self.read(Keys.TABLE_DETECTIONS, ()) or ())
         view = track_recipe(
