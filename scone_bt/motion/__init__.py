@@ -22,6 +22,7 @@ from scone_bt.motion.timing import KinematicLimits, limits_of, time_path
 from scone_bt.motion.types import (
     FailureStage,
     MotionOutcome,
+    MotionPhase,
     MotionProgress,
     PlanFailureReason,
     PlanResult,
@@ -44,6 +45,7 @@ __all__ = [
     "IKSolution",
     "KinematicLimits",
     "MotionOutcome",
+    "MotionPhase",
     "MotionProgress",
     "MotionSystem",
     "Obstacle",

@@ -15,12 +15,19 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from scone_bt.motion.pick_place import PickPlacePlan, Segment
-from scone_bt.motion.types import FailureStage, PlanFailureReason, TimedTrajectory
+from scone_bt.motion.types import FailureStage, MotionPhase, PlanFailureReason, TimedTrajectory
 
 if TYPE_CHECKING:
     from scone_bt.world import Kitchen
 
 __all__ = ["ExecutionSettings", "ArmSensors", "PickPlaceController"]
+
+_WAITS = frozenset({MotionPhase.CLOSE, MotionPhase.RELEASE, MotionPhase.SETTLE, MotionPhase.ALIGN})
+"""Phases in which the arm holds still for a while (no trajectory)."""
+_NEAR_OBJECTS = frozenset({MotionPhase.DESCEND, MotionPhase.LIFT, MotionPhase.LOWER, MotionPhase.RETREAT})
+"""Phases in which the gripper may touch things (the object, its neighbours, the table)."""
+_CARRYING = frozenset({MotionPhase.LIFT, MotionPhase.TRANSIT, MotionPhase.LOWER})
+_HOMING = frozenset({MotionPhase.HOME, MotionPhase.RECOVER_HOME})
 
 
 @dataclass(frozen=True)
@@ -137,12 +144,12 @@ class PickPlaceController:
         self._plan_ready = plan_ready
         self._request_home = request_home
         self.hold_q = np.asarray(hold, dtype=float)
-        self.phase = "planning"
+        self.phase = MotionPhase.PLANNING
         self.phase_steps = 0
         self.start_time = kitchen.sim_time
         self.exec_start: float | None = None
         self.plan: PickPlacePlan | None = None
-        self.queue: list[tuple[str, Segment | None]] = []
+        self.queue: list[tuple[MotionPhase, Segment | None]] = []
         self.current: Segment | None = None
         self.executed: list[TimedTrajectory] = []
         self.held: int | None = None
@@ -178,7 +185,7 @@ class PickPlaceController:
         self.kitchen.set_gripper_target(g.closed_position if closed else g.open_position, g.max_force)
 
     # ------------------------------------------------------------------------------------- state machine
-    def _enter(self, phase: str) -> None:
+    def _enter(self, phase: MotionPhase) -> None:
         self.phase = phase
         self.phase_steps = 0
 
@@ -189,9 +196,9 @@ class PickPlaceController:
         phase, seg = self.queue.pop(0)
         self.current = seg
         self._enter(phase)
-        if phase == "close":
+        if phase is MotionPhase.CLOSE:
             self._gripper(True)
-        elif phase == "release":
+        elif phase is MotionPhase.RELEASE:
             self._gripper(False)
 
     def fail(self, stage: FailureStage, message: str) -> None:
@@ -201,17 +208,17 @@ class PickPlaceController:
         self.stage, self.message = stage, message
         self._gripper(False)
         self.queue = []
-        if self.phase == "planning" or self.exec_start is None:
+        if self.phase is MotionPhase.PLANNING or self.exec_start is None:
             self._finish()
             return
         self.hold_q = self.kitchen.arm_joint_positions()
         self._home_poll = self._request_home(self.hold_q)
-        self._enter("recover")
+        self._enter(MotionPhase.RECOVER)
 
     def _finish(self) -> None:
         self.finished = True
         self.end_time = self.kitchen.sim_time
-        self.phase = "done"
+        self.phase = MotionPhase.DONE
         self._command(self.hold_q)
         self.kitchen.remove_controller(self)
 
@@ -226,11 +233,11 @@ class PickPlaceController:
         # Thinking takes a fixed simulated time: the arm starts moving at the same physics step however long the
         # worker needed in wall time (it blocks here only if the worker is slower than that), so a seeded attempt
         # repeats exactly.
-        if phase == "planning":
+        if phase is MotionPhase.PLANNING:
             self._command(self.hold_q)
             if self.phase_steps * dt >= s.think_s:
                 self._start_plan(self._plan_ready(True))
-        elif phase == "recover":
+        elif phase is MotionPhase.RECOVER:
             self._command(self.hold_q)
             assert self._home_poll is not None
             # As for the first plan: the way home is taken up at a fixed simulated time, never earlier because the
@@ -245,15 +252,18 @@ class PickPlaceController:
                 else:
                     self.queue = []
                     self.current = seg
-                    self._enter("recover_home")
-        elif phase in ("close", "release", "settle", "align"):
+                    self._enter(MotionPhase.RECOVER_HOME)
+        elif phase in _WAITS:
             self._command(self.hold_q)
-            duration = {"close": s.close_s, "release": s.open_s, "settle": s.settle_s, "align": s.align_s}[
-                phase
-            ]
+            duration = {
+                MotionPhase.CLOSE: s.close_s,
+                MotionPhase.RELEASE: s.open_s,
+                MotionPhase.SETTLE: s.settle_s,
+                MotionPhase.ALIGN: s.align_s,
+            }[phase]
             # Aligning ends early once the arm has caught up with its command (tracking lags during motion).
             aligned = (
-                phase == "align"
+                phase is MotionPhase.ALIGN
                 and np.max(np.abs(kitchen.arm_joint_positions() - self.hold_q)) < s.align_tolerance
             )
             if self.phase_steps * dt >= duration or aligned:
@@ -282,17 +292,17 @@ class PickPlaceController:
         self.plan = ready
         seg = {s.phase: s for s in ready.segments}
         self.queue = [
-            ("approach", seg["approach"]),
-            ("align", None),
-            ("descend", seg["descend"]),
-            ("close", None),
-            ("lift", seg["lift"]),
-            ("transit", seg["transit"]),
-            ("lower", seg["lower"]),
-            ("release", None),
-            ("retreat", seg["retreat"]),
-            ("settle", None),
-            ("home", seg["home"]),
+            (MotionPhase.APPROACH, seg[MotionPhase.APPROACH]),
+            (MotionPhase.ALIGN, None),
+            (MotionPhase.DESCEND, seg[MotionPhase.DESCEND]),
+            (MotionPhase.CLOSE, None),
+            (MotionPhase.LIFT, seg[MotionPhase.LIFT]),
+            (MotionPhase.TRANSIT, seg[MotionPhase.TRANSIT]),
+            (MotionPhase.LOWER, seg[MotionPhase.LOWER]),
+            (MotionPhase.RELEASE, None),
+            (MotionPhase.RETREAT, seg[MotionPhase.RETREAT]),
+            (MotionPhase.SETTLE, None),
+            (MotionPhase.HOME, seg[MotionPhase.HOME]),
         ]
         self.total_exec_s = (
             sum(x.trajectory.duration for x in ready.segments) + self.settings.close_s + self.settings.open_s
@@ -300,13 +310,13 @@ class PickPlaceController:
         self.exec_start = self.kitchen.sim_time
         self._next()
 
-    def _after_wait(self, phase: str) -> None:
-        if phase == "close":
+    def _after_wait(self, phase: MotionPhase) -> None:
+        if phase is MotionPhase.CLOSE:
             self.held = self.sensors.held_body(self.settings.min_contact_force)
             if self.held is None or self.sensors.finger_gap() < self.settings.min_gap:
                 self.fail(FailureStage.GRASP, "the fingers closed without holding the object")
                 return
-        elif phase == "settle":
+        elif phase is MotionPhase.SETTLE:
             if self.kitchen.is_on_table(self.target_name):
                 self.success = True
                 self.message = "placed upright on the table"
@@ -333,14 +343,14 @@ class PickPlaceController:
             return
         if k >= len(traj.times) - 1:
             self.executed.append(traj)
-            if phase == "recover_home":
+            if phase is MotionPhase.RECOVER_HOME:
                 self._finish()
                 return
-            if phase in ("lift", "lower") and self.stage is None and not self._holding():
-                stage = FailureStage.GRASP if phase == "lift" else FailureStage.TRANSIT
+            if phase in (MotionPhase.LIFT, MotionPhase.LOWER) and self.stage is None and not self._holding():
+                lifting = phase is MotionPhase.LIFT
                 self.fail(
-                    stage,
-                    f"the object slipped out of the gripper while {'lifting' if phase == 'lift' else 'lowering'}",
+                    FailureStage.GRASP if lifting else FailureStage.TRANSIT,
+                    f"the object slipped out of the gripper while {'lifting' if lifting else 'lowering'}",
                 )
                 return
             self._next()
@@ -349,26 +359,26 @@ class PickPlaceController:
         held = self.sensors.held_body(self.settings.min_contact_force * 0.2)
         return held is not None and held == self.held and self.sensors.finger_gap() >= self.settings.min_gap
 
-    def _check(self, phase: str, q_cmd: np.ndarray) -> bool:
+    def _check(self, phase: MotionPhase, q_cmd: np.ndarray) -> bool:
         """Collision and slip monitoring during a tracked segment; True if the attempt just failed."""
         s = self.settings
         if self.phase_steps % 4:
             return False
-        near_objects = phase in ("descend", "lift", "lower", "retreat")
+        near_objects = phase in _NEAR_OBJECTS
         link = self.sensors.unexpected_contact(
-            near_objects, self.held if phase in ("lift", "transit", "lower") else None, s.min_contact_force
+            near_objects, self.held if phase in _CARRYING else None, s.min_contact_force
         )
-        if link is not None and phase not in ("home", "recover_home"):
+        if link is not None and phase not in _HOMING:
             self.fail(FailureStage.COLLISION, f"{link} during {phase}")
             return True
-        if not near_objects and phase not in ("home", "recover_home"):
+        if not near_objects and phase not in _HOMING:
             err = float(np.max(np.abs(self.kitchen.arm_joint_positions() - q_cmd)))
             if err > s.max_tracking_error:
                 self.fail(
                     FailureStage.COLLISION, f"the arm was blocked during {phase} (joint error {err:.2f} rad)"
                 )
                 return True
-        if phase == "transit" and self.phase_steps % 24 == 0 and not self._holding():
+        if phase is MotionPhase.TRANSIT and self.phase_steps % 24 == 0 and not self._holding():
             self.fail(FailureStage.TRANSIT, "the object dropped out of the gripper while carrying it")
             return True
         return False

@@ -47,7 +47,7 @@ from scone_bt.motion.placement import (
 )
 from scone_bt.motion.planner import PlannerOptions, plan_joint_path
 from scone_bt.motion.timing import KinematicLimits, time_path
-from scone_bt.motion.types import FailureStage, PlanFailureReason, PlanResult, TimedTrajectory
+from scone_bt.motion.types import FailureStage, MotionPhase, PlanFailureReason, PlanResult, TimedTrajectory
 from scone_bt.perception.types import Detection
 
 __all__ = [
@@ -76,12 +76,12 @@ class Segment:
     """One timed arm motion of the sequence.
 
     Attributes:
-        phase: Name shown in progress ("approach", "descend", "lift", "transit", "lower", "retreat", "home").
+        phase: APPROACH, DESCEND, LIFT, TRANSIT, LOWER, RETREAT or HOME.
         trajectory: Commanded samples at the control rate.
         waypoints: (N, dof) joint path it was timed through, radians.
     """
 
-    phase: str
+    phase: MotionPhase
     trajectory: TimedTrajectory
     waypoints: np.ndarray | None = None
 
@@ -291,7 +291,7 @@ class _Planner:
         self.plans.append(result)
         return result
 
-    def timed(self, phase: str, path: np.ndarray, slow: bool = False) -> Segment:
+    def timed(self, phase: MotionPhase, path: np.ndarray, slow: bool = False) -> Segment:
         limits = self.limits.scaled(CARTESIAN_SPEED) if slow else self.limits
         traj, report = time_path(path, limits, self.rate_hz)
         self.ruckig_time += report.calculation_s
@@ -586,13 +586,13 @@ def plan_pick_and_place(
             # Home is the same for every grasp; another grasp would not change the way back.
             return fail(PlanFailureReason.NO_PATH, f"return home: {home.status.value} ({home.message})")
         segments = (
-            p.timed("approach", approach.path),  # type: ignore[arg-type]
-            p.timed("descend", np.array([chosen.q_pre, chosen.q_grasp]), slow=True),
-            p.timed("lift", np.array([chosen.q_grasp, chosen.q_lift]), slow=True),
-            p.timed("transit", transit.path),  # type: ignore[arg-type]
-            p.timed("lower", np.array([placed.q_pp, placed.q_place]), slow=True),
-            p.timed("retreat", np.array([placed.q_place, placed.q_ret]), slow=True),
-            p.timed("home", home.path),  # type: ignore[arg-type]
+            p.timed(MotionPhase.APPROACH, approach.path),  # type: ignore[arg-type]
+            p.timed(MotionPhase.DESCEND, np.array([chosen.q_pre, chosen.q_grasp]), slow=True),
+            p.timed(MotionPhase.LIFT, np.array([chosen.q_grasp, chosen.q_lift]), slow=True),
+            p.timed(MotionPhase.TRANSIT, transit.path),  # type: ignore[arg-type]
+            p.timed(MotionPhase.LOWER, np.array([placed.q_pp, placed.q_place]), slow=True),
+            p.timed(MotionPhase.RETREAT, np.array([placed.q_place, placed.q_ret]), slow=True),
+            p.timed(MotionPhase.HOME, home.path),  # type: ignore[arg-type]
         )
         return PickPlacePlan(
             segments,
@@ -661,11 +661,11 @@ def plan_home(
         result = p.plan(up, np.asarray(home, dtype=float), world)
         if not result.success:
             return None
-        return p.timed("home", np.vstack([q_start, result.path]))
+        return p.timed(MotionPhase.HOME, np.vstack([q_start, result.path]))
     result = p.plan(q_start, np.asarray(home, dtype=float), world)
     if not result.success:
         return None
-    return p.timed("home", result.path)  # type: ignore[arg-type]
+    return p.timed(MotionPhase.HOME, result.path)  # type: ignore[arg-type]
 
 
 def _between(a: np.ndarray, b: np.ndarray, t: float) -> np.ndarray:

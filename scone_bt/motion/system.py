@@ -10,8 +10,9 @@
 Planning (IK, OMPL, ruckig) runs in one worker thread and never calls PyBullet. Execution is a Kitchen controller
 (main thread, inside `kitchen.advance`) that holds the arm until the plan is ready, so what the arm does depends only
 on the seed and the physics steps: the arm holds still for a fixed simulated time (ExecutionSettings.think_s) and
-only blocks a physics step if the worker has not finished by then. `progress().phase` is "planning" exactly while
-the worker computes (a caller may pause simulated time meanwhile), then "ready", then the motion phases.
+only blocks a physics step if the worker has not finished by then. `progress().is_planning` is true exactly while
+the worker computes (a caller may pause simulated time meanwhile), then the phase is READY, then the motion phases
+(`MotionPhase`).
 
 What stands on the table comes from the caller (the table camera's detections) or, without them, from the
 robot's memory of its own placements (`MotionSystem.placed`); never from the simulator's ground truth. An
@@ -45,7 +46,7 @@ from scone_bt.motion.pick_place import (
 from scone_bt.motion.placement import PlacementOptions, TableRegion
 from scone_bt.motion.planner import PLANNERS, PlannerOptions, silence_ompl
 from scone_bt.motion.timing import KinematicLimits, limits_of
-from scone_bt.motion.types import FailureStage, MotionOutcome, MotionProgress
+from scone_bt.motion.types import FailureStage, MotionOutcome, MotionPhase, MotionProgress
 from scone_bt.perception.types import Detection
 
 if TYPE_CHECKING:
@@ -339,13 +340,13 @@ class PickAndPlace:
     def progress(self) -> MotionProgress:
         """Current phase and the fraction of the planned motion executed so far."""
         if self.done():
-            return MotionProgress("done", 1.0)
+            return MotionProgress(MotionPhase.DONE, 1.0)
         c = self._controller
         if c is None:
-            return MotionProgress("idle", 0.0)
-        if c.phase == "planning":
-            # "planning" only while the worker computes: a caller may pause simulated time during it.
-            return MotionProgress("planning" if self.is_planning() else "ready", 0.0)
+            return MotionProgress(MotionPhase.IDLE, 0.0)
+        if c.phase is MotionPhase.PLANNING:
+            # PLANNING only while the worker computes: a caller may pause simulated time during it.
+            return MotionProgress(MotionPhase.PLANNING if self.is_planning() else MotionPhase.READY, 0.0)
         frac = c.done_exec_s / c.total_exec_s if c.total_exec_s > 0 else 0.0
         return MotionProgress(c.phase, float(min(1.0, frac)))
 

@@ -8,6 +8,7 @@ from enum import Enum
 import numpy as np
 
 __all__ = [
+    "MotionPhase",
     "FailureStage",
     "PlanFailureReason",
     "PlanStatus",
@@ -16,6 +17,34 @@ __all__ = [
     "MotionOutcome",
     "MotionProgress",
 ]
+
+
+class MotionPhase(str, Enum):  # noqa: UP042 (compares equal to the phase strings callers used before)
+    """What a pick-and-place is doing now; the values are the phase names shown in progress and logs."""
+
+    IDLE = "idle"  # created, not started
+    PLANNING = "planning"  # the worker computes; the arm holds still (a caller may pause simulated time)
+    READY = "ready"  # the plan is ready; the arm still holds for the fixed thinking time
+    APPROACH = "approach"
+    ALIGN = "align"  # above the object, waiting for the arm to catch up with its command
+    DESCEND = "descend"
+    CLOSE = "close"
+    LIFT = "lift"
+    TRANSIT = "transit"
+    LOWER = "lower"
+    RELEASE = "release"
+    RETREAT = "retreat"
+    SETTLE = "settle"
+    HOME = "home"
+    RECOVER = "recover"  # after a failure: holding while the worker plans a way home
+    RECOVER_HOME = "recover_home"
+    DONE = "done"
+
+    def __str__(self) -> str:
+        return self.value
+
+    def __format__(self, spec: str) -> str:
+        return format(self.value, spec)
 
 
 class FailureStage(str, Enum):  # noqa: UP042 (str() of members is relied upon elsewhere)
@@ -121,7 +150,17 @@ class MotionOutcome:
 
 @dataclass(frozen=True)
 class MotionProgress:
-    """What a running pick-and-place is doing now (phase name, fraction done in [0, 1])."""
+    """What a running pick-and-place is doing now.
 
-    phase: str
+    Attributes:
+        phase: The current phase (equal to its name string, e.g. "planning").
+        fraction: Fraction of the planned motion executed so far, in [0, 1].
+    """
+
+    phase: MotionPhase
     fraction: float
+
+    @property
+    def is_planning(self) -> bool:
+        """True exactly while the worker computes the plan (simulated time may be paused meanwhile)."""
+        return self.phase is MotionPhase.PLANNING

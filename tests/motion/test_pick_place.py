@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from scone_bt.config import load_robot
-from scone_bt.motion import FailureStage, MotionSystem, limits_of
+from scone_bt.motion import FailureStage, MotionPhase, MotionSystem, limits_of
 from scone_bt.world import Kitchen
 
 pytestmark = pytest.mark.slow
@@ -38,15 +38,19 @@ def test_pick_and_place_puts_the_object_on_the_table(stocked, arm, robot_cfg, as
     kitchen, system = stocked
     assert kitchen.is_on_shelf("salt")
     task = task_for(kitchen, system, "salt")
-    assert task.progress().phase == "idle"
+    assert task.progress().phase is MotionPhase.IDLE and task.progress().phase == "idle"
     task.start()
-    assert task.progress().phase in ("planning", "ready") and not task.done()
+    first = task.progress()
+    assert first.phase in (MotionPhase.PLANNING, MotionPhase.READY) and not task.done()
+    assert first.is_planning == (first.phase is MotionPhase.PLANNING)
     phases = []
     while not task.done():
         kitchen.advance(0.1)
-        phase = task.progress().phase
-        if not phases or phases[-1] != phase:
-            phases.append(phase)
+        progress = task.progress()
+        assert isinstance(progress.phase, MotionPhase)
+        assert progress.is_planning == (progress.phase is MotionPhase.PLANNING)
+        if not phases or phases[-1] != progress.phase:
+            phases.append(progress.phase)
     outcome = task.outcome()
     assert outcome.success and outcome.stage is None, outcome.message
     assert kitchen.is_on_table("salt")
