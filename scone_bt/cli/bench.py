@@ -27,6 +27,7 @@ BENCHMARK_MODULES: tuple[str, ...] = (
     "scone_bt.benchmarks.cli",
     "scone_bt.study.loadtest",
     "scone_bt.benchmarks.scale",
+    "scone_bt.benchmarks.self_confidence.cli",
     "scone_bt.benchmarks.fleet",
     "scone_bt.benchmarks.perception",
     "scone_bt.benchmarks.episode",
