@@ -24,7 +24,10 @@ _UNITS = (
     "cloves?|heads?|sprigs?|stalks?|slices?|pieces?|pcs?|sheets?|knobs?|blocks?|scoops?|splash(?:es)?|"
     "glugs?|shots?|wedges?|fillets?|leaves|leaf|ears?|rashers?|strips?|cubes?|bars?|envelopes?|servings?|"
     "squares?|dollops?|sachets?|punnets?|loaf|loaves|links?|bulbs?|dozen|pods?|sleeves?|tubs?|each|recipes?|ribs?|"
-    "bricks?|stems?|sprigs?|fl|quarts?|bowls?|mugs?|glass(?:es)?|pats?|tubes?|batch(?:es)?"
+    "bricks?|stems?|sprigs?|fl|quarts?|bowls?|mugs?|glass(?:es)?|pats?|tubes?|batch(?:es)?|"
+    # Old cookbooks' and typed units: "a tea-spoonful of", "a wine-glass of", "600gm", "5 strands saffron".
+    "tea-?spoonfuls?|table-?spoonfuls?|spoonfuls?|wine-?glass(?:es)?|glassfuls?|jiggers?|teapsoons?|gms?|"
+    "strands?|branch(?:es)?|twigs?|metric cups?"
 )
 
 
@@ -43,6 +46,7 @@ _PREP_WORDS = _words(
     overfilled half quarter whole-kernel
     your favourite favorite store-bought homemade prepared ripe firm to taste softly boneless skinless
     julienned torn juiced zested cut into un-cooked uncooked sized medium-sized free-range quick-cooking overfilled
+    very grounded pealed cleaned shucked smashed shaved pressed pulverized tepid warmed live bone-in skin-on
     """
 )
 _ADJ_ALTERNATIVES = _words(
@@ -50,6 +54,11 @@ _ADJ_ALTERNATIVES = _words(
     red green yellow orange white black brown dark light sweet smooth crunchy salted unsalted hot mild fresh
     dried whole low-fat full-fat nonfat skim regular large small medium fine coarse
     """
+)
+# Kind words of one alternative that name the product with the shared noun ("semisweet or bittersweet
+# chocolate" → semisweet chocolate): the first alternative is kept, with its noun.
+_KIND_ALTERNATIVES = _words(
+    "semisweet bittersweet granulated quick evaporated button long short rye wheat field canned all-purpose cotija"
 )
 # Not fetched from a shelf: water comes from the tap and ice from the freezer; tools and consumables are not food.
 _WATER_HEADS = (("water",), ("ice",), ("ice", "cube"))
@@ -103,9 +112,20 @@ _UNIT_ITEMS = frozenset({"cloves", "clove", "bay leaves", "leaves", "sticks"})
 _UNIT_ALONE = re.compile(
     rf"^(?:a|an|one|some|few)?\s*(?:(?:{_SIZES})\s+)?(?:{_UNITS})\b\.?(?:\s+of\b)?\s*", re.IGNORECASE
 )
+_UNIT_WORD = re.compile(rf"(?:{_UNITS})")
+# Unit words that also start real item names ("glass noodles", "in season").
+_NOT_UNITS = frozenset({"glass", "in", "c", "t", "l", "g", "each"})
+# State words a first comma-separated segment may consist of ("raw, unsalted almonds").
+_STATE_WORDS = _words(
+    "unsalted salted roasted toasted raw bone-in skin-on skin-off strong unflavored unflavoured unsweetened"
+    " sweetened full fat low non-uht uht thick thin hot lightly"
+)
 _PAREN = re.compile(r"\([^)]*\)|\[[^\]]*\]")
 _CUT = re.compile(
     r",|;|:|/|\*|\.\s|\.$|\s-\s|\s–\s|\bfor\b|\bper\b|\bwithout\b|\bor less\b|\bor more\b|\bto taste\b|\bas needed\b|\bif desired\b|\bplus\b|\bsuch as\b|\bof (?:your |the )?(?:choice|favou?rite|preference|liking)\b"
+    # Notes that follow the item: "water to thin", "cut into ribbons", "separated from the yolks", "q.b.".
+    r"|\sto\s|\binto\b|\bas (?:a )?garnish\b|\bseparated\b|\bif needed\b|\bpreferably\b|\bat room\b|\bthat\b"
+    r"|\bweighing\b|\bby\b|\bin (?:a )?squirt bottle\b|\bq\.?\s?b\b"
 )
 _WORD = re.compile(r"[a-z][a-z'&-]*")
 
@@ -131,8 +151,11 @@ def _pick_alternative(text: str) -> str:
     if " or " in f" {text} ":
         left, _, right = text.partition(" or ")
         left, right = " ".join(w for w in left.split() if w not in _PREP_WORDS), right.strip()
-        if left and right and len(left.split()) == 1 and left in _ADJ_ALTERNATIVES and len(right.split()) > 1:
-            return right
+        if left and right and len(left.split()) == 1 and len(right.split()) > 1:
+            if left in _ADJ_ALTERNATIVES:
+                return right
+            if left in _KIND_ALTERNATIVES:
+                return " ".join([left, *right.split()[1:]])
         return left or right
     return text
 
@@ -151,11 +174,28 @@ def normalise_ingredient(text: str) -> str:
     s = s.replace("(", " ").replace(")", " ").replace("and/or", "or")
     s = re.sub(r"\b(?:small|medium|large)/(?=(?:small|medium|large|medium-sized)\b)", "", s)  # "small/medium"
     s = re.sub(r"\b(?:half|quarter|third)\s+(?:of\s+)?an?\b", " ", s)
+    s = re.sub(r"\b(?:around|about|approximately|approx\.?|roughly)\s+(?=\d)", " ", s)
+    s = re.sub(r"-(peel|rind|zest|water|flakes?)\b", r" \1", s)  # "lemon-peel", "rose-water"
     unit_only = _unit_item(s)
     s = _QUANTITY.sub(" ", s)
     s = re.sub(r"\s+", " ", s).strip()
-    s = _CUT.split(f"{s} ", maxsplit=1)[0]
-    s = re.sub(r"^(?:a|an|one|some|few|couple|a couple)\s+(?:of\s+)?", "", s.strip())
+    s = re.sub(r"^(?:or|and)\s+", "", s)  # "14 ounces or 400 grams of chicken": the second quantity's "or"
+    head, cut, rest = _split_note(s)
+    # "bone-in, skin-on chicken thighs", "raw, unsalted almonds": a first segment of state words only is not the
+    # item; the item follows the comma.
+    while (
+        cut == ","
+        and rest.strip()
+        and all(w in _PREP_WORDS or w in _STATE_WORDS for w in _WORD.findall(head))
+    ):
+        head, cut, rest = _split_note(rest)
+    s = head
+    s = re.sub(
+        r"^(?:a little bit|a little|little bit|little|a bit|a couple|couple|enough|as much|a|an|one|some|few)\s+"
+        r"(?:of\s+)?",
+        "",
+        s.strip(),
+    )
     for _ in range(2):  # "a jar of" then "a bunch of"
         s = _UNIT_ALONE.sub("", s).strip()
     s = _pick_alternative(s)
@@ -173,7 +213,18 @@ def normalise_ingredient(text: str) -> str:
     if len(words) > 1 and item_key(words[0]) in {item_key(w) for w in words[1:]}:
         words = words[1:]
     words = _strip_prep(words)
+    # A unit word left first by a preparation word before it ("3 peeled cloves garlic"): the item follows it.
+    if len(words) > 1 and words[0] not in _NOT_UNITS and _UNIT_WORD.fullmatch(words[0]):
+        words = words[1:]
     return " ".join(words).strip(" -'")
+
+
+def _split_note(text: str) -> tuple[str, str, str]:
+    """(item part, the separator, the rest) at the first note separator of `_CUT`."""
+    m = _CUT.search(f"{text} ")
+    if m is None:
+        return text, "", ""
+    return text[: m.start()], m.group(0), f"{text} "[m.end() :]
 
 
 def _unit_item(text: str) -> str:

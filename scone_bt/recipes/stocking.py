@@ -49,9 +49,12 @@ _GRADE_WORDS = _words(
     low-sodium reduced-sodium no-salt-added sodium low-fat full-fat fat-free nonfat non-fat reduced-fat
     unsweetened tj's tjs trader joe's good-quality quality store-bought homemade canned tinned bottled
     mashed sized medium-sized stale toasted roasted preroasted crumbled quick-cooking hot little bit melty soft
-    hard-boiled boiled
+    hard-boiled boiled mixed skim thick normal enriched tepid
+    italian english mexican asian persian scottish norwegian irish spanish greek-style
     """
 )
+# Fat grades written as two words ("fat free yoghurt", "whole fat milk"): the same product on the shelf.
+_FAT_GRADE = re.compile(r"\b(?:(?:low|high|full|whole|reduced|non|no|medium)[ -]fat|fat[ -]free)\b")
 # Part words: the product is the whole the part comes from.
 _PART_WORDS = _words(
     "juice zest peel rind yolk white clove leave leaf sprig stalk rib floret wedge slice half segment crumb green"
@@ -143,6 +146,7 @@ class ProductIndex:
             for label in (obj.name, *obj.aliases):
                 folded = _fold(label)
                 self._by_key.setdefault(item_key(folded), obj.name)
+                self._by_key.setdefault(item_key(folded.replace("-", " ")), obj.name)
                 phrases.append((folded, obj.name))
         phrases.sort(key=lambda p: -len(p[0]))
         self._keys = sorted(self._by_key)
@@ -163,7 +167,13 @@ class ProductIndex:
 
     def lookup(self, item: str, line: str = "") -> ProductMatch | None:
         """Like `resolve`, with the rule that matched."""
-        words = _WORD.findall(_lower(item))
+        match = self._lookup(item, line)
+        if match is None and "-" in item:  # "red-pepper flakes", "all-spice": the name written with a hyphen
+            match = self._lookup(item.replace("-", " "), line)
+        return match
+
+    def _lookup(self, item: str, line: str) -> ProductMatch | None:
+        words = _WORD.findall(_FAT_GRADE.sub(" ", _lower(item)))
         if not words:
             return None
         if line:
@@ -185,8 +195,9 @@ class ProductIndex:
             part_of = len(candidate) > 1 and item_key(candidate[-1]) in _PART_WORDS
             if part_of and (hit := self._exact(candidate[:-1])) is not None:
                 return ProductMatch(hit, MatchRule.PART)
-        if "of" in graded[1:-1]:  # "zest of lemon", "twigs of thyme"; "cheese of choice"
-            at = graded.index("of")
+        joint = next((w for w in ("of", "from") if w in graded[1:-1]), None)
+        if joint is not None:  # "zest of lemon", "juice from lemon", "twigs of thyme"; "cheese of choice"
+            at = graded.index(joint)
             whole, part = graded[at + 1 :], graded[:at]
             if whole and whole[-1] in ("choice", "variety", "kind"):
                 whole = part
