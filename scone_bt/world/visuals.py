@@ -1,10 +1,11 @@
 """How catalogue objects look in the simulator: a coloured body with the object's fiducial on its lid.
 
 Each object is one rigid body whose visual is a compound of PyBullet primitives: the body (box or cylinder in the
-catalogue's colour), a thin white cap on the lid, and an AprilTag 36h11 marker (587 ids, the catalogue's
-``marker_id``; read through OpenCV's ``cv2.aruco.DICT_APRILTAG_36h11``) laid on the cap. The marker is drawn as few
-rectangles as possible: either its black border plus its black data cells, or a black square with its white data
-cells on top, whichever needs fewer; every one of the 587 ids fits PyBullet's 16 primitives per visual. Building the
+catalogue's colour), a thin white cap on the lid, and an ArUco 6x6 marker (OpenCV's ``cv2.aruco.DICT_6X6_1000``:
+1000 ids, the catalogue's ``marker_id``; AprilTag 36h11 has only 587, fewer than the catalogue's products) laid on
+the cap. The marker is drawn as few rectangles as possible: either its black border plus its black data cells, or a
+black square with its white data cells on top, whichever needs fewer; 999 of the 1000 ids fit PyBullet's 16
+primitives per visual (the one that does not is `UNDRAWABLE_IDS`). Building the
 marker from boxes instead of a texture keeps the scene free of image files and renders identically in every
 PyBullet renderer. The collision shape is untouched.
 
@@ -28,6 +29,8 @@ if TYPE_CHECKING:
 
 __all__ = [
     "ARUCO_DICTIONARY",
+    "DICTIONARY_SIZE",
+    "UNDRAWABLE_IDS",
     "MARKER_CELLS",
     "LidMarker",
     "lid_marker",
@@ -36,11 +39,13 @@ __all__ = [
     "create_object_visual",
 ]
 
-ARUCO_DICTIONARY = "DICT_APRILTAG_36h11"
-"""The cv2.aruco dictionary the markers come from (AprilTag 36h11: minimum Hamming distance 11)."""
+ARUCO_DICTIONARY = "DICT_6X6_1000"
+"""The cv2.aruco dictionary the markers come from (ArUco 6x6, 1000 ids, up to 4 bits of error correction)."""
 MARKER_CELLS = 8
 """Cells per marker side: 6 data bits plus a one-cell black border on each side."""
-DICTIONARY_SIZE = 587
+DICTIONARY_SIZE = 1000
+UNDRAWABLE_IDS = frozenset({544})
+"""Ids whose pattern needs more than PyBullet's 16 primitives with body and cap (tests/world checks all 1000)."""
 
 _CAP_THICKNESS = 0.0015  # metres: the white cap that carries the marker
 # TinyRenderer tessellates a cylinder's flat end as a shallow cone (about 0.9 mm high at the centre), so the black
@@ -63,7 +68,7 @@ class LidMarker:
     """Where an object's fiducial sits, in the object's body frame.
 
     Attributes:
-        marker_id: AprilTag 36h11 id.
+        marker_id: ArUco DICT_6X6_1000 id.
         side: Side length of the marker including its black border, metres.
         lift: Height of the printed surface above the object's top face, metres.
         top_z: Height of the top face above the body origin (the body's centre), metres.
@@ -84,9 +89,10 @@ def lid_marker(spec: ObjectSpec) -> LidMarker:
     Raises:
         ConfigError: If the marker id is outside the dictionary.
     """
-    if not 0 <= spec.marker_id < DICTIONARY_SIZE:
+    if not 0 <= spec.marker_id < DICTIONARY_SIZE or spec.marker_id in UNDRAWABLE_IDS:
         raise ConfigError(
-            f"object {spec.name!r}: marker_id {spec.marker_id} is not in {ARUCO_DICTIONARY} (valid: 0-{DICTIONARY_SIZE - 1})"
+            f"object {spec.name!r}: marker_id {spec.marker_id} is not a drawable {ARUCO_DICTIONARY} id"
+            f" (valid: 0-{DICTIONARY_SIZE - 1} except {', '.join(map(str, sorted(UNDRAWABLE_IDS)))})"
         )
     sx, sy, sz = spec.size
     # The largest square on the lid: the whole short side of a box, the inscribed square of a disc.

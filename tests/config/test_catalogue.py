@@ -34,7 +34,7 @@ def test_shipped_catalogue_is_large_varied_and_dense(kitchen_cfg):
     cat = kitchen_cfg.catalogue
     assert len(cat) >= 200 and len(cat.families()) >= 12
     assert sorted(o.marker_id for o in cat.objects) == list(range(len(cat)))
-    assert len(cat) < 587  # the AprilTag 36h11 dictionary's size
+    assert len(cat) < 1000  # the ArUco DICT_6X6_1000 dictionary's size
     names = [o.name for o in cat.objects]
     assert len(set(names)) == len(names)
     # Unlike products are distinct; only true synonyms are aliases.

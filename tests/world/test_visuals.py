@@ -11,8 +11,10 @@ import pytest
 from scone_bt.errors import ConfigError
 from scone_bt.world.visuals import (
     _MAX_SHAPES,
+    ARUCO_DICTIONARY,
     DICTIONARY_SIZE,
     MARKER_CELLS,
+    UNDRAWABLE_IDS,
     create_object_visual,
     lid_marker,
     marker_cells,
@@ -21,7 +23,9 @@ from scone_bt.world.visuals import (
 
 
 def test_every_marker_pattern_decodes_to_its_own_id():
-    detector = cv2.aruco.ArucoDetector(cv2.aruco.getPredefinedDictionary(cv2.aruco.DICT_APRILTAG_36h11))
+    detector = cv2.aruco.ArucoDetector(
+        cv2.aruco.getPredefinedDictionary(getattr(cv2.aruco, ARUCO_DICTIONARY))
+    )
     for marker_id in range(DICTIONARY_SIZE):
         cells = np.where(marker_cells(marker_id), 0, 255).astype(np.uint8)
         image = np.pad(
@@ -42,8 +46,10 @@ def test_markers_fit_on_their_lids(kitchen_cfg):
 
 def test_marker_id_outside_the_dictionary_is_a_config_error(kitchen_cfg):
     spec = replace(kitchen_cfg.catalogue.get("salt"), marker_id=DICTIONARY_SIZE)
-    with pytest.raises(ConfigError, match="0-586"):
+    with pytest.raises(ConfigError, match="0-999"):
         lid_marker(spec)
+    with pytest.raises(ConfigError, match="0-999 except"):
+        lid_marker(replace(spec, marker_id=min(UNDRAWABLE_IDS)))
 
 
 def test_marker_layers_paint_exactly_the_marker_within_pybullets_primitive_limit():
@@ -55,7 +61,8 @@ def test_marker_layers_paint_exactly_the_marker_within_pybullets_primitive_limit
         for r, c, nr, nc in white:
             painted[r : r + nr, c : c + nc] = False
         assert (painted == marker_cells(marker_id)).all(), marker_id
-        assert 2 + len(black) + len(white) <= _MAX_SHAPES  # plus the body and the cap
+        fits = 2 + len(black) + len(white) <= _MAX_SHAPES  # plus the body and the cap
+        assert fits == (marker_id not in UNDRAWABLE_IDS), marker_id
 
 
 def test_visual_is_one_body_with_body_cap_and_marker_cells(kitchen, kitchen_cfg):
