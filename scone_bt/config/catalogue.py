@@ -19,9 +19,21 @@ from scone_bt.config.schema import PositiveFloat, StrictModel, UnitFloat, read_t
 from scone_bt.config.yaml_io import read_yaml
 from scone_bt.errors import ConfigError, UnknownNameError
 
-__all__ = ["SHAPES", "ObjectSpec", "Catalogue", "load_catalogue", "catalogue_files"]
+__all__ = [
+    "SHAPES",
+    "MARKER_DICTIONARY_SIZE",
+    "UNDRAWABLE_MARKER_IDS",
+    "ObjectSpec",
+    "Catalogue",
+    "load_catalogue",
+    "catalogue_files",
+]
 
 SHAPES = ("box", "cylinder")
+MARKER_DICTIONARY_SIZE = 1000
+"""Ids of the lid markers' dictionary (ArUco DICT_6X6_1000, see `scone_bt.world.visuals`)."""
+UNDRAWABLE_MARKER_IDS = frozenset({544})
+"""Ids whose pattern needs more than PyBullet's 16 primitives with body and cap (tests/world checks all 1000)."""
 
 
 @dataclass(frozen=True)
@@ -180,13 +192,19 @@ def catalogue_files(entries: Iterable[str | Path], base: Path, fallback: Path) -
     return out
 
 
+def _free_marker(markers: dict[int, Any]) -> int | str:
+    """The lowest drawable marker id no product has yet ("none" when the dictionary is full)."""
+    free = (i for i in range(MARKER_DICTIONARY_SIZE) if i not in markers and i not in UNDRAWABLE_MARKER_IDS)
+    return next(free, "none")
+
+
 def load_catalogue(files: Sequence[Path]) -> Catalogue:
     """Read and merge family files, in order.
 
     Raises:
         ConfigError: One line naming the file, the product and the field: a malformed product, or one that
             conflicts with an earlier one (the same name, an alias that is another product's name or alias, the
-            same marker id).
+            same marker id, a marker id outside the marker dictionary).
     """
     objects: list[ObjectSpec] = []
     names: dict[str, tuple[str, str]] = {}  # folded name or alias → (product, file)
@@ -203,12 +221,17 @@ def load_catalogue(files: Sequence[Path]) -> Catalogue:
                         "names and aliases must be unique across the catalogue"
                     )
                 names[key] = (obj.name, str(path))
+            if obj.marker_id >= MARKER_DICTIONARY_SIZE or obj.marker_id in UNDRAWABLE_MARKER_IDS:
+                raise ConfigError(
+                    f"{where}: marker_id: {obj.marker_id} is not a drawable marker (valid: 0-"
+                    f"{MARKER_DICTIONARY_SIZE - 1} except {', '.join(map(str, sorted(UNDRAWABLE_MARKER_IDS)))};"
+                    f" e.g. {_free_marker(markers)} is free)"
+                )
             if obj.marker_id in markers:
                 other, other_file = markers[obj.marker_id]
-                free = next(i for i in range(len(markers) + 1) if i not in markers)
                 raise ConfigError(
                     f"{where}: marker_id: {obj.marker_id} is already product {other!r} (in {other_file}); "
-                    f"marker ids must be unique (e.g. {free} is free)"
+                    f"marker ids must be unique (e.g. {_free_marker(markers)} is free)"
                 )
             markers[obj.marker_id] = (obj.name, str(path))
             objects.append(obj)

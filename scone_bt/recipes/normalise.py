@@ -59,6 +59,7 @@ _ADJ_ALTERNATIVES = _words(
 # chocolate" → semisweet chocolate): the first alternative is kept, with its noun.
 _KIND_ALTERNATIVES = _words(
     "semisweet bittersweet granulated quick evaporated button long short rye wheat field canned all-purpose cotija"
+    " cajun"
 )
 # Not fetched from a shelf: water comes from the tap and ice from the freezer; tools and consumables are not food.
 _WATER_HEADS = (("water",), ("ice",), ("ice", "cube"))
@@ -80,7 +81,9 @@ _TOOLS = _phrases(
     food processor, blender, mixer, stand mixer, hand mixer, whisk, spatula, knife, cutting board, rolling pin,
     sieve, strainer, colander, cooling rack, wire rack, ladle, tongs, grater, zester, kitchen scale, scale,
     oven, grill, skillet, saucepan, pot, dutch oven, wok, steamer, popsicle stick, popsicle mold,
-    ice cream maker, coffee filter, tea towel, kitchen towel, rubber band, cooking spray bottle, chopsticks
+    ice cream maker, coffee filter, tea towel, kitchen towel, rubber band, cooking spray bottle, chopsticks,
+    wood chips, wood chip, smoking chips, applewood, slow cooker, oven-safe pan, thermos, thermo, marble,
+    glass marble, oven bag, reynold's oven bag, roasting bag, well-washed stone, stone, baking paper square
     """
 )
 

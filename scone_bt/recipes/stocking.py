@@ -49,7 +49,7 @@ _GRADE_WORDS = _words(
     low-sodium reduced-sodium no-salt-added sodium low-fat full-fat fat-free nonfat non-fat reduced-fat
     unsweetened tj's tjs trader joe's good-quality quality store-bought homemade canned tinned bottled
     mashed sized medium-sized stale toasted roasted preroasted crumbled quick-cooking hot little bit melty soft
-    hard-boiled boiled mixed skim thick normal enriched tepid
+    hard-boiled boiled mixed skim thick thin normal enriched tepid salted unsalted normandy
     italian english mexican asian persian scottish norwegian irish spanish greek-style
     """
 )
@@ -58,14 +58,14 @@ _FAT_GRADE = re.compile(r"\b(?:(?:low|high|full|whole|reduced|non|no|medium)[ -]
 # Part words: the product is the whole the part comes from.
 _PART_WORDS = _words(
     "juice zest peel rind yolk white clove leave leaf sprig stalk rib floret wedge slice half segment crumb green"
-    " puree flake wash cube"
+    " puree flake wash cube piece meat fillet frond pod noodle"
 )
 # Generic products that stand for their whole kind: a kind the catalogue lacks ("scamorza cheese") is fetched
 # as the generic product, the way a cook takes the cheese there is. Only heads where any kind is a fair stand-in:
 # not "milk" (almond milk), "butter" (peanut butter), "pepper" (bell pepper) or "oil".
 _KIND_HEADS = _words(
     "cheese mushroom potato onion apple rice sausage salmon peanut tomato bread chocolate honey pasta noodle tea"
-    " lettuce chicken beef pork lamb"
+    " lettuce chicken beef pork lamb beer olive cracker pear"
 )
 _WORD = re.compile(r"[a-z][a-z'&-]*")
 

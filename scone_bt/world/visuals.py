@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from scone_bt.config import ObjectSpec
+from scone_bt.config.catalogue import MARKER_DICTIONARY_SIZE, UNDRAWABLE_MARKER_IDS
 from scone_bt.errors import ConfigError
 
 if TYPE_CHECKING:
@@ -43,9 +44,8 @@ ARUCO_DICTIONARY = "DICT_6X6_1000"
 """The cv2.aruco dictionary the markers come from (ArUco 6x6, 1000 ids, up to 4 bits of error correction)."""
 MARKER_CELLS = 8
 """Cells per marker side: 6 data bits plus a one-cell black border on each side."""
-DICTIONARY_SIZE = 1000
-UNDRAWABLE_IDS = frozenset({544})
-"""Ids whose pattern needs more than PyBullet's 16 primitives with body and cap (tests/world checks all 1000)."""
+DICTIONARY_SIZE = MARKER_DICTIONARY_SIZE
+UNDRAWABLE_IDS = UNDRAWABLE_MARKER_IDS
 
 _CAP_THICKNESS = 0.0015  # metres: the white cap that carries the marker
 # TinyRenderer tessellates a cylinder's flat end as a shallow cone (about 0.9 mm high at the centre), so the black

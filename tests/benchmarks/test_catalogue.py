@@ -81,7 +81,7 @@ def test_user_catalogue_changes_coverage(tmp_path):
     mine = tmp_path / "mine.yaml"
     mine.write_text(
         "family: exotic\nsource: invented for a test\nproducts:\n  - {name: unobtainium, shape: box, size: [0.05,"
-        " 0.05, 0.05], mass: 0.1, friction: 0.5, material: paper, rgba: [1, 0, 1, 1], marker_id: 586}\n"
+        " 0.05, 0.05], mass: 0.1, friction: 0.5, material: paper, rgba: [1, 0, 1, 1], marker_id: 990}\n"
     )
     r = run_catalogue_benchmark(catalogues=(str(mine),), corpus=corpus, pdr_labels=labels)
     assert r["recipes_fully_stocked_fraction"] == 1.0 and r["mention_coverage"] == 1.0

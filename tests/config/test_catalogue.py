@@ -8,6 +8,7 @@ import pytest
 
 from scone_bt.config import load_kitchen
 from scone_bt.errors import ConfigError
+from scone_bt.world.visuals import DICTIONARY_SIZE, UNDRAWABLE_IDS
 
 GOOD = "{name: %s, size: [0.05, 0.05, 0.1], mass: 0.2, rgba: [0.5, 0.5, 0.5, 1], marker_id: %d}"  # noqa: UP031
 
@@ -33,8 +34,10 @@ def _error(path: Path) -> str:
 def test_shipped_catalogue_is_large_varied_and_dense(kitchen_cfg):
     cat = kitchen_cfg.catalogue
     assert len(cat) >= 200 and len(cat.families()) >= 12
-    assert sorted(o.marker_id for o in cat.objects) == list(range(len(cat)))
-    assert len(cat) < 1000  # the ArUco DICT_6X6_1000 dictionary's size
+    # Dense ids from 0, skipping the dictionary's one undrawable id, leaving the rest for users' own products.
+    drawable = [i for i in range(DICTIONARY_SIZE) if i not in UNDRAWABLE_IDS]
+    assert sorted(o.marker_id for o in cat.objects) == drawable[: len(cat)]
+    assert len(drawable) - len(cat) >= 100
     names = [o.name for o in cat.objects]
     assert len(set(names)) == len(names)
     # Unlike products are distinct; only true synonyms are aliases.
@@ -58,19 +61,19 @@ def test_every_family_file_says_where_its_figures_come_from():
 
 
 def test_user_file_adds_products_without_code(tmp_path, kitchen_cfg):
-    path = _user_file(tmp_path, "  - " + GOOD % ("saffron syrup", 586) + "\n")
+    path = _user_file(tmp_path, "  - " + GOOD % ("saffron syrup", 900) + "\n")
     cfg = load_kitchen(catalogues=[path])
     assert len(cfg.catalogue) == len(kitchen_cfg.catalogue) + 1
     mine = cfg.catalogue.get("saffron syrup")
     assert (mine.family, mine.shape, mine.material, mine.friction) == ("my jars", "cylinder", "glass", 0.4)
-    assert cfg.catalogue.by_marker(586) is mine
+    assert cfg.catalogue.by_marker(900) is mine
 
 
 def test_user_product_is_stocked_for_a_recipe(tmp_path):
     from scone_bt.recipes import stock_recipe
     from scone_bt.recipes.recipe import recipe_from_record
 
-    path = _user_file(tmp_path, "  - " + GOOD % ("yuzu kosho", 586) + "\n")
+    path = _user_file(tmp_path, "  - " + GOOD % ("yuzu kosho", 900) + "\n")
     cfg = load_kitchen(catalogues=[path])
     recipe = recipe_from_record(
         {
@@ -86,34 +89,36 @@ def test_user_product_is_stocked_for_a_recipe(tmp_path):
 @pytest.mark.parametrize(
     ("product", "expected"),
     [
-        (GOOD % ("salt", 586), "product 'salt': name: 'salt' is already product 'salt'"),
-        (GOOD.replace("{name: %s,", "{name: %s, aliases: [cumin],") % ("my spice", 586), "aliases: 'cumin'"),
+        (GOOD % ("salt", 900), "product 'salt': name: 'salt' is already product 'salt'"),
+        (GOOD.replace("{name: %s,", "{name: %s, aliases: [cumin],") % ("my spice", 900), "aliases: 'cumin'"),
         (GOOD % ("my spice", 3), "marker_id: 3 is already product 'flour'"),
-        (GOOD.replace("mass: 0.2", "mass: -0.2") % ("my spice", 586), "product 'my spice': mass:"),
-        (GOOD.replace("mass: 0.2", "mass: 0") % ("my spice", 586), "mass: Input should be greater than 0"),
+        (GOOD % ("my spice", 1000), "marker_id: 1000 is not a drawable marker (valid: 0-999 except 544"),
+        (GOOD % ("my spice", 544), "marker_id: 544 is not a drawable marker"),
+        (GOOD.replace("mass: 0.2", "mass: -0.2") % ("my spice", 900), "product 'my spice': mass:"),
+        (GOOD.replace("mass: 0.2", "mass: 0") % ("my spice", 900), "mass: Input should be greater than 0"),
         (
-            GOOD.replace("0.05, 0.05", "0.05, 0") % ("my spice", 586),
+            GOOD.replace("0.05, 0.05", "0.05, 0") % ("my spice", 900),
             "size[1]: Input should be greater than 0",
         ),
-        (GOOD.replace("{name: %s,", "{name: %s, friction: -0.1,") % ("my spice", 586), "friction:"),
+        (GOOD.replace("{name: %s,", "{name: %s, friction: -0.1,") % ("my spice", 900), "friction:"),
         (
-            GOOD.replace("{name: %s,", "{name: %s, shape: sphere,") % ("my spice", 586),
+            GOOD.replace("{name: %s,", "{name: %s, shape: sphere,") % ("my spice", 900),
             "shape: Input should be 'box' or 'cylinder'",
         ),
         (
-            GOOD.replace("{name: %s,", "{name: %s, colour: red,") % ("my spice", 586),
+            GOOD.replace("{name: %s,", "{name: %s, colour: red,") % ("my spice", 900),
             "unknown key 'colour'; valid: name, aliases",
         ),
         (
-            GOOD.replace("mass: 0.2", "mass: heavy") % ("my spice", 586),
+            GOOD.replace("mass: 0.2", "mass: heavy") % ("my spice", 900),
             "mass: Input should be a valid number",
         ),
         (
-            GOOD.replace("marker_id: %d", "marker_id: '%d'") % ("my spice", 586),
+            GOOD.replace("marker_id: %d", "marker_id: '%d'") % ("my spice", 900),
             "marker_id: Input should be a valid integer",
         ),
         (
-            GOOD.replace("size: [0.05, 0.05, 0.1]", "size: [0.05, 0.1]") % ("my spice", 586),
+            GOOD.replace("size: [0.05, 0.05, 0.1]", "size: [0.05, 0.1]") % ("my spice", 900),
             "size: List should have at least 3 items",
         ),
     ],
@@ -121,6 +126,8 @@ def test_user_product_is_stocked_for_a_recipe(tmp_path):
         "duplicate-name",
         "alias-is-other-name",
         "duplicate-marker",
+        "marker-outside-dictionary",
+        "marker-undrawable",
         "negative-mass",
         "zero-mass",
         "zero-size",
@@ -139,7 +146,7 @@ def test_bad_product_is_one_line_naming_file_product_and_field(tmp_path, product
 
 
 def test_bad_family_header_is_one_line(tmp_path):
-    path = _user_file(tmp_path, "  - " + GOOD % ("my spice", 586) + "\n", head="family: x\n")
+    path = _user_file(tmp_path, "  - " + GOOD % ("my spice", 900) + "\n", head="family: x\n")
     assert "source: missing (required)" in _error(path)
     path = _user_file(tmp_path, "  - [not, a, mapping]\n")
     assert "products[0]: expected a mapping" in _error(path)
