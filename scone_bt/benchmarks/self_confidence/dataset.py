@@ -1,11 +1,27 @@
-"""Self-confidence datasets: one file per robot, one row per attempted action and its outcome.
+"""Self-confidence datasets: one file per robot, one row per attempted action, its outcome and its context.
 
-Schema (CSV or Parquet, extra columns allowed):
-    action         the action text ("Put salt on table")
-    object         catalogue name of the object
-    outcome        "success" or "failure" (also accepted: 1/0, true/false)
-    failure_stage  empty on success, else where it failed (perception, planning, grasp, ...)
-    seed           the seed of that execution
+Schema of the generator's CSV (`COLUMNS`, in this order; a reader accepts extra columns, and needs only action,
+object and outcome):
+    index              execution number within the profile (0-based)
+    action             the action text ("Put salt on table")
+    object             catalogue name of the target
+    family             the catalogue's packaging family of the target ("cans", "spice jars", ...)
+    outcome            "success" or "failure" (a reader also accepts 1/0, true/false)
+    failure_stage      empty on success, else where it failed (perception, ik, planning, grasp, ...)
+    seed               the seed of that execution
+    detail             what the pipeline reported
+    shelf_unit         shelf unit the target stood on
+    shelf_tier         tier of that unit, 0 = lowest
+    slot               nearest slot, index into the scene's slots (0-based over all units)
+    clearance_m        gap between the target's side and its nearest neighbour on the tier, metres
+    neighbours         products whose centre is within 0.15 m of the target's
+    detected           1 if the shelf cameras detected the target, else 0
+    detected_width_m   perceived lid width from the depth image, metres (empty when not detected)
+    detected_height_m  perceived height above the shelf step, metres (empty when not detected)
+    width_m            catalogue grasp width (narrowest horizontal extent), metres
+    height_m           catalogue height, metres
+    mass_kg            catalogue mass, kilograms
+    material           catalogue material
 
 An experience store export (`ExperienceStore.export_csv`) is read too: its `object_name` and `success` columns
 stand for `object` and `outcome`; when its `context` JSON names several robots (or profiles), each becomes its
@@ -20,7 +36,7 @@ import json
 import os
 import tempfile
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -29,6 +45,7 @@ from scone_bt.errors import ConfigError
 
 __all__ = [
     "COLUMNS",
+    "CONTEXT_COLUMNS",
     "Dataset",
     "ExecutionRecord",
     "load_datasets",
@@ -37,8 +54,43 @@ __all__ = [
     "write_records",
 ]
 
-COLUMNS = ("index", "action", "object", "outcome", "failure_stage", "seed", "detail")
-"""Columns the generator writes; `index` and `detail` are informative, the evaluator needs the others."""
+COLUMNS = (
+    "index",
+    "action",
+    "object",
+    "family",
+    "outcome",
+    "failure_stage",
+    "seed",
+    "detail",
+    "shelf_unit",
+    "shelf_tier",
+    "slot",
+    "clearance_m",
+    "neighbours",
+    "detected",
+    "detected_width_m",
+    "detected_height_m",
+    "width_m",
+    "height_m",
+    "mass_kg",
+    "material",
+)
+"""Columns the generator writes, in this order (see the module docstring)."""
+
+CONTEXT_COLUMNS = (
+    "shelf_tier",
+    "slot",
+    "clearance_m",
+    "neighbours",
+    "detected",
+    "detected_width_m",
+    "detected_height_m",
+    "width_m",
+    "height_m",
+    "mass_kg",
+)
+"""Numeric context columns, read into `Dataset.context` as float arrays (NaN where a row leaves one empty)."""
 
 _TRUE = {"success", "1", "true", "yes", "ok"}
 _FALSE = {"failure", "0", "false", "no", "fail"}
@@ -47,7 +99,7 @@ _SPLIT_KEYS = ("profile", "robot")
 
 @dataclass(frozen=True)
 class ExecutionRecord:
-    """One simulated pick-and-place.
+    """One simulated pick-and-place and the context it ran in (units in the column names: m, kg).
 
     Attributes:
         index: Position of the execution in its profile (0-based).
@@ -57,6 +109,19 @@ class ExecutionRecord:
         failure_stage: None on success, else the FailureStage value.
         seed: Seed of the execution.
         detail: Human-readable detail of the outcome.
+        family: Packaging family of the target.
+        shelf_unit: Shelf unit it stood on.
+        shelf_tier: Tier of that unit, 0 = lowest.
+        slot: Nearest slot (index into SceneSpec.slots()).
+        clearance_m: Gap to the nearest neighbour on its tier, metres.
+        neighbours: Products within 0.15 m of it.
+        detected: Whether the shelf cameras detected it.
+        detected_width_m: Perceived width, metres (None when not detected or not measurable).
+        detected_height_m: Perceived height above its shelf step, metres (None likewise).
+        width_m: Catalogue grasp width, metres.
+        height_m: Catalogue height, metres.
+        mass_kg: Catalogue mass, kilograms.
+        material: Catalogue material.
     """
 
     index: int
@@ -66,16 +131,47 @@ class ExecutionRecord:
     failure_stage: str | None
     seed: int
     detail: str = ""
+    family: str = ""
+    shelf_unit: str = ""
+    shelf_tier: int = -1
+    slot: int = -1
+    clearance_m: float = float("nan")
+    neighbours: int = 0
+    detected: bool = False
+    detected_width_m: float | None = None
+    detected_height_m: float | None = None
+    width_m: float = float("nan")
+    height_m: float = float("nan")
+    mass_kg: float = float("nan")
+    material: str = ""
 
     def row(self) -> list[str]:
+        """The CSV row, in COLUMNS order."""
+
+        def num(v: float | None) -> str:
+            return "" if v is None or v != v else repr(float(v))
+
         return [
             str(self.index),
             self.action,
             self.object,
+            self.family,
             "success" if self.success else "failure",
             self.failure_stage or "",
             str(self.seed),
             self.detail,
+            self.shelf_unit,
+            str(self.shelf_tier),
+            str(self.slot),
+            num(self.clearance_m),
+            str(self.neighbours),
+            "1" if self.detected else "0",
+            num(self.detected_width_m),
+            num(self.detected_height_m),
+            num(self.width_m),
+            num(self.height_m),
+            num(self.mass_kg),
+            self.material,
         ]
 
 
@@ -89,6 +185,10 @@ class Dataset:
         objects: Object names, one per row.
         success: (n,) bool outcomes.
         failure_stages: Failure stage per row ("" on success).
+        families: Packaging family per row ("" when the file has no family column).
+        context: CONTEXT_COLUMNS present in the file → (n,) float array (NaN where a row leaves it empty).
+        materials: Material per row ("" when the file has none).
+        shelf_units: Shelf unit per row ("" when the file has none).
     """
 
     name: str
@@ -96,6 +196,10 @@ class Dataset:
     objects: tuple[str, ...]
     success: np.ndarray
     failure_stages: tuple[str, ...]
+    families: tuple[str, ...] = ()
+    context: dict[str, np.ndarray] = field(default_factory=dict)
+    materials: tuple[str, ...] = ()
+    shelf_units: tuple[str, ...] = ()
 
     def __len__(self) -> int:
         return len(self.actions)
@@ -119,8 +223,27 @@ def write_records(path: Path | str, records: Iterable[ExecutionRecord]) -> Path:
     return path
 
 
+def _float(text: str, path: Path, row: int, column: str) -> float:
+    try:
+        return float(text) if text != "" else float("nan")
+    except ValueError:
+        raise ConfigError(f"{path} row {row + 2}: {column} {text!r} is not a number") from None
+
+
+def _int(text: str, path: Path, row: int, column: str) -> int:
+    try:
+        return int(text)
+    except ValueError:
+        raise ConfigError(f"{path} row {row + 2}: {column} {text!r} is not an integer") from None
+
+
 def read_records(path: Path | str) -> list[ExecutionRecord]:
-    """Records of a generator CSV (used to resume a half-finished profile); a missing file gives none."""
+    """Records of a generator CSV (used to resume a half-finished profile); a missing file gives none.
+
+    Raises:
+        ConfigError: The file lacks a generator column (an older schema: delete it to regenerate) or holds a
+            malformed value.
+    """
     path = Path(path)
     if not path.is_file():
         return []
@@ -129,20 +252,40 @@ def read_records(path: Path | str) -> list[ExecutionRecord]:
     missing = [c for c in COLUMNS if rows and c not in rows[0]]
     if missing:
         raise ConfigError(
-            f"{path}: not a generator file (missing column {missing[0]!r}); delete it to regenerate"
+            f"{path}: not a generator file of this version (missing column {missing[0]!r}); delete it to regenerate"
         )
-    return [
-        ExecutionRecord(
-            index=int(r["index"]),
-            action=r["action"],
-            object=r["object"],
-            success=_outcome(r["outcome"], path, i),
-            failure_stage=r["failure_stage"] or None,
-            seed=int(r["seed"]),
-            detail=r["detail"],
+    out = []
+    for i, r in enumerate(rows):
+
+        def opt(column: str, r: dict[str, str] = r, i: int = i) -> float | None:
+            v = _float(r[column], path, i, column)
+            return None if v != v else v
+
+        out.append(
+            ExecutionRecord(
+                index=_int(r["index"], path, i, "index"),
+                action=r["action"],
+                object=r["object"],
+                success=_outcome(r["outcome"], path, i),
+                failure_stage=r["failure_stage"] or None,
+                seed=_int(r["seed"], path, i, "seed"),
+                detail=r["detail"],
+                family=r["family"],
+                shelf_unit=r["shelf_unit"],
+                shelf_tier=_int(r["shelf_tier"], path, i, "shelf_tier"),
+                slot=_int(r["slot"], path, i, "slot"),
+                clearance_m=_float(r["clearance_m"], path, i, "clearance_m"),
+                neighbours=_int(r["neighbours"], path, i, "neighbours"),
+                detected=r["detected"].strip() == "1",
+                detected_width_m=opt("detected_width_m"),
+                detected_height_m=opt("detected_height_m"),
+                width_m=_float(r["width_m"], path, i, "width_m"),
+                height_m=_float(r["height_m"], path, i, "height_m"),
+                mass_kg=_float(r["mass_kg"], path, i, "mass_kg"),
+                material=r["material"],
+            )
         )
-        for i, r in enumerate(rows)
-    ]
+    return out
 
 
 def _outcome(value: object, path: Path, row: int) -> bool:
@@ -201,6 +344,14 @@ def read_dataset(path: Path | str) -> list[Dataset]:
                 objects=tuple(str(rows[i][obj_col]) for i in idx),  # type: ignore[index]
                 success=np.array([_outcome(rows[i][out_col], path, i) for i in idx], dtype=bool),  # type: ignore[index]
                 failure_stages=tuple(str(rows[i].get("failure_stage") or "") for i in idx),
+                families=tuple(str(rows[i].get("family") or "") for i in idx),
+                context={
+                    c: np.array([_float(str(rows[i].get(c) or ""), path, i, c) for i in idx], dtype=float)
+                    for c in CONTEXT_COLUMNS
+                    if c in cols
+                },
+                materials=tuple(str(rows[i].get("material") or "") for i in idx),
+                shelf_units=tuple(str(rows[i].get("shelf_unit") or "") for i in idx),
             )
         )
     return datasets

@@ -1,8 +1,15 @@
-"""One simulated execution of a proficiency profile: spawn, perceive, pick-and-place, record the outcome.
+"""One simulated execution of a proficiency profile: stock, perceive, pick-and-place, record outcome and context.
 
-Everything is real: the camera renders the kitchen, the ArUco detector finds (or misses) the target, the motion
-stage plans with OMPL and executes in PyBullet, and the outcome sensor says whether the object stands on the
-table. A profile only changes parameters (and may sabotage a stage, see profiles.INJECTABLE_STAGES).
+Everything is real: the shelf cameras render the kitchen, the AprilTag detector finds (or misses) the target, the
+motion stage plans with OMPL on the robot file's grasp settings and executes in PyBullet, and the outcome sensor
+says whether the product stands on the table. A profile only changes parameters (and may sabotage a stage, see
+profiles.INJECTABLE_STAGES). The target and the distractors are drawn uniformly from the whole catalogue (or the
+--products restriction) for every execution.
+
+Speed (scone-bench sc generate): one kitchen per worker process, emptied and restored to its saved start state
+(PyBullet saveState / restoreState) between executions instead of rebuilt; a shelf camera with no product in view
+is not rendered (it would show nothing to detect; its noise comes from its own generator, so skipping it changes no
+other draw).
 """
 
 from __future__ import annotations
@@ -11,59 +18,73 @@ import dataclasses
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from scone_bt.affordances.types import action_text
+from scone_bt.benchmarks.self_confidence.context import perceived_size, shelf_context
 from scone_bt.benchmarks.self_confidence.dataset import ExecutionRecord
 from scone_bt.benchmarks.self_confidence.profiles import Profile
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
+from scone_bt.errors import ConfigError
 from scone_bt.perception.types import Detection
 
-__all__ = ["INJECTED_FORCE_FACTOR", "ExecutionTask", "choose_objects", "execute_task", "run_execution"]
+__all__ = [
+    "INJECTED_FORCE_FACTOR",
+    "ExecutionTask",
+    "choose_objects",
+    "drawable_products",
+    "execute_task",
+    "run_execution",
+]
 
 INJECTED_FORCE_FACTOR = 0.1
 """An injected grasp failure closes the gripper with this fraction of its force."""
 
 _ADVANCE_S = 0.1
 _MAX_SIM_S = 60.0
-_ARMS: dict[tuple[str, str], object] = {}
+_MAX_DRAWS = 100
+"""Draws of an execution's products before giving up on finding a set that fits the shelving side by side."""
 
 
-def _motion_system(kitchen: object, robot: RobotConfig) -> object:
-    """A MotionSystem for this kitchen, reusing the process's Pinocchio model (loading it takes ~1 s).
+def drawable_products(kitchen: KitchenConfig, names: Sequence[str] | None = None) -> tuple[ObjectSpec, ...]:
+    """The products an execution draws from: the catalogue (or `names` of it) that fits some shelf tier."""
+    from scone_bt.world.stocking import fits_shelf
 
-    A profile never changes what the arm model holds (URDF, joints, frames, collision pairs), only the gripper,
-    limits and planner settings, which are passed here.
-    """
-    from scone_bt.motion import (
-        ArmModel,
-        ExecutionSettings,
-        GraspParams,
-        MotionSystem,
-        PlannerOptions,
-        limits_of,
-    )
-
-    key = (str(robot.source), str(robot.urdf))
-    if key not in _ARMS:
-        _ARMS[key] = ArmModel(robot)
-    p = robot.planner
-    options = PlannerOptions(
-        name=p.name, time_limit_s=p.time_limit_s, simplify=p.simplify, rng_seed=p.rng_seed
-    )
-    return MotionSystem(kitchen, _ARMS[key], options, limits_of(robot), GraspParams(), ExecutionSettings())  # type: ignore[arg-type]
+    chosen = kitchen.catalogue.objects if names is None else tuple(kitchen.catalogue.get(n) for n in names)
+    return tuple(o for o in chosen if fits_shelf(o, kitchen.scene))
 
 
 def choose_objects(
-    profile: Profile, index: int, catalogue: Sequence[ObjectSpec]
+    profile: Profile, index: int, pool: Sequence[ObjectSpec], scene: Any = None
 ) -> tuple[ObjectSpec, list[ObjectSpec]]:
-    """The target and the distractors of execution `index` (uniform draws, seeded by the execution seed)."""
-    rng = np.random.default_rng([profile.execution_seed(index), 0])
-    order = rng.permutation(len(catalogue))
-    target = catalogue[int(order[0])]
-    others = [catalogue[int(i)] for i in order[1 : profile.objects_on_shelf]]
-    return target, others
+    """The target and the distractors of execution `index`: a uniform draw without replacement from `pool`.
+
+    With `scene`, a draw whose products do not fit the shelving side by side is replaced by the next one (each
+    draw seeded by the execution seed and the attempt number).
+    """
+    n = min(profile.objects_on_shelf, len(pool))
+    for attempt in range(_MAX_DRAWS if scene is not None else 1):
+        rng = np.random.default_rng([profile.execution_seed(index), 0, attempt])
+        order = rng.permutation(len(pool))[:n]
+        target, others = pool[int(order[0])], [pool[int(i)] for i in order[1:]]
+        if scene is None or _fits(scene, [target, *others]):
+            return target, others
+    raise ConfigError(
+        f"profile {profile.name}: no draw of {n} products fits the shelving in {_MAX_DRAWS} tries; "
+        "restrict --products to narrower ones or lower objects_on_shelf"
+    )
+
+
+def _fits(scene: Any, specs: Sequence[ObjectSpec]) -> bool:
+    from scone_bt.world.stocking import plan_stocking
+
+    try:
+        plan_stocking(scene, specs, np.random.default_rng(0))
+    except ConfigError:
+        return False
+    return True
 
 
 def _shifted(det: Detection, offset: Sequence[float]) -> Detection:
@@ -72,29 +93,169 @@ def _shifted(det: Detection, offset: Sequence[float]) -> Detection:
     )
 
 
+class _Worker:
+    """What a worker process keeps between executions: configs, the arm model, detectors and one kitchen."""
+
+    def __init__(self) -> None:
+        self.configs: dict[tuple[str, str, tuple[str, ...]], tuple[KitchenConfig, RobotConfig]] = {}
+        self.arms: dict[tuple[str, str], object] = {}
+        self.detectors: dict[int, object] = {}
+        self.kitchen: Any = None
+        self.kitchen_key: object = None
+        self.start_state: int | None = None
+
+    def arm(self, robot: RobotConfig) -> object:
+        from scone_bt.motion import ArmModel
+
+        key = (str(robot.source), str(robot.urdf))
+        if key not in self.arms:  # loading the Pinocchio model takes about a second
+            self.arms[key] = ArmModel(robot)
+        return self.arms[key]
+
+    def detector(self, kitchen: KitchenConfig) -> Any:
+        from scone_bt.perception import Detector
+
+        key = id(kitchen.catalogue)
+        if key not in self.detectors:
+            self.detectors[key] = (kitchen.catalogue, Detector(kitchen.catalogue))
+        return self.detectors[key][1]  # type: ignore[index]
+
+    def empty_kitchen(self, kcfg: KitchenConfig, rcfg: RobotConfig) -> Any:
+        """A kitchen in exactly the state a new one starts in (reused when the robot's body is the same)."""
+        from scone_bt.quiet import c_stdout_silenced
+        from scone_bt.world import Kitchen
+
+        # Force is only a motor setting (set per command); finger friction and the URDF shape the built world.
+        key = (kcfg.source, id(kcfg.catalogue), dataclasses.replace(rcfg.gripper, max_force=0.0), rcfg.urdf)
+        if self.kitchen is None or key != self.kitchen_key:
+            if self.kitchen is not None:
+                self.kitchen.close()
+            with c_stdout_silenced():
+                self.kitchen = Kitchen(kcfg, rcfg)
+            self.kitchen_key = key
+            self.start_state = self.kitchen.bc.saveState()
+        else:
+            _restore(self.kitchen, self.start_state)
+        self.kitchen.config, self.kitchen.robot_config = kcfg, rcfg
+        self.kitchen.hold_arm(rcfg.home)
+        self.kitchen.set_gripper_target(rcfg.gripper.open_position)
+        return self.kitchen
+
+
+def _restore(kitchen: Any, state: int | None) -> None:
+    """Remove every product and restore the physics to the state saved when the kitchen was built.
+
+    Bodies are removed newest first, so PyBullet hands the next products the same body ids a new kitchen would.
+    """
+    for body in sorted(kitchen.objects.values(), reverse=True):
+        kitchen.bc.removeBody(body)
+    kitchen.objects.clear()
+    kitchen.specs.clear()
+    kitchen.spawn_slots.clear()
+    kitchen._frozen.clear()
+    kitchen._controllers.clear()
+    kitchen.bc.restoreState(stateId=state)
+    kitchen.sim_time = 0.0
+    kitchen.steps = kitchen.steps_skipped = 0
+    kitchen._awake_until = kitchen._settle_until = 0.0
+    kitchen.state_version += 1
+
+
+_WORKER = _Worker()
+
+
+def _motion_system(kitchen: Any, robot: RobotConfig) -> Any:
+    """A MotionSystem for this kitchen: the worker's Pinocchio model and the robot file's grasp settings."""
+    from scone_bt.motion import ExecutionSettings, GraspParams, MotionSystem, PlannerOptions, limits_of
+
+    p = robot.planner
+    options = PlannerOptions(
+        name=p.name, time_limit_s=p.time_limit_s, simplify=p.simplify, rng_seed=p.rng_seed
+    )
+    params = GraspParams.from_section(robot.raw.get("grasp"), str(robot.source))
+    return MotionSystem(
+        kitchen,
+        _WORKER.arm(robot),
+        options,
+        limits_of(robot),
+        params,
+        ExecutionSettings(),
+        robot,  # type: ignore[arg-type]
+    )
+
+
+def _in_view(camera: Any, lo: Sequence[float], hi: Sequence[float]) -> bool:
+    """True if an axis-aligned box (world, metres) may show in the camera's image."""
+    from scone_bt.perception.camera import project
+
+    corners = np.array([(x, y, z) for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+    uv, depth = project(corners, camera.intrinsics, camera.world_from_camera)
+    s = camera.spec
+    if np.all(depth <= s.near):
+        return False
+    if np.any(depth <= s.near):
+        return True
+    return bool(
+        uv[:, 0].max() >= 0
+        and uv[:, 0].min() <= s.width - 1
+        and uv[:, 1].max() >= 0
+        and uv[:, 1].min() <= s.height - 1
+    )
+
+
+def _look(kitchen: Any, kcfg: KitchenConfig, seed: int) -> tuple[dict[str, Detection], dict[str, Any], int]:
+    """Render every shelf camera that has a product in view, detect, merge (most confident per product).
+
+    Returns detections by name, the frame each came from, and the number of cameras rendered.
+    """
+    from scone_bt.perception import Camera
+    from scone_bt.quiet import c_stdout_silenced
+
+    detector = _WORKER.detector(kcfg)
+    boxes = [kitchen.bc.getAABB(body) for body in kitchen.objects.values()]
+    best: dict[str, tuple[Detection, Any]] = {}
+    rendered = 0
+    for k, spec in enumerate(kcfg.shelf_cameras):
+        camera = Camera(spec)
+        if not any(_in_view(camera, lo, hi) for lo, hi in boxes):
+            continue
+        rendered += 1
+        with c_stdout_silenced():
+            frame = camera.capture(kitchen, np.random.default_rng([seed, 2, k]))
+        for det in detector.detect(frame):
+            # A shelf camera may glimpse the table; what stands there is the table camera's (unused here).
+            if kcfg.scene.on_table(det.position):
+                continue
+            if det.name not in best or det.confidence > best[det.name][0].confidence:
+                best[det.name] = (det, frame)
+    return {n: d for n, (d, _) in best.items()}, {n: f for n, (_, f) in best.items()}, rendered
+
+
 def run_execution(
     profile: Profile,
     index: int,
     kitchen_cfg: KitchenConfig,
     robot_cfg: RobotConfig,
     target_name: str | None = None,
+    pool: Sequence[ObjectSpec] | None = None,
 ) -> tuple[ExecutionRecord, float]:
-    """Run execution `index` of `profile` in a fresh kitchen; returns the record and its wall time (s).
+    """Run execution `index` of `profile`; returns the record and its wall time (s).
 
     Args:
         profile: The robot's proficiency.
-        index: Execution number; with the profile's seed it fixes the objects, their slots and every draw.
+        index: Execution number; with the profile's seed it fixes the products, their slots and every draw.
         kitchen_cfg: The kitchen before the profile's overrides.
         robot_cfg: The robot before the profile's overrides.
-        target_name: Force this target instead of the seeded draw (for per-object calibration sweeps).
+        target_name: Force this target instead of the seeded draw (for per-product sweeps).
+        pool: Products to draw from (default: drawable_products of the kitchen's catalogue).
     """
-    from scone_bt.perception import Observer
-    from scone_bt.world import Kitchen
+    from scone_bt.world.stocking import plan_stocking
 
     t0 = time.perf_counter()
     seed = profile.execution_seed(index)
     catalogue = kitchen_cfg.catalogue
-    target, others = choose_objects(profile, index, catalogue.objects)
+    pool = drawable_products(kitchen_cfg) if pool is None else pool
+    target, others = choose_objects(profile, index, pool, kitchen_cfg.scene)
     if target_name is not None and target_name != target.name:
         forced = catalogue.get(target_name)
         others = [o for o in [target, *others] if o.name != forced.name][: len(others)]
@@ -107,38 +268,93 @@ def run_execution(
         rcfg = dataclasses.replace(
             rcfg, gripper=dataclasses.replace(g, max_force=g.max_force * INJECTED_FORCE_FACTOR)
         )
+    specs = [target, *others]
+    probe = np.random.default_rng()
+    probe.bit_generator.state = rng.bit_generator.state  # the very draws spawn() is about to make
+    placements = {s.name: pl for s, pl in zip(specs, plan_stocking(kcfg.scene, specs, probe), strict=True)}
+
+    kitchen = _WORKER.empty_kitchen(kcfg, rcfg)
+    kitchen.spawn(specs, rng)
+    positions = {s.name: kitchen.object_state(s.name).position for s in specs}
+    where = shelf_context(kcfg.scene, target.name, placements, {s.name: s for s in specs}, positions)
+    detections, frames, _rendered = _look(kitchen, kcfg, seed)
+    by_name = {n: _shifted(d, profile.calibration_offset) for n, d in detections.items()}
+    seen = target.name in by_name and "perception" not in injected
+    size = perceived_size(frames[target.name], detections[target.name], kcfg.scene) if seen else None
+    if size is not None:  # the robot's calibration error shifts the heights it perceives too
+        size = (size[0], round(size[1] + profile.calibration_offset[2], 4))
 
     def record(success: bool, stage: str | None, detail: str) -> tuple[ExecutionRecord, float]:
-        rec = ExecutionRecord(index, action_text(target.name), target.name, success, stage, seed, detail)
+        rec = ExecutionRecord(
+            index=index,
+            action=action_text(target.name),
+            object=target.name,
+            success=success,
+            failure_stage=stage,
+            seed=seed,
+            detail=detail,
+            family=target.family,
+            shelf_unit=where.unit,
+            shelf_tier=where.tier,
+            slot=where.slot,
+            clearance_m=where.clearance_m,
+            neighbours=where.neighbours,
+            detected=seen,
+            detected_width_m=size[0] if size is not None else None,
+            detected_height_m=size[1] if size is not None else None,
+            width_m=round(target.grasp_width, 4),
+            height_m=round(target.height, 4),
+            mass_kg=round(target.mass, 4),
+            material=target.material,
+        )
         return rec, time.perf_counter() - t0
 
-    with Kitchen(kcfg, rcfg) as kitchen:
-        kitchen.spawn([target, *others], rng)
-        # Every shelf camera: the shelving has several units (the table camera plays no part here).
-        detections = list(Observer(kcfg, table_camera=False).observe(kitchen, rng).detections)
-        by_name = {d.name: _shifted(d, profile.calibration_offset) for d in detections}
-        if "perception" in injected:
-            return record(False, "perception", "injected: target not detected")
-        if target.name not in by_name:
-            return record(False, "perception", f"target not detected ({len(detections)} objects seen)")
-        if "planning" in injected:
-            return record(False, "planning", "injected: no plan within the budget")
-        obstacles = [(d, catalogue.get(n)) for n, d in by_name.items() if n != target.name]
-        with _motion_system(kitchen, rcfg) as system:  # type: ignore[attr-defined]
-            task = system.pick_and_place(by_name[target.name], target, obstacles, rng_seed=seed)
-            task.start()
-            while not task.done() and kitchen.sim_time < _MAX_SIM_S:
-                if task.is_planning():
-                    task.wait_planned()  # simulated time must not depend on the planning thread's speed
-                kitchen.advance(_ADVANCE_S)
-            if not task.done():
-                task.cancel()
-                return record(False, "timeout", f"not finished after {_MAX_SIM_S:.0f} simulated seconds")
-            outcome = task.outcome()
-        assert outcome is not None
+    if "perception" in injected:
+        return record(False, "perception", "injected: target not detected")
+    if target.name not in by_name:
+        return record(False, "perception", f"target not detected ({len(by_name)} products seen)")
+    if "planning" in injected:
+        return record(False, "planning", "injected: no plan within the budget")
+    obstacles = [(d, catalogue.get(n)) for n, d in by_name.items() if n != target.name]
+    with _motion_system(kitchen, rcfg) as system:
+        task = system.pick_and_place(by_name[target.name], target, obstacles, rng_seed=seed)
+        task.start()
+        settled = None
+        while settled is None and kitchen.sim_time < _MAX_SIM_S:
+            if task.is_planning():
+                task.wait_planned()  # simulated time must not depend on the planning thread's speed
+            kitchen.advance(_ADVANCE_S)
+            settled = _settled(task)
+        if settled is None:
+            task.cancel()
+            return record(False, "timeout", f"not finished after {_MAX_SIM_S:.0f} simulated seconds")
+    success, stage, message = settled
+    detail = ("injected weak grasp; " if "grasp" in injected else "") + message
+    return record(success, stage, detail)
+
+
+_HOMEWARD = frozenset({"home", "recover", "recover_home"})
+"""Phases after the outcome is decided: the arm only goes home (collisions are not monitored there)."""
+
+
+def _settled(task: Any) -> tuple[bool, str | None, str] | None:
+    """(success, failure stage, message) once the attempt's outcome is decided, else None.
+
+    The outcome is decided when the arm heads home (after judging the placement, or after a failure); the homing
+    motion changes nothing a record holds, and the next execution starts from a restored kitchen, so it is not
+    simulated (about a fifth of an execution's physics).
+    """
+    if task.done():
+        outcome = task.outcome()
         stage = None if outcome.success else (outcome.stage.value if outcome.stage is not None else "place")
-        detail = ("injected weak grasp; " if "grasp" in injected else "") + outcome.message
-        return record(outcome.success, stage, detail)
+        return outcome.success, stage, outcome.message
+    controller = getattr(task, "_controller", None)
+    if controller is None or str(task.progress().phase) not in _HOMEWARD:
+        return None
+    if controller.success:
+        return True, None, controller.message
+    stage = controller.stage.value if controller.stage is not None else "place"
+    return False, stage, controller.message
 
 
 @dataclass(frozen=True)
@@ -150,24 +366,31 @@ class ExecutionTask:
         index: Execution number (fixes the seed).
         kitchen: Kitchen file name or path, loaded in the worker.
         robot: Robot file name or path, loaded in the worker.
+        catalogues: Extra product files (a user's own products), loaded in the worker.
+        products: Restrict the draw to these products (None: the whole catalogue).
     """
 
     profile: Profile
     index: int
     kitchen: str = "kitchen"
     robot: str = "panda"
+    catalogues: tuple[str, ...] = ()
+    products: tuple[str, ...] | None = None
 
 
-_CONFIGS: dict[tuple[str, str], tuple[KitchenConfig, RobotConfig]] = {}
+_POOLS: dict[tuple[object, ...], tuple[ObjectSpec, ...]] = {}
 
 
 def execute_task(task: ExecutionTask) -> tuple[str, ExecutionRecord, float]:
     """Run one ExecutionTask (configs loaded once per worker process); (profile name, record, wall s)."""
     from scone_bt.config import load_kitchen, load_robot
 
-    key = (task.kitchen, task.robot)
-    if key not in _CONFIGS:
-        _CONFIGS[key] = (load_kitchen(task.kitchen), load_robot(task.robot))
-    kitchen_cfg, robot_cfg = _CONFIGS[key]
-    record, wall = run_execution(task.profile, task.index, kitchen_cfg, robot_cfg)
+    key = (task.kitchen, task.robot, task.catalogues)
+    if key not in _WORKER.configs:
+        _WORKER.configs[key] = (load_kitchen(task.kitchen, task.catalogues), load_robot(task.robot))
+    kitchen_cfg, robot_cfg = _WORKER.configs[key]
+    pool_key = (*key, task.products)
+    if pool_key not in _POOLS:
+        _POOLS[pool_key] = drawable_products(kitchen_cfg, task.products)
+    record, wall = run_execution(task.profile, task.index, kitchen_cfg, robot_cfg, pool=_POOLS[pool_key])
     return task.profile.name, record, wall

@@ -1,0 +1,117 @@
+"""The generator's CSV schema: the column contract, a lossless round trip, and one-line errors on bad files."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from scone_bt.benchmarks.self_confidence.dataset import (
+    COLUMNS,
+    CONTEXT_COLUMNS,
+    ExecutionRecord,
+    read_dataset,
+    read_records,
+    write_records,
+)
+from scone_bt.errors import ConfigError
+
+CONTRACT = (
+    "index, action, object, family, outcome, failure_stage, seed, detail, shelf_unit, shelf_tier, slot, "
+    "clearance_m, neighbours, detected, detected_width_m, detected_height_m, width_m, height_m, mass_kg, material"
+)
+
+
+def _records() -> list[ExecutionRecord]:
+    seen = ExecutionRecord(
+        index=0,
+        action="Put olive oil on table",
+        object="olive oil",
+        success=True,
+        failure_stage=None,
+        seed=10_000_000,
+        detail="placed upright on the table",
+        family="glass bottles",
+        shelf_unit="front",
+        shelf_tier=0,
+        slot=3,
+        clearance_m=0.0325,
+        neighbours=2,
+        detected=True,
+        detected_width_m=0.0642,
+        detected_height_m=0.2501,
+        width_m=0.065,
+        height_m=0.25,
+        mass_kg=0.9,
+        material="glass",
+    )
+    missed = dataclasses.replace(
+        seen,
+        index=1,
+        success=False,
+        failure_stage="perception",
+        detail='target not detected, "3 products seen"',  # a comma and quotes survive the CSV
+        detected=False,
+        detected_width_m=None,
+        detected_height_m=None,
+        shelf_tier=2,
+        clearance_m=0.5,
+    )
+    return [missed, seen]  # written sorted by index
+
+
+def test_columns_are_the_contract_in_order():
+    assert ", ".join(COLUMNS) == CONTRACT
+    assert set(CONTEXT_COLUMNS) <= set(COLUMNS)
+
+
+def test_round_trip_keeps_every_field(tmp_path):
+    path = write_records(tmp_path / "p.csv", _records())
+    assert path.read_text().splitlines()[0] == CONTRACT.replace(", ", ",")
+    back = read_records(path)
+    assert back == sorted(_records(), key=lambda r: r.index)
+    assert back[1].detected_width_m is None and back[1].detected_height_m is None
+    assert "\n" not in back[1].detail
+
+
+def test_dataset_carries_family_and_numeric_context(tmp_path):
+    path = write_records(tmp_path / "p.csv", _records())
+    (ds,) = read_dataset(path)
+    assert ds.name == "p" and len(ds) == 2
+    assert list(ds.success) == [True, False]
+    assert ds.families == ("glass bottles", "glass bottles")
+    assert ds.materials == ("glass", "glass") and ds.shelf_units == ("front", "front")
+    assert set(ds.context) == set(CONTEXT_COLUMNS)
+    assert ds.context["detected"].tolist() == [1.0, 0.0]
+    assert ds.context["shelf_tier"].tolist() == [0.0, 2.0]
+    assert ds.context["detected_width_m"][0] == pytest.approx(0.0642)
+    assert math.isnan(ds.context["detected_width_m"][1])
+    assert ds.context["mass_kg"].dtype == np.float64
+
+
+def test_a_minimal_foreign_file_still_reads_without_context(tmp_path):
+    path = tmp_path / "mine.csv"
+    path.write_text("action,object,outcome\nPut salt on table,salt,1\nPut salt on table,salt,0\n")
+    (ds,) = read_dataset(path)
+    assert list(ds.success) == [True, False]
+    assert ds.context == {} and ds.families == ("", "")
+
+
+def test_an_old_generator_file_is_a_one_line_error(tmp_path):
+    path = tmp_path / "p00.csv"
+    path.write_text(
+        "index,action,object,outcome,failure_stage,seed,detail\n0,Put salt on table,salt,success,,1,ok\n"
+    )
+    with pytest.raises(ConfigError, match=r"missing column 'family'.*delete it to regenerate") as err:
+        read_records(path)
+    assert "\n" not in str(err.value)
+
+
+def test_a_malformed_number_names_the_row_and_column(tmp_path):
+    path = write_records(tmp_path / "p.csv", _records())
+    text = path.read_text().replace(",0.0325,", ",wide,")
+    path.write_text(text)
+    with pytest.raises(ConfigError, match=r"row 2: clearance_m 'wide' is not a number"):
+        read_records(path)

@@ -1,0 +1,159 @@
+"""`scone-bench sc generate`: seeded draws over the whole catalogue, context of each execution, a user's own
+products, resuming a partial file, and one-line errors on bad input."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from scone_bt.benchmarks.self_confidence import load_profile, read_records
+from scone_bt.benchmarks.self_confidence.context import ALONE_CLEARANCE_M, shelf_context
+from scone_bt.benchmarks.self_confidence.generate import choose_objects, drawable_products
+from scone_bt.cli.bench import main as bench
+
+ROOT = Path(__file__).resolve().parents[3]
+PROFILES = ROOT / "tools" / "profiles"
+
+
+def test_draws_are_seeded_uniform_over_the_whole_catalogue_and_fit_the_shelving(kitchen_cfg):
+    from scone_bt.world.stocking import plan_stocking
+
+    prof = load_profile(PROFILES / "p00_nominal.yaml")
+    pool = drawable_products(kitchen_cfg)
+    assert len(pool) >= 0.95 * len(kitchen_cfg.catalogue)
+    draws = [choose_objects(prof, i, pool, kitchen_cfg.scene) for i in range(100)]
+    assert [t.name for t, _ in draws[:10]] == [
+        choose_objects(prof, i, pool, kitchen_cfg.scene)[0].name for i in range(10)
+    ]
+    targets = [t.name for t, _ in draws]
+    # Uniform over hundreds of products: 100 draws give mostly distinct targets, from many families.
+    assert len(set(targets)) >= 85
+    assert len({t.family for t, _ in draws}) >= 10
+    for t, others in draws[:20]:
+        assert len(others) == prof.objects_on_shelf - 1 and t not in others
+        plan_stocking(kitchen_cfg.scene, [t, *others], np.random.default_rng(0))  # fits side by side
+
+
+def test_injections_only_hit_matching_objects(kitchen_cfg):
+    prof = load_profile(PROFILES / "p08_transparent_blind.yaml")
+    glass = next(o for o in kitchen_cfg.catalogue.objects if o.material == "glass")
+    paper = next(o for o in kitchen_cfg.catalogue.objects if o.material == "paper")
+    hits = [prof.draw_injections(glass, np.random.default_rng(i)) for i in range(200)]
+    assert 0.55 < np.mean(["perception" in h for h in hits]) < 0.85
+    assert not any(prof.draw_injections(paper, np.random.default_rng(i)) for i in range(200))
+
+
+def test_shelf_context_measures_clearance_along_the_tier_and_counts_neighbours(kitchen_cfg):
+    from scone_bt.world.stocking import plan_stocking
+
+    scene = kitchen_cfg.scene
+    cans = [o for o in kitchen_cfg.catalogue.objects if o.family == "cans"][:3]
+    for seed in range(20):
+        placements = plan_stocking(scene, cans, np.random.default_rng(seed))
+        by_name = {p.name: p for p in placements}
+        tiers = [(p.unit, p.tier) for p in placements]
+        if tiers[0] == tiers[1] and tiers[0] != tiers[2]:
+            break
+    else:
+        pytest.skip("no draw put exactly two cans on one tier")
+    positions = {p.name: p.position for p in placements}
+    specs = {o.name: o for o in cans}
+    first = shelf_context(scene, cans[0].name, by_name, specs, positions)
+    v = [
+        scene.shelves[[u.name for u in scene.shelves].index(p.unit)].to_unit(*p.position[:2])[1]
+        for p in placements
+    ]
+    gap = abs(v[0] - v[1]) - cans[0].size[0] / 2 - cans[1].size[0] / 2
+    assert first.unit == placements[0].unit and first.tier == placements[0].tier
+    assert first.clearance_m == pytest.approx(gap, abs=1e-3)
+    assert first.neighbours == (1 if abs(v[0] - v[1]) <= 0.15 else 0)
+    alone = shelf_context(scene, cans[2].name, by_name, specs, positions)
+    assert alone.clearance_m == ALONE_CLEARANCE_M
+
+
+def _user_catalogue(tmp_path: Path, kitchen_cfg) -> Path:
+    used = {o.marker_id for o in kitchen_cfg.catalogue.objects}
+    free = [i for i in range(1000) if i not in used and i != 544][:3]
+    assert len(free) == 3, "the test needs three free marker ids"
+    path = tmp_path / "my_products.yaml"
+    path.write_text(
+        "family: my tins\n"
+        "source: measured in my own kitchen\n"
+        "defaults: {shape: cylinder, material: metal, friction: 0.35}\n"
+        "products:\n"
+        f"  - {{name: smoked paprika tin, size: [0.06, 0.06, 0.08], mass: 0.12, rgba: [0.8, 0.2, 0.1, 1], marker_id: {free[0]}}}\n"
+        f"  - {{name: saffron tin, size: [0.05, 0.05, 0.06], mass: 0.05, rgba: [0.9, 0.7, 0.1, 1], marker_id: {free[1]}}}\n"
+        f"  - {{name: matcha tin, size: [0.07, 0.07, 0.09], mass: 0.15, rgba: [0.3, 0.6, 0.2, 1], marker_id: {free[2]}}}\n"
+    )
+    return path
+
+
+@pytest.mark.slow
+def test_generate_on_a_user_catalogue_restricted_draw_and_resume(tmp_path, kitchen_cfg, capsys):
+    mine = _user_catalogue(tmp_path, kitchen_cfg)
+    products = tmp_path / "draw.txt"
+    products.write_text("# my tins and one shop product\nsmoked paprika tin\nsaffron tin\nmatcha tin\nsalt\n")
+    out = tmp_path / "data"
+    argv = [
+        "sc", "generate", "--profiles", "p00_nominal", "--profiles-dir", str(PROFILES), "--out", str(out),
+        "--catalogue", str(mine), "--products", str(products), "--workers", "1", "--no-progress",
+    ]  # fmt: skip
+    prof = load_profile(PROFILES / "p00_nominal.yaml")
+    if prof.objects_on_shelf > 4:
+        pytest.skip("the restricted draw needs objects_on_shelf <= 4")
+    # Stopped after its first row (a tiny --max-minutes): the profile is left as a partial file.
+    assert bench([*argv, "--executions", "2", "--max-minutes", "0.0001"]) == 1
+    partial = out / ".p00_nominal.partial.csv"
+    assert partial.is_file() and not (out / "p00_nominal.csv").exists()
+    first = read_records(partial)
+    assert len(first) == 1
+    capsys.readouterr()
+    assert bench([*argv, "--executions", "2"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["executions_run"] == 1 and summary["executions_resumed"] == 1  # row 0 is not run again
+    assert summary["products_drawn_from"] == 4 and summary["user_catalogues"] == ["my_products.yaml"]
+    records = read_records(out / "p00_nominal.csv")
+    assert records[0] == first[0] and not partial.exists()
+    allowed = {"smoked paprika tin", "saffron tin", "matcha tin", "salt"}
+    for r in records:
+        assert r.object in allowed
+        assert r.seed == prof.execution_seed(r.index)
+        assert r.action == f"Put {r.object} on table"
+        assert r.success == (r.failure_stage is None)
+        assert r.shelf_unit and r.shelf_tier >= 0 and r.slot >= 0 and r.clearance_m >= 0
+        assert r.width_m > 0 and r.mass_kg > 0 and r.material
+        if r.detected and r.detected_width_m is not None:
+            assert abs(r.detected_width_m - r.width_m) < 0.02  # measured from the depth image
+    assert any(r.family == "my tins" for r in records) or all(r.object == "salt" for r in records)
+    log = json.loads((out / "generation.json").read_text())
+    assert [run["executions_run"] for run in log["runs"]] == [1, 1]
+    assert str(tmp_path) not in (out / "generation.json").read_text()
+
+
+def _one_line_error(capsys, argv: list[str]) -> str:
+    assert bench(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "Traceback" not in err
+    return err
+
+
+def test_bad_inputs_are_one_line_errors_before_any_execution(tmp_path, capsys):
+    base = ["sc", "generate", "--profiles-dir", str(PROFILES), "--out", str(tmp_path / "o"), "--no-progress"]
+    err = _one_line_error(capsys, [*base, "--profiles", "p99_nobody"])
+    assert "unknown profile 'p99_nobody'" in err and "p00_nominal" in err
+    err = _one_line_error(capsys, [*base, "--products", "salt,unicorn steak"])
+    assert "unknown product 'unicorn steak'" in err
+    blocker = tmp_path / "a_file"
+    blocker.write_text("")
+    err = _one_line_error(
+        capsys, ["sc", "generate", "--profiles-dir", str(PROFILES), "--out", str(blocker / "sub")]
+    )
+    assert "not a writable folder" in err
+    err = _one_line_error(capsys, [*base, "--executions", "0"])
+    assert "--executions" in err
+    err = _one_line_error(capsys, [*base, "--catalogue", str(tmp_path / "missing.yaml")])
+    assert "missing.yaml" in err
+    assert not (tmp_path / "o").exists() or not any((tmp_path / "o").glob("*.csv"))
