@@ -4,7 +4,7 @@
     scone-bench scale --workers 1 2 4 8 --executions 64 --ray auto   # on a cluster (see docs/distributed.md)
 
 Each run executes the same seeded, physical pick-and-place executions (camera, detector, OMPL, PyBullet) as
-tools/gen_sc_datasets.py. Before timing, every worker runs one untimed execution so that imports and the arm model
+`scone-bench sc generate`. Before timing, every worker runs one untimed execution so that imports and the arm model
 are loaded (a one-off per worker process, not a per-task cost). `identical_results` compares every record of
 every run with the same executions run without Ray (in this process). The per-task overhead comes from a batch of
 empty tasks; with the measured task time it gives `projection_100_workers` (on paper: see docs/distributed.md).
