@@ -1,6 +1,6 @@
 """Affordance generation: each object detected on the shelf yields "Put X on table"."""
 
-from scone_bt.affordances.generate import generate_affordances, on_shelf
-from scone_bt.affordances.types import Affordance, action_text
+from scone_bt.affordances.generate import generate_affordances
+from scone_bt.affordances.types import Affordance, action_text, object_of_action
 
-__all__ = ["Affordance", "action_text", "generate_affordances", "on_shelf"]
+__all__ = ["Affordance", "action_text", "generate_affordances", "object_of_action"]

@@ -1,4 +1,5 @@
-"""From detections to affordances, using only the known shelf geometry."""
+"""From detections to affordances, using only the known shelf geometry (`SceneSpec.on_shelf`, the one
+definition of "on the shelf")."""
 
 from __future__ import annotations
 
@@ -8,19 +9,14 @@ from scone_bt.affordances.types import Affordance, action_text
 from scone_bt.config import SceneSpec
 from scone_bt.perception.types import Detection
 
-__all__ = ["on_shelf", "generate_affordances"]
-
-
-def on_shelf(position: Sequence[float], scene: SceneSpec, margin: float = 0.03) -> bool:
-    """True if a world position lies above the shelf's footprint (metres)."""
-    return scene.on_shelf(position, margin)
+__all__ = ["generate_affordances"]
 
 
 def generate_affordances(detections: Sequence[Detection], scene: SceneSpec) -> list[Affordance]:
     """One "Put X on table" per distinct object seen on the shelf, most confident detection first."""
     best: dict[str, Detection] = {}
     for det in detections:
-        if on_shelf(det.position, scene) and (
+        if scene.on_shelf(det.position) and (
             det.name not in best or det.confidence > best[det.name].confidence
         ):
             best[det.name] = det

@@ -7,7 +7,7 @@ from typing import Any
 import py_trees
 from py_trees.common import Access
 
-from scone_bt.behaviours.services import Services
+from scone_bt.behaviours.context import EpisodeContext
 
 __all__ = ["StageBehaviour", "Keys"]
 
@@ -29,6 +29,8 @@ class Keys:
     CLARIFIED = "/relevance/clarified"
     CONFIDENCES = "/gate/confidences"
     DECISION = "/gate/decision"
+    # The Affordance the decision acts on or asks about (None when idle or clarifying).
+    TARGET = "/gate/target"
     MOTION_OUTCOME = "/motion/outcome"
     MOTION_TASK = "/motion/task"
     MOTION_COMPUTING = "/motion/computing"
@@ -36,19 +38,27 @@ class Keys:
 
 
 class StageBehaviour(py_trees.behaviour.Behaviour):
-    """A behaviour bound to the episode's services, declaring the keys it reads and writes."""
+    """A behaviour declaring the blackboard keys it reads and writes.
+
+    Subclasses take their collaborators in the constructor (fakes in tests) and say in `from_context` which
+    ones of the episode's they need; the tree builder calls `from_context` with the tree file's args.
+    """
 
     READS: tuple[str, ...] = ()
     WRITES: tuple[str, ...] = ()
 
-    def __init__(self, name: str, services: Services) -> None:
+    def __init__(self, name: str) -> None:
         super().__init__(name=name)
-        self.services = services
         self.bb = self.attach_blackboard_client(name=name)
         for key in self.READS:
             self.bb.register_key(key=key, access=Access.READ)
         for key in self.WRITES:
             self.bb.register_key(key=key, access=Access.WRITE)
+
+    @classmethod
+    def from_context(cls, name: str, context: EpisodeContext) -> StageBehaviour:
+        """This behaviour wired from the episode (subclasses with collaborators or args override it)."""
+        return cls(name)
 
     def read(self, key: str, default: Any = None) -> Any:
         try:

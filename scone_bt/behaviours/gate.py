@@ -3,31 +3,83 @@
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 import py_trees
 
-from scone_bt.affordances.types import action_text, object_of_action
+from scone_bt.affordances.types import action_text
 from scone_bt.behaviours.base import Keys, StageBehaviour
+from scone_bt.behaviours.context import EpisodeContext
+from scone_bt.behaviours.ports import AttemptHistory, Clock, HumanChannel, SelfConfidence
+from scone_bt.events import DecisionMade, EventSink
 from scone_bt.gate.types import Decision, DecisionKind
 
-__all__ = ["ConfidenceGate", "DecisionIs"]
+if TYPE_CHECKING:
+    from scone_bt.gate import GateOptions
+
+__all__ = ["ConfidenceGate", "DecisionIs", "apply_failure_limit"]
+
+EVERY_STEP_SERVED = "(every step is served)"
+"""The instruction a decision reports past the recipe's last step."""
+
+
+def apply_failure_limit(decision: Decision, failures: int, limit: int) -> Decision:
+    """The paper's rule: after ``limit`` failures on the same action, ask for help whatever κ̂ says."""
+    if decision.kind is DecisionKind.ACT and decision.action is not None and failures >= limit:
+        return replace(decision, kind=DecisionKind.ASK, reason=f"failed {limit} times on this action")
+    return decision
 
 
 class ConfidenceGate(StageBehaviour):
-    READS = (Keys.RANKED, Keys.ACTION_EMBEDDINGS, Keys.INSTRUCTION, Keys.STEP)
-    WRITES = (Keys.CONFIDENCES, Keys.DECISION)
+    """Decides, writes the decision and the affordance it is about (`Keys.TARGET`), and emits `DecisionMade`."""
 
-    def setup(self, **kwargs: object) -> None:
+    READS = (Keys.RANKED, Keys.ACTION_EMBEDDINGS, Keys.INSTRUCTION, Keys.STEP, Keys.AFFORDANCES)
+    WRITES = (Keys.CONFIDENCES, Keys.DECISION, Keys.TARGET)
+
+    def __init__(
+        self,
+        name: str,
+        kappa: SelfConfidence,
+        gate: GateOptions,
+        max_failures_per_action: int,
+        history: AttemptHistory,
+        events: EventSink,
+        clock: Clock,
+        human: HumanChannel,
+        steps_total: int,
+    ) -> None:
+        """``human`` is read only for the human's current step in the recipe-blind setting (no tracked step)."""
+        super().__init__(name)
+        self.estimator = kappa
+        self.gate_options = gate
+        self.limit = max_failures_per_action
+        self.history = history
+        self.events = events
+        self.clock = clock
+        self.human = human
+        self.steps_total = steps_total
+
+    @classmethod
+    def from_context(cls, name: str, context: EpisodeContext) -> ConfidenceGate:
         from scone_bt.gate import GateOptions
 
-        self.estimator = self.services.estimator()
-        opts = self.services.options
-        self.gate_options = GateOptions(
-            confidence_threshold=opts.confidence_threshold,
-            relevance_threshold=opts.relevance_threshold,
-            use_self_confidence=opts.use_self_confidence,
-            recipe_aware=opts.recipe_aware,
+        opts = context.options
+        return cls(
+            name,
+            context.kappa(),
+            GateOptions(
+                confidence_threshold=opts.confidence_threshold,
+                relevance_threshold=opts.relevance_threshold,
+                use_self_confidence=opts.use_self_confidence,
+                recipe_aware=opts.recipe_aware,
+            ),
+            int(opts.max_failures_per_action),
+            context.history,
+            context.events,
+            context.robot.now,
+            context.human,
+            len(context.recipe.steps),
         )
 
     def update(self) -> py_trees.common.Status:
@@ -44,26 +96,39 @@ class ConfidenceGate(StageBehaviour):
         ambiguous = tuple(action_text(i) for i in view.selection.ambiguous) if view is not None else ()
         by_text = {r.text for r in ranked}
         decision = decide(ranked, confidences, self.gate_options, tuple(a for a in ambiguous if a in by_text))
-        decision = self._failure_limit(decision)
+        decision = apply_failure_limit(decision, self.history.failures_of(decision.action or ""), self.limit)
+        affordances = {a.text: a for a in self.read(Keys.AFFORDANCES, [])}
+        target = affordances.get(decision.action) if decision.action is not None else None
+        if target is not None:
+            decision = replace(decision, object_name=target.object_name)
         if decision.kind is DecisionKind.IDLE and view is not None:
-            shelf = {object_of_action(r.text) for r in ranked}
+            shelf = {a.object_name for a in affordances.values() if a.text in by_text}
             missing = [i for i in view.selection.named if i not in shelf]
             if missing:  # the step names an item the robot sees neither on the shelf nor on the table
                 decision = replace(decision, reason=f"waiting: {', '.join(missing)} not in sight")
         self.write(Keys.CONFIDENCES, dict(zip([r.text for r in ranked], confidences, strict=True)))
         self.write(Keys.DECISION, decision)
-        instruction = self.read(Keys.INSTRUCTION) or ""
-        self.services.report_decision(instruction, decision, None if view is None else view.index)
+        self.write(Keys.TARGET, target)
+        self.events(self._event(decision, None if view is None else view.index))
         self.feedback_message = decision.reason
         return py_trees.common.Status.SUCCESS
 
-    def _failure_limit(self, decision: Decision) -> Decision:
-        """The paper's rule: after N failures on the same action, ask for help whatever κ̂ says."""
-        limit = self.services.options.max_failures_per_action
-        failed = self.services.stats.failures_by_action.get(decision.action or "", 0)
-        if decision.kind is DecisionKind.ACT and decision.action is not None and failed >= limit:
-            return replace(decision, kind=DecisionKind.ASK, reason=f"failed {limit} times on this action")
-        return decision
+    def _event(self, decision: Decision, step_index: int | None) -> DecisionMade:
+        """``step_index``: the robot's own place in the recipe (None: the human's step, the recipe-blind setting)."""
+        index = self.human.step_index if step_index is None else step_index
+        return DecisionMade(
+            sim_time=self.clock(),
+            step=min(self.steps_total, index + 1),
+            instruction=self.read(Keys.INSTRUCTION) or EVERY_STEP_SERVED,
+            action=decision.action,
+            relevance=decision.relevance,
+            confidence=decision.confidence,
+            verdict=decision.kind,
+            need=decision.need,
+            candidates=tuple(decision.candidates),
+            object_name=decision.object_name,
+            reason=decision.reason,
+        )
 
 
 class DecisionIs(StageBehaviour):
@@ -71,9 +136,13 @@ class DecisionIs(StageBehaviour):
 
     READS = (Keys.DECISION,)
 
-    def __init__(self, name: str, services: object, kind: str) -> None:
-        super().__init__(name, services)  # type: ignore[arg-type]
+    def __init__(self, name: str, kind: DecisionKind | str) -> None:
+        super().__init__(name)
         self.kind = DecisionKind(kind)
+
+    @classmethod
+    def from_context(cls, name: str, context: EpisodeContext, kind: str) -> DecisionIs:  # type: ignore[override]
+        return cls(name, kind)
 
     def update(self) -> py_trees.common.Status:
         decision = self.read(Keys.DECISION)

@@ -1,5 +1,6 @@
 """AskForHelp (ASK-HELP): the human fetches the object; the robot waits until it is on the table.
-AskToClarify (ASK-CLARIFY): the robot asks which item the step means and remembers the answer for that step."""
+AskToClarify (ASK-CLARIFY): the robot asks which item the step means and remembers the answer for that step.
+WaitForHuman: nothing relevant to do; wait a little."""
 
 from __future__ import annotations
 
@@ -7,55 +8,71 @@ import py_trees
 
 from scone_bt.affordances.types import object_of_action
 from scone_bt.behaviours.base import Keys, StageBehaviour
+from scone_bt.behaviours.context import EpisodeContext
+from scone_bt.behaviours.ports import Clock, HumanChannel
+from scone_bt.events import ClarificationAsked, EventSink, HelpRequested
 
 __all__ = ["AskForHelp", "AskToClarify", "WaitForHuman"]
 
 
 class AskForHelp(StageBehaviour):
-    READS = (Keys.DECISION, Keys.AFFORDANCES)
+    READS = (Keys.DECISION, Keys.TARGET)
+
+    def __init__(self, name: str, human: HumanChannel, events: EventSink, clock: Clock) -> None:
+        super().__init__(name)
+        self.human = human
+        self.events = events
+        self.clock = clock
+
+    @classmethod
+    def from_context(cls, name: str, context: EpisodeContext) -> AskForHelp:
+        return cls(name, context.human, context.events, context.robot.now)
 
     def initialise(self) -> None:
-        decision = self.read(Keys.DECISION)
-        by_text = {a.text: a for a in self.read(Keys.AFFORDANCES, [])}
-        self.object_name = by_text[decision.action].object_name
-        self.services.human.request_help(self.object_name)
-        self.services.human.robot_busy(True)
-        self.services.stats.help_requests += 1
-        self.services.emit("help_request", action=decision.action, object=self.object_name)
+        target = self.read(Keys.TARGET)
+        self.object_name = target.object_name
+        self.human.request_help(self.object_name)
+        self.human.robot_busy(True)
+        self.events(HelpRequested(self.clock(), target.text, self.object_name))
 
     def update(self) -> py_trees.common.Status:
-        if self.services.human.help_pending(self.object_name):
+        if self.human.help_pending(self.object_name):
             self.feedback_message = f"waiting for the human to fetch {self.object_name}"
             return py_trees.common.Status.RUNNING
         return py_trees.common.Status.SUCCESS
 
     def terminate(self, new_status: py_trees.common.Status) -> None:
-        self.services.human.robot_busy(False)
+        self.human.robot_busy(False)
 
 
 class AskToClarify(StageBehaviour):
     READS = (Keys.DECISION, Keys.STEP, Keys.CLARIFIED)
     WRITES = (Keys.CLARIFIED,)
 
+    def __init__(self, name: str, human: HumanChannel, events: EventSink, clock: Clock) -> None:
+        super().__init__(name)
+        self.human = human
+        self.events = events
+        self.clock = clock
+
+    @classmethod
+    def from_context(cls, name: str, context: EpisodeContext) -> AskToClarify:
+        return cls(name, context.human, context.events, context.robot.now)
+
     def initialise(self) -> None:
         decision = self.read(Keys.DECISION)
         view = self.read(Keys.STEP)
-        human = self.services.human
         items = tuple(object_of_action(c) for c in decision.candidates)
-        self.answer = human.answer_clarification(items)
-        self.until = self.services.kitchen.sim_time + human.options.clarify_time_s
+        self.answer = self.human.answer_clarification(items)
+        now = self.clock()
+        self.until = now + self.human.clarify_time_s
         clarified = dict(self.read(Keys.CLARIFIED, {}) or {})
         clarified[view.index] = self.answer
         self.write(Keys.CLARIFIED, clarified)
-        self.services.stats.clarifications += 1
-        self.services.emit(
-            "clarification", candidates=list(items), answer=list(self.answer), step=view.index + 1
-        )
-        said = ", ".join(self.answer) or "none of those"
-        self.services.printer(f"    ? asked which of {', '.join(items)}: the human says {said}")
+        self.events(ClarificationAsked(now, items, tuple(self.answer), view.index + 1))
 
     def update(self) -> py_trees.common.Status:
-        if self.services.kitchen.sim_time < self.until:
+        if self.clock() < self.until:
             self.feedback_message = "waiting for the human's answer"
             return py_trees.common.Status.RUNNING
         return py_trees.common.Status.SUCCESS
@@ -64,15 +81,22 @@ class AskToClarify(StageBehaviour):
 class WaitForHuman(StageBehaviour):
     """Nothing relevant to do: wait a little (the human works on the step), then look again."""
 
-    def __init__(self, name: str, services: object, seconds: float = 1.0) -> None:
-        super().__init__(name, services)  # type: ignore[arg-type]
+    def __init__(self, name: str, clock: Clock, seconds: float = 1.0) -> None:
+        super().__init__(name)
+        self.clock = clock
         self.seconds = seconds
 
+    @classmethod
+    def from_context(  # type: ignore[override]
+        cls, name: str, context: EpisodeContext, seconds: float = 1.0
+    ) -> WaitForHuman:
+        return cls(name, context.robot.now, seconds)
+
     def initialise(self) -> None:
-        self.until = self.services.kitchen.sim_time + self.seconds
+        self.until = self.clock() + self.seconds
 
     def update(self) -> py_trees.common.Status:
-        if self.services.kitchen.sim_time < self.until:
+        if self.clock() < self.until:
             self.feedback_message = "nothing relevant for the robot; waiting"
             return py_trees.common.Status.RUNNING
         return py_trees.common.Status.SUCCESS

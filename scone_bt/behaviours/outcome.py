@@ -1,7 +1,7 @@
 """ObserveOutcome and UpdateSelfConfidence: label the attempt and store it durably, then update κ̂.
 
-The outcome is committed to the experience store before it is printed or emitted: whatever a user or the study
-log has seen reported is stored, even if the process is killed right after.
+The outcome is committed to the experience store before it is emitted (and so before it is printed or logged):
+whatever a user or the study log has seen reported is stored, even if the process is killed right after.
 """
 
 from __future__ import annotations
@@ -11,58 +11,82 @@ import time
 import py_trees
 
 from scone_bt.behaviours.base import Keys, StageBehaviour
+from scone_bt.behaviours.context import EpisodeContext, OutcomeLabels
+from scone_bt.behaviours.ports import OutcomeRecorder, SelfConfidence
+from scone_bt.events import ActCancelled, ActOutcome, EventSink
 from scone_bt.experience.types import Outcome
-from scone_bt.motion.types import FailureStage
+from scone_bt.motion.types import FailureStage, MotionOutcome
+from scone_bt.robot.interface import Robot
 
-__all__ = ["ObserveOutcome", "UpdateSelfConfidence"]
+__all__ = ["ObserveOutcome", "UpdateSelfConfidence", "label_outcome"]
+
+
+def label_outcome(motion: MotionOutcome, on_table: bool) -> tuple[bool, FailureStage | None]:
+    """Success and failure stage of an attempt: a success needs the motion's success *and* the outcome sensor's
+    word that the object rests on the table; a failure without a stage failed at placing it."""
+    success = bool(motion.success and on_table)
+    return success, None if success else (motion.stage or FailureStage.PLACE)
 
 
 class ObserveOutcome(StageBehaviour):
-    READS = (Keys.DECISION, Keys.AFFORDANCES, Keys.MOTION_OUTCOME)
+    READS = (Keys.TARGET, Keys.MOTION_OUTCOME)
     WRITES = (Keys.OUTCOME,)
 
-    def setup(self, **kwargs: object) -> None:
-        self.store = self.services.store()
+    def __init__(
+        self,
+        name: str,
+        robot: Robot,
+        recorder: OutcomeRecorder | None,
+        events: EventSink,
+        labels: OutcomeLabels,
+    ) -> None:
+        super().__init__(name)
+        self.robot = robot
+        self.store = recorder
+        self.events = events
+        self.labels = labels
+
+    @classmethod
+    def from_context(cls, name: str, context: EpisodeContext) -> ObserveOutcome:
+        return cls(name, context.robot, context.recorder(), context.events, context.labels)
 
     def update(self) -> py_trees.common.Status:
-        s = self.services
-        decision = self.read(Keys.DECISION)
-        motion = self.read(Keys.MOTION_OUTCOME)
-        by_text = {a.text: a for a in self.read(Keys.AFFORDANCES, [])}
-        name = by_text[decision.action].object_name
+        target = self.read(Keys.TARGET)
+        motion: MotionOutcome = self.read(Keys.MOTION_OUTCOME)
+        action, name = target.text, target.object_name
+        now = self.robot.now()
         if motion.stage is FailureStage.CANCELLED:
-            s.stats.cancelled += 1
-            s.printer(f"    ~ the human took over: {decision.action}")
+            self.events(ActCancelled(now, action, name))
             self.write(Keys.OUTCOME, None)
             return py_trees.common.Status.SUCCESS
         # The robot's outcome sensor: is the object resting on the table now?
-        success = bool(motion.success and s.kitchen.is_on_table(name))
-        stage = None if success else (motion.stage or FailureStage.PLACE).value
+        success, stage = label_outcome(motion, self.robot.is_on_table(name))
+        labels = self.labels
         outcome = Outcome(
             time=time.time(),
-            action=decision.action,
+            action=action,
             object_name=name,
-            embedder=s.options.embedder,
+            embedder=labels.embedder,
             success=success,
-            failure_stage=stage,
-            context={**s.context, "sim_time": round(s.kitchen.sim_time, 3)},
-            robot_id=s.robot_id,
-            arm=s.robot_config.name,
-            profile=s.options.profile,
+            failure_stage=None if stage is None else stage.value,
+            context={**labels.context, "sim_time": round(now, 3)},
+            robot_id=labels.robot_id,
+            arm=labels.arm,
+            profile=labels.profile,
         )
         if self.store is not None:
             self.store.append(outcome)  # committed before it is reported, and before κ̂ changes
-        if success:
-            s.stats.successes += 1
-            s.printer(f"    + success: {name} is on the table ({motion.duration:.1f} s)")
-        else:
-            s.stats.failures += 1
-            s.stats.failures_by_stage[stage] = s.stats.failures_by_stage.get(stage, 0) + 1
-            s.stats.failures_by_action[decision.action] = (
-                s.stats.failures_by_action.get(decision.action, 0) + 1
+        self.events(
+            ActOutcome(
+                now,
+                action,
+                name,
+                success,
+                outcome.failure_stage,
+                duration_s=float(motion.duration),
+                message=motion.message.split(";")[0],
             )
-            s.printer(f"    x failure at {stage}: {motion.message.split(';')[0]}")
-        s.emit("outcome", action=decision.action, object=name, success=success, stage=stage)
+        )
         self.write(Keys.OUTCOME, outcome)
         return py_trees.common.Status.SUCCESS
 
@@ -70,8 +94,13 @@ class ObserveOutcome(StageBehaviour):
 class UpdateSelfConfidence(StageBehaviour):
     READS = (Keys.OUTCOME, Keys.ACTION_EMBEDDINGS)
 
-    def setup(self, **kwargs: object) -> None:
-        self.estimator = self.services.estimator()
+    def __init__(self, name: str, kappa: SelfConfidence) -> None:
+        super().__init__(name)
+        self.estimator = kappa
+
+    @classmethod
+    def from_context(cls, name: str, context: EpisodeContext) -> UpdateSelfConfidence:
+        return cls(name, context.kappa())
 
     def update(self) -> py_trees.common.Status:
         outcome: Outcome | None = self.read(Keys.OUTCOME)

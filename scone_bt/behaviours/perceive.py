@@ -5,6 +5,8 @@ from __future__ import annotations
 import py_trees
 
 from scone_bt.behaviours.base import Keys, StageBehaviour
+from scone_bt.behaviours.context import EpisodeContext
+from scone_bt.robot.interface import Robot
 
 __all__ = ["Perceive"]
 
@@ -18,13 +20,16 @@ class Perceive(StageBehaviour):
 
     WRITES = (Keys.FRAME, Keys.DETECTIONS, Keys.TABLE_DETECTIONS)
 
-    def setup(self, **kwargs: object) -> None:
-        from scone_bt.perception.observe import Observer
+    def __init__(self, name: str, robot: Robot) -> None:
+        super().__init__(name)
+        self.robot = robot
 
-        self.observer = Observer(self.services.kitchen_config)
+    @classmethod
+    def from_context(cls, name: str, context: EpisodeContext) -> Perceive:
+        return cls(name, context.robot)
 
     def update(self) -> py_trees.common.Status:
-        seen = self.observer.observe(self.services.kitchen, self.services.rng)
+        seen = self.robot.perceive()
         self.write(Keys.FRAME, seen.frame)
         self.write(Keys.DETECTIONS, list(seen.detections))
         self.write(Keys.TABLE_DETECTIONS, seen.table_detections)

@@ -5,12 +5,22 @@ from __future__ import annotations
 import py_trees
 
 from scone_bt.behaviours.base import StageBehaviour
+from scone_bt.behaviours.context import EpisodeContext
+from scone_bt.behaviours.ports import HumanChannel
 
 __all__ = ["RecipeDone"]
 
 
 class RecipeDone(StageBehaviour):
+    def __init__(self, name: str, human: HumanChannel, steps_total: int) -> None:
+        super().__init__(name)
+        self.human = human
+        self.steps_total = steps_total
+
+    @classmethod
+    def from_context(cls, name: str, context: EpisodeContext) -> RecipeDone:
+        return cls(name, context.human, len(context.recipe.steps))
+
     def update(self) -> py_trees.common.Status:
-        human = self.services.human
-        self.feedback_message = f"{human.steps_completed()}/{len(human.recipe.steps)} steps done"
-        return py_trees.common.Status.SUCCESS if human.done else py_trees.common.Status.FAILURE
+        self.feedback_message = f"{self.human.steps_completed()}/{self.steps_total} steps done"
+        return py_trees.common.Status.SUCCESS if self.human.done else py_trees.common.Status.FAILURE

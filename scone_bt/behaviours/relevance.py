@@ -7,9 +7,18 @@ and each action carries why it is a candidate ("now", "later", or "" when the re
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
+
 import py_trees
 
 from scone_bt.behaviours.base import Keys, StageBehaviour
+from scone_bt.behaviours.context import EpisodeContext
+from scone_bt.behaviours.ports import HumanChannel
+
+if TYPE_CHECKING:
+    from scone_bt.embedding import Embedder
+    from scone_bt.relevance.recipe_aware import SelectionOptions
 
 __all__ = ["RankByRelevance"]
 
@@ -18,18 +27,42 @@ class RankByRelevance(StageBehaviour):
     READS = (Keys.AFFORDANCES, Keys.TABLE_DETECTIONS, Keys.CLARIFIED)
     WRITES = (Keys.INSTRUCTION, Keys.RANKED, Keys.ACTION_EMBEDDINGS, Keys.STEP)
 
-    def setup(self, **kwargs: object) -> None:
+    def __init__(
+        self,
+        name: str,
+        embedder: Embedder,
+        steps: Sequence[str],
+        wordings: Mapping[str, tuple[str, ...]],
+        selection: SelectionOptions,
+        recipe_aware: bool,
+        human: HumanChannel,
+    ) -> None:
+        """Args: ``steps`` are the recipe's instructions, ``wordings`` each recipe item's aliases (its keys are
+        the items, in the recipe's order); ``human`` is read only with ``recipe_aware`` off (the paper's setting).
+        """
+        super().__init__(name)
+        self.embedder = embedder
+        self.step = 0
+        self.steps = tuple(steps)
+        self.items = tuple(wordings)
+        self.wordings = dict(wordings)
+        self.selection_options = selection
+        self.recipe_aware = recipe_aware
+        self.human = human
+
+    @classmethod
+    def from_context(cls, name: str, context: EpisodeContext) -> RankByRelevance:
         from scone_bt.relevance.recipe_aware import SelectionOptions
 
-        s = self.services
-        self.embedder = s.embedder()
-        self.step = 0
-        self.steps = tuple(step.instruction for step in s.recipe.steps)
-        catalogue = s.kitchen_config.catalogue
-        self.items = tuple(s.recipe.needed)
-        self.wordings = {n: tuple(catalogue.get(n).aliases) for n in self.items}
-        self.selection_options = SelectionOptions(
-            rho=s.options.relevance_threshold, margin=s.options.clarify_margin
+        recipe, opts = context.recipe, context.options
+        return cls(
+            name,
+            context.embedder(),
+            tuple(step.instruction for step in recipe.steps),
+            {n: tuple(context.catalogue.get(n).aliases) for n in recipe.needed},
+            SelectionOptions(rho=opts.relevance_threshold, margin=opts.clarify_margin),
+            bool(opts.recipe_aware),
+            context.human,
         )
 
     def update(self) -> py_trees.common.Status:
@@ -40,8 +73,8 @@ class RankByRelevance(StageBehaviour):
         texts = [a.text for a in affordances]
         vectors = self.embedder.embed(texts) if texts else []
         self.write(Keys.ACTION_EMBEDDINGS, dict(zip(texts, vectors, strict=True)))
-        if not self.services.options.recipe_aware:
-            instruction = self.services.human.current_instruction
+        if not self.recipe_aware:
+            instruction = self.human.current_instruction
             self.write(Keys.INSTRUCTION, instruction)
             self.write(Keys.STEP, None)
             ranked = rank_actions(instruction, texts, self.embedder) if texts and instruction else []

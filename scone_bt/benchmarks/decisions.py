@@ -191,7 +191,7 @@ def _episodes(args: argparse.Namespace) -> dict[str, Any]:
                 ),
             ),
             printer=lambda _line: None,
-            on_event=lambda kind, data, sink=events: sink.append((kind, data)),
+            on_event=lambda event, sink=events: sink.append((event.kind, event.to_json())),
         )
         stocked = stock_recipe(load_recipe(recipe_id), kitchen.catalogue)
         counts = judge_fetches(events, [s.objects for s in stocked.steps])

@@ -18,10 +18,9 @@ from pathlib import Path
 
 from scone_bt.cli.checks import internal_error_line
 from scone_bt.errors import SconeError
+from scone_bt.robot.interface import BACKENDS
 
 __all__ = ["main", "build_parser"]
-
-BACKENDS = ("sim",)
 
 
 def build_parser() -> argparse.ArgumentParser:

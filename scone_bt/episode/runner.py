@@ -17,12 +17,16 @@ from typing import Any
 import numpy as np
 import py_trees
 
-from scone_bt.behaviours import BehaviourOptions, Keys, Services
+from scone_bt.behaviours import AttemptSeeds, BehaviourOptions, EpisodeContext, Keys, OutcomeLabels
 from scone_bt.config import load_kitchen, load_robot
+from scone_bt.episode.printer import LinePrinter
+from scone_bt.episode.resources import EpisodeResources, ModelPool
 from scone_bt.episode.snapshot import SnapshotBuilder
 from scone_bt.errors import ConfigError
+from scone_bt.events import DecisionMade, Event, EventLog, EventSink
 from scone_bt.human import HumanOptions, SimulatedHuman
 from scone_bt.recipes import load_recipe, stock_recipe
+from scone_bt.robot.sim import SimRobot
 from scone_bt.tree import build_tree, load_tree_spec
 from scone_bt.world import Kitchen
 
@@ -170,52 +174,45 @@ class WallClock:
         self.cpu_seconds[part] = self.cpu_seconds.get(part, 0.0) + cpu_seconds
 
 
-def _time_embedding(services: Services, clock: WallClock) -> None:
-    """Count the embedder's wall time (if the tree built one) under "embedding"."""
-    embedder = services._cache.get("embedder")
-    if embedder is None:
-        return
-    inner = embedder.embed
+class _TimedEmbedder:
+    """An embedder whose `embed` calls count under "embedding" (a shared embedder itself stays unchanged)."""
 
-    def embed(texts: Any) -> Any:
+    def __init__(self, inner: Any, clock: WallClock) -> None:
+        self._inner = inner
+        self._clock = clock
+
+    def embed(self, texts: Any) -> Any:
         t, c = time.perf_counter(), time.thread_time()
         try:
-            return inner(texts)
+            return self._inner.embed(texts)
         finally:
-            clock.add("embedding", time.perf_counter() - t, time.thread_time() - c)
+            self._clock.add("embedding", time.perf_counter() - t, time.thread_time() - c)
 
-    embedder.embed = embed
-
-
-def _observers(root: py_trees.behaviour.Behaviour) -> list[Any]:
-    return [b.observer for b in root.iterate() if hasattr(b, "observer")]
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._inner, name)
 
 
 def run_episode(
     options: EpisodeOptions,
     printer: Callable[[str], None] = print,
-    on_event: Callable[[str, dict[str, Any]], None] | None = None,
+    on_event: EventSink | None = None,
     human_factory: HumanFactory | None = None,
     realtime: bool = False,
+    models: ModelPool | None = None,
 ) -> EpisodeSummary:
     """Run one episode to completion (or to max_ticks) and return its summary.
 
     Args:
         options: What to run.
         printer: Receives the human-readable log lines.
-        on_event: Receives structured events (decision, act, outcome, help_request, intervention, step_done).
+        on_event: Receives every typed event (`scone_bt.events`) as it happens.
         human_factory: Builds the human (default: SimulatedHuman); the study UI passes a tablet-driven one.
         realtime: Pace control ticks to wall-clock time (needed when a real person takes part).
+        models: Share embedders with other episodes (None: this episode loads its own).
     """
     started, started_cpu = time.perf_counter(), time.thread_time()
     clock = WallClock()
     first_decision: list[float] = []
-
-    def events(kind: str, data: dict[str, Any]) -> None:
-        if kind == "decision" and not first_decision:
-            first_decision.append(time.perf_counter() - started)
-        if on_event is not None:
-            on_event(kind, data)
 
     kitchen_cfg = load_kitchen(options.kitchen, options.catalogues)
     robot_cfg = load_robot(options.robot)
@@ -242,123 +239,149 @@ def run_episode(
         [str(n) for n in rng.choice(others, size=n_distractors, replace=False)] if n_distractors else []
     )
     specs = [catalogue.get(n) for n in (*recipe.needed, *distractors)]
+    behaviour = options.behaviour.resolve(spec.parameters)
 
     kitchen = Kitchen(kitchen_cfg, robot_cfg, gui=options.gui)
+    robot = SimRobot(kitchen, kitchen_cfg, robot_cfg, np.random.default_rng(behaviour.seed))
     recorder = None
-    try:
+    lines: list[str] = []  # lines of this tick, for the recording
+    recording = _recording(options)
+
+    def say(line: str) -> None:
+        if recording:
+            lines.append(line)
+        printer(line)
+
+    resources = EpisodeResources(
+        robot, behaviour, behaviour.robot_id or robot_cfg.name, robot_cfg.name, say, models
+    )
+    with resources:
         kitchen.spawn(specs, rng)
         factory = human_factory or (lambda k, r, o, seed: SimulatedHuman(k, r, o, seed=seed))
         human = factory(kitchen, recipe, options.human, options.seed)
-        services = Services(
-            kitchen=kitchen,
-            kitchen_config=kitchen_cfg,
-            robot_config=robot_cfg,
-            recipe=recipe,
+        log_lines = LinePrinter(say, len(recipe.steps))
+
+        def timing(event: Event) -> None:
+            if isinstance(event, DecisionMade) and not first_decision:
+                first_decision.append(time.perf_counter() - started)
+
+        events = EventLog(timing, log_lines, *((on_event,) if on_event is not None else ()))
+        timed: list[_TimedEmbedder] = []
+
+        def embedder() -> Any:
+            if not timed:
+                timed.append(_TimedEmbedder(resources.embedder(), clock))
+            return timed[0]
+
+        context = EpisodeContext(
+            robot=robot,
             human=human,
-            options=options.behaviour.resolve(spec.parameters),
-            printer=printer,
-            on_event=events,
-            context={"robot": robot_cfg.name, "seed": options.seed, "recipe": recipe.recipe.id},
+            events=events,
+            history=events,
+            seeds=AttemptSeeds(behaviour.seed),
+            recipe=recipe,
+            scene=kitchen_cfg.scene,
+            catalogue=catalogue,
+            options=behaviour,
+            labels=OutcomeLabels(
+                embedder=str(behaviour.embedder),
+                robot_id=resources.robot_id,
+                arm=robot_cfg.name,
+                profile=behaviour.profile,
+                context={"robot": robot_cfg.name, "seed": options.seed, "recipe": recipe.recipe.id},
+            ),
+            embedder=embedder,
+            kappa=resources.estimator,
+            recorder=resources.store,
         )
-        printer(
+        say(
             f"{recipe.recipe.title}: {len(recipe.steps)} steps, needs {', '.join(recipe.needed)}; "
             f"distractors: {', '.join(distractors) or 'none'}"
         )
         if recipe.unstocked or recipe.off_shelf:
-            printer(
-                f"not stocked (the human brings them): {', '.join((*recipe.unstocked, *recipe.off_shelf))}"
-            )
-        root = build_tree(spec, services)
+            say(f"not stocked (the human brings them): {', '.join((*recipe.unstocked, *recipe.off_shelf))}")
+        robot.setup()
+        root = build_tree(spec, context)
         tree = py_trees.trees.BehaviourTree(root)
-        tree.setup(timeout=120)
-        recorder = _make_recorder(options)
-        recorder.log_static_scene(kitchen)
-        snapshots = SnapshotBuilder(services) if _recording(options) else None
-        if snapshots is not None:
-            inner = services.printer
-            services.printer = lambda line: (snapshots.lines.append(line), inner(line))[-1]
-        reader = py_trees.blackboard.Client(name="episode")
-        reader.register_key(key=Keys.MOTION_COMPUTING, access=py_trees.common.Access.READ)
+        try:
+            tree.setup(timeout=120)
+            recorder = _make_recorder(options)
+            recorder.log_static_scene(kitchen)
+            snapshots = SnapshotBuilder(kitchen, recipe, human, events, lines) if recording else None
+            reader = py_trees.blackboard.Client(name="episode")
+            reader.register_key(key=Keys.MOTION_COMPUTING, access=py_trees.common.Access.READ)
 
-        _time_embedding(services, clock)
-        observers = _observers(root)
-        clock.add("startup", time.perf_counter() - started, time.thread_time() - started_cpu)
-        ticks = control_ticks = 0
-        next_tick = time.perf_counter() + options.tick_period
-        while control_ticks < options.max_ticks:
-            with clock("tree"):
-                tree.tick()
-            ticks += 1
-            if human.done and root.status is not py_trees.common.Status.RUNNING:
+            clock.add("startup", time.perf_counter() - started, time.thread_time() - started_cpu)
+            ticks = control_ticks = 0
+            next_tick = time.perf_counter() + options.tick_period
+            while control_ticks < options.max_ticks:
+                with clock("tree"):
+                    tree.tick()
+                ticks += 1
+                if human.done and root.status is not py_trees.common.Status.RUNNING:
+                    if snapshots is not None:
+                        recorder.log_tick(snapshots.build(ticks, root))
+                    break  # the recipe is done and the robot finished its last cycle
+                # While the planner computes, simulated time stands still (PickAndPlace reads the typed phase).
+                computing = (
+                    reader.get(Keys.MOTION_COMPUTING) if reader.exists(Keys.MOTION_COMPUTING) else False
+                )
+                if computing:
+                    with clock("planning_wait"):
+                        time.sleep(0.002)  # give the planner thread the interpreter
+                else:
+                    with clock("physics"):
+                        kitchen.advance(options.tick_period)
+                    with clock("human"):
+                        human_events = human.update()
+                    for event in human_events:
+                        events(event)
+                    control_ticks += 1
+                    if realtime:
+                        time.sleep(max(0.0, next_tick - time.perf_counter()))
+                        next_tick = max(next_tick + options.tick_period, time.perf_counter())
                 if snapshots is not None:
-                    recorder.log_tick(snapshots.build(ticks, root))
-                break  # the recipe is done and the robot finished its last cycle
-            computing = reader.get(Keys.MOTION_COMPUTING) if reader.exists(Keys.MOTION_COMPUTING) else False
-            if computing:
-                with clock("planning_wait"):
-                    time.sleep(0.002)  # give the planner thread the interpreter
-            else:
-                with clock("physics"):
-                    kitchen.advance(options.tick_period)
-                with clock("human"):
-                    human_events = human.update()
-                for event in human_events:
-                    if on_event is not None:
-                        on_event(
-                            event.kind,
-                            {
-                                "sim_time": round(event.sim_time, 3),
-                                "object": event.object_name,
-                                "detail": event.detail,
-                            },
-                        )
-                control_ticks += 1
-                if realtime:
-                    time.sleep(max(0.0, next_tick - time.perf_counter()))
-                    next_tick = max(next_tick + options.tick_period, time.perf_counter())
-            if snapshots is not None:
-                with clock("logging"):
-                    recorder.log_tick(snapshots.build(ticks, root))
-        services.flush_repeats()
-        stats = services.stats
-        parts, cpu_parts = dict(clock.seconds), dict(clock.cpu_seconds)
-        # Perception and embedding run inside tree ticks: report them on their own and the rest as "tree".
-        for table, key in ((parts, "wall_s"), (cpu_parts, "cpu_s")):
-            table["perception"] = sum(getattr(o, key) for o in observers)
-            table["tree"] = table.get("tree", 0.0) - table["perception"] - table.get("embedding", 0.0)
-        summary = EpisodeSummary(
-            recipe_id=recipe.recipe.id,
-            recipe_title=recipe.recipe.title,
-            robot=robot_cfg.name,
-            completed=human.done,
-            steps_completed=human.steps_completed(),
-            steps_total=len(recipe.steps),
-            attempted=stats.attempted,
-            successes=stats.successes,
-            failures=stats.failures,
-            failures_by_stage=dict(stats.failures_by_stage),
-            help_requests=stats.help_requests,
-            clarifications=stats.clarifications,
-            interventions=human.interventions,
-            takeovers=stats.cancelled,
-            decisions=stats.decisions,
-            control_ticks=control_ticks,
-            tree_ticks=ticks,
-            sim_time=round(kitchen.sim_time, 3),
-            wall_time=time.perf_counter() - started,
-            needed_on_table={n: kitchen.is_on_table(n) for n in recipe.needed},
-            decision_log=tuple(stats.decision_log),
-            startup_to_first_decision_s=first_decision[0] if first_decision else None,
-            wall_breakdown={k: round(v, 4) for k, v in sorted(parts.items())},
-            cpu_breakdown={k: round(v, 4) for k, v in sorted(cpu_parts.items())},
-            physics_steps=kitchen.steps - kitchen.steps_skipped,
-            physics_steps_skipped=kitchen.steps_skipped,
-            renders=sum(c.renders for o in observers for c in o.cameras),
-        )
-        tree.shutdown()
-        return summary
-    finally:
-        if recorder is not None:
-            recorder.close()
-        kitchen.close()
-        py_trees.blackboard.Blackboard.clear()
+                    with clock("logging"):
+                        recorder.log_tick(snapshots.build(ticks, root))
+            log_lines.flush()
+            stats = events.stats
+            parts, cpu_parts = dict(clock.seconds), dict(clock.cpu_seconds)
+            # Perception and embedding run inside tree ticks: report them on their own and the rest as "tree".
+            for table, seconds in zip((parts, cpu_parts), robot.perception_seconds, strict=True):
+                table["perception"] = seconds
+                table["tree"] = table.get("tree", 0.0) - table["perception"] - table.get("embedding", 0.0)
+            summary = EpisodeSummary(
+                recipe_id=recipe.recipe.id,
+                recipe_title=recipe.recipe.title,
+                robot=robot_cfg.name,
+                completed=human.done,
+                steps_completed=human.steps_completed(),
+                steps_total=len(recipe.steps),
+                attempted=stats.attempted,
+                successes=stats.successes,
+                failures=stats.failures,
+                failures_by_stage=dict(stats.failures_by_stage),
+                help_requests=stats.help_requests,
+                clarifications=stats.clarifications,
+                interventions=stats.interventions,
+                takeovers=stats.cancelled,
+                decisions=stats.decisions,
+                control_ticks=control_ticks,
+                tree_ticks=ticks,
+                sim_time=round(kitchen.sim_time, 3),
+                wall_time=time.perf_counter() - started,
+                needed_on_table={n: kitchen.is_on_table(n) for n in recipe.needed},
+                decision_log=tuple(log_lines.lines),
+                startup_to_first_decision_s=first_decision[0] if first_decision else None,
+                wall_breakdown={k: round(v, 4) for k, v in sorted(parts.items())},
+                cpu_breakdown={k: round(v, 4) for k, v in sorted(cpu_parts.items())},
+                physics_steps=kitchen.steps - kitchen.steps_skipped,
+                physics_steps_skipped=kitchen.steps_skipped,
+                renders=robot.renders,
+            )
+            tree.shutdown()
+            return summary
+        finally:
+            if recorder is not None:
+                recorder.close()
+            py_trees.blackboard.Blackboard.clear()

@@ -7,8 +7,11 @@ from typing import Any
 import numpy as np
 import py_trees
 
-from scone_bt.behaviours import Keys, Services
+from scone_bt.behaviours import Keys
+from scone_bt.events import EventLog
 from scone_bt.motion.types import TimedTrajectory
+from scone_bt.recipes import StockedRecipe
+from scone_bt.world import Kitchen
 
 __all__ = ["SnapshotBuilder"]
 
@@ -30,10 +33,23 @@ def _concatenate(parts: list[TimedTrajectory]) -> TimedTrajectory | None:
 
 
 class SnapshotBuilder:
-    """Reads the blackboard after each tick and reports only what is new (frames, decisions, plans)."""
+    """Reads the blackboard after each tick and reports only what is new (frames, decisions, plans).
 
-    def __init__(self, services: Services) -> None:
-        self.services = services
+    Args:
+        kitchen: The simulated world (poses for the 3D view; the recording may show ground truth).
+        recipe: The recipe being cooked.
+        human: The human (the recipe view shows their progress).
+        events: The episode's events (the counters are their fold).
+        lines: The log lines printed since the last snapshot; emptied by each `build`.
+    """
+
+    def __init__(
+        self, kitchen: Kitchen, recipe: StockedRecipe, human: Any, events: EventLog, lines: list[str]
+    ) -> None:
+        self.kitchen = kitchen
+        self.recipe = recipe
+        self.human = human
+        self.events = events
         self.reader = py_trees.blackboard.Client(name="viz")
         for key in (
             Keys.FRAME,
@@ -47,7 +63,7 @@ class SnapshotBuilder:
         ):
             self.reader.register_key(key=key, access=py_trees.common.Access.READ)
         self._seen: dict[str, int] = {}
-        self.lines: list[str] = []
+        self.lines = lines
 
     def _new(self, key: str) -> Any:
         value = self.reader.get(key) if self.reader.exists(key) else None
@@ -59,8 +75,7 @@ class SnapshotBuilder:
     def build(self, tick: int, root: py_trees.behaviour.Behaviour) -> Any:
         from scone_bt.viz import RecipeView, TickSnapshot
 
-        s = self.services
-        kitchen = s.kitchen
+        kitchen = self.kitchen
         frame = self._new(Keys.FRAME)
         decision = self._new(Keys.DECISION)
         affordances = None
@@ -79,26 +94,27 @@ class SnapshotBuilder:
             plan = task.plan
             if plan is not None and hasattr(plan, "segments") and self._seen.get("plan") != id(plan):
                 self._seen["plan"] = id(plan)
-                ee_path = plan.ee_path(task.system.arm)
+                ee_path = plan.ee_path(task.system.arm)  # the simulated backend's handle is its motion task
                 trajectory = _concatenate([seg.trajectory for seg in plan.segments])
-        human = s.human
+        human = self.human
         recipe = RecipeView(
-            title=s.recipe.recipe.title,
-            steps=tuple(st.instruction for st in s.recipe.steps),
+            title=self.recipe.recipe.title,
+            steps=tuple(st.instruction for st in self.recipe.steps),
             current=None if human.done else human.step_index,
             done=tuple(human.step_done),
         )
-        st = s.stats
+        st = self.events.stats
         counters = {
             "attempted": st.attempted,
             "successes": st.successes,
             "failures": st.failures,
             "help_requests": st.help_requests,
             "clarifications": st.clarifications,
-            "interventions": human.interventions,
-            "steps_done": human.steps_completed(),
+            "interventions": st.interventions,
+            "steps_done": st.steps_done,
         }
-        lines, self.lines = self.lines, []
+        lines = list(self.lines)
+        self.lines.clear()
         return TickSnapshot(
             tick=tick,
             sim_time=kitchen.sim_time,

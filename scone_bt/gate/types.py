@@ -32,6 +32,8 @@ class Decision:
         reason: One short sentence a user can read in the log.
         need: "now", "later" (recipe-aware ranking) or "" (the step's text alone).
         candidates: With clarify, the action texts the robot asks the human to choose between.
+        object_name: The object the action moves (set by the tree's gate from the affordance it is about; None
+            when idle or clarifying).
     """
 
     kind: DecisionKind
@@ -41,3 +43,4 @@ class Decision:
     reason: str
     need: str = ""
     candidates: tuple[str, ...] = ()
+    object_name: str | None = None

@@ -17,13 +17,15 @@ needs, else those the next step that needs any of them needs, else none ("none o
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from enum import Enum
 
 import numpy as np
 
+from scone_bt.events import CleanUpStarted, Event, HelpGiven, Intervention, StepDone
 from scone_bt.recipes import StockedRecipe
 from scone_bt.world import Kitchen
 
-__all__ = ["HumanOptions", "HumanEvent", "SimulatedHuman"]
+__all__ = ["HumanOptions", "FetchReason", "SimulatedHuman"]
 
 
 @dataclass(frozen=True)
@@ -47,21 +49,18 @@ class HumanOptions:
     clarify_time_s: float = 2.0
 
 
-@dataclass(frozen=True)
-class HumanEvent:
-    """Something the human did, for the log: kind is 'help', 'intervention', 'step_done'."""
+class FetchReason(Enum):
+    """Why the human fetches an object: the robot asked (HELP), or on their own (INTERVENTION)."""
 
-    kind: str
-    object_name: str | None
-    sim_time: float
-    detail: str = ""
+    HELP = "help"
+    INTERVENTION = "intervention"
 
 
 @dataclass
 class _Fetch:
     object_name: str
     ready_at: float
-    kind: str  # help | intervention
+    kind: FetchReason
 
 
 @dataclass
@@ -84,12 +83,17 @@ class SimulatedHuman:
         self.help_given = 0
         self.clarifications = 0
         self.interventions = 0
-        self.events: list[HumanEvent] = []
+        self.events: list[Event] = []
 
     # -------------------------------------------------------------------------------------------- state
     @property
     def done(self) -> bool:
         return all(self.step_done)
+
+    @property
+    def clarify_time_s(self) -> float:
+        """How long answering "which one?" takes, simulated seconds."""
+        return self.options.clarify_time_s
 
     @property
     def current_instruction(self) -> str | None:
@@ -102,14 +106,14 @@ class SimulatedHuman:
         return any(f.object_name == object_name for f in self._fetches)
 
     def help_pending(self, object_name: str) -> bool:
-        return any(f.object_name == object_name and f.kind == "help" for f in self._fetches)
+        return any(f.object_name == object_name and f.kind is FetchReason.HELP for f in self._fetches)
 
     # -------------------------------------------------------------------------------------------- robot → human
     def request_help(self, object_name: str) -> None:
         """The robot asks the human to fetch this object."""
         if not self.is_fetching(object_name):
             self._fetches.append(
-                _Fetch(object_name, self.kitchen.sim_time + self.options.fetch_time_s, "help")
+                _Fetch(object_name, self.kitchen.sim_time + self.options.fetch_time_s, FetchReason.HELP)
             )
 
     def answer_clarification(self, candidates: tuple[str, ...]) -> tuple[str, ...]:
@@ -137,7 +141,9 @@ class SimulatedHuman:
         self._takeover_at = None
         if not self.is_fetching(object_name):
             self._fetches.append(
-                _Fetch(object_name, self.kitchen.sim_time + self.options.fetch_time_s, "intervention")
+                _Fetch(
+                    object_name, self.kitchen.sim_time + self.options.fetch_time_s, FetchReason.INTERVENTION
+                )
             )
 
     def robot_busy(self, busy: bool) -> None:
@@ -147,21 +153,22 @@ class SimulatedHuman:
             self._step_started = self.kitchen.sim_time
 
     # -------------------------------------------------------------------------------------------- tick
-    def update(self) -> list[HumanEvent]:
+    def update(self) -> list[Event]:
         """Advance the human by one tick; returns the events of this tick."""
         now = self.kitchen.sim_time
-        new: list[HumanEvent] = []
+        new: list[Event] = []
         for fetch in list(self._fetches):
             if now >= fetch.ready_at:
                 self._fetches.remove(fetch)
                 if self.kitchen.is_on_table(fetch.object_name):
                     continue
                 if self.kitchen.human_place_on_table(fetch.object_name):
-                    if fetch.kind == "help":
+                    if fetch.kind is FetchReason.HELP:
                         self.help_given += 1
+                        new.append(HelpGiven(now, fetch.object_name, "fetched by the human"))
                     else:
                         self.interventions += 1
-                    new.append(HumanEvent(fetch.kind, fetch.object_name, now, "fetched by the human"))
+                        new.append(Intervention(now, fetch.object_name, "fetched by the human"))
         if self.done:
             self.events += new
             return new
@@ -170,7 +177,7 @@ class SimulatedHuman:
         if self._cooking_until is not None:
             if now >= self._cooking_until:
                 self.step_done[self.step_index] = True
-                new.append(HumanEvent("step_done", None, now, step.instruction))
+                new.append(StepDone(now, step.instruction))
                 self._cooking_until = None
                 self.step_index = min(self.step_index + 1, len(self.recipe.steps) - 1)
                 self._step_started = now
@@ -184,8 +191,10 @@ class SimulatedHuman:
                 )
                 if (dropped or waited) and not self.is_fetching(name):
                     reason = "the robot dropped it" if dropped else "the robot was idle too long"
-                    self._fetches.append(_Fetch(name, now + self.options.fetch_time_s, "intervention"))
-                    new.append(HumanEvent("fetching", name, now, reason))
+                    self._fetches.append(
+                        _Fetch(name, now + self.options.fetch_time_s, FetchReason.INTERVENTION)
+                    )
+                    new.append(CleanUpStarted(now, name, reason))
         self.events += new
         return new
 

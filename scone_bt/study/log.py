@@ -7,7 +7,6 @@ Simulated studies are labelled in the file (meta `simulated`) and on every sessi
 
 from __future__ import annotations
 
-import csv
 import json
 import os
 import sqlite3
@@ -20,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from scone_bt.errors import SconeError
+from scone_bt.events import EVENT_TYPES, Event, EventSink, Intervention, from_json, is_legacy_takeover
 from scone_bt.study.design import SessionPlan
 from scone_bt.study.questionnaires import get_questionnaire, validate_answers
 
@@ -37,6 +37,30 @@ SCHEMA_VERSION = 1
 _SQLITE_MAGIC = b"SQLite format 3\x00"
 EXPORT_FILES = ("sessions.csv", "events.csv", "responses.csv", "scores.csv")
 """What `export_csv` writes into its folder."""
+_SESSION_COLUMNS = (
+    "data",
+    "session_id",
+    "participant",
+    "group",
+    "session_index",
+    "condition",
+    "started",
+    "ended",
+    "interventions",
+    "summary",
+)
+_RESPONSE_COLUMNS = ("data", "session_id", "questionnaire", "item", "item_index", "value", "time")
+_SCORE_COLUMNS = (
+    "data",
+    "session_id",
+    "participant",
+    "group",
+    "session_index",
+    "condition",
+    "questionnaire",
+    "score",
+    "subscales",
+)
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
@@ -109,7 +133,8 @@ class SessionRow:
 
 @dataclass(frozen=True)
 class EventRow:
-    """One event: kind (decision, act, outcome, help_request, intervention, help, fetching, step_done, ...)."""
+    """One stored event: its kind (`scone_bt.events.EVENT_TYPES`) and its JSON payload (`typed_events` reads
+    them back as typed events)."""
 
     id: int
     session_id: int
@@ -315,11 +340,15 @@ class StudyLog:
             (session_id, time.time() if at is None else at, kind, json.dumps(dict(data), default=str)),
         )
 
-    def event_sink(self, session_id: int):  # -> Callable[[str, dict], None]
-        """An `on_event(kind, data)` callable for run_episode that logs into this session."""
+    def record(self, session_id: int, event: Event) -> int:
+        """Store one typed event (its kind and `to_json()`), committed before returning."""
+        return self.record_event(session_id, event.kind, event.to_json())
 
-        def sink(kind: str, data: dict[str, Any]) -> None:
-            self.record_event(session_id, kind, data)
+    def event_sink(self, session_id: int) -> EventSink:
+        """An `on_event` sink for run_episode that logs each event into this session."""
+
+        def sink(event: Event) -> None:
+            self.record(session_id, event)
 
         return sink
 
@@ -411,13 +440,29 @@ class StudyLog:
         )
         return [ResponseRow(*r) for r in rows]
 
+    def typed_events(self, session_id: int | None = None) -> list[Event]:
+        """The stored events read back as typed events (`scone_bt.events.from_json`); kinds this version does
+        not know are left out."""
+        out = []
+        for row in self.events(session_id):
+            if row.kind in EVENT_TYPES or row.kind == "intervention":
+                out.append(from_json(row.kind, row.data))
+        return out
+
     def interventions(self, session_id: int) -> int:
-        """Objects the participant fetched as an intervention (take-over or clean-up), as EpisodeSummary counts them."""
-        return sum(1 for e in self.events(session_id) if e.kind == "intervention" and "detail" in e.data)
+        """Objects the participant fetched as an intervention (after a take-over or as a clean-up), as the
+        episode summary counts them."""
+        return sum(
+            1
+            for e in self.events(session_id)
+            if e.kind == Intervention.kind and not is_legacy_takeover(e.kind, e.data)
+        )
 
     # ----------------------------------------------------------------------------------------- export
     def export_csv(self, folder: str | Path) -> dict[str, Path]:
         """sessions.csv, events.csv, responses.csv (per item) and scores.csv (published scores) in `folder`."""
+        import pandas as pd
+
         out = Path(folder)
         try:
             out.mkdir(parents=True, exist_ok=True)
@@ -428,90 +473,80 @@ class StudyLog:
             raise StudyLogError(f"{out}: {', '.join(clash)} exist already and are never overwritten")
         label = "SIMULATED" if self.simulated else "real"
         sessions = self.sessions()
-        paths = {name: out / f"{name}.csv" for name in ("sessions", "events", "responses", "scores")}
-        with _csv(paths["sessions"]) as w:
-            w.writerow(
-                [
-                    "data",
-                    "session_id",
-                    "participant",
-                    "group",
-                    "session_index",
-                    "condition",
-                    "started",
-                    "ended",
-                    "interventions",
-                    "summary",
-                ]
-            )
-            for s in sessions:
-                w.writerow(
-                    [
-                        label,
-                        s.id,
-                        s.participant,
-                        s.group,
-                        s.session_index,
-                        s.condition,
-                        s.started,
-                        s.ended,
-                        self.interventions(s.id),
-                        json.dumps(s.summary),
-                    ]
-                )
-        with _csv(paths["events"]) as w:
-            w.writerow(["data", "event_id", "session_id", "time", "kind", "data_json"])
-            for e in self.events():
-                w.writerow([label, e.id, e.session_id, e.time, e.kind, json.dumps(e.data)])
         responses = self.responses()
-        with _csv(paths["responses"]) as w:
-            w.writerow(["data", "session_id", "questionnaire", "item", "item_index", "value", "time"])
-            for r in responses:
-                w.writerow(
-                    [
-                        label,
-                        r.session_id,
-                        r.questionnaire,
-                        r.item,
-                        r.item_index,
-                        "" if r.value is None else r.value,
-                        r.time,
-                    ]
-                )
-        with _csv(paths["scores"]) as w:
-            w.writerow(
+        tables = {
+            "sessions": pd.DataFrame(
                 [
-                    "data",
-                    "session_id",
-                    "participant",
-                    "group",
-                    "session_index",
-                    "condition",
-                    "questionnaire",
-                    "score",
-                    "subscales",
-                ]
-            )
-            for s in sessions:
-                for name in sorted({r.questionnaire for r in responses if r.session_id == s.id}):
-                    q = get_questionnaire(name)
-                    answers = {
-                        r.item: r.value for r in responses if r.session_id == s.id and r.questionnaire == name
+                    {
+                        "data": label,
+                        "session_id": s.id,
+                        "participant": s.participant,
+                        "group": s.group,
+                        "session_index": s.session_index,
+                        "condition": s.condition,
+                        "started": s.started,
+                        "ended": s.ended,
+                        "interventions": self.interventions(s.id),
+                        "summary": json.dumps(s.summary),
                     }
-                    w.writerow(
-                        [
-                            label,
-                            s.id,
-                            s.participant,
-                            s.group,
-                            s.session_index,
-                            s.condition,
-                            name,
-                            q.score(answers),
-                            json.dumps(q.subscale_scores(answers)),
-                        ]
-                    )
+                    for s in sessions
+                ],
+                columns=_SESSION_COLUMNS,
+            ),
+            "events": pd.DataFrame(
+                [
+                    {
+                        "data": label,
+                        "event_id": e.id,
+                        "session_id": e.session_id,
+                        "time": e.time,
+                        "kind": e.kind,
+                        "data_json": json.dumps(e.data),
+                    }
+                    for e in self.events()
+                ],
+                columns=("data", "event_id", "session_id", "time", "kind", "data_json"),
+            ),
+            "responses": pd.DataFrame(
+                [{"data": label, **{k: getattr(r, k) for k in _RESPONSE_COLUMNS[1:]}} for r in responses],
+                columns=_RESPONSE_COLUMNS,
+            ),
+            "scores": pd.DataFrame(self._score_rows(label, sessions, responses), columns=_SCORE_COLUMNS),
+        }
+        paths = {name: out / f"{name}.csv" for name in tables}
+        for name, table in tables.items():
+            try:  # mode "x": an existing file is never overwritten
+                table.to_csv(paths[name], index=False, mode="x", encoding="utf-8")
+            except FileExistsError:
+                raise StudyLogError(f"{paths[name]} exists already; export into a new folder") from None
+            except OSError as exc:
+                raise StudyLogError(f"cannot write {paths[name]}: {exc.strerror or exc}") from None
         return paths
+
+    @staticmethod
+    def _score_rows(
+        label: str, sessions: list[SessionRow], responses: list[ResponseRow]
+    ) -> list[dict[str, Any]]:
+        rows = []
+        for s in sessions:
+            mine = [r for r in responses if r.session_id == s.id]
+            for name in sorted({r.questionnaire for r in mine}):
+                q = get_questionnaire(name)
+                answers = {r.item: r.value for r in mine if r.questionnaire == name}
+                rows.append(
+                    {
+                        "data": label,
+                        "session_id": s.id,
+                        "participant": s.participant,
+                        "group": s.group,
+                        "session_index": s.session_index,
+                        "condition": s.condition,
+                        "questionnaire": name,
+                        "score": q.score(answers),
+                        "subscales": json.dumps(q.subscale_scores(answers)),
+                    }
+                )
+        return rows
 
     def close(self) -> None:
         with self._lock:
@@ -522,21 +557,3 @@ class StudyLog:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
-
-
-class _csv:
-    def __init__(self, path: Path) -> None:
-        try:
-            self.fh = path.open(
-                "x", newline="", encoding="utf-8"
-            )  # "x": an existing file is never overwritten
-        except FileExistsError:
-            raise StudyLogError(f"{path} exists already; export into a new folder") from None
-        except OSError as exc:
-            raise StudyLogError(f"cannot write {path}: {exc.strerror or exc}") from None
-
-    def __enter__(self):  # -> csv writer
-        return csv.writer(self.fh)
-
-    def __exit__(self, *exc: object) -> None:
-        self.fh.close()

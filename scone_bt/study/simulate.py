@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from scone_bt.errors import SconeError
+from scone_bt.events import Event, EventSink
 from scone_bt.study.design import Condition, assign_group, plan_session
 from scone_bt.study.log import StudyLog
 from scone_bt.study.questionnaires import QUESTIONNAIRES
@@ -60,6 +61,14 @@ class SimulationOptions:
 
 
 @functools.lru_cache(maxsize=1)
+def _models() -> Any:
+    """One model pool per process: every physics episode a worker runs shares its embedder (MiniLM loads once)."""
+    from scone_bt.episode import ModelPool
+
+    return ModelPool()
+
+
+@functools.lru_cache(maxsize=1)
 def _catalogue_names() -> tuple[str, ...]:
     """The kitchen catalogue's object names (loaded once per process: every participant task needs them)."""
     from scone_bt.config import load_kitchen
@@ -72,7 +81,7 @@ def _physics_episode(
     condition: Condition,
     participant: SimulatedParticipant,
     seed: int,
-    sink: Callable[[str, dict[str, Any]], None],
+    sink: EventSink,
 ) -> dict[str, Any]:
     from scone_bt.behaviours import BehaviourOptions
     from scone_bt.episode import EpisodeOptions, run_episode
@@ -94,11 +103,13 @@ def _physics_episode(
             kitchen, recipe, replace(human_options), seed=human_seed, participant=participant
         )
 
-    def on_event(kind: str, data: dict[str, Any]) -> None:
-        sink(kind, data)
-        participant.observe(kind, data)
+    def on_event(event: Event) -> None:
+        sink(event)
+        participant.observe(event.kind, event.to_json())
 
-    summary = run_episode(episode, printer=lambda _line: None, on_event=on_event, human_factory=factory)
+    summary = run_episode(
+        episode, printer=lambda _line: None, on_event=on_event, human_factory=factory, models=_models()
+    )
     return {"synthetic": False, **summary.deterministic_part()}
 
 
@@ -108,7 +119,7 @@ class _SessionRecord:
 
     plan: Any  # SessionPlan
     info: dict[str, Any]
-    events: list[tuple[str, dict[str, Any]]]
+    events: list[Event]
     responses: list[tuple[str, dict[str, Any]]]
     summary: dict[str, Any]
     line: str
@@ -131,11 +142,8 @@ def simulate_participant(index: int, options: SimulationOptions) -> list[_Sessio
             "seed": seed,
             "trust_model": options.trust.__dict__,
         }
-        events: list[tuple[str, dict[str, Any]]] = []
-
-        def sink(kind: str, data: dict[str, Any], events: list = events) -> None:
-            events.append((kind, data))
-
+        events: list[Event] = []
+        sink = events.append
         if robot is not None:
             summary = run_synthetic_episode(robot, plan.condition, participant, sink, seed, options.synthetic)
         else:
@@ -188,9 +196,8 @@ def simulate_study(
                 # A simulated session is one transaction: the seed regenerates it, and per-event fsyncs would dominate.
                 with log.batch():
                     sid = log.start_session(rec.plan, rec.info)
-                    sink = log.event_sink(sid)
-                    for kind, data in rec.events:
-                        sink(kind, data)
+                    for event in rec.events:
+                        log.record(sid, event)
                     for name, answers in rec.responses:
                         log.record_responses(sid, name, answers)
                     log.end_session(sid, rec.summary)

@@ -8,19 +8,36 @@ recipe step and follows the same rules as the behaviour tree:
 - a failure drops the object with probability ``drop_probability``; the participant then fetches it (an
   intervention, like SimulatedHuman's clean-up);
 - the participant may take over any action (the trust model decides).
-It emits the same events, with the same fields, as run_episode, so logging and analysis cannot tell the difference
-except by the session's ``synthetic`` flag. Simulated times are nominal.
+It emits the same typed events as run_episode, and decides with the same gate and failure rule, so logging and
+analysis cannot tell the difference except by the session's ``synthetic`` flag. Simulated times are nominal.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from scone_bt.affordances.types import action_text
 from scone_bt.errors import SconeError
+from scone_bt.events import (
+    ActOutcome,
+    ActStarted,
+    CleanUpStarted,
+    DecisionMade,
+    Event,
+    EventLog,
+    EventSink,
+    HelpGiven,
+    HelpRequested,
+    Intervention,
+    StepDone,
+    TakeOver,
+)
+from scone_bt.gate.types import DecisionKind
+from scone_bt.motion.types import FailureStage
 from scone_bt.study.design import Condition
 from scone_bt.study.trust import SimulatedParticipant
 
@@ -84,11 +101,19 @@ def run_synthetic_episode(
     robot: SyntheticRobot,
     condition: Condition,
     participant: SimulatedParticipant,
-    on_event: Callable[[str, dict[str, Any]], None],
+    on_event: EventSink,
     seed: int,
     options: SyntheticOptions = SyntheticOptions(),
 ) -> dict[str, Any]:
-    """One synthetic episode; every event goes to on_event (and to the participant's trust); returns a summary."""
+    """One synthetic episode; every event goes to on_event (and to the participant's trust); returns a summary.
+
+    Each decision is the tree's: `scone_bt.gate.decide` on the step's one action, then the failure limit
+    (`apply_failure_limit`); the counts are the events' fold (`scone_bt.events.summarise`).
+    """
+    from scone_bt.behaviours.gate import apply_failure_limit
+    from scone_bt.gate import GateOptions, decide
+    from scone_bt.relevance.types import RankedAction
+
     rng = np.random.default_rng([seed, 11])
     names = sorted(robot.success)
     if options.steps > len(names):
@@ -96,79 +121,76 @@ def run_synthetic_episode(
             f"synthetic episode wants {options.steps} steps but the robot knows {len(names)} objects"
         )
     objects = [str(n) for n in rng.choice(names, size=options.steps, replace=False)]
+    gate = GateOptions(
+        confidence_threshold=options.confidence_threshold, use_self_confidence=condition is Condition.ON
+    )
     clock = 0.0
-    counts = {
-        "attempted": 0,
-        "successes": 0,
-        "failures": 0,
-        "help_requests": 0,
-        "interventions": 0,
-        "decisions": 0,
-    }
+    events = EventLog()
 
-    def emit(event: str, **data: Any) -> None:
-        payload = {"sim_time": round(clock, 3), **data}
-        on_event(event, payload)
-        participant.observe(event, payload)
+    def emit(event: Event) -> None:
+        events(event)
+        on_event(event)
+        participant.observe(event.kind, event.to_json())
 
     for step, name in enumerate(objects, 1):
-        action = f"Put {name} on table"
+        action = action_text(name)
         instruction = f"Step {step}: bring the {name}."
-        failures = 0
         while True:
             conf = robot.confidence[name]
-            ask = (
-                condition is Condition.ON and conf < options.confidence_threshold
-            ) or failures >= options.max_failures
-            counts["decisions"] += 1
+            decision = decide([RankedAction(action, 1.0)], [conf], gate)
+            decision = apply_failure_limit(decision, events.failures_of(action), options.max_failures)
             emit(
-                "decision",
-                step=step,
-                instruction=instruction,
-                action=action,
-                relevance=1.0,
-                confidence=round(conf, 4),
-                kind="ask" if ask else "act",
+                DecisionMade(
+                    clock,
+                    step,
+                    instruction,
+                    action,
+                    1.0,
+                    round(conf, 4),
+                    decision.kind,
+                    object_name=name,
+                    reason=decision.reason,
+                )
             )
-            if ask:
-                counts["help_requests"] += 1
-                emit("help_request", action=action, object=name)
+            if decision.kind is DecisionKind.ASK:
+                emit(HelpRequested(clock, action, name))
                 clock += options.fetch_time_s
-                emit("help", object=name, detail="fetched by the human")
+                emit(HelpGiven(clock, name, "fetched by the human"))
                 break
-            counts["attempted"] += 1
-            emit("act", action=action, object=name, confidence=round(conf, 4))
+            emit(ActStarted(clock, action, name, round(conf, 4)))
             if participant.decides_to_take_over():
                 clock += 1.0
-                emit("intervention", action=action, object=name)
+                emit(TakeOver(clock, action, name))
                 clock += options.fetch_time_s
-                counts["interventions"] += 1
-                emit("intervention", object=name, detail="fetched by the human")
+                emit(Intervention(clock, name, "fetched by the human"))
                 break
             clock += options.act_time_s
             success = bool(rng.random() < robot.success[name])
             if success:
-                counts["successes"] += 1
-                emit("outcome", action=action, object=name, success=True, stage=None)
+                emit(ActOutcome(clock, action, name, True, None, options.act_time_s))
                 break
-            failures += 1
-            counts["failures"] += 1
             dropped = bool(rng.random() < options.drop_probability)
-            emit("outcome", action=action, object=name, success=False, stage="place" if dropped else "grasp")
+            stage = FailureStage.PLACE if dropped else FailureStage.GRASP
+            emit(ActOutcome(clock, action, name, False, stage.value, options.act_time_s))
             if dropped:
-                emit("fetching", object=name, detail="the robot dropped it")
+                emit(CleanUpStarted(clock, name, "the robot dropped it"))
                 clock += options.fetch_time_s
-                counts["interventions"] += 1
-                emit("intervention", object=name, detail="fetched by the human")
+                emit(Intervention(clock, name, "fetched by the human"))
                 break
         clock += 2.0
-        emit("step_done", object=None, detail=instruction)
+        emit(StepDone(clock, instruction))
+    stats = events.stats
     return {
         "synthetic": True,
         "completed": True,
         "steps_completed": options.steps,
         "steps_total": options.steps,
-        **counts,
+        "attempted": stats.attempted,
+        "successes": stats.successes,
+        "failures": stats.failures,
+        "help_requests": stats.help_requests,
+        "interventions": stats.interventions,
+        "decisions": stats.decisions,
         "sim_time": round(clock, 3),
         "objects": objects,
     }

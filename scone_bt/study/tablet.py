@@ -15,7 +15,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from scone_bt.human import HumanEvent, SimulatedHuman
+from scone_bt.events import CleanUpStarted, Event
+from scone_bt.human import FetchReason, SimulatedHuman
 from scone_bt.human.simulated import _Fetch
 from scone_bt.study.questionnaires import (
     Questionnaire,
@@ -28,8 +29,8 @@ __all__ = ["TabletState", "TabletHuman", "PHASES", "AlreadySubmittedError"]
 
 PHASES = ("waiting", "episode", "questionnaire", "done")
 _REASONS = {
-    "help": "The robot asks for your help: please bring it to the table.",
-    "intervention": "You took over: please bring it to the table.",
+    FetchReason.HELP.value: "The robot asks for your help: please bring it to the table.",
+    FetchReason.INTERVENTION.value: "You took over: please bring it to the table.",
 }
 
 
@@ -250,8 +251,8 @@ class TabletHuman(SimulatedHuman):
 
     def request_help(self, object_name: str) -> None:
         if not self.is_fetching(object_name):
-            self._fetches.append(_Fetch(object_name, math.inf, "help"))
-            self.state.add_fetch(object_name, "help")
+            self._fetches.append(_Fetch(object_name, math.inf, FetchReason.HELP))
+            self.state.add_fetch(object_name, FetchReason.HELP.value)
 
     def decide_takeover(self, object_name: str) -> None:
         self.state.set_acting(object_name)
@@ -262,15 +263,15 @@ class TabletHuman(SimulatedHuman):
     def take_over(self, object_name: str) -> None:
         self.state.clear_takeover()
         if not self.is_fetching(object_name):
-            self._fetches.append(_Fetch(object_name, math.inf, "intervention"))
-            self.state.add_fetch(object_name, "intervention")
+            self._fetches.append(_Fetch(object_name, math.inf, FetchReason.INTERVENTION))
+            self.state.add_fetch(object_name, FetchReason.INTERVENTION.value)
 
     def robot_busy(self, busy: bool) -> None:
         super().robot_busy(busy)
         if not busy:
             self.state.set_acting(None)
 
-    def update(self) -> list[HumanEvent]:
+    def update(self) -> list[Event]:
         now = self.kitchen.sim_time
         confirmed = self.state.pop_confirmed()
         for f in self._fetches:
@@ -283,9 +284,14 @@ class TabletHuman(SimulatedHuman):
             ):  # a clean-up SimulatedHuman started: the participant does it instead
                 f.ready_at = math.inf
                 reason = next(
-                    (e.detail for e in new if e.kind == "fetching" and e.object_name == f.object_name), ""
+                    (
+                        e.detail
+                        for e in new
+                        if isinstance(e, CleanUpStarted) and e.object_name == f.object_name
+                    ),
+                    "",
                 )
-                self.state.add_fetch(f.object_name, f.kind, f"Please bring it to the table ({reason}).")
+                self.state.add_fetch(f.object_name, f.kind.value, f"Please bring it to the table ({reason}).")
         self.state.retain_fetches({f.object_name for f in self._fetches})
         self.state.sync_recipe(self.step_index, self.step_done)
         return new

@@ -17,6 +17,18 @@ from importlib import resources
 from typing import Any
 
 from scone_bt.errors import SconeError
+from scone_bt.events import (
+    ActOutcome,
+    ActStarted,
+    ClarificationAsked,
+    DecisionMade,
+    Event,
+    EventSink,
+    HelpRequested,
+    StepDone,
+    TakeOver,
+)
+from scone_bt.gate.types import DecisionKind
 from scone_bt.study.questionnaires import QUESTIONNAIRES, Questionnaire
 from scone_bt.study.tablet import AlreadySubmittedError, TabletHuman, TabletState
 
@@ -37,6 +49,19 @@ LOCAL_HOSTS = ("127.0.0.1", "localhost", "::1")
 MIN_TOKEN_LENGTH = 8
 MAX_BODY_BYTES = 16 * 1024
 """Largest request body accepted (a questionnaire's answers are well under 1 kB); larger ones get 413 unread."""
+
+
+_STATUS = {
+    DecisionKind.ACT: "deciding",
+    DecisionKind.ASK: "asking",
+    DecisionKind.CLARIFY: "asking which",
+    DecisionKind.IDLE: "waiting",
+}
+"""What the tablet says the robot is doing after each kind of decision."""
+
+
+def _finite(value: float | None) -> float | None:
+    return None if value is None or not math.isfinite(value) else value
 
 
 class UIError(SconeError):
@@ -299,52 +324,43 @@ class TabletServer:
         """run_episode's human_factory: a TabletHuman on this server's state."""
         return TabletHuman(kitchen, recipe, options, seed=seed, state=self.state)
 
-    def on_event(self, kind: str, data: dict[str, Any]) -> None:
+    def on_event(self, event: Event) -> None:
         """run_episode's on_event: keep the tablet's view of the robot up to date."""
         s = self.state
-        data = {
-            k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in data.items()
-        }  # JSON has no NaN
-        obj = data.get("object")
-        if kind == "decision":
-            status = {"act": "deciding", "ask": "asking", "clarify": "asking which", "idle": "waiting"}.get(
-                str(data.get("kind")), "idle"
-            )
+        if isinstance(event, DecisionMade):
             s.set_robot(
-                action=data.get("action"),
-                confidence=data.get("confidence"),
-                kind=data.get("kind"),
-                status=status,
+                action=event.action,
+                confidence=_finite(event.confidence),  # JSON has no NaN
+                kind=event.verdict.value,
+                status=_STATUS[event.verdict],
             )
-        elif kind == "act":
-            s.set_robot(action=data.get("action"), confidence=data.get("confidence"), status="acting")
-            s.note(f"The robot is fetching the {obj}.")
-        elif kind == "outcome":
+        elif isinstance(event, ActStarted):
+            s.set_robot(action=event.action, confidence=_finite(event.confidence), status="acting")
+            s.note(f"The robot is fetching the {event.object_name}.")
+        elif isinstance(event, ActOutcome):
             s.set_robot(status="idle")
             s.note(
-                f"The {obj} is on the table."
-                if data.get("success")
-                else f"The robot failed with the {obj} ({data.get('stage')})."
+                f"The {event.object_name} is on the table."
+                if event.success
+                else f"The robot failed with the {event.object_name} ({event.stage})."
             )
-        elif kind == "help_request":
-            s.note(f"The robot asks for help with the {obj}.")
-        elif kind == "clarification":
-            said = ", ".join(data.get("answer") or []) or "none of those"
-            s.note(
-                f"The robot asked which of {', '.join(data.get('candidates') or [])} the step means: {said}."
-            )
-        elif kind == "intervention" and "action" in data:
-            s.note(f"You took over: {data.get('action')}.")
-        elif kind == "step_done":
-            s.note(f"Step done: {data.get('detail')}")
+        elif isinstance(event, HelpRequested):
+            s.note(f"The robot asks for help with the {event.object_name}.")
+        elif isinstance(event, ClarificationAsked):
+            said = ", ".join(event.answer) or "none of those"
+            s.note(f"The robot asked which of {', '.join(event.candidates)} the step means: {said}.")
+        elif isinstance(event, TakeOver):
+            s.note(f"You took over: {event.action}.")
+        elif isinstance(event, StepDone):
+            s.note(f"Step done: {event.detail}")
 
-    def chain(self, *sinks: Callable[[str, dict[str, Any]], None]) -> Callable[[str, dict[str, Any]], None]:
+    def chain(self, *sinks: EventSink) -> EventSink:
         """An on_event that feeds the tablet and the given sinks (e.g. a StudyLog's event_sink)."""
 
-        def on_event(kind: str, data: dict[str, Any]) -> None:
+        def on_event(event: Event) -> None:
             for sink in sinks:
-                sink(kind, data)
-            self.on_event(kind, data)
+                sink(event)
+            self.on_event(event)
 
         return on_event
 

@@ -61,10 +61,14 @@ ARG_MODELS: dict[str, type[StrictModel]] = {"DecisionIs": _DecisionIsArgs, "Wait
 
 
 def _signature_model(cls: type) -> type[BaseModel]:
-    """A pydantic model of a behaviour's keyword arguments (those after name and services)."""
-    hints = typing.get_type_hints(cls.__init__)
+    """A pydantic model of a behaviour's keyword arguments (those of `from_context` after name and context)."""
+    build = cls.from_context  # type: ignore[attr-defined]
+    try:
+        hints = typing.get_type_hints(build)
+    except NameError:  # an annotation only a type checker can resolve: the args are still checked by name
+        hints = {}
     fields: dict[str, Any] = {}
-    for pname, param in list(inspect.signature(cls.__init__).parameters.items())[3:]:
+    for pname, param in list(inspect.signature(build).parameters.items())[2:]:
         if param.kind not in (param.POSITIONAL_OR_KEYWORD, param.KEYWORD_ONLY):
             continue
         default = ... if param.default is inspect.Parameter.empty else param.default
@@ -145,7 +149,7 @@ def load_tree_spec(name_or_path: str | Path = "assistive_cooking") -> TreeSpec:
     return TreeSpec(str(data.get("name", path.stem)), data["root"], params, path)
 
 
-def _build(node: dict[str, Any], services: Any) -> py_trees.behaviour.Behaviour:
+def _build(node: dict[str, Any], context: Any) -> py_trees.behaviour.Behaviour:
     from scone_bt.behaviours import BEHAVIOURS
 
     if "behaviour" in node:
@@ -153,18 +157,19 @@ def _build(node: dict[str, Any], services: Any) -> py_trees.behaviour.Behaviour:
         name = str(node.get("name", node["behaviour"]))
         args = _check_args(node["behaviour"], node.get("args") or {}, f"tree node {name!r}")
         try:
-            return cls(name, services, **args)
+            return cls.from_context(name, context, **args)
         except (TypeError, ValueError) as exc:
             raise ConfigError(f"tree node {name!r}: bad args {node.get('args')} ({exc})") from None
     kind = "sequence" if "sequence" in node else "selector"
     composite = py_trees.composites.Sequence if kind == "sequence" else py_trees.composites.Selector
-    children = [_build(child, services) for child in node["children"]]
+    children = [_build(child, context) for child in node["children"]]
     return composite(name=str(node[kind]), memory=bool(node.get("memory", False)), children=children)
 
 
-def build_tree(spec: TreeSpec, services: Any) -> py_trees.behaviour.Behaviour:
-    """Instantiate the tree's behaviours (cheap; call `setup()` on the returned root before ticking)."""
-    return _build(spec.root, services)
+def build_tree(spec: TreeSpec, context: Any) -> py_trees.behaviour.Behaviour:
+    """Instantiate the tree's behaviours, each wired from ``context`` (an `EpisodeContext`) by its
+    `from_context`; call `setup()` on the returned root before ticking."""
+    return _build(spec.root, context)
 
 
 def render_tree(root: py_trees.behaviour.Behaviour, show_status: bool = False) -> str:

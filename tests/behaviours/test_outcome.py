@@ -1,87 +1,104 @@
-"""ObserveOutcome with fakes: the label comes from the table, and the outcome is stored before it is reported."""
+"""ObserveOutcome and UpdateSelfConfidence with fakes: the label comes from the outcome sensor, the outcome is
+stored before it is reported, and a take-over is no label."""
 
 from __future__ import annotations
 
-from types import SimpleNamespace
-
-import py_trees
+import numpy as np
 import pytest
 
-from scone_bt.affordances.types import Affordance, action_text
-from scone_bt.behaviours import BehaviourOptions, Keys, ObserveOutcome
-from scone_bt.behaviours.services import EpisodeStats
-from scone_bt.gate.types import Decision, DecisionKind
+from scone_bt.behaviours import Keys, ObserveOutcome, OutcomeLabels, UpdateSelfConfidence
+from scone_bt.behaviours.outcome import label_outcome
+from scone_bt.episode.printer import LinePrinter
+from scone_bt.events import ActCancelled, ActOutcome, EventLog
 from scone_bt.motion.types import FailureStage, MotionOutcome
-from scone_bt.perception.types import Detection
+from tests.behaviours.fakes import FakeRobot, affordance, blackboard
+
+LABELS = OutcomeLabels("onehot", "r1", "panda", "", {"robot": "panda"})
 
 
-class _Services:
-    def __init__(self, on_table: bool) -> None:
-        self.log: list[str] = []
-        self.kitchen = SimpleNamespace(is_on_table=lambda name: on_table, sim_time=3.0)
-        self.options = BehaviourOptions().resolve()
-        self.context = {"robot": "panda"}
-        self.robot_id = "r1"
-        self.robot_config = SimpleNamespace(name="panda")
-        self.stats = EpisodeStats()
-        self.stored = []
+class _Store:
+    def __init__(self, log: list[str]) -> None:
+        self.log, self.stored = log, []
 
-    def store(self):
-        services = self
-
-        class _Store:
-            def append(self, outcome) -> None:
-                services.log.append("stored")
-                services.stored.append(outcome)
-
-        return _Store()
-
-    def printer(self, line: str) -> None:
-        self.log.append("printed")
-
-    def emit(self, kind: str, **data) -> None:
-        self.log.append(f"emitted {kind}")
+    def append(self, outcome) -> None:
+        self.log.append("stored")
+        self.stored.append(outcome)
 
 
-@pytest.fixture(autouse=True)
-def _clean_blackboard():
-    py_trees.blackboard.Blackboard.clear()
-    yield
-    py_trees.blackboard.Blackboard.clear()
+def _observe(motion: MotionOutcome, on_table: bool):
+    order: list[str] = []
+    store = _Store(order)
+    printer = LinePrinter(lambda line: order.append("printed"), 3)
+    events = EventLog(lambda e: order.append(f"emitted {e.kind}"), printer)
+    robot = FakeRobot(on_table={"salt"} if on_table else set(), time=3.0)
+    bb = blackboard(TARGET=affordance("salt"), MOTION_OUTCOME=motion)
+    node = ObserveOutcome("observe", robot, store, events, LABELS)
+    node.tick_once()
+    return node, store, events, order, bb
 
 
-def _observe(services, motion: MotionOutcome):
-    w = py_trees.blackboard.Client(name="test")
-    for key in (Keys.DECISION, Keys.AFFORDANCES, Keys.MOTION_OUTCOME):
-        w.register_key(key=key, access=py_trees.common.Access.WRITE)
-    text = action_text("salt")
-    w.set(Keys.DECISION, Decision(DecisionKind.ACT, text, 0.6, 0.9, "confident"))
-    w.set(
-        Keys.AFFORDANCES,
-        [Affordance("salt", text, Detection("salt", 1, (0.5, 0.3, 0.1), 0.0, 1.0, (0, 0, 1, 1)))],
-    )
-    w.set(Keys.MOTION_OUTCOME, motion)
-    b = ObserveOutcome("observe", services)
-    b.setup()
-    b.tick_once()
-    return b
+def test_success_is_stored_before_it_is_emitted_and_printed() -> None:
+    _, store, events, order, bb = _observe(MotionOutcome(True, None, "placed", 9.0), on_table=True)
+    assert order == ["stored", "emitted outcome", "printed"]
+    (outcome,) = store.stored
+    assert outcome.success and outcome.context == {"robot": "panda", "sim_time": 3.0}
+    assert (outcome.robot_id, outcome.arm, outcome.embedder) == ("r1", "panda", "onehot")
+    assert events.stats.successes == 1 and bb.get(Keys.OUTCOME) is outcome
 
 
-def test_success_is_stored_before_it_is_printed() -> None:
-    s = _Services(on_table=True)
-    _observe(s, MotionOutcome(True, None, "placed", 9.0))
-    assert s.log == ["stored", "printed", "emitted outcome"]
-    assert s.stored[0].success and s.stats.successes == 1
+def test_a_motion_success_that_left_the_object_off_the_table_is_a_failure_at_place() -> None:
+    _, store, events, _, _ = _observe(MotionOutcome(True, None, "placed", 9.0), on_table=False)
+    assert not store.stored[0].success and store.stored[0].failure_stage == "place"
+    (event,) = events.events
+    assert isinstance(event, ActOutcome) and event.stage == "place" and not event.success
+    assert events.stats.failures_by_action == {"Put salt on table": 1}
 
 
-def test_a_motion_success_that_left_the_object_off_the_table_is_a_failure() -> None:
-    s = _Services(on_table=False)
-    _observe(s, MotionOutcome(True, None, "placed", 9.0))
-    assert not s.stored[0].success and s.stats.failures == 1
-    assert s.stats.failures_by_action == {"Put salt on table": 1}
+def test_a_failure_keeps_the_motion_stage_and_its_first_message_line() -> None:
+    motion = MotionOutcome(False, FailureStage.GRASP, "slipped; at 0.3 m", 4.0)
+    _, store, events, _, _ = _observe(motion, on_table=False)
+    assert store.stored[0].failure_stage == "grasp"
+    assert events.events[0].message == "slipped" and events.stats.failures_by_stage == {"grasp": 1}
 
 
 def test_a_take_over_is_not_an_outcome() -> None:
-    s = _Services(on_table=True)
-    _observe(s, MotionOutcome(False, FailureStage.CANCELLED, "taken over", 1.0))
-    assert s.stored == [] and s.stats.cancelled == 1
+    _, store, events, order, bb = _observe(MotionOutcome(False, FailureStage.CANCELLED, "taken", 1.0), True)
+    assert store.stored == [] and [type(e) for e in events.events] == [ActCancelled]
+    assert events.stats.cancelled == 1 and events.stats.failures == 0
+    assert bb.get(Keys.OUTCOME) is None and order == ["emitted cancelled", "printed"]
+
+
+@pytest.mark.parametrize(
+    ("success", "stage", "on_table", "label"),
+    [
+        (True, None, True, (True, None)),
+        (True, None, False, (False, FailureStage.PLACE)),
+        (False, FailureStage.IK, False, (False, FailureStage.IK)),
+        (False, FailureStage.TRANSIT, True, (False, FailureStage.TRANSIT)),
+    ],
+)
+def test_label_outcome(success, stage, on_table, label) -> None:
+    assert label_outcome(MotionOutcome(success, stage, "", 1.0), on_table) == label
+
+
+class _Kappa:
+    def __init__(self) -> None:
+        self.updates: list[tuple[list[float], bool]] = []
+
+    def predict(self, x):
+        return np.full(len(x), 0.5)
+
+    def update(self, x, success: bool) -> None:
+        self.updates.append((list(x), success))
+
+
+def test_update_self_confidence_learns_the_label_and_skips_a_take_over() -> None:
+    kappa = _Kappa()
+    _, store, _, _, bb = _observe(MotionOutcome(False, FailureStage.GRASP, "slipped", 4.0), on_table=False)
+    bb.set(Keys.ACTION_EMBEDDINGS, {"Put salt on table": np.array([1.0, 0.0])})
+    node = UpdateSelfConfidence("learn", kappa)
+    node.tick_once()
+    assert kappa.updates == [([1.0, 0.0], False)]
+    bb.set(Keys.OUTCOME, None)
+    node.tick_once()
+    assert len(kappa.updates) == 1 and "human took over" in node.feedback_message

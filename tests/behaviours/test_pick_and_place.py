@@ -1,84 +1,90 @@
-"""PickAndPlace takes what stands on the table from the table detections, never from the simulator (fakes only)."""
+"""PickAndPlace with a fake robot: obstacles come from perception, seeds per attempt, take-over cancellation,
+INVALID termination, and the planning phase that freezes simulated time."""
 
 from __future__ import annotations
-
-from types import SimpleNamespace
 
 import py_trees
 import pytest
 
-from scone_bt.behaviours import Keys
-from scone_bt.behaviours.pick_and_place import PickAndPlace
-from scone_bt.behaviours.services import EpisodeStats
-from scone_bt.config import ObjectSpec
-from scone_bt.perception.types import Detection
+from scone_bt.behaviours import AttemptSeeds, Keys, PickAndPlace
+from scone_bt.events import ActStarted, EventLog, TakeOver
+from scone_bt.gate.types import Decision, DecisionKind
+from scone_bt.motion.types import FailureStage
+from tests.behaviours.fakes import FakeHuman, FakeRobot, affordance, blackboard, det
 
-SPECS = {
-    n: ObjectSpec(n, (), "cylinder", (0.05, 0.05, h), 0.2, 0.6, "test", (1, 1, 1, 1), i)
-    for i, (n, h) in enumerate((("salt", 0.1), ("honey", 0.12), ("oil", 0.22)))
-}
-
-
-class _Task:
-    def start(self) -> None:
-        self.started = True
-
-
-class _Motion:
-    def __init__(self) -> None:
-        self.calls: list[dict] = []
-
-    def pick_and_place(self, target, spec, obstacles, rng_seed, table_obstacles=None):
-        self.calls.append(dict(target=target, spec=spec, obstacles=obstacles, table=table_obstacles))
-        return _Task()
-
-
-def _det(name, xyz):
-    return Detection(name, 0, xyz, 0.0, 1.0, (0, 0, 1, 1))
+Status = py_trees.common.Status
 
 
 @pytest.fixture
-def behaviour():
-    py_trees.blackboard.Blackboard.clear()
-    motion = _Motion()
-    human = SimpleNamespace(robot_busy=lambda busy: None, decide_takeover=lambda name: None)
-    services = SimpleNamespace(
-        motion=lambda: motion,
-        # No kitchen with true poses: reading ground truth would raise.
-        kitchen=SimpleNamespace(),
-        kitchen_config=SimpleNamespace(catalogue=SimpleNamespace(get=SPECS.__getitem__)),
-        options=SimpleNamespace(seed=4),
-        stats=EpisodeStats(),
-        human=human,
-        emit=lambda *a, **k: None,
-    )
-    node = PickAndPlace("PickAndPlace", services)
+def setup():
+    robot, human, events = FakeRobot(planning_ticks=1), FakeHuman(), EventLog()
+    node = PickAndPlace("PickAndPlace", robot, human, events, AttemptSeeds(4))
     node.setup()
-    writer = py_trees.blackboard.Client(name="test")
-    for key in (Keys.DECISION, Keys.AFFORDANCES, Keys.DETECTIONS, Keys.TABLE_DETECTIONS):
-        writer.register_key(key=key, access=py_trees.common.Access.WRITE)
-    target = _det("salt", (0.5, 0.3, 0.16))
-    writer.set(Keys.DECISION, SimpleNamespace(action="Put salt on table", confidence=0.9))
-    writer.set(
-        Keys.AFFORDANCES,
-        [SimpleNamespace(text="Put salt on table", object_name="salt", detection=target)],
+    target = affordance("salt")
+    bb = blackboard(
+        DECISION=Decision(DecisionKind.ACT, target.text, 0.6, 0.9, "confident", "now", (), "salt"),
+        TARGET=target,
+        DETECTIONS=[target.detection, det("honey", (0.5, 0.4, 0.18))],
     )
-    writer.set(Keys.DETECTIONS, [target, _det("honey", (0.5, 0.4, 0.18))])
-    return node, motion, writer
+    return node, robot, human, events, bb
 
 
-def test_without_a_table_camera_the_robot_knows_only_its_own_placements(behaviour):
-    node, motion, _ = behaviour
-    node.initialise()
-    (call,) = motion.calls
-    assert call["table"] is None  # the motion system then uses what it placed itself
-    assert [d.name for d, _ in call["obstacles"]] == ["honey"]
-    assert call["spec"] is SPECS["salt"]
+def test_without_a_table_camera_the_robot_knows_only_its_own_placements(setup) -> None:
+    node, robot, human, events, _ = setup
+    node.tick_once()
+    (request,) = robot.requests
+    assert request.table is None  # the robot backend then uses what it placed itself
+    assert request.target.name == "salt" and [d.name for d in request.obstacles] == ["honey"]
+    assert human.busy == [True]
+    assert events.events == [ActStarted(0.0, "Put salt on table", "salt", 0.9)]
 
 
-def test_table_obstacles_come_from_the_table_detections_with_catalogue_sizes(behaviour):
-    node, motion, writer = behaviour
-    writer.set(Keys.TABLE_DETECTIONS, (_det("oil", (0.4, -0.4, 0.22)), _det("salt", (0.5, -0.3, 0.1))))
-    node.initialise()
-    (call,) = motion.calls
-    assert [(d.name, s) for d, s in call["table"]] == [("oil", SPECS["oil"])]  # the target itself is left out
+def test_table_obstacles_come_from_the_table_detections_without_the_target(setup) -> None:
+    node, robot, _, _, bb = setup
+    bb.set(Keys.TABLE_DETECTIONS, (det("oil", (0.4, -0.4, 0.22)), det("salt", (0.5, -0.3, 0.1))))
+    node.tick_once()
+    assert [d.name for d in robot.requests[0].table] == ["oil"]
+
+
+def test_each_attempt_gets_the_next_planner_seed(setup) -> None:
+    node, robot, _, _, _ = setup
+    for _ in range(3):
+        node.tick_once()
+        robot.handles[-1].finish(True)
+        node.tick_once()
+        assert node.status is Status.SUCCESS
+    assert [r.rng_seed for r in robot.requests] == [4, 5, 6]
+
+
+def test_simulated_time_freezes_exactly_while_planning(setup) -> None:
+    node, robot, _, _, bb = setup
+    node.tick_once()  # planning (the fake plans for one poll)
+    assert node.status is Status.RUNNING and bb.get(Keys.MOTION_COMPUTING) is True
+    node.tick_once()
+    assert node.status is Status.RUNNING and bb.get(Keys.MOTION_COMPUTING) is False
+    robot.handles[0].finish(True)
+    node.tick_once()
+    assert node.status is Status.SUCCESS and bb.get(Keys.MOTION_OUTCOME).success
+
+
+def test_a_take_over_cancels_the_motion_and_hands_the_object_to_the_human(setup) -> None:
+    node, robot, human, events, bb = setup
+    node.tick_once()
+    human.takeover = "salt"
+    robot.time = 1.5
+    node.tick_once()
+    handle = robot.handles[0]
+    assert handle.cancelled and human.taken == ["salt"]
+    assert events.events[-1] == TakeOver(1.5, "Put salt on table", "salt")
+    assert node.status is Status.SUCCESS and bb.get(Keys.MOTION_OUTCOME).stage is FailureStage.CANCELLED
+    assert events.stats.takeovers == 1 and human.busy[-1] is False
+
+
+def test_an_interrupted_action_is_cancelled_on_invalid(setup) -> None:
+    node, robot, human, _, bb = setup
+    node.tick_once()
+    assert node.status is Status.RUNNING
+    node.stop(Status.INVALID)  # a higher-priority branch preempted the action
+    assert robot.handles[0].cancelled
+    assert bb.get(Keys.MOTION_OUTCOME).stage is FailureStage.CANCELLED
+    assert bb.get(Keys.MOTION_COMPUTING) is False and human.busy == [True, False]

@@ -18,7 +18,7 @@ def _run(recipe: str, seed: int = 0, events: list | None = None, robot: str = "p
         distractors=4,
         behaviour=BehaviourOptions(seed=seed, **behaviour),
     )
-    sink = (lambda kind, data: events.append((kind, data))) if events is not None else None
+    sink = (lambda event: events.append((event.kind, event.to_json()))) if events is not None else None
     return run_episode(options, printer=lambda _line: None, on_event=sink)
 
 

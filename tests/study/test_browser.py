@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from scone_bt.events import ActStarted, DecisionMade, HelpRequested, Intervention
+from scone_bt.gate.types import DecisionKind
 from scone_bt.human import HumanOptions
 from scone_bt.study import MDMT_PERFORMANCE, TPS_HRI_14, StudyLog
 from scone_bt.study.ui import serve_tablet
@@ -31,9 +33,9 @@ def test_help_takeover_and_questionnaire_in_chromium(kitchen, stocked, browser_p
 
         # --- help request: the robot waits until the participant taps "done"
         first, second = stocked.needed[0], stocked.needed[1]
-        on_event("decision", {"action": f"Put {first} on table", "confidence": 0.21, "kind": "ask"})
+        on_event(DecisionMade(0.0, 1, "step", f"Put {first} on table", 0.6, 0.21, DecisionKind.ASK))
         human.request_help(first)
-        on_event("help_request", {"action": f"Put {first} on table", "object": first})
+        on_event(HelpRequested(0.0, f"Put {first} on table", first))
         done = page.locator(f'.request[data-object="{first}"] button.done')
         done.wait_for()
         assert "21%" in page.locator("#status").inner_text()
@@ -52,7 +54,7 @@ def test_help_takeover_and_questionnaire_in_chromium(kitchen, stocked, browser_p
         assert page.locator("#takeover").is_disabled()
         human.robot_busy(True)
         human.decide_takeover(second)
-        on_event("act", {"action": f"Put {second} on table", "object": second, "confidence": 0.8})
+        on_event(ActStarted(0.0, f"Put {second} on table", second, 0.8))
         assert not human.wants_takeover(second)
         with page.expect_response("**/api/takeover") as resp:
             page.locator("#takeover:not([disabled])").click()
@@ -65,7 +67,7 @@ def test_help_takeover_and_questionnaire_in_chromium(kitchen, stocked, browser_p
             req.click()
         _tick_until(kitchen, human, lambda: not human.is_fetching(second))
         assert kitchen.is_on_table(second) and human.interventions == 1
-        intervention_events = [e for e in human.events if e.kind == "intervention"]
+        intervention_events = [e for e in human.events if isinstance(e, Intervention)]
         assert [e.object_name for e in intervention_events] == [second]
 
         # --- questionnaires: MDMT then TPS-HRI, stored per item

@@ -24,12 +24,13 @@ def test_events_survive_a_crash(tmp_path):
     db = tmp_path / "study.db"
     code = f"""
 import os
+from scone_bt.events import ActOutcome
 from scone_bt.study import StudyLog, plan_session
 log = StudyLog({str(db)!r})
 sid = log.start_session(plan_session("P07", "B", 1))
 sink = log.event_sink(sid)
 for i in range(5):
-    sink("outcome", {{"object": "salt", "success": i % 2 == 0}})
+    sink(ActOutcome(float(i), "Put salt on table", "salt", i % 2 == 0, None))
 os._exit(9)  # no close, no commit at exit: a crash
 """
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
@@ -200,3 +201,43 @@ def test_session_arguments_are_checked_before_a_session_exists(tmp_path, capsys)
         err = capsys.readouterr().err.strip()
         assert expected in err and "\n" not in err
     assert not db.exists()  # no session row, no file: a configuration error is not a session
+
+
+def test_typed_events_round_trip_and_take_overs_are_not_interventions(tmp_path):
+    from scone_bt.events import (
+        ActOutcome,
+        DecisionMade,
+        HelpGiven,
+        Intervention,
+        StepDone,
+        TakeOver,
+        summarise,
+    )
+    from scone_bt.gate.types import DecisionKind
+
+    sent = [
+        DecisionMade(
+            1.0, 1, "Add salt.", "Put salt on table", 0.61, 0.52, DecisionKind.ACT, "now", (), "salt"
+        ),
+        ActOutcome(9.5, "Put salt on table", "salt", False, "grasp", 8.5, "slipped"),
+        TakeOver(10.0, "Put salt on table", "salt"),
+        Intervention(16.0, "salt", "fetched by the human"),
+        HelpGiven(20.0, "oil", "fetched by the human"),
+        StepDone(22.0, "Add salt."),
+    ]
+    with StudyLog(tmp_path / "s.db") as log:
+        sid = log.start_session(plan_session("P01", "A", 1))
+        sink = log.event_sink(sid)
+        for event in sent:
+            sink(event)
+        assert [e.kind for e in log.events(sid)] == [
+            "decision",
+            "outcome",
+            "takeover",
+            "intervention",
+            "help",
+            "step_done",
+        ]
+        back = log.typed_events(sid)
+        assert back == sent
+        assert log.interventions(sid) == summarise(sent).interventions == 1

@@ -19,11 +19,15 @@ def test_synthetic_episode_follows_the_tree_rules():
     calm = SimulatedParticipant("S", Group.A, seed=0)
     calm.params = calm.params.__class__(max_takeover=0.0)
     opts = SyntheticOptions(steps=3, drop_probability=0.0)
-    on = run_synthetic_episode(_robot(), Condition.ON, calm, lambda k, d: events.append((k, d)), 0, opts)
+    on = run_synthetic_episode(
+        _robot(), Condition.ON, calm, lambda e: events.append((e.kind, e.to_json())), 0, opts
+    )
     # on: flour is asked for at once (κ̂ 0.1); the over-confident egg carton fails 3 times, then the robot asks
     assert on["help_requests"] == 2 and on["failures"] == 3 and on["successes"] == 1
     events.clear()
-    off = run_synthetic_episode(_robot(), Condition.OFF, calm, lambda k, d: events.append((k, d)), 0, opts)
+    off = run_synthetic_episode(
+        _robot(), Condition.OFF, calm, lambda e: events.append((e.kind, e.to_json())), 0, opts
+    )
     assert off["help_requests"] == 2 and off["failures"] == 6
     assert [k for k, _ in events].count("step_done") == 3
     assert {k for k, _ in events} <= {"decision", "act", "outcome", "help_request", "help", "step_done"}

@@ -1,5 +1,4 @@
 from pathlib import Path
-from types import SimpleNamespace
 
 import pytest
 
@@ -7,9 +6,11 @@ from scone_bt.errors import ConfigError, UnknownNameError
 from scone_bt.tree import build_tree, load_tree_spec, render_tree
 
 
-def test_default_tree_builds_and_renders():
+def test_default_tree_builds_and_renders(tmp_path):
+    from tests.behaviours.fakes import fake_context
+
     spec = load_tree_spec("assistive_cooking")
-    root = build_tree(spec, SimpleNamespace())
+    root = build_tree(spec, fake_context(tmp_path))
     text = render_tree(root)
     order = [
         "Perceive",

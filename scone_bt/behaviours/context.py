@@ -1,0 +1,94 @@
+"""What the tree builder wires the behaviours from: one `EpisodeContext` per episode.
+
+Only `from_context` classmethods read it; each behaviour keeps the few collaborators it needs and nothing else.
+Heavy parts (the embedder, κ̂, the store) are callables, built on first use by whoever owns them
+(`scone_bt.episode.resources.EpisodeResources`), so a tree that does not use one never loads it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from scone_bt.behaviours.options import BehaviourOptions
+from scone_bt.behaviours.ports import (
+    AttemptHistory,
+    HumanChannel,
+    OutcomeRecorder,
+    PlannerSeeds,
+    SelfConfidence,
+)
+from scone_bt.config import Catalogue, SceneSpec
+from scone_bt.events import EventSink
+from scone_bt.recipes import StockedRecipe
+from scone_bt.robot.interface import Robot
+
+__all__ = ["EpisodeContext", "OutcomeLabels", "AttemptSeeds"]
+
+
+@dataclass(frozen=True)
+class OutcomeLabels:
+    """What each stored outcome is labelled with besides the attempt itself.
+
+    Attributes:
+        embedder: ζ's name (outcomes are re-embedded with it when κ̂ is rebuilt).
+        robot_id: This robot's id in a fleet.
+        arm: The arm model's name.
+        profile: Configuration label ("" for none).
+        context: Extra fields (robot, seed, recipe); the simulated time is added per outcome.
+    """
+
+    embedder: str
+    robot_id: str
+    arm: str
+    profile: str = ""
+    context: Mapping[str, Any] = field(default_factory=dict)
+
+
+class AttemptSeeds:
+    """Planner seeds: ``base + n`` for the n-th attempt of the episode (n from 0)."""
+
+    def __init__(self, base: int) -> None:
+        self.base = int(base)
+        self.issued = 0
+
+    def next_seed(self) -> int:
+        seed = self.base + self.issued
+        self.issued += 1
+        return seed
+
+
+@dataclass(frozen=True)
+class EpisodeContext:
+    """Everything a tree's behaviours may be wired from (the builder's view, not a behaviour's).
+
+    Attributes:
+        robot: The robot (perception, pick-and-place, outcome sensor, clock).
+        human: The human channel.
+        events: The event sink every behaviour emits to.
+        history: Past attempts, folded from the events (the failure-limit rule).
+        seeds: Planner seeds per attempt.
+        recipe: The stocked recipe the robot knows.
+        scene: The kitchen's static scene (where the shelf is).
+        catalogue: Product models (the recipe items' wordings).
+        options: The resolved decision settings.
+        labels: Labels of stored outcomes.
+        embedder: Builds (once) ζ.
+        kappa: Builds (once) κ̂, rebuilt from the store.
+        recorder: Opens (once) the experience store, or gives None.
+    """
+
+    robot: Robot
+    human: HumanChannel
+    events: EventSink
+    history: AttemptHistory
+    seeds: PlannerSeeds
+    recipe: StockedRecipe
+    scene: SceneSpec
+    catalogue: Catalogue
+    options: BehaviourOptions
+    labels: OutcomeLabels
+    embedder: Callable[[], Any]
+    kappa: Callable[[], SelfConfidence]
+    recorder: Callable[[], OutcomeRecorder | None]

@@ -1,0 +1,68 @@
+"""The robot's decision settings: what `scone-run` options, the tree file's ``parameters:`` and scripts set."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+__all__ = ["BehaviourOptions"]
+
+
+@dataclass(frozen=True)
+class BehaviourOptions:
+    """Settings the behaviours read.
+
+    Attributes:
+        embedder: Embedder name or local model path (ζ).
+        estimator: κ̂ estimator name.
+        confidence_threshold: Act when κ̂ ≥ this, else ask.
+        relevance_threshold: Cosine similarity below which no action is relevant (ρ).
+        use_self_confidence: False is the paper's control condition: always act.
+        recipe_aware: Rank against the recipe the robot knows and track its step from observations; False is
+            the paper's setting (the human's current step text alone, ρ on the similarity).
+        clarify_margin: Unnamed candidates closer than this in cosine similarity are ambiguous (ASK-CLARIFY).
+        max_failures_per_action: After this many failures on one action in an episode, ask (the paper used 3).
+        cache_dir: On-disk embedding cache, or None.
+        experience_path: Experience store: an SQLite file, a postgresql:// URL (a fleet's shared store), or None
+            for in-memory learning only.
+        robot_id: This robot's id in a fleet, recorded with each outcome ("": the arm's name).
+        learn_from: Whose stored outcomes rebuild κ̂: "self", "same-model" (same arm and profile) or "fleet".
+        profile: Configuration label recorded with each outcome (e.g. a proficiency profile; "" for none).
+        seed: Seeds perception noise, the estimators and the planners.
+
+    The fields of the tree file's ``parameters:`` (embedder, estimator, the thresholds, recipe_aware,
+    clarify_margin, max_failures_per_action) left at None come from the tree file (`resolve`): one source.
+    """
+
+    embedder: str | None = None
+    estimator: str | None = None
+    confidence_threshold: float | None = None
+    relevance_threshold: float | None = None
+    use_self_confidence: bool = True
+    recipe_aware: bool | None = None
+    clarify_margin: float | None = None
+    max_failures_per_action: int | None = None
+    cache_dir: Path | None = None
+    experience_path: Path | str | None = None
+    robot_id: str = ""
+    learn_from: str = "self"
+    profile: str = ""
+    seed: int = 0
+
+    def resolve(self, parameters: Mapping[str, Any] | None = None) -> BehaviourOptions:
+        """A copy whose unset tree parameters come from ``parameters`` (a tree file's validated section), then
+        from the `TreeParameters` defaults."""
+        from scone_bt.tree.parameters import PARAMETER_NAMES, TreeParameters
+
+        base = TreeParameters(**dict(parameters or {}))
+        filled = {k: getattr(base, k) for k in PARAMETER_NAMES if getattr(self, k) is None}
+        return replace(self, **filled) if filled else self
+
+    @property
+    def resolved(self) -> bool:
+        """Whether every tree parameter is set."""
+        from scone_bt.tree.parameters import PARAMETER_NAMES
+
+        return all(getattr(self, k) is not None for k in PARAMETER_NAMES)

@@ -1,0 +1,93 @@
+"""The narrow collaborators a behaviour receives (structural types: anything with these methods will do).
+
+A behaviour gets only the ones it uses, in its constructor: the robot (`scone_bt.robot.Robot`), the human
+channel, the event sink (`scone_bt.events.EventSink`), κ̂, the outcome recorder, the attempt history and the
+planner seeds. Tests pass fakes; the episode passes the real ones (`EpisodeContext`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+from scone_bt.experience.types import Outcome
+
+__all__ = ["Clock", "HumanChannel", "SelfConfidence", "OutcomeRecorder", "AttemptHistory", "PlannerSeeds"]
+
+Clock = Callable[[], float]
+"""Seconds since the episode started (the robot's clock)."""
+
+
+@runtime_checkable
+class HumanChannel(Protocol):
+    """What the robot can ask of and learn from the human cook (the simulated one, or the tablet)."""
+
+    @property
+    def done(self) -> bool:
+        """Every recipe step is done."""
+        ...
+
+    @property
+    def step_index(self) -> int:
+        """The human's current step, 0-based (read only by the recipe-blind paper setting)."""
+        ...
+
+    @property
+    def current_instruction(self) -> str | None:
+        """The human's current step's text, None when done (recipe-blind setting only)."""
+        ...
+
+    @property
+    def clarify_time_s(self) -> float:
+        """How long answering "which one?" takes, seconds."""
+        ...
+
+    def steps_completed(self) -> int: ...
+
+    def is_fetching(self, object_name: str) -> bool: ...
+
+    def help_pending(self, object_name: str) -> bool: ...
+
+    def request_help(self, object_name: str) -> None: ...
+
+    def answer_clarification(self, candidates: tuple[str, ...]) -> tuple[str, ...]: ...
+
+    def decide_takeover(self, object_name: str) -> None: ...
+
+    def wants_takeover(self, object_name: str) -> bool: ...
+
+    def take_over(self, object_name: str) -> None: ...
+
+    def robot_busy(self, busy: bool) -> None: ...
+
+
+@runtime_checkable
+class SelfConfidence(Protocol):
+    """κ̂: success probabilities of action embeddings, updated with each labelled outcome."""
+
+    def predict(self, x: np.ndarray) -> Sequence[float]: ...
+
+    def update(self, x: np.ndarray, success: bool) -> None: ...
+
+
+@runtime_checkable
+class OutcomeRecorder(Protocol):
+    """The durable experience store: `append` commits before it returns."""
+
+    def append(self, outcome: Outcome) -> object: ...
+
+
+@runtime_checkable
+class AttemptHistory(Protocol):
+    """What the episode's events say about past attempts (folded from the event stream)."""
+
+    def failures_of(self, action: str) -> int: ...
+
+
+@runtime_checkable
+class PlannerSeeds(Protocol):
+    """The planner seed of each pick-and-place attempt, in order."""
+
+    def next_seed(self) -> int: ...

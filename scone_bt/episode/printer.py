@@ -1,0 +1,70 @@
+"""The episode's log lines, as the CLI prints them, made from its events."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from scone_bt.affordances.types import object_of_action
+from scone_bt.events import ActCancelled, ActOutcome, ClarificationAsked, DecisionMade, Event
+from scone_bt.gate.types import DecisionKind
+
+__all__ = ["decision_line", "LinePrinter"]
+
+
+def decision_line(event: DecisionMade, steps_total: int) -> str:
+    """One decision: the robot's step, the step's text, the action or question, relevance, κ̂ and the verdict."""
+    instruction = event.instruction
+    short = instruction if len(instruction) <= 48 else instruction[:45] + "..."
+    if event.verdict is DecisionKind.CLARIFY:
+        target = "which: " + " | ".join(object_of_action(c) for c in event.candidates) + "?"
+    elif event.verdict is DecisionKind.IDLE and event.reason.startswith("waiting: "):
+        target = "(" + event.reason + ")"
+    else:
+        target = event.action or "(none)"
+    note = "  (needed later)" if event.need == "later" and event.action else ""
+    return (
+        f"[step {event.step}/{steps_total}] {short!r:52} -> {target:28} "
+        f"rel {event.relevance:5.2f}  conf {event.confidence:4.2f}  {event.verdict.label}{note}"
+    )
+
+
+class LinePrinter:
+    """An event listener that prints decisions, clarifications and outcomes as lines.
+
+    A run of identical idle decisions is printed once, then counted ("… the same N more times", at the next
+    different decision and at `flush`); `lines` keeps every decision line (the summary's decision log).
+    """
+
+    def __init__(self, printer: Callable[[str], None], steps_total: int) -> None:
+        self.printer = printer
+        self.steps_total = steps_total
+        self.lines: list[str] = []
+        self._last: str | None = None
+        self._repeats = 0
+
+    def __call__(self, event: Event) -> None:
+        if isinstance(event, DecisionMade):
+            line = decision_line(event, self.steps_total)
+            self.lines.append(line)
+            if event.verdict is DecisionKind.IDLE and line == self._last:
+                self._repeats += 1
+                return
+            self.flush()
+            self._last = line
+            self.printer(line)
+        elif isinstance(event, ClarificationAsked):
+            said = ", ".join(event.answer) or "none of those"
+            self.printer(f"    ? asked which of {', '.join(event.candidates)}: the human says {said}")
+        elif isinstance(event, ActOutcome):
+            if event.success:
+                self.printer(f"    + success: {event.object_name} is on the table ({event.duration_s:.1f} s)")
+            else:
+                self.printer(f"    x failure at {event.stage}: {event.message}")
+        elif isinstance(event, ActCancelled):
+            self.printer(f"    ~ the human took over: {event.action}")
+
+    def flush(self) -> None:
+        """Print the count of repeated idle decisions not yet printed."""
+        if self._repeats:
+            self.printer(f"    … the same {self._repeats} more time{'s' if self._repeats > 1 else ''}")
+        self._repeats = 0

@@ -1,0 +1,383 @@
+"""What happens in an episode, as typed events.
+
+Behaviours and the human emit these frozen dataclasses to one `EventSink`; the CLI printer
+(`scone_bt.episode.printer`), the tablet (`scone_bt.study.ui`), the study log (`scone_bt.study.log`) and the
+episode summary consume them. The summary is folded from the events (`summarise`), so a counter cannot disagree
+with the stream it counts.
+
+Each event has a ``kind`` (the name the study log stores) and `to_json()` (the stored payload, ``sim_time`` first);
+`from_json` reads a stored one back. Two things that were both called "intervention" are now two types: the
+robot's action taken over by the human (`TakeOver`, kind ``takeover``) and an object the human fetched on their own
+(`Intervention`). Logs written before the split stored a take-over as an ``intervention`` with an ``action`` key;
+`from_json` reads those as `TakeOver`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import MISSING, dataclass, field, fields, replace
+from functools import reduce
+from types import MappingProxyType
+from typing import Any, ClassVar
+
+from scone_bt.errors import SconeError
+from scone_bt.gate.types import DecisionKind
+
+__all__ = [
+    "Event",
+    "EventSink",
+    "DecisionMade",
+    "ActStarted",
+    "ActOutcome",
+    "ActCancelled",
+    "HelpRequested",
+    "ClarificationAsked",
+    "TakeOver",
+    "HelpGiven",
+    "Intervention",
+    "CleanUpStarted",
+    "StepDone",
+    "EVENT_TYPES",
+    "EpisodeStats",
+    "fold",
+    "summarise",
+    "EventLog",
+    "from_json",
+    "is_legacy_takeover",
+]
+
+
+@dataclass(frozen=True)
+class Event:
+    """Base of every episode event.
+
+    Attributes:
+        sim_time: Simulated seconds since the episode started, when it happened.
+    """
+
+    kind: ClassVar[str] = ""
+    sim_time: float
+
+    def to_json(self) -> dict[str, Any]:
+        """The stored payload: ``sim_time`` (rounded to ms) then the fields under their stored names."""
+        out: dict[str, Any] = {"sim_time": round(self.sim_time, 3)}
+        for f in fields(self):
+            if f.name == "sim_time":
+                continue
+            out[_JSON_NAMES.get(f.name, f.name)] = _plain(getattr(self, f.name))
+        return out
+
+
+EventSink = Callable[[Event], None]
+"""Where behaviours and the human send events."""
+
+_JSON_NAMES = {"object_name": "object", "verdict": "kind"}
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, tuple):
+        return [_plain(v) for v in value]
+    if hasattr(value, "value") and isinstance(value.value, str):  # str enums are stored by value
+        return value.value
+    return value
+
+
+@dataclass(frozen=True)
+class DecisionMade(Event):
+    """The gate decided (one per decision cycle).
+
+    Attributes:
+        step: The robot's place in the recipe, 1-based.
+        instruction: That step's text ("(every step is served)" past the last one).
+        action: The chosen action text, or None (idle, clarify).
+        relevance: Its cosine similarity (NaN when none).
+        confidence: κ̂ for it, in [0, 1] (NaN when none).
+        verdict: ACT, ASK (for help), CLARIFY or IDLE (stored as ``kind``).
+        need: "now", "later" or "".
+        candidates: With CLARIFY, the action texts the robot asks about.
+        object_name: The chosen action's object, or None.
+        reason: The gate's one-sentence reason.
+    """
+
+    kind: ClassVar[str] = "decision"
+    step: int
+    instruction: str
+    action: str | None
+    relevance: float
+    confidence: float
+    verdict: DecisionKind
+    need: str = ""
+    candidates: tuple[str, ...] = ()
+    object_name: str | None = None
+    reason: str = ""
+
+    def to_json(self) -> dict[str, Any]:
+        out = super().to_json()
+        out["relevance"] = round(self.relevance, 4)
+        out["confidence"] = round(self.confidence, 4)
+        return out
+
+
+@dataclass(frozen=True)
+class ActStarted(Event):
+    """The robot starts a pick-and-place; ``confidence`` is κ̂ for it."""
+
+    kind: ClassVar[str] = "act"
+    action: str
+    object_name: str
+    confidence: float
+
+
+@dataclass(frozen=True)
+class ActOutcome(Event):
+    """A pick-and-place ended and was labelled (stored in the experience store before this is emitted).
+
+    Attributes:
+        success: The object rests on the table (the robot's outcome sensor).
+        stage: Where it failed (a FailureStage value), None on success.
+        duration_s: Simulated seconds the attempt took.
+        message: The motion system's first line of detail.
+    """
+
+    kind: ClassVar[str] = "outcome"
+    action: str
+    object_name: str
+    success: bool
+    stage: str | None
+    duration_s: float = 0.0
+    message: str = ""
+
+
+@dataclass(frozen=True)
+class ActCancelled(Event):
+    """The attempt ended cancelled (the human took over): no label, κ̂ unchanged."""
+
+    kind: ClassVar[str] = "cancelled"
+    action: str
+    object_name: str
+
+
+@dataclass(frozen=True)
+class HelpRequested(Event):
+    """ASK-HELP: the robot asks the human to fetch the object."""
+
+    kind: ClassVar[str] = "help_request"
+    action: str
+    object_name: str
+
+
+@dataclass(frozen=True)
+class ClarificationAsked(Event):
+    """ASK-CLARIFY: the robot asked which of ``candidates`` step ``step`` (1-based) means; ``answer`` is the reply."""
+
+    kind: ClassVar[str] = "clarification"
+    candidates: tuple[str, ...]
+    answer: tuple[str, ...]
+    step: int
+
+
+@dataclass(frozen=True)
+class TakeOver(Event):
+    """The human took over the robot's action on ``object_name`` (the robot cancels it)."""
+
+    kind: ClassVar[str] = "takeover"
+    action: str
+    object_name: str
+
+
+@dataclass(frozen=True)
+class HelpGiven(Event):
+    """The human put an object the robot asked for on the table."""
+
+    kind: ClassVar[str] = "help"
+    object_name: str
+    detail: str = ""
+
+
+@dataclass(frozen=True)
+class Intervention(Event):
+    """The human put an object on the table unasked (after a take-over, a drop or a long idle robot)."""
+
+    kind: ClassVar[str] = "intervention"
+    object_name: str
+    detail: str = ""
+
+
+@dataclass(frozen=True)
+class CleanUpStarted(Event):
+    """The human starts fetching an object on their own; ``detail`` says why."""
+
+    kind: ClassVar[str] = "fetching"
+    object_name: str
+    detail: str = ""
+
+
+@dataclass(frozen=True)
+class StepDone(Event):
+    """The human finished a recipe step; ``detail`` is its text."""
+
+    kind: ClassVar[str] = "step_done"
+    detail: str = ""
+
+    def to_json(self) -> dict[str, Any]:
+        return {"sim_time": round(self.sim_time, 3), "object": None, "detail": self.detail}
+
+
+EVENT_TYPES: Mapping[str, type[Event]] = MappingProxyType(
+    {
+        cls.kind: cls
+        for cls in (
+            DecisionMade,
+            ActStarted,
+            ActOutcome,
+            ActCancelled,
+            HelpRequested,
+            ClarificationAsked,
+            TakeOver,
+            HelpGiven,
+            Intervention,
+            CleanUpStarted,
+            StepDone,
+        )
+    }
+)
+"""Stored kind → event type."""
+
+_STORED_NAMES = {v: k for k, v in _JSON_NAMES.items()}
+
+
+def is_legacy_takeover(kind: str, data: Mapping[str, Any]) -> bool:
+    """A take-over as logs written before `TakeOver` stored it: an ``intervention`` with an ``action``."""
+    return kind == "intervention" and "action" in data and "detail" not in data
+
+
+def from_json(kind: str, data: Mapping[str, Any]) -> Event:
+    """The event a study log row stores (`Event.to_json` read back).
+
+    Raises:
+        SconeError: an unknown kind, or a payload without a field the kind needs.
+    """
+    if is_legacy_takeover(kind, data):
+        kind = TakeOver.kind
+    cls = EVENT_TYPES.get(kind)
+    if cls is None:
+        raise SconeError(f"unknown event kind {kind!r}; valid: {', '.join(sorted(EVENT_TYPES))}")
+    values: dict[str, Any] = {}
+    for f in fields(cls):
+        stored = _JSON_NAMES.get(f.name, f.name)
+        if stored in data:
+            values[f.name] = data[stored]
+        elif f.default is MISSING and f.default_factory is MISSING:
+            raise SconeError(f"event {kind!r} lacks {stored!r} (has: {', '.join(map(str, data)) or 'none'})")
+    if cls is DecisionMade:
+        values["verdict"] = DecisionKind(values["verdict"])
+        values["candidates"] = tuple(values.get("candidates") or ())
+        for key in ("relevance", "confidence"):
+            values[key] = math.nan if values[key] is None else float(values[key])
+    if cls is ClarificationAsked:
+        values["candidates"], values["answer"] = tuple(values["candidates"]), tuple(values["answer"])
+    return cls(**values)
+
+
+# ------------------------------------------------------------------------------------------------ the summary
+@dataclass(frozen=True)
+class EpisodeStats:
+    """The counters of an episode, folded from its events (`fold`, `summarise`).
+
+    Attributes:
+        decisions: Decisions the gate made.
+        attempted: Pick-and-places started.
+        successes: Attempts labelled a success.
+        failures: Attempts labelled a failure.
+        help_requests: ASK-HELP requests.
+        clarifications: ASK-CLARIFY questions.
+        cancelled: Attempts cancelled because the human took over.
+        takeovers: Take-overs the human made.
+        help_given: Objects the human fetched on request.
+        interventions: Objects the human fetched unasked.
+        steps_done: Recipe steps the human finished.
+        failures_by_stage: FailureStage value → failures.
+        failures_by_action: Action text → failures.
+    """
+
+    decisions: int = 0
+    attempted: int = 0
+    successes: int = 0
+    failures: int = 0
+    help_requests: int = 0
+    clarifications: int = 0
+    cancelled: int = 0
+    takeovers: int = 0
+    help_given: int = 0
+    interventions: int = 0
+    steps_done: int = 0
+    failures_by_stage: Mapping[str, int] = field(default_factory=dict)
+    failures_by_action: Mapping[str, int] = field(default_factory=dict)
+
+
+def _bump(counts: Mapping[str, int], key: str) -> dict[str, int]:
+    return {**counts, key: counts.get(key, 0) + 1}
+
+
+_COUNTERS: Mapping[type[Event], str] = MappingProxyType(
+    {
+        DecisionMade: "decisions",
+        ActStarted: "attempted",
+        HelpRequested: "help_requests",
+        ClarificationAsked: "clarifications",
+        ActCancelled: "cancelled",
+        TakeOver: "takeovers",
+        HelpGiven: "help_given",
+        Intervention: "interventions",
+        StepDone: "steps_done",
+    }
+)
+
+
+def fold(stats: EpisodeStats, event: Event) -> EpisodeStats:
+    """The stats after one more event (pure)."""
+    if isinstance(event, ActOutcome):
+        if event.success:
+            return replace(stats, successes=stats.successes + 1)
+        stage = event.stage or "place"
+        return replace(
+            stats,
+            failures=stats.failures + 1,
+            failures_by_stage=_bump(stats.failures_by_stage, stage),
+            failures_by_action=_bump(stats.failures_by_action, event.action),
+        )
+    name = _COUNTERS.get(type(event))
+    return stats if name is None else replace(stats, **{name: getattr(stats, name) + 1})
+
+
+def summarise(events: Iterable[Event]) -> EpisodeStats:
+    """The episode's counters: every event folded in order."""
+    return reduce(fold, events, EpisodeStats())
+
+
+class EventLog:
+    """An `EventSink` that keeps the events, their running `stats`, and passes each one on to listeners.
+
+    Args:
+        listeners: Called with each event after it is recorded (the printer, the tablet, the study log, ...).
+    """
+
+    def __init__(self, *listeners: EventSink) -> None:
+        self.events: list[Event] = []
+        self.stats = EpisodeStats()
+        self._listeners = list(listeners)
+
+    def listen(self, listener: EventSink) -> None:
+        """Add one more listener."""
+        self._listeners.append(listener)
+
+    def __call__(self, event: Event) -> None:
+        self.events.append(event)
+        self.stats = fold(self.stats, event)
+        for listener in self._listeners:
+            listener(event)
+
+    def failures_of(self, action: str) -> int:
+        """Failed attempts of this action so far in the episode (what the failure-limit rule reads)."""
+        return self.stats.failures_by_action.get(action, 0)

@@ -1,0 +1,95 @@
+"""The robot interface: what a behaviour may ask of the robot, and nothing else.
+
+A behaviour never sees the simulator, the motion system or the cameras: it asks the robot for an observation,
+starts a pick-and-place with a `PickRequest` built from what it saw, polls the returned `MotionHandle`, and asks
+the robot's outcome sensor whether the object now rests on the table.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Protocol, runtime_checkable
+
+if TYPE_CHECKING:  # the interface itself imports nothing heavy (scone-run --help imports it)
+    from scone_bt.motion.types import MotionOutcome, MotionProgress
+    from scone_bt.perception.observe import Observation
+    from scone_bt.perception.types import Detection
+
+__all__ = ["BACKENDS", "PickRequest", "MotionHandle", "Robot"]
+
+BACKENDS = ("sim",)
+"""Robot backends `scone-run --robot` accepts."""
+
+
+@dataclass(frozen=True)
+class PickRequest:
+    """One pick-and-place, in the robot's own perception terms.
+
+    Attributes:
+        target: The detection of the object to move from the shelf to the table (world frame, metres).
+        obstacles: Everything else seen on the shelf.
+        table: What stands on the table as the table camera sees it; None while the table is not observed
+            (the robot then knows only what it placed itself).
+        rng_seed: Seeds the planner (a seeded episode plans the same way every time).
+    """
+
+    target: Detection
+    obstacles: tuple[Detection, ...]
+    table: tuple[Detection, ...] | None
+    rng_seed: int
+
+
+@runtime_checkable
+class MotionHandle(Protocol):
+    """A running pick-and-place."""
+
+    def progress(self) -> MotionProgress:
+        """Its phase (`MotionPhase`) and the fraction of the planned motion executed, in [0, 1]."""
+        ...
+
+    def done(self) -> bool:
+        """True once it ended (success, failure or cancelled)."""
+        ...
+
+    def outcome(self) -> MotionOutcome | None:
+        """How it ended; None while running."""
+        ...
+
+    def cancel(self) -> None:
+        """Stop it (the human took over, or the tree interrupted it); the arm returns home."""
+        ...
+
+
+@runtime_checkable
+class Robot(Protocol):
+    """What the behaviours need of a robot."""
+
+    def perceive(self) -> Observation:
+        """One synchronised capture of the shelf cameras and the table camera: tracked detections of both."""
+        ...
+
+    def start_pick_and_place(self, request: PickRequest) -> MotionHandle:
+        """Start moving ``request.target`` to the table; returns at once (planning runs in the background)."""
+        ...
+
+    def is_on_table(self, object_name: str) -> bool:
+        """The outcome sensor: does the object rest upright on the table now?"""
+        ...
+
+    def now(self) -> float:
+        """The robot's clock, seconds since the episode started (simulated time in simulation)."""
+        ...
+
+    def home(self) -> None:
+        """Move to the home configuration (between episodes)."""
+        ...
+
+    def close(self) -> None:
+        """Release the hardware or the simulation (worker threads, connections)."""
+        ...
+
+
+def obstacles_except(detections: Sequence[Detection], name: str) -> tuple[Detection, ...]:
+    """The detections of every object but ``name``."""
+    return tuple(d for d in detections if d.name != name)

@@ -1,0 +1,113 @@
+"""The PyBullet simulation as a `Robot`: `world.Kitchen`, `motion.MotionSystem` and the simulated cameras."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
+from scone_bt.perception.observe import Observation
+from scone_bt.perception.types import Detection
+from scone_bt.robot.interface import MotionHandle, PickRequest
+from scone_bt.world import Kitchen
+
+if TYPE_CHECKING:
+    from scone_bt.motion import MotionSystem
+    from scone_bt.perception.observe import Observer
+
+__all__ = ["SimRobot"]
+
+
+class SimRobot:
+    """The simulated arm, its cameras and its outcome sensor in one `Kitchen` (which it owns and closes).
+
+    Args:
+        kitchen: The simulated kitchen (objects already spawned).
+        config: The kitchen's configuration (cameras, scene, catalogue sizes for planning).
+        robot: The arm's configuration.
+        perception_rng: Seeds the cameras' noise.
+    """
+
+    def __init__(
+        self, kitchen: Kitchen, config: KitchenConfig, robot: RobotConfig, perception_rng: np.random.Generator
+    ) -> None:
+        self.kitchen = kitchen
+        self.config = config
+        self.robot_config = robot
+        self._rng = perception_rng
+        self._observer: Observer | None = None
+        self._motion: MotionSystem | None = None
+
+    # ------------------------------------------------------------------------------------------ components
+    @property
+    def observer(self) -> Observer:
+        """The simulated cameras and detector (built on first use)."""
+        if self._observer is None:
+            from scone_bt.perception.observe import Observer
+
+            self._observer = Observer(self.config)
+        return self._observer
+
+    @property
+    def motion(self) -> MotionSystem:
+        """The arm model and planner (built on first use; loading Pinocchio takes a moment)."""
+        if self._motion is None:
+            from scone_bt.motion import MotionSystem
+
+            self._motion = MotionSystem.build(self.kitchen, self.robot_config)
+        return self._motion
+
+    def setup(self) -> None:
+        """Build the cameras and the motion system now (before the first tick, not during it)."""
+        _ = self.observer, self.motion
+
+    # ------------------------------------------------------------------------------------------ Robot
+    def perceive(self) -> Observation:
+        return self.observer.observe(self.kitchen, self._rng)
+
+    def _spec(self, name: str) -> ObjectSpec:
+        return self.config.catalogue.get(name)
+
+    def _with_specs(self, seen: tuple[Detection, ...]) -> list[tuple[Detection, ObjectSpec]]:
+        return [(d, self._spec(d.name)) for d in seen]
+
+    def start_pick_and_place(self, request: PickRequest) -> MotionHandle:
+        target = request.target
+        task = self.motion.pick_and_place(
+            target,
+            self._spec(target.name),
+            self._with_specs(request.obstacles),
+            rng_seed=request.rng_seed,
+            table_obstacles=None if request.table is None else self._with_specs(request.table),
+        )
+        task.start()
+        return task
+
+    def is_on_table(self, object_name: str) -> bool:
+        return self.kitchen.is_on_table(object_name)
+
+    def now(self) -> float:
+        return self.kitchen.sim_time
+
+    def home(self) -> None:
+        self.kitchen.hold_arm(self.robot_config.home)
+
+    def close(self) -> None:
+        if self._motion is not None:
+            self._motion.close()
+            self._motion = None
+        self.kitchen.close()
+
+    # ------------------------------------------------------------------------------------------ measurements
+    @property
+    def perception_seconds(self) -> tuple[float, float]:
+        """Wall and CPU seconds spent rendering and detecting so far."""
+        o = self._observer
+        return (0.0, 0.0) if o is None else (o.wall_s, o.cpu_s)
+
+    @property
+    def renders(self) -> int:
+        """Camera images rendered so far."""
+        o = self._observer
+        return 0 if o is None else sum(c.renders for c in o.cameras)

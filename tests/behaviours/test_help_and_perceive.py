@@ -1,0 +1,65 @@
+"""AskForHelp, WaitForHuman, RecipeDone, Perceive and GenerateAffordances with fakes (no simulator)."""
+
+from __future__ import annotations
+
+import py_trees
+
+from scone_bt.behaviours import AskForHelp, GenerateAffordances, Keys, Perceive, RecipeDone, WaitForHuman
+from scone_bt.config import load_kitchen
+from scone_bt.events import EventLog, HelpRequested
+from tests.behaviours.fakes import FakeHuman, FakeRobot, affordance, blackboard, det
+
+Status = py_trees.common.Status
+
+
+def test_ask_for_help_waits_until_the_human_fetched_it() -> None:
+    human, robot, events = FakeHuman(), FakeRobot(time=4.0), EventLog()
+    bb = blackboard(TARGET=affordance("eggs"))
+    node = AskForHelp("ask", human, events, robot.now)
+    node.tick_once()
+    assert node.status is Status.RUNNING and human.helped == ["eggs"] and human.busy == [True]
+    assert (
+        events.events == [HelpRequested(4.0, "Put eggs on table", "eggs")] and events.stats.help_requests == 1
+    )
+    human.pending.clear()  # the human put the eggs on the table
+    node.tick_once()
+    assert node.status is Status.SUCCESS and human.busy == [True, False]
+    assert bb.get(Keys.TARGET).object_name == "eggs"
+
+
+def test_wait_for_human_waits_on_the_robots_clock() -> None:
+    robot = FakeRobot(time=10.0)
+    node = WaitForHuman("wait", robot.now, seconds=1.0)
+    node.tick_once()
+    assert node.status is Status.RUNNING
+    robot.time = 11.0
+    node.tick_once()
+    assert node.status is Status.SUCCESS
+
+
+def test_recipe_done_asks_the_human() -> None:
+    human = FakeHuman(step_index=2)
+    node = RecipeDone("done?", human, 3)
+    node.tick_once()
+    assert node.status is Status.FAILURE and node.feedback_message == "2/3 steps done"
+    human.done = True
+    node.tick_once()
+    assert node.status is Status.SUCCESS
+
+
+def test_perceive_writes_what_the_robot_sees() -> None:
+    robot = FakeRobot(shelf=[det("salt"), det("oil")], table=(det("oil", (0.4, -0.4, 0.2)),))
+    bb = blackboard()
+    Perceive("perceive", robot).tick_once()
+    assert [d.name for d in bb.get(Keys.DETECTIONS)] == ["salt", "oil"]
+    assert [d.name for d in bb.get(Keys.TABLE_DETECTIONS)] == ["oil"]
+
+
+def test_affordances_are_what_stands_on_the_shelf_and_the_human_is_not_fetching() -> None:
+    scene = load_kitchen().scene
+    slots = scene.shelf_slots()
+    above = [(x, y, z + 0.1) for x, y, z in slots[:2]]
+    on_shelf = [det("salt", above[0]), det("sugar", above[1]), det("far", (9.0, 9.0, 0.1))]
+    bb = blackboard(DETECTIONS=on_shelf)
+    GenerateAffordances("affordances", scene, FakeHuman(fetching={"sugar"})).tick_once()
+    assert [a.text for a in bb.get(Keys.AFFORDANCES)] == ["Put salt on table"]

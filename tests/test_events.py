@@ -1,0 +1,122 @@
+"""The typed events: their stored JSON, reading them back, and the summary folded from them."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from scone_bt.errors import SconeError
+from scone_bt.events import (
+    EVENT_TYPES,
+    ActCancelled,
+    ActOutcome,
+    ActStarted,
+    ClarificationAsked,
+    CleanUpStarted,
+    DecisionMade,
+    EpisodeStats,
+    EventLog,
+    HelpGiven,
+    HelpRequested,
+    Intervention,
+    StepDone,
+    TakeOver,
+    from_json,
+    summarise,
+)
+from scone_bt.gate.types import DecisionKind
+
+EPISODE = [
+    DecisionMade(0.5, 1, "Add salt.", "Put salt on table", 0.6, 0.5, DecisionKind.ACT, "now", (), "salt"),
+    ActStarted(0.5, "Put salt on table", "salt", 0.5),
+    ActOutcome(9.0, "Put salt on table", "salt", False, "grasp", 8.5, "slipped"),
+    DecisionMade(9.1, 1, "Add salt.", "Put salt on table", 0.6, 0.3, DecisionKind.ASK, "now", (), "salt"),
+    HelpRequested(9.1, "Put salt on table", "salt"),
+    HelpGiven(15.1, "salt", "fetched by the human"),
+    DecisionMade(
+        15.2, 2, "Which oil?", None, math.nan, math.nan, DecisionKind.CLARIFY, "", ("Put a on table",)
+    ),
+    ClarificationAsked(15.2, ("a", "b"), ("a",), 2),
+    ActStarted(17.0, "Put a on table", "a", 0.8),
+    TakeOver(18.0, "Put a on table", "a"),
+    ActCancelled(18.1, "Put a on table", "a"),
+    Intervention(24.0, "a", "fetched by the human"),
+    CleanUpStarted(25.0, "b", "the robot dropped it"),
+    StepDone(26.0, "Add salt."),
+]
+
+
+def test_every_kind_is_registered_once() -> None:
+    assert set(EVENT_TYPES) == {type(e).kind for e in EPISODE}
+    assert len({cls.kind for cls in EVENT_TYPES.values()}) == len(EVENT_TYPES)
+
+
+def test_stored_json_keeps_the_logs_field_names() -> None:
+    decision, act, outcome = (e.to_json() for e in EPISODE[:3])
+    assert list(decision)[:7] == [
+        "sim_time",
+        "step",
+        "instruction",
+        "action",
+        "relevance",
+        "confidence",
+        "kind",
+    ]
+    assert decision["kind"] == "act" and decision["object"] == "salt" and decision["candidates"] == []
+    assert act == {"sim_time": 0.5, "action": "Put salt on table", "object": "salt", "confidence": 0.5}
+    assert (outcome["success"], outcome["stage"]) == (False, "grasp")
+    assert StepDone(1.23456, "x").to_json() == {"sim_time": 1.235, "object": None, "detail": "x"}
+
+
+def test_json_round_trip() -> None:
+    for event in EPISODE:
+        back = from_json(event.kind, event.to_json())
+        if isinstance(event, DecisionMade) and math.isnan(event.relevance):
+            assert math.isnan(back.relevance) and back.verdict is event.verdict
+        else:
+            assert back == event, event
+
+
+def test_a_take_over_in_an_old_log_reads_as_a_take_over() -> None:
+    old = {"sim_time": 3.0, "action": "Put salt on table", "object": "salt"}
+    assert from_json("intervention", old) == TakeOver(3.0, "Put salt on table", "salt")
+    assert isinstance(
+        from_json("intervention", {"sim_time": 3.0, "object": "salt", "detail": "d"}), Intervention
+    )
+
+
+def test_bad_rows_are_one_line_errors() -> None:
+    with pytest.raises(SconeError, match="unknown event kind 'party'; valid: act, cancelled"):
+        from_json("party", {})
+    with pytest.raises(SconeError, match="event 'act' lacks 'object'"):
+        from_json("act", {"sim_time": 1.0, "action": "x", "confidence": 0.5})
+
+
+def test_summary_is_the_fold_of_the_events() -> None:
+    stats = summarise(EPISODE)
+    assert stats == EpisodeStats(
+        decisions=3,
+        attempted=2,
+        successes=0,
+        failures=1,
+        help_requests=1,
+        clarifications=1,
+        cancelled=1,
+        takeovers=1,
+        help_given=1,
+        interventions=1,
+        steps_done=1,
+        failures_by_stage={"grasp": 1},
+        failures_by_action={"Put salt on table": 1},
+    )
+    assert stats.attempted == stats.successes + stats.failures + stats.cancelled
+
+
+def test_the_event_log_folds_as_it_goes_and_passes_events_on() -> None:
+    seen: list = []
+    log = EventLog(seen.append)
+    for event in EPISODE:
+        log(event)
+    assert seen == EPISODE and log.stats == summarise(EPISODE)
+    assert log.failures_of("Put salt on table") == 1 and log.failures_of("Put a on table") == 0
