@@ -15,8 +15,8 @@ from scone_bt.events import ClarificationAsked, EventSink, HelpRequested
 __all__ = ["AskForHelp", "AskToClarify", "WaitForHuman"]
 
 
-class AskForHelp(StageBehaviour):
-    READS = (Keys.DECISION, Keys.TARGET)
+class _AskTheHuman(StageBehaviour):
+    """A behaviour that asks the human something: the human channel, the event sink and the robot's clock."""
 
     def __init__(self, name: str, human: HumanChannel, events: EventSink, clock: Clock) -> None:
         super().__init__(name)
@@ -25,8 +25,12 @@ class AskForHelp(StageBehaviour):
         self.clock = clock
 
     @classmethod
-    def from_context(cls, name: str, context: EpisodeContext) -> AskForHelp:
+    def from_context(cls, name: str, context: EpisodeContext) -> _AskTheHuman:
         return cls(name, context.human, context.events, context.robot.now)
+
+
+class AskForHelp(_AskTheHuman):
+    READS = (Keys.DECISION, Keys.TARGET)
 
     def initialise(self) -> None:
         target = self.read(Keys.TARGET)
@@ -45,19 +49,9 @@ class AskForHelp(StageBehaviour):
         self.human.robot_busy(False)
 
 
-class AskToClarify(StageBehaviour):
+class AskToClarify(_AskTheHuman):
     READS = (Keys.DECISION, Keys.STEP, Keys.CLARIFIED)
     WRITES = (Keys.CLARIFIED,)
-
-    def __init__(self, name: str, human: HumanChannel, events: EventSink, clock: Clock) -> None:
-        super().__init__(name)
-        self.human = human
-        self.events = events
-        self.clock = clock
-
-    @classmethod
-    def from_context(cls, name: str, context: EpisodeContext) -> AskToClarify:
-        return cls(name, context.human, context.events, context.robot.now)
 
     def initialise(self) -> None:
         decision = self.read(Keys.DECISION)

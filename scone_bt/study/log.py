@@ -37,30 +37,10 @@ SCHEMA_VERSION = 1
 _SQLITE_MAGIC = b"SQLite format 3\x00"
 EXPORT_FILES = ("sessions.csv", "events.csv", "responses.csv", "scores.csv")
 """What `export_csv` writes into its folder."""
-_SESSION_COLUMNS = (
-    "data",
-    "session_id",
-    "participant",
-    "group",
-    "session_index",
-    "condition",
-    "started",
-    "ended",
-    "interventions",
-    "summary",
-)
+_SESSION_KEY = ("data", "session_id", "participant", "group", "session_index", "condition")
+_SESSION_COLUMNS = (*_SESSION_KEY, "started", "ended", "interventions", "summary")
 _RESPONSE_COLUMNS = ("data", "session_id", "questionnaire", "item", "item_index", "value", "time")
-_SCORE_COLUMNS = (
-    "data",
-    "session_id",
-    "participant",
-    "group",
-    "session_index",
-    "condition",
-    "questionnaire",
-    "score",
-    "subscales",
-)
+_SCORE_COLUMNS = (*_SESSION_KEY, "questionnaire", "score", "subscales")
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);

@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import py_trees
 import rerun as rr
+from scipy.spatial.transform import Rotation
 
 from scone_bt.errors import ConfigError, UnknownNameError
 from scone_bt.gate.types import Decision, DecisionKind
@@ -71,43 +72,6 @@ _POSE_EPS = 1e-5  # metres / quaternion units: below this a link or object has n
 _TRACE_STEP = 0.005  # metres between points of the executed end-effector trace
 _TRACE_MAX = 4000
 _TRACE_PERIOD = 0.25  # simulated seconds between updates of the executed trace
-
-
-# ---------------------------------------------------------------------------------------------- geometry helpers
-def _quat_mul(a: Sequence[float], b: Sequence[float]) -> np.ndarray:
-    ax, ay, az, aw = a
-    bx, by, bz, bw = b
-    return np.array(
-        [
-            aw * bx + ax * bw + ay * bz - az * by,
-            aw * by - ax * bz + ay * bw + az * bx,
-            aw * bz + ax * by - ay * bx + az * bw,
-            aw * bw - ax * bx - ay * by - az * bz,
-        ]
-    )
-
-
-def _quat_rotate(q: Sequence[float], v: Sequence[float]) -> np.ndarray:
-    qv = np.array([v[0], v[1], v[2], 0.0])
-    conj = np.array([-q[0], -q[1], -q[2], q[3]])
-    return _quat_mul(_quat_mul(q, qv), conj)[:3]
-
-
-def _matrix_to_quat(m: np.ndarray) -> tuple[float, float, float, float]:
-    """Rotation matrix → quaternion (x, y, z, w), Shepperd's method."""
-    t = float(np.trace(m))
-    if t > 0:
-        s = math.sqrt(t + 1.0) * 2
-        return ((m[2, 1] - m[1, 2]) / s, (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s, 0.25 * s)
-    i = int(np.argmax(np.diag(m)))
-    j, k = (i + 1) % 3, (i + 2) % 3
-    s = math.sqrt(1.0 + m[i, i] - m[j, j] - m[k, k]) * 2
-    q = [0.0, 0.0, 0.0, 0.0]
-    q[i] = 0.25 * s
-    q[j] = (m[j, i] + m[i, j]) / s
-    q[k] = (m[k, i] + m[i, k]) / s
-    q[3] = (m[k, j] - m[j, k]) / s
-    return (q[0], q[1], q[2], q[3])
 
 
 def _moved(a: Pose | None, b: Pose) -> bool:
@@ -413,12 +377,11 @@ class Recorder:
     def _root_link_frame(self, com_pose: Pose) -> Pose:
         """PyBullet gives the base at its centre of mass; shift it back to the URDF link frame."""
         assert self._robot is not None
-        pos, quat = np.asarray(com_pose[0], dtype=float), np.asarray(com_pose[1], dtype=float)
+        pos = np.asarray(com_pose[0], dtype=float)
         ip, iq = self._robot.root_inertial_position, self._robot.root_inertial_quaternion
-        iq_inv = np.array([-iq[0], -iq[1], -iq[2], iq[3]])
-        link_quat = _quat_mul(quat, iq_inv)
-        link_pos = pos - _quat_rotate(link_quat, ip)
-        return (tuple(link_pos), tuple(link_quat))
+        link = Rotation.from_quat(com_pose[1]) * Rotation.from_quat(iq).inv()  # quaternions (x, y, z, w)
+        link_pos = pos - link.apply(ip)
+        return (tuple(map(float, link_pos)), tuple(map(float, link.as_quat())))
 
     def _log_links(self, link_poses: Mapping[str, Pose]) -> None:
         for name, pose in link_poses.items():
@@ -510,7 +473,9 @@ class Recorder:
             rot = self._camera_pose[:3, :3]
             self._rec.log(
                 P.CAMERA,
-                rr.Transform3D(translation=self._camera_pose[:3, 3], quaternion=_matrix_to_quat(rot)),
+                rr.Transform3D(
+                    translation=self._camera_pose[:3, 3], quaternion=Rotation.from_matrix(rot).as_quat()
+                ),
             )
         if self._camera_k is None or not np.allclose(self._camera_k, k) or self._camera_res != resolution:
             self._camera_k, self._camera_res = np.array(k, dtype=float), resolution
