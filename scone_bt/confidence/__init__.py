@@ -4,12 +4,20 @@
     est.update(embedder.embed_one("Put salt on table"), success=False)
     est.predict(embedder.embed(actions))        # (n,) success probabilities in [0, 1]
 
-See base.py for the cold start, epsilon.py for ε-greedy, conformal.py for the estimator with a stated error rate.
+See base.py for the cold start, epsilon.py for ε-greedy (belief vs. decision), conformal.py for the estimator with
+a stated error rate, gp.py for the GP classifier, grounded.py for κ̂ that also sees the execution context.
 """
 
 from scone_bt.confidence.base import ConfidenceEstimator
 from scone_bt.confidence.conformal import ConformalKNNEstimator
 from scone_bt.confidence.epsilon import EpsilonGreedy
+from scone_bt.confidence.gp import GPEstimator
+from scone_bt.confidence.grounded import (
+    CONTEXT_FIELDS,
+    ExecutionContext,
+    GroundedEstimator,
+    grounded_features,
+)
 from scone_bt.confidence.models import (
     KNNEstimator,
     LGBMEstimator,
@@ -19,20 +27,26 @@ from scone_bt.confidence.models import (
     XGBEstimator,
 )
 from scone_bt.confidence.rebuild import rebuild_estimator, training_data
-from scone_bt.confidence.registry import BASE_ESTIMATORS, ESTIMATORS, make_estimator
+from scone_bt.confidence.registry import BASE_ESTIMATORS, ESTIMATORS, GROUNDED_ESTIMATORS, make_estimator
 
 __all__ = [
     "BASE_ESTIMATORS",
+    "CONTEXT_FIELDS",
     "ESTIMATORS",
     "ConfidenceEstimator",
     "ConformalKNNEstimator",
     "EpsilonGreedy",
+    "ExecutionContext",
+    "GPEstimator",
+    "GROUNDED_ESTIMATORS",
+    "GroundedEstimator",
     "KNNEstimator",
     "LGBMEstimator",
     "MLPEstimator",
     "RandomForestEstimator",
     "SVMEstimator",
     "XGBEstimator",
+    "grounded_features",
     "make_estimator",
     "rebuild_estimator",
     "training_data",

@@ -163,6 +163,14 @@ class ConfidenceEstimator(ABC):
                 self._memo[keys[i]] = float(v)
         return out
 
+    def belief(self, X: np.ndarray) -> np.ndarray:
+        """κ̂'s success probability for each row of X: what evaluation scores (equal to predict here)."""
+        return self.predict(X)
+
+    def decide(self, X: np.ndarray, threshold: float = 0.5) -> np.ndarray:
+        """Which rows the robot would attempt (bool (n,)): belief ≥ threshold (ε-greedy also explores)."""
+        return self.belief(X) >= threshold
+
     def _predict_uncached(self, X: np.ndarray) -> np.ndarray:
         if self._fitted:
             return self._predict_model(X)

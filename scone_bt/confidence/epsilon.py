@@ -1,7 +1,16 @@
-"""ε-greedy κ̂: with probability ε, decaying with observations, report full confidence so the robot tries.
+"""ε-greedy κ̂: exploration changes which actions the robot tries, never the belief that is scored.
 
 Without it, an estimator whose early outcomes were failures predicts failure everywhere, the robot only ever
 asks for help, and it never observes another outcome (the cold-start trap the paper counters with ε-greedy).
+
+The rule (what the self-confidence benchmark tests):
+- `belief(X)` is the wrapped estimator's probability, unchanged: trained on the same labels, ε-X and X have the
+  same belief function. This is what AUC, AUROC, Brier and ECE score.
+- `decide(X, τ)` is what the robot attempts: belief ≥ τ, or an exploration draw below ε. Exploring, the robot
+  acts despite low confidence and so observes a label it would otherwise never get (it asked for help instead).
+  The benefit of ε-greedy is therefore in *which labels the robot collects* online; with ε = 0 it never explores.
+- `predict(X)` is what the behaviour tree's gate reads today: 1.0 on an exploration draw, else the belief, so that
+  a gate comparing predict with its threshold acts exactly when `decide` says so.
 
 ε after n outcomes is ε₀ · 2^(−n / half_life). The exploration draw for an action is a hash of (seed, n, the
 action's embedding): fixed until the next outcome, so the gate does not flicker between ticks of the tree, and
@@ -89,7 +98,19 @@ class EpsilonGreedy(ConfidenceEstimator):
         )
         return draws < eps
 
+    def belief(self, X: np.ndarray) -> np.ndarray:
+        """The wrapped estimator's success probability (exploration never touches it)."""
+        return self.base.predict(X)
+
+    def decide(self, X: np.ndarray, threshold: float = 0.5) -> np.ndarray:
+        """Rows the robot attempts: confident (belief ≥ threshold) or exploring."""
+        X = np.atleast_2d(np.asarray(X, dtype=np.float32))
+        if len(X) == 0:
+            return np.zeros(0, dtype=bool)
+        return (self.belief(X) >= threshold) | self.explores(X)
+
     def predict(self, X: np.ndarray) -> np.ndarray:
+        """The gate's reading: 1.0 where the robot explores, else the belief."""
         X = np.atleast_2d(np.asarray(X, dtype=np.float32))
         if len(X) == 0:
             return np.zeros(0)

@@ -1,4 +1,9 @@
-"""κ̂ by name: the paper's six classifiers, our conformal one, and an ε-greedy variant of each."""
+"""κ̂ by name: the paper's six classifiers, a GP, our conformal one, an ε-greedy variant of each, and grounded ones.
+
+ESTIMATORS read action embeddings only (the tree's gate, every benchmark over actions). GROUNDED_ESTIMATORS
+("grounded-<base>") read an embedding followed by the execution context (see grounded.py); make_estimator builds
+either. "xgboost" is accepted for "xgb".
+"""
 
 from __future__ import annotations
 
@@ -7,6 +12,8 @@ from collections.abc import Callable
 from scone_bt.confidence.base import ConfidenceEstimator
 from scone_bt.confidence.conformal import ConformalKNNEstimator
 from scone_bt.confidence.epsilon import EpsilonGreedy
+from scone_bt.confidence.gp import GPEstimator
+from scone_bt.confidence.grounded import GroundedEstimator
 from scone_bt.confidence.models import (
     KNNEstimator,
     LGBMEstimator,
@@ -17,7 +24,7 @@ from scone_bt.confidence.models import (
 )
 from scone_bt.errors import SconeError, UnknownNameError
 
-__all__ = ["BASE_ESTIMATORS", "ESTIMATORS", "make_estimator"]
+__all__ = ["BASE_ESTIMATORS", "ESTIMATORS", "GROUNDED_ESTIMATORS", "make_estimator"]
 
 _FACTORIES: dict[str, Callable[..., ConfidenceEstimator]] = {
     "knn": KNNEstimator,
@@ -26,28 +33,40 @@ _FACTORIES: dict[str, Callable[..., ConfidenceEstimator]] = {
     "svm": SVMEstimator,
     "mlp": MLPEstimator,
     "xgb": XGBEstimator,
+    "gp": GPEstimator,
     "conformal": ConformalKNNEstimator,
 }
 BASE_ESTIMATORS: tuple[str, ...] = tuple(_FACTORIES)
 ESTIMATORS: tuple[str, ...] = (*BASE_ESTIMATORS, *(f"eps-{n}" for n in BASE_ESTIMATORS))
+GROUNDED_ESTIMATORS: tuple[str, ...] = tuple(f"grounded-{n}" for n in BASE_ESTIMATORS if n != "conformal")
+_ALIASES = {"xgboost": "xgb"}
 _EPS_KEYS = ("epsilon", "half_life")
+_GROUNDED_KEYS = ("n_context", "context_weight")
 
 
 def make_estimator(name: str, seed: int = 0, **options: float) -> ConfidenceEstimator:
     """A fresh estimator by name (see ESTIMATORS), e.g. make_estimator("eps-knn", seed=3, epsilon=0.2).
 
     Args:
-        name: One of ESTIMATORS.
+        name: One of ESTIMATORS or GROUNDED_ESTIMATORS (or "xgboost").
         seed: Seeds model fitting and ε-greedy draws.
         **options: Constructor options: k (knn, conformal), n_estimators (rf, lgbm, xgb), C (svm), hidden
-            (mlp), prior (all but conformal), epsilon and half_life (eps-* only).
+            (mlp), length_scale and restarts (gp), prior (all but conformal), epsilon and half_life (eps-*
+            only), n_context and context_weight (grounded-* only).
 
     Raises:
         UnknownNameError: not one of ESTIMATORS.
         SconeError: an option the estimator does not take.
     """
+    name = _ALIASES.get(name, name)
+    if name.startswith("grounded-"):
+        if name not in GROUNDED_ESTIMATORS:
+            raise UnknownNameError("estimator", name, (*ESTIMATORS, *GROUNDED_ESTIMATORS))
+        grounded_opts = {k: options.pop(k) for k in _GROUNDED_KEYS if k in options}
+        inner = make_estimator(name.removeprefix("grounded-"), seed, **options)
+        return GroundedEstimator(inner, **grounded_opts)
     if name not in ESTIMATORS:
-        raise UnknownNameError("estimator", name, ESTIMATORS)
+        raise UnknownNameError("estimator", name, (*ESTIMATORS, *GROUNDED_ESTIMATORS))
     eps_opts = {k: options.pop(k) for k in _EPS_KEYS if k in options}
     base_name = name.removeprefix("eps-")
     if eps_opts and base_name == name:

@@ -7,6 +7,12 @@ instructions and actions, so both stay in one joint space.
 
 Inference runs the head in NumPy (no torch), after the frozen encoder's cached vectors. Saved as
 `head.safetensors` + `finetuned.json`; loading never unpickles anything.
+
+"mpnet-ft" (the paper's "MPNet ft", `load_or_train_finetuned`): the head trained on MPNet with the instruction-
+following train states (tools/data/if/train.jsonl: recipe instruction → the actions that serve it). It never sees
+an execution outcome, so it leaks nothing into the self-confidence test rows. It is trained once (about a minute
+on one CPU core once MPNet's vectors are cached) and cached under <cache dir>/models/finetuned-<base>-<key>,
+where the key hashes the states file, the base and the training options.
 """
 
 from __future__ import annotations
@@ -32,6 +38,7 @@ __all__ = [
     "FinetuneOptions",
     "FinetunedEmbedder",
     "InstructionExample",
+    "load_or_train_finetuned",
     "ranking_accuracy",
     "train_finetuned",
 ]
@@ -357,3 +364,46 @@ def _base_spec(base: Embedder) -> str:
             )
         return base.name
     return str(Path(model_dir).resolve())
+
+
+def load_or_train_finetuned(
+    states_file: Path,
+    base: str = "mpnet",
+    cache_dir: Path | None = None,
+    *,
+    options: FinetuneOptions | None = None,
+    disk_cache: bool = True,
+) -> FinetunedEmbedder:
+    """The head trained on an instruction-following states file, from the cache or trained now and cached.
+
+    Args:
+        states_file: JSON lines with instruction, available and relevant (the IF benchmark's schema).
+        base: Frozen encoder name ("mpnet", "minilm", "glove").
+        cache_dir: Cache folder (default: scone_bt's); the head lands in models/finetuned-<base>-<key>.
+        options: Training settings (FinetuneOptions()).
+        disk_cache: Keep embeddings in the SQLite cache.
+
+    Raises:
+        RecipeError: the states file is missing or malformed.
+    """
+    from scone_bt.embedding.cache import default_cache_dir
+    from scone_bt.instruction_following.states import load_states
+
+    opts = options or FinetuneOptions()
+    states_file = Path(states_file)
+    states = load_states(states_file)  # validates; one-line RecipeError naming the line
+    key = hashlib.sha1(
+        states_file.read_bytes() + base.encode() + json.dumps(asdict(opts), sort_keys=True).encode()
+    ).hexdigest()[:12]
+    root = Path(cache_dir if cache_dir is not None else default_cache_dir())
+    target = root / "models" / f"finetuned-{base}-{key}"
+    if (target / "finetuned.json").is_file():
+        return FinetunedEmbedder.load(target, cache_dir, disk_cache=disk_cache)
+    examples = [(s.instruction, tuple(sorted(s.relevant)), tuple(s.available)) for s in states]
+    trained = train_finetuned(examples, base, None, options=opts, cache_dir=cache_dir)
+    trained.meta["trained_on"] = states_file.name
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = target.parent / f".{target.name}.tmp"
+    trained.save(tmp)
+    tmp.replace(target)  # a half-written head never looks finished
+    return FinetunedEmbedder.load(target, cache_dir, disk_cache=disk_cache)

@@ -95,6 +95,7 @@ def load_embedder(
 
     Args:
         name: "minilm" (default), "mpnet" (after `scone-models install mpnet`), "glove", "onehot",
+            "mpnet-ft" (MPNet + the paper's triplet-trained head, trained on first use and cached),
             "finetuned:<dir>", or the path of any local sentence-transformers model directory (e.g. a BGE model).
         cache_dir: Folder for the embedding cache (embeddings.sqlite) and assembled models; default
             $SCONE_BT_CACHE or ~/.cache/scone_bt.
@@ -123,6 +124,8 @@ def load_embedder(
         return GloveEmbedder(cache_file)
     if name == "onehot":
         return OneHotEmbedder(vocabulary)
+    if name == "mpnet-ft":
+        return _mpnet_ft(cache_dir, disk_cache)
     if name.startswith("finetuned:"):
         return FinetunedEmbedder.load(Path(name.removeprefix("finetuned:")), cache_dir, disk_cache=disk_cache)
     path = Path(name).expanduser()
@@ -130,7 +133,26 @@ def load_embedder(
         if (path / "finetuned.json").is_file():
             return FinetunedEmbedder.load(path, cache_dir, disk_cache=disk_cache)
         return SentenceTransformerEmbedder(str(path.resolve()), path, cache_file)
-    raise UnknownNameError("embedder", name, [*EMBEDDER_NAMES, "finetuned:<dir>", "<model directory>"])
+    raise UnknownNameError(
+        "embedder", name, [*EMBEDDER_NAMES, "mpnet-ft", "finetuned:<dir>", "<model directory>"]
+    )
+
+
+def _mpnet_ft(cache_dir: Path | None, disk_cache: bool) -> Embedder:
+    """MPNet with the triplet head trained on the checkout's instruction-following train states."""
+    from scone_bt.embedding.finetuned import load_or_train_finetuned
+    from scone_bt.resources import repo_root
+
+    if mpnet_dir(cache_dir) is None:
+        raise ModelUnavailableError(f"mpnet-ft needs MPNet; {_INSTALL_HINT}")
+    root = repo_root()
+    states = root / "tools" / "data" / "if" / "train.jsonl" if root is not None else None
+    if states is None or not states.is_file():
+        raise ModelUnavailableError(
+            "mpnet-ft trains on tools/data/if/train.jsonl of a checkout; train a head with "
+            "scone_bt.embedding.train_finetuned and pass finetuned:<dir>"
+        )
+    return load_or_train_finetuned(states, "mpnet", cache_dir, disk_cache=disk_cache)
 
 
 def available_embedders(cache_dir: Path | None = None) -> list[EmbedderInfo]:
@@ -153,6 +175,9 @@ def available_embedders(cache_dir: Path | None = None) -> list[EmbedderInfo]:
     except ModelUnavailableError as exc:
         out.append(EmbedderInfo("glove", False, str(exc)))
     out.append(EmbedderInfo("onehot", True, "one axis per action text (baseline)"))
+    out.append(
+        EmbedderInfo("mpnet-ft", path is not None, "MPNet + triplet head (128-d), trained on first use")
+    )
     out.append(EmbedderInfo("finetuned:<dir>", True, "a head trained by scone_bt.embedding.train_finetuned"))
     out.append(EmbedderInfo("<model directory>", True, "any local sentence-transformers model (e.g. BGE)"))
     return out

@@ -150,3 +150,54 @@ def test_random_forest_fast_path_matches_predict_proba():
     est = make_estimator("rf", seed=0).fit(X, y)
     Xt, _ = _profile(21, seed=10)
     np.testing.assert_allclose(est.predict(Xt), est._model.predict_proba(Xt)[:, 1], atol=1e-12)
+
+
+def test_epsilon_belief_is_the_base_probability_and_decide_adds_exploration():
+    X, y = _profile(120, seed=9)
+    eps = make_estimator("eps-lgbm", seed=3, epsilon=0.6, half_life=1e6).fit(X[:80], y[:80])
+    plain = make_estimator("lgbm", seed=3).fit(X[:80], y[:80])
+    np.testing.assert_allclose(eps.belief(X[80:]), plain.predict(X[80:]))
+    explore = eps.explores(X[80:])
+    assert explore.any() and not explore.all()
+    np.testing.assert_array_equal(eps.decide(X[80:], 0.5), (plain.predict(X[80:]) >= 0.5) | explore)
+    np.testing.assert_array_equal(eps.predict(X[80:]) == 1.0, explore | (plain.predict(X[80:]) == 1.0))
+    np.testing.assert_array_equal(plain.decide(X[80:], 0.5), plain.belief(X[80:]) >= 0.5)
+
+
+def test_gp_generalises_by_embedding_distance():
+    rng = np.random.default_rng(0)
+    good, bad = rng.standard_normal(16), rng.standard_normal(16)
+    X = np.vstack([good + 0.1 * rng.standard_normal((10, 16)), bad + 0.1 * rng.standard_normal((10, 16))])
+    y = np.array([True] * 10 + [False] * 10)
+    gp = make_estimator("gp", seed=0).fit(X, y)
+    p = gp.predict(np.vstack([good, bad]))
+    assert p[0] > 0.7 and p[1] < 0.3
+    assert make_estimator("gp").predict(X[:2]) == pytest.approx([0.5, 0.5])  # cold start: the prior
+
+
+def test_grounded_estimator_prepares_context_from_its_training_rows_only():
+    from scone_bt.confidence import CONTEXT_FIELDS, ExecutionContext, grounded_features
+
+    ctx = ExecutionContext(shelf_tier=1, clearance_m=0.02, detected=False)
+    v = ctx.vector()
+    assert len(v) == len(CONTEXT_FIELDS) == 6 and v[0] == 1.0 and v[3] == 0.0 and np.isnan(v[4])
+    emb = np.eye(4)[[0, 0, 1, 1, 2, 2, 3, 3]]
+    clearance = [0.01, 0.06, 0.01, 0.06, 0.01, 0.06, 0.01, 0.06]
+    contexts = [ExecutionContext(clearance_m=c, detected=True, detected_width_m=None) for c in clearance]
+    F = grounded_features(emb, contexts)
+    assert F.shape == (8, 10)
+    y = np.array(clearance) > 0.03  # the object says nothing; the clearance decides
+    est = make_estimator("grounded-knn", seed=0, k=1).fit(F, y)
+    assert est.name == "grounded-knn"
+    Z = est.transform(F)
+    assert Z.shape == (8, 4 + 6 + 6)
+    assert np.isfinite(Z).all()  # imputed
+    assert est.predict(F).tolist() == y.astype(float).tolist()
+    plain = make_estimator("knn", seed=0, k=1).fit(emb, y)
+    assert (plain.predict(emb) == y).mean() < 1.0  # without context it cannot tell them apart
+    with pytest.raises(SconeError, match="6 contexts|contexts"):
+        grounded_features(emb, contexts[:3])
+    with pytest.raises(SconeError, match="grounded_features"):
+        make_estimator("grounded-knn").fit(np.ones((3, 4)), np.array([True, False, True]))
+    with pytest.raises(UnknownNameError, match="grounded-knn"):
+        make_estimator("grounded-conformal")

@@ -1,150 +1,85 @@
-"""The paper's Algorithm 1: how fast and how well an embedder × estimator pair learns self-confidence.
+"""``scone-bench sc evaluate``: embedders × estimators × protocols over a folder of self-confidence datasets.
 
-For every shuffle s and dataset d: permute d's rows (seeded by s and d, identical for every pair), keep the last
-`n_test` rows as the test set, and for n_train = 10, 20, …, 80 fit a fresh estimator on the first n_train rows and
-score its predictions on the test set. Accuracy per step is averaged over datasets (the learning curve); its
-normalised area is the paper's number. AUROC, Brier score and ECE are computed at the largest n_train on the test
-predictions of all datasets pooled (20 rows per dataset are too few for a per-dataset AUROC). Every number is
-reported as mean ± std over shuffles.
+    scone-bench sc evaluate                                   # tools/data/sc, every installed embedder
+    scone-bench sc evaluate --data my_logs/ --embedders minilm,onehot --estimators lgbm,eps-knn --json r.json
+    scone-bench sc evaluate --protocols novel_products --estimators gp,grounded-lgbm --out docs/results
+    scone-bench sc evaluate --ray auto --workers 16           # the grid on a Ray cluster, same numbers
+
+The protocols and the ε-greedy rule are documented in protocols.py. Every distinct action text is embedded once
+per embedder (the embedding cache makes a rerun start fast); grounded estimators get each row's embedding followed
+by its execution context. The pairs run as independent tasks (local processes or Ray; results are identical).
+JSON: ``protocols`` → ``algorithm1`` | ``novel_products`` | ``leave_family_out`` → list of
+``{embedder, estimator, auc: {mean, std}, auroc, brier, ece, ...}``; ``--out DIR`` adds Markdown and PNGs.
 """
 
 from __future__ import annotations
 
+import argparse
+import os
+import sys
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
-from typing import Any, Protocol
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+from typing import Protocol as TypingProtocol
 
 import numpy as np
 
 from scone_bt.benchmarks.self_confidence.dataset import Dataset
-from scone_bt.benchmarks.self_confidence.metrics import (
-    accuracy,
-    auroc,
-    brier_score,
-    expected_calibration_error,
-    normalised_auc,
+from scone_bt.benchmarks.self_confidence.evaldata import EvalDataset, load_eval_datasets
+from scone_bt.benchmarks.self_confidence.protocols import (
+    EstimatorFactory,
+    EvalOptions,
+    PairResult,
+    Protocol,
+    evaluate_protocols,
+    row_order,
 )
-from scone_bt.errors import ConfigError
+from scone_bt.errors import ConfigError, SconeError, UnknownNameError
 
 __all__ = [
-    "EvalOptions",
-    "PairResult",
+    "DEFAULT_EMBEDDERS",
+    "DEFAULT_ESTIMATORS",
     "Estimator",
     "EstimatorFactory",
-    "embed_datasets",
-    "evaluate_pair",
+    "EvalOptions",
     "GridInputs",
+    "PairResult",
+    "embed_datasets",
     "evaluate_grid_pair",
+    "evaluate_pair",
     "prior_baseline",
+    "register_evaluate",
+    "run_evaluate",
     "shuffled_order",
 ]
 
+DEFAULT_EMBEDDERS = ("onehot", "glove", "minilm", "mpnet", "mpnet-ft")
+"""Embedders of the default grid (those not installed are skipped and reported)."""
+_PAPER = ("knn", "lgbm", "rf", "svm", "mlp", "xgb")
+DEFAULT_ESTIMATORS = (*_PAPER, *(f"eps-{n}" for n in _PAPER), "gp", "grounded-lgbm", "grounded-gp")
+"""Estimators of the default grid: the paper's six, each ε-greedy, the GP, and two grounded ones."""
 
-class Estimator(Protocol):
+
+class Estimator(TypingProtocol):
     """What the evaluation needs of κ̂ (scone_bt.confidence estimators satisfy it)."""
 
     def fit(self, X: np.ndarray, y: np.ndarray) -> Any: ...
 
-    def predict(self, X: np.ndarray) -> np.ndarray: ...
+    def belief(self, X: np.ndarray) -> np.ndarray: ...
 
-
-EstimatorFactory = Callable[[int], Estimator]
-"""Builds a fresh, untrained estimator from a seed."""
-
-
-@dataclass(frozen=True)
-class EvalOptions:
-    """Settings of Algorithm 1.
-
-    Attributes:
-        n_test: Rows at the end of each shuffled dataset used for testing.
-        steps: Training-set sizes n_train, increasing.
-        shuffles: Number of seeded row permutations (≥ 1; the paper's protocol asks ≥ 5).
-        seed: Base seed of the permutations and the estimators.
-        ece_bins: Equal-width bins of the calibration error.
-        threshold: Success is predicted when κ̂ ≥ threshold.
-    """
-
-    n_test: int = 20
-    steps: tuple[int, ...] = (10, 20, 30, 40, 50, 60, 70, 80)
-    shuffles: int = 5
-    seed: int = 0
-    ece_bins: int = 10
-    threshold: float = 0.5
-
-    def __post_init__(self) -> None:
-        if self.n_test < 1 or self.shuffles < 1 or not self.steps:
-            raise ConfigError("n_test and shuffles must be ≥ 1 and steps non-empty")
-        if list(self.steps) != sorted(set(self.steps)) or self.steps[0] < 1:
-            raise ConfigError(f"steps must be distinct, increasing and ≥ 1, got {list(self.steps)}")
-
-    @property
-    def min_rows(self) -> int:
-        return self.steps[-1] + self.n_test
-
-
-@dataclass(frozen=True)
-class PairResult:
-    """Algorithm 1's numbers for one embedder × estimator pair (means and stds over shuffles).
-
-    Attributes:
-        embedder: Embedder name.
-        estimator: Estimator name.
-        steps: n_train values.
-        curve_mean: Accuracy per step, averaged over datasets, then over shuffles.
-        curve_std: Std over shuffles of the dataset-averaged accuracy per step.
-        auc: Normalised area under the learning curve per shuffle.
-        auroc: Pooled AUROC at the largest n_train per shuffle.
-        brier: Pooled Brier score at the largest n_train per shuffle.
-        ece: Pooled expected calibration error at the largest n_train per shuffle.
-        final_accuracy: Dataset-averaged accuracy at the largest n_train per shuffle.
-        wall_s: Wall time of this pair's evaluation, seconds.
-    """
-
-    embedder: str
-    estimator: str
-    steps: tuple[int, ...]
-    curve_mean: tuple[float, ...]
-    curve_std: tuple[float, ...]
-    auc: tuple[float, ...]
-    auroc: tuple[float, ...]
-    brier: tuple[float, ...]
-    ece: tuple[float, ...]
-    final_accuracy: tuple[float, ...]
-    wall_s: float = field(default=0.0, compare=False)
-
-    @staticmethod
-    def _ms(values: Sequence[float]) -> dict[str, float]:
-        v = np.asarray(values, dtype=float)
-        return {
-            "mean": float(np.nanmean(v)),
-            "std": float(np.nanstd(v)),
-            "per_shuffle": [float(x) for x in v],
-        }
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready numbers."""
-        return {
-            "embedder": self.embedder,
-            "estimator": self.estimator,
-            "n_train": list(self.steps),
-            "accuracy_curve": {"mean": list(self.curve_mean), "std": list(self.curve_std)},
-            "auc": self._ms(self.auc),
-            "final_accuracy": self._ms(self.final_accuracy),
-            "auroc": self._ms(self.auroc),
-            "brier": self._ms(self.brier),
-            "ece": self._ms(self.ece),
-            "wall_s": round(self.wall_s, 3),
-        }
+    def decide(self, X: np.ndarray, threshold: float = 0.5) -> np.ndarray: ...
 
 
 def shuffled_order(n: int, shuffle: int, dataset_index: int, seed: int = 0) -> np.ndarray:
-    """The row permutation of one dataset in one shuffle (shared by every embedder and estimator)."""
-    return np.random.default_rng([seed, shuffle, dataset_index]).permutation(n)
+    """The row order of one dataset in one shuffle (protocols.row_order)."""
+    return row_order(n, shuffle, dataset_index, seed)
 
 
-def embed_datasets(datasets: Sequence[Dataset], embed: Callable[[list[str]], np.ndarray]) -> list[np.ndarray]:
+def embed_datasets(
+    datasets: Sequence[Dataset | EvalDataset], embed: Callable[[list[str]], np.ndarray]
+) -> list[np.ndarray]:
     """(n, d) float matrices, one per dataset; each distinct action text is embedded once."""
     texts = sorted({a for d in datasets for a in d.actions})
     vectors = np.asarray(embed(texts), dtype=np.float64)
@@ -154,119 +89,296 @@ def embed_datasets(datasets: Sequence[Dataset], embed: Callable[[list[str]], np.
     return [vectors[[row[a] for a in d.actions]] for d in datasets]
 
 
-def _check(datasets: Sequence[Dataset], options: EvalOptions) -> None:
-    if not datasets:
-        raise ConfigError("no datasets to evaluate")
-    short = [d for d in datasets if len(d) < options.min_rows]
-    if short:
-        raise ConfigError(
-            f"dataset {short[0].name} has {len(short[0])} rows; n_train up to {options.steps[-1]} "
-            f"plus {options.n_test} test rows needs {options.min_rows}"
-        )
+def _as_eval(datasets: Sequence[Dataset | EvalDataset]) -> list[EvalDataset]:
+    return [d if isinstance(d, EvalDataset) else EvalDataset.from_dataset(d) for d in datasets]
 
 
 def evaluate_pair(
     embedder: str,
     estimator: str,
-    datasets: Sequence[Dataset],
+    datasets: Sequence[Dataset | EvalDataset],
     features: Sequence[np.ndarray],
     make: EstimatorFactory,
-    options: EvalOptions = EvalOptions(),
+    options: EvalOptions | None = None,
+    protocols: Sequence[Protocol] = (Protocol.ALGORITHM1,),
 ) -> PairResult:
-    """Run Algorithm 1 for one pair.
-
-    Args:
-        embedder: Name recorded in the result.
-        estimator: Name recorded in the result.
-        datasets: The datasets (their outcomes and order).
-        features: Embedded actions per dataset, rows aligned with the dataset's rows.
-        make: Fresh estimator from a seed; called once per dataset, shuffle and step.
-        options: Protocol settings.
-    """
-    _check(datasets, options)
-    t0 = time.perf_counter()
-    steps = options.steps
-    curves = np.zeros((options.shuffles, len(steps)))
-    aucs, aurocs, briers, eces, finals = [], [], [], [], []
-    for s in range(options.shuffles):
-        acc = np.zeros((len(datasets), len(steps)))
-        pooled_p, pooled_y = [], []
-        for di, (data, X) in enumerate(zip(datasets, features, strict=True)):
-            order = shuffled_order(len(data), s, di, options.seed)
-            Xs, ys = X[order], data.success[order]
-            X_test, y_test = Xs[-options.n_test :], ys[-options.n_test :]
-            for k, n in enumerate(steps):
-                est = make(options.seed * 1000 + s)
-                est.fit(Xs[:n], ys[:n])
-                p = np.clip(np.asarray(est.predict(X_test), dtype=float).reshape(-1), 0.0, 1.0)
-                acc[di, k] = accuracy(p, y_test, options.threshold)
-            pooled_p.append(p)
-            pooled_y.append(y_test)
-        curve = acc.mean(axis=0)
-        curves[s] = curve
-        aucs.append(normalised_auc(steps, curve))
-        finals.append(float(curve[-1]))
-        p_all, y_all = np.concatenate(pooled_p), np.concatenate(pooled_y)
-        aurocs.append(auroc(p_all, y_all))
-        briers.append(brier_score(p_all, y_all))
-        eces.append(expected_calibration_error(p_all, y_all, options.ece_bins))
-    return PairResult(
-        embedder=embedder,
-        estimator=estimator,
-        steps=tuple(steps),
-        curve_mean=tuple(float(v) for v in curves.mean(axis=0)),
-        curve_std=tuple(float(v) for v in curves.std(axis=0)),
-        auc=tuple(aucs),
-        auroc=tuple(aurocs),
-        brier=tuple(briers),
-        ece=tuple(eces),
-        final_accuracy=tuple(finals),
-        wall_s=time.perf_counter() - t0,
-    )
+    """One pair under the given protocols (default: Algorithm 1 only, default EvalOptions)."""
+    opts = options or EvalOptions()
+    return evaluate_protocols(embedder, estimator, _as_eval(datasets), features, make, protocols, opts)
 
 
 class _Prior:
-    """Predicts the training prefix's success rate for every action (what κ̂ must beat)."""
+    """Predicts the training prefix's Laplace-smoothed success rate for every action (what κ̂ must beat)."""
 
     def fit(self, X: np.ndarray, y: np.ndarray) -> _Prior:
-        self.rate = float(np.mean(y)) if len(y) else 0.5
+        self.rate = (float(np.sum(y)) + 1.0) / (len(y) + 2.0)
         return self
 
-    def predict(self, X: np.ndarray) -> np.ndarray:
+    def belief(self, X: np.ndarray) -> np.ndarray:
         return np.full(len(X), self.rate)
 
+    def decide(self, X: np.ndarray, threshold: float = 0.5) -> np.ndarray:
+        return self.belief(X) >= threshold
 
-def prior_baseline(datasets: Sequence[Dataset], options: EvalOptions = EvalOptions()) -> PairResult:
-    """Algorithm 1 for a predictor that ignores the action (the majority outcome seen so far)."""
+
+def prior_baseline(
+    datasets: Sequence[Dataset | EvalDataset],
+    options: EvalOptions | None = None,
+    protocols: Sequence[Protocol] = (Protocol.ALGORITHM1,),
+) -> PairResult:
+    """Every protocol for a predictor that ignores the action (the smoothed success rate seen so far)."""
     zeros = [np.zeros((len(d), 1)) for d in datasets]
-    return evaluate_pair("none", "prior", datasets, zeros, lambda seed: _Prior(), options)
+    return evaluate_pair("none", "prior", datasets, zeros, lambda seed: _Prior(), options, protocols)  # type: ignore[arg-type, return-value]
 
 
 @dataclass(frozen=True)
 class GridInputs:
-    """What every pair of the embedder × estimator grid reads (shipped once per worker by scone_bt.distributed).
+    """What every pair of the grid reads (shipped once per worker by scone_bt.distributed).
 
     Attributes:
         datasets: The datasets.
         features: Embedded actions per dataset, per embedder name.
         options: Protocol settings.
+        protocols: Protocols to run.
     """
 
-    datasets: tuple[Dataset, ...]
+    datasets: tuple[Dataset | EvalDataset, ...]
     features: dict[str, list[np.ndarray]]
     options: EvalOptions
+    protocols: tuple[Protocol, ...] = tuple(Protocol)
 
 
 def evaluate_grid_pair(pair: tuple[str, str], inputs: GridInputs) -> PairResult:
-    """Algorithm 1 for one (embedder, estimator) pair of the grid, with scone_bt.confidence's estimator."""
+    """One (embedder, estimator) pair of the grid with scone_bt.confidence's estimator."""
     from scone_bt.confidence import make_estimator
 
     emb, est = pair
-    return evaluate_pair(
+    datasets = _as_eval(inputs.datasets)
+    features = inputs.features[emb]
+    if est.startswith("grounded-"):
+        features = [np.hstack([X, d.context]) for X, d in zip(features, datasets, strict=True)]
+    opts = inputs.options
+    eps = {"epsilon": opts.epsilon, "half_life": opts.half_life} if est.startswith("eps-") else {}
+    return evaluate_protocols(
         emb,
         est,
-        inputs.datasets,
-        inputs.features[emb],
-        lambda seed: make_estimator(est, seed=seed),
-        inputs.options,
+        datasets,
+        features,
+        lambda seed: make_estimator(est, seed=seed, **eps),
+        inputs.protocols,
+        opts,
     )
+
+
+# ----------------------------------------------------------------------------------------------- command
+def _names(values: Sequence[str] | None, default: Sequence[str]) -> list[str]:
+    """Comma- or space-separated names, in order, without repeats."""
+    if not values:
+        return list(default)
+    out = [n.strip() for v in values for n in v.split(",") if n.strip()]
+    return list(dict.fromkeys(out))
+
+
+def _check_names(
+    protocols: list[str], embedders: list[str], estimators: list[str]
+) -> tuple[list[Protocol], list[str]]:
+    from scone_bt.confidence import ESTIMATORS, GROUNDED_ESTIMATORS
+    from scone_bt.embedding.registry import EMBEDDER_NAMES
+
+    valid_p = [p.value for p in Protocol]
+    for p in protocols:
+        if p not in valid_p:
+            raise UnknownNameError("protocol", p, valid_p)
+    valid_e = [*EMBEDDER_NAMES, "mpnet-ft"]
+    for e in embedders:
+        if e not in valid_e and not e.startswith("finetuned:") and not Path(e).is_dir():
+            raise UnknownNameError("embedder", e, [*valid_e, "finetuned:<dir>", "<model directory>"])
+    valid_k = [*ESTIMATORS, *GROUNDED_ESTIMATORS, "xgboost"]
+    names = []
+    for k in estimators:
+        if k not in valid_k and k.replace("xgboost", "xgb") not in valid_k:
+            raise UnknownNameError("estimator", k, valid_k)
+        names.append(k.replace("xgboost", "xgb"))
+    return [Protocol(p) for p in protocols], list(dict.fromkeys(names))
+
+
+def _embed_all(
+    names: list[str], datasets: list[EvalDataset], cache_dir: Path | None, log: Callable[[str], None]
+) -> tuple[dict[str, list[np.ndarray]], dict[str, str], dict[str, float]]:
+    from scone_bt.embedding import load_embedder
+
+    features: dict[str, list[np.ndarray]] = {}
+    skipped: dict[str, str] = {}
+    seconds: dict[str, float] = {}
+    vocabulary = sorted({a for d in datasets for a in d.actions})
+    for name in names:
+        t0 = time.perf_counter()
+        try:
+            emb = load_embedder(name, cache_dir, vocabulary=vocabulary if name == "onehot" else None)
+            features[name] = embed_datasets(datasets, emb.embed)
+        except SconeError as exc:  # a model that is not installed is reported, not fatal
+            skipped[name] = str(exc)
+            log(f"skipping embedder {name}: {exc}")
+            continue
+        seconds[name] = round(time.perf_counter() - t0, 2)
+        log(f"embedded {len(vocabulary)} actions with {name} ({seconds[name]:.1f} s)")
+    return features, skipped, seconds
+
+
+def run_evaluate(args: argparse.Namespace) -> int:
+    """The ``sc evaluate`` handler (see the module docstring)."""
+    from scone_bt.benchmarks.self_confidence.report import (
+        dataset_summary,
+        evaluation_markdown,
+        plot_curves,
+        plot_reliability,
+        write_json,
+    )
+    from scone_bt.cli.bench import emit_report
+    from scone_bt.distributed import engine_from_args, map_tasks
+
+    def log(msg: str) -> None:
+        print(msg, file=sys.stderr, flush=True)
+
+    # One BLAS/OpenMP thread per worker: the fits are tiny, and threads of parallel workers only fight over cores.
+    for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ.setdefault(var, "1")
+    os.environ.setdefault("TOKENIZERS_PARALLELISM", "false")
+    t0 = time.perf_counter()
+    protocols, estimators = _check_names(
+        _names(args.protocols, [p.value for p in Protocol]),
+        embedders := _names(args.embedders, DEFAULT_EMBEDDERS),
+        _names(args.estimators, DEFAULT_ESTIMATORS),
+    )
+    if args.workers < 1:
+        raise ConfigError(f"--workers must be at least 1, got {args.workers}")
+    options = EvalOptions(
+        n_test=args.n_test,
+        steps=tuple(args.steps),
+        lofo_steps=tuple(args.lofo_steps),
+        shuffles=args.shuffles,
+        seed=args.seed,
+        epsilon=args.epsilon,
+        refit_every=args.refit_every,
+    )
+    datasets = load_eval_datasets(args.data, min_rows=options.min_rows, kitchen=args.kitchen)
+    features, skipped, embed_s = _embed_all(embedders, datasets, args.cache_dir, log)
+    embedders = [e for e in embedders if e in features]
+    if not embedders:
+        raise SconeError(f"no embedder could be loaded ({'; '.join(skipped.values())})")
+    if any(k.startswith("grounded-") for k in estimators) and all(
+        np.isnan(d.context).all() for d in datasets
+    ):
+        log(f"note: {args.data} has no context columns; grounded estimators see only missing-value flags")
+    t_embed = time.perf_counter() - t0
+    pairs = [(e, k) for e in embedders for k in estimators]
+    engine = engine_from_args(args, args.workers, progress="embedder × estimator")
+    inputs = GridInputs(tuple(datasets), {e: features[e] for e in embedders}, options, tuple(protocols))
+    results = map_tasks(evaluate_grid_pair, pairs, engine=engine, shared=inputs)  # in pair order
+    prior = prior_baseline(datasets, options, tuple(protocols))
+    wall = time.perf_counter() - t0
+    report: dict[str, Any] = {
+        "benchmark": "sc evaluate",
+        "data": str(args.data),
+        "options": {
+            "n_test": options.n_test,
+            "n_train": list(options.steps),
+            "lofo_n_train": list(options.lofo_steps),
+            "shuffles": options.shuffles,
+            "seed": options.seed,
+            "threshold": options.threshold,
+            "ece_bins": options.ece_bins,
+            "epsilon0": options.epsilon,
+            "half_life": options.half_life,
+            "refit_every": options.refit_every,
+        },
+        "datasets": dataset_summary(datasets, options),
+        "embedders": embedders,
+        "embedders_skipped": skipped,
+        "estimators": estimators,
+        "protocols": {p.value: [r.entry(p) for r in results] for p in protocols},
+        "prior": {p.value: prior.entry(p) for p in protocols},
+        "timing_s": {
+            "embedding": round(t_embed, 2),
+            "embedding_per_embedder": embed_s,
+            "total": round(wall, 2),
+            "workers": args.workers,
+            "engine": engine.label,
+        },
+    }
+    report = write_json(None, report)  # NaN → null, the same text as the file
+    if args.out is not None:
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        write_json(out / f"{args.name}.json", report)
+        (out / f"{args.name}.md").write_text(evaluation_markdown(report, args.name))
+        plot_curves(report, out, args.name)
+        plot_reliability(report, out / f"{args.name}_reliability.png")
+    emit_report(report, args.json, indent=1, make_parent=True)
+    return 0
+
+
+def _steps(text: str) -> list[int]:
+    try:
+        return [int(v) for v in text.replace(",", " ").split()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a list of integers: {text!r}") from None
+
+
+def register_evaluate(sc_sub: argparse._SubParsersAction) -> None:
+    """Add ``evaluate`` to ``scone-bench sc``."""
+    from scone_bt.distributed import add_engine_arguments
+
+    e = sc_sub.add_parser(
+        "evaluate",
+        help="embedders × estimators × protocols on a datasets folder (JSON; --out adds Markdown and PNGs)",
+        description=(
+            "Algorithm 1, novel products and leave-one-family-out for each embedder × estimator pair: "
+            "normalised AUC of the accuracy curve, AUROC, Brier, ECE and reliability at the largest n_train."
+        ),
+    )
+    e.add_argument(
+        "--data", type=Path, default=Path("tools/data/sc"), help="datasets folder (default: %(default)s)"
+    )
+    e.add_argument(
+        "--protocols",
+        nargs="+",
+        default=None,
+        help="comma or space separated: algorithm1, novel_products, leave_family_out (default: all)",
+    )
+    e.add_argument(
+        "--embedders",
+        nargs="+",
+        default=None,
+        help=f"default: {','.join(DEFAULT_EMBEDDERS)} (those not installed are skipped); also finetuned:<dir>",
+    )
+    e.add_argument(
+        "--estimators",
+        nargs="+",
+        default=None,
+        help="knn lgbm rf svm mlp xgb(oost) gp conformal, eps-<name>, grounded-<name> (default: "
+        f"{','.join(DEFAULT_ESTIMATORS)})",
+    )
+    e.add_argument("--json", type=Path, default=None, help="also write the JSON report to this file")
+    e.add_argument("--out", type=Path, default=None, help="folder for <name>.json, .md and PNGs")
+    e.add_argument(
+        "--name", default="self_confidence", help="stem of the files in --out (default: %(default)s)"
+    )
+    e.add_argument("--seed", type=int, default=0, help="seeds shuffles, estimators and ε draws (default: 0)")
+    e.add_argument("--workers", type=int, default=2, help="parallel processes or Ray workers (default: 2)")
+    e.add_argument("--shuffles", type=int, default=1, help="row orders; 1 = the datasets' own (default)")
+    e.add_argument("--n-test", type=int, default=20, help="test rows at the end (default: 20)")
+    e.add_argument(
+        "--steps", type=_steps, default=list(EvalOptions().steps), help="n_train values, e.g. 10,20,30"
+    )
+    e.add_argument(
+        "--lofo-steps", type=_steps, default=list(EvalOptions().lofo_steps), help="leave-family-out n_train"
+    )
+    e.add_argument("--epsilon", type=float, default=EvalOptions().epsilon, help="ε₀ of the ε-greedy robot")
+    e.add_argument(
+        "--refit-every", type=int, default=EvalOptions().refit_every, help="online refit interval (rows)"
+    )
+    e.add_argument("--kitchen", default="kitchen", help="catalogue for families when a file has none")
+    e.add_argument("--cache-dir", type=Path, default=None, help="embedding cache (default: scone_bt's)")
+    add_engine_arguments(e)
+    e.set_defaults(func=run_evaluate)

@@ -1,47 +1,104 @@
-"""Scores of probabilistic success predictions: accuracy, AUROC, Brier score, calibration error, curve area."""
+"""Scores of probabilistic success predictions: accuracy, AUROC and Brier (scikit-learn), calibration, curve area.
+
+scikit-learn has no expected calibration error; `reliability_bins` and `expected_calibration_error` compute it
+from equal-width bins (the reliability diagram's bars).
+"""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["accuracy", "auroc", "brier_score", "expected_calibration_error", "normalised_auc"]
+__all__ = [
+    "ReliabilityBin",
+    "accuracy",
+    "auroc",
+    "brier_score",
+    "expected_calibration_error",
+    "normalised_auc",
+    "reliability_bins",
+]
 
 
 def accuracy(p: np.ndarray, y: np.ndarray, threshold: float = 0.5) -> float:
-    """Fraction of outcomes predicted right when success is predicted for p ≥ threshold."""
-    return float(np.mean((np.asarray(p) >= threshold) == np.asarray(y, dtype=bool)))
+    """Fraction of outcomes predicted right when success is predicted for p ≥ threshold; NaN for no rows."""
+    from sklearn.metrics import accuracy_score
+
+    y = np.asarray(y, dtype=bool)
+    if len(y) == 0:
+        return float("nan")
+    return float(accuracy_score(y, np.asarray(p, dtype=float) >= threshold))
 
 
 def auroc(p: np.ndarray, y: np.ndarray) -> float:
-    """Area under the ROC curve (probability a success scores above a failure, ties count half); NaN if one class."""
-    p = np.asarray(p, dtype=float)
+    """Area under the ROC curve (ties count half); NaN when only one class occurs."""
+    from sklearn.metrics import roc_auc_score
+
     y = np.asarray(y, dtype=bool)
-    pos, neg = p[y], p[~y]
-    if len(pos) == 0 or len(neg) == 0:
+    if y.all() or not y.any():
         return float("nan")
-    greater = (pos[:, None] > neg[None, :]).sum()
-    ties = (pos[:, None] == neg[None, :]).sum()
-    return float((greater + 0.5 * ties) / (len(pos) * len(neg)))
+    return float(roc_auc_score(y, np.asarray(p, dtype=float)))
 
 
 def brier_score(p: np.ndarray, y: np.ndarray) -> float:
-    """Mean squared error of the success probability (0 is perfect, 0.25 is a constant 0.5)."""
-    return float(np.mean((np.asarray(p, dtype=float) - np.asarray(y, dtype=float)) ** 2))
+    """Mean squared error of the success probability (0 is perfect, 0.25 is a constant 0.5); NaN for no rows."""
+    from sklearn.metrics import brier_score_loss
+
+    y = np.asarray(y, dtype=bool)
+    if len(y) == 0:
+        return float("nan")
+    return float(brier_score_loss(y, np.clip(np.asarray(p, dtype=float), 0.0, 1.0), pos_label=True))
 
 
-def expected_calibration_error(p: np.ndarray, y: np.ndarray, bins: int = 10) -> float:
-    """Σ_b (n_b / n) |mean(y_b) − mean(p_b)| over `bins` equal-width probability bins."""
+@dataclass(frozen=True)
+class ReliabilityBin:
+    """One bar of a reliability diagram.
+
+    Attributes:
+        lower: Lower edge of the predicted-probability bin.
+        upper: Upper edge (the last bin includes 1.0).
+        count: Predictions in the bin.
+        mean_predicted: Mean predicted success probability in the bin (NaN if empty).
+        observed_rate: Observed success rate in the bin (NaN if empty).
+    """
+
+    lower: float
+    upper: float
+    count: int
+    mean_predicted: float
+    observed_rate: float
+
+
+def reliability_bins(p: np.ndarray, y: np.ndarray, bins: int = 10) -> list[ReliabilityBin]:
+    """Equal-width bins of the predicted probability with their mean prediction and observed success rate."""
     p = np.clip(np.asarray(p, dtype=float), 0.0, 1.0)
     y = np.asarray(y, dtype=float)
     which = np.minimum((p * bins).astype(int), bins - 1)
-    total = 0.0
+    out = []
     for b in range(bins):
         mask = which == b
-        if mask.any():
-            total += mask.sum() * abs(y[mask].mean() - p[mask].mean())
-    return float(total / len(p))
+        n = int(mask.sum())
+        out.append(
+            ReliabilityBin(
+                b / bins,
+                (b + 1) / bins,
+                n,
+                float(p[mask].mean()) if n else float("nan"),
+                float(y[mask].mean()) if n else float("nan"),
+            )
+        )
+    return out
+
+
+def expected_calibration_error(p: np.ndarray, y: np.ndarray, bins: int = 10) -> float:
+    """Σ_b (n_b / n) |observed rate_b − mean prediction_b| over `bins` equal-width bins; NaN for no rows."""
+    if len(np.asarray(y)) == 0:
+        return float("nan")
+    table = reliability_bins(p, y, bins)
+    total = sum(b.count * abs(b.observed_rate - b.mean_predicted) for b in table if b.count)
+    return float(total / sum(b.count for b in table))
 
 
 def normalised_auc(steps: Sequence[float], values: Sequence[float]) -> float:

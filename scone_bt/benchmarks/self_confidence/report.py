@@ -1,4 +1,5 @@
-"""Writing Algorithm 1's results: a Markdown table in the paper's Table I layout, a JSON of every number, a PNG."""
+"""Writing the self-confidence evaluation: the JSON (NaN as null), Markdown tables (Table I layout, every protocol,
+the ε-greedy robots, the targets) and PNGs (learning curves per protocol, reliability diagrams)."""
 
 from __future__ import annotations
 
@@ -9,186 +10,412 @@ from typing import Any
 
 import numpy as np
 
-from scone_bt.benchmarks.self_confidence.dataset import Dataset
-from scone_bt.benchmarks.self_confidence.evaluate import PairResult
-from scone_bt.config import Catalogue
-
-__all__ = ["dataset_summary", "markdown_tables", "outcome_structure", "plot_learning_curves", "write_json"]
-
-_METRICS = (
-    ("auc", "Normalised area under the learning curve (the paper's metric; higher is better)", True),
-    ("final_accuracy", "Accuracy at the largest n_train (higher is better)", True),
-    ("auroc", "AUROC at the largest n_train, test rows of all datasets pooled (higher is better)", True),
-    ("brier", "Brier score at the largest n_train, pooled (lower is better)", False),
-    ("ece", "Expected calibration error (10 bins) at the largest n_train, pooled (lower is better)", False),
+from scone_bt.benchmarks.self_confidence.evaldata import UNKNOWN_FAMILY, EvalDataset
+from scone_bt.benchmarks.self_confidence.protocols import (
+    EvalOptions,
+    algorithm1_split,
+    novel_product_rows,
+    row_order,
 )
 
+__all__ = [
+    "PAPER_TABLE_I",
+    "SEMANTIC_EMBEDDERS",
+    "clean_json",
+    "dataset_summary",
+    "evaluation_markdown",
+    "plot_curves",
+    "plot_reliability",
+    "target_checks",
+    "write_json",
+]
 
-def dataset_summary(datasets: Sequence[Dataset]) -> list[dict[str, Any]]:
-    """Per dataset: rows, success rate, distinct actions and failures by stage."""
+SEMANTIC_EMBEDDERS = ("minilm", "mpnet", "mpnet-ft")
+"""Sentence embedders (GloVe is the word-vector baseline, one-hot the per-action one)."""
+PAPER_TABLE_I = {"best": ("mpnet", "eps-knn", 0.81)}
+"""The paper's self-confidence number as this repository quotes it (best pair ε-KNN, 0.81)."""
+_PROTOCOL_TITLES = {
+    "algorithm1": "Algorithm 1 (first 80 rows train, last 20 test)",
+    "novel_products": "Novel products (test rows whose product is absent from the 80-row training prefix)",
+    "leave_family_out": "Leave one packaging family out",
+}
+
+
+def clean_json(obj: Any) -> Any:
+    """`obj` with NaN floats as None and tuples as lists (what json.dumps can write strictly)."""
+    if isinstance(obj, float) and np.isnan(obj):
+        return None
+    if isinstance(obj, np.floating | np.integer):
+        return clean_json(obj.item())
+    if isinstance(obj, dict):
+        return {k: clean_json(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [clean_json(v) for v in obj]
+    return obj
+
+
+def write_json(path: Path | None, payload: dict[str, Any]) -> dict[str, Any]:
+    """Write `payload` as indented JSON (NaN becomes null) if `path` is given; returns the cleaned payload."""
+    cleaned = clean_json(payload)
+    if path is not None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(json.dumps(cleaned, indent=1) + "\n")
+    return cleaned
+
+
+def dataset_summary(
+    datasets: Sequence[EvalDataset], options: EvalOptions | None = None
+) -> list[dict[str, Any]]:
+    """Per dataset: rows, success rate, distinct products and families, novel test rows, context coverage."""
+    opts = options or EvalOptions()
     out = []
     for d in datasets:
-        stages: dict[str, int] = {}
-        for ok, stage in zip(d.success, d.failure_stages, strict=True):
-            if not ok:
-                stages[stage or "unknown"] = stages.get(stage or "unknown", 0) + 1
-        out.append(
+        entry: dict[str, Any] = {
+            "name": d.name,
+            "rows": len(d),
+            "success_rate": round(float(d.success.mean()), 4) if len(d) else None,
+            "distinct_products": len(set(d.objects)),
+            "families": len(set(d.families) - {UNKNOWN_FAMILY}),
+            "context_coverage": round(float(np.mean(~np.isnan(d.context))), 4) if len(d) else 0.0,
+        }
+        if len(d) >= opts.min_rows:
+            prefix, test = algorithm1_split(row_order(len(d), 0, 0), opts)
+            entry["novel_test_rows"] = len(novel_product_rows(d.objects, prefix, test))
+        out.append(entry)
+    return out
+
+
+# ----------------------------------------------------------------------------------------------- tables
+def _by(report: dict[str, Any], protocol: str) -> dict[tuple[str, str], dict[str, Any]]:
+    return {(r["embedder"], r["estimator"]): r for r in report["protocols"].get(protocol, [])}
+
+
+def _ms(entry: dict[str, Any] | None, key: str = "auc") -> float:
+    if entry is None:
+        return float("nan")
+    v = entry[key]
+    v = v["mean"] if isinstance(v, dict) else v
+    return float("nan") if v is None else float(v)
+
+
+def _fmt(entry: dict[str, Any] | None, key: str, bold: bool = False) -> str:
+    if entry is None:
+        return "–"
+    v = entry[key]
+    if isinstance(v, dict):
+        if v["mean"] is None:
+            return "n/a"
+        text = f"{v['mean']:.2f} ± {v['std']:.2f}"
+    else:
+        text = "n/a" if v is None else f"{v:.3f}"
+    return f"**{text}**" if bold else text
+
+
+def _metric_table(report: dict[str, Any], protocol: str, key: str, higher: bool) -> list[str]:
+    by = _by(report, protocol)
+    embedders, estimators = report["embedders"], report["estimators"]
+    lines = ["| Embedding | " + " | ".join(estimators) + " |", "|---|" + "---|" * len(estimators)]
+    best = {}
+    for k in estimators:
+        scored = [(_ms(by.get((e, k)), key), e) for e in embedders]
+        scored = [(v, e) for v, e in scored if not np.isnan(v)]
+        if scored:
+            best[k] = (max if higher else min)(scored)[1]
+    for e in embedders:
+        cells = [_fmt(by.get((e, k)), key, best.get(k) == e) for k in estimators]
+        lines.append(f"| {e} | " + " | ".join(cells) + " |")
+    prior = report.get("prior", {}).get(protocol)
+    if prior is not None:
+        lines.append(
+            f"\nPrior (the training rows' smoothed success rate for every action): {_fmt(prior, key)}"
+        )
+    return lines
+
+
+def _best(report: dict[str, Any], protocol: str, embedders: Sequence[str]) -> dict[str, Any] | None:
+    rows = [r for r in report["protocols"].get(protocol, []) if r["embedder"] in embedders]
+    rows = [r for r in rows if not np.isnan(_ms(r))]
+    return max(rows, key=_ms) if rows else None
+
+
+def target_checks(report: dict[str, Any]) -> list[dict[str, Any]]:
+    """The issue's targets, each with the measured numbers and whether it is met."""
+    checks: list[dict[str, Any]] = []
+    a1 = _by(report, "algorithm1")
+    semantic = [e for e in report["embedders"] if e in SEMANTIC_EMBEDDERS]
+    best = _best(report, "algorithm1", semantic)
+    if best is not None:
+        one = a1.get(("onehot", best["estimator"]))
+        gap = _ms(best) - _ms(one)
+        checks.append(
             {
-                "name": d.name,
-                "rows": len(d),
-                "success_rate": round(d.success_rate, 4),
-                "distinct_actions": len(set(d.actions)),
-                "failures_by_stage": dict(sorted(stages.items())),
+                "target": "Algorithm 1: best semantic pair ≥ 0.85",
+                "measured": f"{best['embedder']} + {best['estimator']} {_ms(best):.3f}",
+                "met": bool(_ms(best) >= 0.85),
             }
         )
-    return out
-
-
-def outcome_structure(datasets: Sequence[Dataset], catalogue: Catalogue | None = None) -> dict[str, Any]:
-    """How much of each dataset's outcomes the object explains, and how they correlate with its properties.
-
-    object_r2 is 1 − (within-object variance of the outcome) / (total variance): 1 when the object alone
-    decides the outcome, 0 when it carries no information. The correlations are Pearson coefficients between the
-    outcome (1 = success) and the object's mass, grasp width, height and surface friction, over rows whose object
-    is in the catalogue. object_oracle_accuracy is the accuracy of predicting each object's majority outcome
-    in this dataset (in-sample): a ceiling for any estimator that sees only the action text.
-    """
-    out: dict[str, Any] = {}
-    for d in datasets:
-        y = d.success.astype(float)
-        entry: dict[str, Any] = {"object_r2": None, "per_object_success": {}}
-        total = float(np.var(y)) if len(y) else 0.0
-        objects = sorted(set(d.objects))
-        within = 0.0
-        majority = 0
-        for name in objects:
-            mask = np.array([o == name for o in d.objects])
-            within += float(np.var(y[mask])) * mask.sum()
-            majority += int(max(y[mask].sum(), mask.sum() - y[mask].sum()))
-            entry["per_object_success"][name] = [int(y[mask].sum()), int(mask.sum())]
-        entry["object_oracle_accuracy"] = round(majority / len(y), 4) if len(y) else None
-        if total > 0:
-            entry["object_r2"] = round(1.0 - within / len(y) / total, 4)
-        if catalogue is not None:
-            known = {o.name: o for o in catalogue.objects}
-            rows = [i for i, o in enumerate(d.objects) if o in known]
-            if len(rows) > 2 and np.var(y[rows]) > 0:
-                props = {
-                    "mass": [known[d.objects[i]].mass for i in rows],
-                    "grasp_width": [known[d.objects[i]].grasp_width for i in rows],
-                    "height": [known[d.objects[i]].height for i in rows],
-                    "friction": [known[d.objects[i]].friction for i in rows],
+        checks.append(
+            {
+                "target": "Algorithm 1: best semantic ≥ one-hot + 0.08 with the same estimator",
+                "measured": f"one-hot + {best['estimator']} {_ms(one):.3f}, gap {gap:+.3f}",
+                "met": bool(gap >= 0.08),
+            }
+        )
+    for k in ("lgbm", "eps-knn"):
+        sem = max((_ms(a1.get((e, k))) for e in semantic), default=float("nan"))
+        glove, one = _ms(a1.get(("glove", k))), _ms(a1.get(("onehot", k)))
+        if not any(np.isnan(v) for v in (sem, glove, one)):
+            checks.append(
+                {
+                    "target": f"Algorithm 1 order semantic > GloVe > one-hot ({k})",
+                    "measured": f"best semantic {sem:.3f}, GloVe {glove:.3f}, one-hot {one:.3f}",
+                    "met": bool(sem > glove > one),
                 }
-                entry["correlation"] = {
-                    k: round(float(np.corrcoef(v, y[rows])[0, 1]), 4) if np.var(v) > 0 else None
-                    for k, v in props.items()
+            )
+    nbest = _best(report, "novel_products", semantic)
+    prior = report.get("prior", {}).get("novel_products")
+    if nbest is not None:
+        one = _by(report, "novel_products").get(("onehot", nbest["estimator"]))
+        checks.append(
+            {
+                "target": "Novel products: best semantic ≥ 0.80 where one-hot stays at the prior",
+                "measured": f"{nbest['embedder']} + {nbest['estimator']} {_ms(nbest):.3f}; one-hot "
+                f"{_ms(one):.3f}; prior {_ms(prior):.3f}",
+                "met": bool(_ms(nbest) >= 0.80),
+            }
+        )
+    overall = _best(report, "algorithm1", report["embedders"])
+    if overall is not None:
+        checks.append(
+            {
+                "target": "ECE ≤ 0.05 at n_train = 80 for the best pair (Algorithm 1)",
+                "measured": f"{overall['embedder']} + {overall['estimator']} ECE {_ms(overall, 'ece'):.3f}",
+                "met": bool(_ms(overall, "ece") <= 0.05),
+            }
+        )
+        rows = report["protocols"]["algorithm1"]
+        grounded = [r for r in rows if r["estimator"].startswith("grounded-")]
+        plain = [r for r in rows if not r["estimator"].startswith("grounded-")]
+        if grounded and plain:
+            g, p = max(grounded, key=_ms), max(plain, key=_ms)
+            checks.append(
+                {
+                    "target": "Grounded κ̂ above the best ungrounded pair (Algorithm 1)",
+                    "measured": f"{g['embedder']} + {g['estimator']} {_ms(g):.3f} vs "
+                    f"{p['embedder']} + {p['estimator']} {_ms(p):.3f}",
+                    "met": bool(_ms(g) > _ms(p)),
                 }
-        out[d.name] = entry
-    return out
+            )
+    total = report.get("timing_s", {}).get("total")
+    if total is not None:
+        checks.append(
+            {
+                "target": "Whole grid ≤ 10 min",
+                "measured": f"{total / 60:.1f} min ({report['timing_s']['workers']} workers)",
+                "met": bool(total <= 600),
+            }
+        )
+    return checks
 
 
-def _cell(values: Sequence[float], best: bool) -> str:
-    v = np.asarray(values, dtype=float)
-    if np.all(np.isnan(v)):
-        return "n/a"
-    text = f"{np.nanmean(v):.2f} ± {np.nanstd(v):.2f}"
-    return f"**{text}**" if best else text
+def _robot_table(report: dict[str, Any]) -> list[str]:
+    a1 = _by(report, "algorithm1")
+    rows = [r for r in report["protocols"].get("algorithm1", []) if r.get("robot")]
+    if not rows:
+        return []
+    lines = [
+        "| pair | belief AUC: X (all labels) | ε-X robot | greedy robot | labels ε / greedy | "
+        "successes ε / greedy | help requests ε / greedy | regret ε / greedy |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        rb = r["robot"]
+        base = a1.get((r["embedder"], r["estimator"].removeprefix("eps-")))
+        e, g = rb["epsilon"], rb["greedy"]
+        lines.append(
+            f"| {r['embedder']} + {r['estimator']} | {_fmt(base, 'auc')} | {_fmt(r, 'auc')} | "
+            f"{_fmt(rb, 'greedy_auc')} | {e['attempts']} / {g['attempts']} | {e['successes']} / {g['successes']} | "
+            f"{e['help_requests']} / {g['help_requests']} | {e['regret']} / {g['regret']} |"
+        )
+    return lines
 
 
-def markdown_tables(
-    results: Sequence[PairResult], embedders: Sequence[str], estimators: Sequence[str]
-) -> str:
-    """One table per metric: rows are embedders, columns estimators; the best cell of each column in bold."""
-    by = {(r.embedder, r.estimator): r for r in results}
-    parts = []
-    for key, title, higher in _METRICS:
-        parts.append(f"**{title}**\n")
-        parts.append("| Embedding | " + " | ".join(estimators) + " |")
-        parts.append("|---|" + "---|" * len(estimators))
-        best: dict[str, str] = {}
-        for est in estimators:
-            scored = [(np.nanmean(getattr(by[e, est], key)), e) for e in embedders if (e, est) in by]
-            scored = [(v, e) for v, e in scored if not np.isnan(v)]
-            if scored:
-                best[est] = (max if higher else min)(scored)[1]
-        for emb in embedders:
-            cells = [
-                _cell(getattr(by[emb, est], key), best.get(est) == emb) if (emb, est) in by else "–"
-                for est in estimators
-            ]
-            parts.append(f"| {emb} | " + " | ".join(cells) + " |")
+def evaluation_markdown(report: dict[str, Any], name: str = "self_confidence") -> str:
+    """The whole evaluation as Markdown; the PNGs of plot_curves/plot_reliability are linked as <name>_*.png."""
+    opts = report["options"]
+    parts = [
+        "# Self-confidence evaluation (`scone-bench sc evaluate`)",
+        "",
+        f"Data: `{report['data']}`, {len(report['datasets'])} datasets; embedders {', '.join(report['embedders'])}"
+        + (f" (skipped: {', '.join(report['embedders_skipped'])})" if report["embedders_skipped"] else "")
+        + f"; n_train {opts['n_train']} (leave-family-out {opts['lofo_n_train']}), {opts['n_test']} test rows, "
+        f"{opts['shuffles']} row order(s), seed {opts['seed']}; ε₀ {opts['epsilon0']}, half-life "
+        f"{opts['half_life']} outcomes, online refit every {opts['refit_every']} rows. Wall "
+        f"{report['timing_s']['total']:.0f} s on {report['timing_s']['workers']} workers.",
+        "",
+        "Cells: normalised area under the accuracy curve, mean ± std over datasets (the paper's number); best per "
+        "column in bold. Protocols and the ε-greedy rule: `scone_bt/benchmarks/self_confidence/protocols.py`.",
+        "",
+    ]
+    parts += ["## Against the targets", "", "| target | measured | met |", "|---|---|---|"]
+    parts += [
+        f"| {c['target']} | {c['measured']} | {'yes' if c['met'] else '**no**'} |"
+        for c in target_checks(report)
+    ]
+    parts.append("")
+    if "algorithm1" in report["protocols"]:
+        by = _by(report, "algorithm1")
+        paper_e, paper_k, paper_v = PAPER_TABLE_I["best"]
+        parts += [
+            "## Table I comparison (SC columns, Algorithm 1)",
+            "",
+            "| Embedding | LGBM | ε-KNN |",
+            "|---|---|---|",
+        ]
+        parts += [
+            f"| {e} | {_fmt(by.get((e, 'lgbm')), 'auc')} | {_fmt(by.get((e, 'eps-knn')), 'auc')} |"
+            for e in report["embedders"]
+        ]
+        parts += ["", f"The paper's best pair as quoted here: {paper_e} + {paper_k} {paper_v:.2f}.", ""]
+    for protocol in report["protocols"]:
+        parts += [f"## {_PROTOCOL_TITLES.get(protocol, protocol)}", ""]
+        parts += _metric_table(report, protocol, "auc", True)
+        rows = report["protocols"][protocol]
+        if rows:
+            parts += ["", f"Test predictions pooled at the largest n_train: {rows[0]['n_test']}.", ""]
+        for key, title, higher in (
+            ("auroc", "AUROC at the largest n_train, pooled (higher is better)", True),
+            ("brier", "Brier score, pooled (lower is better)", False),
+            ("ece", "ECE (10 bins), pooled (lower is better)", False),
+        ):
+            parts += [f"**{title}**", ""]
+            parts += _metric_table(report, protocol, key, higher)
+            parts.append("")
+        parts.append(f"![learning curves]({{name}}_{protocol}_curves.png)")
         parts.append("")
-    return "\n".join(parts)
+    robot = _robot_table(report)
+    if robot:
+        parts += [
+            "## ε-greedy: the belief and the robot (Algorithm 1's 80-row training prefix, summed over datasets)",
+            "",
+            "The ε-X belief is X fitted on the labels the ε-greedy robot collected; the greedy robot is X with "
+            "ε = 0 on the same stream (it learns only from what it attempted). Regret = failures + help "
+            "requests for actions that would have succeeded.",
+            "",
+            *robot,
+            "",
+        ]
+    parts += [
+        "## Datasets",
+        "",
+        "| dataset | rows | success | products | families | novel test rows | context |",
+    ]
+    parts.append("|---|---|---|---|---|---|---|")
+    for d in report["datasets"]:
+        parts.append(
+            f"| {d['name']} | {d['rows']} | {d['success_rate']} | {d['distinct_products']} | {d['families']} | "
+            f"{d.get('novel_test_rows', '–')} | {d['context_coverage']:.2f} |"
+        )
+    parts += ["", "![reliability]({name}_reliability.png)", ""]
+    return "\n".join(parts).replace("{name}", name)
 
 
-def plot_learning_curves(
-    results: Sequence[PairResult],
-    embedders: Sequence[str],
-    estimators: Sequence[str],
-    path: Path,
-    prior: PairResult | None = None,
-) -> Path:
-    """One panel per estimator, one line (± std band) per embedder; the prior baseline dashed."""
+# ----------------------------------------------------------------------------------------------- figures
+def _pyplot():  # noqa: ANN202 - matplotlib's module
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    by = {(r.embedder, r.estimator): r for r in results}
-    cols = min(4, len(estimators))
-    rows = int(np.ceil(len(estimators) / cols))
-    fig, axes = plt.subplots(
-        rows, cols, figsize=(3.6 * cols, 2.9 * rows), sharex=True, sharey=True, squeeze=False
-    )
+    return plt
+
+
+def plot_curves(report: dict[str, Any], out_dir: Path, name: str = "self_confidence") -> list[Path]:
+    """One PNG per protocol (<out_dir>/<name>_<protocol>_curves.png): a panel per estimator, a line per embedder."""
+    plt = _pyplot()
+    paths = []
+    estimators, embedders = report["estimators"], report["embedders"]
     colours = plt.get_cmap("tab10")
-    for i, est in enumerate(estimators):
-        ax = axes[i // cols][i % cols]
-        for j, emb in enumerate(embedders):
-            r = by.get((emb, est))
-            if r is None:
-                continue
-            m, s = np.array(r.curve_mean), np.array(r.curve_std)
-            ax.plot(r.steps, m, marker="o", ms=3, color=colours(j), label=f"{emb} ({np.mean(r.auc):.2f})")
-            ax.fill_between(r.steps, m - s, m + s, color=colours(j), alpha=0.15)
-        if prior is not None:
+    for protocol in report["protocols"]:
+        by = _by(report, protocol)
+        cols = min(5, len(estimators))
+        rows = int(np.ceil(len(estimators) / cols))
+        fig, axes = plt.subplots(rows, cols, figsize=(3.2 * cols, 2.6 * rows), sharey=True, squeeze=False)
+        prior = report.get("prior", {}).get(protocol)
+        for i, k in enumerate(estimators):
+            ax = axes[i // cols][i % cols]
+            for j, e in enumerate(embedders):
+                r = by.get((e, k))
+                if r is None or r["accuracy_curve"]["mean"][0] is None:
+                    continue
+                c = r["accuracy_curve"]
+                m = np.array(c["mean"], dtype=float)
+                s = np.array(c["std"], dtype=float)
+                ax.plot(c["n_train"], m, marker="o", ms=2.5, color=colours(j), label=f"{e} ({_ms(r):.2f})")
+                ax.fill_between(c["n_train"], m - s, m + s, color=colours(j), alpha=0.12)
+            if prior is not None and prior["accuracy_curve"]["mean"][0] is not None:
+                c = prior["accuracy_curve"]
+                ax.plot(c["n_train"], c["mean"], ls="--", color="grey", label=f"prior ({_ms(prior):.2f})")
+            ax.set_title(k, fontsize=9)
+            ax.grid(alpha=0.3)
+            ax.legend(fontsize=5.5, loc="lower right")
+            if i % cols == 0:
+                ax.set_ylabel("test accuracy")
+            if i // cols == rows - 1:
+                ax.set_xlabel("n_train")
+        for k in range(len(estimators), rows * cols):
+            axes[k // cols][k % cols].axis("off")
+        fig.suptitle(f"{_PROTOCOL_TITLES.get(protocol, protocol)}: accuracy ± std over datasets", fontsize=9)
+        fig.tight_layout()
+        path = Path(out_dir) / f"{name}_{protocol}_curves.png"
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(path, dpi=100)
+        plt.close(fig)
+        paths.append(path)
+    return paths
+
+
+def plot_reliability(report: dict[str, Any], path: Path) -> Path:
+    """Reliability diagrams at the largest n_train: per protocol the best pair, one-hot with its estimator, prior."""
+    plt = _pyplot()
+    protocols = list(report["protocols"])
+    fig, axes = plt.subplots(1, len(protocols), figsize=(3.6 * len(protocols), 3.4), squeeze=False)
+    for ax, protocol in zip(axes[0], protocols, strict=True):
+        best = _best(report, protocol, report["embedders"])
+        shown = []
+        if best is not None:
+            shown.append((f"{best['embedder']} + {best['estimator']}", best))
+            one = _by(report, protocol).get(("onehot", best["estimator"]))
+            if one is not None and one is not best:
+                shown.append((f"onehot + {best['estimator']}", one))
+        if report.get("prior", {}).get(protocol):
+            shown.append(("prior", report["prior"][protocol]))
+        ax.plot([0, 1], [0, 1], color="black", lw=0.8, ls=":")
+        for j, (label, r) in enumerate(shown):
+            bins = [b for b in r["reliability"] if b["count"]]
+            x = [b["mean_predicted"] for b in bins]
+            yv = [b["observed_rate"] for b in bins]
+            sizes = [8 + 2 * b["count"] for b in bins]
+            ece = r["ece"]
             ax.plot(
-                prior.steps,
-                prior.curve_mean,
-                ls="--",
-                color="grey",
-                label=f"prior ({np.mean(prior.auc):.2f})",
+                x,
+                yv,
+                marker="o",
+                ms=3,
+                lw=1,
+                color=f"C{j}",
+                label=f"{label} (ECE {ece:.3f})" if ece is not None else label,
             )
-        ax.set_title(est)
+            ax.scatter(x, yv, s=sizes, color=f"C{j}", alpha=0.3)
+        ax.set_xlim(0, 1)
+        ax.set_ylim(0, 1)
+        ax.set_xlabel("predicted success probability")
+        ax.set_ylabel("observed success rate")
+        ax.set_title(protocol, fontsize=9)
+        ax.legend(fontsize=6, loc="upper left")
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=6, loc="lower right")
-        if i % cols == 0:
-            ax.set_ylabel("test accuracy")
-        if i // cols == rows - 1:
-            ax.set_xlabel("n_train")
-    for k in range(len(estimators), rows * cols):
-        axes[k // cols][k % cols].axis("off")
-    fig.suptitle(
-        "Self-confidence learning curves (mean ± std over shuffles; legend: normalised AUC)", fontsize=9
-    )
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=100)
     plt.close(fig)
-    return path
-
-
-def write_json(path: Path, payload: dict[str, Any]) -> Path:
-    """Write `payload` as indented JSON (NaN becomes null)."""
-
-    def clean(obj: Any) -> Any:
-        if isinstance(obj, float) and np.isnan(obj):
-            return None
-        if isinstance(obj, dict):
-            return {k: clean(v) for k, v in obj.items()}
-        if isinstance(obj, list | tuple):
-            return [clean(v) for v in obj]
-        return obj
-
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(clean(payload), indent=1) + "\n")
     return path

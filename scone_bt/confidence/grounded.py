@@ -1,0 +1,131 @@
+"""Grounded κ̂: the action's embedding plus the context the robot acts in (where the object stands, what it saw).
+
+The seed defines proficiency as an expectation over contexts, but the robot acts in one context: a bottle it
+usually grasps fails between two jars, and a product whose marker it saw only partly fails more often. A grounded
+estimator sees, next to ζ(action), six numbers of the execution's context (ExecutionContext): the shelf tier, the
+clearance to the nearest neighbour, the number of neighbours, whether the target was detected, and its detected
+width and height.
+
+Features are prepared inside the estimator, from its own training rows only (nothing of a test row leaks): each
+context value is standardised by the training mean and std; a missing value (NaN, e.g. no detected size when the
+target was not detected) is imputed with the training mean (0 after standardising) and flagged in an indicator
+column. The context block is scaled by `context_weight` / √6 so that it weighs about as much as a unit-norm
+embedding in distance-based estimators (KNN, SVM, GP); trees are indifferent to the scale.
+
+Wiring into the episode: build `ExecutionContext` for each candidate action from the perception of that tick, pass
+`grounded_features(embeddings, contexts)` to `predict`, and `grounded_features(embedding[None], [context])[0]` to
+`update` with the outcome. The inner estimator is any registry estimator ("grounded-knn", "grounded-lgbm", ...).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Sequence
+from dataclasses import astuple, dataclass, fields
+
+import numpy as np
+
+from scone_bt.confidence.base import ConfidenceEstimator
+from scone_bt.errors import SconeError
+
+__all__ = ["CONTEXT_FIELDS", "ExecutionContext", "GroundedEstimator", "grounded_features"]
+
+
+@dataclass(frozen=True)
+class ExecutionContext:
+    """Where and how one action is executed; None where it is unknown.
+
+    Attributes:
+        shelf_tier: Tier of the target's shelf slot (0 = lowest), or None off the shelf.
+        clearance_m: Free distance from the target to its nearest neighbour, metres.
+        neighbours: Number of products in the target's neighbouring slots.
+        detected: Whether perception detected the target's marker.
+        detected_width_m: Width of the target as perceived, metres (None if not detected).
+        detected_height_m: Height of the target as perceived, metres (None if not detected).
+    """
+
+    shelf_tier: int | None = None
+    clearance_m: float | None = None
+    neighbours: int | None = None
+    detected: bool | None = None
+    detected_width_m: float | None = None
+    detected_height_m: float | None = None
+
+    def vector(self) -> np.ndarray:
+        """(6,) float64 in CONTEXT_FIELDS order, NaN for None."""
+        return np.array([np.nan if v is None else float(v) for v in astuple(self)], dtype=np.float64)
+
+
+CONTEXT_FIELDS: tuple[str, ...] = tuple(f.name for f in fields(ExecutionContext))
+"""Context columns, in the order of ExecutionContext.vector() (also the dataset CSV column names)."""
+
+
+def grounded_features(embeddings: np.ndarray, contexts: Sequence[ExecutionContext]) -> np.ndarray:
+    """(n, dim + 6) rows for a grounded estimator: each embedding followed by its context vector."""
+    E = np.atleast_2d(np.asarray(embeddings, dtype=np.float64))
+    if len(contexts) != len(E):
+        raise SconeError(f"{len(E)} embeddings but {len(contexts)} contexts")
+    C = np.stack([c.vector() for c in contexts]) if contexts else np.zeros((0, len(CONTEXT_FIELDS)))
+    return np.hstack([E, C])
+
+
+class GroundedEstimator(ConfidenceEstimator):
+    """Wraps an estimator over [embedding | context]; the last `n_context` input columns are the context.
+
+    Args:
+        base: The estimator that learns from the prepared features (it also owns the cold start).
+        n_context: Context columns at the end of every input row.
+        context_weight: Norm budget of the standardised context block relative to a unit embedding.
+    """
+
+    handles_one_class = True  # the base handles its own cold start
+
+    def __init__(
+        self, base: ConfidenceEstimator, n_context: int = len(CONTEXT_FIELDS), context_weight: float = 1.0
+    ) -> None:
+        if n_context < 1:
+            raise SconeError(f"n_context must be at least 1, got {n_context}")
+        super().__init__(f"grounded-{base.name}", base.seed, base.prior)
+        self.base = base
+        self.n_context = n_context
+        self.context_weight = context_weight
+        self._mean = np.zeros(n_context)
+        self._std = np.ones(n_context)
+
+    def _split(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        if X.shape[1] <= self.n_context:
+            raise SconeError(
+                f"{self.name}: rows need an embedding plus {self.n_context} context values, got {X.shape[1]} "
+                "columns (build them with grounded_features)"
+            )
+        return X[:, : -self.n_context], X[:, -self.n_context :].astype(np.float64)
+
+    def transform(self, X: np.ndarray) -> np.ndarray:
+        """Prepared features: embedding, standardised and imputed context, missing-value indicators."""
+        emb, ctx = self._split(np.atleast_2d(X))
+        missing = np.isnan(ctx)
+        z = np.where(missing, 0.0, (ctx - self._mean) / self._std)
+        scale = self.context_weight / math.sqrt(self.n_context)
+        return np.hstack([emb, scale * z, scale * missing]).astype(np.float32)
+
+    def _fit_model(self, X: np.ndarray, y: np.ndarray) -> None:
+        _, ctx = self._split(X) if len(X) else (None, np.zeros((0, self.n_context)))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # an all-NaN column: imputed with 0 below
+            mean = np.nanmean(ctx, axis=0) if len(ctx) else np.zeros(self.n_context)
+            std = np.nanstd(ctx, axis=0) if len(ctx) else np.ones(self.n_context)
+        self._mean = np.where(np.isfinite(mean), mean, 0.0)
+        self._std = np.where(np.isfinite(std) & (std > 1e-9), std, 1.0)
+        if len(X):
+            self.base.fit(self.transform(X), y)
+        else:
+            self.base.fit(np.zeros((0, 1), dtype=np.float32), y)
+
+    def _predict_model(self, X: np.ndarray) -> np.ndarray:
+        return self.base.predict(self.transform(X))
+
+    def _predict_uncached(self, X: np.ndarray) -> np.ndarray:
+        if self._n == 0:
+            return np.full(len(X), self.prior)
+        return self._predict_model(X)

@@ -1,0 +1,96 @@
+"""Fixtures of the self-confidence evaluation tests: small datasets in the generator's CSV contract (seeded)."""
+
+from __future__ import annotations
+
+import csv
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+COLUMNS = [
+    "index",
+    "action",
+    "object",
+    "family",
+    "outcome",
+    "failure_stage",
+    "seed",
+    "detail",
+    "shelf_unit",
+    "shelf_tier",
+    "slot",
+    "clearance_m",
+    "neighbours",
+    "detected",
+    "detected_width_m",
+    "detected_height_m",
+    "width_m",
+    "height_m",
+    "mass_kg",
+    "material",
+]
+
+# Glass bottles fail; cans succeed; boxes and bags succeed unless crowded (clearance < 3 cm).
+FAMILIES = {
+    "glass bottles": ["olive oil", "vinegar", "soy sauce", "sesame oil", "fish sauce", "maple syrup"],
+    "cans": ["canned tomatoes", "chickpeas", "coconut milk", "black beans", "sweetcorn", "tuna"],
+    "boxes": ["spaghetti", "rice", "couscous", "oats", "cornflakes", "lasagne sheets"],
+    "bags": ["flour", "sugar", "lentils", "quinoa", "polenta", "breadcrumbs"],
+}
+
+
+def outcome(family: str, clearance: float) -> bool:
+    """The synthetic robot's rule."""
+    if family == "glass bottles":
+        return False
+    if family in ("bags", "boxes"):
+        return clearance >= 0.03
+    return True
+
+
+def write_datasets(directory: Path, n_datasets: int = 2, rows: int = 40, context: bool = True) -> Path:
+    """`n_datasets` CSVs of `rows` executions each; products drawn uniformly from FAMILIES."""
+    directory.mkdir(parents=True, exist_ok=True)
+    products = [(p, f) for f, ps in FAMILIES.items() for p in ps]
+    for d in range(n_datasets):
+        rng = np.random.default_rng(100 + d)
+        with (directory / f"p{d:02d}_robot.csv").open("w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(COLUMNS)
+            for i in range(rows):
+                name, family = products[int(rng.integers(len(products)))]
+                clearance = float(rng.uniform(0.0, 0.08))
+                ok = outcome(family, clearance)
+                detected = bool(rng.random() < 0.9)
+                ctx = [
+                    "0",
+                    str(int(rng.integers(3))),
+                    str(int(rng.integers(12))),
+                    f"{clearance:.4f}",
+                    str(int(rng.integers(3))),
+                    "1" if detected else "0",
+                    "0.07" if detected else "",
+                    "0.2" if detected else "",
+                ]
+                if not context:
+                    ctx = [""] * len(ctx)
+                w.writerow(
+                    [i, f"Put {name} on table", name, family, "success" if ok else "failure"]
+                    + ["" if ok else "grasp", 1000 + i, "synthetic"]
+                    + ctx
+                    + ["0.07", "0.2", "0.5", "glass" if family == "glass bottles" else "other"]
+                )
+    return directory
+
+
+@pytest.fixture
+def sc_data(tmp_path: Path) -> Callable[..., Path]:
+    """write_datasets into a fresh folder under tmp_path: sc_data(n_datasets=2, rows=40, context=True)."""
+    count = iter(range(1000))
+
+    def make(**kwargs: object) -> Path:
+        return write_datasets(tmp_path / f"sc{next(count)}", **kwargs)  # type: ignore[arg-type]
+
+    return make

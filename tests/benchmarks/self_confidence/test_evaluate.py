@@ -1,0 +1,94 @@
+"""`scone-bench sc evaluate` end to end on small datasets: the JSON shape, Markdown and PNGs, one-line errors."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from scone_bt.benchmarks.self_confidence.evaldata import load_eval_datasets
+from scone_bt.benchmarks.self_confidence.evaluate import GridInputs, embed_datasets, evaluate_grid_pair
+from scone_bt.benchmarks.self_confidence.protocols import EvalOptions, Protocol
+from scone_bt.cli.bench import main
+
+SMALL = ["--steps", "10,20,30", "--lofo-steps", "30", "--n-test", "10", "--workers", "1"]
+
+
+def test_evaluate_prints_and_writes_the_documented_shape(sc_data, tmp_path, capsys):
+    data, out = sc_data(n_datasets=2, rows=40), tmp_path / "out"
+    argv = ["sc", "evaluate", "--data", str(data), "--embedders", "onehot,glove", "--estimators", "knn"]
+    argv += ["eps-knn", "grounded-knn", "--out", str(out), "--json", str(tmp_path / "r.json"), *SMALL]
+    assert main(argv) == 0
+    printed = json.loads(capsys.readouterr().out)
+    assert (
+        printed
+        == json.loads((tmp_path / "r.json").read_text())
+        == json.loads((out / "self_confidence.json").read_text())
+    )
+    assert set(printed["protocols"]) == {"algorithm1", "novel_products", "leave_family_out"}
+    for protocol, entries in printed["protocols"].items():
+        assert [(e["embedder"], e["estimator"]) for e in entries] == [
+            (emb, est) for emb in ("onehot", "glove") for est in ("knn", "eps-knn", "grounded-knn")
+        ]
+        for e in entries:
+            assert {"embedder", "estimator", "auc", "auroc", "brier", "ece", "n_test", "reliability"} <= set(
+                e
+            )
+            assert set(e["auc"]) == {"mean", "std"} and 0.0 <= e["auc"]["mean"] <= 1.0
+            assert len(e["reliability"]) == 10
+        assert ("robot" in entries[1]) == (protocol == "algorithm1")  # eps-knn: the robots' behaviour
+    assert printed["protocols"]["algorithm1"][0]["n_test"] == 20
+    md = (out / "self_confidence.md").read_text()
+    assert "## Against the targets" in md and "| onehot |" in md and "## ε-greedy" in md
+    for png in ("algorithm1_curves", "novel_products_curves", "leave_family_out_curves", "reliability"):
+        assert (out / f"self_confidence_{png}.png").stat().st_size > 1000
+    # a seeded run repeats exactly
+    assert main(argv) == 0
+    again = json.loads(capsys.readouterr().out)
+    assert again["protocols"] == printed["protocols"]
+
+
+def test_protocols_and_estimators_are_selected(sc_data, capsys):
+    data = sc_data(n_datasets=1, rows=40)
+    argv = ["sc", "evaluate", "--data", str(data), "--protocols", "novel_products", "--embedders", "onehot"]
+    assert main([*argv, "--estimators", "xgboost", *SMALL]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert list(report["protocols"]) == ["novel_products"]
+    assert [e["estimator"] for e in report["protocols"]["novel_products"]] == ["xgb"]
+
+
+@pytest.mark.parametrize(
+    ("flag", "value", "message"),
+    [
+        ("--protocols", "loo", "unknown protocol 'loo'"),
+        ("--estimators", "catboost", "unknown estimator 'catboost'"),
+        ("--embedders", "word2vec", "unknown embedder 'word2vec'"),
+    ],
+)
+def test_bad_names_are_one_line_errors_with_the_valid_list(sc_data, capsys, flag, value, message):
+    data = sc_data(n_datasets=1, rows=40)
+    assert main(["sc", "evaluate", "--data", str(data), flag, value, *SMALL]) == 2
+    err = capsys.readouterr().err.strip()
+    assert message in err and "valid" in err and len(err.splitlines()) == 1
+    assert "Traceback" not in err
+
+
+def test_an_empty_or_missing_data_dir_is_a_one_line_error(tmp_path, capsys):
+    (tmp_path / "empty").mkdir()
+    for folder in (tmp_path / "empty", tmp_path / "missing"):
+        assert main(["sc", "evaluate", "--data", str(folder), "--embedders", "onehot", *SMALL]) == 2
+        err = capsys.readouterr().err.strip()
+        assert str(folder) in err and len(err.splitlines()) == 1
+
+
+def test_grounded_knn_sees_the_context_that_decides_the_outcome(sc_data):
+    # In the fixture, bags fail when crowded: only the context tells a crowded bag from a free one.
+    datasets = load_eval_datasets(sc_data(n_datasets=3, rows=60))
+    vocab = sorted({a for d in datasets for a in d.actions})
+    onehot = embed_datasets(datasets, lambda texts: np.eye(len(vocab))[[vocab.index(t) for t in texts]])
+    opts = EvalOptions(n_test=20, steps=(20, 40), lofo_steps=(40,))
+    inputs = GridInputs(tuple(datasets), {"onehot": onehot}, opts, (Protocol.ALGORITHM1,))
+    plain = evaluate_grid_pair(("onehot", "lgbm"), inputs)
+    grounded = evaluate_grid_pair(("onehot", "grounded-lgbm"), inputs)
+    assert np.mean(grounded.auc) > np.mean(plain.auc)
