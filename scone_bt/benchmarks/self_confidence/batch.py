@@ -160,6 +160,23 @@ def _portable(argv: Sequence[str]) -> str:
     return " ".join(["scone-bench", *parts])
 
 
+def _code_version() -> str | None:
+    """The checkout's commit, with "-dirty" when files differ from it (None outside a git checkout)."""
+    import subprocess
+
+    try:
+        out = subprocess.run(
+            ["git", "describe", "--always", "--dirty", "--abbrev=12"],
+            capture_output=True,
+            text=True,
+            timeout=10,
+            cwd=Path(__file__).resolve().parent,
+        )
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return out.stdout.strip() or None if out.returncode == 0 else None
+
+
 def _write_log(out: Path, argv: Sequence[str], summary: dict[str, Any]) -> None:
     """Append this run to generation.json, keeping earlier runs."""
     import json
@@ -177,6 +194,7 @@ def _write_log(out: Path, argv: Sequence[str], summary: dict[str, Any]) -> None:
             "python": platform.python_version(),
             "pybullet": version("pybullet"),
             "cpu_count": os.cpu_count(),
+            "code": _code_version(),
             **summary,
         }
     )

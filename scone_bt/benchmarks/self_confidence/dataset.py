@@ -219,6 +219,7 @@ def write_records(path: Path | str, records: Iterable[ExecutionRecord]) -> Path:
         writer.writerow(COLUMNS)
         for rec in sorted(records, key=lambda r: r.index):
             writer.writerow(rec.row())
+    os.chmod(tmp, 0o644)  # mkstemp makes it private; a dataset is for everyone to read
     os.replace(tmp, path)
     return path
 

@@ -4,6 +4,7 @@ products, resuming a partial file, and one-line errors on bad input."""
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -97,13 +98,17 @@ def test_generate_on_a_user_catalogue_restricted_draw_and_resume(tmp_path, kitch
     products = tmp_path / "draw.txt"
     products.write_text("# my tins and one shop product\nsmoked paprika tin\nsaffron tin\nmatcha tin\nsalt\n")
     out = tmp_path / "data"
+    # The nominal robot with three products per execution (the draw is restricted to four).
+    profiles = tmp_path / "profiles"
+    profiles.mkdir()
+    text = (PROFILES / "p00_nominal.yaml").read_text()
+    (profiles / "p00_nominal.yaml").write_text(re.sub(r"objects_on_shelf: \d+", "objects_on_shelf: 3", text))
     argv = [
-        "sc", "generate", "--profiles", "p00_nominal", "--profiles-dir", str(PROFILES), "--out", str(out),
+        "sc", "generate", "--profiles", "p00_nominal", "--profiles-dir", str(profiles), "--out", str(out),
         "--catalogue", str(mine), "--products", str(products), "--workers", "1", "--no-progress",
     ]  # fmt: skip
-    prof = load_profile(PROFILES / "p00_nominal.yaml")
-    if prof.objects_on_shelf > 4:
-        pytest.skip("the restricted draw needs objects_on_shelf <= 4")
+    prof = load_profile(profiles / "p00_nominal.yaml")
+    assert prof.objects_on_shelf == 3
     # Stopped after its first row (a tiny --max-minutes): the profile is left as a partial file.
     assert bench([*argv, "--executions", "2", "--max-minutes", "0.0001"]) == 1
     partial = out / ".p00_nominal.partial.csv"
