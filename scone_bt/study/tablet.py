@@ -13,6 +13,7 @@ import threading
 from collections import deque
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from enum import Enum
 from typing import Any
 
 from scone_bt.events import CleanUpStarted, Event
@@ -25,9 +26,19 @@ from scone_bt.study.questionnaires import (
     validate_answers,
 )
 
-__all__ = ["TabletState", "TabletHuman", "PHASES", "AlreadySubmittedError"]
+__all__ = ["TabletState", "TabletHuman", "TabletPhase", "PHASES", "AlreadySubmittedError"]
 
-PHASES = ("waiting", "episode", "questionnaire", "done")
+
+class TabletPhase(str, Enum):  # noqa: UP042 (the page receives the values)
+    """What the tablet shows: waiting for the episode, the episode, the questionnaires, the end."""
+
+    WAITING = "waiting"
+    EPISODE = "episode"
+    QUESTIONNAIRE = "questionnaire"
+    DONE = "done"
+
+
+PHASES = tuple(p.value for p in TabletPhase)
 _REASONS = {
     FetchReason.HELP.value: "The robot asks for your help: please bring it to the table.",
     FetchReason.INTERVENTION.value: "You took over: please bring it to the table.",
@@ -44,7 +55,7 @@ class TabletState:
     def __init__(self) -> None:
         self._lock = threading.Lock()
         self._version = 0
-        self.phase = "waiting"
+        self.phase = TabletPhase.WAITING
         self.label = ""
         self.steps: list[str] = []
         self.step_index = 0
@@ -67,7 +78,7 @@ class TabletState:
     # ----------------------------------------------------------------------------------------- episode side
     def start_episode(self, steps: Sequence[str], label: str = "") -> None:
         with self._lock:
-            self.phase, self.label = "episode", label or self.label
+            self.phase, self.label = TabletPhase.EPISODE, label or self.label
             self.steps, self.step_index, self.step_done = list(steps), 0, [False] * len(steps)
             self.robot = {"action": None, "confidence": None, "kind": None, "status": "idle"}
             self.acting_object = self.takeover_object = None
@@ -167,7 +178,7 @@ class TabletState:
         with self._lock:
             self._questionnaires, self._submitted, self._on_submit = list(questionnaires), set(), on_submit
             self._storing = set()
-            self.phase = "questionnaire"
+            self.phase = TabletPhase.QUESTIONNAIRE
             self.questionnaires_done.clear()
             self._touch()
 
@@ -184,7 +195,7 @@ class TabletState:
         q = get_questionnaire(name)
         checked = validate_answers(q, {k: (None if v is None else float(v)) for k, v in answers.items()})
         with self._lock:
-            if self.phase not in ("questionnaire", "done") or q.name not in {
+            if self.phase not in (TabletPhase.QUESTIONNAIRE, TabletPhase.DONE) or q.name not in {
                 x.name for x in self._questionnaires
             }:
                 raise QuestionnaireError(f"questionnaire {name!r} is not being asked now")
@@ -205,7 +216,7 @@ class TabletState:
             self._storing.discard(q.name)
             self._submitted.add(q.name)
             if all(x.name in self._submitted for x in self._questionnaires):
-                self.phase = "done"
+                self.phase = TabletPhase.DONE
                 self.questionnaires_done.set()
             self._touch()
 
@@ -214,13 +225,13 @@ class TabletState:
         with self._lock:
             return {
                 "version": self._version,
-                "phase": self.phase,
+                "phase": self.phase.value,
                 "label": self.label,
                 "steps": [
                     {
                         "text": t,
                         "done": d,
-                        "current": i == self.step_index and not d and self.phase == "episode",
+                        "current": i == self.step_index and not d and self.phase is TabletPhase.EPISODE,
                     }
                     for i, (t, d) in enumerate(zip(self.steps, self.step_done, strict=True))
                 ],
