@@ -49,7 +49,7 @@ _GRADE_WORDS = _words(
     low-sodium reduced-sodium no-salt-added sodium low-fat full-fat fat-free nonfat non-fat reduced-fat
     unsweetened tj's tjs trader joe's good-quality quality store-bought homemade canned tinned bottled
     mashed sized medium-sized stale toasted roasted preroasted crumbled quick-cooking hot little bit melty soft
-    hard-boiled boiled mixed skim thick thin normal enriched tepid salted unsalted normandy
+    hard-boiled boiled mixed skim thick thin normal enriched tepid salted normandy
     italian english mexican asian persian scottish norwegian irish spanish greek-style
     """
 )
@@ -173,7 +173,7 @@ class ProductIndex:
         return match
 
     def _lookup(self, item: str, line: str) -> ProductMatch | None:
-        words = _WORD.findall(_FAT_GRADE.sub(" ", _lower(item)))
+        words = _WORD.findall(_lower(item))
         if not words:
             return None
         if line:
@@ -188,8 +188,13 @@ class ProductIndex:
                     if m.start() <= first.start() < m.end():
                         exact = self._exact(words)
                         return ProductMatch(name, MatchRule.EXACT if exact == name else MatchRule.IN_LINE)
-        graded = [w for w in words if w not in _GRADE_WORDS] or words
-        for candidate, rule in ((words, MatchRule.EXACT), (graded, MatchRule.GRADE)):
+        graded = [
+            w for w in _WORD.findall(_FAT_GRADE.sub(" ", _lower(item))) if w not in _GRADE_WORDS
+        ] or words
+        # "unsalted" is a grade only where no unsalted product exists ("unsalted almonds", not unsalted butter).
+        plain = [w for w in graded if w != "unsalted"] or graded
+        candidates = ((words, MatchRule.EXACT), (graded, MatchRule.GRADE), (plain, MatchRule.GRADE))
+        for candidate, rule in candidates:
             if (hit := self._exact(candidate)) is not None:
                 return ProductMatch(hit, rule)
             part_of = len(candidate) > 1 and item_key(candidate[-1]) in _PART_WORDS

@@ -32,6 +32,18 @@ def index(kitchen_cfg):
         ("3 egg yolks", "eggs", MatchRule.PART),
         ("zest of lemon", "lemon", MatchRule.PART),
         ("2 cups broccli florets", "broccoli", MatchRule.SPELLING),
+        # Grades, parts and kinds the catalogue's growth asked for.
+        ("Juice from 1 lime", "lime", MatchRule.PART),
+        ("400g pork meat", "pork", MatchRule.PART),
+        ("1 cup ham pieces", "ham", MatchRule.PART),
+        ("1 vanilla bean pod", "vanilla bean", MatchRule.PART),
+        ("250g fat free yoghurt", "yogurt", MatchRule.GRADE),
+        ("250 g chilled unsalted Normandy butter", "unsalted butter", MatchRule.GRADE),
+        ("1 Italian eggplant", "eggplant", MatchRule.GRADE),
+        ("1/2 tsp red-pepper flakes.", "red pepper flakes", MatchRule.EXACT),
+        ("2 33cl bottles of brown beer", "beer", MatchRule.KIND),
+        ("1/3 cup Chiave d'Oro Cheese", "cheese", MatchRule.KIND),
+        ("10 raw, unsalted almonds", "almonds", MatchRule.GRADE),
     ],
 )
 def test_lookup_rules(index, line, product, rule):
