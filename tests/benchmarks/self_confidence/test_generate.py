@@ -162,3 +162,19 @@ def test_bad_inputs_are_one_line_errors_before_any_execution(tmp_path, capsys):
     err = _one_line_error(capsys, [*base, "--catalogue", str(tmp_path / "missing.yaml")])
     assert "missing.yaml" in err
     assert not (tmp_path / "o").exists() or not any((tmp_path / "o").glob("*.csv"))
+
+
+@pytest.mark.slow
+def test_a_reused_kitchen_repeats_a_fresh_one_exactly(kitchen_cfg, robot_cfg):
+    """Workers keep one kitchen and restore it between executions: the order a worker ran them in is invisible."""
+    import scone_bt.benchmarks.self_confidence.generate as gen
+
+    prof = load_profile(PROFILES / "p00_nominal.yaml")
+    pool = tuple(o for o in drawable_products(kitchen_cfg) if o.family in ("cans", "boxes", "bags"))
+    saved = gen._WORKER
+    try:
+        gen._WORKER = gen._Worker()
+        fresh, reused = (gen.run_execution(prof, 0, kitchen_cfg, robot_cfg, pool=pool)[0] for _ in range(2))
+    finally:
+        gen._WORKER = saved
+    assert reused == fresh  # the second run found the first one's kitchen, emptied and restored
