@@ -55,6 +55,8 @@ class CollisionWorld:
         max_tilt: If set, the largest angle (rad) between the held object's up axis (without one: the hand's
             approach axis, reversed) and straight up: keeps a carried object upright (a path constraint, checked
             like a collision).
+        finger_position: Where each finger stands (m from the centre, as the gripper joints count), the hand
+            pre-shaped for the grasp; None: fully open.
     """
 
     def __init__(
@@ -66,13 +68,14 @@ class CollisionWorld:
         padding: float = 0.01,
         ignore_for_hand: Sequence[str] = (),
         max_tilt: float | None = None,
+        finger_position: float | None = None,
     ) -> None:
         import pinocchio as pin
 
         self.arm = arm
         self.model = arm.model
         self.data = arm.model.createData()
-        gm = arm.geom_model.copy()
+        gm = arm.geometry_with_fingers(finger_position)
         n_robot = gm.ngeoms
         base = np.asarray(arm.config.base_position)
         obstacle_ids = []
@@ -200,9 +203,16 @@ class HandModel:
         arm: The arm model.
         obstacles: Fixed obstacles in the world frame.
         padding: Metres added on every side of every obstacle.
+        finger_position: Each finger's position (m from the centre), the hand pre-shaped; None: fully open.
     """
 
-    def __init__(self, arm: ArmModel, obstacles: Sequence[Obstacle], padding: float = 0.0) -> None:
+    def __init__(
+        self,
+        arm: ArmModel,
+        obstacles: Sequence[Obstacle],
+        padding: float = 0.0,
+        finger_position: float | None = None,
+    ) -> None:
         import coal
 
         ee = arm.model.frames[arm.ee_frame]
@@ -210,7 +220,7 @@ class HandModel:
         ee_from_joint = np.linalg.inv(joint_from_ee)
         self._parts = [
             (g.geometry, ee_from_joint @ g.placement.homogeneous)
-            for g in arm.geom_model.geometryObjects
+            for g in arm.geometry_with_fingers(finger_position).geometryObjects  # type: ignore[attr-defined]
             if g.parentJoint == arm.ee_joint
         ]
         # The hand's reach from the end-effector frame's origin: obstacles farther than this never touch it.

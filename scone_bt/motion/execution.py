@@ -181,8 +181,12 @@ class PickPlaceController:
         )
 
     def _gripper(self, closed: bool) -> None:
+        """Close with the force limit, or open as far as the plan's pre-shape (fully without a plan)."""
         g = self.cfg.gripper
-        self.kitchen.set_gripper_target(g.closed_position if closed else g.open_position, g.max_force)
+        opened = g.open_position
+        if self.plan is not None and self.plan.finger_position is not None:
+            opened = self.plan.finger_position
+        self.kitchen.set_gripper_target(g.closed_position if closed else opened, g.max_force)
 
     # ------------------------------------------------------------------------------------- state machine
     def _enter(self, phase: MotionPhase) -> None:
@@ -308,6 +312,7 @@ class PickPlaceController:
             sum(x.trajectory.duration for x in ready.segments) + self.settings.close_s + self.settings.open_s
         )
         self.exec_start = self.kitchen.sim_time
+        self._gripper(False)  # pre-shaped while approaching: the fingers fit between close neighbours
         self._next()
 
     def _after_wait(self, phase: MotionPhase) -> None:

@@ -7,7 +7,8 @@ Grasp generation follows what manipulation frameworks do (MoveIt Task Constructo
 pybullet-planning's top and side grasp generators), in three families:
 
 - **top**: the hand points straight down; cylinders over a sweep of closing yaws (`GraspParams.yaw_step`), boxes
-  across each pair of faces; each with the wrist half-turned as well (same grasp, other wrist angle);
+  across each pair of faces; each with the wrist half-turned as well (same grasp, other wrist angle); each also
+  at a shallow depth (`GraspParams.shallow_depth`), whose palm clears a neighbour a little taller than the object;
 - **tilted**: the top grasps leaned about their closing axis by `GraspParams.tilts` (never towards the robot),
   for objects at the edge of reach or under a low obstacle;
 - **side**: the hand approaches horizontally from the faces that look towards the robot (within
@@ -21,7 +22,7 @@ than the gripper is a failure of the robot's proficiency, not of its planner).
 The **cost** that orders them (lower first) is
 
     cost = family_cost[family] + wrist_weight * |closing yaw - preferred yaw| / (pi/2)
-           + tilt_weight * |tilt| + span_weight * span / opening
+           + tilt_weight * |tilt| + span_weight * span / opening + shallow_cost * (shallow)
 
 with the wrist term taken over the nearest symmetric yaw (a parallel gripper is symmetric under half turns, the
 arm is not), so the pose nearest the arm's home wrist comes first, top before tilted before side, and among equal
@@ -76,6 +77,9 @@ class GraspParams:
         clear_radius: Horizontal distance (m) of the neighbours the lifted object must clear.
         max_depth: Deepest a top grasp point goes below the object's top face.
         min_clearance: Minimum height of a top grasp point above the supporting surface.
+        shallow_depth: Depth of the shallow top grasps below the top face (0: none); the finger pads still
+            cover this plus their own overhang below the grasp point.
+        shallow_cost: Extra cost of a shallow top grasp (less of the pads on the object).
         place_drop: Gap between the object's bottom and the table when it is released.
         retreat: How far the hand backs off upwards after releasing.
         max_carry_tilt: Largest tilt of the carried object from upright, radians.
@@ -88,6 +92,8 @@ class GraspParams:
         side_min_height: Lowest side grasp point above the support (the palm must clear it).
         side_top_margin: Lowest distance of a side grasp point below the object's top.
         opening_margin: Room (m) the fingers need beyond the object's span.
+        preshape_margin: Room (m) left beside the object on each side by the fingers pre-shaped for the
+            approach (the hand opens only as far as the widest candidate needs, to fit between neighbours).
         family_cost: Cost of the top, tilted and side families (see the module docstring).
         wrist_weight: Cost per quarter turn of the wrist from the preferred yaw.
         tilt_weight: Cost per radian of tilt.
@@ -102,6 +108,8 @@ class GraspParams:
     clear_radius: float = 0.25
     max_depth: float = 0.03
     min_clearance: float = 0.015
+    shallow_depth: float = 0.012
+    shallow_cost: float = 0.45
     place_drop: float = 0.006
     retreat: float = 0.10
     max_carry_tilt: float = 0.35
@@ -114,6 +122,7 @@ class GraspParams:
     side_min_height: float = 0.045
     side_top_margin: float = 0.015
     opening_margin: float = 0.004
+    preshape_margin: float = 0.01
     family_cost: tuple[float, float, float] = (0.0, 0.6, 0.9)
     wrist_weight: float = 0.3
     tilt_weight: float = 0.2
@@ -303,8 +312,17 @@ def grasp_candidates(
         axes = [radial + np.pi / 2 + k * np.pi / n for k in range(n)]
     depth = float(np.clip(height - params.min_clearance, 0.0, params.max_depth))
     top_point = top - np.array([0.0, 0.0, depth])
+    shallow = params.shallow_depth > 0 and params.shallow_depth < depth - 0.005
+    shallow_point = top - np.array([0.0, 0.0, params.shallow_depth])
 
-    def add(rotation: np.ndarray, point: np.ndarray, yaw: float, tilt: float, family: GraspFamily) -> None:
+    def add(
+        rotation: np.ndarray,
+        point: np.ndarray,
+        yaw: float,
+        tilt: float,
+        family: GraspFamily,
+        extra: float = 0.0,
+    ) -> None:
         grasp = _pose(rotation, point)
         pregrasp = grasp.copy()
         pregrasp[:3, 3] -= grasp[:3, 2] * params.approach
@@ -312,7 +330,7 @@ def grasp_candidates(
         wrist = abs(_wrap(yaw - preferred_yaw)) / (np.pi / 2)
         fc = params.family_cost[list(GraspFamily).index(family)]
         cost = fc + params.wrist_weight * wrist + params.tilt_weight * abs(tilt)
-        cost += params.span_weight * span / (opening or 0.08)
+        cost += params.span_weight * span / (opening or 0.08) + extra
         out.append(
             GraspCandidate(
                 closing_yaw=float(yaw),
@@ -329,6 +347,8 @@ def grasp_candidates(
     for axis in axes:
         for yaw in (_wrap(axis), _wrap(axis + np.pi)):  # both wrist angles
             add(top_down_rotation(yaw), top_point, yaw, 0.0, GraspFamily.TOP)
+            if shallow:
+                add(top_down_rotation(yaw), shallow_point, yaw, 0.0, GraspFamily.TOP, params.shallow_cost)
             lean = np.array([-np.sin(yaw), np.cos(yaw), 0.0])  # where a positive tilt points the approach
             for t in params.tilts:
                 for tilt in (t, -t):

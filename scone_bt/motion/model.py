@@ -1,6 +1,7 @@
 """The arm's kinematic and collision model (Pinocchio + coal adapter), built from a robot YAML.
 
-The gripper joints are locked at their open position, so the model has exactly the arm's degrees of freedom.
+The gripper joints are locked at their open position, so the model has exactly the arm's degrees of freedom; a
+collision model with the fingers pre-shaped to a narrower opening is `ArmModel.geometry_with_fingers`.
 Self-collision pairs between adjacent links and pairs listed under `collision.disabled_pairs` in the YAML (links
 that can never touch, found offline by sampling) are not checked.
 """
@@ -93,6 +94,10 @@ class ArmModel:
                 lock.append(i)
         self.model, self.geom_model = pin.buildReducedModel(full, full_geom, lock, q_ref)
         self._convexify()
+        finger_joints = {full.getJointId(j) for j in robot.gripper.joints}
+        finger_links = {
+            f.name for f in full.frames if f.type.name == "BODY" and f.parentJoint in finger_joints
+        }
         arm_order = [self.model.names[i] for i in range(1, self.model.njoints)]
         if arm_order != list(robot.arm_joints):
             raise ConfigError(
@@ -112,6 +117,34 @@ class ArmModel:
         }
         self.disabled_pairs = self._disabled_link_pairs(full)
         self.shoulder, self.reach = self._reach_bound()
+        # Finger geometries and the side of the closing axis (end-effector y) each sits on, for pre-shaping.
+        ee_from_joint = np.linalg.inv(self.model.frames[self.ee_frame].placement.homogeneous)
+        self.finger_geometry: dict[int, float] = {}
+        for k, g in enumerate(self.geom_model.geometryObjects):
+            if self.link_of_geometry[g.name] in finger_links and g.parentJoint == self.ee_joint:
+                y = float((ee_from_joint @ g.placement.homogeneous)[1, 3])
+                self.finger_geometry[k] = 1.0 if y >= 0 else -1.0
+
+    def geometry_with_fingers(self, position: float | None) -> object:
+        """A copy of the collision model with each finger at `position` (m from centre, like the gripper joints).
+
+        None (or the open position) gives the model as loaded, fingers fully open. The fingers move along the
+        end-effector's y axis, the closing axis of every robot's end-effector frame.
+        """
+        import pinocchio as pin
+
+        gm = self.geom_model.copy()
+        if position is None:
+            return gm
+        shift = float(position) - self.config.gripper.open_position
+        if abs(shift) < 1e-9:
+            return gm
+        ee_in_joint = self.model.frames[self.ee_frame].placement
+        for k, side in self.finger_geometry.items():
+            g = gm.geometryObjects[k]
+            offset = pin.SE3(np.eye(3), ee_in_joint.rotation @ np.array([0.0, side * shift, 0.0]))
+            g.placement = pin.SE3(offset.homogeneous @ g.placement.homogeneous)
+        return gm
 
     def _reach_bound(self) -> tuple[np.ndarray, float]:
         """The shoulder (second joint's origin, world frame) and an upper bound of its distance to the end-effector.

@@ -42,7 +42,6 @@ from scone_bt.motion.placement import (
     Footprint,
     PlacementOptions,
     TableRegion,
-    footprint_radius,
     sample_placements,
 )
 from scone_bt.motion.planner import PlannerOptions, plan_joint_path
@@ -56,6 +55,7 @@ __all__ = [
     "PickPlaceFailure",
     "PickPlaceRequest",
     "detected_obstacle",
+    "preshape",
     "obstacle_footprint",
     "plan_pick_and_place",
     "plan_home",
@@ -66,6 +66,12 @@ CARRY_PADDING = 0.006
 
 LOCAL_IK_ITERATIONS = 40
 """Iterations of an IK solve seeded nearby (line steps, placements seeded from the lifted arm)."""
+
+LINE_TOLERANCE = 0.006
+"""Largest sideways drift (m) of the hand from a straight descent, lift, lowering or retreat."""
+
+LINE_MAX_WAYPOINTS = 8
+"""Most pieces a straight hand motion is split into (each timed from rest to rest)."""
 
 CARTESIAN_SPEED = 0.8
 """Fraction of the robot's limits used for the short straight moves near objects (descend, lift, lower, retreat)."""
@@ -105,6 +111,8 @@ class PickPlacePlan:
         place_spot: (x, y, table top z) where the object's centre goes.
         grasps_tried: Grasp candidates examined.
         goal_set_sizes: Number of goals handed to OMPL for the approach and the transit.
+        finger_position: Each finger's position (m) the hand is pre-shaped to for the approach and opens to at
+            the release; None: fully open.
     """
 
     segments: tuple[Segment, ...]
@@ -121,6 +129,7 @@ class PickPlacePlan:
     place_spot: tuple[float, float, float] | None = None
     grasps_tried: int = 0
     goal_set_sizes: tuple[int, int] = (1, 1)
+    finger_position: float | None = None
 
     def ee_path(self, arm: ArmModel, stride: int = 12) -> np.ndarray:
         """(N, 3) planned end-effector positions, metres."""
@@ -171,7 +180,8 @@ class PickPlaceRequest:
         params: Grasp generation and approach, lift and place distances.
         placement: Placement sampling settings (its rng_seed is replaced by `rng_seed`).
         preferred_yaw: Closing-axis yaw (rad) of the home pose; grasps nearest to it cost least.
-        opening: The gripper's full opening, metres (None: no span filter).
+        opening: The gripper's full opening, metres (None: no span filter, no pre-shaping).
+        finger_closed: Each finger's joint position when closed, metres (the opening counts from it).
     """
 
     q_start: np.ndarray
@@ -188,6 +198,22 @@ class PickPlaceRequest:
     placement: PlacementOptions = field(default_factory=PlacementOptions)
     preferred_yaw: float = -np.pi / 2
     opening: float | None = None
+    finger_closed: float = 0.0
+
+
+def preshape(
+    candidates: Sequence[GraspCandidate], opening: float | None, closed: float, params: GraspParams
+) -> float | None:
+    """Finger position (m) that leaves `params.preshape_margin` beside the widest span any candidate needs.
+
+    A hand opened only that far fits between close neighbours (as a robot's pre-grasp posture does); None (fully
+    open) without an opening or candidates, or when the widest span needs the full opening anyway.
+    """
+    if opening is None or not candidates:
+        return None
+    widest = max(c.span for c in candidates)
+    position = closed + widest / 2 + params.preshape_margin
+    return None if position >= closed + opening / 2 - 1e-9 else float(position)
 
 
 def detected_obstacle(det: Detection, spec: ObjectSpec) -> Obstacle:
@@ -196,10 +222,14 @@ def detected_obstacle(det: Detection, spec: ObjectSpec) -> Obstacle:
 
 
 def obstacle_footprint(ob: Obstacle) -> Footprint:
-    """The table footprint of an obstacle standing upright (bounding circle, height)."""
+    """The table footprint of an obstacle standing upright: a box's rectangle at its yaw, else a circle."""
     sx, sy, sz = ob.size
-    radius = 0.5 * float(np.hypot(sx, sy)) if ob.shape == "box" else sx / 2
-    return Footprint(ob.name, float(ob.pose[0, 3]), float(ob.pose[1, 3]), radius, float(sz))
+    x, y = float(ob.pose[0, 3]), float(ob.pose[1, 3])
+    if ob.shape == "box":
+        yaw = float(np.arctan2(ob.pose[1, 0], ob.pose[0, 0]))
+        half = (float(sx) / 2, float(sy) / 2)
+        return Footprint(ob.name, x, y, float(np.hypot(*half)), float(sz), half, yaw)
+    return Footprint(ob.name, x, y, float(sx) / 2, float(sz))
 
 
 class _Planner:
@@ -244,37 +274,63 @@ class _Planner:
     def line(
         self, q_from: np.ndarray, pose_to: np.ndarray, world: CollisionWorld, what: str
     ) -> tuple[np.ndarray | None, str, list[str]]:
-        """Joints at `pose_to` reached by a straight end-effector line from q_from, or None, why, and blockers.
+        """A joint path from q_from to `pose_to` along a straight end-effector line, or None, why, and blockers.
 
-        IK follows the line in small steps (each seeded by the last) so the solution stays on the same branch; the
-        joint-space segment between the ends must then stay within 6 mm of the line and be collision-free.
+        IK follows the line in small steps (each seeded by the last) so the solution stays on the same branch.
+        Between successive waypoints the joint motion must stay within `LINE_TOLERANCE` of the line (sideways
+        drift pushes the object); where one joint-space segment bows out further (the arm's joints do not move
+        linearly for a straight hand motion), the line is split in halves, up to `LINE_MAX_WAYPOINTS` pieces.
+        Each piece must be collision-free.
+
+        Returns:
+            ((k + 1, dof) waypoints starting at q_from, "", []) or (None, the reason, the obstacles that block).
         """
         pose_from = self.arm.fk(q_from)
-        q = q_from
-        for t in np.linspace(0.0, 1.0, 3)[1:]:
-            pose = pose_to.copy()
-            pose[:3, 3] = pose_from[:3, 3] + (pose_to[:3, 3] - pose_from[:3, 3]) * t
-            q = self.ik(pose, q, restarts=0)
-            if q is None:
-                return None, f"{what}: out of reach", []
         pa, pb = pose_from[:3, 3], pose_to[:3, 3]
         axis = (pb - pa) / max(float(np.linalg.norm(pb - pa)), 1e-9)
-        for t in np.linspace(0.0, 1.0, 7)[1:-1]:
-            off = self.arm.fk(q_from + (q - q_from) * t)[:3, 3] - pa
-            if np.linalg.norm(off - axis * (off @ axis)) > 0.006:  # sideways drift pushes the object
+
+        def at(t: float) -> np.ndarray:
+            pose = pose_to.copy()
+            pose[:3, 3] = pa + (pb - pa) * t
+            return pose
+
+        def straight(qa: np.ndarray, qb: np.ndarray) -> bool:
+            for t in (0.25, 0.5, 0.75):
+                off = self.arm.fk(qa + (qb - qa) * t)[:3, 3] - pa
+                if np.linalg.norm(off - axis * (off @ axis)) > LINE_TOLERANCE:
+                    return False
+            return True
+
+        q = q_from
+        for t in (0.5, 1.0):
+            q = self.ik(at(t), q, restarts=0)
+            if q is None:
+                return None, f"{what}: out of reach", []
+        path = [q_from, q]
+        pieces = 1
+        while not all(straight(a, b) for a, b in zip(path[:-1], path[1:], strict=True)):
+            pieces *= 2
+            if pieces > LINE_MAX_WAYPOINTS:
                 return None, f"{what}: the joint motion leaves the straight line", []
-        if not world.segment_valid(q_from, q):
-            bad = next(
-                (
-                    q_from + (q - q_from) * t
-                    for t in np.linspace(0, 1, 21)
-                    if not world.is_valid(q_from + (q - q_from) * t)
-                ),
-                q,
-            )
-            names = _blockers(world, bad)
-            return None, f"{what}: collides ({_pair(world, bad)})", names
-        return q, "", []
+            q = q_from
+            path = [q_from]
+            for t in np.linspace(0.0, 1.0, pieces + 1)[1:]:
+                q = self.ik(at(float(t)), q, restarts=0)
+                if q is None:
+                    return None, f"{what}: out of reach", []
+                path.append(q)
+        for qa, qb in zip(path[:-1], path[1:], strict=True):
+            if not world.segment_valid(qa, qb):
+                bad = next(
+                    (
+                        qa + (qb - qa) * t
+                        for t in np.linspace(0, 1, 21)
+                        if not world.is_valid(qa + (qb - qa) * t)
+                    ),
+                    qb,
+                )
+                return None, f"{what}: collides ({_pair(world, bad)})", _blockers(world, bad)
+        return np.array(path), "", []
 
     def plan(self, qa: np.ndarray, qb: np.ndarray, world: CollisionWorld) -> PlanResult:
         opts = PlannerOptions(
@@ -303,8 +359,16 @@ class _Planner:
 class _Grasp:
     cand: GraspCandidate
     q_pre: np.ndarray
-    q_grasp: np.ndarray
-    q_lift: np.ndarray
+    descend: np.ndarray  # (k, dof) from q_pre to the grasp
+    lift: np.ndarray  # (k, dof) from the grasp up
+
+    @property
+    def q_grasp(self) -> np.ndarray:
+        return self.descend[-1]
+
+    @property
+    def q_lift(self) -> np.ndarray:
+        return self.lift[-1]
 
 
 @dataclass(frozen=True, eq=False)
@@ -312,8 +376,12 @@ class _Placement:
     spot: tuple[float, float, float]
     ee_place: np.ndarray
     q_pp: np.ndarray
-    q_place: np.ndarray
-    q_ret: np.ndarray
+    lower: np.ndarray  # (k, dof) from above the spot down to the release
+    retreat: np.ndarray  # (k, dof) from the release up
+
+    @property
+    def q_ret(self) -> np.ndarray:
+        return self.retreat[-1]
 
 
 class _Tally:
@@ -374,12 +442,15 @@ def plan_pick_and_place(
             time.thread_time() - c0,
         )
 
-    w_free = p.world([*fixed, target])
+    # 1. Grasp candidates, examined lazily in cost order; the hand opens only as far as they need.
+    candidates = grasp_candidates(req.target, req.spec, params, req.preferred_yaw, req.opening)
+    fingers = preshape(candidates, req.opening, req.finger_closed, params)
+    w_free = p.world([*fixed, target], finger_position=fingers)
     # Near the grasp the fingers come within millimetres of the supporting shelf: a thinner margin there.
-    w_grasp = p.world([*fixed, target], ignore_for_hand=[name], padding=0.004)
-    w_other = p.world(fixed, padding=0.004)
-    hand_free = HandModel(arm, [*fixed, target], padding=0.01)
-    hand_near = HandModel(arm, [*fixed, target], padding=0.004)
+    w_grasp = p.world([*fixed, target], ignore_for_hand=[name], padding=0.004, finger_position=fingers)
+    w_other = p.world(fixed, padding=0.004, finger_position=fingers)
+    hand_free = HandModel(arm, [*fixed, target], padding=0.01, finger_position=fingers)
+    hand_near = HandModel(arm, [*fixed, target], padding=0.004, finger_position=fingers)
 
     # Lift the object until its bottom clears the tops of its neighbours: from there the straight carry towards
     # the table is usually free, and OMPL is needed far less often.
@@ -391,8 +462,6 @@ def plan_pick_and_place(
     ]
     lift = float(np.clip(max(near_tops, default=0.0) + 0.03 - bottom, params.lift, params.max_lift))
 
-    # 1. Grasp candidates, examined lazily in cost order.
-    candidates = grasp_candidates(req.target, req.spec, params, req.preferred_yaw, req.opening)
     tally = _Tally()
     examined = 0
 
@@ -426,33 +495,38 @@ def plan_pick_and_place(
                 names = _blockers(w_free, q_pre)
                 tally.blocked(f"{cand.family.value} pre-grasp collides ({_pair(w_free, q_pre)})", names)
                 continue
-            q_grasp, why, names = p.line(q_pre, cand.grasp, w_grasp, f"{cand.family.value} descent")
-            if q_grasp is None:
+            descend, why, names = p.line(q_pre, cand.grasp, w_grasp, f"{cand.family.value} descent")
+            if descend is None:
                 tally.blocked(why, names)
                 continue
-            q_lift, why, names = p.line(q_grasp, lifted(cand.grasp, lift), w_grasp, "lift")
-            if q_lift is None and lift > params.lift:  # too high to reach: the plain lift, a harder transit
-                q_lift, why, names = p.line(q_grasp, lifted(cand.grasp, params.lift), w_grasp, "lift")
-            if q_lift is None:
+            up, why, names = p.line(descend[-1], lifted(cand.grasp, lift), w_grasp, "lift")
+            if up is None and lift > params.lift:  # too high to reach: the plain lift, a harder transit
+                up, why, names = p.line(descend[-1], lifted(cand.grasp, params.lift), w_grasp, "lift")
+            if up is None:
                 tally.blocked(why, names)
                 continue
-            return _Grasp(cand, q_pre, q_grasp, q_lift)
+            return _Grasp(cand, q_pre, descend, up)
         return None
 
-    # 2. Placement spots: sampled on the observed free area of the table, or given.
+    # 2. Placement spots: sampled on the observed free area of the table, or given. A box's spot comes with the
+    # yaws its footprint fits at there; a round object (or a given spot) may stand at any yaw.
+    base = np.asarray(arm.config.base_position, dtype=float)
+    target_dir = float(np.arctan2(req.target.position[1] - base[1], req.target.position[0] - base[0]))
+    spots: list[tuple[tuple[float, float, float], tuple[float, ...]]]
     if req.place_spots:
-        spots = list(req.place_spots)
+        spots = [(tuple(s), ()) for s in req.place_spots]  # type: ignore[misc]
         table_blockers: tuple[str, ...] = ()
     elif req.table is not None:
         sampled = sample_placements(
             req.table,
             [obstacle_footprint(o) for o in table_objs],
-            footprint_radius(req.spec),
+            Footprint.of(req.spec),
             req.spec.height,
             replace(req.placement, rng_seed=req.rng_seed),
-            tuple(arm.config.base_position[:2]),  # type: ignore[arg-type]
+            tuple(base[:2]),  # type: ignore[arg-type]
+            arrival_yaw=req.target.yaw - target_dir,
         )
-        spots = [s.xyz for s in sampled.spots]
+        spots = [(s.xyz, s.yaws) for s in sampled.spots]
         table_blockers = sampled.blockers
     else:
         spots, table_blockers = [], ()
@@ -465,37 +539,36 @@ def plan_pick_and_place(
             table_blockers,
         )
     place_tally = _Tally()
-    base = np.asarray(arm.config.base_position, dtype=float)
-    target_dir = float(np.arctan2(req.target.position[1] - base[1], req.target.position[0] - base[0]))
 
     def placements_for(g: _Grasp) -> tuple[list[_Placement], CollisionWorld | None]:
         """Feasible placements with this grasp, and the carry world; None if the lifted object collides."""
         cand = g.cand
         carried = Obstacle(name, req.spec.shape, req.spec.size, cand.object_in_ee)
-        w_carry = p.world(fixed, attached=carried, padding=CARRY_PADDING, max_tilt=params.max_carry_tilt)
+        w_carry = p.world(
+            fixed,
+            attached=carried,
+            padding=CARRY_PADDING,
+            max_tilt=params.max_carry_tilt,
+            finger_position=fingers,
+        )
         if not w_carry.is_valid(g.q_lift):
             tally.blocked(
                 f"lifted {name} collides ({_pair(w_carry, g.q_lift)})", _blockers(w_carry, g.q_lift)
             )
             return [], None
-        w_lower = p.world(fixed, attached=carried, padding=0.004, max_tilt=params.max_carry_tilt)
-        hand_table = HandModel(arm, fixed, padding=0.004)
+        w_lower = p.world(
+            fixed, attached=carried, padding=0.004, max_tilt=params.max_carry_tilt, finger_position=fingers
+        )
+        hand_table = HandModel(arm, fixed, padding=0.004, finger_position=fingers)
         out: list[_Placement] = []
         seed: np.ndarray | None = None
         searched = False
-        for spot in spots:
+        for spot, yaws in spots:
             if len(out) >= params.max_goal_placements:
                 break
             radial = float(np.arctan2(spot[1] - base[1], spot[0] - base[0])) - target_dir
             radial = (radial + np.pi) % (2 * np.pi) - np.pi
-            # The hand turned with the base first: then the carry is close to a pure rotation of the first joint
-            # (vertical for both arms), which keeps the object upright and at its lifted height.
-            turns = (
-                (radial, radial + np.pi / 4, radial - np.pi / 4, radial + np.pi / 2, radial - np.pi / 2)
-                if cand.family is GraspFamily.TOP
-                else (radial, radial + np.pi / 4, radial - np.pi / 4)
-            )
-            for turn in turns:
+            for turn in _place_turns(radial, yaws, req.target.yaw, cand.family is GraspFamily.TOP):
                 ee_place = place_pose(spot, req.spec, cand.object_in_ee, cand.grasp, turn, params)
                 where = _fmt(spot[:2])
                 hits = hand_table.colliding(ee_place) or hand_table.colliding(
@@ -533,15 +606,15 @@ def plan_pick_and_place(
                         f"above {where} collides ({_pair(w_carry, q_pp)})", _blockers(w_carry, q_pp)
                     )
                     continue
-                q_place, why, names = p.line(q_pp, ee_place, w_lower, f"lowering to {where}")
-                if q_place is None:
+                lower, why, names = p.line(q_pp, ee_place, w_lower, f"lowering to {where}")
+                if lower is None:
                     place_tally.blocked(why, names)
                     continue
-                q_ret, why, names = p.line(q_place, lifted(ee_place, params.retreat), w_other, "retreat")
-                if q_ret is None:
+                back, why, names = p.line(lower[-1], lifted(ee_place, params.retreat), w_other, "retreat")
+                if back is None:
                     place_tally.blocked(why, names)
                     continue
-                out.append(_Placement(tuple(spot), ee_place, q_pp, q_place, q_ret))  # type: ignore[arg-type]
+                out.append(_Placement(tuple(spot), ee_place, q_pp, lower, back))  # type: ignore[arg-type]
                 seed = q_pp
                 break
         return out, w_carry
@@ -580,18 +653,18 @@ def plan_pick_and_place(
             name, req.spec.shape, req.spec.size, placed.ee_place @ chosen.cand.object_in_ee
         )
         # The hand has just retreated straight up from the object: the near-object margin, as for the retreat.
-        w_after = p.world([*fixed, placed_obstacle], padding=0.004)
+        w_after = p.world([*fixed, placed_obstacle], padding=0.004, finger_position=fingers)
         home = p.plan(placed.q_ret, np.asarray(req.home, dtype=float), w_after)
         if not home.success:
             # Home is the same for every grasp; another grasp would not change the way back.
             return fail(PlanFailureReason.NO_PATH, f"return home: {home.status.value} ({home.message})")
         segments = (
             p.timed(MotionPhase.APPROACH, approach.path),  # type: ignore[arg-type]
-            p.timed(MotionPhase.DESCEND, np.array([chosen.q_pre, chosen.q_grasp]), slow=True),
-            p.timed(MotionPhase.LIFT, np.array([chosen.q_grasp, chosen.q_lift]), slow=True),
+            p.timed(MotionPhase.DESCEND, chosen.descend, slow=True),
+            p.timed(MotionPhase.LIFT, chosen.lift, slow=True),
             p.timed(MotionPhase.TRANSIT, transit.path),  # type: ignore[arg-type]
-            p.timed(MotionPhase.LOWER, np.array([placed.q_pp, placed.q_place]), slow=True),
-            p.timed(MotionPhase.RETREAT, np.array([placed.q_place, placed.q_ret]), slow=True),
+            p.timed(MotionPhase.LOWER, placed.lower, slow=True),
+            p.timed(MotionPhase.RETREAT, placed.retreat, slow=True),
             p.timed(MotionPhase.HOME, home.path),  # type: ignore[arg-type]
         )
         return PickPlacePlan(
@@ -609,6 +682,7 @@ def plan_pick_and_place(
             placed.spot,
             examined,
             (approach_set, len(placements)),
+            fingers,
         )
 
     # 4. Out of options: say which stage ran out, and what blocked it.
@@ -666,6 +740,28 @@ def plan_home(
     if not result.success:
         return None
     return p.timed(MotionPhase.HOME, result.path)  # type: ignore[arg-type]
+
+
+def _place_turns(radial: float, yaws: Sequence[float], object_yaw: float, top: bool) -> list[float]:
+    """Turns (rad about world z) of the hand from its grasp to a placement, most natural first.
+
+    The hand turned with the base first (`radial`): then the carry is close to a pure rotation of the first joint
+    (vertical for both arms), which keeps the object upright and at its lifted height. A round object may also
+    be turned by the wrist; a box must arrive at one of the yaws its footprint fits at (`yaws`, modulo a half
+    turn). A top-down hand turns freely about its approach axis; other hands turn at most an eighth of a turn
+    from the base's direction.
+    """
+    limit = np.pi / 2 if top else np.pi / 4
+    if not yaws:
+        steps = (0.0, np.pi / 4, -np.pi / 4, np.pi / 2, -np.pi / 2) if top else (0.0, np.pi / 4, -np.pi / 4)
+        return [radial + d for d in steps]
+    out: list[float] = []
+    for yaw in yaws:
+        d = (yaw - object_yaw - radial + np.pi / 2) % np.pi - np.pi / 2  # nearest turn modulo a half turn
+        for delta in (d, d - np.pi, d + np.pi):
+            if abs(delta) <= limit + 1e-9 and all(abs(radial + delta - t) > 1e-6 for t in out):
+                out.append(radial + delta)
+    return out
 
 
 def _between(a: np.ndarray, b: np.ndarray, t: float) -> np.ndarray:

@@ -1,23 +1,30 @@
-"""Where on the table an object goes: seeded sampling of the observed free area (pure numpy, no simulator).
+"""Where on the table an object goes: footprint geometry and seeded sampling of the free area (pure numpy).
 
-Inputs are the table's rectangle (scene geometry from the kitchen file) and the footprints of what is seen, or
-remembered, standing on it. Candidates are a regular grid plus seeded uniform samples over the table inset by
-`PlacementOptions.edge_margin`; a candidate is kept if its footprint circle clears every obstacle's footprint
-circle by `clearance`. Kept candidates are ordered by the cost
+Footprints are what an object covers seen from above: an oriented rectangle for a box (a carton, a pack) and a
+circle for a round product. `clear_spots` is the one test of "does this footprint fit here": it keeps a
+candidate whose footprint stays on the table (inset by a margin) and clears every footprint standing there by a
+clearance. Both the robot (`sample_placements`, from what its table camera sees or it remembers placing) and the
+simulated human (`Kitchen.free_place_spot`, from the simulator's ground truth) use it.
+
+The robot's candidates are a regular grid plus seeded uniform samples over the table; a box is tried at a few
+yaws per point (the yaw it arrives at when the arm only turns its base, a quarter turn from that, and the two
+yaws aligned with the table's edges). Kept candidates are ordered by the cost
 
     cost = reach_weight * |r - preferred reach| / table diagonal
          + block_weight * blocking
-         + crowd_weight * (1 - min(gap, crowd_gap) / crowd_gap)
+         + pack_weight * min(room, pack_gap) / pack_gap
          + shadow_weight * (tall obstacles between the robot and the spot)
+         + turn_weight * |yaw - arrival yaw| / (pi/2)
 
 where r is the spot's distance from the robot's base, the preferred reach `preferred_reach` (`tall_reach` for an
-object at least `tall_height` tall) and gap its clearance to the nearest obstacle. The arm
-reaches every spot from its base outwards, so `blocking` keeps tall objects out of the way of later placements:
-with depth = (r - r_min) / (r_max - r_min) over the table's candidates, it is 1 - depth for an object at least
+object at least `tall_height` tall) and room the gap to the nearest footprint or table edge. The arm reaches every
+spot from its base outwards, so `blocking` keeps tall objects out of the way of later placements: with
+depth = (r - r_min) / (r_max - r_min) over the table's candidates, it is 1 - depth for an object at least
 `tall_height` tall (tall objects go to the table's far rim) and 0.3 * depth for a short one (a mild preference for
-near spots: short carries, and the arm reaches over short objects). The shadow term avoids spots the object would
-have to be lowered into behind a tall neighbour, one that stands nearer the robot within a hand's width of the
-line from the base to the spot.
+near spots: short carries, and the arm reaches over short objects). The packing term puts an object next to what
+already stands there or against an edge rather than in the middle of the free area, which would split it into
+gaps too small for the next product. The shadow term avoids spots the object would have to be lowered into behind
+a tall neighbour, one that stands nearer the robot within a hand's width of the line from the base to the spot.
 """
 
 from __future__ import annotations
@@ -32,10 +39,13 @@ from scone_bt.config import ObjectSpec, SceneSpec
 __all__ = [
     "TableRegion",
     "Footprint",
+    "Clearance",
     "PlacementOptions",
     "PlacementSpot",
     "PlacementSet",
     "footprint_radius",
+    "footprint_gaps",
+    "clear_spots",
     "sample_placements",
 ]
 
@@ -63,13 +73,167 @@ class TableRegion:
 
 @dataclass(frozen=True)
 class Footprint:
-    """What stands on the table, seen from above: a circle (metres) and the object's height."""
+    """What an object covers seen from above, metres and radians.
+
+    Attributes:
+        name: The object's name (for messages).
+        x: Centre, world x.
+        y: Centre, world y.
+        radius: A circle's radius; for a rectangle the half diagonal (the circle that covers it).
+        height: The object's height.
+        half_size: A rectangle's half extents along its own x and y axes; None for a circle.
+        yaw: The rectangle's orientation about world z.
+    """
 
     name: str
     x: float
     y: float
     radius: float
     height: float
+    half_size: tuple[float, float] | None = None
+    yaw: float = 0.0
+
+    @classmethod
+    def of(cls, spec: ObjectSpec, x: float = 0.0, y: float = 0.0, yaw: float = 0.0) -> Footprint:
+        """The footprint of a catalogue product standing upright at (x, y) turned by yaw: boxes are rectangles."""
+        sx, sy, sz = spec.size
+        if spec.shape == "box":
+            half = (float(sx) / 2, float(sy) / 2)
+            return cls(spec.name, float(x), float(y), float(np.hypot(*half)), float(sz), half, float(yaw))
+        return cls(spec.name, float(x), float(y), float(sx) / 2, float(sz))
+
+    @property
+    def is_round(self) -> bool:
+        return self.half_size is None
+
+
+@dataclass(frozen=True, eq=False)
+class Clearance:
+    """Which candidate spots are free, how much room each has, and what rules out the others.
+
+    Attributes:
+        free: (N,) True where the footprint fits on the table and clears every obstacle.
+        gap: (N,) distance (m) to the nearest obstacle's footprint (a lower bound for two rectangles); inf
+            without obstacles.
+        edge_gap: (N,) distance (m) from the footprint to the nearest table edge (negative: over it).
+        blocker: (N,) index of the obstacle that rules a candidate out (the nearest); -1 where none does.
+    """
+
+    free: np.ndarray
+    gap: np.ndarray
+    edge_gap: np.ndarray
+    blocker: np.ndarray
+
+
+def footprint_radius(spec: ObjectSpec) -> float:
+    """Radius of the circle that covers the object seen from above, metres."""
+    return Footprint.of(spec).radius
+
+
+def _extent(
+    half: tuple[float, float] | None, radius: float, yaw: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Half extents along world x and y of a footprint turned by `yaw` (its axis-aligned bounding box)."""
+    if half is None:
+        r = np.full(np.shape(yaw), radius)
+        return r, r
+    c, s = np.abs(np.cos(yaw)), np.abs(np.sin(yaw))
+    return half[0] * c + half[1] * s, half[0] * s + half[1] * c
+
+
+def footprint_gaps(
+    points: np.ndarray, yaws: np.ndarray, shape: Footprint, obstacles: Sequence[Footprint]
+) -> np.ndarray:
+    """(N, M) distance (m) between `shape` placed at each point and yaw and each obstacle; negative if they overlap.
+
+    Circles against circles and circles against rectangles are exact; two rectangles use the separating axes
+    (their largest separation along the four edge normals), a lower bound of the distance that is exact when
+    they face each other along an edge: a spot is never reported freer than it is.
+
+    Args:
+        points: (N, 2) candidate centres, world frame.
+        yaws: (N,) candidate orientations (ignored for a round shape).
+        shape: The object's footprint (its x, y and yaw are ignored).
+        obstacles: What stands there.
+    """
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    yaw = np.broadcast_to(np.asarray(yaws, dtype=float), (len(pts),))
+    out = np.empty((len(pts), len(obstacles)))
+    for j, ob in enumerate(obstacles):
+        d = np.array([ob.x, ob.y]) - pts  # from the candidate to the obstacle
+        if shape.is_round and ob.is_round:
+            out[:, j] = np.linalg.norm(d, axis=1) - shape.radius - ob.radius
+        elif shape.is_round or ob.is_round:
+            # Circle against rectangle: the circle centre in the rectangle's frame.
+            if ob.is_round:
+                rect_yaw, half, centre, r = yaw, shape.half_size, -d, ob.radius
+            else:
+                rect_yaw, half, centre, r = np.full(len(pts), ob.yaw), ob.half_size, d, shape.radius
+            assert half is not None
+            c, s = np.cos(rect_yaw), np.sin(rect_yaw)
+            local = np.column_stack(
+                [c * centre[:, 0] + s * centre[:, 1], -s * centre[:, 0] + c * centre[:, 1]]
+            )
+            q = np.abs(local) - np.asarray(half)
+            outside = np.linalg.norm(np.maximum(q, 0.0), axis=1)
+            inside = np.minimum(np.max(q, axis=1), 0.0)
+            out[:, j] = outside + inside - r
+        else:
+            assert shape.half_size is not None and ob.half_size is not None
+            axes = [yaw, yaw + np.pi / 2, np.full(len(pts), ob.yaw), np.full(len(pts), ob.yaw + np.pi / 2)]
+            best = np.full(len(pts), -np.inf)
+            for a in axes:
+                n = np.column_stack([np.cos(a), np.sin(a)])
+                dist = np.abs(np.sum(d * n, axis=1))
+                pa = shape.half_size[0] * np.abs(np.cos(a - yaw)) + shape.half_size[1] * np.abs(
+                    np.sin(a - yaw)
+                )
+                pb = ob.half_size[0] * np.abs(np.cos(a - ob.yaw)) + ob.half_size[1] * np.abs(
+                    np.sin(a - ob.yaw)
+                )
+                best = np.maximum(best, dist - pa - pb)
+            out[:, j] = best
+    return out
+
+
+def clear_spots(
+    table: TableRegion,
+    obstacles: Sequence[Footprint],
+    shape: Footprint,
+    points: np.ndarray,
+    yaws: np.ndarray | float = 0.0,
+    clearance: float = 0.01,
+    edge_margin: float = 0.0,
+) -> Clearance:
+    """Which of the candidate spots (points, yaws) hold `shape`: on the table and clear of every obstacle.
+
+    The one free-spot test of the kitchen: the robot passes what it observes on the table, the simulated human
+    the simulator's ground truth.
+
+    Args:
+        table: The table's top.
+        obstacles: Footprints standing on it.
+        shape: The footprint to place (its own x, y and yaw are ignored).
+        points: (N, 2) candidate centres.
+        yaws: (N,) or one orientation of the shape, radians.
+        clearance: Gap (m) kept from every obstacle.
+        edge_margin: Gap (m) kept from the table's edges (0: the footprint may reach the edge).
+    """
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    yaw = np.broadcast_to(np.asarray(yaws, dtype=float), (len(pts),))
+    (cx, cy), (sx, sy) = table.center, table.size
+    ex, ey = _extent(shape.half_size, shape.radius, yaw)
+    edge_gap = np.minimum(sx / 2 - np.abs(pts[:, 0] - cx) - ex, sy / 2 - np.abs(pts[:, 1] - cy) - ey)
+    free = edge_gap >= edge_margin - 1e-12
+    if obstacles:
+        gaps = footprint_gaps(pts, yaw, shape, obstacles)
+        gap = gaps.min(axis=1)
+        blocker = np.where(gap < clearance, np.argmin(gaps, axis=1), -1)
+        free &= gap >= clearance - 1e-12
+    else:
+        gap = np.full(len(pts), np.inf)
+        blocker = np.full(len(pts), -1)
+    return Clearance(free, gap, edge_gap, blocker)
 
 
 @dataclass(frozen=True)
@@ -84,8 +248,8 @@ class PlacementOptions:
         tall_height: Objects at least this tall are placed away from the entry edge.
         preferred_reach: Distance from the robot's base the arm places at most comfortably.
         tall_reach: The same for tall objects: farther out, where they do not stand in the way.
-        reach_weight, block_weight, crowd_weight, shadow_weight: Cost weights (module docstring).
-        crowd_gap: Gap beyond which more room no longer lowers the cost.
+        reach_weight, block_weight, pack_weight, shadow_weight, turn_weight: Cost weights (module docstring).
+        pack_gap: Room beyond which more room no longer raises the cost.
         max_spots: Spots returned at most.
         rng_seed: Seeds the random candidates.
     """
@@ -99,22 +263,34 @@ class PlacementOptions:
     tall_reach: float = 0.68
     reach_weight: float = 1.0
     block_weight: float = 0.6
-    crowd_weight: float = 0.3
+    pack_weight: float = 0.3
     shadow_weight: float = 0.5
-    crowd_gap: float = 0.08
+    turn_weight: float = 0.1
+    pack_gap: float = 0.08
     max_spots: int = 24
     rng_seed: int = 0
 
 
 @dataclass(frozen=True)
 class PlacementSpot:
-    """One candidate: where the object's centre goes (x, y; z is the table top), its cost and its clearance."""
+    """One candidate: where the object's centre goes (x, y; z is the table top), its cost and its room.
+
+    Attributes:
+        x: Centre, world x, metres.
+        y: Centre, world y, metres.
+        z: Table top height, metres.
+        cost: Ordering cost (module docstring); lower first.
+        gap: Distance (m) to the nearest footprint standing on the table.
+        yaws: For a box, the orientations (rad about world z) its footprint fits at here, cheapest first; empty
+            for a round object (any orientation fits).
+    """
 
     x: float
     y: float
     z: float
     cost: float
     gap: float
+    yaws: tuple[float, ...] = ()
 
     @property
     def xyz(self) -> tuple[float, float, float]:
@@ -130,26 +306,39 @@ class PlacementSet:
     candidates: int
 
 
-def footprint_radius(spec: ObjectSpec) -> float:
-    """Radius of the circle that covers the object seen from above, metres."""
-    sx, sy, _ = spec.size
-    return float(0.5 * np.hypot(sx, sy)) if spec.shape == "box" else float(sx / 2)
+def _half_turn(angle: np.ndarray) -> np.ndarray:
+    """Angle modulo a half turn, in [-pi/2, pi/2) (a rectangle looks the same turned by pi)."""
+    return (angle + np.pi / 2) % np.pi - np.pi / 2
 
 
 def sample_placements(
     table: TableRegion,
     obstacles: Sequence[Footprint],
-    radius: float,
+    shape: Footprint | float,
     height: float,
     options: PlacementOptions = PlacementOptions(),
     base_xy: tuple[float, float] = (0.0, 0.0),
+    arrival_yaw: float = 0.0,
 ) -> PlacementSet:
-    """Free spots for an object of footprint `radius` and `height` on the table, cheapest first.
+    """Free spots for an object of footprint `shape` and `height` on the table, cheapest first.
 
     Deterministic for given inputs and `options.rng_seed`.
+
+    Args:
+        table: The table's top.
+        obstacles: Footprints seen (or remembered) on it.
+        shape: The object's footprint (its position is ignored), or a radius for a round one.
+        height: The object's height, metres.
+        options: Sampling settings.
+        base_xy: The robot base's position.
+        arrival_yaw: For a box, its yaw relative to the direction from the base: the yaw it arrives at a spot
+            with when the arm only turns its base is this plus the spot's bearing.
     """
+    if not isinstance(shape, Footprint):
+        shape = Footprint("object", 0.0, 0.0, float(shape), float(height))
     (cx, cy), (sx, sy) = table.center, table.size
-    inset = radius + options.edge_margin
+    # The grid covers every centre whose footprint could fit at some yaw.
+    inset = (min(shape.half_size) if shape.half_size is not None else shape.radius) + options.edge_margin
     x0, x1 = cx - sx / 2 + inset, cx + sx / 2 - inset
     y0, y1 = cy - sy / 2 + inset, cy + sy / 2 - inset
     if x0 > x1 or y0 > y1:
@@ -164,29 +353,52 @@ def sample_placements(
     rand = rng.uniform((x0, y0), (x1, y1), size=(options.random_samples, 2))
     pts = np.vstack([grid, rand]) if len(rand) else grid
     n = len(pts)
+    base = np.asarray(base_xy, dtype=float)
+    rel = pts - base
+    bearing = np.arctan2(rel[:, 1], rel[:, 0])
 
-    if obstacles:
-        centres = np.array([(o.x, o.y) for o in obstacles])
-        radii = np.array([o.radius for o in obstacles])
-        gaps = np.linalg.norm(pts[:, None, :] - centres[None, :, :], axis=2) - radii[None, :] - radius
-        free = np.all(gaps >= options.clearance, axis=1)
-        nearest_gap = gaps.min(axis=1)
-        blocked_by = np.argmin(gaps - options.clearance, axis=1)
-        counts: dict[str, int] = {}
-        for i in np.flatnonzero(~free):
-            name = obstacles[int(blocked_by[i])].name
-            counts[name] = counts.get(name, 0) + 1
-        blockers = tuple(sorted(counts, key=lambda k: (-counts[k], k)))
+    # Candidate yaws per point (one for a round object): arrival, a quarter turn from it, the table's axes.
+    if shape.is_round:
+        yaw_sets = np.zeros((n, 1))
     else:
-        free = np.ones(n, dtype=bool)
-        nearest_gap = np.full(n, options.crowd_gap)
-        blockers = ()
-    pts, nearest_gap = pts[free], nearest_gap[free]
-    if not len(pts):
+        arrival = arrival_yaw + bearing
+        yaw_sets = np.column_stack([arrival, arrival + np.pi / 2, np.zeros(n), np.full(n, np.pi / 2)])
+        yaw_sets = arrival[:, None] + _half_turn(yaw_sets - arrival[:, None])
+    k = yaw_sets.shape[1]
+    flat = clear_spots(
+        table,
+        obstacles,
+        shape,
+        np.repeat(pts, k, axis=0),
+        yaw_sets.reshape(-1),
+        options.clearance,
+        options.edge_margin,
+    )
+    free_k = flat.free.reshape(n, k)
+    free = free_k.any(axis=1)
+    counts: dict[str, int] = {}
+    for i in np.flatnonzero(~free):
+        b = int(flat.blocker.reshape(n, k)[i, 0])
+        if b >= 0:
+            counts[obstacles[b].name] = counts.get(obstacles[b].name, 0) + 1
+    blockers = tuple(sorted(counts, key=lambda name: (-counts[name], name)))
+    if not free.any():
         return PlacementSet((), blockers, n)
 
+    # Per point, the cost of each fitting yaw (turning away from the arrival yaw costs a little).
+    turn = np.abs(_half_turn(yaw_sets - yaw_sets[:, :1])) / (np.pi / 2)
+    room = np.minimum(flat.gap, np.maximum(flat.edge_gap, 0.0)).reshape(n, k)
+    yaw_cost = (
+        options.turn_weight * turn
+        + options.pack_weight * np.minimum(room, options.pack_gap) / options.pack_gap
+    )
+    yaw_cost = np.where(free_k, yaw_cost, np.inf)
+    best_yaw = np.argmin(yaw_cost, axis=1)
+    keep = np.flatnonzero(free)
+    pts, rel, yaw_cost, yaw_sets, free_k = pts[keep], rel[keep], yaw_cost[keep], yaw_sets[keep], free_k[keep]
+    gap = flat.gap.reshape(n, k)[keep, best_yaw[keep]]
+
     diag = float(np.hypot(sx, sy))
-    rel = pts - np.asarray(base_xy, dtype=float)
     reach = np.linalg.norm(rel, axis=1)
     tall = height >= options.tall_height
     preferred = options.tall_reach if tall else options.preferred_reach
@@ -194,19 +406,26 @@ def sample_placements(
     span = max(float(reach.max() - reach.min()), 1e-9)
     depth = (reach - reach.min()) / span  # 0 at the spot nearest the robot, 1 at the farthest
     cost += options.block_weight * ((1.0 - depth) if tall else 0.3 * depth)
-    cost += options.crowd_weight * (1.0 - np.minimum(nearest_gap, options.crowd_gap) / options.crowd_gap)
+    cost += yaw_cost.min(axis=1)
     ray = rel / np.maximum(reach, 1e-9)[:, None]
     for o in obstacles:
         if o.height < options.tall_height:
             continue
-        orel = np.array([o.x, o.y]) - np.asarray(base_xy, dtype=float)
+        orel = np.array([o.x, o.y]) - base
         along = ray @ orel
         across = np.abs(ray[:, 0] * orel[1] - ray[:, 1] * orel[0])
-        shadowed = (along > 0) & (along < reach) & (across < o.radius + radius + 0.05)
+        shadowed = (along > 0) & (along < reach) & (across < o.radius + shape.radius + 0.05)
         cost += options.shadow_weight * shadowed
     order = np.lexsort((pts[:, 1], pts[:, 0], np.round(cost, 9)))[: options.max_spots]
-    spots = tuple(
-        PlacementSpot(float(pts[i, 0]), float(pts[i, 1]), table.top_z, float(cost[i]), float(nearest_gap[i]))
-        for i in order
-    )
-    return PlacementSet(spots, blockers, n)
+    spots = []
+    for i in order:
+        yaws: tuple[float, ...] = ()
+        if not shape.is_round:
+            fitting = [j for j in np.argsort(yaw_cost[i], kind="stable") if free_k[i, j]]
+            yaws = tuple(dict.fromkeys(round(float(yaw_sets[i, j]), 9) for j in fitting))
+        spots.append(
+            PlacementSpot(
+                float(pts[i, 0]), float(pts[i, 1]), table.top_z, float(cost[i]), float(gap[i]), yaws
+            )
+        )
+    return PlacementSet(tuple(spots), blockers, n)

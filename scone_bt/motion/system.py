@@ -237,6 +237,7 @@ class PickAndPlace:
             placement=sys_.placement,
             preferred_yaw=sys_.preferred_yaw,
             opening=sys_.opening,
+            finger_closed=sys_.robot.gripper.closed_position,
         )
         self._future = sys_._worker.submit(
             plan_pick_and_place, sys_.arm, request, sys_.planner, sys_.limits, sys_.robot.control.rate_hz

@@ -60,12 +60,6 @@ class ObjectState:
     orientation: tuple[float, float, float, float]
 
 
-def _footprint_radius(spec: ObjectSpec) -> float:
-    """Radius of the circle around the product's footprint, metres."""
-    sx, sy, _ = spec.size
-    return float(np.hypot(sx, sy) / 2 if spec.shape == "box" else sx / 2)
-
-
 class Kitchen:
     """The simulated world. Create with `Kitchen(kitchen_cfg, robot_cfg)`; spawn objects with `spawn`.
 
@@ -257,32 +251,39 @@ class Kitchen:
 
         The configured place spots come first, then a 2 cm grid over the table top (nearest the robot first), so
         a long recipe still finds room once the spots are taken. Without `spec` a spot is free when no object
-        stands within 7 cm of it; with it, when the product's footprint clears every footprint on the table by
-        1 cm and stays on the table.
+        stands within 7 cm of it; with it, when the product's footprint (a box's rectangle, put down square to
+        the table; a round product's circle) clears every footprint standing on the table by 1 cm and stays on
+        the table. The test is the robot's own (`motion.placement.clear_spots`), fed with the simulator's truth.
         """
+        from scone_bt.motion.placement import Footprint, TableRegion, clear_spots
+
         scene = self.config.scene
-        (cx, cy, _), (sx, sy, _) = scene.table
-        top = scene.table_top_z
+        table = TableRegion.from_scene(scene)
+        (cx, cy), (sx, sy) = table.center, table.size
+        top = table.top_z
         standing = []
         for n in self.objects:
-            x, y, z = self.object_state(n).position
+            st = self.object_state(n)
+            x, y, z = st.position
             if top - 0.05 <= z <= top + 0.3:
-                standing.append((x, y, _footprint_radius(self.specs[n])))
-        radius = _footprint_radius(spec) if spec is not None else 0.0
+                yaw = self.bc.getEulerFromQuaternion(st.orientation)[2]
+                standing.append(Footprint.of(self.specs[n], x, y, yaw))
         grid = [
             (float(x), float(y))
             for x in np.arange(cx - sx / 2 + 0.04, cx + sx / 2 - 0.04 + 1e-9, 0.02)
             for y in sorted(np.arange(cy - sy / 2 + 0.04, cy + sy / 2 - 0.04 + 1e-9, 0.02), key=abs)
         ]
-        for x, y in [*scene.place_spots, *grid]:
-            if spec is None:
-                free = all(np.hypot(x - ox, y - oy) > 0.07 for ox, oy, _ in standing)
-            else:
-                inside = abs(x - cx) <= sx / 2 - radius and abs(y - cy) <= sy / 2 - radius
-                free = inside and all(np.hypot(x - ox, y - oy) >= radius + r + 0.01 for ox, oy, r in standing)
-            if free:
-                return (x, y, top)
-        return None
+        points = np.array([*scene.place_spots, *grid], dtype=float)
+        if spec is None:
+            near = [Footprint(f.name, f.x, f.y, 0.07, f.height) for f in standing]
+            clear = clear_spots(table, near, Footprint("spot", 0.0, 0.0, 0.0, 0.0), points, 0.0, 1e-9)
+        else:
+            clear = clear_spots(table, standing, Footprint.of(spec), points, 0.0, 0.01)
+        free = np.flatnonzero(clear.free)
+        if not len(free):
+            return None
+        x, y = points[free[0]]
+        return (float(x), float(y), top)
 
     def human_place_on_table(self, name: str) -> bool:
         """The simulated human carries the object to a free table spot (by hand, not by the robot)."""

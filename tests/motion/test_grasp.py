@@ -47,8 +47,14 @@ def test_a_tall_cylinder_gets_all_three_families_ordered_by_cost():
     costs = [c.cost for c in cands]
     assert costs == sorted(costs)
     assert cands[0].family is GraspFamily.TOP
-    # The yaw sweep: 8 closing axes x 2 wrist angles of top grasps.
-    assert len([c for c in cands if c.family is GraspFamily.TOP]) == 16
+    # The yaw sweep: 8 closing axes x 2 wrist angles of top grasps, each at the full and at the shallow depth.
+    tops = [c for c in cands if c.family is GraspFamily.TOP]
+    assert len(tops) == 32
+    top_z = 0.24 - GraspParams().max_depth, 0.24 - GraspParams().shallow_depth
+    assert sorted({round(c.grasp[2, 3], 6) for c in tops}) == pytest.approx(sorted(top_z))
+    # A shallow grasp costs more than the same grasp at full depth.
+    deep = min(c.cost for c in tops if c.grasp[2, 3] < 0.22)
+    assert min(c.cost for c in tops if c.grasp[2, 3] > 0.22) > deep
     # The first grasp's wrist is nearest the preferred yaw (-pi/2).
     assert abs(np.cos(cands[0].closing_yaw + np.pi / 2)) > np.cos(np.pi / 8) - 1e-9
 
