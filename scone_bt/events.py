@@ -84,6 +84,22 @@ def _plain(value: Any) -> Any:
 
 
 @dataclass(frozen=True)
+class _ActionEvent(Event):
+    """An event about one of the robot's actions: its text and the object it moves."""
+
+    action: str
+    object_name: str
+
+
+@dataclass(frozen=True)
+class _HumanFetch(Event):
+    """The human and one object; ``detail`` says what happened or why."""
+
+    object_name: str
+    detail: str = ""
+
+
+@dataclass(frozen=True)
 class DecisionMade(Event):
     """The gate decided (one per decision cycle).
 
@@ -120,17 +136,15 @@ class DecisionMade(Event):
 
 
 @dataclass(frozen=True)
-class ActStarted(Event):
+class ActStarted(_ActionEvent):
     """The robot starts a pick-and-place; ``confidence`` is κ̂ for it."""
 
     kind: ClassVar[str] = "act"
-    action: str
-    object_name: str
     confidence: float
 
 
 @dataclass(frozen=True)
-class ActOutcome(Event):
+class ActOutcome(_ActionEvent):
     """A pick-and-place ended and was labelled (stored in the experience store before this is emitted).
 
     Attributes:
@@ -141,8 +155,6 @@ class ActOutcome(Event):
     """
 
     kind: ClassVar[str] = "outcome"
-    action: str
-    object_name: str
     success: bool
     stage: str | None
     duration_s: float = 0.0
@@ -150,21 +162,17 @@ class ActOutcome(Event):
 
 
 @dataclass(frozen=True)
-class ActCancelled(Event):
+class ActCancelled(_ActionEvent):
     """The attempt ended cancelled (the human took over): no label, κ̂ unchanged."""
 
     kind: ClassVar[str] = "cancelled"
-    action: str
-    object_name: str
 
 
 @dataclass(frozen=True)
-class HelpRequested(Event):
+class HelpRequested(_ActionEvent):
     """ASK-HELP: the robot asks the human to fetch the object."""
 
     kind: ClassVar[str] = "help_request"
-    action: str
-    object_name: str
 
 
 @dataclass(frozen=True)
@@ -178,39 +186,31 @@ class ClarificationAsked(Event):
 
 
 @dataclass(frozen=True)
-class TakeOver(Event):
+class TakeOver(_ActionEvent):
     """The human took over the robot's action on ``object_name`` (the robot cancels it)."""
 
     kind: ClassVar[str] = "takeover"
-    action: str
-    object_name: str
 
 
 @dataclass(frozen=True)
-class HelpGiven(Event):
+class HelpGiven(_HumanFetch):
     """The human put an object the robot asked for on the table."""
 
     kind: ClassVar[str] = "help"
-    object_name: str
-    detail: str = ""
 
 
 @dataclass(frozen=True)
-class Intervention(Event):
+class Intervention(_HumanFetch):
     """The human put an object on the table unasked (after a take-over, a drop or a long idle robot)."""
 
     kind: ClassVar[str] = "intervention"
-    object_name: str
-    detail: str = ""
 
 
 @dataclass(frozen=True)
-class CleanUpStarted(Event):
+class CleanUpStarted(_HumanFetch):
     """The human starts fetching an object on their own; ``detail`` says why."""
 
     kind: ClassVar[str] = "fetching"
-    object_name: str
-    detail: str = ""
 
 
 @dataclass(frozen=True)

@@ -77,6 +77,13 @@ CREATE INDEX IF NOT EXISTS events_session ON events(session_id);
 """
 
 
+def _session_key(label: str, s: SessionRow) -> dict[str, Any]:
+    """The columns every per-session CSV row starts with (`_SESSION_KEY`)."""
+    return dict(
+        zip(_SESSION_KEY, (label, s.id, s.participant, s.group, s.session_index, s.condition), strict=True)
+    )
+
+
 def _readonly_uri(path: Path) -> str:
     """An SQLite URI that reads without creating or changing any file.
 
@@ -458,12 +465,7 @@ class StudyLog:
             "sessions": pd.DataFrame(
                 [
                     {
-                        "data": label,
-                        "session_id": s.id,
-                        "participant": s.participant,
-                        "group": s.group,
-                        "session_index": s.session_index,
-                        "condition": s.condition,
+                        **_session_key(label, s),
                         "started": s.started,
                         "ended": s.ended,
                         "interventions": self.interventions(s.id),
@@ -515,12 +517,7 @@ class StudyLog:
                 answers = {r.item: r.value for r in mine if r.questionnaire == name}
                 rows.append(
                     {
-                        "data": label,
-                        "session_id": s.id,
-                        "participant": s.participant,
-                        "group": s.group,
-                        "session_index": s.session_index,
-                        "condition": s.condition,
+                        **_session_key(label, s),
                         "questionnaire": name,
                         "score": q.score(answers),
                         "subscales": json.dumps(q.subscale_scores(answers)),
