@@ -128,7 +128,7 @@ _CUT = re.compile(
     r",|;|:|/|\*|\.\s|\.$|\s-\s|\s–\s|\bfor\b|\bper\b|\bwithout\b|\bor less\b|\bor more\b|\bto taste\b|\bas needed\b|\bif desired\b|\bplus\b|\bsuch as\b|\bof (?:your |the )?(?:choice|favou?rite|preference|liking)\b"
     # Notes that follow the item: "water to thin", "cut into ribbons", "separated from the yolks", "q.b.".
     r"|\sto\s|\binto\b|\bas (?:a )?garnish\b|\bseparated\b|\bif needed\b|\bpreferably\b|\bat room\b|\bthat\b"
-    r"|\bweighing\b|\bby\b|\bin (?:a )?squirt bottle\b|\bq\.?\s?b\b"
+    r"|\bweighing\b|\bby\b|\bas you\b|\bin (?:a )?squirt bottle\b|\bq\.?\s?b\b"
 )
 _WORD = re.compile(r"[a-z][a-z'&-]*")
 

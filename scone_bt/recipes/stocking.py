@@ -49,7 +49,8 @@ _GRADE_WORDS = _words(
     low-sodium reduced-sodium no-salt-added sodium low-fat full-fat fat-free nonfat non-fat reduced-fat
     unsweetened tj's tjs trader joe's good-quality quality store-bought homemade canned tinned bottled
     mashed sized medium-sized stale toasted roasted preroasted crumbled quick-cooking hot little bit melty soft
-    hard-boiled boiled mixed skim thick thin normal enriched tepid salted normandy
+    hard-boiled boiled mixed skim thick thin normal enriched tepid salted normandy unblanched unseasoned
+    brewed strong
     italian english mexican asian persian scottish norwegian irish spanish greek-style
     """
 )
