@@ -152,6 +152,14 @@ def summarise(
     }
 
 
+def _cpu_s() -> float:
+    """CPU seconds (user + system) of this process and of its child processes that have ended."""
+    import resource
+
+    own, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
 def _portable(argv: Sequence[str]) -> str:
     """The command line without machine paths (an absolute path keeps only its last two parts)."""
     parts = []
@@ -255,6 +263,7 @@ def run_generate(args: argparse.Namespace) -> int:
     start_engine(engine)  # an unreachable Ray cluster fails here, before any work
     walls: dict[str, list[float]] = {p.name: [] for p in profiles}
     load_before = os.getloadavg()[0] if hasattr(os, "getloadavg") else None
+    cpu0 = _cpu_s()
     t0 = time.perf_counter()
     deadline = None if args.max_minutes is None else t0 + 60.0 * args.max_minutes
     bar = _progress(len(tasks), not args.no_progress)
@@ -280,6 +289,7 @@ def run_generate(args: argparse.Namespace) -> int:
         results.close()  # type: ignore[attr-defined]  # stops the pool or cancels the Ray tasks still running
         bar.close()
     elapsed = time.perf_counter() - t0
+    cpu = _cpu_s() - cpu0  # this process and its finished worker processes (a Ray cluster's are not counted)
     run = sum(len(w) for w in walls.values())
     summary: dict[str, Any] = {
         "profiles": {p.name: summarise(p, done[p.name], args.executions, walls[p.name]) for p in profiles},
@@ -287,6 +297,7 @@ def run_generate(args: argparse.Namespace) -> int:
         "executions_resumed": skipped,
         "wall_s": round(elapsed, 1),
         "executions_per_s": round(run / elapsed, 3) if run and elapsed > 0 else None,
+        "cpu_s_per_execution": round(cpu / run, 3) if run and engine.kind.value == "local" else None,
         "workers": args.workers,
         "engine": engine.label,
         "products_drawn_from": len(pool),
