@@ -112,3 +112,16 @@ def test_empty_image_gives_no_detections(kitchen_cfg):
 def test_bad_options_are_one_line_errors(options):
     with pytest.raises(ConfigError, match="detector"):
         DetectorOptions(**options)
+
+
+def test_products_past_the_apriltag_range_are_detected_by_their_own_id(kitchen_cfg):
+    # AprilTag 36h11 has 587 ids; the catalogue outgrew it, so ids above 586 must decode to their own product.
+    high = [o for o in kitchen_cfg.catalogue.objects if o.marker_id >= 587]
+    assert len(high) > 200
+    detector = Detector(kitchen_cfg.catalogue)
+    for spec in (high[0], high[len(high) // 2], high[-1]):
+        marker = lid_marker(spec)
+        frame = _frame_with_lid(
+            (0.0, 0.0, 0.1), 0.2, spec.marker_id, marker.side, marker.lift, 1.2 * marker.side
+        )
+        assert [d.name for d in detector.detect(frame)] == [spec.name], spec.marker_id
