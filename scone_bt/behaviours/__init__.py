@@ -7,7 +7,7 @@ sink, κ̂, the outcome recorder, the attempt history, the planner seeds); `from
 
 from scone_bt.behaviours.affordances import GenerateAffordances
 from scone_bt.behaviours.base import Keys, StageBehaviour
-from scone_bt.behaviours.context import AttemptSeeds, EpisodeContext, OutcomeLabels
+from scone_bt.behaviours.context import EpisodeContext, OutcomeLabels
 from scone_bt.behaviours.gate import ConfidenceGate, DecisionIs
 from scone_bt.behaviours.help import AskForHelp, AskToClarify, WaitForHuman
 from scone_bt.behaviours.options import BehaviourOptions
@@ -38,7 +38,6 @@ BEHAVIOURS = {
 __all__ = [
     "AskForHelp",
     "AskToClarify",
-    "AttemptSeeds",
     "BEHAVIOURS",
     "BehaviourOptions",
     "ConfidenceGate",

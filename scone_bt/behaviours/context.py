@@ -24,7 +24,7 @@ from scone_bt.events import EventSink
 from scone_bt.recipes import StockedRecipe
 from scone_bt.robot.interface import Robot
 
-__all__ = ["EpisodeContext", "OutcomeLabels", "AttemptSeeds"]
+__all__ = ["EpisodeContext", "OutcomeLabels"]
 
 
 @dataclass(frozen=True)
@@ -44,19 +44,6 @@ class OutcomeLabels:
     arm: str
     profile: str = ""
     context: Mapping[str, Any] = field(default_factory=dict)
-
-
-class AttemptSeeds:
-    """Planner seeds: ``base + n`` for the n-th attempt of the episode (n from 0)."""
-
-    def __init__(self, base: int) -> None:
-        self.base = int(base)
-        self.issued = 0
-
-    def next_seed(self) -> int:
-        seed = self.base + self.issued
-        self.issued += 1
-        return seed
 
 
 @dataclass(frozen=True)

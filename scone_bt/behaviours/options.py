@@ -30,7 +30,8 @@ class BehaviourOptions:
         robot_id: This robot's id in a fleet, recorded with each outcome ("": the arm's name).
         learn_from: Whose stored outcomes rebuild κ̂: "self", "same-model" (same arm and profile) or "fleet".
         profile: Configuration label recorded with each outcome (e.g. a proficiency profile; "" for none).
-        seed: Seeds perception noise, the estimators and the planners.
+        seed: Seeds perception noise, the estimators and the planners, each from its own stream
+            (`scone_bt.episode.seeds.SeedPlan`).
 
     The fields of the tree file's ``parameters:`` (embedder, estimator, the thresholds, recipe_aware,
     clarify_margin, max_failures_per_action) left at None come from the tree file (`resolve`): one source.

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from scone_bt.behaviours.options import BehaviourOptions
 from scone_bt.robot.interface import Robot
@@ -64,6 +64,7 @@ class EpisodeResources:
         arm: The arm model's name.
         printer: Receives notices (a store's warning, how many outcomes rebuilt κ̂).
         models: Where the embedder comes from (None: a pool of this episode's own).
+        estimator_seed: Seeds κ̂ (None: the options' seed).
     """
 
     def __init__(
@@ -74,8 +75,10 @@ class EpisodeResources:
         arm: str,
         printer: Callable[[str], None] = print,
         models: ModelPool | None = None,
+        estimator_seed: int | None = None,
     ) -> None:
         self.robot = robot
+        self.estimator_seed = options.seed if estimator_seed is None else estimator_seed
         self.options = options
         self.robot_id = robot_id
         self.arm = arm
@@ -86,14 +89,11 @@ class EpisodeResources:
         self._store: OutcomeStore | None = None
         self._store_opened = False
         self._estimator: ConfidenceEstimator | None = None
-        self.on_embedder: Callable[[Embedder], Any] | None = None
 
     def embedder(self) -> Embedder:
         """ζ (from the model pool)."""
         if self._embedder is None:
             self._embedder = self.models.embedder(str(self.options.embedder), self.options.cache_dir)
-            if self.on_embedder is not None:
-                self.on_embedder(self._embedder)
         return self._embedder
 
     def store(self) -> OutcomeStore | None:
@@ -114,7 +114,7 @@ class EpisodeResources:
             from scone_bt.confidence import make_estimator, rebuild_estimator
 
             opts = self.options
-            est = make_estimator(str(opts.estimator), seed=opts.seed)
+            est = make_estimator(str(opts.estimator), seed=self.estimator_seed)
             store = self.store()
             if store is not None:
                 from scone_bt.experience import LearnFrom

@@ -11,16 +11,18 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
+from enum import StrEnum
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import py_trees
 
-from scone_bt.behaviours import AttemptSeeds, BehaviourOptions, EpisodeContext, Keys, OutcomeLabels
+from scone_bt.behaviours import BehaviourOptions, EpisodeContext, Keys, OutcomeLabels
 from scone_bt.config import load_kitchen, load_robot
 from scone_bt.episode.printer import LinePrinter
 from scone_bt.episode.resources import EpisodeResources, ModelPool
+from scone_bt.episode.seeds import PlannerSeedStream, SeedPlan, SeedStage
 from scone_bt.episode.snapshot import SnapshotBuilder
 from scone_bt.errors import ConfigError
 from scone_bt.events import DecisionMade, Event, EventLog, EventSink
@@ -30,7 +32,7 @@ from scone_bt.robot.sim import SimRobot
 from scone_bt.tree import build_tree, load_tree_spec
 from scone_bt.world import Kitchen
 
-__all__ = ["EpisodeOptions", "EpisodeSummary", "WallClock", "run_episode"]
+__all__ = ["EpisodeOptions", "EpisodeSummary", "LoopPart", "WallClock", "run_episode"]
 
 
 @dataclass(frozen=True)
@@ -43,7 +45,7 @@ class EpisodeOptions:
         catalogues: Extra product files merged into the kitchen's catalogue (a user's own products).
         tree: Tree file name in trees/ or a path.
         recipe: Recipe id ("example:<name>", a corpus id) or a JSON/YAML path.
-        seed: Seeds object placement, distractors, perception noise, planners and the human.
+        seed: Seeds object placement and distractors (directly) and the human (its own SeedSequence stream).
         max_ticks: Limit on control ticks (each advances the world by tick_period).
         tick_period: Simulated seconds per control tick.
         distractors: Objects not in the recipe, spawned on the shelf too.
@@ -150,16 +152,29 @@ def _make_recorder(options: EpisodeOptions) -> Any:
 HumanFactory = Callable[[Kitchen, Any, HumanOptions, int], Any]
 
 
+class LoopPart(StrEnum):
+    """A part of the episode loop whose wall and CPU time the summary reports (the breakdowns' keys)."""
+
+    STARTUP = "startup"
+    TREE = "tree"  # ticking the tree, less perception and embedding
+    PERCEPTION = "perception"
+    EMBEDDING = "embedding"
+    PLANNING_WAIT = "planning_wait"  # simulated time held while the planner computes
+    PHYSICS = "physics"
+    HUMAN = "human"
+    LOGGING = "logging"
+
+
 class WallClock:
-    """Wall and main-thread CPU seconds per part of the episode loop (``with clock("physics"): ...``)."""
+    """Wall and main-thread CPU seconds per part of the episode loop (``with clock(LoopPart.PHYSICS): ...``)."""
 
     def __init__(self) -> None:
-        self.seconds: dict[str, float] = {}
-        self.cpu_seconds: dict[str, float] = {}
-        self._part = ""
+        self.seconds: dict[LoopPart, float] = {}
+        self.cpu_seconds: dict[LoopPart, float] = {}
+        self._part = LoopPart.STARTUP
         self._since = self._cpu_since = 0.0
 
-    def __call__(self, part: str) -> WallClock:
+    def __call__(self, part: LoopPart) -> WallClock:
         self._part = part
         return self
 
@@ -169,7 +184,7 @@ class WallClock:
     def __exit__(self, *exc: object) -> None:
         self.add(self._part, time.perf_counter() - self._since, time.thread_time() - self._cpu_since)
 
-    def add(self, part: str, seconds: float, cpu_seconds: float = 0.0) -> None:
+    def add(self, part: LoopPart, seconds: float, cpu_seconds: float = 0.0) -> None:
         self.seconds[part] = self.seconds.get(part, 0.0) + seconds
         self.cpu_seconds[part] = self.cpu_seconds.get(part, 0.0) + cpu_seconds
 
@@ -186,7 +201,7 @@ class _TimedEmbedder:
         try:
             return self._inner.embed(texts)
         finally:
-            self._clock.add("embedding", time.perf_counter() - t, time.thread_time() - c)
+            self._clock.add(LoopPart.EMBEDDING, time.perf_counter() - t, time.thread_time() - c)
 
     def __getattr__(self, name: str) -> Any:
         return getattr(self._inner, name)
@@ -240,9 +255,11 @@ def run_episode(
     )
     specs = [catalogue.get(n) for n in (*recipe.needed, *distractors)]
     behaviour = options.behaviour.resolve(spec.parameters)
+    # The robot's stages draw from the behaviour seed's streams, the human from the episode seed's.
+    robot_seeds, episode_seeds = SeedPlan(behaviour.seed), SeedPlan(options.seed)
 
     kitchen = Kitchen(kitchen_cfg, robot_cfg, gui=options.gui)
-    robot = SimRobot(kitchen, kitchen_cfg, robot_cfg, np.random.default_rng(behaviour.seed))
+    robot = SimRobot(kitchen, kitchen_cfg, robot_cfg, robot_seeds.generator(SeedStage.PERCEPTION))
     recorder = None
     lines: list[str] = []  # lines of this tick, for the recording
     recording = _recording(options)
@@ -253,12 +270,18 @@ def run_episode(
         printer(line)
 
     resources = EpisodeResources(
-        robot, behaviour, behaviour.robot_id or robot_cfg.name, robot_cfg.name, say, models
+        robot,
+        behaviour,
+        behaviour.robot_id or robot_cfg.name,
+        robot_cfg.name,
+        say,
+        models,
+        estimator_seed=robot_seeds.integer(SeedStage.ESTIMATORS),
     )
     with resources:
         kitchen.spawn(specs, rng)
         factory = human_factory or (lambda k, r, o, seed: SimulatedHuman(k, r, o, seed=seed))
-        human = factory(kitchen, recipe, options.human, options.seed)
+        human = factory(kitchen, recipe, options.human, episode_seeds.integer(SeedStage.HUMAN))
         log_lines = LinePrinter(say, len(recipe.steps))
 
         def timing(event: Event) -> None:
@@ -278,7 +301,7 @@ def run_episode(
             human=human,
             events=events,
             history=events,
-            seeds=AttemptSeeds(behaviour.seed),
+            seeds=PlannerSeedStream(robot_seeds),
             recipe=recipe,
             scene=kitchen_cfg.scene,
             catalogue=catalogue,
@@ -311,11 +334,11 @@ def run_episode(
             reader = py_trees.blackboard.Client(name="episode")
             reader.register_key(key=Keys.MOTION_COMPUTING, access=py_trees.common.Access.READ)
 
-            clock.add("startup", time.perf_counter() - started, time.thread_time() - started_cpu)
+            clock.add(LoopPart.STARTUP, time.perf_counter() - started, time.thread_time() - started_cpu)
             ticks = control_ticks = 0
             next_tick = time.perf_counter() + options.tick_period
             while control_ticks < options.max_ticks:
-                with clock("tree"):
+                with clock(LoopPart.TREE):
                     tree.tick()
                 ticks += 1
                 if human.done and root.status is not py_trees.common.Status.RUNNING:
@@ -327,12 +350,12 @@ def run_episode(
                     reader.get(Keys.MOTION_COMPUTING) if reader.exists(Keys.MOTION_COMPUTING) else False
                 )
                 if computing:
-                    with clock("planning_wait"):
+                    with clock(LoopPart.PLANNING_WAIT):
                         time.sleep(0.002)  # give the planner thread the interpreter
                 else:
-                    with clock("physics"):
+                    with clock(LoopPart.PHYSICS):
                         kitchen.advance(options.tick_period)
-                    with clock("human"):
+                    with clock(LoopPart.HUMAN):
                         human_events = human.update()
                     for event in human_events:
                         events(event)
@@ -341,15 +364,17 @@ def run_episode(
                         time.sleep(max(0.0, next_tick - time.perf_counter()))
                         next_tick = max(next_tick + options.tick_period, time.perf_counter())
                 if snapshots is not None:
-                    with clock("logging"):
+                    with clock(LoopPart.LOGGING):
                         recorder.log_tick(snapshots.build(ticks, root))
             log_lines.flush()
             stats = events.stats
             parts, cpu_parts = dict(clock.seconds), dict(clock.cpu_seconds)
             # Perception and embedding run inside tree ticks: report them on their own and the rest as "tree".
             for table, seconds in zip((parts, cpu_parts), robot.perception_seconds, strict=True):
-                table["perception"] = seconds
-                table["tree"] = table.get("tree", 0.0) - table["perception"] - table.get("embedding", 0.0)
+                table[LoopPart.PERCEPTION] = seconds
+                table[LoopPart.TREE] = (
+                    table.get(LoopPart.TREE, 0.0) - seconds - table.get(LoopPart.EMBEDDING, 0.0)
+                )
             summary = EpisodeSummary(
                 recipe_id=recipe.recipe.id,
                 recipe_title=recipe.recipe.title,
@@ -373,8 +398,8 @@ def run_episode(
                 needed_on_table={n: kitchen.is_on_table(n) for n in recipe.needed},
                 decision_log=tuple(log_lines.lines),
                 startup_to_first_decision_s=first_decision[0] if first_decision else None,
-                wall_breakdown={k: round(v, 4) for k, v in sorted(parts.items())},
-                cpu_breakdown={k: round(v, 4) for k, v in sorted(cpu_parts.items())},
+                wall_breakdown={str(k): round(v, 4) for k, v in sorted(parts.items())},
+                cpu_breakdown={str(k): round(v, 4) for k, v in sorted(cpu_parts.items())},
                 physics_steps=kitchen.steps - kitchen.steps_skipped,
                 physics_steps_skipped=kitchen.steps_skipped,
                 renders=robot.renders,

@@ -176,9 +176,10 @@ def fake_context(
     """An `EpisodeContext` of fakes (onehot embedder, the real kitchen scene and catalogue files, no simulator)."""
     from types import SimpleNamespace
 
-    from scone_bt.behaviours import AttemptSeeds, BehaviourOptions, EpisodeContext, OutcomeLabels
+    from scone_bt.behaviours import BehaviourOptions, EpisodeContext, OutcomeLabels
     from scone_bt.config import load_kitchen
     from scone_bt.embedding import load_embedder
+    from scone_bt.episode.seeds import PlannerSeedStream, SeedPlan
     from scone_bt.events import EventLog
     from scone_bt.recipes.stocking import StockedStep
 
@@ -194,7 +195,7 @@ def fake_context(
         human=human or FakeHuman(),
         events=events,
         history=events,
-        seeds=AttemptSeeds(0),
+        seeds=PlannerSeedStream(SeedPlan(0)),
         recipe=recipe,  # type: ignore[arg-type]
         scene=kitchen.scene,
         catalogue=kitchen.catalogue,

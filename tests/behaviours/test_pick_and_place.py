@@ -6,7 +6,7 @@ from __future__ import annotations
 import py_trees
 import pytest
 
-from scone_bt.behaviours import AttemptSeeds, Keys, PickAndPlace
+from scone_bt.behaviours import Keys, PickAndPlace
 from scone_bt.events import ActStarted, EventLog, TakeOver
 from scone_bt.gate.types import Decision, DecisionKind
 from scone_bt.motion.types import FailureStage
@@ -15,10 +15,21 @@ from tests.behaviours.fakes import FakeHuman, FakeRobot, affordance, blackboard,
 Status = py_trees.common.Status
 
 
+class _Seeds:
+    """Planner seeds 4, 5, 6, ... (the real ones come from the planners' SeedSequence stream)."""
+
+    def __init__(self) -> None:
+        self.next = 4
+
+    def next_seed(self) -> int:
+        self.next += 1
+        return self.next - 1
+
+
 @pytest.fixture
 def setup():
     robot, human, events = FakeRobot(planning_ticks=1), FakeHuman(), EventLog()
-    node = PickAndPlace("PickAndPlace", robot, human, events, AttemptSeeds(4))
+    node = PickAndPlace("PickAndPlace", robot, human, events, _Seeds())
     node.setup()
     target = affordance("salt")
     bb = blackboard(
