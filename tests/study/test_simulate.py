@@ -48,3 +48,12 @@ def test_fast_study_is_labelled_and_complete(tmp_path):
         simulate_study(tmp_path / "sim.db", SimulationOptions(participants=4, fast=True))
     paths = log.export_csv(tmp_path / "csv")
     assert paths["sessions"].read_text().splitlines()[1].startswith("SIMULATED,")
+
+
+@pytest.mark.slow
+def test_physics_sessions_in_one_process_share_one_embedder():
+    from scone_bt.study.simulate import _models, simulate_participant
+
+    records = simulate_participant(0, SimulationOptions(participants=2, max_ticks=15, distractors=1))
+    assert len(records) == 2 and all(r.events for r in records)
+    assert _models().loads == 1  # two episodes, MiniLM loaded once
