@@ -190,7 +190,8 @@ class ArmModel:
         return np.clip(q, self.lower, self.upper)
 
     def within_limits(self, q: np.ndarray, tol: float = 1e-9) -> bool:
-        return bool(np.all(q >= self.lower - tol) and np.all(q <= self.upper + tol))
+        # min/max of the differences: two array operations instead of four (called for every validity check).
+        return bool((q - self.lower).min() >= -tol and (self.upper - q).min() >= -tol)
 
     def fk(self, q: np.ndarray, frame: str | None = None) -> np.ndarray:
         """World (4, 4) pose of a frame (default: the end-effector frame) at joint positions q (rad)."""
@@ -228,12 +229,14 @@ class ArmModel:
         data = self.data
         damping = options.damping * np.eye(6)
         identity = np.eye(self.dof)
+        lower, upper = self.lower, self.upper
         for q0 in seeds:
             q = q0.copy()
             best, since_best = np.inf, 0
             for _ in range(options.max_iterations):
-                pin.framesForwardKinematics(self.model, data, q)
-                current = data.oMf[self.ee_frame]
+                # One kinematics pass gives both the pose and the Jacobian (computeFrameJacobian would redo it).
+                pin.computeJointJacobians(self.model, data, q)
+                current = pin.updateFramePlacement(self.model, data, self.ee_frame)
                 i_m_goal = current.actInv(oMgoal)
                 err = pin.log6(i_m_goal).vector  # twist to the goal, in the end-effector frame
                 pos_err = float(np.sqrt(err[0] ** 2 + err[1] ** 2 + err[2] ** 2))
@@ -248,7 +251,7 @@ class ArmModel:
                     since_best += 1
                     if since_best > options.stall_iterations:
                         break
-                jac = pin.computeFrameJacobian(self.model, data, q, self.ee_frame, pin.LOCAL)
+                jac = pin.getFrameJacobian(self.model, data, self.ee_frame, pin.LOCAL)
                 jac = pin.Jlog6(i_m_goal.inverse()) @ jac
                 solved = np.linalg.solve(jac @ jac.T + damping, np.column_stack([err, jac]))
                 # Redundancy: drift towards the seed in the null space, so nearby targets get nearby solutions.
@@ -258,7 +261,7 @@ class ArmModel:
                 norm = np.max(np.abs(dq))
                 if norm > 0.5:  # small steps keep the solution on the seed's branch
                     dq *= 0.5 / norm
-                q = self.clamp(q + options.step * dq)
+                q = np.minimum(np.maximum(q + options.step * dq, lower), upper)
         return None
 
     # ------------------------------------------------------------------------------------------ collisions

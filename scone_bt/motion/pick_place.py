@@ -301,11 +301,9 @@ class _Planner:
                     return False
             return True
 
-        q = q_from
-        for t in (0.5, 1.0):
-            q = self.ik(at(t), q, restarts=0)
-            if q is None:
-                return None, f"{what}: out of reach", []
+        q = self.ik(at(1.0), q_from, restarts=0)
+        if q is None:
+            return None, f"{what}: out of reach", []
         path = [q_from, q]
         pieces = 1
         while not all(straight(a, b) for a, b in zip(path[:-1], path[1:], strict=True)):
@@ -448,7 +446,6 @@ def plan_pick_and_place(
     w_free = p.world([*fixed, target], finger_position=fingers)
     # Near the grasp the fingers come within millimetres of the supporting shelf: a thinner margin there.
     w_grasp = p.world([*fixed, target], ignore_for_hand=[name], padding=0.004, finger_position=fingers)
-    w_other = p.world(fixed, padding=0.004, finger_position=fingers)
     hand_free = HandModel(arm, [*fixed, target], padding=0.01, finger_position=fingers)
     hand_near = HandModel(arm, [*fixed, target], padding=0.004, finger_position=fingers)
 
@@ -563,6 +560,7 @@ def plan_pick_and_place(
         out: list[_Placement] = []
         seed: np.ndarray | None = None
         searched = False
+        misses = hits_rotated = 0  # how often the turned lifted posture seeded IK above a spot, or did not
         for spot, yaws in spots:
             if len(out) >= params.max_goal_placements:
                 break
@@ -587,19 +585,32 @@ def plan_pick_and_place(
                 )
                 if cand.family is GraspFamily.TOP:
                     rotated[-1] -= turn - radial
-                q_pp = p.ik(lifted(ee_place, params.approach), rotated, restarts=0)
-                if q_pp is None and seed is not None:
-                    q_pp = p.ik(lifted(ee_place, params.approach), seed, restarts=0)
-                elif q_pp is None and not searched:
-                    # The lifted posture does not carry over (e.g. a shelf behind the robot): one full search
-                    # from home, whose answer seeds every later spot.
+                above = lifted(ee_place, params.approach)
+                # Seeds in the order that has worked: the turned lifted posture, or the last posture found above
+                # the table once the turned one stops carrying over (e.g. from a shelf behind the robot).
+                seeds = (
+                    [rotated]
+                    if seed is None
+                    else ([seed, rotated] if misses > hits_rotated else [rotated, seed])
+                )
+                q_pp = None
+                for s0 in seeds:
+                    q_pp = p.ik(above, s0, restarts=0)
+                    if q_pp is not None:
+                        if s0 is rotated:
+                            hits_rotated += 1
+                        break
+                    if s0 is rotated:
+                        misses += 1
+                if q_pp is None and not searched:
+                    # The lifted posture does not carry over: one full search from home, whose answer seeds
+                    # every later spot.
                     searched = True
-                    q_pp = p.ik(
-                        lifted(ee_place, params.approach), np.asarray(req.home, dtype=float), restarts=4
-                    )
+                    q_pp = p.ik(above, np.asarray(req.home, dtype=float), restarts=4)
                 if q_pp is None:
                     place_tally.reasons.append(f"above {where} out of reach")
                     continue
+                seed = q_pp
                 place_tally.reachable = True
                 if not w_carry.is_valid(q_pp):
                     place_tally.blocked(
@@ -610,12 +621,16 @@ def plan_pick_and_place(
                 if lower is None:
                     place_tally.blocked(why, names)
                     continue
-                back, why, names = p.line(lower[-1], lifted(ee_place, params.retreat), w_other, "retreat")
+                if abs(params.retreat - params.approach) < 1e-9:
+                    # Straight back up the way it came down: free for the hand if it was with the object held.
+                    back: np.ndarray | None = lower[::-1].copy()
+                else:
+                    w_other = p.world(fixed, padding=0.004, finger_position=fingers)
+                    back, why, names = p.line(lower[-1], lifted(ee_place, params.retreat), w_other, "retreat")
                 if back is None:
                     place_tally.blocked(why, names)
                     continue
                 out.append(_Placement(tuple(spot), ee_place, q_pp, lower, back))  # type: ignore[arg-type]
-                seed = q_pp
                 break
         return out, w_carry
 

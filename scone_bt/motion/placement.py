@@ -422,7 +422,7 @@ def sample_placements(
         yaws: tuple[float, ...] = ()
         if not shape.is_round:
             fitting = [j for j in np.argsort(yaw_cost[i], kind="stable") if free_k[i, j]]
-            yaws = tuple(dict.fromkeys(round(float(yaw_sets[i, j]), 9) for j in fitting))
+            yaws = tuple(dict.fromkeys(round(float(yaw_sets[i, j]), 9) + 0.0 for j in fitting))
         spots.append(
             PlacementSpot(
                 float(pts[i, 0]), float(pts[i, 1]), table.top_z, float(cost[i]), float(gap[i]), yaws

@@ -142,6 +142,69 @@ def test_a_crowded_table_still_takes_an_object(either_arm):
     assert result.placed is not None and np.allclose(result.placed.pose[:2, 3], (x, y), atol=1e-6)
 
 
+RICE = _spec("rice", "box", (0.11, 0.05, 0.18))
+CARTON = _spec("carton", "box", (0.095, 0.064, 0.176))
+
+
+def test_fingers_pre_shaped_fit_between_close_lane_neighbours(setup):
+    plan, params = setup
+    # A 5 cm wide pack between two cartons 9.5 cm away on either side: the fully open fingers (8 cm apart)
+    # would touch the cartons; opened only 1 cm beyond the pack on each side they fit in the gaps.
+    shelf = [
+        (_det(n, 0.37, 0.30 + dy, CARTON.height), CARTON) for n, dy in (("left", -0.095), ("right", 0.095))
+    ]
+    target = _det("rice", 0.37, 0.30, RICE.height)
+    wide_open = plan(target, RICE, shelf, params=replace(params, preshape_margin=0.05))
+    assert isinstance(wide_open, PickPlaceFailure) and wide_open.reason is PlanFailureReason.GRASPS_BLOCKED
+    assert set(wide_open.blockers) & {"left", "right"}
+    result = plan(target, RICE, shelf)
+    assert isinstance(result, PickPlacePlan), result.message
+    assert result.finger_position == pytest.approx(RICE.size[1] / 2 + params.preshape_margin)
+
+
+def test_a_table_crowded_with_cartons_still_takes_a_box(either_arm):
+    from scone_bt.motion.pick_place import obstacle_footprint
+    from scone_bt.motion.placement import Footprint, clear_spots
+
+    plan, _ = either_arm
+    # Eight cartons square to the table in two rows: their bounding circles would cover the table.
+    table = [
+        Obstacle(
+            f"c{i}",
+            "box",
+            (0.08, 0.095, 0.20),
+            pose_matrix(np.eye(3), (0.29 + 0.105 * (i % 4), -0.32 - 0.12 * (i // 4), 0.10)),
+        )
+        for i in range(8)
+    ]
+    result = plan(_det("rice", 0.37, 0.30, RICE.height), RICE, table=table)
+    assert isinstance(result, PickPlacePlan), result.message
+    placed = result.placed
+    yaw = float(np.arctan2(placed.pose[1, 0], placed.pose[0, 0]))
+    free = clear_spots(
+        TABLE, [obstacle_footprint(o) for o in table], Footprint.of(RICE), placed.pose[None, :2, 3], yaw, 0.02
+    )
+    assert free.free[0], f"placed at {placed.pose[:2, 3]} yaw {yaw:.2f} overlaps a carton"
+
+
+def test_straight_moves_near_objects_stay_on_their_line(setup, arm):
+    from scone_bt.motion import MotionPhase
+    from scone_bt.motion.pick_place import LINE_TOLERANCE
+
+    plan, _ = setup
+    result = plan(_det("rice", 0.37, 0.30, RICE.height), RICE)
+    assert isinstance(result, PickPlacePlan), result.message
+    for seg in result.segments:
+        if seg.phase not in (MotionPhase.DESCEND, MotionPhase.LIFT, MotionPhase.LOWER, MotionPhase.RETREAT):
+            continue
+        pts = np.array([arm.fk(q)[:3, 3] for q in seg.trajectory.positions[::4]])
+        a, b = pts[0], pts[-1]
+        axis = (b - a) / np.linalg.norm(b - a)
+        off = pts - a
+        drift = np.linalg.norm(off - np.outer(off @ axis, axis), axis=1)
+        assert drift.max() < LINE_TOLERANCE + 0.002, f"{seg.phase} drifts {drift.max() * 1000:.1f} mm"
+
+
 def test_a_boxed_in_object_fails_naming_what_blocks_it(either_arm):
     plan, _ = either_arm
     target, shelf = _boxed_in(front=True)

@@ -48,3 +48,22 @@ def test_lower_scale_gives_a_slower_trajectory(robot_cfg, path):
     fast, _ = time_path(path, limits, 240)
     slow, _ = time_path(path, limits.scaled(0.5), 240)
     assert slow.duration > fast.duration * 1.5
+
+
+def test_vectorised_sampling_matches_ruckigs_own():
+    from ruckig import InputParameter, Ruckig, Trajectory
+
+    from scone_bt.motion.timing import _sample
+
+    rng = np.random.default_rng(0)
+    for _ in range(50):
+        inp = InputParameter(1)
+        inp.current_position, inp.target_position = [0.0], [1.0]
+        inp.max_velocity = [float(rng.uniform(0.1, 5))]
+        inp.max_acceleration = [float(rng.uniform(0.1, 20))]
+        inp.max_jerk = [float(rng.uniform(1, 500))]
+        traj = Trajectory(1)
+        Ruckig(1).calculate(inp, traj)
+        ts = np.linspace(0.0, traj.duration, 97)
+        ref = np.array([[x[0] for x in traj.at_time(float(t))] for t in ts])
+        assert np.allclose(_sample(traj, ts), ref, atol=1e-9)
