@@ -68,6 +68,10 @@ _KIND_HEADS = _words(
     "cheese mushroom potato onion apple rice sausage salmon peanut tomato bread chocolate honey pasta noodle tea"
     " lettuce chicken beef pork lamb beer olive cracker pear"
 )
+# Names that end in a kind head without being that kind: ginger beer is no beer, a prickly pear no pear.
+_NOT_KINDS = frozenset(
+    {"ginger beer", "root beer", "birch beer", "prickly pear", "alligator pear", "balsam pear"}
+)
 _WORD = re.compile(r"[a-z][a-z'&-]*")
 
 
@@ -211,7 +215,10 @@ class ProductIndex:
                 return ProductMatch(hit, MatchRule.PART)
         key = item_key(" ".join(graded))
         head = key.split()[-1]
-        if head in _KIND_HEADS and len(key.split()) > 1 and (hit := self._kind(head)) is not None:
+        kind_of = (
+            head in _KIND_HEADS and len(key.split()) > 1 and " ".join(key.split()[-2:]) not in _NOT_KINDS
+        )
+        if kind_of and (hit := self._kind(head)) is not None:
             return ProductMatch(hit, MatchRule.KIND)
         if len(key) >= 6:
             for close in difflib.get_close_matches(key, self._keys, n=5, cutoff=0.8):

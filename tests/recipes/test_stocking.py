@@ -59,6 +59,11 @@ def test_unlike_products_are_not_spelling_matches(index, line):
     assert match is None or match.rule is not MatchRule.SPELLING, match
 
 
+@pytest.mark.parametrize("line", ["1 cup ginger beer", "2 cups root beer", "1 prickly pear"])
+def test_names_ending_in_a_kind_head_are_not_that_kind(index, line):
+    assert index.lookup(normalise_ingredient(line), line) is None
+
+
 def _recipe(ingredients, steps):
     return recipe_from_record({"id": "test", "ingredients": ingredients, "steps": steps}, "test")
 
