@@ -21,6 +21,7 @@ Reported per arm under ``arms.<name>``:
 
     scone-bench motion --queries 20                     # development
     scone-bench motion --json runs/motion.json          # 200 queries x both arms (long on 2 cores)
+    scone-bench motion --jobs 2 --json runs/motion.json # the same report, queries spread over 2 processes
 """
 
 from __future__ import annotations
@@ -69,30 +70,146 @@ def _detect(kitchen: Any, name: str) -> Any:
     return Detection(name, 0, (x, y, z + kitchen.specs[name].height / 2), yaw, 1.0, (0, 0, 1, 1))
 
 
-def _bench_arm(args: argparse.Namespace, kcfg: Any, arm_name: str) -> dict[str, Any]:
+_WORKER: dict[str, Any] = {}
+"""Per-process cache of the loaded kitchen file, robot files and arm models (queries reuse them)."""
+
+
+def _setup(kitchen: str, arm_name: str) -> dict[str, Any]:
+    from scone_bt.config import load_kitchen, load_robot
+    from scone_bt.motion import ArmModel, GraspParams
+    from scone_bt.motion.planner import PlannerOptions
+
+    key = f"{kitchen}|{arm_name}"
+    if key not in _WORKER:
+        kcfg = _WORKER.get(f"kitchen:{kitchen}") or load_kitchen(kitchen)
+        _WORKER[f"kitchen:{kitchen}"] = kcfg
+        rcfg = load_robot(arm_name)
+        p = rcfg.planner
+        _WORKER[key] = {
+            "kcfg": kcfg,
+            "rcfg": rcfg,
+            "arm": ArmModel(rcfg),
+            "params": GraspParams.from_section(rcfg.raw.get("grasp"), str(rcfg.source)),
+            "options": PlannerOptions(
+                name=p.name, time_limit_s=p.time_limit_s, simplify=p.simplify, rng_seed=p.rng_seed
+            ),
+        }
+    return _WORKER[key]
+
+
+def _query(
+    kitchen: str, arm_name: str, seed: int, clutter: int, table_objects: int, i: int
+) -> dict[str, Any]:
+    """Plan and execute query i of one arm in a fresh kitchen; one record of what happened (seeded by [seed, i])."""
     import numpy as np
 
-    from scone_bt.config import load_robot
-    from scone_bt.motion import ArmModel, GraspParams, MotionSystem, PickPlacePlan
+    from scone_bt.motion import MotionSystem, PickPlacePlan
     from scone_bt.motion.execution import ExecutionSettings
-    from scone_bt.motion.planner import PlannerOptions
     from scone_bt.motion.timing import limits_of
+    from scone_bt.quiet import quiet_backends
     from scone_bt.world import Kitchen
 
-    rcfg = load_robot(arm_name)
-    arm = ArmModel(rcfg)
-    params = GraspParams.from_section(rcfg.raw.get("grasp"), str(rcfg.source))
-    p = rcfg.planner
-    options = PlannerOptions(
-        name=p.name, time_limit_s=p.time_limit_s, simplify=p.simplify, rng_seed=p.rng_seed
-    )
+    quiet_backends()
+    w = _setup(kitchen, arm_name)
+    kcfg, rcfg, params = w["kcfg"], w["rcfg"], w["params"]
     g = rcfg.gripper
     opening = 2.0 * (g.open_position - g.closed_position)
     catalogue = list(kcfg.catalogue.objects)
-    slots = len(kcfg.scene.shelf_slots())
-    clutter = min(args.clutter, slots - 1 - args.table_objects, len(catalogue) - 1 - args.table_objects)
-    order = np.random.default_rng(args.seed).permutation(len(catalogue))
+    order = np.random.default_rng(seed).permutation(len(catalogue))
+    rng = np.random.default_rng([seed, i])
+    target = catalogue[int(order[i % len(order)])]
+    others = [o for o in catalogue if o.name != target.name]
+    picks = rng.choice(len(others), size=clutter + table_objects, replace=False)
+    extra = [others[int(j)] for j in picks]
+    fits_gripper = target.grasp_width <= opening - params.opening_margin
+    fits_payload = 2 * g.max_force * g.finger_friction * target.friction >= PAYLOAD_SAFETY * target.mass * G
+    with Kitchen(kcfg, rcfg) as kitchen:
+        kitchen.spawn([target, *extra], rng)
+        on_table = [s.name for s in extra[clutter:] if kitchen.human_place_on_table(s.name)]
+        kitchen.advance(0.3)
+        system = MotionSystem(
+            kitchen, w["arm"], w["options"], limits_of(rcfg), params, ExecutionSettings(), rcfg
+        )
+        shelf = [(_detect(kitchen, s.name), s) for s in extra if s.name not in on_table]
+        table = [(_detect(kitchen, n), kitchen.specs[n]) for n in on_table]
+        task = system.pick_and_place(
+            _detect(kitchen, target.name), target, shelf, rng_seed=i, table_obstacles=table
+        )
+        start = kitchen.sim_time
+        task.start()
+        while not task.done():
+            if task.is_planning():
+                task.wait_planned()  # simulated time must not depend on the planning thread's speed
+            kitchen.advance(0.1)
+        outcome = task.outcome()
+        sim_s = kitchen.sim_time - start
+        system.close()
+    plan = task.plan
+    assert outcome is not None
+    rec: dict[str, Any] = {
+        "i": i,
+        "target": target.name,
+        "fits_gripper": bool(fits_gripper),
+        "fits_payload": bool(fits_payload),
+        "success": bool(outcome.success),
+        "stage": outcome.stage.value if outcome.stage else None,
+        "message": outcome.message,
+        "sim_s": sim_s,
+        "planned": isinstance(plan, PickPlacePlan),
+        "reason": None,
+    }
+    if isinstance(plan, PickPlacePlan):
+        rec.update(
+            family=plan.grasp.family.value,
+            plan_ms=plan.planning_wall_s * 1000,
+            plan_cpu_ms=plan.planning_cpu_s * 1000,
+            ruckig_ms=[t * 1000 for t in plan.ruckig_times],
+            ompl_ms=[r.planning_time * 1000 for r in plan.plans],
+        )
+    elif plan is not None:
+        rec["reason"] = plan.reason.value
+    return rec
 
+
+def _bench_arm(args: argparse.Namespace, kcfg: Any, arm_name: str) -> dict[str, Any]:
+    from scone_bt.config import load_robot
+
+    load_robot(arm_name)  # an unknown robot is an error before any query runs
+    slots = len(kcfg.scene.shelf_slots())
+    catalogue = kcfg.catalogue.objects
+    clutter = min(args.clutter, slots - 1 - args.table_objects, len(catalogue) - 1 - args.table_objects)
+    cpu0 = time.process_time()
+    children0 = os.times().children_user + os.times().children_system
+    jobs = (args.kitchen, arm_name, args.seed, clutter, args.table_objects)
+    if args.jobs > 1:
+        import concurrent.futures as cf
+        import multiprocessing as mp
+
+        # Queries are independent and seeded by their index: the records (and the report) do not depend on how
+        # many processes ran them.
+        with cf.ProcessPoolExecutor(args.jobs, mp_context=mp.get_context("spawn")) as pool:
+            futures = [pool.submit(_query, *jobs, i) for i in range(args.queries)]
+            records = []
+            for f in futures:
+                records.append(f.result())
+                _print_record(args, arm_name, records[-1])
+    else:
+        records = []
+        for i in range(args.queries):
+            records.append(_query(*jobs, i))
+            _print_record(args, arm_name, records[-1])
+    # The workers' CPU time is counted once they have exited (the pool is closed by now).
+    children = os.times().children_user + os.times().children_system - children0
+    return _report(records, time.process_time() - cpu0 + children)
+
+
+def _print_record(args: argparse.Namespace, arm_name: str, rec: dict[str, Any]) -> None:
+    if args.verbose:
+        what = "ok" if rec["success"] else rec["message"][:120]
+        print(f"[{arm_name} {rec['i']}] {rec['target']}: {what}", flush=True)
+
+
+def _report(records: list[dict[str, Any]], cpu_total: float) -> dict[str, Any]:
     counts: Counter[str] = Counter()
     reasons: Counter[str] = Counter()
     families: Counter[str] = Counter()
@@ -102,66 +219,36 @@ def _bench_arm(args: argparse.Namespace, kcfg: Any, arm_name: str) -> dict[str, 
     ruckig_ms: list[float] = []
     ompl_ms: list[float] = []
     sim_s: list[float] = []
-    cpu0 = time.process_time()
-    for i in range(args.queries):
-        rng = np.random.default_rng([args.seed, i])
-        target = catalogue[int(order[i % len(order)])]
-        others = [o for o in catalogue if o.name != target.name]
-        picks = rng.choice(len(others), size=clutter + args.table_objects, replace=False)
-        extra = [others[int(j)] for j in picks]
-        specs = [target, *extra]
-        fits_gripper = target.grasp_width <= opening - params.opening_margin
-        fits_payload = (
-            2 * g.max_force * g.finger_friction * target.friction >= PAYLOAD_SAFETY * target.mass * G
-        )
-        with Kitchen(kcfg, rcfg) as kitchen:
-            kitchen.spawn(specs, rng)
-            on_table = [s.name for s in extra[clutter:] if kitchen.human_place_on_table(s.name)]
-            kitchen.advance(0.3)
-            system = MotionSystem(kitchen, arm, options, limits_of(rcfg), params, ExecutionSettings(), rcfg)
-            shelf = [(_detect(kitchen, s.name), s) for s in extra if s.name not in on_table]
-            table = [(_detect(kitchen, n), kitchen.specs[n]) for n in on_table]
-            task = system.pick_and_place(
-                _detect(kitchen, target.name), target, shelf, rng_seed=i, table_obstacles=table
-            )
-            start = kitchen.sim_time
-            task.start()
-            while not task.done():
-                if task.is_planning():
-                    task.wait_planned()  # simulated time must not depend on the planning thread's speed
-                kitchen.advance(0.1)
-            outcome = task.outcome()
-            sim_s.append(kitchen.sim_time - start)
-            system.close()
-        plan = task.plan
+    examples: dict[str, list[str]] = {}
+    for rec in records:
+        fits_gripper, fits_payload = rec["fits_gripper"], rec["fits_payload"]
+        sim_s.append(rec["sim_s"])
         counts["queries"] += 1
         counts["fits_gripper"] += fits_gripper
         counts["fits_gripper_and_payload"] += fits_gripper and fits_payload
-        if isinstance(plan, PickPlacePlan):
+        if rec["planned"]:
             counts["planned"] += 1
             counts["reachable"] += 1
-            families[plan.grasp.family.value] += 1
-            plan_ms.append(plan.planning_wall_s * 1000)
-            plan_cpu_ms.append(plan.planning_cpu_s * 1000)
-            ruckig_ms.extend(t * 1000 for t in plan.ruckig_times)
-            ompl_ms.extend(r.planning_time * 1000 for r in plan.plans)
-        elif plan is not None:
-            reasons[f"planning: {plan.reason.value}"] += 1
-            counts["reachable"] += plan.reason.value == "no_path"
-            counts["blocked_graspable"] += fits_gripper and plan.reason.value == "grasps_blocked"
-        assert outcome is not None
-        if outcome.success:
+            families[rec["family"]] += 1
+            plan_ms.append(rec["plan_ms"])
+            plan_cpu_ms.append(rec["plan_cpu_ms"])
+            ruckig_ms.extend(rec["ruckig_ms"])
+            ompl_ms.extend(rec["ompl_ms"])
+        elif rec["reason"] is not None:
+            key = f"planning: {rec['reason']}"
+            reasons[key] += 1
+            counts["reachable"] += rec["reason"] == "no_path"
+            counts["blocked_graspable"] += fits_gripper and rec["reason"] == "grasps_blocked"
+        if rec["success"]:
             counts["success"] += 1
             counts["success_graspable"] += fits_gripper and fits_payload
         else:
-            failed_objects[target.name] += 1
-            if isinstance(plan, PickPlacePlan):
-                reasons[f"physical: {outcome.stage.value if outcome.stage else 'place'}"] += 1
-        if args.verbose:
-            what = "ok" if outcome.success else outcome.message[:120]
-            print(f"[{arm_name} {i}] {target.name}: {what}", flush=True)
-    cpu_total = time.process_time() - cpu0
-
+            failed_objects[rec["target"]] += 1
+            key = f"physical: {rec['stage'] or 'place'}" if rec["planned"] else f"planning: {rec['reason']}"
+            if rec["planned"]:
+                reasons[key] += 1
+            if fits_gripper and fits_payload:
+                examples.setdefault(key, []).append(f"{rec['target']}: {rec['message'][:160]}")
     report = {
         "queries": counts["queries"],
         "fits_gripper": counts["fits_gripper"],
@@ -180,6 +267,7 @@ def _bench_arm(args: argparse.Namespace, kcfg: Any, arm_name: str) -> dict[str, 
         "ruckig_ms_p50": _pct(ruckig_ms, 50),
         "ruckig_ms_max": round(max(ruckig_ms), 3) if ruckig_ms else None,
         "failures_by_reason": dict(sorted(reasons.items())),
+        "failures_of_graspable": {k: v[:6] for k, v in sorted(examples.items())},
         "grasp_families": dict(sorted(families.items())),
         "failed_objects": dict(failed_objects.most_common(12)),
         "sim_s_per_query_p50": _pct(sim_s, 50),
@@ -200,8 +288,8 @@ def run(args: argparse.Namespace) -> int:
     from scone_bt.errors import ConfigError
     from scone_bt.quiet import quiet_backends
 
-    if args.queries < 1 or args.clutter < 0 or args.table_objects < 0:
-        raise ConfigError("--queries must be >= 1, --clutter and --table-objects >= 0")
+    if args.queries < 1 or args.clutter < 0 or args.table_objects < 0 or args.jobs < 1:
+        raise ConfigError("--queries and --jobs must be >= 1, --clutter and --table-objects >= 0")
     quiet_backends()
     kcfg = load_kitchen(args.kitchen)
     arms = [a for a in args.arms.split(",") if a]
@@ -222,6 +310,7 @@ def run(args: argparse.Namespace) -> int:
             "cpus": os.cpu_count(),
         },
         "load_average_1min": round(os.getloadavg()[0], 2),
+        "jobs": args.jobs,
         "note": "wall times measured on a shared, loaded machine; CPU times are the planning thread's own",
     }
     report["wall_s"] = round(time.perf_counter() - t0, 1)
@@ -240,4 +329,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--seed", type=int, default=0)
     b.add_argument("--json", help="also write the JSON report to this file")
     b.add_argument("--verbose", action="store_true", help="one line per query")
+    b.add_argument(
+        "--jobs",
+        type=int,
+        default=1,
+        help="processes running the queries (default 1; the report is the same)",
+    )
     b.set_defaults(func=run)
