@@ -29,10 +29,13 @@ import numpy as np
 from scone_bt.benchmarks.self_confidence.dataset import Dataset
 from scone_bt.benchmarks.self_confidence.evaldata import EvalDataset, load_eval_datasets
 from scone_bt.benchmarks.self_confidence.protocols import (
+    CellResult,
     EstimatorFactory,
     EvalOptions,
     PairResult,
     Protocol,
+    aggregate_cells,
+    evaluate_cell,
     evaluate_protocols,
     row_order,
 )
@@ -47,6 +50,7 @@ __all__ = [
     "GridInputs",
     "PairResult",
     "embed_datasets",
+    "evaluate_grid_cell",
     "evaluate_grid_pair",
     "evaluate_pair",
     "prior_baseline",
@@ -140,34 +144,106 @@ class GridInputs:
         features: Embedded actions per dataset, per embedder name.
         options: Protocol settings.
         protocols: Protocols to run.
+        cell_cache: Folder of finished cells (JSON, keyed by the hash of everything a cell depends on), or
+            None to compute every cell.
     """
 
     datasets: tuple[Dataset | EvalDataset, ...]
     features: dict[str, list[np.ndarray]]
     options: EvalOptions
     protocols: tuple[Protocol, ...] = tuple(Protocol)
+    cell_cache: Path | None = None
+
+
+def _factory(est: str, opts: EvalOptions) -> EstimatorFactory:
+    from scone_bt.confidence import make_estimator
+
+    eps = {"epsilon": opts.epsilon, "half_life": opts.half_life} if est.startswith("eps-") else {}
+    return lambda seed: make_estimator(est, seed=seed, **eps)
+
+
+def _inputs_of(est: str, X: np.ndarray, data: EvalDataset) -> np.ndarray:
+    return np.hstack([X, data.context]) if est.startswith("grounded-") else X
 
 
 def evaluate_grid_pair(pair: tuple[str, str], inputs: GridInputs) -> PairResult:
     """One (embedder, estimator) pair of the grid with scone_bt.confidence's estimator."""
-    from scone_bt.confidence import make_estimator
-
     emb, est = pair
     datasets = _as_eval(inputs.datasets)
-    features = inputs.features[emb]
-    if est.startswith("grounded-"):
-        features = [np.hstack([X, d.context]) for X, d in zip(features, datasets, strict=True)]
-    opts = inputs.options
-    eps = {"epsilon": opts.epsilon, "half_life": opts.half_life} if est.startswith("eps-") else {}
+    features = [_inputs_of(est, X, d) for X, d in zip(inputs.features[emb], datasets, strict=True)]
     return evaluate_protocols(
+        emb, est, datasets, features, _factory(est, inputs.options), inputs.protocols, inputs.options
+    )
+
+
+def _cell_key(task: tuple[str, str, int, int], data: EvalDataset, X: np.ndarray, inputs: GridInputs) -> str:
+    import hashlib
+    import json
+    from dataclasses import asdict
+
+    emb, est, shuffle, di = task
+    h = hashlib.sha1()
+    meta = [
+        _code_digest(),
         emb,
         est,
-        datasets,
-        features,
-        lambda seed: make_estimator(est, seed=seed, **eps),
-        inputs.protocols,
-        opts,
+        shuffle,
+        di,
+        asdict(inputs.options),
+        [p.value for p in inputs.protocols],
+    ]
+    h.update(json.dumps(meta, sort_keys=True, default=str).encode())
+    for part in (X, data.success, data.context):
+        h.update(np.ascontiguousarray(part).tobytes())
+    h.update("\0".join((*data.actions, *data.objects, *data.families)).encode())
+    return h.hexdigest()
+
+
+_CODE_DIGEST: list[str] = []
+
+
+def _code_digest() -> str:
+    """Hash of the code a cell's numbers depend on (estimators, protocols, data reading): edits invalidate cells."""
+    if not _CODE_DIGEST:
+        import hashlib
+
+        import scone_bt.benchmarks.self_confidence as sc
+        import scone_bt.confidence as conf
+
+        h = hashlib.sha1()
+        here = Path(sc.__file__).parent
+        files = [*sorted(Path(conf.__file__).parent.glob("*.py"))]
+        files += [here / f for f in ("protocols.py", "evaldata.py", "metrics.py", "dataset.py")]
+        for f in files:
+            h.update(f.read_bytes())
+        _CODE_DIGEST.append(h.hexdigest())
+    return _CODE_DIGEST[0]
+
+
+def evaluate_grid_cell(task: tuple[str, str, int, int], inputs: GridInputs) -> CellResult:
+    """One (embedder, estimator, shuffle, dataset index) cell of the grid, from the cell cache when it is there."""
+    import json
+
+    emb, est, shuffle, di = task
+    data = _as_eval(inputs.datasets[di : di + 1])[0]
+    X = _inputs_of(est, inputs.features[emb][di], data)
+    path = None
+    if inputs.cell_cache is not None:
+        path = Path(inputs.cell_cache) / f"{_cell_key(task, data, X, inputs)}.json"
+        if path.is_file():
+            try:
+                return CellResult.from_json(json.loads(path.read_text()))
+            except (ValueError, KeyError, TypeError):
+                pass  # a damaged entry is recomputed
+    cell = evaluate_cell(
+        est, data, X, di, shuffle, _factory(est, inputs.options), inputs.protocols, inputs.options
     )
+    if path is not None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(f".{os.getpid()}.tmp")
+        tmp.write_text(json.dumps(cell.to_json()))
+        os.replace(tmp, path)
+    return cell
 
 
 # ----------------------------------------------------------------------------------------------- command
@@ -272,9 +348,20 @@ def run_evaluate(args: argparse.Namespace) -> int:
         log(f"note: {args.data} has no context columns; grounded estimators see only missing-value flags")
     t_embed = time.perf_counter() - t0
     pairs = [(e, k) for e in embedders for k in estimators]
-    engine = engine_from_args(args, args.workers, progress="embedder × estimator")
-    inputs = GridInputs(tuple(datasets), {e: features[e] for e in embedders}, options, tuple(protocols))
-    results = map_tasks(evaluate_grid_pair, pairs, engine=engine, shared=inputs)  # in pair order
+    # Cells (pair × shuffle × dataset) are the tasks: many small ones balance the workers, and a finished cell
+    # is cached, so a rerun, or a run after one more dataset landed, computes only what changed.
+    tasks = [(e, k, s, di) for e, k in pairs for s in range(options.shuffles) for di in range(len(datasets))]
+    engine = engine_from_args(args, args.workers, progress="cells (pair × dataset)")
+    cache = None if args.no_cell_cache else _cell_cache_dir(args.cache_dir)
+    inputs = GridInputs(
+        tuple(datasets), {e: features[e] for e in embedders}, options, tuple(protocols), cache
+    )
+    cells = map_tasks(evaluate_grid_cell, tasks, engine=engine, shared=inputs)  # in task order
+    per_pair = len(tasks) // max(len(pairs), 1)
+    results = [
+        aggregate_cells(e, k, cells[i * per_pair : (i + 1) * per_pair], protocols, options)
+        for i, (e, k) in enumerate(pairs)
+    ]
     prior = prior_baseline(datasets, options, tuple(protocols))
     wall = time.perf_counter() - t0
     report: dict[str, Any] = {
@@ -304,6 +391,8 @@ def run_evaluate(args: argparse.Namespace) -> int:
             "total": round(wall, 2),
             "workers": args.workers,
             "engine": engine.label,
+            "cells": len(tasks),
+            "cells_wall_s_sum": round(sum(c.wall_s for c in cells), 1),
         },
     }
     report = write_json(None, report)  # NaN → null, the same text as the file
@@ -316,6 +405,12 @@ def run_evaluate(args: argparse.Namespace) -> int:
         plot_reliability(report, out / f"{args.name}_reliability.png")
     emit_report(report, args.json, indent=1, make_parent=True)
     return 0
+
+
+def _cell_cache_dir(cache_dir: Path | None) -> Path:
+    from scone_bt.embedding.cache import default_cache_dir
+
+    return Path(cache_dir if cache_dir is not None else default_cache_dir()) / "sc_cells"
 
 
 def _steps(text: str) -> list[int]:
@@ -379,6 +474,13 @@ def register_evaluate(sc_sub: argparse._SubParsersAction) -> None:
         "--refit-every", type=int, default=EvalOptions().refit_every, help="online refit interval (rows)"
     )
     e.add_argument("--kitchen", default="kitchen", help="catalogue for families when a file has none")
-    e.add_argument("--cache-dir", type=Path, default=None, help="embedding cache (default: scone_bt's)")
+    e.add_argument(
+        "--cache-dir", type=Path, default=None, help="embedding and cell cache (default: scone_bt's)"
+    )
+    e.add_argument(
+        "--no-cell-cache",
+        action="store_true",
+        help="recompute every cell (default: reuse <cache-dir>/sc_cells)",
+    )
     add_engine_arguments(e)
     e.set_defaults(func=run_evaluate)

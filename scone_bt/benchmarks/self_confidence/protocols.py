@@ -54,6 +54,7 @@ from scone_bt.confidence.base import ConfidenceEstimator
 from scone_bt.errors import ConfigError
 
 __all__ = [
+    "CellResult",
     "EstimatorFactory",
     "EvalOptions",
     "FamilyFold",
@@ -61,7 +62,9 @@ __all__ = [
     "Protocol",
     "ProtocolScores",
     "RobotBehaviour",
+    "aggregate_cells",
     "algorithm1_split",
+    "evaluate_cell",
     "evaluate_protocols",
     "leave_family_out_folds",
     "novel_product_rows",
@@ -400,6 +403,7 @@ class PairResult:
         out = {"embedder": self.embedder, "estimator": self.estimator, **self.scores[protocol].to_dict()}
         if self.robot is not None and protocol is Protocol.ALGORITHM1:
             out["robot"] = self.robot
+        out["pair_wall_s"] = round(self.wall_s, 2)  # every protocol of the pair together
         return out
 
     def to_dict(self) -> dict[str, Any]:
@@ -409,7 +413,10 @@ class PairResult:
     def __eq__(self, other: object) -> bool:  # NaN-safe: compare the serialised numbers
         if not isinstance(other, PairResult):
             return NotImplemented
-        return json.dumps(self.to_dict(), sort_keys=True) == json.dumps(other.to_dict(), sort_keys=True)
+        mine, theirs = self.to_dict(), other.to_dict()
+        for d in (*mine.values(), *theirs.values()):
+            d.pop("pair_wall_s", None)
+        return json.dumps(mine, sort_keys=True) == json.dumps(theirs, sort_keys=True)
 
     def __hash__(self) -> int:
         return hash((self.embedder, self.estimator))
@@ -446,6 +453,167 @@ def _scores(
     )
 
 
+Beliefs = dict[int, np.ndarray]
+"""Belief on the evaluated rows per n_train."""
+
+
+@dataclass(frozen=True)
+class CellResult:
+    """One dataset × shuffle of one pair: the beliefs and labels every protocol scores (what a cache stores).
+
+    Attributes:
+        a1: (beliefs on the test rows, their labels), or None if algorithm1/novel_products were not run.
+        novel: (beliefs on the novel test rows, their labels), or None.
+        lofo: (beliefs on every held-out row, their labels), or None (no known family, or not run).
+        greedy: For eps-X, the greedy robot's (beliefs, labels) on the test rows; else None.
+        robot_eps: For eps-X, the ε-greedy robot's behaviour; else None.
+        robot_greedy: For eps-X, the greedy robot's behaviour; else None.
+        wall_s: Seconds this cell took.
+    """
+
+    a1: tuple[Beliefs, np.ndarray] | None
+    novel: tuple[Beliefs, np.ndarray] | None
+    lofo: tuple[Beliefs, np.ndarray] | None
+    greedy: tuple[Beliefs, np.ndarray] | None = None
+    robot_eps: RobotBehaviour | None = None
+    robot_greedy: RobotBehaviour | None = None
+    wall_s: float = 0.0
+
+    def to_json(self) -> dict[str, Any]:
+        """Exact JSON form (floats round-trip through repr)."""
+
+        def part(v: tuple[Beliefs, np.ndarray] | None) -> Any:
+            if v is None:
+                return None
+            return {"beliefs": {str(n): b.tolist() for n, b in v[0].items()}, "labels": v[1].tolist()}
+
+        def beh(b: RobotBehaviour | None) -> Any:
+            return None if b is None else list(b._tuple())
+
+        return {
+            "a1": part(self.a1),
+            "novel": part(self.novel),
+            "lofo": part(self.lofo),
+            "greedy": part(self.greedy),
+            "robot_eps": beh(self.robot_eps),
+            "robot_greedy": beh(self.robot_greedy),
+            "wall_s": self.wall_s,
+        }
+
+    @classmethod
+    def from_json(cls, d: dict[str, Any]) -> CellResult:
+        """Inverse of to_json."""
+
+        def part(v: Any) -> tuple[Beliefs, np.ndarray] | None:
+            if v is None:
+                return None
+            beliefs = {int(n): np.asarray(b, dtype=float) for n, b in v["beliefs"].items()}
+            return beliefs, np.asarray(v["labels"], dtype=bool)
+
+        def beh(v: Any) -> RobotBehaviour | None:
+            return None if v is None else RobotBehaviour(*v)
+
+        return cls(
+            part(d["a1"]),
+            part(d["novel"]),
+            part(d["lofo"]),
+            part(d["greedy"]),
+            beh(d["robot_eps"]),
+            beh(d["robot_greedy"]),
+            float(d.get("wall_s", 0.0)),
+        )
+
+
+def evaluate_cell(
+    estimator: str,
+    data: EvalDataset,
+    X: np.ndarray,
+    dataset_index: int,
+    shuffle: int,
+    make: EstimatorFactory,
+    protocols: Sequence[Protocol] = tuple(Protocol),
+    options: EvalOptions = EvalOptions(),
+    make_greedy: EstimatorFactory | None = None,
+) -> CellResult:
+    """One dataset in one row order (see the module docstring); "eps-…" estimators run online."""
+    t0 = time.perf_counter()
+    online = estimator.startswith("eps-")
+    steps = options.steps
+    want_a1 = Protocol.ALGORITHM1 in protocols or Protocol.NOVEL_PRODUCTS in protocols
+    seed = options.seed * 1000 + shuffle
+
+    def make_plain(seed: int) -> ConfidenceEstimator:  # eps-X's belief is X's: fitting needs no exploration
+        return _greedy_of(make(seed)) if online else make(seed)
+
+    y = data.success
+    order = row_order(len(data), shuffle, dataset_index, options.seed)
+    prefix, test = algorithm1_split(order, options)
+    collected = prefix  # the labels a learner had: every prefix row, or what its robot attempted
+    a1 = novel = lofo = greedy_cell = None
+    beh = g_beh = None
+    if want_a1 or online:
+        if online:
+            beliefs, beh, collected = run_online(make(seed), prefix, X, y, steps, test, options)
+            greedy = make_greedy(seed) if make_greedy else _greedy_of(make(seed))
+            g_beliefs, g_beh, _ = run_online(greedy, prefix, X, y, steps, test, options)
+            greedy_cell = (g_beliefs, y[test])
+        else:
+            beliefs = _offline(make, seed, prefix, X, y, steps, test)
+        a1 = (beliefs, y[test])
+        rows = novel_product_rows(data.objects, prefix, test)
+        pos = {int(r): k for k, r in enumerate(test)}
+        keep = np.array([pos[int(r)] for r in rows], dtype=int)
+        novel = ({n: b[keep] for n, b in beliefs.items()}, y[rows])
+    if Protocol.LEAVE_FAMILY_OUT in protocols:
+        lsteps = options.lofo_steps
+        per_step: dict[int, list[np.ndarray]] = {n: [] for n in lsteps}
+        labels = []
+        for fold in leave_family_out_folds(data.families, collected, order):
+            b = _offline(make_plain, seed, fold.train, X, y, lsteps, fold.test)
+            for n in lsteps:
+                per_step[n].append(b[n])
+            labels.append(y[fold.test])
+        if labels:
+            lofo = ({n: np.concatenate(v) for n, v in per_step.items()}, np.concatenate(labels))
+    return CellResult(a1, novel, lofo, greedy_cell, beh, g_beh, time.perf_counter() - t0)
+
+
+def aggregate_cells(
+    embedder: str,
+    estimator: str,
+    cells: Sequence[CellResult],
+    protocols: Sequence[Protocol],
+    options: EvalOptions,
+) -> PairResult:
+    """A pair's scores from its cells (every dataset × shuffle)."""
+    steps = options.steps
+    scores: dict[Protocol, ProtocolScores] = {}
+    for p in protocols:
+        if p is Protocol.ALGORITHM1:
+            scores[p] = _scores(p, steps, [c.a1 for c in cells if c.a1 is not None], options)
+        elif p is Protocol.NOVEL_PRODUCTS:
+            scores[p] = _scores(p, steps, [c.novel for c in cells if c.novel is not None], options)
+        else:
+            scores[p] = _scores(p, options.lofo_steps, [c.lofo for c in cells if c.lofo is not None], options)
+    robot = None
+    greedy = [c.greedy for c in cells if c.greedy is not None]
+    if greedy:
+        g = _scores(Protocol.ALGORITHM1, steps, greedy, options)
+        eps_total, greedy_total = RobotBehaviour(), RobotBehaviour()
+        for c in cells:
+            eps_total += c.robot_eps or RobotBehaviour()
+            greedy_total += c.robot_greedy or RobotBehaviour()
+        robot = {
+            "epsilon": eps_total.to_dict(),
+            "greedy": greedy_total.to_dict(),
+            "greedy_auc": _mean_std(g.auc),
+            "epsilon0": options.epsilon,
+            "half_life": options.half_life,
+            "refit_every": options.refit_every,
+        }
+    return PairResult(embedder, estimator, scores, robot, sum(c.wall_s for c in cells))
+
+
 def evaluate_protocols(
     embedder: str,
     estimator: str,
@@ -470,72 +638,12 @@ def evaluate_protocols(
     """
     if not datasets:
         raise ConfigError("no datasets to evaluate")
-    t0 = time.perf_counter()
-    online = estimator.startswith("eps-")
-    steps = options.steps
-    a1_cells, novel_cells, lofo_cells = [], [], []
-    robot_eps, robot_greedy = RobotBehaviour(), RobotBehaviour()
-    greedy_cells = []
-    want_a1 = Protocol.ALGORITHM1 in protocols or Protocol.NOVEL_PRODUCTS in protocols
-
-    def make_plain(seed: int) -> ConfidenceEstimator:  # eps-X's belief is X's: fitting needs no exploration
-        return _greedy_of(make(seed)) if online else make(seed)
-
-    for s in range(options.shuffles):
-        seed = options.seed * 1000 + s
-        for di, (data, X) in enumerate(zip(datasets, features, strict=True)):
-            y = data.success
-            order = row_order(len(data), s, di, options.seed)
-            prefix, test = algorithm1_split(order, options)
-            collected = prefix  # the labels a learner had: every prefix row, or what its robot attempted
-            if want_a1 or online:
-                if online:
-                    beliefs, beh, collected = run_online(make(seed), prefix, X, y, steps, test, options)
-                    robot_eps += beh
-                    greedy = make_greedy(seed) if make_greedy else _greedy_of(make(seed))
-                    g_beliefs, g_beh, _ = run_online(greedy, prefix, X, y, steps, test, options)
-                    robot_greedy += g_beh
-                    greedy_cells.append((g_beliefs, y[test]))
-                else:
-                    beliefs = _offline(make, seed, prefix, X, y, steps, test)
-                a1_cells.append((beliefs, y[test]))
-                novel = novel_product_rows(data.objects, prefix, test)
-                pos = {int(r): k for k, r in enumerate(test)}
-                keep = np.array([pos[int(r)] for r in novel], dtype=int)
-                novel_cells.append(({n: b[keep] for n, b in beliefs.items()}, y[novel]))
-            if Protocol.LEAVE_FAMILY_OUT in protocols:
-                lsteps = options.lofo_steps
-                per_step: dict[int, list[np.ndarray]] = {n: [] for n in lsteps}
-                labels = []
-                for fold in leave_family_out_folds(data.families, collected, order):
-                    b = _offline(make_plain, seed, fold.train, X, y, lsteps, fold.test)
-                    for n in lsteps:
-                        per_step[n].append(b[n])
-                    labels.append(y[fold.test])
-                if labels:
-                    lofo_cells.append(
-                        ({n: np.concatenate(v) for n, v in per_step.items()}, np.concatenate(labels))
-                    )
-    scores: dict[Protocol, ProtocolScores] = {}
-    for p in protocols:
-        if p is Protocol.ALGORITHM1:
-            scores[p] = _scores(p, steps, a1_cells, options)
-        elif p is Protocol.NOVEL_PRODUCTS:
-            scores[p] = _scores(p, steps, novel_cells, options)
-        else:
-            scores[p] = _scores(p, options.lofo_steps, lofo_cells, options)
-    robot = None
-    if online and want_a1:
-        g = _scores(Protocol.ALGORITHM1, steps, greedy_cells, options)
-        robot = {
-            "epsilon": robot_eps.to_dict(),
-            "greedy": robot_greedy.to_dict(),
-            "greedy_auc": _mean_std(g.auc),
-            "epsilon0": options.epsilon,
-            "half_life": options.half_life,
-            "refit_every": options.refit_every,
-        }
-    return PairResult(embedder, estimator, scores, robot, time.perf_counter() - t0)
+    cells = [
+        evaluate_cell(estimator, data, X, di, s, make, protocols, options, make_greedy)
+        for s in range(options.shuffles)
+        for di, (data, X) in enumerate(zip(datasets, features, strict=True))
+    ]
+    return aggregate_cells(embedder, estimator, cells, protocols, options)
 
 
 def _greedy_of(est: ConfidenceEstimator) -> ConfidenceEstimator:

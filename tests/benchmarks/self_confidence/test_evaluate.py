@@ -12,7 +12,16 @@ from scone_bt.benchmarks.self_confidence.evaluate import GridInputs, embed_datas
 from scone_bt.benchmarks.self_confidence.protocols import EvalOptions, Protocol
 from scone_bt.cli.bench import main
 
-SMALL = ["--steps", "10,20,30", "--lofo-steps", "30", "--n-test", "10", "--workers", "1"]
+
+def _numbers(report: dict) -> dict:
+    """The protocols' numbers without wall times."""
+    return {
+        p: [{k: v for k, v in e.items() if k != "pair_wall_s"} for e in es]
+        for p, es in report["protocols"].items()
+    }
+
+
+SMALL = ["--steps", "10,20,30", "--lofo-steps", "30", "--n-test", "10", "--workers", "1", "--no-cell-cache"]
 
 
 def test_evaluate_prints_and_writes_the_documented_shape(sc_data, tmp_path, capsys):
@@ -46,7 +55,7 @@ def test_evaluate_prints_and_writes_the_documented_shape(sc_data, tmp_path, caps
     # a seeded run repeats exactly
     assert main(argv) == 0
     again = json.loads(capsys.readouterr().out)
-    assert again["protocols"] == printed["protocols"]
+    assert _numbers(again) == _numbers(printed)
 
 
 def test_protocols_and_estimators_are_selected(sc_data, capsys):
@@ -92,3 +101,14 @@ def test_grounded_knn_sees_the_context_that_decides_the_outcome(sc_data):
     plain = evaluate_grid_pair(("onehot", "lgbm"), inputs)
     grounded = evaluate_grid_pair(("onehot", "grounded-lgbm"), inputs)
     assert np.mean(grounded.auc) > np.mean(plain.auc)
+
+
+def test_cached_cells_give_the_same_report(sc_data, tmp_path, capsys):
+    data = sc_data(n_datasets=2, rows=40)
+    argv = ["sc", "evaluate", "--data", str(data), "--embedders", "onehot", "--estimators", "knn,eps-knn"]
+    argv += ["--cache-dir", str(tmp_path / "cache"), *SMALL[:-1]]
+    assert main(argv) == 0
+    first = json.loads(capsys.readouterr().out)
+    assert len(list((tmp_path / "cache" / "sc_cells").glob("*.json"))) == 4  # 2 pairs × 2 datasets
+    assert main(argv) == 0
+    assert json.loads(capsys.readouterr().out)["protocols"] == first["protocols"]  # wall times too: cached
