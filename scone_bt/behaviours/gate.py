@@ -11,7 +11,7 @@ import py_trees
 from scone_bt.affordances.types import action_text
 from scone_bt.behaviours.base import Keys, StageBehaviour
 from scone_bt.behaviours.context import EpisodeContext
-from scone_bt.behaviours.ports import AttemptHistory, Clock, HumanChannel, SelfConfidence
+from scone_bt.behaviours.ports import AttemptHistory, Clock, HumanChannel, Provider, SelfConfidence
 from scone_bt.events import DecisionMade, EventSink
 from scone_bt.gate.types import Decision, DecisionKind
 
@@ -40,7 +40,7 @@ class ConfidenceGate(StageBehaviour):
     def __init__(
         self,
         name: str,
-        kappa: SelfConfidence,
+        kappa: Provider[SelfConfidence],
         gate: GateOptions,
         max_failures_per_action: int,
         history: AttemptHistory,
@@ -51,7 +51,7 @@ class ConfidenceGate(StageBehaviour):
     ) -> None:
         """``human`` is read only for the human's current step in the recipe-blind setting (no tracked step)."""
         super().__init__(name)
-        self.estimator = kappa
+        self._kappa = kappa
         self.gate_options = gate
         self.limit = max_failures_per_action
         self.history = history
@@ -67,7 +67,7 @@ class ConfidenceGate(StageBehaviour):
         opts = context.options
         return cls(
             name,
-            context.kappa(),
+            context.kappa,
             GateOptions(
                 confidence_threshold=opts.confidence_threshold,
                 relevance_threshold=opts.relevance_threshold,
@@ -81,6 +81,9 @@ class ConfidenceGate(StageBehaviour):
             context.human,
             len(context.recipe.steps),
         )
+
+    def setup(self, **kwargs: object) -> None:
+        self.estimator = self._kappa()  # κ̂ rebuilt from the store on first use
 
     def update(self) -> py_trees.common.Status:
         from scone_bt.gate import decide

@@ -12,7 +12,7 @@ import py_trees
 
 from scone_bt.behaviours.base import Keys, StageBehaviour
 from scone_bt.behaviours.context import EpisodeContext, OutcomeLabels
-from scone_bt.behaviours.ports import OutcomeRecorder, SelfConfidence
+from scone_bt.behaviours.ports import OutcomeRecorder, Provider, SelfConfidence
 from scone_bt.events import ActCancelled, ActOutcome, EventSink
 from scone_bt.experience.types import Outcome
 from scone_bt.motion.types import FailureStage, MotionOutcome
@@ -36,19 +36,22 @@ class ObserveOutcome(StageBehaviour):
         self,
         name: str,
         robot: Robot,
-        recorder: OutcomeRecorder | None,
+        recorder: Provider[OutcomeRecorder | None],
         events: EventSink,
         labels: OutcomeLabels,
     ) -> None:
         super().__init__(name)
         self.robot = robot
-        self.store = recorder
+        self._recorder = recorder
         self.events = events
         self.labels = labels
 
     @classmethod
     def from_context(cls, name: str, context: EpisodeContext) -> ObserveOutcome:
-        return cls(name, context.robot, context.recorder(), context.events, context.labels)
+        return cls(name, context.robot, context.recorder, context.events, context.labels)
+
+    def setup(self, **kwargs: object) -> None:
+        self.store = self._recorder()
 
     def update(self) -> py_trees.common.Status:
         target = self.read(Keys.TARGET)
@@ -94,13 +97,16 @@ class ObserveOutcome(StageBehaviour):
 class UpdateSelfConfidence(StageBehaviour):
     READS = (Keys.OUTCOME, Keys.ACTION_EMBEDDINGS)
 
-    def __init__(self, name: str, kappa: SelfConfidence) -> None:
+    def __init__(self, name: str, kappa: Provider[SelfConfidence]) -> None:
         super().__init__(name)
-        self.estimator = kappa
+        self._kappa = kappa
 
     @classmethod
     def from_context(cls, name: str, context: EpisodeContext) -> UpdateSelfConfidence:
-        return cls(name, context.kappa())
+        return cls(name, context.kappa)
+
+    def setup(self, **kwargs: object) -> None:
+        self.estimator = self._kappa()
 
     def update(self) -> py_trees.common.Status:
         outcome: Outcome | None = self.read(Keys.OUTCOME)

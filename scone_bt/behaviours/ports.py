@@ -8,16 +8,29 @@ planner seeds. Tests pass fakes; the episode passes the real ones (`EpisodeConte
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from typing import Protocol, runtime_checkable
+from typing import Protocol, TypeVar, runtime_checkable
 
 import numpy as np
 
 from scone_bt.experience.types import Outcome
 
-__all__ = ["Clock", "HumanChannel", "SelfConfidence", "OutcomeRecorder", "AttemptHistory", "PlannerSeeds"]
+__all__ = [
+    "Clock",
+    "Provider",
+    "HumanChannel",
+    "SelfConfidence",
+    "OutcomeRecorder",
+    "AttemptHistory",
+    "PlannerSeeds",
+]
+
+T = TypeVar("T")
 
 Clock = Callable[[], float]
 """Seconds since the episode started (the robot's clock)."""
+
+Provider = Callable[[], T]
+"""Builds (or returns the already built) heavy collaborator; behaviours call it in `setup()`, not `__init__`."""
 
 
 @runtime_checkable

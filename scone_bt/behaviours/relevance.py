@@ -14,7 +14,7 @@ import py_trees
 
 from scone_bt.behaviours.base import Keys, StageBehaviour
 from scone_bt.behaviours.context import EpisodeContext
-from scone_bt.behaviours.ports import HumanChannel
+from scone_bt.behaviours.ports import HumanChannel, Provider
 
 if TYPE_CHECKING:
     from scone_bt.embedding import Embedder
@@ -30,7 +30,7 @@ class RankByRelevance(StageBehaviour):
     def __init__(
         self,
         name: str,
-        embedder: Embedder,
+        embedder: Provider[Embedder],
         steps: Sequence[str],
         wordings: Mapping[str, tuple[str, ...]],
         selection: SelectionOptions,
@@ -41,7 +41,7 @@ class RankByRelevance(StageBehaviour):
         the items, in the recipe's order); ``human`` is read only with ``recipe_aware`` off (the paper's setting).
         """
         super().__init__(name)
-        self.embedder = embedder
+        self._embedder = embedder
         self.step = 0
         self.steps = tuple(steps)
         self.items = tuple(wordings)
@@ -57,13 +57,16 @@ class RankByRelevance(StageBehaviour):
         recipe, opts = context.recipe, context.options
         return cls(
             name,
-            context.embedder(),
+            context.embedder,
             tuple(step.instruction for step in recipe.steps),
             {n: tuple(context.catalogue.get(n).aliases) for n in recipe.needed},
             SelectionOptions(rho=opts.relevance_threshold, margin=opts.clarify_margin),
             bool(opts.recipe_aware),
             context.human,
         )
+
+    def setup(self, **kwargs: object) -> None:
+        self.embedder = self._embedder()
 
     def update(self) -> py_trees.common.Status:
         from scone_bt.relevance import RankedAction, rank_actions, relevance_matrix

@@ -30,9 +30,9 @@ class _Kappa:
 
 
 def _gate(events: EventLog, confidence: float = 0.9, human: FakeHuman | None = None) -> ConfidenceGate:
-    return ConfidenceGate(
+    gate = ConfidenceGate(
         "gate",
-        _Kappa(confidence),
+        lambda: _Kappa(confidence),
         GateOptions(confidence_threshold=0.5, relevance_threshold=0.3),
         3,
         events,
@@ -41,6 +41,8 @@ def _gate(events: EventLog, confidence: float = 0.9, human: FakeHuman | None = N
         human or FakeHuman(step_index=1),
         4,
     )
+    gate.setup()
+    return gate
 
 
 def _decide(events: EventLog, **kw) -> Decision:

@@ -32,7 +32,8 @@ def _observe(motion: MotionOutcome, on_table: bool):
     events = EventLog(lambda e: order.append(f"emitted {e.kind}"), printer)
     robot = FakeRobot(on_table={"salt"} if on_table else set(), time=3.0)
     bb = blackboard(TARGET=affordance("salt"), MOTION_OUTCOME=motion)
-    node = ObserveOutcome("observe", robot, store, events, LABELS)
+    node = ObserveOutcome("observe", robot, lambda: store, events, LABELS)
+    node.setup()
     node.tick_once()
     return node, store, events, order, bb
 
@@ -96,7 +97,8 @@ def test_update_self_confidence_learns_the_label_and_skips_a_take_over() -> None
     kappa = _Kappa()
     _, store, _, _, bb = _observe(MotionOutcome(False, FailureStage.GRASP, "slipped", 4.0), on_table=False)
     bb.set(Keys.ACTION_EMBEDDINGS, {"Put salt on table": np.array([1.0, 0.0])})
-    node = UpdateSelfConfidence("learn", kappa)
+    node = UpdateSelfConfidence("learn", lambda: kappa)
+    node.setup()
     node.tick_once()
     assert kappa.updates == [([1.0, 0.0], False)]
     bb.set(Keys.OUTCOME, None)

@@ -42,7 +42,9 @@ class _Episode:
 
         wordings = {n: tuple(self.aliases.get(n, ())) for n in self.needed}
         selection = SelectionOptions(rho=self.options.relevance_threshold, margin=self.options.clarify_margin)
-        return RankByRelevance("rank", self.embedder, self.steps, wordings, selection, True, self.human)
+        return RankByRelevance(
+            "rank", lambda: self.embedder, self.steps, wordings, selection, True, self.human
+        )
 
     def gate(self) -> ConfidenceGate:
         from scone_bt.gate import GateOptions
@@ -50,7 +52,7 @@ class _Episode:
         gate = GateOptions(confidence_threshold=0.5, relevance_threshold=0.5, recipe_aware=True)
         return ConfidenceGate(
             "gate",
-            _Confident(),
+            _Confident,
             gate,
             3,
             self.events,
@@ -78,6 +80,8 @@ def _tick(services, shelf, table=()):
         tuple(Detection(n, -1, (0.4, -0.4, 0.1), 0.0, 1.0, (0, 0, 1, 1)) for n in table),
     )
     rank, gate = services.rank(), services.gate()
+    rank.setup()
+    gate.setup()
     rank.tick_once()
     gate.tick_once()
     reader = py_trees.blackboard.Client(name="reader")
