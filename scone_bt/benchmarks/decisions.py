@@ -166,8 +166,10 @@ def pick_recipes(n: int, seed: int, max_needed: int) -> list[str]:
 def _episodes(args: argparse.Namespace) -> dict[str, Any]:
     from scone_bt.behaviours import BehaviourOptions
     from scone_bt.config import load_kitchen, load_robot
-    from scone_bt.episode import EpisodeOptions, run_episode
+    from scone_bt.episode import EpisodeOptions, ModelPool, run_episode
     from scone_bt.recipes import load_recipe, stock_recipe
+
+    models = ModelPool()  # the episodes share one embedder (MiniLM loads once)
 
     kitchen = load_kitchen()
     slots = len(kitchen.scene.shelf_slots())
@@ -192,6 +194,7 @@ def _episodes(args: argparse.Namespace) -> dict[str, Any]:
             ),
             printer=lambda _line: None,
             on_event=lambda event, sink=events: sink.append((event.kind, event.to_json())),
+            models=models,
         )
         stocked = stock_recipe(load_recipe(recipe_id), kitchen.catalogue)
         counts = judge_fetches(events, [s.objects for s in stocked.steps])
