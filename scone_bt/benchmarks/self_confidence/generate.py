@@ -1,6 +1,6 @@
 """One simulated execution of a proficiency profile: stock, perceive, pick-and-place, record outcome and context.
 
-Everything is real: the shelf cameras render the kitchen, the AprilTag detector finds (or misses) the target, the
+Everything is real: the shelf cameras render the kitchen, the ArUco marker detector finds (or misses) the target, the
 motion stage plans with OMPL on the robot file's grasp settings and executes in PyBullet, and the outcome sensor
 says whether the product stands on the table. A profile only changes parameters (and may sabotage a stage, see
 profiles.INJECTABLE_STAGES). The target and the distractors are drawn uniformly from the whole catalogue (or the
