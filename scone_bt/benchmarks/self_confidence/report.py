@@ -63,10 +63,22 @@ def write_json(path: Path | None, payload: dict[str, Any]) -> dict[str, Any]:
     return cleaned
 
 
+def _oracle(keys: Sequence[str], y: np.ndarray) -> float:
+    """In-sample accuracy of predicting each key's majority outcome (a ceiling for a model of that key alone)."""
+    right = 0
+    for k in set(keys):
+        m = np.array([x == k for x in keys])
+        right += int(max(y[m].sum(), m.sum() - y[m].sum()))
+    return round(right / len(y), 4) if len(y) else float("nan")
+
+
 def dataset_summary(
     datasets: Sequence[EvalDataset], options: EvalOptions | None = None
 ) -> list[dict[str, Any]]:
-    """Per dataset: rows, success rate, distinct products and families, novel test rows, context coverage."""
+    """Per dataset: rows, success rate, distinct products and families, novel test rows, context coverage.
+
+    product_oracle / family_oracle: in-sample accuracy of predicting each product's / family's majority outcome.
+    """
     opts = options or EvalOptions()
     out = []
     for d in datasets:
@@ -77,6 +89,8 @@ def dataset_summary(
             "distinct_products": len(set(d.objects)),
             "families": len(set(d.families) - {UNKNOWN_FAMILY}),
             "context_coverage": round(float(np.mean(~np.isnan(d.context))), 4) if len(d) else 0.0,
+            "product_oracle": _oracle(d.objects, d.success),
+            "family_oracle": _oracle(d.families, d.success),
         }
         if len(d) >= opts.min_rows:
             prefix, test = algorithm1_split(row_order(len(d), 0, 0), opts)
