@@ -16,7 +16,7 @@ if TYPE_CHECKING:  # the interface itself imports nothing heavy (scone-run --hel
     from scone_bt.perception.observe import Observation
     from scone_bt.perception.types import Detection
 
-__all__ = ["BACKENDS", "PickRequest", "MotionHandle", "Robot"]
+__all__ = ["BACKENDS", "PickRequest", "MotionHandle", "Robot", "obstacles_except"]
 
 BACKENDS = ("sim",)
 """Robot backends `scone-run --robot` accepts."""
