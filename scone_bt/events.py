@@ -114,6 +114,7 @@ class DecisionMade(Event):
         candidates: With CLARIFY, the action texts the robot asks about.
         object_name: The chosen action's object, or None.
         reason: The gate's one-sentence reason.
+        explored: ACT on an ε-greedy exploration draw although κ̂ was below the threshold.
     """
 
     kind: ClassVar[str] = "decision"
@@ -127,6 +128,7 @@ class DecisionMade(Event):
     candidates: tuple[str, ...] = ()
     object_name: str | None = None
     reason: str = ""
+    explored: bool = False
 
     def to_json(self) -> dict[str, Any]:
         out = super().to_json()

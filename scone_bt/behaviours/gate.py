@@ -90,15 +90,15 @@ class ConfidenceGate(StageBehaviour):
 
         ranked = self.read(Keys.RANKED, [])
         vectors = self.read(Keys.ACTION_EMBEDDINGS, {})
-        confidences = (
-            [float(c) for c in self.estimator.predict(np.stack([vectors[r.text] for r in ranked]))]
-            if ranked
-            else []
+        confidences, explore = (
+            self._confidences(np.stack([vectors[r.text] for r in ranked])) if ranked else ([], [])
         )
         view = self.read(Keys.STEP)
         ambiguous = tuple(action_text(i) for i in view.selection.ambiguous) if view is not None else ()
         by_text = {r.text for r in ranked}
-        decision = decide(ranked, confidences, self.gate_options, tuple(a for a in ambiguous if a in by_text))
+        decision = decide(
+            ranked, confidences, self.gate_options, tuple(a for a in ambiguous if a in by_text), explore
+        )
         decision = apply_failure_limit(decision, self.history.failures_of(decision.action or ""), self.limit)
         affordances = {a.text: a for a in self.read(Keys.AFFORDANCES, [])}
         target = affordances.get(decision.action) if decision.action is not None else None
@@ -116,6 +116,17 @@ class ConfidenceGate(StageBehaviour):
         self.feedback_message = decision.reason
         return py_trees.common.Status.SUCCESS
 
+    def _confidences(self, X: np.ndarray) -> tuple[list[float], list[bool]]:
+        """κ̂'s belief per action, and the ε-greedy exploration draws (empty for estimators that do not explore).
+
+        The belief is what the gate compares, prints and logs; an exploration draw only lets the gate act despite
+        it (gate rule 4), so a user never reads a draw as a confidence.
+        """
+        belief, explores = getattr(self.estimator, "belief", None), getattr(self.estimator, "explores", None)
+        if belief is None or explores is None:
+            return [float(c) for c in self.estimator.predict(X)], []
+        return [float(c) for c in belief(X)], [bool(e) for e in explores(X)]
+
     def _event(self, decision: Decision, step_index: int | None) -> DecisionMade:
         """``step_index``: the robot's own place in the recipe (None: the human's step, the recipe-blind setting)."""
         index = self.human.step_index if step_index is None else step_index
@@ -131,6 +142,7 @@ class ConfidenceGate(StageBehaviour):
             candidates=tuple(decision.candidates),
             object_name=decision.object_name,
             reason=decision.reason,
+            explored=decision.explored,
         )
 
 

@@ -22,6 +22,8 @@ def decision_line(event: DecisionMade, steps_total: int) -> str:
     else:
         target = event.action or "(none)"
     note = "  (needed later)" if event.need == "later" and event.action else ""
+    if event.explored:  # κ̂ below the threshold: the robot tries it to learn (ε-greedy)
+        note = "  (exploring)" + note
     return (
         f"[step {event.step}/{steps_total}] {short!r:52} -> {target:28} "
         f"rel {event.relevance:5.2f}  conf {event.confidence:4.2f}  {event.verdict.label}{note}"

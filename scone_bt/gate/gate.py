@@ -11,6 +11,8 @@
 3. Otherwise ACT if its confidence ≥ the threshold, else ASK. The threshold is `confidence_threshold`, or
    `1 - target_error_rate` when a target error rate is given; with the conformal estimator (whose confidence is
    1 − the conformal p-value of failure) that bounds the fraction of would-fail actions attempted by that rate.
+4. Exploration (ε-greedy κ̂, `explore` set for the chosen action): ACT instead of ASK, marked ``explored``; the
+   decision's confidence stays κ̂'s belief, so what is shown and logged is never the exploration draw.
 
 Only the single most relevant action is considered (as in the paper); ties in relevance go to the earlier one.
 """
@@ -69,6 +71,7 @@ def decide(
     confidences: Sequence[float],
     options: GateOptions,
     ambiguous: Sequence[str] = (),
+    explore: Sequence[bool] = (),
 ) -> Decision:
     """Act on the most relevant action, ask for help with it, ask which item is meant, or idle; see the module
     docstring.
@@ -79,6 +82,8 @@ def decide(
         options: Thresholds and mode.
         ambiguous: Action texts the step could mean about equally (recipe-aware ranking); asked about when
             no action is needed now or later.
+        explore: Per action, aligned with `ranked`: the ε-greedy estimator's exploration draw (rule 4); empty for
+            estimators that do not explore.
 
     Raises:
         SconeError: lengths differ, or a confidence is not a number in [0, 1].
@@ -86,6 +91,10 @@ def decide(
     if len(ranked) != len(confidences):
         raise SconeError(
             f"{len(ranked)} ranked actions but {len(confidences)} confidences; pass one per action"
+        )
+    if explore and len(explore) != len(ranked):
+        raise SconeError(
+            f"{len(ranked)} ranked actions but {len(explore)} exploration flags; pass one per action"
         )
     recipe_aware = options.recipe_aware
     pool = list(range(len(ranked)))
@@ -131,6 +140,16 @@ def decide(
             conf,
             f"confident: {conf:.2f} ≥ {threshold:.2f}",
             need,
+        )
+    if explore and explore[best]:
+        return Decision(
+            DecisionKind.ACT,
+            action.text,
+            action.relevance,
+            conf,
+            f"exploring (ε-greedy): confidence {conf:.2f} < {threshold:.2f}, trying to learn",
+            need,
+            explored=True,
         )
     return Decision(
         DecisionKind.ASK,

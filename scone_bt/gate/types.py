@@ -34,6 +34,8 @@ class Decision:
         candidates: With clarify, the action texts the robot asks the human to choose between.
         object_name: The object the action moves (set by the tree's gate from the affordance it is about; None
             when idle or clarifying).
+        explored: ACT although κ̂ was below the threshold, because the ε-greedy estimator drew exploration for
+            this action (the robot tries it to learn; ``confidence`` is still κ̂'s belief).
     """
 
     kind: DecisionKind
@@ -44,3 +46,4 @@ class Decision:
     need: str = ""
     candidates: tuple[str, ...] = ()
     object_name: str | None = None
+    explored: bool = False

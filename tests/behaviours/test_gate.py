@@ -108,3 +108,49 @@ def test_decision_is_checks_the_kind() -> None:
     act.tick_once()
     assert ask.status is py_trees.common.Status.SUCCESS and act.status is py_trees.common.Status.FAILURE
     assert bb.get(Keys.DECISION).kind is DecisionKind.ASK
+
+
+class _Wrapped:
+    """A κ̂ provider for the gate: the real ε-greedy estimator (no outcomes yet, so its belief is the prior)."""
+
+    def __init__(self, epsilon: float) -> None:
+        from scone_bt.confidence import make_estimator
+
+        self.estimator = make_estimator("eps-knn", seed=1, epsilon=epsilon)
+
+    def __call__(self):
+        return self.estimator
+
+
+@pytest.mark.parametrize(
+    ("epsilon", "kind", "explored"), [(1.0, DecisionKind.ACT, True), (0.0, DecisionKind.ASK, False)]
+)
+def test_exploration_acts_but_the_decision_shows_the_belief(epsilon, kind, explored) -> None:
+    events = EventLog()
+    wrapped = _Wrapped(epsilon)
+    bb = blackboard(
+        RANKED=[RankedAction(SALT, 0.7)],
+        ACTION_EMBEDDINGS={SALT: np.array([1.0, 0.0], dtype=np.float32)},
+        INSTRUCTION="Add the salt.",
+        AFFORDANCES=[affordance("salt")],
+    )
+    gate = ConfidenceGate(
+        "gate",
+        wrapped,
+        GateOptions(confidence_threshold=0.6, relevance_threshold=0.3),
+        3,
+        events,
+        events,
+        FakeRobot(time=7.0).now,
+        FakeHuman(step_index=1),
+        4,
+    )
+    gate.setup()
+    gate.tick_once()
+    decision = bb.get(Keys.DECISION)
+    prior = float(wrapped.estimator.belief(np.array([[1.0, 0.0]], dtype=np.float32))[0])
+    assert (decision.kind, decision.explored, decision.confidence) == (kind, explored, prior)
+    assert prior < 0.6  # so only the exploration draw can make it act
+    event = [e for e in events.events if isinstance(e, DecisionMade)][-1]
+    assert event.explored is explored and event.confidence == prior
+    assert bb.get(Keys.CONFIDENCES)[SALT] == prior

@@ -109,3 +109,24 @@ def test_ambiguous_step_asks_which_before_fetching_for_later_steps():
 def test_recipe_aware_low_confidence_asks_for_help():
     d = decide(NEEDS, [0.9, 0.9, 0.9, 0.1], GateOptions(confidence_threshold=0.5, recipe_aware=True))
     assert (d.kind, d.action) == (DecisionKind.ASK, "Put salt on table")
+
+
+def test_exploration_acts_below_the_threshold_and_keeps_the_belief():
+    options = GateOptions(confidence_threshold=0.5, relevance_threshold=0.4)
+    explored = decide(RANKED, [0.2, 0.9], options, explore=[True, False])
+    assert (explored.kind, explored.explored, explored.confidence) == (DecisionKind.ACT, True, 0.2)
+    assert "exploring" in explored.reason
+    # a confident action is not "explored"; a draw on another action does not count
+    assert decide(RANKED, [0.8, 0.1], options, explore=[True, False]).explored is False
+    assert decide(RANKED, [0.2, 0.1], options, explore=[False, True]).kind == DecisionKind.ASK
+    # the control condition and an irrelevant best action ignore exploration
+    assert (
+        decide(RANKED, [0.2, 0.1], GateOptions(use_self_confidence=False), explore=[True, True]).explored
+        is False
+    )
+    assert (
+        decide(RANKED, [0.2, 0.1], GateOptions(relevance_threshold=0.7), explore=[True, True]).kind
+        == DecisionKind.IDLE
+    )
+    with pytest.raises(SconeError, match="exploration flags"):
+        decide(RANKED, [0.2, 0.1], options, explore=[True])
