@@ -6,6 +6,11 @@ The answers come from simulated participants with static trust, no per-session n
 Poisson fit on counts drawn from Eq. (4) with a known +1.0 log-rate effect checks the Poisson model. Prints JSON:
 participants, wall_s (target <= 180 s on 2 cores), cpu_s (this process and its sampler processes), per-model
 seconds, the condition contrasts with whether their 95 % HDI contains the truth, and the load average at the start.
+
+``scone-bench study-recovery`` repeats the known-effect check over several seeds (simulated 31-participant studies,
+the same answer model): per questionnaire the HDIs' coverage of the truth, the mean estimate and its bias, and,
+where R's ordinal package is installed, the mean difference to clmm's maximum-likelihood estimate on the same data
+(which separates what the data say from what the model's priors add); the Poisson model on Eq. (4) counts too.
 """
 
 from __future__ import annotations
@@ -106,8 +111,95 @@ def _bench(args: argparse.Namespace) -> int:
     return 0
 
 
+def _recovery(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from scone_bt.quiet import quiet_backends
+    from scone_bt.study.analysis import AnalysisOptions, contrasts_of, fit_ordinal, fit_poisson, load_study
+    from scone_bt.study.models import Priors
+    from scone_bt.study.power import simulate_counts
+    from scone_bt.study.r_clmm import fit_clmm, r_unavailable
+    from scone_bt.study.simulate import SimulationOptions, simulate_study
+    from scone_bt.study.trust import TrustParameters
+
+    quiet_backends(("pymc", "pytensor"))
+    effect = args.effect
+    trust = TrustParameters(
+        success_gain=0.0, failure_loss=0.0, help_gain=0.0, condition_effect=effect, response_noise_sd=0.0
+    )
+    priors = Priors(args.effect_prior_sd, args.cutpoint_prior_sd, args.scale_prior_sd)
+    without_r = r_unavailable()
+    load, start = os.getloadavg()[0], time.perf_counter()
+    runs: dict[str, list[dict]] = {"mdmt": [], "tps_hri": [], "interventions_eq4_counts": []}
+    for seed in range(args.first_seed, args.first_seed + args.seeds):
+        options = AnalysisOptions(
+            chains=args.chains, tune=args.tune, draws=args.draws, cores=args.cores, seed=seed, priors=priors
+        )
+        with tempfile.TemporaryDirectory(prefix="scone-bench-recovery-") as folder:
+            log = simulate_study(
+                Path(folder) / "sim.db",
+                SimulationOptions(participants=args.participants, fast=True, trust=trust, seed=seed),
+                printer=lambda _l: None,
+            )
+            data = load_study(log)
+            log.close()
+        for q in ("mdmt", "tps_hri"):
+            ratings = data.ratings[data.ratings["questionnaire"] == q].reset_index(drop=True)
+            c = contrasts_of(fit_ordinal(ratings, options, q), options)[0]
+            run = {"seed": seed, "mean": c.mean, "sd": c.sd, "hdi": list(c.hdi)}
+            if without_r is None:
+                ml = fit_clmm(
+                    ratings[["category", "condition", "session_index", "participant", "item"]],
+                    "category ~ condition + session_index + (1|participant) + (1|item)",
+                )
+                run["clmm"], run["clmm_se"] = (round(v, 4) for v in ml.fixed["conditionon"])
+            runs[q].append(run)
+        counts = fit_poisson(simulate_counts(args.participants, effect, seed).sessions, options, "counts")
+        c = contrasts_of(counts, options)[0]
+        runs["interventions_eq4_counts"].append(
+            {"seed": seed, "mean": c.mean, "sd": c.sd, "hdi": list(c.hdi)}
+        )
+    summary = {}
+    for name, rs in runs.items():
+        means = np.array([r["mean"] for r in rs])
+        entry = {
+            "coverage": sum(r["hdi"][0] <= effect <= r["hdi"][1] for r in rs) / len(rs),
+            "mean_estimate": round(float(means.mean()), 4),
+            "bias": round(float(means.mean() - effect), 4),
+            "bias_se": round(float(means.std(ddof=1) / np.sqrt(len(rs))), 4) if len(rs) > 1 else None,
+            "mean_posterior_sd": round(float(np.mean([r["sd"] for r in rs])), 4),
+        }
+        if rs and "clmm" in rs[0]:
+            diff = means - np.array([r["clmm"] for r in rs])
+            entry["clmm_mean_estimate"] = round(float(np.mean([r["clmm"] for r in rs])), 4)
+            entry["mean_minus_clmm"] = round(float(diff.mean()), 4)
+            entry["mean_minus_clmm_range"] = [round(float(diff.min()), 4), round(float(diff.max()), 4)]
+        summary[name] = entry
+    report = {
+        "benchmark": "study-recovery",
+        "data": "SIMULATED",
+        "participants": args.participants,
+        "true_condition_effect": effect,
+        "seeds": [args.first_seed, args.first_seed + args.seeds - 1],
+        "model": "paper",
+        "priors": {
+            "effect_sd": priors.effect_sd,
+            "cutpoint_sd": priors.cutpoint_sd,
+            "scale_sd": priors.scale_sd,
+        },
+        "sampler": {"chains": args.chains, "tune": args.tune, "draws": args.draws, "cores": args.cores},
+        "clmm": "ordinal::clmm (ML) on the same ratings" if without_r is None else f"skipped: {without_r}",
+        "summary": summary,
+        "runs": runs,
+        "wall_s": round(time.perf_counter() - start, 1),
+        "load_average_at_start": round(load, 2),
+    }
+    emit_report(report, args.json)
+    return 0
+
+
 def register(sub: argparse._SubParsersAction) -> None:
-    """Add ``study-analysis`` to ``scone-bench``."""
+    """Add ``study-analysis`` and ``study-recovery`` to ``scone-bench``."""
     b = sub.add_parser("study-analysis", help="time one paper-model analysis of 31 simulated participants")
     b.add_argument("--participants", type=int, default=31)
     b.add_argument("--chains", type=int, default=6)
@@ -119,3 +211,20 @@ def register(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--force", action="store_true", help="overwrite earlier results in --out")
     b.add_argument("--json", help="also write the JSON report to this file")
     b.set_defaults(func=_bench)
+
+    r = sub.add_parser("study-recovery", help="coverage and bias of the known condition effect over seeds")
+    r.add_argument(
+        "--seeds", type=int, default=5, help="simulated studies (seeds first-seed, first-seed+1, ...)"
+    )
+    r.add_argument("--first-seed", type=int, default=0)
+    r.add_argument("--participants", type=int, default=31)
+    r.add_argument("--effect", type=float, default=1.0, help="true condition effect (logit and log-rate)")
+    r.add_argument("--chains", type=int, default=2)
+    r.add_argument("--tune", type=int, default=300)
+    r.add_argument("--draws", type=int, default=300)
+    r.add_argument("--cores", type=int, default=2)
+    r.add_argument("--effect-prior-sd", type=float, default=1.0)
+    r.add_argument("--cutpoint-prior-sd", type=float, default=1.0)
+    r.add_argument("--scale-prior-sd", type=float, default=1.0)
+    r.add_argument("--json", help="also write the JSON report to this file")
+    r.set_defaults(func=_recovery)

@@ -179,12 +179,25 @@ def _extended_terms(factors: tuple[Factor, ...], priors: Priors):  # noqa: ANN20
     return total
 
 
-def _group_effect(name: str, index: np.ndarray, specification: str, priors: Priors, zero_sum: bool = True):  # noqa: ANN202
-    """A group-level effect, non-centred (sigma * z) against the funnel of small studies."""
+def _group_effect(  # noqa: ANN202
+    name: str,
+    index: np.ndarray,
+    specification: str,
+    priors: Priors,
+    zero_sum: bool = True,
+    fixed_sd: float | None = None,
+):
+    """A group-level effect, non-centred (sigma * z) against the funnel of small studies.
+
+    ``fixed_sd`` replaces the sd's prior by a known value (the conditional fit of the R cross-check).
+    """
     import pymc as pm
 
     n = _n(index)
-    if specification == "paper":
+    if fixed_sd is not None:
+        sigma = float(fixed_sd)
+        z = pm.Normal(f"z_{name}", 0.0, 1.0, shape=n)
+    elif specification == "paper":
         sigma = pm.HalfNormal(f"sigma_{name}", priors.scale_sd)
         z = pm.Normal(f"z_{name}", 0.0, 1.0, shape=n)
     else:
@@ -199,8 +212,16 @@ def _group_effect(name: str, index: np.ndarray, specification: str, priors: Prio
     return effect[index]
 
 
-def ordinal_model(design: OrdinalDesign, specification: str = "paper", priors: Priors | None = None):  # noqa: ANN201
+def ordinal_model(  # noqa: ANN201
+    design: OrdinalDesign,
+    specification: str = "paper",
+    priors: Priors | None = None,
+    participant_sd: float | None = None,
+):
     """Eq. (3) (``paper``) or its extended variant, as a pm.Model.
+
+    ``participant_sd`` fixes sigma_P at a given value instead of giving it a prior: the posterior is then the one
+    conditional on that sd, which the R cross-check compares with clmm's maximum-likelihood fit (tests/study).
 
     The paper model is sampled in an equivalent parametrisation: the index-coded levels' midpoints, the question
     mean alpha_bar and the cut-points share one location that the answers do not fix (only cut-point minus
@@ -218,7 +239,7 @@ def ordinal_model(design: OrdinalDesign, specification: str = "paper", priors: P
     with pm.Model() as model:
         phi = (_paper_terms if paper else _extended_terms)(design.factors, priors)
         if design.participant is not None:
-            phi = phi + _group_effect("P", design.participant, specification, priors)
+            phi = phi + _group_effect("P", design.participant, specification, priors, fixed_sd=participant_sd)
         if design.question is not None:
             phi = phi + _group_effect("Q", design.question, specification, priors)
         phi = phi + np.zeros(len(design.y))  # a tensor even without any term
