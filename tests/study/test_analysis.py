@@ -96,3 +96,19 @@ def test_paper_model_recovers_a_known_effect_for_both_questionnaires_and_the_poi
     c = contrasts_of(fit, options)[0]
     assert c.contrast == "condition" and c.hdi[0] <= 1.0 <= c.hdi[1], c
     assert fit.r_hat_max < 1.05 and fit.divergences == 0
+
+
+def test_participant_sd_can_be_fixed_for_a_conditional_fit():
+    import numpy as np
+
+    from scone_bt.study.models import Factor, OrdinalDesign, ordinal_model
+
+    design = OrdinalDesign(
+        y=np.array([0, 1, 2, 1, 2, 0]),
+        blocks=(("q", np.arange(6), 3),),
+        factors=(Factor("condition", ("off", "on"), np.array([0, 1, 0, 1, 0, 1])),),
+        participant=np.array([0, 0, 1, 1, 2, 2]),
+    )
+    free = {v.name for v in ordinal_model(design, "paper").free_RVs}
+    fixed = {v.name for v in ordinal_model(design, "paper", participant_sd=0.7).free_RVs}
+    assert "sigma_P" in free and free - fixed == {"sigma_P"} and "z_P" in fixed
