@@ -17,12 +17,12 @@ yaws aligned with the table's edges). Kept candidates are ordered by the cost
          + turn_weight * |yaw - arrival yaw| / (pi/2)
 
 where r is the spot's distance from the robot's base, the preferred reach `preferred_reach` (`tall_reach` for an
-object at least `tall_height` tall) and room the gap to the nearest footprint. The arm reaches every
+object at least `tall_height` tall) and room the gap to the nearest footprint or table edge. The arm reaches every
 spot from its base outwards, so `blocking` keeps tall objects out of the way of later placements: with
 depth = (r - r_min) / (r_max - r_min) over the table's candidates, it is 1 - depth for an object at least
 `tall_height` tall (tall objects go to the table's far rim) and 0.3 * depth for a short one (a mild preference for
 near spots: short carries, and the arm reaches over short objects). The packing term puts an object next to what
-already stands there rather than in the middle of the free area, which would split it into
+already stands there or against an edge rather than in the middle of the free area, which would split it into
 gaps too small for the next product. The shadow term avoids spots the object would have to be lowered into behind
 a tall neighbour, one that stands nearer the robot within a hand's width of the line from the base to the spot.
 """
@@ -267,7 +267,7 @@ class PlacementOptions:
     shadow_weight: float = 0.5
     turn_weight: float = 0.1
     pack_gap: float = 0.08
-    max_spots: int = 64
+    max_spots: int = 24
     rng_seed: int = 0
 
 
@@ -387,9 +387,7 @@ def sample_placements(
 
     # Per point, the cost of each fitting yaw (turning away from the arrival yaw costs a little).
     turn = np.abs(_half_turn(yaw_sets - yaw_sets[:, :1])) / (np.pi / 2)
-    # Room to the neighbours only: against the table's edge a tall, light product that wobbles when released
-    # falls off the table (measured: thin herb packs put down in a corner).
-    room = flat.gap.reshape(n, k)
+    room = np.minimum(flat.gap, np.maximum(flat.edge_gap, 0.0)).reshape(n, k)
     yaw_cost = (
         options.turn_weight * turn
         + options.pack_weight * np.minimum(room, options.pack_gap) / options.pack_gap
