@@ -351,6 +351,26 @@ class PickAndPlace:
         frac = c.done_exec_s / c.total_exec_s if c.total_exec_s > 0 else 0.0
         return MotionProgress(c.phase, float(min(1.0, frac)))
 
+    HOMEWARD: frozenset[MotionPhase] = frozenset(
+        {MotionPhase.HOME, MotionPhase.RECOVER, MotionPhase.RECOVER_HOME}
+    )
+    """Phases after the outcome is decided: the arm only heads home."""
+
+    def verdict(self) -> tuple[bool, FailureStage | None, str] | None:
+        """(success, failure stage, message) as soon as the outcome is decided, before the arm is back home.
+
+        A batch that restores the kitchen after each attempt (the self-confidence generator) stops here: the
+        homing motion changes nothing the outcome holds. None while the outcome is still open.
+        """
+        if self.done():
+            out = self.outcome()
+            assert out is not None
+            return out.success, out.stage, out.message
+        c = self._controller
+        if c is None or c.phase not in self.HOMEWARD:
+            return None
+        return c.success, None if c.success else (c.stage or FailureStage.PLACE), c.message
+
     def outcome(self) -> MotionOutcome | None:
         """How it ended, once `done()`; else None.
 

@@ -466,6 +466,26 @@ class Kitchen:
             self.sim_time += self.time_step
         self.state_version += 1
 
+    def clear_products(self, physics_state: int) -> None:
+        """Remove every product and restore the physics to `physics_state` (a ``bc.saveState()`` id taken when the
+        kitchen held no product), so the kitchen is exactly as a new one starts.
+
+        Bodies are removed newest first, so PyBullet hands the next products the same body ids a new kitchen
+        would: a batch that reuses one kitchen per worker (the self-confidence generator) repeats a fresh one.
+        """
+        for body in sorted(self.objects.values(), reverse=True):
+            self.bc.removeBody(body)
+        self.objects.clear()
+        self.specs.clear()
+        self.spawn_slots.clear()
+        self._frozen.clear()
+        self._controllers.clear()
+        self.bc.restoreState(stateId=physics_state)
+        self.sim_time = 0.0
+        self.steps = self.steps_skipped = 0
+        self._awake_until = self._settle_until = 0.0
+        self.state_version += 1
+
     def close(self) -> None:
         with contextlib.suppress(Exception):  # already disconnected: closing twice must be harmless
             self.bc.disconnect()

@@ -135,30 +135,11 @@ class _Worker:
             self.kitchen_key = key
             self.start_state = self.kitchen.bc.saveState()
         else:
-            _restore(self.kitchen, self.start_state)
+            self.kitchen.clear_products(self.start_state)
         self.kitchen.config, self.kitchen.robot_config = kcfg, rcfg
         self.kitchen.hold_arm(rcfg.home)
         self.kitchen.set_gripper_target(rcfg.gripper.open_position)
         return self.kitchen
-
-
-def _restore(kitchen: Any, state: int | None) -> None:
-    """Remove every product and restore the physics to the state saved when the kitchen was built.
-
-    Bodies are removed newest first, so PyBullet hands the next products the same body ids a new kitchen would.
-    """
-    for body in sorted(kitchen.objects.values(), reverse=True):
-        kitchen.bc.removeBody(body)
-    kitchen.objects.clear()
-    kitchen.specs.clear()
-    kitchen.spawn_slots.clear()
-    kitchen._frozen.clear()
-    kitchen._controllers.clear()
-    kitchen.bc.restoreState(stateId=state)
-    kitchen.sim_time = 0.0
-    kitchen.steps = kitchen.steps_skipped = 0
-    kitchen._awake_until = kitchen._settle_until = 0.0
-    kitchen.state_version += 1
 
 
 _WORKER = _Worker()
@@ -333,10 +314,6 @@ def run_execution(
     return record(success, stage, detail)
 
 
-_HOMEWARD = frozenset({"home", "recover", "recover_home"})
-"""Phases after the outcome is decided: the arm only goes home (collisions are not monitored there)."""
-
-
 def _settled(task: Any) -> tuple[bool, str | None, str] | None:
     """(success, failure stage, message) once the attempt's outcome is decided, else None.
 
@@ -344,17 +321,11 @@ def _settled(task: Any) -> tuple[bool, str | None, str] | None:
     motion changes nothing a record holds, and the next execution starts from a restored kitchen, so it is not
     simulated (about a fifth of an execution's physics).
     """
-    if task.done():
-        outcome = task.outcome()
-        stage = None if outcome.success else (outcome.stage.value if outcome.stage is not None else "place")
-        return outcome.success, stage, outcome.message
-    controller = getattr(task, "_controller", None)
-    if controller is None or str(task.progress().phase) not in _HOMEWARD:
+    verdict = task.verdict()
+    if verdict is None:
         return None
-    if controller.success:
-        return True, None, controller.message
-    stage = controller.stage.value if controller.stage is not None else "place"
-    return False, stage, controller.message
+    success, stage, message = verdict
+    return success, None if stage is None else stage.value, message
 
 
 @dataclass(frozen=True)
