@@ -146,24 +146,32 @@ def _metric_table(report: dict[str, Any], protocol: str, key: str, higher: bool)
     return lines
 
 
-def _best(report: dict[str, Any], protocol: str, embedders: Sequence[str]) -> dict[str, Any] | None:
+def _best(
+    report: dict[str, Any], protocol: str, embedders: Sequence[str], grounded: bool = True
+) -> dict[str, Any] | None:
     rows = [r for r in report["protocols"].get(protocol, []) if r["embedder"] in embedders]
+    if not grounded:
+        rows = [r for r in rows if not r["estimator"].startswith("grounded-")]
     rows = [r for r in rows if not np.isnan(_ms(r))]
     return max(rows, key=_ms) if rows else None
 
 
 def target_checks(report: dict[str, Any]) -> list[dict[str, Any]]:
-    """The issue's targets, each with the measured numbers and whether it is met."""
+    """The issue's targets, each with the measured numbers and whether it is met.
+
+    The embedding targets compare embedders under the paper's estimators (ungrounded: with the execution
+    context a grounded κ̂ barely needs the action's meaning); the grounded and ECE targets take every pair.
+    """
     checks: list[dict[str, Any]] = []
     a1 = _by(report, "algorithm1")
     semantic = [e for e in report["embedders"] if e in SEMANTIC_EMBEDDERS]
-    best = _best(report, "algorithm1", semantic)
+    best = _best(report, "algorithm1", semantic, grounded=False)
     if best is not None:
         one = a1.get(("onehot", best["estimator"]))
         gap = _ms(best) - _ms(one)
         checks.append(
             {
-                "target": "Algorithm 1: best semantic pair ≥ 0.85",
+                "target": "Algorithm 1: best semantic pair ≥ 0.85 (ungrounded)",
                 "measured": f"{best['embedder']} + {best['estimator']} {_ms(best):.3f}",
                 "met": bool(_ms(best) >= 0.85),
             }
@@ -186,13 +194,13 @@ def target_checks(report: dict[str, Any]) -> list[dict[str, Any]]:
                     "met": bool(sem > glove > one),
                 }
             )
-    nbest = _best(report, "novel_products", semantic)
+    nbest = _best(report, "novel_products", semantic, grounded=False)
     prior = report.get("prior", {}).get("novel_products")
     if nbest is not None:
         one = _by(report, "novel_products").get(("onehot", nbest["estimator"]))
         checks.append(
             {
-                "target": "Novel products: best semantic ≥ 0.80 where one-hot stays at the prior",
+                "target": "Novel products: best semantic ≥ 0.80 (ungrounded) where one-hot stays at the prior",
                 "measured": f"{nbest['embedder']} + {nbest['estimator']} {_ms(nbest):.3f}; one-hot "
                 f"{_ms(one):.3f}; prior {_ms(prior):.3f}",
                 "met": bool(_ms(nbest) >= 0.80),
@@ -220,13 +228,16 @@ def target_checks(report: dict[str, Any]) -> list[dict[str, Any]]:
                     "met": bool(_ms(g) > _ms(p)),
                 }
             )
-    total = report.get("timing_s", {}).get("total")
-    if total is not None:
+    timing = report.get("timing_s", {})
+    if "cells_wall_s_sum" in timing:
+        # cells may come from the cache: the uncached grid costs the sum of the cells' own times over the workers
+        uncached = timing["cells_wall_s_sum"] / max(timing["workers"], 1) + timing["embedding"]
         checks.append(
             {
                 "target": "Whole grid ≤ 10 min",
-                "measured": f"{total / 60:.1f} min ({report['timing_s']['workers']} workers)",
-                "met": bool(total <= 600),
+                "measured": f"{uncached / 60:.1f} min uncached ({timing['cells']} cells, {timing['workers']} "
+                f"workers; this run {timing['total'] / 60:.1f} min with the cell cache)",
+                "met": bool(uncached <= 600),
             }
         )
     return checks
