@@ -89,7 +89,7 @@ def _setup(kitchen: str, arm_name: str) -> dict[str, Any]:
             "kcfg": kcfg,
             "rcfg": rcfg,
             "arm": ArmModel(rcfg),
-            "params": GraspParams.from_section(rcfg.raw.get("grasp"), str(rcfg.source)),
+            "params": GraspParams.of(rcfg),
             "options": PlannerOptions(
                 name=p.name, time_limit_s=p.time_limit_s, simplify=p.simplify, rng_seed=p.rng_seed
             ),

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 from pydantic import Field, field_validator, model_validator
 
@@ -12,6 +12,9 @@ from scone_bt.config.schema import FiniteFloat, NonNegativeFloat, PositiveFloat,
 from scone_bt.config.yaml_io import read_yaml
 from scone_bt.errors import ConfigError
 from scone_bt.resources import resolve_file
+
+if TYPE_CHECKING:
+    from scone_bt.motion.grasp import GraspParams
 
 __all__ = [
     "GripperSpec",
@@ -84,6 +87,10 @@ class RobotConfig:
     disabled_collisions: tuple[tuple[str, str], ...] = ()
     """Link pairs never checked for self-collision besides adjacent links (an SRDF's list), from
     `collision.disabled_pairs`."""
+    hand_links: tuple[str, ...] = ()
+    """Links that count as the hand in collision reports besides the gripper's own (`collision.hand_links`)."""
+    grasp: GraspParams | None = None
+    """The `grasp:` section, validated at load (None: the motion stage's defaults)."""
 
     @property
     def dof(self) -> int:
@@ -176,7 +183,7 @@ class RobotFile(StrictModel):
     planner: _PlannerModel = _PlannerModel()
     control: _ControlModel = _ControlModel()
     collision: _CollisionModel = _CollisionModel()
-    grasp: dict[str, Any] = {}  # checked by scone_bt.motion.grasp.GraspParams.from_section
+    grasp: dict[str, Any] = {}  # checked by scone_bt.motion.grasp.GraspParams.from_section in load_robot
 
     @model_validator(mode="after")
     def _one_value_per_joint(self) -> RobotFile:
@@ -204,6 +211,9 @@ def load_robot(name_or_path: str | Path = "panda") -> RobotConfig:
     path = resolve_file("robots", name_or_path, (".yaml", ".yml"))
     raw = read_yaml(path)
     m = validate(RobotFile, raw, str(path))
+    from scone_bt.motion.grasp import GraspParams  # imported here: scone_bt.motion imports this module
+
+    grasp = GraspParams.from_section(m.grasp, str(path))
     g, lim, p, c = m.gripper, m.limits, m.planner, m.control
     return RobotConfig(
         name=m.name,
@@ -236,4 +246,6 @@ def load_robot(name_or_path: str | Path = "panda") -> RobotConfig:
         source=path,
         raw=raw,
         disabled_collisions=tuple((a, b) for a, b in m.collision.disabled_pairs),
+        hand_links=tuple(m.collision.hand_links),
+        grasp=grasp,
     )

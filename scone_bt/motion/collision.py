@@ -104,9 +104,7 @@ class CollisionWorld:
                 _geometry(attached.shape, attached.size, -0.005),
             )
             attached_id = gm.addGeometryObject(obj)
-        hand_links = (
-            set(arm.config.raw.get("collision", {}).get("hand_links", []) or []) | self._gripper_links()
-        )
+        hand_links = set(arm.config.hand_links) | self._gripper_links()
         pairs = [pin.CollisionPair(i, j) for i, j in arm.self_collision_pairs()]
         base_link = arm.link_of_geometry[gm.geometryObjects[0].name]
         for r in range(n_robot):

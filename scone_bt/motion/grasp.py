@@ -38,7 +38,7 @@ from typing import Any
 
 import numpy as np
 
-from scone_bt.config import ObjectSpec
+from scone_bt.config import ObjectSpec, RobotConfig
 from scone_bt.errors import ConfigError
 from scone_bt.perception.types import Detection
 
@@ -129,6 +129,11 @@ class GraspParams:
     span_weight: float = 0.1
     max_goal_grasps: int = 4
     max_goal_placements: int = 4
+
+    @classmethod
+    def of(cls, robot: RobotConfig) -> GraspParams:
+        """The robot file's grasp settings (validated when the file was loaded), or the defaults."""
+        return robot.grasp if robot.grasp is not None else cls()
 
     @classmethod
     def from_section(cls, section: dict[str, Any] | None, where: str) -> GraspParams:

@@ -119,7 +119,7 @@ class MotionSystem:
             ArmModel(robot),
             options,
             limits_of(robot),
-            params or GraspParams.from_section(robot.raw.get("grasp"), str(robot.source)),
+            params or GraspParams.of(robot),
             settings or ExecutionSettings(),
             robot,
         )

@@ -153,7 +153,7 @@ def _motion_system(kitchen: Any, robot: RobotConfig) -> Any:
     options = PlannerOptions(
         name=p.name, time_limit_s=p.time_limit_s, simplify=p.simplify, rng_seed=p.rng_seed
     )
-    params = GraspParams.from_section(robot.raw.get("grasp"), str(robot.source))
+    params = GraspParams.of(robot)
     return MotionSystem(
         kitchen,
         _WORKER.arm(robot),
