@@ -311,7 +311,8 @@ def run(args: argparse.Namespace) -> int:
         },
         "load_average_1min": round(os.getloadavg()[0], 2),
         "jobs": args.jobs,
-        "note": "wall times measured on a shared, loaded machine; CPU times are the planning thread's own",
+        # the planning thread shares its process with the physics loop: wall times grow with the machine's load
+        "note": "plan times: wall and the planning thread's own CPU; load_average_1min is taken at the end",
     }
     report["wall_s"] = round(time.perf_counter() - t0, 1)
     emit_report(report, args.json)
