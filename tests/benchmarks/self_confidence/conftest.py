@@ -9,28 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-COLUMNS = [
-    "index",
-    "action",
-    "object",
-    "family",
-    "outcome",
-    "failure_stage",
-    "seed",
-    "detail",
-    "shelf_unit",
-    "shelf_tier",
-    "slot",
-    "clearance_m",
-    "neighbours",
-    "detected",
-    "detected_width_m",
-    "detected_height_m",
-    "width_m",
-    "height_m",
-    "mass_kg",
-    "material",
-]
+from scone_bt.benchmarks.self_confidence.dataset import COLUMNS
 
 # Glass bottles fail; cans succeed; boxes and bags succeed unless crowded (clearance < 3 cm).
 FAMILIES = {
