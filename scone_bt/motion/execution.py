@@ -180,12 +180,20 @@ class PickPlaceController:
             positionGains=[ctl.position_gain] * n,
         )
 
-    def _gripper(self, closed: bool) -> None:
-        """Close with the force limit, or open as far as the plan's pre-shape (fully without a plan)."""
+    def _gripper(self, closed: bool, release: bool = False) -> None:
+        """Close with the force limit, or open as far as the plan's pre-shape (fully without a plan).
+
+        Opening to release (`release`) never moves a finger inwards: a light object is often held off-centre (one finger pushed it across
+        while closing), and a pre-shape narrower than where that finger stands would shove the released object
+        sideways and topple it.
+        """
         g = self.cfg.gripper
         opened = g.open_position
         if self.plan is not None and self.plan.finger_position is not None:
             opened = self.plan.finger_position
+            if release:
+                widest = float(np.max(self.kitchen.gripper_positions()))
+                opened = float(min(g.open_position, max(opened, widest)))
         self.kitchen.set_gripper_target(g.closed_position if closed else opened, g.max_force)
 
     # ------------------------------------------------------------------------------------- state machine
@@ -203,14 +211,14 @@ class PickPlaceController:
         if phase is MotionPhase.CLOSE:
             self._gripper(True)
         elif phase is MotionPhase.RELEASE:
-            self._gripper(False)
+            self._gripper(False, release=True)
 
     def fail(self, stage: FailureStage, message: str) -> None:
         """Stop what the arm is doing, open the hand and go home; the outcome keeps this stage."""
         if self.stage is not None or self.finished:
             return
         self.stage, self.message = stage, message
-        self._gripper(False)
+        self._gripper(False, release=True)
         self.queue = []
         if self.phase is MotionPhase.PLANNING or self.exec_start is None:
             self._finish()

@@ -49,7 +49,14 @@ from scone_bt.motion.placement import (
 )
 from scone_bt.motion.planner import PlannerOptions, plan_joint_path
 from scone_bt.motion.timing import KinematicLimits, time_path
-from scone_bt.motion.types import FailureStage, MotionPhase, PlanFailureReason, PlanResult, TimedTrajectory
+from scone_bt.motion.types import (
+    FailureStage,
+    MotionPhase,
+    PlanFailureReason,
+    PlanResult,
+    PlanStatus,
+    TimedTrajectory,
+)
 from scone_bt.perception.types import Detection
 
 __all__ = [
@@ -333,7 +340,16 @@ class _Planner:
                 return None, f"{what}: collides ({_pair(world, bad)})", _blockers(world, bad)
         return np.array(path), "", []
 
-    def plan(self, qa: np.ndarray, qb: np.ndarray, world: CollisionWorld) -> PlanResult:
+    def plan(self, qa: np.ndarray, qb: np.ndarray, world: CollisionWorld, retries: int = 0) -> PlanResult:
+        """One OMPL query; repeated up to `retries` times with the next seed while it times out."""
+        result = self._plan_once(qa, qb, world)
+        for _ in range(retries):
+            if result.status is not PlanStatus.TIMED_OUT:
+                break
+            result = self._plan_once(qa, qb, world)
+        return result
+
+    def _plan_once(self, qa: np.ndarray, qb: np.ndarray, world: CollisionWorld) -> PlanResult:
         opts = PlannerOptions(
             name=self.options.name,
             time_limit_s=self.options.time_limit_s,
@@ -624,7 +640,17 @@ def plan_pick_and_place(
                 if lower is None:
                     place_tally.blocked(why, names)
                     continue
-                if abs(params.retreat - params.approach) < 1e-9:
+                if cand.family is GraspFamily.SIDE:
+                    # A side grasp's fingers straddle the object below its top: straight up they would drag it
+                    # along (or stay around it); they back out along the approach, the way they came in.
+                    placed_here = Obstacle(name, req.spec.shape, req.spec.size, ee_place @ cand.object_in_ee)
+                    w_back = p.world(
+                        [*fixed, placed_here], ignore_for_hand=[name], padding=0.004, finger_position=fingers
+                    )
+                    out_pose = ee_place.copy()
+                    out_pose[:3, 3] -= ee_place[:3, 2] * params.retreat
+                    back, why, names = p.line(lower[-1], out_pose, w_back, "retreat")
+                elif abs(params.retreat - params.approach) < 1e-9:
                     # Straight back up the way it came down: free for the hand if it was with the object held.
                     back: np.ndarray | None = lower[::-1].copy()
                 else:
@@ -650,7 +676,7 @@ def plan_pick_and_place(
         if not pool:
             break
         approach_set = len(pool)
-        approach = p.plan(req.q_start, np.array([g.q_pre for g in pool]), w_free)
+        approach = p.plan(req.q_start, np.array([g.q_pre for g in pool]), w_free, params.path_retries)
         if not approach.success:
             path_failures.append(f"approach: {approach.status.value} ({approach.message})")
             pool = []  # none of these grasps can be reached: examine the next candidates
@@ -661,7 +687,9 @@ def plan_pick_and_place(
             placement_failed = placement_failed or w_carry is not None
             pool.remove(chosen)
             continue
-        transit = p.plan(chosen.q_lift, np.array([pl.q_pp for pl in placements]), w_carry)
+        transit = p.plan(
+            chosen.q_lift, np.array([pl.q_pp for pl in placements]), w_carry, params.path_retries
+        )
         if not transit.success:
             path_failures.append(f"transit: {transit.status.value} ({transit.message})")
             pool.remove(chosen)
@@ -672,7 +700,7 @@ def plan_pick_and_place(
         )
         # The hand has just retreated straight up from the object: the near-object margin, as for the retreat.
         w_after = p.world([*fixed, placed_obstacle], padding=0.004, finger_position=fingers)
-        home = p.plan(placed.q_ret, np.asarray(req.home, dtype=float), w_after)
+        home = p.plan(placed.q_ret, np.asarray(req.home, dtype=float), w_after, params.path_retries)
         if not home.success:
             # Home is the same for every grasp; another grasp would not change the way back.
             return fail(PlanFailureReason.NO_PATH, f"return home: {home.status.value} ({home.message})")
