@@ -22,6 +22,7 @@ from types import MappingProxyType
 from typing import Any, ClassVar
 
 from scone_bt.errors import SconeError
+from scone_bt.experience.types import ExecutionContext
 from scone_bt.gate.types import DecisionKind
 
 __all__ = [
@@ -115,6 +116,7 @@ class DecisionMade(Event):
         object_name: The chosen action's object, or None.
         reason: The gate's one-sentence reason.
         explored: ACT on an ε-greedy exploration draw although κ̂ was below the threshold.
+        context: The chosen action's execution context as perceived (what a grounded κ̂ saw), or None.
     """
 
     kind: ClassVar[str] = "decision"
@@ -129,11 +131,13 @@ class DecisionMade(Event):
     object_name: str | None = None
     reason: str = ""
     explored: bool = False
+    context: ExecutionContext | None = None
 
     def to_json(self) -> dict[str, Any]:
         out = super().to_json()
         out["relevance"] = round(self.relevance, 4)
         out["confidence"] = round(self.confidence, 4)
+        out["context"] = None if self.context is None else self.context.to_json()
         return out
 
 
@@ -277,6 +281,10 @@ def from_json(kind: str, data: Mapping[str, Any]) -> Event:
         values["candidates"] = tuple(values.get("candidates") or ())
         for key in ("relevance", "confidence"):
             values[key] = math.nan if values[key] is None else float(values[key])
+        raw = values.get("context")
+        values["context"] = (
+            None if raw is None else ExecutionContext.from_json(raw, "decision event: context")
+        )
     if cls is ClarificationAsked:
         values["candidates"], values["answer"] = tuple(values["candidates"]), tuple(values["answer"])
     return cls(**values)

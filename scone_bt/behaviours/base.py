@@ -16,6 +16,8 @@ class Keys:
     """Blackboard keys, one namespace per stage of the data flow."""
 
     FRAME = "/perception/frame"
+    # Every camera's frame of this tick, by camera name (the execution context measures sizes in them).
+    FRAMES = "/perception/frames"
     DETECTIONS = "/perception/detections"
     # What stands on the table, as the table camera sees it: tuple[Detection, ...] (position = top-face centre).
     TABLE_DETECTIONS = "/perception/table_detections"
@@ -31,6 +33,10 @@ class Keys:
     DECISION = "/gate/decision"
     # The Affordance the decision acts on or asks about (None when idle or clarifying).
     TARGET = "/gate/target"
+    # ExecutionContext per ranked action text, as perceived this tick (what a grounded κ̂ reads).
+    CONTEXTS = "/gate/contexts"
+    # The target's ExecutionContext (stored with its outcome), or None.
+    TARGET_CONTEXT = "/gate/target_context"
     MOTION_OUTCOME = "/motion/outcome"
     MOTION_TASK = "/motion/task"
     MOTION_COMPUTING = "/motion/computing"

@@ -3,16 +3,26 @@
 from __future__ import annotations
 
 from dataclasses import replace
+from functools import partial
 from typing import TYPE_CHECKING
 
 import numpy as np
 import py_trees
 
-from scone_bt.affordances.types import action_text
+from scone_bt.affordances.types import Affordance, action_text
 from scone_bt.behaviours.base import Keys, StageBehaviour
 from scone_bt.behaviours.context import EpisodeContext
-from scone_bt.behaviours.ports import AttemptHistory, Clock, HumanChannel, Provider, SelfConfidence
+from scone_bt.behaviours.ports import (
+    AttemptHistory,
+    Clock,
+    ContextSource,
+    HumanChannel,
+    Provider,
+    SelfConfidence,
+)
+from scone_bt.confidence.grounded import grounded_features, is_grounded
 from scone_bt.events import DecisionMade, EventSink
+from scone_bt.experience.types import ExecutionContext
 from scone_bt.gate.types import Decision, DecisionKind
 
 if TYPE_CHECKING:
@@ -32,10 +42,23 @@ def apply_failure_limit(decision: Decision, failures: int, limit: int) -> Decisi
 
 
 class ConfidenceGate(StageBehaviour):
-    """Decides, writes the decision and the affordance it is about (`Keys.TARGET`), and emits `DecisionMade`."""
+    """Decides, writes the decision and the affordance it is about (`Keys.TARGET`), and emits `DecisionMade`.
 
-    READS = (Keys.RANKED, Keys.ACTION_EMBEDDINGS, Keys.INSTRUCTION, Keys.STEP, Keys.AFFORDANCES)
-    WRITES = (Keys.CONFIDENCES, Keys.DECISION, Keys.TARGET)
+    With a context source it also builds each ranked action's ExecutionContext from this tick's perception
+    (`Keys.CONTEXTS`, the target's in `Keys.TARGET_CONTEXT`, stored with its outcome); a grounded κ̂ (is_grounded)
+    predicts from the embeddings followed by those contexts, any other κ̂ from the embeddings alone.
+    """
+
+    READS = (
+        Keys.RANKED,
+        Keys.ACTION_EMBEDDINGS,
+        Keys.INSTRUCTION,
+        Keys.STEP,
+        Keys.AFFORDANCES,
+        Keys.DETECTIONS,
+        Keys.FRAMES,
+    )
+    WRITES = (Keys.CONFIDENCES, Keys.DECISION, Keys.TARGET, Keys.CONTEXTS, Keys.TARGET_CONTEXT)
 
     def __init__(
         self,
@@ -48,9 +71,15 @@ class ConfidenceGate(StageBehaviour):
         clock: Clock,
         human: HumanChannel,
         steps_total: int,
+        contexts: ContextSource | None = None,
     ) -> None:
-        """``human`` is read only for the human's current step in the recipe-blind setting (no tracked step)."""
+        """``human`` is read only for the human's current step in the recipe-blind setting (no tracked step).
+
+        ``contexts`` builds execution contexts from the tick's detections and frames (None: none are built; a
+        grounded κ̂ then sees every context value as missing).
+        """
         super().__init__(name)
+        self.contexts = contexts
         self._kappa = kappa
         self.gate_options = gate
         self.limit = max_failures_per_action
@@ -63,6 +92,7 @@ class ConfidenceGate(StageBehaviour):
     @classmethod
     def from_context(cls, name: str, context: EpisodeContext) -> ConfidenceGate:
         from scone_bt.gate import GateOptions
+        from scone_bt.perception.context import execution_contexts
 
         opts = context.options
         return cls(
@@ -80,6 +110,7 @@ class ConfidenceGate(StageBehaviour):
             context.robot.now,
             context.human,
             len(context.recipe.steps),
+            partial(execution_contexts, scene=context.scene, catalogue=context.catalogue),
         )
 
     def setup(self, **kwargs: object) -> None:
@@ -90,9 +121,15 @@ class ConfidenceGate(StageBehaviour):
 
         ranked = self.read(Keys.RANKED, [])
         vectors = self.read(Keys.ACTION_EMBEDDINGS, {})
-        confidences, explore = (
-            self._confidences(np.stack([vectors[r.text] for r in ranked])) if ranked else ([], [])
-        )
+        affordances = {a.text: a for a in self.read(Keys.AFFORDANCES, [])}
+        contexts = self._contexts([affordances[r.text] for r in ranked if r.text in affordances])
+        if ranked:
+            X = np.stack([vectors[r.text] for r in ranked])
+            if is_grounded(self.estimator):
+                X = grounded_features(X, [contexts.get(r.text) for r in ranked])
+            confidences, explore = self._confidences(X)
+        else:
+            confidences, explore = [], []
         view = self.read(Keys.STEP)
         ambiguous = tuple(action_text(i) for i in view.selection.ambiguous) if view is not None else ()
         by_text = {r.text for r in ranked}
@@ -100,7 +137,6 @@ class ConfidenceGate(StageBehaviour):
             ranked, confidences, self.gate_options, tuple(a for a in ambiguous if a in by_text), explore
         )
         decision = apply_failure_limit(decision, self.history.failures_of(decision.action or ""), self.limit)
-        affordances = {a.text: a for a in self.read(Keys.AFFORDANCES, [])}
         target = affordances.get(decision.action) if decision.action is not None else None
         if target is not None:
             decision = replace(decision, object_name=target.object_name)
@@ -112,9 +148,21 @@ class ConfidenceGate(StageBehaviour):
         self.write(Keys.CONFIDENCES, dict(zip([r.text for r in ranked], confidences, strict=True)))
         self.write(Keys.DECISION, decision)
         self.write(Keys.TARGET, target)
-        self.events(self._event(decision, None if view is None else view.index))
+        self.write(Keys.CONTEXTS, contexts)
+        target_context = contexts.get(target.text) if target is not None else None
+        self.write(Keys.TARGET_CONTEXT, target_context)
+        self.events(self._event(decision, None if view is None else view.index, target_context))
         self.feedback_message = decision.reason
         return py_trees.common.Status.SUCCESS
+
+    def _contexts(self, candidates: list[Affordance]) -> dict[str, ExecutionContext]:
+        """Each candidate affordance's execution context by action text, from this tick's perception."""
+        if self.contexts is None or not candidates:
+            return {}
+        by_name = self.contexts(
+            [a.detection for a in candidates], self.read(Keys.DETECTIONS, []), self.read(Keys.FRAMES, {})
+        )
+        return {a.text: by_name[a.object_name] for a in candidates if a.object_name in by_name}
 
     def _confidences(self, X: np.ndarray) -> tuple[list[float], list[bool]]:
         """κ̂'s belief per action, and the ε-greedy exploration draws (empty for estimators that do not explore).
@@ -127,7 +175,9 @@ class ConfidenceGate(StageBehaviour):
             return [float(c) for c in self.estimator.predict(X)], []
         return [float(c) for c in belief(X)], [bool(e) for e in explores(X)]
 
-    def _event(self, decision: Decision, step_index: int | None) -> DecisionMade:
+    def _event(
+        self, decision: Decision, step_index: int | None, context: ExecutionContext | None
+    ) -> DecisionMade:
         """``step_index``: the robot's own place in the recipe (None: the human's step, the recipe-blind setting)."""
         index = self.human.step_index if step_index is None else step_index
         return DecisionMade(
@@ -143,6 +193,7 @@ class ConfidenceGate(StageBehaviour):
             object_name=decision.object_name,
             reason=decision.reason,
             explored=decision.explored,
+            context=context,
         )
 
 

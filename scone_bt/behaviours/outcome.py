@@ -1,7 +1,9 @@
 """ObserveOutcome and UpdateSelfConfidence: label the attempt and store it durably, then update κ̂.
 
 The outcome is committed to the experience store before it is emitted (and so before it is printed or logged):
-whatever a user or the study log has seen reported is stored, even if the process is killed right after.
+whatever a user or the study log has seen reported is stored, even if the process is killed right after. It
+carries the execution context the gate perceived when it chose the action (`Keys.TARGET_CONTEXT`), so a grounded κ̂
+learns from, and a restarted robot rebuilds from, the context the attempt ran in.
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ import py_trees
 from scone_bt.behaviours.base import Keys, StageBehaviour
 from scone_bt.behaviours.context import EpisodeContext, OutcomeLabels
 from scone_bt.behaviours.ports import OutcomeRecorder, Provider, SelfConfidence
+from scone_bt.confidence.grounded import grounded_features, is_grounded
 from scone_bt.events import ActCancelled, ActOutcome, EventSink
 from scone_bt.experience.types import Outcome
 from scone_bt.motion.types import FailureStage, MotionOutcome
@@ -29,7 +32,7 @@ def label_outcome(motion: MotionOutcome, on_table: bool) -> tuple[bool, FailureS
 
 
 class ObserveOutcome(StageBehaviour):
-    READS = (Keys.TARGET, Keys.MOTION_OUTCOME)
+    READS = (Keys.TARGET, Keys.TARGET_CONTEXT, Keys.MOTION_OUTCOME)
     WRITES = (Keys.OUTCOME,)
 
     def __init__(
@@ -76,6 +79,7 @@ class ObserveOutcome(StageBehaviour):
             robot_id=labels.robot_id,
             arm=labels.arm,
             profile=labels.profile,
+            execution=self.read(Keys.TARGET_CONTEXT),
         )
         if self.store is not None:
             self.store.append(outcome)  # committed before it is reported, and before κ̂ changes
@@ -114,6 +118,8 @@ class UpdateSelfConfidence(StageBehaviour):
             self.feedback_message = "no label (human took over)"
             return py_trees.common.Status.SUCCESS
         vector = self.read(Keys.ACTION_EMBEDDINGS, {})[outcome.action]
+        if is_grounded(self.estimator):  # learns from the context the attempt ran in
+            vector = grounded_features(vector[None], [outcome.execution])[0]
         self.estimator.update(vector, outcome.success)
         self.feedback_message = (
             f"κ̂ updated with {'success' if outcome.success else 'failure'} of {outcome.action}"

@@ -18,7 +18,7 @@ class Perceive(StageBehaviour):
     the robot's only knowledge of table obstacles and free placing area.
     """
 
-    WRITES = (Keys.FRAME, Keys.DETECTIONS, Keys.TABLE_DETECTIONS)
+    WRITES = (Keys.FRAME, Keys.FRAMES, Keys.DETECTIONS, Keys.TABLE_DETECTIONS)
 
     def __init__(self, name: str, robot: Robot) -> None:
         super().__init__(name)
@@ -31,6 +31,7 @@ class Perceive(StageBehaviour):
     def update(self) -> py_trees.common.Status:
         seen = self.robot.perceive()
         self.write(Keys.FRAME, seen.frame)
+        self.write(Keys.FRAMES, dict(seen.frames))
         self.write(Keys.DETECTIONS, list(seen.detections))
         self.write(Keys.TABLE_DETECTIONS, seen.table_detections)
         on_table = len(seen.table_detections)

@@ -7,12 +7,13 @@ planner seeds. Tests pass fakes; the episode passes the real ones (`EpisodeConte
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Protocol, TypeVar, runtime_checkable
 
 import numpy as np
 
-from scone_bt.experience.types import Outcome
+from scone_bt.experience.types import ExecutionContext, Outcome
+from scone_bt.perception.types import Detection, Frame
 
 __all__ = [
     "Clock",
@@ -22,6 +23,7 @@ __all__ = [
     "OutcomeRecorder",
     "AttemptHistory",
     "PlannerSeeds",
+    "ContextSource",
 ]
 
 T = TypeVar("T")
@@ -78,11 +80,25 @@ class HumanChannel(Protocol):
 
 @runtime_checkable
 class SelfConfidence(Protocol):
-    """κ̂: success probabilities of action embeddings, updated with each labelled outcome."""
+    """κ̂: success probabilities of action embeddings, updated with each labelled outcome.
+
+    A grounded κ̂ (a ``grounded = True`` attribute) takes each embedding followed by its execution context
+    (`scone_bt.confidence.grounded_features`).
+    """
 
     def predict(self, x: np.ndarray) -> Sequence[float]: ...
 
     def update(self, x: np.ndarray, success: bool) -> None: ...
+
+
+@runtime_checkable
+class ContextSource(Protocol):
+    """Builds the ExecutionContext of candidate targets from one tick's perception
+    (`scone_bt.perception.context.execution_contexts` with the kitchen's scene and catalogue)."""
+
+    def __call__(
+        self, targets: Sequence[Detection], detections: Sequence[Detection], frames: Mapping[str, Frame]
+    ) -> Mapping[str, ExecutionContext]: ...
 
 
 @runtime_checkable

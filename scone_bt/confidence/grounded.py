@@ -22,51 +22,34 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Sequence
-from dataclasses import astuple, dataclass, fields
 
 import numpy as np
 
 from scone_bt.confidence.base import ConfidenceEstimator
 from scone_bt.errors import SconeError
 
-__all__ = ["CONTEXT_FIELDS", "ExecutionContext", "GroundedEstimator", "grounded_features"]
+# ExecutionContext is defined beside Outcome (the store persists it); re-exported here, where κ̂ reads it.
+from scone_bt.experience.types import CONTEXT_FIELDS, ExecutionContext
+
+__all__ = ["CONTEXT_FIELDS", "ExecutionContext", "GroundedEstimator", "grounded_features", "is_grounded"]
 
 
-@dataclass(frozen=True)
-class ExecutionContext:
-    """Where and how one action is executed; None where it is unknown.
-
-    Attributes:
-        shelf_tier: Tier of the target's shelf slot (0 = lowest), or None off the shelf.
-        clearance_m: Free distance from the target to its nearest neighbour, metres.
-        neighbours: Number of products in the target's neighbouring slots.
-        detected: Whether perception detected the target's marker.
-        detected_width_m: Width of the target as perceived, metres (None if not detected).
-        detected_height_m: Height of the target as perceived, metres (None if not detected).
-    """
-
-    shelf_tier: int | None = None
-    clearance_m: float | None = None
-    neighbours: int | None = None
-    detected: bool | None = None
-    detected_width_m: float | None = None
-    detected_height_m: float | None = None
-
-    def vector(self) -> np.ndarray:
-        """(6,) float64 in CONTEXT_FIELDS order, NaN for None."""
-        return np.array([np.nan if v is None else float(v) for v in astuple(self)], dtype=np.float64)
+def is_grounded(estimator: object) -> bool:
+    """True for an estimator that reads [embedding | context] rows (GroundedEstimator, or a fake that says so)."""
+    return bool(getattr(estimator, "grounded", False))
 
 
-CONTEXT_FIELDS: tuple[str, ...] = tuple(f.name for f in fields(ExecutionContext))
-"""Context columns, in the order of ExecutionContext.vector() (also the dataset CSV column names)."""
-
-
-def grounded_features(embeddings: np.ndarray, contexts: Sequence[ExecutionContext]) -> np.ndarray:
-    """(n, dim + 6) rows for a grounded estimator: each embedding followed by its context vector."""
+def grounded_features(embeddings: np.ndarray, contexts: Sequence[ExecutionContext | None]) -> np.ndarray:
+    """(n, dim + 6) rows for a grounded estimator: each embedding followed by its context vector (None: all NaN)."""
     E = np.atleast_2d(np.asarray(embeddings, dtype=np.float64))
     if len(contexts) != len(E):
         raise SconeError(f"{len(E)} embeddings but {len(contexts)} contexts")
-    C = np.stack([c.vector() for c in contexts]) if contexts else np.zeros((0, len(CONTEXT_FIELDS)))
+    unknown = ExecutionContext()
+    C = (
+        np.stack([(unknown if c is None else c).vector() for c in contexts])
+        if contexts
+        else np.zeros((0, len(CONTEXT_FIELDS)))
+    )
     return np.hstack([E, C])
 
 
@@ -80,6 +63,7 @@ class GroundedEstimator(ConfidenceEstimator):
     """
 
     handles_one_class = True  # the base handles its own cold start
+    grounded = True  # callers pass grounded_features rows (see is_grounded)
 
     def __init__(
         self, base: ConfidenceEstimator, n_context: int = len(CONTEXT_FIELDS), context_weight: float = 1.0

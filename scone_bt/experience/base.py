@@ -3,6 +3,11 @@
 Guarantees: `append` returns only after the outcome is committed durably; appending an outcome whose
 `outcome_id` is already stored is a no-op that returns the existing row id (so a retry never duplicates); rows
 come back in the order they were committed; filters select by embedder, robot id, arm model or a predicate.
+
+An outcome's execution context (`Outcome.execution`, what a grounded κ̂ learns from) is stored inside the context
+JSON under the reserved key EXECUTION_KEY, so both backends keep it without a schema change: rows stored before
+it existed load with `execution=None` (a grounded κ̂ imputes the missing values), and an older scone-bt reading a
+newer row sees one more context key.
 """
 
 from __future__ import annotations
@@ -14,10 +19,13 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from scone_bt.errors import ExperienceStoreError
-from scone_bt.experience.types import Outcome
+from scone_bt.errors import ExperienceStoreError, SconeError
+from scone_bt.experience.types import ExecutionContext, Outcome
 
-__all__ = ["COLUMNS", "SCHEMA_VERSION", "OutcomeStore", "outcome_from_row", "where_clause"]
+__all__ = ["COLUMNS", "EXECUTION_KEY", "SCHEMA_VERSION", "OutcomeStore", "outcome_from_row", "where_clause"]
+
+EXECUTION_KEY = "execution"
+"""Context JSON key that holds Outcome.execution (reserved: a free-form context may not use it)."""
 
 SCHEMA_VERSION = 2
 """1: the first SQLite schema; 2: adds outcome_id (unique), robot_id, arm and profile."""
@@ -37,10 +45,21 @@ COLUMNS = (
 )
 
 
+def stored_context(outcome: Outcome) -> dict[str, Any]:
+    """The context as stored: the free-form fields plus the execution context under EXECUTION_KEY."""
+    if EXECUTION_KEY in outcome.context:
+        raise ExperienceStoreError(
+            f"outcome context key {EXECUTION_KEY!r} is reserved for Outcome.execution; rename it"
+        )
+    if outcome.execution is None:
+        return dict(outcome.context)
+    return {**outcome.context, EXECUTION_KEY: outcome.execution.to_json()}
+
+
 def context_json(outcome: Outcome) -> str:
-    """The outcome's context as canonical JSON (one-line error if it is not serialisable)."""
+    """The outcome's stored context as canonical JSON (one-line error if it is not serialisable)."""
     try:
-        return json.dumps(outcome.context, sort_keys=True, allow_nan=False)
+        return json.dumps(stored_context(outcome), sort_keys=True, allow_nan=False)
     except (TypeError, ValueError) as exc:
         raise ExperienceStoreError(f"outcome context must be JSON-serialisable: {exc}") from None
 
@@ -67,6 +86,16 @@ def outcome_from_row(row: tuple[Any, ...]) -> Outcome:
             raise ExperienceStoreError(
                 f"stored outcome {oid}: its context is not a JSON object; the store is damaged (it was left as it is)"
             )
+    c = dict(c)
+    raw_execution = c.pop(EXECUTION_KEY, None)
+    try:
+        execution = (
+            None
+            if raw_execution is None
+            else ExecutionContext.from_json(raw_execution, f"stored outcome {oid}: {EXECUTION_KEY}")
+        )
+    except SconeError as exc:
+        raise ExperienceStoreError(f"{exc}; the store is damaged (it was left as it is)") from None
     return Outcome(
         time=float(t),
         action=a,
@@ -74,11 +103,12 @@ def outcome_from_row(row: tuple[Any, ...]) -> Outcome:
         embedder=e,
         success=bool(s),
         failure_stage=f,
-        context=dict(c),
+        context=c,
         robot_id=r,
         arm=arm,
         profile=p,
         outcome_id=oid,
+        execution=execution,
     )
 
 
@@ -139,7 +169,7 @@ class OutcomeStore(ABC):
                         o.embedder,
                         int(o.success),
                         o.failure_stage or "",
-                        json.dumps(o.context, sort_keys=True),
+                        json.dumps(stored_context(o), sort_keys=True),
                         o.robot_id,
                         o.arm,
                         o.profile,

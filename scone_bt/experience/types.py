@@ -1,11 +1,82 @@
-"""One observed outcome, as stored in the experience database."""
+"""One observed outcome, as stored in the experience database, and the execution context it was observed in."""
 
 from __future__ import annotations
 
+import math
 import uuid
-from dataclasses import dataclass, field
+from collections.abc import Mapping
+from dataclasses import astuple, dataclass, field, fields
+from typing import Any
 
-__all__ = ["Outcome", "new_outcome_id"]
+import numpy as np
+
+from scone_bt.errors import SconeError
+
+__all__ = ["CONTEXT_FIELDS", "ExecutionContext", "Outcome", "new_outcome_id"]
+
+
+@dataclass(frozen=True)
+class ExecutionContext:
+    """Where and how one action is executed; None where it is unknown.
+
+    It lives beside Outcome (not in scone_bt.confidence) because the store persists it and κ̂ reads it: both
+    depend on it, neither on the other.
+
+    Attributes:
+        shelf_tier: Tier of the target's shelf slot (0 = lowest), or None off the shelf.
+        clearance_m: Free distance from the target to its nearest neighbour on its tier, metres.
+        neighbours: Number of products whose centre lies near the target's.
+        detected: Whether perception detected the target's marker.
+        detected_width_m: Width of the target as perceived, metres (None if not measured).
+        detected_height_m: Height of the target as perceived, metres (None if not measured).
+    """
+
+    shelf_tier: int | None = None
+    clearance_m: float | None = None
+    neighbours: int | None = None
+    detected: bool | None = None
+    detected_width_m: float | None = None
+    detected_height_m: float | None = None
+
+    def vector(self) -> np.ndarray:
+        """(6,) float64 in CONTEXT_FIELDS order, NaN for None."""
+        return np.array([np.nan if v is None else float(v) for v in astuple(self)], dtype=np.float64)
+
+    def to_json(self) -> dict[str, Any]:
+        """The fields that are known, by name (None and NaN left out; booleans and counts kept exact)."""
+        return {
+            k: v
+            for k, v in ((f.name, getattr(self, f.name)) for f in fields(self))
+            if v is not None and not (isinstance(v, float) and math.isnan(v))
+        }
+
+    @classmethod
+    def from_json(cls, data: Mapping[str, Any], where: str = "execution context") -> ExecutionContext:
+        """Inverse of to_json; a missing field is None. An unknown field or a wrong type is SconeError."""
+        if not isinstance(data, Mapping):
+            raise SconeError(f"{where}: expected a JSON object, got {type(data).__name__}")
+        unknown = sorted(set(data) - set(CONTEXT_FIELDS))
+        if unknown:
+            raise SconeError(f"{where}: unknown field {unknown[0]!r} (valid: {', '.join(CONTEXT_FIELDS)})")
+        out: dict[str, Any] = {}
+        for f in fields(cls):
+            v = data.get(f.name)
+            if v is None:
+                continue
+            kind = {"shelf_tier": int, "neighbours": int, "detected": bool}.get(f.name, float)
+            ok = (
+                isinstance(v, bool)
+                if kind is bool
+                else isinstance(v, int | float) and not isinstance(v, bool)
+            )
+            if not ok or (kind is int and float(v) != int(v)):
+                raise SconeError(f"{where}: {f.name} must be {kind.__name__}, got {v!r}")
+            out[f.name] = kind(v)
+        return cls(**out)
+
+
+CONTEXT_FIELDS: tuple[str, ...] = tuple(f.name for f in fields(ExecutionContext))
+"""Context columns, in the order of ExecutionContext.vector() (also the dataset CSV column names)."""
 
 
 def new_outcome_id() -> str:
@@ -30,6 +101,8 @@ class Outcome:
         profile: The robot's proficiency profile or configuration label ("" if none).
         outcome_id: Idempotency key: storing the same outcome twice (a retry after a lost connection, a restarted
             robot replaying its last attempt) keeps one row. Not part of equality.
+        execution: The context the attempt ran in, as perceived when the robot decided (what a grounded κ̂
+            learns from); None for outcomes stored without one.
     """
 
     time: float
@@ -43,3 +116,4 @@ class Outcome:
     arm: str = ""
     profile: str = ""
     outcome_id: str = field(default_factory=new_outcome_id, compare=False)
+    execution: ExecutionContext | None = None
