@@ -8,6 +8,7 @@ success comes from contacts and friction only; nothing attaches the object to th
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -57,6 +58,44 @@ class ExecutionSettings:
     min_contact_force: float = 0.5
     max_duration_s: float = 45.0
     think_s: float = 0.3
+
+
+FINGER_COUPLING_FORCE = 50.0
+"""Largest force (N) of the coupling that keeps the two fingers symmetric (the gearing of a parallel gripper)."""
+
+_COUPLINGS: weakref.WeakKeyDictionary[Kitchen, int] = weakref.WeakKeyDictionary()
+"""The finger coupling of each kitchen's robot, made once and kept for the kitchen's life."""
+
+
+def couple_fingers(kitchen: Kitchen) -> int | None:
+    """Couple the two fingers so that they move symmetrically, as a parallel gripper's gearing does; the id.
+
+    Both grippers are parallel grippers whose fingers one drive moves together (the Franka Hand through a rack,
+    the iiwa7's primitive gripper by design), but the URDFs give each finger its own joint: closed with equal
+    forces, a held object and both fingers then slide sideways together under the carry's accelerations until a
+    finger meets its limit, and a light object is shoved across while closing and released off-centre. A gear
+    constraint (PyBullet's way to model that gearing) keeps the joints equal. None without exactly two fingers.
+    """
+    import pybullet as p
+
+    bc, rid = kitchen.bc, kitchen.robot_id
+    known = _COUPLINGS.get(kitchen)
+    if known is not None:
+        try:
+            bc.getConstraintInfo(known)
+            return known
+        except Exception:  # noqa: BLE001 (pybullet raises a plain error for a removed constraint)
+            pass
+    joints = [kitchen.joint_index[n] for n in kitchen.robot_config.gripper.joints]
+    if len(joints) != 2:
+        return None
+    cid = bc.createConstraint(
+        rid, joints[0], rid, joints[1], p.JOINT_GEAR, [1.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
+    )
+    # Both finger joints open with a positive position along mirrored axes: equal joint positions are symmetric.
+    bc.changeConstraint(cid, gearRatio=-1.0, erp=0.1, maxForce=FINGER_COUPLING_FORCE)
+    _COUPLINGS[kitchen] = cid
+    return cid
 
 
 class ArmSensors:
@@ -320,6 +359,7 @@ class PickPlaceController:
             sum(x.trajectory.duration for x in ready.segments) + self.settings.close_s + self.settings.open_s
         )
         self.exec_start = self.kitchen.sim_time
+        couple_fingers(self.kitchen)
         self._gripper(False)  # pre-shaped while approaching: the fingers fit between close neighbours
         self._next()
 

@@ -9,6 +9,8 @@ pybullet-planning's top and side grasp generators), in three families:
 - **top**: the hand points straight down; cylinders over a sweep of closing yaws (`GraspParams.yaw_step`), boxes
   across each pair of faces; each with the wrist half-turned as well (same grasp, other wrist angle); each also
   at a shallow depth (`GraspParams.shallow_depth`), whose palm clears a neighbour a little taller than the object;
+- a box's top grasps also **off-centre** along the box (`GraspParams.offsets`, perpendicular to the closing axis):
+  the palm's end then passes beside a neighbour that stands in line with the box's centre;
 - **tilted**: the top grasps leaned about their closing axis by `GraspParams.tilts` (never towards the robot),
   for objects at the edge of reach or under a low obstacle;
 - **side**: the hand approaches horizontally from the faces that look towards the robot (within
@@ -23,6 +25,7 @@ The **cost** that orders them (lower first) is
 
     cost = family_cost[family] + wrist_weight * |closing yaw - preferred yaw| / (pi/2)
            + tilt_weight * |tilt| + span_weight * span / opening + shallow_cost * (shallow)
+           + offset_weight * |offset| / (half the box's length along the offset)
 
 with the wrist term taken over the nearest symmetric yaw (a parallel gripper is symmetric under half turns, the
 arm is not), so the pose nearest the arm's home wrist comes first, top before tilted before side, and among equal
@@ -85,6 +88,12 @@ class GraspParams:
         max_carry_tilt: Largest tilt of the carried object from upright, radians.
         yaw_step: Spacing of the closing yaws swept for cylinders, radians.
         tilts: Leans (rad) of the tilted approaches, about the closing axis.
+        offsets: Distances (m) a box's top grasp point is also moved off its centre, both ways along the box
+            perpendicular to the closing axis (the fingers still close across the same faces).
+        offset_margin: Least distance (m) between an off-centre grasp point and the box's end (the finger pads'
+            half width and some room).
+        offset_weight: Cost of an offset reaching the box's end (the farther from the centre of mass, the more
+            the object turns in the grip).
         side_grasps: Generate side grasps at all.
         side_max_angle: Largest angle (rad) between a side approach and the direction from the robot.
         side_depth: How far past the object's near face the side grasp point goes at most.
@@ -117,6 +126,9 @@ class GraspParams:
     max_carry_tilt: float = 0.35
     yaw_step: float = math.pi / 8
     tilts: tuple[float, ...] = (0.45, 0.8)
+    offsets: tuple[float, ...] = ()
+    offset_margin: float = 0.015
+    offset_weight: float = 0.5
     side_grasps: bool = True
     side_max_angle: float = math.pi / 2
     side_depth: float = 0.03
@@ -358,6 +370,14 @@ def grasp_candidates(
             if shallow:
                 add(top_down_rotation(yaw), shallow_point, yaw, 0.0, GraspFamily.TOP, params.shallow_cost)
             lean = np.array([-np.sin(yaw), np.cos(yaw), 0.0])  # where a positive tilt points the approach
+            if spec.shape == "box":
+                half = _extent_along(spec, detection.yaw, yaw + np.pi / 2) / 2
+                for off in params.offsets:
+                    if off <= 0 or off > half - params.offset_margin:
+                        continue
+                    for sign in (1.0, -1.0):
+                        extra = params.offset_weight * off / half
+                        add(top_down_rotation(yaw), top_point + sign * off * lean, yaw, 0.0, GraspFamily.TOP, extra)
             for t in params.tilts:
                 for tilt in (t, -t):
                     # Never lean towards the robot: the hand would come from behind the object.

@@ -54,7 +54,10 @@ def test_pick_and_place_puts_the_object_on_the_table(stocked, arm, robot_cfg, as
     outcome = task.outcome()
     assert outcome.success and outcome.stage is None, outcome.message
     assert kitchen.is_on_table("salt")
-    assert kitchen.bc.getNumConstraints() == 0  # the grasp held by friction alone
+    # The grasp held by friction alone: the only constraint is the fingers' coupling, robot to robot.
+    bc = kitchen.bc
+    constraints = [bc.getConstraintInfo(bc.getConstraintUniqueId(k)) for k in range(bc.getNumConstraints())]
+    assert [(c[0], c[2]) for c in constraints] == [(kitchen.robot_id, kitchen.robot_id)]
     for phase in ("approach", "descend", "close", "lift", "transit", "lower", "release", "retreat", "home"):
         assert phase in phases
     assert 0 < outcome.duration < 20.0
