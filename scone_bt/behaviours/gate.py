@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from dataclasses import replace
-from functools import partial
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -92,7 +91,7 @@ class ConfidenceGate(StageBehaviour):
     @classmethod
     def from_context(cls, name: str, context: EpisodeContext) -> ConfidenceGate:
         from scone_bt.gate import GateOptions
-        from scone_bt.perception.context import execution_contexts
+        from scone_bt.perception.context import ContextExtractor
 
         opts = context.options
         return cls(
@@ -110,7 +109,7 @@ class ConfidenceGate(StageBehaviour):
             context.robot.now,
             context.human,
             len(context.recipe.steps),
-            partial(execution_contexts, scene=context.scene, catalogue=context.catalogue),
+            ContextExtractor(context.scene, context.catalogue),
         )
 
     def setup(self, **kwargs: object) -> None:

@@ -13,7 +13,7 @@ turn on the tier.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
 
 import numpy as np
@@ -25,6 +25,7 @@ from scone_bt.world.stocking import footprint
 
 __all__ = [
     "ALONE_CLEARANCE_M",
+    "ContextExtractor",
     "NEIGHBOUR_RADIUS_M",
     "execution_contexts",
     "perceived_size",
@@ -45,6 +46,8 @@ _WINDOW_HALF_M = 0.06
 """Half side of the square around a detected top face whose image box frames the lid (perceived_size widens it)."""
 _VISIBLE_TOLERANCE_M = 0.02
 """A top face is visible in a frame when the depth at its pixel is within this of its distance, metres."""
+_SAME_PLACE_M = 0.005
+"""A product detected within this of where its size was measured (metres, per axis) is not measured again."""
 
 
 def surface_below(scene: SceneSpec, x: float, y: float, z: float) -> float | None:
@@ -163,12 +166,17 @@ def size_from_frames(det: Detection, frames: Sequence[Frame], scene: SceneSpec) 
     return None
 
 
+SizeMeasure = Callable[[Detection, Sequence[Frame], SceneSpec], tuple[float, float] | None]
+"""Width and height of a detected product from the frames, metres (None: not measurable)."""
+
+
 def execution_contexts(
     targets: Sequence[Detection],
     detections: Sequence[Detection],
     frames: Mapping[str, Frame] | Sequence[Frame],
     scene: SceneSpec,
     catalogue: Catalogue,
+    measure: SizeMeasure = size_from_frames,
 ) -> dict[str, ExecutionContext]:
     """The ExecutionContext of each target (by name) from one tick's detections and camera frames.
 
@@ -178,6 +186,7 @@ def execution_contexts(
         frames: The tick's camera frames (by camera name, or a sequence) for the perceived size.
         scene: The kitchen's shelving.
         catalogue: Names each detection's product (its footprint and height).
+        measure: Measures a target's width and height in the frames (default: size_from_frames).
 
     `detected` is True for every target: a candidate exists only because its marker was seen.
     """
@@ -215,7 +224,7 @@ def execution_contexts(
             for d in shelf
             if d.name != target.name and float(np.linalg.norm(centre(d) - c0)) <= NEIGHBOUR_RADIUS_M
         )
-        size = size_from_frames(target, frame_list, scene)
+        size = measure(target, frame_list, scene)
         out[target.name] = ExecutionContext(
             shelf_tier=None if place is None else place[1],
             clearance_m=clearance,
@@ -225,3 +234,45 @@ def execution_contexts(
             detected_height_m=None if size is None else (None if np.isnan(size[1]) else size[1]),
         )
     return out
+
+
+class ContextExtractor:
+    """execution_contexts for one kitchen, measuring a product's size once per place it is detected at.
+
+    The depth measurement is the costly part (milliseconds per product); a product that has not moved keeps its
+    size, so it is measured again only when it is detected more than _SAME_PLACE_M away from where it was
+    measured. A failed measurement is not kept (the arm may have hidden the lid for one look). Tier, clearance
+    and neighbours are recomputed every call (neighbours come and go).
+
+    Args:
+        scene: The kitchen's shelving.
+        catalogue: Names each detection's product.
+    """
+
+    def __init__(self, scene: SceneSpec, catalogue: Catalogue) -> None:
+        self.scene = scene
+        self.catalogue = catalogue
+        self._sizes: dict[str, tuple[np.ndarray, tuple[float, float]]] = {}
+        self.measured = 0  # depth measurements made (the cache's misses)
+
+    def _measure(
+        self, det: Detection, frames: Sequence[Frame], scene: SceneSpec
+    ) -> tuple[float, float] | None:
+        where = np.asarray(det.position, dtype=float)
+        known = self._sizes.get(det.name)
+        if known is not None and np.all(np.abs(known[0] - where) <= _SAME_PLACE_M):
+            return known[1]
+        size = size_from_frames(det, frames, scene)
+        self.measured += 1
+        if size is not None:
+            self._sizes[det.name] = (where, size)
+        return size
+
+    def __call__(
+        self,
+        targets: Sequence[Detection],
+        detections: Sequence[Detection],
+        frames: Mapping[str, Frame] | Sequence[Frame],
+    ) -> dict[str, ExecutionContext]:
+        """The ExecutionContext of each target by name (see execution_contexts)."""
+        return execution_contexts(targets, detections, frames, self.scene, self.catalogue, self._measure)

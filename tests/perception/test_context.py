@@ -56,3 +56,23 @@ def test_shelf_place_names_the_step_under_a_point(kitchen_cfg) -> None:
         assert shelf_place(scene, (x, y, tier.top_z + 0.05)) == (unit.name, i)
         assert surface_below(scene, x, y, tier.top_z + 0.05) == tier.top_z
     assert shelf_place(scene, (*scene.place_spots[0], scene.table_top_z + 0.05)) is None
+
+
+def test_the_extractor_measures_a_product_again_only_when_it_moved(staged_kitchen, kitchen_cfg) -> None:
+    from dataclasses import replace
+
+    from scone_bt.perception.context import ContextExtractor
+
+    kitchen = staged_kitchen({"salt": (0, 0), "sugar": (0, 1)})
+    seen = Observer(kitchen_cfg).observe(kitchen, np.random.default_rng(0))
+    extract = ContextExtractor(kitchen_cfg.scene, kitchen_cfg.catalogue)
+    first = extract(seen.detections, seen.detections, seen.frames)
+    assert extract.measured == 2 and extract(seen.detections, seen.detections, seen.frames) == first
+    assert extract.measured == 2  # nothing moved: the sizes are the ones measured
+    salt = next(d for d in seen.detections if d.name == "salt")
+    moved = replace(salt, position=(salt.position[0], salt.position[1] + 0.02, salt.position[2]))
+    extract([moved], seen.detections, seen.frames)
+    assert extract.measured == 3
+    extract([salt], seen.detections, {})  # no frames: unmeasurable, and not remembered as such
+    extract([salt], seen.detections, {})
+    assert extract.measured == 5
