@@ -12,9 +12,11 @@ target was not detected) is imputed with the training mean (0 after standardisin
 column. The context block is scaled by `context_weight` / √6 so that it weighs about as much as a unit-norm
 embedding in distance-based estimators (KNN, SVM, GP); trees are indifferent to the scale.
 
-Wiring into the episode: build `ExecutionContext` for each candidate action from the perception of that tick, pass
-`grounded_features(embeddings, contexts)` to `predict`, and `grounded_features(embedding[None], [context])[0]` to
-`update` with the outcome. The inner estimator is any registry estimator ("grounded-knn", "grounded-lgbm", ...).
+In the episode (docs/grounded.md): the gate builds an `ExecutionContext` for each candidate from that tick's
+perception (scone_bt.perception.context), predicts with `grounded_features(embeddings, contexts)` when κ̂
+`is_grounded`, and the outcome stage stores the attempt's context (Outcome.execution) and updates with
+`grounded_features(embedding[None], [context])[0]`. The inner estimator is any registry estimator
+("grounded-knn", "grounded-lgbm", "grounded-gp", ...).
 """
 
 from __future__ import annotations
