@@ -376,8 +376,9 @@ def grasp_candidates(
                     if off <= 0 or off > half - params.offset_margin:
                         continue
                     for sign in (1.0, -1.0):
+                        point = top_point + sign * off * lean
                         extra = params.offset_weight * off / half
-                        add(top_down_rotation(yaw), top_point + sign * off * lean, yaw, 0.0, GraspFamily.TOP, extra)
+                        add(top_down_rotation(yaw), point, yaw, 0.0, GraspFamily.TOP, extra)
             for t in params.tilts:
                 for tilt in (t, -t):
                     # Never lean towards the robot: the hand would come from behind the object.

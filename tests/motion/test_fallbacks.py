@@ -260,3 +260,68 @@ def test_a_planner_exception_stops_the_run_instead_of_becoming_an_outcome(kitche
                 kitchen.advance(0.1)
         with pytest.raises(RuntimeError, match="planner bug"):
             task.outcome()  # nothing to store as experience
+
+
+PACK = _spec("pack", "box", (0.11, 0.05, 0.04))
+POST = _spec("post", "box", (0.04, 0.05, 0.12))
+
+
+def test_a_neighbour_in_line_with_a_flat_box_is_passed_by_an_off_centre_grasp(either_arm):
+    plan, params = either_arm
+    # A 4 cm flat pack (too low for side grasps) with a taller post beside its robot-side half: a centred top grasp
+    # puts the palm into the post, and a tilt away from the robot swings the palm towards it.
+    target = _det("pack", 0.37, 0.30, PACK.height)
+    shelf = [(_det("post", 0.33, 0.36, POST.height), POST)]
+    centred = plan(target, PACK, shelf, params=replace(params, offsets=()))
+    assert isinstance(centred, PickPlaceFailure) and centred.reason is PlanFailureReason.GRASPS_BLOCKED
+    assert "post" in centred.blockers
+    result = plan(target, PACK, shelf)
+    assert isinstance(result, PickPlacePlan), result.message
+    assert result.grasp.family is GraspFamily.TOP
+    dx, dy = result.grasp.grasp[:2, 3] - np.array([0.37, 0.30])
+    # Moved along the box, away from the post, by one of the robot file's offsets.
+    assert abs(dy) < 1e-9 and min(abs(dx - o) for o in params.offsets) < 1e-9
+
+
+def test_a_side_grasp_backs_out_along_its_approach_after_the_release(setup, arm):
+    from scone_bt.motion import MotionPhase
+
+    plan, _ = setup
+    target, shelf = _boxed_in(front=False)
+    result = plan(target, BOTTLE, shelf)
+    assert isinstance(result, PickPlacePlan) and result.grasp.family is GraspFamily.SIDE, result
+    retreat = next(s for s in result.segments if s.phase is MotionPhase.RETREAT)
+    start, end = arm.fk(retreat.trajectory.positions[0]), arm.fk(retreat.trajectory.positions[-1])
+    move = end[:3, 3] - start[:3, 3]
+    # Straight up, the open fingers would stay around the bottle (or drag it); back along the approach they leave it.
+    assert move @ -start[:3, 2] == pytest.approx(GraspParams().retreat, abs=0.01)
+    assert abs(move[2]) < 0.01
+
+
+def test_a_timed_out_query_is_retried_with_a_fresh_seed_before_no_path(arm, robot_cfg, monkeypatch):
+    import scone_bt.motion.pick_place as pick_place
+    from scone_bt.motion.types import PlanResult, PlanStatus
+
+    seeds: list[int] = []
+    answers: list[PlanStatus] = []
+
+    def fake(start, goal, lower, upper, valid, options):
+        seeds.append(options.rng_seed)
+        status = answers.pop(0)
+        return PlanResult(status, np.vstack([start, goal]) if status is PlanStatus.SUCCESS else None, 0.0)
+
+    monkeypatch.setattr(pick_place, "plan_joint_path", fake)
+    planner = pick_place._Planner(arm, PlannerOptions(), limits_of(robot_cfg), 240.0, seed=3)
+    world = planner.world([])
+    home = np.asarray(robot_cfg.home, dtype=float)
+    answers[:] = [PlanStatus.TIMED_OUT, PlanStatus.SUCCESS]
+    assert planner.plan(home, home + 0.1, world, retries=1).success
+    assert len(seeds) == 2 and seeds[0] != seeds[1]  # another seed, not the same search again
+    seeds.clear()
+    answers[:] = [PlanStatus.TIMED_OUT, PlanStatus.SUCCESS]
+    assert planner.plan(home, home + 0.1, world, retries=0).status is PlanStatus.TIMED_OUT
+    seeds.clear()
+    answers[:] = [PlanStatus.GOAL_INVALID, PlanStatus.SUCCESS]
+    # Only a search that ran out of iterations is repeated; an invalid goal stays invalid whatever the seed.
+    assert planner.plan(home, home + 0.1, world, retries=1).status is PlanStatus.GOAL_INVALID
+    assert len(seeds) == 1
