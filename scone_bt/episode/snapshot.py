@@ -56,6 +56,7 @@ class SnapshotBuilder:
             Keys.DETECTIONS,
             Keys.RANKED,
             Keys.CONFIDENCES,
+            Keys.CONTEXTS,
             Keys.DECISION,
             Keys.AFFORDANCES,
             Keys.MOTION_TASK,
@@ -80,7 +81,9 @@ class SnapshotBuilder:
         decision = self._new(Keys.DECISION)
         affordances = None
         confidences: dict[str, float] = {}
+        contexts: dict[str, Any] = {}
         if decision is not None:
+            contexts = dict(self.reader.get(Keys.CONTEXTS) or {}) if self.reader.exists(Keys.CONTEXTS) else {}
             ranked = self.reader.get(Keys.RANKED) or []
             conf = self.reader.get(Keys.CONFIDENCES) or {}
             affordances = [
@@ -131,6 +134,7 @@ class SnapshotBuilder:
             executed_q=kitchen.arm_joint_positions(),
             tree=root,
             confidences=confidences,
+            contexts=contexts,
             counters=counters,
             recipe=recipe,
             log_lines=lines,

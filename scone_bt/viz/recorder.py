@@ -15,6 +15,7 @@ import rerun as rr
 from scipy.spatial.transform import Rotation
 
 from scone_bt.errors import ConfigError, UnknownNameError
+from scone_bt.experience.types import ExecutionContext
 from scone_bt.gate.types import Decision, DecisionKind
 from scone_bt.perception.camera import intrinsics, world_from_camera
 from scone_bt.viz import paths as P
@@ -176,6 +177,7 @@ class Recorder:
         self._tree_state: dict[str, tuple[str, str]] = {}
         self._tree_layout: dict[str, tuple[float, float]] = {}
         self._rows: list[AffordanceRow] = []
+        self._contexts: dict[str, ExecutionContext] = {}
         self._decision: Decision | None = None
         self._recipe: RecipeView | None = None
         self._counters: dict[str, int] = {}
@@ -258,7 +260,7 @@ class Recorder:
         if snap.frame is not None:
             self._log_frame(snap.frame, snap.detections)
         if snap.affordances is not None or snap.decision is not None:
-            self._log_gate(snap.affordances, snap.decision)
+            self._log_gate(snap.affordances, snap.decision, snap.contexts)
         if snap.ee_path is not None:
             self._log_ee_path(np.asarray(snap.ee_path, dtype=float))
         if snap.trajectory is not None:
@@ -536,9 +538,15 @@ class Recorder:
             return rr.Image(rgb, color_model="RGB")
         return rr.EncodedImage(contents=buf.tobytes(), media_type="image/jpeg")
 
-    def _log_gate(self, rows: Sequence[AffordanceRow] | None, decision: Decision | None) -> None:
+    def _log_gate(
+        self,
+        rows: Sequence[AffordanceRow] | None,
+        decision: Decision | None,
+        contexts: Mapping[str, ExecutionContext] | None = None,
+    ) -> None:
         if rows is not None:
             self._rows = rank_affordances(rows)
+            self._contexts = dict(contexts or {})
             relevance = np.nan_to_num(np.array([r[1] for r in self._rows], dtype=float))
             confidence = np.nan_to_num(np.array([r[2] for r in self._rows], dtype=float))
             self._rec.log(P.AFFORDANCE_RELEVANCE, rr.BarChart(relevance, color=(31, 119, 180)))
@@ -563,7 +571,8 @@ class Recorder:
         self._rec.log(
             P.AFFORDANCE_TABLE,
             rr.TextDocument(
-                affordances_markdown(self._rows, self._decision), media_type=rr.MediaType.MARKDOWN
+                affordances_markdown(self._rows, self._decision, self._contexts),
+                media_type=rr.MediaType.MARKDOWN,
             ),
         )
 

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from scone_bt.experience.types import ExecutionContext
 from scone_bt.gate.types import Decision, DecisionKind
 from scone_bt.viz.snapshot import AffordanceRow, RecipeView
 
@@ -20,6 +21,7 @@ __all__ = [
     "tree_text",
     "rank_affordances",
     "affordances_markdown",
+    "context_text",
     "decision_markdown",
     "recipe_markdown",
 ]
@@ -148,8 +150,31 @@ def _cell(text: str) -> str:
     return text.replace("|", "\\|")
 
 
-def affordances_markdown(rows: Sequence[AffordanceRow], decision: Decision | None) -> str:
-    """Ranked affordance table; the chosen action is marked with the gate's verdict."""
+def context_text(context: ExecutionContext | None) -> str:
+    """An execution context in a few characters: tier, clearance, neighbours, perceived width × height (cm)."""
+    if context is None:
+        return ""
+
+    def cm(v: float | None) -> str:
+        return "?" if v is None else f"{100 * v:.0f}"
+
+    tier = "?" if context.shelf_tier is None else str(context.shelf_tier)
+    near = "?" if context.neighbours is None else str(context.neighbours)
+    return (
+        f"tier {tier} · gap {cm(context.clearance_m)} cm · {near} near · "
+        f"{cm(context.detected_width_m)}×{cm(context.detected_height_m)} cm"
+    )
+
+
+def affordances_markdown(
+    rows: Sequence[AffordanceRow],
+    decision: Decision | None,
+    contexts: Mapping[str, ExecutionContext] | None = None,
+) -> str:
+    """Ranked affordance table; the chosen action is marked with the gate's verdict.
+
+    With ``contexts`` (action text → the context the gate perceived) a column shows each action's context.
+    """
     if not rows:
         return "_no affordances: nothing detected_"
     chosen = decision.action if decision is not None else None
@@ -162,12 +187,15 @@ def affordances_markdown(rows: Sequence[AffordanceRow], decision: Decision | Non
         verdict = "**ASK-CLARIFY: which?**"
     candidates = set(decision.candidates) if decision is not None else set()
     lines = ["| # | action | relevance | confidence | gate |", "|---|---|---:|---:|---|"]
+    if contexts:
+        lines = [lines[0] + " context |", lines[1] + "---|"]
     for i, (text, relevance, confidence) in enumerate(rank_affordances(rows), start=1):
         mark = text == chosen or text in candidates
         name = f"**▶ {_cell(text)}**" if mark else _cell(text)
-        lines.append(
-            f"| {i} | {name} | {_num(relevance, 3)} | {_num(confidence, 2)} | {verdict if mark else ''} |"
-        )
+        line = f"| {i} | {name} | {_num(relevance, 3)} | {_num(confidence, 2)} | {verdict if mark else ''} |"
+        if contexts:
+            line += f" {context_text(contexts.get(text))} |"
+        lines.append(line)
     return "\n".join(lines)
 
 

@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from scone_bt.experience.types import ExecutionContext
 from scone_bt.gate.types import Decision
 from scone_bt.motion.types import TimedTrajectory
 from scone_bt.perception.types import Detection, Frame
@@ -61,6 +62,7 @@ class TickSnapshot:
         executed_q: (dof,) arm joint positions measured at the end of this tick, radians.
         tree: Root behaviour of the py_trees tree (or the BehaviourTree); every node's status is logged.
         confidences: Object name → κ̂ success probability in [0, 1], for the objects re-estimated this tick.
+        contexts: Action text → the execution context the gate perceived for it this tick (grounded κ̂).
         counters: Counter name → running total (successes, failures, help requests, interventions, ...).
         recipe: The recipe's state, when it changed (or every tick; unchanged states are not re-logged).
         log_lines: Human-readable lines produced this tick.
@@ -79,6 +81,7 @@ class TickSnapshot:
     executed_q: np.ndarray | None = None
     tree: Any | None = None
     confidences: Mapping[str, float] = field(default_factory=dict)
+    contexts: Mapping[str, ExecutionContext] = field(default_factory=dict)
     counters: Mapping[str, int] = field(default_factory=dict)
     recipe: RecipeView | None = None
     log_lines: Sequence[str] = ()
