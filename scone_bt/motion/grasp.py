@@ -109,6 +109,8 @@ class GraspParams:
         span_weight: Cost of a span equal to the opening.
         max_goal_grasps: Feasible grasps handed to the planner together as a goal set.
         max_goal_placements: Feasible placements per grasp handed to the planner together.
+        ik_alternatives: Other arm postures (IK from random seeds) tried for a grasp whose first IK answer collides
+            with the scene or cannot follow the straight descent and lift.
         path_retries: OMPL queries repeated with a fresh seed (same budget) when one runs out of iterations
             before "no path" is the answer: a sampling planner's miss on one seed is not the scene's verdict.
     """
@@ -143,6 +145,7 @@ class GraspParams:
     span_weight: float = 0.1
     max_goal_grasps: int = 4
     max_goal_placements: int = 4
+    ik_alternatives: int = 0
     path_retries: int = 1
 
     @classmethod

@@ -502,26 +502,31 @@ def plan_pick_and_place(
             if not (arm.can_reach(cand.pregrasp[:3, 3]) and arm.can_reach(cand.grasp[:3, 3])):
                 tally.reasons.append(f"{cand.family.value} grasp beyond the arm's reach")
                 continue
-            q_pre = p.ik(cand.pregrasp, req.q_start, restarts=4)
-            if q_pre is None:
-                tally.reasons.append(f"{cand.family.value} pre-grasp out of reach")
-                continue
-            tally.reachable = True
-            if not w_free.is_valid(q_pre):
-                names = _blockers(w_free, q_pre)
-                tally.blocked(f"{cand.family.value} pre-grasp collides ({_pair(w_free, q_pre)})", names)
-                continue
-            descend, why, names = p.line(q_pre, cand.grasp, w_grasp, f"{cand.family.value} descent")
-            if descend is None:
-                tally.blocked(why, names)
-                continue
-            up, why, names = p.line(descend[-1], lifted(cand.grasp, lift), w_grasp, "lift")
-            if up is None and lift > params.lift:  # too high to reach: the plain lift, a harder transit
-                up, why, names = p.line(descend[-1], lifted(cand.grasp, params.lift), w_grasp, "lift")
-            if up is None:
-                tally.blocked(why, names)
-                continue
-            return _Grasp(cand, q_pre, descend, up)
+            # The arm's first IK answer may put its forearm into a tall neighbour or start a descent it cannot
+            # follow; another arm posture for the same hand pose (a 7-joint arm has a family of them) may not.
+            for attempt in range(1 + params.ik_alternatives):
+                seed = req.q_start if attempt == 0 else p.rng.uniform(arm.lower, arm.upper)
+                q_pre = p.ik(cand.pregrasp, seed, restarts=4)
+                if q_pre is None:
+                    if attempt == 0:
+                        tally.reasons.append(f"{cand.family.value} pre-grasp out of reach")
+                    break  # no posture reaches it from anywhere: another seed finds none either
+                tally.reachable = True
+                if not w_free.is_valid(q_pre):
+                    names = _blockers(w_free, q_pre)
+                    tally.blocked(f"{cand.family.value} pre-grasp collides ({_pair(w_free, q_pre)})", names)
+                    continue
+                descend, why, names = p.line(q_pre, cand.grasp, w_grasp, f"{cand.family.value} descent")
+                if descend is None:
+                    tally.blocked(why, names)
+                    continue
+                up, why, names = p.line(descend[-1], lifted(cand.grasp, lift), w_grasp, "lift")
+                if up is None and lift > params.lift:  # too high to reach: the plain lift, a harder transit
+                    up, why, names = p.line(descend[-1], lifted(cand.grasp, params.lift), w_grasp, "lift")
+                if up is None:
+                    tally.blocked(why, names)
+                    continue
+                return _Grasp(cand, q_pre, descend, up)
         return None
 
     # 2. Placement spots: sampled on the observed free area of the table, or given. A box's spot comes with the
