@@ -5,10 +5,12 @@
     est.predict(embedder.embed(actions))        # (n,) success probabilities in [0, 1]
 
 See base.py for the cold start, epsilon.py for ε-greedy (belief vs. decision), conformal.py for the estimator with
-a stated error rate, gp.py for the GP classifier, grounded.py for κ̂ that also sees the execution context.
+a stated error rate, gp.py for the GP classifier, grounded.py for κ̂ that also sees the execution context,
+calibration.py for κ̂ whose scores are Platt-scaled on out-of-fold scores ("<name>-cal").
 """
 
 from scone_bt.confidence.base import ConfidenceEstimator
+from scone_bt.confidence.calibration import CalibratedEstimator
 from scone_bt.confidence.conformal import ConformalKNNEstimator
 from scone_bt.confidence.epsilon import EpsilonGreedy
 from scone_bt.confidence.gp import GPEstimator
@@ -27,12 +29,20 @@ from scone_bt.confidence.models import (
     XGBEstimator,
 )
 from scone_bt.confidence.rebuild import rebuild_estimator, training_data
-from scone_bt.confidence.registry import BASE_ESTIMATORS, ESTIMATORS, GROUNDED_ESTIMATORS, make_estimator
+from scone_bt.confidence.registry import (
+    BASE_ESTIMATORS,
+    CALIBRATED_ESTIMATORS,
+    ESTIMATORS,
+    GROUNDED_ESTIMATORS,
+    make_estimator,
+)
 
 __all__ = [
     "BASE_ESTIMATORS",
+    "CALIBRATED_ESTIMATORS",
     "CONTEXT_FIELDS",
     "ESTIMATORS",
+    "CalibratedEstimator",
     "ConfidenceEstimator",
     "ConformalKNNEstimator",
     "EpsilonGreedy",

@@ -1,5 +1,8 @@
 """κ̂ by name: the paper's six classifiers, a GP, our conformal one, an ε-greedy variant of each, and grounded ones.
 
+CALIBRATED_ESTIMATORS ("<name>-cal", for a plain or grounded name) pass the estimator's scores through a Platt
+map learnt from its out-of-fold scores on the training rows (calibration.py).
+
 ESTIMATORS read action embeddings only (the tree's gate, every benchmark over actions). GROUNDED_ESTIMATORS
 ("grounded-<base>") read an embedding followed by the execution context (see grounded.py); make_estimator builds
 either. "xgboost" is accepted for "xgb".
@@ -10,6 +13,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from scone_bt.confidence.base import ConfidenceEstimator
+from scone_bt.confidence.calibration import CalibratedEstimator
 from scone_bt.confidence.conformal import ConformalKNNEstimator
 from scone_bt.confidence.epsilon import EpsilonGreedy
 from scone_bt.confidence.gp import GPEstimator
@@ -24,7 +28,7 @@ from scone_bt.confidence.models import (
 )
 from scone_bt.errors import SconeError, UnknownNameError
 
-__all__ = ["BASE_ESTIMATORS", "ESTIMATORS", "GROUNDED_ESTIMATORS", "make_estimator"]
+__all__ = ["BASE_ESTIMATORS", "CALIBRATED_ESTIMATORS", "ESTIMATORS", "GROUNDED_ESTIMATORS", "make_estimator"]
 
 _FACTORIES: dict[str, Callable[..., ConfidenceEstimator]] = {
     "knn": KNNEstimator,
@@ -39,6 +43,9 @@ _FACTORIES: dict[str, Callable[..., ConfidenceEstimator]] = {
 BASE_ESTIMATORS: tuple[str, ...] = tuple(_FACTORIES)
 ESTIMATORS: tuple[str, ...] = (*BASE_ESTIMATORS, *(f"eps-{n}" for n in BASE_ESTIMATORS))
 GROUNDED_ESTIMATORS: tuple[str, ...] = tuple(f"grounded-{n}" for n in BASE_ESTIMATORS if n != "conformal")
+CALIBRATED_ESTIMATORS: tuple[str, ...] = tuple(
+    f"{n}-cal" for n in (*BASE_ESTIMATORS, *GROUNDED_ESTIMATORS) if n != "conformal"
+)
 _ALIASES = {"xgboost": "xgb"}
 _EPS_KEYS = ("epsilon", "half_life")
 _GROUNDED_KEYS = ("n_context", "context_weight")
@@ -48,17 +55,24 @@ def make_estimator(name: str, seed: int = 0, **options: float) -> ConfidenceEsti
     """A fresh estimator by name (see ESTIMATORS), e.g. make_estimator("eps-knn", seed=3, epsilon=0.2).
 
     Args:
-        name: One of ESTIMATORS or GROUNDED_ESTIMATORS (or "xgboost").
+        name: One of ESTIMATORS, GROUNDED_ESTIMATORS or CALIBRATED_ESTIMATORS (or "xgboost").
         seed: Seeds model fitting and ε-greedy draws.
         **options: Constructor options: k (knn, conformal), n_estimators (rf, lgbm, xgb), C (svm), hidden
             (mlp), length_scale and restarts (gp), prior (all but conformal), epsilon and half_life (eps-*
             only), n_context and context_weight (grounded-* only).
 
     Raises:
-        UnknownNameError: not one of ESTIMATORS.
+        UnknownNameError: not one of those names.
         SconeError: an option the estimator does not take.
     """
     name = _ALIASES.get(name, name)
+    if name.endswith("-cal"):
+        if name not in CALIBRATED_ESTIMATORS:
+            raise UnknownNameError(
+                "estimator", name, (*ESTIMATORS, *GROUNDED_ESTIMATORS, *CALIBRATED_ESTIMATORS)
+            )
+        inner = name.removesuffix("-cal")
+        return CalibratedEstimator(lambda: make_estimator(inner, seed, **options), seed=seed)
     if name.startswith("grounded-"):
         if name not in GROUNDED_ESTIMATORS:
             raise UnknownNameError("estimator", name, (*ESTIMATORS, *GROUNDED_ESTIMATORS))

@@ -12,10 +12,12 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = [
+    "ECE_FLOOR_SIMULATIONS",
     "ReliabilityBin",
     "accuracy",
     "auroc",
     "brier_score",
+    "ece_noise_floor",
     "expected_calibration_error",
     "normalised_auc",
     "reliability_bins",
@@ -108,3 +110,28 @@ def normalised_auc(steps: Sequence[float], values: Sequence[float]) -> float:
     if len(x) == 1:
         return float(v[0])
     return float(np.trapezoid(v, x) / (x[-1] - x[0]))
+
+
+ECE_FLOOR_SIMULATIONS = 1000
+"""Simulated outcome sets behind each ECE noise floor (its Monte-Carlo error is about 0.0005)."""
+
+
+def ece_noise_floor(
+    p: np.ndarray, bins: int = 10, simulations: int = ECE_FLOOR_SIMULATIONS, seed: int = 0
+) -> tuple[float, float]:
+    """(mean, 95th percentile) of the ECE of a perfectly calibrated predictor making these predictions.
+
+    Outcomes are drawn as y ~ Bernoulli(p), so the predictor is calibrated by construction and every bit of its
+    ECE is sampling noise: what a measured ECE on len(p) rows must be compared with. NaN for no rows.
+    """
+    p = np.clip(np.asarray(p, dtype=float), 0.0, 1.0)
+    if len(p) == 0:
+        return float("nan"), float("nan")
+    which = np.minimum((p * bins).astype(int), bins - 1)
+    onehot = np.zeros((bins, len(p)))
+    onehot[which, np.arange(len(p))] = 1.0
+    predicted = onehot @ p  # per bin: Σ p (independent of the draw)
+    y = np.random.default_rng([seed, 11]).random((simulations, len(p))) < p
+    observed = y.astype(float) @ onehot.T  # (simulations, bins): Σ y per bin
+    ece = np.abs(observed - predicted).sum(axis=1) / len(p)  # Σ_b n_b/n |ȳ_b − p̄_b| = Σ_b |Σy − Σp| / n
+    return float(ece.mean()), float(np.quantile(ece, 0.95))

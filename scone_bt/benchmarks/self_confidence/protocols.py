@@ -46,6 +46,7 @@ from scone_bt.benchmarks.self_confidence.metrics import (
     accuracy,
     auroc,
     brier_score,
+    ece_noise_floor,
     expected_calibration_error,
     normalised_auc,
     reliability_bins,
@@ -320,6 +321,8 @@ class ProtocolScores:
         auroc: AUROC at the largest step, all test predictions pooled (NaN with one class).
         brier: Brier score at the largest step, pooled.
         ece: Expected calibration error at the largest step, pooled.
+        ece_floor: (mean, 95th percentile) ECE of a perfectly calibrated predictor with the same pooled
+            predictions (metrics.ece_noise_floor): the ECE that sampling noise alone gives on n_test rows.
         reliability: The reliability diagram's bins at the largest step, pooled.
         n_test: Test predictions pooled at the largest step (all datasets and shuffles).
         n_datasets: Datasets × shuffles with at least one test row.
@@ -334,6 +337,7 @@ class ProtocolScores:
     auroc: float
     brier: float
     ece: float
+    ece_floor: tuple[float, float]
     reliability: tuple[ReliabilityBin, ...]
     n_test: int
     n_datasets: int
@@ -345,6 +349,7 @@ class ProtocolScores:
             "auroc": self.auroc,
             "brier": self.brier,
             "ece": self.ece,
+            "ece_noise_floor": {"mean": self.ece_floor[0], "p95": self.ece_floor[1]},
             "final_accuracy": _mean_std(self.final_accuracy),
             "accuracy_curve": {
                 "n_train": list(self.steps),
@@ -447,6 +452,7 @@ def _scores(
         auroc=auroc(p_all, y_all),
         brier=brier_score(p_all, y_all),
         ece=expected_calibration_error(p_all, y_all, options.ece_bins),
+        ece_floor=ece_noise_floor(p_all, options.ece_bins, seed=options.seed),
         reliability=tuple(reliability_bins(p_all, y_all, options.ece_bins)),
         n_test=len(y_all),
         n_datasets=len(cells),

@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 
 from scone_bt.benchmarks.self_confidence.evaldata import UNKNOWN_FAMILY, EvalDataset
+from scone_bt.benchmarks.self_confidence.metrics import ece_noise_floor
 from scone_bt.benchmarks.self_confidence.protocols import (
     EvalOptions,
     algorithm1_split,
@@ -156,6 +157,22 @@ def _best(
     return max(rows, key=_ms) if rows else None
 
 
+def _floor_note(row: dict[str, Any]) -> str:
+    """The noise-floor remark for a row with an ece_noise_floor (older reports have none)."""
+    floor = row.get("ece_noise_floor")
+    if not floor or floor.get("mean") is None:
+        return ""
+    return (
+        f" (noise floor: a perfectly calibrated predictor with these {row['n_test']} predictions scores "
+        f"{floor['mean']:.3f} on average, 95th percentile {floor['p95']:.3f})"
+    )
+
+
+def uniform_ece_floor(n: int, bins: int = 10) -> tuple[float, float]:
+    """ECE noise floor of a calibrated predictor whose n predictions spread evenly over (0, 1)."""
+    return ece_noise_floor((np.arange(n) + 0.5) / max(n, 1), bins)
+
+
 def target_checks(report: dict[str, Any]) -> list[dict[str, Any]]:
     """The issue's targets, each with the measured numbers and whether it is met.
 
@@ -211,7 +228,8 @@ def target_checks(report: dict[str, Any]) -> list[dict[str, Any]]:
         checks.append(
             {
                 "target": "ECE ≤ 0.05 at n_train = 80 for the best pair (Algorithm 1)",
-                "measured": f"{overall['embedder']} + {overall['estimator']} ECE {_ms(overall, 'ece'):.3f}",
+                "measured": f"{overall['embedder']} + {overall['estimator']} ECE {_ms(overall, 'ece'):.3f}"
+                + _floor_note(overall),
                 "met": bool(_ms(overall, "ece") <= 0.05),
             }
         )
@@ -320,6 +338,15 @@ def evaluation_markdown(report: dict[str, Any], name: str = "self_confidence") -
             parts += [f"**{title}**", ""]
             parts += _metric_table(report, protocol, key, higher)
             parts.append("")
+            if key == "ece" and rows:
+                mean, p95 = uniform_ece_floor(rows[0]["n_test"], report["options"]["ece_bins"])
+                parts += [
+                    f"ECE noise floor on {rows[0]['n_test']} rows: a perfectly calibrated predictor whose "
+                    f"predictions spread evenly over (0, 1) scores {mean:.3f} on average (95th percentile "
+                    f"{p95:.3f}); each entry's own floor, for its own predictions, is `ece_noise_floor` in the "
+                    "JSON.",
+                    "",
+                ]
         parts.append(f"![learning curves]({{name}}_{protocol}_curves.png)")
         parts.append("")
     robot = _robot_table(report)

@@ -49,3 +49,17 @@ def test_reliability_bins_cover_every_prediction_and_give_the_ece():
     ece = sum(b.count * abs(b.observed_rate - b.mean_predicted) for b in bins if b.count) / 500
     assert expected_calibration_error(p, y, 10) == pytest.approx(ece)
     assert ece > 0.1  # the miscalibration is seen
+
+
+def test_ece_noise_floor_is_the_ece_of_a_calibrated_predictor():
+    from scone_bt.benchmarks.self_confidence.metrics import ece_noise_floor
+
+    p = np.random.default_rng(3).random(220)
+    mean, p95 = ece_noise_floor(p, 10, simulations=2000, seed=0)
+    rng = np.random.default_rng(9)
+    direct = [expected_calibration_error(p, rng.random(len(p)) < p, 10) for _ in range(2000)]
+    assert mean == pytest.approx(np.mean(direct), abs=0.003)
+    assert p95 > mean
+    assert 0.055 < mean < 0.08  # 0.05 is below what sampling alone gives on 220 rows
+    assert ece_noise_floor(np.random.default_rng(3).random(5000), 10)[0] < 0.02
+    assert np.isnan(ece_noise_floor(np.zeros(0))[0])
