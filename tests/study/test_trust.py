@@ -54,3 +54,48 @@ def test_answers_follow_latent_trust():
 def test_parameters_are_checked():
     with pytest.raises(SconeError, match="failure_loss must be in"):
         TrustParameters(failure_loss=1.5)
+
+
+@pytest.mark.parametrize("questionnaire", [MDMT_PERFORMANCE, TPS_HRI_14], ids=lambda q: q.name)
+def test_static_answers_are_drawn_from_eq3_with_the_known_effect_on_the_logit_scale(questionnaire):
+    """With static trust and no session noise the analysed categories follow Eq. (3) as documented.
+
+    Eq. (3) written out independently of trust.py: P(category <= k) = sigmoid(c_k - phi), phi = disposition
+    + condition_effect [on] + d_q, c = linspace(-3, 3, K - 1) (x 1.15 above 8 categories), reverse-scored items
+    flipped back by Questionnaire.category. The observed category sums must match the model's expectation within
+    4 sd per condition; a halved effect, an unflipped reverse item or extra noise would move them by far more.
+    """
+    from scone_bt.study.trust import item_offsets
+
+    params = TrustParameters(
+        success_gain=0.0, failure_loss=0.0, help_gain=0.0, condition_effect=1.0, response_noise_sd=0.0
+    )
+    k = questionnaire.n_categories
+    cuts = np.linspace(-3.0, 3.0, k - 1) * (1.15 if k > 8 else 1.0)
+    offsets = item_offsets(questionnaire, params.item_sd)
+    cats = np.arange(k)
+    effects = (1.0, 0.5)  # the truth, and half of it (what a halving contrast coding would estimate)
+    observed = {Condition.OFF: 0.0, Condition.ON: 0.0}
+    expected = {(c, e): 0.0 for c in observed for e in effects}
+    variance = dict(expected)
+    for i in range(300):
+        p = SimulatedParticipant(f"P{i}", Group.A, params, seed=1000 + i)
+        for session, condition in ((1, Condition.ON), (2, Condition.OFF)):
+            p.start_session(session)
+            answers = p.answer(questionnaire, condition, session)
+            for item in questionnaire.items:
+                observed[condition] += questionnaire.category(item.key, answers[item.key])
+                for effect in effects:
+                    phi = p.disposition + (effect if condition is Condition.ON else 0.0) + offsets[item.key]
+                    cdf = np.append(1.0 / (1.0 + np.exp(-(cuts - phi))), 1.0)
+                    prob = np.diff(np.concatenate([[0.0], cdf]))
+                    mean = float(prob @ cats)
+                    expected[condition, effect] += mean
+                    variance[condition, effect] += float(prob @ cats**2) - mean**2
+
+    def z(condition: Condition, effect: float) -> float:
+        key = (condition, effect)
+        return (observed[condition] - expected[key]) / np.sqrt(variance[key])
+
+    assert abs(z(Condition.OFF, 1.0)) < 4.0 and abs(z(Condition.ON, 1.0)) < 4.0, expected
+    assert z(Condition.ON, 0.5) > 8.0  # the test can tell the truth from half of it
