@@ -17,7 +17,10 @@ Reported per arm under ``arms.<name>``:
   exist (success, or the typed reason no_path);
 - ``pick_place_plan_ms_p50/p95`` (wall) and ``pick_place_plan_cpu_ms_p50/p95`` (CPU time of the planning
   thread: wall time on a loaded machine includes waiting for a core), ``ruckig_ms_p50`` per trajectory segment;
-- ``failures_by_reason``: typed planning reasons and physical failure stages; the chosen grasp families.
+- ``failures_by_reason``: typed planning reasons and physical failure stages; the chosen grasp families;
+- ``blocked_by_scene_only``: of the blocked graspable queries, those whose blockers are all shelving structure
+  (no product among them), and ``targets_off_shelf``: targets that were not standing on a shelf when the query
+  began (fell while the shelving settled). Both are counted in the rates above as they are; they say why.
 
     scone-bench motion --queries 20                     # development
     scone-bench motion --json runs/motion.json          # 200 queries x both arms (long on 2 cores)
@@ -127,6 +130,8 @@ def _query(
         kitchen.spawn([target, *extra], rng)
         on_table = [s.name for s in extra[clutter:] if kitchen.human_place_on_table(s.name)]
         kitchen.advance(0.3)
+        on_shelf = kitchen.is_on_shelf(target.name)
+        static_names = {b.name for b in kitchen.static_boxes}
         system = MotionSystem(
             kitchen, w["arm"], w["options"], limits_of(rcfg), params, ExecutionSettings(), rcfg
         )
@@ -157,6 +162,8 @@ def _query(
         "sim_s": sim_s,
         "planned": isinstance(plan, PickPlacePlan),
         "reason": None,
+        "on_shelf": bool(on_shelf),
+        "scene_only": False,
     }
     if isinstance(plan, PickPlacePlan):
         rec.update(
@@ -168,6 +175,8 @@ def _query(
         )
     elif plan is not None:
         rec["reason"] = plan.reason.value
+        # Blocked by the shelving's own structure alone (no product among what blocked the most grasps).
+        rec["scene_only"] = bool(plan.blockers) and set(plan.blockers) <= static_names
     return rec
 
 
@@ -220,9 +229,12 @@ def _report(records: list[dict[str, Any]], cpu_total: float) -> dict[str, Any]:
     ompl_ms: list[float] = []
     sim_s: list[float] = []
     examples: dict[str, list[str]] = {}
+    off_shelf: list[str] = []
     for rec in records:
         fits_gripper, fits_payload = rec["fits_gripper"], rec["fits_payload"]
         sim_s.append(rec["sim_s"])
+        if not rec.get("on_shelf", True):
+            off_shelf.append(rec["target"])
         counts["queries"] += 1
         counts["fits_gripper"] += fits_gripper
         counts["fits_gripper_and_payload"] += fits_gripper and fits_payload
@@ -238,7 +250,9 @@ def _report(records: list[dict[str, Any]], cpu_total: float) -> dict[str, Any]:
             key = f"planning: {rec['reason']}"
             reasons[key] += 1
             counts["reachable"] += rec["reason"] == "no_path"
-            counts["blocked_graspable"] += fits_gripper and rec["reason"] == "grasps_blocked"
+            blocked = fits_gripper and rec["reason"] == "grasps_blocked"
+            counts["blocked_graspable"] += blocked
+            counts["blocked_by_scene_only"] += blocked and rec.get("scene_only", False)
         if rec["success"]:
             counts["success"] += 1
             counts["success_graspable"] += fits_gripper and fits_payload
@@ -254,6 +268,8 @@ def _report(records: list[dict[str, Any]], cpu_total: float) -> dict[str, Any]:
         "fits_gripper": counts["fits_gripper"],
         "fits_gripper_and_payload": counts["fits_gripper_and_payload"],
         "blocked_by_clutter_rate": _rate(counts["blocked_graspable"], counts["fits_gripper"]),
+        "blocked_by_scene_only": counts["blocked_by_scene_only"],
+        "targets_off_shelf": off_shelf,
         "physical_success_rate_graspable": _rate(
             counts["success_graspable"], counts["fits_gripper_and_payload"]
         ),

@@ -48,3 +48,17 @@ def test_rates_count_only_the_queries_they_are_about():
     }
     assert set(r["failures_of_graspable"]) == {"planning: grasps_blocked", "planning: no_path"}
     assert r["targets_met"]["plan_success_rate_on_reachable"] is False
+    assert r["blocked_by_scene_only"] == 0 and r["targets_off_shelf"] == []
+
+
+def test_blocked_by_the_shelving_alone_and_fallen_targets_are_named_but_still_counted():
+    records = [
+        _rec(0),
+        {**_rec(1, success=False, planned=False, reason="grasps_blocked"), "scene_only": True},
+        {**_rec(2, success=False, planned=False, reason="grasps_blocked"), "on_shelf": False},
+        {**_rec(3, fits=False, success=False, planned=False, reason="grasps_blocked"), "scene_only": True},
+    ]
+    r = _report(records, 1.0)
+    assert r["blocked_by_clutter_rate"] == round(2 / 3, 4)  # the rate's definition is unchanged
+    assert r["blocked_by_scene_only"] == 1  # the too-wide one is not a graspable query
+    assert r["targets_off_shelf"] == ["t2"]
