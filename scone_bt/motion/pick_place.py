@@ -6,13 +6,17 @@ The strategy, in a fixed order:
 
 1. Grasps (`grasp.grasp_candidates`, cheapest first) are filtered by the hand alone against the scene (no IK),
    then by IK of the pre-grasp pose, the arm's collisions there, and a straight collision-free descent and lift
-   (solved in up to `LINE_MAX_WAYPOINTS` pieces where the joints bow away from the line). The hand is checked,
-   and executed, with its fingers pre-shaped (`preshape`): opened only as far as the widest candidate needs, so
-   they fit between close neighbours. The first `GraspParams.max_goal_grasps` feasible ones form a goal set.
-2. OMPL plans the approach to the goal set at once and reports which grasp it reached.
+   (solved in up to `LINE_MAX_WAYPOINTS` pieces where the joints bow away from the line); where the first IK
+   answer's arm collides or cannot follow that line, `GraspParams.ik_alternatives` other arm postures (IK from
+   random seeds) are tried for the same hand pose. The hand is checked, and executed, with its fingers
+   pre-shaped (`preshape`): opened only as far as the widest candidate needs, so they fit between close
+   neighbours. The first `GraspParams.max_goal_grasps` feasible ones form a goal set.
+2. OMPL plans the approach to the goal set at once and reports which grasp it reached. A query that runs out of
+   iterations is repeated with a fresh seed (`GraspParams.path_retries`) before it counts as no path.
 3. Placements for that grasp: seeded spots on the observed free table area (`placement.sample_placements`; a
    box's spot comes with the yaws its rectangle fits at, which fix the hand's turn), filtered by IK above the spot
-   with the object in the hand, a collision-free lowering and retreat (back up the lowering path); the first
+   with the object in the hand, a collision-free lowering and retreat (back up the lowering path; a side grasp
+   backs out along its approach instead, as its fingers straddle the object below its top); the first
    `max_goal_placements` feasible ones form the transit's goal set; OMPL plans the transit, then the way home.
 4. Fallbacks: a grasp without a feasible placement or transit is dropped and the approach is planned again to
    the other grasps (more candidates are examined as the set empties); every spot the sampler returned is tried
