@@ -277,6 +277,14 @@ def _add_power_parser(sub) -> None:  # noqa: ANN001 - argparse's private subpars
     w.add_argument("--chains", type=int, default=2, help="MCMC chains per analysis")
     w.add_argument("--tune", type=int, default=300, help="warm-up draws per chain")
     w.add_argument("--draws", type=int, default=300, help="kept draws per chain")
+    from scone_bt.study.power import PowerOptions
+
+    w.add_argument(
+        "--answer-noise-sd",
+        type=float,
+        default=PowerOptions.response_noise_sd,
+        help="per-session noise of the simulated answers, logit (0: answers drawn from Eq. 3)",
+    )
     w.add_argument("--workers", type=int, help="processes (default: CPU count), or Ray workers with --ray")
     from scone_bt.distributed import add_engine_arguments
 
@@ -302,6 +310,7 @@ def _power(args: argparse.Namespace) -> int:
         workers=args.workers,
         seed=args.seed,
         ray=args.ray,
+        response_noise_sd=args.answer_noise_sd,
     )
     from scone_bt.study.power import check_power_outputs
 

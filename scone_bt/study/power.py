@@ -4,7 +4,8 @@ For each N in a list, simulate ``repetitions`` studies with a known condition ef
 chosen model, and count how often the 95 % HDI of the condition contrast lies entirely outside the ROPE (the
 decision "reject no difference"): that share is the power at N. Questionnaire answers come from the simulated
 participants of trust.py with static trust (the episodes do not move it, so the stated effect is the whole
-difference between conditions); intervention counts are drawn from Eq. (4) itself (``simulate_counts``).
+difference between conditions) and, by default, no per-session answer noise (so they follow Eq. (3)); intervention
+counts are drawn from Eq. (4) itself (``simulate_counts``).
 
 Every (N, repetition) work item gets its own seeds from ``numpy.random.SeedSequence([seed, N, repetition])``, so
 the result does not depend on the number of worker processes or on the order the items finish in. The parallel
@@ -64,6 +65,9 @@ class PowerOptions:
         workers: Worker processes (None: CPU count), or Ray workers with `ray` (None: the cluster's CPUs).
         ray: Ray address ("auto", "local", "ray://host:port") to run the studies on; None: local processes.
         seed: Root seed of every simulated study and sampler.
+        response_noise_sd: Per-session noise of the simulated answers (logit). 0 draws them from Eq. (3) itself;
+            the trust model's own default (0.3) adds a term the paper model lacks, whose HDIs are then too narrow
+            and whose power is optimistic (docs/study.md).
     """
 
     participants: tuple[int, ...] = (10, 20, 31, 50)
@@ -79,8 +83,11 @@ class PowerOptions:
     workers: int | None = None
     seed: int = 0
     ray: str | None = None
+    response_noise_sd: float = 0.0
 
     def __post_init__(self) -> None:
+        if not (math.isfinite(self.response_noise_sd) and self.response_noise_sd >= 0):
+            raise SconeError(f"--answer-noise-sd must be 0 or more, got {self.response_noise_sd}")
         if not self.participants or min(self.participants) < 2:
             raise SconeError(f"--n: participant numbers must be 2 or more, got {list(self.participants)}")
         if self.repetitions < 1:
@@ -240,7 +247,11 @@ def _simulate_answers(options: PowerOptions, item: WorkItem, folder: Path):  # -
     from scone_bt.study.trust import TrustParameters
 
     trust = TrustParameters(
-        success_gain=0.0, failure_loss=0.0, help_gain=0.0, condition_effect=options.effect
+        success_gain=0.0,
+        failure_loss=0.0,
+        help_gain=0.0,
+        condition_effect=options.effect,
+        response_noise_sd=options.response_noise_sd,
     )
     sim = SimulationOptions(participants=item.participants, fast=True, trust=trust, seed=item.study_seed)
     log = simulate_study(folder / "study.db", sim, printer=lambda _l: None)

@@ -21,6 +21,9 @@ def test_options_are_checked_before_any_work():
         PowerOptions.from_text("10,x")
     with pytest.raises(SconeError, match="ROPE must be"):
         PowerOptions(rope=(0.2, -0.2))
+    with pytest.raises(SconeError, match="--answer-noise-sd must be 0 or more"):
+        PowerOptions(response_noise_sd=-0.1)
+    assert PowerOptions().response_noise_sd == 0.0  # answers from Eq. (3), the model that is fitted
     assert PowerOptions.from_text("31, 10,10").participants == (10, 31)
 
 
