@@ -39,6 +39,7 @@ from scone_bt.benchmarks.self_confidence.protocols import (
     evaluate_protocols,
     row_order,
 )
+from scone_bt.benchmarks.self_confidence.report import ORACLE
 from scone_bt.confidence.calibration import CALIBRATION_FOLDS
 from scone_bt.errors import ConfigError, SconeError, UnknownNameError
 
@@ -49,11 +50,13 @@ __all__ = [
     "EstimatorFactory",
     "EvalOptions",
     "GridInputs",
+    "ORACLE_EMBEDDER",
     "PairResult",
     "embed_datasets",
     "evaluate_grid_cell",
     "evaluate_grid_pair",
     "evaluate_pair",
+    "oracle_features",
     "prior_baseline",
     "register_evaluate",
     "cell_cost",
@@ -290,7 +293,7 @@ def _check_names(
     for p in protocols:
         if p not in valid_p:
             raise UnknownNameError("protocol", p, valid_p)
-    valid_e = [*EMBEDDER_NAMES, "mpnet-ft"]
+    valid_e = [*EMBEDDER_NAMES, "mpnet-ft", ORACLE_EMBEDDER]
     for e in embedders:
         if e not in valid_e and not e.startswith("finetuned:") and not Path(e).is_dir():
             raise UnknownNameError("embedder", e, [*valid_e, "finetuned:<dir>", "<model directory>"])
@@ -303,8 +306,46 @@ def _check_names(
     return [Protocol(p) for p in protocols], list(dict.fromkeys(names))
 
 
+# Not an embedder a robot has: each action's product replaced by its true catalogue attributes (oracle_features).
+# An ungrounded κ̂ on these rows shows how far knowing exactly *what* the product is can take a self-confidence
+# that ignores *where* it stands: the ceiling of any text embedding. Defined beside the report that treats it so.
+ORACLE_EMBEDDER = ORACLE
+
+
+def oracle_features(datasets: Sequence[EvalDataset], kitchen: str = "kitchen") -> list[np.ndarray]:
+    """Per dataset, (n, d) rows of the products' true attributes, standardised over the catalogue.
+
+    Columns: grasp width, height, mass, friction (standardised), then one-hot shape, material and family. A
+    product missing from the catalogue is a ConfigError (the oracle would have nothing to say).
+    """
+    from scone_bt.config import load_kitchen
+
+    specs = {o.name: o for o in load_kitchen(kitchen).catalogue.objects}
+    missing = sorted({o for d in datasets for o in d.objects} - set(specs))
+    if missing:
+        raise ConfigError(
+            f"{ORACLE_EMBEDDER}: products not in the {kitchen} catalogue: {', '.join(missing[:5])}"
+        )
+    names = sorted(specs)
+    numeric = np.array(
+        [[specs[n].grasp_width, specs[n].height, specs[n].mass, specs[n].friction] for n in names]
+    )
+    numeric = (numeric - numeric.mean(axis=0)) / np.where(numeric.std(axis=0) > 0, numeric.std(axis=0), 1.0)
+    blocks = [numeric]
+    for attr in ("shape", "material", "family"):
+        values = sorted({getattr(specs[n], attr) for n in names})
+        blocks.append(np.array([[getattr(specs[n], attr) == v for v in values] for n in names], dtype=float))
+    table = np.hstack(blocks)
+    row = {n: i for i, n in enumerate(names)}
+    return [table[[row[o] for o in d.objects]] for d in datasets]
+
+
 def _embed_all(
-    names: list[str], datasets: list[EvalDataset], cache_dir: Path | None, log: Callable[[str], None]
+    names: list[str],
+    datasets: list[EvalDataset],
+    cache_dir: Path | None,
+    log: Callable[[str], None],
+    kitchen: str = "kitchen",
 ) -> tuple[dict[str, list[np.ndarray]], dict[str, str], dict[str, float]]:
     from scone_bt.embedding import load_embedder
 
@@ -314,6 +355,10 @@ def _embed_all(
     vocabulary = sorted({a for d in datasets for a in d.actions})
     for name in names:
         t0 = time.perf_counter()
+        if name == ORACLE_EMBEDDER:
+            features[name] = oracle_features(datasets, kitchen)
+            seconds[name] = round(time.perf_counter() - t0, 2)
+            continue
         try:
             emb = load_embedder(name, cache_dir, vocabulary=vocabulary if name == "onehot" else None)
             features[name] = embed_datasets(datasets, emb.embed)
@@ -363,7 +408,7 @@ def run_evaluate(args: argparse.Namespace) -> int:
         refit_every=args.refit_every,
     )
     datasets = load_eval_datasets(args.data, min_rows=options.min_rows, kitchen=args.kitchen)
-    features, skipped, embed_s = _embed_all(embedders, datasets, args.cache_dir, log)
+    features, skipped, embed_s = _embed_all(embedders, datasets, args.cache_dir, log, args.kitchen)
     embedders = [e for e in embedders if e in features]
     if not embedders:
         raise SconeError(f"no embedder could be loaded ({'; '.join(skipped.values())})")
