@@ -97,6 +97,8 @@ class GraspParams:
         side_grasps: Generate side grasps at all.
         side_max_angle: Largest angle (rad) between a side approach and the direction from the robot.
         side_depth: How far past the object's near face the side grasp point goes at most.
+        side_shallow_depth: A second, shallower side grasp point this far past the near face (0: none), costing
+            `shallow_cost` more: the hand stays farther from what stands behind the object.
         side_height_fraction: Height of the side grasp point as a fraction of the object's height.
         side_min_height: Lowest side grasp point above the support (the palm must clear it).
         side_top_margin: Lowest distance of a side grasp point below the object's top.
@@ -134,6 +136,7 @@ class GraspParams:
     side_grasps: bool = True
     side_max_angle: float = math.pi / 2
     side_depth: float = 0.03
+    side_shallow_depth: float = 0.0
     side_height_fraction: float = 0.6
     side_min_height: float = 0.045
     side_top_margin: float = 0.015
@@ -404,13 +407,17 @@ def grasp_candidates(
                     continue
                 d = np.array([np.cos(phi), np.sin(phi), 0.0])
                 half = _extent_along(spec, detection.yaw, phi) / 2
-                point = np.array([top[0], top[1], z]) - d * (half - min(half, params.side_depth))
+                depths = [(min(half, params.side_depth), 0.0)]
+                if 0 < params.side_shallow_depth < depths[0][0] - 1e-9:
+                    depths.append((params.side_shallow_depth, params.shallow_cost))
                 closing = phi + np.pi / 2  # side_rotation(closing) approaches along (sin, -cos) = d
-                for yaw in (_wrap(closing), _wrap(closing + np.pi)):
-                    rot = side_rotation(_wrap(closing))
-                    if yaw != _wrap(closing):  # the other wrist angle: fingers swapped, x axis flipped
-                        rot = rot @ np.diag([-1.0, -1.0, 1.0])
-                    add(rot, point, yaw, 0.0, GraspFamily.SIDE)
+                for depth_in, extra in depths:
+                    point = np.array([top[0], top[1], z]) - d * (half - depth_in)
+                    for yaw in (_wrap(closing), _wrap(closing + np.pi)):
+                        rot = side_rotation(_wrap(closing))
+                        if yaw != _wrap(closing):  # the other wrist angle: fingers swapped, x axis flipped
+                            rot = rot @ np.diag([-1.0, -1.0, 1.0])
+                        add(rot, point, yaw, 0.0, GraspFamily.SIDE, extra)
 
     limit = None if opening is None else opening - params.opening_margin
     if limit is not None:

@@ -136,3 +136,43 @@ def test_grasp_settings_come_from_the_robot_file_section():
         GraspParams.from_section({"approach": -0.1}, "r.yaml")
     with pytest.raises(ConfigError, match="grasp.side_grasps must be bool"):
         GraspParams.from_section({"side_grasps": "yes"}, "r.yaml")
+
+
+def test_a_box_gets_off_centre_top_grasps_along_it_within_its_ends():
+    params = GraspParams(offsets=(0.02, 0.035, 0.05))
+    det = _det("box", (0.5, 0.3, 0.18))  # 7 cm along x, 5 cm along y
+    tops = [c for c in grasp_candidates(det, BOX, params, opening=0.08) if c.family is GraspFamily.TOP]
+    offsets = set()
+    for c in tops:
+        along = np.array([-np.sin(c.closing_yaw), np.cos(c.closing_yaw)])  # perpendicular to the closing axis
+        off = c.grasp[:2, 3] - np.array([0.5, 0.3])
+        assert abs(off @ c.grasp[:2, 1]) < 1e-9  # never along the closing axis: same faces, same span
+        offsets.add((round(abs(float(off @ along)), 3), round(c.span, 3)))
+    # Across the 5 cm side the box is 7 cm long: 2 cm fits (3.5 - 1.5 cm margin), 3.5 and 5 cm would leave it.
+    assert offsets == {(0.0, 0.05), (0.02, 0.05), (0.0, 0.07)}
+    centred = min(c.cost for c in tops if np.allclose(c.grasp[:2, 3], [0.5, 0.3]) and c.span < 0.06)
+    assert all(c.cost > centred for c in tops if not np.allclose(c.grasp[:2, 3], [0.5, 0.3]))
+    # A cylinder gripped off its axis would be held on a chord: none.
+    bottle = grasp_candidates(_det("bottle", (0.5, 0.3, 0.24)), BOTTLE, params, opening=0.08)
+    assert all(np.allclose(c.grasp[:2, 3], [0.5, 0.3]) for c in bottle if c.family is GraspFamily.TOP)
+
+
+def test_side_grasps_come_at_both_depths_the_deeper_first():
+    params = GraspParams(side_depth=0.045, side_shallow_depth=0.03)
+    det = _det("box", (0.5, 0.3, 0.18))
+    sides = [c for c in grasp_candidates(det, BOX, params, opening=0.08) if c.family is GraspFamily.SIDE]
+    by_yaw: dict[float, list] = {}
+    for c in sides:
+        by_yaw.setdefault(round(c.closing_yaw, 6), []).append(c)
+    assert by_yaw
+    for group in by_yaw.values():
+        approach = group[0].grasp[:3, 2]
+        half = (abs(approach[0]) * BOX.size[0] + abs(approach[1]) * BOX.size[1]) / 2
+        if half <= 0.03:  # thinner than the shallow depth: only the grasp at its centre
+            assert len(group) == 1
+            continue
+        assert len(group) == 2
+        deep, shallow = sorted(group, key=lambda c: c.cost)
+        face_to_point = (deep.grasp[:3, 3] - shallow.grasp[:3, 3]) @ deep.grasp[:3, 2]
+        # The deeper point is 1.5 cm farther along the approach (or at the centre, if the box is thinner).
+        assert 0.0 < face_to_point <= 0.015 + 1e-9
