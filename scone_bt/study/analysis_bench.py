@@ -169,9 +169,20 @@ def _recovery(args: argparse.Namespace) -> int:
             "bias_se": round(float(means.std(ddof=1) / np.sqrt(len(rs))), 4) if len(rs) > 1 else None,
             "mean_posterior_sd": round(float(np.mean([r["sd"] for r in rs])), 4),
         }
+        if len(rs) > 1:
+            # Calibration: if the data follow the model, the estimates spread across studies as much as one
+            # study's posterior sd says (ratio near 1; with n studies the ratio's own se is about 1/sqrt(2(n-1))).
+            entry["sd_of_estimates"] = round(float(means.std(ddof=1)), 4)
+            entry["sd_of_estimates_over_mean_sd"] = round(
+                float(means.std(ddof=1)) / entry["mean_posterior_sd"], 3
+            )
         if rs and "clmm" in rs[0]:
-            diff = means - np.array([r["clmm"] for r in rs])
-            entry["clmm_mean_estimate"] = round(float(np.mean([r["clmm"] for r in rs])), 4)
+            ml = np.array([r["clmm"] for r in rs])
+            diff = means - ml
+            entry["clmm_mean_estimate"] = round(float(ml.mean()), 4)
+            entry["clmm_mean_se"] = round(float(np.mean([r["clmm_se"] for r in rs])), 4)
+            if len(rs) > 1:
+                entry["clmm_sd_of_estimates"] = round(float(ml.std(ddof=1)), 4)
             entry["mean_minus_clmm"] = round(float(diff.mean()), 4)
             entry["mean_minus_clmm_range"] = [round(float(diff.min()), 4), round(float(diff.max()), 4)]
         summary[name] = entry
