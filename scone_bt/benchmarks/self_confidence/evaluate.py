@@ -9,7 +9,15 @@ The protocols and the ε-greedy rule are documented in protocols.py. Every disti
 per embedder (the embedding cache makes a rerun start fast); grounded estimators get each row's embedding followed
 by its execution context. The pairs run as independent tasks (local processes or Ray; results are identical).
 JSON: ``protocols`` → ``algorithm1`` | ``novel_products`` | ``leave_family_out`` → list of
-``{embedder, estimator, auc: {mean, std}, auroc, brier, ece, ...}``; ``--out DIR`` adds Markdown and PNGs.
+``{embedder, estimator, auc: {mean, std}, auroc, brier, ece, ece_noise_floor, ...}``; ``--out DIR`` adds Markdown
+and PNGs. ``ece_noise_floor`` is the ECE a perfectly calibrated predictor making the same pooled predictions gets
+from sampling alone (metrics.ece_noise_floor). Estimators "<name>-cal" are Platt-calibrated on out-of-fold scores
+of the training rows (scone_bt.confidence.calibration; four fits per fit, so not in the default grid). The
+embedder "oracle-attributes" is no embedder: each product's true catalogue attributes, the ceiling of an
+ungrounded κ̂ (reported, never a pair in the targets).
+
+Cells run longest first (a static cost estimate per estimator and embedding size), so the last tasks of the pool
+are the cheapest; results are aggregated in task order and do not depend on the schedule.
 """
 
 from __future__ import annotations

@@ -330,8 +330,9 @@ def evaluation_markdown(report: dict[str, Any], name: str = "self_confidence") -
     if ceiling is not None:
         parts += [
             f"Ungrounded ceiling: with each product's true catalogue attributes instead of a text embedding "
-            f"({ORACLE}), the best ungrounded κ̂ reaches {_ms(ceiling):.3f} ({ceiling['estimator']}); an action "
-            "text cannot tell κ̂ more about the product than that.",
+            f"({ORACLE}), the best ungrounded κ̂ reaches {_ms(ceiling):.3f} ({ceiling['estimator']}): what these "
+            "estimators make of 80 rows when they know exactly which product each row holds, but not where it "
+            "stood. A text embedding can at best encode those attributes.",
             "",
         ]
     if "algorithm1" in report["protocols"]:
