@@ -84,6 +84,9 @@ LOCAL_IK_ITERATIONS = 40
 LINE_TOLERANCE = 0.006
 """Largest sideways drift (m) of the hand from a straight descent, lift, lowering or retreat."""
 
+LINE_MIN_TOLERANCE = 0.001
+"""Tightest sideways drift (m) asked of a descent (beside a tight fit; the arm tracks to about this)."""
+
 LINE_MAX_WAYPOINTS = 8
 """Most pieces a straight hand motion is split into (each timed from rest to rest)."""
 
@@ -286,12 +289,17 @@ class _Planner:
         return None if sol is None else sol.q
 
     def line(
-        self, q_from: np.ndarray, pose_to: np.ndarray, world: CollisionWorld, what: str
+        self,
+        q_from: np.ndarray,
+        pose_to: np.ndarray,
+        world: CollisionWorld,
+        what: str,
+        tolerance: float = LINE_TOLERANCE,
     ) -> tuple[np.ndarray | None, str, list[str]]:
         """A joint path from q_from to `pose_to` along a straight end-effector line, or None, why, and blockers.
 
         IK follows the line in small steps (each seeded by the last) so the solution stays on the same branch.
-        Between successive waypoints the joint motion must stay within `LINE_TOLERANCE` of the line (sideways
+        Between successive waypoints the joint motion must stay within `tolerance` of the line (sideways
         drift pushes the object); where one joint-space segment bows out further (the arm's joints do not move
         linearly for a straight hand motion), the line is split in halves, up to `LINE_MAX_WAYPOINTS` pieces.
         Each piece must be collision-free.
@@ -311,7 +319,7 @@ class _Planner:
         def straight(qa: np.ndarray, qb: np.ndarray) -> bool:
             for t in (0.25, 0.5, 0.75):
                 off = self.arm.fk(qa + (qb - qa) * t)[:3, 3] - pa
-                if np.linalg.norm(off - axis * (off @ axis)) > LINE_TOLERANCE:
+                if np.linalg.norm(off - axis * (off @ axis)) > tolerance:
                     return False
             return True
 
@@ -484,6 +492,17 @@ def plan_pick_and_place(
 
     tally = _Tally()
     examined = 0
+    gap = req.opening if fingers is None else 2 * (fingers - req.finger_closed)
+
+    def descent_tolerance(cand: GraspCandidate) -> float:
+        """Sideways drift allowed on the way down: half the room beside the object, so no finger lands on it.
+
+        A tight fit (a 7.5 cm tub in the 8 cm opening leaves 2.5 mm a side) allows less than the usual line
+        tolerance; a finger that drifted onto the rim would tip the object over before the grip closes.
+        """
+        if gap is None:
+            return LINE_TOLERANCE
+        return float(np.clip((gap - cand.span) / 4, LINE_MIN_TOLERANCE, LINE_TOLERANCE))
 
     def next_feasible() -> _Grasp | None:
         nonlocal examined
@@ -520,7 +539,9 @@ def plan_pick_and_place(
                     names = _blockers(w_free, q_pre)
                     tally.blocked(f"{cand.family.value} pre-grasp collides ({_pair(w_free, q_pre)})", names)
                     continue
-                descend, why, names = p.line(q_pre, cand.grasp, w_grasp, f"{cand.family.value} descent")
+                descend, why, names = p.line(
+                    q_pre, cand.grasp, w_grasp, f"{cand.family.value} descent", descent_tolerance(cand)
+                )
                 if descend is None:
                     tally.blocked(why, names)
                     continue
