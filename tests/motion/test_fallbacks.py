@@ -325,3 +325,24 @@ def test_a_timed_out_query_is_retried_with_a_fresh_seed_before_no_path(arm, robo
     # Only a search that ran out of iterations is repeated; an invalid goal stays invalid whatever the seed.
     assert planner.plan(home, home + 0.1, world, retries=1).status is PlanStatus.GOAL_INVALID
     assert len(seeds) == 1
+
+
+TUB = _spec("tub", "cylinder", (0.075, 0.075, 0.07))
+
+
+def test_a_tight_fit_is_descended_on_with_no_more_drift_than_the_room_beside_it(setup, arm):
+    from scone_bt.motion import MotionPhase
+    from scone_bt.motion.pick_place import LINE_TOLERANCE
+
+    plan, _ = setup
+    # 7.5 cm in the 8 cm opening: 2.5 mm a side, less than the usual line tolerance.
+    result = plan(_det("tub", 0.37, 0.30, TUB.height), TUB)
+    assert isinstance(result, PickPlacePlan), result.message
+    assert result.finger_position is None  # fully open: the pre-shape would need more than the opening
+    room = (0.08 - TUB.size[0]) / 2
+    descent = next(s for s in result.segments if s.phase is MotionPhase.DESCEND)
+    pts = np.array([arm.fk(q)[:3, 3] for q in descent.trajectory.positions[::2]])
+    axis = (pts[-1] - pts[0]) / np.linalg.norm(pts[-1] - pts[0])
+    off = pts - pts[0]
+    drift = np.linalg.norm(off - np.outer(off @ axis, axis), axis=1).max()
+    assert drift < room / 2 < LINE_TOLERANCE, f"the descent drifts {drift * 1000:.2f} mm"
