@@ -495,14 +495,14 @@ def plan_pick_and_place(
     gap = req.opening if fingers is None else 2 * (fingers - req.finger_closed)
 
     def descent_tolerance(cand: GraspCandidate) -> float:
-        """Sideways drift allowed on the way down: half the room beside the object, so no finger lands on it.
+        """Sideways drift allowed on the way down: 2/3 of the room beside the object (no finger lands on it).
 
         A tight fit (a 7.5 cm tub in the 8 cm opening leaves 2.5 mm a side) allows less than the usual line
         tolerance; a finger that drifted onto the rim would tip the object over before the grip closes.
         """
         if gap is None:
             return LINE_TOLERANCE
-        return float(np.clip((gap - cand.span) / 4, LINE_MIN_TOLERANCE, LINE_TOLERANCE))
+        return float(np.clip((gap - cand.span) / 3, LINE_MIN_TOLERANCE, LINE_TOLERANCE))
 
     def next_feasible() -> _Grasp | None:
         nonlocal examined

@@ -330,7 +330,7 @@ def test_a_timed_out_query_is_retried_with_a_fresh_seed_before_no_path(arm, robo
 TUB = _spec("tub", "cylinder", (0.075, 0.075, 0.07))
 
 
-def test_a_tight_fit_is_descended_on_with_no_more_drift_than_the_room_beside_it(setup, arm):
+def test_a_tight_fit_is_descended_on_with_less_drift_than_the_room_beside_it(setup, arm):
     from scone_bt.motion import MotionPhase
     from scone_bt.motion.pick_place import LINE_TOLERANCE
 
@@ -345,4 +345,4 @@ def test_a_tight_fit_is_descended_on_with_no_more_drift_than_the_room_beside_it(
     axis = (pts[-1] - pts[0]) / np.linalg.norm(pts[-1] - pts[0])
     off = pts - pts[0]
     drift = np.linalg.norm(off - np.outer(off @ axis, axis), axis=1).max()
-    assert drift < room / 2 < LINE_TOLERANCE, f"the descent drifts {drift * 1000:.2f} mm"
+    assert drift < 2 * room / 3 < LINE_TOLERANCE, f"the descent drifts {drift * 1000:.2f} mm"
