@@ -5,6 +5,11 @@ row, the packaging `family` and the six execution-context values a grounded κ̂
 (`scone_bt.confidence.CONTEXT_FIELDS`; the catalogue's own width, height and mass are properties of the product,
 not of the execution, and stay out). A missing context column or cell is NaN; a file without a `family` column
 takes each object's family from the kitchen catalogue, "unknown" where the object is not in it.
+
+The context is what the robot knows when it decides (`decision_time_context`): in the episode only a detected
+product becomes a candidate, so `detected` is 1 on every row, and an undetected row's sizes are the product's own
+width and height (what the depth image would have measured). Read as recorded, `detected = 0` and its missing
+sizes name the perception failures (about 5 % of the rows) and give their label away.
 """
 
 from __future__ import annotations
@@ -19,7 +24,7 @@ from scone_bt.benchmarks.self_confidence.dataset import Dataset, load_datasets
 from scone_bt.confidence.grounded import CONTEXT_FIELDS
 from scone_bt.errors import ConfigError
 
-__all__ = ["EvalDataset", "UNKNOWN_FAMILY", "load_eval_datasets"]
+__all__ = ["EvalDataset", "UNKNOWN_FAMILY", "decision_time_context", "load_eval_datasets"]
 
 UNKNOWN_FAMILY = "unknown"
 
@@ -63,6 +68,20 @@ class EvalDataset:
         return cls(data.name, data.actions, data.objects, fam, data.success, ctx)
 
 
+def decision_time_context(data: Dataset) -> np.ndarray:
+    """(n, len(CONTEXT_FIELDS)) context as the robot has it when it decides (see the module docstring)."""
+    n = len(data)
+    nan = np.full(n, np.nan)
+    col = {c: np.asarray(data.context.get(c, nan), dtype=np.float64).copy() for c in CONTEXT_FIELDS}
+    if "detected" in col:
+        undetected = col["detected"] == 0
+        for measured, true in (("detected_width_m", "width_m"), ("detected_height_m", "height_m")):
+            if measured in col and true in data.context:
+                col[measured][undetected] = data.context[true][undetected]
+        col["detected"] = np.where(np.isnan(col["detected"]), np.nan, 1.0)
+    return np.column_stack([col[c] for c in CONTEXT_FIELDS])
+
+
 def _catalogue_families(kitchen: str) -> dict[str, str]:
     from scone_bt.config import load_kitchen
 
@@ -95,7 +114,5 @@ def load_eval_datasets(
             if lookup is None:
                 lookup = _catalogue_families(kitchen)
             families = [lookup.get(o, UNKNOWN_FAMILY) for o in d.objects]
-        nan = np.full(len(d), np.nan)
-        ctx = np.column_stack([np.asarray(d.context.get(c, nan), dtype=np.float64) for c in CONTEXT_FIELDS])
-        out.append(EvalDataset.from_dataset(d, families, ctx))
+        out.append(EvalDataset.from_dataset(d, families, decision_time_context(d)))
     return out
