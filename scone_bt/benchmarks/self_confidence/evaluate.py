@@ -76,8 +76,18 @@ __all__ = [
 DEFAULT_EMBEDDERS = ("onehot", "glove", "minilm", "mpnet", "mpnet-ft")
 """Embedders of the default grid (those not installed are skipped and reported)."""
 _PAPER = ("knn", "lgbm", "rf", "svm", "mlp", "xgb")
-DEFAULT_ESTIMATORS = (*_PAPER, *(f"eps-{n}" for n in _PAPER), "gp", "grounded-lgbm", "grounded-gp")
-"""Estimators of the default grid: the paper's six, each ε-greedy, the GP, and two grounded ones."""
+DEFAULT_ESTIMATORS = (
+    *_PAPER,
+    *(f"eps-{n}" for n in _PAPER),
+    "gp",
+    "grounded-knn",
+    "grounded-lgbm",
+    "grounded-gp",
+    "grounded-lgbm-cal",
+    "grounded-gp-cal",
+)
+"""Estimators of the default grid: the paper's six, each ε-greedy, the GP, three grounded ones and the calibrated
+variants of the two grounded ones that the ECE target is about."""
 
 
 class Estimator(TypingProtocol):
