@@ -6,6 +6,11 @@ lane along its tier: its footprint along the tier plus room for a finger on each
 lowest tier up; a tier whose products are too wide for it passes its lightest ones to the next tier with room. On
 a tier, products keep the order of their drawn slots and are pushed apart only as far as their lanes need, so
 products of ordinary width stand exactly on their slots.
+
+A product deeper than its tier (more than MAX_OVERHANG_M over the front edge) stands against the riser, square to
+it, and on a lowest tier when one has room: on a higher tier its front would hang over the tier below, where the
+products standing there are taller than the step and the two would be stocked inside each other (the solver then
+throws both off the shelf).
 """
 
 from __future__ import annotations
@@ -70,6 +75,14 @@ def fits_shelf(spec: ObjectSpec, scene: SceneSpec) -> bool:
     return False
 
 
+def _too_deep(spec: ObjectSpec, scene: SceneSpec) -> bool:
+    """True if the product, square to the riser, sticks out over the front edge of a tier by more than allowed."""
+    return any(
+        footprint(spec, _turn(spec, unit.tier_depth))[0] > unit.tier_depth + MAX_OVERHANG_M
+        for unit in scene.shelves
+    )
+
+
 def _segment(unit: ShelfUnit, tier: int) -> tuple[float, float]:
     """The stretch of a tier products may occupy: from half a pitch before its first slot to after its last."""
     slots = unit.tiers[tier].slots
@@ -101,6 +114,9 @@ def plan_stocking(scene: SceneSpec, specs: Sequence[ObjectSpec], rng: np.random.
     tier_keys = list(
         dict.fromkeys(tier_keys)
     )  # drawn tiers first (lowest first), then every other, lowest first
+    deep = {i for i, spec in enumerate(specs) if _too_deep(spec, scene)}
+    for i in deep:  # drawn above, so the seeded draws of every other product stay as they were
+        yaws[i] = 0.0
     wanted: dict[int, float] = {}  # product index -> v of its drawn slot
     tier_of: dict[int, tuple[str, int]] = {}
     for rank, i in enumerate(by_mass):
@@ -118,10 +134,20 @@ def plan_stocking(scene: SceneSpec, specs: Sequence[ObjectSpec], rng: np.random.
         _, v = footprint(specs[i], yaws[i] + _turn(specs[i], unit.tier_depth))
         return max(LANE_MIN_M, v + FINGER_ROOM_M)
 
-    # Too wide for their tier: the lightest products move up to the next tier with room.
+    # Too deep for a higher tier: down to a lowest tier with room, its own unit's first.
+    for i in sorted(deep, key=lambda i: -specs[i].mass):
+        unit_name, tier_index = tier_of[i]
+        if tier_index == 0:
+            continue
+        lowest = sorted((k for k in tier_keys if k[1] == 0), key=lambda k: k[0] != unit_name)
+        room = [k for k in lowest if used(k, i) <= _length(units[k[0]], k[1]) + 1e-9]
+        if room:
+            tier_of[i] = room[0]
+
+    # Too wide for their tier: the lightest products move up to the next tier with room (a deep one last).
     feasible = True
     for key in tier_keys:
-        members = sorted((i for i in tier_of if tier_of[i] == key), key=lambda i: specs[i].mass)
+        members = sorted((i for i in tier_of if tier_of[i] == key), key=lambda i: (i in deep, specs[i].mass))
         while members and used(key) > _length(units[key[0]], key[1]) + 1e-9:
             moved = members.pop(0)
             here = tier_keys.index(key)

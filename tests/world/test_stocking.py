@@ -72,3 +72,28 @@ def test_too_many_or_too_wide_is_a_config_error(kitchen_cfg):
     wide = [_product(f"w{i}", 0.3, (0.08, 0.30, 0.1), "box") for i in range(len(scene.slots()))]
     with pytest.raises(ConfigError, match="side by side"):
         plan_stocking(scene, wide, np.random.default_rng(0))
+
+
+def test_a_product_deeper_than_its_tier_stands_square_on_a_lowest_tier(kitchen_cfg):
+    # The light flat pack is drawn onto upper tiers (heaviest lowest); its front would hang over the tier below.
+    scene = kitchen_cfg.scene
+    flat = _product("tortillas", 0.05, size=(0.22, 0.22, 0.02), shape="box")
+    tall = [_product(f"jar{i}", 1.0, size=(0.075, 0.075, 0.13)) for i in range(9)]
+    for seed in range(6):
+        places = plan_stocking(scene, [flat, *tall], np.random.default_rng(seed))
+        unit = next(u for u in scene.shelves if u.name == places[0].unit)
+        assert places[0].tier == 0, seed
+        assert places[0].yaw == pytest.approx(unit.facing_yaw), seed
+        # Its centre of mass stays over the tier (stands against the riser, overhanging the front).
+        assert _unit_v(scene, places[0])[0] > unit.tiers[0].center - unit.tier_depth / 2, seed
+
+
+def test_products_that_fit_their_tier_keep_their_seeded_places(kitchen_cfg):
+    # Adding a deep product elsewhere in the list changes no other product's draws.
+    scene = kitchen_cfg.scene
+    specs = [_product(f"p{i}", 0.2 + 0.1 * i) for i in range(8)]
+    deep = _product("tray", 0.05, size=(0.22, 0.22, 0.02), shape="box")
+    shallow = _product("tray", 0.05, size=(0.08, 0.08, 0.02), shape="box")
+    a = plan_stocking(scene, [*specs, deep], np.random.default_rng(3))
+    b = plan_stocking(scene, [*specs, shallow], np.random.default_rng(3))
+    assert [p.yaw for p in a[:-1]] == [p.yaw for p in b[:-1]]
