@@ -46,7 +46,8 @@ def _grid_inputs() -> GridInputs:
 
 def test_sc_grid_is_identical_with_and_without_ray(ray_runtime):
     inputs = _grid_inputs()
-    pairs = [("onehot", est) for est in ("knn", "eps-knn", "svm")]
+    # one-hot κ̂s mostly predict alike on two small datasets; the GP generalises differently, so results differ
+    pairs = [("onehot", est) for est in ("knn", "eps-knn", "gp")]
     results = {}
     for kind, workers in [
         (EngineKind.LOCAL, 1),
