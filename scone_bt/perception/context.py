@@ -6,8 +6,8 @@ height measured in the depth image. Everything comes from the robot's own detect
 simulator's state, so it is what the robot knows when it decides (and what a real robot would compute).
 
 The self-confidence datasets record the same quantities (scone_bt.benchmarks.self_confidence.context): the
-perceived size with the same measurement (`perceived_size` and `surface_below` live here now; the benchmark's copies
-are to become re-exports of these), the tier, clearance and neighbours there from the stocking plan.
+perceived size with the same measurement (`perceived_size` and `surface_below`, which that module re-exports), the
+tier, clearance and neighbours there from the stocking plan.
 Here the catalogue entry the detector named gives each product's footprint and height, and the detected yaw its
 turn on the tier.
 """
