@@ -104,28 +104,32 @@ class CollisionWorld:
                 _geometry(attached.shape, attached.size, -0.005),
             )
             attached_id = gm.addGeometryObject(obj)
-        hand_links = set(arm.config.hand_links) | self._gripper_links()
-        pairs = [pin.CollisionPair(i, j) for i, j in arm.self_collision_pairs()]
+        hand_links = set(arm.config.hand_links) | arm.gripper_links
+        # The pairs to check as one boolean matrix (pinocchio reads its upper triangle), set in one call: a
+        # Python loop over a few hundred pairs cost as much as the checks of a short path.
+        check = np.zeros((gm.ngeoms, gm.ngeoms), dtype=bool)
+        if len(arm.self_pairs):
+            check[arm.self_pairs[:, 0], arm.self_pairs[:, 1]] = True
         base_link = arm.link_of_geometry[gm.geometryObjects[0].name]
-        for r in range(n_robot):
-            link = arm.link_of_geometry[gm.geometryObjects[r].name]
-            if link == base_link:
-                continue  # the base never moves; it sits on the pedestal
-            for name, oid in obstacle_ids:
-                if name in ignore_for_hand and link in hand_links:
-                    continue
-                pairs.append(pin.CollisionPair(r, oid))
-            if attached_id is not None and link not in hand_links:
-                pairs.append(pin.CollisionPair(r, attached_id))
+        robot_links = [arm.link_of_geometry[gm.geometryObjects[r].name] for r in range(n_robot)]
+        moving = np.array([link != base_link for link in robot_links])  # the base sits on the pedestal
+        in_hand = np.array([link in hand_links for link in robot_links])
+        if obstacle_ids:
+            ids = np.array([oid for _, oid in obstacle_ids])
+            # A pair whose two bounding spheres can never meet, whatever the joints do, is left out: each
+            # pair costs its own collision functor when the world is built.
+            centres = np.array([ob.pose[:3, 3] for ob in obstacles]) - base
+            radii = np.array(
+                [0.5 * float(np.linalg.norm(np.asarray(ob.size) + 2 * padding)) for ob in obstacles]
+            )
+            near = np.linalg.norm(centres, axis=1)[None, :] <= (arm.geometry_reach[:, None] + radii[None, :])
+            ignored = np.array([name in ignore_for_hand for name, _ in obstacle_ids])
+            check[:n_robot, ids] = moving[:, None] & near & ~(in_hand[:, None] & ignored[None, :])
         if attached_id is not None:
+            check[:n_robot, attached_id] = moving & ~in_hand
             for _, oid in obstacle_ids:
-                pairs.append(
-                    pin.CollisionPair(oid, attached_id)
-                    if oid < attached_id
-                    else pin.CollisionPair(attached_id, oid)
-                )
-        for pair in pairs:
-            gm.addCollisionPair(pair)
+                check[min(oid, attached_id), max(oid, attached_id)] = True
+        gm.setCollisionPairs(check, True)
         self.geom_model = gm
         self.geom_data = gm.createData()
         # An AABB tree over the geometries: only pairs whose boxes overlap reach the narrow phase (about three
@@ -141,12 +145,6 @@ class CollisionWorld:
         # The axis kept vertical: the held object's up axis, or else the hand's approach axis pointing down.
         up_in_ee = attached.pose[:3, 2] if attached is not None else np.array([0.0, 0.0, -1.0])
         self._up_in_joint = np.asarray(ee.placement.rotation) @ up_in_ee
-
-    def _gripper_links(self) -> set[str]:
-        """The end-effector's link and every link downstream of it (hand, fingers)."""
-        model = self.arm.model
-        ee_joint = self.arm.ee_joint
-        return {f.name for f in model.frames if f.parentJoint == ee_joint and f.type.name == "BODY"}
 
     def is_valid(self, q: np.ndarray) -> bool:
         """True if q is within joint limits and nothing collides (self, obstacles, attached object)."""
@@ -228,11 +226,12 @@ class HandModel:
                 ob.name,
                 _geometry(ob.shape, ob.size, padding),
                 coal.Transform3s(ob.pose[:3, :3].copy(), ob.pose[:3, 3].copy()),
-                ob.pose[:3, 3].copy(),
-                0.5 * float(np.linalg.norm(ob.size)) + padding,
             )
             for ob in obstacles
         ]
+        # Centres and bounding radii as arrays: one vectorised distance test per query picks the near ones.
+        self._centres = np.array([ob.pose[:3, 3] for ob in obstacles], dtype=float).reshape(-1, 3)
+        self._radii = np.array([0.5 * float(np.linalg.norm(ob.size)) + padding for ob in obstacles])
         self._request = coal.CollisionRequest()
         self.checks = 0
 
@@ -243,20 +242,18 @@ class HandModel:
         self.checks += 1
         hits: list[str] = []
         origin = ee_pose[:3, 3]
-        near = [
-            o
-            for o in self._obstacles
-            if o[0] not in ignore and np.linalg.norm(o[3] - origin) < self._reach + o[4]
-        ]
+        close = np.linalg.norm(self._centres - origin, axis=1) < self._reach + self._radii
+        near = [o for o, c in zip(self._obstacles, close, strict=True) if c and o[0] not in ignore]
         if not near:
             return hits
+        result = coal.CollisionResult()
         for geom, local in self._parts:
             world = ee_pose @ local
             tf = coal.Transform3s(world[:3, :3].copy(), world[:3, 3].copy())
-            for name, ogeom, otf, _, _ in near:
+            for name, ogeom, otf in near:
                 if name in hits:
                     continue
-                result = coal.CollisionResult()
+                result.clear()
                 if coal.collide(geom, tf, ogeom, otf, self._request, result):
                     hits.append(name)
         return hits

@@ -110,6 +110,7 @@ class ArmModel:
         self._local = threading.local()
         self.lower = np.array(self.model.lowerPositionLimit, dtype=float)
         self.upper = np.array(self.model.upperPositionLimit, dtype=float)
+        self._lower_tol, self._upper_tol = self.lower - 1e-9, self.upper + 1e-9
         self.dof = self.model.nq
         self.robot_geometry = [g.name for g in self.geom_model.geometryObjects]
         self.link_of_geometry = {
@@ -124,6 +125,12 @@ class ArmModel:
             if self.link_of_geometry[g.name] in finger_links and g.parentJoint == self.ee_joint:
                 y = float((ee_from_joint @ g.placement.homogeneous)[1, 3])
                 self.finger_geometry[k] = 1.0 if y >= 0 else -1.0
+        # Fixed for the arm's lifetime; every collision world of every plan uses them.
+        self.self_pairs = np.array(self._self_collision_pairs(), dtype=int).reshape(-1, 2)
+        self.gripper_links = frozenset(
+            f.name for f in self.model.frames if f.parentJoint == self.ee_joint and f.type.name == "BODY"
+        )
+        self.geometry_reach = self._geometry_reach()
 
     def geometry_with_fingers(self, position: float | None) -> object:
         """A copy of the collision model with each finger at `position` (m from centre, like the gripper joints).
@@ -164,6 +171,30 @@ class ArmModel:
         reach = float(sum(np.linalg.norm(b - a) for a, b in zip(points[:-1], points[1:], strict=True)))
         return points[0] + np.asarray(self.config.base_position), reach
 
+    def _geometry_reach(self) -> np.ndarray:
+        """Per robot geometry, an upper bound (m) of the distance of any of its points from the model's origin.
+
+        A joint's origin is its parent's origin plus a fixed offset turned by the joints before it, so its
+        distance from the origin is at most the sum of the offsets' lengths along the chain, whatever q; the
+        geometry's own bounding sphere (centre and radius in its joint's frame) adds to that. An obstacle
+        farther than this (plus its own radius) can never touch the geometry, so no collision pair is needed.
+        """
+        origin = np.zeros(self.model.njoints)
+        for j in range(1, self.model.njoints):
+            offset = float(np.linalg.norm(self.model.jointPlacements[j].translation))
+            origin[j] = origin[self.model.parents[j]] + offset
+        out = np.empty(self.geom_model.ngeoms)
+        for k, g in enumerate(self.geom_model.geometryObjects):
+            geom = g.geometry
+            geom.computeLocalAABB()
+            centre = g.placement.act(np.asarray(geom.aabb_center, dtype=float))
+            out[k] = origin[g.parentJoint] + float(np.linalg.norm(centre)) + float(geom.aabb_radius)
+        # A pre-shaped finger stands at most the whole stroke inwards of where it was loaded.
+        stroke = abs(self.config.gripper.open_position - self.config.gripper.closed_position)
+        for k in self.finger_geometry:
+            out[k] += stroke
+        return out
+
     def can_reach(self, position: Sequence[float], margin: float = 0.0) -> bool:
         """False if the point (world, metres) is certainly beyond the end-effector's reach."""
         return float(np.linalg.norm(np.asarray(position) - self.shoulder)) <= self.reach + margin
@@ -190,8 +221,10 @@ class ArmModel:
         return np.clip(q, self.lower, self.upper)
 
     def within_limits(self, q: np.ndarray, tol: float = 1e-9) -> bool:
-        # min/max of the differences: two array operations instead of four (called for every validity check).
-        return bool((q - self.lower).min() >= -tol and (self.upper - q).min() >= -tol)
+        # Called for every validity check: two comparisons against the tolerance-widened limits, cached.
+        if tol != 1e-9:
+            return bool(((q >= self.lower - tol) & (q <= self.upper + tol)).all())
+        return bool(((q >= self._lower_tol) & (q <= self._upper_tol)).all())
 
     def fk(self, q: np.ndarray, frame: str | None = None) -> np.ndarray:
         """World (4, 4) pose of a frame (default: the end-effector frame) at joint positions q (rad)."""
@@ -295,6 +328,9 @@ class ArmModel:
 
     def self_collision_pairs(self) -> list[tuple[int, int]]:
         """Index pairs of robot geometries to check against each other."""
+        return [(int(i), int(j)) for i, j in self.self_pairs]
+
+    def _self_collision_pairs(self) -> list[tuple[int, int]]:
         out = []
         geoms = self.geom_model.geometryObjects
         for i in range(len(geoms)):

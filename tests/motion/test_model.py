@@ -96,3 +96,40 @@ def test_malformed_disabled_pair_is_a_config_error(robot_cfg, tmp_path):
     path.write_text(text)
     with pytest.raises(ConfigError, match="disabled_pairs\\[0\\]"):
         load_robot(path)
+
+
+@pytest.mark.parametrize("robot", ["panda", "iiwa7"])
+def test_geometry_reach_bounds_every_geometry_over_random_joints(robot):
+    """The bound that prunes collision pairs must hold for every q, or a real collision would go unchecked."""
+    import pinocchio as pin
+
+    arm = ArmModel(load_robot(robot))
+    data, gdata = arm.model.createData(), arm.geom_model.createData()
+    rng = np.random.default_rng(0)
+    worst = 0.0
+    for _ in range(300):
+        q = rng.uniform(arm.lower, arm.upper)
+        pin.updateGeometryPlacements(arm.model, data, arm.geom_model, gdata, q)
+        for k, g in enumerate(arm.geom_model.geometryObjects):
+            g.geometry.computeLocalAABB()
+            centre = gdata.oMg[k].act(np.asarray(g.geometry.aabb_center, dtype=float))
+            far = float(np.linalg.norm(centre)) + float(g.geometry.aabb_radius)
+            assert far <= arm.geometry_reach[k] + 1e-9
+            worst = max(worst, far / arm.geometry_reach[k])
+    assert worst > 0.5  # a bound that is not absurdly loose
+
+
+def test_collision_world_keeps_every_pair_an_obstacle_in_reach_needs(arm, robot_cfg):
+    """Pairs are pruned only for obstacles beyond a link's reach: a box at the shoulder is still checked."""
+    from scone_bt.motion import Obstacle
+
+    base = np.asarray(robot_cfg.base_position)
+    near = Obstacle("near", "box", (0.05, 0.05, 0.05), pose_matrix(np.eye(3), base + [0.0, 0.0, 0.333]))
+    far = Obstacle("far", "box", (0.05, 0.05, 0.05), pose_matrix(np.eye(3), base + [5.0, 0.0, 0.0]))
+    world = CollisionWorld(arm, [near, far])
+    names = [g.name for g in world.geom_model.geometryObjects]
+    checked = {names[p.first] for p in world.geom_model.collisionPairs} | {
+        names[p.second] for p in world.geom_model.collisionPairs
+    }
+    assert "obstacle:near" in checked and "obstacle:far" not in checked
+    assert not world.is_valid(np.asarray(robot_cfg.home))  # the shoulder box is inside link 1
