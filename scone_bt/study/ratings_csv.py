@@ -15,7 +15,8 @@ Ratings CSV, one row per answered item::
 
 Sessions CSV, one row per session: ``participant,condition,session,group,interventions`` (a count >= 0).
 
-Every participant needs both conditions. Other column names are mapped with ``columns`` (e.g.
+Every participant needs both conditions, and the study needs both groups (both condition orders): with one group
+only, condition and session order are confounded. Other column names are mapped with ``columns`` (e.g.
 ``{"participant": "subject"}``). Files are read as UTF-8 (a byte-order mark is fine) and never modified. Anything
 wrong is a one-line RatingsFileError naming the file, the row (as a spreadsheet numbers it, header = row 1), the
 column and what is allowed.
@@ -151,8 +152,15 @@ def _design_row(path: Path, row: _Row, columns: Mapping[str, str]) -> tuple[str,
     return participant, condition, session, group
 
 
-def _check_design(path: Path, plan: dict[str, dict[int, tuple[str, str, int]]]) -> None:
-    """Each participant: one group, one condition per session, both conditions; each group: one order."""
+def _check_design(
+    path: Path, plan: dict[str, dict[int, tuple[str, str, int]]], columns: Mapping[str, str]
+) -> None:
+    """Each participant: one group, one condition per session, both conditions; each group: one order; both groups.
+
+    The paper's design is a crossover: group A has self-confidence on in session 1, group B off. With one group
+    only, every "on" answer is also a session-1 (or every one a session-2) answer, so the condition and session
+    effects are aliased and the analysis could only return undecided contrasts.
+    """
     orders: dict[str, tuple[str, tuple[str, ...]]] = {}
     for participant, sessions in sorted(plan.items()):
         groups = {g for _c, g, _line in sessions.values()}
@@ -177,6 +185,13 @@ def _check_design(path: Path, plan: dict[str, dict[int, tuple[str, str, int]]]) 
                 f"{path}: participant {participant!r} (group {group}) has the order {'/'.join(order)} but "
                 f"{first[0]!r} in the same group has {'/'.join(first[1])}; a group is one condition order"
             )
+    if len(orders) == 1:
+        ((group, (participant, order)),) = orders.items()
+        raise RatingsFileError(
+            f"{path}: column {columns.get('group', 'group')!r}: every participant is in group {group} (order "
+            f"{'/'.join(order)}, e.g. {participant!r}); the design needs both groups A and B, so that each "
+            "condition is seen in session 1 and in session 2, else condition and session order are confounded"
+        )
     if len(orders) == 2 and orders["A"][1] == orders["B"][1]:
         raise RatingsFileError(
             f"{path}: groups A and B both have the order {'/'.join(orders['A'][1])} (participants "
@@ -271,7 +286,7 @@ def load_ratings_csv(
                 "n_categories": k,
             }
         )
-    _check_design(rpath, plan)
+    _check_design(rpath, plan, columns)
     if not records:
         raise RatingsFileError(f"{rpath}: every rating is empty; nothing to analyse")
     frame = pd.DataFrame(records)

@@ -78,6 +78,12 @@ GOOD = ["P1,on,1,A,q1,3,5", "P1,off,2,A,q1,2,5", "P2,off,1,B,q1,1,5", "P2,on,2,B
             HEADER,
             r"groups A and B both have the order on/off",
         ),
+        (
+            ["P1,on,1,A,q1,3,5", "P1,off,2,A,q1,2,5", "P2,on,1,A,q1,1,5", "P2,off,2,A,q1,4,5"],
+            HEADER,
+            r"column 'group': every participant is in group A \(order on/off, e\.g\. 'P1'\); the design needs "
+            r"both groups A and B.*condition and session order are confounded",
+        ),
         ([], HEADER, r"no data rows"),
     ],
 )
@@ -86,6 +92,22 @@ def test_bad_ratings_are_one_line_errors(tmp_path, rows, header, message):
     with pytest.raises(RatingsFileError, match=message) as info:
         load_ratings_csv(path)
     assert "\n" not in str(info.value) and str(path) in str(info.value)
+
+
+def test_one_group_only_is_refused_before_any_sampling(tmp_path, capsys):
+    # Every participant in group B (off first): "on" is always session 2, so condition and session are aliased.
+    rows = ["P1,off,1,B,q1,3,5", "P1,on,2,B,q1,4,5", "P2,off,1,B,q1,1,5", "P2,on,2,B,q1,2,5"]
+    path = _write(tmp_path, rows, HEADER.replace(",group,", ",arm,"))
+    with pytest.raises(
+        RatingsFileError, match=r"column 'arm': every participant is in group B \(order off/on"
+    ):
+        load_ratings_csv(path, columns={"group": "arm"})
+    out = tmp_path / "out"
+    argv = ["analyze", "--ratings", str(path), "--columns", "group=arm", "--out", str(out)]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "needs both groups A and B" in err and str(path) in err and err.count("\n") == 1
+    assert not out.exists()  # nothing was sampled or written
 
 
 def test_wrong_encoding_and_bad_sessions(tmp_path):
