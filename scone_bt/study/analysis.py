@@ -445,6 +445,11 @@ def sample_model(model: Any, options: AnalysisOptions) -> Any:
         )
 
 
+def _drop_shape_validation(record: logging.LogRecord) -> bool:
+    """A logging filter: False for ArviZ's "Shape validation failed" (too few chains for R-hat), True otherwise."""
+    return not record.getMessage().startswith("Shape validation failed")
+
+
 def summarize_fit(name: str, idata: Any, n_obs: int, factors: Sequence[str], seconds: float) -> ModelFit:
     """Contrast and group-sd draws plus R-hat, ESS and divergences of one sampled model."""
     import arviz as az
@@ -452,12 +457,22 @@ def summarize_fit(name: str, idata: Any, n_obs: int, factors: Sequence[str], sec
     post = idata.posterior
     samples = {f: post[contrast_variable(f)].values.reshape(-1) for f in factors}
     samples.update({k: post[k].values.reshape(-1) for k in ("sigma_P", "sigma_Q") if k in post})
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        rhat = az.rhat(idata)
-        ess = az.ess(idata, method="bulk")
-    r_hat_max = float(max(np.nanmax(rhat[v].values) for v in rhat.data_vars))
-    ess_min = float(min(np.nanmin(ess[v].values) for v in ess.data_vars))
+    # With one chain (--chains 1, quick runs and power studies) ArviZ logs "Shape validation failed" to stderr for
+    # R-hat: it needs two chains and is NaN then, which results.json already shows. Drop just that record, from
+    # ArviZ's own logger and only around these two calls, so that its other messages still reach the user. ArviZ's
+    # logger is `arviz._log`, a Logger outside the logging registry (getLogger("arviz") is another object).
+    arviz_log = getattr(az, "_log", None) or logging.getLogger("arviz")
+    arviz_log.addFilter(_drop_shape_validation)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            rhat = az.rhat(idata)
+            ess = az.ess(idata, method="bulk")
+            # One chain: every R-hat is NaN, and nanmax warns "All-NaN slice"; the NaN is the answer.
+            r_hat_max = float(max(np.nanmax(rhat[v].values) for v in rhat.data_vars))
+            ess_min = float(min(np.nanmin(ess[v].values) for v in ess.data_vars))
+    finally:
+        arviz_log.removeFilter(_drop_shape_validation)
     stats = idata.sample_stats
     divergences = int(stats["diverging"].values.sum()) if "diverging" in stats else 0
     return ModelFit(name, n_obs, samples, round(r_hat_max, 4), round(ess_min, 1), divergences, seconds)
