@@ -1,4 +1,5 @@
-"""Study planning: seeded work items, counts drawn from Eq. (4), the same result on 1 and 2 worker processes."""
+"""Study planning: seeded work items, counts drawn from Eq. (4), simulated questionnaire answers on their scale,
+the same result on 1 and 2 worker processes."""
 
 from __future__ import annotations
 
@@ -8,8 +9,18 @@ import numpy as np
 import pytest
 
 from scone_bt.errors import SconeError, UnknownNameError
+from scone_bt.study.analysis import decide
 from scone_bt.study.cli import main
-from scone_bt.study.power import PowerOptions, run_power, simulate_counts, work_items, write_power
+from scone_bt.study.power import (
+    PowerOptions,
+    _simulate_answers,
+    run_one,
+    run_power,
+    simulate_counts,
+    work_items,
+    write_power,
+)
+from scone_bt.study.questionnaires import get_questionnaire
 
 
 def test_options_are_checked_before_any_work():
@@ -68,3 +79,50 @@ def test_power_is_the_same_on_one_and_two_workers_and_is_written(tmp_path, capsy
         write_power(one, tmp_path / "power")
     assert main(["power", "--n", "6,x", "--out", str(tmp_path / "p2")]) == 2
     assert "not a comma list" in capsys.readouterr().err
+
+
+def test_questionnaire_power_run_answers_on_the_scale_and_seeded(tmp_path):
+    # A large stated effect on 4 participants, one short chain: quick, and the direction cannot be missed.
+    options = PowerOptions(
+        participants=(4,), repetitions=1, effect=3.0, measure="mdmt", chains=1, tune=60, draws=60
+    )
+    item = work_items(options)[0]
+    answers = _simulate_answers(options, item, tmp_path).ratings
+    mdmt = answers[answers["questionnaire"] == "mdmt"]
+    k = get_questionnaire("mdmt").n_categories
+    assert len(mdmt) > 0 and set(mdmt["n_categories"]) == {k}
+    assert mdmt["category"].between(0, k - 1).all()
+    assert (
+        mdmt.groupby("participant")["condition"].nunique().eq(2).all() and mdmt["participant"].nunique() == 4
+    )
+    assert set(mdmt["group"]) == {
+        "A",
+        "B",
+    }  # both condition orders, or condition and session would be aliased
+    # Static trust: the stated effect is the only difference between the conditions.
+    means = mdmt.groupby("condition")["category"].mean()
+    assert means["on"] > means["off"] + 1.0
+
+    first, again = run_one(options, item), run_one(options, item)
+    assert set(first) == {
+        "participants",
+        "repetition",
+        "study_seed",
+        "sampler_seed",
+        "mean",
+        "hdi",
+        "decision",
+        "r_hat_max",
+        "divergences",
+        "seconds",
+    }
+    assert (first["participants"], first["repetition"]) == (4, 0)
+    assert (first["study_seed"], first["sampler_seed"]) == (item.study_seed, item.sampler_seed)
+    assert first["hdi"][0] < first["mean"] < first["hdi"][1] and first["mean"] > 0
+    assert first["decision"] == decide(tuple(first["hdi"]), options.rope)
+    assert np.isnan(first["r_hat_max"])  # one chain: no R-hat
+    # Seeded: the same work item gives the same study and the same draws.
+    strip = ("seconds", "r_hat_max")
+    assert {k: v for k, v in first.items() if k not in strip} == {
+        k: v for k, v in again.items() if k not in strip
+    }
