@@ -57,9 +57,9 @@ def make_estimator(name: str, seed: int = 0, **options: float) -> ConfidenceEsti
     Args:
         name: One of ESTIMATORS, GROUNDED_ESTIMATORS or CALIBRATED_ESTIMATORS (or "xgboost").
         seed: Seeds model fitting and ε-greedy draws.
-        **options: Constructor options: k (knn, conformal), n_estimators (rf, lgbm, xgb), C (svm), hidden
-            (mlp), length_scale and restarts (gp), prior (all but conformal), epsilon and half_life (eps-*
-            only), n_context and context_weight (grounded-* only).
+        **options: Constructor options: k (knn, conformal), n_estimators (rf, lgbm, xgb), colsample (lgbm), C
+            (svm), hidden (mlp), length_scale and restarts (gp), prior (all but conformal), epsilon and half_life
+            (eps-* only), n_context and context_weight (grounded-* only).
 
     Raises:
         UnknownNameError: not one of those names.
