@@ -59,11 +59,40 @@ class KNNEstimator(ConfidenceEstimator):
         return self._labels[nearest].mean(axis=1)
 
 
+_FOREST_CLASS: list[type] = []
+
+
+def _forest_class() -> type:
+    """RandomForestClassifier that makes each tree from the forest's parameters instead of cloning a template.
+
+    scikit-learn clones its template tree and sets its parameters through `get_params` for every tree, which
+    costs about a quarter of fitting 50 trees on tens of rows. The trees are the same: the same parameters and
+    the same per-tree seed, drawn from the forest's random state as `_set_random_states` draws it (a tree has
+    one random_state). tests/confidence/test_estimators.py checks the probabilities against the stock forest.
+    """
+    if not _FOREST_CLASS:
+        from sklearn.ensemble import RandomForestClassifier
+        from sklearn.tree import DecisionTreeClassifier
+
+        class _Forest(RandomForestClassifier):
+            def _make_estimator(self, append: bool = True, random_state: object = None) -> object:
+                tree = DecisionTreeClassifier(**{p: getattr(self, p) for p in self.estimator_params})
+                if random_state is not None:
+                    tree.random_state = random_state.randint(np.iinfo(np.int32).max)  # type: ignore[attr-defined]
+                if append:
+                    self.estimators_.append(tree)
+                return tree
+
+        _FOREST_CLASS.append(_Forest)
+    return _FOREST_CLASS[0]
+
+
 class RandomForestEstimator(ConfidenceEstimator):
     """scikit-learn random forest (50 trees, one thread).
 
-    Prediction calls each fitted tree's compiled `tree_.predict` directly and averages the class fractions, which
-    is what `predict_proba` computes, without its per-call thread-pool set-up (several ms for 21 rows).
+    Fitting builds the trees without scikit-learn's per-tree cloning (_forest_class); prediction calls each
+    fitted tree's compiled `tree_.predict` directly and averages the class fractions, which is what
+    `predict_proba` computes, without its per-call thread-pool set-up (several ms for 21 rows).
     """
 
     def __init__(self, name: str = "rf", seed: int = 0, n_estimators: int = 50, prior: float = 0.5) -> None:
@@ -72,10 +101,8 @@ class RandomForestEstimator(ConfidenceEstimator):
         self._model: object = None
 
     def _fit_model(self, X: np.ndarray, y: np.ndarray) -> None:
-        from sklearn.ensemble import RandomForestClassifier
-
-        self._model = RandomForestClassifier(n_estimators=self.n_estimators, random_state=self.seed, n_jobs=1)
-        self._model.fit(X, y)
+        self._model = _forest_class()(n_estimators=self.n_estimators, random_state=self.seed, n_jobs=1)
+        self._model.fit(X, y)  # type: ignore[attr-defined]
 
     def _predict_model(self, X: np.ndarray) -> np.ndarray:
         X = np.ascontiguousarray(X, dtype=np.float32)

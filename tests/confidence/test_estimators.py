@@ -152,6 +152,19 @@ def test_random_forest_fast_path_matches_predict_proba():
     np.testing.assert_allclose(est.predict(Xt), est._model.predict_proba(Xt)[:, 1], atol=1e-12)
 
 
+def test_random_forest_trees_are_those_of_the_stock_forest():
+    from sklearn.ensemble import RandomForestClassifier
+
+    rng = np.random.default_rng(4)
+    X = rng.standard_normal((60, 300)).astype(np.float32)  # wide and noisy: every tree differs from the next
+    y = rng.random(60) < 0.6
+    Xt = rng.standard_normal((25, 300)).astype(np.float32)
+    stock = RandomForestClassifier(n_estimators=50, random_state=3, n_jobs=1).fit(X, y)
+    est = make_estimator("rf", seed=3).fit(X, y)
+    np.testing.assert_allclose(est.predict(Xt), stock.predict_proba(Xt)[:, 1], atol=1e-12)
+    assert len({float(p) for p in est.predict(Xt)}) > 5
+
+
 def test_epsilon_belief_is_the_base_probability_and_decide_adds_exploration():
     X, y = _profile(120, seed=9)
     eps = make_estimator("eps-lgbm", seed=3, epsilon=0.6, half_life=1e6).fit(X[:80], y[:80])
