@@ -12,7 +12,8 @@ JSON: ``protocols`` → ``algorithm1`` | ``novel_products`` | ``leave_family_out
 ``{embedder, estimator, auc: {mean, std}, auroc, brier, ece, ece_noise_floor, ...}``; ``--out DIR`` adds Markdown
 and PNGs. ``ece_noise_floor`` is the ECE a perfectly calibrated predictor making the same pooled predictions gets
 from sampling alone (metrics.ece_noise_floor). Estimators "<name>-cal" are Platt-calibrated on out-of-fold scores
-of the training rows (scone_bt.confidence.calibration; four fits per fit, so not in the default grid). The
+of the training rows (scone_bt.confidence.calibration; four fits per fit); with <name> in the grid too, one task
+computes both from the same fits (evaluate_grid_cells) and <name>'s pair_wall_s is 0. The
 embedder "oracle-attributes" is no embedder: each product's true catalogue attributes, the ceiling of an
 ungrounded κ̂ (reported, never a pair in the targets).
 
@@ -43,6 +44,7 @@ from scone_bt.benchmarks.self_confidence.protocols import (
     PairResult,
     Protocol,
     aggregate_cells,
+    evaluate_calibrated_cells,
     evaluate_cell,
     evaluate_protocols,
     row_order,
@@ -62,9 +64,11 @@ __all__ = [
     "PairResult",
     "embed_datasets",
     "evaluate_grid_cell",
+    "evaluate_grid_cells",
     "evaluate_grid_pair",
     "evaluate_pair",
     "oracle_features",
+    "paired_calibrated",
     "prior_baseline",
     "register_evaluate",
     "cell_cost",
@@ -170,6 +174,7 @@ class GridInputs:
         protocols: Protocols to run.
         cell_cache: Folder of finished cells (JSON, keyed by the hash of everything a cell depends on), or
             None to compute every cell.
+        with_base: "<name>-cal" estimators whose cells also give <name>'s cells (evaluate_grid_cells).
     """
 
     datasets: tuple[Dataset | EvalDataset, ...]
@@ -177,6 +182,7 @@ class GridInputs:
     options: EvalOptions
     protocols: tuple[Protocol, ...] = tuple(Protocol)
     cell_cache: Path | None = None
+    with_base: frozenset[str] = frozenset()
 
 
 def _factory(est: str, opts: EvalOptions) -> EstimatorFactory:
@@ -244,30 +250,75 @@ def _code_digest() -> str:
     return _CODE_DIGEST[0]
 
 
-def evaluate_grid_cell(task: tuple[str, str, int, int], inputs: GridInputs) -> CellResult:
-    """One (embedder, estimator, shuffle, dataset index) cell of the grid, from the cell cache when it is there."""
+def _cached_cell(path: Path | None) -> CellResult | None:
     import json
 
+    if path is None or not path.is_file():
+        return None
+    try:
+        return CellResult.from_json(json.loads(path.read_text()))
+    except (ValueError, KeyError, TypeError):
+        return None  # a damaged entry is recomputed
+
+
+def _store_cell(path: Path | None, cell: CellResult) -> None:
+    import json
+
+    if path is None:
+        return
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(f".{os.getpid()}.tmp")
+    tmp.write_text(json.dumps(cell.to_json()))
+    os.replace(tmp, path)
+
+
+def evaluate_grid_cell(task: tuple[str, str, int, int], inputs: GridInputs) -> CellResult:
+    """One (embedder, estimator, shuffle, dataset index) cell of the grid, from the cell cache when it is there."""
     emb, est, shuffle, di = task
     data = _as_eval(inputs.datasets[di : di + 1])[0]
     X = _inputs_of(est, inputs.features[emb][di], data)
     path = None
     if inputs.cell_cache is not None:
         path = Path(inputs.cell_cache) / f"{_cell_key(task, data, X, inputs)}.json"
-        if path.is_file():
-            try:
-                return CellResult.from_json(json.loads(path.read_text()))
-            except (ValueError, KeyError, TypeError):
-                pass  # a damaged entry is recomputed
-    cell = evaluate_cell(
+    cell = _cached_cell(path)
+    if cell is None:
+        cell = evaluate_cell(
+            est, data, X, di, shuffle, _factory(est, inputs.options), inputs.protocols, inputs.options
+        )
+        _store_cell(path, cell)
+    return cell
+
+
+def evaluate_grid_cells(task: tuple[str, str, int, int], inputs: GridInputs) -> tuple[CellResult, ...]:
+    """The grid's unit of work: (the task's cell,), or for an estimator in inputs.with_base (its cell, its base's).
+
+    A calibrated estimator's final fits are its base estimator's fits (protocols.evaluate_calibrated_cells), so
+    the grid computes both cells in one task instead of fitting the base again in a task of its own.
+    """
+    emb, est, shuffle, di = task
+    if est not in inputs.with_base:
+        return (evaluate_grid_cell(task, inputs),)
+    base_task = (emb, est.removesuffix("-cal"), shuffle, di)
+    data = _as_eval(inputs.datasets[di : di + 1])[0]
+    X = _inputs_of(est, inputs.features[emb][di], data)  # a "-cal" name keeps its base's "grounded-" prefix
+    paths: list[Path | None] = [None, None]
+    if inputs.cell_cache is not None:
+        paths = [Path(inputs.cell_cache) / f"{_cell_key(t, data, X, inputs)}.json" for t in (task, base_task)]
+    cached = [_cached_cell(p) for p in paths]
+    if cached[0] is not None and cached[1] is not None:
+        return cached[0], cached[1]
+    cells = evaluate_calibrated_cells(
         est, data, X, di, shuffle, _factory(est, inputs.options), inputs.protocols, inputs.options
     )
-    if path is not None:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(f".{os.getpid()}.tmp")
-        tmp.write_text(json.dumps(cell.to_json()))
-        os.replace(tmp, path)
-    return cell
+    for path, cell in zip(paths, cells, strict=True):
+        _store_cell(path, cell)
+    return cells
+
+
+def paired_calibrated(estimators: Sequence[str]) -> frozenset[str]:
+    """The "<name>-cal" estimators of a grid whose <name> is in the grid too (their cells come in one task)."""
+    names = set(estimators)
+    return frozenset(k for k in names if k.endswith("-cal") and k.removesuffix("-cal") in names)
 
 
 _RELATIVE_COST = {"mlp": 5.0, "lgbm": 3.0, "rf": 2.0, "xgb": 0.8, "gp": 0.6, "svm": 0.5, "conformal": 0.05}
@@ -441,14 +492,24 @@ def run_evaluate(args: argparse.Namespace) -> int:
     tasks = [(e, k, s, di) for e, k in pairs for s in range(options.shuffles) for di in range(len(datasets))]
     engine = engine_from_args(args, args.workers, progress="cells (pair × dataset)")
     cache = None if args.no_cell_cache else _cell_cache_dir(args.cache_dir)
+    paired = paired_calibrated(estimators)
     inputs = GridInputs(
-        tuple(datasets), {e: features[e] for e in embedders}, options, tuple(protocols), cache
+        tuple(datasets), {e: features[e] for e in embedders}, options, tuple(protocols), cache, paired
     )
+    # A base estimator's cells come with its calibrated variant's (evaluate_grid_cells): no task of their own.
+    bases = {k.removesuffix("-cal") for k in paired}
+    work = [t for t in tasks if t[1] not in bases]
     # Longest cells first: the pool's last tasks are then the cheapest, so no worker idles on a long tail.
     # Cells seed their estimators themselves, so the order changes nothing but the wall time.
-    order = schedule_longest_first(tasks, {e: features[e][0].shape[1] for e in embedders})
-    run = map_tasks(evaluate_grid_cell, [tasks[i] for i in order], engine=engine, shared=inputs)
-    cells = [run[k] for k in np.argsort(order)]  # back in task order
+    order = schedule_longest_first(work, {e: features[e][0].shape[1] for e in embedders})
+    run = map_tasks(evaluate_grid_cells, [work[i] for i in order], engine=engine, shared=inputs)
+    done: dict[tuple[str, str, int, int], CellResult] = {}
+    for i, got in zip(order, run, strict=True):
+        e, k, s_, di = work[i]
+        done[work[i]] = got[0]
+        if len(got) > 1:
+            done[(e, k.removesuffix("-cal"), s_, di)] = got[1]
+    cells = [done[t] for t in tasks]
     per_pair = len(tasks) // max(len(pairs), 1)
     results = [
         aggregate_cells(e, k, cells[i * per_pair : (i + 1) * per_pair], protocols, options)

@@ -65,6 +65,7 @@ __all__ = [
     "RobotBehaviour",
     "aggregate_cells",
     "algorithm1_split",
+    "evaluate_calibrated_cells",
     "evaluate_cell",
     "evaluate_protocols",
     "leave_family_out_folds",
@@ -295,14 +296,20 @@ def _offline(
     y: np.ndarray,
     stops: Sequence[int],
     eval_rows: np.ndarray,
-) -> dict[int, np.ndarray]:
-    """Belief on eval_rows of a fresh estimator fitted on the first n rows of the stream, per n in stops."""
-    out = {}
+    with_base: bool = False,
+) -> list[dict[int, np.ndarray]]:
+    """Belief on eval_rows of a fresh estimator fitted on the first n rows of the stream, per n in stops.
+
+    Returns [the estimator's beliefs], or with `with_base` [its beliefs, its fitted `base` estimator's beliefs].
+    """
+    out: list[dict[int, np.ndarray]] = [{}, {}] if with_base else [{}]
     for n in stops:
         rows = stream[: min(n, len(stream))]
         est = make(seed)
         est.fit(X[rows], y[rows])
-        out[n] = est.belief(X[eval_rows]) if len(eval_rows) else np.zeros(0)
+        views = (est, est.base) if with_base else (est,)  # type: ignore[attr-defined]
+        for beliefs, view in zip(out, views, strict=True):
+            beliefs[n] = view.belief(X[eval_rows]) if len(eval_rows) else np.zeros(0)
     return out
 
 
@@ -542,11 +549,55 @@ def evaluate_cell(
     make_greedy: EstimatorFactory | None = None,
 ) -> CellResult:
     """One dataset in one row order (see the module docstring); "eps-…" estimators run online."""
+    cells = _evaluate_cells(estimator, data, X, dataset_index, shuffle, make, protocols, options, make_greedy)
+    return cells[0]
+
+
+def evaluate_calibrated_cells(
+    estimator: str,
+    data: EvalDataset,
+    X: np.ndarray,
+    dataset_index: int,
+    shuffle: int,
+    make: EstimatorFactory,
+    protocols: Sequence[Protocol] = tuple(Protocol),
+    options: EvalOptions = EvalOptions(),
+) -> tuple[CellResult, CellResult]:
+    """The cells of a calibrated "<name>-cal" estimator and of <name> itself, from the same fits.
+
+    A calibrated estimator refits its base on every training row after the out-of-fold fits, with the same seed:
+    that base is the plain estimator fitted on the same rows, so its beliefs are the plain estimator's cell
+    without fitting it again. The calibrated cell's wall_s covers both; the base cell's is 0.
+    """
+    if not estimator.endswith("-cal"):
+        raise ConfigError(f"{estimator} is not a calibrated estimator (<name>-cal)")
+    cal, base = _evaluate_cells(
+        estimator, data, X, dataset_index, shuffle, make, protocols, options, None, True
+    )
+    return cal, base
+
+
+def _evaluate_cells(
+    estimator: str,
+    data: EvalDataset,
+    X: np.ndarray,
+    dataset_index: int,
+    shuffle: int,
+    make: EstimatorFactory,
+    protocols: Sequence[Protocol],
+    options: EvalOptions,
+    make_greedy: EstimatorFactory | None,
+    with_base: bool = False,
+) -> list[CellResult]:
+    """evaluate_cell, or with `with_base` (offline estimators only) [its cell, its fitted base's cell]."""
     t0 = time.perf_counter()
     online = estimator.startswith("eps-")
+    if online and with_base:
+        raise ConfigError(f"{estimator}: base cells come from offline fits only")
     steps = options.steps
     want_a1 = Protocol.ALGORITHM1 in protocols or Protocol.NOVEL_PRODUCTS in protocols
     seed = options.seed * 1000 + shuffle
+    views = 2 if with_base else 1
 
     def make_plain(seed: int) -> ConfidenceEstimator:  # eps-X's belief is X's: fitting needs no exploration
         return _greedy_of(make(seed)) if online else make(seed)
@@ -555,7 +606,10 @@ def evaluate_cell(
     order = row_order(len(data), shuffle, dataset_index, options.seed)
     prefix, test = algorithm1_split(order, options)
     collected = prefix  # the labels a learner had: every prefix row, or what its robot attempted
-    a1 = novel = lofo = greedy_cell = None
+    a1: list[tuple[Beliefs, np.ndarray] | None] = [None] * views
+    novel: list[tuple[Beliefs, np.ndarray] | None] = [None] * views
+    lofo: list[tuple[Beliefs, np.ndarray] | None] = [None] * views
+    greedy_cell = None
     beh = g_beh = None
     if want_a1 or online:
         if online:
@@ -563,25 +617,33 @@ def evaluate_cell(
             greedy = make_greedy(seed) if make_greedy else _greedy_of(make(seed))
             g_beliefs, g_beh, _ = run_online(greedy, prefix, X, y, steps, test, options)
             greedy_cell = (g_beliefs, y[test])
+            per_view = [beliefs]
         else:
-            beliefs = _offline(make, seed, prefix, X, y, steps, test)
-        a1 = (beliefs, y[test])
+            per_view = _offline(make, seed, prefix, X, y, steps, test, with_base)
         rows = novel_product_rows(data.objects, prefix, test)
         pos = {int(r): k for k, r in enumerate(test)}
         keep = np.array([pos[int(r)] for r in rows], dtype=int)
-        novel = ({n: b[keep] for n, b in beliefs.items()}, y[rows])
+        for v, b in enumerate(per_view):
+            a1[v] = (b, y[test])
+            novel[v] = ({n: p[keep] for n, p in b.items()}, y[rows])
     if Protocol.LEAVE_FAMILY_OUT in protocols:
         lsteps = options.lofo_steps
-        per_step: dict[int, list[np.ndarray]] = {n: [] for n in lsteps}
+        per_step: list[dict[int, list[np.ndarray]]] = [{n: [] for n in lsteps} for _ in range(views)]
         labels = []
         for fold in leave_family_out_folds(data.families, collected, order):
-            b = _offline(make_plain, seed, fold.train, X, y, lsteps, fold.test)
-            for n in lsteps:
-                per_step[n].append(b[n])
+            fold_views = _offline(make_plain, seed, fold.train, X, y, lsteps, fold.test, with_base)
+            for v, b in enumerate(fold_views):
+                for n in lsteps:
+                    per_step[v][n].append(b[n])
             labels.append(y[fold.test])
         if labels:
-            lofo = ({n: np.concatenate(v) for n, v in per_step.items()}, np.concatenate(labels))
-    return CellResult(a1, novel, lofo, greedy_cell, beh, g_beh, time.perf_counter() - t0)
+            for v in range(views):
+                lofo[v] = ({n: np.concatenate(p) for n, p in per_step[v].items()}, np.concatenate(labels))
+    wall = time.perf_counter() - t0
+    cells = [CellResult(a1[0], novel[0], lofo[0], greedy_cell, beh, g_beh, wall)]
+    if with_base:
+        cells.append(CellResult(a1[1], novel[1], lofo[1], None, None, None, 0.0))
+    return cells
 
 
 def aggregate_cells(

@@ -112,3 +112,22 @@ def test_cached_cells_give_the_same_report(sc_data, tmp_path, capsys):
     assert len(list((tmp_path / "cache" / "sc_cells").glob("*.json"))) == 4  # 2 pairs × 2 datasets
     assert main(argv) == 0
     assert json.loads(capsys.readouterr().out)["protocols"] == first["protocols"]  # wall times too: cached
+
+
+def test_a_base_estimator_computed_with_its_calibrated_variant_scores_as_alone(sc_data, tmp_path, capsys):
+    # grounded-knn's cells come out of grounded-knn-cal's fits when both are in the grid: the same numbers as a
+    # grid with grounded-knn alone, and a cache that holds both cells.
+    data = sc_data(n_datasets=2, rows=40)
+    argv = ["sc", "evaluate", "--data", str(data), "--embedders", "onehot", *SMALL]
+    assert main([*argv, "--estimators", "grounded-knn"]) == 0
+    alone = _numbers(json.loads(capsys.readouterr().out))
+    assert main([*argv, "--estimators", "grounded-knn-cal,grounded-knn"]) == 0
+    both = _numbers(json.loads(capsys.readouterr().out))
+    for p, entries in alone.items():
+        assert [e for e in both[p] if e["estimator"] == "grounded-knn"] == entries
+        assert [e["estimator"] for e in both[p]] == ["grounded-knn-cal", "grounded-knn"]
+    cached = ["sc", "evaluate", "--data", str(data), "--embedders", "onehot", *SMALL[:-1]]
+    cached += ["--cache-dir", str(tmp_path / "cache"), "--estimators", "grounded-knn-cal,grounded-knn"]
+    assert main(cached) == 0
+    assert _numbers(json.loads(capsys.readouterr().out)) == both
+    assert len(list((tmp_path / "cache" / "sc_cells").glob("*.json"))) == 4  # 2 estimators × 2 datasets

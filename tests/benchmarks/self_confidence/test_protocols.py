@@ -10,6 +10,8 @@ from scone_bt.benchmarks.self_confidence.protocols import (
     EvalOptions,
     Protocol,
     algorithm1_split,
+    evaluate_calibrated_cells,
+    evaluate_cell,
     evaluate_protocols,
     leave_family_out_folds,
     novel_product_rows,
@@ -132,3 +134,17 @@ def test_evaluate_protocols_is_seeded_and_reports_every_protocol(sc_data):
     robot = runs[2].robot
     assert robot is not None and {"epsilon", "greedy", "greedy_auc"} <= set(robot)
     assert robot["epsilon"]["rows"] == robot["greedy"]["rows"] == 60
+
+
+@pytest.mark.parametrize("name", ["knn", "lgbm"])
+def test_a_calibrated_cell_gives_its_base_cell_from_the_same_fits(sc_data, name):
+    data = load_eval_datasets(sc_data(n_datasets=1, rows=40))[0]
+    X = _onehot([data])[0]
+    cal, base = evaluate_calibrated_cells(
+        f"{name}-cal", data, X, 0, 0, lambda s: make_estimator(f"{name}-cal", seed=s), tuple(Protocol), OPTS
+    )
+    alone = evaluate_cell(name, data, X, 0, 0, lambda s: make_estimator(name, seed=s), tuple(Protocol), OPTS)
+    assert base.to_json() | {"wall_s": 0} == alone.to_json() | {"wall_s": 0}
+    assert cal.to_json()["a1"] != base.to_json()["a1"]  # the calibrated beliefs are its own
+    with pytest.raises(ConfigError):
+        evaluate_calibrated_cells(name, data, X, 0, 0, lambda s: make_estimator(name, seed=s), (), OPTS)
