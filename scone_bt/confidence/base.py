@@ -137,6 +137,13 @@ class ConfidenceEstimator(ABC):
         else:
             self._fitted = False
 
+    def share_hyperparameters(self, fitted: ConfidenceEstimator) -> None:
+        """Take the hyper-parameters that `fitted`, an estimator of the same kind, tuned on its data (default: none).
+
+        Used by calibration.py: the out-of-fold models of a calibrated estimator reuse what its final model tuned.
+        """
+        return None
+
     # ----- prediction ---------------------------------------------------------------------------------------
     def forget_predictions(self) -> None:
         """Drop memoised predictions (they are also dropped on every update); for benchmarks."""

@@ -11,7 +11,8 @@ the last such fit; the refits in between keep those hyper-parameters and only re
 Marginal-likelihood optimisation is most of a refit's cost and grows with the data (about 0.12 s at 200 outcomes
 against 13 ms for the posterior alone), while one more outcome among hundreds hardly moves the optimum; among the
 first few it does (a second failure of the same product must lower its belief at once), so a young κ̂ optimises on
-every outcome. Every benchmark refit (10 or more new rows) optimises.
+every outcome. Every benchmark refit (10 or more new rows) optimises. A GP given another's kernel
+(share_hyperparameters: the out-of-fold models of "gp-cal") keeps it and only recomputes the posterior.
 """
 
 from __future__ import annotations
@@ -63,6 +64,13 @@ class GPEstimator(ConfidenceEstimator):
         self._model: object = None
         self._kernel: object = None  # the last optimised kernel
         self._n_optimised = 0  # outcomes it was optimised on
+        self._kernel_fixed = False  # a kernel from another GP (share_hyperparameters) is never re-optimised
+
+    def share_hyperparameters(self, fitted: ConfidenceEstimator) -> None:
+        """Keep `fitted`'s optimised kernel for every later fit (only the Laplace posterior is recomputed)."""
+        kernel = getattr(fitted, "_kernel", None)
+        if kernel is not None:
+            self._kernel, self._kernel_fixed = kernel, True
 
     def _fit_model(self, X: np.ndarray, y: np.ndarray) -> None:
         from sklearn.exceptions import ConvergenceWarning
@@ -71,7 +79,9 @@ class GPEstimator(ConfidenceEstimator):
 
         n = len(y)
         step = max(1, math.ceil(self.reoptimise_growth * self._n_optimised))
-        keep = self._kernel is not None and self._n_optimised <= n < self._n_optimised + step
+        keep = self._kernel_fixed or (
+            self._kernel is not None and self._n_optimised <= n < self._n_optimised + step
+        )
         if keep:
             model = GaussianProcessClassifier(self._kernel, optimizer=None, random_state=self.seed)
         else:

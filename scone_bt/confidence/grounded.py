@@ -108,6 +108,11 @@ class GroundedEstimator(ConfidenceEstimator):
         else:
             self.base.fit(np.zeros((0, 1), dtype=np.float32), y)
 
+    def share_hyperparameters(self, fitted: ConfidenceEstimator) -> None:
+        inner = getattr(fitted, "base", None)
+        if inner is not None:
+            self.base.share_hyperparameters(inner)
+
     def _predict_model(self, X: np.ndarray) -> np.ndarray:
         return self.base.predict(self.transform(X))
 

@@ -76,3 +76,19 @@ def test_seeded_fits_repeat_exactly():
     p1 = make_estimator("gp-cal", seed=1).fit(X, y).predict(X[:10])
     p2 = make_estimator("gp-cal", seed=1).fit(X, y).predict(X[:10])
     assert np.array_equal(p1, p2)
+
+
+@pytest.mark.parametrize("name", ["gp", "grounded-gp"])
+def test_out_of_fold_gps_keep_the_kernel_the_full_model_optimised(name):
+    rng = np.random.default_rng(3)
+    X = rng.standard_normal((40, 12)).astype(np.float32)
+    y = X[:, 0] + 0.3 * rng.standard_normal(40) > 0
+    cal = make_estimator(f"{name}-cal", seed=0).fit(X, y)
+    full = cal.base.base if name.startswith("grounded-") else cal.base
+    fold = make_estimator(name, seed=0)
+    fold.share_hyperparameters(cal.base)
+    fold.fit(X[:20], y[:20])  # half the rows: alone, it would optimise a kernel of its own
+    inner = fold.base if name.startswith("grounded-") else fold
+    assert str(inner._model.kernel_) == str(full._kernel)
+    alone = make_estimator(name, seed=0).fit(X[:20], y[:20])
+    assert str((alone.base if name.startswith("grounded-") else alone)._model.kernel_) != str(full._kernel)
