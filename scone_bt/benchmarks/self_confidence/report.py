@@ -274,7 +274,8 @@ def target_checks(report: dict[str, Any]) -> list[dict[str, Any]]:
             {
                 "target": "Whole grid ≤ 10 min",
                 "measured": f"{uncached / 60:.1f} min uncached ({timing['cells']} cells, {timing['workers']} "
-                f"workers; this run {timing['total'] / 60:.1f} min with the cell cache)",
+                f"workers, embedding {timing['embedding']:.0f} s of it; this run's wall time "
+                f"{timing['total'] / 60:.1f} min)",
                 "met": bool(uncached <= 600),
             }
         )
