@@ -12,12 +12,12 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import json
 import sys
 from collections.abc import Sequence
 from pathlib import Path
 
 from scone_bt.errors import SconeError
+from scone_bt.strict_json import dumps
 
 __all__ = ["main", "emit_report", "BENCHMARK_MODULES"]
 
@@ -41,8 +41,8 @@ BENCHMARK_MODULES: tuple[str, ...] = (
 def emit_report(
     report: object, json_path: str | Path | None, indent: int = 2, make_parent: bool = False
 ) -> None:
-    """Print a benchmark's JSON report and, with ``--json FILE``, write the same text there."""
-    text = json.dumps(report, indent=indent)
+    """Print a benchmark's JSON report and, with ``--json FILE``, write the same text there (strict JSON)."""
+    text = dumps(report, indent=indent)
     print(text)
     if json_path:
         path = Path(json_path)

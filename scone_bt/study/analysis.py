@@ -14,7 +14,6 @@ Data come from a StudyLog (``load_study``) or from anyone's CSV files (ratings_c
 
 from __future__ import annotations
 
-import json
 import logging
 import os
 import time
@@ -27,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from scone_bt.errors import SconeError, UnknownNameError
+from scone_bt.strict_json import dumps
 from scone_bt.study.log import StudyLog
 from scone_bt.study.models import (
     QUESTION_MEAN_SD,
@@ -458,7 +458,7 @@ def summarize_fit(name: str, idata: Any, n_obs: int, factors: Sequence[str], sec
     samples = {f: post[contrast_variable(f)].values.reshape(-1) for f in factors}
     samples.update({k: post[k].values.reshape(-1) for k in ("sigma_P", "sigma_Q") if k in post})
     # With one chain (--chains 1, quick runs and power studies) ArviZ logs "Shape validation failed" to stderr for
-    # R-hat: it needs two chains and is NaN then, which results.json already shows. Drop just that record, from
+    # R-hat: it needs two chains and is NaN then (null in results.json). Drop just that record, from
     # ArviZ's own logger and only around these two calls, so that its other messages still reach the user. ArviZ's
     # logger is `arviz._log`, a Logger outside the logging registry (getLogger("arviz") is another object).
     arviz_log = getattr(az, "_log", None) or logging.getLogger("arviz")
@@ -596,7 +596,7 @@ def write_outputs(
     from scone_bt.study.figure import plot_results
 
     paths = check_outputs(folder, force)
-    paths["json"].write_text(json.dumps(result.to_json(), indent=2, default=_json_default))
+    paths["json"].write_text(dumps(result.to_json(), indent=2, default=_json_default))
     frame = data.sessions.copy()
     frame.insert(0, "data", "SIMULATED" if data.simulated else "real")
     frame.to_csv(paths["scores"], index=False)

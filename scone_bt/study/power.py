@@ -14,7 +14,6 @@ map is one function, ``parallel_map``, so another task engine can replace it.
 
 from __future__ import annotations
 
-import json
 import math
 import tempfile
 import time
@@ -27,6 +26,7 @@ from typing import Any, TypeVar
 import numpy as np
 
 from scone_bt.errors import SconeError, UnknownNameError
+from scone_bt.strict_json import dumps
 
 __all__ = [
     "MEASURES",
@@ -388,7 +388,7 @@ def write_power(result: PowerResult, folder: str | Path, force: bool = False) ->
     import matplotlib.pyplot as plt
 
     paths = check_power_outputs(folder, force)
-    paths["json"].write_text(json.dumps(result.to_json(), indent=2))
+    paths["json"].write_text(dumps(result.to_json(), indent=2))
     o = result.options
     n = [p.participants for p in result.points]
     power = np.array([p.power for p in result.points])

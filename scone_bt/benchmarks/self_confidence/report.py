@@ -3,7 +3,6 @@ the ε-greedy robots, the targets) and PNGs (learning curves per protocol, relia
 
 from __future__ import annotations
 
-import json
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -18,11 +17,11 @@ from scone_bt.benchmarks.self_confidence.protocols import (
     novel_product_rows,
     row_order,
 )
+from scone_bt.strict_json import clean_json, dumps
 
 __all__ = [
     "PAPER_TABLE_I",
     "SEMANTIC_EMBEDDERS",
-    "clean_json",
     "dataset_summary",
     "evaluation_markdown",
     "plot_curves",
@@ -44,25 +43,12 @@ _PROTOCOL_TITLES = {
 }
 
 
-def clean_json(obj: Any) -> Any:
-    """`obj` with NaN floats as None and tuples as lists (what json.dumps can write strictly)."""
-    if isinstance(obj, float) and np.isnan(obj):
-        return None
-    if isinstance(obj, np.floating | np.integer):
-        return clean_json(obj.item())
-    if isinstance(obj, dict):
-        return {k: clean_json(v) for k, v in obj.items()}
-    if isinstance(obj, list | tuple):
-        return [clean_json(v) for v in obj]
-    return obj
-
-
 def write_json(path: Path | None, payload: dict[str, Any]) -> dict[str, Any]:
     """Write `payload` as indented JSON (NaN becomes null) if `path` is given; returns the cleaned payload."""
     cleaned = clean_json(payload)
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(cleaned, indent=1) + "\n")
+        path.write_text(dumps(cleaned, indent=1) + "\n")
     return cleaned
 
 
