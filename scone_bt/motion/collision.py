@@ -104,23 +104,19 @@ class CollisionWorld:
                 _geometry(attached.shape, attached.size, -0.005),
             )
             attached_id = gm.addGeometryObject(obj)
-        hand_links = set(arm.config.hand_links) | arm.gripper_links
         # The pairs to check as one boolean matrix (pinocchio reads its upper triangle), set in one call: a
         # Python loop over a few hundred pairs cost as much as the checks of a short path.
         check = np.zeros((gm.ngeoms, gm.ngeoms), dtype=bool)
         if len(arm.self_pairs):
             check[arm.self_pairs[:, 0], arm.self_pairs[:, 1]] = True
-        base_link = arm.link_of_geometry[gm.geometryObjects[0].name]
-        robot_links = [arm.link_of_geometry[gm.geometryObjects[r].name] for r in range(n_robot)]
-        moving = np.array([link != base_link for link in robot_links])  # the base sits on the pedestal
-        in_hand = np.array([link in hand_links for link in robot_links])
+        moving, in_hand = arm.moving_geometry, arm.hand_geometry
         if obstacle_ids:
             ids = np.array([oid for _, oid in obstacle_ids])
             # A pair whose two bounding spheres can never meet, whatever the joints do, is left out: each
             # pair costs its own collision functor when the world is built.
             centres = np.array([ob.pose[:3, 3] for ob in obstacles]) - base
-            radii = np.array(
-                [0.5 * float(np.linalg.norm(np.asarray(ob.size) + 2 * padding)) for ob in obstacles]
+            radii = 0.5 * np.linalg.norm(
+                np.array([ob.size for ob in obstacles], dtype=float) + 2 * padding, axis=1
             )
             near = np.linalg.norm(centres, axis=1)[None, :] <= (arm.geometry_reach[:, None] + radii[None, :])
             ignored = np.array([name in ignore_for_hand for name, _ in obstacle_ids])

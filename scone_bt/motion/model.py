@@ -131,6 +131,12 @@ class ArmModel:
             f.name for f in self.model.frames if f.parentJoint == self.ee_joint and f.type.name == "BODY"
         )
         self.geometry_reach = self._geometry_reach()
+        # Per robot geometry (in geom_model's order, which every collision world keeps): does it move (the base
+        # sits on the pedestal), and is it part of the hand (which may touch what it grasps)?
+        links = [self.link_of_geometry[g.name] for g in self.geom_model.geometryObjects]
+        hand_links = set(robot.hand_links) | self.gripper_links
+        self.moving_geometry = np.array([link != links[0] for link in links])
+        self.hand_geometry = np.array([link in hand_links for link in links])
 
     def geometry_with_fingers(self, position: float | None) -> object:
         """A copy of the collision model with each finger at `position` (m from centre, like the gripper joints).
