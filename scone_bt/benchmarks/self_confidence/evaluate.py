@@ -250,6 +250,15 @@ def _code_digest() -> str:
     return _CODE_DIGEST[0]
 
 
+def _cell_path(
+    task: tuple[str, str, int, int], data: EvalDataset, X: np.ndarray, inputs: GridInputs
+) -> Path | None:
+    """Where the cell cache keeps this task's cell, or None without a cache."""
+    if inputs.cell_cache is None:
+        return None
+    return Path(inputs.cell_cache) / f"{_cell_key(task, data, X, inputs)}.json"
+
+
 def _cached_cell(path: Path | None) -> CellResult | None:
     import json
 
@@ -277,9 +286,7 @@ def evaluate_grid_cell(task: tuple[str, str, int, int], inputs: GridInputs) -> C
     emb, est, shuffle, di = task
     data = _as_eval(inputs.datasets[di : di + 1])[0]
     X = _inputs_of(est, inputs.features[emb][di], data)
-    path = None
-    if inputs.cell_cache is not None:
-        path = Path(inputs.cell_cache) / f"{_cell_key(task, data, X, inputs)}.json"
+    path = _cell_path(task, data, X, inputs)
     cell = _cached_cell(path)
     if cell is None:
         cell = evaluate_cell(
@@ -301,9 +308,7 @@ def evaluate_grid_cells(task: tuple[str, str, int, int], inputs: GridInputs) -> 
     base_task = (emb, est.removesuffix("-cal"), shuffle, di)
     data = _as_eval(inputs.datasets[di : di + 1])[0]
     X = _inputs_of(est, inputs.features[emb][di], data)  # a "-cal" name keeps its base's "grounded-" prefix
-    paths: list[Path | None] = [None, None]
-    if inputs.cell_cache is not None:
-        paths = [Path(inputs.cell_cache) / f"{_cell_key(t, data, X, inputs)}.json" for t in (task, base_task)]
+    paths = [_cell_path(t, data, X, inputs) for t in (task, base_task)]
     cached = [_cached_cell(p) for p in paths]
     if cached[0] is not None and cached[1] is not None:
         return cached[0], cached[1]
