@@ -5,6 +5,7 @@
     scone-bench sc generate --catalogue my_products.yaml --products "oat milk,tahini" --out /tmp/mine
     scone-bench sc generate --ray auto --workers 32           # on a Ray cluster (docs/distributed.md)
     scone-bench sc evaluate ...                               # see scone_bt.benchmarks.self_confidence.evaluate
+    scone-bench sc probe --out docs/results                   # what the texts reveal; see .probe
 
 Registration is cheap: the handlers import PyBullet, OMPL and the embedders when they run.
 """
@@ -84,7 +85,7 @@ def _register_generate(sc_sub: argparse._SubParsersAction) -> None:
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    """Add ``sc`` (with ``generate`` and, when the evaluator provides it, ``evaluate``) to ``scone-bench``."""
+    """Add ``sc`` (``generate``, ``evaluate`` when the evaluator provides it, and ``probe``) to ``scone-bench``."""
     import importlib
 
     sc = sub.add_parser("sc", help="self-confidence datasets (generate) and their evaluation (evaluate)")
@@ -94,3 +95,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     register_evaluate = getattr(evaluate, "register_evaluate", None)
     if register_evaluate is not None:
         register_evaluate(sc_sub)
+    from scone_bt.benchmarks.self_confidence.probe import register_probe
+
+    register_probe(sc_sub)

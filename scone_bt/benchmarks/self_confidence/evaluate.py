@@ -75,6 +75,7 @@ __all__ = [
     "run_evaluate",
     "schedule_longest_first",
     "shuffled_order",
+    "split_names",
 ]
 
 DEFAULT_EMBEDDERS = ("onehot", "glove", "minilm", "mpnet", "mpnet-ft")
@@ -349,7 +350,7 @@ def schedule_longest_first(tasks: Sequence[tuple[str, str, int, int]], dims: dic
 
 
 # ----------------------------------------------------------------------------------------------- command
-def _names(values: Sequence[str] | None, default: Sequence[str]) -> list[str]:
+def split_names(values: Sequence[str] | None, default: Sequence[str]) -> list[str]:
     """Comma- or space-separated names, in order, without repeats."""
     if not values:
         return list(default)
@@ -466,9 +467,9 @@ def run_evaluate(args: argparse.Namespace) -> int:
     os.environ.setdefault("TOKENIZERS_PARALLELISM", "false")
     t0 = time.perf_counter()
     protocols, estimators = _check_names(
-        _names(args.protocols, [p.value for p in Protocol]),
-        embedders := _names(args.embedders, DEFAULT_EMBEDDERS),
-        _names(args.estimators, DEFAULT_ESTIMATORS),
+        split_names(args.protocols, [p.value for p in Protocol]),
+        embedders := split_names(args.embedders, DEFAULT_EMBEDDERS),
+        split_names(args.estimators, DEFAULT_ESTIMATORS),
     )
     if args.workers < 1:
         raise ConfigError(f"--workers must be at least 1, got {args.workers}")

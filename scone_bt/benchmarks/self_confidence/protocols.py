@@ -352,7 +352,9 @@ class ProtocolScores:
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready numbers (NaN stays NaN; the writer turns it into null)."""
         return {
-            "auc": _mean_std(self.auc),
+            # per_dataset: one value per dataset × shuffle cell with test rows, in the datasets' order (shuffle
+            # outer), the same cells for every pair: differences between pairs can be paired per dataset.
+            "auc": {**_mean_std(self.auc), "per_dataset": list(self.auc)},
             "auroc": self.auroc,
             "brier": self.brier,
             "ece": self.ece,

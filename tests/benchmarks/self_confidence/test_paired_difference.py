@@ -1,0 +1,56 @@
+"""Paired per-dataset differences between pairs, and the target checks that quote them."""
+
+from __future__ import annotations
+
+import pytest
+
+from scone_bt.benchmarks.self_confidence.report import paired_difference, target_checks
+
+
+def _entry(emb: str, est: str, per_dataset: list[float]) -> dict:
+    mean = sum(per_dataset) / len(per_dataset)
+    auc = {"mean": mean, "std": 0.0, "per_dataset": per_dataset}
+    return {"embedder": emb, "estimator": est, "auc": auc, "ece": 0.1, "n_test": 20}
+
+
+def test_a_consistent_difference_has_an_interval_away_from_zero():
+    a = _entry("mpnet", "knn", [0.80, 0.75, 0.90, 0.70, 0.85, 0.78])
+    b = _entry("onehot", "knn", [0.60, 0.55, 0.70, 0.52, 0.66, 0.58])
+    p = paired_difference(a, b)
+    assert p is not None and p["datasets"] == 6 and p["wins"] == 6 and p["ties"] == 0
+    assert p["mean"] == pytest.approx(0.195)
+    assert 0.0 < p["ci_low"] <= p["mean"] <= p["ci_high"] < 0.3
+    assert paired_difference(a, b) == p  # seeded
+
+
+def test_a_difference_of_mixed_sign_spans_zero_and_a_swap_flips_it():
+    a = _entry("mpnet", "lgbm", [0.70, 0.60, 0.80, 0.50, 0.65])
+    b = _entry("glove", "lgbm", [0.60, 0.70, 0.70, 0.60, 0.66])
+    p, q = paired_difference(a, b), paired_difference(b, a)
+    assert p["ci_low"] < 0 < p["ci_high"] and p["wins"] == 2
+    assert q["mean"] == pytest.approx(-p["mean"]) and q["wins"] == 3
+
+
+def test_older_reports_without_per_dataset_values_give_none():
+    old = {"auc": {"mean": 0.7, "std": 0.1}}
+    assert paired_difference(old, _entry("x", "y", [0.5])) is None
+    assert paired_difference(None, None) is None
+    assert paired_difference(_entry("a", "k", [0.5, 0.6]), _entry("b", "k", [0.5])) is None
+
+
+def test_the_gap_and_order_targets_quote_the_paired_interval():
+    rows = [
+        _entry("onehot", "knn", [0.60, 0.62, 0.58]),
+        _entry("glove", "knn", [0.66, 0.65, 0.67]),
+        _entry("mpnet", "knn", [0.75, 0.72, 0.78]),
+        _entry("onehot", "lgbm", [0.60, 0.62, 0.58]),
+        _entry("glove", "lgbm", [0.66, 0.65, 0.67]),
+        _entry("mpnet", "lgbm", [0.62, 0.64, 0.60]),
+    ]
+    report = {"embedders": ["onehot", "glove", "mpnet"], "protocols": {"algorithm1": rows}}
+    checks = {c["target"]: c for c in target_checks(report)}
+    gap = checks["Algorithm 1: best semantic ≥ one-hot + 0.08 with the same estimator"]
+    assert gap["met"] and "paired gap +0.150" in gap["measured"] and "higher on 3" in gap["measured"]
+    order = checks["Algorithm 1 order semantic > GloVe > one-hot (lgbm)"]
+    assert not order["met"] and "semantic − GloVe -0.040" in order["measured"]
+    assert "GloVe − one-hot +0.060" in order["measured"]
