@@ -58,6 +58,20 @@ class Embedder(ABC):
         get = self.cache.get
         return np.stack([get(t) for t in texts])
 
+    def embed_uncached(self, texts: Sequence[str]) -> np.ndarray:
+        """Unit vectors for distinct `texts` encoded now, in one pass in the given order, bypassing the cache.
+
+        For training. A backend's low bits depend on how texts were batched (padding changes the summation), so
+        vectors a cache collected over earlier calls can differ from one fresh pass by ~1e-7, and a training
+        run amplifies that into a different model. The same texts in the same order give the same bits.
+        """
+        texts = list(texts)
+        if len(set(texts)) != len(texts):
+            raise ValueError("embed_uncached takes distinct texts")
+        if not texts:
+            return np.zeros((0, self.dim), dtype=np.float32)
+        return normalize_rows(self._encode(texts))
+
     def embed_one(self, text: str) -> np.ndarray:
         """Unit vector (dim,) for one text."""
         return self.embed([text])[0]

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from scone_bt.embedding import (
+    Embedder,
     FinetunedEmbedder,
     FinetuneOptions,
     InstructionExample,
@@ -69,6 +70,41 @@ def test_training_is_seeded(trained):
     base, emb, _ = trained
     again = train_finetuned(_examples(), base, options=FinetuneOptions(epochs=150, hidden=64, seed=0))
     np.testing.assert_allclose(again.head.w2, emb.head.w2, atol=1e-6)
+
+
+class _BatchSensitive(Embedder):
+    """A backend whose low bits depend on the batch, like a transformer padding to the batch's longest text."""
+
+    def __init__(self) -> None:
+        super().__init__("batchy", 16, "batchy@1", None)
+
+    def _encode(self, texts):
+        rows = [np.random.default_rng(sum(t.encode())).normal(size=16) for t in texts]
+        return np.array(rows) + 1e-6 * len(texts)
+
+
+def test_training_repeats_exactly_whatever_the_cache_holds():
+    opts = FinetuneOptions(epochs=20, hidden=16, dim=8, seed=0)
+    fresh = train_finetuned(_examples(), _BatchSensitive(), options=opts)
+    used = _BatchSensitive()
+    for text in [*ACTIONS, *PAIRS]:  # the cache filled one text at a time: other low bits than one pass
+        used.embed([text])
+    assert not np.array_equal(used.embed(ACTIONS), _BatchSensitive().embed(ACTIONS))
+    again = train_finetuned(_examples(), used, options=opts)
+    for k in ("w1", "b1", "w2", "b2"):
+        assert np.array_equal(getattr(again.head, k), getattr(fresh.head, k))
+
+
+def test_embed_uncached_is_one_fresh_pass():
+    emb = _BatchSensitive()
+    emb.embed(["a"])
+    fresh = emb.embed_uncached(["a", "b"])
+    assert fresh.dtype == np.float32 and fresh.shape == (2, 16)
+    np.testing.assert_allclose(np.linalg.norm(fresh, axis=1), 1.0, atol=1e-6)
+    assert not np.array_equal(fresh[0], emb.embed(["a"])[0])  # the cache kept its own batch's bits
+    assert emb.embed_uncached([]).shape == (0, 16)
+    with pytest.raises(ValueError, match="distinct"):
+        emb.embed_uncached(["a", "a"])
 
 
 def test_tuple_examples_and_bad_inputs(trained, tmp_path):

@@ -330,8 +330,10 @@ def probe_markdown(report: dict[str, Any]) -> str:
             lines.append(f"| {features} | " + " | ".join(cells) + " |")
     lines += [
         "",
-        "Reading: a probe fits on about four fifths of the catalogue's labelled products, far more than the 80 "
-        "outcomes κ̂ learns from, so the text-predicted ceilings are what an embedding could give at best.",
+        "Reading: a probe fits on about four fifths of the catalogue's labelled products, far more attribute "
+        "knowledge than the 80 outcomes κ̂ learns from. The text-predicted rows are what a linear read-out of "
+        "each text gives of the three attributes that decide most outcomes; compare them with the semantic "
+        "pairs of `sc evaluate` and with the true attributes' row.",
         "",
     ]
     return "\n".join(lines)
