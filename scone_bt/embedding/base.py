@@ -65,7 +65,7 @@ class Embedder(ABC):
         vectors a cache collected over earlier calls can differ from one fresh pass by ~1e-7, and a training
         run amplifies that into a different model. The same texts in the same order give the same bits.
         """
-        texts = list(texts)
+        texts = [texts] if isinstance(texts, str) else list(texts)
         if len(set(texts)) != len(texts):
             raise ValueError("embed_uncached takes distinct texts")
         if not texts:

@@ -72,6 +72,7 @@ __all__ = [
     "prior_baseline",
     "register_evaluate",
     "cell_cost",
+    "check_embedder_names",
     "run_evaluate",
     "schedule_longest_first",
     "shuffled_order",
@@ -358,20 +359,26 @@ def split_names(values: Sequence[str] | None, default: Sequence[str]) -> list[st
     return list(dict.fromkeys(out))
 
 
+def check_embedder_names(embedders: Sequence[str], oracle: bool = False) -> None:
+    """Raise UnknownNameError for a name that is no embedder (before any model loads); `oracle` admits the oracle."""
+    from scone_bt.embedding.registry import EMBEDDER_NAMES
+
+    valid = [*EMBEDDER_NAMES, "mpnet-ft", *([ORACLE_EMBEDDER] if oracle else [])]
+    for e in embedders:
+        if e not in valid and not e.startswith("finetuned:") and not Path(e).is_dir():
+            raise UnknownNameError("embedder", e, [*valid, "finetuned:<dir>", "<model directory>"])
+
+
 def _check_names(
     protocols: list[str], embedders: list[str], estimators: list[str]
 ) -> tuple[list[Protocol], list[str]]:
     from scone_bt.confidence import CALIBRATED_ESTIMATORS, ESTIMATORS, GROUNDED_ESTIMATORS
-    from scone_bt.embedding.registry import EMBEDDER_NAMES
 
     valid_p = [p.value for p in Protocol]
     for p in protocols:
         if p not in valid_p:
             raise UnknownNameError("protocol", p, valid_p)
-    valid_e = [*EMBEDDER_NAMES, "mpnet-ft", ORACLE_EMBEDDER]
-    for e in embedders:
-        if e not in valid_e and not e.startswith("finetuned:") and not Path(e).is_dir():
-            raise UnknownNameError("embedder", e, [*valid_e, "finetuned:<dir>", "<model directory>"])
+    check_embedder_names(embedders, oracle=True)
     valid_k = [*ESTIMATORS, *GROUNDED_ESTIMATORS, *CALIBRATED_ESTIMATORS, "xgboost"]
     names = []
     for k in estimators:

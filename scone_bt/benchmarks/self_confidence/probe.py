@@ -10,12 +10,12 @@ the text X reveals those attributes. Two measurements say how far that is:
 1. **Probes.** Every catalogue product's action text is embedded; K-fold cross-validation over products (seeded)
    fits a logistic probe for *wide* (grasp width above `wide_m`), *heavy* (mass ≥ `heavy_kg`), *glass* and the
    packaging family, and a ridge probe for width and mass. Each product's score comes from the fold that did not
-   see it: AUROC, family accuracy, R². A probe learns from ~670 labelled products, far more attribute knowledge
-   than κ̂ gets from 80 outcomes, so these are upper bounds on what the text carries.
+   see it: AUROC, family accuracy, R². A probe learns from (K − 1)/K of the catalogue's labelled products (about
+   670 of 841 at K = 5), far more attribute knowledge than κ̂ gets from 80 outcomes.
 2. **Ceilings.** Algorithm 1 and the novel-products protocol (protocols.py, the same options and estimators as
    ``sc evaluate``) run with features instead of an embedding: the packaging family one-hot (a text model that
    knew every product's family), the true width, mass and glass flag, and, per embedder, those three as its
-   probe predicts them out of fold (everything the text reveals of them, read off perfectly).
+   probe predicts them out of fold (what a linear read-out of the text gives of them).
 
 If the text-predicted ceiling sits where the semantic pairs of ``sc evaluate`` sit and far below the true
 attributes', the accuracy an ungrounded κ̂ can reach is bounded by the names, not by the estimators.
@@ -34,9 +34,13 @@ from typing import Any
 import numpy as np
 
 from scone_bt.benchmarks.self_confidence.evaldata import EvalDataset, load_eval_datasets
-from scone_bt.benchmarks.self_confidence.evaluate import DEFAULT_EMBEDDERS, split_names
+from scone_bt.benchmarks.self_confidence.evaluate import (
+    DEFAULT_EMBEDDERS,
+    check_embedder_names,
+    split_names,
+)
 from scone_bt.benchmarks.self_confidence.protocols import EvalOptions, Protocol, evaluate_protocols
-from scone_bt.errors import ConfigError, SconeError
+from scone_bt.errors import ConfigError
 
 __all__ = [
     "AttributeProbe",
@@ -75,9 +79,12 @@ class ProbeOptions:
 
     def __post_init__(self) -> None:
         if self.folds < 2:
-            raise ConfigError(f"folds must be at least 2, got {self.folds}")
-        if self.wide_m <= 0 or self.heavy_kg <= 0:
-            raise ConfigError(f"wide_m and heavy_kg must be positive, got {self.wide_m}, {self.heavy_kg}")
+            raise ConfigError(f"folds (--folds) must be at least 2, got {self.folds}")
+        for name in ("wide_m", "heavy_kg"):
+            value = getattr(self, name)
+            if not (np.isfinite(value) and value > 0):  # NaN too
+                flag = "--" + name.replace("_", "-")
+                raise ConfigError(f"{name} ({flag}) must be a positive number, got {value}")
 
 
 @dataclass(frozen=True)
@@ -121,7 +128,7 @@ def product_attributes(kitchen: str = "kitchen", catalogues: Sequence[str | Path
         names=names,
         width=np.array([specs[n].grasp_width for n in names]),
         mass=np.array([specs[n].mass for n in names]),
-        glass=np.array([specs[n].material.strip().lower() == "glass" for n in names]),
+        glass=np.array([specs[n].material == "glass" for n in names]),  # as evaluate.oracle_features reads it
         family=tuple(specs[n].family or "unknown" for n in names),
     )
 
@@ -133,10 +140,13 @@ class AttributeProbe:
     Attributes:
         embedder: Embedder name.
         products: Catalogue products probed.
-        wide_auroc / heavy_auroc / glass_auroc: AUROC of the logistic probe (0.5: the text says nothing).
+        wide_auroc: AUROC of the logistic probe for wide (0.5: the text says nothing).
+        heavy_auroc: The same for heavy.
+        glass_auroc: The same for glass.
         family_accuracy: Accuracy of the multinomial probe for the packaging family.
         family_majority: Accuracy of always naming the most common family (what the text must beat).
-        width_r2 / mass_r2: R² of the ridge probe (0: no better than the mean).
+        width_r2: R² of the ridge probe for the grasp width (0: no better than the mean).
+        mass_r2: The same for the mass.
     """
 
     embedder: str
@@ -192,8 +202,10 @@ def probe_attributes(
     folds = KFold(options.folds, shuffle=True, random_state=options.seed)
     for train, test in folds.split(X):
         for key, y in labels.items():
-            if len(set(y[train])) < 2:  # one class in training: the probe can only say the base rate
-                oof_p[key][test] = float(y[train].mean())
+            if len(set(y[train])) < 2:
+                # one class in training: the probe knows nothing; one constant for every such fold, so that
+                # fold-to-fold base rates cannot rank the products (that would push the AUROC below 0.5)
+                oof_p[key][test] = 0.5
                 continue
             clf = LogisticRegression(C=1.0, max_iter=2000).fit(X[train], y[train])
             oof_p[key][test] = clf.predict_proba(X[test])[:, 1]
@@ -277,7 +289,8 @@ def _run_ceilings(
                 out[p.value].append(
                     {"features": features, "estimator": est, "auc": s["auc"], "auroc": s["auroc"]}
                 )
-            log(f"ceiling {features} + {est}: Algorithm 1 {np.mean(result.scores[_PROTOCOLS[0]].auc):.3f}")
+            a1 = out[_PROTOCOLS[0].value][-1]["auc"]["mean"]
+            log(f"ceiling {features} + {est}: Algorithm 1 {a1:.3f}")
     return out
 
 
@@ -330,8 +343,8 @@ def probe_markdown(report: dict[str, Any]) -> str:
             lines.append(f"| {features} | " + " | ".join(cells) + " |")
     lines += [
         "",
-        "Reading: a probe fits on about four fifths of the catalogue's labelled products, far more attribute "
-        "knowledge than the 80 outcomes κ̂ learns from. The text-predicted rows are what a linear read-out of "
+        f"Reading: a probe fits on {(o['folds'] - 1) / o['folds']:.0%} of the catalogue's labelled products, far "
+        "more attribute knowledge than the 80 outcomes κ̂ learns from. The text-predicted rows are what a linear read-out of "
         "each text gives of the three attributes that decide most outcomes; compare them with the semantic "
         "pairs of `sc evaluate` and with the true attributes' row.",
         "",
@@ -342,11 +355,12 @@ def probe_markdown(report: dict[str, Any]) -> str:
 # ----------------------------------------------------------------------------------------------- command
 def run_probe(args: argparse.Namespace) -> int:
     """The ``sc probe`` handler (see the module docstring)."""
+    from scone_bt.affordances.types import action_text
     from scone_bt.benchmarks.self_confidence.report import write_json
     from scone_bt.cli.bench import emit_report
     from scone_bt.confidence import ESTIMATORS
     from scone_bt.embedding import load_embedder
-    from scone_bt.errors import UnknownNameError
+    from scone_bt.errors import ModelUnavailableError, UnknownNameError
 
     def log(msg: str) -> None:
         print(msg, file=sys.stderr, flush=True)
@@ -363,15 +377,17 @@ def run_probe(args: argparse.Namespace) -> int:
     datasets = load_eval_datasets(args.data, min_rows=eval_options.min_rows, kitchen=args.kitchen)
     for d in datasets:
         attrs.rows(d.objects, f"{args.data}/{d.name}")  # every product known before anything runs
-    texts = [f"Put {n} on table" for n in attrs.names]
+    texts = [action_text(n) for n in attrs.names]
     probes: list[AttributeProbe] = []
     predicted: dict[str, np.ndarray] = {}
     skipped: dict[str, str] = {}
-    for name in split_names(args.embedders, DEFAULT_EMBEDDERS):
+    embedders = split_names(args.embedders, DEFAULT_EMBEDDERS)
+    check_embedder_names(embedders)
+    for name in embedders:
         try:
             emb = load_embedder(name, args.cache_dir, vocabulary=texts if name == "onehot" else None)
             vectors = np.asarray(emb.embed(texts), dtype=np.float64)
-        except SconeError as exc:  # a model that is not installed is reported, not fatal
+        except ModelUnavailableError as exc:  # a model that is not installed is reported, not fatal
             skipped[name] = str(exc)
             log(f"skipping embedder {name}: {exc}")
             continue
@@ -446,7 +462,12 @@ def register_probe(sc_sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--folds", type=int, default=defaults.folds, help=f"probe folds (default: {defaults.folds})"
     )
-    p.add_argument("--seed", type=int, default=defaults.seed, help="seeds folds and estimators (default: 0)")
+    p.add_argument(
+        "--seed",
+        type=int,
+        default=defaults.seed,
+        help=f"seeds folds and estimators (default: {defaults.seed})",
+    )
     p.add_argument(
         "--wide-m", type=float, default=defaults.wide_m, help=f"wide above (default: {defaults.wide_m} m)"
     )

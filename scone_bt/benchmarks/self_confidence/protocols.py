@@ -333,6 +333,7 @@ class ProtocolScores:
         reliability: The reliability diagram's bins at the largest step, pooled.
         n_test: Test predictions pooled at the largest step (all datasets and shuffles).
         n_datasets: Datasets × shuffles with at least one test row.
+        groups: The dataset (index into the evaluated datasets) of each `auc` value; empty: one dataset each.
     """
 
     protocol: Protocol
@@ -348,13 +349,13 @@ class ProtocolScores:
     reliability: tuple[ReliabilityBin, ...]
     n_test: int
     n_datasets: int
+    groups: tuple[int, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready numbers (NaN stays NaN; the writer turns it into null)."""
         return {
-            # per_dataset: one value per dataset × shuffle cell with test rows, in the datasets' order (shuffle
-            # outer), the same cells for every pair: differences between pairs can be paired per dataset.
-            "auc": {**_mean_std(self.auc), "per_dataset": list(self.auc)},
+            # per dataset (its shuffles averaged), with the datasets' indices: pairs are compared dataset by dataset
+            "auc": {**_mean_std(self.auc), **_per_dataset(self.auc, self.groups)},
             "auroc": self.auroc,
             "brier": self.brier,
             "ece": self.ece,
@@ -378,6 +379,14 @@ class ProtocolScores:
                 for b in self.reliability
             ],
         }
+
+
+def _per_dataset(auc: Sequence[float], groups: Sequence[int]) -> dict[str, list]:
+    """AUC per dataset, the mean over its shuffles, and the datasets' indices (shuffles are not independent)."""
+    g = list(groups) if len(groups) == len(auc) else list(range(len(auc)))
+    index = sorted(set(g))
+    values = [float(np.mean([a for a, k in zip(auc, g, strict=True) if k == i])) for i in index]
+    return {"per_dataset": values, "dataset_index": index}
 
 
 def _mean_std(values: Sequence[float]) -> dict[str, float]:
@@ -440,10 +449,14 @@ def _scores(
     protocol: Protocol,
     steps: Sequence[int],
     cells: list[tuple[dict[int, np.ndarray], np.ndarray]],
+    groups: Sequence[int] = (),
+    *,
     options: EvalOptions,
 ) -> ProtocolScores:
-    """Scores from (beliefs per step, labels) of each dataset × shuffle cell."""
-    cells = [(b, y) for b, y in cells if len(y)]
+    """Scores from (beliefs per step, labels) of each dataset × shuffle cell; `groups`: each cell's dataset."""
+    groups = list(groups) if len(groups) == len(cells) else list(range(len(cells)))
+    kept = [i for i, (_, y) in enumerate(cells) if len(y)]
+    cells, groups = [cells[i] for i in kept], [groups[i] for i in kept]
     curves = np.array([[accuracy(b[n], y, options.threshold) for n in steps] for b, y in cells]).reshape(
         len(cells), len(steps)
     )
@@ -465,6 +478,7 @@ def _scores(
         reliability=tuple(reliability_bins(p_all, y_all, options.ece_bins)),
         n_test=len(y_all),
         n_datasets=len(cells),
+        groups=tuple(groups),
     )
 
 
@@ -657,18 +671,25 @@ def aggregate_cells(
 ) -> PairResult:
     """A pair's scores from its cells (every dataset × shuffle)."""
     steps = options.steps
+    # cells come shuffle by shuffle, each over every dataset in order (evaluate_protocols, the grid's tasks)
+    n_data = max(len(cells) // options.shuffles, 1)
+
+    def part(get: Callable[[CellResult], Any]) -> tuple[list, list[int]]:
+        kept = [(get(c), i % n_data) for i, c in enumerate(cells) if get(c) is not None]
+        return [k[0] for k in kept], [k[1] for k in kept]
+
     scores: dict[Protocol, ProtocolScores] = {}
     for p in protocols:
         if p is Protocol.ALGORITHM1:
-            scores[p] = _scores(p, steps, [c.a1 for c in cells if c.a1 is not None], options)
+            scores[p] = _scores(p, steps, *part(lambda c: c.a1), options=options)
         elif p is Protocol.NOVEL_PRODUCTS:
-            scores[p] = _scores(p, steps, [c.novel for c in cells if c.novel is not None], options)
+            scores[p] = _scores(p, steps, *part(lambda c: c.novel), options=options)
         else:
-            scores[p] = _scores(p, options.lofo_steps, [c.lofo for c in cells if c.lofo is not None], options)
+            scores[p] = _scores(p, options.lofo_steps, *part(lambda c: c.lofo), options=options)
     robot = None
     greedy = [c.greedy for c in cells if c.greedy is not None]
     if greedy:
-        g = _scores(Protocol.ALGORITHM1, steps, greedy, options)
+        g = _scores(Protocol.ALGORITHM1, steps, greedy, options=options)
         eps_total, greedy_total = RobotBehaviour(), RobotBehaviour()
         for c in cells:
             eps_total += c.robot_eps or RobotBehaviour()

@@ -162,15 +162,22 @@ def paired_difference(
 ) -> dict[str, float] | None:
     """Pair a − pair b in AUC, dataset by dataset: the mean, a 95 % bootstrap interval over datasets, the wins.
 
-    Both entries must carry ``auc.per_dataset`` over the same datasets (every pair of one report does); None
-    otherwise (older reports). The interval resamples datasets with replacement (seeded): it says whether the
-    datasets at hand can tell the two pairs apart.
+    Both entries must carry ``auc.per_dataset`` (each dataset's AUC, its shuffles averaged) over the same
+    datasets (``auc.dataset_index``; every pair of one report has them); None otherwise (older reports). The
+    interval resamples datasets with replacement (seeded): it says whether the datasets at hand can tell the two
+    pairs apart.
     """
-    pa = (a or {}).get("auc", {}).get("per_dataset")
-    pb = (b or {}).get("auc", {}).get("per_dataset")
-    if not pa or not pb or len(pa) != len(pb):
+
+    def values(entry: dict[str, Any] | None) -> dict[int, float]:
+        auc = (entry or {}).get("auc", {})
+        per = auc.get("per_dataset") or []
+        index = auc.get("dataset_index") or list(range(len(per)))
+        return {int(i): float("nan") if v is None else float(v) for i, v in zip(index, per, strict=False)}
+
+    va, vb = values(a), values(b)
+    if not va or set(va) != set(vb):
         return None
-    d = np.asarray(pa, dtype=float) - np.asarray(pb, dtype=float)
+    d = np.array([va[i] - vb[i] for i in sorted(va)])
     d = d[~np.isnan(d)]
     if len(d) == 0:
         return None

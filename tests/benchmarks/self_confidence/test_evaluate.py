@@ -44,7 +44,10 @@ def test_evaluate_prints_and_writes_the_documented_shape(sc_data, tmp_path, caps
             assert {"embedder", "estimator", "auc", "auroc", "brier", "ece", "n_test", "reliability"} <= set(
                 e
             )
-            assert set(e["auc"]) == {"mean", "std", "per_dataset"} and 0.0 <= e["auc"]["mean"] <= 1.0
+            assert (
+                set(e["auc"]) == {"mean", "std", "per_dataset", "dataset_index"}
+                and 0.0 <= e["auc"]["mean"] <= 1.0
+            )
             assert len(e["auc"]["per_dataset"]) == 2
             assert np.mean(e["auc"]["per_dataset"]) == pytest.approx(e["auc"]["mean"])
             assert len(e["reliability"]) == 10

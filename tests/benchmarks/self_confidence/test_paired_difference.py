@@ -54,3 +54,13 @@ def test_the_gap_and_order_targets_quote_the_paired_interval():
     order = checks["Algorithm 1 order semantic > GloVe > one-hot (lgbm)"]
     assert not order["met"] and "semantic − GloVe -0.040" in order["measured"]
     assert "GloVe − one-hot +0.060" in order["measured"]
+
+
+def test_shuffles_of_one_dataset_count_once():
+    # per_dataset holds each dataset's mean over its shuffles; pairing follows dataset_index, not list position
+    a = {"auc": {"mean": 0.7, "per_dataset": [0.7, 0.8, 0.6], "dataset_index": [0, 1, 2]}}
+    b = {"auc": {"mean": 0.6, "per_dataset": [0.5, 0.7, 0.6], "dataset_index": [2, 0, 1]}}
+    p = paired_difference(a, b)
+    assert p["datasets"] == 3 and p["mean"] == pytest.approx((0.0 + 0.2 + 0.1) / 3)
+    other = {"auc": {"mean": 0.6, "per_dataset": [0.5, 0.7], "dataset_index": [0, 1]}}
+    assert paired_difference(a, other) is None

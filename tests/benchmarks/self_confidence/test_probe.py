@@ -65,6 +65,15 @@ def test_a_seeded_probe_repeats_and_the_seed_changes_the_folds():
     assert not np.array_equal(a[1], c[1])
 
 
+def test_a_fold_with_one_class_in_training_scores_a_constant_not_its_base_rate():
+    # one glass product in 40: the fold that tests it trains on none, and scores its 8 products 0.5
+    attrs = _attrs(40)
+    attrs = ProductAttributes(attrs.names, attrs.width, attrs.mass, np.arange(40) == 0, attrs.family)
+    probe, predicted = probe_attributes("noise", np.random.default_rng(0).normal(size=(40, 4)), attrs)
+    assert predicted[0, 2] == 0.5 and int(np.sum(predicted[:, 2] == 0.5)) == 8
+    assert 0.0 <= probe.glass_auroc <= 1.0
+
+
 def test_bad_options_and_shapes_are_config_errors():
     with pytest.raises(ConfigError, match="folds"):
         ProbeOptions(folds=1)
@@ -145,7 +154,9 @@ def test_probe_command_writes_the_report_and_the_true_attributes_beat_one_hot_te
     ("extra", "message"),
     [
         (["--estimators", "eps-knn"], "eps-knn"),
-        (["--folds", "1"], "folds"),
+        (["--folds", "1"], "--folds"),
+        (["--wide-m", "nan"], "--wide-m"),
+        (["--embedders", "mpnt"], "minilm"),  # a typo is an error, not a skipped embedder
     ],
 )
 def test_probe_bad_options_are_one_line_errors(tmp_path, capsys, extra, message):

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -148,3 +150,23 @@ def test_a_calibrated_cell_gives_its_base_cell_from_the_same_fits(sc_data, name)
     assert cal.to_json()["a1"] != base.to_json()["a1"]  # the calibrated beliefs are its own
     with pytest.raises(ConfigError):
         evaluate_calibrated_cells(name, data, X, 0, 0, lambda s: make_estimator(name, seed=s), (), OPTS)
+
+
+def test_per_dataset_auc_averages_each_dataset_s_shuffles(sc_data):
+    datasets = load_eval_datasets(sc_data(n_datasets=2, rows=40))
+    opts = replace(OPTS, shuffles=3)
+    r = evaluate_protocols(
+        "onehot",
+        "knn",
+        datasets,
+        _onehot(datasets),
+        lambda s: make_estimator("knn", seed=s),
+        tuple(Protocol),
+        opts,
+    )
+    a1 = r.scores[Protocol.ALGORITHM1]
+    assert len(a1.auc) == 6 and a1.groups == (0, 1, 0, 1, 0, 1)  # shuffle by shuffle, datasets in order
+    auc = r.entry(Protocol.ALGORITHM1)["auc"]
+    assert auc["dataset_index"] == [0, 1]
+    assert auc["per_dataset"] == pytest.approx([np.mean(a1.auc[0::2]), np.mean(a1.auc[1::2])])
+    assert np.mean(auc["per_dataset"]) == pytest.approx(auc["mean"])
