@@ -73,3 +73,26 @@ def sc_data(tmp_path: Path) -> Callable[..., Path]:
         return write_datasets(tmp_path / f"sc{next(count)}", **kwargs)  # type: ignore[arg-type]
 
     return make
+
+
+@pytest.fixture
+def user_catalogue(kitchen_cfg) -> Callable[[Path], Path]:
+    """user_catalogue(folder): a user's product file of three tins ("my tins") with free marker ids."""
+
+    def make(tmp_path: Path) -> Path:
+        used = {o.marker_id for o in kitchen_cfg.catalogue.objects}
+        free = [i for i in range(1000) if i not in used and i != 544][:3]
+        assert len(free) == 3, "the test needs three free marker ids"
+        path = tmp_path / "my_products.yaml"
+        path.write_text(
+            "family: my tins\n"
+            "source: measured in my own kitchen\n"
+            "defaults: {shape: cylinder, material: metal, friction: 0.35}\n"
+            "products:\n"
+            f"  - {{name: smoked paprika tin, size: [0.06, 0.06, 0.08], mass: 0.12, rgba: [0.8, 0.2, 0.1, 1], marker_id: {free[0]}}}\n"
+            f"  - {{name: saffron tin, size: [0.05, 0.05, 0.06], mass: 0.05, rgba: [0.9, 0.7, 0.1, 1], marker_id: {free[1]}}}\n"
+            f"  - {{name: matcha tin, size: [0.07, 0.07, 0.09], mass: 0.15, rgba: [0.3, 0.6, 0.2, 1], marker_id: {free[2]}}}\n"
+        )
+        return path
+
+    return make

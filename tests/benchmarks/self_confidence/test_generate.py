@@ -75,26 +75,9 @@ def test_shelf_context_measures_clearance_along_the_tier_and_counts_neighbours(k
     assert alone.clearance_m == ALONE_CLEARANCE_M
 
 
-def _user_catalogue(tmp_path: Path, kitchen_cfg) -> Path:
-    used = {o.marker_id for o in kitchen_cfg.catalogue.objects}
-    free = [i for i in range(1000) if i not in used and i != 544][:3]
-    assert len(free) == 3, "the test needs three free marker ids"
-    path = tmp_path / "my_products.yaml"
-    path.write_text(
-        "family: my tins\n"
-        "source: measured in my own kitchen\n"
-        "defaults: {shape: cylinder, material: metal, friction: 0.35}\n"
-        "products:\n"
-        f"  - {{name: smoked paprika tin, size: [0.06, 0.06, 0.08], mass: 0.12, rgba: [0.8, 0.2, 0.1, 1], marker_id: {free[0]}}}\n"
-        f"  - {{name: saffron tin, size: [0.05, 0.05, 0.06], mass: 0.05, rgba: [0.9, 0.7, 0.1, 1], marker_id: {free[1]}}}\n"
-        f"  - {{name: matcha tin, size: [0.07, 0.07, 0.09], mass: 0.15, rgba: [0.3, 0.6, 0.2, 1], marker_id: {free[2]}}}\n"
-    )
-    return path
-
-
 @pytest.mark.slow
-def test_generate_on_a_user_catalogue_restricted_draw_and_resume(tmp_path, kitchen_cfg, capsys):
-    mine = _user_catalogue(tmp_path, kitchen_cfg)
+def test_generate_on_a_user_catalogue_restricted_draw_and_resume(tmp_path, user_catalogue, capsys):
+    mine = user_catalogue(tmp_path)
     products = tmp_path / "draw.txt"
     products.write_text("# my tins and one shop product\nsmoked paprika tin\nsaffron tin\nmatcha tin\nsalt\n")
     out = tmp_path / "data"

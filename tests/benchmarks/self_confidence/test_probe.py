@@ -173,3 +173,17 @@ def test_a_product_missing_from_the_catalogue_is_named_before_anything_runs(tmp_
     assert main(["sc", "probe", "--data", str(data), "--embedders", "onehot"]) == 2
     err = capsys.readouterr().err.strip()
     assert "moon cheese" in err and "--catalogue" in err and "\n" not in err
+
+
+def test_a_user_catalogue_is_probed_with_the_shop(tmp_path, user_catalogue, capsys):
+    mine = user_catalogue(tmp_path)
+    tins = ["smoked paprika tin", "saffron tin", "matcha tin"]
+    attrs = product_attributes(catalogues=[mine])
+    assert set(tins) <= set(attrs.names) and attrs.family[attrs.names.index("matcha tin")] == "my tins"
+    data = _write(tmp_path / "data", [*tins, *attrs.names[:20]], attrs)
+    argv = ["sc", "probe", "--data", str(data), "--embedders", "onehot", "--estimators", "knn"]
+    assert main(argv) == 2  # without the user's file its tins are unknown
+    assert "smoked paprika tin" in capsys.readouterr().err
+    assert main([*argv, "--catalogue", str(mine)]) == 0
+    printed = json.loads(capsys.readouterr().out)
+    assert printed["catalogue_products"] == len(attrs.names) == len(product_attributes().names) + 3
