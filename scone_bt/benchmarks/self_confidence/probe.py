@@ -47,7 +47,6 @@ __all__ = [
     "CEILING_ESTIMATORS",
     "ProbeOptions",
     "ProductAttributes",
-    "ceiling_features",
     "probe_attributes",
     "probe_markdown",
     "product_attributes",
@@ -236,13 +235,6 @@ def probe_attributes(
     return probe, np.column_stack([oof_numeric, oof_p["glass"]])
 
 
-def ceiling_features(
-    table: np.ndarray, attrs: ProductAttributes, datasets: Sequence[EvalDataset], source: str
-) -> list[np.ndarray]:
-    """Per dataset, each row's product looked up in `table` (one row per catalogue product)."""
-    return [table[attrs.rows(d.objects, source)] for d in datasets]
-
-
 def _standardised(columns: np.ndarray, reference: np.ndarray) -> np.ndarray:
     """`columns` scaled by the mean and std of `reference` (so true and predicted attributes share one scale)."""
     mu, sd = reference.mean(axis=0), reference.std(axis=0)
@@ -263,17 +255,18 @@ def _ceiling_tables(attrs: ProductAttributes, predicted: dict[str, np.ndarray]) 
 
 def _run_ceilings(
     tables: dict[str, np.ndarray],
-    attrs: ProductAttributes,
+    rows: Sequence[np.ndarray],
     datasets: Sequence[EvalDataset],
     estimators: Sequence[str],
     options: EvalOptions,
     log: Callable[[str], None],
 ) -> dict[str, list[dict[str, Any]]]:
+    """Every protocol of every (feature table, estimator); `rows`: per dataset, its rows' catalogue indices."""
     from scone_bt.confidence import make_estimator
 
     out: dict[str, list[dict[str, Any]]] = {p.value: [] for p in _PROTOCOLS}
     for features, table in tables.items():
-        X = ceiling_features(table, attrs, datasets, features)
+        X = [table[r] for r in rows]
         for est in estimators:
             result = evaluate_protocols(
                 features,
@@ -375,8 +368,8 @@ def run_probe(args: argparse.Namespace) -> int:
     eval_options = EvalOptions(seed=args.seed)
     attrs = product_attributes(args.kitchen, args.catalogue)
     datasets = load_eval_datasets(args.data, min_rows=eval_options.min_rows, kitchen=args.kitchen)
-    for d in datasets:
-        attrs.rows(d.objects, f"{args.data}/{d.name}")  # every product known before anything runs
+    # every product known before anything runs; the indices serve every ceiling
+    rows = [attrs.rows(d.objects, f"{args.data}/{d.name}") for d in datasets]
     texts = [action_text(n) for n in attrs.names]
     probes: list[AttributeProbe] = []
     predicted: dict[str, np.ndarray] = {}
@@ -395,9 +388,7 @@ def run_probe(args: argparse.Namespace) -> int:
         probes.append(probe)
         predicted[name] = pred
         log(f"probed {name}: wide AUROC {probe.wide_auroc:.3f}, heavy {probe.heavy_auroc:.3f}")
-    ceilings = _run_ceilings(
-        _ceiling_tables(attrs, predicted), attrs, datasets, estimators, eval_options, log
-    )
+    ceilings = _run_ceilings(_ceiling_tables(attrs, predicted), rows, datasets, estimators, eval_options, log)
     report: dict[str, Any] = {
         "benchmark": "sc probe",
         "data": str(args.data),
