@@ -333,7 +333,7 @@ class ProtocolScores:
         reliability: The reliability diagram's bins at the largest step, pooled.
         n_test: Test predictions pooled at the largest step (all datasets and shuffles).
         n_datasets: Datasets × shuffles with at least one test row.
-        groups: The dataset (index into the evaluated datasets) of each `auc` value; empty: one dataset each.
+        groups: The dataset (index into the evaluated datasets) of each `auc` value.
     """
 
     protocol: Protocol
@@ -349,7 +349,7 @@ class ProtocolScores:
     reliability: tuple[ReliabilityBin, ...]
     n_test: int
     n_datasets: int
-    groups: tuple[int, ...] = ()
+    groups: tuple[int, ...]
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready numbers (NaN stays NaN; the writer turns it into null)."""
@@ -383,9 +383,8 @@ class ProtocolScores:
 
 def _per_dataset(auc: Sequence[float], groups: Sequence[int]) -> dict[str, list]:
     """AUC per dataset, the mean over its shuffles, and the datasets' indices (shuffles are not independent)."""
-    g = list(groups) if len(groups) == len(auc) else list(range(len(auc)))
-    index = sorted(set(g))
-    values = [float(np.mean([a for a, k in zip(auc, g, strict=True) if k == i])) for i in index]
+    index = sorted(set(groups))
+    values = [float(np.mean([a for a, k in zip(auc, groups, strict=True) if k == i])) for i in index]
     return {"per_dataset": values, "dataset_index": index}
 
 
