@@ -117,6 +117,10 @@ class DecisionMade(Event):
         reason: The gate's one-sentence reason.
         explored: ACT on an ε-greedy exploration draw although κ̂ was below the threshold.
         context: The chosen action's execution context as perceived (what a grounded κ̂ saw), or None.
+        rule: What made the verdict when it was not κ̂ against the gate's threshold: "failure-limit" (the
+            paper's rule: asked after N failures on the action), "infeasible" (no plan exists: known before the
+            arm moved), "missing" (the step needs an item the robot cannot see), "self-confidence-off" (the
+            control condition acted without consulting κ̂); "" when κ̂ and the threshold decided.
     """
 
     kind: ClassVar[str] = "decision"
@@ -132,6 +136,7 @@ class DecisionMade(Event):
     reason: str = ""
     explored: bool = False
     context: ExecutionContext | None = None
+    rule: str = ""
 
     def to_json(self) -> dict[str, Any]:
         out = super().to_json()

@@ -36,7 +36,9 @@ EVERY_STEP_SERVED = "(every step is served)"
 def apply_failure_limit(decision: Decision, failures: int, limit: int) -> Decision:
     """The paper's rule: after ``limit`` failures on the same action, ask for help whatever κ̂ says."""
     if decision.kind is DecisionKind.ACT and decision.action is not None and failures >= limit:
-        return replace(decision, kind=DecisionKind.ASK, reason=f"failed {limit} times on this action")
+        return replace(
+            decision, kind=DecisionKind.ASK, reason=f"failed {limit} times on this action", rule="failure-limit"
+        )
     return decision
 
 
@@ -193,6 +195,7 @@ class ConfidenceGate(StageBehaviour):
             reason=decision.reason,
             explored=decision.explored,
             context=context,
+            rule=decision.rule,
         )
 
 

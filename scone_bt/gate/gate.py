@@ -129,7 +129,13 @@ def decide(
         )
     if not options.use_self_confidence:
         return Decision(
-            DecisionKind.ACT, action.text, action.relevance, conf, "acting: self-confidence is off", need
+            DecisionKind.ACT,
+            action.text,
+            action.relevance,
+            conf,
+            "acting: self-confidence is off",
+            need,
+            rule="self-confidence-off",
         )
     threshold = options.act_threshold
     if conf >= threshold:

@@ -36,6 +36,7 @@ class Decision:
             when idle or clarifying).
         explored: ACT although κ̂ was below the threshold, because the ε-greedy estimator drew exploration for
             this action (the robot tries it to learn; ``confidence`` is still κ̂'s belief).
+        rule: What decided when it was not κ̂ against the threshold (see `DecisionMade.rule`); "" otherwise.
     """
 
     kind: DecisionKind
@@ -47,3 +48,4 @@ class Decision:
     candidates: tuple[str, ...] = ()
     object_name: str | None = None
     explored: bool = False
+    rule: str = ""
