@@ -1,7 +1,7 @@
 """RankByRelevance (ζ, ρ): where the robot is in the recipe, and the affordances ranked against that step.
 
-Recipe-aware (the default): the robot tracks its own step from what it observes (`scone_bt.relevance.tracker`),
-and each action carries why it is a candidate ("now", "later", or "" when the recipe never uses it). With
+Recipe-aware (the default): the robot tracks its own step from what it observes and what it did (its labelled
+successful placements, `Keys.OUTCOME`; `scone_bt.relevance.tracker`), and each action carries why it is a candidate ("now", "later", or "" when the recipe never uses it). With
 ``recipe_aware`` off, the paper's setting: the human's current step text alone, every action a candidate.
 """
 
@@ -24,7 +24,7 @@ __all__ = ["RankByRelevance"]
 
 
 class RankByRelevance(StageBehaviour):
-    READS = (Keys.AFFORDANCES, Keys.TABLE_DETECTIONS, Keys.CLARIFIED)
+    READS = (Keys.AFFORDANCES, Keys.TABLE_DETECTIONS, Keys.CLARIFIED, Keys.OUTCOME)
     WRITES = (Keys.INSTRUCTION, Keys.RANKED, Keys.ACTION_EMBEDDINGS, Keys.STEP)
 
     def __init__(
@@ -49,6 +49,9 @@ class RankByRelevance(StageBehaviour):
         self.selection_options = selection
         self.recipe_aware = recipe_aware
         self.human = human
+        # What the robot put on the table itself and has not seen back on the shelf since.
+        self.placed: set[str] = set()
+        self._outcome: object = None  # the last outcome read (each is counted once)
 
     @classmethod
     def from_context(cls, name: str, context: EpisodeContext) -> RankByRelevance:
@@ -87,6 +90,7 @@ class RankByRelevance(StageBehaviour):
             )
             return py_trees.common.Status.SUCCESS
         names = [a.object_name for a in affordances]
+        self._note_placements(names)
 
         scored: dict[str, dict[str, float]] = {}  # the tracker and the ranking below ask for the same steps
 
@@ -107,6 +111,7 @@ class RankByRelevance(StageBehaviour):
             similarity,
             self.selection_options,
             self.read(Keys.CLARIFIED, {}),
+            frozenset(self.placed),
         )
         self.step = view.index
         self.write(Keys.STEP, view)
@@ -127,3 +132,15 @@ class RankByRelevance(StageBehaviour):
             + (f"; which of {', '.join(sel.ambiguous)}?" if sel.ambiguous else "")
         )
         return py_trees.common.Status.SUCCESS
+
+    def _note_placements(self, shelf: Sequence[str]) -> None:
+        """Keep `placed` up to date: a new labelled success adds its object; a failure on it, or seeing it on the
+        shelf again, says it is not (or no longer) on the table."""
+        outcome = self.read(Keys.OUTCOME)
+        if outcome is not None and outcome is not self._outcome:
+            if outcome.success:
+                self.placed.add(outcome.object_name)
+            else:
+                self.placed.discard(outcome.object_name)
+        self._outcome = outcome
+        self.placed.difference_update(shelf)

@@ -7,7 +7,7 @@ wordings its ingredient lines use for them, and the steps ahead. `select_for_ste
 1. Candidates are the recipe's items that stand on the shelf. An item the recipe never uses is never a candidate.
 2. NOW: the candidates the step names (whole name, a recipe wording, or an unambiguous head noun; see
    `scone_bt.relevance.mentions`), unless every mention is negated ("without the cheese"), best cosine first.
-3. If the step names none, the semantic fallback: the most similar candidate is NOW when its cosine similarity
+3. If the step names no recipe item (on the shelf or not), the semantic fallback: the most similar candidate is NOW when its cosine similarity
    reaches ``rho`` and beats the runner-up by ``margin``; two or more candidates within ``margin`` of each other
    above ``rho`` are AMBIGUOUS (the robot should ask which one is meant). A shared head noun the step uses alone
    ("the oil" with canola and sesame oil on the shelf) is ambiguous too.
@@ -129,7 +129,9 @@ def select_for_step(
     now = sorted((i for i in candidates if i in named), key=lambda i: -sim[i])
     ambiguous: tuple[str, ...] = ()
     reason = "the step names it" if now else ""
-    if not now:
+    # The fallback is for a step that names no recipe item: a step whose named items are not on the shelf (the
+    # human may be fetching them) needs those, not the most similar item; its candidates stay LATER.
+    if not now and not named:
         groups = [g for g in ambiguous_heads(step, candidates, wordings=wordings) if all(i in sim for i in g)]
         unnamed = sorted((i for i in candidates if i not in negated), key=lambda i: -sim[i])
         if groups:

@@ -94,3 +94,14 @@ def test_mentions_fold_plurals_accents_and_heads() -> None:
 def test_options_are_validated(kw) -> None:
     with pytest.raises(SconeError):
         SelectionOptions(**kw)
+
+
+def test_a_step_whose_named_items_are_off_the_shelf_gets_no_similarity_fallback() -> None:
+    # the step names spaghetti, which is not on the shelf: garlic (the most similar item) is for later, not now
+    shelf = tuple(i for i in SHELF if i != "pasta")
+    opts = SelectionOptions(rho=0.3, margin=0.05)
+    sel = select_for_step("Cook the spaghetti until al dente.", shelf, PASTA, _sim(garlic=0.39), opts)
+    assert sel.named == ("pasta",)
+    assert sel.now == () and sel.ambiguous == ()
+    assert sel.need("garlic") is Need.LATER
+    assert not sel.done
