@@ -3,12 +3,49 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 from scone_bt.affordances.types import object_of_action
 from scone_bt.events import ActCancelled, ActOutcome, ClarificationAsked, DecisionMade, Event
 from scone_bt.gate.types import DecisionKind
 
-__all__ = ["decision_line", "LinePrinter"]
+if TYPE_CHECKING:
+    from scone_bt.behaviours.options import BehaviourOptions
+
+__all__ = ["RULE_LABELS", "condition_line", "decision_line", "rule_note", "LinePrinter"]
+
+RULE_LABELS = {
+    "failure-limit": "failure rule",
+    "self-confidence-off": "self-confidence off",
+    "infeasible": "infeasible",
+    "missing": "missing",
+}
+"""How a line names each `DecisionMade.rule` (a rule not listed is shown by its own name)."""
+
+
+def condition_line(options: BehaviourOptions) -> str:
+    """The condition an episode runs in: self-confidence on (κ̂ and its threshold) or off, and the failure rule.
+
+    ``options`` must be resolved (`BehaviourOptions.resolve`).
+    """
+    n = options.max_failures_per_action
+    failures = f"ask after {n} failure{'' if n == 1 else 's'} on one action"
+    if not options.use_self_confidence:
+        return f"self-confidence OFF (the paper's control: always act, {failures})"
+    return f"self-confidence on ({options.estimator}, threshold {options.confidence_threshold:g}), {failures}"
+
+
+def rule_note(event: DecisionMade) -> str:
+    """The mark of a line a rule decided, not κ̂ against the threshold ("" when κ̂ did).
+
+    For example "(failure rule: failed 3 times on this action)".
+    """
+    if not event.rule:
+        return ""
+    label = RULE_LABELS.get(event.rule, event.rule)
+    if event.rule == "self-confidence-off":  # its reason only repeats the label
+        return f"({label}: acts whatever κ̂ says)"
+    return f"({label}: {event.reason})" if event.reason else f"({label})"
 
 
 def decision_line(event: DecisionMade, steps_total: int) -> str:
@@ -24,6 +61,9 @@ def decision_line(event: DecisionMade, steps_total: int) -> str:
     note = "  (needed later)" if event.need == "later" and event.action else ""
     if event.explored:  # κ̂ below the threshold: the robot tries it to learn (ε-greedy)
         note = "  (exploring)" + note
+    if event.rule:  # a rule, not κ̂, made the verdict: the line must not read as κ̂'s call
+        shown = target == "(" + event.reason + ")"  # the reason is already the target
+        note += "  " + (f"({RULE_LABELS.get(event.rule, event.rule)})" if shown else rule_note(event))
     return (
         f"[step {event.step}/{steps_total}] {short!r:52} -> {target:28} "
         f"rel {event.relevance:5.2f}  conf {event.confidence:4.2f}  {event.verdict.label}{note}"
@@ -34,13 +74,15 @@ class LinePrinter:
     """An event listener that prints decisions, clarifications and outcomes as lines.
 
     A run of identical idle decisions is printed once, then counted ("… the same N more times", at the next
-    different decision and at `flush`); `lines` keeps every decision line (the summary's decision log).
+    different decision and at `flush`); `lines` keeps every decision line (the summary's decision log), and
+    `rules` counts the decisions each rule other than κ̂ made (`DecisionMade.rule`).
     """
 
     def __init__(self, printer: Callable[[str], None], steps_total: int) -> None:
         self.printer = printer
         self.steps_total = steps_total
         self.lines: list[str] = []
+        self.rules: dict[str, int] = {}
         self._last: str | None = None
         self._repeats = 0
 
@@ -48,6 +90,8 @@ class LinePrinter:
         if isinstance(event, DecisionMade):
             line = decision_line(event, self.steps_total)
             self.lines.append(line)
+            if event.rule:
+                self.rules[event.rule] = self.rules.get(event.rule, 0) + 1
             if event.verdict is DecisionKind.IDLE and line == self._last:
                 self._repeats += 1
                 return

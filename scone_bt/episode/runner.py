@@ -20,7 +20,7 @@ import py_trees
 
 from scone_bt.behaviours import BehaviourOptions, EpisodeContext, Keys, OutcomeLabels
 from scone_bt.config import load_kitchen, load_robot
-from scone_bt.episode.printer import LinePrinter
+from scone_bt.episode.printer import RULE_LABELS, LinePrinter, condition_line
 from scone_bt.episode.resources import EpisodeResources, ModelPool
 from scone_bt.episode.seeds import PlannerSeedStream, SeedPlan, SeedStage
 from scone_bt.episode.snapshot import SnapshotBuilder
@@ -76,7 +76,11 @@ class EpisodeOptions:
 
 @dataclass(frozen=True)
 class EpisodeSummary:
-    """What happened. All counts are deterministic for a given seed; times are not."""
+    """What happened. All counts are deterministic for a given seed; times are not.
+
+    ``condition`` is the condition the robot ran in (`condition_line`); ``decided_by_rule`` counts the decisions a
+    rule other than κ̂ against the threshold made, by `DecisionMade.rule`.
+    """
 
     recipe_id: str
     recipe_title: str
@@ -105,6 +109,8 @@ class EpisodeSummary:
     physics_steps: int = 0
     physics_steps_skipped: int = 0
     renders: int = 0
+    condition: str = ""
+    decided_by_rule: dict[str, int] = field(default_factory=dict)
 
     def deterministic_part(self) -> dict[str, Any]:
         """The fields a seeded rerun must reproduce exactly."""
@@ -117,16 +123,19 @@ class EpisodeSummary:
     def format(self) -> str:
         fails = ", ".join(f"{k} {v}" for k, v in sorted(self.failures_by_stage.items())) or "none"
         on_table = sum(self.needed_on_table.values())
+        rules = ", ".join(f"{RULE_LABELS.get(k, k)} {v}" for k, v in sorted(self.decided_by_rule.items()))
         return "\n".join(
             [
                 f"── summary: {self.recipe_title} ({self.recipe_id}) with {self.robot} ──",
+                *([f"condition          {self.condition}"] if self.condition else []),
                 f"steps completed    {self.steps_completed}/{self.steps_total}{'' if self.completed else '  (stopped early)'}",
                 f"ingredients        {on_table}/{len(self.needed_on_table)} on the table",
                 f"actions attempted  {self.attempted}   successes {self.successes}   failures {self.failures} ({fails})"
                 + (f"   taken over {self.takeovers}" if self.takeovers else ""),
                 f"help requests      {self.help_requests}   clarifications {self.clarifications}"
                 f"   interventions {self.interventions}",
-                f"decisions          {self.decisions}   control ticks {self.control_ticks}",
+                f"decisions          {self.decisions}   control ticks {self.control_ticks}"
+                + (f"   made by a rule, not κ̂: {rules}" if rules else ""),
                 f"time               {self.sim_time:.1f} s simulated, {self.wall_time:.1f} s wall",
             ]
         )
@@ -321,6 +330,7 @@ def run_episode(
             f"{recipe.recipe.title}: {len(recipe.steps)} steps, needs {', '.join(recipe.needed)}; "
             f"distractors: {', '.join(distractors) or 'none'}"
         )
+        say(f"condition: {condition_line(behaviour)}")
         if recipe.unstocked or recipe.off_shelf:
             say(f"not stocked (the human brings them): {', '.join((*recipe.unstocked, *recipe.off_shelf))}")
         robot.setup()
@@ -403,6 +413,8 @@ def run_episode(
                 physics_steps=kitchen.steps - kitchen.steps_skipped,
                 physics_steps_skipped=kitchen.steps_skipped,
                 renders=robot.renders,
+                condition=condition_line(behaviour),
+                decided_by_rule=dict(log_lines.rules),
             )
             tree.shutdown()
             return summary

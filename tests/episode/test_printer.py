@@ -1,0 +1,84 @@
+"""The decision lines and the condition say which rule decided: κ̂ against the threshold, or another rule."""
+
+from __future__ import annotations
+
+import math
+
+from scone_bt.behaviours import BehaviourOptions
+from scone_bt.episode.printer import LinePrinter, condition_line, decision_line
+from scone_bt.episode.runner import EpisodeSummary
+from scone_bt.events import DecisionMade
+from scone_bt.gate.types import DecisionKind
+
+
+def _decision(
+    verdict: DecisionKind = DecisionKind.ACT, rule: str = "", reason: str = "", **kw
+) -> DecisionMade:
+    return DecisionMade(
+        0.0,
+        2,
+        "Cook the spaghetti.",
+        "Put garlic on table",
+        0.39,
+        0.4,
+        verdict,
+        reason=reason,
+        rule=rule,
+        **kw,
+    )
+
+
+def test_a_line_the_failure_rule_decided_says_so() -> None:
+    line = decision_line(_decision(DecisionKind.ASK, "failure-limit", "failed 3 times on this action"), 5)
+    assert line.endswith("ASK-HELP  (failure rule: failed 3 times on this action)")
+    plain = decision_line(_decision(DecisionKind.ASK, "", "asking for help: confidence 0.40 < 0.50"), 5)
+    assert plain.endswith("ASK-HELP") and "rule" not in plain
+
+
+def test_with_self_confidence_off_a_line_does_not_read_as_kappas_call() -> None:
+    event = _decision(DecisionKind.ACT, "self-confidence-off", "acting: self-confidence is off", need="later")
+    line = decision_line(event, 5)
+    assert line.endswith("ACT  (needed later)  (self-confidence off: acts whatever κ̂ says)")
+
+
+def test_rules_to_come_are_shown_by_label_and_reason() -> None:
+    line = decision_line(_decision(DecisionKind.ASK, "infeasible", "no grasp fits"), 5)
+    assert line.endswith("(infeasible: no grasp fits)")
+    waiting = DecisionMade(
+        0.0, 2, "Cook.", None, math.nan, math.nan, DecisionKind.IDLE, reason="waiting: pasta", rule="missing"
+    )
+    assert decision_line(waiting, 5).endswith("IDLE  (missing)")  # the reason is the target already
+
+
+def test_the_printer_counts_the_decisions_each_rule_made() -> None:
+    printed: list[str] = []
+    printer = LinePrinter(printed.append, 5)
+    printer(_decision(DecisionKind.ACT, "self-confidence-off"))
+    printer(_decision(DecisionKind.ACT, "self-confidence-off"))
+    printer(_decision(DecisionKind.ASK, "failure-limit", "failed 3 times on this action"))
+    printer(_decision(DecisionKind.ACT))
+    assert printer.rules == {"self-confidence-off": 2, "failure-limit": 1}
+
+
+def test_the_condition_names_kappa_and_its_threshold_or_the_control() -> None:
+    on = BehaviourOptions().resolve()
+    assert condition_line(on) == (
+        f"self-confidence on ({on.estimator}, threshold {on.confidence_threshold:g}), "
+        f"ask after {on.max_failures_per_action} failures on one action"
+    )
+    off = BehaviourOptions(use_self_confidence=False, max_failures_per_action=1).resolve()
+    assert (
+        condition_line(off)
+        == "self-confidence OFF (the paper's control: always act, ask after 1 failure on one action)"
+    )
+
+
+def test_the_summary_states_the_condition_and_the_rules_that_decided() -> None:
+    summary = EpisodeSummary(
+        "example:x", "X", "panda", True, 1, 1, 1, 1, 0, {}, 1, 0, 0, 0, 3, 10, 10, 1.0, 1.0, {}, (),
+        condition="self-confidence OFF (the paper's control: always act, ask after 3 failures on one action)",
+        decided_by_rule={"self-confidence-off": 1, "failure-limit": 1},
+    )  # fmt: skip
+    text = summary.format()
+    assert "condition          self-confidence OFF (the paper's control" in text
+    assert "made by a rule, not κ̂: failure rule 1, self-confidence off 1" in text
