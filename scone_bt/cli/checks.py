@@ -5,14 +5,22 @@ Each check raises SconeError with one line naming the flag, the value and what i
 
 from __future__ import annotations
 
+import json
 import math
 import os
+import stat
+import tempfile
+from collections.abc import Iterable, Mapping
 from pathlib import Path
+from typing import Literal
 
 from scone_bt.errors import SconeError
 
 __all__ = [
     "MAX_SEED",
+    "OUTPUT_KINDS",
+    "OutputKind",
+    "RRD_MAGIC",
     "check_seed",
     "check_port",
     "check_range",
@@ -20,7 +28,28 @@ __all__ = [
     "check_output_dir",
     "check_positive_int",
     "internal_error_line",
+    "is_output_kind",
+    "same_file",
+    "sqlite_files",
+    "write_atomic",
 ]
+
+OutputKind = Literal["rrd", "json", "csv", "sqlite", "text"]
+OUTPUT_KINDS: dict[str, str] = {
+    "rrd": "a rerun recording (.rrd)",
+    "json": "a JSON file",
+    "csv": "a CSV file",
+    "sqlite": "an SQLite file",
+    "text": "a text file",
+}
+"""What each kind of output is called in messages."""
+
+RRD_MAGIC = (b"RRF0", b"RRF1", b"RRF2", b"RRIS")
+"""The first four bytes of a rerun recording (file format versions of rerun-sdk 0.x)."""
+
+_SQLITE_MAGIC = b"SQLite format 3\x00"
+_SNIFF_BYTES = 1 << 20  # a JSON/CSV/text file is judged on its first MiB: an output of ours is small
+_SQLITE_SIDECARS = ("-wal", "-shm", "-journal")
 
 MAX_SEED = 2**32 - 1
 """Seeds are unsigned 32-bit integers (numpy, OMPL and PyBullet all accept this range)."""
@@ -58,18 +87,117 @@ def _first_existing_parent(path: Path) -> tuple[Path, Path | None]:
     return Path("/"), None
 
 
-def check_output_file(path: Path, flag: str, must_not_exist: bool = False) -> Path:
-    """A file that will be written: its folder exists or can be made, and it is writable.
+def same_file(a: Path | str, b: Path | str) -> bool:
+    """True when `a` and `b` name one file: the same inode (hard links, symlinks followed) or resolved path."""
+    try:
+        if os.path.samefile(a, b):
+            return True
+    except OSError:  # one of them does not exist (yet): compare where they would be
+        pass
+    return os.path.realpath(a) == os.path.realpath(b)
+
+
+def _head(path: Path, n: int) -> bytes:
+    with path.open("rb") as f:
+        return f.read(n)
+
+
+def is_output_kind(path: Path, kind: OutputKind) -> bool:
+    """Whether the existing regular file `path` is of `kind` (so overwriting it loses nothing of another kind).
+
+    rrd and sqlite by their magic bytes; json when its text parses as JSON (a JSON Lines file: its first line);
+    csv and text when they are UTF-8 text without NUL bytes.
+    """
+    try:
+        size = path.stat().st_size
+        head = _head(path, _SNIFF_BYTES)
+    except OSError:
+        return False
+    if size == 0:
+        return True  # nothing to lose
+    if kind == "rrd":
+        return head[:4] in RRD_MAGIC
+    if kind == "sqlite":
+        return head.startswith(_SQLITE_MAGIC)
+    try:
+        text = head.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        if size <= _SNIFF_BYTES or exc.start < len(head) - 4:  # a cut through the last character is fine
+            return False
+        text = head[: exc.start].decode("utf-8")
+    if "\x00" in text:
+        return False
+    if kind == "json":
+        if size > _SNIFF_BYTES:
+            return False  # none of our reports is this large; do not guess
+        try:
+            json.loads(text)
+        except ValueError:
+            first = text.lstrip().split("\n", 1)[0]
+            try:
+                json.loads(first)
+            except ValueError:
+                return False
+        return True
+    return True  # csv, text: UTF-8 text
+
+
+def _not_regular(mode: int) -> str:
+    if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):
+        return "a device"
+    if stat.S_ISFIFO(mode):
+        return "a FIFO (named pipe)"
+    if stat.S_ISSOCK(mode):
+        return "a socket"
+    return "not a regular file"
+
+
+def check_output_file(
+    path: Path,
+    flag: str,
+    must_not_exist: bool = False,
+    *,
+    kind: OutputKind | None = None,
+    inputs: Mapping[str, Iterable[Path | str]] | None = None,
+    force: bool = False,
+) -> Path:
+    """A file that will be written: not an input of the run, its folder writable, and nothing else overwritten.
+
+    Checked in order, each failure one line naming the flag: a folder, a device/FIFO/socket (refused at once:
+    writing `/dev/full` fails only after the work is done), a file that is one of `inputs` (same inode or resolved
+    path, symlinks followed; refused even with --force), an existing file that is not of `kind` (refused unless
+    `force`), a folder that is a file or read-only, a read-only file.
 
     Args:
         path: The file.
         flag: The option's name, for the message.
         must_not_exist: Refuse an existing file (outputs that are never overwritten).
+        kind: What the output is; an existing non-empty file of another kind is not overwritten.
+        inputs: The run's inputs and stores, by flag (e.g. {"--experience": [db, db-wal]}).
+        force: Overwrite an existing file of another kind.
     """
     if path.is_dir():
         raise SconeError(f"{flag} {path}: is a folder; give a file path")
+    try:
+        st = os.stat(path)
+    except OSError:
+        st = None
+    if st is not None and not stat.S_ISREG(st.st_mode):
+        raise SconeError(f"{flag} {path}: is {_not_regular(st.st_mode)}, not a file; give a file path")
+    for other_flag, files in (inputs or {}).items():
+        for other in files:
+            if same_file(path, other):
+                raise SconeError(
+                    f"{flag} {path}: is the {other_flag} {'store' if other_flag == '--experience' else 'input'} "
+                    f"of this run ({other}); writing there would destroy it, give another path"
+                )
     if must_not_exist and path.exists():
         raise SconeError(f"{flag} {path}: already exists; it is never overwritten, give a new path")
+    if st is not None and kind is not None and not force and not is_output_kind(path, kind):
+        raise SconeError(
+            f"{flag} {path}: exists and is not {OUTPUT_KINDS[kind]}; it is not overwritten "
+            "(give another path, or --force to replace it)"
+        )
     folder, blocker = _first_existing_parent(path)
     if blocker is not None:
         raise SconeError(f"{flag} {path}: {blocker} is a file, not a folder")
@@ -78,6 +206,37 @@ def check_output_file(path: Path, flag: str, must_not_exist: bool = False) -> Pa
     if not os.access(folder, os.W_OK | os.X_OK):
         raise SconeError(f"{flag} {path}: cannot write in {folder} (read-only or no permission)")
     return path
+
+
+def sqlite_files(path: Path | str) -> list[Path]:
+    """An SQLite database and the files SQLite keeps beside it (-wal, -shm, -journal)."""
+    p = Path(path)
+    return [p, *(p.with_name(p.name + s) for s in _SQLITE_SIDECARS)]
+
+
+def write_atomic(path: Path | str, data: str | bytes) -> None:
+    """Write `data` to `path` through a temporary file in the same folder, renamed over it when complete.
+
+    A write that fails (disk full, an interrupt) leaves the old file whole and no temporary file behind.
+    """
+    path = Path(path)
+    raw = data.encode() if isinstance(data, str) else data
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(raw)
+            f.flush()
+            os.fsync(f.fileno())
+        if path.exists():  # keep the old file's permissions (mkstemp makes 0600)
+            os.chmod(tmp, stat.S_IMODE(os.stat(path).st_mode))
+        else:
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(tmp, 0o666 & ~umask)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
 
 
 def check_output_dir(path: Path, flag: str, must_be_new: bool = False) -> Path:

@@ -6,9 +6,9 @@ store.append(Outcome(time.time(), "Put salt on table", "salt", "minilm", success
 store.outcomes(arm="panda")                                 # LearnFrom.SAME_MODEL.filters(...)
 """
 
-from scone_bt.experience.base import SCHEMA_VERSION, OutcomeStore
+from scone_bt.experience.base import SCHEMA_VERSION, OutcomeStore, attempted_outcome_ids
 from scone_bt.experience.learn_from import LearnFrom
-from scone_bt.experience.open import open_store
+from scone_bt.experience.open import count_stored, open_store
 from scone_bt.experience.postgres import PostgresExperienceStore, is_postgres_url, redact_url
 from scone_bt.experience.store import APPLICATION_ID, ExperienceStore
 from scone_bt.experience.types import Outcome, new_outcome_id
@@ -16,6 +16,7 @@ from scone_bt.experience.types import Outcome, new_outcome_id
 __all__ = [
     "APPLICATION_ID",
     "SCHEMA_VERSION",
+    "attempted_outcome_ids",
     "ExperienceStore",
     "LearnFrom",
     "Outcome",
@@ -23,6 +24,7 @@ __all__ = [
     "PostgresExperienceStore",
     "is_postgres_url",
     "new_outcome_id",
+    "count_stored",
     "open_store",
     "redact_url",
 ]

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import csv
 import json
+import threading
 from abc import ABC, abstractmethod
 from collections.abc import Callable
 from pathlib import Path
@@ -22,7 +23,16 @@ from typing import Any
 from scone_bt.errors import ExperienceStoreError, SconeError
 from scone_bt.experience.types import ExecutionContext, Outcome
 
-__all__ = ["COLUMNS", "EXECUTION_KEY", "SCHEMA_VERSION", "OutcomeStore", "outcome_from_row", "where_clause"]
+__all__ = [
+    "COLUMNS",
+    "EXECUTION_KEY",
+    "SCHEMA_VERSION",
+    "OutcomeStore",
+    "attempted_outcome_ids",
+    "note_attempt",
+    "outcome_from_row",
+    "where_clause",
+]
 
 EXECUTION_KEY = "execution"
 """Context JSON key that holds Outcome.execution (reserved: a free-form context may not use it)."""
@@ -43,6 +53,26 @@ COLUMNS = (
     "arm",
     "profile",
 )
+
+
+_ATTEMPTED: dict[str, list[str]] = {}
+_ATTEMPTED_LOCK = threading.Lock()
+
+
+def note_attempt(location: str, outcome_id: str) -> None:
+    """Remember that this process began to store `outcome_id` in the store at `location`.
+
+    Noted before the write starts, so that after an interrupt at any point the store can be asked exactly which
+    of them it holds (a count kept after the commit could miss one that committed just before the interrupt).
+    """
+    with _ATTEMPTED_LOCK:
+        _ATTEMPTED.setdefault(location, []).append(outcome_id)
+
+
+def attempted_outcome_ids(location: str) -> tuple[str, ...]:
+    """The outcome ids this process began to store at `location`, in order (see note_attempt)."""
+    with _ATTEMPTED_LOCK:
+        return tuple(_ATTEMPTED.get(location, ()))
 
 
 def stored_context(outcome: Outcome) -> dict[str, Any]:

@@ -2,13 +2,18 @@
 
 from __future__ import annotations
 
+import sqlite3
+from collections.abc import Sequence
 from pathlib import Path
+from urllib.parse import quote
 
 from scone_bt.experience.base import OutcomeStore
 from scone_bt.experience.postgres import PostgresExperienceStore, is_postgres_url
 from scone_bt.experience.store import ExperienceStore
 
-__all__ = ["open_store"]
+__all__ = ["open_store", "count_stored"]
+
+_CHUNK = 500  # ids per query: under SQLite's default limit of bound parameters
 
 
 def open_store(spec: str | Path) -> OutcomeStore:
@@ -16,3 +21,52 @@ def open_store(spec: str | Path) -> OutcomeStore:
     if is_postgres_url(spec):
         return PostgresExperienceStore(str(spec))
     return ExperienceStore(spec)
+
+
+def count_stored(spec: str | Path, outcome_ids: Sequence[str], timeout_s: float = 5.0) -> int | None:
+    """How many of `outcome_ids` the store named by `spec` holds; None if it cannot be asked.
+
+    Read through a fresh read-only connection, so it answers after an interrupt whatever state the run's own
+    connection was left in (an unfinished transaction is invisible here and rolled back when it closes).
+    """
+    ids = list(dict.fromkeys(outcome_ids))
+    if not ids:
+        return 0
+    if is_postgres_url(spec):
+        try:
+            import psycopg
+
+            with psycopg.connect(str(spec), connect_timeout=max(1, int(timeout_s))) as conn:
+                return sum(
+                    int(
+                        conn.execute(
+                            "SELECT COUNT(*) FROM scone_outcomes WHERE outcome_id = ANY(%s)",
+                            (ids[i : i + _CHUNK],),
+                        ).fetchone()[0]
+                    )
+                    for i in range(0, len(ids), _CHUNK)
+                )
+        except Exception:  # noqa: BLE001 - any failure means "cannot say"; the caller words it
+            return None
+    path = Path(spec)
+    if not path.is_file():
+        return 0
+    try:
+        conn = sqlite3.connect(f"file:{quote(str(path.resolve()))}?mode=ro", uri=True, timeout=timeout_s)
+    except sqlite3.Error:
+        return None
+    try:
+        total = 0
+        for i in range(0, len(ids), _CHUNK):
+            chunk = ids[i : i + _CHUNK]
+            total += int(
+                conn.execute(
+                    f"SELECT COUNT(*) FROM outcomes WHERE outcome_id IN ({', '.join('?' * len(chunk))})",
+                    chunk,
+                ).fetchone()[0]
+            )
+        return total
+    except sqlite3.Error:
+        return None
+    finally:
+        conn.close()

@@ -17,10 +17,21 @@ import threading
 from typing import Any
 
 from scone_bt.errors import ExperienceStoreError
-from scone_bt.experience.base import COLUMNS, SCHEMA_VERSION, OutcomeStore, context_json, where_clause
+from scone_bt.experience.base import (
+    COLUMNS,
+    SCHEMA_VERSION,
+    OutcomeStore,
+    context_json,
+    note_attempt,
+    where_clause,
+)
 from scone_bt.experience.types import Outcome
 
-__all__ = ["PostgresExperienceStore", "is_postgres_url", "redact_url"]
+__all__ = ["CONNECT_TIMEOUT_S", "PostgresExperienceStore", "is_postgres_url", "redact_url"]
+
+CONNECT_TIMEOUT_S = 10
+"""Deadline for reaching the PostgreSQL server, TCP and login included (seconds; libpq's connect_timeout): a server
+that accepts connections and never answers is a one-line error after this long, before the robot acts."""
 
 _APPLICATION = "scone-bt"
 _LOCK_KEY = 0x5C0E0B7  # advisory lock serialising schema creation by robots starting together
@@ -69,7 +80,7 @@ class PostgresExperienceStore(OutcomeStore):
             scone_outcomes table; the message names the URL (without its password).
     """
 
-    def __init__(self, url: str, connect_timeout_s: float = 10.0) -> None:
+    def __init__(self, url: str, connect_timeout_s: float = CONNECT_TIMEOUT_S) -> None:
         if not is_postgres_url(url):
             raise ExperienceStoreError(
                 f"{url!r} is not a PostgreSQL URL; expected postgresql://user@host:port/db"
@@ -176,6 +187,7 @@ class PostgresExperienceStore(OutcomeStore):
             "ON CONFLICT (outcome_id) DO NOTHING RETURNING id"
         )
         with self._lock:
+            note_attempt(self.location, outcome.outcome_id)
             for attempt in (1, 2):  # one reconnect: the key makes a second INSERT of a committed row a no-op
                 try:
                     conn = self._connection()

@@ -2,7 +2,9 @@
 
 The file is WAL-mode SQLite with synchronous=FULL, so a run killed at any point (even by SIGKILL or power loss)
 keeps every outcome whose `append` returned. Several robot processes may share one file: writers take turns
-(BEGIN IMMEDIATE with a 30 s busy timeout) and an outcome_id stored twice keeps one row. A file that is not ours
+(BEGIN IMMEDIATE with a 30 s busy timeout) and an outcome_id stored twice keeps one row. Any number of them may
+also open or create the same file at once: the decision "new, empty-and-foreign, or ours" and the creation of the
+schema happen under an exclusive lock on the file's folder (flock), so no robot sees another's half-made file. A file that is not ours
 (another SQLite database, or not SQLite at all) or that fails SQLite's integrity check raises
 ExperienceStoreError and is left untouched.
 
@@ -14,16 +16,27 @@ no existing value changes.
 
 from __future__ import annotations
 
+import contextlib
+import fcntl
 import json
 import os
 import shutil
 import sqlite3
+import stat
 import threading
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 from scone_bt.errors import ExperienceStoreError
-from scone_bt.experience.base import COLUMNS, SCHEMA_VERSION, OutcomeStore, context_json, where_clause
+from scone_bt.experience.base import (
+    COLUMNS,
+    SCHEMA_VERSION,
+    OutcomeStore,
+    context_json,
+    note_attempt,
+    where_clause,
+)
 from scone_bt.experience.types import Outcome
 
 __all__ = ["APPLICATION_ID", "SCHEMA_VERSION", "ExperienceStore"]
@@ -83,6 +96,26 @@ def _check_writable(path: Path, existing: bool) -> None:
         )
 
 
+@contextlib.contextmanager
+def _creation_lock(folder: Path) -> Iterator[None]:
+    """Exclusive among processes opening a store in `folder` (flock on the folder itself: no lock file is left).
+
+    Where the folder cannot be locked (no read permission, a file system without flock) the opening goes on
+    unlocked: such a folder is refused as unwritable anyway, and a lone robot needs no lock.
+    """
+    try:
+        fd = os.open(folder, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0) | getattr(os, "O_CLOEXEC", 0))
+    except OSError:
+        yield
+        return
+    try:
+        with contextlib.suppress(OSError):
+            fcntl.flock(fd, fcntl.LOCK_EX)  # released on close, and by the kernel if the process dies
+        yield
+    finally:
+        os.close(fd)
+
+
 class ExperienceStore(OutcomeStore):
     """Durable, append-only log of outcomes in one SQLite file.
 
@@ -109,6 +142,23 @@ class ExperienceStore(OutcomeStore):
         path = self.path
         if path.is_dir():
             raise ExperienceStoreError(f"experience store {path} is a directory; give a file path")
+        with contextlib.suppress(OSError):
+            if not stat.S_ISREG(
+                os.stat(path).st_mode
+            ):  # reading a FIFO's first bytes would wait for a writer
+                raise ExperienceStoreError(
+                    f"experience store {path} is a device, FIFO or socket, not a file; give a file path"
+                )
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise ExperienceStoreError(f"cannot create a folder for {path}: {exc.strerror}") from None
+        # Robots starting together on a new path: one creates the schema while the others wait, then find it made.
+        with _creation_lock(path.parent):
+            return self._open_locked()
+
+    def _open_locked(self) -> sqlite3.Connection:
+        path = self.path
         existing = path.exists() and path.stat().st_size > 0
         if path.exists() and not existing:
             raise ExperienceStoreError(
@@ -118,11 +168,6 @@ class ExperienceStore(OutcomeStore):
             with path.open("rb") as f:
                 if f.read(16) != _SQLITE_MAGIC:
                     raise ExperienceStoreError(f"{path} is not an SQLite file; refusing to touch it")
-        else:
-            try:
-                path.parent.mkdir(parents=True, exist_ok=True)
-            except OSError as exc:
-                raise ExperienceStoreError(f"cannot create a folder for {path}: {exc.strerror}") from None
         _check_writable(path, existing)  # at open: before the first outcome, not after it
         try:
             # isolation_level=None: we issue BEGIN/COMMIT ourselves, so each append is exactly one transaction
@@ -276,6 +321,7 @@ class ExperienceStore(OutcomeStore):
         )
         with self._lock:
             conn = self._connection()
+            note_attempt(self.location, outcome.outcome_id)
             try:
                 conn.execute("BEGIN IMMEDIATE")
                 conn.execute(
@@ -291,6 +337,11 @@ class ExperienceStore(OutcomeStore):
                 if conn.in_transaction:
                     conn.execute("ROLLBACK")
                 raise ExperienceStoreError(f"cannot write to experience store {self.path}: {exc}") from None
+            except BaseException:  # an interrupt mid-write: the outcome is stored wholly or not at all
+                with contextlib.suppress(sqlite3.Error):
+                    if conn.in_transaction:
+                        conn.execute("ROLLBACK")
+                raise
             return int(row_id)
 
     # ----- reading -----------------------------------------------------------------------------------------

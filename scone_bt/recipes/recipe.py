@@ -11,7 +11,7 @@ from typing import Annotated, Any
 import yaml
 from pydantic import Field, field_validator, model_validator
 
-from scone_bt.config.schema import StrictModel, read_text, validate
+from scone_bt.config.schema import MAX_DATA_FILE_BYTES, StrictModel, read_text, validate
 from scone_bt.errors import RecipeError
 from scone_bt.resources import shared_dir
 
@@ -155,7 +155,7 @@ def load_recipe(id_or_path: str) -> Recipe:
     """Load a recipe from a JSON/YAML file, a bundled example ("example:<name>") or the shared corpus by id."""
     path = Path(id_or_path)
     if path.suffix in (".json", ".yaml", ".yml"):
-        if not path.is_file():
+        if not path.exists():  # a device or FIFO exists: read_text refuses it with what it is
             raise RecipeError(f"recipe file not found: {path}")
         return _load_file(path)
     if id_or_path.startswith("example:"):
@@ -173,7 +173,9 @@ def load_recipe(id_or_path: str) -> Recipe:
             f"use a JSON/YAML file or one of: {', '.join('example:' + n for n in example_names())}"
         )
     ids = []
-    for line_no, line in enumerate(read_text(corpus, error=RecipeError).splitlines(), 1):
+    for line_no, line in enumerate(
+        read_text(corpus, error=RecipeError, limit=MAX_DATA_FILE_BYTES).splitlines(), 1
+    ):
         if not line.strip():
             continue
         try:

@@ -77,9 +77,11 @@ def parse_column_map(text: str | None) -> dict[str, str]:
 def _read(
     path: Path, required: tuple[str, ...], optional: tuple[str, ...], columns: Mapping[str, str]
 ) -> list[_Row]:
-    if not path.is_file():
+    from scone_bt.config.schema import MAX_DATA_FILE_BYTES, read_bytes
+
+    if not path.exists():
         raise RatingsFileError(f"{path}: file not found")
-    raw = path.read_bytes()
+    raw = read_bytes(path, RatingsFileError, MAX_DATA_FILE_BYTES)  # no device, FIFO or oversized file
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:

@@ -2,9 +2,14 @@
 
 from __future__ import annotations
 
+import atexit
+import logging
 import math
 import shutil
 import sys
+import threading
+import time
+import uuid
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -42,11 +47,75 @@ if TYPE_CHECKING:
     from scone_bt.perception.types import Detection, Frame
     from scone_bt.world import Kitchen
 
-__all__ = ["Recorder"]
+__all__ = ["Recorder", "STREAM_FLUSH_TIMEOUT_S", "VIEWER_CHECK_PERIOD_S", "VIEWER_STALL_TIMEOUT_S"]
 
 APPLICATION_ID = "scone_bt"
 STREAM_FLUSH_TIMEOUT_S = 3.0
 """Longest wait for a live viewer to take the buffered data at close (seconds); a gone viewer costs this once."""
+VIEWER_CHECK_PERIOD_S = 2.0
+"""How often (wall seconds) a live viewer is asked to take what was logged so far."""
+VIEWER_STALL_TIMEOUT_S = 5.0
+"""A live viewer that has not taken the data logged so far within this many seconds is dropped (the run goes on)."""
+
+_log = logging.getLogger(__name__)
+
+
+class _Nowhere:
+    """A stream that takes everything and keeps nothing (a viewer-only recording whose viewer was dropped)."""
+
+    def log(self, *args: Any, **kwargs: Any) -> None:
+        pass
+
+    send_columns = set_time = log
+
+    def flush(self, **kwargs: Any) -> None:
+        pass
+
+    def disconnect(self) -> None:
+        pass
+
+
+class _Tee:
+    """The file stream and the viewer stream as one: every call goes to both (each has its own sinks, so the
+    viewer's can be dropped without touching the file's)."""
+
+    def __init__(self, *streams: Any) -> None:
+        self.streams = streams
+
+    def log(self, *args: Any, **kwargs: Any) -> None:
+        for stream in self.streams:
+            stream.log(*args, **kwargs)
+
+    def send_columns(self, *args: Any, **kwargs: Any) -> None:
+        for stream in self.streams:
+            stream.send_columns(*args, **kwargs)
+
+    def set_time(self, *args: Any, **kwargs: Any) -> None:
+        for stream in self.streams:
+            stream.set_time(*args, **kwargs)
+
+
+_SHUTDOWN_BOUNDED = False
+
+
+def _bound_rerun_shutdown() -> None:
+    """rerun's exit handler flushes every stream without a deadline: with a stalled viewer it would never return.
+
+    It is replaced by one that waits at most STREAM_FLUSH_TIMEOUT_S (files are flushed by `Recorder.close`).
+    """
+    global _SHUTDOWN_BOUNDED
+    if _SHUTDOWN_BOUNDED:
+        return
+    _SHUTDOWN_BOUNDED = True
+    rr.unregister_shutdown()
+
+    def bounded() -> None:
+        worker = threading.Thread(target=rr.rerun_shutdown, name="rerun-shutdown", daemon=True)
+        worker.start()
+        worker.join(STREAM_FLUSH_TIMEOUT_S)
+
+    atexit.register(bounded)
+
 
 _STATUS_COLOURS = {
     "SUCCESS": (46, 160, 67, 255),
@@ -138,25 +207,33 @@ class Recorder:
         self.save_path = Path(save) if save is not None else None
         self.robot_geometry = robot_geometry
         self.jpeg_quality = jpeg_quality
-        self._rec = rr.RecordingStream(APPLICATION_ID, recording_id=recording_id)
-        self._rec.set_log_tick_enabled(False)  # our own `tick` timeline is the one that matters
-        sinks: list[Any] = []
+        # One stream per kind of sink, under one recording id: a stalled viewer is dropped without touching the
+        # file (rerun can only replace a stream's sinks all at once, which would start the file again).
+        self._recording_id = recording_id or str(uuid.uuid4())
+        # Checked first: a bad, unreachable or silent address fails here, within seconds, before a file is begun.
+        connect_url = check_viewer_address(connect) if connect is not None else None
+        self._file_rec: Any = None
+        self._view_rec: Any = None
+        blueprint = default_blueprint()
         if self.save_path is not None:
             self.save_path.parent.mkdir(parents=True, exist_ok=True)
-            sinks.append(rr.FileSink(str(self.save_path)))
+            self._file_rec = self._stream()
+            self._file_rec.set_sinks(rr.FileSink(str(self.save_path)), default_blueprint=blueprint)
         urls: list[str] = []
+        if spawn_viewer or connect is not None:
+            self._view_rec = self._stream()
         if spawn_viewer:
             rr.spawn(
-                port=spawn_port, connect=False, executable_path=_viewer_executable(), recording=self._rec
+                port=spawn_port, connect=False, executable_path=_viewer_executable(), recording=self._view_rec
             )
             urls.append(f"rerun+http://127.0.0.1:{spawn_port}/proxy")
-        if connect is not None:
-            url = check_viewer_address(connect)  # a bad or unreachable address fails here, within seconds
-            if url not in urls:  # rerun refuses two sinks to one address
-                urls.append(url)
-        self._streams = bool(urls)
-        sinks += [rr.GrpcSink(url) for url in urls]
-        self._rec.set_sinks(*sinks, default_blueprint=default_blueprint())
+        if connect_url is not None and connect_url not in urls:  # rerun refuses two sinks to one address
+            urls.append(connect_url)
+        self._viewer_urls = tuple(urls)
+        if self._view_rec is not None:
+            self._view_rec.set_sinks(*(rr.GrpcSink(url) for url in urls), default_blueprint=blueprint)
+        self._rec: Any = self._routing()
+        self._viewer_checked_at = time.monotonic()
         self._closed = False
         self.stream_error: str | None = None
         """Why the live viewer stopped taking data (None while it does, or without one)."""
@@ -192,7 +269,12 @@ class Recorder:
     # ------------------------------------------------------------------------------------------ public API
     @property
     def recording_id(self) -> str:
-        return self._rec.get_recording_id()
+        return self._recording_id
+
+    @property
+    def viewer_attached(self) -> bool:
+        """Whether a live viewer is still being streamed to (False without one, or once it was dropped)."""
+        return self._view_rec is not None
 
     def log_static_scene(self, kitchen: Kitchen) -> None:
         """Log the kitchen once: scene boxes, robot geometry, object geometry, camera; then its current state."""
@@ -294,21 +376,20 @@ class Recorder:
         for line in snap.log_lines:
             self._rec.log(P.LOG, rr.TextLog(line, level=_log_level(line)))
         self.ticks_logged += 1
+        if self._view_rec is not None and time.monotonic() - self._viewer_checked_at >= VIEWER_CHECK_PERIOD_S:
+            self._check_viewer(VIEWER_STALL_TIMEOUT_S)
 
     def flush(self, timeout_s: float | None = None) -> bool:
         """Push everything logged so far to the sinks; False if a viewer did not take it within timeout_s.
 
-        With a live viewer the wait is bounded (STREAM_FLUSH_TIMEOUT_S by default): a viewer that went away
-        must not stop the episode. A file-only recording waits until written.
+        With a live viewer the wait is bounded (STREAM_FLUSH_TIMEOUT_S by default): a viewer that does not take
+        the data in time is dropped (one warning line) and the recording goes on without it. A file-only
+        recording waits until written.
         """
-        if timeout_s is None:
-            timeout_s = STREAM_FLUSH_TIMEOUT_S if self._streams else 1e38
-        try:
-            self._rec.flush(timeout_sec=timeout_s)
-        except RuntimeError as exc:  # rerun reports an unreachable gRPC sink this way
-            self.stream_error = " ".join(str(exc).split())
-            return False
-        return True
+        ok = self._check_viewer(STREAM_FLUSH_TIMEOUT_S if timeout_s is None else timeout_s)
+        if self._file_rec is not None:
+            self._file_rec.flush(timeout_sec=1e38)
+        return ok
 
     def close(self) -> None:
         """Flush everything to the sinks and finish the `.rrd` (closing twice is harmless)."""
@@ -317,7 +398,12 @@ class Recorder:
         self._closed = True
         self._log_trace()  # at the last tick's time
         self.flush()
-        self._rec.disconnect()
+        if self._view_rec is not None:
+            self._view_rec.disconnect()  # it took everything within the deadline: this returns at once
+            self._view_rec = None
+        if self._file_rec is not None:
+            self._file_rec.disconnect()
+        self._rec = _Nowhere()
 
     def __enter__(self) -> Recorder:
         return self
@@ -326,6 +412,47 @@ class Recorder:
         self.close()
 
     # ------------------------------------------------------------------------------------------ pieces
+    def _stream(self) -> Any:
+        rec = rr.RecordingStream(APPLICATION_ID, recording_id=self._recording_id)
+        rec.set_log_tick_enabled(False)  # our own `tick` timeline is the one that matters
+        return rec
+
+    def _routing(self) -> Any:
+        """Where log calls go: the file and/or the viewer stream."""
+        streams = [r for r in (self._file_rec, self._view_rec) if r is not None]
+        if not streams:
+            return _Nowhere()
+        return streams[0] if len(streams) == 1 else _Tee(*streams)
+
+    def _check_viewer(self, timeout_s: float) -> bool:
+        """Whether the live viewer took everything within timeout_s; if not it is dropped (True without one)."""
+        self._viewer_checked_at = time.monotonic()
+        if self._view_rec is None:
+            return True
+        try:
+            self._view_rec.flush(timeout_sec=timeout_s)
+        except RuntimeError as exc:  # rerun reports a gRPC sink that did not take the data this way
+            self._drop_viewer(" ".join(str(exc).split()) or "flush timed out", timeout_s)
+            return False
+        return True
+
+    def _drop_viewer(self, why: str, timeout_s: float) -> None:
+        """Stop streaming to a viewer that stalled or went away; the recording file (if any) goes on."""
+        view, self._view_rec = self._view_rec, None
+        self.stream_error = why
+        self._rec = self._routing()
+        _bound_rerun_shutdown()
+        # Disconnecting flushes without a deadline: a stalled viewer would hold it forever, so not on this thread.
+        threading.Thread(target=view.disconnect, name="rerun-viewer-drop", daemon=True).start()
+        _log.warning(
+            "the live viewer at %s did not take the data within %g s (%s); it was dropped and the episode goes "
+            "on%s",
+            ", ".join(self._viewer_urls),
+            timeout_s,
+            why,
+            f" (still recording to {self.save_path})" if self.save_path is not None else "",
+        )
+
     def _set_time(self, tick: int, sim_time: float) -> None:
         self._now = float(sim_time)
         self._rec.set_time(P.TICK, sequence=int(tick))

@@ -245,11 +245,15 @@ def read_records(path: Path | str) -> list[ExecutionRecord]:
         ConfigError: The file lacks a generator column (an older schema: delete it to regenerate) or holds a
             malformed value.
     """
+    from scone_bt.config.schema import MAX_DATA_FILE_BYTES, read_text
+
     path = Path(path)
-    if not path.is_file():
+    if not path.exists():
         return []
-    with path.open(newline="") as f:
-        rows = list(csv.DictReader(f))
+    try:  # bounded, regular files only (read_text), and csv's own complaints as one line
+        rows = list(csv.DictReader(io.StringIO(read_text(path, limit=MAX_DATA_FILE_BYTES), newline="")))
+    except csv.Error as exc:
+        raise ConfigError(f"{path}: not a readable CSV file ({exc})") from None
     missing = [c for c in COLUMNS if rows and c not in rows[0]]
     if missing:
         raise ConfigError(
@@ -301,14 +305,16 @@ def _outcome(value: object, path: Path, row: int) -> bool:
 
 
 def _table(path: Path) -> list[dict[str, object]]:
+    from scone_bt.config.schema import MAX_DATA_FILE_BYTES, check_input_file, read_text
+
     if path.suffix == ".parquet":
         import pyarrow.parquet as pq
 
-        return pq.read_table(path).to_pylist()
-    from scone_bt.config.schema import read_text
-
+        return pq.read_table(
+            check_input_file(path)
+        ).to_pylist()  # pyarrow reads it: checked (size, kind) first
     try:  # strict UTF-8, and csv's own complaints (NUL bytes, a field too large) as one line
-        return list(csv.DictReader(io.StringIO(read_text(path), newline="")))
+        return list(csv.DictReader(io.StringIO(read_text(path, limit=MAX_DATA_FILE_BYTES), newline="")))
     except csv.Error as exc:
         raise ConfigError(f"{path}: not a readable CSV file ({exc})") from None
 
