@@ -11,16 +11,113 @@ Examples:
 
 from __future__ import annotations
 
-import argparse
 import os
+import signal
 import sys
-from pathlib import Path
+import threading
 
-from scone_bt.cli.checks import internal_error_line
-from scone_bt.errors import SconeError
-from scone_bt.robot.interface import BACKENDS
 
-__all__ = ["main", "build_parser"]
+class _Interrupts:
+    """Ctrl-C at any moment of scone-run: one line saying what was saved, exit status 130, never a traceback.
+
+    Phases: before `main` runs its work nothing can have been stored, so SIGINT prints the line and exits at once
+    (a KeyboardInterrupt raised inside an import would print a traceback); while the run is under way SIGINT
+    raises KeyboardInterrupt, which unwinds the episode (the store closes, an unfinished write rolls back) to
+    `main`, which counts what is stored and prints the line; once the line is out, another SIGINT (during the
+    interpreter's shutdown) ends the process quietly.
+    """
+
+    EARLY, RUNNING, REPORTED = "early", "running", "reported"
+
+    def __init__(self) -> None:
+        self.phase = self.EARLY
+        self.previous: object = None
+
+    def install(self) -> None:
+        if threading.current_thread() is threading.main_thread():  # signals can only be set from there
+            previous = signal.signal(signal.SIGINT, self._handle)
+            if previous != self._handle:
+                self.previous = previous
+
+    def restore(self) -> None:
+        """Give SIGINT back to whoever had it (a test runner calling `main`), once the run is over."""
+        if self.previous is not None and threading.current_thread() is threading.main_thread():
+            signal.signal(signal.SIGINT, self.previous)  # type: ignore[arg-type]
+            self.previous = None
+
+    def _handle(self, signum: int, frame: object) -> None:
+        if self.phase == self.RUNNING:
+            self.phase = self.REPORTED  # a second Ctrl-C while the first unwinds ends the process at once
+            raise KeyboardInterrupt
+        if self.phase == self.EARLY:
+            _write_line(f"{_PROG}: interrupted; nothing was stored")
+        os._exit(130)
+
+
+def _write_line(line: str) -> None:
+    try:
+        sys.stderr.write(line + "\n")
+        sys.stderr.flush()
+    except (OSError, ValueError):  # a closed or broken stderr: the exit status still says it
+        pass
+
+
+_PROG = "scone-run"
+_INTERRUPTS = _Interrupts()
+# Installed before anything heavy is imported, when this process is scone-run itself (not a test importing it).
+_IS_PROGRAM = os.path.basename(sys.argv[0] if sys.argv else "").startswith(_PROG)
+if _IS_PROGRAM:
+    _INTERRUPTS.install()
+
+import argparse  # noqa: E402 - after the SIGINT handler, on purpose
+import contextlib  # noqa: E402
+import logging  # noqa: E402
+import shlex  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+from scone_bt.cli.checks import internal_error_line  # noqa: E402
+from scone_bt.errors import SconeError  # noqa: E402
+from scone_bt.robot.interface import BACKENDS  # noqa: E402
+
+__all__ = ["main", "build_parser", "LOG_LEVELS", "viewer_command"]
+
+LOG_LEVELS = ("DEBUG", "INFO", "WARNING", "ERROR", "CRITICAL")
+"""Values of --log-level (Python logging's level names)."""
+
+# Libraries whose Python log lines go through --log-level (their own defaults print at INFO, or raw).
+_LIBRARY_LOGGERS = (
+    "uvicorn",
+    "uvicorn.error",
+    "uvicorn.access",
+    "ray",
+    "pymc",
+    "pytensor",
+    "rerun",
+    "psycopg",
+)
+# rerun logs from Rust straight to the terminal; RUST_LOG (read when rerun is imported) is the only control.
+# Every condition rerun warns about (a stalled or gone viewer, a full disk) is reported by scone-run itself in
+# one line, so its own lines are shown only when a user asks for more than warnings.
+_RUST_LOG = {"DEBUG": "debug", "INFO": "warn", "WARNING": "off", "ERROR": "off", "CRITICAL": "off"}
+
+
+CONNECT_TIMEOUT_S = (
+    2.0  # the values of scone_bt.viz.connect and .recorder, kept here so --help imports nothing heavy
+)
+HANDSHAKE_TIMEOUT_S = 3.0
+VIEWER_STALL_TIMEOUT_S = 5.0
+PG_CONNECT_TIMEOUT_S = 10  # scone_bt.experience.postgres.CONNECT_TIMEOUT_S
+
+
+def _robot_names() -> list[str]:
+    """The robot files --arm accepts by name (robots/*.yaml)."""
+    from scone_bt.resources import data_dir
+
+    try:
+        folder = data_dir("robots")
+    except SconeError:
+        return []
+    return sorted({p.stem for p in folder.iterdir() if p.suffix in (".yaml", ".yml")})
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -42,7 +139,10 @@ def build_parser() -> argparse.ArgumentParser:
         choices=BACKENDS,
     )
     g.add_argument(
-        "--arm", default="panda", help="arm model: a file name in robots/ (panda, iiwa, ...) or a YAML path"
+        "--arm",
+        default="panda",
+        help=f"arm model: a robot file name in robots/ ({', '.join(_robot_names()) or 'none found'}) or a YAML path "
+        "(default: %(default)s)",
     )
     g.add_argument(
         "--recipe",
@@ -75,14 +175,38 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--headless", action="store_true", help="no windows (the default; kept for scripts)")
     g.add_argument("--gui", action="store_true", help="open PyBullet's own window (needs a display)")
     g.add_argument("--quiet", action="store_true", help="print only the summary")
+    g.add_argument(
+        "--log-level",
+        default="WARNING",
+        type=str.upper,
+        choices=LOG_LEVELS,
+        help="log lines of scone-run and of other libraries (uvicorn, Ray, PyMC, psycopg) at this level and above go "
+        "to stderr as 'scone-run: LEVEL: ...' lines, never into the decision lines; rerun's own (Rust) log is shown "
+        "only at INFO (its warnings) or DEBUG (default: %(default)s)",
+    )
+    g.add_argument(
+        "--force",
+        action="store_true",
+        help="let --save replace an existing file that is not a rerun recording (an input or the store of the run "
+        "is never overwritten)",
+    )
 
     g = p.add_argument_group("rerun output")
-    g.add_argument("--save", type=Path, metavar="FILE.rrd", help="record the episode for the rerun viewer")
+    g.add_argument(
+        "--save",
+        type=Path,
+        metavar="FILE.rrd",
+        help="record the episode for the rerun viewer; an existing recording is replaced, any other file is refused "
+        "(see --force), and an input or the store of this run always",
+    )
     g.add_argument("--viewer", action="store_true", help="spawn the rerun live viewer")
     g.add_argument(
         "--connect",
         metavar="ADDR",
-        help="stream to a running rerun viewer (e.g. rerun+http://127.0.0.1:9876/proxy)",
+        help="stream to a running rerun viewer (e.g. rerun+http://127.0.0.1:9876/proxy); checked before the first "
+        f"decision: no TCP connection within {CONNECT_TIMEOUT_S:g} s or no gRPC answer within {HANDSHAKE_TIMEOUT_S:g} s is "
+        f"a one-line error; a viewer that does not take the data within {VIEWER_STALL_TIMEOUT_S:g} s mid-run is "
+        "dropped and the episode goes on",
     )
 
     g = p.add_argument_group("self-confidence")
@@ -95,7 +219,9 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument(
         "--experience",
         metavar="DB|URL",
-        help="outcome store κ̂ is rebuilt from at start: an SQLite file, or postgresql://user@host/db shared by a fleet",
+        help="outcome store κ̂ is rebuilt from at start: an SQLite file (any number of robots may share one), or "
+        f"postgresql://user@host/db shared by a fleet (a server that does not answer within {PG_CONNECT_TIMEOUT_S} s "
+        "is a one-line error before the robot acts)",
     )
     g.add_argument(
         "--learn-from",
@@ -110,8 +236,14 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument(
         "--profile", default="", help="configuration label stored with each outcome (default: none)"
     )
-    g.add_argument("--embedder", help="ζ: minilm, mpnet, glove, onehot, finetuned:<dir> or a model directory")
-    g.add_argument("--estimator", help="κ̂ estimator, e.g. eps-knn, knn, lgbm, rf, svm, mlp, xgb")
+    g.add_argument(
+        "--embedder", help="ζ: minilm, mpnet, mpnet-ft, glove, onehot, finetuned:<dir> or a model directory"
+    )
+    g.add_argument(
+        "--estimator",
+        help="κ̂ estimator: knn, lgbm, rf, svm, mlp, xgb, gp, conformal, each also as eps-<name>, grounded-<name> "
+        "(not conformal) and <name>-cal (default: the tree's, grounded-knn)",
+    )
     g.add_argument(
         "--relevance-threshold", type=float, help="ρ: minimum cosine similarity of a relevant action"
     )
@@ -137,6 +269,48 @@ def _quiet_backends() -> None:
     quiet_backends()
 
 
+class _OneLineFormatter(logging.Formatter):
+    """`scone-run: LEVEL: [library: ]message` on one line; a library's traceback becomes its last line only."""
+
+    def format(self, record: logging.LogRecord) -> str:
+        message = " ".join(record.getMessage().split())
+        if record.exc_info and record.exc_info[1] is not None:
+            exc = record.exc_info[1]
+            message += f" ({type(exc).__name__}: {' '.join(str(exc).split())})"
+        source = "" if record.name.startswith("scone_bt") else f"{record.name}: "
+        return f"{_PROG}: {record.levelname.lower()}: {source}{message}"
+
+
+class _StderrHandler(logging.StreamHandler):
+    """Writes to whatever sys.stderr is at the time (pytest swaps it), one line per record."""
+
+    def __init__(self) -> None:
+        super().__init__(sys.stderr)
+        self.setFormatter(_OneLineFormatter())
+
+    def emit(self, record: logging.LogRecord) -> None:
+        self.stream = sys.stderr
+        super().emit(record)
+
+
+def configure_logging(level: str) -> None:
+    """Route scone-run's and the libraries' Python log lines to stderr at `level`; set rerun's Rust log level.
+
+    Called before rerun is imported (RUST_LOG is read then); a RUST_LOG the user set is kept.
+    """
+    root = logging.getLogger()
+    for handler in [h for h in root.handlers if isinstance(h, _StderrHandler)]:
+        root.removeHandler(handler)
+    root.addHandler(_StderrHandler())
+    root.setLevel(level)
+    for name in _LIBRARY_LOGGERS:
+        logger = logging.getLogger(name)
+        logger.setLevel(level)
+        logger.handlers.clear()  # their own handlers would print a second, differently formatted copy
+        logger.propagate = True
+    os.environ.setdefault("RUST_LOG", _RUST_LOG[level])
+
+
 def _experience(spec: str | None) -> Path | str | None:
     """A PostgreSQL URL stays a string; anything else is an SQLite file path."""
     from scone_bt.experience import is_postgres_url
@@ -146,9 +320,93 @@ def _experience(spec: str | None) -> Path | str | None:
     return Path(spec)
 
 
+def _run_inputs(args: argparse.Namespace) -> dict[str, list[Path]]:
+    """The files this run reads or keeps, by flag: what no output of the run may be written over.
+
+    Names that do not resolve are left out here; their own loaders word the error.
+    """
+    from scone_bt.cli.checks import sqlite_files
+    from scone_bt.config.catalogue import catalogue_files
+    from scone_bt.config.yaml_io import read_yaml
+    from scone_bt.recipes.recipe import EXAMPLES_DIR, recipe_corpus_path
+    from scone_bt.resources import data_dir, resolve_file
+
+    out: dict[str, list[Path]] = {}
+
+    def resolved(kind: str, name: str) -> Path | None:
+        try:
+            return resolve_file(kind, name, (".yaml", ".yml"))  # type: ignore[arg-type]
+        except SconeError:
+            return None
+
+    if isinstance(store := _experience(args.experience), Path):
+        out["--experience"] = sqlite_files(store)
+    kitchen = resolved("perception", args.kitchen)
+    if kitchen is not None:
+        out["--kitchen"] = [kitchen]
+        try:  # the product files the kitchen names are inputs too
+            entries = read_yaml(kitchen).get("catalogue") or []
+            out["--kitchen"] += catalogue_files(entries, kitchen.parent, data_dir("perception"))
+        except (SconeError, TypeError):
+            pass
+    recipe = str(args.recipe)
+    if recipe.startswith("example:"):
+        out["--recipe"] = [EXAMPLES_DIR / f"{recipe.removeprefix('example:')}.yaml"]
+    elif Path(recipe).suffix in (".json", ".yaml", ".yml"):
+        out["--recipe"] = [Path(recipe)]
+    elif (corpus := recipe_corpus_path()) is not None:
+        out["--recipe"] = [corpus]
+    out["--catalogue"] = [Path(c) for c in args.catalogue]
+    for flag, kind, name in (("--tree", "trees", args.tree), ("--arm", "robots", args.arm)):
+        if (path := resolved(kind, name)) is not None:
+            out[flag] = [path]
+    return out
+
+
+def _check_estimator(name: str) -> None:
+    """--estimator against the κ̂ registry (names only: nothing is built or fitted)."""
+    import difflib
+
+    from scone_bt.confidence.registry import CALIBRATED_ESTIMATORS, ESTIMATORS, GROUNDED_ESTIMATORS
+
+    valid = (*ESTIMATORS, *GROUNDED_ESTIMATORS, *CALIBRATED_ESTIMATORS, "xgboost")
+    if name in valid:
+        return
+    close = difflib.get_close_matches(name, valid, n=1, cutoff=0.6)
+    base = ", ".join(n for n in ESTIMATORS if not n.startswith("eps-"))
+    raise SconeError(
+        f"--estimator {name!r}: unknown estimator; valid: {base}, each also as eps-<name>, grounded-<name> "
+        f"(not conformal) or <name>-cal" + (f" (did you mean {close[0]}?)" if close else "")
+    )
+
+
+def _check_embedder(name: str) -> None:
+    """--embedder against the embedder registry: a known name that is installed, or an existing directory."""
+    from scone_bt.embedding.registry import EMBEDDER_NAMES, minilm_dir, mpnet_dir
+
+    if name == "minilm":
+        minilm_dir()  # one-line ModelUnavailableError if its package is missing
+        return
+    if name == "mpnet":
+        if mpnet_dir() is None:
+            raise SconeError("--embedder mpnet: MPNet is not assembled yet; run `scone-models install mpnet`")
+        return
+    if name in (*EMBEDDER_NAMES, "mpnet-ft"):
+        return
+    folder = Path(name.removeprefix("finetuned:")).expanduser()
+    if folder.is_dir():
+        return
+    what = "no such folder" if name.startswith("finetuned:") or os.sep in name else "unknown embedder"
+    raise SconeError(
+        f"--embedder {name!r}: {what}; valid: {', '.join(EMBEDDER_NAMES)}, mpnet-ft, finetuned:<dir> or a "
+        "sentence-transformers model directory"
+    )
+
+
 def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
     from scone_bt.behaviours import BehaviourOptions
     from scone_bt.cli import checks
+    from scone_bt.config.schema import MAX_FILE_BYTES, check_input_file
     from scone_bt.episode import EpisodeOptions
     from scone_bt.human import HumanOptions
     from scone_bt.tree import load_tree_spec
@@ -163,10 +421,21 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
         checks.check_range(args.confidence_threshold, "--confidence-threshold", 0.0, 1.0)
     if args.relevance_threshold is not None:
         checks.check_range(args.relevance_threshold, "--relevance-threshold", -1.0, 1.0)
+    if args.estimator is not None:
+        _check_estimator(args.estimator)
+    if args.embedder is not None:
+        _check_embedder(args.embedder)
+    for catalogue in args.catalogue:  # a device or FIFO would hang the loader: refused by what it is, unread
+        try:
+            check_input_file(catalogue, limit=MAX_FILE_BYTES)
+        except SconeError as exc:
+            raise SconeError(f"--catalogue {exc}") from None
+    inputs = _run_inputs(args)
     if args.save is not None:
-        checks.check_output_file(args.save, "--save")
+        checks.check_output_file(args.save, "--save", kind="rrd", inputs=inputs, force=args.force)
     if isinstance(_experience(args.experience), Path):  # a postgresql:// URL is checked when it is opened
-        checks.check_output_file(Path(args.experience), "--experience")
+        others = {flag: files for flag, files in inputs.items() if flag != "--experience"}
+        checks.check_output_file(Path(args.experience), "--experience", inputs=others)
     elif (
         args.experience is not None
     ):  # probe the fleet's server now, not after the kitchen and models are loaded
@@ -209,10 +478,76 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
     )
 
 
-def main(argv: list[str] | None = None) -> int:
-    _quiet_backends()
-    args = build_parser().parse_args(argv)
+def viewer_command(recording: Path) -> str:
+    """A command that opens `recording` from a fresh shell (where this venv is not activated).
+
+    The venv's own `rerun` is preferred (its version matches the recording's), shown relative to the current
+    folder when it lies under it; `rerun` from PATH otherwise.
+    """
+    beside = Path(sys.executable).parent / "rerun"  # not resolved: a venv's python is a symlink out of it
+    if beside.is_file():
+        exe = beside.absolute()
+        try:
+            shown = str(exe.relative_to(Path.cwd()))
+        except ValueError:
+            shown = str(exe)
+        if os.sep not in shown:
+            shown = f".{os.sep}{shown}"
+    else:
+        shown = "rerun"  # from PATH (a system-wide install)
+    return f"{shlex.quote(shown)} {shlex.quote(str(recording))}"
+
+
+def _interrupted_line(args: argparse.Namespace | None) -> str:
+    """What an interrupt leaves: nothing (no store), or how many outcomes of this run the store holds."""
+    spec = getattr(args, "experience", None) if args is not None else None
+    if spec is None:
+        return f"{_PROG}: interrupted; nothing was stored (no --experience store)"
     try:
+        from scone_bt.experience import attempted_outcome_ids, count_stored, is_postgres_url, redact_url
+
+        location = redact_url(spec) if is_postgres_url(spec) else str(Path(spec))
+        n = count_stored(spec, attempted_outcome_ids(location))
+    except Exception:  # noqa: BLE001 - the line must come out whatever state the interrupt left
+        location, n = str(spec), None
+    if n is None:
+        return f"{_PROG}: interrupted; outcomes stored before the interrupt are in {location} (it could not be counted)"
+    return f"{_PROG}: interrupted; {n} outcome{'' if n == 1 else 's'} of this run {'is' if n == 1 else 'are'} in {location}"
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of scone-run: 0 done, 1 stopped early, 2 bad input, 3 program error, 130 interrupted."""
+    _INTERRUPTS.install()  # first: a Ctrl-C during the imports below is reported, not a traceback
+    _INTERRUPTS.phase = _Interrupts.RUNNING
+    parsed: list[argparse.Namespace] = []  # filled as soon as the arguments are parsed (the store's name)
+    try:
+        return _run(argv, parsed)
+    except KeyboardInterrupt:
+        sys.unraisablehook = lambda _unraisable: None  # half-built objects' __del__ noise is not for the user
+        line = _interrupted_line(parsed[0] if parsed else None)
+        if not _IS_PROGRAM:
+            _write_line(line)
+            return 130
+        # The episode has unwound (store closed, recording flushed): the line is the last word. Skipping the
+        # interpreter's shutdown keeps it so: no exit handler or thread can print after it or hang.
+        _INTERRUPTS.phase = _Interrupts.REPORTED
+        for stream in (sys.stdout, sys.stderr):
+            with contextlib.suppress(OSError, ValueError):
+                stream.flush()
+        _write_line(line)
+        os._exit(130)
+    finally:
+        _INTERRUPTS.phase = _Interrupts.REPORTED
+        if not _IS_PROGRAM:  # called from Python (tests): Ctrl-C is the caller's again
+            _INTERRUPTS.restore()
+
+
+def _run(argv: list[str] | None, parsed: list[argparse.Namespace]) -> int:
+    args = build_parser().parse_args(argv)
+    parsed.append(args)
+    configure_logging(args.log_level)
+    try:
+        _quiet_backends()
         from scone_bt.episode import run_episode
         from scone_bt.study.ui import tablet_from_args
 
@@ -234,21 +569,18 @@ def main(argv: list[str] | None = None) -> int:
             if server is not None:
                 server.close()
     except SconeError as exc:
-        print(f"scone-run: error: {exc}", file=sys.stderr)
+        print(f"{_PROG}: error: {exc}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("scone-run: interrupted; outcomes observed so far are in the experience store", file=sys.stderr)
-        return 130
     except (
         Exception
     ) as exc:  # a bug, not an outcome: stop with its message (SCONE_BT_DEBUG=1 shows the traceback)
         if os.environ.get("SCONE_BT_DEBUG"):
             raise
-        print(f"scone-run: internal error: {internal_error_line(exc)}", file=sys.stderr)
+        print(f"{_PROG}: internal error: {internal_error_line(exc)}", file=sys.stderr)
         return 3
     print(summary.format())
     if args.save is not None:
-        print(f"recording: {args.save}  (open with: rerun {args.save})")
+        print(f"recording: {args.save}  (open with: {viewer_command(args.save)})")
     return 0 if summary.completed else 1
 
 
