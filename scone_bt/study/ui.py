@@ -7,8 +7,11 @@ the page then sends it as the ``X-Session-Token`` header).
 
 from __future__ import annotations
 
+import asyncio
+import contextlib
 import hmac
 import ipaddress
+import json
 import math
 import threading
 import time
@@ -42,6 +45,7 @@ __all__ = [
     "tablet_from_args",
     "RequestGuard",
     "MAX_BODY_BYTES",
+    "BODY_TIMEOUT_S",
     "reachable_address",
 ]
 
@@ -49,6 +53,10 @@ LOCAL_HOSTS = ("127.0.0.1", "localhost", "::1")
 MIN_TOKEN_LENGTH = 8
 MAX_BODY_BYTES = 16 * 1024
 """Largest request body accepted (a questionnaire's answers are well under 1 kB); larger ones get 413 unread."""
+BODY_TIMEOUT_S = 3.0
+"""A write request's whole body (as many bytes as its Content-Length says) must arrive within this many seconds;
+a shorter body gets 400 and is not handed to the endpoint (a tablet sends under 1 kB in one packet)."""
+_WRITE_METHODS_EXEMPT = ("GET", "HEAD", "OPTIONS")
 
 
 _STATUS = {
@@ -102,13 +110,60 @@ class RequestGuard:
     In order: the Host header (in localhost mode only local names, against DNS rebinding), the session token
     (header or ``?token=``), the body size (Content-Length and the bytes actually received), and for writes the
     Origin (only same-origin browser requests; clients without an Origin, such as scripts, are not browsers).
+    A write's body is then read whole before the endpoint runs: one that stops short of its Content-Length (the
+    client went away, or sent less and waits) gets 400 within `body_timeout_s` and the endpoint never runs.
     """
 
-    def __init__(self, app: Any, token: str | None, local_only: bool, max_body: int = MAX_BODY_BYTES) -> None:
+    def __init__(
+        self,
+        app: Any,
+        token: str | None,
+        local_only: bool,
+        max_body: int = MAX_BODY_BYTES,
+        body_timeout_s: float = BODY_TIMEOUT_S,
+    ) -> None:
         self.app = app
         self.token = token
         self.local_only = local_only
         self.max_body = max_body
+        self.body_timeout_s = body_timeout_s
+
+    async def _whole_body(self, receive: Any, send: Any, length: str | None) -> bytes | None:
+        """The complete body of a write, or None once it was refused (400 short, 413 large) or the client left."""
+        expected = int(length) if length is not None else None
+        loop = asyncio.get_running_loop()
+        deadline = loop.time() + self.body_timeout_s
+        chunks: list[bytes] = []
+        received = 0
+        while True:
+            try:
+                message = await asyncio.wait_for(receive(), max(0.0, deadline - loop.time()))
+            except TimeoutError:
+                message = None
+            if message is None or message["type"] == "http.disconnect":
+                said = f"Content-Length {expected}" if expected is not None else "a chunked body"
+                with contextlib.suppress(Exception):  # the client may be gone: nobody to answer
+                    await self._refuse(
+                        send,
+                        400,
+                        f"incomplete request body: {said}, {received} bytes arrived "
+                        f"{'before the client closed' if message is not None else f'within {self.body_timeout_s:g} s'}",
+                    )
+                return None
+            chunk = message.get("body", b"")
+            received += len(chunk)
+            if received > self.max_body:
+                await self._refuse(send, 413, f"request body larger than {self.max_body} bytes")
+                return None
+            chunks.append(chunk)
+            if not message.get("more_body", False):
+                break
+        if (
+            expected is not None and received != expected
+        ):  # the HTTP layer checks this too; never trust one layer
+            await self._refuse(send, 400, f"request body of {received} bytes, Content-Length said {expected}")
+            return None
+        return b"".join(chunks)
 
     async def _refuse(self, send: Any, status: int, detail: str) -> None:
         import json
@@ -156,6 +211,20 @@ class RequestGuard:
             if headers.get("sec-fetch-site", "same-origin") not in ("same-origin", "none"):
                 await self._refuse(send, 403, "cross-site write refused")
                 return
+            body = await self._whole_body(receive, send, length)
+            if body is None:
+                return
+            replayed = False
+
+            async def replay() -> dict:
+                nonlocal replayed
+                if not replayed:
+                    replayed = True
+                    return {"type": "http.request", "body": body, "more_body": False}
+                return await receive()  # later: the disconnect, when it comes
+
+            await self.app(scope, replay, send)
+            return
         received = 0
         refused = started = False
 
@@ -211,6 +280,47 @@ def reachable_address(host: str) -> str:
     return "127.0.0.1"
 
 
+def _schemas() -> tuple[Any, Any]:
+    from typing import Annotated
+
+    from pydantic import BaseModel, ConfigDict, Field, TypeAdapter
+
+    class NoFields(BaseModel):
+        """A write that carries nothing (a button press): unknown keys are refused."""
+
+        model_config = ConfigDict(extra="forbid", strict=True)
+
+    answer = Annotated[float, Field(strict=True, allow_inf_nan=False)]  # strict: no "3", no true
+    return TypeAdapter(NoFields), TypeAdapter(dict[str, answer | None])
+
+
+NO_FIELDS, ANSWERS = _schemas()
+"""The schemas of the write endpoints' bodies: a button press, a questionnaire's answers."""
+
+
+def _validated(schema: Any, raw: bytes, allow_empty: bool) -> Any:
+    """`raw` parsed as JSON and validated by `schema`; HTTPException 400 (not JSON) or 422 (wrong shape)."""
+    from fastapi import HTTPException
+    from pydantic import ValidationError
+
+    from scone_bt.config.schema import format_validation_error
+
+    if allow_empty and not raw.strip():
+        return None
+    try:
+        data = json.loads(raw, parse_constant=_no_constant)
+    except (ValueError, RecursionError):
+        raise HTTPException(status_code=400, detail="the request body is not JSON") from None
+    try:
+        return schema.validate_python(data)
+    except ValidationError as exc:
+        raise HTTPException(status_code=422, detail=format_validation_error(exc, "body")) from None
+
+
+def _no_constant(name: str) -> None:
+    raise ValueError(f"{name} is not JSON")  # Python's json accepts NaN and Infinity; JSON does not
+
+
 def _page() -> str:
     return resources.files("scone_bt.study").joinpath("static/tablet.html").read_text(encoding="utf-8")
 
@@ -223,11 +333,24 @@ def build_app(state: TabletState, token: str | None, local_only: bool = True) ->
         token: Session token every request must carry, or None (localhost only).
         local_only: Answer only requests whose Host is a local name (the server is bound to localhost).
     """
-    from fastapi import Body, FastAPI, HTTPException
+    from fastapi import Depends, FastAPI, HTTPException, Request
     from fastapi.responses import HTMLResponse, JSONResponse
 
     from scone_bt.errors import UnknownNameError
     from scone_bt.study.questionnaires import QuestionnaireError
+
+    async def no_fields(request):  # noqa: ANN001, ANN202 - annotated below
+        """The body of a button press: none, or the empty JSON object (nothing else is taken as a press)."""
+        _validated(NO_FIELDS, await request.body(), allow_empty=True)
+
+    async def answers_body(request):  # noqa: ANN001, ANN202 - annotated below
+        """A questionnaire's answers: one JSON object of item keys to finite numbers or null."""
+        return _validated(ANSWERS, await request.body(), allow_empty=False)
+
+    # FastAPI resolves annotations in this module's globals, where the lazily imported Request is not: the class
+    # itself is given instead of its name.
+    for dependency in (no_fields, answers_body):
+        dependency.__annotations__["request"] = Request
 
     app = FastAPI(title="SCONE-BT tablet", docs_url=None, redoc_url=None, openapi_url=None)
     app.add_middleware(RequestGuard, token=token, local_only=local_only)  # type: ignore[arg-type]
@@ -241,13 +364,13 @@ def build_app(state: TabletState, token: str | None, local_only: bool = True) ->
     def get_state() -> dict[str, Any]:
         return state.snapshot()
 
-    @app.post("/api/requests/{object_name}/done")
+    @app.post("/api/requests/{object_name}/done", dependencies=[Depends(no_fields)])
     def confirm(object_name: str) -> dict[str, Any]:
         if not state.confirm(object_name):
             raise HTTPException(status_code=409, detail=f"no pending request for {object_name!r}")
         return {"ok": True}
 
-    @app.post("/api/takeover")
+    @app.post("/api/takeover", dependencies=[Depends(no_fields)])
     def takeover() -> dict[str, Any]:
         name = state.request_takeover()
         if name is None:
@@ -255,7 +378,7 @@ def build_app(state: TabletState, token: str | None, local_only: bool = True) ->
         return {"ok": True, "object": name}
 
     @app.post("/api/questionnaires/{name}")
-    def submit(name: str, answers: dict[str, float | None] = Body(...)) -> Any:  # noqa: B008 - FastAPI idiom
+    def submit(name: str, answers: dict[str, float | None] = Depends(answers_body)) -> Any:  # noqa: B008
         try:
             state.submit(name, answers)
         except AlreadySubmittedError as exc:
@@ -296,7 +419,10 @@ class TabletServer:
             build_app(self.state, token, local_only=_is_local(host)),
             host=host,
             port=port,
-            log_level="warning",
+            # uvicorn's loggers propagate to the application's logging (scone-run --log-level), instead of
+            # uvicorn installing its own handlers that print raw into the decision lines
+            log_config=None,
+            log_level=None,
             lifespan="off",
             access_log=False,
             limit_concurrency=256,  # beyond this, 503 rather than unbounded memory

@@ -174,3 +174,71 @@ def test_wildcard_bind_prints_a_reachable_url_and_bad_ports_are_refused():
         assert status == 200
     with pytest.raises(UIError, match="0..65535"):
         serve_tablet("127.0.0.1", 99999, None)
+
+
+# ---------------------------------------------------------------------------------------------- issue 27: write bodies
+def _acting_tablet(server) -> dict[str, str]:  # noqa: ANN001
+    server.state.start_episode(["Season with salt."], "bodies")
+    server.state.set_acting("salt")  # a valid press would now take the action over
+    return {"Host": f"127.0.0.1:{server.port}", "X-Session-Token": TOKEN, "Content-Type": "application/json"}
+
+
+@pytest.mark.parametrize(
+    ("body", "status"),
+    [
+        (b"{bad", 400),  # not JSON
+        (b'{"mdmt_reliable": NaN}', 400),  # Python's json takes NaN; JSON does not
+        (b"[]", 422),  # JSON, but not an object
+        (b'{"object": "salt"}', 422),  # a key a press does not have
+        (b"null", 422),
+    ],
+)
+def test_a_malformed_press_takes_nothing_over(body, status):
+    with serve_tablet("127.0.0.1", 0, TOKEN) as server:
+        auth = _acting_tablet(server)
+        assert _raw(server.port, "POST", "/api/takeover", auth, body)[0] == status
+        assert _raw(server.port, "POST", "/api/requests/salt/done", auth, body)[0] == status
+        assert server.state.takeover_object is None
+        assert _raw(server.port, "POST", "/api/takeover", auth, b"{}")[0] == 200  # the same press, well formed
+        assert server.state.takeover_object == "salt"
+
+
+def test_a_body_shorter_than_its_content_length_takes_nothing_over():
+    with serve_tablet("127.0.0.1", 0, TOKEN) as server:
+        auth = _acting_tablet(server)
+        head = "".join(f"{k}: {v}\r\n" for k, v in auth.items())
+        request = f"POST /api/takeover HTTP/1.1\r\n{head}Content-Length: 100\r\n\r\n".encode() + b"{}"
+        # the client sends 2 of 100 bytes and waits: refused once the body deadline passes, never taken over
+        with socket.create_connection(("127.0.0.1", server.port), timeout=30) as s:
+            s.sendall(request)
+            answer = s.recv(4096).decode()
+        assert answer.startswith("HTTP/1.1 400") and "incomplete request body" in answer, answer
+        # the client sends 2 of 100 bytes and closes its side: refused (or just closed), never taken over
+        with socket.create_connection(("127.0.0.1", server.port), timeout=30) as s:
+            s.sendall(request)
+            s.shutdown(socket.SHUT_WR)
+            answer = s.recv(4096).decode()
+        assert answer == "" or answer.startswith("HTTP/1.1 400"), answer
+        assert server.state.takeover_object is None
+        status, state = _raw(server.port, "GET", "/api/state", auth)
+        assert status == 200 and json.loads(state)["can_take_over"] is True
+
+
+def test_questionnaire_answers_are_checked_against_their_schema(tmp_path):
+    log = StudyLog(tmp_path / "study.db")
+    sid = log.start_session(plan_session("P01", "A", 1))
+    with serve_tablet("127.0.0.1", 0, TOKEN) as server:
+        server.ask_questionnaires(lambda name, answers: log.record_responses(sid, name, answers))
+        auth = {"Host": f"127.0.0.1:{server.port}", "X-Session-Token": TOKEN, "Content-Type": "application/json"}
+        good = {item.key: 3 for item in MDMT_PERFORMANCE.items}
+        for body, status in (
+            (b"{bad", 400),
+            (json.dumps({**good, MDMT_PERFORMANCE.items[0].key: "3"}).encode(), 422),  # a string, not a number
+            (json.dumps({**good, MDMT_PERFORMANCE.items[0].key: True}).encode(), 422),  # a bool, not a number
+            (json.dumps(list(good.values())).encode(), 422),
+            (b"", 400),
+        ):
+            assert _raw(server.port, "POST", "/api/questionnaires/mdmt", auth, body)[0] == status, body
+        assert log.responses() == []
+        assert _raw(server.port, "POST", "/api/questionnaires/mdmt", auth, json.dumps(good).encode())[0] == 200
+    log.close()
