@@ -12,14 +12,16 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 
+from scone_bt.cli.checks import check_output_file, write_atomic
 from scone_bt.errors import SconeError
 from scone_bt.strict_json import dumps
 
-__all__ = ["main", "emit_report", "BENCHMARK_MODULES"]
+__all__ = ["main", "emit_report", "check_report_path", "BENCHMARK_MODULES"]
 
 # One line per benchmark module; its register() adds the subcommands.
 BENCHMARK_MODULES: tuple[str, ...] = (
@@ -39,16 +41,65 @@ BENCHMARK_MODULES: tuple[str, ...] = (
 
 
 def emit_report(
-    report: object, json_path: str | Path | None, indent: int = 2, make_parent: bool = False
+    report: object,
+    json_path: str | Path | None,
+    indent: int = 2,
+    make_parent: bool = False,
+    force: bool = False,
 ) -> None:
-    """Print a benchmark's JSON report and, with ``--json FILE``, write the same text there (strict JSON)."""
+    """Print a benchmark's JSON report and, with ``--json FILE``, write the same text there (strict JSON).
+
+    The file is written whole or not at all (a temporary file renamed over it); an existing file that is not JSON
+    is not replaced unless `force` (scone-bench checks this before the benchmark runs, too).
+    """
     text = dumps(report, indent=indent)
     print(text)
     if json_path:
         path = Path(json_path)
         if make_parent:
             path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(text + "\n")
+        check_output_file(path, "--json", kind="json", force=force or os.path.realpath(path) in _APPROVED)
+        write_atomic(path, text + "\n")
+
+
+_APPROVED: set[str] = (
+    set()
+)  # --json paths check_report_path accepted (with the command's --force) before the run
+
+
+def _leaf_parsers(parser: argparse.ArgumentParser) -> Iterator[argparse.ArgumentParser]:
+    """Every parser that runs a command (subcommands of subcommands included)."""
+    subs = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
+    if not subs:
+        yield parser
+    for action in subs:
+        for child in dict.fromkeys(action.choices.values()):  # aliases map to the same parser
+            yield from _leaf_parsers(child)
+
+
+def _inputs(args: argparse.Namespace, outputs: Sequence[str]) -> dict[str, list[Path]]:
+    """The existing files named by the command's other options: what its report must not be written over."""
+    out: dict[str, list[Path]] = {}
+    for dest, value in vars(args).items():
+        if dest in outputs or callable(value):
+            continue
+        for item in value if isinstance(value, (list, tuple)) else [value]:
+            if isinstance(item, (str, Path)) and str(item) and os.path.exists(item):
+                out.setdefault(f"--{dest.replace('_', '-')}", []).append(Path(item))
+    return out
+
+
+def check_report_path(args: argparse.Namespace) -> None:
+    """--json of any benchmark, before it runs: not one of its inputs, not a device, not a non-JSON file."""
+    path = getattr(args, "json", None)
+    if path:
+        check_output_file(
+            Path(path),
+            "--json",
+            kind="json",
+            inputs=_inputs(args, ("json",)),
+            force=bool(getattr(args, "force", False)),
+        )
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -58,6 +109,12 @@ def _parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for name in BENCHMARK_MODULES:
         importlib.import_module(name).register(sub)
+    for leaf in _leaf_parsers(p):
+        has = {o for a in leaf._actions for o in a.option_strings}
+        if "--json" in has and "--force" not in has:
+            leaf.add_argument(
+                "--force", action="store_true", help="let --json replace an existing file that is not JSON"
+            )
     return p
 
 
@@ -65,6 +122,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``scone-bench``; errors print one line and exit with status 2."""
     args = _parser().parse_args(argv)
     try:
+        check_report_path(args)  # before the benchmark runs: minutes of work are not lost to a bad --json
         return int(args.func(args))
     except SconeError as exc:
         print(f"scone-bench: {exc}", file=sys.stderr)
