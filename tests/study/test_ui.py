@@ -199,7 +199,9 @@ def test_a_malformed_press_takes_nothing_over(body, status):
         assert _raw(server.port, "POST", "/api/takeover", auth, body)[0] == status
         assert _raw(server.port, "POST", "/api/requests/salt/done", auth, body)[0] == status
         assert server.state.takeover_object is None
-        assert _raw(server.port, "POST", "/api/takeover", auth, b"{}")[0] == 200  # the same press, well formed
+        assert (
+            _raw(server.port, "POST", "/api/takeover", auth, b"{}")[0] == 200
+        )  # the same press, well formed
         assert server.state.takeover_object == "salt"
 
 
@@ -229,16 +231,25 @@ def test_questionnaire_answers_are_checked_against_their_schema(tmp_path):
     sid = log.start_session(plan_session("P01", "A", 1))
     with serve_tablet("127.0.0.1", 0, TOKEN) as server:
         server.ask_questionnaires(lambda name, answers: log.record_responses(sid, name, answers))
-        auth = {"Host": f"127.0.0.1:{server.port}", "X-Session-Token": TOKEN, "Content-Type": "application/json"}
+        auth = {
+            "Host": f"127.0.0.1:{server.port}",
+            "X-Session-Token": TOKEN,
+            "Content-Type": "application/json",
+        }
         good = {item.key: 3 for item in MDMT_PERFORMANCE.items}
         for body, status in (
             (b"{bad", 400),
-            (json.dumps({**good, MDMT_PERFORMANCE.items[0].key: "3"}).encode(), 422),  # a string, not a number
+            (
+                json.dumps({**good, MDMT_PERFORMANCE.items[0].key: "3"}).encode(),
+                422,
+            ),  # a string, not a number
             (json.dumps({**good, MDMT_PERFORMANCE.items[0].key: True}).encode(), 422),  # a bool, not a number
             (json.dumps(list(good.values())).encode(), 422),
             (b"", 400),
         ):
             assert _raw(server.port, "POST", "/api/questionnaires/mdmt", auth, body)[0] == status, body
         assert log.responses() == []
-        assert _raw(server.port, "POST", "/api/questionnaires/mdmt", auth, json.dumps(good).encode())[0] == 200
+        assert (
+            _raw(server.port, "POST", "/api/questionnaires/mdmt", auth, json.dumps(good).encode())[0] == 200
+        )
     log.close()
