@@ -1,0 +1,82 @@
+"""Ctrl-C at any moment of scone-run (issue 27): one line saying what was saved, exit status 130, no traceback,
+and a store that is intact and holds what the line says. Real processes, real SIGINT."""
+
+from __future__ import annotations
+
+import os
+import random
+import re
+import signal
+import sqlite3
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+SCONE_RUN = Path(sys.executable).parent / "scone-run"
+LINE = re.compile(
+    r"scone-run: interrupted; (?:nothing was stored.*|(?P<n>\d+) outcomes? of this run (?:is|are) in (?P<store>.+))"
+)
+TINY = "id: tiny\ntitle: Tiny\ningredients: [salt]\nsteps: [Season with salt.]\n"
+
+pytestmark = pytest.mark.skipif(not SCONE_RUN.is_file(), reason="scone-run is not installed beside Python")
+
+
+def _start(tmp_path: Path, store: Path, recipe: str) -> subprocess.Popen:
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    argv = [str(SCONE_RUN), "--recipe", recipe, "--distractors", "0", "--max-ticks", "400"]
+    argv += ["--embedder", "onehot", "--experience", str(store)]
+    return subprocess.Popen(
+        argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, cwd=tmp_path
+    )
+
+
+def _check(proc: subprocess.Popen, store: Path) -> int:
+    """The exit status, the one line and the store agree; returns the number of outcomes the line names."""
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, (proc.returncode, err[-2000:])
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in err, err[-2000:]
+    match = LINE.fullmatch(lines[0])
+    assert match, lines[0]
+    said = int(match["n"] or 0)
+    if match["store"] is not None:
+        assert Path(match["store"]).name == store.name
+    if store.exists():
+        with sqlite3.connect(f"file:{store}?mode=ro", uri=True) as conn:
+            assert conn.execute("PRAGMA integrity_check").fetchone()[0] == "ok"
+            assert conn.execute("SELECT COUNT(*) FROM outcomes").fetchone()[0] == said
+    else:
+        assert said == 0
+    return said
+
+
+def test_ctrl_c_at_random_points_says_what_was_saved(tmp_path):
+    """Four runs at once, each interrupted at a seeded random moment of its first 2.5 s (imports, start-up)."""
+    (tmp_path / "tiny.yaml").write_text(TINY)
+    rng = random.Random(27)
+    delays = [rng.uniform(0.15, 2.5) for _ in range(4)]
+    runs = [(delay, tmp_path / f"store{i}.db") for i, delay in enumerate(delays)]
+    procs = [(delay, store, _start(tmp_path, store, "tiny.yaml")) for delay, store in runs]
+    t0 = time.monotonic()
+    for delay, _store, proc in sorted(procs, key=lambda r: r[0]):
+        time.sleep(max(0.0, delay - (time.monotonic() - t0)))
+        proc.send_signal(signal.SIGINT)
+    for _delay, store, proc in procs:
+        _check(proc, store)
+
+
+@pytest.mark.slow
+def test_ctrl_c_after_an_outcome_counts_it(tmp_path):
+    """Interrupted once the first outcome was printed: the line counts what the store holds (here at least it)."""
+    store = tmp_path / "store.db"
+    proc = _start(tmp_path, store, "example:hummus")
+    assert proc.stdout is not None
+    for line in proc.stdout:
+        if line.lstrip().startswith(("+ success", "x failure")):
+            time.sleep(0.5)  # the outcome is printed one behaviour before it is stored, in the same tick
+            proc.send_signal(signal.SIGINT)
+            break
+    assert _check(proc, store) >= 1
