@@ -23,11 +23,11 @@ from scone_bt.config import load_kitchen, load_robot
 from scone_bt.episode.printer import RULE_LABELS, LinePrinter, condition_line
 from scone_bt.episode.resources import EpisodeResources, ModelPool
 from scone_bt.episode.seeds import PlannerSeedStream, SeedPlan, SeedStage
+from scone_bt.episode.shelf import stock_shelf
 from scone_bt.episode.snapshot import SnapshotBuilder
-from scone_bt.errors import ConfigError
 from scone_bt.events import DecisionMade, Event, EventLog, EventSink
 from scone_bt.human import HumanOptions, SimulatedHuman
-from scone_bt.recipes import load_recipe, stock_recipe
+from scone_bt.recipes import load_recipe
 from scone_bt.robot.sim import SimRobot
 from scone_bt.tree import build_tree, load_tree_spec
 from scone_bt.world import Kitchen
@@ -241,27 +241,11 @@ def run_episode(
     kitchen_cfg = load_kitchen(options.kitchen, options.catalogues)
     robot_cfg = load_robot(options.robot)
     spec = load_tree_spec(options.tree)
-    # Products past the free shelf slots stay off the shelf: the human brings them, like unstocked ones.
-    capacity = max(len(kitchen_cfg.scene.shelf_slots()) - options.distractors, 0)
-    recipe = stock_recipe(load_recipe(options.recipe), kitchen_cfg.catalogue, capacity=capacity)
     catalogue = kitchen_cfg.catalogue
     rng = np.random.default_rng(options.seed)
-    others = [n for n in catalogue.names() if n not in recipe.needed]
-    n_distractors = min(
-        options.distractors, len(others), len(kitchen_cfg.scene.shelf_slots()) - len(recipe.needed)
-    )
-    if n_distractors < 0:
-        raise ConfigError(
-            f"recipe needs {len(recipe.needed)} objects but the shelf has {len(kitchen_cfg.scene.shelf_slots())} slots"
-        )
-    if options.distractors > n_distractors:
-        raise ConfigError(
-            f"--distractors {options.distractors}: {n_distractors} available for this recipe and shelf "
-            f"({len(others)} other products, {len(kitchen_cfg.scene.shelf_slots()) - len(recipe.needed)} free slots)"
-        )
-    distractors = (
-        [str(n) for n in rng.choice(others, size=n_distractors, replace=False)] if n_distractors else []
-    )
+    # The recipe's products past the slots the distractors leave stay off the shelf: the human brings them.
+    shelf = stock_shelf(load_recipe(options.recipe), catalogue, kitchen_cfg.scene, options.distractors, rng)
+    recipe, distractors = shelf.recipe, list(shelf.distractors)
     specs = [catalogue.get(n) for n in (*recipe.needed, *distractors)]
     behaviour = options.behaviour.resolve(spec.parameters)
     # The robot's stages draw from the behaviour seed's streams, the human from the episode seed's.

@@ -24,7 +24,17 @@ from scone_bt.config import ObjectSpec, SceneSpec
 from scone_bt.config.scene import ShelfUnit
 from scone_bt.errors import ConfigError
 
-__all__ = ["LANE_MIN_M", "FINGER_ROOM_M", "Placement", "footprint", "fits_shelf", "plan_stocking"]
+__all__ = [
+    "LANE_MIN_M",
+    "FINGER_ROOM_M",
+    "Placement",
+    "footprint",
+    "fits_shelf",
+    "fits_side_by_side",
+    "lane_width",
+    "pack_side_by_side",
+    "plan_stocking",
+]
 
 LANE_MIN_M = 0.10
 """The narrowest lane: the slot pitch of perception/kitchen.yaml."""
@@ -92,6 +102,53 @@ def _segment(unit: ShelfUnit, tier: int) -> tuple[float, float]:
 def _length(unit: ShelfUnit, tier: int) -> float:
     a, b = _segment(unit, tier)
     return b - a
+
+
+def lane_width(spec: ObjectSpec, unit: ShelfUnit) -> float:
+    """The lane a product facing the robot takes along a tier of ``unit`` (finger room included), metres."""
+    _, v = footprint(spec, _turn(spec, unit.tier_depth))
+    return max(LANE_MIN_M, v + FINGER_ROOM_M)
+
+
+def _lowest_first(scene: SceneSpec) -> list[tuple[str, int]]:
+    """Every (unit, tier), lowest tier first (units in file order at equal heights)."""
+    keys = [(u.name, i, t.top_z) for u in scene.shelves for i, t in enumerate(u.tiers)]
+    return [(name, i) for name, i, _ in sorted(keys, key=lambda k: k[2])]
+
+
+def pack_side_by_side(scene: SceneSpec, specs: Sequence[ObjectSpec]) -> list[tuple[str, int]] | None:
+    """A (unit, tier) for each product such that every tier's lanes fit it, or None when none is found.
+
+    First fit, decreasing: products too deep for an upper tier first (onto a lowest tier when one has room), then
+    the widest lanes first, each on the lowest tier with room; products face the robot (no yaw jitter). This is
+    the packing `plan_stocking` falls back on last, so a set it accepts is always stocked.
+    """
+    if len(specs) > len(scene.slots()):
+        return None
+    units = {u.name: u for u in scene.shelves}
+    tiers = _lowest_first(scene)
+    used = dict.fromkeys(tiers, 0.0)
+    deep = [_too_deep(spec, scene) for spec in specs]
+    lanes = [{u.name: lane_width(spec, u) for u in scene.shelves} for spec in specs]
+    order = sorted(range(len(specs)), key=lambda i: (not deep[i], -max(lanes[i].values())))
+    out: dict[int, tuple[str, int]] = {}
+    for i in order:
+        ranked = sorted(tiers, key=lambda k: k[1] != 0) if deep[i] else tiers  # stable: lowest first
+        for key in ranked:
+            unit = units[key[0]]
+            lane = lanes[i][key[0]]
+            if used[key] + lane <= _length(unit, key[1]) + 1e-9:
+                used[key] += lane
+                out[i] = key
+                break
+        else:
+            return None
+    return [out[i] for i in range(len(specs))]
+
+
+def fits_side_by_side(scene: SceneSpec, specs: Sequence[ObjectSpec]) -> bool:
+    """True if `pack_side_by_side` stocks these products (then `plan_stocking` never refuses them)."""
+    return pack_side_by_side(scene, specs) is not None
 
 
 def plan_stocking(scene: SceneSpec, specs: Sequence[ObjectSpec], rng: np.random.Generator) -> list[Placement]:
@@ -171,14 +228,28 @@ def plan_stocking(scene: SceneSpec, specs: Sequence[ObjectSpec], rng: np.random.
                 None,
             )
             if key is None:
-                total = sum(lane_on(j, tier_keys[0]) for j in range(len(specs)))
-                raise ConfigError(
-                    f"{len(specs)} products do not fit the shelving side by side ({specs[i].name!r} finds no "
-                    f"room; they need about {total:.2f} m of shelf); stock fewer or narrower products"
-                )
+                feasible = False
+                break
             tier = units[key[0]].tiers[key[1]]
             wanted[i] = tier.slots[sum(1 for j in tier_of if tier_of[j] == key) % len(tier.slots)]
             tier_of[i] = key
+        else:
+            feasible = True
+    if not feasible:
+        # Still crowded: the tightest packing, widest first, every product facing the robot (its lane as narrow
+        # as it gets). What `fits_side_by_side` accepts is stocked here.
+        packed = pack_side_by_side(scene, specs)
+        if packed is None:
+            total = sum(lane_width(spec, scene.shelves[0]) for spec in specs)
+            raise ConfigError(
+                f"{len(specs)} products do not fit the shelving side by side (they need about {total:.2f} m "
+                f"of shelf); stock fewer or narrower products"
+            )
+        tier_of = dict(enumerate(packed))
+        yaws = [0.0] * len(specs)
+        for i, key in tier_of.items():
+            tier = units[key[0]].tiers[key[1]]
+            wanted[i] = tier.slots[sum(1 for j in range(i) if tier_of[j] == key) % len(tier.slots)]
 
     out: dict[int, Placement] = {}
     for key in tier_keys:

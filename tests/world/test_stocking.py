@@ -97,3 +97,31 @@ def test_products_that_fit_their_tier_keep_their_seeded_places(kitchen_cfg):
     a = plan_stocking(scene, [*specs, deep], np.random.default_rng(3))
     b = plan_stocking(scene, [*specs, shallow], np.random.default_rng(3))
     assert [p.yaw for p in a[:-1]] == [p.yaw for p in b[:-1]]
+
+
+def test_a_tight_set_that_fits_side_by_side_is_always_stocked(kitchen_cfg):
+    # The narrowest catalogue products up to the most that fit: drawn slots and heaviest-first packing crowd them.
+    from scone_bt.world.stocking import fits_side_by_side, lane_width
+
+    scene, catalogue = kitchen_cfg.scene, kitchen_cfg.catalogue
+    specs = sorted(
+        (catalogue.get(n) for n in catalogue.names()),
+        key=lambda s: max(lane_width(s, u) for u in scene.shelves),
+    )
+    tight: list = []
+    for spec in specs:
+        if not fits_side_by_side(scene, [*tight, spec]):
+            break
+        tight.append(spec)
+    assert len(tight) >= len(scene.slots()) - 8
+    for seed in range(8):
+        places = plan_stocking(scene, tight, np.random.default_rng(seed))
+        rows: dict[tuple[str, int], list[tuple[float, float]]] = {}
+        for spec, place in zip(tight, places, strict=True):
+            unit = next(u for u in scene.shelves if u.name == place.unit)
+            _, width = footprint(spec, place.yaw - unit.facing_yaw)
+            rows.setdefault((place.unit, place.tier), []).append((_unit_v(scene, place)[1], width))
+        for row in rows.values():
+            row.sort()
+            for (va, wa), (vb, wb) in zip(row, row[1:], strict=False):
+                assert vb - va >= max((wa + wb) / 2 + FINGER_ROOM_M, LANE_MIN_M) - 1e-9, seed

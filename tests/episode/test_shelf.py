@@ -1,0 +1,50 @@
+"""--distractors: the maximum the robot quotes is stocked, one more is a one-line error."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from scone_bt.episode.shelf import max_distractors, stock_shelf
+from scone_bt.errors import ConfigError
+from scone_bt.recipes import load_recipe, stock_recipe
+
+
+def test_the_quoted_maximum_stands_on_the_shelf_and_one_more_is_refused(kitchen_cfg, kitchen) -> None:
+    catalogue, scene = kitchen_cfg.catalogue, kitchen_cfg.scene
+    recipe = load_recipe("example:tomato-pasta")
+    most = max_distractors(recipe, catalogue, scene)
+    assert 6 < most <= len(scene.slots()) - len(stock_recipe(recipe, catalogue).needed)
+    with pytest.raises(ConfigError) as refused:
+        stock_shelf(recipe, catalogue, scene, most + 1, np.random.default_rng(0))
+    message = str(refused.value)
+    assert "\n" not in message and f"--distractors {most + 1}: {most} available" in message
+    rng = np.random.default_rng(0)
+    shelf = stock_shelf(recipe, catalogue, scene, most, rng)
+    assert len(shelf.distractors) == most and not set(shelf.distractors) & set(shelf.recipe.needed)
+    names = [*shelf.recipe.needed, *shelf.distractors]
+    kitchen.spawn([catalogue.get(n) for n in names], rng)  # as the episode stocks it: settled by physics
+    assert [n for n in names if not kitchen.is_on_shelf(n)] == []
+
+
+def test_counts_near_the_maximum_are_stocked_whatever_the_seed(kitchen_cfg) -> None:
+    from scone_bt.world.stocking import plan_stocking
+
+    catalogue, scene = kitchen_cfg.catalogue, kitchen_cfg.scene
+    recipe = load_recipe("example:pancakes")
+    most = max_distractors(recipe, catalogue, scene)
+    for seed in (1, 2, 3):
+        for n in (most - 2, most - 1, most):  # seeded draws this crowded never fit as drawn
+            rng = np.random.default_rng(seed)
+            shelf = stock_shelf(recipe, catalogue, scene, n, rng)
+            assert len(shelf.distractors) == n
+            plan_stocking(scene, [catalogue.get(x) for x in (*shelf.recipe.needed, *shelf.distractors)], rng)
+
+
+def test_a_draw_that_fits_is_the_seeded_draw_it_always_was(kitchen_cfg) -> None:
+    catalogue, scene = kitchen_cfg.catalogue, kitchen_cfg.scene
+    recipe = load_recipe("example:tomato-pasta")
+    needed = stock_recipe(recipe, catalogue).needed
+    others = [n for n in catalogue.names() if n not in needed]
+    expected = [str(n) for n in np.random.default_rng(0).choice(others, size=6, replace=False)]
+    assert list(stock_shelf(recipe, catalogue, scene, 6, np.random.default_rng(0)).distractors) == expected
