@@ -15,6 +15,7 @@ Data come from a StudyLog (``load_study``) or from anyone's CSV files (ratings_c
 from __future__ import annotations
 
 import logging
+import math
 import os
 import time
 import warnings
@@ -46,6 +47,7 @@ __all__ = [
     "Contrast",
     "ModelFit",
     "AnalysisResult",
+    "convergence_text",
     "StudyData",
     "load_study",
     "decide",
@@ -308,11 +310,23 @@ class AnalysisResult:
                 f"{c.model:14} {c.label:22} {c.mean:7.3f} {c.sd:6.3f} [{c.hdi[0]:7.3f}, {c.hdi[1]:7.3f}]  {c.p_positive:6.3f}  {c.decision}"
             )
         for m, f in self.fits.items():
-            flag = "" if f.r_hat_max < 1.05 and f.divergences == 0 else "  <- check convergence"
-            lines.append(
-                f"{m:14} n={f.n_observations:<6} R-hat max {f.r_hat_max:.3f}  ESS min {f.ess_bulk_min:.0f}  divergences {f.divergences}  {f.seconds:.0f} s{flag}"
-            )
+            lines.append(f"{m:14} n={f.n_observations:<6} {convergence_text(f)}")
         return "\n".join(lines)
+
+
+def convergence_text(fit: ModelFit) -> str:
+    """R-hat, ESS, divergences and time of one fit for the report, flagged when they call for a look.
+
+    R-hat compares chains: with one chain it is undefined (NaN), which says nothing about convergence, so the
+    line says what it needs instead of printing "nan" next to the flag.
+    """
+    one_chain = math.isnan(fit.r_hat_max)
+    r_hat = "R-hat: needs ≥ 2 chains" if one_chain else f"R-hat max {fit.r_hat_max:.3f}"
+    ok = (one_chain or fit.r_hat_max < 1.05) and fit.divergences == 0
+    flag = "" if ok else "  <- check convergence"
+    return (
+        f"{r_hat}  ESS min {fit.ess_bulk_min:.0f}  divergences {fit.divergences}  {fit.seconds:.0f} s{flag}"
+    )
 
 
 # --------------------------------------------------------------------------------------------- data
