@@ -27,6 +27,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from scone_bt.benchmarks.progress import progress_bar
 from scone_bt.cli.bench import emit_report
 from scone_bt.errors import RecipeError
 from scone_bt.resources import repo_root
@@ -124,8 +125,9 @@ def run_catalogue_benchmark(
     corpus: Path | None = None,
     pdr_labels: Path | None = None,
     pdr_heldout: Path | None = None,
+    progress: bool = False,
 ) -> dict[str, Any]:
-    """Every figure of the catalogue benchmark as one JSON-ready mapping."""
+    """Every figure of the catalogue benchmark as one JSON-ready mapping (``progress``: a bar on stderr)."""
     from scone_bt.config import load_kitchen
     from scone_bt.recipes.normalise import ItemClass, classify_item, normalise_ingredient
     from scone_bt.recipes.recipe import recipe_corpus_path, recipe_from_record
@@ -139,6 +141,8 @@ def run_catalogue_benchmark(
         raise RecipeError(f"recipe corpus not found: {corpus or '../shared/data/recipes/recipes.jsonl'}")
     records = [json.loads(line) for line in Path(corpus).read_text().splitlines() if line.strip()]
     recipes = [recipe_from_record(r, f"{corpus}:{i + 1}") for i, r in enumerate(records)]
+    bar = progress_bar(len(recipes), "recipes", not progress, unit="recipe")
+    bar.set_postfix_str("normalisation accuracy")
 
     nw_pairs = [
         (line, label_item(s["name"]))
@@ -159,6 +163,7 @@ def run_catalogue_benchmark(
     unstocked_items: Counter[str] = Counter()
     fully = fits = 0
     needed_counts = []
+    bar.set_postfix_str("stocking")
     for recipe in recipes:
         for line in recipe.ingredients:
             item = normalise_ingredient(line)
@@ -177,6 +182,8 @@ def run_catalogue_benchmark(
         needed_counts.append(len(stocked.needed))
         fully += not stocked.unstocked
         fits += len(stocked.needed) + DISTRACTORS <= slots
+        bar.update()
+    bar.close()
     mentions = sum(kinds.values())
     covered = kinds["stocked"] + kinds[ItemClass.WATER.value] + kinds[ItemClass.TOOL.value]
     result: dict[str, Any] = {
@@ -222,6 +229,7 @@ def _run(args: argparse.Namespace) -> int:
         corpus=args.corpus,
         pdr_labels=args.pdr_labels,
         pdr_heldout=args.pdr_heldout,
+        progress=not args.quiet,
     )
     emit_report(result, args.json)
     return 0
@@ -256,4 +264,5 @@ def register(subparsers: Any) -> None:
         help="a second labelled file never tuned on (default tools/data/normalise/pdr_labels_heldout.jsonl)",
     )
     p.add_argument("--json", metavar="FILE", help="also write the JSON here")
+    p.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
     p.set_defaults(func=_run)

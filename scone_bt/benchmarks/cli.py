@@ -28,6 +28,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     c = sub.add_parser("core", help="embedding throughput, κ̂ latency and the decision path (JSON)")
     c.add_argument("--quick", action="store_true", help="fewer repetitions")
     c.add_argument("--json", type=Path, help="also write the JSON report to this file")
+    c.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
     c.set_defaults(func=_core)
     v = sub.add_parser("viz", help="rerun logging overhead on a headless episode tick (JSON)")
     v.add_argument("--ticks", type=int, default=120, help="control ticks per run (default: 120)")

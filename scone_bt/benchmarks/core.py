@@ -18,9 +18,11 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
+from scone_bt.benchmarks.progress import progress_bar
 from scone_bt.cli.bench import emit_report
 from scone_bt.confidence import ESTIMATORS, make_estimator
 from scone_bt.embedding import load_embedder, mpnet_dir
@@ -70,10 +72,13 @@ def _percentiles(samples_s: list[float]) -> dict[str, float]:
     }
 
 
-def bench_embedders(names: list[str], n_texts: int, cache_dir: Path) -> dict:
+def bench_embedders(names: list[str], n_texts: int, cache_dir: Path, bar: Any = None) -> dict:
+    """Load time and throughput per embedder; ``bar`` (a `progress_bar`) advances once per embedder."""
     texts = _throughput_texts(n_texts)
     out = {}
     for name in names:
+        if bar is not None:
+            bar.set_postfix_str(f"embedding: {name}")
         t0 = time.perf_counter()
         emb = load_embedder(name, cache_dir)
         load_s = time.perf_counter() - t0
@@ -93,6 +98,8 @@ def bench_embedders(names: list[str], n_texts: int, cache_dir: Path) -> dict:
             "cold_texts_per_s": round(len(texts) / cold, 1),
             "cached_texts_per_s": round(len(texts) / cached, 1),
         }
+        if bar is not None:
+            bar.update()
     return out
 
 
@@ -205,7 +212,13 @@ def run(args: argparse.Namespace) -> int:
     """``scone-bench core``: print (and with ``--json FILE`` write) the JSON report."""
     reps = 5 if args.quick else 30
     names = ["minilm", "glove", "onehot"] + (["mpnet"] if mpnet_dir() is not None else [])
-    with tempfile.TemporaryDirectory(prefix="bench-core-") as tmp:
+    # one step per embedder, then κ̂ latency, the decision path, the recipe-aware path (and MPNet's path)
+    bar = progress_bar(len(names) + 3 + ("mpnet" in names), "core", args.quiet)
+
+    def stage(name: str) -> None:
+        bar.set_postfix_str(name)
+
+    with bar, tempfile.TemporaryDirectory(prefix="bench-core-") as tmp:
         cache_dir = Path(tmp)  # an empty cache, so "cold" really is cold
         result = {
             "machine": {
@@ -214,17 +227,25 @@ def run(args: argparse.Namespace) -> int:
                 "cpus": os.cpu_count(),
                 "load_average_1min": round(os.getloadavg()[0], 2),
             },
-            "embedding": bench_embedders(names, 64 if args.quick else 256, cache_dir),
+            "embedding": bench_embedders(names, 64 if args.quick else 256, cache_dir, bar),
         }
         emb = load_embedder("minilm", cache_dir)
+        stage("κ̂ latency")
         result["confidence_minilm"] = bench_estimators(emb, reps, history=50)
+        bar.update()
+        stage("decision path")
         result["decision_path"] = {"minilm": bench_decision_path(emb, list(ESTIMATORS), reps // 5 + 1)}
+        bar.update()
+        stage("recipe-aware path")
         result["decision_path_recipe_aware"] = {
             "minilm": bench_recipe_aware_path(emb, list(ESTIMATORS), reps // 5 + 1)
         }
+        bar.update()
         if "mpnet" in names:
+            stage("decision path: mpnet")
             mp = load_embedder("mpnet", cache_dir)
             result["decision_path"]["mpnet"] = bench_decision_path(mp, list(ESTIMATORS), reps // 5 + 1)
+            bar.update()
         p50 = {
             f"{emb_name}/{est_name}": v["after_update"]["p50_ms"]
             for emb_name, per in result["decision_path"].items()

@@ -20,6 +20,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+from scone_bt.benchmarks.progress import progress_bar
 from scone_bt.cli.bench import emit_report
 
 __all__ = ["register", "run", "DEFAULT_RECIPES", "TARGETS"]
@@ -52,7 +53,9 @@ def run(args: argparse.Namespace) -> int:
     total_sim = total_wall = total_cpu = 0.0
     breakdown: dict[str, float] = {}
     cpu_breakdown: dict[str, float] = {}
+    bar = progress_bar(len(recipes), "episodes", args.quiet, unit="episode")
     for i, recipe in enumerate(recipes):
+        bar.set_postfix_str(recipe)
         options = EpisodeOptions(
             robot=args.robot,
             recipe=recipe,
@@ -65,6 +68,7 @@ def run(args: argparse.Namespace) -> int:
         with c_stdout_silenced():
             summary = run_episode(options, printer=lambda _line: None)
         cpu = time.process_time() - cpu0
+        bar.update()
         total_sim += summary.sim_time
         total_wall += summary.wall_time
         total_cpu += cpu
@@ -94,6 +98,7 @@ def run(args: argparse.Namespace) -> int:
                 "cpu_breakdown_s": summary.cpu_breakdown,
             }
         )
+    bar.close()
     firsts = [
         e["startup_to_first_decision_s"] for e in episodes if e["startup_to_first_decision_s"] is not None
     ]
@@ -146,4 +151,5 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--max-ticks", type=int, default=4000, help="control-tick limit per episode (default 4000)"
     )
     p.add_argument("--json", type=Path, help="also write the JSON report to this file")
+    p.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
     p.set_defaults(func=run)
