@@ -215,10 +215,6 @@ class Recorder:
         self._file_rec: Any = None
         self._view_rec: Any = None
         blueprint = default_blueprint()
-        if self.save_path is not None:
-            self.save_path.parent.mkdir(parents=True, exist_ok=True)
-            self._file_rec = self._stream()
-            self._file_rec.set_sinks(rr.FileSink(str(self.save_path)), default_blueprint=blueprint)
         urls: list[str] = []
         if spawn_viewer or connect is not None:
             self._view_rec = self._stream()
@@ -230,8 +226,12 @@ class Recorder:
         if connect_url is not None and connect_url not in urls:  # rerun refuses two sinks to one address
             urls.append(connect_url)
         self._viewer_urls = tuple(urls)
-        if self._view_rec is not None:
-            self._view_rec.set_sinks(*(rr.GrpcSink(url) for url in urls), default_blueprint=blueprint)
+        if self._view_rec is not None:  # the viewer first: if it fails, no file was begun
+            self._attach_viewer(blueprint)
+        if self.save_path is not None:
+            self.save_path.parent.mkdir(parents=True, exist_ok=True)
+            self._file_rec = self._stream()
+            self._file_rec.set_sinks(rr.FileSink(str(self.save_path)), default_blueprint=blueprint)
         self._rec: Any = self._routing()
         self._viewer_checked_at = time.monotonic()
         self._closed = False
@@ -399,7 +399,14 @@ class Recorder:
         self._log_trace()  # at the last tick's time
         self.flush()
         if self._view_rec is not None:
-            self._view_rec.disconnect()  # it took everything within the deadline: this returns at once
+            # Disconnecting waits for the viewer without a deadline of its own: bounded here, on a worker thread.
+            view = self._view_rec
+            worker = threading.Thread(target=view.disconnect, name="rerun-viewer-close", daemon=True)
+            worker.start()
+            worker.join(STREAM_FLUSH_TIMEOUT_S)
+            if worker.is_alive():
+                self._view_rec = view  # reported (and left to the bounded exit) by _drop_viewer
+                self._drop_viewer("disconnecting timed out", STREAM_FLUSH_TIMEOUT_S, disconnect=False)
             self._view_rec = None
         if self._file_rec is not None:
             self._file_rec.disconnect()
@@ -424,6 +431,36 @@ class Recorder:
             return _Nowhere()
         return streams[0] if len(streams) == 1 else _Tee(*streams)
 
+    def _attach_viewer(self, blueprint: Any) -> None:
+        """Give the viewer stream its gRPC sinks and the blueprint, within VIEWER_STALL_TIMEOUT_S.
+
+        Sending the blueprint waits until the viewer took it, without a deadline: a peer that answers the
+        handshake and then reads nothing would hold the robot before its first decision. So it runs on a
+        worker thread, and a viewer that has not taken it in time is refused (ConfigError, one line).
+        """
+        sinks = [rr.GrpcSink(url) for url in self._viewer_urls]
+        failed: list[BaseException] = []
+
+        def attach() -> None:
+            try:
+                self._view_rec.set_sinks(*sinks, default_blueprint=blueprint)
+            except Exception as exc:  # noqa: BLE001 - re-raised on the caller's thread
+                failed.append(exc)
+
+        worker = threading.Thread(target=attach, name="rerun-viewer-attach", daemon=True)
+        worker.start()
+        worker.join(VIEWER_STALL_TIMEOUT_S)
+        if worker.is_alive():
+            self._view_rec = None
+            _bound_rerun_shutdown()  # the stuck stream must not hold the process at exit either
+            raise ConfigError(
+                f"--connect {', '.join(self._viewer_urls)}: the viewer accepted the connection but did not take "
+                f"the recording's first data within {VIEWER_STALL_TIMEOUT_S:g} s; is it a rerun viewer that "
+                "responds? Record with --save and open the file later"
+            )
+        if failed:
+            raise ConfigError(f"rerun viewer: {' '.join(str(failed[0]).split())}") from None
+
     def _check_viewer(self, timeout_s: float) -> bool:
         """Whether the live viewer took everything within timeout_s; if not it is dropped (True without one)."""
         self._viewer_checked_at = time.monotonic()
@@ -436,14 +473,14 @@ class Recorder:
             return False
         return True
 
-    def _drop_viewer(self, why: str, timeout_s: float) -> None:
+    def _drop_viewer(self, why: str, timeout_s: float, disconnect: bool = True) -> None:
         """Stop streaming to a viewer that stalled or went away; the recording file (if any) goes on."""
         view, self._view_rec = self._view_rec, None
         self.stream_error = why
         self._rec = self._routing()
         _bound_rerun_shutdown()
-        # Disconnecting flushes without a deadline: a stalled viewer would hold it forever, so not on this thread.
-        threading.Thread(target=view.disconnect, name="rerun-viewer-drop", daemon=True).start()
+        if disconnect:  # it flushes without a deadline: a stalled viewer would hold it forever, so not here
+            threading.Thread(target=view.disconnect, name="rerun-viewer-drop", daemon=True).start()
         _log.warning(
             "the live viewer at %s did not take the data within %g s (%s); it was dropped and the episode goes "
             "on%s",
