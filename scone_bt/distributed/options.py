@@ -83,7 +83,8 @@ def add_engine_arguments(parser: argparse.ArgumentParser | argparse._ArgumentGro
         default=None,
         metavar="ADDRESS",
         help="run the tasks on Ray: 'auto' (the default with no value: join this machine's cluster, else start "
-        "one), 'local' (start a fresh local runtime) or ray://host:port; without --ray a local process pool runs "
+        "one), 'local' (start a fresh local runtime) or ray://host:port (one that does not accept a connection within "
+        "10 s is a one-line error); without --ray a local process pool runs "
         "them; results are identical either way",
     )
 

@@ -15,7 +15,35 @@ from scone_bt.distributed.options import RAY_ADDRESS_FORMS, EngineOptions
 from scone_bt.distributed.seeding import _NO_SHARED, run_seeded
 from scone_bt.errors import DistributedError
 
-__all__ = ["connect_ray", "cluster_cpus", "imap_ray", "shutdown_ray"]
+__all__ = ["RAY_CONNECT_TIMEOUT_S", "connect_ray", "cluster_cpus", "imap_ray", "shutdown_ray"]
+
+RAY_CONNECT_TIMEOUT_S = 10.0
+"""Deadline for a ray://host:port cluster to accept a TCP connection (name resolution included), seconds; checked
+before ray.init, whose client retries for much longer."""
+
+
+def _probe_ray_client(address: str, timeout_s: float = RAY_CONNECT_TIMEOUT_S) -> None:
+    """DistributedError (one line) unless something accepts TCP connections at a ray:// address within timeout_s."""
+    import socket
+    import threading
+
+    host, _, port = address[len("ray://") :].rpartition(":")
+    why: list[str | None] = []
+
+    def attempt() -> None:
+        try:
+            with socket.create_connection((host.strip("[]"), int(port)), timeout=timeout_s):
+                why.append(None)
+        except OSError as exc:
+            why.append(exc.strerror or str(exc) or type(exc).__name__)
+
+    worker = threading.Thread(target=attempt, name="ray-probe", daemon=True)  # resolution has no timeout
+    worker.start()
+    worker.join(timeout_s + 0.5)
+    reason = why[0] if why else f"no answer within {timeout_s:g} s"
+    if reason is not None:
+        raise DistributedError(f"cannot reach a Ray cluster at {address!r}: {reason}")
+
 
 # Workers inherit these: one BLAS/OpenMP thread per task (parallelism comes from tasks), no downloads.
 _WORKER_ENV = {
@@ -56,6 +84,8 @@ def connect_ray(address: str | None = "auto", num_cpus: int | None = None) -> st
         "runtime_env": {"env_vars": {k: os.environ.get(k, v) for k, v in _WORKER_ENV.items()}},
     }
     address = address or "auto"
+    if address.startswith("ray://"):
+        _probe_ray_client(address)
     try:
         if address == "auto":
             try:
