@@ -373,10 +373,13 @@ def _check_estimator(name: str) -> None:
     if name in valid:
         return
     close = difflib.get_close_matches(name, valid, n=1, cutoff=0.6)
-    base = ", ".join(n for n in ESTIMATORS if not n.startswith("eps-"))
+    base = [n for n in ESTIMATORS if not n.startswith("eps-")]
+    # names outside the eps-/grounded-/-cal patterns (a registry may add some) are listed as they are
+    others = [n for n in GROUNDED_ESTIMATORS if not n.startswith("grounded-")]
     raise SconeError(
-        f"--estimator {name!r}: unknown estimator; valid: {base}, each also as eps-<name>, grounded-<name> "
-        f"(not conformal) or <name>-cal" + (f" (did you mean {close[0]}?)" if close else "")
+        f"--estimator {name!r}: unknown estimator; valid: {', '.join(base + others)}, each of the first "
+        f"{len(base)} also as eps-<name>, grounded-<name> (not conformal) or <name>-cal"
+        + (f" (did you mean {close[0]}?)" if close else "")
     )
 
 
