@@ -314,6 +314,10 @@ class EpisodeStats:
         steps_done: Recipe steps the human finished.
         failures_by_stage: FailureStage value → failures.
         failures_by_action: Action text → failures.
+        gated_attempts: Labelled attempts the gate chose on κ̂ (not exploration): what the failure budget counts.
+        gated_failures: Failures among them.
+        explored_failures: Failed exploratory attempts (ε-greedy or the budget's exploration).
+        exploring: The last decision was an exploratory ACT (its outcome is counted as explored).
     """
 
     decisions: int = 0
@@ -329,6 +333,10 @@ class EpisodeStats:
     steps_done: int = 0
     failures_by_stage: Mapping[str, int] = field(default_factory=dict)
     failures_by_action: Mapping[str, int] = field(default_factory=dict)
+    gated_attempts: int = 0
+    gated_failures: int = 0
+    explored_failures: int = 0
+    exploring: bool = False
 
 
 def _bump(counts: Mapping[str, int], key: str) -> dict[str, int]:
@@ -352,7 +360,18 @@ _COUNTERS: Mapping[type[Event], str] = MappingProxyType(
 
 def fold(stats: EpisodeStats, event: Event) -> EpisodeStats:
     """The stats after one more event (pure)."""
+    if isinstance(event, DecisionMade):
+        explored = event.explored and event.verdict is DecisionKind.ACT
+        return replace(stats, decisions=stats.decisions + 1, exploring=explored)
     if isinstance(event, ActOutcome):
+        if stats.exploring:
+            stats = replace(stats, explored_failures=stats.explored_failures + (not event.success))
+        else:
+            stats = replace(
+                stats,
+                gated_attempts=stats.gated_attempts + 1,
+                gated_failures=stats.gated_failures + (not event.success),
+            )
         if event.success:
             return replace(stats, successes=stats.successes + 1)
         stage = event.stage or "place"
@@ -396,3 +415,8 @@ class EventLog:
     def failures_of(self, action: str) -> int:
         """Failed attempts of this action so far in the episode (what the failure-limit rule reads)."""
         return self.stats.failures_by_action.get(action, 0)
+
+    def budget_counts(self) -> tuple[int, int, int]:
+        """(gated attempts, their failures, failed explorations) so far: what the failure budget reads."""
+        s = self.stats
+        return s.gated_attempts, s.gated_failures, s.explored_failures

@@ -22,6 +22,7 @@ from scone_bt.behaviours.ports import (
 from scone_bt.confidence.grounded import grounded_features, is_grounded
 from scone_bt.events import DecisionMade, EventSink
 from scone_bt.experience.types import ExecutionContext
+from scone_bt.gate.budget import BudgetCounts, BudgetOptions, may_explore, threshold
 from scone_bt.gate.types import Decision, DecisionKind
 
 if TYPE_CHECKING:
@@ -37,13 +38,23 @@ def apply_failure_limit(decision: Decision, failures: int, limit: int) -> Decisi
     """The paper's rule: after ``limit`` failures on the same action, ask for help whatever κ̂ says."""
     if decision.kind is DecisionKind.ACT and decision.action is not None and failures >= limit:
         return replace(
-            decision, kind=DecisionKind.ASK, reason=f"failed {limit} times on this action", rule="failure-limit"
+            decision,
+            kind=DecisionKind.ASK,
+            reason=f"failed {limit} times on this action",
+            rule="failure-limit",
         )
     return decision
 
 
 class ConfidenceGate(StageBehaviour):
     """Decides, writes the decision and the affordance it is about (`Keys.TARGET`), and emits `DecisionMade`.
+
+    With ``budget`` (the tree's ``gate: budget``) the threshold is the failure budget's, recomputed every decision
+    from the attempts folded from the events (scone_bt.gate.budget), and while the budget explores an action below
+    it is tried on a seeded draw (``explored``); without, the fixed ``gate`` options decide (the paper's gate).
+
+    A step that names an item the robot can see nowhere (and did not place) makes it ask for that item once
+    (ASK-HELP, rule "missing") instead of idling until the human intervenes.
 
     With a context source it also builds each ranked action's ExecutionContext from this tick's perception
     (`Keys.CONTEXTS`, the target's in `Keys.TARGET_CONTEXT`, stored with its outcome); a grounded κ̂ (is_grounded)
@@ -73,6 +84,8 @@ class ConfidenceGate(StageBehaviour):
         human: HumanChannel,
         steps_total: int,
         contexts: ContextSource | None = None,
+        budget: BudgetOptions | None = None,
+        seed: int = 0,
     ) -> None:
         """``human`` is read only for the human's current step in the recipe-blind setting (no tracked step).
 
@@ -89,6 +102,9 @@ class ConfidenceGate(StageBehaviour):
         self.clock = clock
         self.human = human
         self.steps_total = steps_total
+        self.budget = budget
+        self.seed = seed
+        self._asked_missing: set[str] = set()
 
     @classmethod
     def from_context(cls, name: str, context: EpisodeContext) -> ConfidenceGate:
@@ -112,10 +128,31 @@ class ConfidenceGate(StageBehaviour):
             context.human,
             len(context.recipe.steps),
             ContextExtractor(context.scene, context.catalogue),
+            budget=(
+                BudgetOptions(target_failure_rate=float(opts.target_failure_rate))
+                if opts.gate == "budget" and opts.use_self_confidence
+                else None
+            ),
+            seed=opts.seed,
         )
 
     def setup(self, **kwargs: object) -> None:
         self.estimator = self._kappa()  # κ̂ rebuilt from the store on first use
+        # the budget's exploration draws: their own seeded stream (κ̂'s draws are unchanged by them)
+        self._rng = np.random.default_rng([self.seed, 0x6A7E])
+
+    def _options(self) -> tuple[GateOptions, bool]:
+        """The gate options for this decision, and whether the budget may explore now."""
+        if self.budget is None:
+            return self.gate_options, False
+        attempts, failures, explored_failures = self.history.budget_counts()
+        counts = BudgetCounts(
+            attempts, failures, explored_failures, int(getattr(self.estimator, "n_observations", 0))
+        )
+        tau = threshold(self.budget, counts)
+        return replace(self.gate_options, confidence_threshold=tau, target_error_rate=None), may_explore(
+            self.budget, counts
+        )
 
     def update(self) -> py_trees.common.Status:
         from scone_bt.gate import decide
@@ -134,18 +171,17 @@ class ConfidenceGate(StageBehaviour):
         view = self.read(Keys.STEP)
         ambiguous = tuple(action_text(i) for i in view.selection.ambiguous) if view is not None else ()
         by_text = {r.text for r in ranked}
-        decision = decide(
-            ranked, confidences, self.gate_options, tuple(a for a in ambiguous if a in by_text), explore
-        )
+        options, exploring = self._options()
+        if exploring and ranked and not explore:
+            draw = bool(self._rng.random() < self.budget.explore_rate)  # type: ignore[union-attr]
+            explore = [draw] * len(ranked)  # only the chosen action's flag is read
+        decision = decide(ranked, confidences, options, tuple(a for a in ambiguous if a in by_text), explore)
         decision = apply_failure_limit(decision, self.history.failures_of(decision.action or ""), self.limit)
         target = affordances.get(decision.action) if decision.action is not None else None
         if target is not None:
             decision = replace(decision, object_name=target.object_name)
         if decision.kind is DecisionKind.IDLE and view is not None:
-            shelf = {a.object_name for a in affordances.values() if a.text in by_text}
-            missing = [i for i in view.selection.named if i not in shelf]
-            if missing:  # the step names an item the robot sees neither on the shelf nor on the table
-                decision = replace(decision, reason=f"waiting: {', '.join(missing)} not in sight")
+            decision = self._ask_for_missing(decision, view.missing)
         self.write(Keys.CONFIDENCES, dict(zip([r.text for r in ranked], confidences, strict=True)))
         self.write(Keys.DECISION, decision)
         self.write(Keys.TARGET, target)
@@ -155,6 +191,27 @@ class ConfidenceGate(StageBehaviour):
         self.events(self._event(decision, None if view is None else view.index, target_context))
         self.feedback_message = decision.reason
         return py_trees.common.Status.SUCCESS
+
+    def _ask_for_missing(self, decision: Decision, missing: tuple[str, ...]) -> Decision:
+        """Idle, but the step needs items the robot sees nowhere and did not place: ask for the first one not
+        asked for yet (once each); when every one was asked for, say what it waits for."""
+        if not missing:
+            return decision
+        new = [i for i in missing if i not in self._asked_missing]
+        if not new:
+            return replace(decision, reason=f"waiting: {', '.join(missing)} not in sight (asked for)")
+        item = new[0]
+        self._asked_missing.add(item)
+        return Decision(
+            DecisionKind.ASK,
+            action_text(item),
+            float("nan"),
+            float("nan"),
+            f"I cannot see the {item} the step needs: please bring it",
+            "now",
+            object_name=item,
+            rule="missing",
+        )
 
     def _contexts(self, candidates: list[Affordance]) -> dict[str, ExecutionContext]:
         """Each candidate affordance's execution context by action text, from this tick's perception."""

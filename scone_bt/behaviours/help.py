@@ -34,10 +34,14 @@ class AskForHelp(_AskTheHuman):
 
     def initialise(self) -> None:
         target = self.read(Keys.TARGET)
-        self.object_name = target.object_name
+        if target is None:  # an item the robot cannot see (the gate's "missing" rule): the decision names it
+            decision = self.read(Keys.DECISION)
+            self.object_name, text = str(decision.object_name), str(decision.action)
+        else:
+            self.object_name, text = target.object_name, target.text
         self.human.request_help(self.object_name)
         self.human.robot_busy(True)
-        self.events(HelpRequested(self.clock(), target.text, self.object_name))
+        self.events(HelpRequested(self.clock(), text, self.object_name))
 
     def update(self) -> py_trees.common.Status:
         if self.human.help_pending(self.object_name):

@@ -24,6 +24,9 @@ class BehaviourOptions:
             the paper's setting (the human's current step text alone, ρ on the similarity).
         clarify_margin: Unnamed candidates closer than this in cosine similarity are ambiguous (ASK-CLARIFY).
         max_failures_per_action: After this many failures on one action in an episode, ask (the paper used 3).
+        gate: "budget" (the threshold kept online so that at most target_failure_rate of attempts fail;
+            scone_bt.gate.budget) or "paper" (the fixed confidence_threshold).
+        target_failure_rate: The promise: the share of the robot's attempts that may fail, in (0, 1).
         cache_dir: On-disk embedding cache, or None.
         experience_path: Experience store: an SQLite file, a postgresql:// URL (a fleet's shared store), or None
             for in-memory learning only.
@@ -34,7 +37,7 @@ class BehaviourOptions:
             (`scone_bt.episode.seeds.SeedPlan`).
 
     The fields of the tree file's ``parameters:`` (embedder, estimator, the thresholds, recipe_aware,
-    clarify_margin, max_failures_per_action) left at None come from the tree file (`resolve`): one source.
+    clarify_margin, max_failures_per_action, gate, target_failure_rate) left at None come from the tree file (`resolve`): one source.
     """
 
     embedder: str | None = None
@@ -45,6 +48,8 @@ class BehaviourOptions:
     recipe_aware: bool | None = None
     clarify_margin: float | None = None
     max_failures_per_action: int | None = None
+    gate: str | None = None
+    target_failure_rate: float | None = None
     cache_dir: Path | None = None
     experience_path: Path | str | None = None
     robot_id: str = ""

@@ -114,6 +114,10 @@ class AttemptHistory(Protocol):
 
     def failures_of(self, action: str) -> int: ...
 
+    def budget_counts(self) -> tuple[int, int, int]:
+        """(attempts the gate chose on κ̂, their failures, failed explorations) so far."""
+        ...
+
 
 @runtime_checkable
 class PlannerSeeds(Protocol):

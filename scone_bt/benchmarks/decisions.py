@@ -293,7 +293,10 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    """Add ``decisions`` to ``scone-bench``."""
+    """Add ``decisions`` (and ``gate``, its failure-budget replay: scone_bt.benchmarks.gate) to ``scone-bench``."""
+    from scone_bt.benchmarks import gate
+
+    gate.register(sub)
     p = sub.add_parser(
         "decisions", help="wrong fetches, clarifications and gate metrics per estimator (JSON)"
     )

@@ -211,7 +211,20 @@ def build_parser() -> argparse.ArgumentParser:
 
     g = p.add_argument_group("self-confidence")
     g.add_argument(
-        "--confidence-threshold", type=float, help="act when κ̂ ≥ this, else ask (tree default: 0.5)"
+        "--confidence-threshold",
+        type=float,
+        help="with --gate paper: act when κ̂ ≥ this, else ask (tree default: 0.5)",
+    )
+    g.add_argument(
+        "--gate",
+        choices=("budget", "paper"),
+        help="budget: keep the share of failed attempts at or under --target-failure-rate, online; "
+        "paper: the fixed --confidence-threshold (tree default: budget)",
+    )
+    g.add_argument(
+        "--target-failure-rate",
+        type=float,
+        help="the promise of the budget gate: at most this share of attempts may fail, in (0, 1) (tree default: 0.15)",
     )
     g.add_argument(
         "--no-self-confidence", action="store_true", help="the paper's control condition: always act"
@@ -424,6 +437,8 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
         checks.check_range(args.confidence_threshold, "--confidence-threshold", 0.0, 1.0)
     if args.relevance_threshold is not None:
         checks.check_range(args.relevance_threshold, "--relevance-threshold", -1.0, 1.0)
+    if args.target_failure_rate is not None and not 0.0 < args.target_failure_rate < 1.0:
+        raise SconeError(f"--target-failure-rate {args.target_failure_rate}: must be a number in (0, 1)")
     if args.estimator is not None:
         _check_estimator(args.estimator)
     if args.embedder is not None:
@@ -455,6 +470,8 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
         embedder=args.embedder,
         estimator=args.estimator,
         confidence_threshold=args.confidence_threshold,
+        gate=args.gate,
+        target_failure_rate=args.target_failure_rate,
         relevance_threshold=args.relevance_threshold,
         use_self_confidence=not args.no_self_confidence,
         experience_path=_experience(args.experience),

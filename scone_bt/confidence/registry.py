@@ -42,9 +42,12 @@ _FACTORIES: dict[str, Callable[..., ConfidenceEstimator]] = {
 }
 BASE_ESTIMATORS: tuple[str, ...] = tuple(_FACTORIES)
 ESTIMATORS: tuple[str, ...] = (*BASE_ESTIMATORS, *(f"eps-{n}" for n in BASE_ESTIMATORS))
-GROUNDED_ESTIMATORS: tuple[str, ...] = tuple(f"grounded-{n}" for n in BASE_ESTIMATORS if n != "conformal")
+GROUNDED_ESTIMATORS: tuple[str, ...] = (
+    *(f"grounded-{n}" for n in BASE_ESTIMATORS if n != "conformal"),
+    "physical",  # hardware-relative context and the embedding's principal components (physical.py)
+)
 CALIBRATED_ESTIMATORS: tuple[str, ...] = tuple(
-    f"{n}-cal" for n in (*BASE_ESTIMATORS, *GROUNDED_ESTIMATORS) if n != "conformal"
+    f"{n}-cal" for n in (*BASE_ESTIMATORS, *GROUNDED_ESTIMATORS) if n not in ("conformal", "physical")
 )
 _ALIASES = {"xgboost": "xgb"}
 _EPS_KEYS = ("epsilon", "half_life")
@@ -59,7 +62,7 @@ def make_estimator(name: str, seed: int = 0, **options: float) -> ConfidenceEsti
         seed: Seeds model fitting and ε-greedy draws.
         **options: Constructor options: k (knn, conformal), n_estimators (rf, lgbm, xgb), colsample (lgbm), C
             (svm), hidden (mlp), length_scale and restarts (gp), prior (all but conformal), epsilon and half_life
-            (eps-* only), n_context and context_weight (grounded-* only).
+            (eps-* only), n_context and context_weight (grounded-* only), gripper_opening_m and C (physical).
 
     Raises:
         UnknownNameError: not one of those names.
@@ -73,6 +76,13 @@ def make_estimator(name: str, seed: int = 0, **options: float) -> ConfidenceEsti
             )
         inner = name.removesuffix("-cal")
         return CalibratedEstimator(lambda: make_estimator(inner, seed, **options), seed=seed)
+    if name == "physical":
+        from scone_bt.confidence.physical import PhysicalEstimator
+
+        try:
+            return PhysicalEstimator(name=name, seed=seed, **options)
+        except TypeError as exc:
+            raise SconeError(f"bad option for estimator 'physical': {exc}") from None
     if name.startswith("grounded-"):
         if name not in GROUNDED_ESTIMATORS:
             raise UnknownNameError("estimator", name, (*ESTIMATORS, *GROUNDED_ESTIMATORS))

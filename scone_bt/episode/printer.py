@@ -32,6 +32,11 @@ def condition_line(options: BehaviourOptions) -> str:
     failures = f"ask after {n} failure{'' if n == 1 else 's'} on one action"
     if not options.use_self_confidence:
         return f"self-confidence OFF (the paper's control: always act, {failures})"
+    if options.gate == "budget":
+        return (
+            f"self-confidence on ({options.estimator}, failure budget: at most "
+            f"{options.target_failure_rate:.0%} of attempts may fail), {failures}"
+        )
     return f"self-confidence on ({options.estimator}, threshold {options.confidence_threshold:g}), {failures}"
 
 

@@ -7,7 +7,7 @@ at None are filled from here (`BehaviourOptions.resolve`).
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Literal
 
 from pydantic import Field
 
@@ -26,6 +26,8 @@ class TreeParameters(StrictModel):
     recipe_aware: bool = True
     clarify_margin: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)] = 0.03
     max_failures_per_action: Annotated[int, Field(ge=1, le=1000)] = 3
+    gate: Literal["budget", "paper"] = "budget"
+    target_failure_rate: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False)] = 0.15
 
 
 PARAMETER_NAMES: tuple[str, ...] = tuple(TreeParameters.model_fields)

@@ -1,0 +1,423 @@
+"""``scone-bench gate``: does the gate keep its promise on products it never saw, and how much does it ask for it?
+
+The online robot is replayed over self-confidence datasets (``--datasets DIR``, any folder that
+``scone-bench sc generate`` wrote; default tools/data/sc: 11 streams of 100 real physical executions). Each
+stream starts cold (no fleet prior): for each execution in order κ̂ predicts from the action's embedding and the
+context the robot perceived, the gate acts or asks, and **only an attempt is labelled** (censoring: an asked
+action teaches nothing, as on the robot). All decisions are made by the gate from the first one on; the first
+``--warmup`` decisions of each stream are not scored (the promise is about the robot after it has had a chance to
+learn), and the same figures over every decision are reported beside them.
+
+Per method and per target failure rate α (0.05 … 0.40), pooled over the streams after their warm-up:
+``success_rate`` (acted and succeeded / decisions), ``help_rate`` (asked / decisions), ``over_ask_rate`` (asked,
+would have succeeded), ``over_step_rate`` (acted, failed), ``attempt_failure_rate`` (failed attempts / attempts),
+its split into ``attempt_failure_rate_novel`` (products κ̂ had no outcome of in the stream) and ``_seen``,
+``wide_attempts_after_first_wide_failure`` (attempts of products perceived wider than the gripper's opening after a
+stream's first failed one, summed and the largest per stream), and the realised rate per stream. Methods:
+
+- ``budget:<κ̂>``: the failure-budget gate (scone_bt.gate.budget) over κ̂ (the tree's default: ``physical``);
+- ``fixed:<κ̂>``: the same κ̂ and exploration with a threshold fixed at 1 − 2α (no online calibration);
+- ``conformal``: the full conformal KNN gate at α (KnowNo-style; acts when 1 − p-value ≥ 1 − α), with the same
+  exploration (without it a cold conformal gate never acts);
+- ``paper``: the paper's ε-KNN at its fixed 0.5 threshold (one point: it states no rate);
+- ``oracle``: the budget gate over κ̂ given the true width, height, mass and glass (the ceiling).
+
+The tree's default (``default.*``) is ``budget:<the tree's estimator>`` at the tree's ``target_failure_rate``, cold
+and fleet-warm (κ̂ first learns every execution of the other streams: a fleet's shared store).
+
+    scone-bench gate --json docs/results/gate.json --plot docs/results/gate.png
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from scone_bt.cli.bench import emit_report
+
+__all__ = ["register", "StreamResult", "replay_stream", "TARGETS"]
+
+TARGETS: tuple[float, ...] = (0.05, 0.10, 0.15, 0.20, 0.25, 0.30, 0.40)
+"""Target failure rates the report sweeps."""
+
+_CONTEXT = ("shelf_tier", "clearance_m", "neighbours", "detected", "detected_width_m", "detected_height_m")
+
+
+@dataclass
+class StreamResult:
+    """What the gate did over one stream (counts; ``scored`` marks decisions after the warm-up)."""
+
+    decisions: int = 0
+    attempts: int = 0
+    failures: int = 0
+    asked_ok: int = 0
+    asked_fail: int = 0
+    novel_attempts: int = 0
+    novel_failures: int = 0
+    explored: int = 0
+    wide_after_failure: int = 0
+    all_decisions: int = 0
+    all_attempts: int = 0
+    all_failures: int = 0
+    all_asked: int = 0
+    thresholds: list[float] = field(default_factory=list)
+
+
+def _features(vectors: np.ndarray, context: np.ndarray, grounded: bool) -> np.ndarray:
+    return np.hstack([vectors, context]) if grounded else vectors
+
+
+def replay_stream(
+    vectors: np.ndarray,
+    context: np.ndarray,
+    success: np.ndarray,
+    products: Sequence[str],
+    estimator: str,
+    gate: str,
+    alpha: float,
+    seed: int,
+    warmup: int,
+    opening_m: float,
+    fleet: tuple[np.ndarray, np.ndarray] | None = None,
+) -> StreamResult:
+    """The online robot over one stream; see the module docstring.
+
+    Args:
+        vectors: (n, d) the actions' embeddings, in stream order.
+        context: (n, 6) the perceived context (CONTEXT_FIELDS order, NaN unknown).
+        success: (n,) whether each execution succeeded (revealed only if attempted).
+        products: (n,) product names (novel = κ̂ has no outcome of it yet in this stream).
+        estimator: κ̂ registry name.
+        gate: "budget", "fixed" (1 − 2α, no calibration), "conformal" (act at 1 − α) or "paper" (0.5).
+        alpha: Target failure rate.
+        seed: Seeds κ̂ and the exploration draws.
+        warmup: Decisions not scored.
+        opening_m: The gripper's opening (what "wide" means).
+        fleet: Rows and labels κ̂ learns before the stream (a fleet prior), or None (cold).
+    """
+    from scone_bt.confidence import make_estimator
+    from scone_bt.confidence.grounded import is_grounded
+    from scone_bt.gate.budget import BudgetCounts, BudgetOptions, may_explore, threshold
+
+    options = {"gripper_opening_m": opening_m} if estimator == "physical" else {}
+    est = make_estimator(estimator, seed=seed, **options)
+    grounded = is_grounded(est)
+    X = _features(vectors, context, grounded)
+    if fleet is not None:
+        est.fit(fleet[0] if grounded else fleet[0][:, : vectors.shape[1]], fleet[1])
+    budget = BudgetOptions(target_failure_rate=alpha)
+    explores = gate in ("budget", "fixed", "conformal")
+    rng = np.random.default_rng(seed)
+    counts = BudgetCounts(learnt=est.n_observations)
+    out = StreamResult()
+    learnt: set[str] = set()
+    wide = np.nan_to_num(context[:, 4], nan=0.0) > opening_m
+    wide_failed = False
+    for t in range(len(success)):
+        ok = bool(success[t])
+        if gate == "budget":
+            tau = threshold(budget, counts)
+        elif gate == "fixed":
+            tau = threshold(BudgetOptions(target_failure_rate=alpha, step=0.0), counts)
+        elif gate == "conformal":
+            tau = 1.0 - alpha
+        else:
+            tau = 0.5
+        belief = getattr(est, "belief", est.predict)
+        p = float(belief(X[t : t + 1])[0])
+        act = p >= tau
+        explored = False
+        if gate == "paper":
+            explore_fn = getattr(est, "explores", None)
+            if not act and explore_fn is not None and bool(explore_fn(X[t : t + 1])[0]):
+                act = explored = True
+        elif not act and explores and may_explore(budget, counts) and rng.random() < budget.explore_rate:
+            act = explored = True
+        novel = products[t] not in learnt
+        scored = t >= warmup
+        out.all_decisions += 1
+        out.thresholds.append(tau)
+        if act:
+            out.all_attempts += 1
+            out.all_failures += not ok
+            if wide[t] and wide_failed and scored:
+                out.wide_after_failure += 1
+            if wide[t] and not ok:
+                wide_failed = True
+            est.update(X[t], ok)
+            learnt.add(products[t])
+            counts = BudgetCounts(
+                attempts=counts.attempts + (not explored),
+                failures=counts.failures + (not explored and not ok),
+                explored_failures=counts.explored_failures + (explored and not ok),
+                learnt=est.n_observations,
+            )
+        else:
+            out.all_asked += 1
+        if not scored:
+            continue
+        out.decisions += 1
+        out.explored += explored
+        if act:
+            out.attempts += 1
+            out.failures += not ok
+            out.novel_attempts += novel
+            out.novel_failures += novel and not ok
+        elif ok:
+            out.asked_ok += 1
+        else:
+            out.asked_fail += 1
+    return out
+
+
+def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
+    tot = {
+        k: sum(getattr(r, k) for r in results) for k in StreamResult.__dataclass_fields__ if k != "thresholds"
+    }
+    n = max(tot["decisions"], 1)
+    att = tot["attempts"]
+    seen_att = att - tot["novel_attempts"]
+    seen_fail = tot["failures"] - tot["novel_failures"]
+
+    def ratio(a: int, b: int) -> float | None:
+        return round(a / b, 4) if b else None
+
+    return {
+        "decisions": tot["decisions"],
+        "attempts": att,
+        "success_rate": round((att - tot["failures"]) / n, 4),
+        "help_rate": round((tot["asked_ok"] + tot["asked_fail"]) / n, 4),
+        "over_ask_rate": round(tot["asked_ok"] / n, 4),
+        "over_step_rate": round(tot["failures"] / n, 4),
+        "attempt_failure_rate": ratio(tot["failures"], att),
+        "attempt_success_rate": ratio(att - tot["failures"], att),
+        "attempt_failure_rate_novel": ratio(tot["novel_failures"], tot["novel_attempts"]),
+        "attempt_failure_rate_seen": ratio(seen_fail, seen_att),
+        "novel_attempts": tot["novel_attempts"],
+        "seen_attempts": seen_att,
+        "exploration_attempts": tot["explored"],
+        "wide_attempts_after_first_wide_failure": tot["wide_after_failure"],
+        "wide_attempts_after_first_wide_failure_max_per_stream": max(r.wide_after_failure for r in results),
+        "attempt_failure_rate_per_stream": [ratio(r.failures, r.attempts) for r in results],
+        "all_decisions": {
+            "attempt_failure_rate": ratio(tot["all_failures"], tot["all_attempts"]),
+            "help_rate": round(tot["all_asked"] / max(tot["all_decisions"], 1), 4),
+        },
+    }
+
+
+@dataclass(frozen=True)
+class _Streams:
+    names: list[str]
+    vectors: list[np.ndarray]
+    context: list[np.ndarray]
+    success: list[np.ndarray]
+    products: list[tuple[str, ...]]
+
+
+def _load(args: argparse.Namespace, oracle: bool) -> _Streams:
+    from scone_bt.benchmarks.self_confidence.dataset import load_datasets
+    from scone_bt.embedding import load_embedder
+    from scone_bt.resources import repo_root
+
+    folder = Path(args.datasets) if args.datasets else (repo_root() or Path(".")) / "tools" / "data" / "sc"
+    datasets = load_datasets(folder)
+
+    def column(d: Any, name: str) -> np.ndarray:
+        return d.context.get(name, np.full(len(d), np.nan))
+
+    if oracle:  # the true attributes where the robot has perceived ones; mass and glass stand for ζ
+        vectors = [np.column_stack([column(d, "mass_kg"), _glass(d)]) for d in datasets]
+        true = ("shelf_tier", "clearance_m", "neighbours", None, "width_m", "height_m")
+        context = [
+            np.column_stack([np.ones(len(d)) if c is None else column(d, c) for c in true]) for d in datasets
+        ]
+    else:
+        emb = load_embedder(args.embedder)
+        actions = sorted({a for d in datasets for a in d.actions})
+        table = dict(zip(actions, np.asarray(emb.embed(actions), dtype=np.float32), strict=True))
+        vectors = [np.stack([table[a] for a in d.actions]) for d in datasets]
+        context = [np.column_stack([column(d, c) for c in _CONTEXT]) for d in datasets]
+    return _Streams(
+        [d.name for d in datasets],
+        vectors,
+        context,
+        [np.asarray(d.success) for d in datasets],
+        [tuple(d.objects) for d in datasets],
+    )
+
+
+def _glass(d: Any) -> np.ndarray:
+    return np.array([m == "glass" for m in d.materials], dtype=float) if d.materials else np.zeros(len(d))
+
+
+def _method(
+    streams: _Streams, estimator: str, gate: str, alpha: float, args: argparse.Namespace, fleet: bool = False
+) -> dict[str, Any]:
+    results = []
+    for j in range(len(streams.names)):
+        prior = None
+        if fleet:
+            others = [i for i in range(len(streams.names)) if i != j]
+            prior = (
+                np.vstack([np.hstack([streams.vectors[i], streams.context[i]]) for i in others]),
+                np.concatenate([streams.success[i] for i in others]),
+            )
+        results.append(
+            replay_stream(
+                streams.vectors[j],
+                streams.context[j],
+                streams.success[j],
+                streams.products[j],
+                estimator,
+                gate,
+                alpha,
+                args.seed + j,
+                args.warmup,
+                args.opening,
+                prior,
+            )
+        )
+    return _rates(results)
+
+
+def _tree_defaults() -> tuple[str, float]:
+    from scone_bt.tree import load_tree_spec
+    from scone_bt.tree.parameters import TreeParameters
+
+    params = TreeParameters.model_validate(load_tree_spec("assistive_cooking").parameters)
+    return params.estimator, params.target_failure_rate
+
+
+def _plot(report: dict[str, Any], path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2))
+    for name, per_target in report["methods"].items():
+        pts = sorted(per_target.items(), key=lambda kv: float(kv[0]))
+        helps = [m["help_rate"] for _, m in pts]
+        succ = [m["attempt_success_rate"] or 0.0 for _, m in pts]
+        left.plot(helps, succ, "o-" if len(pts) > 1 else "s", label=name)
+        if len(pts) > 1:
+            right.plot(
+                [float(k) for k, _ in pts],
+                [m["attempt_failure_rate"] or 0.0 for _, m in pts],
+                "o-",
+                label=name,
+            )
+    left.set_xlabel("help rate (asked / decisions)")
+    left.set_ylabel("attempts that succeed")
+    left.set_title("attempt success against asking (after warm-up)")
+    left.grid(alpha=0.3)
+    left.legend(fontsize=7)
+    lim = max(TARGETS) + 0.05
+    right.plot([0, lim], [0, lim], "k--", lw=1, label="promise: realised = target")
+    right.plot([0, lim], [0.02, lim + 0.02], "k:", lw=1, label="target + 0.02")
+    right.set_xlabel("target failure rate α")
+    right.set_ylabel("realised failure rate among attempts")
+    right.set_title("the promise, on products never seen and seen")
+    right.grid(alpha=0.3)
+    right.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _run(args: argparse.Namespace) -> int:
+    from scone_bt.errors import SconeError
+
+    if args.warmup < 0:
+        raise SconeError(f"--warmup {args.warmup}: must be 0 or more")
+    started = time.perf_counter()
+    default_estimator, default_target = _tree_defaults()
+    estimators = [e for e in args.estimators.split(",") if e] or [default_estimator]
+    from scone_bt.cli.run import _check_estimator  # one check of registry names, before any work
+
+    for e in estimators:
+        _check_estimator(e)
+    streams = _load(args, oracle=False)
+    methods: dict[str, dict[str, Any]] = {}
+    for est in estimators:
+        for gate in ("budget", "fixed"):
+            methods[f"{gate}:{est}"] = {f"{a:g}": _method(streams, est, gate, a, args) for a in TARGETS}
+    methods["conformal"] = {f"{a:g}": _method(streams, "conformal", "conformal", a, args) for a in TARGETS}
+    methods["paper"] = {"0.5": _method(streams, "eps-knn", "paper", 0.5, args)}
+    oracle = _load(args, oracle=True)
+    methods["oracle"] = {f"{a:g}": _method(oracle, "physical", "budget", a, args) for a in TARGETS}
+    default = methods[f"budget:{default_estimator}"] if default_estimator in estimators else None
+    if default is None or f"{default_target:g}" not in default:
+        cold = _method(streams, default_estimator, "budget", default_target, args)
+    else:
+        cold = default[f"{default_target:g}"]
+    warm = _method(streams, default_estimator, "budget", default_target, args, fleet=True)
+    report: dict[str, Any] = {
+        "benchmark": "gate",
+        "seed": args.seed,
+        "embedder": args.embedder,
+        "warmup": args.warmup,
+        "gripper_opening_m": args.opening,
+        "datasets": streams.names,
+        "targets": list(TARGETS),
+        "default": {
+            "estimator": default_estimator,
+            "target_failure_rate": default_target,
+            "attempt_failure_rate": cold["attempt_failure_rate"],
+            "attempt_failure_rate_novel": cold["attempt_failure_rate_novel"],
+            "attempt_failure_rate_seen": cold["attempt_failure_rate_seen"],
+            "attempt_success_rate": cold["attempt_success_rate"],
+            "help_rate": cold["help_rate"],
+            "fleet_warm": {
+                k: warm[k]
+                for k in (
+                    "attempt_failure_rate",
+                    "attempt_failure_rate_novel",
+                    "attempt_success_rate",
+                    "help_rate",
+                )
+            },
+        },
+        "methods": methods,
+    }
+    report["wall_s"] = round(time.perf_counter() - started, 1)
+    if args.plot is not None:
+        _plot(report, args.plot)
+    emit_report(report, args.json)
+    return 0
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add ``gate`` to ``scone-bench``."""
+    from scone_bt.confidence.physical import DEFAULT_OPENING_M
+
+    p = sub.add_parser(
+        "gate", help="does the gate keep its failure budget on new products, and at what help rate"
+    )
+    p.add_argument("--datasets", help="self-confidence datasets folder (default tools/data/sc)")
+    p.add_argument("--embedder", default="minilm", help="ζ (default: %(default)s)")
+    p.add_argument(
+        "--estimators",
+        default="",
+        help="comma-separated κ̂ names for the budget and fixed gates (default: the tree's)",
+    )
+    p.add_argument(
+        "--warmup", type=int, default=20, help="decisions per stream not scored (default: %(default)s)"
+    )
+    p.add_argument(
+        "--opening",
+        type=float,
+        default=DEFAULT_OPENING_M,
+        help="gripper opening, metres (default: the Panda's)",
+    )
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--json", type=Path, help="also write the JSON report to this file")
+    p.add_argument("--plot", type=Path, help="write the curves as a PNG")
+    p.set_defaults(func=_run)

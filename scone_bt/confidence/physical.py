@@ -1,0 +1,155 @@
+"""κ̂ from what the robot perceives, relative to its own hardware, plus what the action's name says.
+
+A grounded estimator (it reads `grounded_features` rows: ζ(action) followed by the ExecutionContext). Instead of
+standardising the raw context, it expresses it relative to the arm that acts, so that outcomes carry over between
+arms through a fleet store:
+
+- the perceived width over the gripper's opening, and how far it is past 85 % of the opening (a hinge: a product
+  near or over the opening slips or cannot be grasped at all; docs/results/gate.md shows the step in the data);
+- the perceived height (m), whether the target's marker was detected at all, the lowest and the top tier, the
+  clearance to the nearest neighbour (capped at 15 cm: beyond that the fingers are free) and the neighbour count.
+
+The action's embedding enters as its first 16 principal components, computed without labels over every action
+κ̂ has been asked about (what the name tells of mass, fragility and packaging). A logistic regression (L2, C=1)
+is refitted after every outcome on everything learnt. An action seen before gets its own record mixed in: the
+prediction is (s + m·p) / (n + m) for s successes in n attempts of the identical action and m = 2.
+
+Cold start: 0.5 with no outcome, the Laplace rate while only one class was seen (the base class).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from scone_bt.confidence.base import ConfidenceEstimator, row_key
+from scone_bt.errors import SconeError
+from scone_bt.experience.types import CONTEXT_FIELDS
+
+__all__ = ["PhysicalEstimator", "DEFAULT_OPENING_M", "physical_features"]
+
+DEFAULT_OPENING_M = 0.08
+"""The Panda's gripper opening (robots/panda.yaml: 2 × open_position), metres."""
+
+_N_CONTEXT = len(CONTEXT_FIELDS)
+_COMPONENTS = 16
+_PC_WEIGHT = 0.5  # the principal components' scale beside the context features (unit-ish each)
+_MEMORY = 2.0  # weight of the model's prediction against an action's own record, in attempts
+_HINGE_AT = 0.85  # share of the opening from which the hinge grows
+_CLEARANCE_CAP_M = 0.15
+
+
+def physical_features(context: np.ndarray, opening_m: float) -> np.ndarray:
+    """(n, 8) hardware-relative features of (n, 6) context rows in CONTEXT_FIELDS order (NaN: unknown)."""
+    C = np.atleast_2d(np.asarray(context, dtype=np.float64))
+    tier, clearance, neighbours, detected, width, height = (C[:, i] for i in range(_N_CONTEXT))
+    ratio = np.nan_to_num(width / opening_m, nan=0.0)
+    return np.column_stack(
+        [
+            ratio,
+            10.0 * np.maximum(0.0, ratio - _HINGE_AT),
+            5.0 * np.nan_to_num(height, nan=0.0),
+            np.nan_to_num(detected, nan=0.0),
+            (tier == 0).astype(float),
+            (tier == 2).astype(float),
+            10.0 * np.minimum(np.nan_to_num(clearance, nan=_CLEARANCE_CAP_M), _CLEARANCE_CAP_M),
+            np.nan_to_num(neighbours, nan=0.0) / 3.0,
+        ]
+    )
+
+
+class PhysicalEstimator(ConfidenceEstimator):
+    """Logistic κ̂ over hardware-relative context and the embedding's principal components (module docstring).
+
+    Args:
+        name: Registry name.
+        seed: Seeds the solver (it is deterministic; kept for a uniform constructor).
+        prior: Prediction before any outcome.
+        gripper_opening_m: The acting arm's gripper opening, metres.
+        C: Inverse L2 strength of the logistic regression.
+    """
+
+    grounded = True  # callers pass grounded_features rows (see grounded.is_grounded)
+
+    def __init__(
+        self,
+        name: str = "physical",
+        seed: int = 0,
+        prior: float = 0.5,
+        gripper_opening_m: float = DEFAULT_OPENING_M,
+        C: float = 1.0,
+    ) -> None:
+        if not 0.0 < gripper_opening_m < 1.0:
+            raise SconeError(f"gripper_opening_m must be in (0, 1) metres, got {gripper_opening_m}")
+        super().__init__(name, seed, prior)
+        self.opening_m = float(gripper_opening_m)
+        self.C = float(C)
+        self._asked: dict[bytes, np.ndarray] = {}  # every embedding κ̂ was asked about (no labels)
+        self._mean = np.zeros(0)
+        self._axes = np.zeros((0, 0))
+        self._scale = 1.0
+        self._model = None
+        self._record: dict[bytes, tuple[int, int]] = {}
+
+    # ----------------------------------------------------------------------------------------- features
+    def _split(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        if X.shape[1] <= _N_CONTEXT:
+            raise SconeError(
+                f"{self.name}: rows need an embedding plus {_N_CONTEXT} context values, got {X.shape[1]} "
+                "columns (build them with grounded_features)"
+            )
+        return X[:, :-_N_CONTEXT].astype(np.float64), X[:, -_N_CONTEXT:].astype(np.float64)
+
+    def _remember(self, E: np.ndarray) -> None:
+        for e in E:
+            self._asked.setdefault(row_key(e), e)
+
+    def _fit_components(self) -> None:
+        """Principal axes of every embedding asked about or learnt from (unsupervised)."""
+        pool = np.stack(list(self._asked.values()))
+        self._mean = pool.mean(axis=0)
+        k = min(_COMPONENTS, len(pool) - 1, pool.shape[1])
+        if k < 1:
+            self._axes = np.zeros((0, pool.shape[1]))
+            return
+        _, _, vt = np.linalg.svd(pool - self._mean, full_matrices=False)
+        self._axes = vt[:k]
+        first = (pool - self._mean) @ self._axes[0]
+        self._scale = float(first.std()) or 1.0
+
+    def transform(self, X: np.ndarray) -> np.ndarray:
+        """Model inputs: the hardware-relative context features, then the weighted principal components."""
+        E, C = self._split(np.atleast_2d(X))
+        pcs = np.zeros((len(E), _COMPONENTS))
+        if len(self._axes):
+            pcs[:, : len(self._axes)] = (E - self._mean) @ self._axes.T / self._scale
+        return np.hstack([physical_features(C, self.opening_m), _PC_WEIGHT * pcs])
+
+    # ----------------------------------------------------------------------------------------- model
+    def predict(self, X: np.ndarray) -> np.ndarray:
+        X = np.atleast_2d(np.asarray(X, dtype=np.float32))
+        if len(X):
+            self._remember(self._split(X)[0].astype(np.float32))
+        return super().predict(X)
+
+    def _fit_model(self, X: np.ndarray, y: np.ndarray) -> None:
+        from sklearn.linear_model import LogisticRegression
+
+        E, _ = self._split(X)
+        self._remember(E.astype(np.float32))
+        self._fit_components()
+        record: dict[bytes, tuple[int, int]] = {}
+        for e, ok in zip(E.astype(np.float32), y, strict=True):
+            s, n = record.get(row_key(e), (0, 0))
+            record[row_key(e)] = (s + int(ok), n + 1)
+        self._record = record
+        self._model = LogisticRegression(C=self.C, max_iter=300).fit(self.transform(X), y)
+
+    def _predict_model(self, X: np.ndarray) -> np.ndarray:
+        assert self._model is not None
+        p = self._model.predict_proba(self.transform(X))[:, 1]
+        E, _ = self._split(X)
+        for i, e in enumerate(E.astype(np.float32)):
+            s, n = self._record.get(row_key(e), (0, 0))
+            if n:
+                p[i] = (s + _MEMORY * p[i]) / (n + _MEMORY)
+        return p

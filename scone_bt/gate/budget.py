@@ -1,0 +1,109 @@
+"""The failure budget: the gate's threshold, calibrated online so that at most a stated share of attempts fail.
+
+The user states ``target_failure_rate`` α: the share of the robot's attempts that may fail. The robot cannot
+assume that the products it meets are exchangeable with those it learnt from (most are new), so a threshold fixed
+in advance, or split-conformal calibration, does not keep α (docs/results/gate.md). Instead the threshold tracks
+the realised failure rate online, as adaptive conformal inference does for coverage (Gibbs & Candès 2021), with
+feedback only where the robot acted (intermittent feedback: an asked action gets no label; Zhao et al. 2025):
+
+    τ = clip(τ₀ + η · (F − α · A), τ_min, τ_max)
+
+where A and F are the labelled attempts so far and the failures among them, τ₀ = max(τ_min, 1 − 2α) and η the
+step. Each failure raises τ by η(1 − α); each success lowers it by ηα, so τ settles where failures are α of the
+attempts. While τ stays inside its bounds, F − α · A = (τ − τ₀) / η exactly: the failures in excess of the budget
+are bounded by (τ_max − τ₀) / η whatever the products are. τ₀ = 1 − 2α is the threshold at which a calibrated κ̂
+whose confident predictions spread evenly over [τ, 1] fails α of its attempts.
+
+Exploration (the paper's ε-greedy, made principled): while κ̂ has learnt from fewer than ``explore_until``
+outcomes and fewer than ``explore_failures`` exploratory attempts failed, an action below τ is tried with
+probability ``explore_rate`` (a seeded draw), so a cold robot learns although asking teaches it nothing.
+Exploratory attempts are reported with every other attempt (they count in the realised rate) but do not move τ:
+they are the stated price of learning, not evidence about τ.
+
+`threshold` and `may_explore` are pure functions of the counts; the caller keeps the counts (the episode folds
+them from its events, the replay from its stream).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from scone_bt.errors import SconeError
+
+__all__ = ["BudgetOptions", "BudgetCounts", "threshold", "may_explore", "initial_threshold", "GATES"]
+
+GATES: tuple[str, ...] = ("budget", "paper")
+"""Gate rules a tree file's ``gate`` parameter accepts: the failure budget, or the paper's fixed threshold."""
+
+
+@dataclass(frozen=True)
+class BudgetOptions:
+    """The promise and how it is kept.
+
+    Attributes:
+        target_failure_rate: α, the share of attempts that may fail, in (0, 1).
+        step: η, threshold change per unit of excess failures (probability per failure).
+        tau_min: Lowest threshold, in [0, 1).
+        tau_max: Highest threshold, in (tau_min, 1].
+        explore_rate: Chance of trying an action below τ while exploring, in [0, 1].
+        explore_until: Exploration stops once κ̂ has learnt from this many outcomes.
+        explore_failures: Exploration stops once this many exploratory attempts failed.
+    """
+
+    target_failure_rate: float = 0.15
+    step: float = 0.01
+    tau_min: float = 0.5
+    tau_max: float = 0.95
+    explore_rate: float = 0.5
+    explore_until: int = 10
+    explore_failures: int = 6
+
+    def __post_init__(self) -> None:
+        checks = (
+            ("target_failure_rate", 0.0 < self.target_failure_rate < 1.0, "in (0, 1)"),
+            ("step", 0.0 <= self.step <= 1.0, "in [0, 1]"),
+            ("tau_min", 0.0 <= self.tau_min < 1.0, "in [0, 1)"),
+            ("tau_max", self.tau_min < self.tau_max <= 1.0, "in (tau_min, 1]"),
+            ("explore_rate", 0.0 <= self.explore_rate <= 1.0, "in [0, 1]"),
+            ("explore_until", self.explore_until >= 0, "≥ 0"),
+            ("explore_failures", self.explore_failures >= 0, "≥ 0"),
+        )
+        for name, ok, allowed in checks:
+            value = getattr(self, name)
+            if not ok or (isinstance(value, float) and not math.isfinite(value)):
+                raise SconeError(f"{name} must be {allowed}, got {value}")
+
+
+@dataclass(frozen=True)
+class BudgetCounts:
+    """What the robot has done so far, as the budget reads it.
+
+    Attributes:
+        attempts: Labelled attempts that were not exploratory.
+        failures: Failures among them.
+        explored_failures: Exploratory attempts that failed.
+        learnt: Outcomes κ̂ has learnt from (stored experience included).
+    """
+
+    attempts: int = 0
+    failures: int = 0
+    explored_failures: int = 0
+    learnt: int = 0
+
+
+def initial_threshold(options: BudgetOptions) -> float:
+    """τ₀ = max(τ_min, 1 − 2α), capped at τ_max."""
+    return min(options.tau_max, max(options.tau_min, 1.0 - 2.0 * options.target_failure_rate))
+
+
+def threshold(options: BudgetOptions, counts: BudgetCounts) -> float:
+    """The confidence an action needs now for ACT (module docstring)."""
+    excess = counts.failures - options.target_failure_rate * counts.attempts
+    raw = initial_threshold(options) + options.step * excess
+    return min(options.tau_max, max(options.tau_min, raw))
+
+
+def may_explore(options: BudgetOptions, counts: BudgetCounts) -> bool:
+    """Whether an action below τ may still be tried to learn (before the seeded draw)."""
+    return counts.learnt < options.explore_until and counts.explored_failures < options.explore_failures
