@@ -20,7 +20,7 @@ class TreeParameters(StrictModel):
     """Validated tree parameters (see trees/assistive_cooking.yaml for what each means)."""
 
     embedder: Annotated[str, Field(min_length=1)] = "minilm"
-    estimator: Annotated[str, Field(min_length=1)] = "grounded-knn"
+    estimator: Annotated[str, Field(min_length=1)] = "physical"
     confidence_threshold: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)] = 0.5
     relevance_threshold: Annotated[float, Field(ge=-1, le=1, allow_inf_nan=False)] = 0.33
     recipe_aware: bool = True

@@ -199,7 +199,8 @@ def fake_context(
         recipe=recipe,  # type: ignore[arg-type]
         scene=kitchen.scene,
         catalogue=kitchen.catalogue,
-        options=BehaviourOptions(embedder="onehot").resolve(),
+        # the paper's fixed threshold: these fakes pin the tree's wiring (the budget gate has tests of its own)
+        options=BehaviourOptions(embedder="onehot", gate="paper").resolve(),
         labels=OutcomeLabels("onehot", "fake", "panda"),
         embedder=lambda: embedder,
         kappa=lambda: kappa,

@@ -63,8 +63,13 @@ def test_the_printer_counts_the_decisions_each_rule_made() -> None:
 def test_the_condition_names_kappa_and_its_threshold_or_the_control() -> None:
     on = BehaviourOptions().resolve()
     assert condition_line(on) == (
-        f"self-confidence on ({on.estimator}, threshold {on.confidence_threshold:g}), "
-        f"ask after {on.max_failures_per_action} failures on one action"
+        f"self-confidence on ({on.estimator}, failure budget: at most {on.target_failure_rate:.0%} of attempts "
+        f"may fail), ask after {on.max_failures_per_action} failures on one action"
+    )
+    paper = BehaviourOptions(gate="paper").resolve()
+    assert condition_line(paper) == (
+        f"self-confidence on ({paper.estimator}, threshold {paper.confidence_threshold:g}), "
+        f"ask after {paper.max_failures_per_action} failures on one action"
     )
     off = BehaviourOptions(use_self_confidence=False, max_failures_per_action=1).resolve()
     assert (
