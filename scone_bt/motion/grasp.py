@@ -174,7 +174,8 @@ class GraspParams:
         for key, raw in section.items():
             name = key[: -len("_deg")] if key.endswith("_deg") and key[: -len("_deg")] in angles else key
             if name not in valid or (name in angles) != key.endswith("_deg"):
-                raise ConfigError(f"{where}: grasp.{key} is not a grasp setting; valid: {', '.join(names)}")
+                shown = key if str(key).isprintable() else repr(key)  # a key with a line break stays one line
+                raise ConfigError(f"{where}: grasp.{shown} is not a grasp setting; valid: {', '.join(names)}")
             default = getattr(cls(), name)
             try:
                 if isinstance(default, bool):
