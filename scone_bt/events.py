@@ -34,6 +34,7 @@ __all__ = [
     "ActCancelled",
     "HelpRequested",
     "ClarificationAsked",
+    "PlanInfeasible",
     "TakeOver",
     "HelpGiven",
     "Intervention",
@@ -121,6 +122,7 @@ class DecisionMade(Event):
             paper's rule: asked after N failures on the action), "infeasible" (no plan exists: known before the
             arm moved), "missing" (the step needs an item the robot cannot see), "self-confidence-off" (the
             control condition acted without consulting κ̂); "" when κ̂ and the threshold decided.
+        planning_s: Wall seconds the robot planned before committing (plan before commit), or None.
     """
 
     kind: ClassVar[str] = "decision"
@@ -137,6 +139,7 @@ class DecisionMade(Event):
     explored: bool = False
     context: ExecutionContext | None = None
     rule: str = ""
+    planning_s: float | None = None
 
     def to_json(self) -> dict[str, Any]:
         out = super().to_json()
@@ -169,6 +172,20 @@ class ActOutcome(_ActionEvent):
     success: bool
     stage: str | None
     duration_s: float = 0.0
+    message: str = ""
+
+
+@dataclass(frozen=True)
+class PlanInfeasible(_ActionEvent):
+    """The robot planned before committing and no plan exists in this scene: stored as experience, not an attempt.
+
+    Attributes:
+        reason: Which planning stage ran out of options (a PlanFailureReason value).
+        message: The planner's one line.
+    """
+
+    kind: ClassVar[str] = "infeasible"
+    reason: str
     message: str = ""
 
 
@@ -242,6 +259,7 @@ EVENT_TYPES: Mapping[str, type[Event]] = MappingProxyType(
             DecisionMade,
             ActStarted,
             ActOutcome,
+            PlanInfeasible,
             ActCancelled,
             HelpRequested,
             ClarificationAsked,

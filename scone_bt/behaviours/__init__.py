@@ -11,7 +11,7 @@ from scone_bt.behaviours.context import EpisodeContext, OutcomeLabels
 from scone_bt.behaviours.gate import ConfidenceGate, DecisionIs
 from scone_bt.behaviours.help import AskForHelp, AskToClarify, WaitForHuman
 from scone_bt.behaviours.options import BehaviourOptions
-from scone_bt.behaviours.outcome import ObserveOutcome, UpdateSelfConfidence
+from scone_bt.behaviours.outcome import ObserveOutcome, RecordInfeasible, UpdateSelfConfidence
 from scone_bt.behaviours.perceive import Perceive
 from scone_bt.behaviours.pick_and_place import PickAndPlace
 from scone_bt.behaviours.recipe import RecipeDone
@@ -30,6 +30,7 @@ BEHAVIOURS = {
         WaitForHuman,
         PickAndPlace,
         ObserveOutcome,
+        RecordInfeasible,
         UpdateSelfConfidence,
         RecipeDone,
     )
@@ -51,6 +52,7 @@ __all__ = [
     "PickAndPlace",
     "RankByRelevance",
     "RecipeDone",
+    "RecordInfeasible",
     "StageBehaviour",
     "UpdateSelfConfidence",
     "WaitForHuman",

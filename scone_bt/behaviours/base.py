@@ -37,6 +37,10 @@ class Keys:
     CONTEXTS = "/gate/contexts"
     # The target's ExecutionContext (stored with its outcome), or None.
     TARGET_CONTEXT = "/gate/target_context"
+    # A PlannedPick for the decided target (plan before commit): PickAndPlace executes it; None once taken.
+    PLANNED = "/gate/planned"
+    # An Infeasible found by this decision's planning (a scene the robot had not planned in), else None.
+    PLAN_VERDICT = "/gate/plan_verdict"
     MOTION_OUTCOME = "/motion/outcome"
     MOTION_TASK = "/motion/task"
     MOTION_COMPUTING = "/motion/computing"

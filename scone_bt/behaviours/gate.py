@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from dataclasses import replace
+import time
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -11,11 +12,13 @@ import py_trees
 from scone_bt.affordances.types import Affordance, action_text
 from scone_bt.behaviours.base import Keys, StageBehaviour
 from scone_bt.behaviours.context import EpisodeContext
+from scone_bt.behaviours.pick_and_place import pick_request, scene_key
 from scone_bt.behaviours.ports import (
     AttemptHistory,
     Clock,
     ContextSource,
     HumanChannel,
+    PlannerSeeds,
     Provider,
     SelfConfidence,
 )
@@ -24,14 +27,45 @@ from scone_bt.events import DecisionMade, EventSink
 from scone_bt.experience.types import ExecutionContext
 from scone_bt.gate.budget import BudgetCounts, BudgetOptions, may_explore, threshold
 from scone_bt.gate.types import Decision, DecisionKind
+from scone_bt.robot.interface import Infeasible, PlannedPick, Robot
 
 if TYPE_CHECKING:
     from scone_bt.gate import GateOptions
 
-__all__ = ["ConfidenceGate", "DecisionIs", "apply_failure_limit"]
+__all__ = ["ConfidenceGate", "DecisionIs", "apply_failure_limit", "say_infeasible"]
 
 EVERY_STEP_SERVED = "(every step is served)"
 """The instruction a decision reports past the recipe's last step."""
+
+
+_SAY: dict[str, str] = {
+    "no_grasp_ik": "I cannot reach the {item} to grasp it",
+    "grasps_blocked": "I cannot grasp the {item}: the {blocker} is in the way",
+    "no_table_space": "there is no room on the table for the {item}",
+    "no_placement_ik": "I cannot reach a free spot on the table with the {item}",
+    "placements_blocked": "I cannot put the {item} down: the {blocker} is in the way",
+}
+
+
+def say_infeasible(item: str, infeasible: Infeasible) -> str:
+    """The robot's words for a pick-and-place that cannot be planned, e.g. "I cannot grasp the parmesan: the
+    cooking cream is in the way"."""
+    blocker = infeasible.blockers[0] if infeasible.blockers else "shelf"
+    template = _SAY.get(infeasible.reason, "I cannot plan to fetch the {item}")
+    return template.format(item=item, blocker=blocker)
+
+
+@dataclass(frozen=True)
+class _Pending:
+    """A decision waiting for its plan (plan before commit)."""
+
+    decision: Decision
+    target: Affordance | None
+    contexts: dict[str, ExecutionContext]
+    step_index: int | None
+    key: tuple[object, ...] = ()
+    planned: PlannedPick | None = None
+    started: float = 0.0
 
 
 def apply_failure_limit(decision: Decision, failures: int, limit: int) -> Decision:
@@ -68,9 +102,19 @@ class ConfidenceGate(StageBehaviour):
         Keys.STEP,
         Keys.AFFORDANCES,
         Keys.DETECTIONS,
+        Keys.TABLE_DETECTIONS,
         Keys.FRAMES,
     )
-    WRITES = (Keys.CONFIDENCES, Keys.DECISION, Keys.TARGET, Keys.CONTEXTS, Keys.TARGET_CONTEXT)
+    WRITES = (
+        Keys.CONFIDENCES,
+        Keys.DECISION,
+        Keys.TARGET,
+        Keys.CONTEXTS,
+        Keys.TARGET_CONTEXT,
+        Keys.PLANNED,
+        Keys.PLAN_VERDICT,
+        Keys.MOTION_COMPUTING,
+    )
 
     def __init__(
         self,
@@ -86,6 +130,8 @@ class ConfidenceGate(StageBehaviour):
         contexts: ContextSource | None = None,
         budget: BudgetOptions | None = None,
         seed: int = 0,
+        robot: Robot | None = None,
+        seeds: PlannerSeeds | None = None,
     ) -> None:
         """``human`` is read only for the human's current step in the recipe-blind setting (no tracked step).
 
@@ -105,6 +151,10 @@ class ConfidenceGate(StageBehaviour):
         self.budget = budget
         self.seed = seed
         self._asked_missing: set[str] = set()
+        self.robot = robot  # None: no planning before commitment (PickAndPlace plans when it starts)
+        self.seeds = seeds
+        self._pending: _Pending | None = None
+        self._infeasible: dict[tuple[object, ...], Infeasible] = {}
 
     @classmethod
     def from_context(cls, name: str, context: EpisodeContext) -> ConfidenceGate:
@@ -134,6 +184,8 @@ class ConfidenceGate(StageBehaviour):
                 else None
             ),
             seed=opts.seed,
+            robot=context.robot,
+            seeds=context.seeds,
         )
 
     def setup(self, **kwargs: object) -> None:
@@ -155,6 +207,8 @@ class ConfidenceGate(StageBehaviour):
         )
 
     def update(self) -> py_trees.common.Status:
+        if self._pending is not None:  # planning before commitment: poll, never block
+            return self._poll_plan()
         from scone_bt.gate import decide
 
         ranked = self.read(Keys.RANKED, [])
@@ -183,14 +237,74 @@ class ConfidenceGate(StageBehaviour):
         if decision.kind is DecisionKind.IDLE and view is not None:
             decision = self._ask_for_missing(decision, view.missing)
         self.write(Keys.CONFIDENCES, dict(zip([r.text for r in ranked], confidences, strict=True)))
+        self.write(Keys.CONTEXTS, contexts)
+        self.write(Keys.PLANNED, None)
+        self.write(Keys.PLAN_VERDICT, None)
+        pending = _Pending(decision, target, contexts, None if view is None else view.index)
+        if decision.kind is DecisionKind.ACT and target is not None and self.robot is not None:
+            request = pick_request(
+                target.detection,
+                self.read(Keys.DETECTIONS, []),
+                self.read(Keys.TABLE_DETECTIONS, None),
+                self.seeds.next_seed(),  # type: ignore[union-attr]
+            )
+            key = scene_key(request)
+            known = self._infeasible.get(key)
+            if known is not None:  # the same request in an unchanged scene: no plan exists, ask again at once
+                return self._finish(pending, self._infeasible_decision(decision, known, again=True))
+            self._pending = replace(
+                pending, key=key, planned=self.robot.plan_pick_and_place(request), started=time.perf_counter()
+            )
+            self.write(Keys.MOTION_COMPUTING, True)  # the episode holds simulated time while the arm plans
+            return self._poll_plan()
+        return self._finish(pending, decision)
+
+    def _poll_plan(self) -> py_trees.common.Status:
+        pending = self._pending
+        assert pending is not None and pending.planned is not None
+        if not pending.planned.ready():
+            self.feedback_message = f"planning {pending.decision.action} before committing"
+            return py_trees.common.Status.RUNNING
+        self._pending = None
+        self.write(Keys.MOTION_COMPUTING, False)
+        planning_s = time.perf_counter() - pending.started
+        infeasible = pending.planned.infeasible()
+        if infeasible is None:
+            self.write(Keys.PLANNED, pending.planned)
+            return self._finish(pending, pending.decision, planning_s)
+        self._infeasible[pending.key] = infeasible
+        self.write(Keys.PLAN_VERDICT, infeasible)
+        return self._finish(pending, self._infeasible_decision(pending.decision, infeasible), planning_s)
+
+    def _infeasible_decision(
+        self, decision: Decision, infeasible: Infeasible, again: bool = False
+    ) -> Decision:
+        """ASK-HELP instead of ACT: no plan exists in this scene, known before the arm moved."""
+        why = say_infeasible(str(decision.object_name), infeasible)
+        return replace(
+            decision,
+            kind=DecisionKind.ASK,
+            reason=why + (" (known: not planned again in this scene)" if again else ""),
+            rule="infeasible",
+            explored=False,
+        )
+
+    def _finish(
+        self, pending: _Pending, decision: Decision, planning_s: float | None = None
+    ) -> py_trees.common.Status:
+        target = pending.target
         self.write(Keys.DECISION, decision)
         self.write(Keys.TARGET, target)
-        self.write(Keys.CONTEXTS, contexts)
-        target_context = contexts.get(target.text) if target is not None else None
+        target_context = pending.contexts.get(target.text) if target is not None else None
         self.write(Keys.TARGET_CONTEXT, target_context)
-        self.events(self._event(decision, None if view is None else view.index, target_context))
+        self.events(self._event(decision, pending.step_index, target_context, planning_s))
         self.feedback_message = decision.reason
         return py_trees.common.Status.SUCCESS
+
+    def terminate(self, new_status: py_trees.common.Status) -> None:
+        if new_status is py_trees.common.Status.INVALID and self._pending is not None:
+            self._pending = None  # interrupted while planning: nothing was committed
+            self.write(Keys.MOTION_COMPUTING, False)
 
     def _ask_for_missing(self, decision: Decision, missing: tuple[str, ...]) -> Decision:
         """Idle, but the step needs items the robot sees nowhere and did not place: ask for the first one not
@@ -234,7 +348,11 @@ class ConfidenceGate(StageBehaviour):
         return [float(c) for c in belief(X)], [bool(e) for e in explores(X)]
 
     def _event(
-        self, decision: Decision, step_index: int | None, context: ExecutionContext | None
+        self,
+        decision: Decision,
+        step_index: int | None,
+        context: ExecutionContext | None,
+        planning_s: float | None = None,
     ) -> DecisionMade:
         """``step_index``: the robot's own place in the recipe (None: the human's step, the recipe-blind setting)."""
         index = self.human.step_index if step_index is None else step_index
@@ -253,6 +371,7 @@ class ConfidenceGate(StageBehaviour):
             explored=decision.explored,
             context=context,
             rule=decision.rule,
+            planning_s=None if planning_s is None else round(planning_s, 4),
         )
 
 

@@ -14,14 +14,14 @@ import py_trees
 
 from scone_bt.behaviours.base import Keys, StageBehaviour
 from scone_bt.behaviours.context import EpisodeContext, OutcomeLabels
-from scone_bt.behaviours.ports import OutcomeRecorder, Provider, SelfConfidence
+from scone_bt.behaviours.ports import Clock, OutcomeRecorder, Provider, SelfConfidence
 from scone_bt.confidence.grounded import grounded_features, is_grounded
-from scone_bt.events import ActCancelled, ActOutcome, EventSink
+from scone_bt.events import ActCancelled, ActOutcome, EventSink, PlanInfeasible
 from scone_bt.experience.types import Outcome
 from scone_bt.motion.types import FailureStage, MotionOutcome
 from scone_bt.robot.interface import Robot
 
-__all__ = ["ObserveOutcome", "UpdateSelfConfidence", "label_outcome"]
+__all__ = ["ObserveOutcome", "RecordInfeasible", "UpdateSelfConfidence", "label_outcome"]
 
 
 def label_outcome(motion: MotionOutcome, on_table: bool) -> tuple[bool, FailureStage | None]:
@@ -98,6 +98,63 @@ class ObserveOutcome(StageBehaviour):
         return py_trees.common.Status.SUCCESS
 
 
+class RecordInfeasible(StageBehaviour):
+    """A plan the gate found infeasible before committing is experience too: stored (failure at planning, with the
+    context it was planned in) and labelled for κ̂ (`Keys.OUTCOME`, which UpdateSelfConfidence learns from). It is
+    not an attempt: nothing moved, the human saw no failure. Any other ask writes no outcome."""
+
+    READS = (Keys.TARGET, Keys.TARGET_CONTEXT, Keys.PLAN_VERDICT)
+    WRITES = (Keys.OUTCOME,)
+
+    def __init__(
+        self,
+        name: str,
+        clock: Clock,
+        recorder: Provider[OutcomeRecorder | None],
+        events: EventSink,
+        labels: OutcomeLabels,
+    ) -> None:
+        super().__init__(name)
+        self.clock = clock
+        self._recorder = recorder
+        self.events = events
+        self.labels = labels
+
+    @classmethod
+    def from_context(cls, name: str, context: EpisodeContext) -> RecordInfeasible:
+        return cls(name, context.robot.now, context.recorder, context.events, context.labels)
+
+    def setup(self, **kwargs: object) -> None:
+        self.store = self._recorder()
+
+    def update(self) -> py_trees.common.Status:
+        verdict = self.read(Keys.PLAN_VERDICT)
+        target = self.read(Keys.TARGET)
+        if verdict is None or target is None:
+            self.write(Keys.OUTCOME, None)
+            return py_trees.common.Status.SUCCESS
+        now, labels = self.clock(), self.labels
+        outcome = Outcome(
+            time=time.time(),
+            action=target.text,
+            object_name=target.object_name,
+            embedder=labels.embedder,
+            success=False,
+            failure_stage=FailureStage.PLANNING.value,
+            context={**labels.context, "sim_time": round(now, 3), "infeasible": verdict.reason},
+            robot_id=labels.robot_id,
+            arm=labels.arm,
+            profile=labels.profile,
+            execution=self.read(Keys.TARGET_CONTEXT),
+        )
+        if self.store is not None:
+            self.store.append(outcome)  # committed before it is reported, and before κ̂ changes
+        self.events(PlanInfeasible(now, target.text, target.object_name, verdict.reason, verdict.message))
+        self.write(Keys.OUTCOME, outcome)
+        self.feedback_message = f"no plan for {target.object_name}: {verdict.reason}"
+        return py_trees.common.Status.SUCCESS
+
+
 class UpdateSelfConfidence(StageBehaviour):
     READS = (Keys.OUTCOME, Keys.ACTION_EMBEDDINGS)
 
@@ -115,7 +172,7 @@ class UpdateSelfConfidence(StageBehaviour):
     def update(self) -> py_trees.common.Status:
         outcome: Outcome | None = self.read(Keys.OUTCOME)
         if outcome is None:
-            self.feedback_message = "no label (human took over)"
+            self.feedback_message = "no label (the human took over, or the robot asked)"
             return py_trees.common.Status.SUCCESS
         vector = self.read(Keys.ACTION_EMBEDDINGS, {})[outcome.action]
         if is_grounded(self.estimator):  # learns from the context the attempt ran in

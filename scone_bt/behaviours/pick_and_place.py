@@ -12,7 +12,40 @@ from scone_bt.motion.types import FailureStage, MotionOutcome, MotionPhase
 from scone_bt.perception.types import Detection
 from scone_bt.robot.interface import MotionHandle, PickRequest, Robot, obstacles_except
 
-__all__ = ["PickAndPlace"]
+__all__ = ["PickAndPlace", "pick_request", "scene_key"]
+
+_NEAR_M = 0.35  # shelf detections within this of the target are the scene a grasp plan depends on
+_GRID_M = 0.02  # positions are compared on this grid: a product that moved less did not change the scene
+
+
+def pick_request(
+    target: Detection, detections: list[Detection], table: tuple[Detection, ...] | None, seed: int
+) -> PickRequest:
+    """What the robot asks its arm to do, from what it perceives: the target, the rest of the shelf and the table."""
+    name = target.name
+    return PickRequest(
+        target=target,
+        obstacles=obstacles_except(detections, name),
+        table=None if table is None else obstacles_except(table, name),
+        rng_seed=seed,
+    )
+
+
+def scene_key(request: PickRequest) -> tuple[object, ...]:
+    """The scene a pick-and-place plan depends on, on a 2 cm grid: the target and what stands near it, and the
+    table. Two requests with the same key plan in an unchanged scene (an infeasible one is not planned again)."""
+
+    def cell(d: Detection) -> tuple[str, tuple[int, ...]]:
+        return d.name, tuple(int(round(v / _GRID_M)) for v in d.position)
+
+    t = request.target.position
+    near = frozenset(
+        cell(d)
+        for d in request.obstacles
+        if ((d.position[0] - t[0]) ** 2 + (d.position[1] - t[1]) ** 2) ** 0.5 <= _NEAR_M
+    )
+    table = None if request.table is None else frozenset(cell(d) for d in request.table)
+    return cell(request.target), near, table
 
 
 class PickAndPlace(StageBehaviour):
@@ -24,8 +57,8 @@ class PickAndPlace(StageBehaviour):
     the motion is cancelled (`TakeOver`), and `ObserveOutcome` labels nothing.
     """
 
-    READS = (Keys.DECISION, Keys.TARGET, Keys.DETECTIONS, Keys.TABLE_DETECTIONS)
-    WRITES = (Keys.MOTION_OUTCOME, Keys.MOTION_TASK, Keys.MOTION_COMPUTING)
+    READS = (Keys.DECISION, Keys.TARGET, Keys.DETECTIONS, Keys.TABLE_DETECTIONS, Keys.PLANNED)
+    WRITES = (Keys.MOTION_OUTCOME, Keys.MOTION_TASK, Keys.MOTION_COMPUTING, Keys.PLANNED)
 
     def __init__(
         self, name: str, robot: Robot, human: HumanChannel, events: EventSink, seeds: PlannerSeeds
@@ -49,17 +82,19 @@ class PickAndPlace(StageBehaviour):
         target = self.read(Keys.TARGET)
         self.object_name = target.object_name
         self.action = target.text
-        table: tuple[Detection, ...] | None = self.read(Keys.TABLE_DETECTIONS, None)
-        request = PickRequest(
-            target=target.detection,
-            obstacles=obstacles_except(self.read(Keys.DETECTIONS, []), self.object_name),
-            table=None if table is None else obstacles_except(table, self.object_name),
-            rng_seed=self.seeds.next_seed(),
-        )
+        planned = self.read(Keys.PLANNED)  # the gate planned before it committed (plan_pick_and_place)
+        self.write(Keys.PLANNED, None)
         self.human.robot_busy(True)
         self.human.decide_takeover(self.object_name)
         self.events(ActStarted(self.robot.now(), self.action, self.object_name, decision.confidence))
-        self.task = self.robot.start_pick_and_place(request)
+        if planned is not None:
+            self.task = planned.execute()
+        else:
+            table: tuple[Detection, ...] | None = self.read(Keys.TABLE_DETECTIONS, None)
+            request = pick_request(
+                target.detection, self.read(Keys.DETECTIONS, []), table, self.seeds.next_seed()
+            )
+            self.task = self.robot.start_pick_and_place(request)
         self.write(Keys.MOTION_TASK, self.task)
         self.write(Keys.MOTION_OUTCOME, None)
 

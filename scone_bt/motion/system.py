@@ -201,18 +201,16 @@ class PickAndPlace:
         self._future: cf.Future[PickPlacePlan | PickPlaceFailure] | None = None
         self._controller: PickPlaceController | None = None
         self._outcome: MotionOutcome | None = None
+        self._q_start: np.ndarray | None = None
 
     # ------------------------------------------------------------------------------------- lifecycle
-    def start(self) -> None:
-        """Read the arm's joints, submit planning to the worker and register the execution controller."""
-        if self._controller is not None or self._outcome is not None:
+    def submit_plan(self) -> None:
+        """Read the arm's joints and submit planning to the worker, without moving (plan before commit)."""
+        if self._future is not None or self._outcome is not None:
             return
         sys_ = self.system
         kitchen = sys_.kitchen
-        if sys_._active is not None and not sys_._active.done():
-            sys_._active._abandon()
-        sys_._active = self
-        q_start = kitchen.arm_joint_positions()
+        self._q_start = q_start = kitchen.arm_joint_positions()
         seen = {d.name for d, _ in self.obstacles} | {self.target.name}
         on_table: dict[str, Obstacle] = {}
         if self.table_obstacles is not None:
@@ -242,10 +240,21 @@ class PickAndPlace:
         self._future = sys_._worker.submit(
             plan_pick_and_place, sys_.arm, request, sys_.planner, sys_.limits, sys_.robot.control.rate_hz
         )
+
+    def start(self) -> None:
+        """Plan (unless `submit_plan` already did) and register the execution controller: the arm moves."""
+        if self._controller is not None or self._outcome is not None:
+            return
+        sys_ = self.system
+        kitchen = sys_.kitchen
+        if sys_._active is not None and not sys_._active.done():
+            sys_._active._abandon()
+        sys_._active = self
+        self.submit_plan()
         self._controller = PickPlaceController(
             kitchen,
             self.target.name,
-            q_start,
+            self._q_start,
             self._poll_plan,
             self._request_home,
             sys_.settings,

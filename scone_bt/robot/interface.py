@@ -16,7 +16,15 @@ if TYPE_CHECKING:  # the interface itself imports nothing heavy (scone-run --hel
     from scone_bt.perception.observe import Observation
     from scone_bt.perception.types import Detection
 
-__all__ = ["BACKENDS", "PickRequest", "MotionHandle", "Robot", "obstacles_except"]
+__all__ = [
+    "BACKENDS",
+    "PickRequest",
+    "MotionHandle",
+    "Infeasible",
+    "PlannedPick",
+    "Robot",
+    "obstacles_except",
+]
 
 BACKENDS = ("sim",)
 """Robot backends `scone-run --robot` accepts."""
@@ -61,6 +69,40 @@ class MotionHandle(Protocol):
         ...
 
 
+@dataclass(frozen=True)
+class Infeasible:
+    """Why no pick-and-place exists in this scene, known before the arm moves (geometry, not a planner's luck).
+
+    Attributes:
+        reason: Which stage ran out of options (a `PlanFailureReason` value: no_grasp_ik, grasps_blocked,
+            no_table_space, no_placement_ik, placements_blocked).
+        message: The planner's one line.
+        blockers: What blocked the most candidates (object names or scene parts), most frequent first.
+    """
+
+    reason: str
+    message: str
+    blockers: tuple[str, ...] = ()
+
+
+@runtime_checkable
+class PlannedPick(Protocol):
+    """A pick-and-place planned but not started: the robot has not committed to it yet."""
+
+    def ready(self) -> bool:
+        """True once planning finished."""
+        ...
+
+    def infeasible(self) -> Infeasible | None:
+        """Once ready: why no plan exists in this scene, or None (a plan exists, or the planner ran out of time,
+        which an attempt may still overcome)."""
+        ...
+
+    def execute(self) -> MotionHandle:
+        """Commit: run the plan (a planner that ran out of time ends as a failure at planning)."""
+        ...
+
+
 @runtime_checkable
 class Robot(Protocol):
     """What the behaviours need of a robot."""
@@ -71,6 +113,10 @@ class Robot(Protocol):
 
     def start_pick_and_place(self, request: PickRequest) -> MotionHandle:
         """Start moving ``request.target`` to the table; returns at once (planning runs in the background)."""
+        ...
+
+    def plan_pick_and_place(self, request: PickRequest) -> PlannedPick:
+        """Plan moving ``request.target`` to the table without moving; returns at once (poll ``ready``)."""
         ...
 
     def is_on_table(self, object_name: str) -> bool:

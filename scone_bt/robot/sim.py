@@ -7,13 +7,16 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
+from scone_bt.motion.pick_place import PickPlaceFailure
+from scone_bt.motion.types import PlanFailureReason
 from scone_bt.perception.observe import Observation
 from scone_bt.perception.types import Detection
-from scone_bt.robot.interface import MotionHandle, PickRequest
+from scone_bt.robot.interface import Infeasible, MotionHandle, PickRequest, PlannedPick
 from scone_bt.world import Kitchen
 
 if TYPE_CHECKING:
     from scone_bt.motion import MotionSystem
+    from scone_bt.motion.system import PickAndPlace
     from scone_bt.perception.observe import Observer
 
 __all__ = ["SimRobot"]
@@ -72,17 +75,25 @@ class SimRobot:
     def _with_specs(self, seen: tuple[Detection, ...]) -> list[tuple[Detection, ObjectSpec]]:
         return [(d, self._spec(d.name)) for d in seen]
 
-    def start_pick_and_place(self, request: PickRequest) -> MotionHandle:
+    def _task(self, request: PickRequest) -> PickAndPlace:
         target = request.target
-        task = self.motion.pick_and_place(
+        return self.motion.pick_and_place(
             target,
             self._spec(target.name),
             self._with_specs(request.obstacles),
             rng_seed=request.rng_seed,
             table_obstacles=None if request.table is None else self._with_specs(request.table),
         )
+
+    def start_pick_and_place(self, request: PickRequest) -> MotionHandle:
+        task = self._task(request)
         task.start()
         return task
+
+    def plan_pick_and_place(self, request: PickRequest) -> PlannedPick:
+        task = self._task(request)
+        task.submit_plan()
+        return _PlannedTask(task)
 
     def is_on_table(self, object_name: str) -> bool:
         return self.kitchen.is_on_table(object_name)
@@ -111,3 +122,36 @@ class SimRobot:
         """Camera images rendered so far."""
         o = self._observer
         return 0 if o is None else sum(c.renders for c in o.cameras)
+
+
+# Planner failures that the scene's geometry decides (the same request fails again); NO_PATH is the planner
+# running out of its budget, which a rushed planner does at random: that one is attempted and may fail.
+_GEOMETRIC = frozenset(
+    {
+        PlanFailureReason.NO_GRASP_IK,
+        PlanFailureReason.GRASPS_BLOCKED,
+        PlanFailureReason.NO_TABLE_SPACE,
+        PlanFailureReason.NO_PLACEMENT_IK,
+        PlanFailureReason.PLACEMENTS_BLOCKED,
+    }
+)
+
+
+class _PlannedTask:
+    """`PlannedPick` over the motion system's task: planned in the background, started on `execute`."""
+
+    def __init__(self, task: PickAndPlace) -> None:
+        self.task = task
+
+    def ready(self) -> bool:
+        return not self.task.is_planning()
+
+    def infeasible(self) -> Infeasible | None:
+        result = self.task.plan
+        if isinstance(result, PickPlaceFailure) and result.reason in _GEOMETRIC:
+            return Infeasible(result.reason.value, result.message.split(";")[0], tuple(result.blockers))
+        return None
+
+    def execute(self) -> MotionHandle:
+        self.task.start()
+        return self.task

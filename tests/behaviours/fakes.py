@@ -56,6 +56,24 @@ class FakeHandle:
 
 
 @dataclass
+class FakePlanned:
+    """A `PlannedPick` that is ready at once: feasible unless ``infeasible`` is set; execute starts the handle."""
+
+    robot: FakeRobot
+    request: PickRequest
+    verdict: object = None
+
+    def ready(self) -> bool:
+        return True
+
+    def infeasible(self):
+        return self.verdict
+
+    def execute(self) -> FakeHandle:
+        return self.robot.start_pick_and_place(self.request)
+
+
+@dataclass
 class FakeRobot:
     """A `Robot` whose world is a list of detections and a set of objects on the table."""
 
@@ -67,6 +85,9 @@ class FakeRobot:
     handles: list[FakeHandle] = field(default_factory=list)
     planning_ticks: int = 0
     closed: bool = False
+    plans: list[PickRequest] = field(default_factory=list)
+    # object name → Infeasible: what plan_pick_and_place says of that object (absent: a plan exists)
+    infeasible: dict = field(default_factory=dict)
 
     def perceive(self) -> Observation:
         return Observation(None, {}, tuple(self.shelf), tuple(self.table))  # type: ignore[arg-type]
@@ -75,6 +96,10 @@ class FakeRobot:
         self.requests.append(request)
         self.handles.append(FakeHandle(self.planning_ticks))
         return self.handles[-1]
+
+    def plan_pick_and_place(self, request: PickRequest) -> FakePlanned:
+        self.plans.append(request)
+        return FakePlanned(self, request, self.infeasible.get(request.target.name))
 
     def is_on_table(self, object_name: str) -> bool:
         return object_name in self.on_table

@@ -17,13 +17,14 @@ def test_default_tree_builds_and_renders(tmp_path):
         "GenerateAffordances",
         "RankByRelevance",
         "ConfidenceGate",
+        "RecordInfeasible",
         "AskForHelp",
         "PickAndPlace",
         "ObserveOutcome",
-        "UpdateSelfConfidence",
     ]
     positions = [text.index(name) for name in order]
     assert positions == sorted(positions)
+    assert text.count("UpdateSelfConfidence") == 2  # after an infeasible plan and after an attempt
     assert spec.parameters["confidence_threshold"] == 0.5
 
 
