@@ -13,7 +13,7 @@ from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from enum import StrEnum
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 import py_trees
@@ -32,7 +32,7 @@ from scone_bt.robot.sim import SimRobot
 from scone_bt.tree import build_tree, load_tree_spec
 from scone_bt.world import Kitchen
 
-__all__ = ["EpisodeOptions", "EpisodeSummary", "LoopPart", "WallClock", "run_episode"]
+__all__ = ["EpisodeHook", "EpisodeOptions", "EpisodeSummary", "LoopPart", "WallClock", "run_episode"]
 
 
 @dataclass(frozen=True)
@@ -161,6 +161,21 @@ def _make_recorder(options: EpisodeOptions) -> Any:
 HumanFactory = Callable[[Kitchen, Any, HumanOptions, int], Any]
 
 
+class EpisodeHook(Protocol):
+    """A test rig's view of the episode (`scone_bt.scenario`): set the world up, then act between control ticks.
+
+    ``attach`` is called once, after the products are stocked, the human is built and the robot's cameras and
+    motion system are set up, before the tree's first tick. ``after_tick`` is called after every control tick
+    (the world advanced by ``tick_period`` and the human acted), with the number of control ticks so far; it may
+    change the world (through `scone_bt.robot.rig`) and send events to ``events``. Both run on the episode's
+    thread, between ticks, so a seeded episode with a hook still repeats exactly.
+    """
+
+    def attach(self, kitchen: Kitchen, robot: SimRobot, human: Any, events: EventSink) -> None: ...
+
+    def after_tick(self, control_ticks: int) -> None: ...
+
+
 class LoopPart(StrEnum):
     """A part of the episode loop whose wall and CPU time the summary reports (the breakdowns' keys)."""
 
@@ -223,6 +238,7 @@ def run_episode(
     human_factory: HumanFactory | None = None,
     realtime: bool = False,
     models: ModelPool | None = None,
+    hook: EpisodeHook | None = None,
 ) -> EpisodeSummary:
     """Run one episode to completion (or to max_ticks) and return its summary.
 
@@ -233,6 +249,8 @@ def run_episode(
         human_factory: Builds the human (default: SimulatedHuman); the study UI passes a tablet-driven one.
         realtime: Pace control ticks to wall-clock time (needed when a real person takes part).
         models: Share embedders with other episodes (None: this episode loads its own).
+        hook: A test rig acting on the world between control ticks (`EpisodeHook`; None: nothing does). The
+            scenario runner (`scone_bt.scenario`) passes one; ``scone-run`` does not.
     """
     started, started_cpu = time.perf_counter(), time.thread_time()
     clock = WallClock()
@@ -318,6 +336,8 @@ def run_episode(
         if recipe.unstocked or recipe.off_shelf:
             say(f"not stocked (the human brings them): {', '.join((*recipe.unstocked, *recipe.off_shelf))}")
         robot.setup()
+        if hook is not None:
+            hook.attach(kitchen, robot, human, events)
         root = build_tree(spec, context)
         tree = py_trees.trees.BehaviourTree(root)
         try:
@@ -354,6 +374,8 @@ def run_episode(
                     for event in human_events:
                         events(event)
                     control_ticks += 1
+                    if hook is not None:
+                        hook.after_tick(control_ticks)
                     if realtime:
                         time.sleep(max(0.0, next_tick - time.perf_counter()))
                         next_tick = max(next_tick + options.tick_period, time.perf_counter())

@@ -319,6 +319,82 @@ class Kitchen:
         self.wake()
         return True
 
+    # ----------------------------------------------------------------------------------------- test rig
+    # Changes a test rig (`scone_bt.robot.rig`) makes from outside the robot, the way a person would in a real
+    # kitchen: put a product somewhere by hand, take it away, hold something in front of a camera or over a lid.
+
+    PARK_Y_M = 3.0
+    """Products taken out of the kitchen stand on the floor this far from the robot (out of every camera's view)."""
+
+    def place_object(self, name: str, surface: Sequence[float], yaw: float = 0.0) -> None:
+        """Stand the product upright on the surface point ``surface`` (x, y, z of the surface under its centre,
+        metres), turned by ``yaw`` (radians), at rest: what a person putting it there by hand does."""
+        body = self._body(name)
+        spec = self.specs[name]
+        x, y, z = (float(v) for v in surface)
+        orientation = self.bc.getQuaternionFromEuler((0.0, 0.0, float(yaw)))
+        self.bc.resetBasePositionAndOrientation(body, (x, y, z + spec.height / 2 + 1e-3), orientation)
+        self.bc.resetBaseVelocity(body, (0, 0, 0), (0, 0, 0))
+        self.wake()
+
+    def park_object(self, name: str) -> None:
+        """Take the product out of the kitchen: it stands on the floor far from the shelving, table and cameras."""
+        self._body(name)  # the one-line error for an unknown name
+        index = list(self.objects).index(name)
+        self.place_object(name, (0.5 * index, self.PARK_Y_M, self.config.scene.floor_z))
+
+    def add_cover(
+        self,
+        center: Sequence[float],
+        size: Sequence[float],
+        rgba: Sequence[float] = (0.2, 0.2, 0.2, 1.0),
+        orientation: Sequence[float] = (0.0, 0.0, 0.0, 1.0),
+    ) -> int:
+        """An opaque box the cameras see but nothing collides with (a hand over a lid, a cloth over a lens);
+        ``center`` and ``size`` in metres, ``orientation`` a quaternion (x, y, z, w).
+
+        Returns:
+            Its handle for `remove_cover`.
+        """
+        import pybullet as p
+
+        half = [float(s) / 2 for s in size]
+        visual = self.bc.createVisualShape(p.GEOM_BOX, halfExtents=half, rgbaColor=list(rgba))
+        handle = int(
+            self.bc.createMultiBody(
+                0,
+                -1,
+                visual,
+                basePosition=[float(c) for c in center],
+                baseOrientation=[float(q) for q in orientation],
+            )
+        )
+        self.state_version += 1  # the cameras render again
+        return handle
+
+    def remove_cover(self, handle: int) -> None:
+        """Take away a cover `add_cover` made."""
+        self.bc.removeBody(handle)
+        self.state_version += 1
+
+    def set_gripper_properties(
+        self, max_force: float | None = None, finger_friction: float | None = None
+    ) -> None:
+        """Change the gripper's force limit (N per finger) and the finger pads' friction from now on (a worn motor,
+        greasy pads). The next grasp closes with the new force; ``None`` keeps a value."""
+        import dataclasses
+
+        g = self.robot_config.gripper
+        g = dataclasses.replace(
+            g,
+            max_force=g.max_force if max_force is None else float(max_force),
+            finger_friction=g.finger_friction if finger_friction is None else float(finger_friction),
+        )
+        self.robot_config = dataclasses.replace(self.robot_config, gripper=g)
+        for joint in g.joints:
+            self.bc.changeDynamics(self.robot_id, self.joint_index[joint], lateralFriction=g.finger_friction)
+        self._keep_stepping()
+
     # ----------------------------------------------------------------------------------------- robot
     def arm_joint_positions(self) -> np.ndarray:
         ids = [self.joint_index[n] for n in self.robot_config.arm_joints]

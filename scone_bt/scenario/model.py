@@ -1,0 +1,716 @@
+"""The scenario file: a situation and the behaviour expected in it, validated before anything runs.
+
+A scenario is a YAML mapping (docs/scenarios.md documents every key; scenarios/scenario.schema.json is the JSON
+Schema editors use, exported from `ScenarioFile` by ``scone-scenario schema``). `load_scenario` reads one file
+and returns its cases: one, or one per value (per combination) of its ``sweep:``. Every error is one line naming
+the file, the key path and the valid choices (`scone_bt.errors.ConfigError`).
+"""
+
+from __future__ import annotations
+
+import copy
+import itertools
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Annotated, Any, Literal, Union
+
+import numpy as np
+from pydantic import Discriminator, Field, Tag, ValidationError, field_validator, model_validator
+
+from scone_bt.config.schema import StrictModel, format_validation_error
+from scone_bt.config.yaml_io import read_yaml
+from scone_bt.errors import ConfigError, SconeError
+
+__all__ = [
+    "EVENT_ACTIONS",
+    "EXPECTATION_KINDS",
+    "Case",
+    "ScenarioFile",
+    "load_scenario",
+    "load_scenarios",
+    "scenario_files",
+    "json_schema",
+]
+
+_Seconds = Annotated[float, Field(allow_inf_nan=False)]
+_NonNeg = Annotated[float, Field(ge=0, allow_inf_nan=False)]
+_Prob = Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)]
+_Name = Annotated[str, Field(min_length=1, max_length=200)]
+_SLOT = re.compile(r"^([A-Za-z0-9_-]+)/(\d+)/(\d+)$")
+
+EVENT_KINDS = (
+    "decision",
+    "act",
+    "outcome",
+    "cancelled",
+    "help_request",
+    "clarification",
+    "takeover",
+    "help",
+    "intervention",
+    "fetching",
+    "step_done",
+)
+"""Stored event kinds (`scone_bt.events.EVENT_TYPES`) a condition or a count may name."""
+
+
+# ------------------------------------------------------------------------------------------------ the world
+class Placement(StrictModel):
+    """A product pinned to a shelf slot ``unit/tier/index`` (tier 0 the lowest), turned by ``yaw_deg``."""
+
+    product: _Name
+    slot: Annotated[str, Field(pattern=_SLOT.pattern)]
+    yaw_deg: Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False)] = 0.0
+
+
+class WorldSection(StrictModel):
+    """What the episode is: arm, kitchen, recipe, tree and its parameters, seed, and how the shelf is stocked."""
+
+    arm: _Name = "panda"
+    kitchen: _Name = "kitchen"
+    catalogues: Annotated[list[_Name], Field(max_length=20)] = []
+    recipe: _Name = "example:tomato-pasta"
+    tree: _Name = "assistive_cooking"
+    parameters: dict[str, Any] = {}
+    self_confidence: bool = True
+    seed: Annotated[int, Field(ge=0, le=2**31 - 1)] = 0
+    distractors: Annotated[int, Field(ge=0, le=45)] = 6
+    max_ticks: Annotated[int, Field(ge=1, le=20_000)] = 4000
+    tick_period: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False)] = 0.1
+    place: Annotated[list[Placement], Field(max_length=45)] = []
+    hidden_markers: Annotated[list[_Name], Field(max_length=45)] = []
+    on_table: Annotated[list[_Name], Field(max_length=45)] = []
+    experience_from: Annotated[list[Annotated[int, Field(ge=0, le=2**31 - 1)]], Field(max_length=5)] = []
+
+    @field_validator("parameters")
+    @classmethod
+    def _parameters(cls, value: dict[str, Any]) -> dict[str, Any]:
+        from scone_bt.tree.parameters import TreeParameters
+
+        try:
+            TreeParameters(**value)
+        except ValidationError as exc:
+            line = format_validation_error(exc, "parameters", TreeParameters)
+            raise ValueError(line.removeprefix("parameters: ")) from None
+        return value
+
+
+# ------------------------------------------------------------------------------------------------ the robot
+class Fault(StrictModel):
+    """The robot's condition: each key overrides the robot's or kitchen's value (None keeps it)."""
+
+    gripper_force: Annotated[float, Field(gt=0, le=500, allow_inf_nan=False)] | None = None
+    finger_friction: Annotated[float, Field(ge=0, le=5, allow_inf_nan=False)] | None = None
+    camera_noise: Annotated[float, Field(ge=0, le=255, allow_inf_nan=False)] | None = None
+    depth_noise: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)] | None = None
+    planner_budget_s: Annotated[float, Field(gt=0, le=600, allow_inf_nan=False)] | None = None
+
+    def values(self) -> dict[str, float]:
+        return {k: v for k, v in self.model_dump().items() if v is not None}
+
+
+class RobotSection(Fault):
+    """The robot at the start: a proficiency profile (tools/profiles name or path), then individual faults."""
+
+    profile: _Name | None = None
+
+
+# ------------------------------------------------------------------------------------------------ the human
+class HumanSection(StrictModel):
+    """The simulated human (`scone_bt.human.HumanOptions`), simulated seconds."""
+
+    patience_s: _NonNeg = 20.0
+    takeover_probability: _Prob = 0.0
+    takeover_delay_s: _NonNeg = 1.0
+    fetch_time_s: _NonNeg = 6.0
+    cook_time_s: _NonNeg = 2.0
+    clarify_time_s: _NonNeg = 2.0
+
+
+# ------------------------------------------------------------------------------------------------ conditions
+class EventMatch(StrictModel):
+    """Matches one typed event: its stored ``kind`` and, if given, its fields."""
+
+    kind: Literal[EVENT_KINDS]  # type: ignore[valid-type]
+    object: _Name | None = None
+    success: bool | None = None
+    stage: _Name | None = None
+    verdict: Literal["act", "ask", "clarify", "idle"] | None = None
+    rule: str | None = None
+    step: Annotated[int, Field(ge=1)] | None = None
+
+
+# ------------------------------------------------------------------------------------------------ events
+class _Timing(StrictModel):
+    at: _Seconds | None = None
+    when: EventMatch | None = None
+    delay_s: _NonNeg = 0.0
+
+    @model_validator(mode="after")
+    def _one_trigger(self) -> _Timing:
+        if (self.at is None) == (self.when is None):
+            raise ValueError("give exactly one of 'at' (simulated seconds) or 'when' (an event to wait for)")
+        if self.at is not None and self.at < 0:
+            raise ValueError(f"at: {self.at} s is in the past (the episode starts at 0 s)")
+        return self
+
+
+class MoveEvent(_Timing):
+    move: Placement
+
+
+class RemoveEvent(_Timing):
+    remove: _Name
+
+
+class ToTableEvent(_Timing):
+    to_table: _Name
+
+
+class HideMarkerEvent(_Timing):
+    hide_marker: _Name
+
+
+class ShowMarkerEvent(_Timing):
+    show_marker: _Name
+
+
+class CoverCameraEvent(_Timing):
+    cover_camera: _Name
+
+
+class UncoverCameraEvent(_Timing):
+    uncover_camera: _Name
+
+
+class FaultEvent(_Timing):
+    fault: Fault
+
+
+class NextStepEvent(_Timing):
+    next_step: Literal[True]
+
+
+EVENT_ACTIONS: dict[str, type[_Timing]] = {
+    "move": MoveEvent,
+    "remove": RemoveEvent,
+    "to_table": ToTableEvent,
+    "hide_marker": HideMarkerEvent,
+    "show_marker": ShowMarkerEvent,
+    "cover_camera": CoverCameraEvent,
+    "uncover_camera": UncoverCameraEvent,
+    "fault": FaultEvent,
+    "next_step": NextStepEvent,
+}
+"""What a scenario event does → its model."""
+
+
+def _tag(keys: Sequence[str]) -> Any:
+    def pick(value: Any) -> str | None:
+        if isinstance(value, Mapping):
+            found = [k for k in keys if k in value]
+            return found[0] if len(found) == 1 else None
+        found = [k for k in keys if getattr(value, k, None) is not None]
+        return found[0] if len(found) == 1 else None
+
+    return pick
+
+
+def _union(table: Mapping[str, type[StrictModel]], what: str) -> Any:
+    members = tuple(Annotated[model, Tag(key)] for key, model in table.items())
+    return Annotated[
+        Union[members],  # noqa: UP007 (a tuple of tagged members)
+        Discriminator(
+            _tag(list(table)),
+            custom_error_type="one_of",
+            custom_error_message=f"{what} needs exactly one of: {', '.join(table)}",
+        ),
+    ]
+
+
+ScenarioEvent = _union(EVENT_ACTIONS, "an event")
+
+
+# ------------------------------------------------------------------------------------------------ expectations
+class _Expectation(StrictModel):
+    name: _Name | None = None  # how failures call it (default: the expectation as written)
+
+
+class AsksBeforeAttempt(_Expectation):
+    """The robot asks for help with the product (ASK-HELP) before it ever attempts it (it may never attempt)."""
+
+    asks_before_attempt: _Name
+
+
+class NeverAttempts(_Expectation):
+    """The robot never starts a pick-and-place of the product."""
+
+    never_attempts: _Name
+
+
+class CompletesStep(_Expectation):
+    """Recipe step ``completes_step`` (1-based) is done within ``within_s`` simulated seconds."""
+
+    completes_step: Annotated[int, Field(ge=1)]
+    within_s: Annotated[float, Field(gt=0, allow_inf_nan=False)] | None = None
+
+
+class Completes(_Expectation):
+    """The whole recipe is done (``true``) or not (``false``) when the episode ends; optionally within a time."""
+
+    completes: bool
+    within_s: Annotated[float, Field(gt=0, allow_inf_nan=False)] | None = None
+
+
+class MaxFailures(_Expectation):
+    """At most this many of the robot's attempts fail (optionally only of one ``object``)."""
+
+    max_failures: Annotated[int, Field(ge=0)]
+    object: _Name | None = None
+
+
+class Kappa(_Expectation):
+    """κ̂ of the product's action, at the robot's first decision about it after ``after`` (an event; without it:
+    the first decision about it), is below or above a value."""
+
+    kappa: _Name
+    below: _Prob | None = None
+    above: _Prob | None = None
+    after: EventMatch | None = None
+
+    @model_validator(mode="after")
+    def _bound(self) -> Kappa:
+        if (self.below is None) == (self.above is None):
+            raise ValueError("give exactly one of 'below' or 'above'")
+        return self
+
+
+class NoRepeatedFailure(_Expectation):
+    """No failure repeats: the same action never fails twice at the same stage."""
+
+    no_repeated_failure: Literal[True]
+
+
+class DecisionsMatch(_Expectation):
+    """The decision sequence, written ``verdict:object`` per decision separated by spaces (``act:salt ask:garlic
+    clarify:- idle:-``), matches this regular expression somewhere (``re.search``)."""
+
+    decisions_match: Annotated[str, Field(min_length=1, max_length=2000)]
+
+    @field_validator("decisions_match")
+    @classmethod
+    def _regex(cls, value: str) -> str:
+        try:
+            re.compile(value)
+        except re.error as exc:
+            raise ValueError(f"not a regular expression ({exc})") from None
+        return value
+
+
+class Count(_Expectation):
+    """The number of events matching ``count`` is within [``min``, ``max``]."""
+
+    count: EventMatch
+    min: Annotated[int, Field(ge=0)] = 0
+    max: Annotated[int, Field(ge=0)] | None = None
+
+
+class OnTable(_Expectation):
+    """At the end, these products rest on the table (ground truth)."""
+
+    on_table: Annotated[list[_Name], Field(min_length=1)]
+
+
+EXPECTATION_KINDS: dict[str, type[_Expectation]] = {
+    "asks_before_attempt": AsksBeforeAttempt,
+    "never_attempts": NeverAttempts,
+    "completes_step": CompletesStep,
+    "completes": Completes,
+    "max_failures": MaxFailures,
+    "kappa": Kappa,
+    "no_repeated_failure": NoRepeatedFailure,
+    "decisions_match": DecisionsMatch,
+    "count": Count,
+    "on_table": OnTable,
+}
+"""Expectation key → its model."""
+
+Expectation = _union(EXPECTATION_KINDS, "an expectation")
+
+
+# ------------------------------------------------------------------------------------------------ sweeps
+class SweepRange(StrictModel):
+    """Values ``start``, ``start + step``, ... up to ``stop`` (inclusive)."""
+
+    start: _Seconds
+    stop: _Seconds
+    step: Annotated[float, Field(gt=0, allow_inf_nan=False)]
+
+    def values(self) -> list[float]:
+        n = int(np.floor((self.stop - self.start) / self.step + 1e-9)) + 1
+        return [round(self.start + i * self.step, 10) for i in range(max(n, 0))]
+
+
+class ScenarioFile(StrictModel):
+    """A scenario file (scenarios/*.yaml)."""
+
+    description: Annotated[str, Field(min_length=1, max_length=2000)]
+    name: Annotated[str, Field(min_length=1, max_length=100, pattern=r"^[A-Za-z0-9_.-]+$")] | None = None
+    expected: Literal["pass", "fail"] = "pass"
+    reason: Annotated[str, Field(min_length=1, max_length=2000)] | None = None
+    world: WorldSection = WorldSection()
+    robot: RobotSection = RobotSection()
+    human: HumanSection = HumanSection()
+    events: Annotated[list[ScenarioEvent], Field(max_length=100)] = []  # type: ignore[valid-type]
+    expect: Annotated[list[Expectation], Field(min_length=1, max_length=100)]  # type: ignore[valid-type]
+    sweep: dict[str, Annotated[list[Any], Field(min_length=1, max_length=50)] | SweepRange] = {}
+
+    @model_validator(mode="after")
+    def _reason(self) -> ScenarioFile:
+        if self.expected == "fail" and not self.reason:
+            raise ValueError("expected: fail needs a 'reason' (the bug it exposes)")
+        return self
+
+
+# ------------------------------------------------------------------------------------------------ cases
+@dataclass(frozen=True)
+class Case:
+    """One run of a scenario: the file, the case's name and its validated content (sweep values filled in).
+
+    Attributes:
+        path: The scenario file.
+        name: The scenario's name, with ``[key=value,...]`` for a sweep case.
+        spec: The validated scenario.
+        sweep: The sweep values of this case (key path → value), empty without a sweep.
+    """
+
+    path: Path
+    name: str
+    spec: ScenarioFile
+    sweep: tuple[tuple[str, Any], ...] = ()
+
+    @property
+    def base(self) -> Path:
+        """The folder relative paths in the file are read from."""
+        return self.path.parent
+
+
+def _error_line(exc: ValidationError, where: str) -> str:
+    """The project's one line, with the discriminator tags pydantic puts into key paths taken out."""
+    tags = set(EVENT_ACTIONS) | set(EXPECTATION_KINDS)
+    errors = exc.errors(include_url=False)
+    first = errors[0]
+    loc = list(first.get("loc", ()))
+    cleaned: list[Any] = []
+    for i, part in enumerate(loc):
+        if isinstance(part, str) and part in tags and i > 0 and isinstance(loc[i - 1], int):
+            continue  # the union member's tag: the key itself follows (or the error is about the whole item)
+        cleaned.append(part)
+    key = ""
+    for part in cleaned:
+        key += f"[{part}]" if isinstance(part, int) else ("." if key else "") + str(part)
+    kind = first.get("type", "")
+    if kind == "extra_forbidden":
+        owner = _owner(loc)
+        valid = f"; valid: {', '.join(owner.model_fields)}" if owner is not None else ""
+        parent = key.rsplit(".", 1)[0] if "." in key else ""
+        head = f"{where}: {parent}: " if parent else f"{where}: "
+        msg = f"{head}unknown key {str(loc[-1])!r}{valid}"
+    else:
+        text = " ".join(str(first.get("msg", "invalid")).split()).removeprefix("Value error, ")
+        value = first.get("input")
+        if kind not in ("value_error", "one_of", "missing") and not isinstance(value, (dict, list)):
+            text += f" (got {_short(value)})"
+        if kind == "missing":
+            text = "missing (required)"
+        if kind == "one_of" and isinstance(value, Mapping):
+            text += f" (got keys: {', '.join(map(str, value)) or 'none'})"
+        msg = f"{where}: {key}: {text}" if key else f"{where}: {text}"
+    more = len(errors) - 1
+    return msg + (f" (and {more} more problem{'s' if more > 1 else ''})" if more else "")
+
+
+def _short(value: Any, limit: int = 60) -> str:
+    text = repr(value)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def _owner(loc: Sequence[Any]) -> type[StrictModel] | None:
+    """The model whose key ``loc[-1]`` is unknown."""
+    from pydantic import BaseModel
+
+    tables = {**EVENT_ACTIONS, **EXPECTATION_KINDS}
+    current: Any = ScenarioFile
+    for i, part in enumerate(loc[:-1]):
+        if isinstance(part, int):
+            continue
+        if i > 0 and isinstance(loc[i - 1], int) and part in tables:
+            current = tables[part]
+            continue
+        if not (isinstance(current, type) and issubclass(current, BaseModel)):
+            return None
+        field = current.model_fields.get(str(part))
+        if field is None:
+            return None
+        current = None
+        stack = [field.annotation]
+        while stack:
+            ann = stack.pop()
+            if isinstance(ann, type) and issubclass(ann, BaseModel):
+                current = ann
+                break
+            stack.extend(getattr(ann, "__args__", ()))
+    return current if isinstance(current, type) and issubclass(current, BaseModel) else None
+
+
+def _validate(data: Any, where: str) -> ScenarioFile:
+    try:
+        return ScenarioFile.model_validate(data)
+    except ValidationError as exc:
+        raise ConfigError(_error_line(exc, where)) from None
+
+
+def _set_path(data: dict[str, Any], path: str, value: Any, where: str) -> None:
+    """Put ``value`` at a dotted key path (``robot.gripper_force``, ``events[0].at``) of the raw mapping."""
+    parts: list[str | int] = []
+    for piece in path.split("."):
+        m = re.fullmatch(r"([A-Za-z0-9_-]+)((?:\[\d+\])*)", piece)
+        if not m:
+            raise ConfigError(
+                f"{where}: sweep: {path!r} is not a key path like robot.gripper_force or events[0].at"
+            )
+        parts.append(m.group(1))
+        parts.extend(int(i) for i in re.findall(r"\[(\d+)\]", m.group(2)))
+    node: Any = data
+    for i, part in enumerate(parts[:-1]):
+        nxt = parts[i + 1]
+        if isinstance(part, int):
+            if not isinstance(node, list) or part >= len(node):
+                raise ConfigError(f"{where}: sweep: {path!r}: no item {part} to set")
+            node = node[part]
+            continue
+        if not isinstance(node, dict):
+            raise ConfigError(f"{where}: sweep: {path!r}: {part!r} is not inside a mapping")
+        if part not in node:
+            if isinstance(nxt, int):
+                raise ConfigError(f"{where}: sweep: {path!r}: {part!r} has no items to set")
+            node[part] = {}
+        node = node[part]
+    last = parts[-1]
+    if isinstance(last, int):
+        if not isinstance(node, list) or last >= len(node):
+            raise ConfigError(f"{where}: sweep: {path!r}: no item {last} to set")
+        node[last] = value
+    elif isinstance(node, dict):
+        node[last] = value
+    else:
+        raise ConfigError(f"{where}: sweep: {path!r}: {last!r} is not inside a mapping")
+
+
+def _label(value: Any) -> str:
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def load_scenario(path: Path | str) -> list[Case]:
+    """The cases of one scenario file (one per sweep combination), each validated and checked against the world.
+
+    Raises:
+        ConfigError: One line naming the file, the key path and the valid choices.
+    """
+    path = Path(path)
+    raw = read_yaml(path)
+    where = str(path)
+    spec = _validate(raw, where)
+    name = spec.name or path.stem
+    if not spec.sweep:
+        check_world(spec, path, where)
+        return [Case(path, name, spec)]
+    keys = list(spec.sweep)
+    columns = [v.values() if isinstance(v, SweepRange) else list(v) for v in spec.sweep.values()]
+    for key, column in zip(keys, columns, strict=True):
+        if not column:
+            raise ConfigError(f"{where}: sweep.{key}: the range has no values (stop is before start)")
+    cases = []
+    for combo in itertools.product(*columns):
+        data = copy.deepcopy(raw)
+        data.pop("sweep", None)
+        for key, value in zip(keys, combo, strict=True):
+            if key.split(".")[0].split("[")[0] in ("sweep", "name", "expected", "reason", "description"):
+                raise ConfigError(f"{where}: sweep.{key}: cannot sweep {key.split('.')[0]!r}")
+            _set_path(data, key, value, where)
+        label = ",".join(f"{k}={_label(v)}" for k, v in zip(keys, combo, strict=True))
+        case_where = f"{where} [{label}]"
+        case_spec = _validate(data, case_where)
+        check_world(case_spec, path, case_where)
+        cases.append(Case(path, f"{name}[{label}]", case_spec, tuple(zip(keys, combo, strict=True))))
+    return cases
+
+
+def resolve_input(value: str, base: Path) -> str:
+    """A file reference as the loaders take it: a path relative to the scenario file when it names one there."""
+    candidate = base / value
+    if ("/" in value or value.endswith((".yaml", ".yml", ".json"))) and candidate.is_file():
+        return str(candidate)
+    return value
+
+
+def check_world(spec: ScenarioFile, path: Path, where: str) -> None:
+    """Check the scenario against the kitchen it names: products, slots, cameras, times, the profile.
+
+    Loads the kitchen, catalogue, recipe, robot and tree files and draws the seeded stocking (pure and cheap), so
+    a name that is not in this episode's kitchen is an error before the simulator starts.
+    """
+    from scone_bt.config import load_kitchen, load_robot
+    from scone_bt.episode.shelf import stock_shelf
+    from scone_bt.recipes import load_recipe
+    from scone_bt.tree import load_tree_spec
+
+    base = path.parent
+    w = spec.world
+    try:
+        kitchen = load_kitchen(
+            resolve_input(w.kitchen, base), tuple(resolve_input(c, base) for c in w.catalogues)
+        )
+        load_robot(resolve_input(w.arm, base))
+        load_tree_spec(resolve_input(w.tree, base))
+        shelf = stock_shelf(
+            load_recipe(resolve_input(w.recipe, base)),
+            kitchen.catalogue,
+            kitchen.scene,
+            w.distractors,
+            np.random.default_rng(w.seed),
+        )
+        if spec.robot.profile is not None:
+            profile_path(spec.robot.profile, base)
+    except SconeError as exc:
+        raise ConfigError(f"{where}: world: {exc}") from None
+    present = [*shelf.recipe.needed, *shelf.distractors]
+    present = [n for n in present if n not in (*shelf.recipe.unstocked, *shelf.recipe.off_shelf)]
+    present_set = set(present)
+    catalogue_names = set(kitchen.catalogue.names())
+
+    def product(name: str, key: str) -> None:
+        if name in present_set:
+            return
+        why = (
+            "is not a product of the catalogue"
+            if name not in catalogue_names
+            else "is not stocked in this episode"
+        )
+        raise ConfigError(f"{where}: {key}: {name!r} {why}; valid: {', '.join(sorted(present_set))}")
+
+    units = {u.name: u for u in kitchen.scene.shelves}
+
+    def slot(text: str, key: str) -> None:
+        m = _SLOT.fullmatch(text)
+        assert m is not None  # the pattern was checked by the model
+        unit, tier, index = m.group(1), int(m.group(2)), int(m.group(3))
+        if unit not in units:
+            raise ConfigError(f"{where}: {key}: unknown shelf unit {unit!r}; valid: {', '.join(units)}")
+        tiers = units[unit].tiers
+        if tier >= len(tiers):
+            raise ConfigError(f"{where}: {key}: unit {unit!r} has tiers 0-{len(tiers) - 1} (got {tier})")
+        if index >= len(tiers[tier].slots):
+            raise ConfigError(
+                f"{where}: {key}: tier {unit}/{tier} has slots 0-{len(tiers[tier].slots) - 1} (got {index})"
+            )
+
+    cameras = [c.name for c in (*kitchen.shelf_cameras, *[c for c in kitchen.cameras if c.role != "shelf"])]
+    for i, pl in enumerate(w.place):
+        product(pl.product, f"world.place[{i}].product")
+        slot(pl.slot, f"world.place[{i}].slot")
+    for key in ("hidden_markers", "on_table"):
+        for i, name in enumerate(getattr(w, key)):
+            product(name, f"world.{key}[{i}]")
+    end = w.max_ticks * w.tick_period
+    for i, ev in enumerate(spec.events):
+        key = f"events[{i}]"
+        if ev.at is not None and ev.at > end:
+            raise ConfigError(
+                f"{where}: {key}.at: {ev.at:g} s is after the episode's end ({end:g} s: max_ticks × tick_period)"
+            )
+        for field in ("remove", "to_table", "hide_marker", "show_marker"):
+            if getattr(ev, field, None) is not None:
+                product(getattr(ev, field), f"{key}.{field}")
+        if isinstance(ev, MoveEvent):
+            product(ev.move.product, f"{key}.move.product")
+            slot(ev.move.slot, f"{key}.move.slot")
+        for field in ("cover_camera", "uncover_camera"):
+            cam = getattr(ev, field, None)
+            if cam is not None and cam not in cameras:
+                raise ConfigError(
+                    f"{where}: {key}.{field}: unknown camera {cam!r}; valid: {', '.join(cameras)}"
+                )
+        if ev.when is not None and ev.when.object is not None:
+            product(ev.when.object, f"{key}.when.object")
+    steps = len(shelf.recipe.steps)
+    for i, ex in enumerate(spec.expect):
+        key = f"expect[{i}]"
+        for field in ("asks_before_attempt", "never_attempts", "kappa"):
+            if getattr(ex, field, None) is not None:
+                product(getattr(ex, field), f"{key}.{field}")
+        if isinstance(ex, OnTable):
+            for j, name in enumerate(ex.on_table):
+                product(name, f"{key}.on_table[{j}]")
+        if isinstance(ex, CompletesStep) and ex.completes_step > steps:
+            raise ConfigError(
+                f"{where}: {key}.completes_step: the recipe has steps 1-{steps} (got {ex.completes_step})"
+            )
+        for field in ("within_s",):
+            t = getattr(ex, field, None)
+            if t is not None and t > end:
+                raise ConfigError(f"{where}: {key}.{field}: {t:g} s is after the episode's end ({end:g} s)")
+
+
+def profile_path(name: str, base: Path) -> Path:
+    """A proficiency profile: a file relative to the scenario, or a name in tools/profiles (without .yaml)."""
+    from scone_bt.resources import repo_root
+
+    candidate = base / name
+    if candidate.is_file():
+        return candidate
+    root = repo_root()
+    folder = (root if root is not None else Path.cwd()) / "tools" / "profiles"
+    known = sorted(p.stem for p in folder.glob("*.yaml")) if folder.is_dir() else []
+    if name in known:
+        return folder / f"{name}.yaml"
+    raise ConfigError(f"unknown profile {name!r}; valid: {', '.join(known) or '(tools/profiles not found)'}")
+
+
+def scenario_files(paths: Sequence[Path | str]) -> list[Path]:
+    """The scenario files named or inside the folders named (``*.yaml``, not recursing into sub-folders)."""
+    out: list[Path] = []
+    for p in map(Path, paths):
+        if p.is_dir():
+            found = sorted(x for x in p.glob("*.yaml") if x.is_file())
+            if not found:
+                raise ConfigError(f"{p}: no scenario files (*.yaml)")
+            out.extend(found)
+        elif p.exists():
+            out.append(p)
+        else:
+            raise ConfigError(f"{p}: file not found")
+    return out
+
+
+def load_scenarios(paths: Sequence[Path | str]) -> list[Case]:
+    """Every case of every scenario file named (or in the folders named); names must be unique."""
+    cases: list[Case] = []
+    seen: dict[str, Path] = {}
+    for path in scenario_files(paths):
+        for case in load_scenario(path):
+            if case.name in seen:
+                raise ConfigError(f"{path}: scenario name {case.name!r} is also used by {seen[case.name]}")
+            seen[case.name] = path
+            cases.append(case)
+    return cases
+
+
+def json_schema() -> dict[str, Any]:
+    """The JSON Schema of a scenario file (for editors: ``# yaml-language-server: $schema=scenario.schema.json``)."""
+    schema = ScenarioFile.model_json_schema()
+    schema["$schema"] = "https://json-schema.org/draft/2020-12/schema"
+    schema["title"] = "SCONE-BT scenario"
+    return schema
