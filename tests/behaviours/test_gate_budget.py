@@ -1,0 +1,220 @@
+"""ConfidenceGate with the failure budget, with fakes: the threshold rises with the gated failures folded from the
+events, the budget explores only while κ̂ is cold (seeded, marked ``explored``), and a step's item the robot sees
+nowhere is asked for once (rule "missing") and then waited for; AskForHelp asks the human for it."""
+
+from __future__ import annotations
+
+import numpy as np
+import py_trees
+import pytest
+
+from scone_bt.behaviours import AskForHelp, ConfidenceGate, Keys
+from scone_bt.events import ActOutcome, DecisionMade, EventLog, HelpRequested
+from scone_bt.gate import GateOptions
+from scone_bt.gate.budget import BudgetOptions
+from scone_bt.gate.types import Decision, DecisionKind
+from scone_bt.relevance.recipe_aware import StepSelection
+from scone_bt.relevance.tracker import StepView
+from tests.behaviours.fakes import FakeHuman, FakeRobot, affordance, blackboard
+
+SALT = "Put salt on table"
+SUGAR = "Put sugar on table"
+
+
+class _Kappa:
+    """κ̂ that says ``confidence`` for every action and has learnt ``n_observations`` outcomes."""
+
+    def __init__(self, confidence: float, n_observations: int = 100) -> None:
+        self.confidence = confidence
+        self.n_observations = n_observations
+
+    def predict(self, x: np.ndarray) -> np.ndarray:
+        return np.full(len(x), self.confidence)
+
+    def update(self, x, success) -> None:
+        pass
+
+
+def _gate(
+    events: EventLog,
+    kappa: _Kappa,
+    budget: BudgetOptions | None,
+    seed: int = 0,
+    human: FakeHuman | None = None,
+) -> ConfidenceGate:
+    gate = ConfidenceGate(
+        "gate",
+        lambda: kappa,
+        GateOptions(confidence_threshold=0.6, relevance_threshold=0.3),
+        99,  # the paper's failure limit out of the way: only the budget may turn ACT into ASK here
+        events,
+        events,
+        FakeRobot(time=3.0).now,
+        human or FakeHuman(),
+        4,
+        budget=budget,
+        seed=seed,
+    )
+    gate.setup()
+    return gate
+
+
+def _salt_step() -> py_trees.blackboard.Client:
+    return blackboard(
+        RANKED=[_ranked(SALT)],
+        ACTION_EMBEDDINGS={SALT: np.array([1.0, 0.0], dtype=np.float32)},
+        INSTRUCTION="Add the salt.",
+        AFFORDANCES=[affordance("salt")],
+    )
+
+
+def _ranked(text: str):
+    from scone_bt.relevance.types import RankedAction
+
+    return RankedAction(text, 0.7)
+
+
+def _tick(gate: ConfidenceGate, bb: py_trees.blackboard.Client) -> Decision:
+    gate.tick_once()
+    return bb.get(Keys.DECISION)
+
+
+@pytest.mark.parametrize("budgeted", [True, False])
+def test_the_threshold_rises_after_gated_failures_in_the_event_log(budgeted: bool) -> None:
+    """τ₀ = 1 − 2 · 0.2 = 0.6; each gated failure adds 0.05 · 0.8, so κ̂'s 0.65 is enough for ACT until the second
+    failure. The paper's gate (no budget, fixed 0.6) keeps acting on the same events."""
+    events = EventLog()
+    budget = BudgetOptions(target_failure_rate=0.2, step=0.05, explore_rate=0.0) if budgeted else None
+    gate, bb = _gate(events, _Kappa(0.65), budget), _salt_step()
+    kinds = []
+    for _ in range(3):
+        decision = _tick(gate, bb)
+        kinds.append(decision.kind)
+        if decision.kind is DecisionKind.ACT:
+            events(ActOutcome(3.5, SUGAR, "sugar", False, "grasp"))  # another action's failure counts too
+    if budgeted:
+        assert events.budget_counts() == (2, 2, 0)
+        assert kinds == [DecisionKind.ACT, DecisionKind.ACT, DecisionKind.ASK]
+        assert decision.reason == "asking for help: confidence 0.65 < 0.68" and decision.rule == ""
+    else:
+        assert kinds == [DecisionKind.ACT] * 3
+
+
+def test_successes_lower_the_threshold_again() -> None:
+    events = EventLog()
+    for ok in (False, False):
+        events(ActOutcome(1.0, SUGAR, "sugar", ok, None if ok else "grasp"))
+    budget = BudgetOptions(target_failure_rate=0.2, step=0.05, explore_rate=0.0)
+    gate, bb = _gate(events, _Kappa(0.65), budget), _salt_step()
+    assert _tick(gate, bb).kind is DecisionKind.ASK  # τ = 0.68
+    for _ in range(4):
+        events(ActOutcome(1.0, SUGAR, "sugar", True, None))
+    assert _tick(gate, bb).kind is DecisionKind.ACT  # τ = 0.68 − 4 · 0.01 = 0.64
+
+
+@pytest.mark.parametrize(
+    ("learnt", "kind", "explored"), [(4, DecisionKind.ACT, True), (5, DecisionKind.ASK, False)]
+)
+def test_the_budget_explores_only_while_kappa_has_learnt_fewer_than_explore_until(
+    learnt, kind, explored
+) -> None:
+    events = EventLog()
+    budget = BudgetOptions(explore_rate=1.0, explore_until=5)
+    gate, bb = _gate(events, _Kappa(0.3, n_observations=learnt), budget), _salt_step()
+    decision = _tick(gate, bb)
+    assert (decision.kind, decision.explored, decision.confidence) == (kind, explored, 0.3)
+    (event,) = events.events
+    assert isinstance(event, DecisionMade) and event.explored is explored
+
+
+def test_the_budget_stops_exploring_after_explore_failures_and_they_do_not_move_tau() -> None:
+    events = EventLog()
+    budget = BudgetOptions(explore_rate=1.0, explore_until=100, explore_failures=1)
+    gate, bb = _gate(events, _Kappa(0.3, n_observations=0), budget), _salt_step()
+    first = _tick(gate, bb)
+    assert first.kind is DecisionKind.ACT and first.explored
+    events(ActOutcome(3.5, SALT, "salt", False, "grasp"))  # the exploratory attempt failed
+    assert events.budget_counts() == (0, 0, 1)
+    second = _tick(gate, bb)
+    assert second.kind is DecisionKind.ASK and not second.explored
+    assert second.reason == "asking for help: confidence 0.30 < 0.70"  # τ₀ of the default 0.15, unmoved
+
+
+def test_the_gate_without_a_budget_never_explores_on_its_own() -> None:
+    gate, bb = _gate(EventLog(), _Kappa(0.3, n_observations=0), None), _salt_step()
+    assert _tick(gate, bb).kind is DecisionKind.ASK
+
+
+def test_exploration_draws_are_seeded_and_at_the_stated_rate() -> None:
+    budget = BudgetOptions(explore_rate=0.5, explore_until=100)
+
+    def explored(seed: int) -> list[bool]:
+        gate, bb = _gate(EventLog(), _Kappa(0.3, n_observations=0), budget, seed=seed), _salt_step()
+        return [_tick(gate, bb).explored for _ in range(40)]
+
+    first = explored(7)
+    assert explored(7) == first
+    assert 8 <= sum(first) <= 32  # about half, neither always nor never
+    assert explored(8) != first
+
+
+def _missing_step(*missing: str) -> py_trees.blackboard.Client:
+    instruction = "Boil the spaghetti with basil."
+    selection = StepSelection(
+        now=(), later=(), ambiguous=(), named=missing, done=False, reason="nothing in sight"
+    )
+    return blackboard(
+        RANKED=[],
+        ACTION_EMBEDDINGS={},
+        INSTRUCTION=instruction,
+        AFFORDANCES=[],
+        STEP=StepView(0, instruction, selection, missing=missing),
+    )
+
+
+def test_a_missing_item_is_asked_for_once_then_waited_for() -> None:
+    events, human = EventLog(), FakeHuman()
+    bb = _missing_step("spaghetti")
+    gate = _gate(events, _Kappa(0.9), BudgetOptions(), human=human)
+    ask = _tick(gate, bb)
+    assert (ask.kind, ask.rule, ask.object_name, ask.action) == (
+        DecisionKind.ASK,
+        "missing",
+        "spaghetti",
+        "Put spaghetti on table",
+    )
+    assert "spaghetti" in ask.reason and bb.get(Keys.TARGET) is None
+    (event,) = events.events
+    assert isinstance(event, DecisionMade) and event.rule == "missing" and event.object_name == "spaghetti"
+
+    helper = AskForHelp("ask", human, events, FakeRobot(time=4.0).now)
+    helper.tick_once()
+    assert helper.status is py_trees.common.Status.RUNNING and human.helped == ["spaghetti"]
+    assert events.events[-1] == HelpRequested(4.0, "Put spaghetti on table", "spaghetti")
+
+    wait = _tick(gate, bb)
+    assert wait.kind is DecisionKind.IDLE and wait.reason.endswith("(asked for)")
+    assert wait.reason == "waiting: spaghetti not in sight (asked for)"
+    assert human.helped == ["spaghetti"]  # asked once
+
+
+def test_each_missing_item_is_asked_for_in_turn() -> None:
+    bb = _missing_step("spaghetti", "basil")
+    gate = _gate(EventLog(), _Kappa(0.9), BudgetOptions())
+    decisions = [_tick(gate, bb) for _ in range(3)]
+    assert [(d.kind, d.object_name) for d in decisions] == [
+        (DecisionKind.ASK, "spaghetti"),
+        (DecisionKind.ASK, "basil"),
+        (DecisionKind.IDLE, None),
+    ]
+    assert decisions[-1].reason == "waiting: spaghetti, basil not in sight (asked for)"
+
+
+def test_nothing_missing_stays_idle() -> None:
+    bb = _missing_step()
+    decision = _tick(_gate(EventLog(), _Kappa(0.9), BudgetOptions()), bb)
+    assert (
+        decision.kind is DecisionKind.IDLE
+        and decision.rule == ""
+        and decision.reason == "no actions are available"
+    )

@@ -1,0 +1,188 @@
+"""``scone-bench gate``'s online replay: an asked action adds no label (censoring), wide attempts after a stream's
+first wide failure are counted, a seeded replay repeats exactly, and the report carries the keys issue 26 names."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import scone_bt.confidence
+from scone_bt.benchmarks.gate import TARGETS, StreamResult, _rates, replay_stream
+from scone_bt.cli.bench import main
+
+OPENING_M = 0.08
+REPO = Path(__file__).resolve().parents[2]
+
+
+class _Scripted:
+    """κ̂ whose prediction for a row is the row's first value; the second value is the row's index in the stream,
+    so the test sees exactly which decisions were learnt from. No ``explores``: the paper gate acts iff p ≥ 0.5."""
+
+    def __init__(self) -> None:
+        self.learnt: list[tuple[int, bool]] = []
+
+    @property
+    def n_observations(self) -> int:
+        return len(self.learnt)
+
+    def predict(self, X: np.ndarray) -> np.ndarray:
+        return np.asarray(X, dtype=float)[:, 0]
+
+    def update(self, x: np.ndarray, success: bool) -> None:
+        self.learnt.append((int(x[1]), bool(success)))
+
+
+def _use(monkeypatch: pytest.MonkeyPatch, estimator: object) -> None:
+    monkeypatch.setattr(scone_bt.confidence, "make_estimator", lambda name, seed=0, **options: estimator)
+
+
+def _context(widths: list[float]) -> np.ndarray:
+    """(n, 6) context rows in CONTEXT_FIELDS order with these perceived widths."""
+    n = len(widths)
+    return np.column_stack([np.ones(n), np.full(n, 0.1), np.ones(n), np.ones(n), widths, np.full(n, 0.1)])
+
+
+def test_an_asked_action_adds_no_label(monkeypatch: pytest.MonkeyPatch) -> None:
+    scores = np.array([0.9, 0.2, 0.7, 0.4, 0.1, 0.6, 0.3, 0.8])
+    success = np.array([True, True, False, False, True, True, False, True])
+    vectors = np.column_stack([scores, np.arange(len(scores))]).astype(np.float32)
+    kappa = _Scripted()
+    _use(monkeypatch, kappa)
+    out = replay_stream(
+        vectors,
+        _context([0.05] * 8),
+        success,
+        [f"p{i}" for i in range(8)],
+        "x",
+        "paper",
+        0.5,
+        0,
+        0,
+        OPENING_M,
+    )
+    acted = [t for t in range(8) if scores[t] >= 0.5]
+    assert kappa.learnt == [
+        (t, bool(success[t])) for t in acted
+    ]  # the attempts' labels, in order, nothing else
+    assert (out.all_decisions, out.all_attempts, out.all_asked) == (8, len(acted), 8 - len(acted))
+    assert (out.asked_ok, out.asked_fail, out.failures) == (2, 2, 1)
+    rates = _rates([out])
+    assert rates["help_rate"] == 0.5 and rates["over_ask_rate"] == 0.25 and rates["over_step_rate"] == 0.125
+    assert rates["attempt_failure_rate"] == 0.25 and rates["success_rate"] == 0.375
+
+
+def _physical_stream(n: int = 30, seed: int = 5) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]:
+    """Ten products (one embedding each) picked n times; the wide ones mostly fail."""
+    rng = np.random.default_rng(seed)
+    table = rng.normal(size=(10, 8)).astype(np.float32)
+    widths = np.linspace(0.03, 0.12, 10)
+    pick = rng.integers(0, 10, n)
+    context = _context(list(widths[pick]))
+    success = (widths[pick] < 0.075) ^ (rng.random(n) < 0.1)
+    return table[pick], context, success, [f"product {i}" for i in pick]
+
+
+@pytest.mark.parametrize("gate", ["budget", "fixed", "conformal"])
+def test_the_real_estimator_learns_only_from_attempts(monkeypatch: pytest.MonkeyPatch, gate: str) -> None:
+    made = []
+    real = scone_bt.confidence.make_estimator
+
+    def spy(name: str, seed: int = 0, **options: float):
+        made.append(real(name, seed=seed, **options))
+        return made[-1]
+
+    monkeypatch.setattr(scone_bt.confidence, "make_estimator", spy)
+    vectors, context, success, products = _physical_stream()
+    estimator = "conformal" if gate == "conformal" else "physical"
+    out = replay_stream(vectors, context, success, products, estimator, gate, 0.1, 0, 5, OPENING_M)
+    (kappa,) = made
+    assert out.all_asked > 0 and out.all_attempts > 0
+    assert kappa.n_observations == out.all_attempts < out.all_decisions == len(success)
+
+
+def test_wide_attempts_after_the_first_wide_failure_are_counted(monkeypatch: pytest.MonkeyPatch) -> None:
+    widths = [0.10, 0.03, 0.10, 0.03, 0.11, 0.12, 0.05, 0.08]  # 0.08: the opening itself is not wider than it
+    success = np.array([True, True, False, True, True, False, True, True])
+    vectors = np.column_stack([np.full(8, 0.9), np.arange(8)]).astype(np.float32)  # always acts
+    names = [f"p{i}" for i in range(8)]
+    _use(monkeypatch, _Scripted())
+    counted = replay_stream(vectors, _context(widths), success, names, "x", "paper", 0.5, 0, 0, OPENING_M)
+    assert counted.wide_after_failure == 2  # rows 4 and 5: the first wide success (row 0) and failure (2) not
+    _use(monkeypatch, _Scripted())
+    after_warmup = replay_stream(
+        vectors, _context(widths), success, names, "x", "paper", 0.5, 0, 5, OPENING_M
+    )
+    assert (
+        after_warmup.wide_after_failure == 1
+    )  # only scored decisions count; the failure before still arms it
+    _use(monkeypatch, _Scripted())
+    wider_gripper = replay_stream(vectors, _context(widths), success, names, "x", "paper", 0.5, 0, 0, 0.2)
+    assert wider_gripper.wide_after_failure == 0
+    rates = _rates([counted, wider_gripper])
+    assert rates["wide_attempts_after_first_wide_failure"] == 2
+    assert rates["wide_attempts_after_first_wide_failure_max_per_stream"] == 2
+
+
+def test_a_seeded_replay_repeats_exactly() -> None:
+    vectors, context, success, products = _physical_stream()
+
+    def replay(seed: int) -> StreamResult:
+        return replay_stream(
+            vectors, context, success, products, "physical", "budget", 0.1, seed, 0, OPENING_M
+        )
+
+    first = replay(0)
+    assert replay(0) == first
+    assert first.explored > 0  # the seeded exploration draws are part of what repeats
+    assert len({repr(replay(seed)) for seed in range(4)}) > 1  # and the seed is what drives them
+
+
+def _tiny_datasets(folder: Path) -> Path:
+    """Two streams of 15 real executions each, in the generator's CSV schema."""
+    folder.mkdir()
+    for name, source, start in (("a", "p00_nominal.csv", 0), ("b", "p07_rushed_planner.csv", 40)):
+        lines = (REPO / "tools" / "data" / "sc" / source).read_text().splitlines()
+        (folder / f"{name}.csv").write_text("\n".join([lines[0], *lines[1 + start : 16 + start]]) + "\n")
+    return folder
+
+
+_PER_TARGET = (
+    "success_rate",
+    "help_rate",
+    "over_ask_rate",
+    "over_step_rate",
+    "attempt_failure_rate",
+    "attempt_failure_rate_novel",
+    "wide_attempts_after_first_wide_failure",
+)
+
+
+def test_scone_bench_gate_reports_the_issues_keys(tmp_path: Path) -> None:
+    report_path = tmp_path / "gate.json"
+    argv = [
+        "gate",
+        "--datasets",
+        str(_tiny_datasets(tmp_path / "sc")),
+        "--embedder",
+        "onehot",
+        "--warmup",
+        "3",
+    ]
+    assert main([*argv, "--json", str(report_path)]) == 0
+    report = json.loads(report_path.read_text())
+    assert report["datasets"] == ["a", "b"]
+    for key in ("attempt_failure_rate", "help_rate", "attempt_failure_rate_novel"):
+        assert key in report["default"]
+    assert 0.0 <= report["default"]["help_rate"] <= 1.0
+    methods = report["methods"]
+    assert {"budget:physical", "fixed:physical", "conformal", "paper", "oracle"} <= set(methods)
+    for name, per_target in methods.items():
+        expected = {"0.5"} if name == "paper" else {f"{a:g}" for a in TARGETS}
+        assert set(per_target) == expected, name
+        for target, metrics in per_target.items():
+            missing = [k for k in _PER_TARGET if k not in metrics]
+            assert not missing, (name, target, missing)
+            assert metrics["decisions"] == 2 * (15 - 3)

@@ -1,0 +1,155 @@
+"""The failure budget (scone_bt.gate.budget): the online threshold keeps a stated failure rate among attempts on a
+stream whose κ̂ miscalibration drifts, where a fixed threshold does not; the closed form; the pinned boundaries."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from scone_bt.errors import SconeError
+from scone_bt.gate.budget import BudgetCounts, BudgetOptions, initial_threshold, may_explore, threshold
+
+_N = 8000  # decisions; the miscalibration jumps half-way
+_LAST = 3000  # the realised rate is read over these last decisions (1000 after the jump)
+_TOLERANCE = 0.03
+
+
+def _drifting_stream(seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """κ̂ scores p ~ U(0, 1) and outcomes with P(success) = sigmoid(15 (p − b)): b = 0.65 for the first half
+    (the rate α is met somewhere inside [τ_min, τ_max] for α = 0.1 and 0.2), then b = 0.8 (κ̂ over-confident:
+    τ₀ = 1 − 2α lets 0.21 resp. 0.50 of the attempts fail)."""
+    rng = np.random.default_rng(seed)
+    p = rng.random(_N)
+    b = np.where(np.arange(_N) < _N // 2, 0.65, 0.8)
+    success = rng.random(_N) < 1.0 / (1.0 + np.exp(-15.0 * (p - b)))
+    return p, success
+
+
+def _realised_failure_rate(options: BudgetOptions, p: np.ndarray, success: np.ndarray) -> float:
+    """Act iff p ≥ τ(counts); only an attempt updates the counts (an asked action has no label)."""
+    counts = BudgetCounts()
+    attempts = failures = 0
+    for t in range(len(p)):
+        if p[t] < threshold(options, counts):
+            continue  # asked: censored
+        ok = bool(success[t])
+        counts = BudgetCounts(counts.attempts + 1, counts.failures + (not ok))
+        if t >= len(p) - _LAST:
+            attempts += 1
+            failures += not ok
+    assert attempts > 100  # the gate still acts: the rate is not met by asking for everything
+    return failures / attempts
+
+
+@pytest.mark.parametrize("alpha", [0.1, 0.2])
+def test_online_threshold_tracks_the_stated_rate_on_a_drifting_stream(alpha: float) -> None:
+    p, success = _drifting_stream(seed=0)
+    options = BudgetOptions(target_failure_rate=alpha, explore_until=0)
+    assert abs(_realised_failure_rate(options, p, success) - alpha) <= _TOLERANCE
+
+
+@pytest.mark.parametrize("alpha", [0.1, 0.2])
+def test_a_fixed_threshold_misses_the_rate_on_the_same_stream(alpha: float) -> None:
+    """The same rule with step 0 (τ stays τ₀): what the tracking test must be able to tell apart."""
+    p, success = _drifting_stream(seed=0)
+    fixed = BudgetOptions(target_failure_rate=alpha, step=0.0, explore_until=0)
+    assert abs(_realised_failure_rate(fixed, p, success) - alpha) > _TOLERANCE
+
+
+def test_excess_failures_equal_the_threshold_shift_while_inside_the_bounds() -> None:
+    """F − α·A = (τ − τ₀)/η at every step of a seeded sequence of attempts that keeps τ inside its bounds."""
+    options = BudgetOptions(target_failure_rate=0.2, step=0.01)
+    tau0 = initial_threshold(options)
+    rng = np.random.default_rng(3)
+    attempts = failures = 0
+    for ok in rng.random(400) < 0.8:
+        attempts += 1
+        failures += not ok
+        tau = threshold(options, BudgetCounts(attempts, failures))
+        assert options.tau_min < tau < options.tau_max
+        assert failures - 0.2 * attempts == pytest.approx((tau - tau0) / options.step, abs=1e-9)
+    assert failures > 0 and attempts - failures > 0
+
+
+def test_a_failure_raises_tau_by_step_times_one_minus_alpha_and_a_success_lowers_it_by_step_times_alpha() -> (
+    None
+):
+    options = BudgetOptions(target_failure_rate=0.1, step=0.02)
+    base = threshold(options, BudgetCounts(10, 1))
+    assert threshold(options, BudgetCounts(11, 2)) - base == pytest.approx(0.02 * 0.9)
+    assert threshold(options, BudgetCounts(11, 1)) - base == pytest.approx(-0.02 * 0.1)
+
+
+@pytest.mark.parametrize(
+    ("alpha", "tau_min", "tau_max", "tau0"),
+    [
+        (0.1, 0.5, 0.95, 0.8),  # 1 − 2α
+        (0.15, 0.5, 0.95, 0.7),  # the tree's default
+        (0.3, 0.5, 0.95, 0.5),  # 1 − 2α = 0.4 below τ_min
+        (0.01, 0.5, 0.95, 0.95),  # 1 − 2α = 0.98 above τ_max
+        (0.3, 0.2, 0.9, 0.4),
+    ],
+)
+def test_initial_threshold(alpha: float, tau_min: float, tau_max: float, tau0: float) -> None:
+    options = BudgetOptions(target_failure_rate=alpha, tau_min=tau_min, tau_max=tau_max)
+    assert initial_threshold(options) == pytest.approx(tau0)
+    assert threshold(options, BudgetCounts()) == pytest.approx(tau0)
+
+
+def test_threshold_is_clipped_to_its_bounds() -> None:
+    options = BudgetOptions(target_failure_rate=0.1, step=0.01, tau_min=0.55, tau_max=0.9)
+    assert threshold(options, BudgetCounts(attempts=100, failures=100)) == 0.9
+    assert threshold(options, BudgetCounts(attempts=1000, failures=0)) == 0.55
+    # just inside: 0.8 + 0.01 · (10 − 0.1 · 100) = 0.8
+    assert threshold(options, BudgetCounts(attempts=100, failures=10)) == pytest.approx(0.8)
+
+
+def test_explored_failures_and_learnt_outcomes_do_not_move_tau() -> None:
+    options = BudgetOptions()
+    assert threshold(options, BudgetCounts(explored_failures=5, learnt=50)) == initial_threshold(options)
+
+
+def test_may_explore_stops_at_explore_until_learnt_outcomes() -> None:
+    options = BudgetOptions(explore_until=10, explore_failures=6)
+    assert may_explore(options, BudgetCounts(learnt=9))
+    assert not may_explore(options, BudgetCounts(learnt=10))
+    assert not may_explore(options, BudgetCounts(learnt=11))
+    assert not may_explore(BudgetOptions(explore_until=0), BudgetCounts())
+
+
+def test_may_explore_stops_at_explore_failures_failed_explorations() -> None:
+    options = BudgetOptions(explore_until=10, explore_failures=6)
+    assert may_explore(options, BudgetCounts(explored_failures=5, learnt=0))
+    assert not may_explore(options, BudgetCounts(explored_failures=6, learnt=0))
+    assert not may_explore(BudgetOptions(explore_failures=0), BudgetCounts())
+
+
+@pytest.mark.parametrize(
+    ("field", "value"),
+    [
+        ("target_failure_rate", 0.0),
+        ("target_failure_rate", 1.0),
+        ("target_failure_rate", float("nan")),
+        ("step", -0.01),
+        ("step", 1.5),
+        ("step", float("inf")),
+        ("tau_min", -0.1),
+        ("tau_min", 1.0),
+        ("tau_max", 0.5),  # not above the default tau_min
+        ("tau_max", 1.01),
+        ("explore_rate", -0.1),
+        ("explore_rate", 1.1),
+        ("explore_until", -1),
+        ("explore_failures", -1),
+    ],
+)
+def test_budget_options_refuse_out_of_range_values_naming_the_field(field: str, value: float) -> None:
+    with pytest.raises(SconeError) as err:
+        BudgetOptions(**{field: value})
+    message = str(err.value)
+    assert message.startswith(f"{field} must be ") and "\n" not in message
+
+
+def test_budget_options_accept_their_boundaries() -> None:
+    BudgetOptions(step=0.0, tau_min=0.0, tau_max=1.0, explore_rate=0.0, explore_until=0, explore_failures=0)
+    BudgetOptions(step=1.0, explore_rate=1.0)
