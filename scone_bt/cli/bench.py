@@ -37,6 +37,7 @@ BENCHMARK_MODULES: tuple[str, ...] = (
     "scone_bt.benchmarks.motion",
     "scone_bt.benchmarks.decisions",
     "scone_bt.study.analysis_bench",
+    "scone_bt.scenario.bench",
 )
 
 

@@ -9,6 +9,7 @@ the file, the key path and the valid choices (`scone_bt.errors.ConfigError`).
 from __future__ import annotations
 
 import copy
+import functools
 import itertools
 import re
 from collections.abc import Mapping, Sequence
@@ -22,6 +23,7 @@ from pydantic import Discriminator, Field, Tag, ValidationError, field_validator
 from scone_bt.config.schema import StrictModel, format_validation_error
 from scone_bt.config.yaml_io import read_yaml
 from scone_bt.errors import ConfigError, SconeError
+from scone_bt.events import EVENT_TYPES
 
 __all__ = [
     "EVENT_ACTIONS",
@@ -40,19 +42,7 @@ _Prob = Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)]
 _Name = Annotated[str, Field(min_length=1, max_length=200)]
 _SLOT = re.compile(r"^([A-Za-z0-9_-]+)/(\d+)/(\d+)$")
 
-EVENT_KINDS = (
-    "decision",
-    "act",
-    "outcome",
-    "cancelled",
-    "help_request",
-    "clarification",
-    "takeover",
-    "help",
-    "intervention",
-    "fetching",
-    "step_done",
-)
+EVENT_KINDS: tuple[str, ...] = tuple(EVENT_TYPES)
 """Stored event kinds (`scone_bt.events.EVENT_TYPES`) a condition or a count may name."""
 
 
@@ -562,32 +552,23 @@ def check_world(spec: ScenarioFile, path: Path, where: str) -> None:
     Loads the kitchen, catalogue, recipe, robot and tree files and draws the seeded stocking (pure and cheap), so
     a name that is not in this episode's kitchen is an error before the simulator starts.
     """
-    from scone_bt.config import load_kitchen, load_robot
-    from scone_bt.episode.shelf import stock_shelf
-    from scone_bt.recipes import load_recipe
-    from scone_bt.tree import load_tree_spec
 
     base = path.parent
     w = spec.world
     try:
-        kitchen = load_kitchen(
-            resolve_input(w.kitchen, base), tuple(resolve_input(c, base) for c in w.catalogues)
-        )
-        load_robot(resolve_input(w.arm, base))
-        load_tree_spec(resolve_input(w.tree, base))
-        shelf = stock_shelf(
-            load_recipe(resolve_input(w.recipe, base)),
-            kitchen.catalogue,
-            kitchen.scene,
+        kitchen, present, steps = _episode_world(
+            resolve_input(w.kitchen, base),
+            tuple(resolve_input(c, base) for c in w.catalogues),
+            resolve_input(w.arm, base),
+            resolve_input(w.tree, base),
+            resolve_input(w.recipe, base),
             w.distractors,
-            np.random.default_rng(w.seed),
+            w.seed,
         )
         if spec.robot.profile is not None:
             profile_path(spec.robot.profile, base)
     except SconeError as exc:
         raise ConfigError(f"{where}: world: {exc}") from None
-    present = [*shelf.recipe.needed, *shelf.distractors]
-    present = [n for n in present if n not in (*shelf.recipe.unstocked, *shelf.recipe.off_shelf)]
     present_set = set(present)
     catalogue_names = set(kitchen.catalogue.names())
 
@@ -645,7 +626,6 @@ def check_world(spec: ScenarioFile, path: Path, where: str) -> None:
                 )
         if ev.when is not None and ev.when.object is not None:
             product(ev.when.object, f"{key}.when.object")
-    steps = len(shelf.recipe.steps)
     for i, ex in enumerate(spec.expect):
         key = f"expect[{i}]"
         for field in ("asks_before_attempt", "never_attempts", "kappa"):
@@ -662,6 +642,34 @@ def check_world(spec: ScenarioFile, path: Path, where: str) -> None:
             t = getattr(ex, field, None)
             if t is not None and t > end:
                 raise ConfigError(f"{where}: {key}.{field}: {t:g} s is after the episode's end ({end:g} s)")
+
+
+@functools.lru_cache(maxsize=64)
+def _episode_world(
+    kitchen_file: str,
+    catalogues: tuple[str, ...],
+    arm: str,
+    tree: str,
+    recipe: str,
+    distractors: int,
+    seed: int,
+) -> tuple[Any, tuple[str, ...], int]:
+    """The kitchen, the products on its shelf and the recipe's step count, as the episode will draw them
+    (cached: the cases of a sweep share one world)."""
+    from scone_bt.config import load_kitchen, load_robot
+    from scone_bt.episode.shelf import stock_shelf
+    from scone_bt.recipes import load_recipe
+    from scone_bt.tree import load_tree_spec
+
+    kitchen = load_kitchen(kitchen_file, catalogues)
+    load_robot(arm)
+    load_tree_spec(tree)
+    shelf = stock_shelf(
+        load_recipe(recipe), kitchen.catalogue, kitchen.scene, distractors, np.random.default_rng(seed)
+    )
+    off = (*shelf.recipe.unstocked, *shelf.recipe.off_shelf)
+    present = tuple(n for n in (*shelf.recipe.needed, *shelf.distractors) if n not in off)
+    return kitchen, present, len(shelf.recipe.steps)
 
 
 def profile_path(name: str, base: Path) -> Path:

@@ -1,0 +1,64 @@
+"""``scone-bench scenarios``: run the scenario library and print JSON (passed, expected failures, failed, wall
+time, and per scenario its verdict, reason, simulated and wall seconds)."""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+from typing import Any
+
+__all__ = ["register", "run"]
+
+
+def run(paths: list[str], jobs: int, out_dir: Path | None) -> dict[str, Any]:
+    """The report of one run of the scenarios under ``paths``."""
+    from scone_bt.scenario.model import load_scenarios
+    from scone_bt.scenario.run import run_cases
+
+    cases = load_scenarios(paths)
+    started = time.perf_counter()
+    results = run_cases(cases, jobs=jobs, out_dir=out_dir)
+    wall = time.perf_counter() - started
+    return {
+        "passed": sum(r.verdict == "passed" for r in results),
+        "expected_failures": sum(r.verdict == "xfail" for r in results),
+        "failed": sum(r.verdict in ("failed", "xpass", "error") for r in results),
+        "jobs": jobs,
+        "wall_s": round(wall, 1),
+        "scenarios": [
+            {
+                "name": r.name,
+                "verdict": r.verdict,
+                "reason": r.reason,
+                "sim_s": round(r.sim_s, 1),
+                "wall_s": round(r.wall_s, 1),
+            }
+            for r in results
+        ],
+    }
+
+
+def _main(args: argparse.Namespace) -> int:
+    from scone_bt.cli.bench import emit_report
+    from scone_bt.errors import SconeError
+
+    if args.jobs < 1:
+        raise SconeError(f"--jobs {args.jobs}: give 1 or more")
+    report = run(args.paths or ["scenarios"], args.jobs, args.out)
+    emit_report(report, args.json, force=getattr(args, "force", False))
+    return 0
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add ``scenarios`` to ``scone-bench``."""
+    p = sub.add_parser(
+        "scenarios", help="run the scenario library headless (JSON: verdicts, sim and wall time)"
+    )
+    p.add_argument("paths", nargs="*", help="scenario files or folders (default: scenarios/)")
+    p.add_argument("--jobs", type=int, default=1, help="cases run at once, each in its own process")
+    p.add_argument(
+        "--out", type=Path, default=None, help="folder for failing cases' event logs and recordings"
+    )
+    p.add_argument("--json", default=None, help="also write the report to this file")
+    p.set_defaults(func=_main)

@@ -1,0 +1,142 @@
+"""The scenario loader: one-line errors naming the file, the key and the valid choices; sweeps; the schema."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from scone_bt.errors import ConfigError
+from scone_bt.scenario.model import json_schema, load_scenario, load_scenarios
+
+REPO = Path(__file__).resolve().parents[2]
+LIBRARY = REPO / "scenarios"
+
+
+def _write(tmp_path: Path, text: str, name: str = "case.yaml") -> Path:
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def _error(tmp_path: Path, text: str) -> str:
+    path = _write(tmp_path, text)
+    with pytest.raises(ConfigError) as info:
+        load_scenario(path)
+    message = str(info.value)
+    assert "\n" not in message
+    assert message.startswith(str(path))
+    return message
+
+
+BASE = "description: d\nexpect:\n  - {completes: true}\n"
+
+
+def test_unknown_top_level_key_names_the_valid_keys(tmp_path: Path) -> None:
+    msg = _error(tmp_path, BASE + "wrld: {seed: 1}\n")
+    assert "unknown key 'wrld'" in msg
+    assert "valid: description, name, expected, reason, world, robot, human, events, expect, sweep" in msg
+
+
+def test_unknown_key_inside_an_expectation_names_its_keys(tmp_path: Path) -> None:
+    msg = _error(tmp_path, "description: d\nexpect:\n  - {never_attempts: salt, colour: red}\n")
+    assert msg.endswith("expect[0]: unknown key 'colour'; valid: name, never_attempts")
+
+
+def test_bad_product_lists_the_products_of_the_episode(tmp_path: Path) -> None:
+    msg = _error(tmp_path, "description: d\nexpect:\n  - {never_attempts: unicorn}\n")
+    assert "expect[0].never_attempts: 'unicorn' is not a product of the catalogue; valid: " in msg
+    assert "olive oil" in msg and "salt" in msg
+
+
+def test_product_of_the_catalogue_not_in_this_episode(tmp_path: Path) -> None:
+    msg = _error(tmp_path, BASE + "world: {hidden_markers: [lard]}\n")
+    assert "world.hidden_markers[0]: 'lard' is not stocked in this episode; valid: " in msg
+
+
+def test_time_in_the_past(tmp_path: Path) -> None:
+    msg = _error(tmp_path, BASE + "events:\n  - {at: -1, remove: salt}\n")
+    assert msg.endswith("events[0]: at: -1.0 s is in the past (the episode starts at 0 s)")
+
+
+def test_time_after_the_end(tmp_path: Path) -> None:
+    msg = _error(tmp_path, BASE + "world: {max_ticks: 100}\nevents:\n  - {at: 50, remove: salt}\n")
+    assert "events[0].at: 50 s is after the episode's end (10 s: max_ticks × tick_period)" in msg
+
+
+def test_unknown_event_lists_the_actions(tmp_path: Path) -> None:
+    msg = _error(tmp_path, BASE + "events:\n  - {at: 1, explode: salt}\n")
+    assert "events[0]: an event needs exactly one of: move, remove, to_table" in msg
+    assert "(got keys: at, explode)" in msg
+
+
+def test_unknown_expectation_lists_the_kinds(tmp_path: Path) -> None:
+    msg = _error(tmp_path, "description: d\nexpect:\n  - {succeeds: true}\n")
+    assert "expect[0]: an expectation needs exactly one of: asks_before_attempt, never_attempts" in msg
+
+
+def test_unreachable_slot(tmp_path: Path) -> None:
+    msg = _error(tmp_path, BASE + "world: {place: [{product: salt, slot: front/4/0}]}\n")
+    assert msg.endswith("world.place[0].slot: unit 'front' has tiers 0-2 (got 4)")
+    msg = _error(tmp_path, BASE + "world: {place: [{product: salt, slot: top/0/0}]}\n")
+    assert "unknown shelf unit 'top'; valid: front, left, back" in msg
+
+
+def test_unknown_camera_and_unknown_event_kind(tmp_path: Path) -> None:
+    msg = _error(tmp_path, BASE + "events:\n  - {at: 1, cover_camera: ceiling}\n")
+    assert "events[0].cover_camera: unknown camera 'ceiling'; valid: shelf_front, shelf_left, shelf_back, table" in msg
+    msg = _error(tmp_path, BASE + "events:\n  - {when: {kind: explosion}, remove: salt}\n")
+    assert "events[0].when.kind: Input should be 'decision'" in msg
+
+
+def test_expected_fail_needs_a_reason_and_parameters_are_checked(tmp_path: Path) -> None:
+    assert "expected: fail needs a 'reason'" in _error(tmp_path, BASE + "expected: fail\n")
+    msg = _error(tmp_path, BASE + "world: {parameters: {gate: bogus}}\n")
+    assert msg.endswith("world.parameters: gate: Input should be 'budget' or 'paper' (got 'bogus')")
+
+
+def test_unknown_profile_and_recipe(tmp_path: Path) -> None:
+    assert "unknown profile 'p99'; valid: p00_nominal" in _error(tmp_path, BASE + "robot: {profile: p99}\n")
+    assert "world: unknown example recipe 'nope'" in _error(tmp_path, BASE + "world: {recipe: 'example:nope'}\n")
+
+
+def test_a_sweep_gives_one_case_per_value(tmp_path: Path) -> None:
+    path = _write(tmp_path, BASE + "sweep:\n  robot.gripper_force: [5, 20, 70]\n  world.seed: [0, 1]\n")
+    cases = load_scenario(path)
+    assert [c.name for c in cases] == [
+        f"case[robot.gripper_force={f},world.seed={s}]" for f in (5, 20, 70) for s in (0, 1)
+    ]
+    assert [(c.spec.robot.gripper_force, c.spec.world.seed) for c in cases] == [
+        (f, s) for f in (5.0, 20.0, 70.0) for s in (0, 1)
+    ]
+
+
+def test_a_range_sweep_and_a_bad_value_names_the_case(tmp_path: Path) -> None:
+    path = _write(tmp_path, BASE + "sweep:\n  human.patience_s: {start: 2, stop: 10, step: 4}\n")
+    assert [c.spec.human.patience_s for c in load_scenario(path)] == [2.0, 6.0, 10.0]
+    msg = _error(tmp_path, BASE + "sweep:\n  robot.gripper_force: [20, -1]\n")
+    assert "[robot.gripper_force=-1]: robot.gripper_force: Input should be greater than 0" in msg
+
+
+def test_the_library_loads_and_every_scenario_says_what_it_pins() -> None:
+    cases = load_scenarios([LIBRARY])
+    files = {c.path for c in cases}
+    assert len(files) >= 25
+    for case in cases:
+        assert len(case.spec.description.split()) >= 6, case.name
+        if case.spec.expected == "fail":
+            assert case.spec.reason
+
+
+def test_the_committed_schema_is_the_models_and_accepts_the_library() -> None:
+    jsonschema = pytest.importorskip("jsonschema")
+    import yaml
+
+    committed = json.loads((LIBRARY / "scenario.schema.json").read_text(encoding="utf-8"))
+    assert committed == json_schema(), "run: scone-scenario schema scenarios/scenario.schema.json"
+    validator = jsonschema.Draft202012Validator(committed)
+    for path in sorted(LIBRARY.glob("*.yaml")):
+        validator.validate(yaml.safe_load(path.read_text(encoding="utf-8")))
+    with pytest.raises(jsonschema.ValidationError):
+        validator.validate({"description": "d", "expect": [{"completes": True}], "colour": 1})
