@@ -162,6 +162,11 @@ class ConfidenceGate(StageBehaviour):
         from scone_bt.perception.context import ContextExtractor
 
         opts = context.options
+        budget = (
+            BudgetOptions(target_failure_rate=float(opts.target_failure_rate))
+            if opts.gate == "budget" and opts.use_self_confidence
+            else None
+        )
         return cls(
             name,
             context.kappa,
@@ -178,13 +183,11 @@ class ConfidenceGate(StageBehaviour):
             context.human,
             len(context.recipe.steps),
             ContextExtractor(context.scene, context.catalogue),
-            budget=(
-                BudgetOptions(target_failure_rate=float(opts.target_failure_rate))
-                if opts.gate == "budget" and opts.use_self_confidence
-                else None
-            ),
+            budget=budget,
             seed=opts.seed,
-            robot=context.robot,
+            # planning before commitment and asking for unseen items come with the budget gate; the paper's gate
+            # and its control condition stay as the paper ran them (Table I, the study's control)
+            robot=context.robot if budget is not None else None,
             seeds=context.seeds,
         )
 
@@ -234,8 +237,11 @@ class ConfidenceGate(StageBehaviour):
         target = affordances.get(decision.action) if decision.action is not None else None
         if target is not None:
             decision = replace(decision, object_name=target.object_name)
-        if decision.kind is DecisionKind.IDLE and view is not None:
-            decision = self._ask_for_missing(decision, view.missing)
+        if decision.kind is DecisionKind.IDLE and view is not None and view.missing:
+            if self.budget is not None:
+                decision = self._ask_for_missing(decision, view.missing)
+            else:  # the paper's robot does not ask for what it cannot see: it says what it waits for
+                decision = replace(decision, reason=f"waiting: {', '.join(view.missing)} not in sight")
         self.write(Keys.CONFIDENCES, dict(zip([r.text for r in ranked], confidences, strict=True)))
         self.write(Keys.CONTEXTS, contexts)
         self.write(Keys.PLANNED, None)

@@ -31,6 +31,7 @@ and fleet-warm (κ̂ first learns every execution of the other streams: a fleet'
 from __future__ import annotations
 
 import argparse
+import sys
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -332,18 +333,136 @@ def _plot(report: dict[str, Any], path: Path) -> None:
     plt.close(fig)
 
 
-def _run(args: argparse.Namespace) -> int:
-    from scone_bt.errors import SconeError
+def _episode_counts(events: Sequence[Any]) -> dict[str, Any]:
+    """What one episode showed the human: failed attempts, help requests, interventions, and infeasible plans
+    of an action planned again (a PlanInfeasible, or a failure at planning, after the first for that action)."""
+    from scone_bt.events import ActOutcome, DecisionMade, HelpRequested, Intervention, PlanInfeasible
 
-    if args.warmup < 0:
-        raise SconeError(f"--warmup {args.warmup}: must be 0 or more")
-    started = time.perf_counter()
-    default_estimator, default_target = _tree_defaults()
-    estimators = [e for e in args.estimators.split(",") if e] or [default_estimator]
-    from scone_bt.cli.run import _check_estimator  # one check of registry names, before any work
+    out = {"failures": 0, "help": 0, "interventions": 0, "attempts": 0, "repeated_infeasible_plans": 0}
+    infeasible: set[str] = set()
+    planning: list[float] = []
+    for e in events:
+        if isinstance(e, ActOutcome):
+            out["attempts"] += 1
+            out["failures"] += not e.success
+            if e.stage == "planning":
+                out["repeated_infeasible_plans"] += e.action in infeasible
+                infeasible.add(e.action)
+        elif isinstance(e, PlanInfeasible):
+            out["repeated_infeasible_plans"] += e.action in infeasible
+            infeasible.add(e.action)
+        elif isinstance(e, HelpRequested):
+            out["help"] += 1
+        elif isinstance(e, Intervention):
+            out["interventions"] += 1
+        elif isinstance(e, DecisionMade) and e.planning_s is not None:
+            planning.append(e.planning_s)
+    out["planning_s"] = planning
+    return out
 
-    for e in estimators:
-        _check_estimator(e)
+
+def _episodes(args: argparse.Namespace) -> dict[str, Any]:
+    """Seeded episodes over corpus recipes, self-confidence on (the tree's defaults) and the paper's control."""
+    from scone_bt.behaviours import BehaviourOptions
+    from scone_bt.benchmarks.decisions import pick_recipes
+    from scone_bt.config import load_kitchen
+    from scone_bt.episode import EpisodeOptions, ModelPool, run_episode
+
+    models = ModelPool()
+    slots = len(load_kitchen().scene.shelf_slots())
+    recipes = pick_recipes(args.recipes, args.seed, slots - args.distractors)
+    out: dict[str, Any] = {"episodes": args.episodes, "recipes": len(set(recipes[: args.episodes]))}
+    conditions = {
+        "self_confidence_on": {},
+        "control": {"use_self_confidence": False, "gate": "paper"},
+    }
+    for label, extra in conditions.items():
+        totals: dict[str, float] = {}
+        planning: list[float] = []
+        completed = 0
+        t0 = time.perf_counter()
+        for i in range(args.episodes):
+            events: list[Any] = []
+            seed = args.seed + i
+            summary = run_episode(
+                EpisodeOptions(
+                    recipe=recipes[i % len(recipes)],
+                    seed=seed,
+                    distractors=args.distractors,
+                    behaviour=BehaviourOptions(seed=seed, **extra),  # type: ignore[arg-type]
+                ),
+                printer=lambda _line: None,
+                on_event=events.append,
+                models=models,
+            )
+            counts = _episode_counts(events)
+            planning += counts.pop("planning_s")
+            for k, v in counts.items():
+                totals[k] = totals.get(k, 0) + v
+            completed += bool(summary.completed)
+            if not args.quiet:
+                print(f"{label} episode {i + 1}/{args.episodes}: {counts}", file=sys.stderr)
+        n = max(args.episodes, 1)
+        out[label] = {
+            "failures_per_episode": round(totals.get("failures", 0) / n, 3),
+            "help_per_episode": round(totals.get("help", 0) / n, 3),
+            "interventions_per_episode": round(totals.get("interventions", 0) / n, 3),
+            "repeated_infeasible_plans": int(totals.get("repeated_infeasible_plans", 0)),
+            "attempts": int(totals.get("attempts", 0)),
+            "attempt_success_rate": round(
+                1 - totals.get("failures", 0) / max(totals.get("attempts", 0), 1), 4
+            ),
+            "completed": completed,
+            "planning_before_commit_ms": _percentiles_ms(planning),
+            "wall_s": round(time.perf_counter() - t0, 1),
+        }
+    return out
+
+
+def _percentiles_ms(seconds: Sequence[float]) -> dict[str, float | int | None]:
+    if not seconds:
+        return {"p50": None, "p95": None, "n": 0}
+    ms = np.asarray(seconds) * 1000.0
+    return {
+        "p50": round(float(np.percentile(ms, 50)), 2),
+        "p95": round(float(np.percentile(ms, 95)), 2),
+        "n": len(ms),
+    }
+
+
+def _decision_path(
+    streams: _Streams, estimator: str, args: argparse.Namespace, reps: int = 40
+) -> dict[str, Any]:
+    """κ̂ on 21 objects (the kitchen's shelf: grounded rows) plus the gate's rule, right after an update (nothing
+    memoised), the way the tree decides each cycle; planning before commitment is timed apart (episodes)."""
+    from scone_bt.confidence import make_estimator
+    from scone_bt.confidence.grounded import is_grounded
+    from scone_bt.gate import GateOptions, decide
+    from scone_bt.relevance import RankedAction
+
+    est = make_estimator(estimator, seed=args.seed)
+    V, C, y = streams.vectors[0], streams.context[0], streams.success[0]
+    X = _features(V, C, is_grounded(est))
+    n = len(X)
+    for t in range(n // 2):
+        est.update(X[t], bool(y[t]))
+    ranked = [RankedAction(f"a{i}", 1.0 - i / 100) for i in range(21)]
+    samples = []
+    for r in range(reps):
+        i = n // 2 + r % max(n - n // 2, 1)
+        est.update(X[i % n], bool(y[i % n]))  # empties the memo, as after an outcome
+        rows = X[(np.arange(21) + r) % len(X)]
+        t0 = time.perf_counter()
+        conf = est.predict(rows)
+        decide(ranked, [float(c) for c in conf], GateOptions(confidence_threshold=0.7))
+        samples.append(time.perf_counter() - t0)
+    return {"objects": 21, "estimator": estimator, **_percentiles_ms(samples), "target_p50_ms": 10.0}
+
+
+def _replay(
+    args: argparse.Namespace, estimators: list[str], default_estimator: str, default_target: float
+) -> dict[str, Any]:
+    """The online replay of every method over the datasets (the report's replay part)."""
     streams = _load(args, oracle=False)
     methods: dict[str, dict[str, Any]] = {}
     for est in estimators:
@@ -359,12 +478,7 @@ def _run(args: argparse.Namespace) -> int:
     else:
         cold = default[f"{default_target:g}"]
     warm = _method(streams, default_estimator, "budget", default_target, args, fleet=True)
-    report: dict[str, Any] = {
-        "benchmark": "gate",
-        "seed": args.seed,
-        "embedder": args.embedder,
-        "warmup": args.warmup,
-        "gripper_opening_m": args.opening,
+    return {
         "datasets": streams.names,
         "targets": list(TARGETS),
         "default": {
@@ -386,7 +500,35 @@ def _run(args: argparse.Namespace) -> int:
             },
         },
         "methods": methods,
+        "decision_path_ms": _decision_path(streams, default_estimator, args),
     }
+
+
+def _run(args: argparse.Namespace) -> int:
+    from scone_bt.errors import SconeError
+
+    if args.warmup < 0:
+        raise SconeError(f"--warmup {args.warmup}: must be 0 or more")
+    if args.episodes < 0 or args.recipes < 1:
+        raise SconeError("--episodes must be ≥ 0 and --recipes ≥ 1")
+    started = time.perf_counter()
+    default_estimator, default_target = _tree_defaults()
+    estimators = [e for e in args.estimators.split(",") if e] or [default_estimator]
+    from scone_bt.cli.run import _check_estimator  # one check of registry names, before any work
+
+    for e in estimators:
+        _check_estimator(e)
+    report: dict[str, Any] = {
+        "benchmark": "gate",
+        "seed": args.seed,
+        "embedder": args.embedder,
+        "warmup": args.warmup,
+        "gripper_opening_m": args.opening,
+    }
+    if not args.no_replay:
+        report.update(_replay(args, estimators, default_estimator, default_target))
+    if args.episodes:
+        report["episodes"] = _episodes(args)
     report["wall_s"] = round(time.perf_counter() - started, 1)
     if args.plot is not None:
         _plot(report, args.plot)
@@ -417,7 +559,17 @@ def register(sub: argparse._SubParsersAction) -> None:
         default=DEFAULT_OPENING_M,
         help="gripper opening, metres (default: the Panda's)",
     )
+    p.add_argument(
+        "--episodes",
+        type=int,
+        default=0,
+        help="seeded episodes per condition, on and control (default: 0, none)",
+    )
+    p.add_argument("--recipes", type=int, default=20, help="corpus recipes the episodes cycle through")
+    p.add_argument("--distractors", type=int, default=4, help="distractor products per episode")
+    p.add_argument("--no-replay", action="store_true", help="episodes only (skip the dataset replay)")
     p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     p.add_argument("--json", type=Path, help="also write the JSON report to this file")
     p.add_argument("--plot", type=Path, help="write the curves as a PNG")
     p.set_defaults(func=_run)
