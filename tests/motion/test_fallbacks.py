@@ -189,7 +189,7 @@ def test_a_table_crowded_with_cartons_still_takes_a_box(either_arm):
 
 def test_straight_moves_near_objects_stay_on_their_line(setup, arm):
     from scone_bt.motion import MotionPhase
-    from scone_bt.motion.pick_place import LINE_TOLERANCE
+    from scone_bt.motion.plan_session import LINE_TOLERANCE
 
     plan, _ = setup
     result = plan(_det("rice", 0.37, 0.30, RICE.height), RICE)
@@ -299,7 +299,7 @@ def test_a_side_grasp_backs_out_along_its_approach_after_the_release(setup, arm)
 
 
 def test_a_timed_out_query_is_retried_with_a_fresh_seed_before_no_path(arm, robot_cfg, monkeypatch):
-    import scone_bt.motion.pick_place as pick_place
+    import scone_bt.motion.plan_session as plan_session
     from scone_bt.motion.types import PlanResult, PlanStatus
 
     seeds: list[int] = []
@@ -310,8 +310,8 @@ def test_a_timed_out_query_is_retried_with_a_fresh_seed_before_no_path(arm, robo
         status = answers.pop(0)
         return PlanResult(status, np.vstack([start, goal]) if status is PlanStatus.SUCCESS else None, 0.0)
 
-    monkeypatch.setattr(pick_place, "plan_joint_path", fake)
-    planner = pick_place._Planner(arm, PlannerOptions(), limits_of(robot_cfg), 240.0, seed=3)
+    monkeypatch.setattr(plan_session, "plan_joint_path", fake)
+    planner = plan_session.PlanSession(arm, PlannerOptions(), limits_of(robot_cfg), 240.0, seed=3)
     world = planner.world([])
     home = np.asarray(robot_cfg.home, dtype=float)
     answers[:] = [PlanStatus.TIMED_OUT, PlanStatus.SUCCESS]
@@ -332,7 +332,7 @@ TUB = _spec("tub", "cylinder", (0.075, 0.075, 0.07))
 
 def test_a_tight_fit_is_descended_on_with_less_drift_than_the_room_beside_it(setup, arm):
     from scone_bt.motion import MotionPhase
-    from scone_bt.motion.pick_place import LINE_TOLERANCE
+    from scone_bt.motion.plan_session import LINE_TOLERANCE
 
     plan, _ = setup
     # 7.5 cm in the 8 cm opening: 2.5 mm a side, less than the usual line tolerance.

@@ -1,0 +1,131 @@
+"""Path search: OMPL paths for the approach, the transit and the way home, falling back over grasps.
+
+OMPL plans the approach to a goal set of feasible grasps (the first `GraspParams.max_goal_grasps`) at once and
+reports which grasp it reached; a query that runs out of iterations is repeated with a fresh seed
+(`GraspParams.path_retries`) before it counts as no path. Placements for that grasp form the transit's goal set;
+then OMPL plans the transit and the way home. A grasp without a feasible placement or transit is dropped and the
+approach is planned again to the other grasps (more candidates are examined as the set empties); a way home that
+does not exist ends the search, as it is the same for every grasp.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from scone_bt.motion.collision import Obstacle
+from scone_bt.motion.grasp_search import FeasibleGrasp, GraspSite, search_grasps
+from scone_bt.motion.pick_request import PickScene
+from scone_bt.motion.placement_search import Placement, PlacementSpots, search_placements
+from scone_bt.motion.plan_session import PlanSession
+from scone_bt.motion.plan_stats import PlanStats
+from scone_bt.motion.types import PlanResult
+
+__all__ = ["Paths", "PathSearch", "search_paths"]
+
+
+@dataclass(frozen=True, eq=False)
+class Paths:
+    """The OMPL paths of one whole pick-and-place and the grasp and placement they join.
+
+    Attributes:
+        grasp: The grasp the approach reached.
+        placement: The placement the transit reached.
+        approach: Start to the pre-grasp.
+        transit: Lifted to above the spot.
+        home: After the retreat, back home.
+        placed: The object's collision shape where it will stand after the release (world frame).
+        goal_set_sizes: Number of goals handed to OMPL for the approach and the transit.
+    """
+
+    grasp: FeasibleGrasp
+    placement: Placement
+    approach: PlanResult
+    transit: PlanResult
+    home: PlanResult
+    placed: Obstacle
+    goal_set_sizes: tuple[int, int]
+
+
+@dataclass(frozen=True, eq=False)
+class PathSearch:
+    """The paths found, or what ran out; and every step's statistics either way.
+
+    Attributes:
+        paths: The paths; None when no grasp led to a whole plan.
+        grasps: Why grasp candidates were rejected (`examined`: how many were examined).
+        placements: Why placements were rejected, over every grasp tried.
+        path_failures: One line per OMPL query that failed, in order.
+        placement_failed: Whether some grasp's placement search ran and found no placement.
+        home_failure: Why the way home failed (that ends the search); None if it did not.
+    """
+
+    paths: Paths | None
+    grasps: PlanStats
+    placements: PlanStats
+    path_failures: tuple[str, ...] = ()
+    placement_failed: bool = False
+    home_failure: str | None = None
+
+
+def search_paths(
+    session: PlanSession, scene: PickScene, site: GraspSite, spots: PlacementSpots
+) -> PathSearch:
+    """Grasps, placements and OMPL paths for the whole motion, falling back to other grasps as they fail."""
+    req, params = scene.request, scene.request.params
+    fingers = site.finger_position
+    pool: list[FeasibleGrasp] = []
+    grasps = placements = PlanStats()
+    path_failures: list[str] = []
+    placement_failed = False
+    cursor = 0
+    while True:
+        batch = search_grasps(session, scene, site, cursor, params.max_goal_grasps - len(pool))
+        pool.extend(batch.grasps)
+        cursor, grasps = batch.next_index, grasps + batch.stats
+        if not pool:
+            break
+        approach_set = len(pool)
+        approach = session.plan(
+            req.q_start, np.array([g.q_pre for g in pool]), site.free_world, params.path_retries
+        )
+        if not approach.success:
+            path_failures.append(f"approach: {approach.status.value} ({approach.message})")
+            pool = []  # none of these grasps can be reached: examine the next candidates
+            continue
+        chosen = pool[approach.goal_index]
+        found = search_placements(session, scene, chosen, spots, fingers)
+        grasps, placements = grasps + found.grasp_stats, placements + found.stats
+        if not found.placements or found.carry_world is None:
+            placement_failed = placement_failed or found.carry_world is not None
+            pool.remove(chosen)
+            continue
+        goals = np.array([pl.q_pp for pl in found.placements])
+        transit = session.plan(chosen.q_lift, goals, found.carry_world, params.path_retries)
+        if not transit.success:
+            path_failures.append(f"transit: {transit.status.value} ({transit.message})")
+            pool.remove(chosen)
+            continue
+        placed = found.placements[transit.goal_index]
+        placed_obstacle = Obstacle(
+            scene.name, req.spec.shape, req.spec.size, placed.ee_place @ chosen.cand.object_in_ee
+        )
+        # The hand has just retreated straight up from the object: the near-object margin, as for the retreat.
+        w_after = session.world([*scene.fixed, placed_obstacle], padding=0.004, finger_position=fingers)
+        home = session.plan(placed.q_ret, np.asarray(req.home, dtype=float), w_after, params.path_retries)
+        if not home.success:
+            # Home is the same for every grasp; another grasp would not change the way back.
+            why = f"return home: {home.status.value} ({home.message})"
+            return PathSearch(None, grasps, placements, tuple(path_failures), placement_failed, why)
+        paths = Paths(
+            grasp=chosen,
+            placement=placed,
+            approach=approach,
+            transit=transit,
+            home=home,
+            placed=placed_obstacle,
+            goal_set_sizes=(approach_set, len(found.placements)),
+        )
+        return PathSearch(paths, grasps, placements, tuple(path_failures), placement_failed)
+    return PathSearch(None, grasps, placements, tuple(path_failures), placement_failed)
