@@ -12,6 +12,12 @@ Schema 1 files (before robot ids) still open: they are upgraded to schema 2 in o
 byte-for-byte backup beside them (`<name>.v1-backup<suffix>`), and `notice` says so. The upgrade only adds
 columns (robot_id and arm from each row's context "robot", profile from "profile", outcome_id "v1-<row id>");
 no existing value changes.
+
+A row that cannot be read (context that is not a JSON object, a malformed execution context, a value of the wrong
+type: damage made outside scone-bt, e.g. by hand-editing) is quarantined, never used and never changed: reads
+skip it, `quarantined` says which rows and why, and a one-line warning on stderr names each row id the first time
+it is met. The other rows are read as usual, so months of outcomes still rebuild κ̂. A schema 1 upgrade names
+such rows in its `notice`.
 """
 
 from __future__ import annotations
@@ -19,27 +25,30 @@ from __future__ import annotations
 import contextlib
 import fcntl
 import json
+import math
 import os
 import shutil
 import sqlite3
 import stat
+import sys
 import threading
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-from scone_bt.errors import ExperienceStoreError
+from scone_bt.errors import ExperienceStoreError, SconeError
 from scone_bt.experience.base import (
     COLUMNS,
+    EXECUTION_KEY,
     SCHEMA_VERSION,
     OutcomeStore,
     context_json,
     note_attempt,
     where_clause,
 )
-from scone_bt.experience.types import Outcome
+from scone_bt.experience.types import ExecutionContext, Outcome
 
-__all__ = ["APPLICATION_ID", "SCHEMA_VERSION", "ExperienceStore"]
+__all__ = ["APPLICATION_ID", "SCHEMA_VERSION", "ExperienceStore", "decode_row"]
 
 APPLICATION_ID = 0x5C0E0B7  # "SCONE-BT": marks the file as ours (PRAGMA application_id)
 _SQLITE_MAGIC = b"SQLite format 3\x00"
@@ -116,6 +125,64 @@ def _creation_lock(folder: Path) -> Iterator[None]:
         os.close(fd)
 
 
+_TEXT_COLUMNS = ("outcome_id", "action", "object_name", "embedder", "robot_id", "arm", "profile")
+_NAMED = 5
+"""Quarantined rows a warning or notice names one by one (the rest are counted)."""
+
+
+def _shown(value: object) -> str:
+    """A stored value for a message: short, on one line, with its SQLite type."""
+    kind = {str: "text", bytes: "blob", int: "integer", float: "real"}.get(type(value), "NULL")
+    text = " ".join(repr(value).split())
+    return f"{text[:40]}{'...' if len(text) > 40 else ''} ({kind})"
+
+
+def _context_of(text: object) -> tuple[dict[str, Any] | None, str]:
+    """A stored context decoded, or None and why it cannot be."""
+    if not isinstance(text, str):
+        return None, f"context is {_shown(text)}, not JSON text"
+    try:
+        ctx = json.loads(text)
+    except (ValueError, RecursionError):
+        return None, "context is not JSON"
+    if not isinstance(ctx, dict):
+        return None, f"context is a JSON {type(ctx).__name__}, not an object"
+    return ctx, ""
+
+
+def decode_row(row: tuple[Any, ...]) -> tuple[tuple[Any, ...] | None, str]:
+    """A row in COLUMNS order checked, with its context decoded; or None and why it cannot be read (one line).
+
+    The decoded row is what `outcome_from_row` takes; every value has the type an Outcome needs.
+    """
+    oid, t, a, o, e, s, f, c, r, arm, p = row
+    for name, value in zip(_TEXT_COLUMNS, (oid, a, o, e, r, arm, p), strict=True):
+        if not isinstance(value, str):
+            return None, f"{name} is {_shown(value)}, not text"
+    if not isinstance(t, int | float) or not math.isfinite(t):
+        return None, f"time is {_shown(t)}, not a finite number"
+    if type(s) is not int or s not in (0, 1):
+        return None, f"success is {_shown(s)}, not 0 or 1"
+    if f is not None and not isinstance(f, str):
+        return None, f"failure_stage is {_shown(f)}, not text"
+    ctx, why = _context_of(c)
+    if ctx is None:
+        return None, why
+    if ctx.get(EXECUTION_KEY) is not None:
+        try:
+            ExecutionContext.from_json(ctx[EXECUTION_KEY], f"context {EXECUTION_KEY}")
+        except SconeError as exc:
+            return None, str(exc)
+    return (oid, t, a, o, e, s, f, ctx, r, arm, p), ""
+
+
+def _rows_named(ids: list[int], why: dict[int, str] | None = None) -> str:
+    """'row 3 (why), row 7 (why)', the first few by id, then how many more."""
+    named = [f"row {i}" + (f" ({why[i]})" if why else "") for i in ids[:_NAMED]]
+    more = f" and {len(ids) - _NAMED} more" if len(ids) > _NAMED else ""
+    return ", ".join(named) + more
+
+
 class ExperienceStore(OutcomeStore):
     """Durable, append-only log of outcomes in one SQLite file.
 
@@ -124,6 +191,7 @@ class ExperienceStore(OutcomeStore):
 
     Attributes:
         notice: One line to show the user when opening changed something (a schema upgrade), else None.
+        quarantined: Rows met so far that cannot be read, by row id: why (they are skipped, never changed).
 
     Raises:
         ExperienceStoreError: the file is corrupt, belongs to something else, has a newer schema, or cannot be
@@ -134,6 +202,7 @@ class ExperienceStore(OutcomeStore):
         self.path = Path(path)
         self.location = str(self.path)
         self.notice: str | None = None
+        self.quarantined: dict[int, str] = {}
         self._lock = threading.Lock()
         self._conn: sqlite3.Connection | None = self._open()
 
@@ -273,13 +342,14 @@ class ExperienceStore(OutcomeStore):
                 return
             for stmt in _statements(_UPGRADE_V2):
                 conn.execute(stmt)
-            rows = conn.execute("SELECT id, context FROM outcomes").fetchall()
+            rows = conn.execute("SELECT id, context FROM outcomes ORDER BY id").fetchall()
+            unreadable: list[int] = []
             for row_id, ctx_text in rows:
-                try:
-                    ctx = json.loads(ctx_text)
-                except json.JSONDecodeError:
+                ctx, _ = _context_of(ctx_text)
+                if ctx is None:
+                    # Columns are added to it like to any row; its context stays as it is and reads skip it.
+                    unreadable.append(row_id)
                     ctx = {}
-                ctx = ctx if isinstance(ctx, dict) else {}
                 robot = str(ctx.get("robot", ""))
                 conn.execute(
                     "UPDATE outcomes SET outcome_id = ?, robot_id = ?, arm = ?, profile = ? WHERE id = ?",
@@ -299,6 +369,11 @@ class ExperienceStore(OutcomeStore):
             f"upgraded {self.path} from schema 1 to {SCHEMA_VERSION} ({len(rows)} outcomes kept, robot ids added); "
             f"the original is saved as {backup}"
         )
+        if unreadable:
+            self.notice += (
+                f"; {_rows_named(unreadable)} cannot be read (context not a JSON object): "
+                "kept in the file as they are, not learnt from"
+            )
 
     # ----- writing -----------------------------------------------------------------------------------------
     def append(self, outcome: Outcome) -> int:
@@ -348,11 +423,31 @@ class ExperienceStore(OutcomeStore):
     def _select(
         self, embedder: str | None, robot_id: str | None, arm: str | None, profile: str | None
     ) -> list[tuple[Any, ...]]:
+        """Readable rows (contexts decoded); unreadable ones are quarantined, and named once on stderr."""
         where, args = where_clause("?", embedder=embedder, robot_id=robot_id, arm=arm, profile=profile)
-        sql = f"SELECT {', '.join(COLUMNS)} FROM outcomes"
+        sql = f"SELECT id, {', '.join(COLUMNS)} FROM outcomes"
         sql += where
+        readable: list[tuple[Any, ...]] = []
+        new: list[int] = []
         with self._lock:
-            return self._connection().execute(sql + " ORDER BY id", args).fetchall()
+            for row_id, *row in self._connection().execute(sql + " ORDER BY id", args).fetchall():
+                if row_id in self.quarantined:
+                    continue
+                decoded, why = decode_row(tuple(row))
+                if decoded is None:
+                    self.quarantined[row_id] = why
+                    new.append(row_id)
+                else:
+                    readable.append(decoded)
+        if new:
+            rows, kept = ("", "it is") if len(new) == 1 else (f"{len(new)} rows, ", "they are")
+            print(
+                f"warning: experience store {self.path}: {rows}{_rows_named(new, self.quarantined)}: cannot be "
+                f"read; left in the file as {kept}, not learnt from",
+                file=sys.stderr,
+                flush=True,
+            )
+        return readable
 
     def __len__(self) -> int:
         with self._lock:
