@@ -36,7 +36,7 @@ from scone_bt.scenario.model import (
     resolve_input,
 )
 
-__all__ = ["CaseResult", "ScenarioHook", "run_case", "episode_options", "safe_name", "Verdict"]
+__all__ = ["CaseResult", "ScenarioHook", "Verdict", "episode_options", "event_json", "run_case", "run_cases", "safe_name"]
 
 
 class Verdict:
@@ -285,6 +285,16 @@ def episode_options(
     )
 
 
+WALL_CLOCK_FIELDS = ("planning_s",)
+"""Event fields that measure wall time (DecisionMade.planning_s): left out of the event log, which must repeat."""
+
+
+def event_json(record: Record) -> str:
+    """One line of a case's event log: the tick, the event's kind, then its stored payload less wall times."""
+    payload = {k: v for k, v in record.event.to_json().items() if k not in WALL_CLOCK_FIELDS}
+    return json.dumps({"tick": record.tick, "event": record.event.kind, **payload}, ensure_ascii=False)
+
+
 def safe_name(name: str) -> str:
     """A case name as a file name."""
     return re.sub(r"[^A-Za-z0-9_.=-]+", "_", name).strip("_") or "case"
@@ -339,10 +349,7 @@ def run_case(
         sim_time=summary.sim_time,
     )
     failures = tuple(f for ex in case.spec.expect if (f := check(ex, hook.records, end)) is not None)
-    events = tuple(
-        json.dumps({"tick": r.tick, "kind": r.event.kind, **r.event.to_json()}, ensure_ascii=False)
-        for r in hook.records
-    )
+    events = tuple(event_json(r) for r in hook.records)
     expected_fail = case.spec.expected == "fail"
     if failures:
         verdict = Verdict.XFAIL if expected_fail else Verdict.FAILED
