@@ -98,7 +98,8 @@ class Fault(StrictModel):
     planner_budget_s: Annotated[float, Field(gt=0, le=600, allow_inf_nan=False)] | None = None
 
     def values(self) -> dict[str, float]:
-        return {k: v for k, v in self.model_dump().items() if v is not None}
+        """The faults given (the keys of `Fault` only, not a subclass's), by `World.apply_fault` argument."""
+        return {k: getattr(self, k) for k in Fault.model_fields if getattr(self, k) is not None}
 
 
 class RobotSection(Fault):

@@ -36,7 +36,16 @@ from scone_bt.scenario.model import (
     resolve_input,
 )
 
-__all__ = ["CaseResult", "ScenarioHook", "Verdict", "episode_options", "event_json", "run_case", "run_cases", "safe_name"]
+__all__ = [
+    "CaseResult",
+    "ScenarioHook",
+    "Verdict",
+    "episode_options",
+    "event_json",
+    "run_case",
+    "run_cases",
+    "safe_name",
+]
 
 
 class Verdict:

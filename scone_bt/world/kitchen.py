@@ -121,7 +121,8 @@ class Kitchen:
         self.steps_skipped = 0  # physics steps not taken because the scene was asleep
         # Bumped whenever the world may look different (a step taken, a body moved): cameras re-render only then.
         self.state_version = 0
-        self.uid = next(_KITCHEN_IDS)  # unlike id(), never reused by a later Kitchen
+        # Unlike id(), never reused by a later Kitchen; renewed when covers change what the cameras see.
+        self.uid = next(_KITCHEN_IDS)
         self._awake_until = 0.0
         self._frozen: dict[str, tuple[object, object]] = {}  # name -> pose when frozen
         self._settle_until = 0.0
@@ -369,12 +370,21 @@ class Kitchen:
                 baseOrientation=[float(q) for q in orientation],
             )
         )
-        self.state_version += 1  # the cameras render again
+        self._scene_changed()
         return handle
 
     def remove_cover(self, handle: int) -> None:
         """Take away a cover `add_cover` made."""
         self.bc.removeBody(handle)
+        self._scene_changed()
+
+    def _scene_changed(self) -> None:
+        """A body the cameras see but no product is (a cover) came or went: no camera may reuse an earlier render.
+
+        A camera reuses its last render while the same products and links stand in view unmoved, keyed by
+        ``uid`` (`perception.camera.Camera`); a new ``uid`` voids every such render.
+        """
+        self.uid = next(_KITCHEN_IDS)
         self.state_version += 1
 
     def set_gripper_properties(
