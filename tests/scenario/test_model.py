@@ -85,7 +85,10 @@ def test_unreachable_slot(tmp_path: Path) -> None:
 
 def test_unknown_camera_and_unknown_event_kind(tmp_path: Path) -> None:
     msg = _error(tmp_path, BASE + "events:\n  - {at: 1, cover_camera: ceiling}\n")
-    assert "events[0].cover_camera: unknown camera 'ceiling'; valid: shelf_front, shelf_left, shelf_back, table" in msg
+    assert (
+        "events[0].cover_camera: unknown camera 'ceiling'; valid: shelf_front, shelf_left, shelf_back, table"
+        in msg
+    )
     msg = _error(tmp_path, BASE + "events:\n  - {when: {kind: explosion}, remove: salt}\n")
     assert "events[0].when.kind: Input should be 'decision'" in msg
 
@@ -98,7 +101,9 @@ def test_expected_fail_needs_a_reason_and_parameters_are_checked(tmp_path: Path)
 
 def test_unknown_profile_and_recipe(tmp_path: Path) -> None:
     assert "unknown profile 'p99'; valid: p00_nominal" in _error(tmp_path, BASE + "robot: {profile: p99}\n")
-    assert "world: unknown example recipe 'nope'" in _error(tmp_path, BASE + "world: {recipe: 'example:nope'}\n")
+    assert "world: unknown example recipe 'nope'" in _error(
+        tmp_path, BASE + "world: {recipe: 'example:nope'}\n"
+    )
 
 
 def test_a_sweep_gives_one_case_per_value(tmp_path: Path) -> None:
