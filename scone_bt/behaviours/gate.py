@@ -231,7 +231,8 @@ class ConfidenceGate(StageBehaviour):
         options, exploring = self._options()
         if exploring and ranked and not explore:
             draw = bool(self._rng.random() < self.budget.explore_rate)  # type: ignore[union-attr]
-            explore = [draw] * len(ranked)  # only the chosen action's flag is read
+            # never explore an action that already failed in this episode: its failure is the lesson
+            explore = [draw and self.history.failures_of(r.text) == 0 for r in ranked]
         decision = decide(ranked, confidences, options, tuple(a for a in ambiguous if a in by_text), explore)
         decision = apply_failure_limit(decision, self.history.failures_of(decision.action or ""), self.limit)
         target = affordances.get(decision.action) if decision.action is not None else None

@@ -118,6 +118,7 @@ def replay_stream(
     counts = BudgetCounts(learnt=est.n_observations)
     out = StreamResult()
     learnt: set[str] = set()
+    failed: set[str] = set()
     wide = np.nan_to_num(context[:, 4], nan=0.0) > opening_m
     wide_failed = False
     for t in range(len(success)):
@@ -138,7 +139,13 @@ def replay_stream(
             explore_fn = getattr(est, "explores", None)
             if not act and explore_fn is not None and bool(explore_fn(X[t : t + 1])[0]):
                 act = explored = True
-        elif not act and explores and may_explore(budget, counts) and rng.random() < budget.explore_rate:
+        elif (
+            not act
+            and explores
+            and may_explore(budget, counts)
+            and rng.random() < budget.explore_rate
+            and products[t] not in failed  # as on the robot: an action that failed is never explored again
+        ):
             act = explored = True
         novel = products[t] not in learnt
         scored = t >= warmup
@@ -153,6 +160,8 @@ def replay_stream(
                 wide_failed = True
             est.update(X[t], ok)
             learnt.add(products[t])
+            if not ok:
+                failed.add(products[t])
             counts = BudgetCounts(
                 attempts=counts.attempts + (not explored),
                 failures=counts.failures + (not explored and not ok),

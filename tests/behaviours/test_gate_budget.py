@@ -127,6 +127,15 @@ def test_the_budget_explores_only_while_kappa_has_learnt_fewer_than_explore_unti
     assert isinstance(event, DecisionMade) and event.explored is explored
 
 
+def test_an_action_that_already_failed_is_never_explored_again() -> None:
+    events = EventLog()
+    events(ActOutcome(1.0, SALT, "salt", False, "grasp"))
+    budget = BudgetOptions(explore_rate=1.0, explore_until=5)
+    gate, bb = _gate(events, _Kappa(0.3, n_observations=1), budget), _salt_step()
+    decision = _tick(gate, bb)
+    assert (decision.kind, decision.explored) == (DecisionKind.ASK, False)
+
+
 def test_the_budget_stops_exploring_after_explore_failures_and_they_do_not_move_tau() -> None:
     events = EventLog()
     budget = BudgetOptions(explore_rate=1.0, explore_until=100, explore_failures=1)
