@@ -23,7 +23,9 @@ def _run(recipe: str, seed: int = 0, events: list | None = None, robot: str = "p
 
 
 def test_seeded_episode_completes_and_repeats_exactly():
-    first = _run("example:tomato-pasta")
+    # the paper's gate: this run's ground truth (every ingredient upright on the table) is that decision
+    # sequence's; the budget gate's runs are pinned by the scenario library and tests/behaviours
+    first = _run("example:tomato-pasta", gate="paper")
     assert first.completed and first.steps_completed == first.steps_total
     # Ground truth from the simulator: every ingredient rests on the table.
     assert all(first.needed_on_table.values()), first.needed_on_table
@@ -32,8 +34,11 @@ def test_seeded_episode_completes_and_repeats_exactly():
     assert first.decisions >= first.attempted + first.help_requests
     assert sum(first.failures_by_stage.values()) == first.failures
     assert first.successes >= 1, "the robot should fetch at least one ingredient itself"
-    second = _run("example:tomato-pasta")
+    second = _run("example:tomato-pasta", gate="paper")
     assert second.deterministic_part() == first.deterministic_part()
+    # the budget gate (the tree's default) repeats exactly too
+    budget = [_run("example:tomato-pasta").deterministic_part() for _ in range(2)]
+    assert budget[0] == budget[1]
 
 
 def test_self_confidence_asks_where_the_control_condition_fails(tmp_path):

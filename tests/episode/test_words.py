@@ -6,6 +6,7 @@ import pytest
 
 from scone_bt.behaviours import BehaviourOptions
 from scone_bt.episode import EpisodeOptions, run_episode
+from scone_bt.episode.printer import condition_line
 from scone_bt.events import ActOutcome, DecisionMade
 
 pytestmark = pytest.mark.slow
@@ -29,6 +30,9 @@ def test_items_the_robot_placed_are_never_reported_missing_and_the_condition_is_
             assert not {p for p in placed if p in event.reason}, (event.reason, placed)
     assert {"milk", "macaroni"} <= placed
     assert summary.completed
-    condition = "self-confidence on (grounded-knn, threshold 0.5), ask after 3 failures on one action"
+    condition = condition_line(BehaviourOptions(seed=0).resolve())
+    assert condition.startswith(
+        "self-confidence on (physical, failure budget: at most 15% of attempts may fail)"
+    )
     assert lines[1] == f"condition: {condition}"
     assert summary.condition == condition
