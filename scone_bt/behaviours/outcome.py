@@ -12,6 +12,7 @@ import time
 
 import py_trees
 
+from scone_bt.affordances.types import Affordance
 from scone_bt.behaviours.base import Keys, StageBehaviour
 from scone_bt.behaviours.context import EpisodeContext, OutcomeLabels
 from scone_bt.behaviours.ports import Clock, OutcomeRecorder, Provider, SelfConfidence
@@ -31,80 +32,8 @@ def label_outcome(motion: MotionOutcome, on_table: bool) -> tuple[bool, FailureS
     return success, None if success else (motion.stage or FailureStage.PLACE)
 
 
-class ObserveOutcome(StageBehaviour):
-    READS = (Keys.TARGET, Keys.TARGET_CONTEXT, Keys.MOTION_OUTCOME)
-    WRITES = (Keys.OUTCOME,)
-
-    def __init__(
-        self,
-        name: str,
-        robot: Robot,
-        recorder: Provider[OutcomeRecorder | None],
-        events: EventSink,
-        labels: OutcomeLabels,
-    ) -> None:
-        super().__init__(name)
-        self.robot = robot
-        self._recorder = recorder
-        self.events = events
-        self.labels = labels
-
-    @classmethod
-    def from_context(cls, name: str, context: EpisodeContext) -> ObserveOutcome:
-        return cls(name, context.robot, context.recorder, context.events, context.labels)
-
-    def setup(self, **kwargs: object) -> None:
-        self.store = self._recorder()
-
-    def update(self) -> py_trees.common.Status:
-        target = self.read(Keys.TARGET)
-        motion: MotionOutcome = self.read(Keys.MOTION_OUTCOME)
-        action, name = target.text, target.object_name
-        now = self.robot.now()
-        if motion.stage is FailureStage.CANCELLED:
-            self.events(ActCancelled(now, action, name))
-            self.write(Keys.OUTCOME, None)
-            return py_trees.common.Status.SUCCESS
-        # The robot's outcome sensor: is the object resting on the table now?
-        success, stage = label_outcome(motion, self.robot.is_on_table(name))
-        labels = self.labels
-        outcome = Outcome(
-            time=time.time(),
-            action=action,
-            object_name=name,
-            embedder=labels.embedder,
-            success=success,
-            failure_stage=None if stage is None else stage.value,
-            context={**labels.context, "sim_time": round(now, 3)},
-            robot_id=labels.robot_id,
-            arm=labels.arm,
-            profile=labels.profile,
-            execution=self.read(Keys.TARGET_CONTEXT),
-        )
-        if self.store is not None:
-            self.store.append(outcome)  # committed before it is reported, and before κ̂ changes
-        self.events(
-            ActOutcome(
-                now,
-                action,
-                name,
-                success,
-                outcome.failure_stage,
-                duration_s=float(motion.duration),
-                message=motion.message.split(";")[0],
-            )
-        )
-        self.write(Keys.OUTCOME, outcome)
-        return py_trees.common.Status.SUCCESS
-
-
-class RecordInfeasible(StageBehaviour):
-    """A plan the gate found infeasible before committing is experience too: stored (failure at planning, with the
-    context it was planned in) and labelled for κ̂ (`Keys.OUTCOME`, which UpdateSelfConfidence learns from). It is
-    not an attempt: nothing moved, the human saw no failure. Any other ask writes no outcome."""
-
-    READS = (Keys.TARGET, Keys.TARGET_CONTEXT, Keys.PLAN_VERDICT)
-    WRITES = (Keys.OUTCOME,)
+class _RecordsOutcomes(StageBehaviour):
+    """A behaviour that labels what happened to the target and stores it durably before anyone is told."""
 
     def __init__(
         self,
@@ -120,28 +49,20 @@ class RecordInfeasible(StageBehaviour):
         self.events = events
         self.labels = labels
 
-    @classmethod
-    def from_context(cls, name: str, context: EpisodeContext) -> RecordInfeasible:
-        return cls(name, context.robot.now, context.recorder, context.events, context.labels)
-
     def setup(self, **kwargs: object) -> None:
         self.store = self._recorder()
 
-    def update(self) -> py_trees.common.Status:
-        verdict = self.read(Keys.PLAN_VERDICT)
-        target = self.read(Keys.TARGET)
-        if verdict is None or target is None:
-            self.write(Keys.OUTCOME, None)
-            return py_trees.common.Status.SUCCESS
-        now, labels = self.clock(), self.labels
+    def _record(self, target: Affordance, success: bool, stage: str | None, **extra: object) -> Outcome:
+        """The outcome of ``target`` with its labels and perceived context, committed to the store (if any)."""
+        labels = self.labels
         outcome = Outcome(
             time=time.time(),
             action=target.text,
             object_name=target.object_name,
             embedder=labels.embedder,
-            success=False,
-            failure_stage=FailureStage.PLANNING.value,
-            context={**labels.context, "sim_time": round(now, 3), "infeasible": verdict.reason},
+            success=success,
+            failure_stage=stage,
+            context={**labels.context, "sim_time": round(self.clock(), 3), **extra},
             robot_id=labels.robot_id,
             arm=labels.arm,
             profile=labels.profile,
@@ -149,7 +70,77 @@ class RecordInfeasible(StageBehaviour):
         )
         if self.store is not None:
             self.store.append(outcome)  # committed before it is reported, and before κ̂ changes
-        self.events(PlanInfeasible(now, target.text, target.object_name, verdict.reason, verdict.message))
+        return outcome
+
+
+class ObserveOutcome(_RecordsOutcomes):
+    READS = (Keys.TARGET, Keys.TARGET_CONTEXT, Keys.MOTION_OUTCOME)
+    WRITES = (Keys.OUTCOME,)
+
+    def __init__(
+        self,
+        name: str,
+        robot: Robot,
+        recorder: Provider[OutcomeRecorder | None],
+        events: EventSink,
+        labels: OutcomeLabels,
+    ) -> None:
+        super().__init__(name, robot.now, recorder, events, labels)
+        self.robot = robot
+
+    @classmethod
+    def from_context(cls, name: str, context: EpisodeContext) -> ObserveOutcome:
+        return cls(name, context.robot, context.recorder, context.events, context.labels)
+
+    def update(self) -> py_trees.common.Status:
+        target = self.read(Keys.TARGET)
+        motion: MotionOutcome = self.read(Keys.MOTION_OUTCOME)
+        action, name = target.text, target.object_name
+        now = self.robot.now()
+        if motion.stage is FailureStage.CANCELLED:
+            self.events(ActCancelled(now, action, name))
+            self.write(Keys.OUTCOME, None)
+            return py_trees.common.Status.SUCCESS
+        # The robot's outcome sensor: is the object resting on the table now?
+        success, stage = label_outcome(motion, self.robot.is_on_table(name))
+        outcome = self._record(target, success, None if stage is None else stage.value)
+        self.events(
+            ActOutcome(
+                now,
+                action,
+                name,
+                success,
+                outcome.failure_stage,
+                duration_s=float(motion.duration),
+                message=motion.message.split(";")[0],
+            )
+        )
+        self.write(Keys.OUTCOME, outcome)
+        return py_trees.common.Status.SUCCESS
+
+
+class RecordInfeasible(_RecordsOutcomes):
+    """A plan the gate found infeasible before committing is experience too: stored (failure at planning, with the
+    context it was planned in) and labelled for κ̂ (`Keys.OUTCOME`, which UpdateSelfConfidence learns from). It is
+    not an attempt: nothing moved, the human saw no failure. Any other ask writes no outcome."""
+
+    READS = (Keys.TARGET, Keys.TARGET_CONTEXT, Keys.PLAN_VERDICT)
+    WRITES = (Keys.OUTCOME,)
+
+    @classmethod
+    def from_context(cls, name: str, context: EpisodeContext) -> RecordInfeasible:
+        return cls(name, context.robot.now, context.recorder, context.events, context.labels)
+
+    def update(self) -> py_trees.common.Status:
+        verdict = self.read(Keys.PLAN_VERDICT)
+        target = self.read(Keys.TARGET)
+        if verdict is None or target is None:
+            self.write(Keys.OUTCOME, None)
+            return py_trees.common.Status.SUCCESS
+        outcome = self._record(target, False, FailureStage.PLANNING.value, infeasible=verdict.reason)
+        self.events(
+            PlanInfeasible(self.clock(), target.text, target.object_name, verdict.reason, verdict.message)
+        )
         self.write(Keys.OUTCOME, outcome)
         self.feedback_message = f"no plan for {target.object_name}: {verdict.reason}"
         return py_trees.common.Status.SUCCESS
