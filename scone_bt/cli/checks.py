@@ -142,16 +142,6 @@ def is_output_kind(path: Path, kind: OutputKind) -> bool:
     return True  # csv, text: UTF-8 text
 
 
-def _not_regular(mode: int) -> str:
-    if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):
-        return "a device"
-    if stat.S_ISFIFO(mode):
-        return "a FIFO (named pipe)"
-    if stat.S_ISSOCK(mode):
-        return "a socket"
-    return "not a regular file"
-
-
 def check_output_file(
     path: Path,
     flag: str,
@@ -183,7 +173,9 @@ def check_output_file(
     except OSError:
         st = None
     if st is not None and not stat.S_ISREG(st.st_mode):
-        raise SconeError(f"{flag} {path}: is {_not_regular(st.st_mode)}, not a file; give a file path")
+        from scone_bt.config.schema import file_kind  # pydantic: only on this error path, not at start-up
+
+        raise SconeError(f"{flag} {path}: is {file_kind(st.st_mode)}, not a file; give a file path")
     for other_flag, files in (inputs or {}).items():
         for other in files:
             if same_file(path, other):

@@ -28,6 +28,7 @@ __all__ = [
     "read_text",
     "read_bytes",
     "check_input_file",
+    "file_kind",
     "validate",
     "format_validation_error",
     "MAX_FILE_BYTES",
@@ -71,7 +72,8 @@ def _size(n: int) -> str:
     return f"{n} bytes"
 
 
-def _kind(mode: int) -> str:
+def file_kind(mode: int) -> str:
+    """What a path that is not a regular file is, in words ("a device", "a FIFO (named pipe)", ...)."""
     if stat.S_ISDIR(mode):
         return "a directory"
     if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):
@@ -85,7 +87,7 @@ def _kind(mode: int) -> str:
 
 def _check_stat(path: Path, st: os.stat_result, error: type[SconeError], limit: int) -> None:
     if not stat.S_ISREG(st.st_mode):
-        raise error(f"{path}: is {_kind(st.st_mode)}, not a regular file; give a file")
+        raise error(f"{path}: is {file_kind(st.st_mode)}, not a regular file; give a file")
     if st.st_size > limit:
         raise error(
             f"{path}: {st.st_size:,} bytes is too large for this kind of file (at most {_size(limit)})"
