@@ -4,17 +4,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import Annotated, Any
 
 from pydantic import Field, field_validator, model_validator
 
+from scone_bt.config.grasp import PLANNERS, GraspParams
 from scone_bt.config.schema import FiniteFloat, NonNegativeFloat, PositiveFloat, StrictModel, validate
 from scone_bt.config.yaml_io import read_yaml
 from scone_bt.errors import ConfigError
 from scone_bt.resources import resolve_file
-
-if TYPE_CHECKING:
-    from scone_bt.motion.grasp import GraspParams
 
 __all__ = [
     "GripperSpec",
@@ -151,8 +149,6 @@ class _PlannerModel(StrictModel):
     @field_validator("name")
     @classmethod
     def _known_planner(cls, name: str) -> str:
-        from scone_bt.motion.planner import PLANNERS  # imported here: scone_bt.motion imports this module
-
         if name not in PLANNERS:
             raise ValueError(f"unknown planner {name!r}; valid: {', '.join(PLANNERS)}")
         return name
@@ -183,7 +179,7 @@ class RobotFile(StrictModel):
     planner: _PlannerModel = _PlannerModel()
     control: _ControlModel = _ControlModel()
     collision: _CollisionModel = _CollisionModel()
-    grasp: dict[str, Any] = {}  # checked by scone_bt.motion.grasp.GraspParams.from_section in load_robot
+    grasp: dict[str, Any] = {}  # checked by scone_bt.config.grasp.GraspParams.from_section in load_robot
 
     @model_validator(mode="after")
     def _one_value_per_joint(self) -> RobotFile:
@@ -211,8 +207,6 @@ def load_robot(name_or_path: str | Path = "panda") -> RobotConfig:
     path = resolve_file("robots", name_or_path, (".yaml", ".yml"))
     raw = read_yaml(path)
     m = validate(RobotFile, raw, str(path))
-    from scone_bt.motion.grasp import GraspParams  # imported here: scone_bt.motion imports this module
-
     grasp = GraspParams.from_section(m.grasp, str(path))
     g, lim, p, c = m.gripper, m.limits, m.planner, m.control
     return RobotConfig(

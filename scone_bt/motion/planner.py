@@ -15,13 +15,11 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from scone_bt.config.grasp import PLANNERS
 from scone_bt.errors import UnknownNameError
 from scone_bt.motion.types import PlanResult, PlanStatus
 
 __all__ = ["PlannerOptions", "PLANNERS", "plan_joint_path", "silence_ompl"]
-
-PLANNERS = ("RRTConnect", "RRT", "RRTstar", "PRM", "KPIECE1", "BKPIECE1", "LBKPIECE1", "BITstar", "AORRTC")
-"""OMPL geometric planners selectable by name."""
 
 _LOCK = threading.Lock()
 
