@@ -41,13 +41,15 @@ from typing import Any
 import numpy as np
 
 from scone_bt.cli.bench import emit_report
+from scone_bt.experience.types import CONTEXT_FIELDS
 
 __all__ = ["register", "StreamResult", "replay_stream", "TARGETS"]
 
 TARGETS: tuple[float, ...] = (0.05, 0.10, 0.15, 0.20, 0.25, 0.30, 0.40)
 """Target failure rates the report sweeps."""
 
-_CONTEXT = ("shelf_tier", "clearance_m", "neighbours", "detected", "detected_width_m", "detected_height_m")
+_CONTEXT = CONTEXT_FIELDS
+"""The context columns in replay order (decision_time_context's)."""
 
 
 @dataclass
@@ -233,6 +235,7 @@ class _Streams:
 
 def _load(args: argparse.Namespace, oracle: bool) -> _Streams:
     from scone_bt.benchmarks.self_confidence.dataset import load_datasets
+    from scone_bt.benchmarks.self_confidence.evaldata import decision_time_context
     from scone_bt.embedding import load_embedder
     from scone_bt.resources import repo_root
 
@@ -242,18 +245,21 @@ def _load(args: argparse.Namespace, oracle: bool) -> _Streams:
     def column(d: Any, name: str) -> np.ndarray:
         return d.context.get(name, np.full(len(d), np.nan))
 
-    if oracle:  # the true attributes where the robot has perceived ones; mass and glass stand for ζ
+    # The context the robot perceived, as the self-confidence evaluation reads it (one function for both).
+    context = [decision_time_context(d) for d in datasets]
+    if (
+        oracle
+    ):  # the true size where the robot has a perceived one, always "detected"; mass and glass stand for ζ
         vectors = [np.column_stack([column(d, "mass_kg"), _glass(d)]) for d in datasets]
-        true = ("shelf_tier", "clearance_m", "neighbours", None, "width_m", "height_m")
-        context = [
-            np.column_stack([np.ones(len(d)) if c is None else column(d, c) for c in true]) for d in datasets
-        ]
+        for d, c in zip(datasets, context, strict=True):
+            c[:, _CONTEXT.index("detected")] = 1.0
+            c[:, _CONTEXT.index("detected_width_m")] = column(d, "width_m")
+            c[:, _CONTEXT.index("detected_height_m")] = column(d, "height_m")
     else:
         emb = load_embedder(args.embedder)
         actions = sorted({a for d in datasets for a in d.actions})
         table = dict(zip(actions, np.asarray(emb.embed(actions), dtype=np.float32), strict=True))
         vectors = [np.stack([table[a] for a in d.actions]) for d in datasets]
-        context = [np.column_stack([column(d, c) for c in _CONTEXT]) for d in datasets]
     return _Streams(
         [d.name for d in datasets],
         vectors,

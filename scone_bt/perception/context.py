@@ -5,10 +5,11 @@ along its tier to the nearest detected product there, how many detected products
 height measured in the depth image. Everything comes from the robot's own detections and frames, never from the
 simulator's state, so it is what the robot knows when it decides (and what a real robot would compute).
 
-The self-confidence datasets record the same quantities (scone_bt.benchmarks.self_confidence.context): the
-perceived size with the same measurement (`perceived_size` and `surface_below`, which that module re-exports), the
-tier, clearance and neighbours there from the stocking plan.
-Here the catalogue entry the detector named gives each product's footprint and height, and the detected yaw its
+This is the one context function: the tree's gate calls it every tick (`ContextExtractor`), the self-confidence
+dataset generator records its result for each execution's target (scone_bt.benchmarks.self_confidence.generate,
+`perceived_context`), and the evaluation and the gate benchmark read those recorded columns back unchanged
+(`evaldata.decision_time_context`). So κ̂ is trained, evaluated and consulted on the same definition.
+The catalogue entry the detector named gives each product's footprint and height, and the detected yaw its
 turn on the tier.
 """
 

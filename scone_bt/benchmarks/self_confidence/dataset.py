@@ -10,18 +10,22 @@ object and outcome):
     failure_stage      empty on success, else where it failed (perception, ik, planning, grasp, ...)
     seed               the seed of that execution
     detail             what the pipeline reported
-    shelf_unit         shelf unit the target stood on
-    shelf_tier         tier of that unit, 0 = lowest
-    slot               nearest slot, index into the scene's slots (0-based over all units)
-    clearance_m        gap between the target's side and its nearest neighbour on the tier, metres
-    neighbours         products whose centre is within 0.15 m of the target's
+    shelf_unit         shelf unit under the detected target (empty when not detected)
+    shelf_tier         tier of that unit under the detected top face, 0 = lowest (empty when not detected)
+    slot               slot nearest the detection, index into the scene's slots (empty when not detected)
+    clearance_m        gap between the target's side and its nearest detected neighbour on the tier, metres
+    neighbours         detected products whose centre is within 0.15 m of the target's
     detected           1 if the shelf cameras detected the target, else 0
-    detected_width_m   perceived lid width from the depth image, metres (empty when not detected)
-    detected_height_m  perceived height above the shelf step, metres (empty when not detected)
+    detected_width_m   perceived lid width from the depth image, metres (empty when not detected or measured)
+    detected_height_m  perceived height above the shelf step, metres (empty likewise)
     width_m            catalogue grasp width (narrowest horizontal extent), metres
     height_m           catalogue height, metres
     mass_kg            catalogue mass, kilograms
     material           catalogue material
+
+Every column from shelf_unit to detected_height_m is what the robot perceived, computed by the episode's own
+context function (`scone_bt.perception.context.execution_contexts`, see generate.perceived_context); an undetected
+target leaves them empty (detected 0). width_m to material describe the product, not what the robot knew.
 
 An experience store export (`ExperienceStore.export_csv`) is read too: its `object_name` and `success` columns
 stand for `object` and `outcome`; when its `context` JSON names several robots (or profiles), each becomes its
@@ -110,11 +114,11 @@ class ExecutionRecord:
         seed: Seed of the execution.
         detail: Human-readable detail of the outcome.
         family: Packaging family of the target.
-        shelf_unit: Shelf unit it stood on.
-        shelf_tier: Tier of that unit, 0 = lowest.
-        slot: Nearest slot (index into SceneSpec.slots()).
-        clearance_m: Gap to the nearest neighbour on its tier, metres.
-        neighbours: Products within 0.15 m of it.
+        shelf_unit: Shelf unit under its detection ("" when not detected).
+        shelf_tier: Tier of that unit, 0 = lowest (None when not detected or off the shelf).
+        slot: Slot nearest its detection (index into SceneSpec.slots(); None when not detected).
+        clearance_m: Gap to the nearest detected product on its tier, metres (None when unknown).
+        neighbours: Detected products within 0.15 m of it (None when not detected).
         detected: Whether the shelf cameras detected it.
         detected_width_m: Perceived width, metres (None when not detected or not measurable).
         detected_height_m: Perceived height above its shelf step, metres (None likewise).
@@ -133,10 +137,10 @@ class ExecutionRecord:
     detail: str = ""
     family: str = ""
     shelf_unit: str = ""
-    shelf_tier: int = -1
-    slot: int = -1
-    clearance_m: float = float("nan")
-    neighbours: int = 0
+    shelf_tier: int | None = None
+    slot: int | None = None
+    clearance_m: float | None = None
+    neighbours: int | None = None
     detected: bool = False
     detected_width_m: float | None = None
     detected_height_m: float | None = None
@@ -151,6 +155,9 @@ class ExecutionRecord:
         def num(v: float | None) -> str:
             return "" if v is None or v != v else repr(float(v))
 
+        def count(v: int | None) -> str:
+            return "" if v is None else str(v)
+
         return [
             str(self.index),
             self.action,
@@ -161,10 +168,10 @@ class ExecutionRecord:
             str(self.seed),
             self.detail,
             self.shelf_unit,
-            str(self.shelf_tier),
-            str(self.slot),
+            count(self.shelf_tier),
+            count(self.slot),
             num(self.clearance_m),
-            str(self.neighbours),
+            count(self.neighbours),
             "1" if self.detected else "0",
             num(self.detected_width_m),
             num(self.detected_height_m),
@@ -266,6 +273,9 @@ def read_records(path: Path | str) -> list[ExecutionRecord]:
             v = _float(r[column], path, i, column)
             return None if v != v else v
 
+        def opt_int(column: str, r: dict[str, str] = r, i: int = i) -> int | None:
+            return None if r[column] == "" else _int(r[column], path, i, column)
+
         out.append(
             ExecutionRecord(
                 index=_int(r["index"], path, i, "index"),
@@ -277,10 +287,10 @@ def read_records(path: Path | str) -> list[ExecutionRecord]:
                 detail=r["detail"],
                 family=r["family"],
                 shelf_unit=r["shelf_unit"],
-                shelf_tier=_int(r["shelf_tier"], path, i, "shelf_tier"),
-                slot=_int(r["slot"], path, i, "slot"),
-                clearance_m=_float(r["clearance_m"], path, i, "clearance_m"),
-                neighbours=_int(r["neighbours"], path, i, "neighbours"),
+                shelf_tier=opt_int("shelf_tier"),
+                slot=opt_int("slot"),
+                clearance_m=opt("clearance_m"),
+                neighbours=opt_int("neighbours"),
                 detected=r["detected"].strip() == "1",
                 detected_width_m=opt("detected_width_m"),
                 detected_height_m=opt("detected_height_m"),

@@ -6,10 +6,12 @@ row, the packaging `family` and the six execution-context values a grounded κ̂
 not of the execution, and stay out). A missing context column or cell is NaN; a file without a `family` column
 takes each object's family from the kitchen catalogue, "unknown" where the object is not in it.
 
-The context is what the robot knows when it decides (`decision_time_context`): in the episode only a detected
-product becomes a candidate, so `detected` is 1 on every row, and an undetected row's sizes are the product's own
-width and height (what the depth image would have measured). Read as recorded, `detected = 0` and its missing
-sizes name the perception failures (about 5 % of the rows) and give their label away.
+The context is what the robot knows when it decides (`decision_time_context`, the one place that turns a dataset
+row into a κ̂ context; the gate benchmark's replay reads it too): the recorded perceived columns as they are. The
+generator records them with the episode's own function (`scone_bt.perception.context.execution_contexts`, see
+generate.perceived_context), so training, evaluation and the tree's decisions share one definition. A target the
+cameras missed is `detected = 0` with every other value unknown (NaN): the robot knows it did not see it, and
+nothing more (in the episode it asks for it instead of acting). No value is filled in from the catalogue.
 """
 
 from __future__ import annotations
@@ -69,17 +71,15 @@ class EvalDataset:
 
 
 def decision_time_context(data: Dataset) -> np.ndarray:
-    """(n, len(CONTEXT_FIELDS)) context as the robot has it when it decides (see the module docstring)."""
-    n = len(data)
-    nan = np.full(n, np.nan)
-    col = {c: np.asarray(data.context.get(c, nan), dtype=np.float64).copy() for c in CONTEXT_FIELDS}
-    if "detected" in col:
-        undetected = col["detected"] == 0
-        for measured, true in (("detected_width_m", "width_m"), ("detected_height_m", "height_m")):
-            if measured in col and true in data.context:
-                col[measured][undetected] = data.context[true][undetected]
-        col["detected"] = np.where(np.isnan(col["detected"]), np.nan, 1.0)
-    return np.column_stack([col[c] for c in CONTEXT_FIELDS])
+    """(n, len(CONTEXT_FIELDS)) context as the robot had it when it decided: the recorded perceived columns.
+
+    NaN where a column is missing or a row leaves it empty (an undetected target's size, tier, clearance and
+    neighbours); nothing is taken from the product's catalogue values.
+    """
+    nan = np.full(len(data), np.nan)
+    return np.column_stack(
+        [np.asarray(data.context.get(c, nan), dtype=np.float64) for c in CONTEXT_FIELDS]
+    ).reshape(len(data), len(CONTEXT_FIELDS))
 
 
 def _catalogue_families(kitchen: str) -> dict[str, str]:

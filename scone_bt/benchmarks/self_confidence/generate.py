@@ -1,5 +1,10 @@
 """One simulated execution of a proficiency profile: stock, perceive, pick-and-place, record outcome and context.
 
+The recorded context is the episode's own: `scone_bt.perception.context.execution_contexts` on the detections the
+robot acts on (its calibration error included) and every frame rendered, as the tree's gate computes it when it
+decides (`ContextExtractor`). Nothing in a record's context comes from the stocking plan or the simulator's state;
+a target the cameras did not detect has no perceived context (`detected` 0, the rest empty).
+
 Everything is real: the shelf cameras render the kitchen, the ArUco marker detector finds (or misses) the target, the
 motion stage plans with OMPL on the robot file's grasp settings and executes in PyBullet, and the outcome sensor
 says whether the product stands on the table. A profile only changes parameters (and may sabotage a stage, see
@@ -23,12 +28,13 @@ from typing import Any
 import numpy as np
 
 from scone_bt.affordances.types import action_text
-from scone_bt.benchmarks.self_confidence.context import perceived_size, shelf_context
 from scone_bt.benchmarks.self_confidence.dataset import ExecutionRecord
 from scone_bt.benchmarks.self_confidence.profiles import Profile
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
 from scone_bt.errors import ConfigError
-from scone_bt.perception.types import Detection
+from scone_bt.experience.types import ExecutionContext
+from scone_bt.perception.context import execution_contexts, shelf_place
+from scone_bt.perception.types import Detection, Frame
 
 __all__ = [
     "INJECTED_FORCE_FACTOR",
@@ -36,6 +42,7 @@ __all__ = [
     "choose_objects",
     "drawable_products",
     "execute_task",
+    "perceived_context",
     "run_execution",
 ]
 
@@ -184,32 +191,68 @@ def _in_view(camera: Any, lo: Sequence[float], hi: Sequence[float]) -> bool:
     )
 
 
-def _look(kitchen: Any, kcfg: KitchenConfig, seed: int) -> tuple[dict[str, Detection], dict[str, Any], int]:
+def _miscalibrated(frame: Frame, offset: Sequence[float]) -> Frame:
+    """The frame as a robot with this camera-to-robot error has it: its pose shifted by `offset` (metres).
+
+    Every depth point it yields then moves with the detections (`_shifted`), so the lid is found where the robot
+    believes the top face is, and the height above the shelf step carries the error as the robot perceives it.
+    """
+    if not any(offset):
+        return frame
+    pose = frame.world_from_camera.copy()
+    pose[:3, 3] += np.asarray(offset, dtype=pose.dtype)
+    return dataclasses.replace(frame, world_from_camera=pose)
+
+
+def _look(kitchen: Any, kcfg: KitchenConfig, seed: int) -> tuple[dict[str, Detection], list[Frame]]:
     """Render every shelf camera that has a product in view, detect, merge (most confident per product).
 
-    Returns detections by name, the frame each came from, and the number of cameras rendered.
+    Returns detections by name and every frame rendered (what the episode's context function measures in).
     """
     from scone_bt.perception import Camera
     from scone_bt.quiet import c_stdout_silenced
 
     detector = _WORKER.detector(kcfg)
     boxes = [kitchen.bc.getAABB(body) for body in kitchen.objects.values()]
-    best: dict[str, tuple[Detection, Any]] = {}
-    rendered = 0
+    best: dict[str, Detection] = {}
+    frames: list[Frame] = []
     for k, spec in enumerate(kcfg.shelf_cameras):
         camera = Camera(spec)
         if not any(_in_view(camera, lo, hi) for lo, hi in boxes):
             continue
-        rendered += 1
         with c_stdout_silenced():
             frame = camera.capture(kitchen, np.random.default_rng([seed, 2, k]))
+        frames.append(frame)
         for det in detector.detect(frame):
             # A shelf camera may glimpse the table; what stands there is the table camera's (unused here).
             if kcfg.scene.on_table(det.position):
                 continue
-            if det.name not in best or det.confidence > best[det.name][0].confidence:
-                best[det.name] = (det, frame)
-    return {n: d for n, (d, _) in best.items()}, {n: f for n, (_, f) in best.items()}, rendered
+            if det.name not in best or det.confidence > best[det.name].confidence:
+                best[det.name] = det
+    return best, frames
+
+
+def perceived_context(
+    target: str,
+    detections: dict[str, Detection],
+    frames: Sequence[Frame],
+    kcfg: KitchenConfig,
+) -> tuple[ExecutionContext, str, int | None]:
+    """The target's context as the robot perceived it, with the shelf unit and nearest slot of its detection.
+
+    `detections` and `frames` are what the robot acts on (calibration error included). The context is
+    `execution_contexts` on them, the episode's function; an undetected target has none of it (detected False,
+    every other field None) and no unit or slot.
+    """
+    if target not in detections:
+        return ExecutionContext(detected=False), "", None
+    det = detections[target]
+    context = execution_contexts([det], list(detections.values()), frames, kcfg.scene, kcfg.catalogue)[target]
+    place = shelf_place(kcfg.scene, det.position)
+    slots = kcfg.scene.slots()
+    p = det.position
+    slot = int(np.argmin([np.hypot(s.position[0] - p[0], s.position[1] - p[1]) for s in slots]))
+    return context, "" if place is None else place[0], slot
 
 
 def run_execution(
@@ -230,8 +273,6 @@ def run_execution(
         target_name: Force this target instead of the seeded draw (for per-product sweeps).
         pool: Products to draw from (default: drawable_products of the kitchen's catalogue).
     """
-    from scone_bt.world.stocking import plan_stocking
-
     t0 = time.perf_counter()
     seed = profile.execution_seed(index)
     catalogue = kitchen_cfg.catalogue
@@ -250,20 +291,18 @@ def run_execution(
             rcfg, gripper=dataclasses.replace(g, max_force=g.max_force * INJECTED_FORCE_FACTOR)
         )
     specs = [target, *others]
-    probe = np.random.default_rng()
-    probe.bit_generator.state = rng.bit_generator.state  # the very draws spawn() is about to make
-    placements = {s.name: pl for s, pl in zip(specs, plan_stocking(kcfg.scene, specs, probe), strict=True)}
 
     kitchen = _WORKER.empty_kitchen(kcfg, rcfg)
     kitchen.spawn(specs, rng)
-    positions = {s.name: kitchen.object_state(s.name).position for s in specs}
-    where = shelf_context(kcfg.scene, target.name, placements, {s.name: s for s in specs}, positions)
-    detections, frames, _rendered = _look(kitchen, kcfg, seed)
-    by_name = {n: _shifted(d, profile.calibration_offset) for n, d in detections.items()}
-    seen = target.name in by_name and "perception" not in injected
-    size = perceived_size(frames[target.name], detections[target.name], kcfg.scene) if seen else None
-    if size is not None:  # the robot's calibration error shifts the heights it perceives too
-        size = (size[0], round(size[1] + profile.calibration_offset[2], 4))
+    detections, frames = _look(kitchen, kcfg, seed)
+    # What the robot acts on: its camera-to-robot error moves every detection and every depth point alike.
+    offset = profile.calibration_offset
+    by_name = {n: _shifted(d, offset) for n, d in detections.items()}
+    seen_frames = [_miscalibrated(f, offset) for f in frames]
+    perceived = (
+        by_name if "perception" not in injected else {n: d for n, d in by_name.items() if n != target.name}
+    )
+    ctx, unit, slot = perceived_context(target.name, perceived, seen_frames, kcfg)
 
     def record(success: bool, stage: str | None, detail: str) -> tuple[ExecutionRecord, float]:
         rec = ExecutionRecord(
@@ -275,14 +314,14 @@ def run_execution(
             seed=seed,
             detail=detail,
             family=target.family,
-            shelf_unit=where.unit,
-            shelf_tier=where.tier,
-            slot=where.slot,
-            clearance_m=where.clearance_m,
-            neighbours=where.neighbours,
-            detected=seen,
-            detected_width_m=size[0] if size is not None else None,
-            detected_height_m=size[1] if size is not None else None,
+            shelf_unit=unit,
+            shelf_tier=ctx.shelf_tier,
+            slot=slot,
+            clearance_m=ctx.clearance_m,
+            neighbours=ctx.neighbours,
+            detected=bool(ctx.detected),
+            detected_width_m=ctx.detected_width_m,
+            detected_height_m=ctx.detected_height_m,
             width_m=round(target.grasp_width, 4),
             height_m=round(target.height, 4),
             mass_kg=round(target.mass, 4),
