@@ -60,7 +60,7 @@ class BehaviourOptions:
     def resolve(self, parameters: Mapping[str, Any] | None = None) -> BehaviourOptions:
         """A copy whose unset tree parameters come from ``parameters`` (a tree file's validated section), then
         from the `TreeParameters` defaults."""
-        from scone_bt.tree.parameters import PARAMETER_NAMES, TreeParameters
+        from scone_bt.config.tree_parameters import PARAMETER_NAMES, TreeParameters
 
         base = TreeParameters(**dict(parameters or {}))
         filled = {k: getattr(base, k) for k in PARAMETER_NAMES if getattr(self, k) is None}
@@ -69,6 +69,6 @@ class BehaviourOptions:
     @property
     def resolved(self) -> bool:
         """Whether every tree parameter is set."""
-        from scone_bt.tree.parameters import PARAMETER_NAMES
+        from scone_bt.config.tree_parameters import PARAMETER_NAMES
 
         return all(getattr(self, k) is not None for k in PARAMETER_NAMES)

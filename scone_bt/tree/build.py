@@ -12,10 +12,10 @@ import py_trees
 from pydantic import BaseModel, Field, create_model, field_validator
 
 from scone_bt.config.schema import StrictModel, validate
+from scone_bt.config.tree_parameters import TreeParameters
 from scone_bt.config.yaml_io import read_yaml
 from scone_bt.errors import ConfigError, UnknownNameError
 from scone_bt.resources import resolve_file
-from scone_bt.tree.parameters import TreeParameters
 
 __all__ = ["TreeSpec", "TreeParameters", "ARG_MODELS", "load_tree_spec", "build_tree", "render_tree"]
 

@@ -1,33 +1,5 @@
-"""The `parameters:` section of a tree file: the one place the robot's decision defaults live.
+"""The tree file's `parameters:` section; defined in `scone_bt.config.tree_parameters` (behaviours read it too)."""
 
-`scone-run`, `run_episode` and every script read them from the tree file; a key the file leaves out takes the
-default below (the shipped trees/assistive_cooking.yaml states every one of them). `BehaviourOptions` fields left
-at None are filled from here (`BehaviourOptions.resolve`).
-"""
-
-from __future__ import annotations
-
-from typing import Annotated, Literal
-
-from pydantic import Field
-
-from scone_bt.config.schema import StrictModel
+from scone_bt.config.tree_parameters import PARAMETER_NAMES, TreeParameters
 
 __all__ = ["TreeParameters", "PARAMETER_NAMES"]
-
-
-class TreeParameters(StrictModel):
-    """Validated tree parameters (see trees/assistive_cooking.yaml for what each means)."""
-
-    embedder: Annotated[str, Field(min_length=1)] = "minilm"
-    estimator: Annotated[str, Field(min_length=1)] = "physical"
-    confidence_threshold: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)] = 0.5
-    relevance_threshold: Annotated[float, Field(ge=-1, le=1, allow_inf_nan=False)] = 0.33
-    recipe_aware: bool = True
-    clarify_margin: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)] = 0.03
-    max_failures_per_action: Annotated[int, Field(ge=1, le=1000)] = 3
-    gate: Literal["budget", "paper"] = "budget"
-    target_failure_rate: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False)] = 0.15
-
-
-PARAMETER_NAMES: tuple[str, ...] = tuple(TreeParameters.model_fields)
