@@ -24,7 +24,7 @@ def test_non_finite_floats_become_null_and_numpy_scalars_plain():
 
 
 def test_benchmark_reports_are_strict(capsys, tmp_path):
-    from scone_bt.cli.bench import emit_report
+    from scone_bt.reporting import emit_report
 
     emit_report({"ece": float("nan")}, tmp_path / "r.json")
     assert json.loads(capsys.readouterr().out) == {"ece": None}

@@ -28,8 +28,8 @@ from pathlib import Path
 from typing import Any
 
 from scone_bt.benchmarks.progress import progress_bar
-from scone_bt.cli.bench import emit_report
 from scone_bt.errors import RecipeError
+from scone_bt.reporting import emit_report
 from scone_bt.resources import repo_root
 
 __all__ = [

@@ -23,11 +23,11 @@ from typing import Any
 import numpy as np
 
 from scone_bt.benchmarks.progress import progress_bar
-from scone_bt.cli.bench import emit_report
 from scone_bt.confidence import ESTIMATORS, make_estimator
 from scone_bt.embedding import load_embedder, mpnet_dir
 from scone_bt.gate import GateOptions, decide
 from scone_bt.relevance import rank_actions
+from scone_bt.reporting import emit_report
 from scone_bt.resources import shared_dir
 
 OBJECTS = [

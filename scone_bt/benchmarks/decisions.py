@@ -41,7 +41,7 @@ from typing import Any
 import numpy as np
 
 from scone_bt.affordances.types import object_of_action
-from scone_bt.cli.bench import emit_report
+from scone_bt.reporting import emit_report
 
 __all__ = ["register", "GateCounts", "replay_gate", "judge_fetches", "pick_recipes"]
 

@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from scone_bt.benchmarks.progress import progress_bar
-from scone_bt.cli.bench import emit_report
+from scone_bt.reporting import emit_report
 
 __all__ = ["register", "run", "DEFAULT_RECIPES", "TARGETS"]
 

@@ -36,7 +36,7 @@ from typing import Any
 
 import numpy as np
 
-from scone_bt.cli.bench import emit_report
+from scone_bt.reporting import emit_report
 
 __all__ = ["register", "store_trial", "learning_trial", "ReplayResult", "replay_new_robot"]
 

@@ -36,7 +36,7 @@ import time
 from collections import Counter
 from typing import Any
 
-from scone_bt.cli.bench import emit_report
+from scone_bt.reporting import emit_report
 
 __all__ = ["register", "run", "TARGETS"]
 

@@ -21,7 +21,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from scone_bt.cli.bench import emit_report
+from scone_bt.reporting import emit_report
 
 __all__ = ["register", "run_scale", "noop_task", "timed_execution"]
 

@@ -17,9 +17,9 @@ import sys
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
-from scone_bt.cli.checks import check_output_file, write_atomic
+from scone_bt.checks import check_output_file
 from scone_bt.errors import SconeError
-from scone_bt.strict_json import dumps
+from scone_bt.reporting import emit_report  # re-exported: benchmarks import it from here
 
 __all__ = ["main", "emit_report", "check_report_path", "BENCHMARK_MODULES"]
 
@@ -39,33 +39,6 @@ BENCHMARK_MODULES: tuple[str, ...] = (
     "scone_bt.study.analysis_bench",
     "scone_bt.scenario.bench",
 )
-
-
-def emit_report(
-    report: object,
-    json_path: str | Path | None,
-    indent: int = 2,
-    make_parent: bool = False,
-    force: bool = False,
-) -> None:
-    """Print a benchmark's JSON report and, with ``--json FILE``, write the same text there (strict JSON).
-
-    The file is written whole or not at all (a temporary file renamed over it); an existing file that is not JSON
-    is not replaced unless `force` (scone-bench checks this before the benchmark runs, too).
-    """
-    text = dumps(report, indent=indent)
-    print(text)
-    if json_path:
-        path = Path(json_path)
-        if make_parent:
-            path.parent.mkdir(parents=True, exist_ok=True)
-        check_output_file(path, "--json", kind="json", force=force or os.path.realpath(path) in _APPROVED)
-        write_atomic(path, text + "\n")
-
-
-_APPROVED: set[str] = (
-    set()
-)  # --json paths check_report_path accepted (with the command's --force) before the run
 
 
 def _leaf_parsers(parser: argparse.ArgumentParser) -> Iterator[argparse.ArgumentParser]:

@@ -75,7 +75,7 @@ import logging  # noqa: E402
 import shlex  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from scone_bt.cli.checks import internal_error_line  # noqa: E402
+from scone_bt.checks import internal_error_line  # noqa: E402
 from scone_bt.errors import SconeError  # noqa: E402
 from scone_bt.robot.interface import BACKENDS  # noqa: E402
 
@@ -338,7 +338,7 @@ def _run_inputs(args: argparse.Namespace) -> dict[str, list[Path]]:
 
     Names that do not resolve are left out here; their own loaders word the error.
     """
-    from scone_bt.cli.checks import sqlite_files
+    from scone_bt.checks import sqlite_files
     from scone_bt.config.catalogue import catalogue_files
     from scone_bt.config.yaml_io import read_yaml
     from scone_bt.recipes.recipe import EXAMPLES_DIR, recipe_corpus_path
@@ -420,8 +420,8 @@ def _check_embedder(name: str) -> None:
 
 
 def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
+    from scone_bt import checks
     from scone_bt.behaviours import BehaviourOptions
-    from scone_bt.cli import checks
     from scone_bt.config.schema import MAX_FILE_BYTES, check_input_file
     from scone_bt.episode import EpisodeOptions
     from scone_bt.human import HumanOptions

@@ -24,7 +24,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from scone_bt.cli.bench import emit_report
+from scone_bt.reporting import emit_report
 
 __all__ = ["register"]
 

@@ -184,7 +184,7 @@ def _open_log(path: Path, expect_existing: bool = True):  # -> StudyLog
 
 def _check_export_out(out: Path) -> None:
     """Export's folder: writable, and none of its CSV files there already (they are never overwritten)."""
-    from scone_bt.cli.checks import check_output_dir
+    from scone_bt.checks import check_output_dir
     from scone_bt.study.log import EXPORT_FILES
 
     check_output_dir(out, "--out")
@@ -324,8 +324,8 @@ def _power(args: argparse.Namespace) -> int:
 
 
 def _session(args: argparse.Namespace) -> int:
+    from scone_bt import checks
     from scone_bt.behaviours import BehaviourOptions
-    from scone_bt.cli import checks
     from scone_bt.config import load_robot
     from scone_bt.episode import EpisodeOptions
     from scone_bt.recipes import load_recipe
@@ -435,7 +435,7 @@ def main(argv: list[str] | None = None) -> int:
 
         if os.environ.get("SCONE_BT_DEBUG"):
             raise
-        from scone_bt.cli.checks import internal_error_line
+        from scone_bt.checks import internal_error_line
 
         print(f"scone-study: internal error: {internal_error_line(exc)}", file=sys.stderr)
         return 3

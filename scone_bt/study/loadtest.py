@@ -26,7 +26,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-from scone_bt.cli.bench import emit_report
+from scone_bt.reporting import emit_report
 
 __all__ = ["LoadTestOptions", "LoadTestResult", "run_load_test", "register"]
 

@@ -13,8 +13,8 @@ from pathlib import Path
 
 import pytest
 
+from scone_bt.checks import write_atomic
 from scone_bt.cli import bench
-from scone_bt.cli.checks import write_atomic
 from scone_bt.cli.run import build_parser, main, options_from_args, viewer_command
 from scone_bt.experience import ExperienceStore, Outcome
 from scone_bt.resources import data_dir
