@@ -36,6 +36,7 @@ __all__ = [
     "ClarificationAsked",
     "PlanInfeasible",
     "TakeOver",
+    "HelpDeclined",
     "HelpGiven",
     "Intervention",
     "CleanUpStarted",
@@ -120,7 +121,8 @@ class DecisionMade(Event):
         context: The chosen action's execution context as perceived (what a grounded κ̂ saw), or None.
         rule: What made the verdict when it was not κ̂ against the gate's threshold: "failure-limit" (the
             paper's rule: asked after N failures on the action), "infeasible" (no plan exists: known before the
-            arm moved), "missing" (the step needs an item the robot cannot see), "self-confidence-off" (the
+            arm moved), "missing" (the step needs an item the robot cannot see), "declined" (the human declined
+            to fetch it: the robot tries itself, or waits), "self-confidence-off" (the
             control condition acted without consulting κ̂); "" when κ̂ and the threshold decided.
         planning_s: Wall seconds the robot planned before committing (plan before commit), or None.
     """
@@ -228,6 +230,13 @@ class HelpGiven(_HumanFetch):
 
 
 @dataclass(frozen=True)
+class HelpDeclined(_HumanFetch):
+    """The human declined to fetch an object the robot asked for ("try it yourself"); ``detail`` says so."""
+
+    kind: ClassVar[str] = "declined"
+
+
+@dataclass(frozen=True)
 class Intervention(_HumanFetch):
     """The human put an object on the table unasked (after a take-over, a drop or a long idle robot)."""
 
@@ -265,6 +274,7 @@ EVENT_TYPES: Mapping[str, type[Event]] = MappingProxyType(
             ClarificationAsked,
             TakeOver,
             HelpGiven,
+            HelpDeclined,
             Intervention,
             CleanUpStarted,
             StepDone,
@@ -324,6 +334,7 @@ class EpisodeStats:
         successes: Attempts labelled a success.
         failures: Attempts labelled a failure.
         help_requests: ASK-HELP requests.
+        help_declined: Help requests the human declined.
         clarifications: ASK-CLARIFY questions.
         cancelled: Attempts cancelled because the human took over.
         takeovers: Take-overs the human made.
@@ -343,6 +354,7 @@ class EpisodeStats:
     successes: int = 0
     failures: int = 0
     help_requests: int = 0
+    help_declined: int = 0
     clarifications: int = 0
     cancelled: int = 0
     takeovers: int = 0
@@ -370,6 +382,7 @@ _COUNTERS: Mapping[type[Event], str] = MappingProxyType(
         ActCancelled: "cancelled",
         TakeOver: "takeovers",
         HelpGiven: "help_given",
+        HelpDeclined: "help_declined",
         Intervention: "interventions",
         StepDone: "steps_done",
     }

@@ -17,6 +17,7 @@ from scone_bt.events import (
     DecisionMade,
     EpisodeStats,
     EventLog,
+    HelpDeclined,
     HelpGiven,
     HelpRequested,
     Intervention,
@@ -36,6 +37,8 @@ EPISODE = [
     DecisionMade(9.1, 1, "Add salt.", "Put salt on table", 0.6, 0.3, DecisionKind.ASK, "now", (), "salt"),
     HelpRequested(9.1, "Put salt on table", "salt"),
     HelpGiven(15.1, "salt", "fetched by the human"),
+    HelpRequested(15.15, "Put pepper on table", "pepper"),
+    HelpDeclined(15.15, "pepper", "the human declined: try it yourself"),
     DecisionMade(
         15.2, 2, "Which oil?", None, math.nan, math.nan, DecisionKind.CLARIFY, "", ("Put a on table",)
     ),
@@ -102,7 +105,8 @@ def test_summary_is_the_fold_of_the_events() -> None:
         attempted=2,
         successes=0,
         failures=1,
-        help_requests=1,
+        help_requests=2,
+        help_declined=1,
         clarifications=1,
         cancelled=1,
         takeovers=1,

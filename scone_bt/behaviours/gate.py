@@ -90,6 +90,10 @@ class ConfidenceGate(StageBehaviour):
     A step that names an item the robot can see nowhere (and did not place) makes it ask for that item once
     (ASK-HELP, rule "missing") instead of idling until the human intervenes.
 
+    When the human declined to fetch an item ("try it yourself"), the robot does not ask for it again: it
+    attempts it (rule "declined") if it may (a plan exists, fewer than ``max_failures_per_action`` failures),
+    else it waits for the human (IDLE, rule "declined"), so a refusal never makes it ask in a loop.
+
     With a context source it also builds each ranked action's ExecutionContext from this tick's perception
     (`Keys.CONTEXTS`, the target's in `Keys.TARGET_CONTEXT`, stored with its outcome); a grounded κ̂ (is_grounded)
     predicts from the embeddings followed by those contexts, any other κ̂ from the embeddings alone.
@@ -238,11 +242,7 @@ class ConfidenceGate(StageBehaviour):
         target = affordances.get(decision.action) if decision.action is not None else None
         if target is not None:
             decision = replace(decision, object_name=target.object_name)
-        if decision.kind is DecisionKind.IDLE and view is not None and view.missing:
-            if self.budget is not None:
-                decision = self._ask_for_missing(decision, view.missing)
-            else:  # the paper's robot does not ask for what it cannot see: it says what it waits for
-                decision = replace(decision, reason=f"waiting: {', '.join(view.missing)} not in sight")
+        decision = self._after_decline(decision, target is not None)
         self.write(Keys.CONFIDENCES, dict(zip([r.text for r in ranked], confidences, strict=True)))
         self.write(Keys.CONTEXTS, contexts)
         self.write(Keys.PLANNED, None)
@@ -286,8 +286,17 @@ class ConfidenceGate(StageBehaviour):
     def _infeasible_decision(
         self, decision: Decision, infeasible: Infeasible, again: bool = False
     ) -> Decision:
-        """ASK-HELP instead of ACT: no plan exists in this scene, known before the arm moved."""
+        """ASK-HELP instead of ACT: no plan exists in this scene, known before the arm moved (IDLE, waiting for
+        the human, when the human already declined to fetch it)."""
         why = say_infeasible(str(decision.object_name), infeasible)
+        if self.human.declined(str(decision.object_name)):
+            return replace(
+                decision,
+                kind=DecisionKind.IDLE,
+                reason=f"{why}, and the human declined to fetch it: waiting",
+                rule="declined",
+                explored=False,
+            )
         return replace(
             decision,
             kind=DecisionKind.ASK,
@@ -300,6 +309,14 @@ class ConfidenceGate(StageBehaviour):
         self, pending: _Pending, decision: Decision, planning_s: float | None = None
     ) -> py_trees.common.Status:
         target = pending.target
+        view = self.read(Keys.STEP)
+        if decision.kind is DecisionKind.IDLE and view is not None and view.missing:
+            if self.budget is not None:
+                decision = self._ask_for_missing(decision, view.missing)
+            else:  # the paper's robot does not ask for what it cannot see: it says what it waits for
+                decision = replace(decision, reason=f"waiting: {', '.join(view.missing)} not in sight")
+        if decision.kind is not DecisionKind.ACT:
+            target = target if decision.kind is DecisionKind.ASK and decision.rule != "missing" else None
         self.write(Keys.DECISION, decision)
         self.write(Keys.TARGET, target)
         target_context = pending.contexts.get(target.text) if target is not None else None
@@ -312,6 +329,29 @@ class ConfidenceGate(StageBehaviour):
         if new_status is py_trees.common.Status.INVALID and self._pending is not None:
             self._pending = None  # interrupted while planning: nothing was committed
             self.write(Keys.MOTION_COMPUTING, False)
+
+    def _after_decline(self, decision: Decision, visible: bool) -> Decision:
+        """A help request the human declined is not made again: attempt instead, or wait (see the class)."""
+        item = decision.object_name
+        if decision.kind is not DecisionKind.ASK or item is None or not self.human.declined(str(item)):
+            return decision
+        failures = self.history.failures_of(decision.action or "")
+        if visible and failures < max(self.limit, 1):
+            return replace(
+                decision,
+                kind=DecisionKind.ACT,
+                reason=f"the human declined to fetch the {item}: trying it myself",
+                rule="declined",
+                explored=False,
+            )
+        why = "I cannot see it" if not visible else f"it failed {failures} times"
+        return replace(
+            decision,
+            kind=DecisionKind.IDLE,
+            reason=f"the human declined to fetch the {item} and {why}: waiting",
+            rule="declined",
+            explored=False,
+        )
 
     def _ask_for_missing(self, decision: Decision, missing: tuple[str, ...]) -> Decision:
         """Idle, but the step needs items the robot sees nowhere and did not place: ask for the first one not

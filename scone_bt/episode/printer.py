@@ -19,6 +19,7 @@ RULE_LABELS = {
     "self-confidence-off": "self-confidence off",
     "infeasible": "infeasible",
     "missing": "missing",
+    "declined": "help declined",
 }
 """How a line names each `DecisionMade.rule` (a rule not listed is shown by its own name)."""
 

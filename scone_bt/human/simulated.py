@@ -11,7 +11,8 @@ Take-overs and clean-ups are interventions. Fetching takes ``fetch_time_s`` of s
 
 When the robot asks which item a step means (ASK-CLARIFY), the human names the candidates its current step
 needs, else those the next step that needs any of them needs, else none ("none of those"); answering takes
-``clarify_time_s``.
+``clarify_time_s``. A scenario can make the human answer otherwise (`ClarifyAnswer`: the wrong candidates, or
+"none of those"), and decline help requests (`HelpAnswer.DECLINE`: "try it yourself", a `HelpDeclined` event).
 """
 
 from __future__ import annotations
@@ -21,11 +22,26 @@ from enum import Enum
 
 import numpy as np
 
-from scone_bt.events import CleanUpStarted, Event, HelpGiven, Intervention, StepDone
+from scone_bt.events import CleanUpStarted, Event, HelpDeclined, HelpGiven, Intervention, StepDone
 from scone_bt.recipes import StockedRecipe
 from scone_bt.world import Kitchen
 
-__all__ = ["HumanOptions", "FetchReason", "SimulatedHuman"]
+__all__ = ["ClarifyAnswer", "HelpAnswer", "HumanOptions", "FetchReason", "SimulatedHuman"]
+
+
+class HelpAnswer(Enum):
+    """How the human answers a help request: fetch the object, or decline ("try it yourself")."""
+
+    FETCH = "fetch"
+    DECLINE = "decline"
+
+
+class ClarifyAnswer(Enum):
+    """How the human answers "which one?": the candidates the step needs (RIGHT), the others (WRONG), or none."""
+
+    RIGHT = "right"
+    WRONG = "wrong"
+    NONE = "none"
 
 
 @dataclass(frozen=True)
@@ -39,6 +55,8 @@ class HumanOptions:
         takeover_probability: Chance that the human intervenes on an action the robot attempts.
         takeover_delay_s: How long into the robot's action the take-over happens.
         clarify_time_s: Time to answer the robot's "which one?" question.
+        help_answer: How help requests are answered.
+        clarify_answer: How "which one?" is answered.
     """
 
     fetch_time_s: float = 6.0
@@ -47,6 +65,8 @@ class HumanOptions:
     takeover_probability: float = 0.0
     takeover_delay_s: float = 1.0
     clarify_time_s: float = 2.0
+    help_answer: HelpAnswer = HelpAnswer.FETCH
+    clarify_answer: ClarifyAnswer = ClarifyAnswer.RIGHT
 
 
 class FetchReason(Enum):
@@ -83,6 +103,9 @@ class SimulatedHuman:
         self.help_given = 0
         self.clarifications = 0
         self.interventions = 0
+        self.help_declined = 0
+        self._declined: list[Event] = []  # answers to requests, reported with the next update()
+        self._declined_objects: set[str] = set()
         self.events: list[Event] = []
 
     # -------------------------------------------------------------------------------------------- state
@@ -110,20 +133,36 @@ class SimulatedHuman:
 
     # -------------------------------------------------------------------------------------------- robot → human
     def request_help(self, object_name: str) -> None:
-        """The robot asks the human to fetch this object."""
+        """The robot asks the human to fetch this object (a declining human says so: a HelpDeclined event)."""
+        if self.options.help_answer is HelpAnswer.DECLINE:
+            self.help_declined += 1
+            self._declined_objects.add(object_name)
+            self._declined.append(
+                HelpDeclined(self.kitchen.sim_time, object_name, "the human declined: try it yourself")
+            )
+            return
         if not self.is_fetching(object_name):
             self._fetches.append(
                 _Fetch(object_name, self.kitchen.sim_time + self.options.fetch_time_s, FetchReason.HELP)
             )
 
+    def declined(self, object_name: str) -> bool:
+        """The human declined a help request for this object."""
+        return object_name in self._declined_objects
+
     def answer_clarification(self, candidates: tuple[str, ...]) -> tuple[str, ...]:
         """The robot asks which of ``candidates`` the step wants; see the module docstring."""
         self.clarifications += 1
+        if self.options.clarify_answer is ClarifyAnswer.NONE:
+            return ()
+        right: tuple[str, ...] = ()
         for step in self.recipe.steps[self.step_index :]:
-            wanted = tuple(c for c in candidates if c in step.objects and not self.kitchen.is_on_table(c))
-            if wanted:
-                return wanted
-        return ()
+            right = tuple(c for c in candidates if c in step.objects and not self.kitchen.is_on_table(c))
+            if right:
+                break
+        if self.options.clarify_answer is ClarifyAnswer.WRONG:
+            return tuple(c for c in candidates if c not in right)
+        return right
 
     def decide_takeover(self, object_name: str) -> None:
         """Called once when the robot starts an action on an object: the human decides whether to take over."""
@@ -156,7 +195,8 @@ class SimulatedHuman:
     def update(self) -> list[Event]:
         """Advance the human by one tick; returns the events of this tick."""
         now = self.kitchen.sim_time
-        new: list[Event] = []
+        new: list[Event] = self._declined
+        self._declined = []
         for fetch in list(self._fetches):
             if now >= fetch.ready_at:
                 self._fetches.remove(fetch)

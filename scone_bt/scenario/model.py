@@ -110,7 +110,8 @@ class RobotSection(Fault):
 
 # ------------------------------------------------------------------------------------------------ the human
 class HumanSection(StrictModel):
-    """The simulated human (`scone_bt.human.HumanOptions`), simulated seconds."""
+    """The simulated human (`scone_bt.human.HumanOptions`), simulated seconds; how it answers the robot's
+    requests: ``help_answer`` fetch or decline ("try it yourself"), ``clarify_answer`` right, wrong or none."""
 
     patience_s: _NonNeg = 20.0
     takeover_probability: _Prob = 0.0
@@ -118,6 +119,8 @@ class HumanSection(StrictModel):
     fetch_time_s: _NonNeg = 6.0
     cook_time_s: _NonNeg = 2.0
     clarify_time_s: _NonNeg = 2.0
+    help_answer: Literal["fetch", "decline"] = "fetch"
+    clarify_answer: Literal["right", "wrong", "none"] = "right"
 
 
 # ------------------------------------------------------------------------------------------------ conditions

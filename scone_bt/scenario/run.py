@@ -258,7 +258,7 @@ def episode_options(
     """The `EpisodeOptions` of a case (paths relative to the scenario file resolved)."""
     from scone_bt.behaviours import BehaviourOptions
     from scone_bt.episode import EpisodeOptions
-    from scone_bt.human import HumanOptions
+    from scone_bt.human import ClarifyAnswer, HelpAnswer, HumanOptions
     from scone_bt.tree.parameters import PARAMETER_NAMES
 
     w, base = case.spec.world, case.base
@@ -289,6 +289,8 @@ def episode_options(
             takeover_probability=h.takeover_probability,
             takeover_delay_s=h.takeover_delay_s,
             clarify_time_s=h.clarify_time_s,
+            help_answer=HelpAnswer(h.help_answer),
+            clarify_answer=ClarifyAnswer(h.clarify_answer),
         ),
         save=save,
     )

@@ -126,6 +126,7 @@ class FakeHuman:
     asked: list[tuple[str, ...]] = field(default_factory=list)
     helped: list[str] = field(default_factory=list)
     taken: list[str] = field(default_factory=list)
+    declines: set[str] = field(default_factory=set)
     clarify_time_s: float = 2.0
     step_index: int = 0
     done: bool = False
@@ -143,6 +144,9 @@ class FakeHuman:
     def request_help(self, object_name: str) -> None:
         self.helped.append(object_name)
         self.pending.add(object_name)
+
+    def declined(self, object_name: str) -> bool:
+        return object_name in self.declines
 
     def answer_clarification(self, candidates: tuple[str, ...]) -> tuple[str, ...]:
         self.asked.append(candidates)

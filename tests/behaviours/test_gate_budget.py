@@ -227,3 +227,44 @@ def test_nothing_missing_stays_idle() -> None:
         and decision.rule == ""
         and decision.reason == "no actions are available"
     )
+
+
+def _declining_gate(limit: int = 99) -> tuple[ConfidenceGate, EventLog]:
+    events = EventLog()
+    human = FakeHuman(declines={"salt"})
+    gate = ConfidenceGate(
+        "gate",
+        lambda: _Kappa(0.3),
+        GateOptions(confidence_threshold=0.6, relevance_threshold=0.3),
+        limit,
+        events,
+        events,
+        FakeRobot(time=3.0).now,
+        human,
+        4,
+        budget=BudgetOptions(explore_rate=0.0),
+    )
+    gate.setup()
+    return gate, events
+
+
+def test_after_the_human_declined_the_robot_tries_itself_instead_of_asking_again() -> None:
+    gate, _ = _declining_gate()
+    decision = _tick(gate, _salt_step())
+    assert (decision.kind, decision.rule) == (DecisionKind.ACT, "declined")
+    assert decision.reason == "the human declined to fetch the salt: trying it myself"
+
+
+def test_after_the_human_declined_an_item_that_failed_too_often_is_waited_for() -> None:
+    gate, events = _declining_gate(limit=2)
+    for _ in range(2):
+        events(ActOutcome(1.0, SALT, "salt", False, "grasp"))
+    decision = _tick(gate, _salt_step())
+    assert (decision.kind, decision.rule) == (DecisionKind.IDLE, "declined")
+    assert "failed 2 times: waiting" in decision.reason
+
+
+def test_an_undeclined_item_is_still_asked_for() -> None:
+    gate, _ = _declining_gate()
+    gate.human.declines.clear()  # type: ignore[attr-defined]
+    assert _tick(gate, _salt_step()).kind is DecisionKind.ASK

@@ -28,3 +28,36 @@ def test_patience_leads_to_intervention(kitchen, kitchen_cfg, rng):
         kitchen.advance(0.1)
         human.update()
     assert human.interventions >= 1 and kitchen.is_on_table("salt")
+
+
+def test_a_declining_human_fetches_nothing_asked_and_says_so(kitchen, kitchen_cfg, rng):
+    from scone_bt.events import HelpDeclined
+    from scone_bt.human import HelpAnswer
+
+    recipe = stock_recipe(load_recipe("example:tomato-pasta"), kitchen_cfg.catalogue)
+    kitchen.spawn([kitchen_cfg.catalogue.get(n) for n in recipe.needed], rng)
+    opts = HumanOptions(fetch_time_s=0.1, patience_s=1e9, help_answer=HelpAnswer.DECLINE)
+    human = SimulatedHuman(kitchen, recipe, opts)
+    human.request_help("salt")
+    assert not human.help_pending("salt") and human.declined("salt") and not human.declined("garlic")
+    events = [e for _ in range(10) for e in (kitchen.advance(0.1), human.update())[1]]
+    assert [type(e) for e in events] == [HelpDeclined] and events[0].object_name == "salt"
+    assert not kitchen.is_on_table("salt") and human.help_given == 0 and human.help_declined == 1
+
+
+def test_clarification_answers_right_wrong_or_none(kitchen, kitchen_cfg, rng):
+    from scone_bt.human import ClarifyAnswer
+
+    recipe = stock_recipe(load_recipe("example:tomato-pasta"), kitchen_cfg.catalogue)
+    kitchen.spawn([kitchen_cfg.catalogue.get(n) for n in recipe.needed], rng)
+    first = recipe.steps[0].objects[0]
+    other = next(n for n in recipe.needed if n not in recipe.steps[0].objects)
+    answers = {
+        a: SimulatedHuman(kitchen, recipe, HumanOptions(clarify_answer=a)).answer_clarification(
+            (first, other)
+        )
+        for a in ClarifyAnswer
+    }
+    assert answers[ClarifyAnswer.RIGHT] == (first,)
+    assert answers[ClarifyAnswer.WRONG] == (other,)
+    assert answers[ClarifyAnswer.NONE] == ()
