@@ -33,7 +33,7 @@ from scone_bt.benchmarks.self_confidence.profiles import Profile
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
 from scone_bt.errors import ConfigError
 from scone_bt.experience.types import ExecutionContext
-from scone_bt.perception.context import execution_contexts, shelf_place
+from scone_bt.perception import context as perception_context
 from scone_bt.perception.types import Detection, Frame
 
 __all__ = [
@@ -247,8 +247,11 @@ def perceived_context(
     if target not in detections:
         return ExecutionContext(detected=False), "", None
     det = detections[target]
-    context = execution_contexts([det], list(detections.values()), frames, kcfg.scene, kcfg.catalogue)[target]
-    place = shelf_place(kcfg.scene, det.position)
+    # Through the module, as ContextExtractor calls it: one function (a test counts the calls of both paths).
+    context = perception_context.execution_contexts(
+        [det], list(detections.values()), frames, kcfg.scene, kcfg.catalogue
+    )[target]
+    place = perception_context.shelf_place(kcfg.scene, det.position)
     slots = kcfg.scene.slots()
     p = det.position
     slot = int(np.argmin([np.hypot(s.position[0] - p[0], s.position[1] - p[1]) for s in slots]))
