@@ -27,7 +27,6 @@ from typing import Any
 import numpy as np
 
 from scone_bt.errors import SconeError, UnknownNameError
-from scone_bt.strict_json import dumps
 from scone_bt.study.log import StudyLog
 from scone_bt.study.models import (
     QUESTION_MEAN_SD,
@@ -65,7 +64,6 @@ __all__ = [
     "FACTORS",
     "output_paths",
     "check_outputs",
-    "write_outputs",
 ]
 
 MODELS = ("mdmt", "tps_hri", "trust", "interventions")  # what a StudyLog holds; CSV data name their own
@@ -601,26 +599,3 @@ def check_output_folder(out: Path, paths: dict[str, Path], force: bool, holds: s
     if not os.access(out, os.W_OK):
         raise SconeError(f"--out {out}: the folder is not writable")
     return paths
-
-
-def write_outputs(
-    result: AnalysisResult, data: StudyData, folder: str | Path, force: bool = False
-) -> dict[str, Path]:
-    """results.json, scores.csv and the Fig. 3 figure (PNG and PDF) in `folder`."""
-    from scone_bt.study.figure import plot_results
-
-    paths = check_outputs(folder, force)
-    paths["json"].write_text(dumps(result.to_json(), indent=2, default=_json_default))
-    frame = data.sessions.copy()
-    frame.insert(0, "data", "SIMULATED" if data.simulated else "real")
-    frame.to_csv(paths["scores"], index=False)
-    plot_results(result, data, paths["figure"], pdf=paths["figure_pdf"])
-    return paths
-
-
-def _json_default(obj: Any) -> Any:
-    if isinstance(obj, np.generic):
-        return obj.item()
-    if isinstance(obj, Sequence):
-        return list(obj)
-    return str(obj)

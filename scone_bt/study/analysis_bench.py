@@ -45,8 +45,8 @@ def _bench(args: argparse.Namespace) -> int:
         contrasts_of,
         fit_poisson,
         load_study,
-        write_outputs,
     )
+    from scone_bt.study.outputs import write_outputs
     from scone_bt.study.power import simulate_counts
     from scone_bt.study.simulate import SimulationOptions, simulate_study
     from scone_bt.study.trust import TrustParameters

@@ -225,7 +225,8 @@ def _analysis_options(
 
 def _analyze(data, args: argparse.Namespace, out: Path, force: bool = False) -> None:  # noqa: ANN001
     """Check options and output folder, then sample (the slow part), then write."""
-    from scone_bt.study.analysis import analyze, check_outputs, write_outputs
+    from scone_bt.study.analysis import analyze, check_outputs
+    from scone_bt.study.outputs import write_outputs
 
     options = _analysis_options(args, data.available_models())
     check_outputs(out, force)

@@ -14,9 +14,9 @@ from scone_bt.study.analysis import (
     decide,
     load_study,
     summarize_fit,
-    write_outputs,
 )
 from scone_bt.study.models import Priors
+from scone_bt.study.outputs import write_outputs
 from scone_bt.study.simulate import SimulationOptions, simulate_study
 from scone_bt.study.trust import TrustParameters
 
