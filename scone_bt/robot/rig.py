@@ -51,8 +51,16 @@ class World(Protocol):
         """The products in the kitchen."""
         ...
 
+    def slots_on_tier(self, unit: str, tier: int) -> int:
+        """How many slots the shelf unit's tier has."""
+        ...
+
     def place_on_shelf(self, name: str, slot: SlotRef, yaw: float = 0.0) -> None:
         """Stand the product on the slot (a product already there swaps places with it)."""
+        ...
+
+    def swap(self, name: str, other: str) -> None:
+        """Exchange the places of two products (a look-alike put where the product stood, and back)."""
         ...
 
     def place_on_table(self, name: str) -> bool:
@@ -86,8 +94,12 @@ class World(Protocol):
         camera_noise: float | None = None,
         depth_noise: float | None = None,
         planner_budget_s: float | None = None,
+        calibration_offset: tuple[float, float, float] | None = None,
+        velocity_scale: float | None = None,
+        acceleration_scale: float | None = None,
+        jerk_scale: float | None = None,
     ) -> None:
-        """Degrade (or restore) the robot from now on; None keeps a value."""
+        """Degrade (or restore) the robot from now on; None keeps a value (units: `scone_bt.scenario` Fault)."""
         ...
 
     def is_on_table(self, name: str) -> bool:
@@ -153,6 +165,11 @@ class SimWorld:
         x, y = unit.to_world(tier.center, tier.slots[slot.index])
         return (x, y, tier.top_z), unit.facing_yaw
 
+    def slots_on_tier(self, unit: str, tier: int) -> int:
+        (x, y, z), _ = self.slot_surface(SlotRef(unit, tier, 0))  # checks the unit and the tier
+        units = {u.name: u for u in self.kitchen.config.scene.shelves}
+        return len(units[unit].tiers[tier].slots)
+
     def _standing_near(self, point: Sequence[float], radius: float, besides: str) -> str | None:
         best, best_d = None, radius
         for other in self.kitchen.objects:
@@ -166,15 +183,27 @@ class SimWorld:
 
     def place_on_shelf(self, name: str, slot: SlotRef, yaw: float = 0.0) -> None:
         surface, facing = self.slot_surface(slot)
-        here = self.kitchen.object_state(name)
-        height = self.kitchen.specs[name].height
-        was = (here.position[0], here.position[1], here.position[2] - height / 2 - 1e-3)
-        was_yaw = self.kitchen.bc.getEulerFromQuaternion(here.orientation)[2]
+        was, was_yaw = self._stand(name)
         occupant = self._standing_near(surface, 0.05, name)
         self.kitchen.park_object(name)  # out of the way while the occupant moves
         if occupant is not None:
             self.kitchen.place_object(occupant, was, was_yaw)
         self.kitchen.place_object(name, surface, facing + yaw)
+
+    def _stand(self, name: str) -> tuple[tuple[float, float, float], float]:
+        """Where the product stands now: the point under its base (m) and its yaw (rad)."""
+        here = self.kitchen.object_state(name)
+        height = self.kitchen.specs[name].height
+        yaw = self.kitchen.bc.getEulerFromQuaternion(here.orientation)[2]
+        return (here.position[0], here.position[1], here.position[2] - height / 2 - 1e-3), yaw
+
+    def swap(self, name: str, other: str) -> None:
+        if name == other:
+            return
+        (a, a_yaw), (b, b_yaw) = self._stand(name), self._stand(other)
+        self.kitchen.park_object(name)  # out of the way while the other one moves
+        self.kitchen.place_object(other, a, a_yaw)
+        self.kitchen.place_object(name, b, b_yaw)
 
     def place_on_table(self, name: str) -> bool:
         return self.kitchen.human_place_on_table(name)
@@ -231,6 +260,10 @@ class SimWorld:
         camera_noise: float | None = None,
         depth_noise: float | None = None,
         planner_budget_s: float | None = None,
+        calibration_offset: tuple[float, float, float] | None = None,
+        velocity_scale: float | None = None,
+        acceleration_scale: float | None = None,
+        jerk_scale: float | None = None,
     ) -> None:
         if gripper_force is not None or finger_friction is not None:
             self.kitchen.set_gripper_properties(max_force=gripper_force, finger_friction=finger_friction)
@@ -245,3 +278,18 @@ class SimWorld:
         if planner_budget_s is not None:
             motion = self.robot.motion
             motion.planner = dataclasses.replace(motion.planner, time_limit_s=float(planner_budget_s))
+        if calibration_offset is not None:
+            self.robot.calibration_offset = tuple(float(c) for c in calibration_offset)  # type: ignore[assignment]
+        scales = {
+            "velocity_scale": velocity_scale,
+            "acceleration_scale": acceleration_scale,
+            "jerk_scale": jerk_scale,
+        }
+        given = {k: float(v) for k, v in scales.items() if v is not None}
+        if given:
+            from scone_bt.motion.timing import limits_of
+
+            cfg = self.robot.robot_config
+            cfg = dataclasses.replace(cfg, limits=dataclasses.replace(cfg.limits, **given))
+            self.robot.robot_config = cfg
+            self.robot.motion.limits = limits_of(cfg)

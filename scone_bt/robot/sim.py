@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -41,6 +43,8 @@ class SimRobot:
         self._rng = perception_rng
         self._observer: Observer | None = None
         self._motion: MotionSystem | None = None
+        self.calibration_offset: tuple[float, float, float] = (0.0, 0.0, 0.0)
+        """Systematic camera-to-robot error added to every perceived position, metres (a miscalibrated robot)."""
 
     # ------------------------------------------------------------------------------------------ components
     @property
@@ -67,7 +71,14 @@ class SimRobot:
 
     # ------------------------------------------------------------------------------------------ Robot
     def perceive(self) -> Observation:
-        return self.observer.observe(self.kitchen, self._rng)
+        seen = self.observer.observe(self.kitchen, self._rng)
+        if not any(self.calibration_offset):
+            return seen
+        return dataclasses.replace(
+            seen,
+            detections=tuple(_shifted(d, self.calibration_offset) for d in seen.detections),
+            table_detections=tuple(_shifted(d, self.calibration_offset) for d in seen.table_detections),
+        )
 
     def _spec(self, name: str) -> ObjectSpec:
         return self.config.catalogue.get(name)
@@ -122,6 +133,13 @@ class SimRobot:
         """Camera images rendered so far."""
         o = self._observer
         return 0 if o is None else sum(c.renders for c in o.cameras)
+
+
+def _shifted(det: Detection, offset: Sequence[float]) -> Detection:
+    """The detection as a robot whose camera-to-robot calibration is off by ``offset`` (m) perceives it."""
+    return dataclasses.replace(
+        det, position=tuple(float(a + b) for a, b in zip(det.position, offset, strict=True))
+    )
 
 
 # Planner failures that the scene's geometry decides (the same request fails again); NO_PATH is the planner

@@ -39,6 +39,7 @@ __all__ = [
 _Seconds = Annotated[float, Field(allow_inf_nan=False)]
 _NonNeg = Annotated[float, Field(ge=0, allow_inf_nan=False)]
 _Prob = Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)]
+_Scale = Annotated[float, Field(gt=0, le=4, allow_inf_nan=False)]
 _Name = Annotated[str, Field(min_length=1, max_length=200)]
 _SLOT = re.compile(r"^([A-Za-z0-9_-]+)/(\d+)/(\d+)$")
 
@@ -48,11 +49,22 @@ EVENT_KINDS: tuple[str, ...] = tuple(EVENT_TYPES)
 
 # ------------------------------------------------------------------------------------------------ the world
 class Placement(StrictModel):
-    """A product pinned to a shelf slot ``unit/tier/index`` (tier 0 the lowest), turned by ``yaw_deg``."""
+    """A product pinned to a shelf slot ``unit/tier/index`` (tier 0 the lowest), turned by ``yaw_deg``; its
+    ``neighbours`` stand in the slots beside it on the same tier (index + 1, index − 1, index + 2, ...)."""
 
     product: _Name
     slot: Annotated[str, Field(pattern=_SLOT.pattern)]
     yaw_deg: Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False)] = 0.0
+    neighbours: Annotated[list[_Name], Field(max_length=8)] = []
+
+    def neighbour_slots(self, slots_on_tier: int) -> list[tuple[str, str]]:
+        """(product, slot) for each neighbour: the free slots beside this one, nearest first, right first."""
+        m = _SLOT.fullmatch(self.slot)
+        assert m is not None  # the pattern was checked
+        unit, tier, index = m.group(1), int(m.group(2)), int(m.group(3))
+        around = [index + d * s for d in range(1, slots_on_tier) for s in (1, -1)]
+        free = [i for i in around if 0 <= i < slots_on_tier]
+        return [(n, f"{unit}/{tier}/{i}") for n, i in zip(self.neighbours, free, strict=False)]
 
 
 class WorldSection(StrictModel):
@@ -89,17 +101,34 @@ class WorldSection(StrictModel):
 
 # ------------------------------------------------------------------------------------------------ the robot
 class Fault(StrictModel):
-    """The robot's condition: each key overrides the robot's or kitchen's value (None keeps it)."""
+    """The robot's condition: each key overrides the robot's or kitchen's value (None keeps it).
+
+    Units: gripper force N per finger, friction coefficient, camera noise 0-255, depth noise m, planner budget s,
+    calibration offset m (x, y, z; added to every perceived position), speed scales as fractions of the
+    datasheet's joint limits (the robot file's ``limits:``)."""
 
     gripper_force: Annotated[float, Field(gt=0, le=500, allow_inf_nan=False)] | None = None
     finger_friction: Annotated[float, Field(ge=0, le=5, allow_inf_nan=False)] | None = None
     camera_noise: Annotated[float, Field(ge=0, le=255, allow_inf_nan=False)] | None = None
     depth_noise: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)] | None = None
     planner_budget_s: Annotated[float, Field(gt=0, le=600, allow_inf_nan=False)] | None = None
+    calibration_offset: (
+        Annotated[
+            list[Annotated[float, Field(ge=-0.1, le=0.1, allow_inf_nan=False)]],
+            Field(min_length=3, max_length=3),
+        ]
+        | None
+    ) = None
+    velocity_scale: _Scale | None = None
+    acceleration_scale: _Scale | None = None
+    jerk_scale: _Scale | None = None
 
-    def values(self) -> dict[str, float]:
+    def values(self) -> dict[str, Any]:
         """The faults given (the keys of `Fault` only, not a subclass's), by `World.apply_fault` argument."""
-        return {k: getattr(self, k) for k in Fault.model_fields if getattr(self, k) is not None}
+        out = {k: getattr(self, k) for k in Fault.model_fields if getattr(self, k) is not None}
+        if "calibration_offset" in out:
+            out["calibration_offset"] = tuple(out["calibration_offset"])
+        return out
 
 
 class RobotSection(Fault):
@@ -155,6 +184,17 @@ class MoveEvent(_Timing):
     move: Placement
 
 
+class Swap(StrictModel):
+    """Two stocked products exchange places (``with``: a look-alike of ``product``)."""
+
+    product: _Name
+    with_: _Name = Field(alias="with")
+
+
+class SwapEvent(_Timing):
+    swap: Swap
+
+
 class RemoveEvent(_Timing):
     remove: _Name
 
@@ -189,6 +229,7 @@ class NextStepEvent(_Timing):
 
 EVENT_ACTIONS: dict[str, type[_Timing]] = {
     "move": MoveEvent,
+    "swap": SwapEvent,
     "remove": RemoveEvent,
     "to_table": ToTableEvent,
     "hide_marker": HideMarkerEvent,
@@ -606,6 +647,15 @@ def check_world(spec: ScenarioFile, path: Path, where: str) -> None:
     for i, pl in enumerate(w.place):
         product(pl.product, f"world.place[{i}].product")
         slot(pl.slot, f"world.place[{i}].slot")
+        for j, name in enumerate(pl.neighbours):
+            product(name, f"world.place[{i}].neighbours[{j}]")
+        unit_name, tier_index = pl.slot.split("/")[:2]
+        room = len(units[unit_name].tiers[int(tier_index)].slots)
+        if len(pl.neighbour_slots(room)) < len(pl.neighbours):
+            raise ConfigError(
+                f"{where}: world.place[{i}].neighbours: tier {unit_name}/{tier_index} has {room} slots, no room "
+                f"for {len(pl.neighbours)} neighbours beside slot {pl.slot}"
+            )
     for key in ("hidden_markers", "on_table"):
         for i, name in enumerate(getattr(w, key)):
             product(name, f"world.{key}[{i}]")
@@ -619,6 +669,9 @@ def check_world(spec: ScenarioFile, path: Path, where: str) -> None:
         for field in ("remove", "to_table", "hide_marker", "show_marker"):
             if getattr(ev, field, None) is not None:
                 product(getattr(ev, field), f"{key}.{field}")
+        if isinstance(ev, SwapEvent):
+            product(ev.swap.product, f"{key}.swap.product")
+            product(ev.swap.with_, f"{key}.swap.with")
         if isinstance(ev, MoveEvent):
             product(ev.move.product, f"{key}.move.product")
             slot(ev.move.slot, f"{key}.move.slot")

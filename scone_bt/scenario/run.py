@@ -30,6 +30,7 @@ from scone_bt.scenario.model import (
     OnTable,
     RemoveEvent,
     ShowMarkerEvent,
+    SwapEvent,
     ToTableEvent,
     UncoverCameraEvent,
     profile_path,
@@ -138,6 +139,9 @@ class ScenarioHook:
             self.world.place_on_shelf(
                 pl.product, SlotRef(unit, int(tier), int(index)), math.radians(pl.yaw_deg)
             )
+            for name, beside in pl.neighbour_slots(self.world.slots_on_tier(unit, int(tier))):
+                u, t, i = beside.split("/")
+                self.world.place_on_shelf(name, SlotRef(u, int(t), int(i)))
         for name in w.on_table:
             if not self.world.place_on_table(name):
                 raise SconeError(f"{self.case.path}: world.on_table: no free table spot for {name!r}")
@@ -184,6 +188,8 @@ class ScenarioHook:
             w.place_on_shelf(
                 ev.move.product, SlotRef(unit, int(tier), int(index)), math.radians(ev.move.yaw_deg)
             )
+        elif isinstance(ev, SwapEvent):
+            w.swap(ev.swap.product, ev.swap.with_)
         elif isinstance(ev, RemoveEvent):
             w.remove(ev.remove)
         elif isinstance(ev, ToTableEvent):
@@ -214,9 +220,9 @@ class ScenarioHook:
                     Intervention(self.world.sim_time, name, "scenario: the human did the step by hand")
                 )
 
-    def _start_faults(self) -> dict[str, float]:
+    def _start_faults(self) -> dict[str, Any]:
         r = self.spec.robot
-        out: dict[str, float] = {}
+        out: dict[str, Any] = {}
         if r.profile is not None:
             from scone_bt.benchmarks.self_confidence.profiles import load_profile
 
@@ -227,28 +233,25 @@ class ScenarioHook:
                 "camera_noise": p.camera_noise_std,
                 "depth_noise": p.depth_noise_std,
                 "planner_budget_s": p.planner_time_limit_s,
+                "calibration_offset": tuple(p.calibration_offset) if any(p.calibration_offset) else None,
+                "velocity_scale": p.velocity_scale,
+                "acceleration_scale": p.acceleration_scale,
+                "jerk_scale": p.jerk_scale,
             }
             out.update({k: v for k, v in pairs.items() if v is not None})
-            ignored = [
-                k
-                for k, v in (
-                    ("calibration_offset", any(p.calibration_offset)),
-                    (
-                        "limits",
-                        any(x is not None for x in (p.velocity_scale, p.acceleration_scale, p.jerk_scale)),
-                    ),
-                    ("injected", bool(p.injected)),
+            if p.injected:
+                # an injected failure sabotages a stage by fiat (the dataset generator's device for rare
+                # failures); an episode has only physical causes, so they are named and left out
+                stages = sorted({i.stage for i in p.injected})
+                self.log(
+                    f"scenario: profile {p.name}: injected {', '.join(stages)} failures not applied in episodes"
                 )
-                if v
-            ]
-            if ignored:
-                self.log(f"scenario: profile {p.name}: {', '.join(ignored)} not applied in episodes")
         out.update(r.values())
         return out
 
 
 def _event_text(ev: Any) -> str:
-    data = ev.model_dump(exclude_none=True, exclude={"at", "when", "delay_s"})
+    data = ev.model_dump(exclude_none=True, exclude={"at", "when", "delay_s"}, by_alias=True)
     return ", ".join(f"{k}: {v}" for k, v in data.items())
 
 

@@ -67,7 +67,7 @@ def test_time_after_the_end(tmp_path: Path) -> None:
 
 def test_unknown_event_lists_the_actions(tmp_path: Path) -> None:
     msg = _error(tmp_path, BASE + "events:\n  - {at: 1, explode: salt}\n")
-    assert "events[0]: an event needs exactly one of: move, remove, to_table" in msg
+    assert "events[0]: an event needs exactly one of: move, swap, remove, to_table" in msg
     assert "(got keys: at, explode)" in msg
 
 
@@ -145,3 +145,34 @@ def test_the_committed_schema_is_the_models_and_accepts_the_library() -> None:
         validator.validate(yaml.safe_load(path.read_text(encoding="utf-8")))
     with pytest.raises(jsonschema.ValidationError):
         validator.validate({"description": "d", "expect": [{"completes": True}], "colour": 1})
+
+
+def test_neighbours_stand_beside_the_pinned_slot_nearest_first() -> None:
+    from scone_bt.scenario.model import Placement
+
+    pl = Placement(product="parmesan", slot="left/1/1", neighbours=["a", "b", "c"])
+    assert pl.neighbour_slots(4) == [("a", "left/1/2"), ("b", "left/1/0"), ("c", "left/1/3")]
+    assert pl.neighbour_slots(2) == [("a", "left/1/0")]  # no slot 2: the free one on the other side
+
+
+def test_neighbours_that_do_not_fit_on_the_tier(tmp_path: Path) -> None:
+    text = (
+        BASE
+        + "world:\n  place: [{product: salt, slot: left/2/0, neighbours: [garlic, parmesan, spaghetti]}]\n"
+    )
+    msg = _error(tmp_path, text)
+    assert msg.endswith(
+        "world.place[0].neighbours: tier left/2 has 3 slots, no room for 3 neighbours beside slot left/2/0"
+    )
+
+
+def test_swap_needs_two_stocked_products(tmp_path: Path) -> None:
+    msg = _error(tmp_path, BASE + "events:\n  - {at: 1, swap: {product: salt, with: lard}}\n")
+    assert "events[0].swap.with: 'lard' is not stocked in this episode; valid: " in msg
+
+
+def test_faults_are_range_checked(tmp_path: Path) -> None:
+    msg = _error(tmp_path, BASE + "robot: {calibration_offset: [0.5, 0, 0]}\n")
+    assert "robot.calibration_offset[0]: Input should be less than or equal to 0.1" in msg
+    msg = _error(tmp_path, BASE + "human: {help_answer: maybe}\n")
+    assert "human.help_answer: Input should be 'fetch' or 'decline'" in msg
