@@ -39,6 +39,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point; returns the exit status (2 with a one-line message on a user error)."""
     args = _parser().parse_args(argv)
     from scone_bt.embedding import available_embedders, install_mpnet, load_embedder
+    from scone_bt.instruction_following import embedder as _mpnet_ft  # noqa: F401 (registers mpnet-ft)
 
     try:
         if args.command in (None, "list"):

@@ -569,6 +569,7 @@ def _run(argv: list[str] | None, parsed: list[argparse.Namespace]) -> int:
     try:
         _quiet_backends()
         from scone_bt.episode import run_episode
+        from scone_bt.instruction_following import embedder as _mpnet_ft  # noqa: F401 (registers mpnet-ft)
         from scone_bt.study.ui import tablet_from_args
 
         options = options_from_args(args)

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["EmbeddingCache", "default_cache_dir"]
+__all__ = ["EmbeddingCache", "cache_file_for", "default_cache_dir"]
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS embeddings (
@@ -28,6 +28,11 @@ def default_cache_dir() -> Path:
         return Path(env)
     base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
     return Path(base) / "scone_bt"
+
+
+def cache_file_for(cache_dir: Path | None) -> Path:
+    """The SQLite embedding cache inside `cache_dir` (default: default_cache_dir())."""
+    return Path(cache_dir if cache_dir is not None else default_cache_dir()) / "embeddings.sqlite"
 
 
 class EmbeddingCache:

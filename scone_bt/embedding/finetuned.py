@@ -8,11 +8,9 @@ instructions and actions, so both stay in one joint space.
 Inference runs the head in NumPy (no torch), after the frozen encoder's cached vectors. Saved as
 `head.safetensors` + `finetuned.json`; loading never unpickles anything.
 
-"mpnet-ft" (the paper's "MPNet ft", `load_or_train_finetuned`): the head trained on MPNet with the instruction-
-following train states (tools/data/if/train.jsonl: recipe instruction → the actions that serve it). It never sees
-an execution outcome, so it leaks nothing into the self-confidence test rows. It is trained once (about a minute
-on one CPU core once MPNet's vectors are cached) and cached under <cache dir>/models/finetuned-<base>-<key>,
-where the key hashes the states file, the base and the training options.
+"mpnet-ft" (the paper's "MPNet ft") is this head trained on MPNet with the instruction-following benchmark's train
+states; that benchmark trains and registers it (`scone_bt.instruction_following.embedder`), so the product reads
+no benchmark data.
 """
 
 from __future__ import annotations
@@ -20,7 +18,7 @@ from __future__ import annotations
 import hashlib
 import json
 import time
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -38,7 +36,6 @@ __all__ = [
     "FinetuneOptions",
     "FinetunedEmbedder",
     "InstructionExample",
-    "load_or_train_finetuned",
     "ranking_accuracy",
     "train_finetuned",
 ]
@@ -170,12 +167,13 @@ class FinetunedEmbedder(Embedder):
 
     @classmethod
     def load(
-        cls, directory: Path, cache_dir: Path | None = None, *, disk_cache: bool = True
+        cls, directory: Path, load_base: Callable[[str], Embedder], cache_file: Path | None = None
     ) -> FinetunedEmbedder:
-        """Load a saved head and its base embedder (by the name or path recorded at training)."""
-        from safetensors.numpy import load_file
+        """Load a saved head and its base embedder (`load_base` of the name or path recorded at training).
 
-        from scone_bt.embedding.registry import cache_file_for, load_embedder
+        `load_embedder("finetuned:<dir>")` is the usual way in; it passes itself as `load_base`.
+        """
+        from safetensors.numpy import load_file
 
         directory = Path(directory)
         meta_path, head_path = directory / "finetuned.json", directory / "head.safetensors"
@@ -195,12 +193,12 @@ class FinetunedEmbedder(Embedder):
                 f"{meta_path} is not a version-{_VERSION} {FORMAT} file "
                 f"(format={meta.get('format')!r}, version={meta.get('version')!r})"
             )
-        base = load_embedder(meta["base"], cache_dir, disk_cache=disk_cache)
+        base = load_base(meta["base"])
         if base.dim != head.w1.shape[1]:
             raise ModelUnavailableError(
                 f"fine-tuned head in {directory} expects {head.w1.shape[1]}-d input but {meta['base']!r} is {base.dim}-d"
             )
-        return cls(base, head, meta, directory.resolve(), cache_file_for(cache_dir) if disk_cache else None)
+        return cls(base, head, meta, directory.resolve(), cache_file)
 
 
 def ranking_accuracy(examples: Iterable[InstructionExample | Sequence], embedder: Embedder) -> float:
@@ -219,7 +217,7 @@ def ranking_accuracy(examples: Iterable[InstructionExample | Sequence], embedder
 
 def train_finetuned(
     examples: Iterable[InstructionExample | Sequence],
-    base: Embedder | str = "minilm",
+    base: Embedder,
     out_dir: Path | None = None,
     *,
     options: FinetuneOptions | None = None,
@@ -229,11 +227,11 @@ def train_finetuned(
 
     Args:
         examples: InstructionExample objects, or (instruction, relevant actions, available actions) tuples.
-        base: Frozen encoder, as an Embedder or a name/path for `load_embedder` ("minilm", "mpnet", a dir).
+        base: Frozen encoder (e.g. `load_embedder("minilm")`).
         out_dir: If given, the result is saved there (load it later with load_embedder("finetuned:<out_dir>")).
         options: Training settings (FinetuneOptions()); seeded, and the base vectors are encoded afresh (not
             from the cache), so a run repeats exactly on one machine whatever the cache holds.
-        cache_dir: Embedding cache directory when `base` is a name.
+        cache_dir: Embedding cache directory of the result (default: the base's own cache file).
 
     Returns:
         The trained embedder (`meta["history"]` holds the mean loss per epoch).
@@ -243,11 +241,11 @@ def train_finetuned(
     """
     import torch
 
-    from scone_bt.embedding.registry import cache_file_for, load_embedder
+    from scone_bt.embedding.cache import cache_file_for
 
     opts = options or FinetuneOptions()
     data = [InstructionExample.coerce(e) for e in examples]
-    encoder = load_embedder(base, cache_dir) if isinstance(base, str) else base
+    encoder = base
     base_spec = _base_spec(encoder)
 
     actions = sorted({a for ex in data for a in (*ex.relevant, *ex.available)})
@@ -317,9 +315,7 @@ def train_finetuned(
         "train_seconds": round(time.perf_counter() - start, 3),
         "history": [round(h, 6) for h in history],
     }
-    cache_file = (
-        encoder.cache.path if cache_dir is None and not isinstance(base, str) else cache_file_for(cache_dir)
-    )
+    cache_file = encoder.cache.path if cache_dir is None else cache_file_for(cache_dir)
     result = FinetunedEmbedder(encoder, head, meta, None, cache_file)
     if out_dir is not None:
         result.save(Path(out_dir))
@@ -368,46 +364,3 @@ def _base_spec(base: Embedder) -> str:
             )
         return base.name
     return str(Path(model_dir).resolve())
-
-
-def load_or_train_finetuned(
-    states_file: Path,
-    base: str = "mpnet",
-    cache_dir: Path | None = None,
-    *,
-    options: FinetuneOptions | None = None,
-    disk_cache: bool = True,
-) -> FinetunedEmbedder:
-    """The head trained on an instruction-following states file, from the cache or trained now and cached.
-
-    Args:
-        states_file: JSON lines with instruction, available and relevant (the IF benchmark's schema).
-        base: Frozen encoder name ("mpnet", "minilm", "glove").
-        cache_dir: Cache folder (default: scone_bt's); the head lands in models/finetuned-<base>-<key>.
-        options: Training settings (FinetuneOptions()).
-        disk_cache: Keep embeddings in the SQLite cache.
-
-    Raises:
-        RecipeError: the states file is missing or malformed.
-    """
-    from scone_bt.embedding.cache import default_cache_dir
-    from scone_bt.instruction_following.states import load_states
-
-    opts = options or FinetuneOptions()
-    states_file = Path(states_file)
-    states = load_states(states_file)  # validates; one-line RecipeError naming the line
-    key = hashlib.sha1(
-        states_file.read_bytes() + base.encode() + json.dumps(asdict(opts), sort_keys=True).encode()
-    ).hexdigest()[:12]
-    root = Path(cache_dir if cache_dir is not None else default_cache_dir())
-    target = root / "models" / f"finetuned-{base}-{key}"
-    if (target / "finetuned.json").is_file():
-        return FinetunedEmbedder.load(target, cache_dir, disk_cache=disk_cache)
-    examples = [(s.instruction, tuple(sorted(s.relevant)), tuple(s.available)) for s in states]
-    trained = train_finetuned(examples, base, None, options=opts, cache_dir=cache_dir)
-    trained.meta["trained_on"] = states_file.name
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = target.parent / f".{target.name}.tmp"
-    trained.save(tmp)
-    tmp.replace(target)  # a half-written head never looks finished
-    return FinetunedEmbedder.load(target, cache_dir, disk_cache=disk_cache)

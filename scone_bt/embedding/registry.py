@@ -14,7 +14,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from scone_bt.embedding.base import Embedder
-from scone_bt.embedding.cache import default_cache_dir
+from scone_bt.embedding.cache import cache_file_for, default_cache_dir
+from scone_bt.embedding.finetuned import FinetunedEmbedder
 from scone_bt.errors import ModelUnavailableError, UnknownNameError
 
 __all__ = [
@@ -25,8 +26,10 @@ __all__ = [
     "cache_file_for",
     "install_mpnet",
     "load_embedder",
+    "load_finetuned",
     "minilm_dir",
     "mpnet_dir",
+    "register_embedder",
 ]
 
 EMBEDDER_NAMES = ("minilm", "mpnet", "glove", "onehot")
@@ -50,9 +53,30 @@ class EmbedderInfo:
     detail: str
 
 
-def cache_file_for(cache_dir: Path | None) -> Path:
-    """The SQLite embedding cache inside `cache_dir` (default: default_cache_dir())."""
-    return Path(cache_dir if cache_dir is not None else default_cache_dir()) / "embeddings.sqlite"
+@dataclass(frozen=True)
+class _Registered:
+    load: Callable[[Path | None, bool], Embedder]
+    detail: str
+    available: Callable[[Path | None], bool]
+
+
+_REGISTERED: dict[str, _Registered] = {}
+"""Embedders that other packages add by name (the instruction-following benchmark adds "mpnet-ft")."""
+
+
+def register_embedder(
+    name: str,
+    load: Callable[[Path | None, bool], Embedder],
+    *,
+    detail: str,
+    available: Callable[[Path | None], bool],
+) -> None:
+    """Make `load_embedder(name)` call `load(cache_dir, disk_cache)`; `available_embedders` lists it.
+
+    The embedders that need data this package does not own (a head trained on a benchmark's train split) come in
+    this way, so the registry reads no such data itself. Registering a name again replaces it.
+    """
+    _REGISTERED[name] = _Registered(load, detail, available)
 
 
 def minilm_dir() -> Path:
@@ -95,7 +119,8 @@ def load_embedder(
 
     Args:
         name: "minilm" (default), "mpnet" (after `scone-models install mpnet`), "glove", "onehot",
-            "mpnet-ft" (MPNet + the paper's triplet-trained head, trained on first use and cached),
+            a registered name (`register_embedder`: "mpnet-ft", MPNet + the paper's triplet-trained head, once
+            `scone_bt.instruction_following` is imported),
             "finetuned:<dir>", or the path of any local sentence-transformers model directory (e.g. a BGE model).
         cache_dir: Folder for the embedding cache (embeddings.sqlite) and assembled models; default
             $SCONE_BT_CACHE or ~/.cache/scone_bt.
@@ -106,7 +131,6 @@ def load_embedder(
         UnknownNameError: not a known name nor an existing directory.
         ModelUnavailableError: a known model that is not installed (the message says how to install it).
     """
-    from scone_bt.embedding.finetuned import FinetunedEmbedder
     from scone_bt.embedding.glove import GloveEmbedder
     from scone_bt.embedding.onehot import OneHotEmbedder
     from scone_bt.embedding.sentence import SentenceTransformerEmbedder
@@ -124,35 +148,29 @@ def load_embedder(
         return GloveEmbedder(cache_file)
     if name == "onehot":
         return OneHotEmbedder(vocabulary)
-    if name == "mpnet-ft":
-        return _mpnet_ft(cache_dir, disk_cache)
+    if name in _REGISTERED:
+        return _REGISTERED[name].load(cache_dir, disk_cache)
     if name.startswith("finetuned:"):
-        return FinetunedEmbedder.load(Path(name.removeprefix("finetuned:")), cache_dir, disk_cache=disk_cache)
+        return load_finetuned(Path(name.removeprefix("finetuned:")), cache_dir, disk_cache)
     path = Path(name).expanduser()
     if path.is_dir():
         if (path / "finetuned.json").is_file():
-            return FinetunedEmbedder.load(path, cache_dir, disk_cache=disk_cache)
+            return load_finetuned(path, cache_dir, disk_cache)
         return SentenceTransformerEmbedder(str(path.resolve()), path, cache_file)
     raise UnknownNameError(
-        "embedder", name, [*EMBEDDER_NAMES, "mpnet-ft", "finetuned:<dir>", "<model directory>"]
+        "embedder", name, [*EMBEDDER_NAMES, *_REGISTERED, "finetuned:<dir>", "<model directory>"]
     )
 
 
-def _mpnet_ft(cache_dir: Path | None, disk_cache: bool) -> Embedder:
-    """MPNet with the triplet head trained on the checkout's instruction-following train states."""
-    from scone_bt.embedding.finetuned import load_or_train_finetuned
-    from scone_bt.resources import repo_root
-
-    if mpnet_dir(cache_dir) is None:
-        raise ModelUnavailableError(f"mpnet-ft needs MPNet; {_INSTALL_HINT}")
-    root = repo_root()
-    states = root / "tools" / "data" / "if" / "train.jsonl" if root is not None else None
-    if states is None or not states.is_file():
-        raise ModelUnavailableError(
-            "mpnet-ft trains on tools/data/if/train.jsonl of a checkout; train a head with "
-            "scone_bt.embedding.train_finetuned and pass finetuned:<dir>"
-        )
-    return load_or_train_finetuned(states, "mpnet", cache_dir, disk_cache=disk_cache)
+def load_finetuned(
+    directory: Path, cache_dir: Path | None = None, disk_cache: bool = True
+) -> FinetunedEmbedder:
+    """A saved fine-tuned head (`train_finetuned`'s folder), its base loaded by name with the same cache settings."""
+    return FinetunedEmbedder.load(
+        directory,
+        lambda base: load_embedder(base, cache_dir, disk_cache=disk_cache),
+        cache_file_for(cache_dir) if disk_cache else None,
+    )
 
 
 def available_embedders(cache_dir: Path | None = None) -> list[EmbedderInfo]:
@@ -175,9 +193,7 @@ def available_embedders(cache_dir: Path | None = None) -> list[EmbedderInfo]:
     except ModelUnavailableError as exc:
         out.append(EmbedderInfo("glove", False, str(exc)))
     out.append(EmbedderInfo("onehot", True, "one axis per action text (baseline)"))
-    out.append(
-        EmbedderInfo("mpnet-ft", path is not None, "MPNet + triplet head (128-d), trained on first use")
-    )
+    out.extend(EmbedderInfo(name, r.available(cache_dir), r.detail) for name, r in _REGISTERED.items())
     out.append(EmbedderInfo("finetuned:<dir>", True, "a head trained by scone_bt.embedding.train_finetuned"))
     out.append(EmbedderInfo("<model directory>", True, "any local sentence-transformers model (e.g. BGE)"))
     return out

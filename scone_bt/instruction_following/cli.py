@@ -10,14 +10,13 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
 
 from scone_bt.errors import SconeError
 from scone_bt.resources import repo_root
 
-__all__ = ["main", "register", "default_states_dir"]
+__all__ = ["register", "default_states_dir"]
 
 
 def default_states_dir() -> Path | None:
@@ -136,10 +135,3 @@ def register(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--distractors", type=int, default=5, help="items from other recipes per kitchen")
     s.add_argument("--seed", type=int, default=0)
     s.set_defaults(func=_build)
-
-
-def main(argv: Sequence[str] | None = None) -> int:
-    """``scone-bench`` restricted to nothing: kept so ``python -m`` and old imports still work."""
-    from scone_bt.cli.bench import main as bench_main
-
-    return bench_main(argv)

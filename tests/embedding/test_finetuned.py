@@ -115,31 +115,8 @@ def test_tuple_examples_and_bad_inputs(trained, tmp_path):
     with pytest.raises(SconeError, match="no training triplets"):
         train_finetuned([("Preheat the oven", [], ACTIONS)], base)
     with pytest.raises(SconeError, match="semantic base embedder"):
-        train_finetuned(tuples, "onehot")
+        train_finetuned(tuples, load_embedder("onehot"))
     with pytest.raises(SconeError, match="dropout"):
         FinetuneOptions(dropout=1.5)
     with pytest.raises(ModelUnavailableError, match="train_finetuned"):
         load_embedder(f"finetuned:{tmp_path}", tmp_path)
-
-
-def test_a_head_trained_from_a_states_file_is_cached(tmp_path):
-    from scone_bt.embedding.finetuned import load_or_train_finetuned
-    from scone_bt.errors import RecipeError
-
-    states = tmp_path / "train.jsonl"
-    states.write_text(
-        "".join(
-            json.dumps({"instruction": i, "available": ACTIONS, "relevant": [a]}) + "\n"
-            for i, a in PAIRS.items()
-        )
-    )
-    opts = FinetuneOptions(epochs=3, hidden=16, dim=8, seed=0)
-    first = load_or_train_finetuned(states, "glove", tmp_path / "cache", options=opts)
-    cached = list((tmp_path / "cache" / "models").glob("finetuned-glove-*"))
-    assert len(cached) == 1 and first.directory == cached[0].resolve() and first.dim == 8
-    again = load_or_train_finetuned(states, "glove", tmp_path / "cache", options=opts)
-    assert again.cache_key == first.cache_key  # loaded, not retrained (same weights)
-    np.testing.assert_allclose(again.embed(ACTIONS), first.embed(ACTIONS), atol=1e-6)
-    states.write_text("not json\n")
-    with pytest.raises(RecipeError, match="train.jsonl:1"):
-        load_or_train_finetuned(states, "glove", tmp_path / "cache", options=opts)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 
-from scone_bt.instruction_following.cli import main
+from scone_bt.cli.bench import main
 from scone_bt.instruction_following.states import load_states
 
 
