@@ -293,10 +293,7 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    """Add ``decisions`` (and ``gate``, its failure-budget replay: scone_bt.benchmarks.gate) to ``scone-bench``."""
-    from scone_bt.benchmarks import gate
-
-    gate.register(sub)
+    """Add ``decisions`` to ``scone-bench`` (its failure-budget replay, ``gate``, is scone_bt.benchmarks.gate)."""
     p = sub.add_parser(
         "decisions", help="wrong fetches, clarifications and gate metrics per estimator (JSON)"
     )
