@@ -5,7 +5,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: run test lint clean
+.PHONY: run test scenarios lint clean
 
 $(STAMP): pyproject.toml
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV) || python3 -m venv $(VENV)
@@ -16,8 +16,12 @@ run: $(STAMP)
 	@mkdir -p runs
 	$(BIN)/scone-run --robot sim --headless --seed 0 --save runs/episode.rrd
 
+# The suite and the fast scenarios (tags: [fast]); .ci/run adds the rest of the library (docs/scenarios.md).
 test: $(STAMP)
-	$(BIN)/python -m pytest
+	$(BIN)/python -m pytest tests scenarios -m "not scenario or fast"
+
+scenarios: $(STAMP)
+	$(BIN)/python -m pytest scenarios -m "not fast" -n 2 --junitxml=runs/scenarios-junit.xml
 
 lint: $(STAMP)
 	$(BIN)/ruff check scone_bt tests tools

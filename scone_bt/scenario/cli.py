@@ -1,6 +1,6 @@
 """``scone-scenario``: run scenario files headless and report, for people without pytest habits.
 
-    scone-scenario run scenarios/ [--jobs 2] [--junit report.xml] [--out runs/scenarios] [-k PATTERN]
+    scone-scenario run scenarios/ [--jobs 2] [--junit report.xml] [--out runs/scenarios] [-k PATTERN] [-t TAG]
     scone-scenario check scenarios/          # validate only
     scone-scenario schema [FILE]             # the JSON Schema of a scenario file
 
@@ -41,6 +41,10 @@ def _parser() -> argparse.ArgumentParser:
         help="folder for a failing case's event log and recording (default runs/scenarios)",
     )
     r.add_argument("-k", dest="select", default=None, help="run only cases whose name contains this text")
+    r.add_argument(
+        "-t", "--tag", action="append", default=[], help="run only cases tagged so (repeat: any of them)"
+    )
+    r.add_argument("--skip-tag", action="append", default=[], help="leave out cases tagged so")
     r.add_argument("--quiet", action="store_true", help="no progress lines")
     c = sub.add_parser("check", help="validate scenario files without running them")
     c.add_argument("paths", nargs="+")
@@ -109,20 +113,35 @@ def _run(args: argparse.Namespace) -> int:
         cases = [c for c in cases if args.select in c.name]
         if not cases:
             raise SconeError(f"-k {args.select!r}: no case name contains it")
+    if args.tag:
+        cases = [c for c in cases if set(c.spec.tags) & set(args.tag)]
+    if args.skip_tag:
+        cases = [c for c in cases if not set(c.spec.tags) & set(args.skip_tag)]
+    if not cases:
+        raise SconeError("no case left after --tag/--skip-tag")
+    from tqdm import tqdm
+
     started = time.perf_counter()
     done = [0]
+    # a bar on a terminal; in a CI log only the line per case (a bar there is noise)
+    bar = tqdm(total=len(cases), file=sys.stderr, unit="case", disable=args.quiet or not sys.stderr.isatty())
 
     def progress(result: object) -> None:
         done[0] += 1
+        r = result
         if not args.quiet:
-            r = result
-            print(
-                f"[{done[0]}/{len(cases)}] {r.verdict:<7} {r.name}  ({r.sim_s:.1f} s simulated, {r.wall_s:.1f} s wall)",  # type: ignore[attr-defined]
-                file=sys.stderr,
-                flush=True,
-            )
+            line = f"[{done[0]}/{len(cases)}] {r.verdict:<7} {r.name}  ({r.sim_s:.1f} s simulated, {r.wall_s:.1f} s wall)"  # type: ignore[attr-defined]
+            if bar.disable:
+                print(line, file=sys.stderr, flush=True)
+            else:
+                bar.write(line, file=sys.stderr)
+        bar.set_postfix_str(f"last: {r.name} {r.verdict}", refresh=False)  # type: ignore[attr-defined]
+        bar.update(1)
 
-    results = run_cases(cases, jobs=args.jobs, out_dir=args.out, on_result=progress)
+    try:
+        results = run_cases(cases, jobs=args.jobs, out_dir=args.out, on_result=progress)
+    finally:
+        bar.close()
     wall = time.perf_counter() - started
     for r in results:
         if not r.ok:

@@ -395,6 +395,7 @@ class ScenarioFile(StrictModel):
     name: Annotated[str, Field(min_length=1, max_length=100, pattern=r"^[A-Za-z0-9_.-]+$")] | None = None
     expected: Literal["pass", "fail"] = "pass"
     reason: Annotated[str, Field(min_length=1, max_length=2000)] | None = None
+    tags: Annotated[list[Annotated[str, Field(pattern=r"^[a-z][a-z0-9_]{0,30}$")]], Field(max_length=10)] = []
     world: WorldSection = WorldSection()
     robot: RobotSection = RobotSection()
     human: HumanSection = HumanSection()
@@ -572,7 +573,14 @@ def load_scenario(path: Path | str) -> list[Case]:
         data = copy.deepcopy(raw)
         data.pop("sweep", None)
         for key, value in zip(keys, combo, strict=True):
-            if key.split(".")[0].split("[")[0] in ("sweep", "name", "expected", "reason", "description"):
+            if key.split(".")[0].split("[")[0] in (
+                "sweep",
+                "name",
+                "expected",
+                "reason",
+                "description",
+                "tags",
+            ):
                 raise ConfigError(f"{where}: sweep.{key}: cannot sweep {key.split('.')[0]!r}")
             _set_path(data, key, value, where)
         label = ",".join(f"{k}={_label(v)}" for k, v in zip(keys, combo, strict=True))

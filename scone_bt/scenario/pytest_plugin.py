@@ -1,7 +1,8 @@
 """pytest plugin (entry point ``pytest11``): ``pytest scenarios/`` collects scenario files as tests.
 
 Each case of a ``*.yaml`` file in a folder named ``scenarios`` is one test item (a sweep gives one per value), so
-``-k``, ``--junitxml`` and ``-n`` (pytest-xdist) work as for any test. A case marked ``expected: fail`` is an
+``-k``, ``-m <tag>`` (a file's ``tags:``; every case is also marked ``scenario``), ``--junitxml`` and ``-n``
+(pytest-xdist) work as for any test. A case marked ``expected: fail`` is an
 xfail (strict: passing is a failure). A failing case writes its event log and recording into ``--scenario-out``
 and its report names the expectation, the tick and the events around it. Importing this module is cheap: the
 simulator loads only when a scenario runs.
@@ -35,6 +36,8 @@ def pytest_addoption(parser: pytest.Parser) -> None:
 
 def pytest_configure(config: pytest.Config) -> None:
     config.addinivalue_line("markers", "slow: physics-heavy simulation tests (every scenario case is one)")
+    config.addinivalue_line("markers", "scenario: a scenario case (scenarios/*.yaml)")
+    config.addinivalue_line("markers", "fast: a scenario tagged fast (the subset `make test` runs)")
 
 
 def pytest_collect_file(parent: pytest.Collector, file_path: Path) -> pytest.Collector | None:
@@ -69,6 +72,10 @@ class ScenarioItem(pytest.Item):
         super().__init__(**kwargs)
         self.case = case
         self.add_marker(pytest.mark.slow)
+        self.add_marker(pytest.mark.scenario)
+        for tag in case.spec.tags:  # `pytest -m <tag>` selects by the file's tags
+            self.config.addinivalue_line("markers", f"{tag}: scenarios tagged {tag}")
+            self.add_marker(tag)
         if case.spec.expected == "fail":
             self.add_marker(pytest.mark.xfail(reason=case.spec.reason, strict=True, raises=ScenarioFailed))
 

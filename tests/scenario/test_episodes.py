@@ -82,7 +82,7 @@ def test_cli_and_pytest_junit_list_every_case(tmp_path: Path) -> None:
     _file(
         folder,
         "description: One short run on the hummus recipe.\nworld: {max_ticks: 20, recipe: 'example:hummus'}\n"
-        "expect:\n  - {completes: false}\n",
+        "tags: [fast]\nexpect:\n  - {completes: false}\n",
         "other.yaml",
     )
     exe = Path(sys.executable).parent
@@ -108,3 +108,25 @@ def test_cli_and_pytest_junit_list_every_case(tmp_path: Path) -> None:
     )  # fmt: skip
     assert run.returncode == 0, run.stdout + run.stderr
     assert [c.get("name") for c in ET.parse(xml).iter("testcase")] == ["other"]
+    # -m selects by the files' tags, -n runs the cases in parallel workers (pytest-xdist)
+    run = subprocess.run(
+        [sys.executable, "-m", "pytest", str(folder), "-q", "-p", "no:cacheprovider", "-m", "not fast",
+         "-n", "2", f"--junitxml={xml}", "--rootdir", str(tmp_path), "-o", "addopts=", "-o", "testpaths="],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        cwd=tmp_path,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert sorted(c.get("name") for c in ET.parse(xml).iter("testcase")) == [
+        "tiny[world.seed=0]",
+        "tiny[world.seed=1]",
+    ]
+    # the command line's tag filters, and one line when none is left
+    run = subprocess.run(
+        [str(exe / "scone-scenario"), "run", str(folder), "--tag", "fast", "--skip-tag", "fast"],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert run.returncode == 2 and run.stderr.strip() == "scone-scenario: no case left after --tag/--skip-tag"
