@@ -42,6 +42,7 @@ import numpy as np
 
 from scone_bt.config import ObjectSpec
 from scone_bt.config.grasp import GraspParams
+from scone_bt.geometry import wrap_angle
 from scone_bt.perception.types import Detection
 
 __all__ = [
@@ -149,14 +150,9 @@ def object_pose(detection: Detection, spec: ObjectSpec) -> np.ndarray:
     return _pose(_rz(detection.yaw), np.array([x, y, z - spec.height / 2]))
 
 
-def _wrap(angle: float) -> float:
-    """Angle in [-pi, pi)."""
-    return (angle + np.pi) % (2 * np.pi) - np.pi
-
-
 def _wrap_near(angle: float, reference: float) -> float:
     """The angle ± kπ closest to the reference (a parallel gripper is symmetric under half turns)."""
-    return reference + (angle - reference + np.pi / 2) % np.pi - np.pi / 2
+    return reference + wrap_angle(angle - reference, np.pi)
 
 
 def _extent_along(spec: ObjectSpec, obj_yaw: float, direction_yaw: float) -> float:
@@ -213,7 +209,7 @@ def grasp_candidates(
         pregrasp = grasp.copy()
         pregrasp[:3, 3] -= grasp[:3, 2] * params.approach
         span = _extent_along(spec, detection.yaw, yaw)
-        wrist = abs(_wrap(yaw - preferred_yaw)) / (np.pi / 2)
+        wrist = abs(wrap_angle(yaw - preferred_yaw)) / (np.pi / 2)
         fc = params.family_cost[list(GraspFamily).index(family)]
         cost = fc + params.wrist_weight * wrist + params.tilt_weight * abs(tilt)
         cost += params.span_weight * span / (opening or 0.08) + extra
@@ -231,7 +227,7 @@ def grasp_candidates(
         )
 
     for axis in axes:
-        for yaw in (_wrap(axis), _wrap(axis + np.pi)):  # both wrist angles
+        for yaw in (wrap_angle(axis), wrap_angle(axis + np.pi)):  # both wrist angles
             add(top_down_rotation(yaw), top_point, yaw, 0.0, GraspFamily.TOP)
             if shallow:
                 add(top_down_rotation(yaw), shallow_point, yaw, 0.0, GraspFamily.TOP, params.shallow_cost)
@@ -273,9 +269,11 @@ def grasp_candidates(
                 closing = phi + np.pi / 2  # side_rotation(closing) approaches along (sin, -cos) = d
                 for depth_in, extra in depths:
                     point = np.array([top[0], top[1], z]) - d * (half - depth_in)
-                    for yaw in (_wrap(closing), _wrap(closing + np.pi)):
-                        rot = side_rotation(_wrap(closing))
-                        if yaw != _wrap(closing):  # the other wrist angle: fingers swapped, x axis flipped
+                    for yaw in (wrap_angle(closing), wrap_angle(closing + np.pi)):
+                        rot = side_rotation(wrap_angle(closing))
+                        if yaw != wrap_angle(
+                            closing
+                        ):  # the other wrist angle: fingers swapped, x axis flipped
                             rot = rot @ np.diag([-1.0, -1.0, 1.0])
                         add(rot, point, yaw, 0.0, GraspFamily.SIDE, extra)
 

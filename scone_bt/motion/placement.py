@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from scone_bt.config import ObjectSpec, SceneSpec
+from scone_bt.geometry import wrap_angle
 
 __all__ = [
     "TableRegion",
@@ -306,11 +307,6 @@ class PlacementSet:
     candidates: int
 
 
-def _half_turn(angle: np.ndarray) -> np.ndarray:
-    """Angle modulo a half turn, in [-pi/2, pi/2) (a rectangle looks the same turned by pi)."""
-    return (angle + np.pi / 2) % np.pi - np.pi / 2
-
-
 def sample_placements(
     table: TableRegion,
     obstacles: Sequence[Footprint],
@@ -363,7 +359,7 @@ def sample_placements(
     else:
         arrival = arrival_yaw + bearing
         yaw_sets = np.column_stack([arrival, arrival + np.pi / 2, np.zeros(n), np.full(n, np.pi / 2)])
-        yaw_sets = arrival[:, None] + _half_turn(yaw_sets - arrival[:, None])
+        yaw_sets = arrival[:, None] + wrap_angle(yaw_sets - arrival[:, None], np.pi)
     k = yaw_sets.shape[1]
     flat = clear_spots(
         table,
@@ -386,7 +382,7 @@ def sample_placements(
         return PlacementSet((), blockers, n)
 
     # Per point, the cost of each fitting yaw (turning away from the arrival yaw costs a little).
-    turn = np.abs(_half_turn(yaw_sets - yaw_sets[:, :1])) / (np.pi / 2)
+    turn = np.abs(wrap_angle(yaw_sets - yaw_sets[:, :1], np.pi)) / (np.pi / 2)
     room = np.minimum(flat.gap, np.maximum(flat.edge_gap, 0.0)).reshape(n, k)
     yaw_cost = (
         options.turn_weight * turn

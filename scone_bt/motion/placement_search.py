@@ -14,6 +14,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from scone_bt.geometry import wrap_angle
 from scone_bt.motion.collision import CollisionWorld, HandModel, Obstacle
 from scone_bt.motion.grasp import GraspFamily, lifted, place_pose
 from scone_bt.motion.grasp_search import FeasibleGrasp
@@ -155,7 +156,7 @@ def search_placements(
             break
         stats = stats.counted()
         radial = float(np.arctan2(spot[1] - scene.base[1], spot[0] - scene.base[0])) - scene.target_dir
-        radial = (radial + np.pi) % (2 * np.pi) - np.pi
+        radial = wrap_angle(radial)
         for turn in _place_turns(radial, yaws, req.target.yaw, cand.family is GraspFamily.TOP):
             ee_place = place_pose(spot, req.spec, cand.object_in_ee, cand.grasp, turn, params)
             where = format_point(spot[:2])
@@ -257,7 +258,7 @@ def _place_turns(radial: float, yaws: Sequence[float], object_yaw: float, top: b
         return [radial + d for d in steps]
     out: list[float] = []
     for yaw in yaws:
-        d = (yaw - object_yaw - radial + np.pi / 2) % np.pi - np.pi / 2  # nearest turn modulo a half turn
+        d = wrap_angle(yaw - object_yaw - radial, np.pi)  # nearest turn modulo a half turn
         for delta in (d, d - np.pi, d + np.pi):
             if abs(delta) <= limit + 1e-9 and all(abs(radial + delta - t) > 1e-6 for t in out):
                 out.append(radial + delta)

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from scone_bt.geometry import wrap_angle
 from scone_bt.perception.camera import Camera, project
 from scone_bt.perception.types import Detection
 from scone_bt.world.visuals import lid_marker
@@ -109,7 +110,7 @@ def ground_truth(kitchen: Kitchen, camera: Camera) -> list[GroundTruth]:
 
 
 def _angle_diff(a: float, b: float) -> float:
-    return float(abs((a - b + np.pi) % (2 * np.pi) - np.pi))
+    return float(abs(wrap_angle(a - b)))
 
 
 def score_frame(detections: Sequence[Detection], truth: Sequence[GroundTruth]) -> FrameScore:

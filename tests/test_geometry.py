@@ -1,0 +1,60 @@
+"""wrap_angle: the one angle wrap of the stages, at its boundaries and bit for bit the formulas it replaced."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from scone_bt.geometry import wrap_angle
+
+
+@pytest.mark.parametrize(
+    ("angle", "wrapped"),
+    [
+        (0.0, 0.0),
+        (math.pi, -math.pi),  # the interval is half open: +pi becomes -pi
+        (-math.pi, -math.pi),
+        (3 * math.pi, -math.pi),
+        (math.pi / 2, math.pi / 2),
+        (-math.pi / 2, -math.pi / 2),
+        (2 * math.pi, 0.0),
+        (-2 * math.pi, 0.0),
+    ],
+)
+def test_full_turn_boundaries(angle, wrapped):
+    assert wrap_angle(angle) == pytest.approx(wrapped, abs=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("angle", "wrapped"),
+    [
+        (0.0, 0.0),
+        (math.pi / 2, -math.pi / 2),
+        (-math.pi / 2, -math.pi / 2),
+        (math.pi, 0.0),
+        (0.75 * math.pi, -0.25 * math.pi),
+    ],
+)
+def test_half_turn_boundaries(angle, wrapped):
+    assert wrap_angle(angle, np.pi) == pytest.approx(wrapped, abs=1e-12)
+
+
+def test_the_result_lies_in_the_half_open_interval():
+    angles = np.random.default_rng(0).uniform(-50.0, 50.0, 10_000)
+    for period in (2 * np.pi, np.pi):
+        out = wrap_angle(angles, period)
+        assert np.all(out >= -period / 2) and np.all(out < period / 2)
+        np.testing.assert_allclose(
+            np.cos(out * 2 * np.pi / period), np.cos(angles * 2 * np.pi / period), atol=1e-9
+        )
+
+
+def test_identical_to_the_formulas_it_replaced():
+    angles = np.random.default_rng(1).uniform(-20.0, 20.0, 1_000)
+    assert np.array_equal(wrap_angle(angles), (angles + np.pi) % (2 * np.pi) - np.pi)
+    assert np.array_equal(wrap_angle(angles, np.pi), (angles + np.pi / 2) % np.pi - np.pi / 2)
+    for a in angles[:100].tolist():  # plain floats stay plain floats, same bits
+        assert wrap_angle(a) == (a + np.pi) % (2 * np.pi) - np.pi
+        assert type(wrap_angle(a)) is float
