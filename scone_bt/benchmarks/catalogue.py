@@ -130,17 +130,15 @@ def run_catalogue_benchmark(
     """Every figure of the catalogue benchmark as one JSON-ready mapping (``progress``: a bar on stderr)."""
     from scone_bt.config import load_kitchen
     from scone_bt.recipes.normalise import ItemClass, classify_item, normalise_ingredient
-    from scone_bt.recipes.recipe import recipe_corpus_path, recipe_from_record
+    from scone_bt.recipes.recipe import corpus_entries
     from scone_bt.recipes.stocking import ProductIndex, stock_recipe
 
     wall0, cpu0 = time.perf_counter(), time.process_time()
     cfg = load_kitchen(kitchen, catalogues)
     cat = cfg.catalogue
-    corpus = corpus or recipe_corpus_path()
-    if corpus is None or not Path(corpus).is_file():
-        raise RecipeError(f"recipe corpus not found: {corpus or '../shared/data/recipes/recipes.jsonl'}")
-    records = [json.loads(line) for line in Path(corpus).read_text().splitlines() if line.strip()]
-    recipes = [recipe_from_record(r, f"{corpus}:{i + 1}") for i, r in enumerate(records)]
+    entries = list(corpus_entries(corpus))
+    records = [e.record for e in entries]
+    recipes = [e.recipe() for e in entries]
     bar = progress_bar(len(recipes), "recipes", not progress, unit="recipe")
     bar.set_postfix_str("normalisation accuracy")
 

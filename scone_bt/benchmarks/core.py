@@ -11,7 +11,6 @@ gate, timed right after an outcome (memoised κ̂ predictions dropped, a real pr
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import platform
 import sys
@@ -28,7 +27,6 @@ from scone_bt.embedding import load_embedder, mpnet_dir
 from scone_bt.gate import GateOptions, decide
 from scone_bt.relevance import rank_actions
 from scone_bt.reporting import emit_report
-from scone_bt.resources import shared_dir
 
 OBJECTS = [
     "salt", "pepper", "sugar", "flour", "milk", "olive oil", "vinegar", "honey", "rice", "pasta", "tomato sauce",
@@ -50,13 +48,14 @@ INSTRUCTIONS = [
 
 def _throughput_texts(n: int) -> list[str]:
     """Distinct recipe steps from the shared corpus (or generated sentences when it is absent)."""
+    from scone_bt.recipes.recipe import corpus_entries, recipe_corpus_path
+
     texts: list[str] = []
-    if (root := shared_dir()) is not None and (path := root / "data" / "recipes" / "recipes.jsonl").is_file():
-        with path.open() as f:
-            for line in f:
-                texts.extend(s for s in json.loads(line).get("steps", []) if s not in texts)
-                if len(texts) >= n:
-                    break
+    if recipe_corpus_path() is not None:
+        for entry in corpus_entries():
+            texts.extend(s for s in entry.record.get("steps", []) if s not in texts)
+            if len(texts) >= n:
+                break
     i = 0
     while len(texts) < n:
         texts.append(f"Put {OBJECTS[i % len(OBJECTS)]} number {i} on the table")

@@ -150,12 +150,12 @@ def judge_fetches(
 def pick_recipes(n: int, seed: int, max_needed: int) -> list[str]:
     """``n`` corpus recipe ids, drawn with ``seed`` from those whose stocked items fit ``max_needed``."""
     from scone_bt.config import load_kitchen
-    from scone_bt.instruction_following.states import load_corpus
     from scone_bt.recipes import stock_recipe
+    from scone_bt.recipes.recipe import read_corpus
 
     catalogue = load_kitchen().catalogue
     fits = []
-    for recipe in load_corpus():
+    for recipe in read_corpus():
         stocked = stock_recipe(recipe, catalogue)
         if 2 <= len(stocked.needed) <= max_needed and any(s.objects for s in stocked.steps):
             fits.append(recipe.id)

@@ -82,11 +82,11 @@ def _build(args: argparse.Namespace) -> int:
         SPLITS,
         StateOptions,
         build_states,
-        load_corpus,
         save_states,
     )
+    from scone_bt.recipes.recipe import read_corpus
 
-    recipes = load_corpus(args.corpus)
+    recipes = read_corpus(args.corpus)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     opts = StateOptions(distractors=args.distractors, seed=args.seed)

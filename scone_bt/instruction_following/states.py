@@ -27,7 +27,7 @@ import numpy as np
 from scone_bt.affordances.types import action_text, object_of_action
 from scone_bt.errors import RecipeError
 from scone_bt.recipes.normalise import is_fetchable, item_key, normalise_ingredient
-from scone_bt.recipes.recipe import Recipe, recipe_from_record
+from scone_bt.recipes.recipe import Recipe
 from scone_bt.relevance.mentions import mentioned_items
 
 __all__ = [
@@ -40,7 +40,6 @@ __all__ = [
     "recipe_split",
     "mentioned_items",
     "item_of_action",
-    "load_corpus",
     "load_states",
     "save_states",
 ]
@@ -127,21 +126,6 @@ def recipe_split(recipe_id: str, fractions: tuple[float, float] = (0.7, 0.1)) ->
     if u < fractions[0]:
         return "train"
     return "dev" if u < fractions[0] + fractions[1] else "test"
-
-
-def load_corpus(path: str | os.PathLike[str] | None = None) -> list[Recipe]:
-    """Every recipe in the shared corpus (../shared/data/recipes/recipes.jsonl by default)."""
-    from scone_bt.recipes.recipe import recipe_corpus_path
-
-    corpus = Path(path) if path is not None else recipe_corpus_path()
-    if corpus is None or not corpus.is_file():
-        raise RecipeError(f"recipe corpus not found: {corpus or '../shared/data/recipes/recipes.jsonl'}")
-    recipes = []
-    with corpus.open() as fh:
-        for line_no, line in enumerate(fh, 1):
-            if line.strip():
-                recipes.append(recipe_from_record(json.loads(line), f"{corpus}:{line_no}"))
-    return recipes
 
 
 def _items(names: Iterable[str]) -> list[str]:

@@ -1,9 +1,10 @@
-"""A recipe record, as in ../shared/data/recipes/recipes.jsonl, and where to find one."""
+"""A recipe record, as in ../shared/data/recipes/recipes.jsonl, where to find one, and the one reader of the corpus."""
 
 from __future__ import annotations
 
 import difflib
 import json
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated, Any
@@ -16,9 +17,12 @@ from scone_bt.errors import RecipeError
 from scone_bt.resources import shared_dir
 
 __all__ = [
+    "CorpusEntry",
     "Recipe",
     "RecipeRecord",
+    "corpus_entries",
     "load_recipe",
+    "read_corpus",
     "recipe_corpus_path",
     "recipe_from_record",
     "EXAMPLES_DIR",
@@ -53,6 +57,7 @@ class Recipe:
 
 
 def recipe_corpus_path() -> Path | None:
+    """../shared/data/recipes/recipes.jsonl beside the checkout, or None where it is not."""
     shared = shared_dir()
     if shared is None:
         return None
@@ -173,6 +178,48 @@ def load_recipe(id_or_path: str) -> Recipe:
             f"use a JSON/YAML file or one of: {', '.join('example:' + n for n in example_names())}"
         )
     ids = []
+    for entry in corpus_entries(corpus):
+        if entry.record.get("id") == id_or_path:
+            return entry.recipe()
+        ids.append(str(entry.record.get("id", "")))
+    close = difflib.get_close_matches(id_or_path, ids, n=3, cutoff=0.5)
+    hint = (
+        f"; did you mean {', '.join(close)}?"
+        if close
+        else (f"; ids look like {ids[0]!r} (see {corpus})" if ids else f"; {corpus} holds none")
+    )
+    raise RecipeError(f"unknown recipe id {id_or_path!r} among {len(ids)} recipes{hint}")
+
+
+@dataclass(frozen=True)
+class CorpusEntry:
+    """One line of the recipe corpus.
+
+    Attributes:
+        where: "<file>:<line>", for messages.
+        record: The line's JSON object as it is (corpus metadata such as ``ingredients_structured`` included).
+    """
+
+    where: str
+    record: dict[str, Any]
+
+    def recipe(self) -> Recipe:
+        """The record validated (`RecipeRecord`); RecipeError naming the file, the line and the key otherwise."""
+        return recipe_from_record(self.record, self.where)
+
+
+def corpus_entries(path: str | Path | None = None) -> Iterator[CorpusEntry]:
+    """Every line of the recipe corpus (JSON Lines; default: `recipe_corpus_path()`), blank lines skipped.
+
+    Each line must be a JSON object; a record's keys are checked when its `recipe()` is asked for.
+
+    Raises:
+        RecipeError: one line: the corpus is missing, unreadable or too large, or a line (named) is not a JSON
+            object.
+    """
+    corpus = Path(path) if path is not None else recipe_corpus_path()
+    if corpus is None or not corpus.exists():  # a device or FIFO exists: read_text refuses it with what it is
+        raise RecipeError(f"recipe corpus not found: {corpus or '../shared/data/recipes/recipes.jsonl'}")
     for line_no, line in enumerate(
         read_text(corpus, error=RecipeError, limit=MAX_DATA_FILE_BYTES).splitlines(), 1
     ):
@@ -186,13 +233,9 @@ def load_recipe(id_or_path: str) -> Recipe:
             raise RecipeError(
                 f"{corpus}:{line_no}: a recipe must be a JSON object; the corpus file is damaged"
             )
-        if record.get("id") == id_or_path:
-            return recipe_from_record(record, f"{corpus}:{line_no}")
-        ids.append(str(record.get("id", "")))
-    close = difflib.get_close_matches(id_or_path, ids, n=3, cutoff=0.5)
-    hint = (
-        f"; did you mean {', '.join(close)}?"
-        if close
-        else (f"; ids look like {ids[0]!r} (see {corpus})" if ids else f"; {corpus} holds none")
-    )
-    raise RecipeError(f"unknown recipe id {id_or_path!r} among {len(ids)} recipes{hint}")
+        yield CorpusEntry(f"{corpus}:{line_no}", record)
+
+
+def read_corpus(path: str | Path | None = None) -> list[Recipe]:
+    """Every recipe of the corpus, each validated (`corpus_entries`, then `CorpusEntry.recipe`)."""
+    return [entry.recipe() for entry in corpus_entries(path)]

@@ -102,17 +102,13 @@ def test_capacity_leaves_the_last_products_off_the_shelf(kitchen_cfg):
 
 def test_every_corpus_recipe_stocks_within_the_shelf(kitchen_cfg):
     """What scone-run does before the robot acts, for all 1,227 recipes: no recipe is refused."""
-    import json
+    from scone_bt.recipes.recipe import read_corpus, recipe_corpus_path
 
-    from scone_bt.recipes.recipe import recipe_corpus_path
-
-    corpus = recipe_corpus_path()
-    if corpus is None:
+    if recipe_corpus_path() is None:
         pytest.skip("../shared recipe corpus not present")
     index = ProductIndex(kitchen_cfg.catalogue)
     capacity = len(kitchen_cfg.scene.shelf_slots()) - 6  # scone-run's default distractors
-    for no, line in enumerate(corpus.read_text().splitlines(), 1):
-        recipe = recipe_from_record(json.loads(line), f"{corpus}:{no}")
+    for recipe in read_corpus():
         stocked = stock_recipe(recipe, kitchen_cfg.catalogue, capacity=capacity, index=index)
         assert len(stocked.needed) <= capacity
         assert sorted(n for s in stocked.steps for n in s.objects) == sorted(stocked.needed)
