@@ -6,9 +6,9 @@ import pytest
 
 from scone_bt.behaviours import BehaviourOptions
 from scone_bt.cli.run import build_parser, options_from_args
+from scone_bt.config.tree_parameters import PARAMETER_NAMES, TreeParameters
 from scone_bt.errors import ConfigError
 from scone_bt.tree import load_tree_spec
-from scone_bt.tree.parameters import PARAMETER_NAMES, TreeParameters
 
 
 def test_the_shipped_tree_states_every_parameter_and_matches_the_model_defaults() -> None:
