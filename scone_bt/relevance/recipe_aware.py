@@ -12,7 +12,8 @@ wordings its ingredient lines use for them, and the steps ahead. `select_for_ste
    above ``rho`` are AMBIGUOUS (the robot should ask which one is meant). A shared head noun the step uses alone
    ("the oil" with canola and sesame oil on the shelf) is ambiguous too.
 4. LATER: the other candidates, those a step ahead names first, in the order they are needed, then the rest of
-   the recipe card. They are fetched only when the step has nothing left to fetch now.
+   the recipe card, less the items a step ahead means only by a shared head noun ("the oil"): which one is
+   asked at that step. They are fetched only when the step has nothing left to fetch now.
 5. The step is DONE when it names items and every named item is on the table (observed) and none is left on the
    shelf.
 """
@@ -146,11 +147,18 @@ def select_for_step(
                 now = [unnamed[0]]
                 reason = f"most similar item ({sim[unnamed[0]]:.2f} ≥ ρ {opts.rho:.2f})"
     later: list[str] = []
+    held: set[str] = set()
     for ahead in context.steps_ahead:
         rest = [i for i in candidates if i not in now and i not in later]
         later += mentioned_items(ahead, rest, wordings=wordings)
+        if not mentioned_items(ahead, everything, wordings=wordings):
+            # a step ahead that says only "the oil" with two oils on the card: which one it means is asked
+            # there, so neither is fetched before (fetching both would answer the question by guessing)
+            held.update(i for g in ambiguous_heads(ahead, candidates, wordings=wordings) for i in g)
     # what no step ahead names is still on the recipe card: gathered last
-    later += [i for i in candidates if i not in now and i not in later and i not in ambiguous]
+    later += [
+        i for i in candidates if i not in now and i not in later and i not in ambiguous and i not in held
+    ]
     shelf_keys = {item_key(i) for i in shelf}
     table_keys = {item_key(i) for i in context.on_table}
     done = bool(named) and all(item_key(i) in table_keys and item_key(i) not in shelf_keys for i in named)

@@ -17,7 +17,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
 from scone_bt.recipes.normalise import item_key
-from scone_bt.relevance.mentions import mentioned_items
+from scone_bt.relevance.mentions import ambiguous_heads, mentioned_items
 from scone_bt.relevance.recipe_aware import RecipeContext, SelectionOptions, StepSelection, select_for_step
 
 __all__ = ["StepView", "track_recipe"]
@@ -88,7 +88,14 @@ def track_recipe(
     skipped: list[tuple[int, str]] = []
     # What no step names is gathered before cooking starts, as a cook reading the card would: needed now at the
     # first step.
-    unnamed = [i for i in items if not any(mentioned_items(step, [i], wordings=wordings) for step in steps)]
+    # An item a step means by a shared head noun alone ("the cheese": cheddar or swiss) is that step's question,
+    # not an unnamed one.
+    meant = {i for step in steps for g in ambiguous_heads(step, items, wordings=wordings) for i in g}
+    unnamed = [
+        i
+        for i in items
+        if i not in meant and not any(mentioned_items(step, [i], wordings=wordings) for step in steps)
+    ]
     for k in range(max(0, start), len(steps)):
         context = RecipeContext(
             items=tuple(items), wordings=dict(wordings), steps_ahead=tuple(steps[k + 1 :]), on_table=table

@@ -36,7 +36,9 @@ BASE = "description: d\nexpect:\n  - {completes: true}\n"
 def test_unknown_top_level_key_names_the_valid_keys(tmp_path: Path) -> None:
     msg = _error(tmp_path, BASE + "wrld: {seed: 1}\n")
     assert "unknown key 'wrld'" in msg
-    assert "valid: description, name, expected, reason, tags, world, robot, human, events, expect, sweep" in msg
+    assert (
+        "valid: description, name, expected, reason, tags, world, robot, human, events, expect, sweep" in msg
+    )
 
 
 def test_unknown_key_inside_an_expectation_names_its_keys(tmp_path: Path) -> None:
