@@ -105,3 +105,15 @@ def test_a_step_whose_named_items_are_off_the_shelf_gets_no_similarity_fallback(
     assert sel.now == () and sel.ambiguous == ()
     assert sel.need("garlic") is Need.LATER
     assert not sel.done
+
+
+def test_items_a_step_ahead_means_by_a_shared_head_noun_wait_for_that_step() -> None:
+    items = ("ciabatta", "cheddar cheese", "swiss cheese")
+    ctx = RecipeContext(items=items, steps_ahead=("Top the toast with the cheese.",))
+    sel = select_for_step("Toast the ciabatta.", items, ctx, {})
+    assert sel.now == ("ciabatta",) and sel.later == ()  # neither cheese is fetched ahead: it is asked there
+    plain = RecipeContext(items=items, steps_ahead=("Top the toast with the cheddar cheese.",))
+    assert select_for_step("Toast the ciabatta.", items, plain, {}).later == (
+        "cheddar cheese",
+        "swiss cheese",
+    )

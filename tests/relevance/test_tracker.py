@@ -45,3 +45,17 @@ def test_a_placed_item_seen_on_the_shelf_again_is_not_on_the_table() -> None:
 def test_the_camera_alone_still_completes_a_step() -> None:
     view = _track(("applesauce",), on_table={"milk", "macaroni"})
     assert view.index == 2 and view.placed_by_robot == frozenset() and view.missing == ()
+
+
+def test_items_meant_by_a_shared_head_noun_are_not_gathered_at_the_first_step() -> None:
+    steps = ("Toast the ciabatta.", "Top the toast with the cheese.")
+    items = ("ciabatta", "cheddar cheese", "swiss cheese")
+
+    def track(on_table: frozenset[str]):
+        shelf = tuple(i for i in items if i not in on_table)
+        return track_recipe(steps, 0, shelf, items, {}, on_table, _similarity, SelectionOptions())
+
+    first = track(frozenset())
+    assert first.index == 0 and first.selection.now == ("ciabatta",)
+    second = track(frozenset({"ciabatta"}))
+    assert second.index == 1 and set(second.selection.ambiguous) == {"cheddar cheese", "swiss cheese"}
