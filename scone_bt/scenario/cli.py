@@ -37,8 +37,9 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument(
         "--out",
         type=Path,
-        default=Path("runs/scenarios"),
-        help="folder for a failing case's event log and recording (default runs/scenarios)",
+        default=None,
+        help="folder for a failing case's event log and recording (default: beside the --junit report, else "
+        "runs/scenarios)",
     )
     r.add_argument("-k", dest="select", default=None, help="run only cases whose name contains this text")
     r.add_argument(
@@ -106,6 +107,8 @@ def _run(args: argparse.Namespace) -> int:
     from scone_bt.scenario.model import load_scenarios
     from scone_bt.scenario.run import run_cases
 
+    if args.out is None:
+        args.out = args.junit.parent if args.junit is not None else Path("runs/scenarios")
     if args.jobs < 1:
         raise SconeError(f"--jobs {args.jobs}: give 1 or more")
     cases = load_scenarios(args.paths)

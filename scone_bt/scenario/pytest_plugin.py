@@ -24,8 +24,9 @@ def pytest_addoption(parser: pytest.Parser) -> None:
     group = parser.getgroup("scone-scenarios")
     group.addoption(
         "--scenario-out",
-        default="runs/scenarios",
-        help="folder for a failing scenario's event log and rerun recording (default runs/scenarios)",
+        default=None,
+        help="folder for a failing scenario's event log and rerun recording (default: beside the --junitxml "
+        "report, else runs/scenarios)",
     )
     group.addoption(
         "--scenario-no-recording",
@@ -44,6 +45,15 @@ def pytest_collect_file(parent: pytest.Collector, file_path: Path) -> pytest.Col
     if file_path.suffix == ".yaml" and file_path.parent.name == "scenarios":
         return ScenarioYaml.from_parent(parent, path=file_path)
     return None
+
+
+def _out_dir(config: pytest.Config) -> Path:
+    """Where a failing case's log and recording go: --scenario-out, else beside the JUnit report."""
+    given = config.getoption("--scenario-out")
+    if given:
+        return Path(given)
+    junit = getattr(config.option, "xmlpath", None)
+    return Path(junit).parent if junit else Path("runs/scenarios")
 
 
 class ScenarioYaml(pytest.File):
@@ -86,7 +96,7 @@ class ScenarioItem(pytest.Item):
 
         if _MODELS is None:
             _MODELS = ModelPool()
-        out = Path(self.config.getoption("--scenario-out"))
+        out = _out_dir(self.config)
         result = run_case(
             self.case, out, _MODELS, record_failures=not self.config.getoption("--scenario-no-recording")
         )

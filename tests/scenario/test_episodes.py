@@ -130,3 +130,21 @@ def test_cli_and_pytest_junit_list_every_case(tmp_path: Path) -> None:
         timeout=600,
     )
     assert run.returncode == 2 and run.stderr.strip() == "scone-scenario: no case left after --tag/--skip-tag"
+
+
+def test_a_failing_case_leaves_its_log_and_recording_beside_the_junit_report(tmp_path: Path) -> None:
+    path = _file(
+        tmp_path,
+        "description: The robot keeps off the salt (false, the salt is its first fetch).\n"
+        "world: {max_ticks: 120}\nexpect:\n  - {never_attempts: salt}\n",
+    )
+    junit = tmp_path / "report" / "junit.xml"
+    run = subprocess.run(
+        [str(Path(sys.executable).parent / "scone-scenario"), "run", str(path), "--junit", str(junit)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert run.returncode == 1, run.stdout + run.stderr
+    assert sorted(p.name for p in junit.parent.iterdir()) == ["junit.xml", "short.events.jsonl", "short.rrd"]
+    assert "replay: " in run.stdout and str(junit.parent / "short.rrd") in run.stdout
