@@ -122,7 +122,8 @@ class DecisionMade(Event):
         rule: What made the verdict when it was not κ̂ against the gate's threshold: "failure-limit" (the
             paper's rule: asked after N failures on the action), "infeasible" (no plan exists: known before the
             arm moved), "missing" (the step needs an item the robot cannot see), "declined" (the human declined
-            to fetch it: the robot tries itself, or waits), "self-confidence-off" (the
+            to fetch it: the robot tries itself, or waits), "too-wide" (measured wider than the gripper
+            opens), "self-confidence-off" (the
             control condition acted without consulting κ̂); "" when κ̂ and the threshold decided.
         planning_s: Wall seconds the robot planned before committing (plan before commit), or None.
     """

@@ -64,6 +64,8 @@ class EpisodeContext:
         embedder: Builds (once) ζ.
         kappa: Builds (once) κ̂, rebuilt from the store.
         recorder: Opens (once) the experience store, or gives None.
+        gripper_opening_m: How wide the arm's gripper opens, metres (None: unknown; the budget gate then never
+            asks because a product is too wide).
     """
 
     robot: Robot
@@ -79,3 +81,4 @@ class EpisodeContext:
     embedder: Callable[[], Any]
     kappa: Callable[[], SelfConfidence]
     recorder: Callable[[], OutcomeRecorder | None]
+    gripper_opening_m: float | None = None

@@ -25,7 +25,7 @@ from scone_bt.behaviours.ports import (
 from scone_bt.confidence.grounded import grounded_features, is_grounded
 from scone_bt.events import DecisionMade, EventSink
 from scone_bt.experience.types import ExecutionContext
-from scone_bt.gate.budget import BudgetCounts, BudgetOptions, may_explore, threshold
+from scone_bt.gate.budget import BudgetCounts, BudgetOptions, may_explore, threshold, too_wide
 from scone_bt.gate.types import Decision, DecisionKind
 from scone_bt.robot.interface import Infeasible, PlannedPick, Robot
 
@@ -136,6 +136,7 @@ class ConfidenceGate(StageBehaviour):
         seed: int = 0,
         robot: Robot | None = None,
         seeds: PlannerSeeds | None = None,
+        opening_m: float | None = None,
     ) -> None:
         """``human`` is read only for the human's current step in the recipe-blind setting (no tracked step).
 
@@ -159,6 +160,7 @@ class ConfidenceGate(StageBehaviour):
         self.seeds = seeds
         self._pending: _Pending | None = None
         self._infeasible: dict[tuple[object, ...], Infeasible] = {}
+        self.opening_m = opening_m  # None: no too-wide rule (the paper's gate)
 
     @classmethod
     def from_context(cls, name: str, context: EpisodeContext) -> ConfidenceGate:
@@ -193,6 +195,7 @@ class ConfidenceGate(StageBehaviour):
             # and its control condition stay as the paper ran them (Table I, the study's control)
             robot=context.robot if budget is not None else None,
             seeds=context.seeds,
+            opening_m=context.gripper_opening_m if budget is not None else None,
         )
 
     def setup(self, **kwargs: object) -> None:
@@ -242,6 +245,7 @@ class ConfidenceGate(StageBehaviour):
         target = affordances.get(decision.action) if decision.action is not None else None
         if target is not None:
             decision = replace(decision, object_name=target.object_name)
+            decision = self._too_wide(decision, contexts.get(target.text))
         decision = self._after_decline(decision, target is not None)
         self.write(Keys.CONFIDENCES, dict(zip([r.text for r in ranked], confidences, strict=True)))
         self.write(Keys.CONTEXTS, contexts)
@@ -330,12 +334,38 @@ class ConfidenceGate(StageBehaviour):
             self._pending = None  # interrupted while planning: nothing was committed
             self.write(Keys.MOTION_COMPUTING, False)
 
+    def _too_wide(self, decision: Decision, context: ExecutionContext | None) -> Decision:
+        """ASK-HELP instead of ACT (or exploring) for a product measured wider than the gripper opens."""
+        if decision.kind is not DecisionKind.ACT or context is None:
+            return decision
+        width = context.detected_width_m
+        if not too_wide(width, self.opening_m):
+            return decision
+        assert width is not None and self.opening_m is not None
+        return replace(
+            decision,
+            kind=DecisionKind.ASK,
+            reason=(
+                f"the {decision.object_name} measures {width * 100:.1f} cm across and my gripper opens "
+                f"{self.opening_m * 100:.1f} cm: please fetch it"
+            ),
+            rule="too-wide",
+            explored=False,
+        )
+
     def _after_decline(self, decision: Decision, visible: bool) -> Decision:
         """A help request the human declined is not made again: attempt instead, or wait (see the class)."""
         item = decision.object_name
         if decision.kind is not DecisionKind.ASK or item is None or not self.human.declined(str(item)):
             return decision
         failures = self.history.failures_of(decision.action or "")
+        if decision.rule == "too-wide":
+            return replace(
+                decision,
+                kind=DecisionKind.IDLE,
+                reason=f"the human declined to fetch the {item}, too wide for my gripper: waiting",
+                rule="declined",
+            )
         if visible and failures < max(self.limit, 1):
             return replace(
                 decision,

@@ -36,6 +36,11 @@ class GripperSpec:
     max_force: float
     finger_friction: float
 
+    @property
+    def opening_m(self) -> float:
+        """How wide the fingers open in total, metres (from closed to ``open_position``, both fingers)."""
+        return 2.0 * (self.open_position - self.closed_position)
+
 
 @dataclass(frozen=True)
 class LimitsSpec:

@@ -20,6 +20,7 @@ RULE_LABELS = {
     "infeasible": "infeasible",
     "missing": "missing",
     "declined": "help declined",
+    "too-wide": "too wide",
 }
 """How a line names each `DecisionMade.rule` (a rule not listed is shown by its own name)."""
 

@@ -65,6 +65,8 @@ class EpisodeResources:
         printer: Receives notices (a store's warning, how many outcomes rebuilt κ̂).
         models: Where the embedder comes from (None: a pool of this episode's own).
         estimator_seed: Seeds κ̂ (None: the options' seed).
+        gripper_opening_m: The arm's gripper opening, metres (the physical κ̂ measures widths against it;
+            None: its default, the Panda's).
     """
 
     def __init__(
@@ -76,8 +78,10 @@ class EpisodeResources:
         printer: Callable[[str], None] = print,
         models: ModelPool | None = None,
         estimator_seed: int | None = None,
+        gripper_opening_m: float | None = None,
     ) -> None:
         self.robot = robot
+        self.gripper_opening_m = gripper_opening_m
         self.estimator_seed = options.seed if estimator_seed is None else estimator_seed
         self.options = options
         self.robot_id = robot_id
@@ -114,7 +118,13 @@ class EpisodeResources:
             from scone_bt.confidence import make_estimator, rebuild_estimator
 
             opts = self.options
-            est = make_estimator(str(opts.estimator), seed=self.estimator_seed)
+            # a hardware-relative κ̂ measures widths against this arm's own gripper
+            hardware = (
+                {"gripper_opening_m": self.gripper_opening_m}
+                if opts.estimator == "physical" and self.gripper_opening_m is not None
+                else {}
+            )
+            est = make_estimator(str(opts.estimator), seed=self.estimator_seed, **hardware)
             store = self.store()
             if store is not None:
                 from scone_bt.experience import LearnFrom

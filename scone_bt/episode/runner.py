@@ -288,6 +288,7 @@ def run_episode(
         say,
         models,
         estimator_seed=robot_seeds.integer(SeedStage.ESTIMATORS),
+        gripper_opening_m=robot_cfg.gripper.opening_m,
     )
     with resources:
         kitchen.spawn(specs, rng)
@@ -327,6 +328,7 @@ def run_episode(
             embedder=embedder,
             kappa=resources.estimator,
             recorder=resources.store,
+            gripper_opening_m=robot_cfg.gripper.opening_m,
         )
         say(
             f"{recipe.recipe.title}: {len(recipe.steps)} steps, needs {', '.join(recipe.needed)}; "

@@ -20,7 +20,11 @@ probability ``explore_rate`` (a seeded draw), so a cold robot learns although as
 Exploratory attempts are reported with every other attempt (they count in the realised rate) but do not move τ:
 they are the stated price of learning, not evidence about τ.
 
-`threshold` and `may_explore` are pure functions of the counts; the caller keeps the counts (the episode folds
+What the robot knows of its own hardware comes before κ̂: a product its depth image measures wider than its
+gripper opens (`too_wide`) cannot be held, so it is asked about, never attempted or explored. In the self-confidence
+datasets 2 of the 177 executions of such products succeeded (docs/results/gate.md).
+
+`threshold`, `may_explore` and `too_wide` are pure functions; the caller keeps the counts (the episode folds
 them from its events, the replay from its stream).
 """
 
@@ -31,7 +35,15 @@ from dataclasses import dataclass
 
 from scone_bt.errors import SconeError
 
-__all__ = ["BudgetOptions", "BudgetCounts", "threshold", "may_explore", "initial_threshold", "GATES"]
+__all__ = [
+    "BudgetOptions",
+    "BudgetCounts",
+    "threshold",
+    "may_explore",
+    "initial_threshold",
+    "too_wide",
+    "GATES",
+]
 
 GATES: tuple[str, ...] = ("budget", "paper")
 """Gate rules a tree file's ``gate`` parameter accepts: the failure budget, or the paper's fixed threshold."""
@@ -107,3 +119,11 @@ def threshold(options: BudgetOptions, counts: BudgetCounts) -> float:
 def may_explore(options: BudgetOptions, counts: BudgetCounts) -> bool:
     """Whether an action below τ may still be tried to learn (before the seeded draw)."""
     return counts.learnt < options.explore_until and counts.explored_failures < options.explore_failures
+
+
+def too_wide(width_m: float | None, opening_m: float | None) -> bool:
+    """Whether a product measured ``width_m`` across (its narrowest horizontal extent, metres; None or NaN:
+    not measured) is wider than a gripper that opens ``opening_m`` (metres; None: unknown)."""
+    if width_m is None or opening_m is None or not math.isfinite(width_m):
+        return False
+    return width_m > opening_m

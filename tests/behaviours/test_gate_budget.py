@@ -268,3 +268,36 @@ def test_an_undeclined_item_is_still_asked_for() -> None:
     gate, _ = _declining_gate()
     gate.human.declines.clear()  # type: ignore[attr-defined]
     assert _tick(gate, _salt_step()).kind is DecisionKind.ASK
+
+
+def _wide_gate(opening_m: float | None) -> ConfidenceGate:
+    from scone_bt.experience.types import ExecutionContext
+
+    events = EventLog()
+    budget = BudgetOptions(explore_rate=1.0, explore_until=100)  # it would explore: the width still wins
+    gate = ConfidenceGate(
+        "gate",
+        lambda: _Kappa(0.9, n_observations=0),
+        GateOptions(confidence_threshold=0.6, relevance_threshold=0.3),
+        99,
+        events,
+        events,
+        FakeRobot(time=3.0).now,
+        FakeHuman(),
+        4,
+        contexts=lambda targets, seen, frames: {
+            t.name: ExecutionContext(detected=True, detected_width_m=0.095) for t in targets
+        },
+        budget=budget,
+        opening_m=opening_m,
+    )
+    gate.setup()
+    return gate
+
+
+def test_a_product_measured_wider_than_the_gripper_is_asked_about_not_attempted() -> None:
+    decision = _tick(_wide_gate(0.08), _salt_step())
+    assert (decision.kind, decision.rule, decision.explored) == (DecisionKind.ASK, "too-wide", False)
+    assert decision.reason == "the salt measures 9.5 cm across and my gripper opens 8.0 cm: please fetch it"
+    assert _tick(_wide_gate(0.10), _salt_step()).kind is DecisionKind.ACT  # a wider gripper takes it
+    assert _tick(_wide_gate(None), _salt_step()).kind is DecisionKind.ACT  # the paper's gate: no such rule

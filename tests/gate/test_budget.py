@@ -153,3 +153,14 @@ def test_budget_options_refuse_out_of_range_values_naming_the_field(field: str, 
 def test_budget_options_accept_their_boundaries() -> None:
     BudgetOptions(step=0.0, tau_min=0.0, tau_max=1.0, explore_rate=0.0, explore_until=0, explore_failures=0)
     BudgetOptions(step=1.0, explore_rate=1.0)
+
+
+@pytest.mark.parametrize(
+    ("width", "opening", "wide"),
+    [(0.0801, 0.08, True), (0.08, 0.08, False), (0.05, 0.08, False), (None, 0.08, False),
+     (float("nan"), 0.08, False), (0.2, None, False)],
+)  # fmt: skip
+def test_too_wide_is_strictly_wider_than_the_opening_and_unknown_is_not_wide(width, opening, wide) -> None:
+    from scone_bt.gate.budget import too_wide
+
+    assert too_wide(width, opening) is wide
