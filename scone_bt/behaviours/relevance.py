@@ -136,7 +136,7 @@ class RankByRelevance(StageBehaviour):
     def _note_placements(self, shelf: Sequence[str]) -> None:
         """Keep `placed` up to date: a new labelled success adds its object; a failure on it, or seeing it on the
         shelf again, says it is not (or no longer) on the table."""
-        outcome = self.read(Keys.OUTCOME)
+        outcome = self.read(Keys.OUTCOME, None)
         if outcome is not None and outcome is not self._outcome:
             if outcome.success:
                 self.placed.add(outcome.object_name)

@@ -174,7 +174,9 @@ def blackboard(**values: object) -> py_trees.blackboard.Client:
     for attr in vars(Keys):
         if attr.isupper():
             client.register_key(key=getattr(Keys, attr), access=py_trees.common.Access.WRITE)
-    for attr, value in values.items():
+    # what the tree's earlier stages write every tick, as they write it when they have nothing to say
+    every_tick = {"STEP": None, "PLANNED": None, "TARGET_CONTEXT": None}
+    for attr, value in {**every_tick, **values}.items():
         client.set(getattr(Keys, attr), value)
     return client
 
