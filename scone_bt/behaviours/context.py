@@ -20,6 +20,7 @@ from scone_bt.behaviours.ports import (
     SelfConfidence,
 )
 from scone_bt.config import Catalogue, SceneSpec
+from scone_bt.embedding.base import Embedder
 from scone_bt.events import EventSink
 from scone_bt.recipes import StockedRecipe
 from scone_bt.robot.interface import Robot
@@ -78,7 +79,7 @@ class EpisodeContext:
     catalogue: Catalogue
     options: BehaviourOptions
     labels: OutcomeLabels
-    embedder: Callable[[], Any]
+    embedder: Callable[[], Embedder]
     kappa: Callable[[], SelfConfidence]
     recorder: Callable[[], OutcomeRecorder | None]
     gripper_opening_m: float | None = None

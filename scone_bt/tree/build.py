@@ -11,6 +11,7 @@ from typing import Annotated, Any
 import py_trees
 from pydantic import BaseModel, Field, create_model, field_validator
 
+from scone_bt.behaviours.context import EpisodeContext
 from scone_bt.config.schema import StrictModel, validate
 from scone_bt.config.tree_parameters import TreeParameters
 from scone_bt.config.yaml_io import read_yaml
@@ -149,7 +150,7 @@ def load_tree_spec(name_or_path: str | Path = "assistive_cooking") -> TreeSpec:
     return TreeSpec(str(data.get("name", path.stem)), data["root"], params, path)
 
 
-def _build(node: dict[str, Any], context: Any) -> py_trees.behaviour.Behaviour:
+def _build(node: dict[str, Any], context: EpisodeContext) -> py_trees.behaviour.Behaviour:
     from scone_bt.behaviours import BEHAVIOURS
 
     if "behaviour" in node:
@@ -166,7 +167,7 @@ def _build(node: dict[str, Any], context: Any) -> py_trees.behaviour.Behaviour:
     return composite(name=str(node[kind]), memory=bool(node.get("memory", False)), children=children)
 
 
-def build_tree(spec: TreeSpec, context: Any) -> py_trees.behaviour.Behaviour:
+def build_tree(spec: TreeSpec, context: EpisodeContext) -> py_trees.behaviour.Behaviour:
     """Instantiate the tree's behaviours, each wired from ``context`` (an `EpisodeContext`) by its
     `from_context`; call `setup()` on the returned root before ticking."""
     return _build(spec.root, context)
