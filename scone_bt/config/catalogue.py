@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
+from enum import StrEnum
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
@@ -21,6 +22,7 @@ from scone_bt.errors import ConfigError, UnknownNameError
 
 __all__ = [
     "SHAPES",
+    "Shape",
     "MARKER_DICTIONARY_SIZE",
     "UNDRAWABLE_MARKER_IDS",
     "ObjectSpec",
@@ -29,7 +31,15 @@ __all__ = [
     "catalogue_files",
 ]
 
-SHAPES = ("box", "cylinder")
+
+class Shape(StrEnum):
+    """A product's collision and grasp model: an axis-aligned box or an upright cylinder."""
+
+    BOX = "box"
+    CYLINDER = "cylinder"
+
+
+SHAPES = tuple(s.value for s in Shape)
 MARKER_DICTIONARY_SIZE = 1000
 """Ids of the lid markers' dictionary (ArUco DICT_6X6_1000, see `scone_bt.world.visuals`)."""
 UNDRAWABLE_MARKER_IDS = frozenset({544})
@@ -43,7 +53,7 @@ class ObjectSpec:
     Attributes:
         name: Canonical name, used in action texts ("Put <name> on table").
         aliases: True synonyms recipes use for it ("garbanzo beans" for chickpeas).
-        shape: "box" or "cylinder".
+        shape: Shape.BOX or Shape.CYLINDER.
         size: Extent along x, y, z in metres (cylinder: diameter, diameter, height).
         mass: Kilograms.
         friction: Lateral friction coefficient of its surface.
@@ -55,7 +65,7 @@ class ObjectSpec:
 
     name: str
     aliases: tuple[str, ...]
-    shape: str
+    shape: Shape
     size: tuple[float, float, float]
     mass: float
     friction: float
@@ -145,7 +155,7 @@ def _product(raw: Any, defaults: _Defaults, family: str, where: str, index: int)
     return ObjectSpec(
         name=p.name.strip(),
         aliases=tuple(a.strip() for a in p.aliases),
-        shape=p.shape,
+        shape=Shape(p.shape),
         size=tuple(p.size),  # type: ignore[arg-type]
         mass=p.mass,
         friction=p.friction,

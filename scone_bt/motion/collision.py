@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from scone_bt.config.catalogue import Shape
 from scone_bt.motion.model import ArmModel
 
 __all__ = ["Obstacle", "CollisionWorld", "HandModel"]
@@ -38,7 +39,7 @@ def _geometry(shape: str, size: Sequence[float], padding: float) -> object:
     import coal
 
     sx, sy, sz = (float(s) + 2 * padding for s in size)
-    if shape == "box":
+    if shape == Shape.BOX:
         return coal.Box(sx, sy, sz)
     return coal.Cylinder(sx / 2, sz)
 

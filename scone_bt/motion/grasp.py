@@ -41,6 +41,7 @@ from enum import Enum
 import numpy as np
 
 from scone_bt.config import ObjectSpec
+from scone_bt.config.catalogue import Shape
 from scone_bt.config.grasp import GraspParams
 from scone_bt.geometry import wrap_angle
 from scone_bt.perception.types import Detection
@@ -157,7 +158,7 @@ def _wrap_near(angle: float, reference: float) -> float:
 
 def _extent_along(spec: ObjectSpec, obj_yaw: float, direction_yaw: float) -> float:
     """The object's full horizontal extent along a world direction (boxes: projected; cylinders: diameter)."""
-    if spec.shape != "box":
+    if spec.shape != Shape.BOX:
         return float(spec.size[0])
     d = direction_yaw - obj_yaw
     return float(abs(np.cos(d)) * spec.size[0] + abs(np.sin(d)) * spec.size[1])
@@ -187,7 +188,7 @@ def grasp_candidates(
     out: list[GraspCandidate] = []
 
     # Closing axes of the top family (modulo half turns): cylinders over the sweep, boxes across each face pair.
-    if spec.shape == "box":
+    if spec.shape == Shape.BOX:
         axes = [detection.yaw, detection.yaw + np.pi / 2]
     else:
         n = max(1, int(round(np.pi / params.yaw_step)))
@@ -232,7 +233,7 @@ def grasp_candidates(
             if shallow:
                 add(top_down_rotation(yaw), shallow_point, yaw, 0.0, GraspFamily.TOP, params.shallow_cost)
             lean = np.array([-np.sin(yaw), np.cos(yaw), 0.0])  # where a positive tilt points the approach
-            if spec.shape == "box":
+            if spec.shape == Shape.BOX:
                 half = _extent_along(spec, detection.yaw, yaw + np.pi / 2) / 2
                 for off in params.offsets:
                     if off <= 0 or off > half - params.offset_margin:
@@ -253,7 +254,7 @@ def grasp_candidates(
         z_hi = top[2] - params.side_top_margin
         if z_lo <= z_hi:
             z = float(np.clip(support + params.side_height_fraction * height, z_lo, z_hi))
-            if spec.shape == "box":
+            if spec.shape == Shape.BOX:
                 approaches = [detection.yaw + k * np.pi / 2 for k in range(4)]
             else:
                 n = max(1, int(round(params.side_max_angle / params.yaw_step)))

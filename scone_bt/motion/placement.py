@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from scone_bt.config import ObjectSpec, SceneSpec
+from scone_bt.config.catalogue import Shape
 from scone_bt.geometry import wrap_angle
 
 __all__ = [
@@ -98,7 +99,7 @@ class Footprint:
     def of(cls, spec: ObjectSpec, x: float = 0.0, y: float = 0.0, yaw: float = 0.0) -> Footprint:
         """The footprint of a catalogue product standing upright at (x, y) turned by yaw: boxes are rectangles."""
         sx, sy, sz = spec.size
-        if spec.shape == "box":
+        if spec.shape == Shape.BOX:
             half = (float(sx) / 2, float(sy) / 2)
             return cls(spec.name, float(x), float(y), float(np.hypot(*half)), float(sz), half, float(yaw))
         return cls(spec.name, float(x), float(y), float(sx) / 2, float(sz))

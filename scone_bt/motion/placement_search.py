@@ -14,6 +14,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from scone_bt.config.catalogue import Shape
 from scone_bt.geometry import wrap_angle
 from scone_bt.motion.collision import CollisionWorld, HandModel, Obstacle
 from scone_bt.motion.grasp import GraspFamily, lifted, place_pose
@@ -97,7 +98,7 @@ def obstacle_footprint(ob: Obstacle) -> Footprint:
     """The table footprint of an obstacle standing upright: a box's rectangle at its yaw, else a circle."""
     sx, sy, sz = ob.size
     x, y = float(ob.pose[0, 3]), float(ob.pose[1, 3])
-    if ob.shape == "box":
+    if ob.shape == Shape.BOX:
         yaw = float(np.arctan2(ob.pose[1, 0], ob.pose[0, 0]))
         half = (float(sx) / 2, float(sy) / 2)
         return Footprint(ob.name, x, y, float(np.hypot(*half)), float(sz), half, yaw)

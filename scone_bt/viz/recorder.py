@@ -19,6 +19,7 @@ import py_trees
 import rerun as rr
 from scipy.spatial.transform import Rotation
 
+from scone_bt.config.catalogue import Shape
 from scone_bt.errors import ConfigError, UnknownNameError
 from scone_bt.experience.types import ExecutionContext
 from scone_bt.gate.types import Decision, DecisionKind
@@ -619,7 +620,7 @@ class Recorder:
             geometry: Any = rr.Boxes3D(
                 sizes=[(0.05, 0.05, 0.05)], labels=[name], colors=[(200, 200, 200)], fill_mode="solid"
             )
-        elif spec.shape == "box":
+        elif spec.shape == Shape.BOX:
             geometry = rr.Boxes3D(
                 sizes=[spec.size], colors=[_rgba255(spec.rgba)], labels=[name], fill_mode="solid"
             )

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
+from scone_bt.config.catalogue import Shape
 from scone_bt.errors import ConfigError, UnknownNameError
 from scone_bt.quiet import c_stdout_silenced
 from scone_bt.world.stocking import plan_stocking
@@ -216,7 +217,7 @@ class Kitchen:
         for spec, place in zip(specs, plan_stocking(self.config.scene, specs, rng), strict=True):
             x, y, z = place.position
             sx, sy, sz = spec.size
-            if spec.shape == "box":
+            if spec.shape == Shape.BOX:
                 col = self.bc.createCollisionShape(p.GEOM_BOX, halfExtents=[sx / 2, sy / 2, sz / 2])
             else:
                 col = self.bc.createCollisionShape(p.GEOM_CYLINDER, radius=sx / 2, height=sz)

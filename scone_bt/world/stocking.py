@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from scone_bt.config import ObjectSpec, SceneSpec
+from scone_bt.config.catalogue import Shape
 from scone_bt.config.scene import ShelfUnit
 from scone_bt.errors import ConfigError
 
@@ -60,7 +61,7 @@ class Placement:
 def footprint(spec: ObjectSpec, yaw: float) -> tuple[float, float]:
     """Extent of the product along a unit's (u, v) axes when turned by `yaw` from facing the robot, metres."""
     sx, sy, _ = spec.size
-    if spec.shape != "box":
+    if spec.shape != Shape.BOX:
         return sx, sx
     c, s = abs(np.cos(yaw)), abs(np.sin(yaw))
     return sx * c + sy * s, sx * s + sy * c
@@ -69,7 +70,7 @@ def footprint(spec: ObjectSpec, yaw: float) -> tuple[float, float]:
 def _turn(spec: ObjectSpec, depth: float) -> float:
     """0, or a quarter turn for a box too deep for the tier whose other side fits."""
     sx, sy, _ = spec.size
-    if spec.shape == "box" and sx > depth + MAX_OVERHANG_M and sy < sx:
+    if spec.shape == Shape.BOX and sx > depth + MAX_OVERHANG_M and sy < sx:
         return np.pi / 2
     return 0.0
 

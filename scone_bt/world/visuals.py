@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from scone_bt.config import ObjectSpec
-from scone_bt.config.catalogue import MARKER_DICTIONARY_SIZE, UNDRAWABLE_MARKER_IDS
+from scone_bt.config.catalogue import MARKER_DICTIONARY_SIZE, UNDRAWABLE_MARKER_IDS, Shape
 from scone_bt.errors import ConfigError
 
 if TYPE_CHECKING:
@@ -96,7 +96,7 @@ def lid_marker(spec: ObjectSpec) -> LidMarker:
         )
     sx, sy, sz = spec.size
     # The largest square on the lid: the whole short side of a box, the inscribed square of a disc.
-    usable = min(sx, sy) if spec.shape == "box" else sx / np.sqrt(2.0)
+    usable = min(sx, sy) if spec.shape == Shape.BOX else sx / np.sqrt(2.0)
     quiet = max(_QUIET_FRACTION * usable, _MIN_QUIET)
     return LidMarker(
         marker_id=spec.marker_id,
@@ -200,7 +200,7 @@ def create_object_visual(bc: BulletClient, spec: ObjectSpec) -> int:
         colours.append(list(rgba))
         frames.append(position)
 
-    if spec.shape == "box":
+    if spec.shape == Shape.BOX:
         add(p.GEOM_BOX, [0, 0, 0], spec.rgba, he=(sx / 2, sy / 2, sz / 2))
         add(
             p.GEOM_BOX,
