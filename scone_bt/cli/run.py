@@ -76,6 +76,7 @@ import shlex  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 from scone_bt.checks import internal_error_line  # noqa: E402
+from scone_bt.config.defaults import EPISODE as _EPISODE  # noqa: E402
 from scone_bt.errors import SconeError  # noqa: E402
 from scone_bt.robot.interface import BACKENDS  # noqa: E402
 
@@ -140,18 +141,20 @@ def build_parser() -> argparse.ArgumentParser:
     )
     g.add_argument(
         "--arm",
-        default="panda",
+        default=_EPISODE.robot,
         help=f"arm model: a robot file name in robots/ ({', '.join(_robot_names()) or 'none found'}) or a YAML path "
         "(default: %(default)s)",
     )
     g.add_argument(
         "--recipe",
-        default="example:tomato-pasta",
+        default=_EPISODE.recipe,
         help="recipe: example:<name> (tomato-pasta, pancakes, hummus), an id from ../shared/data/recipes/recipes.jsonl, "
         "or a JSON/YAML file of the same shape (default: %(default)s)",
     )
     g.add_argument(
-        "--kitchen", default="kitchen", help="kitchen file in perception/ or a path (default: %(default)s)"
+        "--kitchen",
+        default=_EPISODE.kitchen,
+        help="kitchen file in perception/ or a path (default: %(default)s)",
     )
     g.add_argument(
         "--catalogue",
@@ -161,17 +164,28 @@ def build_parser() -> argparse.ArgumentParser:
         help="one more product file (perception/catalogue/*.yaml shape) merged into the catalogue; repeatable",
     )
     g.add_argument(
-        "--tree", default="assistive_cooking", help="tree file in trees/ or a path (default: %(default)s)"
+        "--tree", default=_EPISODE.tree, help="tree file in trees/ or a path (default: %(default)s)"
     )
     g.add_argument(
-        "--distractors", type=int, default=6, help="objects not in the recipe put on the shelf (default: 6)"
+        "--distractors",
+        type=int,
+        default=_EPISODE.distractors,
+        help="objects not in the recipe put on the shelf (default: %(default)s)",
     )
 
     g = p.add_argument_group("run control")
     g.add_argument(
-        "--seed", type=int, default=0, help="seeds everything; a seeded run repeats exactly (default: 0)"
+        "--seed",
+        type=int,
+        default=_EPISODE.seed,
+        help="seeds everything; a seeded run repeats exactly (default: %(default)s)",
     )
-    g.add_argument("--max-ticks", type=int, default=4000, help="limit on 0.1 s control ticks (default: 4000)")
+    g.add_argument(
+        "--max-ticks",
+        type=int,
+        default=_EPISODE.max_ticks,
+        help=f"limit on {_EPISODE.tick_period:g} s control ticks (default: %(default)s)",
+    )
     g.add_argument("--headless", action="store_true", help="no windows (the default; kept for scripts)")
     g.add_argument("--gui", action="store_true", help="open PyBullet's own window (needs a display)")
     g.add_argument("--quiet", action="store_true", help="print only the summary")

@@ -20,6 +20,7 @@ import py_trees
 
 from scone_bt.behaviours import BehaviourOptions, EpisodeContext, Keys, OutcomeLabels
 from scone_bt.config import load_kitchen, load_robot
+from scone_bt.config.defaults import EPISODE
 from scone_bt.episode.printer import RULE_LABELS, LinePrinter, condition_line
 from scone_bt.episode.resources import EpisodeResources, ModelPool
 from scone_bt.episode.seeds import PlannerSeedStream, SeedPlan, SeedStage
@@ -57,15 +58,15 @@ class EpisodeOptions:
         gui: Open PyBullet's own window (debugging).
     """
 
-    robot: str = "panda"
-    kitchen: str = "kitchen"
+    robot: str = EPISODE.robot
+    kitchen: str = EPISODE.kitchen
     catalogues: tuple[str, ...] = ()
-    tree: str = "assistive_cooking"
-    recipe: str = "example:tomato-pasta"
-    seed: int = 0
-    max_ticks: int = 4000
-    tick_period: float = 0.1
-    distractors: int = 6
+    tree: str = EPISODE.tree
+    recipe: str = EPISODE.recipe
+    seed: int = EPISODE.seed
+    max_ticks: int = EPISODE.max_ticks
+    tick_period: float = EPISODE.tick_period
+    distractors: int = EPISODE.distractors
     behaviour: BehaviourOptions = field(default_factory=BehaviourOptions)
     human: HumanOptions = field(default_factory=HumanOptions)
     save: Path | None = None

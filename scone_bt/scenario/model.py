@@ -20,6 +20,7 @@ from typing import Annotated, Any, Literal, Union
 import numpy as np
 from pydantic import Discriminator, Field, Tag, ValidationError, field_validator, model_validator
 
+from scone_bt.config.defaults import EPISODE
 from scone_bt.config.schema import StrictModel, format_validation_error
 from scone_bt.config.yaml_io import read_yaml
 from scone_bt.errors import ConfigError, SconeError
@@ -70,17 +71,17 @@ class Placement(StrictModel):
 class WorldSection(StrictModel):
     """What the episode is: arm, kitchen, recipe, tree and its parameters, seed, and how the shelf is stocked."""
 
-    arm: _Name = "panda"
-    kitchen: _Name = "kitchen"
+    arm: _Name = EPISODE.robot
+    kitchen: _Name = EPISODE.kitchen
     catalogues: Annotated[list[_Name], Field(max_length=20)] = []
-    recipe: _Name = "example:tomato-pasta"
-    tree: _Name = "assistive_cooking"
+    recipe: _Name = EPISODE.recipe
+    tree: _Name = EPISODE.tree
     parameters: dict[str, Any] = {}
     self_confidence: bool = True
-    seed: Annotated[int, Field(ge=0, le=2**31 - 1)] = 0
-    distractors: Annotated[int, Field(ge=0, le=45)] = 6
-    max_ticks: Annotated[int, Field(ge=1, le=20_000)] = 4000
-    tick_period: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False)] = 0.1
+    seed: Annotated[int, Field(ge=0, le=2**31 - 1)] = EPISODE.seed
+    distractors: Annotated[int, Field(ge=0, le=45)] = EPISODE.distractors
+    max_ticks: Annotated[int, Field(ge=1, le=20_000)] = EPISODE.max_ticks
+    tick_period: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False)] = EPISODE.tick_period
     place: Annotated[list[Placement], Field(max_length=45)] = []
     hidden_markers: Annotated[list[_Name], Field(max_length=45)] = []
     on_table: Annotated[list[_Name], Field(max_length=45)] = []

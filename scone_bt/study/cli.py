@@ -17,6 +17,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from scone_bt.config.defaults import EPISODE
 from scone_bt.errors import SconeError
 
 __all__ = ["main", "build_parser"]
@@ -42,10 +43,12 @@ def build_parser() -> argparse.ArgumentParser:
         "--group", required=True, help="condition order: A (self-confidence on first) or B (off first)"
     )
     s.add_argument("--session", type=int, required=True, help="1 or 2; with --group it sets the condition")
-    s.add_argument("--recipe", default="example:tomato-pasta", help="recipe id or file")
-    s.add_argument("--arm", default="panda", help="arm model in robots/")
-    s.add_argument("--seed", type=int, default=0, help="seeds object placement and the robot")
-    s.add_argument("--distractors", type=int, default=6, help="objects not in the recipe on the shelf")
+    s.add_argument("--recipe", default=EPISODE.recipe, help="recipe id or file")
+    s.add_argument("--arm", default=EPISODE.robot, help="arm model in robots/")
+    s.add_argument("--seed", type=int, default=EPISODE.seed, help="seeds object placement and the robot")
+    s.add_argument(
+        "--distractors", type=int, default=EPISODE.distractors, help="objects not in the recipe on the shelf"
+    )
     s.add_argument("--max-ticks", type=int, default=12000, help="limit on 0.1 s control ticks")
     s.add_argument("--experience", type=Path, help="experience store κ̂ is rebuilt from")
     s.add_argument(

@@ -1,0 +1,37 @@
+"""The one source of an episode's defaults: `EpisodeOptions`, `scone-run`, `scone-study` and scenario files read
+them from here (a light module: the command lines build their help text without importing the simulator)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["EPISODE", "EpisodeDefaults"]
+
+
+@dataclass(frozen=True)
+class EpisodeDefaults:
+    """What an episode is when nothing says otherwise.
+
+    Attributes:
+        robot: Robot file (robots/<name>.yaml).
+        kitchen: Kitchen file (perception/<name>.yaml).
+        tree: Tree file (trees/<name>.yaml).
+        recipe: Recipe reference (example:<name>, a corpus id or a file).
+        seed: Seeds everything.
+        max_ticks: Limit on control ticks.
+        tick_period: Simulated seconds per control tick.
+        distractors: Products not in the recipe put on the shelf.
+    """
+
+    robot: str = "panda"
+    kitchen: str = "kitchen"
+    tree: str = "assistive_cooking"
+    recipe: str = "example:tomato-pasta"
+    seed: int = 0
+    max_ticks: int = 4000
+    tick_period: float = 0.1
+    distractors: int = 6
+
+
+EPISODE = EpisodeDefaults()
+"""The defaults."""
