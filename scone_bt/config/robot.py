@@ -146,10 +146,10 @@ class _LimitsModel(StrictModel):
 
 
 class _PlannerModel(StrictModel):
-    name: str = "RRTConnect"
-    time_limit_s: Annotated[float, Field(gt=0, le=600, allow_inf_nan=False)] = 1.0
-    simplify: bool = True
-    rng_seed: Annotated[int, Field(ge=0, le=2**32 - 1)] = 0
+    name: str = PlannerSpec.name
+    time_limit_s: Annotated[float, Field(gt=0, le=600, allow_inf_nan=False)] = PlannerSpec.time_limit_s
+    simplify: bool = PlannerSpec.simplify
+    rng_seed: Annotated[int, Field(ge=0, le=2**32 - 1)] = PlannerSpec.rng_seed
 
     @field_validator("name")
     @classmethod

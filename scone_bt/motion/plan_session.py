@@ -8,7 +8,7 @@ make a seeded plan repeat exactly.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -209,15 +209,7 @@ class PlanSession:
         return result
 
     def _plan_once(self, qa: np.ndarray, qb: np.ndarray, world: CollisionWorld) -> PlanResult:
-        opts = PlannerOptions(
-            name=self.options.name,
-            time_limit_s=self.options.time_limit_s,
-            simplify=self.options.simplify,
-            rng_seed=self.seed * 16 + self.queries,
-            resolution=self.options.resolution,
-            simplify_rounds=self.options.simplify_rounds,
-            try_direct=self.options.try_direct,
-        )
+        opts = replace(self.options, rng_seed=self.seed * 16 + self.queries)
         self.queries += 1
         result = plan_joint_path(qa, qb, self.arm.lower, self.arm.upper, world.is_valid, opts)
         self.plans.append(result)

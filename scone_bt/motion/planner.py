@@ -16,8 +16,11 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from scone_bt.config.grasp import PLANNERS
+from scone_bt.config.robot import PlannerSpec
 from scone_bt.errors import UnknownNameError
 from scone_bt.motion.types import PlanResult, PlanStatus
+
+_ROBOT_FILE = PlannerSpec()  # what a robot file states is defaulted there, once
 
 __all__ = ["PlannerOptions", "PLANNERS", "plan_joint_path", "silence_ompl"]
 
@@ -49,13 +52,20 @@ class PlannerOptions:
             only when no goal is directly reachable.
     """
 
-    name: str = "RRTConnect"
-    time_limit_s: float = 1.0
-    simplify: bool = True
-    rng_seed: int = 0
+    name: str = _ROBOT_FILE.name
+    time_limit_s: float = _ROBOT_FILE.time_limit_s
+    simplify: bool = _ROBOT_FILE.simplify
+    rng_seed: int = _ROBOT_FILE.rng_seed
     resolution: float = 0.004
     simplify_rounds: int = 3
     try_direct: bool = True
+
+    @classmethod
+    def of(cls, spec: PlannerSpec) -> PlannerOptions:
+        """The options a robot file's ``planner:`` section states (the rest at their defaults)."""
+        return cls(
+            name=spec.name, time_limit_s=spec.time_limit_s, simplify=spec.simplify, rng_seed=spec.rng_seed
+        )
 
 
 def silence_ompl() -> None:

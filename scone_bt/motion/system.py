@@ -111,9 +111,7 @@ class MotionSystem:
         p = robot.planner
         if planner is not None and planner.name not in PLANNERS:
             raise UnknownNameError("planner", planner.name, PLANNERS)
-        options = planner or PlannerOptions(
-            name=p.name, time_limit_s=p.time_limit_s, simplify=p.simplify, rng_seed=p.rng_seed
-        )
+        options = planner or PlannerOptions.of(p)
         return cls(
             kitchen,
             ArmModel(robot),
