@@ -41,6 +41,8 @@ from typing import Any
 import numpy as np
 
 from scone_bt.affordances.types import object_of_action
+from scone_bt.events import DecisionMade, Event, StepDone
+from scone_bt.gate.types import DecisionKind
 from scone_bt.reporting import emit_report
 
 __all__ = ["register", "GateCounts", "replay_gate", "judge_fetches", "pick_recipes"]
@@ -111,31 +113,29 @@ def replay_gate(
     )
 
 
-def judge_fetches(
-    events: Sequence[tuple[str, dict[str, Any]]], steps: Sequence[Sequence[str]]
-) -> dict[str, int]:
+def judge_fetches(events: Sequence[Event], steps: Sequence[Sequence[str]]) -> dict[str, int]:
     """Count decisions, fetches, wrong, ahead and never-used fetches and clarifications of one episode.
 
     Args:
-        events: The episode's events in order ("decision" with kind, action, need; "step_done").
+        events: The episode's events in order (its decisions and the human's finished steps count).
         steps: Each step's needed objects (the recipe's stocking).
     """
     used = {o for s in steps for o in s}
     out: Counter[str] = Counter()
     human_step = 0
-    for kind, d in events:
-        if kind == "step_done":
+    for event in events:
+        if isinstance(event, StepDone):
             human_step += 1
             continue
-        if kind != "decision":
+        if not isinstance(event, DecisionMade):
             continue
         out["decisions"] += 1
-        if d["kind"] == "clarify":
+        if event.verdict is DecisionKind.CLARIFY:
             out["clarifications"] += 1
             continue
-        if d["kind"] not in ("act", "ask") or not d.get("action"):
+        if event.verdict not in (DecisionKind.ACT, DecisionKind.ASK) or not event.action:
             continue
-        item = object_of_action(str(d["action"]))
+        item = object_of_action(event.action)
         out["fetches"] += 1
         if item not in used:
             out["never_used"] += 1
@@ -182,7 +182,7 @@ def _episodes(args: argparse.Namespace) -> dict[str, Any]:
     for i in range(args.episodes):
         recipe_id = recipes[i % len(recipes)]
         seed = args.seed + i
-        events: list[tuple[str, dict[str, Any]]] = []
+        events: list[Event] = []
         summary = run_episode(
             EpisodeOptions(
                 recipe=recipe_id,
@@ -193,7 +193,7 @@ def _episodes(args: argparse.Namespace) -> dict[str, Any]:
                 ),
             ),
             printer=lambda _line: None,
-            on_event=lambda event, sink=events: sink.append((event.kind, event.to_json())),
+            on_event=events.append,
             models=models,
         )
         stocked = stock_recipe(load_recipe(recipe_id), kitchen.catalogue)

@@ -105,7 +105,7 @@ def _physics_episode(
 
     def on_event(event: Event) -> None:
         sink(event)
-        participant.observe(event.kind, event.to_json())
+        participant.observe(event)
 
     summary = run_episode(
         episode, printer=lambda _line: None, on_event=on_event, human_factory=factory, models=_models()

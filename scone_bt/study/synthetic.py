@@ -130,7 +130,7 @@ def run_synthetic_episode(
     def emit(event: Event) -> None:
         events(event)
         on_event(event)
-        participant.observe(event.kind, event.to_json())
+        participant.observe(event)
 
     for step, name in enumerate(objects, 1):
         action = action_text(name)

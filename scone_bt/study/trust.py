@@ -23,11 +23,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 
 from scone_bt.errors import SconeError
+from scone_bt.events import ActOutcome, Event, HelpRequested
 from scone_bt.human import SimulatedHuman
 from scone_bt.study.design import Condition, Group
 from scone_bt.study.questionnaires import Questionnaire
@@ -138,21 +138,21 @@ class SimulatedParticipant:
             self.trust = base + self.params.carry_over * (self.trust - base)
             self.history.append(("session", self.trust))
 
-    def observe(self, kind: str, data: dict[str, Any]) -> None:
+    def observe(self, event: Event) -> None:
         """React to one episode event (the on_event stream): outcomes and help requests move trust."""
         p = self.params
-        if kind == "outcome":
-            if data.get("success"):
+        if isinstance(event, ActOutcome):
+            if event.success:
                 self.trust += p.success_gain * (1.0 - self.trust)
             else:
                 self.trust -= p.failure_loss * self.trust
-        elif kind == "help_request":
+        elif isinstance(event, HelpRequested):
             g = p.help_gain
             self.trust += g * (1.0 - self.trust) if g >= 0 else g * self.trust
         else:
             return
         self.trust = min(max(self.trust, 1e-4), 1 - 1e-4)
-        self.history.append((kind, self.trust))
+        self.history.append((event.kind, self.trust))
 
     def takeover_probability(self) -> float:
         p = self.params

@@ -5,25 +5,29 @@ from __future__ import annotations
 import numpy as np
 
 from scone_bt.benchmarks.decisions import GateCounts, judge_fetches, replay_gate
+from scone_bt.events import DecisionMade, StepDone
+from scone_bt.gate.types import DecisionKind
 
 STEPS = [("salt",), ("pasta",), ("garlic", "olive oil"), ()]
 
 
-def _d(kind: str, item: str | None, step: int, need: str = "now") -> dict:
-    return {"kind": kind, "action": f"Put {item} on table" if item else None, "step": step, "need": need}
+def _d(kind: str, item: str | None, step: int, need: str = "now") -> DecisionMade:
+    action = f"Put {item} on table" if item else None
+    return DecisionMade(1.0, step, "a step", action, 0.5, 0.5, DecisionKind(kind), need)
 
 
 def test_judge_counts_wrong_ahead_never_used_and_clarify() -> None:
+    done = StepDone(2.0, "a step")
     events = [
-        ("decision", _d("act", "salt", 1)),  # right: the human's step 1 needs it
-        ("decision", _d("act", "garlic", 1, "later")),  # ahead: step 3 needs it
-        ("decision", _d("act", "honey", 1)),  # wrong and never used
-        ("step_done", {}),
-        ("step_done", {}),
-        ("decision", _d("ask", "pasta", 3)),  # wrong: step 2 (pasta) is over
-        ("decision", _d("ask", "olive oil", 3)),  # right
-        ("decision", _d("clarify", None, 3)),
-        ("decision", _d("idle", None, 4)),
+        _d("act", "salt", 1),  # right: the human's step 1 needs it
+        _d("act", "garlic", 1, "later"),  # ahead: step 3 needs it
+        _d("act", "honey", 1),  # wrong and never used
+        done,
+        done,
+        _d("ask", "pasta", 3),  # wrong: step 2 (pasta) is over
+        _d("ask", "olive oil", 3),  # right
+        _d("clarify", None, 3),
+        _d("idle", None, 4),
     ]
     out = judge_fetches(events, STEPS)
     assert out == {"decisions": 7, "fetches": 5, "wrong": 2, "ahead": 1, "never_used": 1, "clarifications": 1}

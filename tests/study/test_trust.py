@@ -2,23 +2,29 @@ import numpy as np
 import pytest
 
 from scone_bt.errors import SconeError
+from scone_bt.events import ActOutcome, DecisionMade, HelpRequested
+from scone_bt.gate.types import DecisionKind
 from scone_bt.study import MDMT_PERFORMANCE, TPS_HRI_14, SimulatedParticipant, TrustParameters
 from scone_bt.study.design import Condition, Group
+
+
+def _outcome(success: bool) -> ActOutcome:
+    return ActOutcome(1.0, "Put salt on table", "salt", success, None if success else "grasp")
 
 
 def test_successes_raise_failures_lower_trust():
     p = SimulatedParticipant("S1", Group.A, seed=3)
     start = p.trust
-    p.observe("outcome", {"success": True})
+    p.observe(_outcome(True))
     assert p.trust > start
     high = p.trust
-    p.observe("outcome", {"success": False})
+    p.observe(_outcome(False))
     assert p.trust < high
     assert high - start < p.params.failure_loss * high  # failures weigh more than successes
     before = p.trust
-    p.observe("help_request", {})
+    p.observe(HelpRequested(1.0, "Put salt on table", "salt"))
     assert p.trust > before
-    p.observe("decision", {})
+    p.observe(DecisionMade(1.0, 1, "Add salt.", None, 0.0, 0.0, DecisionKind.IDLE, ""))
     assert p.history[-1][0] == "help_request"
 
 
@@ -27,7 +33,7 @@ def test_low_trust_intervenes_more():
     p.trust = 0.9
     high = p.takeover_probability()
     for _ in range(10):
-        p.observe("outcome", {"success": False})
+        p.observe(_outcome(False))
     assert p.trust < 0.3
     assert p.takeover_probability() > 0.5 > 0.05 > high
     draws = sum(p.decides_to_take_over() for _ in range(400))
