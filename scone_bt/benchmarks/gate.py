@@ -97,7 +97,8 @@ def replay_stream(
         success: (n,) whether each execution succeeded (revealed only if attempted).
         products: (n,) product names (novel = κ̂ has no outcome of it yet in this stream).
         estimator: κ̂ registry name.
-        gate: "budget", "fixed" (1 − 2α, no calibration), "conformal" (act at 1 − α) or "paper" (0.5).
+        gate: "budget" (the tree's gate: it also asks about a product perceived wider than ``opening_m``),
+            "fixed" (1 − 2α, no calibration), "conformal" (act at 1 − α) or "paper" (0.5).
         alpha: Target failure rate.
         seed: Seeds κ̂ and the exploration draws.
         warmup: Decisions not scored.
@@ -106,7 +107,7 @@ def replay_stream(
     """
     from scone_bt.confidence import make_estimator
     from scone_bt.confidence.grounded import is_grounded
-    from scone_bt.gate.budget import BudgetCounts, BudgetOptions, may_explore, threshold
+    from scone_bt.gate.budget import BudgetCounts, BudgetOptions, may_explore, threshold, too_wide
 
     options = {"gripper_opening_m": opening_m} if estimator == "physical" else {}
     est = make_estimator(estimator, seed=seed, **options)
@@ -149,6 +150,8 @@ def replay_stream(
             and products[t] not in failed  # as on the robot: an action that failed is never explored again
         ):
             act = explored = True
+        if gate == "budget" and too_wide(float(context[t, 4]), opening_m):
+            act = explored = False  # the tree's gate asks about what its gripper cannot hold (gate.budget)
         novel = products[t] not in learnt
         scored = t >= warmup
         out.all_decisions += 1

@@ -186,3 +186,21 @@ def test_scone_bench_gate_reports_the_issues_keys(tmp_path: Path) -> None:
             missing = [k for k in _PER_TARGET if k not in metrics]
             assert not missing, (name, target, missing)
             assert metrics["decisions"] == 2 * (15 - 3)
+
+
+def test_the_budget_gate_never_attempts_what_is_wider_than_its_gripper(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    widths = [0.10, 0.03, 0.09, 0.05]
+    success = np.array([True, True, False, True])
+    vectors = np.column_stack([np.full(4, 0.99), np.arange(4)]).astype(np.float32)  # κ̂ is sure of every row
+    names = [f"p{i}" for i in range(4)]
+    learnt = _Scripted()
+    _use(monkeypatch, learnt)
+    out = replay_stream(vectors, _context(widths), success, names, "x", "budget", 0.15, 0, 0, OPENING_M)
+    assert [i for i, _ in learnt.learnt] == [1, 3]  # the two wide products are asked about, never learnt
+    assert out.all_attempts == 2
+    paper = _Scripted()
+    _use(monkeypatch, paper)
+    replay_stream(vectors, _context(widths), success, names, "x", "paper", 0.15, 0, 0, OPENING_M)
+    assert [i for i, _ in paper.learnt] == [0, 1, 2, 3]  # the paper's gate has no such rule
