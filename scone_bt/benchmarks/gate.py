@@ -355,6 +355,7 @@ def _episode_counts(events: Sequence[Any]) -> dict[str, Any]:
     """What one episode showed the human: failed attempts, help requests, interventions, and infeasible plans
     of an action planned again (a PlanInfeasible, or a failure at planning, after the first for that action)."""
     from scone_bt.events import ActOutcome, DecisionMade, HelpRequested, Intervention, PlanInfeasible
+    from scone_bt.motion.types import FailureStage
 
     out = {"failures": 0, "help": 0, "interventions": 0, "attempts": 0, "repeated_infeasible_plans": 0}
     infeasible: set[str] = set()
@@ -363,7 +364,7 @@ def _episode_counts(events: Sequence[Any]) -> dict[str, Any]:
         if isinstance(e, ActOutcome):
             out["attempts"] += 1
             out["failures"] += not e.success
-            if e.stage == "planning":
+            if e.stage == FailureStage.PLANNING:
                 out["repeated_infeasible_plans"] += e.action in infeasible
                 infeasible.add(e.action)
         elif isinstance(e, PlanInfeasible):
