@@ -63,6 +63,11 @@ class World(Protocol):
         """Exchange the places of two products (a look-alike put where the product stood, and back)."""
         ...
 
+    def place_beside(self, name: str, anchor: str, gap_m: float, side: int) -> None:
+        """Stand the product on the anchor's tier, ``gap_m`` from its side (``side`` +1: further along the tier,
+        −1: back towards its start)."""
+        ...
+
     def place_on_table(self, name: str) -> bool:
         """Put the product on a free table spot by hand; False when the table is full."""
         ...
@@ -204,6 +209,35 @@ class SimWorld:
         self.kitchen.park_object(name)  # out of the way while the other one moves
         self.kitchen.place_object(other, a, a_yaw)
         self.kitchen.place_object(name, b, b_yaw)
+
+    def place_beside(self, name: str, anchor: str, gap_m: float, side: int) -> None:
+        from scone_bt.perception.context import shelf_place
+        from scone_bt.world.stocking import footprint
+
+        scene = self.kitchen.config.scene
+        (x, y, z), anchor_yaw = self._stand(anchor)
+        place = shelf_place(scene, (x, y, z + 0.01))
+        if place is None:
+            raise ConfigError(f"{anchor!r} does not stand on a shelf tier: nothing to stand {name!r} beside")
+        unit = next(u for u in scene.shelves if u.name == place[0])
+        tier = unit.tiers[place[1]]
+        _, v0 = unit.to_unit(x, y)
+        half = footprint(self.kitchen.specs[anchor], anchor_yaw - unit.facing_yaw)[1] / 2
+        half_other = footprint(self.kitchen.specs[name], 0.0)[1] / 2
+        v = v0 + (1 if side >= 0 else -1) * (half + gap_m + half_other)
+        if not unit.span[0] + half_other <= v <= unit.span[1] - half_other:
+            raise ConfigError(
+                f"no room for {name!r} {gap_m * 100:.1f} cm beside {anchor!r} on {unit.name}/{place[1]} "
+                f"(the tier spans {unit.span[0]:.2f}-{unit.span[1]:.2f} m along it)"
+            )
+        was, was_yaw = self._stand(name)
+        wx, wy = unit.to_world(tier.center, v)
+        # a product standing there takes the moved one's old place (as a person would swap them)
+        occupant = self._standing_near((wx, wy, tier.top_z), half_other + 0.03, name)
+        self.kitchen.park_object(name)
+        if occupant is not None and occupant != anchor:
+            self.kitchen.place_object(occupant, was, was_yaw)
+        self.kitchen.place_object(name, (wx, wy, tier.top_z), unit.facing_yaw)
 
     def place_on_table(self, name: str) -> bool:
         return self.kitchen.human_place_on_table(name)

@@ -51,12 +51,14 @@ EVENT_KINDS: tuple[str, ...] = tuple(EVENT_TYPES)
 # ------------------------------------------------------------------------------------------------ the world
 class Placement(StrictModel):
     """A product pinned to a shelf slot ``unit/tier/index`` (tier 0 the lowest), turned by ``yaw_deg``; its
-    ``neighbours`` stand in the slots beside it on the same tier (index + 1, index − 1, index + 2, ...)."""
+    ``neighbours`` stand in the slots beside it on the same tier (index + 1, index − 1, index + 2, ...), or, with
+    ``gap_m``, that far from its sides (metres; the first further along the tier, the second back; at most 2)."""
 
     product: _Name
     slot: Annotated[str, Field(pattern=_SLOT.pattern)]
     yaw_deg: Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False)] = 0.0
     neighbours: Annotated[list[_Name], Field(max_length=8)] = []
+    gap_m: Annotated[float, Field(ge=0, le=0.3, allow_inf_nan=False)] | None = None
 
     def neighbour_slots(self, slots_on_tier: int) -> list[tuple[str, str]]:
         """(product, slot) for each neighbour: the free slots beside this one, nearest first, right first."""
@@ -660,7 +662,12 @@ def check_world(spec: ScenarioFile, path: Path, where: str) -> None:
             product(name, f"world.place[{i}].neighbours[{j}]")
         unit_name, tier_index = pl.slot.split("/")[:2]
         room = len(units[unit_name].tiers[int(tier_index)].slots)
-        if len(pl.neighbour_slots(room)) < len(pl.neighbours):
+        if pl.gap_m is not None and len(pl.neighbours) > 2:
+            raise ConfigError(
+                f"{where}: world.place[{i}].gap_m: a gap places at most 2 neighbours, one on each side "
+                f"(got {len(pl.neighbours)})"
+            )
+        if pl.gap_m is None and len(pl.neighbour_slots(room)) < len(pl.neighbours):
             raise ConfigError(
                 f"{where}: world.place[{i}].neighbours: tier {unit_name}/{tier_index} has {room} slots, no room "
                 f"for {len(pl.neighbours)} neighbours beside slot {pl.slot}"

@@ -139,6 +139,10 @@ class ScenarioHook:
             self.world.place_on_shelf(
                 pl.product, SlotRef(unit, int(tier), int(index)), math.radians(pl.yaw_deg)
             )
+            if pl.gap_m is not None:
+                for name, side in zip(pl.neighbours, (1, -1), strict=False):
+                    self.world.place_beside(name, pl.product, pl.gap_m, side)
+                continue
             for name, beside in pl.neighbour_slots(self.world.slots_on_tier(unit, int(tier))):
                 u, t, i = beside.split("/")
                 self.world.place_on_shelf(name, SlotRef(u, int(t), int(i)))

@@ -77,3 +77,27 @@ def test_a_covered_camera_sees_nothing_and_uncovered_sees_again(world) -> None:
     assert len(world.robot.perceive().detections) == seen
     with pytest.raises(Exception, match="valid"):
         world.cover_camera("nope" + name)
+
+
+@pytest.mark.parametrize("gap", [0.02, 0.06])
+def test_place_beside_leaves_the_stated_gap_along_the_tier(world, gap) -> None:
+    world.place_on_shelf("salt", SlotRef("left", 1, 2))
+    world.kitchen.advance(0.3)
+    world.place_beside("garlic", "salt", gap, +1)
+    world.place_beside("crushed tomatoes", "salt", gap, -1)
+    world.kitchen.advance(0.5)
+    specs = world.kitchen.specs
+    for other in ("garlic", "crushed tomatoes"):
+        between = float(np.linalg.norm(_xy(world, other) - _xy(world, "salt")))
+        edge = (
+            between - specs["salt"].size[0] / 2 - specs[other].size[0] / 2
+        )  # cylinders: size[0] is the diameter
+        assert edge == pytest.approx(gap, abs=0.004), other
+
+
+def test_place_beside_past_the_tiers_end_is_one_line(world) -> None:
+    world.place_on_shelf("salt", SlotRef("left", 1, 0))
+    with pytest.raises(
+        Exception, match=r"^no room for 'garlic' 6.0 cm beside 'salt' on left/1 \(the tier spans"
+    ):
+        world.place_beside("garlic", "salt", 0.06, -1)
