@@ -76,7 +76,7 @@ import shlex  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 from scone_bt.checks import internal_error_line  # noqa: E402
-from scone_bt.config.defaults import EPISODE as _EPISODE  # noqa: E402
+from scone_bt.defaults import EPISODE as _EPISODE  # noqa: E402
 from scone_bt.errors import SconeError  # noqa: E402
 from scone_bt.robot.interface import BACKENDS  # noqa: E402
 

@@ -20,7 +20,7 @@ import py_trees
 
 from scone_bt.behaviours import BehaviourOptions, EpisodeContext, Keys, OutcomeLabels
 from scone_bt.config import load_kitchen, load_robot
-from scone_bt.config.defaults import EPISODE
+from scone_bt.defaults import EPISODE
 from scone_bt.episode.printer import RULE_LABELS, LinePrinter, condition_line
 from scone_bt.episode.resources import EpisodeResources, ModelPool
 from scone_bt.episode.seeds import PlannerSeedStream, SeedPlan, SeedStage

@@ -20,9 +20,9 @@ from typing import Annotated, Any, Literal, Union
 import numpy as np
 from pydantic import Discriminator, Field, Tag, ValidationError, field_validator, model_validator
 
-from scone_bt.config.defaults import EPISODE
 from scone_bt.config.schema import StrictModel, format_validation_error
 from scone_bt.config.yaml_io import read_yaml
+from scone_bt.defaults import EPISODE
 from scone_bt.errors import ConfigError, SconeError
 from scone_bt.events import EVENT_TYPES
 

@@ -17,7 +17,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from scone_bt.config.defaults import EPISODE
+from scone_bt.defaults import EPISODE
 from scone_bt.errors import SconeError
 
 __all__ = ["main", "build_parser"]
