@@ -97,6 +97,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``scone-bench``; errors print one line and exit with status 2."""
     args = _parser().parse_args(argv)
     try:
+        from scone_bt.extras import require
+
+        require("bench", "scone-bench")
         check_report_path(args)  # before the benchmark runs: minutes of work are not lost to a bad --json
         return int(args.func(args))
     except SconeError as exc:

@@ -72,6 +72,9 @@ def connect_ray(address: str | None = "auto", num_cpus: int | None = None) -> st
     Raises:
         DistributedError: the cluster cannot be reached.
     """
+    from scone_bt.extras import require
+
+    require("fleet", "running on a Ray cluster", ("ray",))
     _quiet_ray()
     import ray
 

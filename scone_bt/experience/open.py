@@ -19,6 +19,9 @@ _CHUNK = 500  # ids per query: under SQLite's default limit of bound parameters
 def open_store(spec: str | Path) -> OutcomeStore:
     """`postgresql://…` / `postgres://…` → PostgreSQL (a fleet's shared store); anything else → SQLite file."""
     if is_postgres_url(spec):
+        from scone_bt.extras import require
+
+        require("fleet", "a PostgreSQL experience store", ("psycopg",))
         return PostgresExperienceStore(str(spec))
     return ExperienceStore(spec)
 

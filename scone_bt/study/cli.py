@@ -412,6 +412,9 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     _quiet()
     try:
+        from scone_bt.extras import require
+
+        require("study", "scone-study")
         if args.command == "session":
             return _session(args)
         if args.command == "simulate":

@@ -548,4 +548,7 @@ def tablet_from_args(args: Any) -> TabletServer | None:
         ):
             raise UIError("--ui-host, --ui-port and --ui-token only apply with --ui")
         return None
+    from scone_bt.extras import require
+
+    require("study", "scone-run --ui (the tablet)", ("fastapi", "uvicorn"))
     return serve_tablet(args.ui_host, args.ui_port, args.ui_token)
