@@ -68,6 +68,11 @@ class _Pending:
     started: float = 0.0
 
 
+def _overruled(decision: Decision, kind: DecisionKind, reason: str, rule: str) -> Decision:
+    """The decision as a rule made it rather than κ̂ against the threshold (never an exploration draw)."""
+    return replace(decision, kind=kind, reason=reason, rule=rule, explored=False)
+
+
 def apply_failure_limit(decision: Decision, failures: int, limit: int) -> Decision:
     """The paper's rule: after ``limit`` failures on the same action, ask for help whatever κ̂ says."""
     if decision.kind is DecisionKind.ACT and decision.action is not None and failures >= limit:
@@ -294,20 +299,11 @@ class ConfidenceGate(StageBehaviour):
         the human, when the human already declined to fetch it)."""
         why = say_infeasible(str(decision.object_name), infeasible)
         if self.human.declined(str(decision.object_name)):
-            return replace(
-                decision,
-                kind=DecisionKind.IDLE,
-                reason=f"{why}, and the human declined to fetch it: waiting",
-                rule="declined",
-                explored=False,
+            return _overruled(
+                decision, DecisionKind.IDLE, f"{why}, and the human declined to fetch it: waiting", "declined"
             )
-        return replace(
-            decision,
-            kind=DecisionKind.ASK,
-            reason=why + (" (known: not planned again in this scene)" if again else ""),
-            rule="infeasible",
-            explored=False,
-        )
+        known = " (known: not planned again in this scene)" if again else ""
+        return _overruled(decision, DecisionKind.ASK, why + known, "infeasible")
 
     def _finish(
         self, pending: _Pending, decision: Decision, planning_s: float | None = None
@@ -342,16 +338,11 @@ class ConfidenceGate(StageBehaviour):
         if not too_wide(width, self.opening_m):
             return decision
         assert width is not None and self.opening_m is not None
-        return replace(
-            decision,
-            kind=DecisionKind.ASK,
-            reason=(
-                f"the {decision.object_name} measures {width * 100:.1f} cm across and my gripper opens "
-                f"{self.opening_m * 100:.1f} cm: please fetch it"
-            ),
-            rule="too-wide",
-            explored=False,
+        reason = (
+            f"the {decision.object_name} measures {width * 100:.1f} cm across and my gripper opens "
+            f"{self.opening_m * 100:.1f} cm: please fetch it"
         )
+        return _overruled(decision, DecisionKind.ASK, reason, "too-wide")
 
     def _after_decline(self, decision: Decision, visible: bool) -> Decision:
         """A help request the human declined is not made again: attempt instead, or wait (see the class)."""
@@ -360,27 +351,22 @@ class ConfidenceGate(StageBehaviour):
             return decision
         failures = self.history.failures_of(decision.action or "")
         if decision.rule == "too-wide":
-            return replace(
+            why = "too wide for my gripper"
+            return _overruled(
                 decision,
-                kind=DecisionKind.IDLE,
-                reason=f"the human declined to fetch the {item}, too wide for my gripper: waiting",
-                rule="declined",
+                DecisionKind.IDLE,
+                f"the human declined to fetch the {item}, {why}: waiting",
+                "declined",
             )
         if visible and failures < max(self.limit, 1):
-            return replace(
-                decision,
-                kind=DecisionKind.ACT,
-                reason=f"the human declined to fetch the {item}: trying it myself",
-                rule="declined",
-                explored=False,
-            )
+            reason = f"the human declined to fetch the {item}: trying it myself"
+            return _overruled(decision, DecisionKind.ACT, reason, "declined")
         why = "I cannot see it" if not visible else f"it failed {failures} times"
-        return replace(
+        return _overruled(
             decision,
-            kind=DecisionKind.IDLE,
-            reason=f"the human declined to fetch the {item} and {why}: waiting",
-            rule="declined",
-            explored=False,
+            DecisionKind.IDLE,
+            f"the human declined to fetch the {item} and {why}: waiting",
+            "declined",
         )
 
     def _ask_for_missing(self, decision: Decision, missing: tuple[str, ...]) -> Decision:
