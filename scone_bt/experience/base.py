@@ -112,10 +112,11 @@ def outcome_from_row(row: tuple[Any, ...]) -> Outcome:
             c = json.loads(c)
         except (ValueError, RecursionError):
             c = None
-        if not isinstance(c, dict):
-            raise ExperienceStoreError(
-                f"stored outcome {oid}: its context is not a JSON object; the store is damaged (it was left as it is)"
-            )
+    # Checked after decoding either way: a PostgreSQL jsonb column hands back a list or a number as it is.
+    if not isinstance(c, dict):
+        raise ExperienceStoreError(
+            f"stored outcome {oid}: its context is not a JSON object; the store is damaged (it was left as it is)"
+        )
     c = dict(c)
     raw_execution = c.pop(EXECUTION_KEY, None)
     try:

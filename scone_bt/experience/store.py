@@ -343,18 +343,22 @@ class ExperienceStore(OutcomeStore):
             for stmt in _statements(_UPGRADE_V2):
                 conn.execute(stmt)
             rows = conn.execute("SELECT id, context FROM outcomes ORDER BY id").fetchall()
-            unreadable: list[int] = []
             for row_id, ctx_text in rows:
-                ctx, _ = _context_of(ctx_text)
-                if ctx is None:
-                    # Columns are added to it like to any row; its context stays as it is and reads skip it.
-                    unreadable.append(row_id)
-                    ctx = {}
+                # A row whose context cannot be read gets its columns like any other; its values stay as they
+                # are and reads skip it (see decode_row below).
+                ctx = _context_of(ctx_text)[0] or {}
                 robot = str(ctx.get("robot", ""))
                 conn.execute(
                     "UPDATE outcomes SET outcome_id = ?, robot_id = ?, arm = ?, profile = ? WHERE id = ?",
                     (f"v1-{row_id}", robot, robot, str(ctx.get("profile", "")), row_id),
                 )
+            # Every check a read makes, so the notice names each row a read will skip (a bad context or a
+            # wrong-typed column alike), not only those whose context failed to parse.
+            unreadable: dict[int, str] = {}
+            for row_id, *row in conn.execute(f"SELECT id, {', '.join(COLUMNS)} FROM outcomes ORDER BY id"):
+                why = decode_row(tuple(row))[1]
+                if why:
+                    unreadable[row_id] = why
             for stmt in _statements(_INDEXES_V2):
                 conn.execute(stmt)
             conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
@@ -371,7 +375,7 @@ class ExperienceStore(OutcomeStore):
         )
         if unreadable:
             self.notice += (
-                f"; {_rows_named(unreadable)} cannot be read (context not a JSON object): "
+                f"; {_rows_named(sorted(unreadable), unreadable)} cannot be read: "
                 "kept in the file as they are, not learnt from"
             )
 

@@ -148,3 +148,25 @@ def test_sqlite_and_postgres_return_the_same_outcomes(pg_url, tmp_path):
         for kwargs in ({}, {"robot_id": "r1"}, {"arm": "panda", "embedder": "minilm"}):
             a, b = pg.outcomes(**kwargs), lite.outcomes(**kwargs)
             assert a == b and [o.outcome_id for o in a] == [o.outcome_id for o in b]
+
+
+@pytest.mark.parametrize(
+    ("context", "why"),
+    [
+        ("[1, 2]", "its context is not a JSON object"),
+        ('{"execution": {"shelf_tier": "two"}}', "shelf_tier must be int, got 'two'"),
+    ],
+)
+def test_a_row_that_cannot_be_read_is_refused_naming_its_outcome_id(pg_url, context, why):
+    with open_store(pg_url) as store:
+        store.append(_outcome(0))
+        store.append(_outcome(1))
+    with psycopg.connect(pg_url, autocommit=True) as conn:  # damage made outside scone-bt
+        conn.execute(
+            "UPDATE scone_outcomes SET context = %s::jsonb WHERE outcome_id = 'panda-1:1'", (context,)
+        )
+    with open_store(pg_url) as store, pytest.raises(ExperienceStoreError) as err:
+        store.outcomes()
+    message = str(err.value)
+    assert "stored outcome panda-1:1" in message and why in message and "\n" not in message
+    assert "the store is damaged (it was left as it is)" in message

@@ -115,7 +115,7 @@ def test_a_v1_store_with_a_corrupt_row_is_upgraded_naming_it_and_learns_from_the
     original = path.read_bytes()
     with ExperienceStore(path) as store:
         assert store.notice is not None and "schema 1" in store.notice
-        assert "row 3 cannot be read (context not a JSON object)" in store.notice
+        assert "row 3 (context is not JSON) cannot be read" in store.notice
         assert "kept in the file as they are" in store.notice and "\n" not in store.notice
         est = make_estimator("knn")
         assert rebuild_estimator(est, store, OneHotEmbedder([SALT, SUGAR])) == 5
@@ -130,6 +130,34 @@ def test_a_v1_store_with_a_corrupt_row_is_upgraded_naming_it_and_learns_from_the
         ).fetchone()
     conn.close()
     assert row == (2.0, SUGAR, "{'robot': 'panda', oops", "v1-3", "")
+
+
+def test_a_v1_store_with_a_wrong_typed_row_names_it_in_the_notice_and_never_uses_it(tmp_path, capsys):
+    path = tmp_path / "old.db"
+    _v1_file_with_a_corrupt_row(path)
+    with sqlite3.connect(path) as conn:  # a second kind of damage: a column of the wrong type, context intact
+        conn.execute("UPDATE outcomes SET time = 'noon' WHERE id = 5")
+        raw_before = conn.execute("SELECT * FROM outcomes WHERE id = 5").fetchone()
+    conn.close()
+    original = path.read_bytes()
+    with ExperienceStore(path) as store:
+        assert store.notice is not None
+        assert (
+            "row 3 (context is not JSON), row 5 (time is 'noon' (text), not a finite number)" in store.notice
+        )
+        assert [o.time for o in store.outcomes()] == [0.0, 1.0, 3.0, 5.0]
+        assert store.quarantined == {
+            3: "context is not JSON",
+            5: "time is 'noon' (text), not a finite number",
+        }
+    warning = capsys.readouterr().err
+    assert (
+        warning.count("\n") == 1 and "2 rows, row 3 (context is not JSON), row 5 (time is 'noon'" in warning
+    )
+    assert (tmp_path / "old.v1-backup.db").read_bytes() == original  # the input, byte for byte
+    with sqlite3.connect(path) as conn:  # the upgrade only added columns: the row's own values are unchanged
+        assert conn.execute("SELECT * FROM outcomes WHERE id = 5").fetchone()[: len(raw_before)] == raw_before
+    conn.close()
 
 
 @pytest.mark.parametrize(
@@ -149,7 +177,9 @@ def test_wrong_types_are_quarantined_not_a_traceback(tmp_path, capsys, assignmen
     with sqlite3.connect(path) as conn:
         conn.execute(f"UPDATE outcomes SET {assignment} WHERE id = 1")
     conn.close()
+    before = _digest(path)
     with ExperienceStore(path) as store:
         assert [o.time for o in store.outcomes()] == [1.0]
         assert store.quarantined == {1: why}
     assert f"row 1 ({why})" in capsys.readouterr().err
+    assert _digest(path) == before
