@@ -8,8 +8,11 @@ reverse.
 from __future__ import annotations
 
 import math
+from dataclasses import Field as Field_
 from dataclasses import dataclass, fields, replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Annotated, Any
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, create_model
 
 from scone_bt.errors import ConfigError
 
@@ -123,44 +126,74 @@ class GraspParams:
             return cls()
         if not isinstance(section, dict):
             raise ConfigError(f"{where}: grasp must be a mapping of settings")
-        valid = {f.name: f for f in fields(cls)}
-        angles = {"max_carry_tilt", "yaw_step", "tilts", "side_max_angle"}
-        names = sorted([*(n for n in valid if n not in angles), *(f"{n}_deg" for n in angles)])
+        try:
+            checked = _GraspSection.model_validate(section)
+        except ValidationError as exc:
+            raise ConfigError(_section_error(exc, section, where)) from None
         values: dict[str, Any] = {}
-        for key, raw in section.items():
-            name = key[: -len("_deg")] if key.endswith("_deg") and key[: -len("_deg")] in angles else key
-            if name not in valid or (name in angles) != key.endswith("_deg"):
-                shown = key if str(key).isprintable() else repr(key)  # a key with a line break stays one line
-                raise ConfigError(f"{where}: grasp.{shown} is not a grasp setting; valid: {', '.join(names)}")
-            default = getattr(cls(), name)
-            try:
-                if isinstance(default, bool):
-                    if not isinstance(raw, bool):
-                        raise TypeError
-                    value: Any = raw
-                elif isinstance(default, tuple):
-                    value = tuple(float(v) for v in raw)
-                    if name == "family_cost" and len(value) != 3:
-                        raise TypeError
-                elif isinstance(default, int):
-                    if isinstance(raw, bool) or int(raw) != raw:
-                        raise TypeError
-                    value = int(raw)
-                else:
-                    value = float(raw)
-            except (TypeError, ValueError):
-                raise ConfigError(
-                    f"{where}: grasp.{key} must be {type(default).__name__} like {default!r}, got {raw!r}"
-                ) from None
-            numbers = value if isinstance(value, tuple) else (value,)
-            if not isinstance(value, bool) and any(not math.isfinite(v) or v < 0 for v in numbers):
-                raise ConfigError(f"{where}: grasp.{key} must be non-negative and finite, got {raw!r}")
-            if name in angles:
-                value = (
-                    tuple(math.radians(v) for v in value) if isinstance(value, tuple) else math.radians(value)
-                )
-            values[name] = value
-        params = replace(cls(), **values)
-        if params.yaw_step <= 0 or params.max_goal_grasps < 1 or params.max_goal_placements < 1:
-            raise ConfigError(f"{where}: grasp.yaw_step_deg and grasp.max_goal_* must be positive")
-        return params
+        for key in checked.model_fields_set:
+            value = getattr(checked, key)
+            if key.endswith("_deg"):
+                key = key.removesuffix("_deg")
+                value = tuple(map(math.radians, value)) if isinstance(value, tuple) else math.radians(value)
+            values[key] = value
+        return replace(cls(), **values)
+
+
+_ANGLES = frozenset({"max_carry_tilt", "yaw_step", "tilts", "side_max_angle"})
+"""Settings the file gives in degrees, under `<name>_deg`."""
+_POSITIVE = frozenset({"yaw_step_deg", "max_goal_grasps", "max_goal_placements"})
+"""Settings that must be above zero (a zero yaw step never ends; a goal set needs one member)."""
+
+# strict per value (no "yes" for true, no true for 1, no "0.3" for 0.3) but a YAML list is fine for a tuple
+_Number = Annotated[float, Field(strict=True, ge=0, allow_inf_nan=False)]
+_Positive = Annotated[float, Field(strict=True, gt=0, allow_inf_nan=False)]
+
+
+def _section_field(f: Field_) -> tuple[str, tuple[Any, Any]]:
+    """The `grasp:` key and the pydantic type of one GraspParams field."""
+    key = f"{f.name}_deg" if f.name in _ANGLES else f.name
+    default = getattr(GraspParams(), f.name)
+    kind: Any
+    if isinstance(default, bool):
+        kind = Annotated[bool, Field(strict=True)]
+    elif isinstance(default, int):
+        kind = Annotated[int, Field(strict=True, ge=1 if key in _POSITIVE else 0)]
+    elif f.name == "family_cost":
+        kind = tuple[_Number, _Number, _Number]
+    elif isinstance(default, tuple):
+        kind = tuple[_Number, ...]
+    else:
+        kind = _Positive if key in _POSITIVE else _Number
+    return key, (kind, None)
+
+
+_GraspSection: type[BaseModel] = create_model(
+    "GraspSection",
+    __config__=ConfigDict(extra="forbid", frozen=True),
+    **dict(_section_field(f) for f in fields(GraspParams)),  # type: ignore[call-overload]
+)
+"""The `grasp:` section as a pydantic model: every key optional, unknown keys refused."""
+
+
+def _section_error(exc: ValidationError, section: dict[str, Any], where: str) -> str:
+    """pydantic's first problem as the one line the robot file's author reads: the key, what it takes, valid keys."""
+    error = exc.errors(include_url=False)[0]
+    key = error["loc"][0] if error["loc"] else ""
+    shown = key if str(key).isprintable() else repr(key)  # a key with a line break stays one line
+    if error["type"] in ("extra_forbidden", "invalid_key"):  # a key that is not text is unknown too
+        return f"{where}: grasp.{shown} is not a grasp setting; valid: {', '.join(sorted(_GraspSection.model_fields))}"
+    raw = section[key]
+    if key in _POSITIVE and error["type"] in ("greater_than", "greater_than_equal"):
+        return f"{where}: grasp.{key} must be positive, got {raw!r}"
+    if error["type"] in ("greater_than_equal", "finite_number"):
+        return f"{where}: grasp.{key} must be non-negative and finite, got {raw!r}"
+    name = key.removesuffix("_deg") if key.endswith("_deg") else key
+    default = getattr(GraspParams(), name)
+    if key.endswith("_deg"):  # the default as the file writes it
+        default = (
+            tuple(round(math.degrees(v), 6) for v in default)
+            if isinstance(default, tuple)
+            else round(math.degrees(default), 6)
+        )
+    return f"{where}: grasp.{key} must be {type(default).__name__} like {default!r}, got {raw!r}"
