@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import Annotated, Any, Union
 
 import yaml
+from pydantic import ConfigDict, Field, TypeAdapter, ValidationError
 
 from scone_bt.config.schema import read_text
 from scone_bt.errors import ConfigError
@@ -35,8 +37,22 @@ def read_yaml(path: Path) -> dict[str, Any]:
     return data
 
 
+_STRICT = ConfigDict(strict=True)  # no "3" for 3 and no true for 1, as in the file models (config.schema)
+_Vector = TypeAdapter(list[Annotated[float, Field(allow_inf_nan=False)]], config=_STRICT)
+
+
+@functools.cache
+def _adapter(kind: type | tuple[type, ...]) -> TypeAdapter[Any]:
+    """A pydantic validator for `kind` (a tuple of types: any one of them), made once per kind."""
+    return TypeAdapter(Union[kind] if isinstance(kind, tuple) else kind, config=_STRICT)  # noqa: UP007
+
+
 class Fields:
-    """Typed access to one mapping of a config file, with errors that say where."""
+    """Typed access to one mapping of a config file, with errors that say where.
+
+    Each value is checked by pydantic in strict mode (an int is a float, nothing else converts); a problem is
+    one ConfigError naming the key path and what it takes.
+    """
 
     def __init__(self, data: Mapping[str, Any], where: str) -> None:
         if not isinstance(data, Mapping):
@@ -48,24 +64,23 @@ class Fields:
         if key not in self.data:
             if default is ...:
                 raise ConfigError(
-                    f"{self.where}: missing key {key!r}; present: {', '.join(self.data) or '(none)'}"
+                    f"{self.where}: missing key {key!r}; present: {', '.join(map(str, self.data)) or '(none)'}"
                 )
             return default
         value = self.data[key]
-        if kind is float and isinstance(value, int) and not isinstance(value, bool):
-            value = float(value)
-        if not isinstance(value, kind):
+        try:
+            return _adapter(kind).validate_python(value)
+        except ValidationError:
             name = kind.__name__ if isinstance(kind, type) else "/".join(k.__name__ for k in kind)
-            raise ConfigError(f"{self.where}.{key}: expected {name}, got {value!r}")
-        return value
+            raise ConfigError(f"{self.where}.{key}: expected {name}, got {value!r}") from None
 
     def vector(self, key: str, length: int | None = None, default: Any = ...) -> tuple[float, ...]:
         value = self.get(key, list, default)
         if value is default and default is not ...:
             return default
         try:
-            out = tuple(float(v) for v in value)
-        except (TypeError, ValueError):
+            out = tuple(_Vector.validate_python(value))
+        except ValidationError:
             raise ConfigError(f"{self.where}.{key}: expected a list of numbers, got {value!r}") from None
         if length is not None and len(out) != length:
             raise ConfigError(f"{self.where}.{key}: expected {length} numbers, got {len(out)}")
