@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Annotated, Any
 
 import py_trees
-from pydantic import BaseModel, Field, create_model, field_validator
+from pydantic import BaseModel, Field, ValidationError, create_model, field_validator
 
 from scone_bt.behaviours.context import EpisodeContext
 from scone_bt.config.schema import StrictModel, validate
@@ -88,9 +88,54 @@ def _check_args(behaviour: str, args: Any, where: str) -> dict[str, Any]:
     return validate(model, args, f"{where} ({behaviour} args)").model_dump()
 
 
-def _validate(node: Any, where: str, depth: int = 0) -> None:
-    from scone_bt.behaviours import BEHAVIOURS
+class _TreeFile(StrictModel):
+    """The top level of a tree file."""
 
+    name: str | None = None
+    root: Any
+    parameters: dict[Any, Any] | None = None
+
+
+class _BehaviourNode(StrictModel):
+    behaviour: str
+    name: str | None = None
+    args: Any = None  # checked against the behaviour's own model by _check_args
+
+    @field_validator("behaviour")
+    @classmethod
+    def _known_behaviour(cls, behaviour: str) -> str:
+        from scone_bt.behaviours import (
+            BEHAVIOURS,
+        )  # the registry imports the behaviours: only when a tree is read
+
+        if behaviour not in BEHAVIOURS:
+            raise ValueError(f"unknown behaviour {behaviour!r}")
+        return behaviour
+
+
+class _CompositeNode(StrictModel):
+    """A sequence or a selector; the kind's key holds its name (renamed to `kind_name` before validation)."""
+
+    kind_name: str
+    name: str | None = None
+    memory: bool = False
+    children: Annotated[list[Any], Field(min_length=1)]
+
+
+def _problem(model: type[BaseModel], data: dict[Any, Any]) -> tuple[str, str] | None:
+    """pydantic's first problem with `data` as (error type, top-level key), or None if it fits `model`."""
+    try:
+        model.model_validate(data)
+    except ValidationError as exc:
+        errors = exc.errors(include_url=False)
+        # An unknown key first: a misspelt key explains a "missing" one, and it is what the author must fix.
+        first = next((e for e in errors if e["type"] in ("extra_forbidden", "invalid_key")), errors[0])
+        return first["type"], str(first["loc"][0]) if first["loc"] else ""
+    return None
+
+
+def _validate(node: Any, where: str, depth: int = 0) -> None:
+    """One node of the tree (then its children): pydantic checks it, the message says where and what is valid."""
     if depth > MAX_DEPTH:
         raise ConfigError(f"{where}: the tree is nested deeper than {MAX_DEPTH} levels")
     if not isinstance(node, dict):
@@ -98,33 +143,46 @@ def _validate(node: Any, where: str, depth: int = 0) -> None:
             f"{where}: a node must be a mapping with one of: {', '.join(COMPOSITES)}, behaviour"
         )
     kinds = [k for k in (*COMPOSITES, "behaviour") if k in node]
-    if len(kinds) != 1:
+    if len(kinds) != 1:  # the kind is the discriminator: exactly one of the keys
         raise ConfigError(
             f"{where}: a node needs exactly one of: {', '.join(COMPOSITES)}, behaviour (got {sorted(map(str, node))})"
         )
     kind = kinds[0]
-    allowed = _NODE_KEYS["behaviour" if kind == "behaviour" else "composite"]
-    unknown = [str(k) for k in node if k != kind and k not in allowed]
-    if unknown:
-        raise ConfigError(
-            f"{where}: unknown key {unknown[0]!r}; valid: {kind}, {', '.join(allowed[1:] if kind == 'behaviour' else allowed)}"
-        )
-    if "name" in node and not isinstance(node["name"], str):
-        raise ConfigError(f"{where}: 'name' must be text, got {node['name']!r}")
     if kind == "behaviour":
-        if not isinstance(node["behaviour"], str) or node["behaviour"] not in BEHAVIOURS:
-            raise UnknownNameError(f"behaviour at {where}", str(node["behaviour"]), BEHAVIOURS)
-        _check_args(node["behaviour"], node.get("args", {}) if node.get("args") is not None else {}, where)
+        problem = _problem(_BehaviourNode, node)
+    else:
+        renamed = {("kind_name" if k == kind else k): v for k, v in node.items()}
+        problem = (
+            _problem(_CompositeNode, renamed) if "kind_name" not in node else ("extra_forbidden", "kind_name")
+        )
+    if problem is not None:
+        _raise_node_problem(node, where, kind, *problem)
+    if kind == "behaviour":
+        _check_args(node["behaviour"], node.get("args") if node.get("args") is not None else {}, where)
         return
-    if not isinstance(node[kind], str):
-        raise ConfigError(f"{where}: the {kind}'s name must be text, got {node[kind]!r}")
-    if "memory" in node and not isinstance(node["memory"], bool):
-        raise ConfigError(f"{where}: 'memory' must be true or false, got {node['memory']!r}")
-    children = node.get("children")
-    if not isinstance(children, list) or not children:
-        raise ConfigError(f"{where}: {kind} {node[kind]!r} needs a non-empty 'children' list")
-    for i, child in enumerate(children):
+    for i, child in enumerate(node["children"]):
         _validate(child, f"{where}/{node[kind]}[{i}]", depth + 1)
+
+
+def _raise_node_problem(node: dict[Any, Any], where: str, kind: str, error: str, key: str) -> None:
+    """The node's first problem as one ConfigError (UnknownNameError for a behaviour name) naming the choices."""
+    from scone_bt.behaviours import BEHAVIOURS
+
+    allowed = _NODE_KEYS["behaviour" if kind == "behaviour" else "composite"]
+    if error in ("extra_forbidden", "invalid_key"):
+        unknown = next(str(k) for k in node if k != kind and k not in allowed)
+        raise ConfigError(
+            f"{where}: unknown key {unknown!r}; valid: {kind}, {', '.join(allowed[1:] if kind == 'behaviour' else allowed)}"
+        )
+    if key == "name":
+        raise ConfigError(f"{where}: 'name' must be text, got {node['name']!r}")
+    if key == "behaviour":
+        raise UnknownNameError(f"behaviour at {where}", str(node["behaviour"]), BEHAVIOURS)
+    if key == "kind_name":
+        raise ConfigError(f"{where}: the {kind}'s name must be text, got {node[kind]!r}")
+    if key == "memory":
+        raise ConfigError(f"{where}: 'memory' must be true or false, got {node['memory']!r}")
+    raise ConfigError(f"{where}: {kind} {node[kind]!r} needs a non-empty 'children' list")
 
 
 def load_tree_spec(name_or_path: str | Path = "assistive_cooking") -> TreeSpec:
@@ -135,17 +193,19 @@ def load_tree_spec(name_or_path: str | Path = "assistive_cooking") -> TreeSpec:
     """
     path = resolve_file("trees", name_or_path, (".yaml", ".yml"))
     data = read_yaml(path)
-    unknown = [str(k) for k in data if k not in ("name", "root", "parameters")]
-    if unknown:
-        raise ConfigError(f"{path}: unknown key {unknown[0]!r}; valid: name, root, parameters")
-    if "root" not in data:
-        raise ConfigError(f"{path}: missing 'root'")
-    if "name" in data and not isinstance(data["name"], str):
-        raise ConfigError(f"{path}: 'name' must be text, got {data['name']!r}")
+    problem = _problem(_TreeFile, data)
+    if problem is not None:
+        error, key = problem
+        if error in ("extra_forbidden", "invalid_key"):
+            unknown = next(str(k) for k in data if k not in _TreeFile.model_fields)
+            raise ConfigError(f"{path}: unknown key {unknown!r}; valid: {', '.join(_TreeFile.model_fields)}")
+        if key == "root":
+            raise ConfigError(f"{path}: missing 'root'")
+        if key == "name":
+            raise ConfigError(f"{path}: 'name' must be text, got {data['name']!r}")
+        raise ConfigError(f"{path}: 'parameters' must be a mapping")
     _validate(data["root"], f"{path}:root")
     params = data.get("parameters", {}) or {}
-    if not isinstance(params, dict):
-        raise ConfigError(f"{path}: 'parameters' must be a mapping")
     validate(TreeParameters, params, f"{path}: parameters")
     return TreeSpec(str(data.get("name", path.stem)), data["root"], params, path)
 
