@@ -26,10 +26,13 @@ from __future__ import annotations
 
 import csv
 import io
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Annotated, Literal, TypeVar
+
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, model_validator
+from pydantic_core import PydanticCustomError
 
 from scone_bt.errors import SconeError
 
@@ -118,40 +121,90 @@ def _read(
     return rows
 
 
-def _check_value(path: Path, row: _Row, col: str, columns: Mapping[str, str]) -> str:
-    value = row.values[col]
-    allowed = _ALLOWED[col]
-    normal = value.upper() if col == "group" else value.lower()
-    if normal not in allowed:
-        raise RatingsFileError(
-            f"{path}: row {row.line}, column {columns.get(col, col)!r}: {value!r} is not one of {', '.join(allowed)}"
-        )
-    return normal
+def _strip_case(upper: bool) -> BeforeValidator:
+    """Spreadsheet spelling tolerated: ON, On and on are one condition; a and A one group."""
+    return BeforeValidator(lambda v: (v.upper() if upper else v.lower()) if isinstance(v, str) else v)
 
 
-def _integer(path: Path, row: _Row, col: str, columns: Mapping[str, str], what: str) -> int:
-    value = row.values[col]
+def _empty_is_none(value: object) -> object:
+    return None if value == "" else value
+
+
+class _DesignRow(BaseModel):
+    """The design columns every row of both files has (as text; whole numbers like "3.0" are numbers)."""
+
+    model_config = ConfigDict(frozen=True)
+
+    participant: Annotated[str, Field(min_length=1)]
+    condition: Annotated[Literal["off", "on"], _strip_case(upper=False)]
+    session: Literal["1", "2"]
+    group: Annotated[Literal["A", "B"], _strip_case(upper=True)]
+
+
+class _RatingRow(_DesignRow):
+    """One answered (or skipped: no rating) item of the ratings CSV."""
+
+    question: Annotated[str, Field(min_length=1)]
+    categories: Annotated[int, Field(ge=2)]
+    rating: Annotated[int | None, BeforeValidator(_empty_is_none)] = None
+
+    @model_validator(mode="after")
+    def _on_the_scale(self) -> _RatingRow:
+        if self.rating is not None and not 0 <= self.rating < self.categories:
+            k = self.categories
+            raise PydanticCustomError(
+                "off_scale",
+                "{rating} is outside the scale 0..{top} ({k} categories); ratings are category numbers from 0",
+                {"rating": self.rating, "top": k - 1, "k": k},
+            )
+        return self
+
+
+class _SessionRow(_DesignRow):
+    """One session of the sessions CSV."""
+
+    interventions: Annotated[int, Field(ge=0)]
+
+
+_WHAT = {
+    "categories": "a whole number of categories (2 or more)",
+    "interventions": "a whole number of interventions (0 or more)",
+}
+"""What a numeric column takes, for 'is not ...' (the rating's range is the row's own scale)."""
+_BELOW = {
+    "categories": "{value} categories; an ordinal scale has 2 or more",
+    "interventions": "{value} < 0; interventions are counts (0 or more)",
+}
+
+
+def _row_error(path: Path, row: _Row, columns: Mapping[str, str], exc: ValidationError) -> RatingsFileError:
+    """pydantic's first problem with a row as the one line a spreadsheet user reads: row, column, what it takes."""
+    error = exc.errors(include_url=False)[0]
+    col = str(error["loc"][0]) if error["loc"] else "rating"  # a model-level check is the rating's scale
+    value = row.values.get(col, "")
+    head = f"{path}: row {row.line}, column {columns.get(col, col)!r}"
+    if error["type"] == "string_too_short":
+        return RatingsFileError(f"{head} is empty")
+    if error["type"] == "literal_error":
+        return RatingsFileError(f"{head}: {value!r} is not one of {', '.join(_ALLOWED[col])}")
+    if error["type"] == "off_scale":
+        return RatingsFileError(f"{head}: {error['msg']}")
+    if error["type"] == "greater_than_equal":
+        return RatingsFileError(f"{head}: {_BELOW[col].format(value=int(float(error['input'])))}")
+    # the rating is checked after `categories`, so a problem with it means the row's scale is a whole number
+    what = _WHAT.get(col) or f"a whole number from 0 to {int(float(row.values['categories'])) - 1}"
+    return RatingsFileError(f"{head}: {value!r} is not {what}")
+
+
+R = TypeVar("R", bound=_DesignRow)
+
+
+def _parse_row(model: type[R], path: Path, row: _Row, columns: Mapping[str, str]) -> R:
+    """A row checked by `model`, or the one-line RatingsFileError naming its row and column."""
     try:
-        number = float(value)
-    except ValueError:
-        number = float("nan")
-    if not math.isfinite(number) or number != int(number):
-        raise RatingsFileError(
-            f"{path}: row {row.line}, column {columns.get(col, col)!r}: {value!r} is not {what}"
-        )
-    return int(number)
-
-
-def _design_row(path: Path, row: _Row, columns: Mapping[str, str]) -> tuple[str, str, int, str]:
-    participant = row.values["participant"]
-    if not participant:
-        raise RatingsFileError(
-            f"{path}: row {row.line}, column {columns.get('participant', 'participant')!r} is empty"
-        )
-    condition = _check_value(path, row, "condition", columns)
-    session = int(_check_value(path, row, "session", columns))
-    group = _check_value(path, row, "group", columns)
-    return participant, condition, session, group
+        return model.model_validate(row.values)
+    except ValidationError as exc:
+        raise _row_error(path, row, columns, exc) from None
 
 
 def _check_design(
@@ -231,7 +284,9 @@ def load_ratings_csv(
     seen: dict[tuple[str, int, str, str], int] = {}
     records = []
     for row in rows:
-        participant, condition, session, group = _design_row(rpath, row, columns)
+        checked = _parse_row(_RatingRow, rpath, row, columns)
+        participant, condition, group = checked.participant, checked.condition, checked.group
+        session = int(checked.session)
         sessions_of = plan.setdefault(participant, {})
         known = sessions_of.setdefault(session, (condition, group, row.line))
         if known[:2] != (condition, group):
@@ -239,18 +294,8 @@ def load_ratings_csv(
                 f"{rpath}: row {row.line}: participant {participant!r} session {session} is condition {condition} "
                 f"group {group}, but row {known[2]} says condition {known[0]} group {known[1]}"
             )
-        question = row.values["question"]
-        if not question:
-            raise RatingsFileError(
-                f"{rpath}: row {row.line}, column {columns.get('question', 'question')!r} is empty"
-            )
+        question, k = checked.question, checked.categories
         questionnaire = row.values.get("questionnaire") or DEFAULT_QUESTIONNAIRE
-        k = _integer(rpath, row, "categories", columns, "a whole number of categories (2 or more)")
-        if k < 2:
-            raise RatingsFileError(
-                f"{rpath}: row {row.line}, column {columns.get('categories', 'categories')!r}: {k} categories; "
-                "an ordinal scale has 2 or more"
-            )
         first = categories.setdefault(questionnaire, (k, row.line, question))
         if first[0] != k:
             hint = (
@@ -267,14 +312,9 @@ def load_ratings_csv(
                 f"{question!r} (first on row {seen[key]})"
             )
         seen[key] = row.line
-        if row.values["rating"] == "":
+        rating = checked.rating
+        if rating is None:
             continue  # a skipped item ("does not fit")
-        rating = _integer(rpath, row, "rating", columns, f"a whole number from 0 to {k - 1}")
-        if not 0 <= rating < k:
-            raise RatingsFileError(
-                f"{rpath}: row {row.line}, column {columns.get('rating', 'rating')!r}: {rating} is outside the "
-                f"scale 0..{k - 1} ({k} categories); ratings are category numbers from 0"
-            )
         records.append(
             {
                 "session_id": f"{participant}/{session}",
@@ -324,7 +364,14 @@ def _load_sessions(
     rows = _read(path, SESSIONS_COLUMNS, (), columns)
     counts: dict[tuple[str, int], int] = {}
     for row in rows:
-        participant, condition, session, group = _design_row(path, row, columns)
+        checked = _parse_row(_SessionRow, path, row, columns)
+        participant, condition, group, n = (
+            checked.participant,
+            checked.condition,
+            checked.group,
+            checked.interventions,
+        )
+        session = int(checked.session)
         expected = plan.get(participant, {}).get(session)
         if expected is None:
             raise RatingsFileError(
@@ -334,12 +381,6 @@ def _load_sessions(
             raise RatingsFileError(
                 f"{path}: row {row.line}: participant {participant!r} session {session} is condition {condition} "
                 f"group {group}, but the ratings say condition {expected[0]} group {expected[1]}"
-            )
-        n = _integer(path, row, "interventions", columns, "a whole number of interventions (0 or more)")
-        if n < 0:
-            raise RatingsFileError(
-                f"{path}: row {row.line}, column {columns.get('interventions', 'interventions')!r}: {n} < 0; "
-                "interventions are counts (0 or more)"
             )
         if (participant, session) in counts:
             raise RatingsFileError(
