@@ -78,7 +78,7 @@ from pathlib import Path  # noqa: E402
 from scone_bt.checks import internal_error_line  # noqa: E402
 from scone_bt.defaults import EPISODE as _EPISODE  # noqa: E402
 from scone_bt.errors import SconeError  # noqa: E402
-from scone_bt.robot.interface import BACKENDS  # noqa: E402
+from scone_bt.robot.registry import BACKENDS  # noqa: E402
 
 __all__ = ["main", "build_parser", "LOG_LEVELS", "viewer_command"]
 
@@ -137,7 +137,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--robot",
         default="sim",
         help="robot backend; valid: %(choices)s (default: %(default)s)",
-        choices=BACKENDS,
+        choices=sorted(BACKENDS),
     )
     g.add_argument(
         "--arm",
@@ -509,6 +509,7 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
         viewer=args.viewer,
         connect=args.connect,
         gui=args.gui,
+        backend=args.robot,
     )
 
 

@@ -1,9 +1,11 @@
-"""The episode loop.
+"""The episode: build, loop, summarise.
 
-Each control tick: tick the tree once, then advance the world by `tick_period` of simulated time and let the
-simulated human act. While the motion planner is still computing in its worker thread, simulated time stands
-still (the robot is thinking; nothing in the world moves), so a seeded episode repeats exactly whatever the
-machine's speed.
+`run_episode` plans the episode from its files and seed, asks a backend factory (`scone_bt.robot.registry`) for
+the robot and its world, builds the human and the tree, then runs the loop over protocols only (`Robot`,
+`World`, the human): each control tick ticks the tree once, then advances the world by `tick_period` and lets the
+human act. While the motion planner is still computing in its worker thread, time in the world stands still (the
+robot is thinking; nothing moves), so a seeded episode repeats exactly whatever the machine's speed. Nothing here
+knows which backend runs.
 """
 
 from __future__ import annotations
@@ -13,25 +15,32 @@ from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from enum import StrEnum
 from pathlib import Path
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 import py_trees
 
 from scone_bt.behaviours import BehaviourOptions, EpisodeContext, Keys, OutcomeLabels
-from scone_bt.config import load_kitchen, load_robot
+from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig, load_kitchen, load_robot
 from scone_bt.defaults import EPISODE
 from scone_bt.episode.printer import RULE_LABELS, LinePrinter, condition_line
 from scone_bt.episode.resources import EpisodeResources, ModelPool
 from scone_bt.episode.seeds import PlannerSeedStream, SeedPlan, SeedStage
 from scone_bt.episode.shelf import stock_shelf
 from scone_bt.episode.snapshot import SnapshotBuilder
+from scone_bt.errors import ConfigError
 from scone_bt.events import DecisionMade, Event, EventLog, EventSink
 from scone_bt.human import HumanOptions, SimulatedHuman
-from scone_bt.recipes import load_recipe
-from scone_bt.robot.sim import SimRobot
+from scone_bt.recipes import StockedRecipe, load_recipe
+from scone_bt.robot.backend import Backend, BackendFactory, BackendRequest
+from scone_bt.robot.registry import DEFAULT_BACKEND, backend_factory
 from scone_bt.tree import build_tree, load_tree_spec
-from scone_bt.world import Kitchen
+
+if TYPE_CHECKING:
+    from scone_bt.robot.interface import Robot
+    from scone_bt.robot.rig import HumanWorld, World
+    from scone_bt.tree import TreeSpec
+    from scone_bt.viz.scene import SceneView
 
 __all__ = ["EpisodeHook", "EpisodeOptions", "EpisodeSummary", "LoopPart", "WallClock", "run_episode"]
 
@@ -55,7 +64,8 @@ class EpisodeOptions:
         save: Write a rerun recording (.rrd) here.
         viewer: Spawn the rerun viewer.
         connect: Stream to a running rerun viewer at this address.
-        gui: Open PyBullet's own window (debugging).
+        gui: Open the backend's own window (PyBullet's, for debugging).
+        backend: The robot backend's name in `scone_bt.robot.registry.BACKENDS` (``scone-run --robot``).
     """
 
     robot: str = EPISODE.robot
@@ -73,6 +83,7 @@ class EpisodeOptions:
     viewer: bool = False
     connect: str | None = None
     gui: bool = False
+    backend: str = DEFAULT_BACKEND
 
 
 @dataclass(frozen=True)
@@ -159,20 +170,21 @@ def _make_recorder(options: EpisodeOptions) -> Any:
     )
 
 
-HumanFactory = Callable[[Kitchen, Any, HumanOptions, int], Any]
+HumanFactory = Callable[["HumanWorld", StockedRecipe, HumanOptions, int], Any]
+"""Builds the human from the world it works in, the recipe, its options and its seed."""
 
 
 class EpisodeHook(Protocol):
     """A test rig's view of the episode (`scone_bt.scenario`): set the world up, then act between control ticks.
 
-    ``attach`` is called once, after the products are stocked, the human is built and the robot's cameras and
-    motion system are set up, before the tree's first tick. ``after_tick`` is called after every control tick
+    ``attach`` is called once, after the products are stocked, the human is built and the backend is set up
+    (the simulated robot's cameras and motion system built), before the tree's first tick. ``after_tick`` is called after every control tick
     (the world advanced by ``tick_period`` and the human acted), with the number of control ticks so far; it may
-    change the world (through `scone_bt.robot.rig`) and send events to ``events``. Both run on the episode's
+    change the world (through ``world``, `scone_bt.robot.rig.World`) and send events to ``events``. Both run on the episode's
     thread, between ticks, so a seeded episode with a hook still repeats exactly.
     """
 
-    def attach(self, kitchen: Kitchen, robot: SimRobot, human: Any, events: EventSink) -> None: ...
+    def attach(self, world: World, robot: Robot, human: Any, events: EventSink) -> None: ...
 
     def after_tick(self, control_ticks: int) -> None: ...
 
@@ -232,6 +244,239 @@ class _TimedEmbedder:
         return getattr(self._inner, name)
 
 
+@dataclass(frozen=True)
+class _Plan:
+    """What the episode's files and seed decide before any backend exists.
+
+    ``placement`` is the episode seed's generator: `stock_shelf` drew the distractors from it, and the world's
+    `stock` draws the products' places next.
+    """
+
+    kitchen: KitchenConfig
+    robot: RobotConfig
+    tree: TreeSpec
+    recipe: StockedRecipe
+    distractors: tuple[str, ...]
+    behaviour: BehaviourOptions
+    robot_seeds: SeedPlan
+    episode_seeds: SeedPlan
+    placement: np.random.Generator
+
+    @property
+    def products(self) -> list[ObjectSpec]:
+        """What goes on the shelf: the recipe's stocked products, then the distractors."""
+        return [self.kitchen.catalogue.get(n) for n in (*self.recipe.needed, *self.distractors)]
+
+
+def _plan(options: EpisodeOptions) -> _Plan:
+    kitchen = load_kitchen(options.kitchen, options.catalogues)
+    spec = load_tree_spec(options.tree)
+    rng = np.random.default_rng(options.seed)
+    # The recipe's products past the slots the distractors leave stay off the shelf: the human brings them.
+    shelf = stock_shelf(
+        load_recipe(options.recipe), kitchen.catalogue, kitchen.scene, options.distractors, rng
+    )
+    behaviour = options.behaviour.resolve(spec.parameters)
+    return _Plan(
+        kitchen=kitchen,
+        robot=load_robot(options.robot),
+        tree=spec,
+        recipe=shelf.recipe,
+        distractors=tuple(shelf.distractors),
+        behaviour=behaviour,
+        # The robot's stages draw from the behaviour seed's streams, the human from the episode seed's.
+        robot_seeds=SeedPlan(behaviour.seed),
+        episode_seeds=SeedPlan(options.seed),
+        placement=rng,
+    )
+
+
+@dataclass
+class _Episode:
+    """The built episode: what the loop ticks and what the summary reads."""
+
+    plan: _Plan
+    backend: Backend
+    human: Any
+    events: EventLog
+    log_lines: LinePrinter
+    root: py_trees.behaviour.Behaviour
+    tree: py_trees.trees.BehaviourTree
+
+
+def _build(
+    options: EpisodeOptions,
+    plan: _Plan,
+    backend: Backend,
+    resources: EpisodeResources,
+    say: Callable[[str], None],
+    sinks: tuple[EventSink, ...],
+    human_factory: HumanFactory | None,
+    hook: EpisodeHook | None,
+    clock: WallClock,
+) -> _Episode:
+    """Stock the world, build the human, the event log and the tree, and set the backend up."""
+    recipe, behaviour, robot_cfg = plan.recipe, plan.behaviour, plan.robot
+    world = backend.world
+    world.stock(plan.products, plan.placement)
+    factory = human_factory or (lambda w, r, o, seed: SimulatedHuman(w, r, o, seed=seed))
+    human = factory(world, recipe, options.human, plan.episode_seeds.integer(SeedStage.HUMAN))
+    log_lines = LinePrinter(say, len(recipe.steps))
+    events = EventLog(sinks[0], log_lines, *sinks[1:])
+    timed: list[_TimedEmbedder] = []
+
+    def embedder() -> Any:
+        if not timed:
+            timed.append(_TimedEmbedder(resources.embedder(), clock))
+        return timed[0]
+
+    context = EpisodeContext(
+        robot=backend.robot,
+        human=human,
+        events=events,
+        history=events,
+        seeds=PlannerSeedStream(plan.robot_seeds),
+        recipe=recipe,
+        scene=plan.kitchen.scene,
+        catalogue=plan.kitchen.catalogue,
+        options=behaviour,
+        labels=OutcomeLabels(
+            embedder=str(behaviour.embedder),
+            robot_id=resources.robot_id,
+            arm=robot_cfg.name,
+            profile=behaviour.profile,
+            context={"robot": robot_cfg.name, "seed": options.seed, "recipe": recipe.recipe.id},
+        ),
+        embedder=embedder,
+        kappa=resources.estimator,
+        recorder=resources.store,
+        gripper_opening_m=robot_cfg.gripper.opening_m,
+    )
+    say(
+        f"{recipe.recipe.title}: {len(recipe.steps)} steps, needs {', '.join(recipe.needed)}; "
+        f"distractors: {', '.join(plan.distractors) or 'none'}"
+    )
+    say(f"condition: {condition_line(behaviour)}")
+    if recipe.unstocked or recipe.off_shelf:
+        say(f"not stocked (the human brings them): {', '.join((*recipe.unstocked, *recipe.off_shelf))}")
+    backend.setup()
+    if hook is not None:
+        hook.attach(world, backend.robot, human, events)
+    root = build_tree(plan.tree, context)
+    return _Episode(plan, backend, human, events, log_lines, root, py_trees.trees.BehaviourTree(root))
+
+
+def _loop(
+    ep: _Episode,
+    options: EpisodeOptions,
+    clock: WallClock,
+    hook: EpisodeHook | None,
+    realtime: bool,
+    log_tick: Callable[[int], None] | None,
+) -> tuple[int, int]:
+    """Tick until the recipe is done and the robot idle, or ``max_ticks`` control ticks; (tree, control) ticks.
+
+    ``log_tick`` records the state after a tree tick (None: nothing is recorded).
+    """
+    world, human, root = ep.backend.world, ep.human, ep.root
+    reader = py_trees.blackboard.Client(name="episode")
+    reader.register_key(key=Keys.MOTION_COMPUTING, access=py_trees.common.Access.READ)
+    ticks = control_ticks = 0
+    next_tick = time.perf_counter() + options.tick_period
+    while control_ticks < options.max_ticks:
+        with clock(LoopPart.TREE):
+            ep.tree.tick()
+        ticks += 1
+        if human.done and root.status is not py_trees.common.Status.RUNNING:
+            if log_tick is not None:
+                log_tick(ticks)
+            break  # the recipe is done and the robot finished its last cycle
+        # While the planner computes, time in the world stands still (PickAndPlace reads the typed phase).
+        computing = reader.get(Keys.MOTION_COMPUTING) if reader.exists(Keys.MOTION_COMPUTING) else False
+        if computing:
+            with clock(LoopPart.PLANNING_WAIT):
+                time.sleep(0.002)  # give the planner thread the interpreter
+        else:
+            with clock(LoopPart.PHYSICS):
+                world.advance(options.tick_period)
+            with clock(LoopPart.HUMAN):
+                human_events = human.update()
+            for event in human_events:
+                ep.events(event)
+            control_ticks += 1
+            if hook is not None:
+                hook.after_tick(control_ticks)
+            if realtime:
+                time.sleep(max(0.0, next_tick - time.perf_counter()))
+                next_tick = max(next_tick + options.tick_period, time.perf_counter())
+        if log_tick is not None:
+            with clock(LoopPart.LOGGING):
+                log_tick(ticks)
+    return ticks, control_ticks
+
+
+def _summarise(
+    ep: _Episode,
+    ticks: int,
+    control_ticks: int,
+    clock: WallClock,
+    started: float,
+    first_decision: float | None,
+) -> EpisodeSummary:
+    """The summary of the episode that just ended (counts from the events, truth from the world)."""
+    ep.log_lines.flush()
+    plan, world, human = ep.plan, ep.backend.world, ep.human
+    stats, measured = ep.events.stats, ep.backend.stats()
+    parts, cpu_parts = dict(clock.seconds), dict(clock.cpu_seconds)
+    # Perception and embedding run inside tree ticks: report them on their own and the rest as "tree".
+    perception = (measured.perception_wall_s, measured.perception_cpu_s)
+    for table, seconds in zip((parts, cpu_parts), perception, strict=True):
+        table[LoopPart.PERCEPTION] = seconds
+        table[LoopPart.TREE] = table.get(LoopPart.TREE, 0.0) - seconds - table.get(LoopPart.EMBEDDING, 0.0)
+    recipe = plan.recipe
+    return EpisodeSummary(
+        recipe_id=recipe.recipe.id,
+        recipe_title=recipe.recipe.title,
+        robot=plan.robot.name,
+        completed=human.done,
+        steps_completed=human.steps_completed(),
+        steps_total=len(recipe.steps),
+        attempted=stats.attempted,
+        successes=stats.successes,
+        failures=stats.failures,
+        failures_by_stage=dict(stats.failures_by_stage),
+        help_requests=stats.help_requests,
+        clarifications=stats.clarifications,
+        interventions=stats.interventions,
+        takeovers=stats.cancelled,
+        decisions=stats.decisions,
+        control_ticks=control_ticks,
+        tree_ticks=ticks,
+        sim_time=round(world.sim_time, 3),
+        wall_time=time.perf_counter() - started,
+        needed_on_table={n: world.is_on_table(n) for n in recipe.needed},
+        decision_log=tuple(ep.log_lines.lines),
+        startup_to_first_decision_s=first_decision,
+        wall_breakdown={str(k): round(v, 4) for k, v in sorted(parts.items())},
+        cpu_breakdown={str(k): round(v, 4) for k, v in sorted(cpu_parts.items())},
+        physics_steps=measured.physics_steps - measured.physics_steps_skipped,
+        physics_steps_skipped=measured.physics_steps_skipped,
+        renders=measured.renders,
+        condition=condition_line(plan.behaviour),
+        decided_by_rule=dict(ep.log_lines.rules),
+    )
+
+
+def _tick_logger(recorder: Any, scene: SceneView, ep: _Episode, lines: list[str]) -> Callable[[int], None]:
+    """Records the state after each tree tick: what changed on the blackboard, the poses, the tick's lines."""
+    snapshots = SnapshotBuilder(scene, ep.plan.recipe, ep.human, ep.events, lines)
+
+    def log_tick(tick: int) -> None:
+        recorder.log_tick(snapshots.build(tick, ep.root))
+
+    return log_tick
+
+
 def run_episode(
     options: EpisodeOptions,
     printer: Callable[[str], None] = print,
@@ -240,8 +485,9 @@ def run_episode(
     realtime: bool = False,
     models: ModelPool | None = None,
     hook: EpisodeHook | None = None,
+    backend: BackendFactory | None = None,
 ) -> EpisodeSummary:
-    """Run one episode to completion (or to max_ticks) and return its summary.
+    """Run one episode to completion (or to max_ticks) and return its summary: build, loop, summarise.
 
     Args:
         options: What to run.
@@ -252,26 +498,19 @@ def run_episode(
         models: Share embedders with other episodes (None: this episode loads its own).
         hook: A test rig acting on the world between control ticks (`EpisodeHook`; None: nothing does). The
             scenario runner (`scone_bt.scenario`) passes one; ``scone-run`` does not.
+        backend: Builds the robot and its world (None: the factory ``options.backend`` names in
+            `scone_bt.robot.registry.BACKENDS`); a test passes a fake.
     """
     started, started_cpu = time.perf_counter(), time.thread_time()
     clock = WallClock()
     first_decision: list[float] = []
-
-    kitchen_cfg = load_kitchen(options.kitchen, options.catalogues)
-    robot_cfg = load_robot(options.robot)
-    spec = load_tree_spec(options.tree)
-    catalogue = kitchen_cfg.catalogue
-    rng = np.random.default_rng(options.seed)
-    # The recipe's products past the slots the distractors leave stay off the shelf: the human brings them.
-    shelf = stock_shelf(load_recipe(options.recipe), catalogue, kitchen_cfg.scene, options.distractors, rng)
-    recipe, distractors = shelf.recipe, list(shelf.distractors)
-    specs = [catalogue.get(n) for n in (*recipe.needed, *distractors)]
-    behaviour = options.behaviour.resolve(spec.parameters)
-    # The robot's stages draw from the behaviour seed's streams, the human from the episode seed's.
-    robot_seeds, episode_seeds = SeedPlan(behaviour.seed), SeedPlan(options.seed)
-
-    kitchen = Kitchen(kitchen_cfg, robot_cfg, gui=options.gui)
-    robot = SimRobot(kitchen, kitchen_cfg, robot_cfg, robot_seeds.generator(SeedStage.PERCEPTION))
+    plan = _plan(options)
+    factory = backend or backend_factory(options.backend)
+    body = factory(
+        BackendRequest(
+            plan.kitchen, plan.robot, plan.robot_seeds.generator(SeedStage.PERCEPTION), gui=options.gui
+        )
+    )
     recorder = None
     lines: list[str] = []  # lines of this tick, for the recording
     recording = _recording(options)
@@ -281,151 +520,39 @@ def run_episode(
             lines.append(line)
         printer(line)
 
+    def timing(event: Event) -> None:
+        if isinstance(event, DecisionMade) and not first_decision:
+            first_decision.append(time.perf_counter() - started)
+
     resources = EpisodeResources(
-        robot,
-        behaviour,
-        behaviour.robot_id or robot_cfg.name,
-        robot_cfg.name,
+        body.robot,
+        plan.behaviour,
+        plan.behaviour.robot_id or plan.robot.name,
+        plan.robot.name,
         say,
         models,
-        estimator_seed=robot_seeds.integer(SeedStage.ESTIMATORS),
-        gripper_opening_m=robot_cfg.gripper.opening_m,
+        estimator_seed=plan.robot_seeds.integer(SeedStage.ESTIMATORS),
+        gripper_opening_m=plan.robot.gripper.opening_m,
     )
     with resources:
-        kitchen.spawn(specs, rng)
-        factory = human_factory or (lambda k, r, o, seed: SimulatedHuman(k, r, o, seed=seed))
-        human = factory(kitchen, recipe, options.human, episode_seeds.integer(SeedStage.HUMAN))
-        log_lines = LinePrinter(say, len(recipe.steps))
-
-        def timing(event: Event) -> None:
-            if isinstance(event, DecisionMade) and not first_decision:
-                first_decision.append(time.perf_counter() - started)
-
-        events = EventLog(timing, log_lines, *((on_event,) if on_event is not None else ()))
-        timed: list[_TimedEmbedder] = []
-
-        def embedder() -> Any:
-            if not timed:
-                timed.append(_TimedEmbedder(resources.embedder(), clock))
-            return timed[0]
-
-        context = EpisodeContext(
-            robot=robot,
-            human=human,
-            events=events,
-            history=events,
-            seeds=PlannerSeedStream(robot_seeds),
-            recipe=recipe,
-            scene=kitchen_cfg.scene,
-            catalogue=catalogue,
-            options=behaviour,
-            labels=OutcomeLabels(
-                embedder=str(behaviour.embedder),
-                robot_id=resources.robot_id,
-                arm=robot_cfg.name,
-                profile=behaviour.profile,
-                context={"robot": robot_cfg.name, "seed": options.seed, "recipe": recipe.recipe.id},
-            ),
-            embedder=embedder,
-            kappa=resources.estimator,
-            recorder=resources.store,
-            gripper_opening_m=robot_cfg.gripper.opening_m,
-        )
-        say(
-            f"{recipe.recipe.title}: {len(recipe.steps)} steps, needs {', '.join(recipe.needed)}; "
-            f"distractors: {', '.join(distractors) or 'none'}"
-        )
-        say(f"condition: {condition_line(behaviour)}")
-        if recipe.unstocked or recipe.off_shelf:
-            say(f"not stocked (the human brings them): {', '.join((*recipe.unstocked, *recipe.off_shelf))}")
-        robot.setup()
-        if hook is not None:
-            hook.attach(kitchen, robot, human, events)
-        root = build_tree(spec, context)
-        tree = py_trees.trees.BehaviourTree(root)
-        try:
-            tree.setup(timeout=120)
-            recorder = _make_recorder(options)
-            recorder.log_static_scene(kitchen)
-            snapshots = SnapshotBuilder(kitchen, recipe, human, events, lines) if recording else None
-            reader = py_trees.blackboard.Client(name="episode")
-            reader.register_key(key=Keys.MOTION_COMPUTING, access=py_trees.common.Access.READ)
-
-            clock.add(LoopPart.STARTUP, time.perf_counter() - started, time.thread_time() - started_cpu)
-            ticks = control_ticks = 0
-            next_tick = time.perf_counter() + options.tick_period
-            while control_ticks < options.max_ticks:
-                with clock(LoopPart.TREE):
-                    tree.tick()
-                ticks += 1
-                if human.done and root.status is not py_trees.common.Status.RUNNING:
-                    if snapshots is not None:
-                        recorder.log_tick(snapshots.build(ticks, root))
-                    break  # the recipe is done and the robot finished its last cycle
-                # While the planner computes, simulated time stands still (PickAndPlace reads the typed phase).
-                computing = (
-                    reader.get(Keys.MOTION_COMPUTING) if reader.exists(Keys.MOTION_COMPUTING) else False
-                )
-                if computing:
-                    with clock(LoopPart.PLANNING_WAIT):
-                        time.sleep(0.002)  # give the planner thread the interpreter
-                else:
-                    with clock(LoopPart.PHYSICS):
-                        kitchen.advance(options.tick_period)
-                    with clock(LoopPart.HUMAN):
-                        human_events = human.update()
-                    for event in human_events:
-                        events(event)
-                    control_ticks += 1
-                    if hook is not None:
-                        hook.after_tick(control_ticks)
-                    if realtime:
-                        time.sleep(max(0.0, next_tick - time.perf_counter()))
-                        next_tick = max(next_tick + options.tick_period, time.perf_counter())
-                if snapshots is not None:
-                    with clock(LoopPart.LOGGING):
-                        recorder.log_tick(snapshots.build(ticks, root))
-            log_lines.flush()
-            stats = events.stats
-            parts, cpu_parts = dict(clock.seconds), dict(clock.cpu_seconds)
-            # Perception and embedding run inside tree ticks: report them on their own and the rest as "tree".
-            for table, seconds in zip((parts, cpu_parts), robot.perception_seconds, strict=True):
-                table[LoopPart.PERCEPTION] = seconds
-                table[LoopPart.TREE] = (
-                    table.get(LoopPart.TREE, 0.0) - seconds - table.get(LoopPart.EMBEDDING, 0.0)
-                )
-            summary = EpisodeSummary(
-                recipe_id=recipe.recipe.id,
-                recipe_title=recipe.recipe.title,
-                robot=robot_cfg.name,
-                completed=human.done,
-                steps_completed=human.steps_completed(),
-                steps_total=len(recipe.steps),
-                attempted=stats.attempted,
-                successes=stats.successes,
-                failures=stats.failures,
-                failures_by_stage=dict(stats.failures_by_stage),
-                help_requests=stats.help_requests,
-                clarifications=stats.clarifications,
-                interventions=stats.interventions,
-                takeovers=stats.cancelled,
-                decisions=stats.decisions,
-                control_ticks=control_ticks,
-                tree_ticks=ticks,
-                sim_time=round(kitchen.sim_time, 3),
-                wall_time=time.perf_counter() - started,
-                needed_on_table={n: kitchen.is_on_table(n) for n in recipe.needed},
-                decision_log=tuple(log_lines.lines),
-                startup_to_first_decision_s=first_decision[0] if first_decision else None,
-                wall_breakdown={str(k): round(v, 4) for k, v in sorted(parts.items())},
-                cpu_breakdown={str(k): round(v, 4) for k, v in sorted(cpu_parts.items())},
-                physics_steps=kitchen.steps - kitchen.steps_skipped,
-                physics_steps_skipped=kitchen.steps_skipped,
-                renders=robot.renders,
-                condition=condition_line(behaviour),
-                decided_by_rule=dict(log_lines.rules),
+        scene = body.scene
+        if recording and scene is None:
+            raise ConfigError(
+                "this robot backend has no scene to draw: it cannot be recorded (--save, --viewer)"
             )
-            tree.shutdown()
+        sinks = (timing, *((on_event,) if on_event is not None else ()))
+        ep = _build(options, plan, body, resources, say, sinks, human_factory, hook, clock)
+        try:
+            ep.tree.setup(timeout=120)
+            recorder = _make_recorder(options)
+            recorder.log_static_scene(scene)
+            log_tick = _tick_logger(recorder, scene, ep, lines) if recording else None
+            clock.add(LoopPart.STARTUP, time.perf_counter() - started, time.thread_time() - started_cpu)
+            ticks, control_ticks = _loop(ep, options, clock, hook, realtime, log_tick)
+            summary = _summarise(
+                ep, ticks, control_ticks, clock, started, first_decision[0] if first_decision else None
+            )
+            ep.tree.shutdown()
             return summary
         finally:
             if recorder is not None:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import py_trees
@@ -11,7 +11,9 @@ from scone_bt.behaviours import Keys
 from scone_bt.events import EventLog
 from scone_bt.motion.types import TimedTrajectory
 from scone_bt.recipes import StockedRecipe
-from scone_bt.world import Kitchen
+
+if TYPE_CHECKING:
+    from scone_bt.viz.scene import SceneView
 
 __all__ = ["SnapshotBuilder"]
 
@@ -36,7 +38,7 @@ class SnapshotBuilder:
     """Reads the blackboard after each tick and reports only what is new (frames, decisions, plans).
 
     Args:
-        kitchen: The simulated world (poses for the 3D view; the recording may show ground truth).
+        scene: The backend's view of the world (poses for the 3D view; the recording may show ground truth).
         recipe: The recipe being cooked.
         human: The human (the recipe view shows their progress).
         events: The episode's events (the counters are their fold).
@@ -44,9 +46,9 @@ class SnapshotBuilder:
     """
 
     def __init__(
-        self, kitchen: Kitchen, recipe: StockedRecipe, human: Any, events: EventLog, lines: list[str]
+        self, scene: SceneView, recipe: StockedRecipe, human: Any, events: EventLog, lines: list[str]
     ) -> None:
-        self.kitchen = kitchen
+        self.scene = scene
         self.recipe = recipe
         self.human = human
         self.events = events
@@ -76,7 +78,7 @@ class SnapshotBuilder:
     def build(self, tick: int, root: py_trees.behaviour.Behaviour) -> Any:
         from scone_bt.viz import RecipeView, TickSnapshot
 
-        kitchen = self.kitchen
+        scene = self.scene
         frame = self._new(Keys.FRAME)
         decision = self._new(Keys.DECISION)
         affordances = None
@@ -120,10 +122,10 @@ class SnapshotBuilder:
         self.lines.clear()
         return TickSnapshot(
             tick=tick,
-            sim_time=kitchen.sim_time,
-            link_poses=kitchen.link_poses(),
+            sim_time=scene.sim_time,
+            link_poses=scene.link_poses(),
             object_poses={
-                n: (o.position, o.orientation) for n in kitchen.objects for o in [kitchen.object_state(n)]
+                n: (o.position, o.orientation) for n in scene.objects for o in [scene.object_state(n)]
             },
             frame=frame,
             detections=(self.reader.get(Keys.DETECTIONS) or []) if frame is not None else (),
@@ -131,7 +133,7 @@ class SnapshotBuilder:
             decision=decision,
             ee_path=ee_path,
             trajectory=trajectory,
-            executed_q=kitchen.arm_joint_positions(),
+            executed_q=scene.arm_joint_positions(),
             tree=root,
             confidences=confidences,
             contexts=contexts,

@@ -19,12 +19,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from enum import Enum
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from scone_bt.events import CleanUpStarted, Event, HelpDeclined, HelpGiven, Intervention, StepDone
 from scone_bt.recipes import StockedRecipe
-from scone_bt.world import Kitchen
+
+if TYPE_CHECKING:  # the human reads the world only through the test rig's protocol, never the simulator
+    from scone_bt.robot.rig import HumanWorld
 
 __all__ = ["ClarifyAnswer", "HelpAnswer", "HumanOptions", "FetchReason", "SimulatedHuman"]
 
@@ -85,9 +88,12 @@ class _Fetch:
 
 @dataclass
 class SimulatedHuman:
-    """The human's state machine; call `update()` once per control tick after the world advanced."""
+    """The human's state machine; call `update()` once per control tick after the world advanced.
 
-    kitchen: Kitchen
+    ``kitchen`` is the world the human works in (`HumanWorld`: a backend's `World`, or a `world.Kitchen`).
+    """
+
+    kitchen: HumanWorld
     recipe: StockedRecipe
     options: HumanOptions = field(default_factory=HumanOptions)
     seed: int = 0
@@ -202,7 +208,7 @@ class SimulatedHuman:
                 self._fetches.remove(fetch)
                 if self.kitchen.is_on_table(fetch.object_name):
                     continue
-                if self.kitchen.human_place_on_table(fetch.object_name):
+                if self.kitchen.place_on_table(fetch.object_name):
                     if fetch.kind is FetchReason.HELP:
                         self.help_given += 1
                         new.append(HelpGiven(now, fetch.object_name, "fetched by the human"))
@@ -225,7 +231,7 @@ class SimulatedHuman:
             self._cooking_until = now + self.options.cook_time_s
         else:
             for name in missing:
-                dropped = not self.kitchen.is_on_shelf(name) and not self._held_by_robot(name)
+                dropped = not self.kitchen.is_on_shelf(name) and not self.kitchen.touches_robot(name)
                 waited = (
                     self._robot_busy_since is None and now - self._step_started >= self.options.patience_s
                 )
@@ -237,8 +243,3 @@ class SimulatedHuman:
                     new.append(CleanUpStarted(now, name, reason))
         self.events += new
         return new
-
-    def _held_by_robot(self, name: str) -> bool:
-        """True if the object touches the robot (the human does not grab it out of the gripper)."""
-        body = self.kitchen.objects[name]
-        return bool(self.kitchen.bc.getContactPoints(bodyA=body, bodyB=self.kitchen.robot_id))

@@ -17,7 +17,6 @@ if TYPE_CHECKING:  # the interface itself imports nothing heavy (scone-run --hel
     from scone_bt.perception.types import Detection
 
 __all__ = [
-    "BACKENDS",
     "PickRequest",
     "MotionHandle",
     "Infeasible",
@@ -25,10 +24,6 @@ __all__ = [
     "Robot",
     "obstacles_except",
 ]
-
-BACKENDS = ("sim",)
-"""Robot backends `scone-run --robot` accepts."""
-
 
 @dataclass(frozen=True)
 class PickRequest:

@@ -1,9 +1,10 @@
-"""The test rig: what a scenario may change in the world while the robot works, and nothing else.
+"""The test rig: what only a simulator or a lab rig can do to the world while the robot works, and nothing else.
 
 A scenario (`scone_bt.scenario`) moves products, covers a camera or a lid, and degrades the robot only through
 `World`, the seam a real robot's test rig would also provide (a person who moves things, a cloth, a weaker
-gripper). `SimWorld` implements it on the PyBullet simulation with `world.Kitchen`'s public methods and the
-simulated robot's public components; scenario code never imports pybullet.
+gripper); the episode loop advances time and stocks the shelf through it, and the simulated human reads and
+changes the world through its narrower part, `HumanWorld`. `SimWorld` implements it on the PyBullet simulation with
+`world.Kitchen`'s public methods and the simulated robot's public components; scenario code never imports pybullet.
 """
 
 from __future__ import annotations
@@ -16,10 +17,13 @@ from typing import TYPE_CHECKING, Any, Protocol
 from scone_bt.errors import ConfigError, UnknownNameError
 
 if TYPE_CHECKING:
+    import numpy as np
+
+    from scone_bt.config import ObjectSpec
     from scone_bt.robot.sim import SimRobot
     from scone_bt.world import Kitchen
 
-__all__ = ["World", "SimWorld", "SlotRef"]
+__all__ = ["HumanWorld", "World", "SimWorld", "SlotRef"]
 
 COVER_DISTANCE_M = 0.02
 """A lens cover stands this far past the camera's near clipping plane."""
@@ -39,12 +43,43 @@ class SlotRef:
         return f"{self.unit}/{self.tier}/{self.index}"
 
 
-class World(Protocol):
-    """What a scenario can do to the world and read from it."""
+class HumanWorld(Protocol):
+    """What the simulated human reads and changes: the clock, where a product is, fetching one to the table.
+
+    `world.Kitchen` and every `World` have it; a lab rig's version is a person with a stopwatch.
+    """
 
     @property
     def sim_time(self) -> float:
-        """Simulated seconds since the episode started."""
+        """Seconds since the episode started (simulated time in simulation)."""
+        ...
+
+    def is_on_table(self, name: str) -> bool:
+        """Ground truth: the product rests upright on the table."""
+        ...
+
+    def is_on_shelf(self, name: str) -> bool:
+        """Ground truth: the product stands on a shelf unit."""
+        ...
+
+    def touches_robot(self, name: str) -> bool:
+        """The product is in or against the robot's gripper (a person does not grab it away)."""
+        ...
+
+    def place_on_table(self, name: str) -> bool:
+        """Put the product on a free table spot by hand; False when the table is full."""
+        ...
+
+
+class World(HumanWorld, Protocol):
+    """What the episode loop and a scenario can do to the world and read from it."""
+
+    def advance(self, seconds: float) -> None:
+        """Let ``seconds`` of time pass in the world (a simulator steps its physics; a lab rig waits)."""
+        ...
+
+    def stock(self, specs: Sequence[ObjectSpec], rng: np.random.Generator) -> None:
+        """Stock the shelf with the products (``rng`` seeds their places) and let them settle."""
         ...
 
     def products(self) -> list[str]:
@@ -66,10 +101,6 @@ class World(Protocol):
     def place_beside(self, name: str, anchor: str, gap_m: float, side: int) -> None:
         """Stand the product on the anchor's tier, ``gap_m`` from its side (``side`` +1: further along the tier,
         −1: back towards its start)."""
-        ...
-
-    def place_on_table(self, name: str) -> bool:
-        """Put the product on a free table spot by hand; False when the table is full."""
         ...
 
     def remove(self, name: str) -> None:
@@ -105,10 +136,6 @@ class World(Protocol):
         jerk_scale: float | None = None,
     ) -> None:
         """Degrade (or restore) the robot from now on; None keeps a value (units: `scone_bt.scenario` Fault)."""
-        ...
-
-    def is_on_table(self, name: str) -> bool:
-        """Ground truth: the product rests upright on the table."""
         ...
 
 
@@ -150,6 +177,18 @@ class SimWorld:
 
     def is_on_table(self, name: str) -> bool:
         return self.kitchen.is_on_table(name)
+
+    def is_on_shelf(self, name: str) -> bool:
+        return self.kitchen.is_on_shelf(name)
+
+    def touches_robot(self, name: str) -> bool:
+        return self.kitchen.touches_robot(name)
+
+    def advance(self, seconds: float) -> None:
+        self.kitchen.advance(seconds)
+
+    def stock(self, specs: Sequence[ObjectSpec], rng: np.random.Generator) -> None:
+        self.kitchen.spawn(specs, rng)
 
     def camera_names(self) -> list[str]:
         return [c.spec.name for c in self.robot.observer.cameras]
@@ -240,7 +279,7 @@ class SimWorld:
         self.kitchen.place_object(name, (wx, wy, tier.top_z), unit.facing_yaw)
 
     def place_on_table(self, name: str) -> bool:
-        return self.kitchen.human_place_on_table(name)
+        return self.kitchen.place_on_table(name)
 
     def remove(self, name: str) -> None:
         self.kitchen.park_object(name)

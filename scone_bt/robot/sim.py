@@ -1,4 +1,5 @@
-"""The PyBullet simulation as a `Robot`: `world.Kitchen`, `motion.MotionSystem` and the simulated cameras."""
+"""The PyBullet simulation as a backend: `SimRobot` (`world.Kitchen`, `motion.MotionSystem` and the simulated
+cameras) and `SimWorld` around it, built by `sim_backend` (``scone-run --robot sim``)."""
 
 from __future__ import annotations
 
@@ -13,7 +14,9 @@ from scone_bt.motion.pick_place import PickPlaceFailure
 from scone_bt.motion.types import PlanFailureReason
 from scone_bt.perception.observe import Observation
 from scone_bt.perception.types import Detection
+from scone_bt.robot.backend import BackendRequest, BackendStats
 from scone_bt.robot.interface import Infeasible, MotionHandle, PickRequest, PlannedPick
+from scone_bt.robot.rig import SimWorld
 from scone_bt.world import Kitchen
 
 if TYPE_CHECKING:
@@ -21,7 +24,7 @@ if TYPE_CHECKING:
     from scone_bt.motion.system import PickAndPlace
     from scone_bt.perception.observe import Observer
 
-__all__ = ["SimRobot"]
+__all__ = ["SimBackend", "SimRobot", "sim_backend"]
 
 
 class SimRobot:
@@ -173,3 +176,36 @@ class _PlannedTask:
     def execute(self) -> MotionHandle:
         self.task.start()
         return self.task
+
+
+class SimBackend:
+    """The simulated robot, its kitchen as the test rig, and the kitchen as what a recording draws.
+
+    Args:
+        robot: The simulated robot (it owns the kitchen and closes it).
+    """
+
+    def __init__(self, robot: SimRobot) -> None:
+        self.robot = robot
+        self.world = SimWorld(robot.kitchen, robot)
+        self.scene = robot.kitchen
+
+    def setup(self) -> None:
+        self.robot.setup()
+
+    def stats(self) -> BackendStats:
+        kitchen = self.robot.kitchen
+        wall, cpu = self.robot.perception_seconds
+        return BackendStats(
+            perception_wall_s=wall,
+            perception_cpu_s=cpu,
+            renders=self.robot.renders,
+            physics_steps=kitchen.steps,
+            physics_steps_skipped=kitchen.steps_skipped,
+        )
+
+
+def sim_backend(request: BackendRequest) -> SimBackend:
+    """A new PyBullet kitchen (no products yet) with the arm in it (``request.gui``: PyBullet's own window)."""
+    kitchen = Kitchen(request.kitchen, request.robot, gui=request.gui)
+    return SimBackend(SimRobot(kitchen, request.kitchen, request.robot, request.perception_rng))

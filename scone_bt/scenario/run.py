@@ -123,10 +123,10 @@ class ScenarioHook:
         self.final_on_table: dict[str, bool] = {}
 
     # ------------------------------------------------------------------------------------------- EpisodeHook
-    def attach(self, kitchen: Any, robot: Any, human: Any, events: EventSink) -> None:
-        from scone_bt.robot.rig import SimWorld, SlotRef
+    def attach(self, world: Any, robot: Any, human: Any, events: EventSink) -> None:
+        from scone_bt.robot.rig import SlotRef
 
-        self.world = SimWorld(kitchen, robot)
+        self.world = world
         self.human = human
         self.events = events
         faults = self._start_faults()
@@ -150,7 +150,7 @@ class ScenarioHook:
             if not self.world.place_on_table(name):
                 raise SconeError(f"{self.case.path}: world.on_table: no free table spot for {name!r}")
         if w.place or w.on_table:
-            kitchen.advance(0.5)  # let what was put down settle before the robot's first look
+            self.world.advance(0.5)  # let what was put down settle before the robot's first look
         for name in w.hidden_markers:
             self.world.hide_marker(name)
         self._fire(0)

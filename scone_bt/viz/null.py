@@ -5,8 +5,8 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
+    from scone_bt.viz.scene import SceneView
     from scone_bt.viz.snapshot import TickSnapshot
-    from scone_bt.world import Kitchen
 
 __all__ = ["NullRecorder"]
 
@@ -20,8 +20,8 @@ class NullRecorder:
     def __init__(self) -> None:
         self.ticks_logged = 0
 
-    def log_static_scene(self, kitchen: Kitchen) -> None:
-        """Do nothing."""
+    def log_static_scene(self, kitchen: SceneView | None) -> None:
+        """Do nothing (a backend that cannot be recorded has no scene to give)."""
 
     def log_tick(self, snap: TickSnapshot) -> None:
         """Count the tick, log nothing."""

@@ -46,7 +46,7 @@ if TYPE_CHECKING:
     from scone_bt.config import ObjectSpec
     from scone_bt.motion.types import TimedTrajectory
     from scone_bt.perception.types import Detection, Frame
-    from scone_bt.world import Kitchen
+    from scone_bt.viz.scene import SceneView
 
 __all__ = ["Recorder", "STREAM_FLUSH_TIMEOUT_S", "VIEWER_CHECK_PERIOD_S", "VIEWER_STALL_TIMEOUT_S"]
 
@@ -277,7 +277,7 @@ class Recorder:
         """Whether a live viewer is still being streamed to (False without one, or once it was dropped)."""
         return self._view_rec is not None
 
-    def log_static_scene(self, kitchen: Kitchen) -> None:
+    def log_static_scene(self, kitchen: SceneView) -> None:
         """Log the kitchen once: scene boxes, robot geometry, object geometry, camera; then its current state."""
         rec = self._rec
         rec.log(P.WORLD, rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
@@ -496,7 +496,7 @@ class Recorder:
         self._rec.set_time(P.TICK, sequence=int(tick))
         self._rec.set_time(P.SIM_TIME, duration=float(sim_time))
 
-    def _log_robot_geometry(self, kitchen: Kitchen) -> None:
+    def _log_robot_geometry(self, kitchen: SceneView) -> None:
         cfg = kitchen.robot_config
         robot = read_robot_visuals(cfg.urdf, self.robot_geometry)
         self._robot = robot

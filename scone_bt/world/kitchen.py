@@ -307,8 +307,16 @@ class Kitchen:
         x, y = points[free[0]]
         return (float(x), float(y), top)
 
+    def touches_robot(self, name: str) -> bool:
+        """True if the object touches the robot (in or against the gripper: a person does not grab it away)."""
+        return bool(self.bc.getContactPoints(bodyA=self._body(name), bodyB=self.robot_id))
+
     def human_place_on_table(self, name: str) -> bool:
         """The simulated human carries the object to a free table spot (by hand, not by the robot)."""
+        return self.place_on_table(name)
+
+    def place_on_table(self, name: str) -> bool:
+        """Put the object on a free table spot by hand (not by the robot); False when the table is full."""
         spec = self.specs[name]
         spot = self.free_place_spot(spec)
         if spot is None:
