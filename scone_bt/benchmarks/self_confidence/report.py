@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from scipy import stats
 
 from scone_bt.benchmarks.self_confidence.evaldata import UNKNOWN_FAMILY, EvalDataset
 from scone_bt.benchmarks.self_confidence.metrics import ece_noise_floor
@@ -177,13 +178,26 @@ def paired_difference(
     va, vb = values(a), values(b)
     if not va or set(va) != set(vb):
         return None
-    d = np.array([va[i] - vb[i] for i in sorted(va)])
-    d = d[~np.isnan(d)]
-    if len(d) == 0:
+    pairs = np.array([(va[i], vb[i]) for i in sorted(va)])
+    pairs = pairs[~np.isnan(pairs[:, 0] - pairs[:, 1])]
+    if len(pairs) == 0:
         return None
-    rng = np.random.default_rng(seed)
-    means = d[rng.integers(0, len(d), size=(resamples, len(d)))].mean(axis=1)
-    lo, hi = np.percentile(means, [2.5, 97.5])
+    d = pairs[:, 0] - pairs[:, 1]
+    if len(d) == 1:  # scipy needs two observations; every resample of one is that one
+        lo = hi = float(d[0])
+    else:
+        # percentile interval: resamples whole datasets (paired), the seeded Generator draws them
+        ci = stats.bootstrap(
+            (pairs[:, 0], pairs[:, 1]),
+            lambda x, y, axis=-1: np.mean(x - y, axis=axis),
+            paired=True,
+            vectorized=True,
+            n_resamples=resamples,
+            method="percentile",
+            confidence_level=0.95,
+            rng=np.random.default_rng(seed),
+        ).confidence_interval
+        lo, hi = ci.low, ci.high
     return {
         "mean": float(d.mean()),
         "ci_low": float(lo),

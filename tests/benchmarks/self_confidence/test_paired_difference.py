@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from scone_bt.benchmarks.self_confidence.report import paired_difference, target_checks
@@ -64,3 +65,29 @@ def test_shuffles_of_one_dataset_count_once():
     assert p["datasets"] == 3 and p["mean"] == pytest.approx((0.0 + 0.2 + 0.1) / 3)
     other = {"auc": {"mean": 0.6, "per_dataset": [0.5, 0.7], "dataset_index": [0, 1]}}
     assert paired_difference(a, other) is None
+
+
+def _hand_resampled(d: list[float], resamples: int = 10_000, seed: int = 0) -> tuple[float, float]:
+    """The interval the report computed before scipy: datasets drawn with replacement, 2.5 / 97.5 percentiles."""
+    x = np.array(d)
+    rng = np.random.default_rng(seed)
+    means = x[rng.integers(0, len(x), size=(resamples, len(x)))].mean(axis=1)
+    lo, hi = np.percentile(means, [2.5, 97.5])
+    return float(lo), float(hi)
+
+
+@pytest.mark.parametrize("n", [2, 5, 17, 40])
+def test_scipy_bootstrap_draws_the_same_resamples_as_before(n):
+    # scipy.stats.bootstrap with the same seeded Generator draws the same datasets: the printed intervals stay.
+    rng = np.random.default_rng(n)
+    a, b = rng.random(n).tolist(), rng.random(n).tolist()
+    p = paired_difference(_entry("a", "k", a), _entry("b", "k", b))
+    lo, hi = _hand_resampled([x - y for x, y in zip(a, b, strict=True)])
+    assert p["ci_low"] == pytest.approx(lo, abs=1e-12) and p["ci_high"] == pytest.approx(hi, abs=1e-12)
+    if n >= 17:  # with few datasets every seed gives the same percentiles
+        assert paired_difference(_entry("a", "k", a), _entry("b", "k", b), seed=1) != p  # the seed is used
+
+
+def test_one_dataset_is_its_own_interval_and_nan_datasets_are_left_out():
+    p = paired_difference(_entry("a", "k", [0.7, float("nan")]), _entry("b", "k", [0.5, 0.4]))
+    assert p["datasets"] == 1 and p["ci_low"] == p["ci_high"] == pytest.approx(0.2)
