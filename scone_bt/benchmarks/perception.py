@@ -16,6 +16,7 @@ on the table's products.
 from __future__ import annotations
 
 import argparse
+import copy
 import time
 from dataclasses import asdict, replace
 from pathlib import Path
@@ -112,10 +113,11 @@ def run(args: argparse.Namespace) -> int:
         for _ in range(100):  # a draw of products too wide to stand side by side is drawn again
             chosen = rng.choice(len(catalogue), size=objects + args.table_objects, replace=False)
             specs = [catalogue.objects[int(i)] for i in chosen]
-            probe = np.random.default_rng()
-            probe.bit_generator.state = rng.bit_generator.state  # the same draws the spawn will make
             try:
-                plan_stocking(kitchen_cfg.scene, specs, probe)
+                # A trial stocking on a copy of the generator: `kitchen.spawn` below plans with these very draws,
+                # and a draw that does not fit leaves `rng` untouched for the next choice. (Seeding the trial
+                # from a spawned child seed instead would change every committed scene of perception.json.)
+                plan_stocking(kitchen_cfg.scene, specs, copy.deepcopy(rng))
                 break
             except ConfigError:
                 continue
