@@ -20,6 +20,7 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
+from scone_bt.benchmarks.progress import progress_bar
 from scone_bt.benchmarks.self_confidence.dataset import ExecutionRecord, read_records, write_records
 from scone_bt.benchmarks.self_confidence.generate import ExecutionTask, drawable_products, execute_task
 from scone_bt.benchmarks.self_confidence.profiles import Profile, load_profiles
@@ -77,41 +78,10 @@ def check_writable(out: Path) -> None:
         raise ConfigError(f"--out {out}: not a writable folder ({exc.strerror or exc})") from None
 
 
-def _progress(total: int, enabled: bool) -> Any:
-    """A tqdm bar on stderr when tqdm is installed, else a plain progress line every few percent."""
-    if not enabled:
-        return _LineProgress(total, stream=None)
-    try:
-        from tqdm import tqdm
-    except ImportError:
-        return _LineProgress(total, stream=sys.stderr)
-    return tqdm(total=total, desc="executions", unit="run", file=sys.stderr)
-
-
-class _LineProgress:
-    """The part of tqdm's interface the generator uses, printing `done/total` lines (or nothing)."""
-
-    def __init__(self, total: int, stream: Any) -> None:
-        self.total, self.n, self.stream, self._shown = total, 0, stream, -1
-        self._t0 = time.perf_counter()
-
-    def write(self, text: str) -> None:
-        if self.stream is not None:
-            print(text, file=self.stream)
-
-    def set_postfix_str(self, text: str) -> None:
-        self._postfix = text
-
-    def update(self, n: int = 1) -> None:
-        self.n += n
-        step = max(1, self.total // 20)
-        if self.stream is not None and (self.n // step != self._shown or self.n == self.total):
-            self._shown = self.n // step
-            rate = self.n / max(1e-9, time.perf_counter() - self._t0)
-            print(f"executions {self.n}/{self.total} ({rate:.2f}/s)", file=self.stream, flush=True)
-
-    def close(self) -> None:
-        pass
+def _note(bar: Any, text: str) -> None:
+    """A line above the bar on stderr (nothing with --no-progress; tqdm.write alone would print to stdout)."""
+    if not bar.disable:
+        bar.write(text, file=sys.stderr)
 
 
 def _paths(out: Path, profile: Profile) -> tuple[Path, Path]:
@@ -266,10 +236,10 @@ def run_generate(args: argparse.Namespace) -> int:
     cpu0 = _cpu_s()
     t0 = time.perf_counter()
     deadline = None if args.max_minutes is None else t0 + 60.0 * args.max_minutes
-    bar = _progress(len(tasks), not args.no_progress)
+    bar = progress_bar(len(tasks), "executions", quiet=args.no_progress, unit="run")
     skipped = sum(len(v) for v in done.values())
     if skipped:
-        bar.write(f"resuming: {skipped} executions already recorded, {len(tasks)} to run")
+        _note(bar, f"resuming: {skipped} executions already recorded, {len(tasks)} to run")
     stopped = False
     results: Iterator[tuple[int, tuple[str, ExecutionRecord, float]]] = imap_tasks(
         execute_task, tasks, engine=engine
@@ -282,7 +252,7 @@ def run_generate(args: argparse.Namespace) -> int:
             bar.set_postfix_str(f"{name} {len(done[name])}/{args.executions}")
             bar.update(1)
             if deadline is not None and time.perf_counter() > deadline:
-                bar.write("--max-minutes reached: stopping (finished rows are saved)")
+                _note(bar, "--max-minutes reached: stopping (finished rows are saved)")
                 stopped = True
                 break
     finally:
