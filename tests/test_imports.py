@@ -44,12 +44,10 @@ STAGES = (
 )
 LAB_BENCH = ("cli", "benchmarks", "instruction_following", "study", "scenario")
 
-# Known upward imports, left out of the cycle check until issue 30's backend seam removes them: perception reads
-# the simulator's marker tables and footprints instead of a scene description (with world → motion → perception, a
-# cycle). The test fails when one of them is gone, so that this list only shrinks.
-KNOWN_UPWARD = {
-    ("perception", "world"),  # detector.py, evaluation.py (world.visuals), context.py (world.stocking)
-}
+# Known upward imports, left out of the cycle check until an issue removes them. The test fails when one of them is
+# gone, so that this list only shrinks. (Issue 30's backend seam removed perception → world: the marker layout and
+# the footprints now live in config.)
+KNOWN_UPWARD: set[tuple[str, str]] = set()
 
 
 def _module_name(path: Path) -> str:
@@ -223,3 +221,27 @@ def test_every_subpackage_is_a_stage_or_on_the_bench():
     packages = {p.name for p in PACKAGE.iterdir() if (p / "__init__.py").is_file() and p.name != "_data"}
     unclassified = packages - set(STAGES) - set(LAB_BENCH)
     assert not unclassified, f"classify the new subpackages in STAGES or LAB_BENCH: {sorted(unclassified)}"
+
+
+# The simulated backend's module, the one stage module that may build the PyBullet kitchen (`scone_bt.world`).
+SIM_BACKEND = "scone_bt.robot.sim"
+# Stage modules that import world/ for something other than the simulator, until it moves out of world/:
+# the shelf's stocking geometry (world/stocking.py is numpy only; world/__init__ loads the kitchen lazily).
+KNOWN_WORLD_IMPORTS = {("scone_bt.episode.shelf", "scone_bt.world.stocking")}
+
+
+def test_only_the_sim_backend_imports_the_simulated_world():
+    found = {
+        (module, target)
+        for module, targets in module_graph().items()
+        for target in targets
+        if _subpackage(module) in STAGES
+        and _subpackage(module) != "world"
+        and _subpackage(target) == "world"
+        and module != SIM_BACKEND
+    }
+    assert found == KNOWN_WORLD_IMPORTS, (
+        "stages import the simulated world (only robot/sim.py, behind the backend registry, may):\n"
+        + "\n".join(f"  {m} → {t}" for m, t in sorted(found - KNOWN_WORLD_IMPORTS))
+        + ("\ngone, remove from KNOWN_WORLD_IMPORTS: " + str(sorted(KNOWN_WORLD_IMPORTS - found)))
+    )

@@ -21,9 +21,9 @@ from dataclasses import replace
 import numpy as np
 
 from scone_bt.config import Catalogue, SceneSpec
+from scone_bt.config.footprint import footprint
 from scone_bt.experience.types import ExecutionContext
 from scone_bt.perception.types import Detection, Frame
-from scone_bt.world.stocking import footprint
 
 __all__ = [
     "ALONE_CLEARANCE_M",

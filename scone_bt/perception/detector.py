@@ -14,10 +14,10 @@ import cv2
 import numpy as np
 
 from scone_bt.config import Catalogue, ObjectSpec
+from scone_bt.config.markers import ARUCO_DICTIONARY, MARKER_CELLS, LidMarker, lid_marker
 from scone_bt.errors import ConfigError
 from scone_bt.perception.camera import project
 from scone_bt.perception.types import Detection, Frame
-from scone_bt.world.visuals import ARUCO_DICTIONARY, MARKER_CELLS, LidMarker, lid_marker
 
 __all__ = ["DetectorOptions", "Detector", "UNTRACKED"]
 

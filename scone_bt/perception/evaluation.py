@@ -13,10 +13,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from scone_bt.config.markers import lid_marker
 from scone_bt.geometry import wrap_angle
 from scone_bt.perception.camera import Camera, project
 from scone_bt.perception.types import Detection
-from scone_bt.world.visuals import lid_marker
 
 if TYPE_CHECKING:
     from scone_bt.world import Kitchen

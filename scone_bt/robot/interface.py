@@ -25,6 +25,7 @@ __all__ = [
     "obstacles_except",
 ]
 
+
 @dataclass(frozen=True)
 class PickRequest:
     """One pick-and-place, in the robot's own perception terms.

@@ -250,8 +250,8 @@ class SimWorld:
         self.kitchen.place_object(name, b, b_yaw)
 
     def place_beside(self, name: str, anchor: str, gap_m: float, side: int) -> None:
+        from scone_bt.config.footprint import footprint
         from scone_bt.perception.context import shelf_place
-        from scone_bt.world.stocking import footprint
 
         scene = self.kitchen.config.scene
         (x, y, z), anchor_yaw = self._stand(anchor)

@@ -22,6 +22,7 @@ import numpy as np
 
 from scone_bt.config import ObjectSpec, SceneSpec
 from scone_bt.config.catalogue import Shape
+from scone_bt.config.footprint import footprint
 from scone_bt.config.scene import ShelfUnit
 from scone_bt.errors import ConfigError
 
@@ -56,15 +57,6 @@ class Placement:
     yaw: float
     unit: str
     tier: int
-
-
-def footprint(spec: ObjectSpec, yaw: float) -> tuple[float, float]:
-    """Extent of the product along a unit's (u, v) axes when turned by `yaw` from facing the robot, metres."""
-    sx, sy, _ = spec.size
-    if spec.shape != Shape.BOX:
-        return sx, sx
-    c, s = abs(np.cos(yaw)), abs(np.sin(yaw))
-    return sx * c + sy * s, sx * s + sy * c
 
 
 def _turn(spec: ObjectSpec, depth: float) -> float:

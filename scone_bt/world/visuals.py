@@ -9,13 +9,12 @@ primitives per visual (the one that does not is `UNDRAWABLE_IDS`). Building the
 marker from boxes instead of a texture keeps the scene free of image files and renders identically in every
 PyBullet renderer. The collision shape is untouched.
 
-The marker's layout is public (`lid_marker`) because a detector needs it the way a real robot needs the printed
-tag size: it is appearance knowledge, not simulator state.
+The marker's layout (`config.markers.lid_marker`) lives with the catalogue because a detector needs it the way a
+real robot needs the printed tag size: it is appearance knowledge, not simulator state.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from functools import cache
 from typing import TYPE_CHECKING
 
@@ -23,6 +22,15 @@ import numpy as np
 
 from scone_bt.config import ObjectSpec
 from scone_bt.config.catalogue import MARKER_DICTIONARY_SIZE, UNDRAWABLE_MARKER_IDS, Shape
+from scone_bt.config.markers import (
+    ARUCO_DICTIONARY,
+    CAP_THICKNESS_M,
+    INK_THICKNESS_M,
+    LAYER_GAP_M,
+    MARKER_CELLS,
+    LidMarker,
+    lid_marker,
+)
 from scone_bt.errors import ConfigError
 
 if TYPE_CHECKING:
@@ -40,70 +48,14 @@ __all__ = [
     "create_object_visual",
 ]
 
-ARUCO_DICTIONARY = "DICT_6X6_1000"
-"""The cv2.aruco dictionary the markers come from (ArUco 6x6, 1000 ids, up to 4 bits of error correction)."""
-MARKER_CELLS = 8
-"""Cells per marker side: 6 data bits plus a one-cell black border on each side."""
 DICTIONARY_SIZE = MARKER_DICTIONARY_SIZE
 UNDRAWABLE_IDS = UNDRAWABLE_MARKER_IDS
 
-_CAP_THICKNESS = 0.0015  # metres: the white cap that carries the marker
-# TinyRenderer tessellates a cylinder's flat end as a shallow cone (about 0.9 mm high at the centre), so the black
-# cells float a little above the cap to stay visible on round lids too.
-_INK_GAP = 0.001  # metres
-_INK_THICKNESS = 0.0005  # metres
-# White cells drawn over a black square sit this much higher, so the two never fight in the depth buffer.
-_LAYER_GAP = 0.0003  # metres
 _MAX_SHAPES = (
     16  # PyBullet's MAX_COMPOUND_COLLISION_SHAPES: at most this many primitives per visual shape array
 )
-_QUIET_FRACTION = 0.06  # white margin around the marker as a fraction of the lid's usable square
-_MIN_QUIET = 0.0015  # metres
 _CAP_RGBA = (0.97, 0.97, 0.97, 1.0)
 _INK_RGBA = (0.03, 0.03, 0.03, 1.0)
-
-
-@dataclass(frozen=True)
-class LidMarker:
-    """Where an object's fiducial sits, in the object's body frame.
-
-    Attributes:
-        marker_id: ArUco DICT_6X6_1000 id.
-        side: Side length of the marker including its black border, metres.
-        lift: Height of the printed surface above the object's top face, metres.
-        top_z: Height of the top face above the body origin (the body's centre), metres.
-
-    The marker is centred on the lid; its image x axis (corner 0 → corner 1) points along the body's +x axis and
-    its image y axis (corner 0 → corner 3) along the body's -y axis, so a camera above reads the body's yaw.
-    """
-
-    marker_id: int
-    side: float
-    lift: float
-    top_z: float
-
-
-def lid_marker(spec: ObjectSpec) -> LidMarker:
-    """The marker layout on one catalogue object's lid.
-
-    Raises:
-        ConfigError: If the marker id is outside the dictionary.
-    """
-    if not 0 <= spec.marker_id < DICTIONARY_SIZE or spec.marker_id in UNDRAWABLE_IDS:
-        raise ConfigError(
-            f"object {spec.name!r}: marker_id {spec.marker_id} is not a drawable {ARUCO_DICTIONARY} id"
-            f" (valid: 0-{DICTIONARY_SIZE - 1} except {', '.join(map(str, sorted(UNDRAWABLE_IDS)))})"
-        )
-    sx, sy, sz = spec.size
-    # The largest square on the lid: the whole short side of a box, the inscribed square of a disc.
-    usable = min(sx, sy) if spec.shape == Shape.BOX else sx / np.sqrt(2.0)
-    quiet = max(_QUIET_FRACTION * usable, _MIN_QUIET)
-    return LidMarker(
-        marker_id=spec.marker_id,
-        side=float(usable - 2 * quiet),
-        lift=_CAP_THICKNESS + _INK_GAP + _INK_THICKNESS + _LAYER_GAP,
-        top_z=sz / 2,
-    )
 
 
 @cache
@@ -204,18 +156,18 @@ def create_object_visual(bc: BulletClient, spec: ObjectSpec) -> int:
         add(p.GEOM_BOX, [0, 0, 0], spec.rgba, he=(sx / 2, sy / 2, sz / 2))
         add(
             p.GEOM_BOX,
-            [0, 0, sz / 2 + _CAP_THICKNESS / 2],
+            [0, 0, sz / 2 + CAP_THICKNESS_M / 2],
             _CAP_RGBA,
-            he=(sx / 2, sy / 2, _CAP_THICKNESS / 2),
+            he=(sx / 2, sy / 2, CAP_THICKNESS_M / 2),
         )
     else:
         add(p.GEOM_CYLINDER, [0, 0, 0], spec.rgba, radius=sx / 2, length=sz)
         add(
             p.GEOM_CYLINDER,
-            [0, 0, sz / 2 + _CAP_THICKNESS / 2],
+            [0, 0, sz / 2 + CAP_THICKNESS_M / 2],
             _CAP_RGBA,
             radius=sx / 2,
-            length=_CAP_THICKNESS,
+            length=CAP_THICKNESS_M,
         )
 
     cell = marker.side / MARKER_CELLS
@@ -223,7 +175,7 @@ def create_object_visual(bc: BulletClient, spec: ObjectSpec) -> int:
     if len(black) + len(white) + len(types) > _MAX_SHAPES:
         raise ConfigError(f"object {spec.name!r}: marker {spec.marker_id} needs too many primitives to draw")
     top = sz / 2 + marker.lift
-    layers = ((black, _INK_RGBA, top - (_LAYER_GAP if white else 0.0)), (white, _CAP_RGBA, top))
+    layers = ((black, _INK_RGBA, top - (LAYER_GAP_M if white else 0.0)), (white, _CAP_RGBA, top))
     for rects, rgba, surface in layers:
         for row, col, rows, cols in rects:
             # Column grows along +x, row grows along -y (see LidMarker).
@@ -231,9 +183,9 @@ def create_object_visual(bc: BulletClient, spec: ObjectSpec) -> int:
             cy = marker.side / 2 - (row + rows / 2) * cell
             add(
                 p.GEOM_BOX,
-                [cx, cy, surface - _INK_THICKNESS / 2],
+                [cx, cy, surface - INK_THICKNESS_M / 2],
                 rgba,
-                he=(cols * cell / 2, rows * cell / 2, _INK_THICKNESS / 2),
+                he=(cols * cell / 2, rows * cell / 2, INK_THICKNESS_M / 2),
             )
 
     return bc.createVisualShapeArray(
