@@ -1,13 +1,20 @@
 """Writing the self-confidence evaluation: the JSON (NaN as null), Markdown tables (Table I layout, every protocol,
-the ε-greedy robots, the targets) and PNGs (learning curves per protocol, reliability diagrams)."""
+the ε-greedy robots, the targets) and PNGs (learning curves per protocol, reliability diagrams).
+
+The research story is data, not code: the targets, their thresholds and the titles are report_text/report.yaml,
+the prose is report_text/*.md (string.Template); this module computes the numbers and tables and fills them in."""
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
+from importlib import resources
 from pathlib import Path
+from string import Template
 from typing import Any
 
 import numpy as np
+import yaml
 from scipy import stats
 
 from scone_bt.benchmarks.self_confidence.evaldata import UNKNOWN_FAMILY, EvalDataset
@@ -28,6 +35,7 @@ __all__ = [
     "paired_difference",
     "plot_curves",
     "plot_reliability",
+    "report_data",
     "target_checks",
     "write_json",
 ]
@@ -36,13 +44,46 @@ SEMANTIC_EMBEDDERS = ("minilm", "mpnet", "mpnet-ft")
 """Sentence embedders (GloVe is the word-vector baseline, one-hot the per-action one)."""
 ORACLE = "oracle-attributes"
 """evaluate.ORACLE_EMBEDDER: true product attributes, reported as the ungrounded ceiling, never as a pair."""
-PAPER_TABLE_I = {"best_estimator": "eps-knn", "best_auc": 0.81}
+_TEXT = "report_text"
+"""Folder beside this module: report.yaml (targets, titles) and the Markdown templates (string.Template)."""
+
+
+@functools.cache
+def _text(name: str) -> str:
+    """A file of report_text/, read once (importlib.resources: works from a wheel as from the source tree)."""
+    return resources.files(__package__).joinpath(_TEXT, name).read_text(encoding="utf-8")
+
+
+@functools.cache
+def report_data() -> dict[str, Any]:
+    """report_text/report.yaml: the paper's Table I number, the targets, protocol and metric titles."""
+    return yaml.safe_load(_text("report.yaml"))
+
+
+def _fill(template: str, **values: object) -> str:
+    """report_text/<template> with its ${placeholders} filled (a missing one is a KeyError, not a blank)."""
+    return Template(_text(template)).substitute(values)
+
+
+def _lines(lines: Sequence[str]) -> str:
+    """Table lines for a template: each ends with a newline (none at all: nothing)."""
+    return "".join(f"{line}\n" for line in lines)
+
+
+PAPER_TABLE_I: dict[str, Any] = report_data()["paper_table_i"]
 """The paper's self-confidence number as this repository quotes it (its best estimator, ε-KNN: 0.81)."""
-_PROTOCOL_TITLES = {
-    "algorithm1": "Algorithm 1 (first 80 rows train, last 20 test)",
-    "novel_products": "Novel products (test rows whose product is absent from the 80-row training prefix)",
-    "leave_family_out": "Leave one packaging family out",
-}
+_PROTOCOL_TITLES: dict[str, str] = report_data()["protocol_titles"]
+
+
+def _target(key: str, met: bool, measured: str, **numbers: object) -> dict[str, Any]:
+    """One check of report.yaml's target `key`: its label filled with the target's own numbers."""
+    spec = report_data()["targets"][key]
+    label = spec["label"].format(**{k: v for k, v in spec.items() if k != "label"}, **numbers)
+    return {"target": label, "measured": measured, "met": bool(met)}
+
+
+def _threshold(key: str) -> float:
+    return float(report_data()["targets"][key]["threshold"])
 
 
 def write_json(path: Path | None, payload: dict[str, Any]) -> dict[str, Any]:
@@ -116,7 +157,8 @@ def _fmt(entry: dict[str, Any] | None, key: str, bold: bool = False) -> str:
     return f"**{text}**" if bold else text
 
 
-def _metric_table(report: dict[str, Any], protocol: str, key: str, higher: bool) -> list[str]:
+def _metric_table(report: dict[str, Any], protocol: str, key: str, higher: bool) -> str:
+    """One metric's table (embedders × estimators, the best per column in bold) and the prior under it."""
     by = _by(report, protocol)
     embedders, estimators = report["embedders"], report["estimators"]
     lines = ["| Embedding | " + " | ".join(estimators) + " |", "|---|" + "---|" * len(estimators)]
@@ -130,11 +172,7 @@ def _metric_table(report: dict[str, Any], protocol: str, key: str, higher: bool)
         cells = [_fmt(by.get((e, k)), key, best.get(k) == e) for k in estimators]
         lines.append(f"| {e} | " + " | ".join(cells) + " |")
     prior = report.get("prior", {}).get(protocol)
-    if prior is not None:
-        lines.append(
-            f"\nPrior (the training rows' smoothed success rate for every action): {_fmt(prior, key)}"
-        )
-    return lines
+    return _lines(lines) + ("" if prior is None else _fill("prior.md", prior=_fmt(prior, key)))
 
 
 def _best(
@@ -237,57 +275,57 @@ def target_checks(report: dict[str, Any]) -> list[dict[str, Any]]:
         one = a1.get(("onehot", best["estimator"]))
         gap = _ms(best) - _ms(one)
         checks.append(
-            {
-                "target": "Algorithm 1: best semantic pair ≥ 0.85 (ungrounded)",
-                "measured": f"{best['embedder']} + {best['estimator']} {_ms(best):.3f}",
-                "met": bool(_ms(best) >= 0.85),
-            }
+            _target(
+                "best_semantic",
+                _ms(best) >= _threshold("best_semantic"),
+                f"{best['embedder']} + {best['estimator']} {_ms(best):.3f}",
+            )
         )
         checks.append(
-            {
-                "target": "Algorithm 1: best semantic ≥ one-hot + 0.08 with the same estimator",
-                "measured": f"one-hot + {best['estimator']} {_ms(one):.3f}, gap {gap:+.3f}"
+            _target(
+                "semantic_gap",
+                gap >= _threshold("semantic_gap"),
+                f"one-hot + {best['estimator']} {_ms(one):.3f}, gap {gap:+.3f}"
                 + _paired_note(best, one, "paired gap"),
-                "met": bool(gap >= 0.08),
-            }
+            )
         )
-    for k in ("lgbm", "eps-knn"):
+    for k in report_data()["targets"]["order"]["estimators"]:
         sem_entry = max((a1[(e, k)] for e in semantic if (e, k) in a1), key=_ms, default=None)
         sem = _ms(sem_entry)
         glove, one = _ms(a1.get(("glove", k))), _ms(a1.get(("onehot", k)))
         if not any(np.isnan(v) for v in (sem, glove, one)):
             checks.append(
-                {
-                    "target": f"Algorithm 1 order semantic > GloVe > one-hot ({k})",
-                    "measured": f"best semantic ({sem_entry['embedder']}) {sem:.3f}, GloVe {glove:.3f}, "
-                    f"one-hot {one:.3f}"
+                _target(
+                    "order",
+                    sem > glove > one,
+                    f"best semantic ({sem_entry['embedder']}) {sem:.3f}, GloVe {glove:.3f}, one-hot {one:.3f}"
                     + _paired_note(sem_entry, a1.get(("glove", k)), "semantic − GloVe")
                     + _paired_note(a1.get(("glove", k)), a1.get(("onehot", k)), "GloVe − one-hot"),
-                    "met": bool(sem > glove > one),
-                }
+                    estimator=k,
+                )
             )
     nbest = _best(report, "novel_products", semantic, grounded=False)
     prior = report.get("prior", {}).get("novel_products")
     if nbest is not None:
         one = _by(report, "novel_products").get(("onehot", nbest["estimator"]))
         checks.append(
-            {
-                "target": "Novel products: best semantic ≥ 0.80 (ungrounded) where one-hot stays at the prior",
-                "measured": f"{nbest['embedder']} + {nbest['estimator']} {_ms(nbest):.3f}; one-hot "
-                f"{_ms(one):.3f}; prior {_ms(prior):.3f}",
-                "met": bool(_ms(nbest) >= 0.80),
-            }
+            _target(
+                "novel_products",
+                _ms(nbest) >= _threshold("novel_products"),
+                f"{nbest['embedder']} + {nbest['estimator']} {_ms(nbest):.3f}; one-hot {_ms(one):.3f}; "
+                f"prior {_ms(prior):.3f}",
+            )
         )
     robot_embedders = [e for e in report["embedders"] if e != ORACLE]  # the oracle is a ceiling, not a pair
     overall = _best(report, "algorithm1", robot_embedders)
     if overall is not None:
         checks.append(
-            {
-                "target": "ECE ≤ 0.05 at n_train = 80 for the best pair (Algorithm 1)",
-                "measured": f"{overall['embedder']} + {overall['estimator']} ECE {_ms(overall, 'ece'):.3f}"
+            _target(
+                "ece",
+                _ms(overall, "ece") <= _threshold("ece"),
+                f"{overall['embedder']} + {overall['estimator']} ECE {_ms(overall, 'ece'):.3f}"
                 + _floor_note(overall),
-                "met": bool(_ms(overall, "ece") <= 0.05),
-            }
+            )
         )
         rows = [r for r in report["protocols"]["algorithm1"] if r["embedder"] != ORACLE]
         cal = next(
@@ -300,37 +338,39 @@ def target_checks(report: dict[str, Any]) -> list[dict[str, Any]]:
         )
         if cal is not None:
             checks.append(
-                {
-                    "target": "ECE ≤ 0.05 at n_train = 80, the best pair calibrated (Algorithm 1)",
-                    "measured": f"{cal['embedder']} + {cal['estimator']} ECE {_ms(cal, 'ece'):.3f}, AUC "
-                    f"{_ms(cal):.3f}" + _floor_note(cal),
-                    "met": bool(_ms(cal, "ece") <= 0.05),
-                }
+                _target(
+                    "ece_calibrated",
+                    _ms(cal, "ece") <= _threshold("ece_calibrated"),
+                    f"{cal['embedder']} + {cal['estimator']} ECE {_ms(cal, 'ece'):.3f}, AUC {_ms(cal):.3f}"
+                    + _floor_note(cal),
+                )
             )
         grounded = [r for r in rows if r["estimator"].startswith("grounded-")]
         plain = [r for r in rows if not r["estimator"].startswith("grounded-")]
         if grounded and plain:
             g, p = max(grounded, key=_ms), max(plain, key=_ms)
             checks.append(
-                {
-                    "target": "Grounded κ̂ above the best ungrounded pair (Algorithm 1)",
-                    "measured": f"{g['embedder']} + {g['estimator']} {_ms(g):.3f} vs "
+                _target(
+                    "grounded",
+                    _ms(g) > _ms(p),
+                    f"{g['embedder']} + {g['estimator']} {_ms(g):.3f} vs "
                     f"{p['embedder']} + {p['estimator']} {_ms(p):.3f}",
-                    "met": bool(_ms(g) > _ms(p)),
-                }
+                )
             )
     timing = report.get("timing_s", {})
     if "cells_wall_s_sum" in timing:
         # cells may come from the cache: the uncached grid costs the sum of the cells' own times over the workers
         uncached = timing["cells_wall_s_sum"] / max(timing["workers"], 1) + timing["embedding"]
+        limit = _threshold("grid_time")
         checks.append(
-            {
-                "target": "Whole grid ≤ 10 min",
-                "measured": f"{uncached / 60:.1f} min uncached ({timing['cells']} cells, {timing['workers']} "
+            _target(
+                "grid_time",
+                uncached <= limit,
+                f"{uncached / 60:.1f} min uncached ({timing['cells']} cells, {timing['workers']} "
                 f"workers, embedding {timing['embedding']:.0f} s of it; this run's wall time "
                 f"{timing['total'] / 60:.1f} min)",
-                "met": bool(uncached <= 600),
-            }
+                minutes=limit / 60,
+            )
         )
     return checks
 
@@ -358,119 +398,84 @@ def _robot_table(report: dict[str, Any]) -> list[str]:
 
 
 def evaluation_markdown(report: dict[str, Any], name: str = "self_confidence") -> str:
-    """The whole evaluation as Markdown; the PNGs of plot_curves/plot_reliability are linked as <name>_*.png."""
-    opts = report["options"]
-    parts = [
-        "# Self-confidence evaluation (`scone-bench sc evaluate`)",
-        "",
-        f"Data: `{report['data']}`, {len(report['datasets'])} datasets; embedders {', '.join(report['embedders'])}"
-        + (f" (skipped: {', '.join(report['embedders_skipped'])})" if report["embedders_skipped"] else "")
-        + f"; n_train {opts['n_train']} (leave-family-out {opts['lofo_n_train']}), {opts['n_test']} test rows, "
-        f"{opts['shuffles']} row order(s), seed {opts['seed']}; ε₀ {opts['epsilon0']}, half-life "
-        f"{opts['half_life']} outcomes, online refit every {opts['refit_every']} rows. Wall "
-        f"{report['timing_s']['total']:.0f} s on {report['timing_s']['workers']} workers.",
-        "",
-        "Cells: normalised area under the accuracy curve, mean ± std over datasets (the paper's number); best per "
-        "column in bold. Protocols and the ε-greedy rule: `scone_bt/benchmarks/self_confidence/protocols.py`.",
-        "",
-        "Estimator settings and why (docstrings of `scone_bt/confidence/models.py` and `calibration.py`): each "
-        "LGBM tree splits on a seeded half of the columns, the MLP runs 100 Adam epochs at 3e-3 (the step budget "
-        "of 300 at 1e-3), and a calibrated estimator's out-of-fold models keep the hyper-parameters its full "
-        "model tuned (the GP's kernel). A base estimator's cells come from its `-cal` variant's fits when both "
-        "are in the grid, so its wall time counts under the `-cal` variant.",
-        "",
-    ]
-    parts += ["## Against the targets", "", "| target | measured | met |", "|---|---|---|"]
-    parts += [
+    """The whole evaluation as Markdown; the PNGs of plot_curves/plot_reliability are linked as <name>_*.png.
+
+    The prose is report_text/*.md (string.Template), the targets and titles report_text/report.yaml: this
+    function computes the tables and numbers and fills them in.
+    """
+    opts, timing = report["options"], report["timing_s"]
+    targets = [
         f"| {c['target']} | {c['measured']} | {'yes' if c['met'] else '**no**'} |"
         for c in target_checks(report)
     ]
-    parts += [
-        "",
-        "Paired intervals: each pair's AUC per dataset (`auc.per_dataset` in the JSON), differences dataset by "
-        "dataset, a 95 % bootstrap interval over the datasets (report.paired_difference). Why the accuracy targets "
-        "of ungrounded pairs miss: `scone-bench sc probe` ([self_confidence_probe.md](self_confidence_probe.md)) "
-        "measures what each embedding of the action text reveals of the width, mass and glass that decide these "
-        "outcomes, and the κ̂ ceiling on what it reveals.",
-        "",
-    ]
     ceiling = _best(report, "algorithm1", [ORACLE], grounded=False) if ORACLE in report["embedders"] else None
-    if ceiling is not None:
-        parts += [
-            f"Ungrounded ceiling: with each product's true catalogue attributes instead of a text embedding "
-            f"({ORACLE}), the best ungrounded κ̂ reaches {_ms(ceiling):.3f} ({ceiling['estimator']}): what these "
-            "estimators make of 80 rows when they know exactly which product each row holds, but not where it "
-            "stood. A text embedding can at best encode those attributes.",
-            "",
-        ]
+    table_i = ""
     if "algorithm1" in report["protocols"]:
         by = _by(report, "algorithm1")
-        parts += [
-            "## Table I comparison (SC columns, Algorithm 1)",
-            "",
-            "| Embedding | LGBM | ε-KNN |",
-            "|---|---|---|",
-        ]
-        parts += [
-            f"| {e} | {_fmt(by.get((e, 'lgbm')), 'auc')} | {_fmt(by.get((e, 'eps-knn')), 'auc')} |"
-            for e in report["embedders"]
-        ]
-        parts += [
-            "",
-            f"The paper's best, as quoted in this repository: {PAPER_TABLE_I['best_estimator']} "
-            f"{PAPER_TABLE_I['best_auc']:.2f}.",
-            "",
-        ]
-    for protocol in report["protocols"]:
-        parts += [f"## {_PROTOCOL_TITLES.get(protocol, protocol)}", ""]
-        parts += _metric_table(report, protocol, "auc", True)
-        rows = report["protocols"][protocol]
-        if rows:
-            parts += ["", f"Test predictions pooled at the largest n_train: {rows[0]['n_test']}.", ""]
-        for key, title, higher in (
-            ("auroc", "AUROC at the largest n_train, pooled (higher is better)", True),
-            ("brier", "Brier score, pooled (lower is better)", False),
-            ("ece", "ECE (10 bins), pooled (lower is better)", False),
-        ):
-            parts += [f"**{title}**", ""]
-            parts += _metric_table(report, protocol, key, higher)
-            parts.append("")
-            if key == "ece" and rows:
-                mean, p95 = uniform_ece_floor(rows[0]["n_test"], report["options"]["ece_bins"])
-                parts += [
-                    f"ECE noise floor on {rows[0]['n_test']} rows: a perfectly calibrated predictor whose "
-                    f"predictions spread evenly over (0, 1) scores {mean:.3f} on average (95th percentile "
-                    f"{p95:.3f}); each entry's own floor, for its own predictions, is `ece_noise_floor` in the "
-                    "JSON.",
-                    "",
-                ]
-        parts.append(f"![learning curves]({{name}}_{protocol}_curves.png)")
-        parts.append("")
+        table_i = _fill(
+            "table_i.md",
+            rows=_lines(
+                f"| {e} | {_fmt(by.get((e, 'lgbm')), 'auc')} | {_fmt(by.get((e, 'eps-knn')), 'auc')} |"
+                for e in report["embedders"]
+            ),
+            best_estimator=PAPER_TABLE_I["best_estimator"],
+            best_auc=f"{PAPER_TABLE_I['best_auc']:.2f}",
+        )
     robot = _robot_table(report)
-    if robot:
-        parts += [
-            "## ε-greedy: the belief and the robot (Algorithm 1's 80-row training prefix, summed over datasets)",
-            "",
-            "The ε-X belief is X fitted on the labels the ε-greedy robot collected; the greedy robot is X with "
-            "ε = 0 on the same stream (it learns only from what it attempted). Regret = failures + help "
-            "requests for actions that would have succeeded.",
-            "",
-            *robot,
-            "",
-        ]
-    parts += [
-        "## Datasets",
-        "",
-        "| dataset | rows | success | products | families | novel test rows | context |",
-    ]
-    parts.append("|---|---|---|---|---|---|---|")
-    for d in report["datasets"]:
-        parts.append(
+    return _fill(
+        "page.md",
+        data=report["data"],
+        n_datasets=len(report["datasets"]),
+        embedders=", ".join(report["embedders"]),
+        skipped=f" (skipped: {', '.join(report['embedders_skipped'])})"
+        if report["embedders_skipped"]
+        else "",
+        n_train=opts["n_train"],
+        lofo_n_train=opts["lofo_n_train"],
+        n_test=opts["n_test"],
+        shuffles=opts["shuffles"],
+        seed=opts["seed"],
+        epsilon0=opts["epsilon0"],
+        half_life=opts["half_life"],
+        refit_every=opts["refit_every"],
+        wall=f"{timing['total']:.0f}",
+        workers=timing["workers"],
+        targets=_lines(targets),
+        ceiling=""
+        if ceiling is None
+        else _fill("ceiling.md", oracle=ORACLE, auc=f"{_ms(ceiling):.3f}", estimator=ceiling["estimator"]),
+        table_i=table_i,
+        protocols="".join(_protocol_section(report, protocol, name) for protocol in report["protocols"]),
+        robot=_fill("robot.md", rows=_lines(robot)) if robot else "",
+        datasets=_lines(
             f"| {d['name']} | {d['rows']} | {d['success_rate']} | {d['distinct_products']} | {d['families']} | "
             f"{d.get('novel_test_rows', '–')} | {d['context_coverage']:.2f} |"
-        )
-    parts += ["", "![reliability]({name}_reliability.png)", ""]
-    return "\n".join(parts).replace("{name}", name)
+            for d in report["datasets"]
+        ),
+        name=name,
+    )
+
+
+def _protocol_section(report: dict[str, Any], protocol: str, name: str) -> str:
+    """One protocol: its AUC table, then one table per metric of report.yaml (ECE with its noise floor)."""
+    rows = report["protocols"][protocol]
+    metrics = ""
+    for metric in report_data()["metrics"]:
+        floor = ""
+        if metric["key"] == "ece" and rows:
+            mean, p95 = uniform_ece_floor(rows[0]["n_test"], report["options"]["ece_bins"])
+            floor = _fill("ece_floor.md", n_test=rows[0]["n_test"], mean=f"{mean:.3f}", p95=f"{p95:.3f}")
+        table = _metric_table(report, protocol, metric["key"], metric["higher"])
+        metrics += _fill("metric.md", title=metric["title"], table=table, floor=floor)
+    return _fill(
+        "protocol.md",
+        title=_PROTOCOL_TITLES.get(protocol, protocol),
+        auc_table=_metric_table(report, protocol, "auc", True),
+        pooled=_fill("pooled.md", n_test=rows[0]["n_test"]) if rows else "",
+        metrics=metrics,
+        name=name,
+        protocol=protocol,
+    )
 
 
 # ----------------------------------------------------------------------------------------------- figures
