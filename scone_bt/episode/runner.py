@@ -178,10 +178,11 @@ class EpisodeHook(Protocol):
     """A test rig's view of the episode (`scone_bt.scenario`): set the world up, then act between control ticks.
 
     ``attach`` is called once, after the products are stocked, the human is built and the backend is set up
-    (the simulated robot's cameras and motion system built), before the tree's first tick. ``after_tick`` is called after every control tick
-    (the world advanced by ``tick_period`` and the human acted), with the number of control ticks so far; it may
-    change the world (through ``world``, `scone_bt.robot.rig.World`) and send events to ``events``. Both run on the episode's
-    thread, between ticks, so a seeded episode with a hook still repeats exactly.
+    (the simulated robot's cameras and motion system built), before the tree's first tick. ``after_tick`` is
+    called after every control tick (the world advanced by ``tick_period`` and the human acted), with the number
+    of control ticks so far; it may change the world (through ``world``, `scone_bt.robot.rig.World`) and send
+    events to ``events``. Both run on the episode's thread, between ticks, so a seeded episode with a hook still
+    repeats exactly.
     """
 
     def attach(self, world: World, robot: Robot, human: Any, events: EventSink) -> None: ...
@@ -506,7 +507,7 @@ def run_episode(
     first_decision: list[float] = []
     plan = _plan(options)
     factory = backend or backend_factory(options.backend)
-    body = factory(
+    built = factory(
         BackendRequest(
             plan.kitchen, plan.robot, plan.robot_seeds.generator(SeedStage.PERCEPTION), gui=options.gui
         )
@@ -525,7 +526,7 @@ def run_episode(
             first_decision.append(time.perf_counter() - started)
 
     resources = EpisodeResources(
-        body.robot,
+        built.robot,
         plan.behaviour,
         plan.behaviour.robot_id or plan.robot.name,
         plan.robot.name,
@@ -535,18 +536,18 @@ def run_episode(
         gripper_opening_m=plan.robot.gripper.opening_m,
     )
     with resources:
-        scene = body.scene
+        scene = built.scene
         if recording and scene is None:
             raise ConfigError(
                 "this robot backend has no scene to draw: it cannot be recorded (--save, --viewer)"
             )
         sinks = (timing, *((on_event,) if on_event is not None else ()))
-        ep = _build(options, plan, body, resources, say, sinks, human_factory, hook, clock)
+        ep = _build(options, plan, built, resources, say, sinks, human_factory, hook, clock)
         try:
             ep.tree.setup(timeout=120)
             recorder = _make_recorder(options)
             recorder.log_static_scene(scene)
-            log_tick = _tick_logger(recorder, scene, ep, lines) if recording else None
+            log_tick = _tick_logger(recorder, scene, ep, lines) if recording and scene is not None else None
             clock.add(LoopPart.STARTUP, time.perf_counter() - started, time.thread_time() - started_cpu)
             ticks, control_ticks = _loop(ep, options, clock, hook, realtime, log_tick)
             summary = _summarise(
