@@ -40,8 +40,8 @@ def run(paths: list[str], jobs: int, out_dir: Path | None) -> dict[str, Any]:
 
 
 def _main(args: argparse.Namespace) -> int:
-    from scone_bt.cli.bench import emit_report
     from scone_bt.errors import SconeError
+    from scone_bt.reporting import emit_report
 
     if args.jobs < 1:
         raise SconeError(f"--jobs {args.jobs}: give 1 or more")

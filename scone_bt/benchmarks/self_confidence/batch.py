@@ -182,9 +182,9 @@ def _write_log(out: Path, argv: Sequence[str], summary: dict[str, Any]) -> None:
 def run_generate(args: argparse.Namespace) -> int:
     """Run the executions `args` asks for; print (and with --json write) the summary. 0 when every profile is
     complete, 1 when stopped early (--max-minutes)."""
-    from scone_bt.cli.bench import emit_report
     from scone_bt.config import load_kitchen, load_robot
     from scone_bt.distributed import engine_from_args, imap_tasks, start_engine
+    from scone_bt.reporting import emit_report
 
     if args.executions < 1:
         raise ConfigError(f"--executions {args.executions}: must be at least 1")

@@ -462,8 +462,8 @@ def run_evaluate(args: argparse.Namespace) -> int:
         plot_reliability,
         write_json,
     )
-    from scone_bt.cli.bench import emit_report
     from scone_bt.distributed import engine_from_args, map_tasks
+    from scone_bt.reporting import emit_report
 
     def log(msg: str) -> None:
         print(msg, file=sys.stderr, flush=True)

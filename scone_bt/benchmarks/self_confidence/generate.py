@@ -154,7 +154,8 @@ _WORKER = _Worker()
 
 def _motion_system(kitchen: Any, robot: RobotConfig) -> Any:
     """A MotionSystem for this kitchen: the worker's Pinocchio model and the robot file's grasp settings."""
-    from scone_bt.motion import ExecutionSettings, GraspParams, MotionSystem, PlannerOptions, limits_of
+    from scone_bt.config.grasp import GraspParams
+    from scone_bt.motion import ExecutionSettings, MotionSystem, PlannerOptions, limits_of
 
     p = robot.planner
     options = PlannerOptions(

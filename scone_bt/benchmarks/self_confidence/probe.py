@@ -350,10 +350,10 @@ def run_probe(args: argparse.Namespace) -> int:
     """The ``sc probe`` handler (see the module docstring)."""
     from scone_bt.affordances.types import action_text
     from scone_bt.benchmarks.self_confidence.report import write_json
-    from scone_bt.cli.bench import emit_report
     from scone_bt.confidence import ESTIMATORS
     from scone_bt.embedding import load_embedder
     from scone_bt.errors import ModelUnavailableError, UnknownNameError
+    from scone_bt.reporting import emit_report
 
     def log(msg: str) -> None:
         print(msg, file=sys.stderr, flush=True)
