@@ -344,8 +344,6 @@ class EpisodeStats:
         steps_done: Recipe steps the human finished.
         failures_by_stage: FailureStage value → failures.
         failures_by_action: Action text → failures.
-        gated_attempts: Labelled attempts the gate chose on κ̂ (not exploration): what the failure budget counts.
-        gated_failures: Failures among them.
         explored_failures: Failed exploratory attempts (ε-greedy or the budget's exploration).
         exploring: The last decision was an exploratory ACT (its outcome is counted as explored).
     """
@@ -364,8 +362,6 @@ class EpisodeStats:
     steps_done: int = 0
     failures_by_stage: Mapping[str, int] = field(default_factory=dict)
     failures_by_action: Mapping[str, int] = field(default_factory=dict)
-    gated_attempts: int = 0
-    gated_failures: int = 0
     explored_failures: int = 0
     exploring: bool = False
 
@@ -398,12 +394,6 @@ def fold(stats: EpisodeStats, event: Event) -> EpisodeStats:
     if isinstance(event, ActOutcome):
         if stats.exploring:
             stats = replace(stats, explored_failures=stats.explored_failures + (not event.success))
-        else:
-            stats = replace(
-                stats,
-                gated_attempts=stats.gated_attempts + 1,
-                gated_failures=stats.gated_failures + (not event.success),
-            )
         if event.success:
             return replace(stats, successes=stats.successes + 1)
         stage = event.stage or "place"
@@ -449,6 +439,6 @@ class EventLog:
         return self.stats.failures_by_action.get(action, 0)
 
     def budget_counts(self) -> tuple[int, int, int]:
-        """(gated attempts, their failures, failed explorations) so far: what the failure budget reads."""
+        """(labelled attempts, their failures, failed explorations) so far: what the failure budget reads."""
         s = self.stats
-        return s.gated_attempts, s.gated_failures, s.explored_failures
+        return s.successes + s.failures, s.failures, s.explored_failures

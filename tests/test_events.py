@@ -115,22 +115,21 @@ def test_summary_is_the_fold_of_the_events() -> None:
         steps_done=1,
         failures_by_stage={"grasp": 1},
         failures_by_action={"Put salt on table": 1},
-        gated_attempts=1,
-        gated_failures=1,
     )
     assert stats.attempted == stats.successes + stats.failures + stats.cancelled
 
 
-def test_an_explored_attempt_is_counted_apart_from_the_budgets_attempts() -> None:
+def test_an_explored_attempt_counts_in_the_budget_and_apart_as_an_exploration() -> None:
     explored = DecisionMade(
         0.5, 1, "Add salt.", "Put salt on table", 0.6, 0.3, DecisionKind.ACT, "now", (), "salt", explored=True
     )
     stats = summarise([explored, ActOutcome(9.0, "Put salt on table", "salt", False, "grasp")])
-    assert (stats.gated_attempts, stats.gated_failures, stats.explored_failures) == (0, 0, 1)
+    assert (stats.failures, stats.explored_failures) == (1, 1)
     log = EventLog()
     for event in (*EPISODE, explored, ActOutcome(20.0, "Put salt on table", "salt", False, "grasp")):
         log(event)
-    assert log.budget_counts() == (1, 1, 1)
+    # EPISODE's failed attempt and the exploratory one: the promise covers every labelled attempt
+    assert log.budget_counts() == (2, 2, 1)
 
 
 def test_the_event_log_folds_as_it_goes_and_passes_events_on() -> None:

@@ -119,7 +119,7 @@ class AttemptHistory(Protocol):
     def failures_of(self, action: str) -> int: ...
 
     def budget_counts(self) -> tuple[int, int, int]:
-        """(attempts the gate chose on κ̂, their failures, failed explorations) so far."""
+        """(labelled attempts, exploratory ones included, their failures, failed explorations) so far."""
         ...
 
 

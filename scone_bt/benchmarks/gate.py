@@ -40,7 +40,7 @@ from typing import Any
 
 import numpy as np
 
-from scone_bt.cli.bench import emit_report
+from scone_bt.reporting import emit_report
 from scone_bt.experience.types import CONTEXT_FIELDS
 
 __all__ = ["register", "StreamResult", "replay_stream", "TARGETS"]
@@ -168,8 +168,8 @@ def replay_stream(
             if not ok:
                 failed.add(products[t])
             counts = BudgetCounts(
-                attempts=counts.attempts + (not explored),
-                failures=counts.failures + (not explored and not ok),
+                attempts=counts.attempts + 1,
+                failures=counts.failures + (not ok),
                 explored_failures=counts.explored_failures + (explored and not ok),
                 learnt=est.n_observations,
             )

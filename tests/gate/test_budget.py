@@ -83,11 +83,11 @@ def test_a_failure_raises_tau_by_step_times_one_minus_alpha_and_a_success_lowers
 @pytest.mark.parametrize(
     ("alpha", "tau_min", "tau_max", "tau0"),
     [
-        (0.1, 0.5, 0.95, 0.8),  # 1 − 2α
-        (0.15, 0.5, 0.95, 0.7),  # the tree's default
-        (0.3, 0.5, 0.95, 0.5),  # 1 − 2α = 0.4 below τ_min
-        (0.01, 0.5, 0.95, 0.95),  # 1 − 2α = 0.98 above τ_max
-        (0.3, 0.2, 0.9, 0.4),
+        (0.1, 0.5, 0.95, 0.7),  # 1 − 3α
+        (0.15, 0.2, 0.95, 0.55),  # the tree's default
+        (0.3, 0.5, 0.95, 0.5),  # 1 − 3α = 0.1 below τ_min
+        (0.01, 0.5, 0.95, 0.95),  # 1 − 3α = 0.97 above τ_max
+        (0.2, 0.2, 0.9, 0.4),
     ],
 )
 def test_initial_threshold(alpha: float, tau_min: float, tau_max: float, tau0: float) -> None:
@@ -100,13 +100,15 @@ def test_threshold_is_clipped_to_its_bounds() -> None:
     options = BudgetOptions(target_failure_rate=0.1, step=0.01, tau_min=0.55, tau_max=0.9)
     assert threshold(options, BudgetCounts(attempts=100, failures=100)) == 0.9
     assert threshold(options, BudgetCounts(attempts=1000, failures=0)) == 0.55
-    # just inside: 0.8 + 0.01 · (10 − 0.1 · 100) = 0.8
-    assert threshold(options, BudgetCounts(attempts=100, failures=10)) == pytest.approx(0.8)
+    # just inside: 0.7 + 0.01 · (10 − 0.1 · 100) = 0.7
+    assert threshold(options, BudgetCounts(attempts=100, failures=10)) == pytest.approx(0.7)
 
 
-def test_explored_failures_and_learnt_outcomes_do_not_move_tau() -> None:
+def test_learnt_outcomes_do_not_move_tau_and_attempts_count_whatever_chose_them() -> None:
     options = BudgetOptions()
     assert threshold(options, BudgetCounts(explored_failures=5, learnt=50)) == initial_threshold(options)
+    # an exploratory failure is counted in `failures` like any other: the promise covers every attempt
+    assert threshold(options, BudgetCounts(attempts=1, failures=1, explored_failures=1)) > initial_threshold(options)
 
 
 def test_may_explore_stops_at_explore_until_learnt_outcomes() -> None:
@@ -135,7 +137,7 @@ def test_may_explore_stops_at_explore_failures_failed_explorations() -> None:
         ("step", float("inf")),
         ("tau_min", -0.1),
         ("tau_min", 1.0),
-        ("tau_max", 0.5),  # not above the default tau_min
+        ("tau_max", 0.2),  # not above the default tau_min
         ("tau_max", 1.01),
         ("explore_rate", -0.1),
         ("explore_rate", 1.1),
