@@ -40,8 +40,8 @@ from typing import Any
 
 import numpy as np
 
-from scone_bt.reporting import emit_report
 from scone_bt.experience.types import CONTEXT_FIELDS
+from scone_bt.reporting import emit_report
 
 __all__ = ["register", "StreamResult", "replay_stream", "TARGETS"]
 

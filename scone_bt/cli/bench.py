@@ -19,9 +19,8 @@ from pathlib import Path
 
 from scone_bt.checks import check_output_file
 from scone_bt.errors import SconeError
-from scone_bt.reporting import emit_report  # still re-exported for benchmarks/gate.py (owned elsewhere)
 
-__all__ = ["main", "emit_report", "check_report_path", "BENCHMARK_MODULES"]
+__all__ = ["main", "check_report_path", "BENCHMARK_MODULES"]
 
 # One line per benchmark module; its register() adds the subcommands.
 BENCHMARK_MODULES: tuple[str, ...] = (

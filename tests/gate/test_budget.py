@@ -108,7 +108,9 @@ def test_learnt_outcomes_do_not_move_tau_and_attempts_count_whatever_chose_them(
     options = BudgetOptions()
     assert threshold(options, BudgetCounts(explored_failures=5, learnt=50)) == initial_threshold(options)
     # an exploratory failure is counted in `failures` like any other: the promise covers every attempt
-    assert threshold(options, BudgetCounts(attempts=1, failures=1, explored_failures=1)) > initial_threshold(options)
+    assert threshold(options, BudgetCounts(attempts=1, failures=1, explored_failures=1)) > initial_threshold(
+        options
+    )
 
 
 def test_may_explore_stops_at_explore_until_learnt_outcomes() -> None:
