@@ -307,8 +307,8 @@ def _method(
 
 
 def _tree_defaults() -> tuple[str, float]:
+    from scone_bt.config.tree_parameters import TreeParameters
     from scone_bt.tree import load_tree_spec
-    from scone_bt.tree.parameters import TreeParameters
 
     params = TreeParameters.model_validate(load_tree_spec("assistive_cooking").parameters)
     return params.estimator, params.target_failure_rate

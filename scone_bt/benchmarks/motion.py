@@ -79,7 +79,8 @@ _WORKER: dict[str, Any] = {}
 
 def _setup(kitchen: str, arm_name: str) -> dict[str, Any]:
     from scone_bt.config import load_kitchen, load_robot
-    from scone_bt.motion import ArmModel, GraspParams
+    from scone_bt.config.grasp import GraspParams
+    from scone_bt.motion import ArmModel
     from scone_bt.motion.planner import PlannerOptions
 
     key = f"{kitchen}|{arm_name}"

@@ -47,13 +47,13 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from scone_bt.config import load_kitchen, load_robot
+    from scone_bt.config.stocking import plan_stocking
     from scone_bt.errors import ConfigError
     from scone_bt.perception import Camera, Detector
     from scone_bt.perception.evaluation import ground_truth, score_frame, summarise
     from scone_bt.perception.observe import merge_detections
     from scone_bt.quiet import c_stdout_silenced
     from scone_bt.world import Kitchen
-    from scone_bt.world.stocking import plan_stocking
 
     kitchen_cfg = load_kitchen(args.kitchen, args.catalogue or ())
     robot_cfg = load_robot(args.robot)

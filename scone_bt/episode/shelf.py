@@ -21,10 +21,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from scone_bt.config import Catalogue, SceneSpec
+from scone_bt.config.stocking import fits_side_by_side, lane_width, plan_stocking
 from scone_bt.errors import ConfigError
 from scone_bt.recipes import Recipe, StockedRecipe, stock_recipe
 from scone_bt.recipes.stocking import ProductIndex
-from scone_bt.world.stocking import fits_side_by_side, lane_width, plan_stocking
 
 __all__ = ["ShelfStock", "max_distractors", "stock_shelf"]
 

@@ -5,7 +5,7 @@ Heavy backends (pinocchio, coal, ompl, ruckig, pybullet) are imported inside the
 
 from scone_bt.motion.collision import CollisionWorld, HandModel, Obstacle
 from scone_bt.motion.execution import ExecutionSettings
-from scone_bt.motion.grasp import GraspCandidate, GraspFamily, GraspParams, grasp_candidates, place_pose
+from scone_bt.motion.grasp import GraspCandidate, GraspFamily, grasp_candidates, place_pose
 from scone_bt.motion.model import ArmModel, IKOptions, IKSolution
 from scone_bt.motion.pick_place import PickPlaceFailure, PickPlacePlan, PickPlaceRequest, plan_pick_and_place
 from scone_bt.motion.placement import (
@@ -16,7 +16,7 @@ from scone_bt.motion.placement import (
     TableRegion,
     sample_placements,
 )
-from scone_bt.motion.planner import PLANNERS, PlannerOptions, plan_joint_path
+from scone_bt.motion.planner import PlannerOptions, plan_joint_path
 from scone_bt.motion.system import MotionSystem, PickAndPlace
 from scone_bt.motion.timing import KinematicLimits, limits_of, time_path
 from scone_bt.motion.types import (
@@ -31,7 +31,6 @@ from scone_bt.motion.types import (
 )
 
 __all__ = [
-    "PLANNERS",
     "ArmModel",
     "CollisionWorld",
     "ExecutionSettings",
@@ -39,7 +38,6 @@ __all__ = [
     "Footprint",
     "GraspCandidate",
     "GraspFamily",
-    "GraspParams",
     "HandModel",
     "IKOptions",
     "IKSolution",

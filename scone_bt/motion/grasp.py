@@ -49,7 +49,6 @@ from scone_bt.perception.types import Detection
 __all__ = [
     "GraspFamily",
     "GraspCandidate",
-    "GraspParams",
     "grasp_candidates",
     "top_down_rotation",
     "side_rotation",

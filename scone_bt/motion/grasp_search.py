@@ -18,8 +18,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from scone_bt.config.grasp import GraspParams
 from scone_bt.motion.collision import CollisionWorld, HandModel
-from scone_bt.motion.grasp import GraspCandidate, GraspParams, grasp_candidates, lifted
+from scone_bt.motion.grasp import GraspCandidate, grasp_candidates, lifted
 from scone_bt.motion.pick_request import PickScene
 from scone_bt.motion.plan_session import (
     LINE_MIN_TOLERANCE,

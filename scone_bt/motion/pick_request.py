@@ -7,8 +7,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from scone_bt.config import ObjectSpec
+from scone_bt.config.grasp import GraspParams
 from scone_bt.motion.collision import Obstacle
-from scone_bt.motion.grasp import GraspParams, object_pose
+from scone_bt.motion.grasp import object_pose
 from scone_bt.motion.model import ArmModel
 from scone_bt.motion.placement import PlacementOptions, TableRegion
 from scone_bt.perception.types import Detection

@@ -22,7 +22,7 @@ from scone_bt.motion.types import PlanResult, PlanStatus
 
 _ROBOT_FILE = PlannerSpec()  # what a robot file states is defaulted there, once
 
-__all__ = ["PlannerOptions", "PLANNERS", "plan_joint_path", "silence_ompl"]
+__all__ = ["PlannerOptions", "plan_joint_path", "silence_ompl"]
 
 _LOCK = threading.Lock()
 

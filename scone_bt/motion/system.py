@@ -29,10 +29,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from scone_bt.config import ObjectSpec, RobotConfig
+from scone_bt.config.grasp import PLANNERS, GraspParams
 from scone_bt.errors import UnknownNameError
 from scone_bt.motion.collision import Obstacle
 from scone_bt.motion.execution import ExecutionSettings, PickPlaceController
-from scone_bt.motion.grasp import GraspParams
 from scone_bt.motion.model import ArmModel, pose_matrix
 from scone_bt.motion.pick_place import (
     PickPlaceFailure,
@@ -44,7 +44,7 @@ from scone_bt.motion.pick_place import (
     plan_pick_and_place,
 )
 from scone_bt.motion.placement import PlacementOptions, TableRegion
-from scone_bt.motion.planner import PLANNERS, PlannerOptions, silence_ompl
+from scone_bt.motion.planner import PlannerOptions, silence_ompl
 from scone_bt.motion.timing import KinematicLimits, limits_of
 from scone_bt.motion.types import FailureStage, MotionOutcome, MotionPhase, MotionProgress
 from scone_bt.perception.types import Detection

@@ -92,7 +92,7 @@ class WorldSection(StrictModel):
     @field_validator("parameters")
     @classmethod
     def _parameters(cls, value: dict[str, Any]) -> dict[str, Any]:
-        from scone_bt.tree.parameters import TreeParameters
+        from scone_bt.config.tree_parameters import TreeParameters
 
         try:
             TreeParameters(**value)

@@ -264,9 +264,9 @@ def episode_options(
 ) -> Any:
     """The `EpisodeOptions` of a case (paths relative to the scenario file resolved)."""
     from scone_bt.behaviours import BehaviourOptions
+    from scone_bt.config.tree_parameters import PARAMETER_NAMES
     from scone_bt.episode import EpisodeOptions
     from scone_bt.human import ClarifyAnswer, HelpAnswer, HumanOptions
-    from scone_bt.tree.parameters import PARAMETER_NAMES
 
     w, base = case.spec.world, case.base
     params = {k: v for k, v in w.parameters.items() if k in PARAMETER_NAMES}

@@ -1,7 +1,6 @@
 """The simulated kitchen (PyBullet adapter): static scene, the arm, the catalogue's objects, and the clock.
 
-`Kitchen` is imported on first use, so the pure geometry beside it (`world.stocking`) loads without the
-simulator's code.
+`Kitchen` is imported on first use, so a submodule (`world.visuals`) loads without the whole kitchen.
 """
 
 from typing import TYPE_CHECKING, Any

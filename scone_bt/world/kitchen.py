@@ -16,9 +16,9 @@ import numpy as np
 
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
 from scone_bt.config.catalogue import Shape
+from scone_bt.config.stocking import plan_stocking
 from scone_bt.errors import ConfigError, UnknownNameError
 from scone_bt.quiet import c_stdout_silenced
-from scone_bt.world.stocking import plan_stocking
 from scone_bt.world.visuals import create_object_visual
 
 __all__ = ["Kitchen", "ObjectState", "StaticBox", "Controller"]

@@ -21,10 +21,11 @@ from tests.episode.fake_backend import FakeScript, fake_backend
 ROOT = Path(__file__).resolve().parents[2]
 
 # What only the simulated backend may load: a fake episode that loads any of them is welded to the simulator.
-# (world.stocking, the shelf's pure geometry, is not one of them: the episode plans the shelf with it.)
+# (The shelf's pure stocking geometry, which the episode plans with, is config.stocking.)
 SIMULATOR_MODULES = (
     "pybullet",
     "pybullet_utils",
+    "scone_bt.world",
     "scone_bt.world.kitchen",
     "scone_bt.world.visuals",
     "scone_bt.robot.sim",

@@ -28,7 +28,7 @@ def test_the_quoted_maximum_stands_on_the_shelf_and_one_more_is_refused(kitchen_
 
 
 def test_counts_near_the_maximum_are_stocked_whatever_the_seed(kitchen_cfg) -> None:
-    from scone_bt.world.stocking import plan_stocking
+    from scone_bt.config.stocking import plan_stocking
 
     catalogue, scene = kitchen_cfg.catalogue, kitchen_cfg.scene
     recipe = load_recipe("example:pancakes")

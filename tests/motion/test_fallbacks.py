@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 
 from scone_bt.config import ObjectSpec
+from scone_bt.config.grasp import GraspParams
 from scone_bt.errors import UnknownNameError
 from scone_bt.motion import (
     FailureStage,
     GraspFamily,
-    GraspParams,
     MotionSystem,
     Obstacle,
     PickPlaceFailure,

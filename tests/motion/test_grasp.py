@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 
 from scone_bt.config import ObjectSpec
+from scone_bt.config.grasp import GraspParams
 from scone_bt.errors import ConfigError
-from scone_bt.motion import GraspFamily, GraspParams, grasp_candidates, place_pose
+from scone_bt.motion import GraspFamily, grasp_candidates, place_pose
 from scone_bt.motion.grasp import object_pose, side_rotation, top_down_rotation
 from scone_bt.perception.types import Detection
 

@@ -6,9 +6,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from scone_bt.config.footprint import footprint
 from scone_bt.perception.context import ALONE_CLEARANCE_M, execution_contexts, shelf_place, surface_below
 from scone_bt.perception.observe import Observer
-from scone_bt.world.stocking import footprint
 
 pytestmark = pytest.mark.slow
 

@@ -38,7 +38,8 @@ def _static_obstacles(kitchen_cfg, robot_cfg):
 
 def _graspable(arm, static, slot, rng) -> str:
     """'' if some grasp of the can standing on the slot is reachable and collision-free, else why not."""
-    from scone_bt.motion import CollisionWorld, GraspParams, Obstacle, grasp_candidates
+    from scone_bt.config.grasp import GraspParams
+    from scone_bt.motion import CollisionWorld, Obstacle, grasp_candidates
     from scone_bt.motion.grasp import object_pose
 
     x, y, z = slot.position

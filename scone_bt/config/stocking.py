@@ -30,7 +30,6 @@ __all__ = [
     "LANE_MIN_M",
     "FINGER_ROOM_M",
     "Placement",
-    "footprint",
     "fits_shelf",
     "fits_side_by_side",
     "lane_width",
