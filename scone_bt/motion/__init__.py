@@ -1,10 +1,13 @@
-"""Motion stage: Pinocchio arm model, OMPL planning, ruckig timing and physical pick-and-place in PyBullet.
+"""Motion stage: Pinocchio arm model, OMPL planning, ruckig timing and pick-and-place through an arm executor.
 
-Heavy backends (pinocchio, coal, ompl, ruckig, pybullet) are imported inside the adapter functions only.
+Heavy backends (pinocchio, coal, ompl, ruckig) are imported inside the adapter functions only. Execution drives the
+arm through `ArmExecutor` (`Workcell` with the cell's fixed boxes); the simulated kitchen implements it, so motion
+never imports the simulator.
 """
 
 from scone_bt.motion.collision import CollisionWorld, HandModel, Obstacle
 from scone_bt.motion.execution import ExecutionSettings
+from scone_bt.motion.executor import ArmExecutor, Workcell
 from scone_bt.motion.grasp import GraspCandidate, GraspFamily, grasp_candidates, place_pose
 from scone_bt.motion.model import ArmModel, IKOptions, IKSolution
 from scone_bt.motion.pick_place import PickPlaceFailure, PickPlacePlan, PickPlaceRequest, plan_pick_and_place
@@ -31,6 +34,7 @@ from scone_bt.motion.types import (
 )
 
 __all__ = [
+    "ArmExecutor",
     "ArmModel",
     "CollisionWorld",
     "ExecutionSettings",
@@ -60,6 +64,7 @@ __all__ = [
     "PlannerOptions",
     "TableRegion",
     "TimedTrajectory",
+    "Workcell",
     "grasp_candidates",
     "limits_of",
     "place_pose",

@@ -1,14 +1,16 @@
 """The motion stage's entry point: build the arm model once, then run non-blocking pick-and-place tasks.
 
-    system = MotionSystem.build(kitchen, robot_cfg)       # heavy: Pinocchio + coal models (once, in setup())
+    system = MotionSystem.build(cell, robot_cfg)          # heavy: Pinocchio + coal models (once, in setup())
     task = system.pick_and_place(detection, spec, obstacles, rng_seed=7, table_obstacles=seen_on_table)
     task.start()                                          # planning starts in the worker thread
     while not task.done():
-        kitchen.advance(0.1)                              # execution advances only with physics steps
+        kitchen.advance(0.1)                              # execution advances only with the cell's steps
     outcome = task.outcome()
 
-Planning (IK, OMPL, ruckig) runs in one worker thread and never calls PyBullet. Execution is a Kitchen controller
-(main thread, inside `kitchen.advance`) that holds the arm until the plan is ready, so what the arm does depends only
+The cell is a `motion.executor.Workcell`: the arm's executor and the fixed boxes of its cell (`world.Kitchen` in
+simulation). Planning (IK, OMPL, ruckig) runs in one worker thread and never touches the cell. Execution is a
+controller of the executor (main thread, inside its step: `kitchen.advance` in simulation) that holds the arm until
+the plan is ready, so what the arm does depends only
 on the seed and the physics steps: the arm holds still for a fixed simulated time (ExecutionSettings.think_s) and
 only blocks a physics step if the worker has not finished by then. `progress().is_planning` is true exactly while
 the worker computes (a caller may pause simulated time meanwhile), then the phase is READY, then the motion phases
@@ -17,14 +19,13 @@ the worker computes (a caller may pause simulated time meanwhile), then the phas
 What stands on the table comes from the caller (the table camera's detections) or, without them, from the
 robot's memory of its own placements (`MotionSystem.placed`); never from the simulator's ground truth. An
 exception in the planner (a bug, or a configuration error) is not an outcome of the attempt: it is raised from
-`kitchen.advance` and stops the run.
+the executor's step (`kitchen.advance`) and stops the run.
 """
 
 from __future__ import annotations
 
 import concurrent.futures as cf
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -33,6 +34,7 @@ from scone_bt.config.grasp import PLANNERS, GraspParams
 from scone_bt.errors import UnknownNameError
 from scone_bt.motion.collision import Obstacle
 from scone_bt.motion.execution import ExecutionSettings, PickPlaceController
+from scone_bt.motion.executor import Workcell
 from scone_bt.motion.model import ArmModel, pose_matrix
 from scone_bt.motion.pick_place import (
     PickPlaceFailure,
@@ -49,22 +51,19 @@ from scone_bt.motion.timing import KinematicLimits, limits_of
 from scone_bt.motion.types import FailureStage, MotionOutcome, MotionPhase, MotionProgress
 from scone_bt.perception.types import Detection
 
-if TYPE_CHECKING:
-    from scone_bt.world import Kitchen
-
 __all__ = ["MotionSystem", "PickAndPlace"]
 
 
 class MotionSystem:
-    """The arm model, the static collision scene and the planning worker of one Kitchen.
+    """The arm model, the static collision scene and the planning worker of one cell (`Workcell`).
 
-    Build with `MotionSystem.build(kitchen, robot_cfg)`; call `close()` (or use it as a context manager) to stop the
+    Build with `MotionSystem.build(cell, robot_cfg)`; call `close()` (or use it as a context manager) to stop the
     worker thread.
     """
 
     def __init__(
         self,
-        kitchen: Kitchen,
+        cell: Workcell,
         arm: ArmModel,
         planner: PlannerOptions,
         limits: KinematicLimits,
@@ -73,16 +72,16 @@ class MotionSystem:
         robot: RobotConfig | None = None,
         placement: PlacementOptions | None = None,
     ) -> None:
-        self.kitchen = kitchen
+        self.cell = cell
         self.arm = arm
-        # The robot in the kitchen (its gripper and control settings may differ from the file the model came from).
-        self.robot = robot or kitchen.robot_config
+        # The robot in the cell (its gripper and control settings may differ from the file the model came from).
+        self.robot = robot or cell.robot_config
         self.planner = planner
         self.limits = limits
         self.params = params
         self.settings = settings
         self.placement = placement or PlacementOptions()
-        self.table = TableRegion.from_scene(kitchen.config.scene)
+        self.table = TableRegion.from_scene(cell.config.scene)
         self.static = self._static_obstacles()
         self._worker = cf.ThreadPoolExecutor(max_workers=1, thread_name_prefix="scone-motion")
         self._active: PickAndPlace | None = None
@@ -94,26 +93,26 @@ class MotionSystem:
     @classmethod
     def build(
         cls,
-        kitchen: Kitchen,
+        cell: Workcell,
         robot: RobotConfig | None = None,
         *,
         planner: PlannerOptions | None = None,
         params: GraspParams | None = None,
         settings: ExecutionSettings | None = None,
     ) -> MotionSystem:
-        """Load the arm's Pinocchio and collision models (robot defaults to the kitchen's robot).
+        """Load the arm's Pinocchio and collision models (robot defaults to the cell's robot).
 
         Grasp settings come from the robot file's `grasp:` section. Raises SconeError for a configuration error
         (unknown planner, bad grasp setting) before the robot acts.
         """
         silence_ompl()
-        robot = robot or kitchen.robot_config
+        robot = robot or cell.robot_config
         p = robot.planner
         if planner is not None and planner.name not in PLANNERS:
             raise UnknownNameError("planner", planner.name, PLANNERS)
         options = planner or PlannerOptions.of(p)
         return cls(
-            kitchen,
+            cell,
             ArmModel(robot),
             options,
             limits_of(robot),
@@ -124,10 +123,9 @@ class MotionSystem:
 
     def _static_obstacles(self) -> tuple[Obstacle, ...]:
         out = [
-            Obstacle(b.name, "box", b.size, pose_matrix(np.eye(3), b.center))
-            for b in self.kitchen.static_boxes
+            Obstacle(b.name, "box", b.size, pose_matrix(np.eye(3), b.center)) for b in self.cell.static_boxes
         ]
-        floor = self.kitchen.config.scene.floor_z
+        floor = self.cell.config.scene.floor_z
         out.append(
             Obstacle("floor", "box", (4.0, 4.0, 0.02), pose_matrix(np.eye(3), (0.0, 0.0, floor - 0.01)))
         )
@@ -177,7 +175,7 @@ class MotionSystem:
 
 
 class PickAndPlace:
-    """One non-blocking pick-and-place: `start()`, then poll `done()` while the kitchen advances."""
+    """One non-blocking pick-and-place: `start()`, then poll `done()` while the cell steps."""
 
     def __init__(
         self,
@@ -207,8 +205,7 @@ class PickAndPlace:
         if self._future is not None or self._outcome is not None:
             return
         sys_ = self.system
-        kitchen = sys_.kitchen
-        self._q_start = q_start = kitchen.arm_joint_positions()
+        self._q_start = q_start = sys_.cell.arm_joint_positions()
         seen = {d.name for d, _ in self.obstacles} | {self.target.name}
         on_table: dict[str, Obstacle] = {}
         if self.table_obstacles is not None:
@@ -244,13 +241,13 @@ class PickAndPlace:
         if self._controller is not None or self._outcome is not None:
             return
         sys_ = self.system
-        kitchen = sys_.kitchen
+        cell = sys_.cell
         if sys_._active is not None and not sys_._active.done():
             sys_._active._abandon()
         sys_._active = self
         self.submit_plan()
         self._controller = PickPlaceController(
-            kitchen,
+            cell,
             self.target.name,
             self._q_start,
             self._poll_plan,
@@ -258,7 +255,7 @@ class PickAndPlace:
             sys_.settings,
             self._remember,
         )
-        kitchen.add_controller(self._controller)
+        cell.add_controller(self._controller)
 
     def _poll_plan(self, block: bool) -> object | None:
         fut = self._future
@@ -291,7 +288,7 @@ class PickAndPlace:
         def poll(block: bool) -> tuple[bool, Segment | None]:
             if not block and not fut.done():
                 return False, None
-            return True, fut.result()  # a planner exception is an error, raised into kitchen.advance
+            return True, fut.result()  # a planner exception is an error, raised into the cell's step
 
         return poll
 
@@ -312,7 +309,7 @@ class PickAndPlace:
         if c is not None and not c.finished:
             c.fail(FailureStage.CANCELLED, "superseded by another motion")
             c.finished = True
-            self.system.kitchen.remove_controller(c)
+            self.system.cell.remove_controller(c)
 
     # ------------------------------------------------------------------------------------- polling
     def is_planning(self) -> bool:
@@ -392,7 +389,7 @@ class PickAndPlace:
         if c.error is not None:
             raise c.error  # planning broke (a bug or a configuration error): there is no outcome to record
         start = c.exec_start if c.exec_start is not None else c.start_time
-        end = c.end_time if c.end_time is not None else self.system.kitchen.sim_time
+        end = c.end_time if c.end_time is not None else self.system.cell.sim_time
         ee = c.plan.ee_path(self.system.arm) if c.plan is not None else None
         stage = None if c.success else (c.stage or FailureStage.PLACE)
         self._outcome = MotionOutcome(

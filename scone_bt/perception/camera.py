@@ -1,29 +1,21 @@
-"""A simulated RGB-D camera (PyBullet adapter): renders the kitchen with the CPU TinyRenderer.
+"""A fixed pinhole RGB-D camera: its model (intrinsics, pose, projection) and its frames, with the configured noise.
 
-The pinhole model is kept in OpenCV's convention (x right, y down, z forward; pixel centres at integer
-coordinates) so the detector works the same on a real camera's images.
+The images come from what the camera looks at (`perception.images.ImageSource`): the simulated kitchen renders
+them (`world.camera`, PyBullet's CPU TinyRenderer), a real camera's driver streams them. The pinhole model is kept
+in OpenCV's convention (x right, y down, z forward; pixel centres at integer coordinates) so the detector works the
+same on a real camera's images.
 """
 
 from __future__ import annotations
-
-from collections.abc import Sequence
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from scone_bt.config import CameraSpec
 from scone_bt.errors import ConfigError
+from scone_bt.perception.images import ImageSource
 from scone_bt.perception.types import Frame
 
-if TYPE_CHECKING:
-    from scone_bt.world import Kitchen
-
-__all__ = ["Camera", "intrinsics", "world_from_camera", "project", "REUSE_MAX_MOVE_M", "REUSE_MAX_TURN_RAD"]
-
-REUSE_MAX_MOVE_M = 5e-4
-"""A render is reused while nothing in view moved more than this (about half a pixel at the shelf's distance)."""
-REUSE_MAX_TURN_RAD = 5e-3
-"""... nor turned more than this (0.15 mm at the edge of a 6 cm lid)."""
+__all__ = ["Camera", "intrinsics", "world_from_camera", "project"]
 
 
 def intrinsics(spec: CameraSpec) -> np.ndarray:
@@ -74,7 +66,7 @@ def _check(spec: CameraSpec) -> None:
 
 
 class Camera:
-    """A fixed pinhole RGB-D camera. Construction is cheap; `capture` renders.
+    """A fixed pinhole RGB-D camera. Construction is cheap; `capture` takes an image from what it looks at.
 
     Args:
         spec: Placement, resolution, field of view, clipping planes and noise levels (from kitchen.yaml).
@@ -85,25 +77,26 @@ class Camera:
         self.spec = spec
         self.intrinsics = intrinsics(spec)
         self.world_from_camera = world_from_camera(spec)
-        self.renders = 0
-        self.reuses = 0
-        # The last noise-free render and what it showed: while nothing in view has moved, a new render would give
-        # the same pixels, so it is reused (the noise is still drawn afresh).
-        self._cached: tuple[tuple[tuple[object, ...], np.ndarray], np.ndarray, np.ndarray] | None = None
+        self.renders = 0  # images the source made afresh for this camera
+        self.reuses = 0  # images the source handed back unchanged (nothing in view had moved)
 
-    def capture(self, kitchen: Kitchen, rng: np.random.Generator) -> Frame:
-        """Render one RGB-D frame of the kitchen with TinyRenderer (CPU only) and add the configured noise.
+    def capture(self, source: ImageSource, rng: np.random.Generator) -> Frame:
+        """One RGB-D frame: the source's noise-free image of this camera with the configured noise added.
 
-        The frame's arrays are read-only. The render is reused while no object or robot link in view has moved
-        by more than REUSE_MAX_MOVE_M or turned by more than REUSE_MAX_TURN_RAD since it was made (a fresh render
-        would differ by under half a pixel: products creep by tenths of a millimetre in PyBullet).
+        The frame's arrays are read-only; a source may hand back the very same arrays while nothing in view has
+        moved (the simulated kitchen does), and the noise is still drawn afresh.
 
         Args:
-            kitchen: The simulated world to look at.
+            source: What the camera looks at (the simulated kitchen, or a real camera's driver).
             rng: Source of the image noise (used only when noise_std or depth_noise_std is non-zero).
         """
         s = self.spec
-        rgb, depth = self._render(kitchen)
+        image = source.camera_image(self)
+        if image.fresh:
+            self.renders += 1
+        else:
+            self.reuses += 1
+        rgb, depth = image.rgb, image.depth
         if s.noise_std > 0:
             noisy = rgb.astype(np.float32) + rng.normal(0.0, s.noise_std, rgb.shape).astype(np.float32)
             rgb = np.clip(np.rint(noisy), 0, 255).astype(np.uint8)
@@ -114,92 +107,5 @@ class Camera:
             depth=depth,
             intrinsics=self.intrinsics.copy(),
             world_from_camera=self.world_from_camera.copy(),
-            sim_time=float(kitchen.sim_time),
+            sim_time=float(source.sim_time),
         )
-
-    def _sees(self, lo: Sequence[float], hi: Sequence[float]) -> bool:
-        """True if an axis-aligned box (world, metres) may show in the image (its corners' bounding rectangle)."""
-        corners = np.array(
-            [(x, y, z) for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
-        )
-        uv, depth = project(corners, self.intrinsics, self.world_from_camera)
-        if np.all(depth <= self.spec.near):
-            return False
-        if np.any(depth <= self.spec.near):
-            return True  # straddles the camera plane: assume it shows
-        return bool(
-            uv[:, 0].max() >= 0
-            and uv[:, 0].min() <= self.spec.width - 1
-            and uv[:, 1].max() >= 0
-            and uv[:, 1].min() <= self.spec.height - 1
-        )
-
-    def _view(self, kitchen: Kitchen) -> tuple[tuple[object, ...], np.ndarray]:
-        """What this camera would show: which objects and robot links have their bounding box in view, and their
-        poses as rows (x, y, z, qx, qy, qz, qw). The static scene never changes."""
-        bc = kitchen.bc
-        shown: list[object] = [kitchen.uid]
-        poses: list[list[float]] = []
-        for body in kitchen.objects.values():
-            lo, hi = bc.getAABB(body)
-            if self._sees(lo, hi):
-                pos, orn = bc.getBasePositionAndOrientation(body)
-                shown.append(body)
-                poses.append([*pos, *orn])
-        rid = kitchen.robot_id
-        links = list(range(bc.getNumJoints(rid)))
-        for link, state in zip(links, bc.getLinkStates(rid, links), strict=True):
-            lo, hi = bc.getAABB(rid, link)
-            if self._sees(lo, hi):
-                shown.append((rid, link))
-                poses.append([*state[4], *state[5]])
-        return tuple(shown), np.asarray(poses, dtype=float).reshape(-1, 7)
-
-    def _unchanged(self, view: tuple[tuple[object, ...], np.ndarray]) -> bool:
-        """True if the cached render shows the same bodies, none moved or turned beyond the reuse limits."""
-        if self._cached is None or self._cached[0][0] != view[0]:
-            return False
-        before, now = self._cached[0][1], view[1]
-        if not len(now):
-            return True
-        moved = np.abs(now[:, :3] - before[:, :3]).max()
-        # Angle between unit quaternions q1, q2: 2 acos |q1 . q2|.
-        dots = np.clip(np.abs(np.sum(now[:, 3:] * before[:, 3:], axis=1)), 0.0, 1.0)
-        turned = float(2 * np.arccos(dots).max())
-        return bool(moved <= REUSE_MAX_MOVE_M and turned <= REUSE_MAX_TURN_RAD)
-
-    def _render(self, kitchen: Kitchen) -> tuple[np.ndarray, np.ndarray]:
-        """Noise-free RGB (H, W, 3) uint8 and metric depth (H, W) float32 of the kitchen as it is now."""
-        shown = self._view(kitchen)
-        if self._cached is not None and self._unchanged(shown):
-            self.reuses += 1
-            return self._cached[1], self._cached[2]
-        import pybullet as p
-
-        s = self.spec
-        view = p.computeViewMatrix(s.position, s.target, s.up)
-        proj = p.computeProjectionMatrixFOV(s.fov_deg, s.width / s.height, s.near, s.far)
-        _, _, rgba, depth_buffer, _ = kitchen.bc.getCameraImage(
-            s.width,
-            s.height,
-            view,
-            proj,
-            renderer=p.ER_TINY_RENDERER,
-            flags=p.ER_NO_SEGMENTATION_MASK,
-            shadow=0,
-            # A soft, mostly ambient light without highlights, like a diffuse kitchen ceiling light: specular
-            # glints on white lids would otherwise bleach marker cells.
-            lightDirection=(0.3, 0.2, 1.0),
-            lightAmbientCoeff=0.6,
-            lightDiffuseCoeff=0.4,
-            lightSpecularCoeff=0.0,
-        )
-        rgb = np.ascontiguousarray(np.asarray(rgba, dtype=np.uint8).reshape(s.height, s.width, 4)[:, :, :3])
-        buffer = np.asarray(depth_buffer, dtype=np.float64).reshape(s.height, s.width)
-        # OpenGL's non-linear depth buffer to metric depth along the optical axis.
-        depth = (s.far * s.near / (s.far - (s.far - s.near) * buffer)).astype(np.float32)
-        rgb.setflags(write=False)
-        depth.setflags(write=False)
-        self._cached = (shown, rgb, depth)
-        self.renders += 1
-        return rgb, depth

@@ -9,18 +9,15 @@ from __future__ import annotations
 import time
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from scone_bt.config import Catalogue, KitchenConfig, SceneSpec
 from scone_bt.perception.camera import Camera
 from scone_bt.perception.detector import Detector, DetectorOptions
+from scone_bt.perception.images import ImageSource
 from scone_bt.perception.tracker import Tracker
 from scone_bt.perception.types import Detection, Frame
-
-if TYPE_CHECKING:
-    from scone_bt.world import Kitchen
 
 __all__ = ["Observation", "Observer", "merge_detections", "on_table", "free_place_spots"]
 
@@ -110,10 +107,11 @@ class Observer:
     def cameras(self) -> list[Camera]:
         return [*self.shelf_cameras, *([self.table_camera] if self.table_camera is not None else [])]
 
-    def observe(self, kitchen: Kitchen, rng: np.random.Generator) -> Observation:
-        """Capture every camera once (a camera re-renders only if the world changed), detect, track."""
+    def observe(self, source: ImageSource, rng: np.random.Generator) -> Observation:
+        """Capture every camera once from ``source`` (the simulated kitchen re-renders only if the world changed),
+        detect, track."""
         started, started_cpu = time.perf_counter(), time.thread_time()
-        frames = {cam.spec.name: cam.capture(kitchen, rng) for cam in self.cameras}
+        frames = {cam.spec.name: cam.capture(source, rng) for cam in self.cameras}
         shelf = [self._detect(cam.spec.name, frames[cam.spec.name]) for cam in self.shelf_cameras]
         scene, catalogue = self.config.scene, self.config.catalogue
         table: list[Detection] = []

@@ -18,7 +18,10 @@ from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
 from scone_bt.config.catalogue import Shape
 from scone_bt.config.stocking import plan_stocking
 from scone_bt.errors import ConfigError, UnknownNameError
+from scone_bt.perception.images import CameraImage, PinholeView
 from scone_bt.quiet import c_stdout_silenced
+from scone_bt.world.arm_io import ArmIO
+from scone_bt.world.camera import camera_image
 from scone_bt.world.visuals import create_object_visual
 
 __all__ = ["Kitchen", "ObjectState", "StaticBox", "Controller"]
@@ -116,6 +119,7 @@ class Kitchen:
         self.sim_time = 0.0
         self.steps = 0
         self._controllers: list[Controller] = []
+        self._arm_io: ArmIO | None = None
         self.objects: dict[str, int] = {}
         self.specs: dict[str, ObjectSpec] = {}
         self.spawn_slots: dict[str, tuple[float, float, float]] = {}
@@ -391,7 +395,7 @@ class Kitchen:
         """A body the cameras see but no product is (a cover) came or went: no camera may reuse an earlier render.
 
         A camera reuses its last render while the same products and links stand in view unmoved, keyed by
-        ``uid`` (`perception.camera.Camera`); a new ``uid`` voids every such render.
+        ``uid`` (`world.camera.camera_image`); a new ``uid`` voids every such render.
         """
         self.uid = next(_KITCHEN_IDS)
         self.state_version += 1
@@ -457,6 +461,36 @@ class Kitchen:
             forces=[f] * len(ids),
         )
         self._keep_stepping()
+
+    # ----------------------------------------------------------------------------------------- executor
+    # What executing a plan drives and senses (`motion.executor.ArmExecutor`); the PyBullet side is world.arm_io.
+    @property
+    def arm_io(self) -> ArmIO:
+        """The arm's commands and sensors (joint and link indices read on first use)."""
+        if self._arm_io is None:
+            self._arm_io = ArmIO(self)
+        return self._arm_io
+
+    def command_arm(self, q: np.ndarray, qd: np.ndarray | None = None) -> None:
+        """Position control of the arm towards q with velocity feed-forward qd (zero when None)."""
+        self.arm_io.command_arm(q, qd)
+
+    def couple_fingers(self) -> None:
+        """Keep the two fingers symmetric (a gear constraint, made once per kitchen)."""
+        self.arm_io.couple_fingers()
+
+    def held_object(self, min_force: float) -> str | None:
+        """What every finger touches with at least min_force newtons, by name, else None."""
+        return self.arm_io.held_object(min_force)
+
+    def unexpected_contact(self, allow_gripper: bool, held: str | None, min_force: float) -> str | None:
+        """'<link> hit <what>' for the first robot link pushing on something it should not touch, else None."""
+        return self.arm_io.unexpected_contact(allow_gripper, held, min_force)
+
+    # ----------------------------------------------------------------------------------------- cameras
+    def camera_image(self, camera: PinholeView) -> CameraImage:
+        """The camera's noise-free image of the kitchen now (`perception.images.ImageSource`; world.camera)."""
+        return camera_image(self, camera)
 
     def link_poses(self) -> dict[str, tuple[tuple[float, ...], tuple[float, ...]]]:
         """World pose (position, quaternion xyzw) of every robot link, by link name; the base is 'base'."""

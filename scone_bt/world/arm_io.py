@@ -1,0 +1,133 @@
+"""The simulated arm's control and sensors for execution (`motion.executor.ArmExecutor`, PyBullet adapter).
+
+What the robot can sense about itself in the simulator: joint states, finger contacts (what it holds), arm
+contacts (what it hits); and how its joints are commanded: position control with velocity feed-forward, and a gear
+constraint that keeps the two fingers symmetric. `world.Kitchen` exposes these as its executor methods. Grasp
+success comes from contacts and friction only; nothing attaches the object to the hand.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from scone_bt.world.kitchen import Kitchen
+
+__all__ = ["FINGER_COUPLING_FORCE", "ArmIO"]
+
+FINGER_COUPLING_FORCE = 50.0
+"""Largest force (N) of the coupling that keeps the two fingers symmetric (the gearing of a parallel gripper)."""
+
+
+class ArmIO:
+    """Commands and sensors of one kitchen's arm (the joint and link indices are read once).
+
+    Args:
+        kitchen: The simulated kitchen whose robot this drives.
+    """
+
+    def __init__(self, kitchen: Kitchen) -> None:
+        self.kitchen = kitchen
+        bc = kitchen.bc
+        rid = kitchen.robot_id
+        cfg = kitchen.robot_config
+        self.arm_ids = [kitchen.joint_index[n] for n in cfg.arm_joints]
+        self.finger_ids = [kitchen.joint_index[n] for n in cfg.gripper.joints]
+        # Links at or below the last arm joint's child that are not on the arm chain: hand and fingers.
+        last = self.arm_ids[-1]
+        self.gripper_links = set(self.finger_ids)
+        for j in range(bc.getNumJoints(rid)):
+            if j > last and j not in self.arm_ids:
+                self.gripper_links.add(j)
+        self._coupling: int | None = None
+
+    # ------------------------------------------------------------------------------------------ commands
+    def command_arm(self, q: np.ndarray, qd: np.ndarray | None = None) -> None:
+        """Position control towards q with velocity feed-forward qd (zero when None)."""
+        import pybullet as p
+
+        k = self.kitchen
+        ctl = k.robot_config.control
+        n = len(q)
+        k.bc.setJointMotorControlArray(
+            k.robot_id,
+            self.arm_ids,
+            p.POSITION_CONTROL,
+            targetPositions=list(map(float, q)),
+            targetVelocities=list(map(float, qd)) if qd is not None else [0.0] * n,
+            forces=[ctl.max_joint_force] * n,
+            positionGains=[ctl.position_gain] * n,
+        )
+
+    def couple_fingers(self) -> int | None:
+        """Couple the two fingers so that they move symmetrically, as a parallel gripper's gearing does; the id.
+
+        Both grippers are parallel grippers whose fingers one drive moves together (the Franka Hand through a rack,
+        the iiwa7's primitive gripper by design), but the URDFs give each finger its own joint: closed with equal
+        forces, a held object and both fingers then slide sideways together under the carry's accelerations until
+        a finger meets its limit, and a light object is shoved across while closing and released off-centre. A
+        gear constraint (PyBullet's way to model that gearing) keeps the joints equal; it is made once and kept
+        for the kitchen's life. None without exactly two fingers.
+        """
+        import pybullet as p
+
+        bc, rid = self.kitchen.bc, self.kitchen.robot_id
+        if self._coupling is not None:
+            try:
+                bc.getConstraintInfo(self._coupling)
+                return self._coupling
+            except Exception:  # noqa: BLE001 (pybullet raises a plain error for a removed constraint)
+                pass
+        if len(self.finger_ids) != 2:
+            return None
+        a, b = self.finger_ids
+        cid = bc.createConstraint(
+            rid, a, rid, b, p.JOINT_GEAR, [1.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
+        )
+        # Both finger joints open with a positive position along mirrored axes: equal joint positions are symmetric.
+        bc.changeConstraint(cid, gearRatio=-1.0, erp=0.1, maxForce=FINGER_COUPLING_FORCE)
+        self._coupling = cid
+        return cid
+
+    # ------------------------------------------------------------------------------------------ sensors
+    def held_body(self, min_force: float) -> int | None:
+        """A body touched by every finger with at least min_force newtons, else None."""
+        bc, rid = self.kitchen.bc, self.kitchen.robot_id
+        common: set[int] | None = None
+        for f in self.finger_ids:
+            bodies = {
+                c[2]
+                for c in bc.getContactPoints(bodyA=rid, linkIndexA=f)
+                if c[2] != rid and c[9] >= min_force
+            }
+            common = bodies if common is None else common & bodies
+        return min(common) if common else None
+
+    def held_object(self, min_force: float) -> str | None:
+        """The name of `held_body`."""
+        body = self.held_body(min_force)
+        return None if body is None else self.body_name(body)
+
+    def unexpected_contact(self, allow_gripper: bool, held: str | None, min_force: float) -> str | None:
+        """'<link> hit <what>' for the first robot link pushing on something it should not touch, else None."""
+        bc, rid = self.kitchen.bc, self.kitchen.robot_id
+        for c in bc.getContactPoints(bodyA=rid):
+            body, link, force = c[2], c[3], c[9]
+            if body == rid or link < 0 or force < min_force:
+                continue
+            if link in self.gripper_links and (
+                allow_gripper or (held is not None and self.body_name(body) == held)
+            ):
+                continue
+            return f"{bc.getJointInfo(rid, link)[12].decode()} hit {self.body_name(body)}"
+        return None
+
+    def body_name(self, body: int) -> str:
+        """A product's or a static box's name, 'the floor', or 'body <id>' (names are unique per body)."""
+        k = self.kitchen
+        for name, bid in (*k.objects.items(), *k.static_body_ids.items()):
+            if bid == body:
+                return name
+        return "the floor" if body == k.floor_id else f"body {body}"
