@@ -1,4 +1,5 @@
-"""PyBullet prints a build banner and its argv from C on import and connect; users should not see that."""
+"""Quiet third-party libraries; `c_stdout_silenced` hides what C code prints (PyBullet's build banner and argv on
+import and connect, which the simulated kitchen imports and connects inside it)."""
 
 from __future__ import annotations
 
@@ -54,5 +55,4 @@ def quiet_backends(loggers: tuple[str, ...] = ()) -> None:
     warnings.filterwarnings("ignore")
     for name in ("sentence_transformers", "transformers", *loggers):
         logging.getLogger(name).setLevel(logging.ERROR)
-    with c_stdout_silenced():  # PyBullet prints a build banner from C on first import
-        import pybullet  # noqa: F401
+    # PyBullet is not imported here: only the simulator backend imports it, silenced (`world.Kitchen`).

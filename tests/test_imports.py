@@ -241,3 +241,51 @@ def test_only_the_sim_backend_imports_the_simulated_world():
         "stages import the simulated world (only robot/sim.py, behind the backend registry, may):\n"
         + "\n".join(f"  {m} → {t}  ({', '.join(module_graph()[m][t])})" for m, t in found)
     )
+
+
+# The simulator backend (`scone-run --robot sim`): the simulated kitchen package and the backend module that builds
+# it. These modules, and no other, may import the simulator's packages; docs/robot_interface.md names the same list.
+SIM_BACKEND_MODULES = frozenset(
+    {
+        "scone_bt.world",
+        "scone_bt.world.arm_io",
+        "scone_bt.world.camera",
+        "scone_bt.world.kitchen",
+        "scone_bt.world.visuals",
+        "scone_bt.robot.sim",
+    }
+)
+SIMULATOR_PACKAGES = ("pybullet", "pybullet_data", "pybullet_utils", "pybullet_envs")
+
+
+def _external_imports(path: Path) -> Iterator[tuple[str, int]]:
+    """(top-level package, line) of every absolute import in the file, TYPE_CHECKING blocks left out."""
+    for node in _imports(ast.parse(path.read_text(encoding="utf-8"), str(path))):
+        if isinstance(node, ast.Import):
+            yield from ((a.name.split(".")[0], node.lineno) for a in node.names)
+        elif not node.level and node.module:
+            yield node.module.split(".")[0], node.lineno
+
+
+def simulator_imports() -> dict[str, list[str]]:
+    """scone_bt module → 'package (file:line)' for each import of a simulator package."""
+    found: dict[str, list[str]] = defaultdict(list)
+    for module, path in _modules().items():
+        for package, line in _external_imports(path):
+            if package in SIMULATOR_PACKAGES:
+                found[module].append(f"{package} ({path.relative_to(PACKAGE.parent)}:{line})")
+    return found
+
+
+def test_the_simulator_scan_sees_the_sim_backend():
+    assert set(_modules()) >= SIM_BACKEND_MODULES, "SIM_BACKEND_MODULES names a module that is gone"
+    found = simulator_imports()
+    # the kitchen connects to PyBullet inside a function; the scan must see that import
+    assert any(i.startswith("pybullet ") for i in found["scone_bt.world.kitchen"])
+
+
+def test_only_the_sim_backend_imports_pybullet():
+    outside = {m: where for m, where in simulator_imports().items() if m not in SIM_BACKEND_MODULES}
+    assert not outside, "modules outside the sim backend import the simulator:\n" + "\n".join(
+        f"  {m}: {', '.join(w)}" for m, w in sorted(outside.items())
+    )

@@ -100,12 +100,20 @@ class RobotConfig:
         return len(self.arm_joints)
 
 
+def _pybullet_data_dir(relative_to: Path) -> Path:
+    """pybullet_data's folder, found without importing it (config never imports the simulator's packages)."""
+    import importlib.util
+
+    found = importlib.util.find_spec("pybullet_data")
+    if found is None or not found.submodule_search_locations:
+        raise ConfigError(f"{relative_to}: a pybullet_data:// URDF needs the pybullet package installed")
+    return Path(next(iter(found.submodule_search_locations)))
+
+
 def resolve_urdf(spec: str, relative_to: Path) -> Path:
     """Resolve 'pybullet_data://x', 'example_robot_data://x', absolute or file-relative URDF paths."""
     if spec.startswith("pybullet_data://"):
-        import pybullet_data  # adapter-only dependency, used here just to locate files
-
-        path = Path(pybullet_data.getDataPath()) / spec.removeprefix("pybullet_data://")
+        path = _pybullet_data_dir(relative_to) / spec.removeprefix("pybullet_data://")
     else:
         path = Path(spec)
         if not path.is_absolute():
