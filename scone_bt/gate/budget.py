@@ -71,7 +71,7 @@ class BudgetOptions:
     tau_max: float = 0.95
     explore_rate: float = 0.5
     explore_until: int = 10
-    explore_failures: int = 2
+    explore_failures: int = 6
 
     def __post_init__(self) -> None:
         checks = (
