@@ -158,10 +158,12 @@ def _recording(options: EpisodeOptions) -> bool:
 
 
 def _make_recorder(options: EpisodeOptions) -> Any:
-    from scone_bt.viz import NullRecorder, Recorder
+    from scone_bt.viz import NullRecorder
 
     if not _recording(options):
         return NullRecorder()
+    from scone_bt.viz import Recorder  # rerun (and scipy with it): only when recording, ~0.65 s otherwise
+
     return Recorder(
         save=options.save,
         spawn_viewer=options.viewer,
