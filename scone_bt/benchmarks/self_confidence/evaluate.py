@@ -30,7 +30,7 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 from typing import Protocol as TypingProtocol
 
 import numpy as np
@@ -50,6 +50,13 @@ from scone_bt.benchmarks.self_confidence.protocols import (
     row_order,
 )
 from scone_bt.benchmarks.self_confidence.report import ORACLE
+from scone_bt.benchmarks.self_confidence.report_types import (
+    EvaluationReport,
+    ProtocolEntry,
+    ReportOptions,
+    Timing,
+    clean_report,
+)
 from scone_bt.confidence.calibration import CALIBRATION_FOLDS
 from scone_bt.errors import ConfigError, SconeError, UnknownNameError
 
@@ -530,38 +537,38 @@ def run_evaluate(args: argparse.Namespace) -> int:
     ]
     prior = prior_baseline(datasets, options, tuple(protocols))
     wall = time.perf_counter() - t0
-    report: dict[str, Any] = {
-        "benchmark": "sc evaluate",
-        "data": str(args.data),
-        "options": {
-            "n_test": options.n_test,
-            "n_train": list(options.steps),
-            "lofo_n_train": list(options.lofo_steps),
-            "shuffles": options.shuffles,
-            "seed": options.seed,
-            "threshold": options.threshold,
-            "ece_bins": options.ece_bins,
-            "epsilon0": options.epsilon,
-            "half_life": options.half_life,
-            "refit_every": options.refit_every,
-        },
-        "datasets": dataset_summary(datasets, options),
-        "embedders": embedders,
-        "embedders_skipped": skipped,
-        "estimators": estimators,
-        "protocols": {p.value: [r.entry(p) for r in results] for p in protocols},
-        "prior": {p.value: prior.entry(p) for p in protocols},
-        "timing_s": {
-            "embedding": round(t_embed, 2),
-            "embedding_per_embedder": embed_s,
-            "total": round(wall, 2),
-            "workers": args.workers,
-            "engine": engine.label,
-            "cells": len(tasks),
-            "cells_wall_s_sum": round(sum(c.wall_s for c in cells), 1),
-        },
-    }
-    report = write_json(None, report)  # NaN → null, the same text as the file
+    report = EvaluationReport(
+        benchmark="sc evaluate",
+        data=str(args.data),
+        options=ReportOptions(
+            n_test=options.n_test,
+            n_train=list(options.steps),
+            lofo_n_train=list(options.lofo_steps),
+            shuffles=options.shuffles,
+            seed=options.seed,
+            threshold=options.threshold,
+            ece_bins=options.ece_bins,
+            epsilon0=options.epsilon,
+            half_life=options.half_life,
+            refit_every=options.refit_every,
+        ),
+        datasets=dataset_summary(datasets, options),
+        embedders=embedders,
+        embedders_skipped=skipped,
+        estimators=estimators,
+        protocols={p.value: [cast(ProtocolEntry, r.entry(p)) for r in results] for p in protocols},
+        prior={p.value: cast(ProtocolEntry, prior.entry(p)) for p in protocols},
+        timing_s=Timing(
+            embedding=round(t_embed, 2),
+            embedding_per_embedder=embed_s,
+            total=round(wall, 2),
+            workers=args.workers,
+            engine=engine.label,
+            cells=len(tasks),
+            cells_wall_s_sum=round(sum(c.wall_s for c in cells), 1),
+        ),
+    )
+    report = clean_report(report)  # NaN → null, the same text as the file
     if args.out is not None:
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)

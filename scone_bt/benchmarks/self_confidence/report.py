@@ -7,11 +7,11 @@ the prose is report_text/*.md (string.Template); this module computes the number
 from __future__ import annotations
 
 import functools
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from importlib import resources
 from pathlib import Path
 from string import Template
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 import yaml
@@ -24,6 +24,14 @@ from scone_bt.benchmarks.self_confidence.protocols import (
     algorithm1_split,
     novel_product_rows,
     row_order,
+)
+from scone_bt.benchmarks.self_confidence.report_types import (
+    DatasetSummary,
+    EvaluationReport,
+    MeanStd,
+    ProtocolEntry,
+    RobotSummary,
+    TargetCheck,
 )
 from scone_bt.strict_json import clean_json, dumps
 
@@ -75,18 +83,18 @@ PAPER_TABLE_I: dict[str, Any] = report_data()["paper_table_i"]
 _PROTOCOL_TITLES: dict[str, str] = report_data()["protocol_titles"]
 
 
-def _target(key: str, met: bool, measured: str, **numbers: object) -> dict[str, Any]:
+def _target(key: str, met: bool, measured: str, **numbers: object) -> TargetCheck:
     """One check of report.yaml's target `key`: its label filled with the target's own numbers."""
     spec = report_data()["targets"][key]
     label = spec["label"].format(**{k: v for k, v in spec.items() if k != "label"}, **numbers)
-    return {"target": label, "measured": measured, "met": bool(met)}
+    return TargetCheck(target=label, measured=measured, met=bool(met))
 
 
 def _threshold(key: str) -> float:
     return float(report_data()["targets"][key]["threshold"])
 
 
-def write_json(path: Path | None, payload: dict[str, Any]) -> dict[str, Any]:
+def write_json(path: Path | None, payload: Mapping[str, Any]) -> dict[str, Any]:
     """Write `payload` as indented JSON (NaN becomes null) if `path` is given; returns the cleaned payload."""
     cleaned = clean_json(payload)
     if path is not None:
@@ -106,15 +114,15 @@ def _oracle(keys: Sequence[str], y: np.ndarray) -> float:
 
 def dataset_summary(
     datasets: Sequence[EvalDataset], options: EvalOptions | None = None
-) -> list[dict[str, Any]]:
+) -> list[DatasetSummary]:
     """Per dataset: rows, success rate, distinct products and families, novel test rows, context coverage.
 
     product_oracle / family_oracle: in-sample accuracy of predicting each product's / family's majority outcome.
     """
     opts = options or EvalOptions()
-    out = []
+    out: list[DatasetSummary] = []
     for d in datasets:
-        entry: dict[str, Any] = {
+        entry: DatasetSummary = {
             "name": d.name,
             "rows": len(d),
             "success_rate": round(float(d.success.mean()), 4) if len(d) else None,
@@ -132,22 +140,32 @@ def dataset_summary(
 
 
 # ----------------------------------------------------------------------------------------------- tables
-def _by(report: dict[str, Any], protocol: str) -> dict[tuple[str, str], dict[str, Any]]:
+def _by(report: EvaluationReport, protocol: str) -> dict[tuple[str, str], ProtocolEntry]:
     return {(r["embedder"], r["estimator"]): r for r in report["protocols"].get(protocol, [])}
 
 
-def _ms(entry: dict[str, Any] | None, key: str = "auc") -> float:
+_Metric = MeanStd | float | None
+"""A metric's value in an entry: mean ± std over datasets (auc, final_accuracy, greedy_auc) or one pooled number."""
+
+
+def _metric(entry: ProtocolEntry | RobotSummary, key: str) -> _Metric:
+    """`entry[key]` for a metric key of report.yaml (or greedy_auc of a robot)."""
+    value: _Metric = cast(Mapping[str, _Metric], entry)[key]
+    return value
+
+
+def _ms(entry: ProtocolEntry | RobotSummary | None, key: str = "auc") -> float:
     if entry is None:
         return float("nan")
-    v = entry[key]
+    v = _metric(entry, key)
     v = v["mean"] if isinstance(v, dict) else v
     return float("nan") if v is None else float(v)
 
 
-def _fmt(entry: dict[str, Any] | None, key: str, bold: bool = False) -> str:
+def _fmt(entry: ProtocolEntry | RobotSummary | None, key: str, bold: bool = False) -> str:
     if entry is None:
         return "–"
-    v = entry[key]
+    v = _metric(entry, key)
     if isinstance(v, dict):
         if v["mean"] is None:
             return "n/a"
@@ -157,7 +175,7 @@ def _fmt(entry: dict[str, Any] | None, key: str, bold: bool = False) -> str:
     return f"**{text}**" if bold else text
 
 
-def _metric_table(report: dict[str, Any], protocol: str, key: str, higher: bool) -> str:
+def _metric_table(report: EvaluationReport, protocol: str, key: str, higher: bool) -> str:
     """One metric's table (embedders × estimators, the best per column in bold) and the prior under it."""
     by = _by(report, protocol)
     embedders, estimators = report["embedders"], report["estimators"]
@@ -176,8 +194,8 @@ def _metric_table(report: dict[str, Any], protocol: str, key: str, higher: bool)
 
 
 def _best(
-    report: dict[str, Any], protocol: str, embedders: Sequence[str], grounded: bool = True
-) -> dict[str, Any] | None:
+    report: EvaluationReport, protocol: str, embedders: Sequence[str], grounded: bool = True
+) -> ProtocolEntry | None:
     rows = [r for r in report["protocols"].get(protocol, []) if r["embedder"] in embedders]
     if not grounded:
         rows = [r for r in rows if not r["estimator"].startswith("grounded-")]
@@ -185,7 +203,7 @@ def _best(
     return max(rows, key=_ms) if rows else None
 
 
-def _floor_note(row: dict[str, Any]) -> str:
+def _floor_note(row: ProtocolEntry) -> str:
     """The noise-floor remark for a row with an ece_noise_floor (older reports have none)."""
     floor = row.get("ece_noise_floor")
     if not floor or floor.get("mean") is None:
@@ -197,7 +215,7 @@ def _floor_note(row: dict[str, Any]) -> str:
 
 
 def paired_difference(
-    a: dict[str, Any] | None, b: dict[str, Any] | None, resamples: int = 10_000, seed: int = 0
+    a: ProtocolEntry | None, b: ProtocolEntry | None, resamples: int = 10_000, seed: int = 0
 ) -> dict[str, float] | None:
     """Pair a − pair b in AUC, dataset by dataset: the mean, a 95 % bootstrap interval over datasets, the wins.
 
@@ -207,8 +225,10 @@ def paired_difference(
     pairs apart.
     """
 
-    def values(entry: dict[str, Any] | None) -> dict[int, float]:
-        auc = (entry or {}).get("auc", {})
+    def values(entry: ProtocolEntry | None) -> dict[int, float]:
+        if entry is None or "auc" not in entry:
+            return {}
+        auc = entry["auc"]
         per = auc.get("per_dataset") or []
         index = auc.get("dataset_index") or list(range(len(per)))
         return {int(i): float("nan") if v is None else float(v) for i, v in zip(index, per, strict=False)}
@@ -246,7 +266,7 @@ def paired_difference(
     }
 
 
-def _paired_note(a: dict[str, Any] | None, b: dict[str, Any] | None, what: str) -> str:
+def _paired_note(a: ProtocolEntry | None, b: ProtocolEntry | None, what: str) -> str:
     p = paired_difference(a, b)
     if p is None:
         return ""
@@ -261,13 +281,13 @@ def uniform_ece_floor(n: int, bins: int = 10) -> tuple[float, float]:
     return ece_noise_floor((np.arange(n) + 0.5) / max(n, 1), bins)
 
 
-def target_checks(report: dict[str, Any]) -> list[dict[str, Any]]:
+def target_checks(report: EvaluationReport) -> list[TargetCheck]:
     """The issue's targets, each with the measured numbers and whether it is met.
 
     The embedding targets compare embedders under the paper's estimators (ungrounded: with the execution
     context a grounded κ̂ barely needs the action's meaning); the grounded and ECE targets take every pair.
     """
-    checks: list[dict[str, Any]] = []
+    checks: list[TargetCheck] = []
     a1 = _by(report, "algorithm1")
     semantic = [e for e in report["embedders"] if e in SEMANTIC_EMBEDDERS]
     best = _best(report, "algorithm1", semantic, grounded=False)
@@ -375,7 +395,7 @@ def target_checks(report: dict[str, Any]) -> list[dict[str, Any]]:
     return checks
 
 
-def _robot_table(report: dict[str, Any]) -> list[str]:
+def _robot_table(report: EvaluationReport) -> list[str]:
     a1 = _by(report, "algorithm1")
     rows = [r for r in report["protocols"].get("algorithm1", []) if r.get("robot")]
     if not rows:
@@ -397,7 +417,7 @@ def _robot_table(report: dict[str, Any]) -> list[str]:
     return lines
 
 
-def evaluation_markdown(report: dict[str, Any], name: str = "self_confidence") -> str:
+def evaluation_markdown(report: EvaluationReport, name: str = "self_confidence") -> str:
     """The whole evaluation as Markdown; the PNGs of plot_curves/plot_reliability are linked as <name>_*.png.
 
     The prose is report_text/*.md (string.Template), the targets and titles report_text/report.yaml: this
@@ -456,7 +476,7 @@ def evaluation_markdown(report: dict[str, Any], name: str = "self_confidence") -
     )
 
 
-def _protocol_section(report: dict[str, Any], protocol: str, name: str) -> str:
+def _protocol_section(report: EvaluationReport, protocol: str, name: str) -> str:
     """One protocol: its AUC table, then one table per metric of report.yaml (ECE with its noise floor)."""
     rows = report["protocols"][protocol]
     metrics = ""
@@ -488,7 +508,7 @@ def _pyplot():  # noqa: ANN202 - matplotlib's module
     return plt
 
 
-def plot_curves(report: dict[str, Any], out_dir: Path, name: str = "self_confidence") -> list[Path]:
+def plot_curves(report: EvaluationReport, out_dir: Path, name: str = "self_confidence") -> list[Path]:
     """One PNG per protocol (<out_dir>/<name>_<protocol>_curves.png): a panel per estimator, a line per embedder."""
     plt = _pyplot()
     paths = []
@@ -533,14 +553,14 @@ def plot_curves(report: dict[str, Any], out_dir: Path, name: str = "self_confide
     return paths
 
 
-def plot_reliability(report: dict[str, Any], path: Path) -> Path:
+def plot_reliability(report: EvaluationReport, path: Path) -> Path:
     """Reliability diagrams at the largest n_train: per protocol the best pair, one-hot with its estimator, prior."""
     plt = _pyplot()
     protocols = list(report["protocols"])
     fig, axes = plt.subplots(1, len(protocols), figsize=(3.6 * len(protocols), 3.4), squeeze=False)
     for ax, protocol in zip(axes[0], protocols, strict=True):
         best = _best(report, protocol, report["embedders"])
-        shown = []
+        shown: list[tuple[str, ProtocolEntry]] = []
         if best is not None:
             shown.append((f"{best['embedder']} + {best['estimator']}", best))
             one = _by(report, protocol).get(("onehot", best["estimator"]))

@@ -10,6 +10,7 @@ import pytest
 from scone_bt.benchmarks.self_confidence.evaldata import load_eval_datasets
 from scone_bt.benchmarks.self_confidence.evaluate import GridInputs, embed_datasets, evaluate_grid_pair
 from scone_bt.benchmarks.self_confidence.protocols import EvalOptions, Protocol
+from scone_bt.benchmarks.self_confidence.report_types import load_report
 from scone_bt.cli.bench import main
 
 
@@ -35,6 +36,7 @@ def test_evaluate_prints_and_writes_the_documented_shape(sc_data, tmp_path, caps
         == json.loads((tmp_path / "r.json").read_text())
         == json.loads((out / "self_confidence.json").read_text())
     )
+    assert load_report(out / "self_confidence.json") == printed  # the file fits report_types.EvaluationReport
     assert set(printed["protocols"]) == {"algorithm1", "novel_products", "leave_family_out"}
     for protocol, entries in printed["protocols"].items():
         assert [(e["embedder"], e["estimator"]) for e in entries] == [
