@@ -16,7 +16,7 @@ its split into ``attempt_failure_rate_novel`` (products κ̂ had no outcome of i
 stream's first failed one, summed and the largest per stream), and the realised rate per stream. Methods:
 
 - ``budget:<κ̂>``: the failure-budget gate (scone_bt.gate.budget) over κ̂ (the tree's default: ``physical``);
-- ``fixed:<κ̂>``: the same κ̂ and exploration with a threshold fixed at 1 − 2α (no online calibration);
+- ``fixed:<κ̂>``: the same κ̂ and exploration with a threshold fixed at τ₀ (1 − 3α) (no online calibration);
 - ``conformal``: the full conformal KNN gate at α (KnowNo-style; acts when 1 − p-value ≥ 1 − α), with the same
   exploration (without it a cold conformal gate never acts);
 - ``paper``: the paper's ε-KNN at its fixed 0.5 threshold (one point: it states no rate);
@@ -98,7 +98,7 @@ def replay_stream(
         products: (n,) product names (novel = κ̂ has no outcome of it yet in this stream).
         estimator: κ̂ registry name.
         gate: "budget" (the tree's gate: it also asks about a product perceived wider than ``opening_m``),
-            "fixed" (1 − 2α, no calibration), "conformal" (act at 1 − α) or "paper" (0.5).
+            "fixed" (τ₀ = 1 − 3α, no calibration), "conformal" (act at 1 − α) or "paper" (0.5).
         alpha: Target failure rate.
         seed: Seeds κ̂ and the exploration draws.
         warmup: Decisions not scored.
