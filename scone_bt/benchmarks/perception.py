@@ -113,20 +113,21 @@ def run(args: argparse.Namespace) -> int:
         for _ in range(100):  # a draw of products too wide to stand side by side is drawn again
             chosen = rng.choice(len(catalogue), size=objects + args.table_objects, replace=False)
             specs = [catalogue.objects[int(i)] for i in chosen]
+            # The stocking is planned once, here, and the kitchen is stocked with that plan; a draw that does
+            # not fit is planned on a copy of the generator, so `rng` stays where it was for the next choice.
+            trial = copy.deepcopy(rng)
             try:
-                # A trial stocking on a copy of the generator: `kitchen.spawn` below plans with these very draws,
-                # and a draw that does not fit leaves `rng` untouched for the next choice. (Seeding the trial
-                # from a spawned child seed instead would change every committed scene of perception.json.)
-                plan_stocking(kitchen_cfg.scene, specs, copy.deepcopy(rng))
-                break
+                places = plan_stocking(kitchen_cfg.scene, specs, trial)
             except ConfigError:
                 continue
+            rng = trial
+            break
         else:
             raise ConfigError(f"--objects {objects}: no draw of that many products fits the shelving")
         with c_stdout_silenced():
             kitchen = Kitchen(kitchen_cfg, robot_cfg)
         with kitchen:
-            kitchen.spawn(specs, rng)
+            kitchen.spawn_planned(specs, places)
             for spec in specs[objects:]:
                 kitchen.human_place_on_table(spec.name)
             kitchen.advance(0.5)

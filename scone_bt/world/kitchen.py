@@ -16,7 +16,7 @@ import numpy as np
 
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
 from scone_bt.config.catalogue import Shape
-from scone_bt.config.stocking import plan_stocking
+from scone_bt.config.stocking import Placement, plan_stocking
 from scone_bt.errors import ConfigError, UnknownNameError
 from scone_bt.perception.images import CameraImage, PinholeView
 from scone_bt.quiet import c_stdout_silenced
@@ -213,12 +213,26 @@ class Kitchen:
         Returns:
             name → surface point under the object's centre (x, y, z), metres.
         """
+        for spec in specs:
+            if spec.name in self.objects:
+                raise ConfigError(f"object {spec.name!r} is already in the kitchen")
+        return self.spawn_planned(specs, plan_stocking(self.config.scene, specs, rng))
+
+    def spawn_planned(
+        self, specs: Sequence[ObjectSpec], places: Sequence[Placement]
+    ) -> dict[str, tuple[float, float, float]]:
+        """Put ``specs`` where a stocking plan (`plan_stocking`, one place per spec, in order) says, and let them
+        settle (`spawn` plans and calls this).
+
+        Returns:
+            name → surface point under the object's centre (x, y, z), metres.
+        """
         import pybullet as p
 
         for spec in specs:
             if spec.name in self.objects:
                 raise ConfigError(f"object {spec.name!r} is already in the kitchen")
-        for spec, place in zip(specs, plan_stocking(self.config.scene, specs, rng), strict=True):
+        for spec, place in zip(specs, places, strict=True):
             x, y, z = place.position
             sx, sy, sz = spec.size
             if spec.shape == Shape.BOX:
