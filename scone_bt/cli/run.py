@@ -79,6 +79,7 @@ from scone_bt.checks import internal_error_line  # noqa: E402
 from scone_bt.defaults import EPISODE as _EPISODE  # noqa: E402
 from scone_bt.errors import SconeError  # noqa: E402
 from scone_bt.robot.registry import BACKENDS  # noqa: E402
+from scone_bt.study.ui_args import add_ui_arguments  # noqa: E402 - light: the package loads lazily
 
 __all__ = ["main", "build_parser", "LOG_LEVELS", "viewer_command"]
 
@@ -284,31 +285,8 @@ def build_parser() -> argparse.ArgumentParser:
     )
 
     # A real person instead of the simulated human: the tablet UI (scone_bt/study).
-    _add_ui_arguments(p)
+    add_ui_arguments(p)
     return p
-
-
-_UI_MIN_TOKEN_LENGTH = 8  # scone_bt.study.ui.MIN_TOKEN_LENGTH, kept here like the timeouts above
-
-
-def _add_ui_arguments(parser: argparse.ArgumentParser) -> None:
-    """The --ui flags, as `scone_bt.study.ui.add_ui_arguments` adds them (a test keeps the two identical).
-
-    Defined here rather than imported because importing scone_bt.study.ui imports the scone_bt.study package
-    (trust model, study log, recipes, events): about 0.45 s that --help and a rejected argument need not pay.
-    """
-    g = parser.add_argument_group("tablet UI (a person takes part; the episode runs in real time)")
-    g.add_argument(
-        "--ui", action="store_true", help="serve the tablet page and let a person help and take over"
-    )
-    g.add_argument(
-        "--ui-host", default="127.0.0.1", help="address to bind; anything but localhost needs --ui-token"
-    )
-    g.add_argument("--ui-port", type=int, default=8765, help="port of the tablet page (0: any free port)")
-    g.add_argument(
-        "--ui-token",
-        help=f"session token (at least {_UI_MIN_TOKEN_LENGTH} characters) the tablet must present",
-    )
 
 
 def _quiet_backends() -> None:

@@ -34,6 +34,7 @@ from scone_bt.events import (
 from scone_bt.gate.types import DecisionKind
 from scone_bt.study.questionnaires import QUESTIONNAIRES, Questionnaire
 from scone_bt.study.tablet import AlreadySubmittedError, TabletHuman, TabletState
+from scone_bt.study.ui_args import MIN_TOKEN_LENGTH, add_ui_arguments
 
 __all__ = [
     "TabletServer",
@@ -50,7 +51,6 @@ __all__ = [
 ]
 
 LOCAL_HOSTS = ("127.0.0.1", "localhost", "::1")
-MIN_TOKEN_LENGTH = 8
 MAX_BODY_BYTES = 16 * 1024
 """Largest request body accepted (a questionnaire's answers are well under 1 kB); larger ones get 413 unread."""
 BODY_TIMEOUT_S = 3.0
@@ -518,21 +518,6 @@ class TabletServer:
 def serve_tablet(host: str = "127.0.0.1", port: int = 8765, token: str | None = None) -> TabletServer:
     """Start the tablet UI in a background thread (port 0 picks a free port); raises UIError when it cannot."""
     return TabletServer(host, port, token)
-
-
-def add_ui_arguments(parser: Any) -> None:
-    """The --ui flags of scone-run (argparse): --ui, --ui-host, --ui-port, --ui-token."""
-    g = parser.add_argument_group("tablet UI (a person takes part; the episode runs in real time)")
-    g.add_argument(
-        "--ui", action="store_true", help="serve the tablet page and let a person help and take over"
-    )
-    g.add_argument(
-        "--ui-host", default="127.0.0.1", help="address to bind; anything but localhost needs --ui-token"
-    )
-    g.add_argument("--ui-port", type=int, default=8765, help="port of the tablet page (0: any free port)")
-    g.add_argument(
-        "--ui-token", help=f"session token (at least {MIN_TOKEN_LENGTH} characters) the tablet must present"
-    )
 
 
 def tablet_from_args(args: Any) -> TabletServer | None:

@@ -5,7 +5,7 @@ Each check runs in a fresh interpreter, since this test session has imported mos
 
 from __future__ import annotations
 
-import argparse
+import importlib
 import json
 import subprocess
 import sys
@@ -32,8 +32,17 @@ HEAVY = (
     "rerun",
     "pybullet",
 )
-# scone-run's parser also keeps clear of the study toolkit (the --ui flags are defined in scone_bt.cli.run).
-RUN_PARSER_FREE_OF = (*HEAVY, "scone_bt.study", "scone_bt.study.ui", "scone_bt.episode")
+# scone-run's parser also keeps clear of the study toolkit: its --ui flags come from the light
+# scone_bt.study.ui_args, and the study package loads its names lazily.
+RUN_PARSER_FREE_OF = (
+    *HEAVY,
+    "scone_bt.study.ui",
+    "scone_bt.study.trust",
+    "scone_bt.study.log",
+    "scone_bt.study.design",
+    "scone_bt.study.questionnaires",
+    "scone_bt.episode",
+)
 
 _LOADED = textwrap.dedent(
     """
@@ -75,17 +84,25 @@ def test_other_parsers_import_no_heavy_stack(module: str, function: str, argv: l
     assert _loaded_after_parsing(module, function, argv, HEAVY) == []
 
 
-def _ui_options(parser: argparse.ArgumentParser) -> list[tuple[object, ...]]:
+def test_scone_run_and_the_study_ui_share_one_definition_of_the_ui_flags() -> None:
+    from scone_bt.cli import run
+    from scone_bt.study import ui, ui_args
+
+    assert run.add_ui_arguments is ui_args.add_ui_arguments is ui.add_ui_arguments
+    parser = run.build_parser()
     group = next(g for g in parser._action_groups if g.title and g.title.startswith("tablet UI"))
-    return [(a.option_strings, a.dest, a.default, a.type, a.help, a.nargs) for a in group._group_actions]
+    assert [a.dest for a in group._group_actions] == ["ui", "ui_host", "ui_port", "ui_token"]
 
 
-def test_scone_run_ui_flags_match_the_study_ui() -> None:
-    from scone_bt.cli.run import build_parser
-    from scone_bt.study.ui import add_ui_arguments
+def test_the_study_package_still_exports_its_names() -> None:
+    import scone_bt.study as study
+    from scone_bt.study.trust import TrustParameters
 
-    reference = argparse.ArgumentParser()
-    add_ui_arguments(reference)
-    ours = _ui_options(build_parser())
-    assert ours == _ui_options(reference)
-    assert [o[1] for o in ours] == ["ui", "ui_host", "ui_port", "ui_token"]
+    assert study.TrustParameters is TrustParameters
+    assert sorted(study.__all__) == sorted(study._HOMES)
+    for name in study.__all__:
+        assert getattr(importlib.import_module(f"scone_bt.study.{study._HOMES[name]}"), name) is getattr(
+            study, name
+        )
+    with pytest.raises(AttributeError, match="no attribute 'nope'"):
+        _ = study.nope
