@@ -1,8 +1,8 @@
 """``scone-bench sc``: the self-confidence benchmark, ``generate`` (datasets) and ``evaluate`` (Table I).
 
     scone-bench sc generate                                   # 11 profiles x 100 executions into tools/data/sc
-    scone-bench sc generate --profiles p01_weak_gripper --executions 20 --out /tmp/sc
-    scone-bench sc generate --catalogue my_products.yaml --products "oat milk,tahini" --out /tmp/mine
+    scone-bench sc generate --profiles p01_weak_gripper --executions 20 --out runs/sc
+    scone-bench sc generate --catalogue my_products.yaml --products "oat milk,tahini" --out runs/mine
     scone-bench sc generate --ray auto --workers 32           # on a Ray cluster (docs/distributed.md)
     scone-bench sc evaluate ...                               # see scone_bt.benchmarks.self_confidence.evaluate
     scone-bench sc probe --out docs/results                   # what the texts reveal; see .probe
