@@ -201,9 +201,15 @@ class ActCancelled(_ActionEvent):
 
 @dataclass(frozen=True)
 class HelpRequested(_ActionEvent):
-    """ASK-HELP: the robot asks the human to fetch the object."""
+    """ASK-HELP: the robot asks the human to fetch the object.
+
+    Attributes:
+        reason: Why, when the gate did not decide it (e.g. the object stuck in the gripper); "" for the gate's ask,
+            whose reason its DecisionMade carries.
+    """
 
     kind: ClassVar[str] = "help_request"
+    reason: str = ""
 
 
 @dataclass(frozen=True)

@@ -9,7 +9,7 @@ from scone_bt.behaviours.affordances import GenerateAffordances
 from scone_bt.behaviours.base import Keys, StageBehaviour
 from scone_bt.behaviours.context import EpisodeContext, OutcomeLabels
 from scone_bt.behaviours.gate import ConfidenceGate, DecisionIs
-from scone_bt.behaviours.help import AskForHelp, AskToClarify, WaitForHuman
+from scone_bt.behaviours.help import AskForHelp, AskToClarify, ClearGripper, WaitForHuman
 from scone_bt.behaviours.options import BehaviourOptions
 from scone_bt.behaviours.outcome import ObserveOutcome, RecordInfeasible, UpdateSelfConfidence
 from scone_bt.behaviours.perceive import Perceive
@@ -32,6 +32,7 @@ BEHAVIOURS = {
         ObserveOutcome,
         RecordInfeasible,
         UpdateSelfConfidence,
+        ClearGripper,
         RecipeDone,
     )
 }
@@ -41,6 +42,7 @@ __all__ = [
     "AskToClarify",
     "BEHAVIOURS",
     "BehaviourOptions",
+    "ClearGripper",
     "ConfidenceGate",
     "DecisionIs",
     "EpisodeContext",

@@ -1,4 +1,6 @@
 """AskForHelp (ASK-HELP): the human fetches the object; the robot waits until it is on the table.
+ClearGripper: after an attempt whose object stuck between the open fingers, ask the human to take it out and put
+it on the table (else it rides along on every later attempt); the robot waits for that.
 AskToClarify (ASK-CLARIFY): the robot asks which item the step means and remembers the answer for that step.
 WaitForHuman: nothing relevant to do; wait a little."""
 
@@ -12,7 +14,7 @@ from scone_bt.behaviours.context import EpisodeContext
 from scone_bt.behaviours.ports import Clock, HumanChannel
 from scone_bt.events import ClarificationAsked, EventSink, HelpRequested
 
-__all__ = ["AskForHelp", "AskToClarify", "WaitForHuman"]
+__all__ = ["AskForHelp", "AskToClarify", "ClearGripper", "WaitForHuman"]
 
 
 class _AskTheHuman(StageBehaviour):
@@ -51,6 +53,36 @@ class AskForHelp(_AskTheHuman):
 
     def terminate(self, new_status: py_trees.common.Status) -> None:
         self.human.robot_busy(False)
+
+
+class ClearGripper(_AskTheHuman):
+    """Succeeds at once unless the attempt ended with its object still gripped (`MotionOutcome.still_held`, the
+    arm's finger sensors): then it asks the human to take the object out and waits until they have. Nothing is
+    learnt from the ask: the attempt's own outcome is already labelled."""
+
+    READS = (Keys.TARGET, Keys.MOTION_OUTCOME)
+
+    def initialise(self) -> None:
+        motion = self.read(Keys.MOTION_OUTCOME)
+        target = self.read(Keys.TARGET)
+        self.object_name: str | None = None
+        if motion is None or target is None or not motion.still_held:
+            return
+        self.object_name = target.object_name
+        self.human.request_help(self.object_name)
+        self.human.robot_busy(True)
+        reason = f"the {self.object_name} is stuck in my gripper: please take it out and put it on the table"
+        self.events(HelpRequested(self.clock(), target.text, self.object_name, reason))
+
+    def update(self) -> py_trees.common.Status:
+        if self.object_name is not None and self.human.help_pending(self.object_name):
+            self.feedback_message = f"waiting for the human to take {self.object_name} out of the gripper"
+            return py_trees.common.Status.RUNNING
+        return py_trees.common.Status.SUCCESS
+
+    def terminate(self, new_status: py_trees.common.Status) -> None:
+        if self.object_name is not None:
+            self.human.robot_busy(False)
 
 
 class AskToClarify(_AskTheHuman):

@@ -6,7 +6,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from scone_bt.affordances.types import object_of_action
-from scone_bt.events import ActCancelled, ActOutcome, ClarificationAsked, DecisionMade, Event
+from scone_bt.events import ActCancelled, ActOutcome, ClarificationAsked, DecisionMade, Event, HelpRequested
 from scone_bt.gate.types import DecisionKind
 
 if TYPE_CHECKING:
@@ -115,6 +115,8 @@ class LinePrinter:
                 self.printer(f"    x failure at {event.stage}: {event.message}")
         elif isinstance(event, ActCancelled):
             self.printer(f"    ~ the human took over: {event.action}")
+        elif isinstance(event, HelpRequested) and event.reason:  # the gate's asks print as decisions
+            self.printer(f"    ? asked for help: {event.reason}")
 
     def flush(self) -> None:
         """Print the count of repeated idle decisions not yet printed."""

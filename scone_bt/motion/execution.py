@@ -96,6 +96,7 @@ class PickPlaceController:
         self.current: Segment | None = None
         self.executed: list[TimedTrajectory] = []
         self.held: str | None = None  # what the fingers closed on
+        self.still_held = False  # the fingers still grip it when the attempt ends (stuck between them)
         self.stage: FailureStage | None = None
         self.reason: PlanFailureReason | None = None
         self.error: BaseException | None = None  # a planner exception: the run stops, no outcome
@@ -159,6 +160,10 @@ class PickPlaceController:
         self._enter(MotionPhase.RECOVER)
 
     def _finish(self) -> None:
+        # The fingers are open (or were told to open) by now; an object both still touch is stuck between them.
+        self.still_held = self.held is not None and self.arm.held_object(
+            self.settings.min_contact_force * 0.2
+        ) == self.held
         self.finished = True
         self.end_time = self.arm.sim_time
         self.phase = MotionPhase.DONE
@@ -269,7 +274,12 @@ class PickPlaceController:
                     self._on_placed()
             else:
                 self.stage = FailureStage.PLACE
-                self.message = "released, but the object is not resting upright on the table"
+                stuck = self.arm.held_object(self.settings.min_contact_force * 0.2) == self.held
+                self.message = (
+                    f"released, but the {self.target_name} stuck between the open fingers"
+                    if stuck
+                    else "released, but the object is not resting upright on the table"
+                )
         self.hold_q = self.current.trajectory.positions[-1] if self.current is not None else self.hold_q
         self._next()
 

@@ -400,5 +400,6 @@ class PickAndPlace:
             trajectories=tuple(c.executed),
             ee_path=ee,
             reason=c.reason,
+            still_held=c.still_held,
         )
         return self._outcome

@@ -471,7 +471,11 @@ class TabletServer:
                 else f"The robot failed with the {event.object_name} ({event.stage})."
             )
         elif isinstance(event, HelpRequested):
-            s.note(f"The robot asks for help with the {event.object_name}.")
+            s.note(
+                f"The robot asks for help: {event.reason}."
+                if event.reason
+                else f"The robot asks for help with the {event.object_name}."
+            )
         elif isinstance(event, ClarificationAsked):
             said = ", ".join(event.answer) or "none of those"
             s.note(f"The robot asked which of {', '.join(event.candidates)} the step means: {said}.")

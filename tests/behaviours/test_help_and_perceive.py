@@ -4,9 +4,18 @@ from __future__ import annotations
 
 import py_trees
 
-from scone_bt.behaviours import AskForHelp, GenerateAffordances, Keys, Perceive, RecipeDone, WaitForHuman
+from scone_bt.behaviours import (
+    AskForHelp,
+    ClearGripper,
+    GenerateAffordances,
+    Keys,
+    Perceive,
+    RecipeDone,
+    WaitForHuman,
+)
 from scone_bt.config import load_kitchen
 from scone_bt.events import EventLog, HelpRequested
+from scone_bt.motion.types import FailureStage, MotionOutcome
 from tests.behaviours.fakes import FakeHuman, FakeRobot, affordance, blackboard, det
 
 Status = py_trees.common.Status
@@ -25,6 +34,33 @@ def test_ask_for_help_waits_until_the_human_fetched_it() -> None:
     node.tick_once()
     assert node.status is Status.SUCCESS and human.busy == [True, False]
     assert bb.get(Keys.TARGET).object_name == "eggs"
+
+
+def test_clear_gripper_asks_the_human_to_take_out_what_stuck_between_the_fingers() -> None:
+    human, robot, events = FakeHuman(), FakeRobot(time=7.0), EventLog()
+    stuck = MotionOutcome(False, FailureStage.PLACE, "released, but it stuck", 9.0, still_held=True)
+    blackboard(TARGET=affordance("bell pepper"), MOTION_OUTCOME=stuck)
+    node = ClearGripper("clear", human, events, robot.now)
+    node.tick_once()
+    assert node.status is Status.RUNNING and human.helped == ["bell pepper"] and human.busy == [True]
+    (event,) = events.events
+    assert isinstance(event, HelpRequested) and event.object_name == "bell pepper"
+    assert event.reason.startswith("the bell pepper is stuck in my gripper")
+    assert events.stats.help_requests == 1
+    human.pending.clear()  # the human took it out
+    node.tick_once()
+    assert node.status is Status.SUCCESS and human.busy == [True, False]
+
+
+def test_clear_gripper_does_nothing_when_the_hand_is_empty() -> None:
+    human, robot, events = FakeHuman(), FakeRobot(time=7.0), EventLog()
+    blackboard(
+        TARGET=affordance("bell pepper"),
+        MOTION_OUTCOME=MotionOutcome(False, FailureStage.PLACE, "toppled", 9.0),
+    )
+    node = ClearGripper("clear", human, events, robot.now)
+    node.tick_once()
+    assert node.status is Status.SUCCESS and human.helped == [] and events.events == [] and human.busy == []
 
 
 def test_wait_for_human_waits_on_the_robots_clock() -> None:

@@ -53,6 +53,7 @@ def test_pick_and_place_puts_the_object_on_the_table(stocked, arm, robot_cfg, as
             phases.append(progress.phase)
     outcome = task.outcome()
     assert outcome.success and outcome.stage is None, outcome.message
+    assert not outcome.still_held
     assert kitchen.is_on_table("salt")
     # The grasp held by friction alone: the only constraint is the fingers' coupling, robot to robot.
     bc = kitchen.bc
@@ -88,6 +89,20 @@ def test_object_wider_than_the_gripper_cannot_be_grasped(kitchen_cfg, robot_cfg,
         physical = (FailureStage.GRASP, FailureStage.TRANSIT, FailureStage.PLACE)
         assert not outcome.success and outcome.stage in physical, outcome.message
         assert not k.is_on_table(wide.name)
+
+
+def test_a_product_as_wide_as_the_opening_sticks_between_the_open_fingers(
+    kitchen_cfg, robot_cfg, task_for, run_to_end
+):
+    # A bell pepper is 8.0 cm across, the Panda opens 8.0 cm: it is grasped, but opening cannot free it.
+    with Kitchen(kitchen_cfg, robot_cfg) as k:
+        k.spawn([kitchen_cfg.catalogue.get(n) for n in ("bell pepper", "salt")], np.random.default_rng(0))
+        with MotionSystem.build(k) as system:
+            outcome = run_to_end(k, task_for(k, system, "bell pepper"))
+        # The finger sensors report it, so the robot can ask for it to be taken out (behaviours.ClearGripper).
+        assert outcome.stage is FailureStage.PLACE and outcome.still_held, outcome.message
+        assert outcome.message == "released, but the bell pepper stuck between the open fingers"
+        assert k.touches_robot("bell pepper") and not k.is_on_table("bell pepper")
 
 
 def test_weak_gripper_lets_a_heavy_slippery_bottle_slip(kitchen_cfg, robot_cfg, task_for, run_to_end):
