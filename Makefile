@@ -5,7 +5,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: run test scenarios lint clean
+.PHONY: run test scenarios lint clean vamp
 
 $(STAMP): pyproject.toml
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV) || python3 -m venv $(VENV)
@@ -22,6 +22,10 @@ test: $(STAMP)
 
 scenarios: $(STAMP)
 	$(BIN)/python -m pytest scenarios -m "not fast" -n 2 --junitxml=runs/scenarios-junit.xml
+
+# VAMP (vamp-planner, Panda only) built from its PyPI sdist and third_party/vamp/, into .venv; not part of test or run.
+vamp: $(STAMP)
+	tools/build_vamp.sh
 
 lint: $(STAMP)
 	$(BIN)/ruff check scone_bt tests tools
