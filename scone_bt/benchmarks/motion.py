@@ -22,18 +22,31 @@ Reported per arm under ``arms.<name>``:
   (no product among them), and ``targets_off_shelf``: targets that were not standing on a shelf when the query
   began (fell while the shelving settled). Both are counted in the rates above as they are; they say why.
 
+With ``--planner ompl,vamp`` (Panda only: VAMP, built by ``make vamp``, has no model of the other arms) every
+joint-space query the pick-and-place hands to OMPL (approach, transit with the object, return home; each a start
+and a goal set, in the collision world OMPL checked) is recorded and, once the query has run, solved again by OMPL
+and by VAMP one after the other in the benchmark's thread, with the query's seed. Reported under
+``arms.<name>.planners``: per OMPL query ``ompl_ms``, ``vamp_ms`` (VAMP's start/goal checks, search and
+simplification; building its environment is ``vamp_env_ms``), ``ratio`` (ompl/vamp), ``vamp_mesh_valid`` (the VAMP
+path re-checked with the mesh checker at OMPL's motion-validation step), and a summary. Without the flag the report
+is what it was.
+
     scone-bench motion --queries 20                     # development
     scone-bench motion --json runs/motion.json          # 200 queries x both arms (long on 2 cores)
     scone-bench motion --jobs 2 --json runs/motion.json # the same report, queries spread over 2 processes
+    scone-bench motion --arms panda --queries 30 --planner ompl,vamp --json docs/results/motion_vamp.json
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import platform
+import threading
 import time
 from collections import Counter
+from collections.abc import Iterator
 from typing import Any
 
 from scone_bt.reporting import emit_report
@@ -49,6 +62,8 @@ TARGETS = {
     "ruckig_ms_p50": ("<=", 1.0),
 }
 G = 9.81
+PLANNERS = ("ompl", "vamp")
+"""What ``--planner`` may list: ompl (always) and vamp (the same OMPL queries solved again by both)."""
 PAYLOAD_SAFETY = 2.0
 """A grip holds the payload when the fingers' friction is at least twice its weight (the usual sizing rule for
 friction grippers: lifting accelerates the object and a few contact points are not a full pad)."""
@@ -101,10 +116,85 @@ def _setup(kitchen: str, arm_name: str) -> dict[str, Any]:
     return _WORKER[key]
 
 
+@contextlib.contextmanager
+def _recording_ompl_queries() -> Iterator[list[tuple[Any, Any, Any, Any]]]:
+    """Every (start, goals, collision world, options) the pick-and-place hands to OMPL while the block runs.
+
+    The planning thread calls `plan_joint_path` through scone_bt.motion.plan_session; the recorder wraps that name
+    for the block's duration and passes every call through unchanged.
+    """
+    from scone_bt.motion import plan_session
+
+    original = plan_session.plan_joint_path
+    calls: list[tuple[Any, Any, Any, Any]] = []
+    lock = threading.Lock()
+
+    def recording(start: Any, goal: Any, lower: Any, upper: Any, is_valid: Any, options: Any) -> Any:
+        with lock:
+            calls.append((start.copy(), goal.copy(), getattr(is_valid, "__self__", None), options))
+        return original(start, goal, lower, upper, is_valid, options)
+
+    plan_session.plan_joint_path = recording  # type: ignore[assignment]
+    try:
+        yield calls
+    finally:
+        plan_session.plan_joint_path = original  # type: ignore[assignment]
+
+
+def _compare(calls: list[tuple[Any, Any, Any, Any]]) -> list[dict[str, Any]]:
+    """Each recorded OMPL query solved again by OMPL and by VAMP, back to back, with its seed; one row each."""
+    import numpy as np
+
+    from scone_bt.motion.collision import CollisionWorld
+    from scone_bt.motion.planner import plan_joint_path
+    from scone_bt.motion.vamp_planner import VampOptions, plan_vamp
+
+    rows = []
+    for k, (start, goal, world, options) in enumerate(calls):
+        if not isinstance(world, CollisionWorld):
+            continue
+        arm = world.arm
+        ompl = plan_joint_path(start, goal, arm.lower, arm.upper, world.is_valid, options)
+        vamp = plan_vamp(
+            start, goal, world, VampOptions(rng_seed=options.rng_seed, resolution=options.resolution)
+        )
+        both = ompl.success and vamp.success
+        rows.append(
+            {
+                "k": k,
+                "carrying": world.min_up is not None,
+                "goals": int(np.atleast_2d(goal).shape[0]),
+                "ompl_status": ompl.status.value,
+                "ompl_direct": ompl.success and ompl.message.startswith("direct"),
+                "ompl_ms": round(ompl.planning_time * 1000, 3),
+                "ompl_waypoints": None if ompl.path is None else len(ompl.path),
+                "vamp_status": vamp.result.status.value,
+                "vamp_ms": round(vamp.result.planning_time * 1000, 3),
+                "vamp_env_ms": round(vamp.environment_s * 1000, 3),
+                "vamp_reported_ms": round(vamp.vamp_ns / 1e6, 3),
+                "vamp_padding": vamp.padding,
+                "vamp_waypoints": None if vamp.result.path is None else len(vamp.result.path),
+                "ratio": round(ompl.planning_time / vamp.result.planning_time, 2) if both else None,
+                "vamp_mesh_valid": vamp.mesh_valid if vamp.success else None,
+                "vamp_mesh_why": vamp.mesh.why if vamp.mesh is not None and not vamp.mesh.valid else None,
+            }
+        )
+    return rows
+
+
 def _query(
-    kitchen: str, arm_name: str, seed: int, clutter: int, table_objects: int, i: int
+    kitchen: str,
+    arm_name: str,
+    seed: int,
+    clutter: int,
+    table_objects: int,
+    i: int,
+    compare_vamp: bool = False,
 ) -> dict[str, Any]:
-    """Plan and execute query i of one arm in a fresh kitchen; one record of what happened (seeded by [seed, i])."""
+    """Plan and execute query i of one arm in a fresh kitchen; one record of what happened (seeded by [seed, i]).
+
+    With `compare_vamp`, the record also holds ``planners``: the OMPL queries of the plan solved by both planners.
+    """
     import numpy as np
 
     from scone_bt.motion import MotionSystem, PickPlacePlan
@@ -138,16 +228,17 @@ def _query(
         )
         shelf = [(_detect(kitchen, s.name), s) for s in extra if s.name not in on_table]
         table = [(_detect(kitchen, n), kitchen.specs[n]) for n in on_table]
-        task = system.pick_and_place(
-            _detect(kitchen, target.name), target, shelf, rng_seed=i, table_obstacles=table
-        )
-        start = kitchen.sim_time
-        task.start()
-        while not task.done():
-            if task.is_planning():
-                task.wait_planned()  # simulated time must not depend on the planning thread's speed
-            kitchen.advance(0.1)
-        outcome = task.outcome()
+        with _recording_ompl_queries() if compare_vamp else contextlib.nullcontext([]) as calls:
+            task = system.pick_and_place(
+                _detect(kitchen, target.name), target, shelf, rng_seed=i, table_obstacles=table
+            )
+            start = kitchen.sim_time
+            task.start()
+            while not task.done():
+                if task.is_planning():
+                    task.wait_planned()  # simulated time must not depend on the planning thread's speed
+                kitchen.advance(0.1)
+            outcome = task.outcome()
         sim_s = kitchen.sim_time - start
         system.close()
     plan = task.plan
@@ -166,6 +257,8 @@ def _query(
         "on_shelf": bool(on_shelf),
         "scene_only": False,
     }
+    if compare_vamp:
+        rec["planners"] = _compare(calls)
     if isinstance(plan, PickPlacePlan):
         rec.update(
             family=plan.grasp.family.value,
@@ -183,8 +276,15 @@ def _query(
 
 def _bench_arm(args: argparse.Namespace, kcfg: Any, arm_name: str) -> dict[str, Any]:
     from scone_bt.config import load_robot
+    from scone_bt.motion.vamp_planner import VAMP_ROBOTS, vamp_available
 
     load_robot(arm_name)  # an unknown robot is an error before any query runs
+    planners = getattr(args, "planners", ("ompl",))
+    compare_vamp = "vamp" in planners and arm_name in VAMP_ROBOTS
+    if compare_vamp and not vamp_available():
+        from scone_bt.motion.vamp_planner import VampUnavailableError
+
+        raise VampUnavailableError("--planner vamp: VAMP is not installed; build it with `make vamp`")
     slots = len(kcfg.scene.shelf_slots())
     catalogue = kcfg.catalogue.objects
     clutter = min(args.clutter, slots - 1 - args.table_objects, len(catalogue) - 1 - args.table_objects)
@@ -198,7 +298,7 @@ def _bench_arm(args: argparse.Namespace, kcfg: Any, arm_name: str) -> dict[str, 
         # Queries are independent and seeded by their index: the records (and the report) do not depend on how
         # many processes ran them.
         with cf.ProcessPoolExecutor(args.jobs, mp_context=mp.get_context("spawn")) as pool:
-            futures = [pool.submit(_query, *jobs, i) for i in range(args.queries)]
+            futures = [pool.submit(_query, *jobs, i, compare_vamp) for i in range(args.queries)]
             records = []
             for f in futures:
                 records.append(f.result())
@@ -206,11 +306,65 @@ def _bench_arm(args: argparse.Namespace, kcfg: Any, arm_name: str) -> dict[str, 
     else:
         records = []
         for i in range(args.queries):
-            records.append(_query(*jobs, i))
+            records.append(_query(*jobs, i, compare_vamp))
             _print_record(args, arm_name, records[-1])
     # The workers' CPU time is counted once they have exited (the pool is closed by now).
     children = os.times().children_user + os.times().children_system - children0
-    return _report(records, time.process_time() - cpu0 + children)
+    report = _report(records, time.process_time() - cpu0 + children)
+    if "vamp" in planners:
+        report["planners"] = (
+            _planner_report(records)
+            if compare_vamp
+            else {
+                "note": f"VAMP has no model of {arm_name}: not compared (VAMP arms: {', '.join(VAMP_ROBOTS)})"
+            }
+        )
+    return report
+
+
+def _planner_report(records: list[dict[str, Any]]) -> dict[str, Any]:
+    """OMPL against VAMP over every recorded OMPL query: the rows and their summary."""
+    import numpy as np
+
+    rows = [{"i": rec["i"], **row} for rec in records for row in rec.get("planners", [])]
+    solved_ompl = [r for r in rows if r["ompl_status"] == "success"]
+    solved_vamp = [r for r in rows if r["vamp_status"] == "success"]
+    both = [r for r in rows if r["ratio"] is not None]
+    searched = [r for r in both if not r["ompl_direct"]]
+
+    def summary(part: list[dict[str, Any]]) -> dict[str, Any]:
+        ratios = [r["ratio"] for r in part]
+        return {
+            "queries": len(part),
+            "ompl_ms_p50": _pct([r["ompl_ms"] for r in part], 50),
+            "ompl_ms_p95": _pct([r["ompl_ms"] for r in part], 95),
+            "vamp_ms_p50": _pct([r["vamp_ms"] for r in part], 50),
+            "vamp_ms_p95": _pct([r["vamp_ms"] for r in part], 95),
+            "vamp_env_ms_p50": _pct([r["vamp_env_ms"] for r in part], 50),
+            "ratio_median": round(float(np.median(ratios)), 2) if ratios else None,
+            "vamp_mesh_valid_share": _rate(sum(bool(r["vamp_mesh_valid"]) for r in part), len(part)),
+        }
+
+    return {
+        "what": "each OMPL query of the pick-and-place solved again by OMPL and VAMP back to back (same thread, "
+        "same seed); ms are wall; ratio = ompl_ms / vamp_ms; vamp_mesh_valid: the VAMP path passes the mesh check",
+        "queries": len(rows),
+        "ompl_success_rate": _rate(len(solved_ompl), len(rows)),
+        "vamp_success_rate": _rate(len(solved_vamp), len(rows)),
+        "vamp_success_rate_where_ompl_solved": _rate(
+            sum(r["vamp_status"] == "success" for r in solved_ompl), len(solved_ompl)
+        ),
+        "vamp_mesh_valid_share": _rate(
+            sum(bool(r["vamp_mesh_valid"]) for r in solved_vamp), len(solved_vamp)
+        ),
+        "vamp_status": dict(Counter(r["vamp_status"] for r in rows)),
+        "vamp_fell_back_to_world_padding": sum(r["vamp_padding"] == 0.0 for r in solved_vamp),
+        "both_solved": summary(both),
+        "both_solved_ompl_searched": summary(searched),
+        "both_solved_free": summary([r for r in both if not r["carrying"]]),
+        "both_solved_carrying": summary([r for r in both if r["carrying"]]),
+        "rows": rows,
+    }
 
 
 def _print_record(args: argparse.Namespace, arm_name: str, rec: dict[str, Any]) -> None:
@@ -307,6 +461,9 @@ def run(args: argparse.Namespace) -> int:
 
     if args.queries < 1 or args.clutter < 0 or args.table_objects < 0 or args.jobs < 1:
         raise ConfigError("--queries and --jobs must be >= 1, --clutter and --table-objects >= 0")
+    args.planners = tuple(dict.fromkeys(p.strip() for p in args.planner.split(",") if p.strip()))
+    if "ompl" not in args.planners or not set(args.planners) <= set(PLANNERS):
+        raise ConfigError(f"--planner: ompl, or ompl,vamp (got {args.planner!r})")
     quiet_backends()
     kcfg = load_kitchen(args.kitchen)
     arms = [a for a in args.arms.split(",") if a]
@@ -328,6 +485,7 @@ def run(args: argparse.Namespace) -> int:
         },
         "load_average_1min": round(os.getloadavg()[0], 2),
         "jobs": args.jobs,
+        **({"planners": list(args.planners)} if "vamp" in args.planners else {}),
         # the planning thread shares its process with the physics loop: wall times grow with the machine's load
         "note": "plan times: wall and the planning thread's own CPU; load_average_1min is taken at the end",
     }
@@ -352,5 +510,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         type=int,
         default=1,
         help="processes running the queries (default 1; the report is the same)",
+    )
+    b.add_argument(
+        "--planner",
+        default="ompl",
+        help="ompl (default), or ompl,vamp: also solve every OMPL query again with both planners and compare "
+        "(VAMP: make vamp; Panda only)",
     )
     b.set_defaults(func=run)

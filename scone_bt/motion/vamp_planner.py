@@ -83,7 +83,8 @@ class MeshCheck:
             upright enough.
         states: States checked.
         first_invalid: The first invalid state (dof,), radians, or None.
-        why: The colliding pair(s) at that state ("joint limits or tilt" when nothing collides), or "".
+        why: The colliding pair(s) at that state, "outside the joint limits" or "carried object tilted" (beyond
+            the world's `max_tilt`), or "".
     """
 
     valid: bool
@@ -261,7 +262,9 @@ def mesh_check(world: CollisionWorld, path: np.ndarray, resolution: float = 0.00
             states += 1
             if not world.is_valid(q):
                 pairs = world.colliding_pairs(q)
-                why = " / ".join(f"{a} ~ {b}" for a, b in pairs[:2]) or "joint limits or tilt"
+                why = " / ".join(f"{a} ~ {b}" for a, b in pairs[:2])
+                if not why:
+                    why = "outside the joint limits" if not arm.within_limits(q) else "carried object tilted"
                 return MeshCheck(False, states, q, why)
     return MeshCheck(True, states)
 

@@ -96,3 +96,30 @@ def test_an_arm_vamp_has_no_model_of_is_a_typed_error(kitchen_cfg):
     world = CollisionWorld(iiwa, [])
     with pytest.raises(VampUnavailableError, match="iiwa7"):
         plan_vamp(np.zeros(7), np.zeros(7), world)
+
+
+def test_motion_benchmark_compares_the_planners_on_every_ompl_query_of_a_pick_and_place():
+    from scone_bt.benchmarks.motion import _planner_report, _query
+
+    plain = _query("kitchen", "panda", 0, 11, 2, 1)
+    record = _query("kitchen", "panda", 0, 11, 2, 1, compare_vamp=True)
+    timing = {"plan_ms", "plan_cpu_ms", "ruckig_ms", "ompl_ms", "sim_s", "planners"}
+    # Recording the OMPL queries changes nothing of the pick-and-place itself.
+    assert {k: v for k, v in record.items() if k not in timing} == {
+        k: v for k, v in plain.items() if k not in timing
+    }
+    assert "planners" not in plain and record["planned"]
+    rows = record["planners"]
+    assert len(rows) >= 3  # approach, transit (carrying), return home
+    assert any(r["carrying"] for r in rows) and any(not r["carrying"] for r in rows)
+    for r in rows:
+        assert r["ompl_status"] == "success" and r["vamp_status"] == "success"
+        assert (
+            r["ompl_ms"] > 0
+            and r["vamp_ms"] > 0
+            and r["ratio"] == pytest.approx(r["ompl_ms"] / r["vamp_ms"], rel=0.1)
+        )
+        assert isinstance(r["vamp_mesh_valid"], bool)
+    report = _planner_report([record])
+    assert report["queries"] == len(rows) and report["vamp_success_rate"] == 1.0
+    assert report["both_solved"]["queries"] == len(rows) and report["both_solved"]["ratio_median"] > 0
