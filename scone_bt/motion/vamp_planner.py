@@ -18,6 +18,7 @@ the step OMPL's motion validator uses, and `plan_vamp` reports the answer with t
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 from typing import Any
@@ -154,14 +155,11 @@ def _robot(vamp: Any, world: CollisionWorld) -> Any:
 
 def _euler_xyz(r: np.ndarray) -> list[float]:
     """Angles (rho, theta, phi) with R = Rz(phi) Ry(theta) Rx(rho), the convention of VAMP's factories."""
-    theta = float(np.arcsin(np.clip(-r[2, 0], -1.0, 1.0)))
-    if abs(r[2, 0]) < 1.0 - 1e-9:
-        rho = float(np.arctan2(r[2, 1], r[2, 2]))
-        phi = float(np.arctan2(r[1, 0], r[0, 0]))
-    else:  # gimbal lock: put the whole rotation about z
-        rho = 0.0
-        phi = float(np.arctan2(-r[0, 1], r[1, 1]))
-    return [rho, theta, phi]
+    r20 = float(r[2, 0])
+    theta = math.asin(min(1.0, max(-1.0, -r20)))
+    if abs(r20) < 1.0 - 1e-9:
+        return [math.atan2(float(r[2, 1]), float(r[2, 2])), theta, math.atan2(float(r[1, 0]), float(r[0, 0]))]
+    return [0.0, theta, math.atan2(-float(r[0, 1]), float(r[1, 1]))]  # gimbal lock: the rotation about z
 
 
 def _half_extents(geometry: Any) -> np.ndarray:
@@ -186,12 +184,18 @@ def _cover_spheres(half: np.ndarray, pose: np.ndarray, cell: float) -> list[tupl
     return out
 
 
+_BASE_SPHERES: dict[str, np.ndarray] = {}
+
+
 def _base_spheres(robot: Any) -> np.ndarray:
     """(k, 4) x, y, z, radius of the robot's spheres that no joint moves (its base link), in the base frame."""
-    qs = [np.zeros(7), np.full(7, 0.5), np.array([2.0, -1.0, 1.0, -2.0, 1.0, 2.0, 1.0])]
-    spheres = [np.array([[s.x, s.y, s.z, s.r] for s in robot.fk(q.astype(np.float32))]) for q in qs]
-    fixed = np.all([np.all(np.abs(spheres[0] - o) < 1e-6, axis=1) for o in spheres[1:]], axis=0)
-    return spheres[0][fixed]
+    key = robot.__name__
+    if key not in _BASE_SPHERES:
+        qs = [np.zeros(7), np.full(7, 0.5), np.array([2.0, -1.0, 1.0, -2.0, 1.0, 2.0, 1.0])]
+        spheres = [np.array([[s.x, s.y, s.z, s.r] for s in robot.fk(q.astype(np.float32))]) for q in qs]
+        fixed = np.all([np.all(np.abs(spheres[0] - o) < 1e-6, axis=1) for o in spheres[1:]], axis=0)
+        _BASE_SPHERES[key] = spheres[0][fixed]
+    return _BASE_SPHERES[key]
 
 
 def _below_base(centre: np.ndarray, rotation: np.ndarray, half: np.ndarray, base: np.ndarray) -> np.ndarray:
@@ -201,9 +205,11 @@ def _below_base(centre: np.ndarray, rotation: np.ndarray, half: np.ndarray, base
     padded pedestal under the arm overlaps the base's lowest sphere in every configuration. Such a box (upright,
     under the base, touching one of its spheres) keeps its footprint and bottom and loses the top few centimetres.
     """
-    if not np.allclose(np.abs(rotation[:, 2]), [0.0, 0.0, 1.0], atol=1e-6) or not len(base):
+    if not len(base) or abs(abs(float(rotation[2, 2])) - 1.0) > 1e-6:
         return centre, half
-    top, bottom = centre[2] + half[2], centre[2] - half[2]
+    top, bottom = float(centre[2] + half[2]), float(centre[2] - half[2])
+    if top >= float(base[:, 2].max()) or top <= float((base[:, 2] - base[:, 3]).min()):
+        return centre, half  # not under the base's centres, or already below its spheres
     local = np.abs((base[:, :3] - centre) @ rotation)
     gap = np.linalg.norm(np.maximum(local - half, 0.0), axis=1)
     touching = (gap < base[:, 3]) & (base[:, 2] > top)
