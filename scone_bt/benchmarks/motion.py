@@ -109,9 +109,7 @@ def _setup(kitchen: str, arm_name: str) -> dict[str, Any]:
             "rcfg": rcfg,
             "arm": ArmModel(rcfg),
             "params": GraspParams.of(rcfg),
-            "options": PlannerOptions(
-                name=p.name, time_limit_s=p.time_limit_s, simplify=p.simplify, rng_seed=p.rng_seed
-            ),
+            "options": PlannerOptions.of(p),
         }
     return _WORKER[key]
 
@@ -143,6 +141,8 @@ def _recording_ompl_queries() -> Iterator[list[tuple[Any, Any, Any, Any]]]:
 
 def _compare(calls: list[tuple[Any, Any, Any, Any]]) -> list[dict[str, Any]]:
     """Each recorded OMPL query solved again by OMPL and by VAMP, back to back, with its seed; one row each."""
+    from dataclasses import replace
+
     import numpy as np
 
     from scone_bt.motion.collision import CollisionWorld
@@ -154,7 +154,8 @@ def _compare(calls: list[tuple[Any, Any, Any, Any]]) -> list[dict[str, Any]]:
         if not isinstance(world, CollisionWorld):
             continue
         arm = world.arm
-        ompl = plan_joint_path(start, goal, arm.lower, arm.upper, world.is_valid, options)
+        ompl_options = replace(options, backend="ompl")  # OMPL itself, whatever the robot file's backend
+        ompl = plan_joint_path(start, goal, arm.lower, arm.upper, world.is_valid, ompl_options)
         vamp = plan_vamp(
             start, goal, world, VampOptions(rng_seed=options.rng_seed, resolution=options.resolution)
         )

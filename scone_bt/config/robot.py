@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
 from pydantic import Field, field_validator, model_validator
 
@@ -56,12 +56,15 @@ class LimitsSpec:
 
 @dataclass(frozen=True)
 class PlannerSpec:
-    """OMPL planner name, time limit (s), path simplification and seed."""
+    """OMPL planner name, time limit (s), path simplification and seed; `backend`: who plans the free-space
+    queries, "ompl" or "vamp" (VAMP, built by `make vamp`, for the arms it has a model of, checked with the mesh
+    checker; OMPL where it has no model, is not installed, finds no path or its path fails that check)."""
 
     name: str = "RRTConnect"
     time_limit_s: float = 1.0
     simplify: bool = True
     rng_seed: int = 0
+    backend: str = "ompl"
 
 
 @dataclass(frozen=True)
@@ -158,6 +161,7 @@ class _PlannerModel(StrictModel):
     time_limit_s: Annotated[float, Field(gt=0, le=600, allow_inf_nan=False)] = PlannerSpec.time_limit_s
     simplify: bool = PlannerSpec.simplify
     rng_seed: Annotated[int, Field(ge=0, le=2**32 - 1)] = PlannerSpec.rng_seed
+    backend: Literal["ompl", "vamp"] = "ompl"
 
     @field_validator("name")
     @classmethod
@@ -245,7 +249,11 @@ def load_robot(name_or_path: str | Path = "panda") -> RobotConfig:
             jerk_scale=lim.jerk_scale,
         ),
         planner=PlannerSpec(
-            name=p.name, time_limit_s=p.time_limit_s, simplify=p.simplify, rng_seed=p.rng_seed
+            name=p.name,
+            time_limit_s=p.time_limit_s,
+            simplify=p.simplify,
+            rng_seed=p.rng_seed,
+            backend=p.backend,
         ),
         control=ControlSpec(
             rate_hz=c.rate_hz, position_gain=c.position_gain, max_joint_force=c.max_joint_force

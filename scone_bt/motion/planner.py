@@ -22,7 +22,9 @@ from scone_bt.motion.types import PlanResult, PlanStatus
 
 _ROBOT_FILE = PlannerSpec()  # what a robot file states is defaulted there, once
 
-__all__ = ["PlannerOptions", "plan_joint_path", "silence_ompl"]
+__all__ = ["BACKENDS", "PlannerOptions", "plan_joint_path", "silence_ompl"]
+
+BACKENDS = ("ompl", "vamp")
 
 _LOCK = threading.Lock()
 
@@ -50,6 +52,10 @@ class PlannerOptions:
         try_direct: First check the straight joint-space segment to each goal (at the same resolution OMPL's
             motion validator uses) and return it when it is collision-free, as MoveIt's planners do; OMPL runs
             only when no goal is directly reachable.
+        backend: "ompl", or "vamp": where no goal is directly reachable, VAMP plans first (`plan_vamp`, seeded
+            by `rng_seed`, its path re-checked with the mesh checker), and OMPL only when VAMP cannot: an arm
+            VAMP has no model of, VAMP not installed, no path, or a path that fails the mesh check (e.g. tilts a
+            carried object). VAMP needs `is_valid` to be a `CollisionWorld`'s.
     """
 
     name: str = _ROBOT_FILE.name
@@ -59,12 +65,17 @@ class PlannerOptions:
     resolution: float = 0.004
     simplify_rounds: int = 3
     try_direct: bool = True
+    backend: str = _ROBOT_FILE.backend
 
     @classmethod
     def of(cls, spec: PlannerSpec) -> PlannerOptions:
         """The options a robot file's ``planner:`` section states (the rest at their defaults)."""
         return cls(
-            name=spec.name, time_limit_s=spec.time_limit_s, simplify=spec.simplify, rng_seed=spec.rng_seed
+            name=spec.name,
+            time_limit_s=spec.time_limit_s,
+            simplify=spec.simplify,
+            rng_seed=spec.rng_seed,
+            backend=spec.backend,
         )
 
 
@@ -116,6 +127,8 @@ def plan_joint_path(
     goals = np.atleast_2d(np.asarray(goal, dtype=float))
     if options.name not in PLANNERS:
         raise UnknownNameError("planner", options.name, PLANNERS)
+    if options.backend not in BACKENDS:
+        raise UnknownNameError("planner backend", options.backend, BACKENDS)
     if not is_valid(start):
         return PlanResult(
             PlanStatus.START_INVALID, None, time.perf_counter() - t0, "start configuration is in collision"
@@ -137,11 +150,50 @@ def plan_joint_path(
                     "direct: the straight joint-space segment is collision-free",
                     goal_index=i,
                 )
+    why_not_vamp = ""
+    if options.backend == "vamp":
+        vamp, why_not_vamp = _plan_vamp(start, goals[valid], is_valid, options, t0)
+        if vamp is not None:
+            return replace(vamp, goal_index=valid[vamp.goal_index])
     with _LOCK:
         result = _solve(start, goals[valid], lower, upper, is_valid, options, t0)
+    if why_not_vamp:
+        result = replace(result, message=f"{result.message} ({why_not_vamp}: planned with OMPL)")
     if result.success:
         return replace(result, goal_index=valid[result.goal_index])
     return result
+
+
+def _plan_vamp(
+    start: np.ndarray,
+    goals: np.ndarray,
+    is_valid: Callable[[np.ndarray], bool],
+    options: PlannerOptions,
+    t0: float,
+) -> tuple[PlanResult | None, str]:
+    """VAMP's mesh-checked path (goal_index into `goals`), or None and why OMPL plans instead."""
+    from scone_bt.motion.collision import CollisionWorld
+    from scone_bt.motion.vamp_planner import VAMP_ROBOTS, VampOptions, plan_vamp, vamp_available
+
+    world = getattr(is_valid, "__self__", None)
+    if not isinstance(world, CollisionWorld):
+        return None, "VAMP needs a CollisionWorld's validity checker"
+    if world.arm.config.name not in VAMP_ROBOTS:
+        return None, f"VAMP has no model of {world.arm.config.name}"
+    if not vamp_available():
+        return None, "VAMP is not installed (make vamp)"
+    plan = plan_vamp(
+        start,
+        goals,
+        world,
+        VampOptions(rng_seed=options.rng_seed, simplify=options.simplify, resolution=options.resolution),
+    )
+    if not plan.success:
+        return None, plan.result.message
+    if not plan.mesh_valid:
+        assert plan.mesh is not None
+        return None, f"VAMP's path fails the mesh check ({plan.mesh.why})"
+    return replace(plan.result, planning_time=time.perf_counter() - t0), ""
 
 
 def _solve(
