@@ -13,6 +13,9 @@ set -uo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
 VERSION=0.6.4
+SDIST_SHA256=d3150c6b67ff941af9ad56480b31d3fb73b12211ea21dc684f7737b059f6daba
+# The sdist's build requirements (isolated build environment), pinned to the versions this was verified with.
+BUILD_PINS="scikit-build-core==1.1.2 nanobind==3.1.0 cmake==4.4.5 typing_extensions==4.16.0 packaging==26.4 pathspec==1.1.1"
 PY=${PYTHON:-$ROOT/.venv/bin/python}
 DEPS=$ROOT/third_party/vamp
 LOG=$ROOT/runs/build_vamp.log
@@ -49,6 +52,9 @@ echo "build_vamp: downloading the vamp-planner $VERSION sdist from PyPI" >&2
   || die "could not download the vamp-planner $VERSION sdist from PyPI (log: runs/build_vamp.log)"
 SDIST=$(ls "$WORK"/sdist/vamp_planner-"$VERSION".tar.gz 2>/dev/null) \
   || die "pip download did not leave vamp_planner-$VERSION.tar.gz (log: runs/build_vamp.log)"
+echo "$SDIST_SHA256 $SDIST" | sha256sum -c --quiet - >/dev/null 2>&1 \
+  || die "the downloaded vamp_planner-$VERSION.tar.gz does not have the expected SHA-256"
+tr ' ' '\n' <<<"$BUILD_PINS" >"$WORK/build-constraints.txt"
 
 # FetchInitCPM.cmake downloads CPM.cmake to <build>/cmake/CPM.cmake unless a file with the expected hash is there.
 mkdir -p "$WORK/build/cmake" "$WORK/wheels"
@@ -57,7 +63,7 @@ export CPM_SOURCE_CACHE=$WORK/cpm-cache
 export CMAKE_BUILD_PARALLEL_LEVEL=${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}
 
 echo "build_vamp: building the Panda-only wheel (a few minutes)" >&2
-"$PY" -m pip wheel --disable-pip-version-check --no-cache-dir --no-deps -v -w "$WORK/wheels" \
+PIP_CONSTRAINT="$WORK/build-constraints.txt" "$PY" -m pip wheel --disable-pip-version-check --no-cache-dir --no-deps -v -w "$WORK/wheels" \
   -C build-dir="$WORK/build" \
   -C cmake.define.CPM_nigh_SOURCE="$DEPS/nigh" \
   -C cmake.define.CPM_pdqsort_SOURCE="$DEPS/pdqsort" \
