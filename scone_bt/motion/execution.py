@@ -161,9 +161,9 @@ class PickPlaceController:
 
     def _finish(self) -> None:
         # The fingers are open (or were told to open) by now; an object both still touch is stuck between them.
-        self.still_held = self.held is not None and self.arm.held_object(
-            self.settings.min_contact_force * 0.2
-        ) == self.held
+        self.still_held = (
+            self.held is not None and self.arm.held_object(self.settings.min_contact_force * 0.2) == self.held
+        )
         self.finished = True
         self.end_time = self.arm.sim_time
         self.phase = MotionPhase.DONE
