@@ -86,7 +86,7 @@ def perceived_size(frame: Frame, det: Detection, scene: SceneSpec) -> tuple[floa
     its width is its extent across the narrower principal axis. The height is the top face above the shelf step
     under it (the robot knows its shelving from the scene file). None if the lid cannot be measured.
     """
-    from scipy import ndimage
+    import cv2  # the marker detector's library: already loaded, unlike scipy (a third of a second to import)
 
     h, w = frame.depth.shape
     x0, y0, x1, y1 = det.bbox
@@ -107,8 +107,9 @@ def perceived_size(frame: Frame, det: Detection, scene: SceneSpec) -> tuple[floa
         & (horizontal <= _MAX_HALF_EXTENT_M)
         & (z.reshape(-1) > 0)
     )
-    labels, count = ndimage.label(lid.reshape(z.shape))
-    if count == 0:
+    # 4-connected patches, as scipy.ndimage.label's default (only the partition matters, not the numbering).
+    count, labels = cv2.connectedComponents(lid.reshape(z.shape).astype(np.uint8), connectivity=4)
+    if count <= 1:  # label 0 is the background
         return None
     flat = labels.reshape(-1)
     # The patch that holds the point nearest the detected centre.

@@ -18,6 +18,7 @@ words); a product no step names is needed from the first step on (it is gathered
 from __future__ import annotations
 
 import difflib
+import functools
 import re
 import unicodedata
 from dataclasses import dataclass
@@ -156,7 +157,8 @@ class ProductIndex:
         phrases.sort(key=lambda p: -len(p[0]))
         self._keys = sorted(self._by_key)
         self.step_patterns = _patterns(catalogue)
-        self._phrases = [(re.compile(rf"\b{re.escape(a)}\b"), a, n) for a, n in phrases if " " in a]
+        # Multi-word aliases only; each is compiled on first use (`_word_pattern`): most never occur in a line.
+        self._phrases = [(a, n) for a, n in phrases if " " in a]
 
     def _kind(self, head: str) -> str | None:
         """The generic product of a kind: the one named by the head word alone ("cheese", "potatoes")."""
@@ -186,10 +188,10 @@ class ProductIndex:
             head = item_key(words[-1])
             text = _fold(re.sub(r"\([^)]*\)", " ", line))
             first = re.search(rf"\b{re.escape(words[-1])}\b", text)
-            for pattern, alias, name in self._phrases if first else ():
+            for alias, name in self._phrases if first else ():
                 if alias not in text or head not in {item_key(w) for w in alias.split()}:
                     continue
-                for m in pattern.finditer(text):
+                for m in _word_pattern(alias).finditer(text):
                     if m.start() <= first.start() < m.end():
                         exact = self._exact(words)
                         return ProductMatch(name, MatchRule.EXACT if exact == name else MatchRule.IN_LINE)
@@ -241,17 +243,27 @@ def _same_words_misspelt(words: list[str], target: list[str]) -> bool:
     )
 
 
-def _patterns(catalogue: Catalogue) -> list[tuple[re.Pattern[str], str, str]]:
-    """(pattern, product, alias) for every name and alias, longest first."""
+@functools.cache
+def _word_pattern(alias: str) -> re.Pattern[str]:
+    """The alias as a whole-word pattern, compiled once per process (a catalogue has thousands of aliases and a
+    text names a few: compiling them all up front cost half a second before the robot's first decision)."""
+    return re.compile(rf"\b{re.escape(alias)}\b")
+
+
+def _patterns(catalogue: Catalogue) -> list[tuple[str, str]]:
+    """(alias, product) for every name and alias (lower case), longest first."""
     pairs = [(alias.lower(), obj.name) for obj in catalogue.objects for alias in (obj.name, *obj.aliases)]
     # Longest alias first so "olive oil" wins over "oil" and "canned tomatoes" over "tomatoes".
     pairs.sort(key=lambda p: -len(p[0]))
-    return [(re.compile(rf"\b{re.escape(alias)}\b"), name, alias) for alias, name in pairs]
+    return pairs
 
 
 def match_catalogue(text: str, catalogue: Catalogue) -> list[str]:
     """Catalogue objects named in a text, in order of first mention, each once."""
-    return [name for _, name in _mentions(text.lower(), [(p, n) for p, n, _ in _patterns(catalogue)])]
+    lowered = text.lower()
+    # A whole-word match needs the alias as a substring: only those are compiled and searched.
+    patterns = [(_word_pattern(a), n) for a, n in _patterns(catalogue) if a in lowered]
+    return [name for _, name in _mentions(lowered, patterns)]
 
 
 def _mentions(lowered: str, patterns: list[tuple[re.Pattern[str], str]]) -> list[tuple[int, str]]:
@@ -309,7 +321,7 @@ def stock_recipe(
         for i, s in enumerate(recipe.steps)
     ]
     everything = " ".join(texts).lower()
-    patterns = [(p, n) for p, n, alias in index.step_patterns if alias in everything]
+    patterns = [(_word_pattern(alias), n) for alias, n in index.step_patterns if alias in everything]
     for product, item in products.items():
         for label in {item, item.split()[-1]} if item else ():
             patterns.append((re.compile(rf"\b{re.escape(label)}s?\b"), product))
