@@ -15,7 +15,6 @@ from typing import Any, cast
 
 import numpy as np
 import yaml
-from scipy import stats
 
 from scone_bt.benchmarks.self_confidence.evaldata import UNKNOWN_FAMILY, EvalDataset
 from scone_bt.benchmarks.self_confidence.metrics import ece_noise_floor
@@ -244,6 +243,8 @@ def paired_difference(
     if len(d) == 1:  # scipy needs two observations; every resample of one is that one
         lo = hi = float(d[0])
     else:
+        from scipy import stats  # here, not at import: scone-bench --help registers this module
+
         # percentile interval: resamples whole datasets (paired), the seeded Generator draws them
         ci = stats.bootstrap(
             (pairs[:, 0], pairs[:, 1]),
