@@ -63,7 +63,7 @@ export CPM_SOURCE_CACHE=$WORK/cpm-cache
 export CMAKE_BUILD_PARALLEL_LEVEL=${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}
 
 echo "build_vamp: building the Panda-only wheel (a few minutes)" >&2
-PIP_CONSTRAINT="$WORK/build-constraints.txt" "$PY" -m pip wheel --disable-pip-version-check --no-cache-dir --no-deps -v -w "$WORK/wheels" \
+PIP_CONSTRAINT="$WORK/build-constraints.txt" PIP_BUILD_CONSTRAINT="$WORK/build-constraints.txt" "$PY" -m pip wheel --disable-pip-version-check --no-cache-dir --no-deps -v -w "$WORK/wheels" \
   -C build-dir="$WORK/build" \
   -C cmake.define.CPM_nigh_SOURCE="$DEPS/nigh" \
   -C cmake.define.CPM_pdqsort_SOURCE="$DEPS/pdqsort" \

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import py_trees
 
-from scone_bt.affordances.types import object_of_action
+from scone_bt.affordances.types import action_text, object_of_action
 from scone_bt.behaviours.base import Keys, StageBehaviour
 from scone_bt.behaviours.context import EpisodeContext
 from scone_bt.behaviours.ports import Clock, HumanChannel
@@ -56,23 +56,28 @@ class AskForHelp(_AskTheHuman):
 
 
 class ClearGripper(_AskTheHuman):
-    """Succeeds at once unless the attempt ended with its object still gripped (`MotionOutcome.still_held`, the
-    arm's finger sensors): then it asks the human to take the object out and waits until they have. Nothing is
-    learnt from the ask: the attempt's own outcome is already labelled."""
+    """Succeeds at once unless the attempt ended with an object still gripped (`MotionOutcome.still_held`, the
+    arm's finger sensors): then it asks the human to take that object out and put it on the table, and waits
+    until they have. Nothing is learnt from the ask: the attempt's own outcome is already labelled.
 
-    READS = (Keys.TARGET, Keys.MOTION_OUTCOME)
+    No ask when the human is already fetching that object (they took over: the intervention clears the hand).
+    A human who declines leaves the object where it is: the robot goes on, and says so in the event log (the
+    decline), since it cannot free its own hand.
+    """
+
+    READS = (Keys.MOTION_OUTCOME,)
 
     def initialise(self) -> None:
         motion = self.read(Keys.MOTION_OUTCOME)
-        target = self.read(Keys.TARGET)
         self.object_name: str | None = None
-        if motion is None or target is None or not motion.still_held:
+        name = None if motion is None else motion.still_held
+        if name is None or self.human.is_fetching(name):
             return
-        self.object_name = target.object_name
-        self.human.request_help(self.object_name)
+        self.object_name = name
+        self.human.request_help(name)
         self.human.robot_busy(True)
-        reason = f"the {self.object_name} is stuck in my gripper: please take it out and put it on the table"
-        self.events(HelpRequested(self.clock(), target.text, self.object_name, reason))
+        reason = f"the {name} is stuck in my gripper: please take it out and put it on the table"
+        self.events(HelpRequested(self.clock(), action_text(name), name, reason))
 
     def update(self) -> py_trees.common.Status:
         if self.object_name is not None and self.human.help_pending(self.object_name):
@@ -83,6 +88,7 @@ class ClearGripper(_AskTheHuman):
     def terminate(self, new_status: py_trees.common.Status) -> None:
         if self.object_name is not None:
             self.human.robot_busy(False)
+            self.object_name = None
 
 
 class AskToClarify(_AskTheHuman):

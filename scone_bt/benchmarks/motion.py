@@ -157,7 +157,11 @@ def _compare(calls: list[tuple[Any, Any, Any, Any]]) -> list[dict[str, Any]]:
         ompl_options = replace(options, backend="ompl")  # OMPL itself, whatever the robot file's backend
         ompl = plan_joint_path(start, goal, arm.lower, arm.upper, world.is_valid, ompl_options)
         vamp = plan_vamp(
-            start, goal, world, VampOptions(rng_seed=options.rng_seed, resolution=options.resolution)
+            start,
+            goal,
+            world,
+            # the same options the planner's VAMP backend uses (planner._plan_vamp)
+            VampOptions(rng_seed=options.rng_seed, simplify=options.simplify, resolution=options.resolution),
         )
         both = ompl.success and vamp.success
         rows.append(

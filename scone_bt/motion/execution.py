@@ -96,7 +96,7 @@ class PickPlaceController:
         self.current: Segment | None = None
         self.executed: list[TimedTrajectory] = []
         self.held: str | None = None  # what the fingers closed on
-        self.still_held = False  # the fingers still grip it when the attempt ends (stuck between them)
+        self.still_held: str | None = None  # what the fingers still grip when the attempt ends (stuck)
         self.stage: FailureStage | None = None
         self.reason: PlanFailureReason | None = None
         self.error: BaseException | None = None  # a planner exception: the run stops, no outcome
@@ -160,10 +160,9 @@ class PickPlaceController:
         self._enter(MotionPhase.RECOVER)
 
     def _finish(self) -> None:
-        # The fingers are open (or were told to open) by now; an object both still touch is stuck between them.
-        self.still_held = (
-            self.held is not None and self.arm.held_object(self.settings.min_contact_force * 0.2) == self.held
-        )
+        # The fingers are open (or were told to open) by now; what both still touch is stuck between them.
+        gripped = self.arm.held_object(self.settings.min_contact_force * 0.2)
+        self.still_held = gripped if self.held is not None and gripped == self.held else None
         self.finished = True
         self.end_time = self.arm.sim_time
         self.phase = MotionPhase.DONE
@@ -276,8 +275,8 @@ class PickPlaceController:
                 self.stage = FailureStage.PLACE
                 stuck = self.arm.held_object(self.settings.min_contact_force * 0.2) == self.held
                 self.message = (
-                    f"released, but the {self.target_name} stuck between the open fingers"
-                    if stuck
+                    f"released, but the {self.held} stuck between the open fingers"
+                    if stuck and self.held is not None
                     else "released, but the object is not resting upright on the table"
                 )
         self.hold_q = self.current.trajectory.positions[-1] if self.current is not None else self.hold_q

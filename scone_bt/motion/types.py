@@ -137,8 +137,8 @@ class MotionOutcome:
         trajectories: Every timed segment that was executed (for plots and limit checks).
         ee_path: (N, 3) planned end-effector positions, metres (for the 3D trace).
         reason: For a planning or IK failure, which stage ran out of options; else None.
-        still_held: When the attempt ended, the fingers still gripped the object (it stuck between the open
-            fingers and came back with the arm): the arm's own finger sensors, not the simulator's truth.
+        still_held: The object the fingers still gripped when the attempt ended (it stuck between the open fingers
+            and came back with the arm), by the arm's own finger sensors; None when the hand is empty.
     """
 
     success: bool
@@ -148,7 +148,7 @@ class MotionOutcome:
     trajectories: tuple[TimedTrajectory, ...] = ()
     ee_path: np.ndarray | None = field(default=None)
     reason: PlanFailureReason | None = None
-    still_held: bool = False
+    still_held: str | None = None
 
 
 @dataclass(frozen=True)

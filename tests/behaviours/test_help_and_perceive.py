@@ -38,18 +38,38 @@ def test_ask_for_help_waits_until_the_human_fetched_it() -> None:
 
 def test_clear_gripper_asks_the_human_to_take_out_what_stuck_between_the_fingers() -> None:
     human, robot, events = FakeHuman(), FakeRobot(time=7.0), EventLog()
-    stuck = MotionOutcome(False, FailureStage.PLACE, "released, but it stuck", 9.0, still_held=True)
+    stuck = MotionOutcome(False, FailureStage.PLACE, "released, but it stuck", 9.0, still_held="bell pepper")
     blackboard(TARGET=affordance("bell pepper"), MOTION_OUTCOME=stuck)
     node = ClearGripper("clear", human, events, robot.now)
     node.tick_once()
     assert node.status is Status.RUNNING and human.helped == ["bell pepper"] and human.busy == [True]
     (event,) = events.events
     assert isinstance(event, HelpRequested) and event.object_name == "bell pepper"
+    assert event.action == "Put bell pepper on table"
     assert event.reason.startswith("the bell pepper is stuck in my gripper")
     assert events.stats.help_requests == 1
     human.pending.clear()  # the human took it out
     node.tick_once()
     assert node.status is Status.SUCCESS and human.busy == [True, False]
+
+
+def test_clear_gripper_names_what_stuck_not_what_was_targeted() -> None:
+    human, robot, events = FakeHuman(), FakeRobot(time=7.0), EventLog()
+    # The fingers closed on a neighbour, and it is the neighbour that stuck.
+    stuck = MotionOutcome(False, FailureStage.PLACE, "stuck", 9.0, still_held="onion")
+    blackboard(TARGET=affordance("bell pepper"), MOTION_OUTCOME=stuck)
+    ClearGripper("clear", human, events, robot.now).tick_once()
+    assert human.helped == ["onion"] and [e.object_name for e in events.events] == ["onion"]
+
+
+def test_clear_gripper_does_not_ask_for_what_the_human_is_already_fetching() -> None:
+    human, robot, events = FakeHuman(fetching={"bell pepper"}), FakeRobot(time=7.0), EventLog()
+    # The human took over mid-attempt: their intervention fetch takes it out of the hand anyway.
+    stuck = MotionOutcome(False, FailureStage.CANCELLED, "taken over", 3.0, still_held="bell pepper")
+    blackboard(TARGET=affordance("bell pepper"), MOTION_OUTCOME=stuck)
+    node = ClearGripper("clear", human, events, robot.now)
+    node.tick_once()
+    assert node.status is Status.SUCCESS and human.helped == [] and events.events == [] and human.busy == []
 
 
 def test_clear_gripper_does_nothing_when_the_hand_is_empty() -> None:

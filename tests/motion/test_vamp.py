@@ -142,33 +142,3 @@ def test_backend_vamp_plans_with_vamp_and_falls_back_to_ompl(arm, stocked, monke
     result = plan_joint_path(start, goal, arm.lower, arm.upper, world.is_valid, options)
     assert result.success and result.message.startswith("RRTConnect"), result.message
     assert "fails the mesh check (tilted): planned with OMPL" in result.message
-
-
-def test_backend_vamp_on_an_arm_vamp_has_no_model_of_plans_with_ompl(static_obstacles):
-    from scone_bt.config import load_robot
-    from scone_bt.motion import ArmModel
-
-    cfg = load_robot("iiwa7")
-    iiwa = ArmModel(cfg)
-    world = CollisionWorld(iiwa, static_obstacles)
-    home = np.asarray(cfg.home)
-    goal = home.copy()
-    goal[0] += 0.6
-    options = PlannerOptions(rng_seed=1, try_direct=False, backend="vamp")
-    result = plan_joint_path(home, goal, iiwa.lower, iiwa.upper, world.is_valid, options)
-    assert result.success and "VAMP has no model of iiwa7: planned with OMPL" in result.message
-
-
-def test_robot_file_planner_backend(tmp_path, robot_cfg):
-    from scone_bt.config import load_robot
-    from scone_bt.errors import ConfigError
-
-    assert robot_cfg.planner.backend == "ompl" and PlannerOptions.of(robot_cfg.planner).backend == "ompl"
-    text = robot_cfg.source.read_text()
-    assert "backend: ompl" in text
-    (tmp_path / "vamp_panda.yaml").write_text(text.replace("backend: ompl", "backend: vamp"))
-    cfg = load_robot(tmp_path / "vamp_panda.yaml")
-    assert cfg.planner.backend == "vamp" and PlannerOptions.of(cfg.planner).backend == "vamp"
-    (tmp_path / "bad.yaml").write_text(text.replace("backend: ompl", "backend: moveit"))
-    with pytest.raises(ConfigError, match="backend"):
-        load_robot(tmp_path / "bad.yaml")
