@@ -160,9 +160,7 @@ class PickPlaceController:
         self._enter(MotionPhase.RECOVER)
 
     def _finish(self) -> None:
-        # The fingers are open (or were told to open) by now; what both still touch is stuck between them.
-        gripped = self.arm.held_object(self.settings.min_contact_force * 0.2)
-        self.still_held = gripped if self.held is not None and gripped == self.held else None
+        self.still_held = self._stuck()
         self.finished = True
         self.end_time = self.arm.sim_time
         self.phase = MotionPhase.DONE
@@ -273,10 +271,10 @@ class PickPlaceController:
                     self._on_placed()
             else:
                 self.stage = FailureStage.PLACE
-                stuck = self.arm.held_object(self.settings.min_contact_force * 0.2) == self.held
+                stuck = self._stuck()
                 self.message = (
-                    f"released, but the {self.held} stuck between the open fingers"
-                    if stuck and self.held is not None
+                    f"released, but the {stuck} stuck between the open fingers"
+                    if stuck is not None
                     else "released, but the object is not resting upright on the table"
                 )
         self.hold_q = self.current.trajectory.positions[-1] if self.current is not None else self.hold_q
@@ -310,6 +308,11 @@ class PickPlaceController:
     def _finger_gap(self) -> float:
         """Both fingers' opening together, metres."""
         return float(np.sum(self.arm.gripper_positions()))
+
+    def _stuck(self) -> str | None:
+        """What the fingers closed on, if both still touch it though they were told to open (stuck between them)."""
+        gripped = self.arm.held_object(self.settings.min_contact_force * 0.2)
+        return gripped if self.held is not None and gripped == self.held else None
 
     def _holding(self) -> bool:
         held = self.arm.held_object(self.settings.min_contact_force * 0.2)
