@@ -18,13 +18,23 @@ import numpy as np
 from scone_bt.config.grasp import PLANNERS
 from scone_bt.config.robot import PlannerSpec
 from scone_bt.errors import UnknownNameError
+from scone_bt.motion.segments import MOTION_RESOLUTION, motion_step, segment_times
 from scone_bt.motion.types import PlanResult, PlanStatus
 
 _ROBOT_FILE = PlannerSpec()  # what a robot file states is defaulted there, once
 
-__all__ = ["BACKENDS", "PlannerOptions", "plan_joint_path", "silence_ompl"]
+__all__ = [
+    "BACKENDS",
+    "MOTION_RESOLUTION",
+    "PlannerOptions",
+    "motion_step",
+    "plan_joint_path",
+    "segment_times",
+    "silence_ompl",
+]
 
 BACKENDS = ("ompl", "vamp")
+
 
 _LOCK = threading.Lock()
 
@@ -62,7 +72,7 @@ class PlannerOptions:
     time_limit_s: float = _ROBOT_FILE.time_limit_s
     simplify: bool = _ROBOT_FILE.simplify
     rng_seed: int = _ROBOT_FILE.rng_seed
-    resolution: float = 0.004
+    resolution: float = MOTION_RESOLUTION
     simplify_rounds: int = 3
     try_direct: bool = True
     backend: str = _ROBOT_FILE.backend
@@ -138,11 +148,11 @@ def plan_joint_path(
         what = "goal configuration is" if len(goals) == 1 else f"all {len(goals)} goal configurations are"
         return PlanResult(PlanStatus.GOAL_INVALID, None, time.perf_counter() - t0, f"{what} in collision")
     if options.try_direct:
-        # OMPL's discrete motion validator: steps of resolution x the space's largest extent (L2).
-        step = options.resolution * float(np.linalg.norm(np.asarray(upper) - np.asarray(lower)))
+        step = motion_step(lower, upper, options.resolution)
         for i in valid:
-            n = max(2, int(np.ceil(np.linalg.norm(goals[i] - start) / step)) + 1)
-            if all(is_valid(start + (goals[i] - start) * t) for t in np.linspace(0.0, 1.0, n)[1:-1]):
+            if all(
+                is_valid(start + (goals[i] - start) * t) for t in segment_times(start, goals[i], step)[1:-1]
+            ):
                 return PlanResult(
                     PlanStatus.SUCCESS,
                     np.array([start, goals[i]]),

@@ -27,6 +27,7 @@ import numpy as np
 
 from scone_bt.errors import SconeError
 from scone_bt.motion.collision import CollisionWorld
+from scone_bt.motion.segments import MOTION_RESOLUTION, motion_step, segment_times
 from scone_bt.motion.types import PlanResult, PlanStatus
 
 __all__ = [
@@ -72,7 +73,7 @@ class VampOptions:
     simplify: bool = True
     extra_padding: float = 0.01
     max_iterations: int = 100_000
-    resolution: float = 0.004
+    resolution: float = MOTION_RESOLUTION
 
 
 @dataclass(frozen=True)
@@ -252,18 +253,17 @@ def vamp_environment(world: CollisionWorld, extra_padding: float = 0.0) -> Any:
     return env
 
 
-def mesh_check(world: CollisionWorld, path: np.ndarray, resolution: float = 0.004) -> MeshCheck:
+def mesh_check(world: CollisionWorld, path: np.ndarray, resolution: float = MOTION_RESOLUTION) -> MeshCheck:
     """Check every segment of `path` with the mesh checker at OMPL's motion-validation step.
 
     The step is `resolution` x the L2 extent of the arm's joint space, as OMPL's discrete motion validator and
     `plan_joint_path`'s direct check take it.
     """
     arm = world.arm
-    step = resolution * float(np.linalg.norm(np.asarray(arm.upper) - np.asarray(arm.lower)))
+    step = motion_step(arm.lower, arm.upper, resolution)
     states = 0
     for k, (qa, qb) in enumerate(zip(path[:-1], path[1:], strict=True)):
-        n = max(2, int(np.ceil(np.linalg.norm(qb - qa) / step)) + 1)
-        for t in np.linspace(0.0, 1.0, n)[(1 if k else 0) :]:
+        for t in segment_times(qa, qb, step)[(1 if k else 0) :]:
             q = qa + (qb - qa) * t
             states += 1
             if not world.is_valid(q):
