@@ -1,14 +1,22 @@
 """The simulated cameras' images (PyBullet adapter): the kitchen rendered with the CPU TinyRenderer.
 
 `world.Kitchen.camera_image` is the kitchen's side of `perception.images.ImageSource`; `camera_image` renders one
-camera's noise-free RGB-D image and reuses it while nothing in view has moved (a fresh render would differ by under
-half a pixel: products creep by tenths of a millimetre in PyBullet).
+camera's noise-free RGB-D image. It reuses the camera's last image while nothing in view has moved (a fresh render
+would differ by under half a pixel: products creep by tenths of a millimetre in PyBullet), and when something did
+move it renders only the window of the image that changed (`dirty_window`) and pastes it into a copy of the last
+image: the TinyRenderer's cost is mostly per pixel, and taking one product off a shelf changes a few percent of
+the shelf camera's pixels.
+
+A window is rendered through the same camera with an off-axis projection that maps exactly those pixels to the
+viewport, so its RGB equals the full render's bit for bit; depth agrees to float rounding (well under a
+micrometre at the shelf; `tests/world/test_camera.py` checks both against full renders).
 """
 
 from __future__ import annotations
 
 import weakref
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -19,43 +27,129 @@ from scone_bt.perception.images import CameraImage, PinholeView
 if TYPE_CHECKING:
     from scone_bt.world.kitchen import Kitchen
 
-__all__ = ["REUSE_MAX_MOVE_M", "REUSE_MAX_TURN_RAD", "camera_image"]
+__all__ = [
+    "PATCH_MARGIN_M",
+    "PATCH_PAD_PX",
+    "PATCH_MAX_SHARE",
+    "REUSE_MAX_MOVE_M",
+    "REUSE_MAX_TURN_RAD",
+    "Window",
+    "RenderStats",
+    "camera_image",
+    "dirty_window",
+    "render_stats",
+]
 
 REUSE_MAX_MOVE_M = 5e-4
 """A render is reused while nothing in view moved more than this (about half a pixel at the shelf's distance)."""
 REUSE_MAX_TURN_RAD = 5e-3
 """... nor turned more than this (0.15 mm at the edge of a 6 cm lid)."""
+PATCH_MARGIN_M = 0.015
+"""World margin (m) added around the bounding box of whatever changed: a lid's marker and cap stand a few
+millimetres above the collision shape that `getAABB` measures."""
+PATCH_PAD_PX = 2
+"""Pixels added around the projected window (edge pixels that a triangle only partly covers)."""
+PATCH_MAX_SHARE = 0.5
+"""A window larger than this share of the image is not worth its fixed cost: the whole image is rendered."""
 
-_View = tuple[tuple[object, ...], np.ndarray]
-"""What a camera shows: the kitchen's uid, the bodies and links in view, and their poses (x, y, z, qx, qy, qz, qw)."""
+
+@dataclass(frozen=True)
+class Window:
+    """A pixel rectangle of a camera image: columns x0 .. x0 + width - 1, rows y0 .. y0 + height - 1."""
+
+    x0: int
+    y0: int
+    width: int
+    height: int
+
+    @property
+    def pixels(self) -> int:
+        return self.width * self.height
+
+
+@dataclass
+class RenderStats:
+    """What the kitchens' cameras rendered in this process: whole images, windows, and pixels rasterised."""
+
+    full: int = 0
+    windows: int = 0
+    reused: int = 0
+    pixels: int = 0
+    full_pixels: int = 0  # the pixels whole images would have cost for the same renders
+
+    def as_dict(self) -> dict[str, float]:
+        return {
+            "full": self.full,
+            "windows": self.windows,
+            "reused": self.reused,
+            "pixel_share": round(self.pixels / self.full_pixels, 4) if self.full_pixels else 1.0,
+        }
+
+
+_STATS = RenderStats()
+
+
+def render_stats() -> RenderStats:
+    """This process's render counters (benchmarks read them; they only ever grow)."""
+    return _STATS
+
+
+@dataclass(frozen=True)
+class _View:
+    """What a camera shows: the kitchen's uid, then the bodies and (robot, link) pairs whose bounding box is in
+    view; their poses as rows (x, y, z, qx, qy, qz, qw) and their world bounding boxes (n, 2, 3)."""
+
+    keys: tuple[object, ...]
+    poses: np.ndarray
+    boxes: np.ndarray
 
 
 _CACHE: weakref.WeakKeyDictionary[PinholeView, tuple[_View, np.ndarray, np.ndarray]] = (
     weakref.WeakKeyDictionary()
 )
-"""Each camera's last render and what it showed, kept by the camera object (as long as the camera lives)."""
+"""Each camera's last image and what it showed, kept by the camera object (as long as the camera lives)."""
 
 
 def camera_image(kitchen: Kitchen, camera: PinholeView) -> CameraImage:
     """The camera's noise-free image of the kitchen as it is now (arrays read-only).
 
-    A camera's render is reused while the same kitchen (``Kitchen.uid``) shows it the same bodies and robot links,
-    none moved by more than REUSE_MAX_MOVE_M or turned by more than REUSE_MAX_TURN_RAD since it was made. A new
-    kitchen has a new uid, so its first image is always rendered.
+    A camera's last image is handed back while the same kitchen (``Kitchen.uid``) shows it the same bodies and
+    robot links, none moved by more than REUSE_MAX_MOVE_M or turned by more than REUSE_MAX_TURN_RAD since. When
+    some did, only `dirty_window` is rendered anew, unless it is over PATCH_MAX_SHARE of the image. A new
+    kitchen (or a cover that came or went) has a new uid, so its first image is always rendered whole.
     """
+    spec = camera.spec
     shown = _view(kitchen, camera)
     cached = _CACHE.get(camera)
-    if cached is not None and _unchanged(cached[0], shown):
-        return CameraImage(cached[1], cached[2], fresh=False)
-    rgb, depth = _render(kitchen, camera)
+    window: Window | None = None
+    if cached is not None and cached[0].keys[0] == shown.keys[0]:
+        changed = _changed_boxes(cached[0], shown)
+        if not len(changed):
+            _STATS.reused += 1
+            return CameraImage(cached[1], cached[2], fresh=False)
+        window = dirty_window(camera, changed)
+        if window is not None and window.pixels > PATCH_MAX_SHARE * spec.width * spec.height:
+            window = None
+    _STATS.full_pixels += spec.width * spec.height
+    if window is None or cached is None:
+        rgb, depth = _render(kitchen, camera)
+        _STATS.full += 1
+        _STATS.pixels += spec.width * spec.height
+    else:
+        rgb, depth = _patched(kitchen, camera, window, cached[1], cached[2])
+        _STATS.windows += 1
+        _STATS.pixels += window.pixels
     _CACHE[camera] = (shown, rgb, depth)
     return CameraImage(rgb, depth, fresh=True)
 
 
+def _corners(lo: Sequence[float], hi: Sequence[float]) -> np.ndarray:
+    return np.array([(x, y, z) for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+
+
 def _sees(camera: PinholeView, lo: Sequence[float], hi: Sequence[float]) -> bool:
     """True if an axis-aligned box (world, metres) may show in the image (its corners' bounding rectangle)."""
-    corners = np.array([(x, y, z) for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
-    uv, depth = project(corners, camera.intrinsics, camera.world_from_camera)
+    uv, depth = project(_corners(lo, hi), camera.intrinsics, camera.world_from_camera)
     spec = camera.spec
     if np.all(depth <= spec.near):
         return False
@@ -70,17 +164,19 @@ def _sees(camera: PinholeView, lo: Sequence[float], hi: Sequence[float]) -> bool
 
 
 def _view(kitchen: Kitchen, camera: PinholeView) -> _View:
-    """What the camera would show: which objects and robot links have their bounding box in view, and their poses
-    as rows (x, y, z, qx, qy, qz, qw). The static scene never changes."""
+    """What the camera would show: which objects and robot links have their bounding box in view, their poses
+    and boxes. The static scene never changes (covers renew the kitchen's uid)."""
     bc = kitchen.bc
     shown: list[object] = [kitchen.uid]
     poses: list[list[float]] = []
+    boxes: list[tuple[Sequence[float], Sequence[float]]] = []
     for body in kitchen.objects.values():
         lo, hi = bc.getAABB(body)
         if _sees(camera, lo, hi):
             pos, orn = bc.getBasePositionAndOrientation(body)
             shown.append(body)
             poses.append([*pos, *orn])
+            boxes.append((lo, hi))
     rid = kitchen.robot_id
     links = list(range(bc.getNumJoints(rid)))
     for link, state in zip(links, bc.getLinkStates(rid, links), strict=True):
@@ -88,33 +184,102 @@ def _view(kitchen: Kitchen, camera: PinholeView) -> _View:
         if _sees(camera, lo, hi):
             shown.append((rid, link))
             poses.append([*state[4], *state[5]])
-    return tuple(shown), np.asarray(poses, dtype=float).reshape(-1, 7)
+            boxes.append((lo, hi))
+    return _View(
+        tuple(shown),
+        np.asarray(poses, dtype=float).reshape(-1, 7),
+        np.asarray(boxes, dtype=float).reshape(-1, 2, 3),
+    )
 
 
-def _unchanged(before_view: _View, view: _View) -> bool:
-    """True if the cached render shows the same bodies, none moved or turned beyond the reuse limits."""
-    if before_view[0] != view[0]:
-        return False
-    before, now = before_view[1], view[1]
-    if not len(now):
-        return True
-    moved = np.abs(now[:, :3] - before[:, :3]).max()
+def _moved(before: np.ndarray, now: np.ndarray) -> np.ndarray:
+    """Per row: moved beyond REUSE_MAX_MOVE_M or turned beyond REUSE_MAX_TURN_RAD (pose rows, same bodies)."""
+    moved = np.abs(now[:, :3] - before[:, :3]).max(axis=1)
     # Angle between unit quaternions q1, q2: 2 acos |q1 . q2|.
     dots = np.clip(np.abs(np.sum(now[:, 3:] * before[:, 3:], axis=1)), 0.0, 1.0)
-    turned = float(2 * np.arccos(dots).max())
-    return bool(moved <= REUSE_MAX_MOVE_M and turned <= REUSE_MAX_TURN_RAD)
+    return (moved > REUSE_MAX_MOVE_M) | (2 * np.arccos(dots) > REUSE_MAX_TURN_RAD)
 
 
-def _render(kitchen: Kitchen, camera: PinholeView) -> tuple[np.ndarray, np.ndarray]:
-    """Noise-free RGB (H, W, 3) uint8 and metric depth (H, W) float32 of the kitchen as it is now."""
+def _changed_boxes(before: _View, now: _View) -> np.ndarray:
+    """World boxes (n, 2, 3) of what changed between two views of one kitchen: what left the view (where it was),
+    what came into it (where it is), and what moved or turned beyond the reuse limits (both)."""
+    old = {key: i for i, key in enumerate(before.keys[1:])}
+    new = {key: i for i, key in enumerate(now.keys[1:])}
+    out = [before.boxes[i] for key, i in old.items() if key not in new]
+    out += [now.boxes[i] for key, i in new.items() if key not in old]
+    both = [(old[key], i) for key, i in new.items() if key in old]
+    if both:
+        b, n = (np.array(ix) for ix in zip(*both, strict=True))
+        moved = _moved(before.poses[b], now.poses[n])
+        out += [before.boxes[j] for j in b[moved]] + [now.boxes[j] for j in n[moved]]
+    return np.asarray(out, dtype=float).reshape(-1, 2, 3)
+
+
+def dirty_window(camera: PinholeView, boxes: np.ndarray) -> Window | None:
+    """The pixel window that covers every world box (n, 2, 3) grown by PATCH_MARGIN_M, padded by PATCH_PAD_PX and
+    clipped to the image; None when a box reaches behind the camera's near plane (render the whole image).
+    A window of zero pixels (all boxes out of view) is returned as a 1 x 1 window at the origin."""
+    spec = camera.spec
+    corners = np.concatenate(
+        [_corners(lo - PATCH_MARGIN_M, hi + PATCH_MARGIN_M) for lo, hi in np.asarray(boxes, dtype=float)]
+    )
+    uv, depth = project(corners, camera.intrinsics, camera.world_from_camera)
+    if np.any(depth <= spec.near):
+        return None
+    x0 = max(0, int(np.floor(uv[:, 0].min())) - PATCH_PAD_PX)
+    y0 = max(0, int(np.floor(uv[:, 1].min())) - PATCH_PAD_PX)
+    x1 = min(spec.width, int(np.ceil(uv[:, 0].max())) + 1 + PATCH_PAD_PX)
+    y1 = min(spec.height, int(np.ceil(uv[:, 1].max())) + 1 + PATCH_PAD_PX)
+    if x1 <= x0 or y1 <= y0:
+        return Window(0, 0, 1, 1)
+    return Window(x0, y0, x1 - x0, y1 - y0)
+
+
+def _patched(
+    kitchen: Kitchen, camera: PinholeView, window: Window, rgb: np.ndarray, depth: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """A copy of the last image (rgb, depth) with `window` rendered anew (read-only arrays)."""
+    part_rgb, part_depth = _render(kitchen, camera, window)
+    rgb, depth = rgb.copy(), depth.copy()
+    rows = slice(window.y0, window.y0 + window.height)
+    cols = slice(window.x0, window.x0 + window.width)
+    rgb[rows, cols] = part_rgb
+    depth[rows, cols] = part_depth
+    rgb.setflags(write=False)
+    depth.setflags(write=False)
+    return rgb, depth
+
+
+def _window_projection(projection: Sequence[float], width: int, height: int, window: Window) -> list[float]:
+    """PyBullet's (column-major) projection matrix narrowed to `window`: an off-axis frustum that maps the
+    window's pixels to the whole viewport, so each pixel samples the scene exactly where the full image does."""
+    P = np.asarray(projection, dtype=np.float64).reshape(4, 4).T
+    # Normalised device coordinates of the window's edges (image row 0 is the top: NDC y = +1).
+    left, right = -1 + 2 * window.x0 / width, -1 + 2 * (window.x0 + window.width) / width
+    top, bottom = 1 - 2 * window.y0 / height, 1 - 2 * (window.y0 + window.height) / height
+    A = np.eye(4)
+    A[0, 0], A[0, 3] = 2 / (right - left), -(right + left) / (right - left)
+    A[1, 1], A[1, 3] = 2 / (top - bottom), -(top + bottom) / (top - bottom)
+    return (A @ P).T.flatten().tolist()
+
+
+def _render(
+    kitchen: Kitchen, camera: PinholeView, window: Window | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """Noise-free RGB (h, w, 3) uint8 and metric depth (h, w) float32 of the kitchen as it is now: the whole image,
+    or only `window` of it."""
     import pybullet as p
 
     s = camera.spec
     view = p.computeViewMatrix(s.position, s.target, s.up)
     proj = p.computeProjectionMatrixFOV(s.fov_deg, s.width / s.height, s.near, s.far)
+    w, h = s.width, s.height
+    if window is not None:
+        proj = _window_projection(proj, s.width, s.height, window)
+        w, h = window.width, window.height
     _, _, rgba, depth_buffer, _ = kitchen.bc.getCameraImage(
-        s.width,
-        s.height,
+        w,
+        h,
         view,
         proj,
         renderer=p.ER_TINY_RENDERER,
@@ -127,8 +292,8 @@ def _render(kitchen: Kitchen, camera: PinholeView) -> tuple[np.ndarray, np.ndarr
         lightDiffuseCoeff=0.4,
         lightSpecularCoeff=0.0,
     )
-    rgb = np.ascontiguousarray(np.asarray(rgba, dtype=np.uint8).reshape(s.height, s.width, 4)[:, :, :3])
-    buffer = np.asarray(depth_buffer, dtype=np.float64).reshape(s.height, s.width)
+    rgb = np.ascontiguousarray(np.asarray(rgba, dtype=np.uint8).reshape(h, w, 4)[:, :, :3])
+    buffer = np.asarray(depth_buffer, dtype=np.float64).reshape(h, w)
     # OpenGL's non-linear depth buffer to metric depth along the optical axis.
     depth = (s.far * s.near / (s.far - (s.far - s.near) * buffer)).astype(np.float32)
     rgb.setflags(write=False)

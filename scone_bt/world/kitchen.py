@@ -647,7 +647,8 @@ class Kitchen:
         self.sim_time = 0.0
         self.steps = self.steps_skipped = 0
         self._awake_until = self._settle_until = 0.0
-        self.state_version += 1
+        # The next products get the same body ids: a camera must not take one for the product it saw before.
+        self._scene_changed()
 
     def close(self) -> None:
         with contextlib.suppress(Exception):  # already disconnected: closing twice must be harmless
