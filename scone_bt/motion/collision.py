@@ -15,7 +15,13 @@ import numpy as np
 from scone_bt.config.catalogue import Shape
 from scone_bt.motion.model import ArmModel
 
-__all__ = ["Obstacle", "CollisionWorld", "HandModel"]
+__all__ = ["Obstacle", "CollisionWorld", "HandModel", "interpolated"]
+
+
+def interpolated(qa: np.ndarray, qb: np.ndarray, times: np.ndarray) -> np.ndarray:
+    """(n, dof) states qa + (qb - qa) t for each t of `times`: the same floats as computing them one by one."""
+    qa = np.asarray(qa, dtype=float)
+    return qa + (np.asarray(qb, dtype=float) - qa) * np.asarray(times, dtype=float)[:, None]
 
 
 @dataclass(frozen=True)
@@ -138,6 +144,7 @@ class CollisionWorld:
         )
         self.checks = 0
         self.check_time = 0.0  # wall seconds spent in is_valid
+        self._pin = pin  # the module, looked up once rather than imported at every check
         self.min_up = None if max_tilt is None else float(np.cos(max_tilt))
         ee = self.model.frames[arm.ee_frame]
         self._ee_joint = ee.parentJoint
@@ -154,16 +161,37 @@ class CollisionWorld:
         return valid
 
     def _valid(self, q: np.ndarray) -> bool:
-        import pinocchio as pin
-
         if not self.arm.within_limits(q):
             return False
+        return self._free(q)
+
+    def _free(self, q: np.ndarray) -> bool:
+        """True if q (within the joint limits) keeps a carried object upright and nothing collides."""
+        pin = self._pin
         if self.min_up is not None:
             pin.forwardKinematics(self.model, self.data, q)
             up = self.data.oMi[self._ee_joint].rotation @ self._up_in_joint
             if up[2] < self.min_up:
                 return False
         return not pin.computeCollisions(self.model, self.data, self._broadphase, q, True)
+
+    def states_valid(self, states: np.ndarray) -> bool:
+        """True if every row of the (n, dof) `states` is valid; checked in order, up to the first invalid one.
+
+        The same answers and the same count of checks as `is_valid` on each row in turn, with the joint limits
+        tested for all rows at once (a segment's states are checked by the hundred per plan).
+        """
+        t = time.perf_counter()
+        states = np.asarray(states, dtype=float)
+        within = np.all((states >= self.arm._lower_tol) & (states <= self.arm._upper_tol), axis=1).tolist()
+        valid = True
+        for q, ok in zip(states, within, strict=True):
+            self.checks += 1
+            if not (ok and self._free(q)):
+                valid = False
+                break
+        self.check_time += time.perf_counter() - t
+        return valid
 
     def colliding_pairs(self, q: np.ndarray) -> list[tuple[str, str]]:
         """Names of the geometry pairs in collision at q (for messages)."""
@@ -185,7 +213,7 @@ class CollisionWorld:
     def segment_valid(self, qa: np.ndarray, qb: np.ndarray, resolution: float = 0.02) -> bool:
         """Check a straight joint-space segment at `resolution` rad spacing (max-norm)."""
         n = max(2, int(np.ceil(np.max(np.abs(qb - qa)) / resolution)) + 1)
-        return all(self.is_valid(qa + (qb - qa) * t) for t in np.linspace(0.0, 1.0, n))
+        return self.states_valid(interpolated(qa, qb, np.linspace(0.0, 1.0, n)))
 
 
 class HandModel:
@@ -220,39 +248,77 @@ class HandModel:
         ]
         # The hand's reach from the end-effector frame's origin: obstacles farther than this never touch it.
         self._reach = max((float(np.linalg.norm(p[:3, 3])) + 0.12 for _, p in self._parts), default=0.3)
-        self._obstacles = [
-            (
-                ob.name,
-                _geometry(ob.shape, ob.size, padding),
-                coal.Transform3s(ob.pose[:3, :3].copy(), ob.pose[:3, 3].copy()),
-            )
-            for ob in obstacles
-        ]
+        # Each part's bounding sphere in the end-effector frame: a part whose sphere misses an obstacle's cannot
+        # touch it, so most (part, obstacle) pairs need no GJK call (the answer is the same).
+        self._part_centres, self._part_radii = _bounding_spheres(self._parts)
+        self._padding = padding
+        self._obstacle_list = list(obstacles)
+        # An obstacle's coal shape is made the first time the hand comes near it (most never do).
+        self._shapes: dict[int, tuple[object, object]] = {}
         # Centres and bounding radii as arrays: one vectorised distance test per query picks the near ones.
         self._centres = np.array([ob.pose[:3, 3] for ob in obstacles], dtype=float).reshape(-1, 3)
         self._radii = np.array([0.5 * float(np.linalg.norm(ob.size)) + padding for ob in obstacles])
+        # The padded shapes' own bounding radii (a box's half diagonal bounds a cylinder of the same extents too).
+        self._shape_radii = np.array(
+            [0.5 * float(np.linalg.norm(np.asarray(ob.size, dtype=float) + 2 * padding)) for ob in obstacles]
+        )
+        self._names = [ob.name for ob in obstacles]
         self._request = coal.CollisionRequest()
+        self._coal = coal
         self.checks = 0
+
+    def _shape(self, k: int) -> tuple[object, object]:
+        """Obstacle k's padded coal geometry and its world transform (made once)."""
+        shape = self._shapes.get(k)
+        if shape is None:
+            ob = self._obstacle_list[k]
+            tf = self._coal.Transform3s(ob.pose[:3, :3].copy(), ob.pose[:3, 3].copy())
+            shape = self._shapes[k] = (_geometry(ob.shape, ob.size, self._padding), tf)
+        return shape
 
     def colliding(self, ee_pose: np.ndarray, ignore: Sequence[str] = ()) -> list[str]:
         """Names of the obstacles the hand touches with the end-effector frame at `ee_pose` (world (4, 4))."""
-        import coal
-
+        coal = self._coal
         self.checks += 1
         hits: list[str] = []
         origin = ee_pose[:3, 3]
         close = np.linalg.norm(self._centres - origin, axis=1) < self._reach + self._radii
-        near = [o for o, c in zip(self._obstacles, close, strict=True) if c and o[0] not in ignore]
+        near = [k for k in np.flatnonzero(close).tolist() if self._names[k] not in ignore]
         if not near:
             return hits
+        # Sphere against sphere for every (part, near obstacle) pair at once; GJK only where they overlap.
+        parts_world = self._part_centres @ ee_pose[:3, :3].T + origin
+        gaps = np.linalg.norm(parts_world[:, None, :] - self._centres[near][None, :, :], axis=2)
+        overlap = (
+            gaps <= self._part_radii[:, None] + self._shape_radii[near][None, :] + SPHERE_SLACK
+        ).tolist()
         result = coal.CollisionResult()
-        for geom, local in self._parts:
+        for (geom, local), row in zip(self._parts, overlap, strict=True):
+            if not any(row):
+                continue
             world = ee_pose @ local
             tf = coal.Transform3s(world[:3, :3].copy(), world[:3, 3].copy())
-            for name, ogeom, otf in near:
-                if name in hits:
+            for k, maybe in zip(near, row, strict=True):
+                name = self._names[k]
+                if not maybe or name in hits:
                     continue
+                ogeom, otf = self._shape(k)
                 result.clear()
                 if coal.collide(geom, tf, ogeom, otf, self._request, result):
                     hits.append(name)
         return hits
+
+
+SPHERE_SLACK = 1e-3
+"""Metres added to the sum of two bounding radii before a pair is skipped (GJK's tolerance is far below it)."""
+
+
+def _bounding_spheres(parts: Sequence[tuple[object, np.ndarray]]) -> tuple[np.ndarray, np.ndarray]:
+    """(k, 3) centres in the end-effector frame and (k,) radii of spheres around each hand part's geometry."""
+    centres, radii = [], []
+    for geom, local in parts:
+        geom.computeLocalAABB()  # type: ignore[attr-defined]
+        centre = np.asarray(geom.aabb_center, dtype=float)  # type: ignore[attr-defined]
+        centres.append(local[:3, :3] @ centre + local[:3, 3])
+        radii.append(float(geom.aabb_radius))  # type: ignore[attr-defined]
+    return np.array(centres, dtype=float).reshape(-1, 3), np.array(radii, dtype=float)

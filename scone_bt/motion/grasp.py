@@ -44,6 +44,7 @@ from scone_bt.config import ObjectSpec
 from scone_bt.config.catalogue import Shape
 from scone_bt.config.grasp import GraspParams
 from scone_bt.geometry import wrap_angle
+from scone_bt.motion.model import inverse_small
 from scone_bt.perception.types import Detection
 
 __all__ = [
@@ -218,7 +219,7 @@ def grasp_candidates(
                 closing_yaw=float(yaw),
                 grasp=grasp,
                 pregrasp=pregrasp,
-                object_in_ee=np.linalg.inv(grasp) @ obj_world,
+                object_in_ee=inverse_small(grasp) @ obj_world,
                 span=span,
                 tilt=float(tilt),
                 family=family,

@@ -8,6 +8,7 @@ that can never touch, found offline by sampling) are not checked.
 
 from __future__ import annotations
 
+import math
 import threading
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -17,7 +18,38 @@ import numpy as np
 from scone_bt.config import RobotConfig
 from scone_bt.errors import ConfigError, UnknownNameError
 
-__all__ = ["ArmModel", "IKOptions", "IKSolution", "pose_matrix"]
+__all__ = ["ArmModel", "IKOptions", "IKSolution", "inverse_small", "pose_matrix", "solve_small"]
+
+
+def _gufunc(name: str) -> object | None:
+    """numpy's own LAPACK gufunc behind `np.linalg.<name>` (None where this numpy has no such private module)."""
+    try:
+        from numpy.linalg import _umath_linalg
+    except ImportError:  # pragma: no cover - a numpy without the private module: the public functions
+        return None
+    return getattr(_umath_linalg, name, None)
+
+
+_SOLVE = _gufunc("solve")
+_INV = _gufunc("inv")
+
+
+def solve_small(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """`np.linalg.solve(a, b)` for float64 (n, n) and (n, k), the same LAPACK call without its argument checks.
+
+    IK solves one 6x6 system per iteration: numpy's checks and error-state set-up took twice as long as the
+    solve itself. The caller guarantees a non-singular `a` (IK's damping); the result is bit-identical.
+    """
+    if _SOLVE is None:  # pragma: no cover
+        return np.linalg.solve(a, b)
+    return _SOLVE(a, b, signature="dd->d")  # type: ignore[operator]
+
+
+def inverse_small(a: np.ndarray) -> np.ndarray:
+    """`np.linalg.inv(a)` for a non-singular float64 square matrix (a pose), the same LAPACK call, bit-identical."""
+    if _INV is None:  # pragma: no cover
+        return np.linalg.inv(a)
+    return _INV(a, signature="d->d")  # type: ignore[operator]
 
 
 def pose_matrix(rotation: np.ndarray, translation: Sequence[float]) -> np.ndarray:
@@ -111,6 +143,7 @@ class ArmModel:
         self.lower = np.array(self.model.lowerPositionLimit, dtype=float)
         self.upper = np.array(self.model.upperPositionLimit, dtype=float)
         self._lower_tol, self._upper_tol = self.lower - 1e-9, self.upper + 1e-9
+        self._lower_list, self._upper_list = self._lower_tol.tolist(), self._upper_tol.tolist()
         self.dof = self.model.nq
         self.robot_geometry = [g.name for g in self.geom_model.geometryObjects]
         self.link_of_geometry = {
@@ -227,10 +260,16 @@ class ArmModel:
         return np.clip(q, self.lower, self.upper)
 
     def within_limits(self, q: np.ndarray, tol: float = 1e-9) -> bool:
-        # Called for every validity check: two comparisons against the tolerance-widened limits, cached.
+        # Called for every validity check: against the tolerance-widened limits, cached as floats (a comparison
+        # of seven plain floats costs a third of three numpy operations on (7,) arrays; NaN fails either way).
         if tol != 1e-9:
             return bool(((q >= self.lower - tol) & (q <= self.upper + tol)).all())
-        return bool(((q >= self._lower_tol) & (q <= self._upper_tol)).all())
+        values = q.tolist() if isinstance(q, np.ndarray) else list(q)
+        if len(values) != self.dof:  # numpy's broadcasting rules (and errors) for anything else
+            return bool(((q >= self._lower_tol) & (q <= self._upper_tol)).all())
+        return all(
+            lo <= v <= hi for lo, v, hi in zip(self._lower_list, values, self._upper_list, strict=True)
+        )
 
     def fk(self, q: np.ndarray, frame: str | None = None) -> np.ndarray:
         """World (4, 4) pose of a frame (default: the end-effector frame) at joint positions q (rad)."""
@@ -268,6 +307,7 @@ class ArmModel:
         data = self.data
         damping = options.damping * np.eye(6)
         identity = np.eye(self.dof)
+        rhs = np.empty((6, 1 + self.dof))  # [err | jac], the right-hand sides of one damped solve
         lower, upper = self.lower, self.upper
         for q0 in seeds:
             q = q0.copy()
@@ -278,8 +318,10 @@ class ArmModel:
                 current = pin.updateFramePlacement(self.model, data, self.ee_frame)
                 i_m_goal = current.actInv(oMgoal)
                 err = pin.log6(i_m_goal).vector  # twist to the goal, in the end-effector frame
-                pos_err = float(np.sqrt(err[0] ** 2 + err[1] ** 2 + err[2] ** 2))
-                rot_err = float(np.sqrt(err[3] ** 2 + err[4] ** 2 + err[5] ** 2))
+                # Plain floats: six numpy scalar operations cost more than the kinematics pass (same values).
+                e0, e1, e2, e3, e4, e5 = err.tolist()
+                pos_err = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+                rot_err = math.sqrt(e3 * e3 + e4 * e4 + e5 * e5)
                 if pos_err < options.position_tolerance and rot_err < options.rotation_tolerance:
                     return IKSolution(q, pos_err, rot_err)
                 # Give up on a seed that stopped improving (unreachable target or stuck at a joint limit).
@@ -292,12 +334,14 @@ class ArmModel:
                         break
                 jac = pin.getFrameJacobian(self.model, data, self.ee_frame, pin.LOCAL)
                 jac = pin.Jlog6(i_m_goal.inverse()) @ jac
-                solved = np.linalg.solve(jac @ jac.T + damping, np.column_stack([err, jac]))
+                rhs[:, 0] = err
+                rhs[:, 1:] = jac
+                solved = solve_small(jac @ jac.T + damping, rhs)
                 # Redundancy: drift towards the seed in the null space, so nearby targets get nearby solutions.
                 dq = jac.T @ solved[:, 0] + (identity - jac.T @ solved[:, 1:]) @ (
                     options.posture_gain * (q0 - q)
                 )
-                norm = np.max(np.abs(dq))
+                norm = float(np.abs(dq).max())
                 if norm > 0.5:  # small steps keep the solution on the seed's branch
                     dq *= 0.5 / norm
                 q = np.minimum(np.maximum(q + options.step * dq, lower), upper)

@@ -1,0 +1,186 @@
+"""The pick-and-place plan's fast paths give the answers of the plain computations they replace (issue 29).
+
+Each cheaper step (numpy's LAPACK calls without their checks, joint limits on plain floats, a segment's states
+checked as one batch, the hand's GJK calls skipped where bounding spheres miss) is compared with the computation
+it replaced, and seeded plans are pinned to what they were before the steps were made cheaper.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from scone_bt.motion import Obstacle, PickPlacePlan, PlannerOptions
+from scone_bt.motion.collision import CollisionWorld, HandModel, _geometry, interpolated
+from scone_bt.motion.grasp import top_down_rotation
+from scone_bt.motion.model import inverse_small, pose_matrix, solve_small
+from scone_bt.motion.planner import plan_joint_path
+from tests.motion.test_fallbacks import BOTTLE, JAR, STATIC, _boxed_in, _det, make_planner
+
+
+def _random_pose(rng: np.random.Generator) -> np.ndarray:
+    q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    return pose_matrix(q * np.sign(np.linalg.det(q)), rng.uniform(-1, 1, 3))
+
+
+def test_small_linear_algebra_is_numpys_bit_for_bit():
+    rng = np.random.default_rng(0)
+    for _ in range(50):
+        a = rng.normal(size=(6, 6))
+        a = a @ a.T + 1e-4 * np.eye(6)
+        b = rng.normal(size=(6, 8))
+        assert np.array_equal(solve_small(a, b), np.linalg.solve(a, b))
+        pose = _random_pose(rng)
+        assert np.array_equal(inverse_small(pose), np.linalg.inv(pose))
+
+
+def test_joint_limits_on_floats_agree_with_the_array_comparison(arm):
+    rng = np.random.default_rng(1)
+    samples = [rng.uniform(arm.lower - 0.2, arm.upper + 0.2) for _ in range(300)]
+    for k in range(arm.dof):
+        for edge, sign in ((arm.lower, -1.0), (arm.upper, 1.0)):
+            for off in (0.0, 0.5e-9, 2e-9):
+                q = (arm.lower + arm.upper) / 2
+                q[k] = edge[k] + sign * off
+                samples.append(q)
+    nan = (arm.lower + arm.upper) / 2
+    nan[3] = np.nan
+    samples.append(nan)
+    verdicts = []
+    for q in samples:
+        expected = bool(((q >= arm.lower - 1e-9) & (q <= arm.upper + 1e-9)).all())
+        assert arm.within_limits(q) is expected
+        verdicts.append(expected)
+    assert True in verdicts and False in verdicts
+
+
+@pytest.mark.parametrize("carrying", [False, True])
+def test_a_batch_of_states_is_checked_like_one_state_at_a_time(arm, robot_cfg, carrying):
+    rng = np.random.default_rng(2)
+    home = np.asarray(robot_cfg.home, dtype=float)
+    # Upright in a downward-pointing hand: the object's z is the hand's approach axis reversed.
+    held = Obstacle(
+        "held", "cylinder", (0.05, 0.05, 0.12), pose_matrix(np.diag([1.0, -1.0, -1.0]), (0, 0, 0.03))
+    )
+    kwargs = {"attached": held, "max_tilt": 0.3} if carrying else {}
+    batch, single = (CollisionWorld(arm, STATIC, **kwargs) for _ in range(2))
+    verdicts = []
+    for _ in range(60):
+        spread = 0.5 if carrying else 3.0  # a carried object tilts beyond the limit far from home
+        goal = np.clip(home + rng.uniform(-spread, spread, arm.dof), arm.lower - 0.1, arm.upper + 0.1)
+        states = interpolated(home, goal, np.linspace(0.0, 1.0, 25))
+        for k, q in enumerate(states):  # the same floats as the states computed one by one
+            assert np.array_equal(q, home + (goal - home) * np.linspace(0.0, 1.0, 25)[k])
+        one_by_one = all(single.is_valid(q) for q in states)  # stops at the first invalid state
+        assert batch.states_valid(states) is one_by_one
+        assert batch.checks == single.checks
+        verdicts.append(one_by_one)
+    assert True in verdicts and False in verdicts
+
+
+def test_the_planner_checks_a_worlds_segment_as_any_checker(arm, robot_cfg):
+    home = np.asarray(robot_cfg.home, dtype=float)
+    world = CollisionWorld(arm, STATIC)
+    goals = np.array([home + d for d in (0.3, -0.4, 0.8)])
+    fast = plan_joint_path(home, goals, arm.lower, arm.upper, world.is_valid, PlannerOptions(rng_seed=3))
+    other = CollisionWorld(arm, STATIC)
+    plain = plan_joint_path(
+        home, goals, arm.lower, arm.upper, lambda q: other.is_valid(q), PlannerOptions(rng_seed=3)
+    )
+    assert (fast.status, fast.goal_index, fast.message) == (plain.status, plain.goal_index, plain.message)
+    assert np.array_equal(fast.path, plain.path) and world.checks == other.checks
+
+
+def _every_pair(arm, obstacles, padding, fingers, ee_pose, ignore=()):
+    """The hand's colliding obstacles with every (part, obstacle) pair given to GJK, in the hand's order."""
+    import coal
+
+    ee = arm.model.frames[arm.ee_frame]
+    ee_from_joint = np.linalg.inv(ee.placement.homogeneous)
+    parts = [
+        (g.geometry, ee_from_joint @ g.placement.homogeneous)
+        for g in arm.geometry_with_fingers(fingers).geometryObjects
+        if g.parentJoint == arm.ee_joint
+    ]
+    hits = []
+    for geom, local in parts:
+        world = ee_pose @ local
+        tf = coal.Transform3s(world[:3, :3].copy(), world[:3, 3].copy())
+        for ob in obstacles:
+            if ob.name in hits or ob.name in ignore:
+                continue
+            otf = coal.Transform3s(ob.pose[:3, :3].copy(), ob.pose[:3, 3].copy())
+            geometry = _geometry(ob.shape, ob.size, padding)
+            if coal.collide(geom, tf, geometry, otf, coal.CollisionRequest(), coal.CollisionResult()):
+                hits.append(ob.name)
+    return hits
+
+
+def test_hand_checks_skip_only_pairs_that_cannot_touch(arm):
+    rng = np.random.default_rng(4)
+    target, shelf = _boxed_in(front=True)
+    obstacles = [
+        *STATIC,
+        *(
+            Obstacle(
+                d.name,
+                s.shape,
+                s.size,
+                pose_matrix(np.eye(3), (*d.position[:2], d.position[2] - s.height / 2)),
+            )
+            for d, s in shelf
+        ),
+    ]
+    hand = HandModel(arm, obstacles, padding=0.004, finger_position=0.02)
+    answers = []
+    for _ in range(150):
+        centre = np.array(target.position) + rng.uniform([-0.12, -0.15, -0.12], [0.12, 0.15, 0.15])
+        pose = pose_matrix(top_down_rotation(rng.uniform(-np.pi, np.pi), rng.uniform(-0.6, 0.6)), centre)
+        ignore = ("wall",) if rng.random() < 0.3 else ()
+        expected = _every_pair(arm, obstacles, 0.004, 0.02, pose, ignore)
+        assert hand.colliding(pose, ignore=ignore) == expected
+        answers.append(len(expected))
+    assert 0 in answers and max(answers) >= 2
+
+
+# Seeded plans as they were before the steps were made cheaper (grasp, spot, checks, waypoint counts and sum).
+PINNED = {
+    "panda": {
+        "boxed": ("side grasp at yaw -96°", 86, (0.41, -0.27, 0.0), 12034, [3, 2, 2, 7, 2, 2, 2], -55.726304),
+        "open": ("top grasp at yaw -94°", 3, (0.41, -0.27, 0.0), 704, [3, 2, 5, 2, 2, 2, 2], 23.206393),
+    },
+    "iiwa7": {
+        "boxed": ("side grasp at yaw 62°", 84, (0.45, -0.27, 0.0), 3310, [2, 2, 5, 4, 2, 2, 3], 1.447583),
+        "open": ("top grasp at yaw 86°", 2, (0.41, -0.27, 0.0), 307, [3, 2, 3, 2, 2, 2, 2], 8.097998),
+    },
+}
+
+
+@pytest.mark.parametrize("robot", sorted(PINNED))
+def test_seeded_plans_are_what_they_were(robot):
+    from scone_bt.config import load_robot
+    from scone_bt.motion import ArmModel
+
+    cfg = load_robot(robot)
+    plan, _ = make_planner(ArmModel(cfg), cfg)
+    target, shelf = _boxed_in(front=False)
+    table = [Obstacle("o1", "cylinder", (0.06, 0.06, 0.2), pose_matrix(np.eye(3), (0.45, -0.40, 0.1)))]
+    results = {
+        "boxed": plan(target, BOTTLE, shelf, seed=5),
+        "open": plan(_det("jar", 0.40, 0.35, JAR.height), JAR, shelf[:1], table, seed=2),
+    }
+    for case, result in results.items():
+        assert isinstance(result, PickPlacePlan), result.message
+        label, tried, spot, checks, counts, total = PINNED[robot][case]
+        assert result.grasp.label == label and result.grasps_tried == tried
+        assert result.place_spot == pytest.approx(spot, abs=1e-6)
+        assert result.collision_checks == checks
+        assert [len(s.waypoints) for s in result.segments] == counts
+        assert float(np.concatenate([s.waypoints for s in result.segments]).sum()) == pytest.approx(
+            total, abs=1e-5
+        )
+    front_target, front_shelf = _boxed_in(front=True)
+    blocked = plan(front_target, BOTTLE, front_shelf, seed=1)
+    assert not isinstance(blocked, PickPlacePlan)
+    assert blocked.reason.value == "grasps_blocked" and blocked.blockers == ("front", "left", "wall")
+    assert "(86 tried)" in blocked.message
