@@ -50,6 +50,48 @@ def _geometry(shape: str, size: Sequence[float], padding: float) -> object:
     return coal.Cylinder(sx / 2, sz)
 
 
+SEEN_STATES = 50_000
+"""Most answers a world keeps (`CollisionWorld.is_valid`); about 4 MB, far above a plan's few thousand checks."""
+_PLACED: dict[tuple[object, ...], object] = {}
+"""Obstacle geometry objects already made, by what they are made of (see `_placed`)."""
+PLACED_CACHE_SIZE = 4096
+"""Most geometry objects kept in `_PLACED` (it is emptied when full; a kitchen holds a few dozen obstacles)."""
+
+
+def _placed(ob: Obstacle, padding: float, base: np.ndarray) -> object:
+    """The Pinocchio geometry object of a fixed obstacle, padded, in the arm's base frame.
+
+    A plan builds about five collision worlds over the same obstacles, at two or three paddings: each object is
+    made once and added to every world (Pinocchio copies the object into the model and shares its immutable
+    shape), which saved a third of building a world.
+    """
+    import pinocchio as pin
+
+    key = (
+        ob.name,
+        str(ob.shape),
+        tuple(float(v) for v in ob.size),
+        ob.pose.tobytes(),
+        padding,
+        base.tobytes(),
+    )
+    obj = _PLACED.get(key)
+    if obj is None:
+        pose = ob.pose.copy()
+        pose[:3, 3] -= base
+        obj = pin.GeometryObject(
+            f"obstacle:{ob.name}",
+            0,
+            0,
+            pin.SE3(pose[:3, :3], pose[:3, 3]),
+            _geometry(ob.shape, ob.size, padding),
+        )
+        if len(_PLACED) >= PLACED_CACHE_SIZE:
+            _PLACED.clear()
+        _PLACED[key] = obj
+    return obj
+
+
 class CollisionWorld:
     """The arm plus fixed obstacles and an optional attached object; answers `is_valid(q)`.
 
@@ -85,18 +127,7 @@ class CollisionWorld:
         gm = arm.geometry_with_fingers(finger_position)
         n_robot = gm.ngeoms
         base = np.asarray(arm.config.base_position)
-        obstacle_ids = []
-        for ob in obstacles:
-            pose = ob.pose.copy()
-            pose[:3, 3] -= base
-            obj = pin.GeometryObject(
-                f"obstacle:{ob.name}",
-                0,
-                0,
-                pin.SE3(pose[:3, :3], pose[:3, 3]),
-                _geometry(ob.shape, ob.size, padding),
-            )
-            obstacle_ids.append((ob.name, gm.addGeometryObject(obj)))
+        obstacle_ids = [(ob.name, gm.addGeometryObject(_placed(ob, padding, base))) for ob in obstacles]
         attached_id = None
         if attached is not None:
             ee = self.model.frames[arm.ee_frame]
@@ -145,6 +176,9 @@ class CollisionWorld:
         self.checks = 0
         self.check_time = 0.0  # wall seconds spent in is_valid
         self._pin = pin  # the module, looked up once rather than imported at every check
+        # Answers by the state's bytes: OMPL and the straight-line checks ask about one state again and again (one
+        # check in ten of a plan), and a state's answer never changes in a world. Still counted as checks.
+        self._seen: dict[bytes, bool] = {}
         self.min_up = None if max_tilt is None else float(np.cos(max_tilt))
         ee = self.model.frames[arm.ee_frame]
         self._ee_joint = ee.parentJoint
@@ -156,8 +190,17 @@ class CollisionWorld:
         """True if q is within joint limits and nothing collides (self, obstacles, attached object)."""
         t = time.perf_counter()
         self.checks += 1
-        valid = self._valid(q)
+        key = np.asarray(q, dtype=float).tobytes()
+        valid = self._seen.get(key)
+        if valid is None:
+            valid = self._remember(key, self._valid(q))
         self.check_time += time.perf_counter() - t
+        return valid
+
+    def _remember(self, key: bytes, valid: bool) -> bool:
+        """`valid`, kept as the answer for the state whose bytes are `key` (while there is room)."""
+        if len(self._seen) < SEEN_STATES:
+            self._seen[key] = valid
         return valid
 
     def _valid(self, q: np.ndarray) -> bool:
@@ -187,7 +230,14 @@ class CollisionWorld:
         valid = True
         for q, ok in zip(states, within, strict=True):
             self.checks += 1
-            if not (ok and self._free(q)):
+            if not ok:
+                valid = False
+                break
+            key = q.tobytes()
+            free = self._seen.get(key)
+            if free is None:
+                free = self._remember(key, self._free(q))
+            if not free:
                 valid = False
                 break
         self.check_time += time.perf_counter() - t
@@ -248,7 +298,7 @@ class HandModel:
         ]
         # The hand's reach from the end-effector frame's origin: obstacles farther than this never touch it.
         self._reach = max((float(np.linalg.norm(p[:3, 3])) + 0.12 for _, p in self._parts), default=0.3)
-        # Each part's bounding sphere in the end-effector frame: a part whose sphere misses an obstacle's cannot
+        # Each part's bounding sphere in the end-effector frame: a part whose sphere misses an obstacle's box cannot
         # touch it, so most (part, obstacle) pairs need no GJK call (the answer is the same).
         self._part_centres, self._part_radii = _bounding_spheres(self._parts)
         self._padding = padding
@@ -258,10 +308,11 @@ class HandModel:
         # Centres and bounding radii as arrays: one vectorised distance test per query picks the near ones.
         self._centres = np.array([ob.pose[:3, 3] for ob in obstacles], dtype=float).reshape(-1, 3)
         self._radii = np.array([0.5 * float(np.linalg.norm(ob.size)) + padding for ob in obstacles])
-        # The padded shapes' own bounding radii (a box's half diagonal bounds a cylinder of the same extents too).
-        self._shape_radii = np.array(
-            [0.5 * float(np.linalg.norm(np.asarray(ob.size, dtype=float) + 2 * padding)) for ob in obstacles]
-        )
+        # Each padded shape's world-aligned bounding box (around its own box, which bounds a cylinder too): half
+        # extents, for the sphere-against-box test that spares most GJK calls.
+        self._extents = np.array(
+            [np.abs(ob.pose[:3, :3]) @ (np.asarray(ob.size, dtype=float) / 2 + padding) for ob in obstacles]
+        ).reshape(-1, 3)
         self._names = [ob.name for ob in obstacles]
         self._request = coal.CollisionRequest()
         self._coal = coal
@@ -282,16 +333,18 @@ class HandModel:
         self.checks += 1
         hits: list[str] = []
         origin = ee_pose[:3, 3]
-        close = np.linalg.norm(self._centres - origin, axis=1) < self._reach + self._radii
+        offsets = self._centres - origin
+        close = np.sqrt((offsets * offsets).sum(axis=1)) < self._reach + self._radii  # np.linalg.norm's sum
         near = [k for k in np.flatnonzero(close).tolist() if self._names[k] not in ignore]
         if not near:
             return hits
-        # Sphere against sphere for every (part, near obstacle) pair at once; GJK only where they overlap.
+        # Each part's bounding sphere against each near obstacle's bounding box, all pairs at once; GJK only where
+        # they meet (a part whose sphere misses the box cannot touch the shape inside it: the answer is the same).
         parts_world = self._part_centres @ ee_pose[:3, :3].T + origin
-        gaps = np.linalg.norm(parts_world[:, None, :] - self._centres[near][None, :, :], axis=2)
-        overlap = (
-            gaps <= self._part_radii[:, None] + self._shape_radii[near][None, :] + SPHERE_SLACK
-        ).tolist()
+        outside = np.abs(parts_world[:, None, :] - self._centres[near]) - self._extents[near]
+        np.maximum(outside, 0.0, out=outside)
+        reach = self._part_radii + SPHERE_SLACK
+        overlap = ((outside * outside).sum(axis=2) <= (reach * reach)[:, None]).tolist()
         result = coal.CollisionResult()
         for (geom, local), row in zip(self._parts, overlap, strict=True):
             if not any(row):
@@ -310,7 +363,7 @@ class HandModel:
 
 
 SPHERE_SLACK = 1e-3
-"""Metres added to the sum of two bounding radii before a pair is skipped (GJK's tolerance is far below it)."""
+"""Metres added to a part's bounding radius before a pair is skipped (GJK's tolerance is far below it)."""
 
 
 def _bounding_spheres(parts: Sequence[tuple[object, np.ndarray]]) -> tuple[np.ndarray, np.ndarray]:

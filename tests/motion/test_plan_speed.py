@@ -12,7 +12,7 @@ import pytest
 
 from scone_bt.motion import Obstacle, PickPlacePlan, PlannerOptions
 from scone_bt.motion.collision import CollisionWorld, HandModel, _geometry, interpolated
-from scone_bt.motion.grasp import top_down_rotation
+from scone_bt.motion.grasp import side_rotation, top_down_rotation
 from scone_bt.motion.model import inverse_small, pose_matrix, solve_small
 from scone_bt.motion.planner import plan_joint_path
 from tests.motion.test_fallbacks import BOTTLE, JAR, STATIC, _boxed_in, _det, make_planner
@@ -32,6 +32,30 @@ def test_small_linear_algebra_is_numpys_bit_for_bit():
         assert np.array_equal(solve_small(a, b), np.linalg.solve(a, b))
         pose = _random_pose(rng)
         assert np.array_equal(inverse_small(pose), np.linalg.inv(pose))
+
+
+def test_side_grasp_rotations_are_np_cross_bit_for_bit():
+    for yaw in np.linspace(-7.0, 7.0, 1001):
+        c, s = np.cos(yaw), np.sin(yaw)
+        y, z = np.array([c, s, 0.0]), np.array([s, -c, 0.0])
+        expected = np.column_stack([np.cross(y, z), y, z])
+        got = side_rotation(float(yaw))
+        assert np.array_equal(got, expected) and np.array_equal(np.signbit(got), np.signbit(expected))
+
+
+def test_a_world_answers_a_state_asked_again_as_the_first_time(arm, robot_cfg):
+    rng = np.random.default_rng(5)
+    home = np.asarray(robot_cfg.home, dtype=float)
+    states = [np.clip(home + rng.uniform(-2.0, 2.0, arm.dof), arm.lower, arm.upper) for _ in range(40)]
+    world = CollisionWorld(arm, STATIC)
+    first = [world.is_valid(q) for q in states]
+    again = [world.is_valid(q.copy()) for q in states]  # answered from what the world kept
+    fresh = CollisionWorld(arm, STATIC)
+    assert first == again == [fresh.is_valid(q) for q in states]
+    assert world.checks == 80 and True in first and False in first
+    # A segment through states already asked about: the same verdict from the batch as from a fresh world.
+    segment = interpolated(home, states[0], np.linspace(0.0, 1.0, 30))
+    assert world.states_valid(segment) is CollisionWorld(arm, STATIC).states_valid(segment)
 
 
 def test_joint_limits_on_floats_agree_with_the_array_comparison(arm):
