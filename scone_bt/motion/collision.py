@@ -307,12 +307,12 @@ class HandModel:
         self._shapes: dict[int, tuple[object, object]] = {}
         # Centres and bounding radii as arrays: one vectorised distance test per query picks the near ones.
         self._centres = np.array([ob.pose[:3, 3] for ob in obstacles], dtype=float).reshape(-1, 3)
-        self._radii = np.array([0.5 * float(np.linalg.norm(ob.size)) + padding for ob in obstacles])
+        self._radii = np.array([0.5 * _size_norm(ob.size) + padding for ob in obstacles])
         # Each padded shape's world-aligned bounding box (around its own box, which bounds a cylinder too): half
         # extents, for the sphere-against-box test that spares most GJK calls.
-        self._extents = np.array(
-            [np.abs(ob.pose[:3, :3]) @ (np.asarray(ob.size, dtype=float) / 2 + padding) for ob in obstacles]
-        ).reshape(-1, 3)
+        rotations = np.array([ob.pose[:3, :3] for ob in obstacles], dtype=float).reshape(-1, 3, 3)
+        halves = np.array([ob.size for ob in obstacles], dtype=float).reshape(-1, 3) / 2 + padding
+        self._extents = (np.abs(rotations) * halves[:, None, :]).sum(axis=2)
         self._names = [ob.name for ob in obstacles]
         self._request = coal.CollisionRequest()
         self._coal = coal
@@ -360,6 +360,20 @@ class HandModel:
                 if coal.collide(geom, tf, ogeom, otf, self._request, result):
                     hits.append(name)
         return hits
+
+
+_SIZE_NORMS: dict[tuple[float, ...], float] = {}
+
+
+def _size_norm(size: Sequence[float]) -> float:
+    """np.linalg.norm(size), remembered by size (the same few dozen sizes come back in every hand model)."""
+    key = tuple(float(v) for v in size)
+    norm = _SIZE_NORMS.get(key)
+    if norm is None:
+        norm = float(np.linalg.norm(size))
+        if len(_SIZE_NORMS) < PLACED_CACHE_SIZE:
+            _SIZE_NORMS[key] = norm
+    return norm
 
 
 SPHERE_SLACK = 1e-3

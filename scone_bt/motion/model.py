@@ -140,6 +140,7 @@ class ArmModel:
         self.ee_frame = self.model.getFrameId(robot.end_effector_frame)
         self.ee_joint = self.model.frames[self.ee_frame].parentJoint
         self._local = threading.local()
+        self._finger_models: dict[float | None, object] = {}  # geometry_with_fingers' templates, by position
         self.lower = np.array(self.model.lowerPositionLimit, dtype=float)
         self.upper = np.array(self.model.upperPositionLimit, dtype=float)
         self._lower_tol, self._upper_tol = self.lower - 1e-9, self.upper + 1e-9
@@ -177,6 +178,15 @@ class ArmModel:
         None (or the open position) gives the model as loaded, fingers fully open. The fingers move along the
         end-effector's y axis, the closing axis of every robot's end-effector frame.
         """
+        key = None if position is None else float(position)
+        template = self._finger_models.get(key)
+        if template is None:
+            template = self._finger_models[key] = self._fingers_at(key)
+        # A copy for the caller to add to; the template (moved fingers and all) is made once per position.
+        return template.copy()  # type: ignore[attr-defined]
+
+    def _fingers_at(self, position: float | None) -> object:
+        """`geometry_with_fingers(position)` made afresh."""
         import pinocchio as pin
 
         gm = self.geom_model.copy()
@@ -309,20 +319,34 @@ class ArmModel:
         identity = np.eye(self.dof)
         rhs = np.empty((6, 1 + self.dof))  # [err | jac], the right-hand sides of one damped solve
         lower, upper = self.lower, self.upper
+        # Names looked up once: an iteration is a dozen short calls, and attribute look-ups were a tenth of it.
+        model, frame, local = self.model, self.ee_frame, pin.LOCAL
+        joint_jacobians, frame_placement, frame_jacobian = (
+            pin.computeJointJacobians,
+            pin.updateFramePlacement,
+            pin.getFrameJacobian,
+        )
+        log6, jlog6 = pin.log6, pin.Jlog6
+        pos_tol, rot_tol, stall = (
+            options.position_tolerance,
+            options.rotation_tolerance,
+            options.stall_iterations,
+        )
+        gain, step = options.posture_gain, options.step
         for q0 in seeds:
             q = q0.copy()
             best, since_best = np.inf, 0
             for _ in range(options.max_iterations):
                 # One kinematics pass gives both the pose and the Jacobian (computeFrameJacobian would redo it).
-                pin.computeJointJacobians(self.model, data, q)
-                current = pin.updateFramePlacement(self.model, data, self.ee_frame)
+                joint_jacobians(model, data, q)
+                current = frame_placement(model, data, frame)
                 i_m_goal = current.actInv(oMgoal)
-                err = pin.log6(i_m_goal).vector  # twist to the goal, in the end-effector frame
+                err = log6(i_m_goal).vector  # twist to the goal, in the end-effector frame
                 # Plain floats: six numpy scalar operations cost more than the kinematics pass (same values).
                 e0, e1, e2, e3, e4, e5 = err.tolist()
                 pos_err = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
                 rot_err = math.sqrt(e3 * e3 + e4 * e4 + e5 * e5)
-                if pos_err < options.position_tolerance and rot_err < options.rotation_tolerance:
+                if pos_err < pos_tol and rot_err < rot_tol:
                     return IKSolution(q, pos_err, rot_err)
                 # Give up on a seed that stopped improving (unreachable target or stuck at a joint limit).
                 total = pos_err + 0.1 * rot_err
@@ -330,21 +354,20 @@ class ArmModel:
                     best, since_best = total, 0
                 else:
                     since_best += 1
-                    if since_best > options.stall_iterations:
+                    if since_best > stall:
                         break
-                jac = pin.getFrameJacobian(self.model, data, self.ee_frame, pin.LOCAL)
-                jac = pin.Jlog6(i_m_goal.inverse()) @ jac
+                jac = jlog6(i_m_goal.inverse()) @ frame_jacobian(model, data, frame, local)
                 rhs[:, 0] = err
                 rhs[:, 1:] = jac
                 solved = solve_small(jac @ jac.T + damping, rhs)
                 # Redundancy: drift towards the seed in the null space, so nearby targets get nearby solutions.
-                dq = jac.T @ solved[:, 0] + (identity - jac.T @ solved[:, 1:]) @ (
-                    options.posture_gain * (q0 - q)
-                )
+                dq = jac.T @ solved[:, 0] + (identity - jac.T @ solved[:, 1:]) @ (gain * (q0 - q))
                 norm = float(np.abs(dq).max())
                 if norm > 0.5:  # small steps keep the solution on the seed's branch
                     dq *= 0.5 / norm
-                q = np.minimum(np.maximum(q + options.step * dq, lower), upper)
+                if step != 1.0:  # a full step: dq itself (1.0 * dq is dq, bit for bit)
+                    dq = step * dq
+                q = np.minimum(np.maximum(q + dq, lower), upper)
         return None
 
     # ------------------------------------------------------------------------------------------ collisions
