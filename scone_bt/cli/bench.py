@@ -34,6 +34,7 @@ BENCHMARK_MODULES: tuple[str, ...] = (
     "scone_bt.benchmarks.episode",
     "scone_bt.benchmarks.catalogue",
     "scone_bt.benchmarks.motion",
+    "scone_bt.benchmarks.physics",
     "scone_bt.benchmarks.gate",
     "scone_bt.benchmarks.decisions",
     "scone_bt.study.analysis_bench",

@@ -25,6 +25,15 @@ _NEAR_OBJECTS = frozenset({MotionPhase.DESCEND, MotionPhase.LIFT, MotionPhase.LO
 """Phases in which the gripper may touch things (the object, its neighbours, the table)."""
 _CARRYING = frozenset({MotionPhase.LIFT, MotionPhase.TRANSIT, MotionPhase.LOWER})
 _HOMING = frozenset({MotionPhase.HOME, MotionPhase.RECOVER_HOME})
+CONTACT_CHECK_S = 1.0 / 60.0
+"""Simulated seconds between two collision checks while a segment is tracked."""
+SLIP_CHECK_S = 0.1
+"""Simulated seconds between two checks that the carried object is still between the fingers."""
+
+
+def _every(seconds: float, time_step: float) -> int:
+    """Control steps in `seconds` (at least one): checks run at the same simulated rate whatever the physics step."""
+    return max(1, round(seconds / time_step))
 
 
 @dataclass(frozen=True)
@@ -321,7 +330,8 @@ class PickPlaceController:
     def _check(self, phase: MotionPhase, q_cmd: np.ndarray) -> bool:
         """Collision and slip monitoring during a tracked segment; True if the attempt just failed."""
         s = self.settings
-        if self.phase_steps % 4:
+        dt = self.arm.time_step
+        if self.phase_steps % _every(CONTACT_CHECK_S, dt):
             return False
         near_objects = phase in _NEAR_OBJECTS
         link = self.arm.unexpected_contact(
@@ -337,7 +347,11 @@ class PickPlaceController:
                     FailureStage.COLLISION, f"the arm was blocked during {phase} (joint error {err:.2f} rad)"
                 )
                 return True
-        if phase is MotionPhase.TRANSIT and self.phase_steps % 24 == 0 and not self._holding():
+        if (
+            phase is MotionPhase.TRANSIT
+            and self.phase_steps % _every(SLIP_CHECK_S, dt) == 0
+            and not self._holding()
+        ):
             self.fail(FailureStage.TRANSIT, "the object dropped out of the gripper while carrying it")
             return True
         return False

@@ -76,6 +76,7 @@ class RenderStats:
     reused: int = 0
     pixels: int = 0
     full_pixels: int = 0  # the pixels whole images would have cost for the same renders
+    last_window: Window | None = None  # the window of the latest render (None: a whole image)
 
     def as_dict(self) -> dict[str, float]:
         return {
@@ -131,6 +132,7 @@ def camera_image(kitchen: Kitchen, camera: PinholeView) -> CameraImage:
         if window is not None and window.pixels > PATCH_MAX_SHARE * spec.width * spec.height:
             window = None
     _STATS.full_pixels += spec.width * spec.height
+    _STATS.last_window = window
     if window is None or cached is None:
         rgb, depth = _render(kitchen, camera)
         _STATS.full += 1

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import contextlib
 import itertools
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -24,7 +24,15 @@ from scone_bt.world.arm_io import ArmIO
 from scone_bt.world.camera import camera_image
 from scone_bt.world.visuals import create_object_visual
 
-__all__ = ["Kitchen", "ObjectState", "StaticBox", "Controller"]
+__all__ = [
+    "FULL_RATE_STEP_S",
+    "PHYSICS_STEP_S",
+    "Controller",
+    "Kitchen",
+    "ObjectState",
+    "StaticBox",
+    "full_rate_physics",
+]
 
 Controller = Callable[["Kitchen"], None]
 """Called before every physics step, e.g. to send joint targets. Returns nothing."""
@@ -41,9 +49,27 @@ WAKE_S = 0.5
 """Simulated seconds the physics keeps stepping after the world was changed from outside."""
 FREEZE_MARGIN_M = 0.15
 """A resting object is frozen only if no robot link or moving object comes within this of it (bounding boxes)."""
-FREEZE_CHECK_STEPS = 12
-"""Physics steps between freeze checks (0.05 s at 240 Hz: the hand moves well under FREEZE_MARGIN_M meanwhile)."""
+FREEZE_CHECK_S = 0.05
+"""Simulated seconds between freeze checks (the hand moves well under FREEZE_MARGIN_M meanwhile)."""
+PHYSICS_STEP_S = 1.0 / 120.0
+"""The physics step, seconds: the coarsest that keeps outcomes the same. On the same seeded motion-benchmark
+queries (Panda, 60) 1/120 s gives every outcome class of 1/240 s (one failure message differs, same class) at 0.6 of
+the CPU time; 1/60 s turns a success into a failure and a failure into a success (docs/performance.md)."""
+FULL_RATE_STEP_S = 1.0 / 240.0
+"""The physics step the grasps were first tuned at (PyBullet's default): the reference `full_rate_physics` runs."""
 _KITCHEN_IDS = itertools.count()
+
+
+@contextlib.contextmanager
+def full_rate_physics() -> Iterator[None]:
+    """Kitchens made meanwhile (without explicit arguments) step every body at FULL_RATE_STEP_S and freeze
+    nothing: the reference the physics shortcuts are compared with (`scone-bench physics`, tests)."""
+    saved = Kitchen.TIME_STEP_DEFAULT, Kitchen.FREEZE_RESTING_DEFAULT
+    Kitchen.TIME_STEP_DEFAULT, Kitchen.FREEZE_RESTING_DEFAULT = FULL_RATE_STEP_S, False
+    try:
+        yield
+    finally:
+        Kitchen.TIME_STEP_DEFAULT, Kitchen.FREEZE_RESTING_DEFAULT = saved
 
 
 @dataclass(frozen=True)
@@ -92,12 +118,14 @@ class Kitchen:
         kitchen: Scene, camera and catalogue.
         robot: The arm to load.
         gui: Open PyBullet's own window (debugging only; scone-run uses rerun instead).
-        time_step: Physics step in seconds.
+        time_step: Physics step in seconds (default PHYSICS_STEP_S).
         freeze_resting: Freeze resting objects far from anything moving (see `advance`); off only to compare.
     """
 
     FREEZE_RESTING_DEFAULT = True
     """`freeze_resting` when not given (benchmarks flip it to compare outcomes with and without freezing)."""
+    TIME_STEP_DEFAULT = PHYSICS_STEP_S
+    """`time_step` when not given (`full_rate_physics` sets it to FULL_RATE_STEP_S to compare outcomes)."""
 
     def __init__(
         self,
@@ -105,7 +133,7 @@ class Kitchen:
         robot: RobotConfig,
         *,
         gui: bool = False,
-        time_step: float = 1.0 / 240.0,
+        time_step: float | None = None,
         freeze_resting: bool | None = None,
     ) -> None:
         with c_stdout_silenced():
@@ -115,7 +143,7 @@ class Kitchen:
         self.config = kitchen
         self.robot_config = robot
         self.bc = bc
-        self.time_step = time_step
+        self.time_step = self.TIME_STEP_DEFAULT if time_step is None else float(time_step)
         self.sim_time = 0.0
         self.steps = 0
         self._controllers: list[Controller] = []
@@ -136,7 +164,7 @@ class Kitchen:
         bc = self.bc
         bc.resetSimulation()
         bc.setGravity(0, 0, -9.81)
-        bc.setTimeStep(time_step)
+        bc.setTimeStep(self.time_step)
         bc.setPhysicsEngineParameter(numSolverIterations=SOLVER_ITERATIONS, deterministicOverlappingPairs=1)
         self.static_boxes = self._build_static_scene()
         self.robot_id, self.joint_index = self._load_robot()
@@ -572,7 +600,7 @@ class Kitchen:
         """Freeze resting objects that nothing moving comes near; thaw frozen ones something moving approaches.
 
         "Near" is FREEZE_MARGIN_M between bounding boxes: more than the hand travels between two checks
-        (FREEZE_CHECK_STEPS), so the arm never meets a frozen object.
+        (FREEZE_CHECK_S), so the arm never meets a frozen object.
         """
         if not self.freeze_resting:
             return
@@ -614,13 +642,14 @@ class Kitchen:
           constraint solver's work, and they do not change the motion of anything else.
         """
         n = max(1, round(seconds / self.time_step))
+        check_every = max(1, round(FREEZE_CHECK_S / self.time_step))
         if not self._controllers and self.sim_time >= self._awake_until and self.at_rest():
             self.steps_skipped += n
             self.steps += n
             self.sim_time += n * self.time_step
             return
         for i in range(n):
-            if i % FREEZE_CHECK_STEPS == 0:
+            if i % check_every == 0:
                 self._update_frozen()
             for controller in list(self._controllers):
                 controller(self)

@@ -1,0 +1,37 @@
+"""The physics shortcuts (coarser step, frozen resting objects, a sleeping scene not stepped) keep the outcomes of
+seeded executions the same as the full-rate simulation (`scone-bench physics` on more queries)."""
+
+from __future__ import annotations
+
+import pytest
+
+from scone_bt.benchmarks.physics import compare_query, outcome_class
+from scone_bt.world import Kitchen
+from scone_bt.world.kitchen import FULL_RATE_STEP_S, PHYSICS_STEP_S, full_rate_physics
+
+# Motion-benchmark queries (seed 0, 11 products of clutter, 2 on the table) with different outcomes at the full rate:
+# a success, a product that slips out of the fingers while lifting, one that stays stuck between the open fingers
+# after release, one whose grasps are all blocked.
+PANDA_QUERIES = (0, 2, 5, 11)
+
+
+def test_full_rate_physics_is_the_reference_and_is_restored(kitchen_cfg, robot_cfg):
+    assert PHYSICS_STEP_S > FULL_RATE_STEP_S
+    with full_rate_physics(), Kitchen(kitchen_cfg, robot_cfg) as k:
+        assert k.time_step == FULL_RATE_STEP_S and not k.freeze_resting
+    with Kitchen(kitchen_cfg, robot_cfg) as k:
+        assert k.time_step == PHYSICS_STEP_S and k.freeze_resting
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("index", PANDA_QUERIES)
+def test_a_seeded_execution_ends_the_same_with_the_shortcuts_as_at_the_full_rate(index):
+    result = compare_query("kitchen", "panda", 0, 11, 2, index)
+    assert result["shortcuts"]["class"] == result["full_rate"]["class"], result
+
+
+def test_outcome_classes_name_the_stage_and_the_planners_reason():
+    assert outcome_class({"success": True, "stage": None}) == "success"
+    assert outcome_class({"success": False, "stage": "grasp", "reason": None}) == "grasp"
+    failed = {"success": False, "stage": "planning", "reason": "grasps_blocked"}
+    assert outcome_class(failed) == "planning: grasps_blocked"
