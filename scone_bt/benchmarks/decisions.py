@@ -24,11 +24,18 @@ Two parts:
 
     scone-bench decisions --episodes 50 --recipes 20 --json docs/results/decisions.json
     scone-bench decisions --episodes 0            # the gate metrics only (a minute)
+    scone-bench decisions --jobs 1                # everything in this process (the default: one per CPU)
+
+Both parts are spread over ``--jobs`` processes (scone_bt.benchmarks.workers): the replays one (variant,
+dataset) stream at a time, the episodes one seeded episode at a time; results are gathered in their serial
+order, so the report is the same for any ``--jobs`` (its wall times aside). ``gate.replay_wall_s_by_estimator``
+is each variant's replay time, summed over its streams.
 """
 
 from __future__ import annotations
 
 import argparse
+import functools
 import os
 import sys
 import time
@@ -36,7 +43,7 @@ from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -44,6 +51,9 @@ from scone_bt.affordances.types import object_of_action
 from scone_bt.events import DecisionMade, Event, StepDone
 from scone_bt.gate.types import DecisionKind
 from scone_bt.reporting import emit_report
+
+if TYPE_CHECKING:  # registration stays cheap: the estimators' package is imported by the replay itself
+    from scone_bt.confidence.base import ConfidenceEstimator
 
 __all__ = ["register", "GateCounts", "replay_gate", "judge_fetches", "pick_recipes"]
 
@@ -92,16 +102,17 @@ def replay_gate(
     est = make_estimator(estimator, seed=seed)
     options = GateOptions(confidence_threshold=confidence_threshold, target_error_rate=target_error_rate)
     counts: Counter[str] = Counter()
-    for action, ok in zip(actions[:warmup], success[:warmup], strict=True):
-        est.update(vectors[action], bool(ok))
+    _warm_up(est, [vectors[a] for a in actions[:warmup]], success[:warmup])
     actions, success = actions[warmup:], success[warmup:]
-    for action, ok in zip(actions, success, strict=True):
+    last = len(actions) - 1
+    for i, (action, ok) in enumerate(zip(actions, success, strict=True)):
         x = vectors[action]
         conf = float(est.predict(x[None, :])[0])
         decision = decide([RankedAction(action, 1.0)], [conf], options)
         if decision.kind is DecisionKind.ACT:
             counts["acted_success" if ok else "acted_failure"] += 1
-            est.update(x, bool(ok))
+            if i < last:  # the last outcome's refit would never be read: no prediction follows it
+                est.update(x, bool(ok))
         else:
             counts["asked_would_succeed" if ok else "asked_would_fail"] += 1
     return GateCounts(
@@ -111,6 +122,52 @@ def replay_gate(
         asked_would_succeed=counts["asked_would_succeed"],
         asked_would_fail=counts["asked_would_fail"],
     )
+
+
+def _refit_is_stateless(est: ConfidenceEstimator) -> bool:
+    """Whether ``est`` (or the estimator an ε-greedy one wraps) refits from its rows and seed alone.
+
+    These build a fresh model seeded by the estimator's seed on every refit, so one ``fit`` on n rows leaves them
+    exactly as n ``update`` calls would. Not the GP: when it re-optimises its kernel depends on the sizes it was
+    refitted at before (gp.py), so its warm-up must replay outcome by outcome.
+    """
+    from scone_bt.confidence.conformal import ConformalKNNEstimator
+    from scone_bt.confidence.epsilon import EpsilonGreedy
+    from scone_bt.confidence.models import (
+        KNNEstimator,
+        LGBMEstimator,
+        MLPEstimator,
+        RandomForestEstimator,
+        SVMEstimator,
+        XGBEstimator,
+    )
+
+    stateless = (
+        KNNEstimator,
+        LGBMEstimator,
+        MLPEstimator,
+        RandomForestEstimator,
+        SVMEstimator,
+        XGBEstimator,
+        ConformalKNNEstimator,
+    )
+    inner = est.base if isinstance(est, EpsilonGreedy) else est
+    return type(inner) in stateless
+
+
+def _warm_up(est: ConfidenceEstimator, xs: Sequence[np.ndarray], success: Sequence[bool]) -> None:
+    """Learn the calibration outcomes: one fit where that is the same as updating one by one (see above).
+
+    Nothing is predicted between warm-up outcomes, so their intermediate refits (up to ``warmup`` - 1 model fits
+    per stream, most of the replay's cost for the boosted and bagged trees) are never read.
+    """
+    if not xs:
+        return
+    if _refit_is_stateless(est):
+        est.fit(np.stack(xs), np.asarray(success, dtype=bool))
+        return
+    for x, ok in zip(xs, success, strict=True):
+        est.update(x, bool(ok))
 
 
 def judge_fetches(events: Sequence[Event], steps: Sequence[Sequence[str]]) -> dict[str, int]:
@@ -163,48 +220,86 @@ def pick_recipes(n: int, seed: int, max_needed: int) -> list[str]:
     return [str(r) for r in rng.choice(sorted(fits), size=min(n, len(fits)), replace=False)]
 
 
-def _episodes(args: argparse.Namespace) -> dict[str, Any]:
+_MODELS: list[Any] = []
+"""This process's ModelPool (one per process: the episodes it runs share one embedder, MiniLM loads once)."""
+
+
+def _models() -> Any:
+    """This process's ModelPool, made on first use."""
+    from scone_bt.episode import ModelPool
+
+    if not _MODELS:
+        _MODELS.append(ModelPool())
+    return _MODELS[0]
+
+
+@functools.lru_cache(maxsize=1)
+def _catalogue() -> Any:
+    """The kitchen's catalogue (read once per process)."""
+    from scone_bt.config import load_kitchen
+
+    return load_kitchen().catalogue
+
+
+def _episode(
+    recipe_id: str, seed: int, distractors: int, estimator: str, relevance_threshold: float | None
+) -> dict[str, Any]:
+    """One seeded episode, judged: its per-episode row plus ``attempted``, ``successes`` and ``help``.
+
+    Everything it depends on is in its arguments (the seed included), so it runs the same in any process.
+    """
     from scone_bt.behaviours import BehaviourOptions
-    from scone_bt.config import load_kitchen, load_robot
-    from scone_bt.episode import EpisodeOptions, ModelPool, run_episode
+    from scone_bt.episode import EpisodeOptions, run_episode
     from scone_bt.recipes import load_recipe, stock_recipe
 
-    models = ModelPool()  # the episodes share one embedder (MiniLM loads once)
+    events: list[Event] = []
+    summary = run_episode(
+        EpisodeOptions(
+            recipe=recipe_id,
+            seed=seed,
+            distractors=distractors,
+            behaviour=BehaviourOptions(
+                estimator=estimator, relevance_threshold=relevance_threshold, seed=seed
+            ),
+        ),
+        printer=lambda _line: None,
+        on_event=events.append,
+        models=_models(),
+    )
+    stocked = stock_recipe(load_recipe(recipe_id), _catalogue())
+    counts = judge_fetches(events, [s.objects for s in stocked.steps])
+    return {
+        "row": {"recipe": recipe_id, "seed": seed, "completed": summary.completed, **counts},
+        "attempted": summary.attempted,
+        "successes": summary.successes,
+        "help": summary.help_requests,
+    }
 
-    kitchen = load_kitchen()
-    slots = len(kitchen.scene.shelf_slots())
+
+def _episodes(args: argparse.Namespace, pool: Any) -> dict[str, Any]:
+    """The seeded episodes (spread over ``pool``'s workers, or here when None), aggregated in episode order."""
+    from scone_bt.benchmarks.workers import ordered_map
+    from scone_bt.config import load_kitchen, load_robot
+
+    slots = len(load_kitchen().scene.shelf_slots())
     recipes = pick_recipes(args.recipes, args.seed, slots - args.distractors)
     load_robot("panda")
+    calls = [
+        (recipes[i % len(recipes)], args.seed + i, args.distractors, args.estimator, args.relevance_threshold)
+        for i in range(args.episodes)
+    ]
     totals: Counter[str] = Counter()
     outcomes: Counter[str] = Counter()
     per_recipe = []
     t0 = time.perf_counter()
-    for i in range(args.episodes):
-        recipe_id = recipes[i % len(recipes)]
-        seed = args.seed + i
-        events: list[Event] = []
-        summary = run_episode(
-            EpisodeOptions(
-                recipe=recipe_id,
-                seed=seed,
-                distractors=args.distractors,
-                behaviour=BehaviourOptions(
-                    estimator=args.estimator, relevance_threshold=args.relevance_threshold, seed=seed
-                ),
-            ),
-            printer=lambda _line: None,
-            on_event=events.append,
-            models=models,
-        )
-        stocked = stock_recipe(load_recipe(recipe_id), kitchen.catalogue)
-        counts = judge_fetches(events, [s.objects for s in stocked.steps])
+    for i, result in enumerate(ordered_map(pool, _episode, calls)):
+        row = result["row"]
+        counts = {k: v for k, v in row.items() if k not in ("recipe", "seed", "completed")}
         totals.update(counts)
-        outcomes.update(
-            {"attempted": summary.attempted, "successes": summary.successes, "help": summary.help_requests}
-        )
-        per_recipe.append({"recipe": recipe_id, "seed": seed, "completed": summary.completed, **counts})
+        outcomes.update({k: result[k] for k in ("attempted", "successes", "help")})
+        per_recipe.append(row)
         if not args.quiet:
-            print(f"episode {i + 1}/{args.episodes} {recipe_id}: {counts}", file=sys.stderr)
+            print(f"episode {i + 1}/{args.episodes} {row['recipe']}: {counts}", file=sys.stderr)
     n = max(totals["decisions"], 1)
     return {
         "episodes": args.episodes,
@@ -223,8 +318,27 @@ def _episodes(args: argparse.Namespace) -> dict[str, Any]:
     }
 
 
-def _gate_metrics(args: argparse.Namespace) -> dict[str, Any]:
+def _replay(
+    actions: Sequence[str],
+    success: Sequence[bool],
+    vectors: dict[str, np.ndarray],
+    estimator: str,
+    seed: int,
+    target_error_rate: float | None,
+    warmup: int,
+) -> tuple[GateCounts, float]:
+    """``replay_gate`` over one stream, and the seconds it took (a worker's unit of gate work)."""
+    t0 = time.perf_counter()
+    counts = replay_gate(
+        actions, success, vectors, estimator, seed, target_error_rate=target_error_rate, warmup=warmup
+    )
+    return counts, time.perf_counter() - t0
+
+
+def _gate_metrics(args: argparse.Namespace, pool: Any) -> dict[str, Any]:
+    """Gate metrics per estimator variant; its (variant, dataset) replays spread over ``pool`` (None: here)."""
     from scone_bt.benchmarks.self_confidence.dataset import load_datasets
+    from scone_bt.benchmarks.workers import ordered_map
     from scone_bt.confidence import BASE_ESTIMATORS
     from scone_bt.embedding import load_embedder
     from scone_bt.resources import repo_root
@@ -238,22 +352,22 @@ def _gate_metrics(args: argparse.Namespace) -> dict[str, Any]:
         *BASE_ESTIMATORS,
         *(f"eps-{b}" for b in BASE_ESTIMATORS),
     ]
-    out: dict[str, Any] = {}
     variants = [(name, None) for name in names] + [("conformal", t) for t in args.target_error_rates]
+    # A worker gets only its stream's vectors (each call is pickled on its own).
+    streams = [(d.actions, d.success, {a: vectors[a] for a in set(d.actions)}) for d in datasets]
+    calls = [
+        (*stream, name, args.seed + j, target, args.warmup)
+        for name, target in variants
+        for j, stream in enumerate(streams)
+    ]
+    results = ordered_map(pool, _replay, calls)
+    out: dict[str, Any] = {}
+    seconds: dict[str, float] = {}
     for name, target in variants:
         label = name if target is None else f"conformal@{target:g}"
-        per = [
-            replay_gate(
-                d.actions,
-                d.success,
-                vectors,
-                name,
-                args.seed + j,
-                target_error_rate=target,
-                warmup=args.warmup,
-            )
-            for j, d in enumerate(datasets)
-        ]
+        pairs = [next(results) for _ in datasets]
+        per = [counts for counts, _ in pairs]
+        seconds[label] = round(sum(s for _, s in pairs), 1)  # its replays' own time, summed over workers
         total = GateCounts(*(sum(getattr(c, f) for c in per) for f in GateCounts.__dataclass_fields__))
         out[label] = {k: round(v, 4) for k, v in total.rates().items()} | {"decisions": total.decisions}
         if target is not None:
@@ -264,14 +378,16 @@ def _gate_metrics(args: argparse.Namespace) -> dict[str, Any]:
         "warmup": args.warmup,
         "datasets": [d.name for d in datasets],
         "estimators": out,
+        "replay_wall_s_by_estimator": seconds,
     }
 
 
 def _run(args: argparse.Namespace) -> int:
+    from scone_bt.benchmarks.workers import process_pool
     from scone_bt.errors import SconeError
 
-    if args.episodes < 0 or args.recipes < 1:
-        raise SconeError("--episodes must be ≥ 0 and --recipes ≥ 1")
+    if args.episodes < 0 or args.recipes < 1 or args.jobs < 1:
+        raise SconeError("--episodes must be ≥ 0, --recipes and --jobs ≥ 1")
     if args.json is not None and not Path(args.json).parent.exists():
         raise SconeError(f"--json {args.json}: folder {Path(args.json).parent} does not exist")
     started = time.perf_counter()
@@ -280,16 +396,24 @@ def _run(args: argparse.Namespace) -> int:
         "seed": args.seed,
         "machine": {"cpus": os.cpu_count(), "load_average_1min": round(os.getloadavg()[0], 2)},
     }
-    if not args.no_gate:
-        report["gate"] = _gate_metrics(args)
-        report["per_estimator"] = report["gate"]["estimators"]
-    if args.episodes:
-        ep = _episodes(args)
-        report.update({k: ep[k] for k in ("wrong_fetch_rate", "never_used_fetches", "clarify_rate")})
-        report["episodes"] = ep
+    # One pool for both parts: its workers start once (each loads the embedder once, for all its episodes).
+    with process_pool(args.jobs) as pool:
+        if not args.no_gate:
+            report["gate"] = _gate_metrics(args, pool)
+            report["per_estimator"] = report["gate"]["estimators"]
+        if args.episodes:
+            ep = _episodes(args, pool)
+            report.update({k: ep[k] for k in ("wrong_fetch_rate", "never_used_fetches", "clarify_rate")})
+            report["episodes"] = ep
+    report["jobs"] = args.jobs
     report["wall_s"] = round(time.perf_counter() - started, 1)
     emit_report(report, args.json)
     return 0
+
+
+def _default_jobs() -> int:
+    """One process per CPU, at least 1 (cheap: registration calls it)."""
+    return max(os.cpu_count() or 1, 1)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -319,4 +443,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--json", type=Path, help="also write the JSON report to this file")
     p.add_argument("--no-gate", action="store_true", help="skip the gate replay (episodes only)")
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    p.add_argument(
+        "--jobs",
+        type=int,
+        default=_default_jobs(),
+        help="processes sharing the replays and the episodes (default: one per CPU; 1: all in this process; "
+        "the report is the same)",
+    )
     p.set_defaults(func=_run)
