@@ -156,7 +156,8 @@ class CollisionWorld:
             radii = 0.5 * np.linalg.norm(
                 np.array([ob.size for ob in obstacles], dtype=float) + 2 * padding, axis=1
             )
-            near = np.linalg.norm(centres, axis=1)[None, :] <= (arm.geometry_reach[:, None] + radii[None, :])
+            distances = np.linalg.norm(centres - arm.first_joint_origin, axis=1)
+            near = distances[None, :] <= (arm.geometry_reach_from_first_joint[:, None] + radii[None, :])
             ignored = np.array([name in ignore_for_hand for name, _ in obstacle_ids])
             check[:n_robot, ids] = moving[:, None] & near & ~(in_hand[:, None] & ignored[None, :])
         if attached_id is not None:

@@ -140,6 +140,33 @@ def _every_pair(arm, obstacles, padding, fingers, ee_pose, ignore=()):
     return hits
 
 
+@pytest.mark.parametrize("robot", ["panda", "iiwa7"])
+def test_the_bound_from_the_first_joint_holds_for_every_geometry(robot):
+    """Collision worlds prune pairs with it: it must hold at every q, or a real collision would go unchecked."""
+    import pinocchio as pin
+
+    from scone_bt.config import load_robot
+    from scone_bt.motion import ArmModel
+
+    arm = ArmModel(load_robot(robot))
+    data, gdata = arm.model.createData(), arm.geom_model.createData()
+    rng = np.random.default_rng(6)
+    worst = 0.0
+    for _ in range(300):
+        pin.updateGeometryPlacements(
+            arm.model, data, arm.geom_model, gdata, rng.uniform(arm.lower, arm.upper)
+        )
+        for k, g in enumerate(arm.geom_model.geometryObjects):
+            g.geometry.computeLocalAABB()
+            centre = gdata.oMg[k].act(np.asarray(g.geometry.aabb_center, dtype=float))
+            far = float(np.linalg.norm(centre - arm.first_joint_origin)) + float(g.geometry.aabb_radius)
+            assert far <= arm.geometry_reach_from_first_joint[k] + 1e-9
+            worst = max(worst, far / arm.geometry_reach_from_first_joint[k])
+    assert worst > 0.5
+    moving = [k for k, g in enumerate(arm.geom_model.geometryObjects) if g.parentJoint >= 1]
+    assert np.all(arm.geometry_reach_from_first_joint[moving] <= arm.geometry_reach[moving] + 1e-12)
+
+
 def test_hand_checks_skip_only_pairs_that_cannot_touch(arm):
     rng = np.random.default_rng(4)
     target, shelf = _boxed_in(front=True)
