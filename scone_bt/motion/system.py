@@ -99,8 +99,10 @@ class MotionSystem:
         planner: PlannerOptions | None = None,
         params: GraspParams | None = None,
         settings: ExecutionSettings | None = None,
+        arm: ArmModel | None = None,
     ) -> MotionSystem:
-        """Load the arm's Pinocchio and collision models (robot defaults to the cell's robot).
+        """Load the arm's Pinocchio and collision models (robot defaults to the cell's robot), or use ``arm``, a
+        model of the same robot file built before (it holds nothing of a cell: episodes run in turn may share it).
 
         Grasp settings come from the robot file's `grasp:` section. Raises SconeError for a configuration error
         (unknown planner, bad grasp setting) before the robot acts.
@@ -111,9 +113,11 @@ class MotionSystem:
         if planner is not None and planner.name not in PLANNERS:
             raise UnknownNameError("planner", planner.name, PLANNERS)
         options = planner or PlannerOptions.of(p)
+        if arm is not None and arm.config != robot:
+            raise ValueError("MotionSystem.build: the arm model was built from another robot configuration")
         return cls(
             cell,
-            ArmModel(robot),
+            arm or ArmModel(robot),
             options,
             limits_of(robot),
             params or GraspParams.of(robot),

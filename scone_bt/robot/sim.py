@@ -4,6 +4,7 @@ cameras) and `SimWorld` around it, built by `sim_backend` (``scone-run --robot s
 from __future__ import annotations
 
 import dataclasses
+import threading
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
@@ -20,11 +21,27 @@ from scone_bt.robot.rig import SimWorld
 from scone_bt.world import Kitchen
 
 if TYPE_CHECKING:
-    from scone_bt.motion import MotionSystem
+    from scone_bt.motion import ArmModel, MotionSystem
     from scone_bt.motion.system import PickAndPlace
     from scone_bt.perception.observe import Observer
 
-__all__ = ["SimBackend", "SimRobot", "sim_backend"]
+__all__ = ["SimBackend", "SimRobot", "sim_backend", "shared_arm"]
+
+_ARMS = threading.local()
+"""Per thread: robot configuration → its `motion.ArmModel` (parsing the URDF into Pinocchio and coal models takes
+most of a second; the episodes of a benchmark or a study session run one after another in one thread)."""
+
+
+def shared_arm(robot: RobotConfig) -> ArmModel:
+    """The arm model of ``robot``, built once per thread and configuration and shared by the episodes the thread
+    runs in turn (an arm model keeps nothing of an episode: see `motion.MotionSystem.build`)."""
+    from scone_bt.motion import ArmModel
+
+    models: dict[RobotConfig, ArmModel] = _ARMS.__dict__.setdefault("models", {})
+    if robot not in models:
+        models.clear()  # one robot at a time per thread: a changed robot file does not pile up models
+        models[robot] = ArmModel(robot)
+    return models[robot]
 
 
 class SimRobot:
@@ -65,7 +82,9 @@ class SimRobot:
         if self._motion is None:
             from scone_bt.motion import MotionSystem
 
-            self._motion = MotionSystem.build(self.kitchen, self.robot_config)
+            self._motion = MotionSystem.build(
+                self.kitchen, self.robot_config, arm=shared_arm(self.robot_config)
+            )
         return self._motion
 
     def setup(self) -> None:
