@@ -23,14 +23,7 @@ from typing import Any
 
 from scone_bt.errors import SconeError
 
-__all__ = ["default_jobs", "ordered_map", "process_pool"]
-
-
-def default_jobs() -> int:
-    """One process per CPU (at least 1)."""
-    import os
-
-    return max(os.cpu_count() or 1, 1)
+__all__ = ["ordered_map", "process_pool"]
 
 
 def _ignore_sigint() -> None:
