@@ -39,6 +39,8 @@ Controller = Callable[["Kitchen"], None]
 
 SOLVER_ITERATIONS = 150
 """PyBullet constraint-solver iterations per step (the grasp tests and the motion benchmark were tuned with it)."""
+FULL_RATE_SOLVER_ITERATIONS = 150
+"""Solver iterations of the reference simulation (`full_rate_physics`)."""
 REST_LINEAR_M_S = 1e-3
 """A body slower than this (m/s, every axis) counts as at rest."""
 REST_ANGULAR_RAD_S = 1e-2
@@ -66,12 +68,13 @@ _KITCHEN_IDS = itertools.count()
 def full_rate_physics() -> Iterator[None]:
     """Kitchens made meanwhile (without explicit arguments) step every body at FULL_RATE_STEP_S and freeze
     nothing: the reference the physics shortcuts are compared with (`scone-bench physics`, tests)."""
-    saved = Kitchen.TIME_STEP_DEFAULT, Kitchen.FREEZE_RESTING_DEFAULT
+    saved = Kitchen.TIME_STEP_DEFAULT, Kitchen.FREEZE_RESTING_DEFAULT, Kitchen.SOLVER_ITERATIONS_DEFAULT
     Kitchen.TIME_STEP_DEFAULT, Kitchen.FREEZE_RESTING_DEFAULT = FULL_RATE_STEP_S, False
+    Kitchen.SOLVER_ITERATIONS_DEFAULT = FULL_RATE_SOLVER_ITERATIONS
     try:
         yield
     finally:
-        Kitchen.TIME_STEP_DEFAULT, Kitchen.FREEZE_RESTING_DEFAULT = saved
+        Kitchen.TIME_STEP_DEFAULT, Kitchen.FREEZE_RESTING_DEFAULT, Kitchen.SOLVER_ITERATIONS_DEFAULT = saved
 
 
 @dataclass(frozen=True)
@@ -126,6 +129,8 @@ class Kitchen:
 
     FREEZE_RESTING_DEFAULT = True
     """`freeze_resting` when not given (benchmarks flip it to compare outcomes with and without freezing)."""
+    SOLVER_ITERATIONS_DEFAULT = SOLVER_ITERATIONS
+    """Constraint-solver iterations per step of the kitchens made from now on."""
     TIME_STEP_DEFAULT = PHYSICS_STEP_S
     """`time_step` when not given (`full_rate_physics` sets it to FULL_RATE_STEP_S to compare outcomes)."""
 
@@ -167,7 +172,9 @@ class Kitchen:
         bc.resetSimulation()
         bc.setGravity(0, 0, -9.81)
         bc.setTimeStep(self.time_step)
-        bc.setPhysicsEngineParameter(numSolverIterations=SOLVER_ITERATIONS, deterministicOverlappingPairs=1)
+        bc.setPhysicsEngineParameter(
+            numSolverIterations=self.SOLVER_ITERATIONS_DEFAULT, deterministicOverlappingPairs=1
+        )
         self.static_boxes = self._build_static_scene()
         self.robot_id, self.joint_index = self._load_robot()
 
