@@ -161,8 +161,13 @@ class Kitchen:
         self.steps_skipped = 0  # physics steps not taken because the scene was asleep
         # Bumped whenever the world may look different (a step taken, a body moved): cameras re-render only then.
         self.state_version = 0
-        # Unlike id(), never reused by a later Kitchen; renewed when covers change what the cameras see.
+        # Unlike id(), never reused by a later Kitchen; renewed when covers change what the cameras see, and when
+        # the kitchen is restocked. static_uid names the static scene alone: renewed by covers only.
         self.uid = next(_KITCHEN_IDS)
+        self.static_uid = self.uid
+        # Render each camera's image of the empty kitchen when products are first put in (world.camera.
+        # keep_background): worth it only for a kitchen restocked many times (the self-confidence generator's).
+        self.keep_backgrounds = False
         self._awake_until = 0.0
         self._frozen: dict[str, tuple[object, object]] = {}  # name -> pose when frozen
         self._settle_until = 0.0
@@ -269,6 +274,12 @@ class Kitchen:
         for spec in specs:
             if spec.name in self.objects:
                 raise ConfigError(f"object {spec.name!r} is already in the kitchen")
+        if self.keep_backgrounds and not self.objects:
+            from scone_bt.perception.camera import Camera
+            from scone_bt.world.camera import keep_background
+
+            for camera_spec in self.config.cameras:
+                keep_background(self, Camera(camera_spec))
         for spec, place in zip(specs, places, strict=True):
             x, y, z = place.position
             sx, sy, sz = spec.size
@@ -448,7 +459,7 @@ class Kitchen:
         A camera reuses its last render while the same products and links stand in view unmoved, keyed by
         ``uid`` (`world.camera.camera_image`); a new ``uid`` voids every such render.
         """
-        self.uid = next(_KITCHEN_IDS)
+        self.uid = self.static_uid = next(_KITCHEN_IDS)
         self.state_version += 1
 
     def set_gripper_properties(
@@ -686,7 +697,8 @@ class Kitchen:
         self.steps = self.steps_skipped = 0
         self._awake_until = self._settle_until = 0.0
         # The next products get the same body ids: a camera must not take one for the product it saw before.
-        self._scene_changed()
+        self.uid = next(_KITCHEN_IDS)
+        self.state_version += 1
 
     def close(self) -> None:
         with contextlib.suppress(Exception):  # already disconnected: closing twice must be harmless

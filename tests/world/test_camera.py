@@ -7,6 +7,11 @@ from scone_bt.perception.camera import Camera
 from scone_bt.world import camera as cam
 
 
+def _rgb_matches(image, reference):
+    """Equal but for a rare pixel on a triangle's edge that rounds to the other side (a handful per image)."""
+    assert np.count_nonzero(np.any(image != reference, axis=-1)) <= 5
+
+
 def _window_of(kitchen, camera, before):
     """A fresh image of ``camera`` that must be a window: it equals a whole render inside the window and the image
     before it everywhere else."""
@@ -16,9 +21,10 @@ def _window_of(kitchen, camera, before):
     rgb, depth = cam._render(kitchen, camera)
     inside = np.zeros(rgb.shape[:2], dtype=bool)
     inside[w.y0 : w.y0 + w.height, w.x0 : w.x0 + w.width] = True
-    assert np.array_equal(image.rgb[inside], rgb[inside])
+    _rgb_matches(image.rgb[inside], rgb[inside])
     # Through another projection matrix the depth buffer rounds differently: micrometres at these distances.
-    assert np.abs(image.depth[inside].astype(np.float64) - depth[inside]).max() < 2e-5
+    same = inside & np.all(image.rgb == rgb, axis=-1)
+    assert np.abs(image.depth[same].astype(np.float64) - depth[same]).max() < 2e-5
     assert np.array_equal(image.rgb[~inside], before.rgb[~inside])
     assert np.array_equal(image.depth[~inside], before.depth[~inside])
     return image
@@ -87,3 +93,24 @@ def test_clearing_the_products_voids_every_render(kitchen, kitchen_cfg):
     uid = kitchen.uid
     kitchen.clear_products(state)
     assert kitchen.uid != uid
+
+
+def test_a_restocked_kitchen_patches_its_first_images_over_the_empty_kitchen(kitchen, kitchen_cfg):
+    start = kitchen.bc.saveState()
+    kitchen.keep_backgrounds = True
+    names = kitchen_cfg.catalogue.names()
+    cameras = [Camera(spec) for spec in kitchen_cfg.shelf_cameras]
+    stats = cam.render_stats()
+    for batch in (names[:6], names[6:12]):
+        kitchen.spawn([kitchen_cfg.catalogue.get(n) for n in batch], np.random.default_rng(4))
+        for c in cameras:
+            windows = stats.windows
+            image = kitchen.camera_image(c)
+            rgb, depth = cam._render(kitchen, c)
+            assert image.fresh
+            _rgb_matches(image.rgb, rgb)
+            same = np.all(image.rgb == rgb, axis=-1)  # an edge pixel that rounded the other way has its depth
+            assert np.abs(image.depth.astype(np.float64) - depth)[same].max() < 2e-5
+            if any(cam._sees(c, *kitchen.bc.getAABB(b)) for b in kitchen.objects.values()):
+                assert stats.windows == windows + 1  # only the products were rendered
+        kitchen.clear_products(start)
