@@ -170,6 +170,7 @@ class Kitchen:
         self.keep_backgrounds = False
         self._awake_until = 0.0
         self._frozen: dict[str, tuple[object, object]] = {}  # name -> pose when frozen
+        self._frozen_boxes: dict[str, object] = {}  # name -> bounding box when frozen (it stands still)
         self._settle_until = 0.0
         self.freeze_resting = self.FREEZE_RESTING_DEFAULT if freeze_resting is None else freeze_resting
 
@@ -610,11 +611,13 @@ class Kitchen:
         # A massless body keeps integrating the velocity it had: it must stand still to stay where it was.
         self.bc.resetBaseVelocity(body, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
         self._frozen[name] = self.bc.getBasePositionAndOrientation(body)
+        self._frozen_boxes[name] = self.bc.getAABB(body)
 
     def _thaw(self, name: str) -> None:
         # Restoring the mass restores the inertia PyBullet computed from the collision shape at creation.
         self.bc.changeDynamics(self.objects[name], -1, mass=self.specs[name].mass)
         del self._frozen[name]
+        del self._frozen_boxes[name]
 
     def _update_frozen(self) -> None:
         """Freeze resting objects that nothing moving comes near; thaw frozen ones something moving approaches.
@@ -629,8 +632,12 @@ class Kitchen:
         )  # the world was just changed from outside: freeze nothing
         m = FREEZE_MARGIN_M
         names = list(self.objects)
-        # One AABB and one velocity query per body per check: freezing and thawing below move nothing.
-        boxes = np.array([self.bc.getAABB(self.objects[n]) for n in names], dtype=np.float64)
+        # One AABB and one velocity query per body per check: freezing and thawing below move nothing. A frozen
+        # body's box is the one it had when frozen (a frozen body moved from outside is thawed below all the same).
+        frozen_boxes = self._frozen_boxes
+        boxes = np.array(
+            [frozen_boxes.get(n) or self.bc.getAABB(self.objects[n]) for n in names], dtype=np.float64
+        )
         boxes = boxes.reshape(-1, 2, 3)
         resting = {n: self._body_at_rest(self.objects[n]) for n in names if n not in self._frozen}
         movers = [self.bc.getAABB(self.robot_id, j) for j in range(-1, self.bc.getNumJoints(self.robot_id))]
@@ -691,6 +698,7 @@ class Kitchen:
         self.specs.clear()
         self.spawn_slots.clear()
         self._frozen.clear()
+        self._frozen_boxes.clear()
         self._controllers.clear()
         self.bc.restoreState(stateId=physics_state)
         self.sim_time = 0.0
