@@ -1,7 +1,8 @@
 """``scone-bench physics``: the physics shortcuts against the full-rate simulation, on the same seeded executions.
 
 Each query is one seeded pick-and-place of the motion benchmark (`benchmarks.motion`, same index, same scene): run
-once with the kitchen's defaults (step PHYSICS_STEP_S, resting objects frozen, a sleeping scene not stepped) and
+once with the kitchen's defaults (the robot file's physics step, resting objects frozen, a sleeping scene not
+stepped) and
 once at the reference rate (`world.kitchen.full_rate_physics`: FULL_RATE_STEP_S, nothing frozen). The report says
 how many outcome classes (success, or the failure stage) agree, lists the queries that differ with both messages,
 and gives the CPU seconds of each mode (physics and planning together) and their ratio.
@@ -60,7 +61,7 @@ def _arm_report(args: argparse.Namespace, arm: str) -> dict[str, Any]:
     slots_free = 1 + args.table_objects
     from scone_bt.config import load_kitchen, load_robot
 
-    load_robot(arm)  # an unknown robot is an error before any query runs
+    robot = load_robot(arm)  # an unknown robot is an error before any query runs
     kcfg = load_kitchen(args.kitchen)
     clutter = min(args.clutter, len(kcfg.scene.shelf_slots()) - slots_free)
     jobs = (args.kitchen, arm, args.seed, clutter, args.table_objects)
@@ -78,6 +79,7 @@ def _arm_report(args: argparse.Namespace, arm: str) -> dict[str, Any]:
     cpu = {m: sum(r[m]["cpu_s"] for r in records) for m in ("shortcuts", "full_rate")}
     successes = {m: sum(r[m]["class"] == "success" for r in records) for m in ("shortcuts", "full_rate")}
     return {
+        "physics_hz": robot.control.physics_hz,
         "queries": len(records),
         "agree": sum(r["agree"] for r in records),
         "agree_rate": round(sum(r["agree"] for r in records) / max(len(records), 1), 4),
@@ -99,7 +101,7 @@ def _arm_report(args: argparse.Namespace, arm: str) -> dict[str, Any]:
 
 def run(args: argparse.Namespace) -> int:
     from scone_bt.errors import ConfigError
-    from scone_bt.world.kitchen import FULL_RATE_STEP_S, PHYSICS_STEP_S
+    from scone_bt.world.kitchen import FULL_RATE_STEP_S
 
     if args.queries < 1 or args.jobs < 1 or args.clutter < 0 or args.table_objects < 0:
         raise ConfigError("--queries and --jobs must be >= 1, --clutter and --table-objects >= 0")
@@ -107,7 +109,6 @@ def run(args: argparse.Namespace) -> int:
     started = time.perf_counter()
     report: dict[str, Any] = {
         "benchmark": "physics",
-        "physics_step_s": PHYSICS_STEP_S,
         "full_rate_step_s": FULL_RATE_STEP_S,
         "queries_per_arm": args.queries,
         "seed": args.seed,

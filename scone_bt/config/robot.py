@@ -67,13 +67,22 @@ class PlannerSpec:
     backend: str = "ompl"
 
 
+DEFAULT_PHYSICS_HZ = 120.0
+"""Physics steps per simulated second when a robot file does not say (the simulator's step is 1 / physics_hz)."""
+
+
 @dataclass(frozen=True)
 class ControlSpec:
-    """Position control at rate_hz; gains and forces as PyBullet's POSITION_CONTROL takes them."""
+    """Position control at rate_hz; gains and forces as PyBullet's POSITION_CONTROL takes them.
+
+    physics_hz is the simulator's step rate for this arm: the coarsest at which its seeded pick-and-places end as
+    at 240 Hz (`scone-bench physics`; a grasp's stability depends on the gripper).
+    """
 
     rate_hz: float = 240.0
     position_gain: float = 0.3
     max_joint_force: float = 87.0
+    physics_hz: float = DEFAULT_PHYSICS_HZ
 
 
 @dataclass(frozen=True)
@@ -175,6 +184,7 @@ class _ControlModel(StrictModel):
     rate_hz: Annotated[float, Field(gt=0, le=10_000, allow_inf_nan=False)] = 240.0
     position_gain: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False)] = 0.3
     max_joint_force: PositiveFloat = 87.0
+    physics_hz: Annotated[float, Field(ge=30, le=10_000, allow_inf_nan=False)] = DEFAULT_PHYSICS_HZ
 
 
 class _CollisionModel(StrictModel):
@@ -256,7 +266,10 @@ def load_robot(name_or_path: str | Path = "panda") -> RobotConfig:
             backend=p.backend,
         ),
         control=ControlSpec(
-            rate_hz=c.rate_hz, position_gain=c.position_gain, max_joint_force=c.max_joint_force
+            rate_hz=c.rate_hz,
+            position_gain=c.position_gain,
+            max_joint_force=c.max_joint_force,
+            physics_hz=c.physics_hz,
         ),
         source=path,
         raw=raw,

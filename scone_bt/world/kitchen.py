@@ -26,7 +26,6 @@ from scone_bt.world.visuals import create_object_visual
 
 __all__ = [
     "FULL_RATE_STEP_S",
-    "PHYSICS_STEP_S",
     "Controller",
     "Kitchen",
     "ObjectState",
@@ -55,10 +54,6 @@ FREEZE_MARGIN_M = 0.08
 of `scone-bench physics` are those of the full-rate simulation with either.)"""
 FREEZE_CHECK_S = 0.025
 """Simulated seconds between freeze checks: the hand (under 1.7 m/s) moves well under FREEZE_MARGIN_M meanwhile."""
-PHYSICS_STEP_S = 1.0 / 120.0
-"""The physics step, seconds: the coarsest that keeps outcomes the same. On the same seeded motion-benchmark
-queries (Panda, 60) 1/120 s gives every outcome class of 1/240 s (one failure message differs, same class) at 0.6 of
-the CPU time; 1/60 s turns a success into a failure and a failure into a success (docs/performance.md)."""
 FULL_RATE_STEP_S = 1.0 / 240.0
 """The physics step the grasps were first tuned at (PyBullet's default): the reference `full_rate_physics` runs."""
 _KITCHEN_IDS = itertools.count()
@@ -123,7 +118,7 @@ class Kitchen:
         kitchen: Scene, camera and catalogue.
         robot: The arm to load.
         gui: Open PyBullet's own window (debugging only; scone-run uses rerun instead).
-        time_step: Physics step in seconds (default PHYSICS_STEP_S).
+        time_step: Physics step in seconds (default: the robot file's, 1 / control.physics_hz).
         freeze_resting: Freeze resting objects far from anything moving (see `advance`); off only to compare.
     """
 
@@ -131,8 +126,9 @@ class Kitchen:
     """`freeze_resting` when not given (benchmarks flip it to compare outcomes with and without freezing)."""
     SOLVER_ITERATIONS_DEFAULT = SOLVER_ITERATIONS
     """Constraint-solver iterations per step of the kitchens made from now on."""
-    TIME_STEP_DEFAULT = PHYSICS_STEP_S
-    """`time_step` when not given (`full_rate_physics` sets it to FULL_RATE_STEP_S to compare outcomes)."""
+    TIME_STEP_DEFAULT: float | None = None
+    """`time_step` when not given; None: the robot file's (1 / control.physics_hz). `full_rate_physics` sets it
+    to FULL_RATE_STEP_S to compare outcomes."""
 
     def __init__(
         self,
@@ -150,7 +146,9 @@ class Kitchen:
         self.config = kitchen
         self.robot_config = robot
         self.bc = bc
-        self.time_step = self.TIME_STEP_DEFAULT if time_step is None else float(time_step)
+        if time_step is None:
+            time_step = self.TIME_STEP_DEFAULT or 1.0 / robot.control.physics_hz
+        self.time_step = float(time_step)
         self.sim_time = 0.0
         self.steps = 0
         self._controllers: list[Controller] = []

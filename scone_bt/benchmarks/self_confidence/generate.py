@@ -132,8 +132,15 @@ class _Worker:
         from scone_bt.quiet import c_stdout_silenced
         from scone_bt.world import Kitchen
 
-        # Force is only a motor setting (set per command); finger friction and the URDF shape the built world.
-        key = (kcfg.source, id(kcfg.catalogue), dataclasses.replace(rcfg.gripper, max_force=0.0), rcfg.urdf)
+        # Force is only a motor setting (set per command); finger friction, the URDF and the physics rate shape the
+        # built world.
+        key = (
+            kcfg.source,
+            id(kcfg.catalogue),
+            dataclasses.replace(rcfg.gripper, max_force=0.0),
+            rcfg.urdf,
+            rcfg.control.physics_hz,
+        )
         if self.kitchen is None or key != self.kitchen_key:
             if self.kitchen is not None:
                 self.kitchen.close()
