@@ -131,25 +131,17 @@ def _refit_is_stateless(est: ConfidenceEstimator) -> bool:
     exactly as n ``update`` calls would. Not the GP: when it re-optimises its kernel depends on the sizes it was
     refitted at before (gp.py), so its warm-up must replay outcome by outcome.
     """
-    from scone_bt.confidence.conformal import ConformalKNNEstimator
+    from scone_bt.confidence import conformal, models
     from scone_bt.confidence.epsilon import EpsilonGreedy
-    from scone_bt.confidence.models import (
-        KNNEstimator,
-        LGBMEstimator,
-        MLPEstimator,
-        RandomForestEstimator,
-        SVMEstimator,
-        XGBEstimator,
-    )
 
     stateless = (
-        KNNEstimator,
-        LGBMEstimator,
-        MLPEstimator,
-        RandomForestEstimator,
-        SVMEstimator,
-        XGBEstimator,
-        ConformalKNNEstimator,
+        models.KNNEstimator,
+        models.LGBMEstimator,
+        models.MLPEstimator,
+        models.RandomForestEstimator,
+        models.SVMEstimator,
+        models.XGBEstimator,
+        conformal.ConformalKNNEstimator,
     )
     inner = est.base if isinstance(est, EpsilonGreedy) else est
     return type(inner) in stateless
