@@ -230,21 +230,7 @@ class ArmModel:
         geometry's own bounding sphere (centre and radius in its joint's frame) adds to that. An obstacle
         farther than this (plus its own radius) can never touch the geometry, so no collision pair is needed.
         """
-        origin = np.zeros(self.model.njoints)
-        for j in range(1, self.model.njoints):
-            offset = float(np.linalg.norm(self.model.jointPlacements[j].translation))
-            origin[j] = origin[self.model.parents[j]] + offset
-        out = np.empty(self.geom_model.ngeoms)
-        for k, g in enumerate(self.geom_model.geometryObjects):
-            geom = g.geometry
-            geom.computeLocalAABB()
-            centre = g.placement.act(np.asarray(geom.aabb_center, dtype=float))
-            out[k] = origin[g.parentJoint] + float(np.linalg.norm(centre)) + float(geom.aabb_radius)
-        # A pre-shaped finger stands at most the whole stroke inwards of where it was loaded.
-        stroke = abs(self.config.gripper.open_position - self.config.gripper.closed_position)
-        for k in self.finger_geometry:
-            out[k] += stroke
-        return out
+        return self._reach_from(0)
 
     def _reach_around_first_joint(self) -> tuple[np.ndarray, np.ndarray]:
         """The first joint's origin (model frame) and, per robot geometry, a bound (m) of its distance from it.
@@ -257,23 +243,30 @@ class ArmModel:
         model = self.model
         if model.njoints < 2 or any(model.parents[j] < 1 for j in range(2, model.njoints)):
             return np.zeros(3), self.geometry_reach.copy()
-        centre = np.asarray(model.jointPlacements[1].translation, dtype=float)
-        origin = np.zeros(model.njoints)  # a bound of each joint's origin's distance from the first joint's
-        for j in range(2, model.njoints):
+        return np.asarray(model.jointPlacements[1].translation, dtype=float), self._reach_from(1)
+
+    def _reach_from(self, joint: int) -> np.ndarray:
+        """Per robot geometry, a bound (m) of its distance from the origin of ``joint`` (0: the model's origin),
+        whatever q, for a model whose joints after ``joint`` all descend from it (see `_geometry_reach`)."""
+        model = self.model
+        centre = np.asarray(model.jointPlacements[joint].translation, dtype=float) if joint else np.zeros(3)
+        origin = np.zeros(model.njoints)  # a bound of each joint's origin's distance from ``joint``'s
+        for j in range(joint + 1, model.njoints):
             origin[j] = origin[model.parents[j]] + float(np.linalg.norm(model.jointPlacements[j].translation))
         out = np.empty(self.geom_model.ngeoms)
         for k, g in enumerate(self.geom_model.geometryObjects):
             geom = g.geometry
             geom.computeLocalAABB()
             local = g.placement.act(np.asarray(geom.aabb_center, dtype=float))
-            if g.parentJoint == 0:  # fixed in the model frame: its own distance
+            if g.parentJoint < joint:  # fixed with respect to ``joint``'s origin: its own distance
                 out[k] = float(np.linalg.norm(local - centre)) + float(geom.aabb_radius)
             else:
                 out[k] = origin[g.parentJoint] + float(np.linalg.norm(local)) + float(geom.aabb_radius)
+        # A pre-shaped finger stands at most the whole stroke inwards of where it was loaded.
         stroke = abs(self.config.gripper.open_position - self.config.gripper.closed_position)
         for k in self.finger_geometry:
             out[k] += stroke
-        return centre, out
+        return out
 
     def can_reach(self, position: Sequence[float], margin: float = 0.0) -> bool:
         """False if the point (world, metres) is certainly beyond the end-effector's reach."""
