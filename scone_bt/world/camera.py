@@ -37,6 +37,7 @@ __all__ = [
     "REUSE_MAX_TURN_RAD",
     "Window",
     "RenderStats",
+    "box_in_view",
     "camera_image",
     "dirty_window",
     "keep_background",
@@ -80,14 +81,6 @@ class RenderStats:
     pixels: int = 0
     full_pixels: int = 0  # the pixels whole images would have cost for the same renders
     last_window: Window | None = None  # the window of the latest render (None: a whole image)
-
-    def as_dict(self) -> dict[str, float]:
-        return {
-            "full": self.full,
-            "windows": self.windows,
-            "reused": self.reused,
-            "pixel_share": round(self.pixels / self.full_pixels, 4) if self.full_pixels else 1.0,
-        }
 
 
 _STATS = RenderStats()
@@ -190,7 +183,7 @@ def _corners(lo: Sequence[float], hi: Sequence[float]) -> np.ndarray:
     return np.array([(x, y, z) for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
 
 
-def _sees(camera: PinholeView, lo: Sequence[float], hi: Sequence[float]) -> bool:
+def box_in_view(camera: PinholeView, lo: Sequence[float], hi: Sequence[float]) -> bool:
     """True if an axis-aligned box (world, metres) may show in the image (its corners' bounding rectangle)."""
     uv, depth = project(_corners(lo, hi), camera.intrinsics, camera.world_from_camera)
     spec = camera.spec
@@ -215,7 +208,7 @@ def _view(kitchen: Kitchen, camera: PinholeView) -> _View:
     boxes: list[tuple[Sequence[float], Sequence[float]]] = []
     for body in kitchen.objects.values():
         lo, hi = bc.getAABB(body)
-        if _sees(camera, lo, hi):
+        if box_in_view(camera, lo, hi):
             pos, orn = bc.getBasePositionAndOrientation(body)
             shown.append(body)
             poses.append([*pos, *orn])
@@ -224,7 +217,7 @@ def _view(kitchen: Kitchen, camera: PinholeView) -> _View:
     links = list(range(bc.getNumJoints(rid)))
     for link, state in zip(links, bc.getLinkStates(rid, links), strict=True):
         lo, hi = bc.getAABB(rid, link)
-        if _sees(camera, lo, hi):
+        if box_in_view(camera, lo, hi):
             shown.append((rid, link))
             poses.append([*state[4], *state[5]])
             boxes.append((lo, hi))

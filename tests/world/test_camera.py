@@ -44,7 +44,7 @@ def test_taking_a_product_off_the_shelf_renders_only_the_window_that_changed(sto
     table = Camera(kitchen_cfg.table_camera)
     before = {c: kitchen.camera_image(c) for c in (shelf, table)}
     assert all(image.fresh for image in before.values())  # the first image is always rendered whole
-    name = next(n for n in names if cam._sees(shelf, *kitchen.bc.getAABB(kitchen.objects[n])))
+    name = next(n for n in names if cam.box_in_view(shelf, *kitchen.bc.getAABB(kitchen.objects[n])))
     stats = cam.render_stats()
     pixels = stats.pixels
     assert kitchen.human_place_on_table(name)
@@ -111,6 +111,6 @@ def test_a_restocked_kitchen_patches_its_first_images_over_the_empty_kitchen(kit
             _rgb_matches(image.rgb, rgb)
             same = np.all(image.rgb == rgb, axis=-1)  # an edge pixel that rounded the other way has its depth
             assert np.abs(image.depth.astype(np.float64) - depth)[same].max() < 2e-5
-            if any(cam._sees(c, *kitchen.bc.getAABB(b)) for b in kitchen.objects.values()):
+            if any(cam.box_in_view(c, *kitchen.bc.getAABB(b)) for b in kitchen.objects.values()):
                 assert stats.windows == windows + 1  # only the products were rendered
         kitchen.clear_products(start)

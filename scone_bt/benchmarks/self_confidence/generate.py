@@ -182,25 +182,6 @@ def _motion_system(kitchen: Any, robot: RobotConfig) -> Any:
     )
 
 
-def _in_view(camera: Any, lo: Sequence[float], hi: Sequence[float]) -> bool:
-    """True if an axis-aligned box (world, metres) may show in the camera's image."""
-    from scone_bt.perception.camera import project
-
-    corners = np.array([(x, y, z) for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
-    uv, depth = project(corners, camera.intrinsics, camera.world_from_camera)
-    s = camera.spec
-    if np.all(depth <= s.near):
-        return False
-    if np.any(depth <= s.near):
-        return True
-    return bool(
-        uv[:, 0].max() >= 0
-        and uv[:, 0].min() <= s.width - 1
-        and uv[:, 1].max() >= 0
-        and uv[:, 1].min() <= s.height - 1
-    )
-
-
 def _miscalibrated(frame: Frame, offset: Sequence[float]) -> Frame:
     """The frame as a robot with this camera-to-robot error has it: its pose shifted by `offset` (metres).
 
@@ -221,6 +202,7 @@ def _look(kitchen: Any, kcfg: KitchenConfig, seed: int) -> tuple[dict[str, Detec
     """
     from scone_bt.perception import Camera
     from scone_bt.quiet import c_stdout_silenced
+    from scone_bt.world.camera import box_in_view
 
     detector = _WORKER.detector(kcfg)
     boxes = [kitchen.bc.getAABB(body) for body in kitchen.objects.values()]
@@ -228,7 +210,7 @@ def _look(kitchen: Any, kcfg: KitchenConfig, seed: int) -> tuple[dict[str, Detec
     frames: list[Frame] = []
     for k, spec in enumerate(kcfg.shelf_cameras):
         camera = Camera(spec)
-        if not any(_in_view(camera, lo, hi) for lo, hi in boxes):
+        if not any(box_in_view(camera, lo, hi) for lo, hi in boxes):
             continue
         with c_stdout_silenced():
             frame = camera.capture(kitchen, np.random.default_rng([seed, 2, k]))
