@@ -10,9 +10,9 @@ arms through a fleet store:
   clearance to the nearest neighbour (capped at 15 cm: beyond that the fingers are free) and the neighbour count.
 
 The action's embedding enters as its first 16 principal components, computed without labels over every action
-κ̂ has been asked about (what the name tells of mass, fragility and packaging). A logistic regression (L2, C=1)
-is refitted after every outcome on everything learnt. An action seen before gets its own record mixed in: the
-prediction is (s + m·p) / (n + m) for s successes in n attempts of the identical action and m = 2.
+κ̂ has been asked about (what the name tells of mass, fragility and packaging). A logistic regression (L2, C=1;
+`confidence.logistic`) is refitted after every outcome on everything learnt. An action seen before gets its own
+record mixed in: the prediction is (s + m·p) / (n + m) for s successes in n attempts of the identical action and m = 2.
 
 Cold start: 0.5 with no outcome, the Laplace rate while only one class was seen (the base class).
 """
@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from scone_bt.confidence.base import ConfidenceEstimator, row_key
+from scone_bt.confidence.logistic import LogisticModel, fit_logistic
 from scone_bt.errors import SconeError
 from scone_bt.experience.types import CONTEXT_FIELDS
 
@@ -87,7 +88,7 @@ class PhysicalEstimator(ConfidenceEstimator):
         self._mean = np.zeros(0)
         self._axes = np.zeros((0, 0))
         self._scale = 1.0
-        self._model = None
+        self._model: LogisticModel | None = None
         self._record: dict[bytes, tuple[int, int]] = {}
 
     # ----------------------------------------------------------------------------------------- features
@@ -132,8 +133,6 @@ class PhysicalEstimator(ConfidenceEstimator):
         return super().predict(X)
 
     def _fit_model(self, X: np.ndarray, y: np.ndarray) -> None:
-        from sklearn.linear_model import LogisticRegression
-
         E, _ = self._split(X)
         self._remember(E.astype(np.float32))
         self._fit_components()
@@ -142,11 +141,11 @@ class PhysicalEstimator(ConfidenceEstimator):
             s, n = record.get(row_key(e), (0, 0))
             record[row_key(e)] = (s + int(ok), n + 1)
         self._record = record
-        self._model = LogisticRegression(C=self.C, max_iter=300).fit(self.transform(X), y)
+        self._model = fit_logistic(self.transform(X), y, C=self.C)
 
     def _predict_model(self, X: np.ndarray) -> np.ndarray:
         assert self._model is not None
-        p = self._model.predict_proba(self.transform(X))[:, 1]
+        p = self._model.predict_proba(self.transform(X))
         E, _ = self._split(X)
         for i, e in enumerate(E.astype(np.float32)):
             s, n = self._record.get(row_key(e), (0, 0))

@@ -15,6 +15,7 @@ from scone_bt.errors import ConfigError
 from scone_bt.resources import resolve_file
 
 __all__ = [
+    "CAMERA_SHAPES",
     "GripperSpec",
     "LimitsSpec",
     "PlannerSpec",
@@ -67,6 +68,11 @@ class PlannerSpec:
     backend: str = "ompl"
 
 
+CAMERA_SHAPES = ("visual", "collision")
+"""What the kitchen's cameras render of the robot: its URDF's visual meshes, or its collision shapes."""
+
+DEFAULT_CAMERA_SHAPES = "visual"
+
 DEFAULT_PHYSICS_HZ = 120.0
 """Physics steps per simulated second when a robot file does not say (the simulator's step is 1 / physics_hz)."""
 
@@ -106,6 +112,10 @@ class RobotConfig:
     """Links that count as the hand in collision reports besides the gripper's own (`collision.hand_links`)."""
     grasp: GraspParams | None = None
     """The `grasp:` section, validated at load (None: the motion stage's defaults)."""
+    camera_shapes: str = DEFAULT_CAMERA_SHAPES
+    """What the simulated cameras render of the robot (one of CAMERA_SHAPES). "collision" renders its collision
+    shapes instead of the visual meshes: the physics is the same, only images with the arm in view differ
+    (the renderer transforms every triangle of every body on each call, in view or not)."""
 
     @property
     def dof(self) -> int:
@@ -206,6 +216,7 @@ class RobotFile(StrictModel):
     planner: _PlannerModel = _PlannerModel()
     control: _ControlModel = _ControlModel()
     collision: _CollisionModel = _CollisionModel()
+    camera_shapes: Literal["visual", "collision"] = DEFAULT_CAMERA_SHAPES  # type: ignore[assignment]
     grasp: dict[str, Any] = {}  # checked by scone_bt.config.grasp.GraspParams.from_section in load_robot
 
     @model_validator(mode="after")
@@ -276,4 +287,5 @@ def load_robot(name_or_path: str | Path = "panda") -> RobotConfig:
         disabled_collisions=tuple((a, b) for a, b in m.collision.disabled_pairs),
         hand_links=tuple(m.collision.hand_links),
         grasp=grasp,
+        camera_shapes=m.camera_shapes,
     )

@@ -218,12 +218,13 @@ class Kitchen:
         import pybullet as p
 
         cfg = self.robot_config
+        flags = p.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT
+        if cfg.camera_shapes == "collision":
+            # PyBullet then draws the collision shapes: the same bodies and physics, far fewer triangles to render.
+            flags |= p.URDF_IGNORE_VISUAL_SHAPES
         try:
             rid = self.bc.loadURDF(
-                str(cfg.urdf),
-                basePosition=cfg.base_position,
-                useFixedBase=True,
-                flags=p.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT,
+                str(cfg.urdf), basePosition=cfg.base_position, useFixedBase=True, flags=flags
             )
         except p.error as exc:
             raise ConfigError(f"{cfg.source}: PyBullet could not load URDF {cfg.urdf} ({exc})") from None

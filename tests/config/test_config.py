@@ -60,3 +60,17 @@ def test_bad_object_shape_names_valid_shapes(tmp_path: Path, kitchen_cfg):
     )
     with pytest.raises(ConfigError, match="'box' or 'cylinder'"):
         load_kitchen(catalogues=[path])
+
+
+def test_camera_shapes_lists_the_valid_choices(tmp_path: Path):
+    text = (
+        Path(load_robot().source).read_text().replace("camera_shapes: collision", "camera_shapes: wireframe")
+    )
+    path = tmp_path / "arm.yaml"
+    path.write_text(text)
+    with pytest.raises(ConfigError) as err:
+        load_robot(path)
+    message = str(err.value)
+    assert (
+        "camera_shapes" in message and "visual" in message and "collision" in message and "\n" not in message
+    )
