@@ -7,7 +7,12 @@ import pytest
 
 from scone_bt.benchmarks.physics import compare_query, outcome_class
 from scone_bt.world import Kitchen
-from scone_bt.world.kitchen import FULL_RATE_STEP_S, full_rate_physics
+from scone_bt.world.kitchen import (
+    FULL_RATE_SOLVER_RESIDUAL,
+    FULL_RATE_STEP_S,
+    SOLVER_RESIDUAL,
+    full_rate_physics,
+)
 
 # Motion-benchmark queries (seed 0, 11 products of clutter, 2 on the table) with different outcomes at the full rate:
 # a success, a product that slips out of the fingers while lifting, one that stays stuck between the open fingers
@@ -20,8 +25,10 @@ IIWA_QUERIES = (15, 35)
 def test_full_rate_physics_is_the_reference_and_is_restored(kitchen_cfg, robot_cfg):
     with full_rate_physics(), Kitchen(kitchen_cfg, robot_cfg) as k:
         assert k.time_step == FULL_RATE_STEP_S and not k.freeze_resting
+        assert Kitchen.SOLVER_RESIDUAL_DEFAULT == FULL_RATE_SOLVER_RESIDUAL
     with Kitchen(kitchen_cfg, robot_cfg) as k:
         assert k.time_step == 1.0 / robot_cfg.control.physics_hz > FULL_RATE_STEP_S and k.freeze_resting
+        assert Kitchen.SOLVER_RESIDUAL_DEFAULT == SOLVER_RESIDUAL > FULL_RATE_SOLVER_RESIDUAL
 
 
 def test_each_robot_file_sets_its_physics_rate(kitchen_cfg):
