@@ -76,19 +76,25 @@ DEFAULT_CAMERA_SHAPES = "visual"
 DEFAULT_PHYSICS_HZ = 120.0
 """Physics steps per simulated second when a robot file does not say (the simulator's step is 1 / physics_hz)."""
 
+DEFAULT_SOLVER_RESIDUAL = 1e-7
+"""The constraint solver's residual threshold when a robot file does not say: PyBullet's default."""
+
 
 @dataclass(frozen=True)
 class ControlSpec:
     """Position control at rate_hz; gains and forces as PyBullet's POSITION_CONTROL takes them.
 
     physics_hz is the simulator's step rate for this arm: the coarsest at which its seeded pick-and-places end as
-    at 240 Hz (`scone-bench physics`; a grasp's stability depends on the gripper).
+    at 240 Hz (`scone-bench physics`; a grasp's stability depends on the gripper). solver_residual: the constraint
+    solver stops iterating once its residual is below this (PyBullet's `solverResidualThreshold`); chosen the
+    same way.
     """
 
     rate_hz: float = 240.0
     position_gain: float = 0.3
     max_joint_force: float = 87.0
     physics_hz: float = DEFAULT_PHYSICS_HZ
+    solver_residual: float = DEFAULT_SOLVER_RESIDUAL
 
 
 @dataclass(frozen=True)
@@ -195,6 +201,7 @@ class _ControlModel(StrictModel):
     position_gain: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False)] = 0.3
     max_joint_force: PositiveFloat = 87.0
     physics_hz: Annotated[float, Field(ge=30, le=10_000, allow_inf_nan=False)] = DEFAULT_PHYSICS_HZ
+    solver_residual: Annotated[float, Field(gt=0, le=1e-2, allow_inf_nan=False)] = DEFAULT_SOLVER_RESIDUAL
 
 
 class _CollisionModel(StrictModel):
@@ -281,6 +288,7 @@ def load_robot(name_or_path: str | Path = "panda") -> RobotConfig:
             position_gain=c.position_gain,
             max_joint_force=c.max_joint_force,
             physics_hz=c.physics_hz,
+            solver_residual=c.solver_residual,
         ),
         source=path,
         raw=raw,

@@ -40,12 +40,8 @@ SOLVER_ITERATIONS = 150
 """PyBullet constraint-solver iterations per step (the grasp tests and the motion benchmark were tuned with it)."""
 FULL_RATE_SOLVER_ITERATIONS = 150
 """Solver iterations of the reference simulation (`full_rate_physics`)."""
-SOLVER_RESIDUAL = 1e-5
-"""The constraint solver stops iterating once its residual is below this (PyBullet's `solverResidualThreshold`):
-resting contacts converge in a few of the 150 iterations. A step costs a fifth less than at PyBullet's 1e-7 in
-the seeded episode; `scone-bench physics` compares the outcomes with the full-rate simulation's."""
 FULL_RATE_SOLVER_RESIDUAL = 1e-7
-"""The residual of the reference simulation: PyBullet's default."""
+"""The constraint solver's residual threshold of the reference simulation: PyBullet's default."""
 REST_LINEAR_M_S = 1e-3
 """A body slower than this (m/s, every axis) counts as at rest."""
 REST_ANGULAR_RAD_S = 1e-2
@@ -140,8 +136,9 @@ class Kitchen:
     """`freeze_resting` when not given (benchmarks flip it to compare outcomes with and without freezing)."""
     SOLVER_ITERATIONS_DEFAULT = SOLVER_ITERATIONS
     """Constraint-solver iterations per step of the kitchens made from now on."""
-    SOLVER_RESIDUAL_DEFAULT = SOLVER_RESIDUAL
-    """The constraint solver's residual threshold of the kitchens made from now on."""
+    SOLVER_RESIDUAL_DEFAULT: float | None = None
+    """The constraint solver's residual threshold of the kitchens made from now on; None: the robot file's
+    (control.solver_residual)."""
     TIME_STEP_DEFAULT: float | None = None
     """`time_step` when not given; None: the robot file's (1 / control.physics_hz). `full_rate_physics` sets it
     to FULL_RATE_STEP_S to compare outcomes."""
@@ -194,7 +191,7 @@ class Kitchen:
         bc.setTimeStep(self.time_step)
         bc.setPhysicsEngineParameter(
             numSolverIterations=self.SOLVER_ITERATIONS_DEFAULT,
-            solverResidualThreshold=self.SOLVER_RESIDUAL_DEFAULT,
+            solverResidualThreshold=self.SOLVER_RESIDUAL_DEFAULT or robot.control.solver_residual,
             deterministicOverlappingPairs=1,
         )
         self.static_boxes = self._build_static_scene()
