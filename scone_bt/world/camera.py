@@ -33,6 +33,7 @@ __all__ = [
     "PATCH_MARGIN_M",
     "PATCH_PAD_PX",
     "PATCH_MAX_SHARE",
+    "WINDOW_COST_PX",
     "REUSE_MAX_MOVE_M",
     "REUSE_MAX_TURN_RAD",
     "Window",
@@ -40,6 +41,7 @@ __all__ = [
     "box_in_view",
     "camera_image",
     "dirty_window",
+    "dirty_windows",
     "keep_background",
     "render_stats",
 ]
@@ -54,7 +56,12 @@ millimetres above the collision shape that `getAABB` measures."""
 PATCH_PAD_PX = 2
 """Pixels added around the projected window (edge pixels that a triangle only partly covers)."""
 PATCH_MAX_SHARE = 0.5
-"""A window larger than this share of the image is not worth its fixed cost: the whole image is rendered."""
+"""Windows larger than this share of the image together are not worth their fixed cost: the whole image is
+rendered."""
+WINDOW_COST_PX = 4000
+"""A render call's fixed cost in pixels: ~1.5 ms, what ~4,000 pixels of a 640 x 480 render cost (the
+TinyRenderer transforms every triangle of the scene on each call). Two windows are rendered as one rectangle
+around both when that costs no more pixels than the two plus this."""
 
 
 @dataclass(frozen=True)
@@ -80,7 +87,7 @@ class RenderStats:
     reused: int = 0
     pixels: int = 0
     full_pixels: int = 0  # the pixels whole images would have cost for the same renders
-    last_window: Window | None = None  # the window of the latest render (None: a whole image)
+    last_windows: tuple[Window, ...] = ()  # the windows of the latest render (none: a whole image)
 
 
 _STATS = RenderStats()
@@ -143,7 +150,7 @@ def camera_image(kitchen: Kitchen, camera: PinholeView) -> CameraImage:
 
     A camera's last image is handed back while the same kitchen (``Kitchen.uid``) shows it the same bodies and
     robot links, none moved by more than REUSE_MAX_MOVE_M or turned by more than REUSE_MAX_TURN_RAD since. When
-    some did, only `dirty_window` is rendered anew, unless it is over PATCH_MAX_SHARE of the image. A new
+    some did, only `dirty_windows` are rendered anew, unless they are over PATCH_MAX_SHARE of the image. A new
     kitchen (or a cover that came or went, or a restocked one) has a new uid: its first image is rendered whole, or
     patched over the empty kitchen's image where `keep_background` made one (the products in view, rendered anew).
     """
@@ -153,7 +160,7 @@ def camera_image(kitchen: Kitchen, camera: PinholeView) -> CameraImage:
     if cached is not None and cached[0].keys[0] != shown.keys[0]:
         cached = None  # another kitchen, restocked, or a cover came or went
     base = cached if cached is not None else _BACKGROUNDS.get((kitchen.static_uid, _geometry(camera)))
-    window: Window | None = None
+    windows: list[Window] | None = None
     if base is not None:
         changed = _changed_boxes(base[0], shown)
         if not len(changed):
@@ -162,19 +169,22 @@ def camera_image(kitchen: Kitchen, camera: PinholeView) -> CameraImage:
                 return CameraImage(base[1], base[2], fresh=False)
             _CACHE[camera] = (shown, base[1], base[2])  # nothing but the empty kitchen in view
             return CameraImage(base[1], base[2], fresh=True)
-        window = dirty_window(camera, changed)
-        if window is not None and window.pixels > PATCH_MAX_SHARE * spec.width * spec.height:
-            window = None
+        windows = dirty_windows(camera, changed)
+        if (
+            windows is not None
+            and sum(w.pixels for w in windows) > PATCH_MAX_SHARE * spec.width * spec.height
+        ):
+            windows = None
     _STATS.full_pixels += spec.width * spec.height
-    _STATS.last_window = window
-    if window is None or base is None:
+    _STATS.last_windows = windows or ()
+    if windows is None or base is None:
         rgb, depth = _render(kitchen, camera)
         _STATS.full += 1
         _STATS.pixels += spec.width * spec.height
     else:
-        rgb, depth = _patched(kitchen, camera, window, base[1], base[2])
-        _STATS.windows += 1
-        _STATS.pixels += window.pixels
+        rgb, depth = _patched(kitchen, camera, windows, base[1], base[2])
+        _STATS.windows += len(windows)
+        _STATS.pixels += sum(w.pixels for w in windows)
     _CACHE[camera] = (shown, rgb, depth)
     return CameraImage(rgb, depth, fresh=True)
 
@@ -252,35 +262,81 @@ def _changed_boxes(before: _View, now: _View) -> np.ndarray:
 
 
 def dirty_window(camera: PinholeView, boxes: np.ndarray) -> Window | None:
-    """The pixel window that covers every world box (n, 2, 3) grown by PATCH_MARGIN_M, padded by PATCH_PAD_PX and
-    clipped to the image; None when a box reaches behind the camera's near plane (render the whole image).
+    """The one pixel window around every world box (n, 2, 3) grown by PATCH_MARGIN_M, padded by PATCH_PAD_PX and
+    clipped to the image (`dirty_windows` together); None when a box reaches behind the camera's near plane.
     A window of zero pixels (all boxes out of view) is returned as a 1 x 1 window at the origin."""
+    windows = dirty_windows(camera, boxes)
+    if windows is None:
+        return None
+    if not windows:
+        return Window(0, 0, 1, 1)
+    around = windows[0]
+    for w in windows[1:]:
+        around = _around(around, w)
+    return around
+
+
+def _rectangle(camera: PinholeView, lo: np.ndarray, hi: np.ndarray) -> Window | None:
+    """The pixel window of one world box grown by PATCH_MARGIN_M and padded by PATCH_PAD_PX, clipped to the
+    image; a 0 x 0 window when it is out of view; None when it reaches behind the near plane."""
     spec = camera.spec
-    corners = np.concatenate(
-        [_corners(lo - PATCH_MARGIN_M, hi + PATCH_MARGIN_M) for lo, hi in np.asarray(boxes, dtype=float)]
+    uv, depth = project(
+        _corners(lo - PATCH_MARGIN_M, hi + PATCH_MARGIN_M), camera.intrinsics, camera.world_from_camera
     )
-    uv, depth = project(corners, camera.intrinsics, camera.world_from_camera)
     if np.any(depth <= spec.near):
         return None
     x0 = max(0, int(np.floor(uv[:, 0].min())) - PATCH_PAD_PX)
     y0 = max(0, int(np.floor(uv[:, 1].min())) - PATCH_PAD_PX)
     x1 = min(spec.width, int(np.ceil(uv[:, 0].max())) + 1 + PATCH_PAD_PX)
     y1 = min(spec.height, int(np.ceil(uv[:, 1].max())) + 1 + PATCH_PAD_PX)
-    if x1 <= x0 or y1 <= y0:
-        return Window(0, 0, 1, 1)
+    return Window(x0, y0, max(0, x1 - x0), max(0, y1 - y0))
+
+
+def _around(a: Window, b: Window) -> Window:
+    x0, y0 = min(a.x0, b.x0), min(a.y0, b.y0)
+    x1, y1 = max(a.x0 + a.width, b.x0 + b.width), max(a.y0 + a.height, b.y0 + b.height)
     return Window(x0, y0, x1 - x0, y1 - y0)
 
 
+def dirty_windows(camera: PinholeView, boxes: np.ndarray) -> list[Window] | None:
+    """Disjoint-enough pixel windows covering every world box (n, 2, 3), each grown as in `dirty_window`: a
+    window per box, two merged into the rectangle around both wherever that costs at most WINDOW_COST_PX more
+    pixels than rendering them apart (overlapping windows always merge). None when a box reaches behind the near
+    plane (render the whole image); an empty list when no box is in view."""
+    windows: list[Window] = []
+    for lo, hi in np.asarray(boxes, dtype=float):
+        w = _rectangle(camera, lo, hi)
+        if w is None:
+            return None
+        if w.pixels:
+            windows.append(w)
+    merged = True
+    while merged:
+        merged = False
+        for i in range(len(windows)):
+            for j in range(i + 1, len(windows)):
+                around = _around(windows[i], windows[j])
+                if around.pixels <= windows[i].pixels + windows[j].pixels + WINDOW_COST_PX:
+                    windows[i] = around
+                    del windows[j]
+                    merged = True
+                    break
+            if merged:
+                break
+    return windows
+
+
 def _patched(
-    kitchen: Kitchen, camera: PinholeView, window: Window, rgb: np.ndarray, depth: np.ndarray
+    kitchen: Kitchen, camera: PinholeView, windows: Sequence[Window], rgb: np.ndarray, depth: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
-    """A copy of the last image (rgb, depth) with `window` rendered anew (read-only arrays)."""
-    part_rgb, part_depth = _render(kitchen, camera, window)
+    """A copy of the last image (rgb, depth) with each of `windows` rendered anew (read-only arrays)."""
     rgb, depth = rgb.copy(), depth.copy()
-    rows = slice(window.y0, window.y0 + window.height)
-    cols = slice(window.x0, window.x0 + window.width)
-    rgb[rows, cols] = part_rgb
-    depth[rows, cols] = part_depth
+    for window in windows:
+        part_rgb, part_depth = _render(kitchen, camera, window)
+        rows = slice(window.y0, window.y0 + window.height)
+        cols = slice(window.x0, window.x0 + window.width)
+        rgb[rows, cols] = part_rgb
+        depth[rows, cols] = part_depth
     rgb.setflags(write=False)
     depth.setflags(write=False)
     return rgb, depth
