@@ -112,9 +112,11 @@ _CACHE: weakref.WeakKeyDictionary[PinholeView, tuple[_View, np.ndarray, np.ndarr
     weakref.WeakKeyDictionary()
 )
 """Each camera's last image and what it showed, kept by the camera object (as long as the camera lives)."""
-_BACKGROUNDS: dict[tuple[int, tuple[object, ...]], tuple[_View, np.ndarray, np.ndarray]] = {}
-"""(kitchen's static_uid, camera geometry) → the camera's image of that kitchen with no product in it
+_BACKGROUNDS: dict[tuple[tuple[object, ...], tuple[object, ...]], tuple[_View, np.ndarray, np.ndarray]] = {}
+"""(kitchen's static_key, camera geometry) → the camera's image of that kitchen with no product in it
 (`keep_background`): the base a camera's first image of a restocked kitchen is patched over."""
+_MAX_BACKGROUNDS = 16
+"""Backgrounds kept (2 MB each at 640 x 480): a few scenes' cameras."""
 
 
 def _geometry(camera: PinholeView) -> tuple[object, ...]:
@@ -125,18 +127,18 @@ def _geometry(camera: PinholeView) -> tuple[object, ...]:
 
 def keep_background(kitchen: Kitchen, camera: PinholeView) -> None:
     """Render the camera's image of the kitchen while it holds no product, once per static scene (a kitchen's
-    ``static_uid``) and camera geometry, as the base of later first images (`camera_image`).
+    ``static_key``: kitchens of one scene share it) and camera geometry, as the base of later first images (`camera_image`).
 
     Raises:
         ValueError: the kitchen holds products.
     """
     if kitchen.objects:
         raise ValueError("keep_background: the kitchen must hold no product")
-    key = (kitchen.static_uid, _geometry(camera))
+    key = (kitchen.static_key, _geometry(camera))
     if key in _BACKGROUNDS:
         return
-    for old in [k for k in _BACKGROUNDS if k[0] != kitchen.static_uid]:
-        del _BACKGROUNDS[old]  # another scene (a closed kitchen, a cover that came or went): never used again
+    while len(_BACKGROUNDS) >= _MAX_BACKGROUNDS:
+        del _BACKGROUNDS[next(iter(_BACKGROUNDS))]  # the oldest (a scene with a cover that came or went, ...)
     shown = _view(kitchen, camera)
     rgb, depth = _render(kitchen, camera)
     _STATS.full += 1
@@ -159,7 +161,7 @@ def camera_image(kitchen: Kitchen, camera: PinholeView) -> CameraImage:
     cached = _CACHE.get(camera)
     if cached is not None and cached[0].keys[0] != shown.keys[0]:
         cached = None  # another kitchen, restocked, or a cover came or went
-    base = cached if cached is not None else _BACKGROUNDS.get((kitchen.static_uid, _geometry(camera)))
+    base = cached if cached is not None else _BACKGROUNDS.get((kitchen.static_key, _geometry(camera)))
     windows: list[Window] | None = None
     if base is not None:
         changed = _changed_boxes(base[0], shown)

@@ -6,6 +6,7 @@ own stages never read ground truth from here; the simulated human, outcome check
 
 from __future__ import annotations
 
+import collections
 import contextlib
 import itertools
 from collections.abc import Callable, Iterator, Sequence
@@ -59,6 +60,8 @@ FREEZE_CHECK_S = 0.025
 FULL_RATE_STEP_S = 1.0 / 240.0
 """The physics step the grasps were first tuned at (PyBullet's default): the reference `full_rate_physics` runs."""
 _KITCHEN_IDS = itertools.count()
+_STATIC_SCENES: collections.Counter[tuple[object, ...]] = collections.Counter()
+"""Kitchens made in this process per static scene (`Kitchen.static_key`)."""
 
 
 @contextlib.contextmanager
@@ -173,12 +176,22 @@ class Kitchen:
         # Bumped whenever the world may look different (a step taken, a body moved): cameras re-render only then.
         self.state_version = 0
         # Unlike id(), never reused by a later Kitchen; renewed when covers change what the cameras see, and when
-        # the kitchen is restocked. static_uid names the static scene alone: renewed by covers only.
+        # the kitchen is restocked.
         self.uid = next(_KITCHEN_IDS)
-        self.static_uid = self.uid
+        # What the cameras see of the kitchen without products: the same for every kitchen of one scene and robot
+        # (body ids included: the scene's boxes, then the robot), until a cover comes or goes.
+        self.static_key: tuple[object, ...] = (
+            repr(kitchen.scene),
+            str(robot.urdf),
+            robot.camera_shapes,
+            tuple(robot.base_position),
+        )
+        _STATIC_SCENES[self.static_key] += 1
         # Render each camera's image of the empty kitchen when products are first put in (world.camera.
-        # keep_background): worth it only for a kitchen restocked many times (the self-confidence generator's).
-        self.keep_backgrounds = False
+        # keep_background), for later first images to patch the products over: worth it for a kitchen restocked
+        # many times (the self-confidence generator sets it) and for every kitchen of a scene after the first in
+        # this process (episodes one after another), not for a single one.
+        self.keep_backgrounds = _STATIC_SCENES[self.static_key] > 1
         self._awake_until = 0.0
         self._frozen: dict[str, tuple[object, object]] = {}  # name -> pose when frozen
         self._frozen_boxes: dict[str, object] = {}  # name -> bounding box when frozen (it stands still)
@@ -474,7 +487,8 @@ class Kitchen:
         A camera reuses its last render while the same products and links stand in view unmoved, keyed by
         ``uid`` (`world.camera.camera_image`); a new ``uid`` voids every such render.
         """
-        self.uid = self.static_uid = next(_KITCHEN_IDS)
+        self.uid = next(_KITCHEN_IDS)
+        self.static_key = ("covered", self.uid)  # a scene of its own
         self.state_version += 1
 
     def set_gripper_properties(

@@ -154,3 +154,21 @@ def test_bad_family_header_is_one_line(tmp_path):
 
 def test_missing_user_file_is_one_line(tmp_path):
     assert "file not found" in _error(tmp_path / "nope.yaml")
+
+
+def test_an_edited_family_file_is_read_again(tmp_path):
+    import os
+
+    from scone_bt.config.catalogue import load_catalogue
+
+    path = _user_file(tmp_path, "  - " + GOOD % ("jar one", 990) + "\n")
+    assert load_catalogue([path]).get("jar one").mass == 0.2
+    assert load_catalogue([path]).get("jar one") is load_catalogue([path]).get("jar one")  # parsed once
+    text = path.read_text()
+    path.write_text(text.replace("mass: 0.2", "mass: 0.3"))  # the same size
+    stat = path.stat()
+    os.utime(path, ns=(stat.st_atime_ns, stat.st_mtime_ns + 1_000_000))
+    assert load_catalogue([path]).get("jar one").mass == 0.3
+    path.write_text(text.replace("mass: 0.2", "mass: -1"))
+    with pytest.raises(ConfigError, match="mass"):
+        load_catalogue([path])

@@ -149,3 +149,29 @@ def test_products_far_apart_are_patched_in_several_windows_equal_to_a_whole_rend
     windows = cam.render_stats().windows
     _window_of(kitchen, shelf, before)
     assert len(cam.render_stats().last_windows) >= 2 and cam.render_stats().windows >= windows + 2
+
+
+def test_a_second_kitchen_of_the_same_scene_patches_its_first_images_over_the_empty_kitchen(
+    kitchen_cfg, robot_cfg
+):
+    from scone_bt.world import Kitchen
+
+    names = kitchen_cfg.catalogue.names()[12:20]
+    shelf = Camera(kitchen_cfg.camera)
+    stats = cam.render_stats()
+    with Kitchen(kitchen_cfg, robot_cfg) as first:
+        first.spawn([kitchen_cfg.catalogue.get(n) for n in names[:4]], np.random.default_rng(5))
+        first.camera_image(shelf)
+    with Kitchen(kitchen_cfg, robot_cfg) as second:
+        assert second.static_key == first.static_key and second.keep_backgrounds
+        second.spawn([kitchen_cfg.catalogue.get(n) for n in names[4:]], np.random.default_rng(6))
+        full = stats.full
+        image = second.camera_image(shelf)
+        assert stats.full == full and stats.last_windows  # patched, not rendered whole
+        rgb, depth = cam._render(second, shelf)
+        _rgb_matches(image.rgb, rgb)
+        same = np.all(image.rgb == rgb, axis=-1)
+        assert np.abs(image.depth.astype(np.float64) - depth)[same].max() < 2e-5
+        # A cover makes a scene of its own: no background of the plain scene applies.
+        second.add_cover((0.5, 0.4, 0.3), (0.05, 0.05, 0.05))
+        assert second.static_key != first.static_key
