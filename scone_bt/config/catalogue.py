@@ -8,7 +8,8 @@ adds products with one more file of the same shape (``--catalogue FILE``) withou
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from dataclasses import field as dataclass_field
 from enum import StrEnum
 from pathlib import Path
 from typing import Annotated, Any, Literal
@@ -89,7 +90,7 @@ class Catalogue:
     """All objects the kitchen can stock, by canonical name."""
 
     objects: tuple[ObjectSpec, ...]
-    _by_name: dict[str, ObjectSpec] = field(init=False, repr=False, compare=False, hash=False)
+    _by_name: dict[str, ObjectSpec] = dataclass_field(init=False, repr=False, compare=False, hash=False)
 
     def __post_init__(self) -> None:
         # The first of a name wins, as the scan it replaces did (load_catalogue refuses duplicates anyway).
