@@ -106,8 +106,11 @@ class ArmModel:
 
         self.config = robot
         try:
-            full, full_geom, _ = pin.buildModelsFromUrdf(
-                str(robot.urdf), package_dirs=[str(robot.urdf.parent)]
+            # Collision geometry only: the visual meshes (the Panda's 116k triangles) took 1 s to load, unused.
+            full, full_geom = pin.buildModelsFromUrdf(
+                str(robot.urdf),
+                package_dirs=[str(robot.urdf.parent)],
+                geometry_types=pin.GeometryType.COLLISION,
             )
         except (RuntimeError, ValueError) as exc:
             raise ConfigError(f"{robot.source}: Pinocchio could not load {robot.urdf} ({exc})") from None
