@@ -108,3 +108,21 @@ def test_scone_run_refuses_a_device_catalogue_before_the_kitchen(capsys):
         out.err.strip()
         == "scone-run: error: --catalogue /dev/zero: is a device, not a regular file; give a file"
     )
+
+
+def test_libyaml_reads_every_shipped_file_as_the_pure_python_parser_does():
+    import yaml
+
+    from scone_bt.config.yaml_io import _UNPARSED, _fast_parse
+
+    root = Path(__file__).resolve().parents[2]
+    files = [
+        p
+        for folder in ("robots", "perception", "trees", "recipes", "scenarios")
+        for p in (root / folder).rglob("*.yaml")
+    ]
+    assert len(files) > 40
+    for path in files:
+        text = path.read_text(encoding="utf-8")
+        fast = _fast_parse(text)
+        assert fast is not _UNPARSED and fast == yaml.safe_load(text), path
