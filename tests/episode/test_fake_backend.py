@@ -137,3 +137,26 @@ def test_a_backend_without_a_scene_cannot_be_recorded(tmp_path) -> None:
     with pytest.raises(ConfigError, match="cannot be recorded"):
         run_episode(options, printer=lambda _line: None, backend=fake_backend(built=built))
     assert built[0].robot.closed, "the backend is released when the episode is refused"
+
+
+def test_a_whole_episode_imports_no_scientific_stack_for_its_self_confidence(tmp_path) -> None:
+    # κ̂'s logistic regression is numpy (confidence.logistic): scikit-learn, scipy and pandas cost ~1.5 s at the
+    # first refit. The episode has outcomes of both kinds, so κ̂ is fitted. The first run fills the embedding cache
+    # (a cold one loads the sentence model, which imports them all); the second runs from the warm cache.
+    heavy = ("sklearn", "scipy", "pandas", "torch")
+    runs = [
+        subprocess.run(
+            [sys.executable, "-c", _EPISODE, str(tmp_path), *heavy],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+            timeout=600,
+            check=False,
+        )
+        for _ in range(2)
+    ]
+    for done in runs:
+        assert done.returncode == 0, done.stderr[-3000:]
+    out = json.loads(runs[1].stdout.strip().splitlines()[-1])
+    assert out["summary"]["successes"] > 0 and out["summary"]["failures"] > 0, out["summary"]
+    assert out["loaded"] == [], f"the episode imported {out['loaded']}"
