@@ -6,7 +6,6 @@ own stages never read ground truth from here; the simulated human, outcome check
 
 from __future__ import annotations
 
-import collections
 import contextlib
 import itertools
 from collections.abc import Callable, Iterator, Sequence
@@ -60,8 +59,6 @@ FREEZE_CHECK_S = 0.025
 FULL_RATE_STEP_S = 1.0 / 240.0
 """The physics step the grasps were first tuned at (PyBullet's default): the reference `full_rate_physics` runs."""
 _KITCHEN_IDS = itertools.count()
-_STATIC_SCENES: collections.Counter[tuple[object, ...]] = collections.Counter()
-"""Kitchens made in this process per static scene (`Kitchen.static_key`)."""
 
 
 @contextlib.contextmanager
@@ -186,12 +183,12 @@ class Kitchen:
             robot.camera_shapes,
             tuple(robot.base_position),
         )
-        _STATIC_SCENES[self.static_key] += 1
-        # Render each camera's image of the empty kitchen when products are first put in (world.camera.
-        # keep_background), for later first images to patch the products over: worth it for a kitchen restocked
-        # many times (the self-confidence generator sets it) and for every kitchen of a scene after the first in
-        # this process (episodes one after another), not for a single one.
-        self.keep_backgrounds = _STATIC_SCENES[self.static_key] > 1
+        # Each camera's first image of a stocked kitchen is the products patched over its image of the empty
+        # kitchen (world.camera.keep_background), rendered when products are first put in, once per scene and
+        # process. Always so, never only from the second kitchen on: a patched image differs from a whole render
+        # by an edge pixel and the depth buffer's rounding, which can change a decision, so an episode must see
+        # the same images whether or not another kitchen of its scene ran before it in the process.
+        self.keep_backgrounds = True
         self._awake_until = 0.0
         self._frozen: dict[str, tuple[object, object]] = {}  # name -> pose when frozen
         self._frozen_boxes: dict[str, object] = {}  # name -> bounding box when frozen (it stands still)

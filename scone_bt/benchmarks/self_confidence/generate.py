@@ -146,8 +146,8 @@ class _Worker:
                 self.kitchen.close()
             with c_stdout_silenced():
                 self.kitchen = Kitchen(kcfg, rcfg)
-            # Restocked for every execution: each camera's first image is patched over the empty kitchen's.
-            self.kitchen.keep_backgrounds = True
+            # Restocked for every execution: each camera's first image is patched over the empty kitchen's
+            # (Kitchen.keep_backgrounds, on for every kitchen).
             self.kitchen_key = key
             self.start_state = self.kitchen.bc.saveState()
         else:
