@@ -59,10 +59,11 @@ def _options(tmp_path: Path, **behaviour: object) -> EpisodeOptions:
     return EpisodeOptions(seed=0, behaviour=BehaviourOptions(seed=0, cache_dir=tmp_path, **behaviour))
 
 
-def test_a_whole_episode_runs_on_a_fake_backend_without_the_simulator(tmp_path) -> None:
-    # a fresh interpreter: this test session has imported PyBullet already
+def _fake_episode(cache_dir: Path, watched: tuple[str, ...]) -> dict:
+    """The fake episode in a fresh interpreter (this test session has imported most modules already): its
+    summary and which of `watched` it loaded."""
     done = subprocess.run(
-        [sys.executable, "-c", _EPISODE, str(tmp_path), *SIMULATOR_MODULES],
+        [sys.executable, "-c", _EPISODE, str(cache_dir), *watched],
         cwd=ROOT,
         capture_output=True,
         text=True,
@@ -70,7 +71,11 @@ def test_a_whole_episode_runs_on_a_fake_backend_without_the_simulator(tmp_path) 
         check=False,
     )
     assert done.returncode == 0, done.stderr[-3000:]
-    out = json.loads(done.stdout.strip().splitlines()[-1])
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def test_a_whole_episode_runs_on_a_fake_backend_without_the_simulator(tmp_path) -> None:
+    out = _fake_episode(tmp_path, SIMULATOR_MODULES)
     assert out["loaded"] == [], f"the fake episode loaded the simulator's modules: {out['loaded']}"
     summary = out["summary"]
     # the real tree decided, acted and learnt: successes, the scripted failure, and help where κ̂ fell
@@ -144,19 +149,7 @@ def test_a_whole_episode_imports_no_scientific_stack_for_its_self_confidence(tmp
     # first refit. The episode has outcomes of both kinds, so κ̂ is fitted. The first run fills the embedding cache
     # (a cold one loads the sentence model, which imports them all); the second runs from the warm cache.
     heavy = ("sklearn", "scipy", "pandas", "torch")
-    runs = [
-        subprocess.run(
-            [sys.executable, "-c", _EPISODE, str(tmp_path), *heavy],
-            cwd=ROOT,
-            capture_output=True,
-            text=True,
-            timeout=600,
-            check=False,
-        )
-        for _ in range(2)
-    ]
-    for done in runs:
-        assert done.returncode == 0, done.stderr[-3000:]
-    out = json.loads(runs[1].stdout.strip().splitlines()[-1])
+    _fake_episode(tmp_path, heavy)
+    out = _fake_episode(tmp_path, heavy)
     assert out["summary"]["successes"] > 0 and out["summary"]["failures"] > 0, out["summary"]
     assert out["loaded"] == [], f"the episode imported {out['loaded']}"
