@@ -127,7 +127,8 @@ def _geometry(camera: PinholeView) -> tuple[object, ...]:
 
 def keep_background(kitchen: Kitchen, camera: PinholeView) -> None:
     """Render the camera's image of the kitchen while it holds no product, once per static scene (a kitchen's
-    ``static_key``: kitchens of one scene share it) and camera geometry, as the base of later first images (`camera_image`).
+    ``static_key``: kitchens of one scene share it) and camera geometry, as the base of later first images
+    (`camera_image`).
 
     Raises:
         ValueError: the kitchen holds products.

@@ -64,7 +64,8 @@ _KITCHEN_IDS = itertools.count()
 @contextlib.contextmanager
 def full_rate_physics() -> Iterator[None]:
     """Kitchens made meanwhile (without explicit arguments) step every body at FULL_RATE_STEP_S, freeze nothing and
-    solve contacts to PyBullet's default residual: the reference the physics shortcuts are compared with (`scone-bench physics`, tests)."""
+    solve contacts to PyBullet's default residual: the reference the physics shortcuts are compared with
+    (`scone-bench physics`, tests)."""
     names = (
         "TIME_STEP_DEFAULT",
         "FREEZE_RESTING_DEFAULT",
