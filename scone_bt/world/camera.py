@@ -304,8 +304,9 @@ def _around(a: Window, b: Window) -> Window:
 def dirty_windows(camera: PinholeView, boxes: np.ndarray) -> list[Window] | None:
     """Disjoint-enough pixel windows covering every world box (n, 2, 3), each grown as in `dirty_window`: a
     window per box, two merged into the rectangle around both wherever that costs at most WINDOW_COST_PX more
-    pixels than rendering them apart (overlapping windows always merge). None when a box reaches behind the near
-    plane (render the whole image); an empty list when no box is in view."""
+    pixels than rendering them apart (windows that still overlap are each rendered: the later one is pasted over
+    the earlier). None when a box reaches behind the near plane (render the whole image); an empty list when no
+    box is in view."""
     windows: list[Window] = []
     for lo, hi in np.asarray(boxes, dtype=float):
         w = _rectangle(camera, lo, hi)
