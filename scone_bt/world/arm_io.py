@@ -17,6 +17,8 @@ if TYPE_CHECKING:
 
 __all__ = ["FINGER_COUPLING_FORCE", "ArmIO"]
 
+_POSITION_CONTROL = 2
+"""pybullet.POSITION_CONTROL (a constant of its C API), named here so that a command does not import pybullet."""
 FINGER_COUPLING_FORCE = 50.0
 """Largest force (N) of the coupling that keeps the two fingers symmetric (the gearing of a parallel gripper)."""
 
@@ -42,24 +44,37 @@ class ArmIO:
             if j > last and j not in self.arm_ids:
                 self.gripper_links.add(j)
         self._coupling: int | None = None
+        n = len(self.arm_ids)
+        ctl = cfg.control
+        self._forces = [ctl.max_joint_force] * n
+        self._gains = [ctl.position_gain] * n
+        self._zeros = [0.0] * n
+        # The last (positions, velocities) sent: a motor keeps its target, so sending the same one again (the
+        # executor holds a pose for many steps) changes nothing and is skipped. `forget_command` clears it.
+        self._last: tuple[list[float], list[float]] | None = None
 
     # ------------------------------------------------------------------------------------------ commands
     def command_arm(self, q: np.ndarray, qd: np.ndarray | None = None) -> None:
         """Position control towards q with velocity feed-forward qd (zero when None)."""
-        import pybullet as p
-
+        positions = np.asarray(q, dtype=float).tolist()
+        velocities = self._zeros if qd is None else np.asarray(qd, dtype=float).tolist()
+        if self._last is not None and self._last[0] == positions and self._last[1] == velocities:
+            return
         k = self.kitchen
-        ctl = k.robot_config.control
-        n = len(q)
         k.bc.setJointMotorControlArray(
             k.robot_id,
             self.arm_ids,
-            p.POSITION_CONTROL,
-            targetPositions=list(map(float, q)),
-            targetVelocities=list(map(float, qd)) if qd is not None else [0.0] * n,
-            forces=[ctl.max_joint_force] * n,
-            positionGains=[ctl.position_gain] * n,
+            _POSITION_CONTROL,
+            targetPositions=positions,
+            targetVelocities=velocities,
+            forces=self._forces,
+            positionGains=self._gains,
         )
+        self._last = (positions, velocities)
+
+    def forget_command(self) -> None:
+        """Send the next `command_arm` even if it repeats the last (the motors were set or restored otherwise)."""
+        self._last = None
 
     def couple_fingers(self) -> int | None:
         """Couple the two fingers so that they move symmetrically, as a parallel gripper's gearing does; the id.

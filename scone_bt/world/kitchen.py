@@ -207,6 +207,7 @@ class Kitchen:
         )
         self.static_boxes = self._build_static_scene()
         self.robot_id, self.joint_index = self._load_robot()
+        self._robot_links = range(-1, bc.getNumJoints(self.robot_id))  # base (-1) and every link
 
     # ----------------------------------------------------------------------------------------- scene
     def _build_static_scene(self) -> list[StaticBox]:
@@ -534,6 +535,8 @@ class Kitchen:
             forces=[cfg.control.max_joint_force] * len(ids),
             positionGains=[cfg.control.position_gain] * len(ids),
         )
+        if self._arm_io is not None:
+            self._arm_io.forget_command()
         self._keep_stepping()
 
     def set_gripper_target(self, position: float, force: float | None = None) -> None:
@@ -656,30 +659,32 @@ class Kitchen:
         settling = (
             self.sim_time < self._settle_until
         )  # the world was just changed from outside: freeze nothing
-        m = FREEZE_MARGIN_M
-        names = list(self.objects)
-        # One AABB and one velocity query per body per check: freezing and thawing below move nothing. A frozen
-        # body's box is the one it had when frozen (a frozen body moved from outside is thawed below all the same).
-        frozen_boxes = self._frozen_boxes
-        boxes = np.array(
-            [frozen_boxes.get(n) or self.bc.getAABB(self.objects[n]) for n in names], dtype=np.float64
-        )
-        boxes = boxes.reshape(-1, 2, 3)
-        resting = {n: self._body_at_rest(self.objects[n]) for n in names if n not in self._frozen}
-        movers = [self.bc.getAABB(self.robot_id, j) for j in range(-1, self.bc.getNumJoints(self.robot_id))]
-        movers += [boxes[i] for i, n in enumerate(names) if n in resting and not resting[n]]
-        mover_boxes = np.array(movers, dtype=np.float64).reshape(-1, 2, 3)
-        overlap = (boxes[:, None, 0, :] - m <= mover_boxes[None, :, 1, :]) & (
-            mover_boxes[None, :, 0, :] <= boxes[:, None, 1, :] + m
-        )
-        near = overlap.all(axis=2).any(axis=1)
-
-        for i, name in enumerate(names):
-            if name in self._frozen:
+        bc, objects, frozen = self.bc, self.objects, self._frozen
+        # One AABB and one velocity query per awake body per check: freezing and thawing below move nothing. A
+        # frozen body's box is the one it had when frozen (a frozen body moved from outside is thawed below all
+        # the same).
+        frozen_boxes, get_aabb = self._frozen_boxes, bc.getAABB
+        names = list(objects)
+        boxes = []
+        resting: dict[str, bool] = {}
+        rid = self.robot_id
+        movers = [get_aabb(rid, j) for j in self._robot_links]
+        for name in names:
+            box = frozen_boxes.get(name)
+            if box is None:
+                body = objects[name]
+                box = get_aabb(body)
+                resting[name] = at_rest = self._body_at_rest(body)
+                if not at_rest:
+                    movers.append(box)
+            boxes.append(box)
+        near = _near_any(boxes, movers, FREEZE_MARGIN_M)
+        for name, is_near in zip(names, near, strict=True):
+            if name in frozen:
                 # Thaw when something moving comes near, or when the object was moved from outside the physics.
-                if near[i] or self.bc.getBasePositionAndOrientation(self.objects[name]) != self._frozen[name]:
+                if is_near or bc.getBasePositionAndOrientation(objects[name]) != frozen[name]:
                     self._thaw(name)
-            elif not settling and resting[name] and not near[i]:
+            elif not settling and resting[name] and not is_near:
                 self._freeze(name)
 
     def advance(self, seconds: float) -> None:
@@ -727,6 +732,8 @@ class Kitchen:
         self._frozen_boxes.clear()
         self._controllers.clear()
         self.bc.restoreState(stateId=physics_state)
+        if self._arm_io is not None:
+            self._arm_io.forget_command()
         self.sim_time = 0.0
         self.steps = self.steps_skipped = 0
         self._awake_until = self._settle_until = 0.0
@@ -743,3 +750,37 @@ class Kitchen:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+Box = tuple[Sequence[float], Sequence[float]]
+"""An axis-aligned box as PyBullet's getAABB gives it: ((min x, y, z), (max x, y, z)), metres."""
+
+
+def _near_any(boxes: Sequence[Box], movers: Sequence[Box], margin: float) -> list[bool]:
+    """For each box, whether some mover's box comes within `margin` of it (overlap on every axis).
+
+    Plain floats, not numpy: a check has a dozen boxes, where numpy's per-call cost is most of the work. A box
+    beyond the margin of the box around all movers meets none of them, which rules out most products at once;
+    the comparisons are those of the per-pair test, so the answer is the same.
+    """
+    if not movers:
+        return [False] * len(boxes)
+    lo_x = min(b[0][0] for b in movers)
+    lo_y = min(b[0][1] for b in movers)
+    lo_z = min(b[0][2] for b in movers)
+    hi_x = max(b[1][0] for b in movers)
+    hi_y = max(b[1][1] for b in movers)
+    hi_z = max(b[1][2] for b in movers)
+    out = []
+    for (ax, ay, az), (bx, by, bz) in boxes:
+        ax, ay, az, bx, by, bz = ax - margin, ay - margin, az - margin, bx + margin, by + margin, bz + margin
+        if ax > hi_x or ay > hi_y or az > hi_z or lo_x > bx or lo_y > by or lo_z > bz:
+            out.append(False)
+            continue
+        out.append(
+            any(
+                ax <= mx and ay <= my and az <= mz and nx <= bx and ny <= by and nz <= bz
+                for (nx, ny, nz), (mx, my, mz) in movers
+            )
+        )
+    return out

@@ -57,3 +57,55 @@ def test_outcome_classes_name_the_stage_and_the_planners_reason():
     assert outcome_class({"success": False, "stage": "grasp", "reason": None}) == "grasp"
     failed = {"success": False, "stage": "planning", "reason": "grasps_blocked"}
     assert outcome_class(failed) == "planning: grasps_blocked"
+
+
+def test_the_freeze_check_finds_the_boxes_near_a_mover_as_the_per_pair_test_does():
+    import numpy as np
+
+    from scone_bt.world.kitchen import _near_any
+
+    rng = np.random.default_rng(0)
+    margin = 0.08
+    for trial in range(300):
+        lo = rng.uniform(-1.0, 1.0, size=(rng.integers(1, 15), 3))
+        boxes = np.stack([lo, lo + rng.uniform(0.01, 0.3, size=lo.shape)], axis=1)
+        mlo = rng.uniform(-1.0, 1.0, size=(rng.integers(0, 15), 3))
+        movers = np.stack([mlo, mlo + rng.uniform(0.01, 0.3, size=mlo.shape)], axis=1)
+        if trial % 3 == 0 and len(movers):  # a box exactly at the margin of a mover: still near
+            boxes[0, 0, 0] = movers[0, 1, 0] + margin
+        expected = (
+            (
+                (boxes[:, None, 0, :] - margin <= movers[None, :, 1, :])
+                & (movers[None, :, 0, :] <= boxes[:, None, 1, :] + margin)
+            )
+            .all(axis=2)
+            .any(axis=1)
+            if len(movers)
+            else np.zeros(len(boxes), dtype=bool)
+        )
+        as_tuples = [tuple(map(tuple, b)) for b in boxes.tolist()]
+        mover_tuples = [tuple(map(tuple, b)) for b in movers.tolist()]
+        assert _near_any(as_tuples, mover_tuples, margin) == expected.tolist()
+
+
+def test_an_arm_command_repeated_is_skipped_until_the_motors_were_set_otherwise(kitchen):
+    import numpy as np
+
+    sent = []
+    real = kitchen.bc.setJointMotorControlArray
+
+    def counting(*args, **kwargs):
+        sent.append(kwargs["targetPositions"])
+        return real(*args, **kwargs)
+
+    kitchen.bc.setJointMotorControlArray = counting
+    q = kitchen.arm_joint_positions()
+    kitchen.command_arm(q)
+    kitchen.command_arm(q.copy())  # the same target: the motors already have it
+    assert len(sent) == 1
+    kitchen.command_arm(q, np.full(len(q), 0.1))  # another feed-forward velocity
+    kitchen.command_arm(q + 0.01)
+    assert len(sent) == 3
+    kitchen.hold_arm(q)  # set outside command_arm: the next command goes out even if it repeats the last
+    kitchen.command_arm(q + 0.01)
+    assert len(sent) == 5 and sent[-1] == (q + 0.01).tolist()
