@@ -57,10 +57,12 @@ TARGETS = {
     "blocked_by_clutter_rate": ("<=", 0.02),
     "physical_success_rate_graspable": (">=", 0.97),
     "plan_success_rate_on_reachable": (">=", 1.0),
-    "pick_place_plan_ms_p50": ("<=", 50.0),
-    "pick_place_plan_ms_p95": ("<=", 150.0),
+    "pick_place_plan_ms_p50": ("<=", 10.0),
+    "pick_place_plan_ms_p95": ("<=", 40.0),
     "ruckig_ms_p50": ("<=", 1.0),
 }
+"""What each arm's report is checked against (``targets_met``): the motion issue's rates, and issue 29's plan times
+(p50 10 ms, p95 40 ms; the motion issue asked for 50 and 150 ms)."""
 G = 9.81
 PLANNERS = ("ompl", "vamp")
 """What ``--planner`` may list: ompl (always) and vamp (the same OMPL queries solved again by both)."""
