@@ -46,13 +46,18 @@ __all__ = [
     "tablet_from_args",
     "RequestGuard",
     "MAX_BODY_BYTES",
+    "DRAIN_BYTES",
     "BODY_TIMEOUT_S",
     "reachable_address",
 ]
 
 LOCAL_HOSTS = ("127.0.0.1", "localhost", "::1")
 MAX_BODY_BYTES = 16 * 1024
-"""Largest request body accepted (a questionnaire's answers are well under 1 kB); larger ones get 413 unread."""
+"""Largest request body accepted (a questionnaire's answers are well under 1 kB): a larger Content-Length gets 413
+unread; a larger chunked body gets 413 once it passed this, after the rest of it was read (up to DRAIN_BYTES)."""
+DRAIN_BYTES = 1024 * 1024
+"""Most bytes of a refused streamed body (chunked, past MAX_BODY_BYTES) read and dropped before the 413 goes out: a
+client still sending when the answer and the close came would read a connection reset instead of the 413."""
 BODY_TIMEOUT_S = 3.0
 """A write request's whole body (as many bytes as its Content-Length says) must arrive within this many seconds;
 a shorter body gets 400 and is not handed to the endpoint (a tablet sends under 1 kB in one packet)."""
@@ -153,6 +158,7 @@ class RequestGuard:
             chunk = message.get("body", b"")
             received += len(chunk)
             if received > self.max_body:
+                await self._drain(receive, message, deadline)
                 await self._refuse(send, 413, f"request body larger than {self.max_body} bytes")
                 return None
             chunks.append(chunk)
@@ -164,6 +170,24 @@ class RequestGuard:
             await self._refuse(send, 400, f"request body of {received} bytes, Content-Length said {expected}")
             return None
         return b"".join(chunks)
+
+    @staticmethod
+    async def _drain(receive: Any, message: dict, deadline: float) -> None:
+        """Read and drop the rest of a refused body, up to DRAIN_BYTES and until `deadline` (the loop's clock).
+
+        Closing a connection with unread bytes makes the kernel reset it, and the client, still sending, then loses
+        the answer: a body a little too large is read to its end, so that the 413 arrives.
+        """
+        loop = asyncio.get_running_loop()
+        dropped = 0
+        while message.get("more_body", False) and dropped <= DRAIN_BYTES:
+            try:
+                message = await asyncio.wait_for(receive(), max(0.0, deadline - loop.time()))
+            except TimeoutError:
+                return
+            if message["type"] == "http.disconnect":
+                return
+            dropped += len(message.get("body", b""))
 
     async def _refuse(self, send: Any, status: int, detail: str) -> None:
         import json
