@@ -522,21 +522,8 @@ class Kitchen:
         return np.array([s[0] for s in self.bc.getJointStates(self.robot_id, ids)])
 
     def hold_arm(self, q: Sequence[float]) -> None:
-        """Command arm joint position targets (PyBullet position control)."""
-        import pybullet as p
-
-        cfg = self.robot_config
-        ids = [self.joint_index[n] for n in cfg.arm_joints]
-        self.bc.setJointMotorControlArray(
-            self.robot_id,
-            ids,
-            p.POSITION_CONTROL,
-            targetPositions=list(q),
-            forces=[cfg.control.max_joint_force] * len(ids),
-            positionGains=[cfg.control.position_gain] * len(ids),
-        )
-        if self._arm_io is not None:
-            self._arm_io.forget_command()
+        """Command arm joint position targets (PyBullet position control, zero velocity feed-forward)."""
+        self.command_arm(np.asarray(q, dtype=float))
         self._keep_stepping()
 
     def set_gripper_target(self, position: float, force: float | None = None) -> None:
@@ -752,11 +739,11 @@ class Kitchen:
         self.close()
 
 
-Box = tuple[Sequence[float], Sequence[float]]
+_Box = tuple[Sequence[float], Sequence[float]]
 """An axis-aligned box as PyBullet's getAABB gives it: ((min x, y, z), (max x, y, z)), metres."""
 
 
-def _near_any(boxes: Sequence[Box], movers: Sequence[Box], margin: float) -> list[bool]:
+def _near_any(boxes: Sequence[_Box], movers: Sequence[_Box], margin: float) -> list[bool]:
     """For each box, whether some mover's box comes within `margin` of it (overlap on every axis).
 
     Plain floats, not numpy: a check has a dozen boxes, where numpy's per-call cost is most of the work. A box

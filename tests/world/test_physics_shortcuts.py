@@ -99,13 +99,13 @@ def test_an_arm_command_repeated_is_skipped_until_the_motors_were_set_otherwise(
         return real(*args, **kwargs)
 
     kitchen.bc.setJointMotorControlArray = counting
-    q = kitchen.arm_joint_positions()
+    q = kitchen.arm_joint_positions() + 0.02  # not the home pose the kitchen already holds
     kitchen.command_arm(q)
     kitchen.command_arm(q.copy())  # the same target: the motors already have it
     assert len(sent) == 1
     kitchen.command_arm(q, np.full(len(q), 0.1))  # another feed-forward velocity
     kitchen.command_arm(q + 0.01)
     assert len(sent) == 3
-    kitchen.hold_arm(q)  # set outside command_arm: the next command goes out even if it repeats the last
+    kitchen.hold_arm(q)  # holding goes through the same commands: a new target goes out
     kitchen.command_arm(q + 0.01)
     assert len(sent) == 5 and sent[-1] == (q + 0.01).tolist()
