@@ -8,7 +8,7 @@ from typing import Literal
 
 from scone_bt.errors import ConfigError, UnknownNameError
 
-__all__ = ["DataKind", "data_dir", "resolve_file", "repo_root", "shared_dir"]
+__all__ = ["DataKind", "data_dir", "default_cache_dir", "resolve_file", "repo_root", "shared_dir"]
 
 DataKind = Literal["robots", "perception", "trees"]
 _PACKAGE = Path(__file__).resolve().parent
@@ -18,6 +18,15 @@ def repo_root() -> Path | None:
     """The checkout root when running from a source tree, else None."""
     root = _PACKAGE.parent
     return root if (root / "pyproject.toml").is_file() and (root / "robots").is_dir() else None
+
+
+def default_cache_dir() -> Path:
+    """Where caches live (embeddings, models, rendered backgrounds): $SCONE_BT_CACHE, else
+    $XDG_CACHE_HOME/scone_bt, else ~/.cache/scone_bt."""
+    if env := os.environ.get("SCONE_BT_CACHE"):
+        return Path(env)
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "scone_bt"
 
 
 def data_dir(kind: DataKind) -> Path:

@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
-import os
 import sqlite3
 import threading
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
+
+from scone_bt.resources import default_cache_dir
 
 __all__ = ["EmbeddingCache", "cache_file_for", "default_cache_dir"]
 
@@ -20,14 +21,6 @@ CREATE TABLE IF NOT EXISTS embeddings (
     PRIMARY KEY (model, text)
 ) WITHOUT ROWID
 """
-
-
-def default_cache_dir() -> Path:
-    """Where embeddings and assembled models live: $SCONE_BT_CACHE, else $XDG_CACHE_HOME/scone_bt, else ~/.cache."""
-    if env := os.environ.get("SCONE_BT_CACHE"):
-        return Path(env)
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "scone_bt"
 
 
 def cache_file_for(cache_dir: Path | None) -> Path:

@@ -87,6 +87,7 @@ class RenderStats:
     reused: int = 0
     pixels: int = 0
     full_pixels: int = 0  # the pixels whole images would have cost for the same renders
+    backgrounds_loaded: int = 0  # empty-kitchen images read from the disk cache instead of rendered
     last_windows: tuple[Window, ...] = ()  # the windows of the latest render (none: a whole image)
 
 
@@ -140,11 +141,28 @@ def keep_background(kitchen: Kitchen, camera: PinholeView) -> None:
         return
     while len(_BACKGROUNDS) >= _MAX_BACKGROUNDS:
         del _BACKGROUNDS[next(iter(_BACKGROUNDS))]  # the oldest (a scene with a cover that came or went, ...)
+    from scone_bt.world import render_cache
+
     shown = _view(kitchen, camera)
-    rgb, depth = _render(kitchen, camera)
-    _STATS.full += 1
-    _STATS.pixels += rgb.shape[0] * rgb.shape[1]
-    _STATS.full_pixels += rgb.shape[0] * rgb.shape[1]
+    # Kept on disk too, but not a covered scene's (its static_key is its own, `Kitchen.uid`).
+    digest = None
+    if kitchen.static_key[0] != "covered" and render_cache.render_cache_dir() is not None:
+        digest = render_cache.background_digest(kitchen, _geometry(camera))
+    stored = (
+        None
+        if digest is None
+        else render_cache.load_background(digest, camera.spec.width, camera.spec.height)
+    )
+    if stored is not None:
+        rgb, depth = stored
+        _STATS.backgrounds_loaded += 1
+    else:
+        rgb, depth = _render(kitchen, camera)
+        _STATS.full += 1
+        _STATS.pixels += rgb.shape[0] * rgb.shape[1]
+        _STATS.full_pixels += rgb.shape[0] * rgb.shape[1]
+        if digest is not None:
+            render_cache.save_background(digest, rgb, depth)
     _BACKGROUNDS[key] = (shown, rgb, depth)
 
 

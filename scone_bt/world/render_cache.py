@@ -1,0 +1,147 @@
+"""Images of the empty kitchen kept on disk, so a fresh process does not render them again.
+
+Every kitchen's first camera images are its products patched over each camera's image of the empty kitchen
+(`world.camera.keep_background`): four whole renders (about half a second) before the first decision of every
+process. The image is a pure function of what the renderer is given, so it is kept under a digest of exactly
+that: every body's shapes (visual and collision, mesh files by content), every link's pose, the camera's
+geometry, the PyBullet version and the rendering code itself (`world/camera.py`). Anything that could change a
+pixel changes the digest; a file that cannot be read or written is rendered as before, never an error.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import tempfile
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from scone_bt.resources import default_cache_dir
+
+if TYPE_CHECKING:
+    from scone_bt.world.kitchen import Kitchen
+
+__all__ = [
+    "RENDER_CACHE_ENV",
+    "FORMAT",
+    "background_digest",
+    "load_background",
+    "render_cache_dir",
+    "save_background",
+]
+
+FORMAT = 1
+"""Bumped when what a stored file holds changes (the digest covers the rendering code already)."""
+RENDER_CACHE_ENV = "SCONE_BT_RENDER_CACHE"
+"""Set to 0 to render every background anew (nothing read or written)."""
+
+_FILE_DIGESTS: dict[tuple[str, int, int], str] = {}
+"""Content digests of mesh and source files by (path, size, mtime_ns): each read once per process."""
+
+
+def render_cache_dir() -> Path | None:
+    """Where backgrounds are kept (default_cache_dir()/renders), or None when $SCONE_BT_RENDER_CACHE is 0."""
+    if os.environ.get(RENDER_CACHE_ENV, "1").strip() in ("0", "false", "no", "off"):
+        return None
+    return default_cache_dir() / "renders"
+
+
+def _file_digest(path: str | bytes) -> str:
+    """sha256 of a file's bytes ('' if it cannot be read: the name alone then stands for it)."""
+    name = os.fsdecode(path)
+    try:
+        st = os.stat(name)
+    except OSError:
+        return ""
+    key = (name, st.st_size, st.st_mtime_ns)
+    digest = _FILE_DIGESTS.get(key)
+    if digest is None:
+        try:
+            digest = hashlib.sha256(Path(name).read_bytes()).hexdigest()
+        except OSError:
+            digest = ""
+        _FILE_DIGESTS[key] = digest
+    return digest
+
+
+def _shape_rows(rows: Sequence[Sequence[object]]) -> list[object]:
+    """Shape data rows with every mesh file name followed by its content digest."""
+    out: list[object] = []
+    for row in rows:
+        out.append(row)
+        out.extend(_file_digest(v) for v in row if isinstance(v, bytes) and v)
+    return out
+
+
+def background_digest(kitchen: Kitchen, geometry: Sequence[object]) -> str:
+    """A digest of everything the renderer is given for one camera's image of the kitchen as it is now."""
+    import importlib.metadata
+
+    import pybullet as p
+
+    from scone_bt.world import camera
+
+    bc = kitchen.bc
+    parts: list[object] = [
+        FORMAT,
+        importlib.metadata.version("pybullet"),
+        p.getAPIVersion(),
+        _file_digest(camera.__file__),
+        tuple(geometry),
+    ]
+    for i in range(bc.getNumBodies()):
+        body = bc.getBodyUniqueId(i)
+        parts.append((body, bc.getBasePositionAndOrientation(body)))
+        parts.extend(_shape_rows(bc.getVisualShapeData(body)))
+        for link in range(-1, bc.getNumJoints(body)):
+            parts.extend(_shape_rows(bc.getCollisionShapeData(body, link)))
+            if link >= 0:
+                parts.append(bc.getLinkState(body, link, computeForwardKinematics=True)[4:6])
+    return hashlib.sha256(repr(parts).encode()).hexdigest()
+
+
+def _path(digest: str) -> Path | None:
+    folder = render_cache_dir()
+    return None if folder is None else folder / f"background-{digest}.npz"
+
+
+def load_background(digest: str, width: int, height: int) -> tuple[np.ndarray, np.ndarray] | None:
+    """The stored (rgb, depth) for `digest`, read-only, or None (none stored, unreadable or not that size)."""
+    path = _path(digest)
+    if path is None or not path.is_file():
+        return None
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            rgb, depth = data["rgb"], data["depth"]
+    except (OSError, ValueError, KeyError):
+        return None
+    if rgb.shape != (height, width, 3) or rgb.dtype != np.uint8:
+        return None
+    if depth.shape != (height, width) or depth.dtype != np.float32:
+        return None
+    rgb.setflags(write=False)
+    depth.setflags(write=False)
+    return rgb, depth
+
+
+def save_background(digest: str, rgb: np.ndarray, depth: np.ndarray) -> bool:
+    """Store a background (written whole, then renamed: a reader never sees half a file); False if it could not."""
+    path = _path(digest)
+    if path is None:
+        return False
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=".background-", suffix=".npz", dir=path.parent)
+        try:
+            with os.fdopen(fd, "wb") as f:
+                np.savez(f, rgb=rgb, depth=depth)
+            os.replace(tmp, path)
+        finally:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+    except OSError:
+        return False
+    return True
