@@ -52,14 +52,24 @@ def _geometry(shape: str, size: Sequence[float], padding: float) -> object:
 
 SEEN_STATES = 50_000
 """Most answers a world keeps (`CollisionWorld.is_valid`); about 4 MB, far above a plan's few thousand checks."""
-_PLACED: dict[tuple[object, ...], object] = {}
+_PLACED: dict[tuple[object, ...], _Placed] = {}
 """Obstacle geometry objects already made, by what they are made of (see `_placed`)."""
 PLACED_CACHE_SIZE = 4096
 """Most geometry objects kept in `_PLACED` (it is emptied when full; a kitchen holds a few dozen obstacles)."""
 
 
-def _placed(ob: Obstacle, padding: float, base: np.ndarray) -> object:
-    """The Pinocchio geometry object of a fixed obstacle, padded, in the arm's base frame.
+@dataclass(frozen=True, eq=False)
+class _Placed:
+    """A fixed obstacle made for a collision world: its padded Pinocchio geometry object in the arm's base frame,
+    and its centre's distance (m) from the arm's first joint and its bounding radius (m), padding included."""
+
+    geometry: object
+    distance: float
+    radius: float
+
+
+def _placed(ob: Obstacle, padding: float, base: np.ndarray, first_joint: np.ndarray) -> _Placed:
+    """The obstacle's `_Placed`, made once per obstacle, padding and arm and then taken from `_PLACED`.
 
     A plan builds about five collision worlds over the same obstacles, at two or three paddings: each object is
     made once and added to every world (Pinocchio copies the object into the model and shares its immutable
@@ -67,16 +77,10 @@ def _placed(ob: Obstacle, padding: float, base: np.ndarray) -> object:
     """
     import pinocchio as pin
 
-    key = (
-        ob.name,
-        str(ob.shape),
-        tuple(float(v) for v in ob.size),
-        ob.pose.tobytes(),
-        padding,
-        base.tobytes(),
-    )
-    obj = _PLACED.get(key)
-    if obj is None:
+    size = ob.size if type(ob.size) is tuple else tuple(float(v) for v in ob.size)
+    key = (ob.name, ob.shape, size, ob.pose.tobytes(), padding, base.tobytes(), first_joint.tobytes())
+    placed = _PLACED.get(key)
+    if placed is None:
         pose = ob.pose.copy()
         pose[:3, 3] -= base
         obj = pin.GeometryObject(
@@ -86,10 +90,14 @@ def _placed(ob: Obstacle, padding: float, base: np.ndarray) -> object:
             pin.SE3(pose[:3, :3], pose[:3, 3]),
             _geometry(ob.shape, ob.size, padding),
         )
+        # The same expressions as over all obstacles at once (rows of one array), so the same floats.
+        radius = 0.5 * np.linalg.norm(np.array([ob.size], dtype=float) + 2 * padding, axis=1)
+        distance = np.linalg.norm((np.array([ob.pose[:3, 3]]) - base) - first_joint, axis=1)
+        placed = _Placed(obj, float(distance[0]), float(radius[0]))
         if len(_PLACED) >= PLACED_CACHE_SIZE:
             _PLACED.clear()
-        _PLACED[key] = obj
-    return obj
+        _PLACED[key] = placed
+    return placed
 
 
 class CollisionWorld:
@@ -127,7 +135,10 @@ class CollisionWorld:
         gm = arm.geometry_with_fingers(finger_position)
         n_robot = gm.ngeoms
         base = np.asarray(arm.config.base_position)
-        obstacle_ids = [(ob.name, gm.addGeometryObject(_placed(ob, padding, base))) for ob in obstacles]
+        placed = [_placed(ob, padding, base, arm.first_joint_origin) for ob in obstacles]
+        obstacle_ids = [
+            (ob.name, gm.addGeometryObject(p.geometry)) for ob, p in zip(obstacles, placed, strict=True)
+        ]
         attached_id = None
         if attached is not None:
             ee = self.model.frames[arm.ee_frame]
@@ -152,11 +163,8 @@ class CollisionWorld:
             ids = np.array([oid for _, oid in obstacle_ids])
             # A pair whose two bounding spheres can never meet, whatever the joints do, is left out: each
             # pair costs its own collision functor when the world is built.
-            centres = np.array([ob.pose[:3, 3] for ob in obstacles]) - base
-            radii = 0.5 * np.linalg.norm(
-                np.array([ob.size for ob in obstacles], dtype=float) + 2 * padding, axis=1
-            )
-            distances = np.linalg.norm(centres - arm.first_joint_origin, axis=1)
+            radii = np.array([p.radius for p in placed])
+            distances = np.array([p.distance for p in placed])
             near = distances[None, :] <= (arm.geometry_reach_from_first_joint[:, None] + radii[None, :])
             ignored = np.array([name in ignore_for_hand for name, _ in obstacle_ids])
             check[:n_robot, ids] = moving[:, None] & near & ~(in_hand[:, None] & ignored[None, :])
