@@ -161,3 +161,16 @@ def test_a_covered_scene_is_not_stored(store, kitchen, kitchen_cfg):
     kitchen.add_cover((0.5, 0.4, 0.3), (0.05, 0.05, 0.05))
     cam.keep_background(kitchen, Camera(kitchen_cfg.camera))
     assert not store.exists() or not list(store.glob("background-*.npz"))
+
+
+def test_the_oldest_backgrounds_go_beyond_the_limit(store, monkeypatch):
+    monkeypatch.setattr(render_cache, "MAX_FILES", 2)
+    rgb, depth = np.zeros((4, 6, 3), np.uint8), np.ones((4, 6), np.float32)
+    for k, digest in enumerate(("a", "b", "c")):
+        assert render_cache.save_background(digest, rgb, depth)
+        path = store / f"background-{digest}.npz"
+        os.utime(path, ns=(k * 10**9, k * 10**9))  # written in this order
+    assert sorted(f.name for f in store.glob("*.npz")) == ["background-b.npz", "background-c.npz"]
+    loaded = render_cache.load_background("c", 6, 4)
+    assert loaded is not None and np.array_equal(loaded[1], depth)
+    assert render_cache.load_background("c", 7, 4) is None  # not the size asked for
