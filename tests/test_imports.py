@@ -251,6 +251,7 @@ SIM_BACKEND_MODULES = frozenset(
         "scone_bt.world.arm_io",
         "scone_bt.world.camera",
         "scone_bt.world.kitchen",
+        "scone_bt.world.render_cache",
         "scone_bt.world.visuals",
         "scone_bt.robot.sim",
     }

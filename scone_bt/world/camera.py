@@ -147,7 +147,7 @@ def keep_background(kitchen: Kitchen, camera: PinholeView) -> None:
     # Kept on disk too, but not a covered scene's (its static_key is its own, `Kitchen.uid`).
     digest = None
     if kitchen.static_key[0] != "covered" and render_cache.render_cache_dir() is not None:
-        digest = render_cache.background_digest(kitchen, _geometry(camera))
+        digest = render_cache.background_digest(kitchen, _geometry(camera), __file__)
     stored = (
         None
         if digest is None

@@ -77,20 +77,24 @@ def _shape_rows(rows: Sequence[Sequence[object]]) -> list[object]:
     return out
 
 
-def background_digest(kitchen: Kitchen, geometry: Sequence[object]) -> str:
-    """A digest of everything the renderer is given for one camera's image of the kitchen as it is now."""
+def background_digest(kitchen: Kitchen, geometry: Sequence[object], renderer: str | Path) -> str:
+    """A digest of everything the renderer is given for one camera's image of the kitchen as it is now.
+
+    Args:
+        kitchen: The kitchen as it is now.
+        geometry: What the render depends on in the camera's settings (`world.camera`).
+        renderer: The source file of the code that renders (`world/camera.py`): edited, every digest changes.
+    """
     import importlib.metadata
 
     import pybullet as p
-
-    from scone_bt.world import camera
 
     bc = kitchen.bc
     parts: list[object] = [
         FORMAT,
         importlib.metadata.version("pybullet"),
         p.getAPIVersion(),
-        _file_digest(camera.__file__),
+        _file_digest(str(renderer)),
         tuple(geometry),
     ]
     for i in range(bc.getNumBodies()):

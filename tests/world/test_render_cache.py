@@ -88,38 +88,40 @@ def test_another_process_reads_the_backgrounds_this_one_rendered(store, kitchen_
 def test_the_digest_follows_what_the_renderer_is_given(store, kitchen, kitchen_cfg, robot_cfg):
     shelf = cam._geometry(Camera(kitchen_cfg.camera))
     table = cam._geometry(Camera(kitchen_cfg.table_camera))
-    before = render_cache.background_digest(kitchen, shelf)
-    assert render_cache.background_digest(kitchen, shelf) == before  # the same world, the same digest
-    assert render_cache.background_digest(kitchen, table) != before  # another camera
+    before = render_cache.background_digest(kitchen, shelf, cam.__file__)
+    assert (
+        render_cache.background_digest(kitchen, shelf, cam.__file__) == before
+    )  # the same world, the same digest
+    assert render_cache.background_digest(kitchen, table, cam.__file__) != before  # another camera
     # The arm one joint a little turned: every link after it is elsewhere.
     joint = kitchen.joint_index[robot_cfg.arm_joints[0]]
     q = kitchen.bc.getJointState(kitchen.robot_id, joint)[0]
     kitchen.bc.resetJointState(kitchen.robot_id, joint, q + 1e-6)
-    turned = render_cache.background_digest(kitchen, shelf)
+    turned = render_cache.background_digest(kitchen, shelf, cam.__file__)
     assert turned != before
     kitchen.bc.resetJointState(kitchen.robot_id, joint, q)
-    assert render_cache.background_digest(kitchen, shelf) == before
+    assert render_cache.background_digest(kitchen, shelf, cam.__file__) == before
     # A body more, or a colour changed.
     import pybullet as p
 
     box = kitchen.bc.createMultiBody(0, -1, kitchen.bc.createVisualShape(p.GEOM_BOX, halfExtents=[0.1] * 3))
-    assert render_cache.background_digest(kitchen, shelf) not in (before, turned)
+    assert render_cache.background_digest(kitchen, shelf, cam.__file__) not in (before, turned)
     kitchen.bc.removeBody(box)
-    assert render_cache.background_digest(kitchen, shelf) == before
+    assert render_cache.background_digest(kitchen, shelf, cam.__file__) == before
     kitchen.bc.changeVisualShape(kitchen.bc.getBodyUniqueId(0), -1, rgbaColor=[0.1, 0.2, 0.3, 1.0])
-    assert render_cache.background_digest(kitchen, shelf) != before
+    assert render_cache.background_digest(kitchen, shelf, cam.__file__) != before
 
 
 def test_the_rendering_code_is_part_of_the_digest(store, kitchen, kitchen_cfg, monkeypatch):
     shelf = cam._geometry(Camera(kitchen_cfg.camera))
-    before = render_cache.background_digest(kitchen, shelf)
+    before = render_cache.background_digest(kitchen, shelf, cam.__file__)
     real = render_cache._file_digest
     monkeypatch.setattr(
         render_cache,
         "_file_digest",
         lambda path: "edited" if os.fsdecode(path) == cam.__file__ else real(path),
     )
-    assert render_cache.background_digest(kitchen, shelf) != before
+    assert render_cache.background_digest(kitchen, shelf, cam.__file__) != before
 
 
 def test_a_damaged_file_is_rendered_again_and_replaced(store, kitchen_cfg, robot_cfg):
