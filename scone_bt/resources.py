@@ -8,7 +8,15 @@ from typing import Literal
 
 from scone_bt.errors import ConfigError, UnknownNameError
 
-__all__ = ["DataKind", "data_dir", "default_cache_dir", "resolve_file", "repo_root", "shared_dir"]
+__all__ = [
+    "DataKind",
+    "cache_switched_off",
+    "data_dir",
+    "default_cache_dir",
+    "resolve_file",
+    "repo_root",
+    "shared_dir",
+]
 
 DataKind = Literal["robots", "perception", "trees"]
 _PACKAGE = Path(__file__).resolve().parent
@@ -27,6 +35,11 @@ def default_cache_dir() -> Path:
         return Path(env)
     base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
     return Path(base) / "scone_bt"
+
+
+def cache_switched_off(variable: str) -> bool:
+    """True when the environment variable that governs one disk cache says 0 (or false, no, off)."""
+    return os.environ.get(variable, "1").strip().lower() in ("0", "false", "no", "off")
 
 
 def data_dir(kind: DataKind) -> Path:

@@ -13,7 +13,7 @@ from pydantic import ConfigDict, Field, TypeAdapter, ValidationError
 
 from scone_bt.config.schema import read_text
 from scone_bt.errors import ConfigError
-from scone_bt.resources import default_cache_dir
+from scone_bt.resources import cache_switched_off, default_cache_dir
 
 __all__ = ["read_yaml", "require", "Fields"]
 
@@ -57,19 +57,31 @@ def _parsed_path(text: str) -> Path | None:
     import hashlib
     import sys
 
-    if os.environ.get(YAML_CACHE_ENV, "1").strip() in ("0", "false", "no", "off"):
+    if cache_switched_off(YAML_CACHE_ENV):
         return None
     key = f"{sys.version_info[:2]} {yaml.__version__} CSafeLoader\n{text}"
     return default_cache_dir() / "yaml" / f"{hashlib.sha256(key.encode()).hexdigest()}.marshal"
 
 
 def _read_parsed(path: Path) -> Any:
-    """The kept parse, or _UNPARSED (none kept, unreadable, or not a document's data)."""
+    """The kept parse, or _UNPARSED (none kept, unreadable, damaged, or not a document's data).
+
+    A kept file is the sha256 of its marshal data, then the data: marshal is not meant for damaged input, so only
+    data whose digest matches is loaded.
+    """
+    import hashlib
     import marshal
 
     try:
-        data = marshal.loads(path.read_bytes())
-    except (OSError, EOFError, ValueError, TypeError):
+        blob = path.read_bytes()
+    except OSError:
+        return _UNPARSED
+    digest, body = blob[:32], blob[32:]
+    if len(digest) < 32 or hashlib.sha256(body).digest() != digest:
+        return _UNPARSED
+    try:
+        data = marshal.loads(body)
+    except (EOFError, ValueError, TypeError):
         return _UNPARSED
     return data if isinstance(data, dict) else _UNPARSED
 
@@ -77,13 +89,15 @@ def _read_parsed(path: Path) -> Any:
 def _write_parsed(path: Path, data: Any) -> None:
     """Keep a parse (written whole, then renamed); nothing when it cannot be (a type marshal does not hold, such
     as a date, or an unwritable folder)."""
+    import hashlib
     import marshal
     import tempfile
 
     if not isinstance(data, dict):
         return
     try:
-        blob = marshal.dumps(data)
+        body = marshal.dumps(data)
+        blob = hashlib.sha256(body).digest() + body
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=".parsed-", dir=path.parent)
         try:

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from scone_bt.resources import default_cache_dir
+from scone_bt.resources import cache_switched_off, default_cache_dir
 
 if TYPE_CHECKING:
     from scone_bt.world.kitchen import Kitchen
@@ -45,7 +45,7 @@ _FILE_DIGESTS: dict[tuple[str, int, int], str] = {}
 
 def render_cache_dir() -> Path | None:
     """Where backgrounds are kept (default_cache_dir()/renders), or None when $SCONE_BT_RENDER_CACHE is 0."""
-    if os.environ.get(RENDER_CACHE_ENV, "1").strip() in ("0", "false", "no", "off"):
+    if cache_switched_off(RENDER_CACHE_ENV):
         return None
     return default_cache_dir() / "renders"
 
@@ -121,7 +121,7 @@ def load_background(digest: str, width: int, height: int) -> tuple[np.ndarray, n
     try:
         with np.load(path, allow_pickle=False) as data:
             rgb, depth = data["rgb"], data["depth"]
-    except (OSError, ValueError, KeyError):
+    except Exception:  # noqa: BLE001 - any unreadable file (truncated, not a zip, bad CRC) is rendered anew
         return None
     if rgb.shape != (height, width, 3) or rgb.dtype != np.uint8:
         return None
@@ -148,9 +148,9 @@ def save_background(digest: str, rgb: np.ndarray, depth: np.ndarray) -> bool:
         finally:
             if os.path.exists(tmp):
                 os.unlink(tmp)
-        _prune(path.parent)
     except OSError:
         return False
+    _prune(path.parent)
     return True
 
 
@@ -159,6 +159,16 @@ MAX_FILES = 1000
 
 
 def _prune(folder: Path) -> None:
-    files = sorted(folder.glob("background-*.npz"), key=lambda f: f.stat().st_mtime_ns)
-    for f in files[: max(0, len(files) - MAX_FILES)]:
-        f.unlink(missing_ok=True)
+    """Remove the least recently written backgrounds beyond MAX_FILES (another process may be removing them too)."""
+    written: list[tuple[int, Path]] = []
+    for f in folder.glob("background-*.npz"):
+        try:
+            written.append((f.stat().st_mtime_ns, f))
+        except OSError:
+            continue
+    written.sort()
+    for _, f in written[: max(0, len(written) - MAX_FILES)]:
+        try:
+            f.unlink(missing_ok=True)
+        except OSError:
+            continue

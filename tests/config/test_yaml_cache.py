@@ -57,9 +57,13 @@ def test_a_damaged_or_unkeepable_parse_is_parsed_again(store, monkeypatch):
     text = "a: 1\n" + "".join(f"k{i}: [1, 2.5, true, null, text]\n" for i in range(200))
     data = _fast_parse(text)
     (kept,) = store.glob("*.marshal")
-    kept.write_bytes(b"\x00 not marshal")
-    assert _fast_parse(text) == data
-    assert yaml_io._read_parsed(kept) == data  # written anew
+    good = kept.read_bytes()
+    # Not marshal data, cut short, one byte changed: none is loaded (the kept digest no longer matches).
+    for damaged in (b"\x00 not marshal", good[: len(good) // 2], good[:-1] + bytes([good[-1] ^ 1])):
+        kept.write_bytes(damaged)
+        assert yaml_io._read_parsed(kept) is _UNPARSED
+        assert _fast_parse(text) == data
+        assert kept.read_bytes() == good  # written anew
     # A date is not kept (marshal holds no dates): parsed every time, the same answer.
     dated = "day: 2026-12-03\n" + "x: 1\n" * 1000
     assert _fast_parse(dated) == yaml.safe_load(dated)
@@ -82,3 +86,13 @@ def test_a_syntax_error_is_never_kept(store):
     text = "a: [1, 2\n" + "b: 1\n" * 1000
     assert _fast_parse(text) is _UNPARSED
     assert not store.exists() or not list(store.glob("*.marshal"))
+
+
+@pytest.mark.parametrize(
+    "value, off", [("0", True), ("off", True), ("FALSE", True), ("1", False), ("", False)]
+)
+def test_one_rule_switches_a_disk_cache_off(monkeypatch, value, off):
+    from scone_bt.resources import cache_switched_off
+
+    monkeypatch.setenv("SCONE_BT_SOME_CACHE", value)
+    assert cache_switched_off("SCONE_BT_SOME_CACHE") is off
