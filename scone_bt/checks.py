@@ -9,12 +9,12 @@ import json
 import math
 import os
 import stat
-import tempfile
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Literal
 
 from scone_bt.errors import SconeError
+from scone_bt.files import write_atomic
 
 __all__ = [
     "MAX_SEED",
@@ -204,31 +204,6 @@ def sqlite_files(path: Path | str) -> list[Path]:
     """An SQLite database and the files SQLite keeps beside it (-wal, -shm, -journal)."""
     p = Path(path)
     return [p, *(p.with_name(p.name + s) for s in _SQLITE_SIDECARS)]
-
-
-def write_atomic(path: Path | str, data: str | bytes) -> None:
-    """Write `data` to `path` through a temporary file in the same folder, renamed over it when complete.
-
-    A write that fails (disk full, an interrupt) leaves the old file whole and no temporary file behind.
-    """
-    path = Path(path)
-    raw = data.encode() if isinstance(data, str) else data
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(raw)
-            f.flush()
-            os.fsync(f.fileno())
-        if path.exists():  # keep the old file's permissions (mkstemp makes 0600)
-            os.chmod(tmp, stat.S_IMODE(os.stat(path).st_mode))
-        else:
-            umask = os.umask(0)
-            os.umask(umask)
-            os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 def check_output_dir(path: Path, flag: str, must_be_new: bool = False) -> Path:

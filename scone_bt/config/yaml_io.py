@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import functools
-import os
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Annotated, Any, Union
@@ -87,26 +86,19 @@ def _read_parsed(path: Path) -> Any:
 
 
 def _write_parsed(path: Path, data: Any) -> None:
-    """Keep a parse (written whole, then renamed); nothing when it cannot be (a type marshal does not hold, such
-    as a date, or an unwritable folder)."""
+    """Keep a parse (`files.write_atomic`: a reader never sees half a file); nothing when it cannot be (a type
+    marshal does not hold, such as a date, or an unwritable folder)."""
     import hashlib
     import marshal
-    import tempfile
+
+    from scone_bt.files import write_atomic
 
     if not isinstance(data, dict):
         return
     try:
         body = marshal.dumps(data)
-        blob = hashlib.sha256(body).digest() + body
         path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=".parsed-", dir=path.parent)
-        try:
-            with os.fdopen(fd, "wb") as f:
-                f.write(blob)
-            os.replace(tmp, path)
-        finally:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
+        write_atomic(path, hashlib.sha256(body).digest() + body)
     except (OSError, ValueError):
         return
 

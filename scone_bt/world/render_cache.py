@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import hashlib
 import os
-import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -133,21 +132,20 @@ def load_background(digest: str, width: int, height: int) -> tuple[np.ndarray, n
 
 
 def save_background(digest: str, rgb: np.ndarray, depth: np.ndarray) -> bool:
-    """Store a background (written whole, then renamed: a reader never sees half a file); False if it could not."""
+    """Store a background (`files.write_atomic`: a reader never sees half a file); False if it could not."""
+    import io
+
+    from scone_bt.files import write_atomic
+
     path = _path(digest)
     if path is None:
         return False
+    data = io.BytesIO()
+    # A kitchen's flat colours compress ~100x (2.1 MB -> ~20 kB); reading one back takes ~7 ms.
+    np.savez_compressed(data, rgb=rgb, depth=depth)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=".background-", suffix=".npz", dir=path.parent)
-        try:
-            with os.fdopen(fd, "wb") as f:
-                # A kitchen's flat colours compress ~100x (2.1 MB -> ~20 kB); reading one back takes ~7 ms.
-                np.savez_compressed(f, rgb=rgb, depth=depth)
-            os.replace(tmp, path)
-        finally:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
+        write_atomic(path, data.getvalue())
     except OSError:
         return False
     _prune(path.parent)
