@@ -149,6 +149,7 @@ class ArmModel:
         self._lower_tol, self._upper_tol = self.lower - 1e-9, self.upper + 1e-9
         self._lower_list, self._upper_list = self._lower_tol.tolist(), self._upper_tol.tolist()
         self.dof = self.model.nq
+        self._eye6, self._eye_dof = np.eye(6), np.eye(self.dof)  # IK's, read-only (made once, not per solve)
         self.robot_geometry = [g.name for g in self.geom_model.geometryObjects]
         self.link_of_geometry = {
             g.name: self.model.frames[g.parentFrame].name for g in self.geom_model.geometryObjects
@@ -294,7 +295,8 @@ class ArmModel:
 
     # ------------------------------------------------------------------------------------------ kinematics
     def clamp(self, q: np.ndarray) -> np.ndarray:
-        return np.clip(q, self.lower, self.upper)
+        """q within the joint limits (np.clip's values; its argument handling cost more than the clamp)."""
+        return np.minimum(np.maximum(q, self.lower), self.upper)
 
     def within_limits(self, q: np.ndarray, tol: float = 1e-9) -> bool:
         # Called for every validity check: against the tolerance-widened limits, cached as floats (a comparison
@@ -339,11 +341,11 @@ class ArmModel:
         goal[:3, 3] -= np.asarray(self.config.base_position)
         oMgoal = pin.SE3(goal[:3, :3], goal[:3, 3])
         seeds = [self.clamp(np.asarray(seed, dtype=float))]
-        for _ in range(options.restarts):
-            seeds.append(rng.uniform(self.lower, self.upper))
+        # The random seeds in one draw: the same numbers, in the same order, as one draw per seed.
+        seeds.extend(rng.uniform(self.lower, self.upper, size=(options.restarts, self.dof)))
         data = self.data
-        damping = options.damping * np.eye(6)
-        identity = np.eye(self.dof)
+        damping = options.damping * self._eye6
+        identity = self._eye_dof
         rhs = np.empty((6, 1 + self.dof))  # [err | jac], the right-hand sides of one damped solve
         lower, upper = self.lower, self.upper
         # Names looked up once: an iteration is a dozen short calls, and attribute look-ups were a tenth of it.
@@ -389,7 +391,7 @@ class ArmModel:
                 solved = solve_small(jac @ jac.T + damping, rhs)
                 # Redundancy: drift towards the seed in the null space, so nearby targets get nearby solutions.
                 dq = jac.T @ solved[:, 0] + (identity - jac.T @ solved[:, 1:]) @ (gain * (q0 - q))
-                norm = float(np.abs(dq).max())
+                norm = max(map(abs, dq.tolist()))  # the same value as np.abs(dq).max(), a fifth of the cost
                 if norm > 0.5:  # small steps keep the solution on the seed's branch
                     dq *= 0.5 / norm
                 if step != 1.0:  # a full step: dq itself (1.0 * dq is dq, bit for bit)

@@ -13,7 +13,7 @@ import pytest
 from scone_bt.motion import Obstacle, PickPlacePlan, PlannerOptions
 from scone_bt.motion.collision import CollisionWorld, HandModel, _geometry, interpolated
 from scone_bt.motion.grasp import side_rotation, top_down_rotation
-from scone_bt.motion.model import inverse_small, pose_matrix, solve_small
+from scone_bt.motion.model import IKOptions, inverse_small, pose_matrix, solve_small
 from scone_bt.motion.planner import plan_joint_path
 from tests.motion.test_fallbacks import BOTTLE, JAR, STATIC, _boxed_in, _det, make_planner
 
@@ -138,6 +138,39 @@ def _every_pair(arm, obstacles, padding, fingers, ee_pose, ignore=()):
             if coal.collide(geom, tf, geometry, otf, coal.CollisionRequest(), coal.CollisionResult()):
                 hits.append(ob.name)
     return hits
+
+
+def test_an_obstacles_distance_and_radius_are_numpys_row_norms_bit_for_bit():
+    """`_placed` measures on plain floats what numpy's row norms measured; pair pruning compares these floats."""
+    from scone_bt.motion.collision import _PLACED, _placed
+
+    rng = np.random.default_rng(3)
+    base, first_joint = np.array([0.0, 0.0, 0.02]), np.array([0.0, 0.0, 0.333])
+    for i in range(500):
+        size = tuple(float(v) for v in rng.uniform(0.005, 0.6, 3).round(int(rng.integers(2, 7))))
+        padding = float(rng.choice([0.0, 0.004, 0.01]))
+        ob = Obstacle(f"o{i}", "box", size, _random_pose(rng))
+        placed = _placed(ob, padding, base, first_joint)
+        radius = 0.5 * np.linalg.norm(np.array([ob.size], dtype=float) + 2 * padding, axis=1)
+        distance = np.linalg.norm((np.array([ob.pose[:3, 3]]) - base) - first_joint, axis=1)
+        assert placed.radius == float(radius[0]) and placed.distance == float(distance[0])
+    _PLACED.clear()
+
+
+def test_ik_draws_its_restart_seeds_as_one_draw_per_seed(arm):
+    """IK draws every restart's seed before it starts (the same numbers as one `uniform` call per seed): a solve
+    leaves the plan's generator where it was left before, whichever seed converges."""
+    target = arm.fk((arm.lower + arm.upper) / 2)
+    for restarts in (0, 1, 4, 12):
+        rng, reference = np.random.default_rng(restarts), np.random.default_rng(restarts)
+        seed = np.asarray(arm.config.home, dtype=float)
+        arm.ik(target, seed, rng, IKOptions(restarts=restarts))
+        for _ in range(restarts):
+            reference.uniform(arm.lower, arm.upper)
+        assert rng.bit_generator.state == reference.bit_generator.state
+    draws = np.random.default_rng(9).uniform(arm.lower, arm.upper, size=(12, arm.dof))
+    one_by_one = np.random.default_rng(9)
+    assert all(np.array_equal(row, one_by_one.uniform(arm.lower, arm.upper)) for row in draws)
 
 
 @pytest.mark.parametrize("robot", ["panda", "iiwa7"])
