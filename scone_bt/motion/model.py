@@ -391,7 +391,8 @@ class ArmModel:
                 solved = solve_small(jac @ jac.T + damping, rhs)
                 # Redundancy: drift towards the seed in the null space, so nearby targets get nearby solutions.
                 dq = jac.T @ solved[:, 0] + (identity - jac.T @ solved[:, 1:]) @ (gain * (q0 - q))
-                norm = max(map(abs, dq.tolist()))  # the same value as np.abs(dq).max(), a fifth of the cost
+                # np.abs(dq).max() for a finite step, at a fifth of the cost (a NaN step leaves q NaN either way)
+                norm = max(map(abs, dq.tolist()))
                 if norm > 0.5:  # small steps keep the solution on the seed's branch
                     dq *= 0.5 / norm
                 if step != 1.0:  # a full step: dq itself (1.0 * dq is dq, bit for bit)
