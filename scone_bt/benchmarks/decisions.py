@@ -295,6 +295,10 @@ def _episodes(args: argparse.Namespace, pool: Any) -> dict[str, Any]:
     n = max(totals["decisions"], 1)
     return {
         "episodes": args.episodes,
+        # What the episodes ran with, so a report says which κ̂ its rates belong to.
+        "estimator": args.estimator,
+        "distractors": args.distractors,
+        "relevance_threshold": args.relevance_threshold,
         "recipes": len(set(recipes[: max(args.episodes, 1)])),
         "decisions": totals["decisions"],
         "fetches": totals["fetches"],

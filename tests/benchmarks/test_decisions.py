@@ -148,6 +148,12 @@ def test_jobs_2_reports_what_jobs_1_reports(tmp_path: Path) -> None:
         0,
         1,
     ]  # episode order, not finish order
+    # The report says what the episodes ran with: the benchmark's default κ̂ unless --estimator names another.
+    assert {k: serial["episodes"][k] for k in ("estimator", "distractors", "relevance_threshold")} == {
+        "estimator": "eps-knn",
+        "distractors": 4,
+        "relevance_threshold": None,
+    }
     assert _timeless(parallel) == _timeless(serial)
 
 
