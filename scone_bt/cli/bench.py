@@ -20,7 +20,7 @@ from pathlib import Path
 from scone_bt.checks import check_output_file
 from scone_bt.errors import SconeError
 
-__all__ = ["main", "check_report_path", "BENCHMARK_MODULES"]
+__all__ = ["main", "check_report_path", "interrupted_line", "BENCHMARK_MODULES"]
 
 # One line per benchmark module; its register() adds the subcommands.
 BENCHMARK_MODULES: tuple[str, ...] = (
@@ -93,8 +93,24 @@ def _parser() -> argparse.ArgumentParser:
     return p
 
 
+def _command(args: argparse.Namespace) -> str:
+    """The subcommand as typed: ``sc generate``, ``episode``."""
+    return " ".join(str(v) for v in (args.command, getattr(args, "sc_command", None)) if v)
+
+
+def interrupted_line(args: argparse.Namespace) -> str:
+    """What Ctrl-C leaves behind, in one line: no report; what a resumable benchmark keeps."""
+    line = f"scone-bench {_command(args)}: interrupted; no report was printed"
+    if getattr(args, "json", None):
+        line += f" and --json {args.json} was not written"
+    if _command(args) == "sc generate":
+        # The finished executions are in the profiles' partial files (written atomically after each one).
+        line += f"; the executions finished so far are kept in {args.out}, and the same command resumes them"
+    return line
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of ``scone-bench``; errors print one line and exit with status 2."""
+    """Entry point of ``scone-bench``; errors print one line and exit with status 2, Ctrl-C with 130."""
     args = _parser().parse_args(argv)
     try:
         from scone_bt.extras import require
@@ -105,6 +121,17 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SconeError as exc:
         print(f"scone-bench: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        # The benchmark unwound (its worker pools terminated): one line, never a traceback.
+        print(interrupted_line(args), file=sys.stderr)
+        return 130
+    except Exception as exc:  # a bug, not a result: one line (SCONE_BT_DEBUG=1 shows the traceback)
+        if os.environ.get("SCONE_BT_DEBUG"):
+            raise
+        from scone_bt.checks import internal_error_line
+
+        print(f"scone-bench {_command(args)}: {internal_error_line(exc)}", file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":

@@ -31,3 +31,67 @@ def test_viz_benchmark_prints_and_writes_json(tmp_path, capsys) -> None:
     assert printed == json.loads(out.read_text())
     assert printed["ticks"] == 4
     assert printed["rerun_recorder"]["tick_ms_mean"] > 0
+
+
+def test_a_bug_in_a_benchmark_is_one_line_not_a_traceback(monkeypatch, capsys) -> None:
+    def broken(args: object) -> int:
+        raise ZeroDivisionError("division by zero")
+
+    monkeypatch.delenv("SCONE_BT_DEBUG", raising=False)
+    monkeypatch.setattr("scone_bt.cli.bench._parser", _parser_with({"func": broken}))
+    assert main(["viz", "--ticks", "1"]) == 1
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert err.startswith("scone-bench viz: ZeroDivisionError: division by zero (a program error")
+
+
+def _parser_with(overrides: dict[str, object]):
+    """`_parser`, with the parsed arguments' defaults replaced (e.g. a benchmark's func)."""
+
+    def make():
+        parser = _parser()
+        parser.set_defaults(**overrides)
+        for action in parser._actions:
+            for child in getattr(action, "choices", None) or {}:
+                action.choices[child].set_defaults(**overrides)
+        return parser
+
+    return make
+
+
+@pytest.mark.slow
+def test_ctrl_c_in_sc_generate_is_one_line_and_keeps_the_finished_executions(tmp_path) -> None:
+    """A real Ctrl-C (SIGINT to the whole process group, workers included) once an execution is recorded."""
+    import csv
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+
+    bench = Path(sys.executable).parent / "scone-bench"
+    out = tmp_path / "sc"
+    argv = [str(bench), "sc", "generate", "--profiles", "p00_nominal", "--executions", "40"]
+    argv += ["--workers", "2", "--out", str(out), "--no-progress", "--json", str(tmp_path / "r.json")]
+    proc = subprocess.Popen(
+        argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True
+    )
+    partial = out / ".p00_nominal.partial.csv"
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and proc.poll() is None:
+        if partial.exists() and len(partial.read_text().splitlines()) >= 2:  # a header and one execution
+            break
+        time.sleep(0.1)
+    os.killpg(proc.pid, signal.SIGINT)
+    stdout, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err[-2000:]
+    assert "Traceback" not in err and stdout == "", err[-2000:]
+    assert err.strip() == (
+        f"scone-bench sc generate: interrupted; no report was printed and --json {tmp_path / 'r.json'} was not "
+        f"written; the executions finished so far are kept in {out}, and the same command resumes them"
+    )
+    with partial.open() as f:
+        rows = list(csv.DictReader(f))
+    assert rows and all(r["object"] for r in rows)
+    assert not (tmp_path / "r.json").exists()
