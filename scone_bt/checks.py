@@ -34,13 +34,14 @@ __all__ = [
     "write_atomic",
 ]
 
-OutputKind = Literal["rrd", "json", "csv", "sqlite", "text"]
+OutputKind = Literal["rrd", "json", "csv", "sqlite", "text", "image"]
 OUTPUT_KINDS: dict[str, str] = {
     "rrd": "a rerun recording (.rrd)",
     "json": "a JSON file",
     "csv": "a CSV file",
     "sqlite": "an SQLite file",
     "text": "a text file",
+    "image": "an image (PNG, SVG or PDF)",
 }
 """What each kind of output is called in messages."""
 
@@ -48,6 +49,7 @@ RRD_MAGIC = (b"RRF0", b"RRF1", b"RRF2", b"RRIS")
 """The first four bytes of a rerun recording (file format versions of rerun-sdk 0.x)."""
 
 _SQLITE_MAGIC = b"SQLite format 3\x00"
+_IMAGE_MAGIC = (b"\x89PNG\r\n\x1a\n", b"%PDF-")
 _SNIFF_BYTES = 1 << 20  # a JSON/CSV/text file is judged on its first MiB: an output of ours is small
 _SQLITE_SIDECARS = ("-wal", "-shm", "-journal")
 
@@ -105,7 +107,8 @@ def _head(path: Path, n: int) -> bytes:
 def is_output_kind(path: Path, kind: OutputKind) -> bool:
     """Whether the existing regular file `path` is of `kind` (so overwriting it loses nothing of another kind).
 
-    rrd and sqlite by their magic bytes; json when its text parses as JSON (a JSON Lines file: its first line);
+    rrd, sqlite and image (PNG, PDF, SVG) by their first bytes; json when its text parses as JSON (a JSON Lines
+    file: its first line);
     csv and text when they are UTF-8 text without NUL bytes.
     """
     try:
@@ -119,6 +122,8 @@ def is_output_kind(path: Path, kind: OutputKind) -> bool:
         return head[:4] in RRD_MAGIC
     if kind == "sqlite":
         return head.startswith(_SQLITE_MAGIC)
+    if kind == "image":  # PNG and PDF by their magic, SVG by its root element near the start
+        return head.startswith(_IMAGE_MAGIC) or b"<svg" in head[:4096]
     try:
         text = head.decode("utf-8")
     except UnicodeDecodeError as exc:

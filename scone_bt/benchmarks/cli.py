@@ -19,7 +19,11 @@ def _core(args: argparse.Namespace) -> int:
 
 def _viz(args: argparse.Namespace) -> int:
     from scone_bt.benchmarks.viz import main
+    from scone_bt.checks import check_output_file
 
+    if args.save_demo is not None:  # before the episodes run: the file a user names is not lost to the demo
+        inputs = {"--json": [args.json]} if args.json is not None else {}
+        check_output_file(args.save_demo, "--save-demo", kind="rrd", inputs=inputs, force=args.force)
     return main(args)
 
 
@@ -40,4 +44,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     v.add_argument("--seed", type=int, default=0)
     v.add_argument("--save-demo", type=Path, help="keep the recording here (else a temporary file)")
     v.add_argument("--json", type=Path, help="also write the JSON report to this file")
+    v.add_argument(
+        "--force",
+        action="store_true",
+        help="let --save-demo or --json replace an existing file of another kind",
+    )
     v.set_defaults(func=_viz)

@@ -41,6 +41,7 @@ from typing import Any
 import numpy as np
 
 from scone_bt.experience.types import CONTEXT_FIELDS
+from scone_bt.files import write_via
 from scone_bt.reporting import emit_report
 
 __all__ = ["register", "StreamResult", "replay_stream", "TARGETS"]
@@ -347,8 +348,27 @@ def _plot(report: dict[str, Any], path: Path) -> None:
     right.grid(alpha=0.3)
     right.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    try:  # an existing figure stays whole until the new one is complete
+        write_via(path, lambda tmp: fig.savefig(tmp, dpi=110))
+    finally:
+        plt.close(fig)
+
+
+PLOT_SUFFIXES = (".png", ".svg", ".pdf")
+"""The figure formats --plot writes, by the file's suffix."""
+
+
+def check_plot_path(path: Path, inputs: dict[str, list[Path]], force: bool) -> None:
+    """--plot before any work: a file of a known figure format, not an input, nothing else overwritten."""
+    from scone_bt.checks import check_output_file
+    from scone_bt.errors import SconeError
+
+    if path.suffix.lower() not in PLOT_SUFFIXES and not path.is_dir():
+        raise SconeError(
+            f"--plot {path}: unknown figure format {path.suffix or '(no suffix)'!r}; "
+            f"give a file ending in one of {', '.join(PLOT_SUFFIXES)}"
+        )
+    check_output_file(path, "--plot", kind="image", inputs=inputs, force=force)
 
 
 def _episode_counts(events: Sequence[Any]) -> dict[str, Any]:
@@ -537,6 +557,10 @@ def _run(args: argparse.Namespace) -> int:
 
     for e in estimators:
         _check_estimator(e)
+    if args.plot is not None:
+        from scone_bt.cli.bench import _inputs
+
+        check_plot_path(args.plot, _inputs(args, ("plot", "json")), bool(getattr(args, "force", False)))
     report: dict[str, Any] = {
         "benchmark": "gate",
         "seed": args.seed,
@@ -549,9 +573,9 @@ def _run(args: argparse.Namespace) -> int:
     if args.episodes:
         report["episodes"] = _episodes(args)
     report["wall_s"] = round(time.perf_counter() - started, 1)
+    emit_report(report, args.json)  # the report first: a figure that cannot be drawn loses no numbers
     if args.plot is not None:
         _plot(report, args.plot)
-    emit_report(report, args.json)
     return 0
 
 
@@ -590,5 +614,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     p.add_argument("--json", type=Path, help="also write the JSON report to this file")
-    p.add_argument("--plot", type=Path, help="write the curves as a PNG")
+    p.add_argument("--plot", type=Path, help="write the curves as a figure (.png, .svg or .pdf)")
+    p.add_argument(
+        "--force", action="store_true", help="let --json or --plot replace an existing file of another kind"
+    )
     p.set_defaults(func=_run)

@@ -12,7 +12,6 @@ Target (issue 8): logging adds at most 20% to a headless episode tick.
 from __future__ import annotations
 
 import argparse
-import json
 import tempfile
 import time
 from pathlib import Path
@@ -25,6 +24,7 @@ from scone_bt.gate.types import Decision, DecisionKind
 from scone_bt.motion.types import TimedTrajectory
 from scone_bt.perception.camera import Camera
 from scone_bt.perception.detector import Detector
+from scone_bt.reporting import emit_report
 from scone_bt.viz import NullRecorder, RecipeView, Recorder, TickSnapshot
 from scone_bt.world import Kitchen
 
@@ -190,7 +190,7 @@ def main(args: argparse.Namespace) -> int:
     # Wall times and all-thread CPU seconds (rerun's writer threads included) are reported beside it.
     overhead = rec["log_cpu_ms_mean"] / rec["episode_work_cpu_ms_mean"]
     overhead_wall = rec["log_ms_mean"] / rec["episode_work_ms_mean"]
-    text = json.dumps(
+    emit_report(
         {
             "benchmark": "viz_logging_overhead",
             "ticks": args.ticks,
@@ -207,9 +207,7 @@ def main(args: argparse.Namespace) -> int:
             "target_pct": 20.0,
             "meets_target": overhead <= 0.20,
         },
-        indent=2,
+        args.json,
+        force=bool(getattr(args, "force", False)),
     )
-    print(text)
-    if args.json:
-        Path(args.json).write_text(text + "\n")
     return 0

@@ -73,6 +73,7 @@ import argparse  # noqa: E402 - after the SIGINT handler, on purpose
 import contextlib  # noqa: E402
 import logging  # noqa: E402
 import shlex  # noqa: E402
+import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 from scone_bt.checks import internal_error_line  # noqa: E402
@@ -533,7 +534,35 @@ def viewer_command(recording: Path) -> str:
 
 
 def _interrupted_line(args: argparse.Namespace | None) -> str:
-    """What an interrupt leaves: nothing (no store), or how many outcomes of this run the store holds."""
+    """What an interrupt leaves: nothing (no store), or how many outcomes of this run the store holds; and where
+    the recording so far is (with --save)."""
+    return _stored_clause(args) + _recording_clause(args)
+
+
+def _recording_clause(args: argparse.Namespace | None) -> str:
+    """With --save: where the recording of the interrupted run went (`Recorder.close(complete=False)`: to the
+    path, or beside a recording already there), or that none was begun."""
+    save = getattr(args, "save", None) if args is not None else None
+    if save is None:
+        return ""
+    from scone_bt.viz.save import unfinished_path
+
+    for path in (unfinished_path(save), save):
+        try:
+            written = path.stat().st_mtime >= _STARTED_AT
+        except OSError:
+            continue
+        if written:
+            kept = f" ({save}, the recording before it, is untouched)" if path != save else ""
+            return f"; the recording so far is in {path}{kept}"
+    return "; no recording was begun"
+
+
+_STARTED_AT = time.time()
+"""When this process started (a recording newer than this is this run's)."""
+
+
+def _stored_clause(args: argparse.Namespace | None) -> str:
     spec = getattr(args, "experience", None) if args is not None else None
     if spec is None:
         return f"{_PROG}: interrupted; nothing was stored (no --experience store)"

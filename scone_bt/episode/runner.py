@@ -545,6 +545,7 @@ def run_episode(
             )
         sinks = (timing, *((on_event,) if on_event is not None else ()))
         ep = _build(options, plan, built, resources, say, sinks, human_factory, hook, clock)
+        complete = False
         try:
             ep.tree.setup(timeout=120)
             recorder = _make_recorder(options)
@@ -556,8 +557,10 @@ def run_episode(
                 ep, ticks, control_ticks, clock, started, first_decision[0] if first_decision else None
             )
             ep.tree.shutdown()
+            complete = True
             return summary
         finally:
             if recorder is not None:
-                recorder.close()
+                # A run that ended early (an interrupt, an error) never replaces an existing recording.
+                recorder.close(complete=complete)
             py_trees.blackboard.Blackboard.clear()

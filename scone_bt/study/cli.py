@@ -346,7 +346,17 @@ def _session(args: argparse.Namespace) -> int:
         raise SconeError(f"--distractors {args.distractors}: must be 0 or more")
     checks.check_output_file(args.db, "--db")
     if isinstance(args.experience, Path):
-        checks.check_output_file(args.experience, "--experience")
+        # The study log and the robot's store are two databases: one file cannot be both.
+        checks.check_output_file(
+            args.experience, "--experience", inputs={"--db": checks.sqlite_files(args.db)}
+        )
+        if args.experience.exists():  # a file of another kind is refused now, not after the session began
+            from scone_bt.experience import open_store
+
+            try:
+                open_store(args.experience).close()
+            except SconeError as exc:
+                raise SconeError(f"--experience {exc}") from None
     load_robot(args.arm)
     load_recipe(args.recipe)
     options = EpisodeOptions(

@@ -30,7 +30,7 @@ class NullRecorder:
     def flush(self) -> None:
         """Do nothing."""
 
-    def close(self) -> None:
+    def close(self, complete: bool = True) -> None:
         """Do nothing."""
 
     def __enter__(self) -> NullRecorder:

@@ -39,6 +39,7 @@ from scone_bt.viz.render import (
     slug,
     tree_text,
 )
+from scone_bt.viz.save import unfinished_path
 from scone_bt.viz.snapshot import AffordanceRow, Pose, RecipeView, TickSnapshot
 from scone_bt.viz.urdf_visuals import GEOMETRY_SOURCES, RobotVisuals, read_robot_visuals
 
@@ -48,7 +49,13 @@ if TYPE_CHECKING:
     from scone_bt.perception.types import Detection, Frame
     from scone_bt.viz.scene import SceneView
 
-__all__ = ["Recorder", "STREAM_FLUSH_TIMEOUT_S", "VIEWER_CHECK_PERIOD_S", "VIEWER_STALL_TIMEOUT_S"]
+__all__ = [
+    "Recorder",
+    "STREAM_FLUSH_TIMEOUT_S",
+    "VIEWER_CHECK_PERIOD_S",
+    "VIEWER_STALL_TIMEOUT_S",
+    "unfinished_path",
+]
 
 APPLICATION_ID = "scone_bt"
 STREAM_FLUSH_TIMEOUT_S = 3.0
@@ -176,7 +183,9 @@ class Recorder:
     """Streams a SCONE-BT run to rerun: a `.rrd` file, a spawned viewer and/or a running viewer.
 
     Args:
-        save: Write the recording to this `.rrd` file.
+        save: Write the recording to this `.rrd` file. It is written beside it and renamed into place when the
+            recorder closes, so a recording already there stays whole until then; a run that ends early (an
+            interrupt, an error) never replaces one: its recording goes beside it (`unfinished_path`).
         spawn_viewer: Start a native viewer and stream to it live.
         connect: Stream to a running viewer at this gRPC address (e.g. rerun+http://127.0.0.1:9876/proxy or
             host:port).
@@ -229,10 +238,16 @@ class Recorder:
         self._viewer_urls = tuple(urls)
         if self._view_rec is not None:  # the viewer first: if it fails, no file was begun
             self._attach_viewer(blueprint)
+        self._sink_path: Path | None = None
+        self.saved_to: Path | None = None
+        """Where the recording is once closed (`save`, or `unfinished_path(save)` after a run ended early)."""
         if self.save_path is not None:
+            from scone_bt.files import temporary_beside
+
             self.save_path.parent.mkdir(parents=True, exist_ok=True)
+            self._sink_path = temporary_beside(self.save_path, ".rrd")
             self._file_rec = self._stream()
-            self._file_rec.set_sinks(rr.FileSink(str(self.save_path)), default_blueprint=blueprint)
+            self._file_rec.set_sinks(rr.FileSink(str(self._sink_path)), default_blueprint=blueprint)
         self._rec: Any = self._routing()
         self._viewer_checked_at = time.monotonic()
         self._closed = False
@@ -392,8 +407,13 @@ class Recorder:
             self._file_rec.flush(timeout_sec=1e38)
         return ok
 
-    def close(self) -> None:
-        """Flush everything to the sinks and finish the `.rrd` (closing twice is harmless)."""
+    def close(self, complete: bool = True) -> None:
+        """Flush everything to the sinks and finish the `.rrd` (closing twice is harmless).
+
+        Args:
+            complete: The run ended as it should; False (an interrupt, an error): the recording replaces no
+                existing file at `save` and goes to `unfinished_path(save)` instead.
+        """
         if self._closed:
             return
         self._closed = True
@@ -411,13 +431,25 @@ class Recorder:
             self._view_rec = None
         if self._file_rec is not None:
             self._file_rec.disconnect()
+            self.saved_to = self._put_in_place(complete)
         self._rec = _Nowhere()
+
+    def _put_in_place(self, complete: bool) -> Path:
+        """Rename the finished file to `save` (or, for a run that ended early, beside an existing one)."""
+        from scone_bt.files import replace_with
+
+        assert self.save_path is not None and self._sink_path is not None
+        target = self.save_path
+        if not complete and target.exists():
+            target = unfinished_path(target)
+        replace_with(target, self._sink_path)
+        return target
 
     def __enter__(self) -> Recorder:
         return self
 
-    def __exit__(self, *exc: object) -> None:
-        self.close()
+    def __exit__(self, exc_type: object, *exc: object) -> None:
+        self.close(complete=exc_type is None)
 
     # ------------------------------------------------------------------------------------------ pieces
     def _stream(self) -> Any:

@@ -204,3 +204,58 @@ def test_the_budget_gate_never_attempts_what_is_wider_than_its_gripper(
     _use(monkeypatch, paper)
     replay_stream(vectors, _context(widths), success, names, "x", "paper", 0.15, 0, 0, OPENING_M)
     assert [i for i, _ in paper.learnt] == [0, 1, 2, 3]  # the paper's gate has no such rule
+
+
+@pytest.mark.parametrize(
+    ("name", "content", "expected"),
+    [
+        ("figure.txt", None, "unknown figure format '.txt'; give a file ending in one of .png, .svg, .pdf"),
+        ("folder.png", "dir", "is a folder; give a file path"),
+        ("data.png", "a,b\n1,2\n", "exists and is not an image (PNG, SVG or PDF); it is not overwritten"),
+    ],
+)
+def test_a_bad_plot_path_is_refused_before_the_replay_runs(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    name,
+    content,
+    expected,
+) -> None:
+    import scone_bt.benchmarks.gate as gate
+
+    monkeypatch.setattr(gate, "_replay", lambda *a: pytest.fail("the replay ran"))
+    plot = tmp_path / name
+    if content == "dir":
+        plot.mkdir()
+    elif content is not None:
+        plot.write_text(content)
+    assert main(["gate", "--plot", str(plot)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and expected in err, err
+    if content not in (None, "dir"):
+        assert plot.read_text() == content  # never overwritten
+
+
+def test_the_report_is_out_before_the_figure_and_a_figure_replaces_only_a_figure(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    import scone_bt.benchmarks.gate as gate
+
+    def broken(report: object, path: Path) -> None:
+        raise RuntimeError("cannot draw")
+
+    argv = ["gate", "--no-replay", "--json", str(tmp_path / "g.json"), "--plot", str(tmp_path / "g.png")]
+    monkeypatch.setattr(gate, "_plot", broken)
+    monkeypatch.delenv("SCONE_BT_DEBUG", raising=False)
+    assert main(argv) == 1  # a program error, one line
+    assert json.loads(capsys.readouterr().out)["benchmark"] == "gate"
+    assert json.loads((tmp_path / "g.json").read_text())["benchmark"] == "gate"
+    monkeypatch.undo()
+    old = tmp_path / "old.svg"
+    old.write_text('<?xml version="1.0"?>\n<svg xmlns="http://www.w3.org/2000/svg"></svg>\n')
+    old.chmod(0o640)
+    report = {"methods": {}, "budget_promise": {}}
+    gate._plot(report, old)  # an empty figure is still a figure
+    assert "<svg" in old.read_text() and (old.stat().st_mode & 0o777) == 0o640
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["g.json", "old.svg"]  # no temporary left

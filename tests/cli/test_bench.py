@@ -95,3 +95,16 @@ def test_ctrl_c_in_sc_generate_is_one_line_and_keeps_the_finished_executions(tmp
         rows = list(csv.DictReader(f))
     assert rows and all(r["object"] for r in rows)
     assert not (tmp_path / "r.json").exists()
+
+
+def test_save_demo_never_overwrites_another_kind_of_file(tmp_path, capsys) -> None:
+    victim = tmp_path / "p00_nominal.csv"
+    victim.write_text("index,action\n0,Put salt on table\n")
+    assert main(["viz", "--ticks", "2", "--save-demo", str(victim)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--save-demo" in err and "is not a rerun recording" in err, err
+    assert victim.read_text() == "index,action\n0,Put salt on table\n"
+    assert (
+        main(["viz", "--ticks", "2", "--save-demo", str(tmp_path), "--json", str(tmp_path / "v.json")]) == 2
+    )
+    assert "is a folder" in capsys.readouterr().err and not (tmp_path / "v.json").exists()

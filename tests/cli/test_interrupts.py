@@ -19,6 +19,9 @@ SCONE_RUN = Path(sys.executable).parent / "scone-run"
 LINE = re.compile(
     r"scone-run: interrupted; (?:nothing was stored.*|(?P<n>\d+) outcomes? of this run (?:is|are) in (?P<store>.+))"
 )
+RECORDING = re.compile(
+    r".*; the recording so far is in (?P<path>\S+)(?P<kept> \(.+, the recording before it, is untouched\))?"
+)
 TINY = "id: tiny\ntitle: Tiny\ningredients: [salt]\nsteps: [Season with salt.]\n"
 
 pytestmark = pytest.mark.skipif(not SCONE_RUN.is_file(), reason="scone-run is not installed beside Python")
@@ -81,3 +84,33 @@ def test_ctrl_c_after_an_outcome_counts_it(tmp_path):
             proc.send_signal(signal.SIGINT)
             break
     assert _check(proc, store) >= 1
+
+
+@pytest.mark.slow
+def test_ctrl_c_never_replaces_the_recording_a_save_would_overwrite(tmp_path):
+    """--save over the last run's recording, interrupted once this run's recording has begun: the old file is
+    untouched and the line names where this run's recording went (beside it)."""
+    save = tmp_path / "run.rrd"
+    before = b"RRF2" + b"the previous run" * 100
+    save.write_bytes(before)
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    argv = [str(SCONE_RUN), "--robot", "sim", "--headless", "--seed", "0", "--quiet", "--save", str(save)]
+    proc = subprocess.Popen(
+        argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, cwd=tmp_path
+    )
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and proc.poll() is None:
+        begun = [p for p in tmp_path.glob(".run.rrd.*.rrd") if p.stat().st_size > 0]
+        if begun:
+            break
+        time.sleep(0.05)
+    time.sleep(0.3)
+    proc.send_signal(signal.SIGINT)
+    _out, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130 and "Traceback" not in err, err[-2000:]
+    match = RECORDING.fullmatch(err.strip())
+    assert match and match["kept"], err
+    assert save.read_bytes() == before
+    unfinished = tmp_path / "run.unfinished.rrd"
+    assert Path(match["path"]) == unfinished and unfinished.read_bytes()[:3] == b"RRF"
+    assert not list(tmp_path.glob(".run.rrd.*"))  # the temporary file became the unfinished recording

@@ -87,3 +87,25 @@ def test_errors_are_one_line(argv, message, capsys, tmp_path, monkeypatch):
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith("scone-study: error:") and message in err and "\n" not in err
+
+
+@pytest.mark.parametrize("experience", ["same", "study-log"])
+def test_a_store_that_cannot_be_one_is_refused_before_a_session_row_exists(tmp_path, capsys, experience):
+    """--experience naming the study log itself, or another study log: one line, and no session recorded."""
+    import sqlite3
+
+    from scone_bt.study.log import StudyLog
+
+    db = tmp_path / "s.db"
+    StudyLog(db).close()
+    other = tmp_path / "other.db"
+    StudyLog(other).close()
+    store = db if experience == "same" else other
+    argv = ["session", "--db", str(db), "--experience", str(store), "--participant", "P01", "--group", "A"]
+    assert main([*argv, "--session", "1", "--no-questionnaire"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("scone-study: error: --experience"), err
+    assert ("is the --db input" if experience == "same" else "SQLite database of something else") in err
+    for path in (db, other):
+        with sqlite3.connect(f"file:{path}?mode=ro", uri=True) as conn:
+            assert conn.execute("SELECT COUNT(*) FROM sessions").fetchone()[0] == 0

@@ -251,3 +251,41 @@ def test_quiet_ticks_are_still_recorded(tmp_path):
         rec.log_tick(TickSnapshot(tick=5, sim_time=1.0))
         rec.log_tick(TickSnapshot(tick=6, sim_time=1.0))  # planning: simulated time stands still
     assert summarize_recording(path).ticks == (5, 6)
+
+
+def _log_something(rec: Recorder) -> None:
+    rec.log_tick(TickSnapshot(tick=0, sim_time=0.0))
+    rec.flush()
+
+
+def test_a_recording_replaces_the_file_only_when_it_is_complete(tmp_path):
+    from scone_bt.checks import is_output_kind
+
+    save = tmp_path / "run.rrd"
+    save.write_bytes(b"RRF2 the previous run")
+    rec = Recorder(save=save, robot_geometry="collision")
+    _log_something(rec)
+    assert save.read_bytes() == b"RRF2 the previous run"  # written beside it meanwhile
+    rec.close()
+    assert rec.saved_to == save and is_output_kind(save, "rrd") and save.stat().st_size > 100
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.rrd"]  # no temporary file left
+
+
+def test_a_run_that_ended_early_never_replaces_a_recording(tmp_path):
+    save = tmp_path / "run.rrd"
+    save.write_bytes(b"RRF2 the previous run")
+    (tmp_path / "run.unfinished.rrd").write_text("my notes, not a recording")
+    with pytest.raises(KeyboardInterrupt), Recorder(save=save, robot_geometry="collision") as rec:
+        _log_something(rec)
+        raise KeyboardInterrupt
+    assert save.read_bytes() == b"RRF2 the previous run"
+    assert rec.saved_to == tmp_path / "run.unfinished-2.rrd"  # beside both, overwriting neither
+    assert (tmp_path / "run.unfinished.rrd").read_text() == "my notes, not a recording"
+    assert rec.saved_to.stat().st_size > 100
+    # Without a recording there, the unfinished one takes its place (nothing to lose).
+    fresh = tmp_path / "fresh.rrd"
+    rec = Recorder(save=fresh, robot_geometry="collision")
+    _log_something(rec)
+    rec.close(complete=False)
+    assert rec.saved_to == fresh and fresh.stat().st_size > 100
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
