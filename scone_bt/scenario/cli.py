@@ -2,7 +2,7 @@
 
     scone-scenario run scenarios/ [--jobs 2] [--junit report.xml] [--out runs/scenarios] [-k PATTERN] [-t TAG]
     scone-scenario check scenarios/          # validate only
-    scone-scenario schema [FILE]             # the JSON Schema of a scenario file
+    scone-scenario schema [FILE] [--force]   # the JSON Schema of a scenario file
 
 Exit status: 0 when every case passed or failed as expected, 1 when one failed (or passed against its
 ``expected: fail``), 2 for bad input (one line).
@@ -11,7 +11,9 @@ Exit status: 0 when every case passed or failed as expected, 1 when one failed (
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
+import re
 import sys
 import time
 from collections.abc import Sequence
@@ -47,11 +49,98 @@ def _parser() -> argparse.ArgumentParser:
     )
     r.add_argument("--skip-tag", action="append", default=[], help="leave out cases tagged so")
     r.add_argument("--quiet", action="store_true", help="no progress lines")
+    r.add_argument(
+        "--force", action="store_true", help="replace an existing --junit file that is not a JUnit report"
+    )
     c = sub.add_parser("check", help="validate scenario files without running them")
     c.add_argument("paths", nargs="+")
     s = sub.add_parser("schema", help="print (or write) the JSON Schema of a scenario file")
     s.add_argument("file", nargs="?", type=Path, default=None)
+    s.add_argument(
+        "--force", action="store_true", help="replace an existing FILE that is not JSON (never a YAML file)"
+    )
     return p
+
+
+_JUNIT_HEAD = re.compile(r"\A\ufeff?\s*(<\?xml[^>]*\?>\s*)?(<!--.*?-->\s*)*<testsuites?[\s/>]", re.DOTALL)
+_SNIFF = 64 * 1024  # a JUnit report is recognised by its root element, within its first bytes
+
+
+def is_junit_report(path: Path) -> bool:
+    """Whether the existing file `path` is empty or a JUnit XML report (root element testsuites or testsuite)."""
+    try:
+        with path.open("rb") as f:
+            head = f.read(_SNIFF)
+    except OSError:
+        return False
+    text = head.decode("utf-8", errors="replace")
+    return not head or _JUNIT_HEAD.match(text) is not None
+
+
+def _scenario_inputs(paths: Sequence[str], cases: Sequence[object]) -> list[Path]:
+    """The run's input files: the scenario files, and the robot, kitchen, recipe... files they name."""
+    from scone_bt.scenario.model import profile_path, resolve_input, scenario_files
+
+    files = list(scenario_files(paths))
+    for case in cases:
+        w, base = case.spec.world, case.base  # type: ignore[attr-defined]
+        for ref in (w.arm, w.kitchen, w.recipe, w.tree, *w.catalogues):
+            if Path(resolved := resolve_input(ref, base)).is_file():
+                files.append(Path(resolved))
+        if case.spec.robot.profile is not None:  # type: ignore[attr-defined]
+            with contextlib.suppress(SconeError):  # an unknown profile is the case's own error when it runs
+                files.append(profile_path(case.spec.robot.profile, base))  # type: ignore[attr-defined]
+    return files
+
+
+def check_junit(path: Path, inputs: Sequence[Path], force: bool) -> Path:
+    """Refuse a --junit path that would destroy something, before any case runs (one line each).
+
+    Not a folder or device, not one of the run's inputs (even with --force), not an existing file other than a
+    JUnit report (unless --force), its folder writable.
+    """
+    from scone_bt.checks import check_output_file
+
+    # checks.py has no XML kind: the generic checks there, the JUnit kind here
+    check_output_file(path, "--junit", inputs={"scenario": inputs}, force=force)
+    if path.exists() and not force and not is_junit_report(path):
+        raise SconeError(
+            f"--junit {path}: exists and is not a JUnit XML report; it is not overwritten "
+            "(give another path, or --force to replace it)"
+        )
+    return path
+
+
+_SCENARIO_SUFFIXES = (".yaml", ".yml")
+
+
+def _is_json_schema(path: Path) -> bool:
+    """Whether `path` holds a JSON Schema (a JSON object with "$schema"), as this command writes."""
+    try:
+        if path.stat().st_size > 16 * 1024 * 1024:
+            return False  # no schema of ours is this large; do not read it to find out
+        data = json.loads(path.read_bytes())
+    except (OSError, ValueError):
+        return False
+    return isinstance(data, dict) and "$schema" in data
+
+
+def check_schema_file(path: Path, force: bool) -> Path:
+    """Refuse a schema FILE that would destroy something: a folder, device, an existing non-JSON file (unless
+    --force), and a YAML file (a scenario, perhaps) that is not a JSON Schema, even with --force."""
+    from scone_bt.checks import check_output_file
+
+    if (
+        path.is_file()
+        and path.suffix.lower() in _SCENARIO_SUFFIXES
+        and path.stat().st_size > 0
+        and not _is_json_schema(path)
+    ):
+        raise SconeError(
+            f"schema {path}: is a YAML file (a scenario file, perhaps); the schema never replaces it, "
+            "give another path (e.g. scenario.schema.json)"
+        )
+    return check_output_file(path, "schema", kind="json", force=force)
 
 
 def summary_table(results: Sequence[object]) -> str:
@@ -104,14 +193,19 @@ def _wrap(suite: ET.Element) -> ET.Element:
 
 
 def _run(args: argparse.Namespace) -> int:
+    from scone_bt.checks import check_output_dir
     from scone_bt.scenario.model import load_scenarios
-    from scone_bt.scenario.run import run_cases
+    from scone_bt.scenario.run import WORKER_DIED, Verdict, run_cases
 
     if args.out is None:
         args.out = args.junit.parent if args.junit is not None else Path("runs/scenarios")
     if args.jobs < 1:
         raise SconeError(f"--jobs {args.jobs}: give 1 or more")
     cases = load_scenarios(args.paths)
+    # the outputs are checked before any case runs: a bad path found after the run would lose every result
+    if args.junit is not None:
+        check_junit(args.junit, _scenario_inputs(args.paths, cases), args.force)
+    check_output_dir(args.out, "--out")
     if args.select:
         cases = [c for c in cases if args.select in c.name]
         if not cases:
@@ -160,8 +254,25 @@ def _run(args: argparse.Namespace) -> int:
         f"in {wall:.1f} s wall"
     )
     if args.junit is not None:
-        args.junit.parent.mkdir(parents=True, exist_ok=True)
-        args.junit.write_bytes(junit_xml(results, wall))
+        from scone_bt.files import write_atomic
+
+        try:
+            args.junit.parent.mkdir(parents=True, exist_ok=True)
+            write_atomic(
+                args.junit, junit_xml(results, wall)
+            )  # an interrupted write leaves the old report whole
+        except OSError as exc:  # checked before the run, so only a full disk or the like is left
+            raise SconeError(
+                f"--junit {args.junit}: cannot write it ({exc.strerror or exc}); the results are in the summary above"
+            ) from None
+    lost = [r.name for r in results if r.verdict == Verdict.ERROR and r.reason == WORKER_DIED]
+    if lost:
+        shown = ", ".join(lost[:10]) + (f" and {len(lost) - 10} more" if len(lost) > 10 else "")
+        print(
+            f"scone-scenario: a worker process died (e.g. killed or out of memory); {len(lost)} "
+            f"case{'s' if len(lost) > 1 else ''} did not run to the end: {shown}",
+            file=sys.stderr,
+        )
     return 0 if all(r.ok for r in results) else 1
 
 
@@ -179,11 +290,18 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 0
         from scone_bt.scenario.model import json_schema
 
+        if args.file is not None:
+            check_schema_file(args.file, args.force)
         text = json.dumps(json_schema(), indent=2, ensure_ascii=False) + "\n"
         if args.file is None:
             sys.stdout.write(text)
         else:
-            args.file.write_text(text, encoding="utf-8")
+            from scone_bt.files import write_atomic
+
+            try:
+                write_atomic(args.file, text)
+            except OSError as exc:  # checked above, so only a full disk or the like is left
+                raise SconeError(f"schema {args.file}: cannot write it ({exc.strerror or exc})") from None
         return 0
     except SconeError as exc:
         print(f"scone-scenario: {exc}", file=sys.stderr)

@@ -42,7 +42,9 @@ __all__ = [
     "ScenarioHook",
     "Verdict",
     "episode_options",
+    "WORKER_DIED",
     "event_json",
+    "lost_case",
     "run_case",
     "run_cases",
     "safe_name",
@@ -427,16 +429,44 @@ def run_cases(
     else:
         import concurrent.futures as cf
         import multiprocessing as mp
+        from concurrent.futures.process import BrokenProcessPool
 
         ctx = mp.get_context("spawn")  # no forked PyBullet or torch state
         with cf.ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
-            futures = {pool.submit(_worker_run, case, out_dir): i for i, case in enumerate(cases)}
+            futures: dict[cf.Future[CaseResult], int] = {}
+            try:
+                for i, case in enumerate(cases):
+                    futures[pool.submit(_worker_run, case, out_dir)] = i
+            except BrokenProcessPool:
+                pass  # a worker died already: the cases not submitted are reported lost below
             for fut in cf.as_completed(futures):
                 i = futures[fut]
-                results[i] = fut.result()
+                try:
+                    results[i] = fut.result()
+                except BrokenProcessPool:
+                    # one killed worker (kill -9, the out-of-memory killer) breaks the whole pool: the cases
+                    # that finished keep their results, every other one is an error, not a lost run
+                    results[i] = lost_case(cases[i])
+                if on_result is not None:
+                    on_result(results[i])
+        for i, case in enumerate(cases):
+            if i not in results:
+                results[i] = lost_case(case)
                 if on_result is not None:
                     on_result(results[i])
     return [results[i] for i in range(len(cases))]
+
+
+WORKER_DIED = (
+    "a worker process died (killed, e.g. by kill -9 or the out-of-memory killer) before this case finished; "
+    "it did not run to the end: run it again, with fewer --jobs if memory is short"
+)
+"""The reason of a case lost with its worker process."""
+
+
+def lost_case(case: Case) -> CaseResult:
+    """The error result of a case whose worker process died before it finished."""
+    return CaseResult(case.name, str(case.path), Verdict.ERROR, WORKER_DIED)
 
 
 _MODELS: Any = None

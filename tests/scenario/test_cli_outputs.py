@@ -1,0 +1,178 @@
+"""The outputs of ``scone-scenario``: --junit and the schema FILE are checked before anything runs and never
+replace a scenario (or any other) file; a killed worker process loses only the cases it had not finished."""
+
+from __future__ import annotations
+
+import os
+import xml.etree.ElementTree as ET
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from scone_bt.scenario import cli, model, run
+from scone_bt.scenario.cli import main
+
+TINY = "description: A short run that does not finish the recipe.\nworld: {max_ticks: 20}\nexpect:\n  - {completes: false}\n"
+
+
+def _scenario(tmp_path: Path, name: str = "a.yaml") -> Path:
+    path = tmp_path / name
+    path.write_text(TINY, encoding="utf-8")
+    return path
+
+
+def _no_case_runs(monkeypatch: pytest.MonkeyPatch) -> None:
+    def refuse(*args: Any, **kwargs: Any) -> None:
+        raise AssertionError("a case ran although an output path is bad")
+
+    monkeypatch.setattr(run, "run_cases", refuse)
+
+
+def _one_line(capsys: pytest.CaptureFixture[str]) -> str:
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and err.count("\n") == 1, err
+    return err
+
+
+def test_junit_that_is_the_scenario_file_is_refused_even_with_force(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = _scenario(tmp_path)
+    _no_case_runs(monkeypatch)
+    for extra in ([], ["--force"]):
+        assert main(["run", str(path), "--junit", str(path), *extra]) == 2
+        assert _one_line(capsys).startswith(
+            f"scone-scenario: --junit {path}: is the scenario input of this run"
+        )
+    # the folder named instead of the file: its scenario files are inputs all the same
+    assert main(["run", str(tmp_path), "--junit", str(path), "--force"]) == 2
+    assert "is the scenario input of this run" in _one_line(capsys)
+    assert path.read_text(encoding="utf-8") == TINY
+
+
+def test_junit_folder_device_and_other_files_are_refused_before_any_case_runs(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = _scenario(tmp_path)
+    _no_case_runs(monkeypatch)
+    folder = tmp_path / "somedir"
+    folder.mkdir()
+    assert main(["run", str(path), "--junit", str(folder)]) == 2
+    assert "is a folder" in _one_line(capsys)
+    assert main(["run", str(path), "--junit", os.devnull]) == 2
+    assert "not a file" in _one_line(capsys)
+    notes = tmp_path / "notes.xml"
+    notes.write_text("<robot name='arm'/>\n", encoding="utf-8")  # XML, but not a JUnit report
+    assert main(["run", str(path), "--junit", str(notes)]) == 2
+    err = _one_line(capsys)
+    assert "is not a JUnit XML report" in err and "--force" in err
+    assert notes.read_text(encoding="utf-8") == "<robot name='arm'/>\n"
+    blocker = tmp_path / "file"
+    blocker.write_text("x", encoding="utf-8")
+    assert main(["run", str(path), "--junit", str(blocker / "j.xml")]) == 2
+    assert "is a file, not a folder" in _one_line(capsys)
+
+
+def test_junit_report_is_replaced_and_force_replaces_another_file(tmp_path: Path) -> None:
+    report = tmp_path / "old.xml"
+    report.write_text("<?xml version='1.0'?>\n<!-- ci -->\n<testsuites><testsuite name='x'/></testsuites>\n")
+    assert cli.is_junit_report(report)
+    assert cli.check_junit(report, [], force=False) == report
+    other = tmp_path / "notes.txt"
+    other.write_text("keep me\n")
+    assert not cli.is_junit_report(other)
+    assert cli.check_junit(other, [], force=True) == other
+    empty = tmp_path / "empty.xml"
+    empty.touch()
+    assert cli.is_junit_report(empty)
+
+
+def test_schema_never_replaces_a_scenario_file_and_asks_force_for_other_files(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = _scenario(tmp_path)
+    for extra in ([], ["--force"]):
+        assert main(["schema", str(path), *extra]) == 2
+        err = _one_line(capsys)
+        assert err.startswith(f"scone-scenario: schema {path}: is a YAML file") and "never replaces it" in err
+    assert path.read_text(encoding="utf-8") == TINY
+    notes = tmp_path / "notes.txt"
+    notes.write_text("keep me\n", encoding="utf-8")
+    assert main(["schema", str(notes)]) == 2
+    assert "is not a JSON file" in _one_line(capsys) and notes.read_text(encoding="utf-8") == "keep me\n"
+    assert main(["schema", str(tmp_path)]) == 2
+    assert "is a folder" in _one_line(capsys)
+    # a schema file is rewritten (also one named .yaml), another file only with --force
+    schema = tmp_path / "scenario.schema.json"
+    assert main(["schema", str(schema)]) == 0 and main(["schema", str(schema)]) == 0
+    assert '"$schema"' in schema.read_text(encoding="utf-8")
+    as_yaml = tmp_path / "scenario.schema.yaml"
+    as_yaml.write_text(schema.read_text(encoding="utf-8"), encoding="utf-8")
+    assert main(["schema", str(as_yaml)]) == 0
+    assert main(["schema", str(notes), "--force"]) == 0 and '"$schema"' in notes.read_text(encoding="utf-8")
+    assert sorted(p.name for p in tmp_path.iterdir() if p.name.startswith(".")) == []  # no temporary left
+
+
+# ------------------------------------------------------------------------------------------------ a killed worker
+class _InWorker:
+    """Runs `code` where it is unpickled: in the spawned worker process that takes the case, never here."""
+
+    def __init__(self, code: str) -> None:
+        self.code = code
+
+    def __reduce__(self) -> tuple[Any, tuple[str]]:
+        return exec, (self.code,)
+
+
+def _kills_its_worker(flag: Path) -> _InWorker:
+    # waits until the first case's result is in (so that one finished), then dies as under kill -9
+    return _InWorker(
+        "import os, signal, time\n"
+        "end = time.monotonic() + 60\n"
+        f"while not os.path.exists({str(flag)!r}) and time.monotonic() < end:\n"
+        "    time.sleep(0.02)\n"
+        "os.kill(os.getpid(), signal.SIGKILL)\n"
+    )
+
+
+@pytest.mark.slow
+def test_a_killed_worker_keeps_the_finished_results_and_reports_the_lost_cases(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = _scenario(tmp_path)
+    flag = tmp_path / "first-result-in"
+    load, run_cases = model.load_scenarios, run.run_cases
+
+    def with_doomed_cases(paths: Any) -> list[model.Case]:
+        (case,) = load(paths)
+        killer = replace(case, name="killer", sweep=(("doom", _kills_its_worker(flag)),))
+        # never finishes: lost with the pool when the killer dies (the pool stops every worker)
+        stuck = replace(case, name="stuck", sweep=(("doom", _InWorker("import time; time.sleep(60)")),))
+        return [case, killer, stuck]
+
+    def touching_the_flag(*args: Any, on_result: Any = None, **kwargs: Any) -> list[run.CaseResult]:
+        def seen(result: run.CaseResult) -> None:
+            flag.touch()
+            on_result(result)
+
+        return run_cases(*args, on_result=seen, **kwargs)
+
+    monkeypatch.setattr(model, "load_scenarios", with_doomed_cases)
+    monkeypatch.setattr(run, "run_cases", touching_the_flag)
+    junit = tmp_path / "rep" / "j.xml"
+    assert main(["run", str(path), "--jobs", "2", "--junit", str(junit), "--quiet"]) == 1
+    out, err = capsys.readouterr()
+    assert "Traceback" not in err
+    assert err.splitlines() == [
+        "scone-scenario: a worker process died (e.g. killed or out of memory); 2 cases did not run to the end: "
+        "killer, stuck"
+    ]
+    assert "3 cases: 1 passed, 0 failed as expected, 0 failed, 0 passed unexpectedly, 2 errors" in out
+    cases = {c.get("name"): c for c in ET.parse(junit).iter("testcase")}
+    assert list(cases) == ["a", "killer", "stuck"]
+    assert cases["a"].find("error") is None
+    for name in ("killer", "stuck"):
+        error = cases[name].find("error")
+        assert error is not None and error.get("message") == run.WORKER_DIED
