@@ -82,20 +82,24 @@ def _build(args: argparse.Namespace) -> int:
         SPLITS,
         StateOptions,
         build_states,
-        save_states,
+        check_states_files,
+        save_states_files,
     )
     from scone_bt.recipes.recipe import read_corpus
 
-    recipes = read_corpus(args.corpus)
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    names = [*(f"{split}.jsonl" for split in SPLITS), "pdr_mentions.jsonl"]
+    inputs = {"--corpus": [Path(args.corpus)]} if args.corpus else {}
+    check_states_files(out, names, inputs, force=args.force)  # before the corpus is read and the states built
+    recipes = read_corpus(args.corpus)
     opts = StateOptions(distractors=args.distractors, seed=args.seed)
     nw = build_states([r for r in recipes if r.step_ingredients is not None], opts)
-    counts = {}
-    for split in SPLITS:
-        counts[split] = save_states(out / f"{split}.jsonl", (s for s in nw if s.split == split))
     pdr = build_states([r for r in recipes if r.id.startswith("pdr:")], replace(opts, labels="mentions"))
-    counts["pdr_mentions"] = save_states(out / "pdr_mentions.jsonl", pdr)
+    files = {f"{split}.jsonl": [s for s in nw if s.split == split] for split in SPLITS}
+    files["pdr_mentions.jsonl"] = pdr
+    # All four files or none: existing ones that differ are replaced only with --force.
+    written = save_states_files(out, files, force=args.force)
+    counts = {name.removesuffix(".jsonl"): n for name, n in written.items()}
     print(json.dumps({"out": str(out), "states": counts, "seed": args.seed, "distractors": args.distractors}))
     return 0
 
@@ -134,4 +138,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--corpus", help="recipes.jsonl (default ../shared/data/recipes/recipes.jsonl)")
     s.add_argument("--distractors", type=int, default=5, help="items from other recipes per kitchen")
     s.add_argument("--seed", type=int, default=0)
+    s.add_argument(
+        "--force",
+        action="store_true",
+        help="replace states files in --out that hold other states than this build (default: refuse, "
+        "write nothing)",
+    )
     s.set_defaults(func=_build)

@@ -17,7 +17,7 @@ import hashlib
 import json
 import os
 from collections import Counter
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Literal
@@ -25,7 +25,8 @@ from typing import Literal
 import numpy as np
 
 from scone_bt.affordances.types import action_text, object_of_action
-from scone_bt.errors import RecipeError
+from scone_bt.errors import RecipeError, SconeError
+from scone_bt.files import write_atomic
 from scone_bt.recipes.normalise import is_fetchable, item_key, normalise_ingredient
 from scone_bt.recipes.recipe import Recipe
 from scone_bt.relevance.mentions import mentioned_items
@@ -42,6 +43,9 @@ __all__ = [
     "item_of_action",
     "load_states",
     "save_states",
+    "check_states_files",
+    "save_states_files",
+    "states_text",
 ]
 
 Labels = Literal["author", "mentions"]
@@ -220,14 +224,66 @@ def build_states(recipes: Sequence[Recipe], options: StateOptions | None = None)
     return states
 
 
+def states_text(states: Iterable[IfState]) -> str:
+    """States as the text of a JSON Lines file, one state a line."""
+    return "".join(json.dumps(s.to_json(), ensure_ascii=False) + "\n" for s in states)
+
+
 def save_states(path: str | os.PathLike[str], states: Iterable[IfState]) -> int:
-    """Write states as JSON Lines; returns how many were written."""
-    n = 0
-    with Path(path).open("w") as fh:
-        for s in states:
-            fh.write(json.dumps(s.to_json(), ensure_ascii=False) + "\n")
-            n += 1
-    return n
+    """Write states as JSON Lines, atomically (a reader never sees half a file); returns how many were written."""
+    chosen = list(states)
+    write_atomic(path, states_text(chosen))
+    return len(chosen)
+
+
+def check_states_files(
+    out: Path, names: Iterable[str], inputs: Mapping[str, Iterable[Path]] | None = None, force: bool = False
+) -> list[Path]:
+    """The states files a build writes in `out`, checked before it builds anything (one-line SconeError).
+
+    `out` is a folder (or one that can be made); no file is one of `inputs` or an existing file that is not text
+    (unless `force`). Judged as text, not JSON: the committed files are over the 1 MiB that a JSON check reads.
+    """
+    from scone_bt.checks import check_output_dir, check_output_file
+
+    check_output_dir(out, "--out")
+    return [check_output_file(out / n, "--out", kind="text", inputs=inputs, force=force) for n in names]
+
+
+def save_states_files(
+    out: Path, files: Mapping[str, Sequence[IfState]], force: bool = False
+) -> dict[str, int]:
+    """Write every states file of a build, or none of them.
+
+    An existing file that holds other states than the build's is not replaced unless `force`: the committed
+    files (tools/data/if) are the benchmark's data, and a build with another seed or corpus must not silently
+    take their place. A file that already holds exactly these states is left as it is.
+
+    Args:
+        out: The folder.
+        files: File name → its states.
+        force: Replace existing files that differ.
+
+    Returns:
+        File name → states in it.
+
+    Raises:
+        SconeError: Files that differ and no `force` (one line naming them); nothing is written then.
+    """
+    texts = {name: states_text(states).encode() for name, states in files.items()}
+    existing = {name: (out / name).read_bytes() for name in texts if (out / name).is_file()}
+    differ = [name for name, data in texts.items() if name in existing and existing[name] != data]
+    if differ and not force:
+        verb = "exists and holds" if len(differ) == 1 else "exist and hold"
+        raise SconeError(
+            f"--out {out}: {', '.join(differ)} already {verb} other states than this build "
+            "(another --seed, --distractors or corpus); not replaced: give another --out, or --force to replace"
+        )
+    out.mkdir(parents=True, exist_ok=True)
+    for name, data in texts.items():
+        if existing.get(name) != data:
+            write_atomic(out / name, data)
+    return {name: len(states) for name, states in files.items()}
 
 
 def load_states(path: str | os.PathLike[str], split: str | None = None) -> list[IfState]:

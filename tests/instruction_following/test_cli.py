@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import json
 
+import pytest
+
 from scone_bt.cli.bench import main
 from scone_bt.instruction_following.states import load_states
 
@@ -50,3 +52,48 @@ def test_missing_states_file_is_one_line(tmp_path, capsys) -> None:
     assert main(["if", "--states", str(tmp_path / "nope.jsonl"), "--train", str(tmp_path / "t.jsonl")]) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith("scone-bench: states file not found") and "\n" not in err
+
+
+def _states_files(folder) -> dict[str, bytes]:
+    return {p.name: p.read_bytes() for p in sorted(folder.glob("*.jsonl"))}
+
+
+def test_if_states_never_silently_replaces_other_states(tmp_path, hummus, pancakes, capsys) -> None:
+    out, corpus = tmp_path / "if", _corpus(tmp_path, hummus, pancakes)
+    argv = ["if-states", "--out", str(out), "--corpus", str(corpus), "--distractors", "2"]
+    assert main([*argv, "--seed", "0"]) == 0
+    first = _states_files(out)
+    assert sorted(first) == ["dev.jsonl", "pdr_mentions.jsonl", "test.jsonl", "train.jsonl"]
+    capsys.readouterr()
+    assert main([*argv, "--seed", "1"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert f"--out {out}:" in err and "other states than this build" in err and "--force" in err
+    assert "\n" not in err and "Traceback" not in err
+    assert _states_files(out) == first
+    assert main([*argv, "--seed", "0"]) == 0  # the same states again: nothing to refuse
+    assert _states_files(out) == first
+    assert main([*argv, "--seed", "1", "--force"]) == 0
+    assert _states_files(out) != first
+    assert not [p for p in out.iterdir() if p.name.endswith(".tmp")]
+
+
+def test_if_states_checks_out_before_reading_the_corpus(tmp_path, capsys) -> None:
+    missing = str(tmp_path / "no_corpus.jsonl")
+    a_file = tmp_path / "a_file"
+    a_file.write_text("mine\n")
+    out = tmp_path / "if"
+    out.mkdir()
+    (out / "train.jsonl").write_bytes(b"\x89PNG\r\n\x1a\n\x00\x00")
+    for folder, message in ((a_file, "is a file, not a folder"), (out, "exists and is not a text file")):
+        assert main(["if-states", "--out", str(folder), "--corpus", missing]) == 2
+        err = capsys.readouterr().err.strip()
+        assert message in err and "\n" not in err
+    assert (
+        out / "train.jsonl"
+    ).read_bytes() == b"\x89PNG\r\n\x1a\n\x00\x00" and a_file.read_text() == "mine\n"
+
+
+def test_if_states_help_documents_force(capsys) -> None:
+    with pytest.raises(SystemExit):
+        main(["if-states", "--help"])
+    assert "--force" in capsys.readouterr().out

@@ -100,3 +100,15 @@ def test_committed_states_files() -> None:
     assert not recipes["dev"] & recipes["test"]
     for name, states in splits.items():
         assert all(s.split == name and s.relevant and s.relevant <= set(s.available) for s in states)
+
+
+def test_save_replaces_the_file_whole(tmp_path, hummus, pancakes) -> None:
+    import os
+
+    path = tmp_path / "s.jsonl"
+    states = build_states([hummus, pancakes], StateOptions(distractors=2))
+    assert len(states) > 1
+    save_states(path, states[:1])
+    os.link(path, tmp_path / "alias.jsonl")  # a write in place would change the alias too
+    assert save_states(path, states) == len(states)
+    assert load_states(tmp_path / "alias.jsonl") == states[:1] and load_states(path) == states

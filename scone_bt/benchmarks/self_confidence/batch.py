@@ -3,7 +3,10 @@
 One CSV per profile (<out>/<profile>.csv, columns dataset.COLUMNS). Finished rows of an unfinished profile live in
 <out>/.<profile>.partial.csv and are not run again; the file becomes <profile>.csv when all are done. Execution i
 of a profile uses seed (profile.seed + --seed) * 100000 + i, so any row can be regenerated alone, on any engine.
-Every run is appended to <out>/generation.json (command, software, timings; no machine paths).
+Every run is appended to <out>/generation.json (command, software, timings; no machine paths). Its
+"generations" record what made each profile's rows (robot, kitchen, catalogues, products, seed, profile): a run
+with other settings than the rows already in --out is refused before it executes anything, so a dataset never
+mixes two generations and no row of another generation is dropped or overwritten.
 """
 
 from __future__ import annotations
@@ -11,6 +14,8 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import difflib
+import hashlib
+import json
 import os
 import platform
 import sys
@@ -25,8 +30,19 @@ from scone_bt.benchmarks.self_confidence.dataset import ExecutionRecord, read_re
 from scone_bt.benchmarks.self_confidence.generate import ExecutionTask, drawable_products, execute_task
 from scone_bt.benchmarks.self_confidence.profiles import Profile, load_profiles
 from scone_bt.errors import ConfigError
+from scone_bt.files import write_atomic
 
-__all__ = ["run_generate", "parse_products", "parse_profile_names", "check_writable", "summarise"]
+__all__ = [
+    "LOG_NAME",
+    "SETTINGS",
+    "check_writable",
+    "generation_settings",
+    "parse_products",
+    "parse_profile_names",
+    "read_log",
+    "run_generate",
+    "summarise",
+]
 
 
 def parse_profile_names(values: Sequence[str] | None) -> list[str] | None:
@@ -88,17 +104,177 @@ def _paths(out: Path, profile: Profile) -> tuple[Path, Path]:
     return out / f"{profile.name}.csv", out / f".{profile.name}.partial.csv"
 
 
-def _resume(out: Path, profile: Profile, executions: int) -> dict[int, ExecutionRecord]:
-    """Rows already recorded for `profile` (complete file first, else the partial one) that are still valid."""
-    final, partial = _paths(out, profile)
-    rows = read_records(final) or read_records(partial)
-    # A row from another seed (a different --seed) is not this run's execution: it is run again.
-    return {r.index: r for r in rows if r.index < executions and r.seed == profile.execution_seed(r.index)}
+LOG_NAME = "generation.json"
+"""The log of every run in --out, and the settings each profile's rows were generated with."""
+
+SETTINGS: dict[str, str] = {
+    "robot": "--robot",
+    "kitchen": "--kitchen",
+    "catalogues": "--catalogue",
+    "products": "--products",
+    "seed": "--seed",
+    "profile": "the profile",
+}
+"""What defines a generation, and the option that sets each (for messages)."""
 
 
-def _save(out: Path, profile: Profile, records: dict[int, ExecutionRecord], total: int) -> None:
+def _file_id(path: Path) -> str:
+    """A file's name and the start of its SHA-256: the same file from any folder, an edited one told apart."""
+    from scone_bt.config.schema import read_bytes
+
+    return f"{path.name} sha256:{hashlib.sha256(read_bytes(path)).hexdigest()[:12]}"
+
+
+def _profile_id(profile: Profile) -> str:
+    """The profile's name and a digest of its parameters (base seed included; not its description or file)."""
+    # A reworded description changes no row: only the parameters define the generation.
+    text = repr(dataclasses.replace(profile, description="", source=Path(".")))
+    return f"{profile.name} sha256:{hashlib.sha256(text.encode()).hexdigest()[:12]}"
+
+
+def generation_settings(
+    profile: Profile,
+    robot: Path,
+    kitchen: Path,
+    catalogues: Sequence[str],
+    products: Sequence[str] | None,
+    seed: int,
+) -> dict[str, Any]:
+    """What made a profile's rows, as generation.json records it (file names and digests, no machine paths).
+
+    Args:
+        profile: The profile as its file gives it (before --seed).
+        robot: The robot file.
+        kitchen: The kitchen file.
+        catalogues: The --catalogue files.
+        products: The --products restriction (None: the whole catalogue).
+        seed: The --seed offset (0 without --seed).
+    """
+    return {
+        "robot": _file_id(robot),
+        "kitchen": _file_id(kitchen),
+        "catalogues": [_file_id(Path(c)) for c in catalogues],
+        "products": None if products is None else list(products),
+        "seed": seed,
+        "profile": _profile_id(profile),
+    }
+
+
+def read_log(path: Path) -> dict[str, Any]:
+    """generation.json, read and checked before any execution runs ({"runs": []} when there is none).
+
+    Raises:
+        ConfigError: One line naming the file and what is wrong (not a file, not UTF-8, not JSON, a bad shape).
+    """
+    from scone_bt.config.schema import read_text
+
+    if not path.exists() and not path.is_symlink():
+        return {"runs": []}
+    text = read_text(path)  # a folder, a device, a file that is not UTF-8: one line
+    fix = "fix it (it records how the datasets in this folder were made), or give another --out"
+    try:
+        log = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise ConfigError(f"{path}: not valid JSON (line {exc.lineno}: {exc.msg}); {fix}") from None
+    except RecursionError:
+        raise ConfigError(f"{path}: nested too deeply to be a generation log; {fix}") from None
+    if not isinstance(log, dict):
+        raise ConfigError(
+            f'{path}: must be a JSON object with a "runs" list, not {type(log).__name__}; {fix}'
+        )
+    runs = log.setdefault("runs", [])
+    if not isinstance(runs, list) or not all(isinstance(r, dict) for r in runs):
+        raise ConfigError(f'{path}: "runs" must be a list of objects; {fix}')
+    generations = log.get("generations", {})
+    if not isinstance(generations, dict):
+        raise ConfigError(f'{path}: "generations" must be an object (profile name -> settings); {fix}')
+    for name, recorded in generations.items():
+        if not isinstance(recorded, dict) or set(recorded) != set(SETTINGS):
+            raise ConfigError(
+                f'{path}: "generations" / {name!r} must be an object with exactly the keys '
+                f"{', '.join(SETTINGS)}; {fix}"
+            )
+    return log
+
+
+def _show(key: str, value: Any) -> str:
+    """A recorded setting in a message: "all" products, "none" for no catalogue, long lists cut."""
+    if key == "products" and value is None:
+        return "all products"
+    if isinstance(value, list):
+        text = ",".join(str(v) for v in value) or "none"
+        return text if len(text) <= 80 else f"{text[:77]}... ({len(value)} in all)"
+    return str(value)
+
+
+def _differences(recorded: dict[str, Any], asked: dict[str, Any]) -> list[str]:
+    """Each setting that differs, as "--robot: it holds A, this run asks B"."""
+    lines = []
+    for key, flag in SETTINGS.items():
+        old, new = recorded.get(key), asked[key]
+        if old == new:
+            continue
+        changed = (
+            " (the file changed)"
+            if isinstance(old, str) and isinstance(new, str) and old.split(" ")[0] == new.split(" ")[0]
+            else ""
+        )
+        lines.append(f"{flag}: it holds {_show(key, old)}, this run asks {_show(key, new)}{changed}")
+    return lines
+
+
+def _another_generation(file: Path, what: str, advice: str) -> ConfigError:
+    return ConfigError(
+        f"{file}: holds executions of another generation ({what}); its rows are never dropped or overwritten: "
+        f"give another --out, or {advice} to resume it"
+    )
+
+
+def _resume(
+    out: Path,
+    profile: Profile,
+    offset: int,
+    recorded: dict[str, Any] | None,
+    asked: dict[str, Any],
+) -> dict[int, ExecutionRecord]:
+    """Every row already recorded for `profile` (complete file first, else the partial one).
+
+    Raises:
+        ConfigError: The rows are of another generation: settings recorded in generation.json differ from this
+            run's, or a row's seed is not the one this run gives its index (another --seed). Checked before any
+            execution runs; nothing is dropped.
+    """
     final, partial = _paths(out, profile)
-    if len(records) >= total:
+    rows, file = read_records(final), final
+    if not rows:
+        rows, file = read_records(partial), partial
+    if not rows:
+        return {}
+    if recorded is not None:
+        diffs = _differences(recorded, asked)
+        if diffs:
+            seed_only = [k for k in SETTINGS if recorded.get(k) != asked[k]] == ["seed"]
+            advice = (
+                f"--seed {recorded['seed']}" if seed_only else f"the settings recorded in {out / LOG_NAME}"
+            )
+            raise _another_generation(file, "; ".join(diffs), advice)
+    # Rows made before generation.json recorded settings: their seeds still tell another --seed apart.
+    wrong = next((r for r in rows if r.seed != profile.execution_seed(r.index)), None)
+    if wrong is not None:
+        base = profile.seed - offset
+        held, rest = divmod(wrong.seed - wrong.index, 100_000)
+        held -= base
+        what = f"row {wrong.index} has seed {wrong.seed}, this run gives it {profile.execution_seed(wrong.index)}"
+        if rest == 0 and 0 <= held + base <= 42_949:
+            what = f"--seed {held}, this run asks --seed {offset}: {what}"
+            raise _another_generation(file, what, f"--seed {held}")
+        raise _another_generation(file, what, "the seed it was made with")
+    return {r.index: r for r in rows}
+
+
+def _save(out: Path, profile: Profile, records: dict[int, ExecutionRecord], complete: bool) -> None:
+    final, partial = _paths(out, profile)
+    if complete:
         write_records(final, records.values())
         partial.unlink(missing_ok=True)
     else:
@@ -155,16 +331,10 @@ def _code_version() -> str | None:
     return out.stdout.strip() or None if out.returncode == 0 else None
 
 
-def _write_log(out: Path, argv: Sequence[str], summary: dict[str, Any]) -> None:
-    """Append this run to generation.json, keeping earlier runs."""
-    import json
+def _write_log(path: Path, log: dict[str, Any], argv: Sequence[str], summary: dict[str, Any]) -> None:
+    """Append this run to generation.json (read and checked before the run), keeping earlier runs."""
     from importlib.metadata import version
 
-    log_path = out / "generation.json"
-    try:
-        log = json.loads(log_path.read_text()) if log_path.is_file() else {"runs": []}
-    except json.JSONDecodeError:
-        raise ConfigError(f"{log_path}: not valid JSON; delete or fix it") from None
     log.setdefault("runs", []).append(
         {
             "command": _portable(argv),
@@ -176,7 +346,7 @@ def _write_log(out: Path, argv: Sequence[str], summary: dict[str, Any]) -> None:
             **summary,
         }
     )
-    log_path.write_text(json.dumps(log, indent=1) + "\n")
+    write_atomic(path, json.dumps(log, indent=1) + "\n")  # an interrupted write keeps the old log whole
 
 
 def run_generate(args: argparse.Namespace) -> int:
@@ -196,12 +366,13 @@ def run_generate(args: argparse.Namespace) -> int:
         if not Path(c).is_file():
             raise ConfigError(f"--catalogue {c}: no such file")
     kitchen_cfg = load_kitchen(args.kitchen, args.catalogue)
-    load_robot(args.robot)  # a bad robot name fails here, before any work
+    robot_cfg = load_robot(args.robot)  # a bad robot name fails here, before any work
     profiles_dir = Path(args.profiles_dir)
     if not profiles_dir.is_dir():
         raise ConfigError(f"--profiles-dir {profiles_dir}: no such folder")
     profiles = load_profiles(profiles_dir, parse_profile_names(args.profiles))
     offset = int(args.seed or 0)
+    base_profiles = {p.name: p for p in profiles}  # as their files give them, for the generation's record
     if offset:
         profiles = [dataclasses.replace(p, seed=p.seed + offset) for p in profiles]
         bad = [p for p in profiles if not 0 <= p.seed <= 42_949]
@@ -219,10 +390,22 @@ def run_generate(args: argparse.Namespace) -> int:
         )
     out = Path(args.out)
     check_writable(out)
-
-    done = {p.name: _resume(out, p, args.executions) for p in profiles}
-    by_name = {p.name: p for p in profiles}
+    log_path = out / LOG_NAME
+    log = read_log(log_path)  # a damaged log stops the run now, not after every execution has run
     catalogues = tuple(str(c) for c in args.catalogue)
+    asked = {
+        p.name: generation_settings(
+            base_profiles[p.name], robot_cfg.source, kitchen_cfg.source, catalogues, products, offset
+        )
+        for p in profiles
+    }
+    recorded = log.get("generations", {})
+    # Every profile's rows are checked before anything runs: one of another generation stops the whole run.
+    rows = {p.name: _resume(out, p, offset, recorded.get(p.name), asked[p.name]) for p in profiles}
+    done = {name: {i: r for i, r in got.items() if i < args.executions} for name, got in rows.items()}
+    # Rows past --executions are not this run's, but they stay in the file it rewrites.
+    beyond = {name: {i: r for i, r in got.items() if i >= args.executions} for name, got in rows.items()}
+    by_name = {p.name: p for p in profiles}
     tasks = [
         ExecutionTask(p, i, args.kitchen, args.robot, catalogues, products)
         for p in profiles
@@ -231,6 +414,11 @@ def run_generate(args: argparse.Namespace) -> int:
     ]
     engine = engine_from_args(args, args.workers)
     start_engine(engine)  # an unreachable Ray cluster fails here, before any work
+    to_record = {t.profile.name for t in tasks if recorded.get(t.profile.name) != asked[t.profile.name]}
+    if to_record:
+        # Recorded before the first row is written: an interrupted run is resumed only with the same settings.
+        log["generations"] = {**recorded, **{name: asked[name] for name in sorted(to_record)}}
+        write_atomic(log_path, json.dumps(log, indent=1) + "\n")
     walls: dict[str, list[float]] = {p.name: [] for p in profiles}
     load_before = os.getloadavg()[0] if hasattr(os, "getloadavg") else None
     cpu0 = _cpu_s()
@@ -248,7 +436,7 @@ def run_generate(args: argparse.Namespace) -> int:
         for _i, (name, record, wall) in results:
             done[name][record.index] = record
             walls[name].append(wall)
-            _save(out, by_name[name], done[name], args.executions)
+            _save(out, by_name[name], {**beyond[name], **done[name]}, len(done[name]) >= args.executions)
             bar.set_postfix_str(f"{name} {len(done[name])}/{args.executions}")
             bar.update(1)
             if deadline is not None and time.perf_counter() > deadline:
@@ -279,7 +467,10 @@ def run_generate(args: argparse.Namespace) -> int:
         "stopped_early": stopped,
     }
     _write_log(
-        out, sys.argv[1:] if sys.argv and "scone-bench" in sys.argv[0] else ["sc", "generate"], summary
+        log_path,
+        log,
+        sys.argv[1:] if sys.argv and "scone-bench" in sys.argv[0] else ["sc", "generate"],
+        summary,
     )
     emit_report(summary, args.json)
     return 0 if all(v["complete"] for v in summary["profiles"].values()) else 1

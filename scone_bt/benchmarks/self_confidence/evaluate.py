@@ -27,7 +27,7 @@ import argparse
 import os
 import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, cast
@@ -57,6 +57,7 @@ from scone_bt.benchmarks.self_confidence.report_types import (
     Timing,
     clean_report,
 )
+from scone_bt.checks import OutputKind
 from scone_bt.confidence.calibration import CALIBRATION_FOLDS
 from scone_bt.errors import ConfigError, SconeError, UnknownNameError
 
@@ -80,6 +81,7 @@ __all__ = [
     "register_evaluate",
     "cell_cost",
     "check_embedder_names",
+    "check_report_files",
     "run_evaluate",
     "schedule_longest_first",
     "shuffled_order",
@@ -376,6 +378,40 @@ def check_embedder_names(embedders: Sequence[str], oracle: bool = False) -> None
             raise UnknownNameError("embedder", e, [*valid, "finetuned:<dir>", "<model directory>"])
 
 
+def check_report_files(
+    out: Path, name: str, files: Mapping[str, OutputKind], data: Path, force: bool = False
+) -> dict[str, Path]:
+    """The files a report writes in --out, checked before any work: one line naming the file if one cannot be.
+
+    --name is a plain file stem and --out a folder (or one that can be made). No file may be an input of the run:
+    every file already in the --data folder counts as one (its datasets, README, generation.json), so a report
+    written into the dataset folder adds files there and never replaces one. An existing file of another kind is
+    not overwritten unless `force`.
+
+    Args:
+        out: The --out folder.
+        name: The --name stem.
+        files: What follows the stem in each file name → its kind.
+        data: The --data folder.
+        force: Replace an existing file of another kind (--force).
+
+    Returns:
+        The path of each file, by the key of `files`.
+    """
+    from scone_bt.checks import check_output_dir, check_output_file
+
+    if not name.strip() or name in (".", "..") or any(c in name for c in "/\\\0"):
+        raise SconeError(f"--name {name!r}: must be a file name stem without folders (e.g. self_confidence)")
+    check_output_dir(out, "--out")
+    inputs = {"--data": sorted(p for p in data.iterdir() if p.is_file())} if data.is_dir() else {}
+    paths = {}
+    for suffix, kind in files.items():
+        path = out / f"{name}{suffix}"
+        check_output_file(path, "--out/--name", kind=kind, inputs=inputs, force=force)
+        paths[suffix] = path
+    return paths
+
+
 def _check_names(
     protocols: list[str], embedders: list[str], estimators: list[str]
 ) -> tuple[list[Protocol], list[str]]:
@@ -467,10 +503,11 @@ def run_evaluate(args: argparse.Namespace) -> int:
         evaluation_markdown,
         plot_curves,
         plot_reliability,
-        write_json,
     )
     from scone_bt.distributed import engine_from_args, map_tasks
+    from scone_bt.files import write_atomic
     from scone_bt.reporting import emit_report
+    from scone_bt.strict_json import dumps
 
     def log(msg: str) -> None:
         print(msg, file=sys.stderr, flush=True)
@@ -496,6 +533,16 @@ def run_evaluate(args: argparse.Namespace) -> int:
         epsilon=args.epsilon,
         refit_every=args.refit_every,
     )
+    report_files: dict[str, Path] = {}
+    if args.out is not None:  # before the evaluation: minutes of work are not lost to a bad --out or --name
+        plots: dict[str, OutputKind] = {f"_{p.value}_curves.png": "image" for p in protocols}
+        report_files = check_report_files(
+            Path(args.out),
+            args.name,
+            {".json": "json", ".md": "text", **plots, "_reliability.png": "image"},
+            Path(args.data),
+            force=bool(getattr(args, "force", False)),
+        )
     datasets = load_eval_datasets(args.data, min_rows=options.min_rows, kitchen=args.kitchen)
     features, skipped, embed_s = _embed_all(embedders, datasets, args.cache_dir, log, args.kitchen)
     embedders = [e for e in embedders if e in features]
@@ -572,10 +619,10 @@ def run_evaluate(args: argparse.Namespace) -> int:
     if args.out is not None:
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
-        write_json(out / f"{args.name}.json", report)
-        (out / f"{args.name}.md").write_text(evaluation_markdown(report, args.name))
+        write_atomic(report_files[".json"], dumps(report, indent=1) + "\n")
+        write_atomic(report_files[".md"], evaluation_markdown(report, args.name))
         plot_curves(report, out, args.name)
-        plot_reliability(report, out / f"{args.name}_reliability.png")
+        plot_reliability(report, report_files["_reliability.png"])
     emit_report(report, args.json, indent=1, make_parent=True)
     return 0
 

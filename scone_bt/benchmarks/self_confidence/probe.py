@@ -37,6 +37,7 @@ from scone_bt.benchmarks.self_confidence.evaldata import EvalDataset, load_eval_
 from scone_bt.benchmarks.self_confidence.evaluate import (
     DEFAULT_EMBEDDERS,
     check_embedder_names,
+    check_report_files,
     split_names,
 )
 from scone_bt.benchmarks.self_confidence.protocols import EvalOptions, Protocol, evaluate_protocols
@@ -353,7 +354,9 @@ def run_probe(args: argparse.Namespace) -> int:
     from scone_bt.confidence import ESTIMATORS
     from scone_bt.embedding import load_embedder
     from scone_bt.errors import ModelUnavailableError, UnknownNameError
+    from scone_bt.files import write_atomic
     from scone_bt.reporting import emit_report
+    from scone_bt.strict_json import dumps
 
     def log(msg: str) -> None:
         print(msg, file=sys.stderr, flush=True)
@@ -366,6 +369,15 @@ def run_probe(args: argparse.Namespace) -> int:
         if e not in plain:
             raise UnknownNameError("ceiling estimator", e, plain)
     eval_options = EvalOptions(seed=args.seed)
+    report_files: dict[str, Path] = {}
+    if args.out is not None:  # before the probes run: their work is not lost to a bad --out or --name
+        report_files = check_report_files(
+            Path(args.out),
+            args.name,
+            {".json": "json", ".md": "text"},
+            Path(args.data),
+            force=bool(getattr(args, "force", False)),
+        )
     attrs = product_attributes(args.kitchen, args.catalogue)
     datasets = load_eval_datasets(args.data, min_rows=eval_options.min_rows, kitchen=args.kitchen)
     # every product known before anything runs; the indices serve every ceiling
@@ -410,8 +422,8 @@ def run_probe(args: argparse.Namespace) -> int:
     if args.out is not None:
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
-        write_json(out / f"{args.name}.json", report)
-        (out / f"{args.name}.md").write_text(probe_markdown(report))
+        write_atomic(report_files[".json"], dumps(report, indent=1) + "\n")
+        write_atomic(report_files[".md"], probe_markdown(report))
     emit_report(report, args.json, indent=1, make_parent=True)
     return 0
 

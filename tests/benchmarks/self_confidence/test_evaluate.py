@@ -138,3 +138,55 @@ def test_a_base_estimator_computed_with_its_calibrated_variant_scores_as_alone(s
     assert main(cached) == 0
     assert _numbers(json.loads(capsys.readouterr().out)) == both
     assert len(list((tmp_path / "cache" / "sc_cells").glob("*.json"))) == 4  # 2 estimators × 2 datasets
+
+
+@pytest.fixture
+def no_evaluation(monkeypatch):
+    """The evaluation must not start: --out and --name are checked before it."""
+    import scone_bt.benchmarks.self_confidence.evaluate as evaluate
+
+    def boom(*args, **kwargs):
+        raise AssertionError("the evaluation ran before --out and --name were checked")
+
+    monkeypatch.setattr(evaluate, "_embed_all", boom)
+
+
+def _refused(capsys, argv: list[str]) -> str:
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "Traceback" not in err
+    return err
+
+
+def test_a_report_never_replaces_a_file_of_the_data_folder(sc_data, capsys, no_evaluation):
+    data = sc_data(n_datasets=1, rows=40)
+    (data / "README.md").write_text("# the shipped datasets\n")
+    (data / "generation.json").write_text('{"runs": []}\n')
+    argv = ["sc", "evaluate", "--data", str(data), "--embedders", "onehot", "--out", str(data), *SMALL]
+    for name, file in (("README", "README.md"), ("generation", "generation.json")):
+        err = _refused(capsys, [*argv, "--name", name])
+        assert str(data / file) in err and "--data input" in err
+    assert (data / "README.md").read_text() == "# the shipped datasets\n"
+    assert (data / "generation.json").read_text() == '{"runs": []}\n'
+    assert sorted(p.name for p in data.iterdir()) == ["README.md", "generation.json", "p00_robot.csv"]
+
+
+def test_a_bad_out_or_name_is_refused_before_the_evaluation(sc_data, tmp_path, capsys, no_evaluation):
+    data = sc_data(n_datasets=1, rows=40)
+    argv = ["sc", "evaluate", "--data", str(data), "--embedders", "onehot", *SMALL]
+    a_file = tmp_path / "report.txt"
+    a_file.write_text("my notes\n")
+    err = _refused(capsys, [*argv, "--out", str(a_file)])
+    assert f"--out {a_file}: is a file, not a folder" in err and a_file.read_text() == "my notes\n"
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "self_confidence.json").write_text("my notes, not JSON\n")
+    err = _refused(capsys, [*argv, "--out", str(out)])
+    assert "self_confidence.json: exists and is not a JSON file" in err
+    (out / "x.json").write_text("{}\n")
+    (out / "x_reliability.png").write_text("not a picture\n")
+    err = _refused(capsys, [*argv, "--out", str(out), "--name", "x"])
+    assert "x_reliability.png: exists and is not an image" in err
+    assert (out / "x_reliability.png").read_text() == "not a picture\n"
+    err = _refused(capsys, [*argv, "--out", str(out), "--name", "../x"])
+    assert "--name '../x'" in err

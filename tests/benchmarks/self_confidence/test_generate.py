@@ -4,6 +4,7 @@ products, resuming a partial file, and one-line errors on bad input."""
 from __future__ import annotations
 
 import json
+import os
 import re
 from pathlib import Path
 
@@ -135,3 +136,149 @@ def test_a_reused_kitchen_repeats_a_fresh_one_exactly(kitchen_cfg, robot_cfg):
     finally:
         gen._WORKER = saved
     assert reused == fresh  # the second run found the first one's kitchen, emptied and restored
+
+
+# ----------------------------------------------------------------------- resuming only the same generation
+@pytest.fixture
+def fake_runs(monkeypatch) -> list:
+    """`sc generate` without the simulation: each execution is a record of the robot and products it ran with."""
+    from scone_bt.benchmarks.self_confidence.dataset import ExecutionRecord
+
+    ran: list = []
+
+    def imap(fn, tasks, engine=None, **_):
+        def gen():
+            for i, t in enumerate(tasks):
+                ran.append(t)
+                record = ExecutionRecord(
+                    index=t.index,
+                    action="Put salt on table",
+                    object="salt",
+                    success=True,
+                    failure_stage=None,
+                    seed=t.profile.execution_seed(t.index),
+                    detail=f"{t.robot} {t.products}",
+                )
+                yield i, (t.profile.name, record, 0.0)
+
+        return gen()
+
+    monkeypatch.setattr("scone_bt.distributed.imap_tasks", imap)
+    return ran
+
+
+def _generate(out: Path, *extra: str) -> list[str]:
+    return [
+        "sc", "generate", "--profiles", "p00_nominal", "--profiles-dir", str(PROFILES), "--out", str(out),
+        "--workers", "1", "--no-progress", *extra,
+    ]  # fmt: skip
+
+
+def test_another_seed_never_wipes_a_complete_dataset(tmp_path, fake_runs, capsys):
+    out = tmp_path / "X"
+    out.mkdir()
+    shipped = (ROOT / "tools" / "data" / "sc" / "p00_nominal.csv").read_bytes()
+    (out / "p00_nominal.csv").write_bytes(shipped)
+    err = _one_line_error(capsys, _generate(out, "--executions", "2", "--seed", "1"))
+    assert "p00_nominal.csv" in err and "another generation" in err
+    assert "--seed 0, this run asks --seed 1" in err and "another --out, or --seed 0" in err
+    assert fake_runs == [] and (out / "p00_nominal.csv").read_bytes() == shipped
+    assert sorted(p.name for p in out.iterdir()) == ["p00_nominal.csv"]
+    # the matching seed resumes it: nothing to run, nothing rewritten
+    assert bench(_generate(out, "--executions", "2")) == 0
+    assert fake_runs == [] and (out / "p00_nominal.csv").read_bytes() == shipped
+
+
+def test_a_partial_dataset_of_another_seed_is_not_dropped(tmp_path, fake_runs, capsys):
+    out = tmp_path / "X"
+    assert bench(_generate(out, "--executions", "3", "--seed", "2", "--max-minutes", "0.0000001")) == 1
+    partial = out / ".p00_nominal.partial.csv"
+    before = partial.read_bytes()
+    err = _one_line_error(capsys, _generate(out, "--executions", "3"))
+    assert ".p00_nominal.partial.csv" in err and "--seed: it holds 2, this run asks 0" in err
+    assert "or --seed 2 to resume" in err
+    assert partial.read_bytes() == before and len(fake_runs) == 1
+
+
+def test_a_resume_with_other_settings_is_refused_before_running(tmp_path, kitchen_cfg, fake_runs, capsys):
+    out = tmp_path / "Y"
+    names = [o.name for o in drawable_products(kitchen_cfg)[:8]]
+    assert bench(_generate(out, "--executions", "1")) == 0
+    final = out / "p00_nominal.csv"
+    before, log = final.read_bytes(), (out / "generation.json").read_bytes()
+    err = _one_line_error(
+        capsys, _generate(out, "--executions", "2", "--robot", "iiwa7", "--products", ",".join(names))
+    )
+    assert "p00_nominal.csv" in err and "another generation" in err
+    assert "--robot: it holds panda.yaml sha256:" in err and "this run asks iiwa7.yaml sha256:" in err
+    assert f"--products: it holds all products, this run asks {names[0]}," in err
+    assert final.read_bytes() == before and (out / "generation.json").read_bytes() == log
+    assert len(fake_runs) == 1
+    # an edited profile is another generation too
+    profiles = tmp_path / "profiles"
+    profiles.mkdir()
+    text = (PROFILES / "p00_nominal.yaml").read_text()
+    (profiles / "p00_nominal.yaml").write_text(text.replace("objects_on_shelf: 6", "objects_on_shelf: 5"))
+    err = _one_line_error(capsys, [*_generate(out, "--executions", "2"), "--profiles-dir", str(profiles)])
+    assert "the profile: it holds p00_nominal sha256:" in err and final.read_bytes() == before
+    # the same settings resume: only row 1 runs, row 0 is kept
+    assert bench(_generate(out, "--executions", "2")) == 0
+    records = read_records(final)
+    assert [r.index for r in records] == [0, 1] and {r.detail for r in records} == {"panda None"}
+    assert [t.index for t in fake_runs] == [0, 1]
+    recorded = json.loads((out / "generation.json").read_text())["generations"]["p00_nominal"]
+    assert recorded["robot"].startswith("panda.yaml sha256:") and recorded["products"] is None
+    assert recorded["seed"] == 0 and str(tmp_path) not in json.dumps(recorded)
+
+
+def test_rows_beyond_executions_are_kept_when_the_file_is_rewritten(tmp_path, fake_runs):
+    from scone_bt.benchmarks.self_confidence.dataset import ExecutionRecord, write_records
+
+    out = tmp_path / "X"
+    prof = load_profile(PROFILES / "p00_nominal.yaml")
+    rows = [
+        ExecutionRecord(i, "Put salt on table", "salt", True, None, prof.execution_seed(i))
+        for i in (0, 1, 3, 4)
+    ]
+    write_records(out / ".p00_nominal.partial.csv", rows)
+    assert bench(_generate(out, "--executions", "3")) == 0
+    assert [t.index for t in fake_runs] == [2]
+    assert [r.index for r in read_records(out / "p00_nominal.csv")] == [0, 1, 2, 3, 4]
+
+
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        ('{"runs": [', "not valid JSON (line 1"),
+        ('{"runs": 3}', '"runs" must be a list of objects'),
+        ("[]", "must be a JSON object"),
+        ('{"runs": [], "generations": {"p00_nominal": {"robot": "x"}}}', "exactly the keys robot, kitchen"),
+        (None, "directory"),
+    ],
+)
+def test_a_damaged_generation_log_stops_the_run_before_any_execution(
+    tmp_path, fake_runs, capsys, content, message
+):
+    out = tmp_path / "X"
+    out.mkdir()
+    log = out / "generation.json"
+    if content is None:
+        log.mkdir()
+    else:
+        log.write_text(content)
+    err = _one_line_error(capsys, _generate(out, "--executions", "1"))
+    assert str(log) in err and message in err
+    assert fake_runs == [] and not list(out.glob("*.csv")) and not list(out.glob(".*.csv"))
+    assert content is None or log.read_text() == content
+
+
+def test_the_generation_log_is_replaced_whole_not_rewritten_in_place(tmp_path, fake_runs):
+    out = tmp_path / "X"
+    assert bench(_generate(out, "--executions", "1")) == 0
+    log = out / "generation.json"
+    first = log.read_text()
+    os.link(log, tmp_path / "alias.json")  # a write in place would change the alias too
+    assert bench(_generate(out, "--executions", "2")) == 0
+    assert (tmp_path / "alias.json").read_text() == first
+    assert [r["executions_run"] for r in json.loads(log.read_text())["runs"]] == [1, 1]
+    assert not [p for p in out.iterdir() if p.name.endswith(".tmp")]

@@ -187,3 +187,27 @@ def test_a_user_catalogue_is_probed_with_the_shop(tmp_path, user_catalogue, caps
     assert main([*argv, "--catalogue", str(mine)]) == 0
     printed = json.loads(capsys.readouterr().out)
     assert printed["catalogue_products"] == len(attrs.names) == len(product_attributes().names) + 3
+
+
+def test_probe_out_and_name_are_checked_before_anything_runs(tmp_path, capsys, monkeypatch):
+    import scone_bt.benchmarks.self_confidence.probe as probe
+
+    attrs = product_attributes()
+    data = _write(tmp_path / "data", list(attrs.names[:30]), attrs)
+    (data / "README.md").write_text("# the datasets\n")
+
+    def boom(*args, **kwargs):
+        raise AssertionError("the probe ran before --out and --name were checked")
+
+    monkeypatch.setattr(probe, "product_attributes", boom)
+    argv = ["sc", "probe", "--data", str(data), "--embedders", "onehot"]
+    a_file = tmp_path / "notes.txt"
+    a_file.write_text("mine\n")
+    for extra, message in (
+        (["--out", str(data), "--name", "README"], f"{data / 'README.md'}: is the --data input"),
+        (["--out", str(a_file)], "is a file, not a folder"),
+    ):
+        assert main([*argv, *extra]) == 2
+        err = capsys.readouterr().err.strip()
+        assert message in err and "\n" not in err and "Traceback" not in err
+    assert (data / "README.md").read_text() == "# the datasets\n" and a_file.read_text() == "mine\n"
