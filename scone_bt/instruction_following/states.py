@@ -187,6 +187,13 @@ def build_states(recipes: Sequence[Recipe], options: StateOptions | None = None)
         if len(items) < opts.min_recipe_items or len(items) > opts.capacity - opts.distractors:
             continue
         keys = {item_key(i) for i in items}
+        # The draw below takes items of other recipes until it has enough: with too few it would never end.
+        others = {item_key(i) for i in pool_items} - keys
+        if len(others) < opts.distractors:
+            raise RecipeError(
+                f"distractors {opts.distractors}: recipe {recipe.id!r} leaves only {len(others)} other item(s) "
+                "in the corpus to draw them from; give fewer distractors or more recipes"
+            )
         distractors: list[str] = []
         while len(distractors) < opts.distractors:
             cand = pool_items[int(rng.choice(len(pool_items), p=pool_p))]

@@ -112,3 +112,9 @@ def test_save_replaces_the_file_whole(tmp_path, hummus, pancakes) -> None:
     os.link(path, tmp_path / "alias.jsonl")  # a write in place would change the alias too
     assert save_states(path, states) == len(states)
     assert load_states(tmp_path / "alias.jsonl") == states[:1] and load_states(path) == states
+
+
+def test_too_few_other_items_for_the_distractors_is_an_error_not_a_hang(hummus) -> None:
+    # One recipe: every item of the corpus is its own, so no distractor can be drawn (it looped forever).
+    with pytest.raises(RecipeError, match="leaves only 0 other item"):
+        build_states([hummus], StateOptions(distractors=1))
