@@ -5,10 +5,12 @@ Each check raises SconeError with one line naming the flag, the value and what i
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
 import stat
+import tempfile
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Literal
@@ -200,9 +202,22 @@ def check_output_file(
         raise SconeError(f"{flag} {path}: {blocker} is a file, not a folder")
     if path.exists() and not os.access(path, os.W_OK):
         raise SconeError(f"{flag} {path}: the file is read-only")
-    if not os.access(folder, os.W_OK | os.X_OK):
+    if not os.access(folder, os.W_OK | os.X_OK) or not _can_create_in(folder):
         raise SconeError(f"{flag} {path}: cannot write in {folder} (read-only or no permission)")
     return path
+
+
+def _can_create_in(folder: Path) -> bool:
+    """Whether a file can be made in `folder`, by making one: os.access answers yes to root everywhere, also on
+    /proc and /sys, where the write would fail only after the work is done."""
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=".scone-write-check.", dir=folder)
+    except OSError:
+        return False
+    os.close(fd)
+    with contextlib.suppress(OSError):
+        os.unlink(tmp)
+    return True
 
 
 def sqlite_files(path: Path | str) -> list[Path]:
@@ -228,7 +243,7 @@ def check_output_dir(path: Path, flag: str, must_be_new: bool = False) -> Path:
     folder, blocker = _first_existing_parent(path / "x")
     if blocker is not None:
         raise SconeError(f"{flag} {path}: {blocker} is a file, not a folder")
-    if not os.access(folder, os.W_OK | os.X_OK):
+    if not os.access(folder, os.W_OK | os.X_OK) or not _can_create_in(folder):
         raise SconeError(f"{flag} {path}: cannot write in {folder} (read-only or no permission)")
     return path
 

@@ -164,3 +164,17 @@ def test_the_viewer_command_works_from_a_fresh_shell(monkeypatch):
         timeout=60,
     )
     assert done.returncode == 0 and "rerun" in done.stdout.lower()
+
+
+@pytest.mark.skipif(not Path("/proc/self").exists(), reason="needs Linux's /proc")
+def test_a_folder_where_no_file_can_be_made_is_refused_even_for_root(tmp_path) -> None:
+    """os.access says yes to root on /proc and /sys: the check makes (and removes) a file to find out."""
+    from scone_bt.checks import check_output_dir, check_output_file
+    from scone_bt.errors import SconeError
+
+    with pytest.raises(SconeError, match=r"--save /proc/x/a.rrd: cannot write in /proc \(read-only"):
+        check_output_file(Path("/proc/x/a.rrd"), "--save")
+    with pytest.raises(SconeError, match="--out /proc/x: cannot write in /proc"):
+        check_output_dir(Path("/proc/x"), "--out")
+    assert check_output_file(tmp_path / "a" / "b.json", "--json") == tmp_path / "a" / "b.json"
+    assert list(tmp_path.iterdir()) == []  # the probe left nothing behind
