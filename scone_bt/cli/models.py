@@ -42,6 +42,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     from scone_bt.instruction_following import embedder as _mpnet_ft  # noqa: F401 (registers mpnet-ft)
 
     try:
+        if args.cache_dir is not None and args.command in ("install", "embed"):
+            from scone_bt.checks import check_output_dir
+
+            # Before pip installs anything: a cache that cannot hold the model is one line, not a traceback.
+            check_output_dir(args.cache_dir, "--cache-dir")
         if args.command in (None, "list"):
             infos = available_embedders(args.cache_dir)
             width = max(len(i.name) for i in infos)
@@ -59,6 +64,9 @@ def main(argv: Sequence[str] | None = None) -> int:
                 print(f"{sim:+.3f}  {text}")
     except SconeError as exc:
         print(f"scone-models: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:  # the cache folder or the disk, found while writing: one line naming the file
+        print(f"scone-models: {exc.filename or args.cache_dir}: {exc.strerror or exc}", file=sys.stderr)
         return 2
     return 0
 

