@@ -11,6 +11,7 @@ from __future__ import annotations
 import copy
 import functools
 import itertools
+import math
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -386,9 +387,42 @@ class SweepRange(StrictModel):
     stop: _Seconds
     step: Annotated[float, Field(gt=0, allow_inf_nan=False)]
 
+    def count(self) -> float:
+        """How many values the range holds (a float: a huge or overflowing range is told, not built)."""
+        return float(np.floor((self.stop - self.start) / self.step + 1e-9)) + 1
+
+    @model_validator(mode="after")
+    def _bounded(self) -> SweepRange:
+        # As many values as a sweep list may hold: a range is its shorthand, not a way to run forever.
+        n = self.count()
+        if not np.isfinite(n) or n > MAX_SWEEP_VALUES:
+            raise ValueError(
+                f"the range from {self.start:g} to {self.stop:g} in steps of {self.step:g} holds more than "
+                f"{MAX_SWEEP_VALUES} values; give a larger step or a shorter range"
+            )
+        return self
+
     def values(self) -> list[float]:
-        n = int(np.floor((self.stop - self.start) / self.step + 1e-9)) + 1
+        n = int(self.count())
         return [round(self.start + i * self.step, 10) for i in range(max(n, 0))]
+
+
+MAX_SWEEP_VALUES = 50
+"""Most values one swept key takes (a list or a range)."""
+MAX_SWEEP_CASES = 500
+"""Most cases one scenario file's sweep makes (the product of its keys' values)."""
+
+
+def _sweep_kind(value: Any) -> str:
+    """A mapping is a range, anything else a list: each is validated as what it is (errors say so)."""
+    return "range" if isinstance(value, (dict, SweepRange)) else "list"
+
+
+_SweepValues = Annotated[
+    Annotated[Annotated[list[Any], Field(min_length=1, max_length=MAX_SWEEP_VALUES)], Tag("list")]
+    | Annotated[SweepRange, Tag("range")],
+    Discriminator(_sweep_kind),
+]
 
 
 class ScenarioFile(StrictModel):
@@ -404,7 +438,7 @@ class ScenarioFile(StrictModel):
     human: HumanSection = HumanSection()
     events: Annotated[list[ScenarioEvent], Field(max_length=100)] = []  # type: ignore[valid-type]
     expect: Annotated[list[Expectation], Field(min_length=1, max_length=100)]  # type: ignore[valid-type]
-    sweep: dict[str, Annotated[list[Any], Field(min_length=1, max_length=50)] | SweepRange] = {}
+    sweep: dict[str, _SweepValues] = {}
 
     @model_validator(mode="after")
     def _reason(self) -> ScenarioFile:
@@ -571,6 +605,12 @@ def load_scenario(path: Path | str) -> list[Case]:
     for key, column in zip(keys, columns, strict=True):
         if not column:
             raise ConfigError(f"{where}: sweep.{key}: the range has no values (stop is before start)")
+    combinations = math.prod(len(c) for c in columns)
+    if combinations > MAX_SWEEP_CASES:
+        raise ConfigError(
+            f"{where}: sweep: {' × '.join(str(len(c)) for c in columns)} = {combinations} cases, more than "
+            f"{MAX_SWEEP_CASES}; sweep fewer values or split the file"
+        )
     cases = []
     for combo in itertools.product(*columns):
         data = copy.deepcopy(raw)

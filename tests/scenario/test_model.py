@@ -126,6 +126,25 @@ def test_a_range_sweep_and_a_bad_value_names_the_case(tmp_path: Path) -> None:
     assert "[robot.gripper_force=-1]: robot.gripper_force: Input should be greater than 0" in msg
 
 
+@pytest.mark.parametrize(
+    ("sweep", "expected"),
+    [
+        # each took forever or overflowed before (10^12 values; (1e308 - -1e308) / 1e-300 is infinite)
+        ("{start: 0.0, stop: 1000000000000.0, step: 1.0}", "holds more than 50 values; give a larger step"),
+        ("{start: -1.0e+308, stop: 1.0e+308, step: 1.0e-300}", "holds more than 50 values"),
+    ],
+)
+def test_a_range_sweep_is_bounded_and_says_so(tmp_path: Path, sweep: str, expected: str) -> None:
+    msg = _error(tmp_path, BASE + f"sweep:\n  human.patience_s: {sweep}\n")
+    assert "sweep.human.patience_s.range: the range from" in msg and expected in msg
+
+
+def test_a_sweep_of_too_many_combinations_is_refused(tmp_path: Path) -> None:
+    values = list(range(1, 31))
+    msg = _error(tmp_path, BASE + f"sweep:\n  robot.gripper_force: {values}\n  world.seed: {values}\n")
+    assert "sweep: 30 × 30 = 900 cases, more than 500" in msg
+
+
 def test_the_library_loads_and_every_scenario_says_what_it_pins() -> None:
     cases = load_scenarios([LIBRARY])
     files = {c.path for c in cases}
