@@ -92,6 +92,13 @@ def run_scale(
     if profiles_dir is None or not profiles_dir.is_dir():
         raise SconeError("scone-bench scale needs the profiles in tools/profiles of a checkout")
     (profile,) = load_profiles(profiles_dir, [profile_name])
+    from scone_bt.config import load_robot
+
+    load_robot(robot)  # an unknown robot is one line here, not a failed task on every worker
+    local_cpus = max(os.cpu_count() or 1, 2)
+    if address in ("local", "auto") and max(workers) > local_cpus:
+        # A local cluster is given as many CPUs as workers: more than the machine has measures only contention.
+        raise SconeError(f"--workers {max(workers)}: this machine has {local_cpus} CPUs; give at most that")
     EngineOptions(
         EngineKind.RAY, address=address
     )  # a bad --ray value is a one-line error before anything starts

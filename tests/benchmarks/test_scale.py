@@ -26,3 +26,21 @@ def test_scale_runs_the_same_executions_on_one_and_two_workers():
     )
     assert report["overhead"]["noop_task_roundtrip_ms"] > 0 and report["machine_ceiling_speedup"] > 0
     assert 0 < report["projection_100_workers"]["speedup"] <= 100
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--arm", "nosuch"], "scone-bench: unknown robot 'nosuch'; valid: iiwa7, panda\n"),
+        (["--workers", "1000"], "scone-bench: --workers 1000: this machine has"),
+    ],
+)
+def test_scale_refuses_a_bad_robot_or_worker_count_before_ray_starts(
+    argv, message, capsys, monkeypatch
+) -> None:
+    import scone_bt.distributed.ray_engine as ray_engine
+    from scone_bt.cli.bench import main
+
+    monkeypatch.setattr(ray_engine, "connect_ray", lambda *a, **k: pytest.fail("Ray started"))
+    assert main(["scale", *argv]) == 2
+    assert capsys.readouterr().err.startswith(message)
