@@ -145,9 +145,31 @@ _ANGLES = frozenset({"max_carry_tilt", "yaw_step", "tilts", "side_max_angle"})
 _POSITIVE = frozenset({"yaw_step_deg", "max_goal_grasps", "max_goal_placements"})
 """Settings that must be above zero (a zero yaw step never ends; a goal set needs one member)."""
 
+_BOUNDS: dict[str, tuple[float, float]] = {
+    "yaw_step_deg": (1.0, 180.0),  # pi / yaw_step closing yaws are swept: 1e-9 degrees never ends
+    "side_max_angle_deg": (0.0, 180.0),  # side_max_angle / yaw_step side approaches, each way
+    "max_carry_tilt_deg": (0.0, 180.0),
+    "tilts_deg": (0.0, 90.0),
+    "max_goal_grasps": (1, 64),
+    "max_goal_placements": (1, 64),
+    "ik_alternatives": (0, 16),
+    "path_retries": (0, 16),
+}
+"""Least and largest value of the settings that drive loops (for a list, of each of its values)."""
+MAX_LIST_LENGTH = 16
+"""Most values a list setting (tilts, offsets) takes: each one multiplies the grasp candidates."""
+
 # strict per value (no "yes" for true, no true for 1, no "0.3" for 0.3) but a YAML list is fine for a tuple
 _Number = Annotated[float, Field(strict=True, ge=0, allow_inf_nan=False)]
 _Positive = Annotated[float, Field(strict=True, gt=0, allow_inf_nan=False)]
+
+
+def _number(key: str) -> Any:
+    """The pydantic type of one number of the `grasp:` key `key`."""
+    if key in _BOUNDS:
+        lo, hi = _BOUNDS[key]
+        return Annotated[float, Field(strict=True, ge=lo, le=hi, allow_inf_nan=False)]
+    return _Positive if key in _POSITIVE else _Number
 
 
 def _section_field(f: Field_) -> tuple[str, tuple[Any, Any]]:
@@ -158,13 +180,14 @@ def _section_field(f: Field_) -> tuple[str, tuple[Any, Any]]:
     if isinstance(default, bool):
         kind = Annotated[bool, Field(strict=True)]
     elif isinstance(default, int):
-        kind = Annotated[int, Field(strict=True, ge=1 if key in _POSITIVE else 0)]
+        lo, hi = _BOUNDS.get(key, (1 if key in _POSITIVE else 0, None))
+        kind = Annotated[int, Field(strict=True, ge=lo, le=hi)]
     elif f.name == "family_cost":
         kind = tuple[_Number, _Number, _Number]
     elif isinstance(default, tuple):
-        kind = tuple[_Number, ...]
+        kind = Annotated[tuple[_number(key), ...], Field(max_length=MAX_LIST_LENGTH)]
     else:
-        kind = _Positive if key in _POSITIVE else _Number
+        kind = _number(key)
     return key, (kind, None)
 
 
@@ -184,10 +207,19 @@ def _section_error(exc: ValidationError, section: dict[str, Any], where: str) ->
     if error["type"] in ("extra_forbidden", "invalid_key"):  # a key that is not text is unknown too
         return f"{where}: grasp.{shown} is not a grasp setting; valid: {', '.join(sorted(_GraspSection.model_fields))}"
     raw = section[key]
-    if key in _POSITIVE and error["type"] in ("greater_than", "greater_than_equal"):
+    kind, value = error["type"], error.get("input")
+    number = isinstance(value, int | float)
+    below_zero = number and value < 0
+    if key in _POSITIVE and kind in ("greater_than", "greater_than_equal") and number and value <= 0:
         return f"{where}: grasp.{key} must be positive, got {raw!r}"
-    if error["type"] in ("greater_than_equal", "finite_number"):
+    if kind == "finite_number" or (kind == "greater_than_equal" and below_zero):
         return f"{where}: grasp.{key} must be non-negative and finite, got {raw!r}"
+    if kind in ("greater_than", "greater_than_equal", "less_than_equal") and key in _BOUNDS:
+        lo, hi = _BOUNDS[key]
+        each = " each" if isinstance(raw, list | tuple) else ""
+        return f"{where}: grasp.{key} must{each} be between {lo:g} and {hi:g}, got {raw!r}"
+    if kind == "too_long":
+        return f"{where}: grasp.{key} takes at most {MAX_LIST_LENGTH} values, got {len(raw)}"
     name = key.removesuffix("_deg") if key.endswith("_deg") else key
     default = getattr(GraspParams(), name)
     if key.endswith("_deg"):  # the default as the file writes it

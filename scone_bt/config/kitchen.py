@@ -13,6 +13,9 @@ from scone_bt.resources import data_dir, resolve_file
 
 __all__ = ["ObjectSpec", "Catalogue", "CameraSpec", "SceneSpec", "KitchenConfig", "load_kitchen"]
 
+KITCHEN_KEYS = ("scene", "cameras", "camera", "catalogue")
+"""The top-level keys of a kitchen file."""
+
 
 @dataclass(frozen=True)
 class KitchenConfig:
@@ -55,7 +58,7 @@ def load_kitchen(
         catalogues: Extra product files (a user's own products), merged after the kitchen's ``catalogue:`` list.
     """
     path = resolve_file("perception", name_or_path, (".yaml", ".yml"))
-    f = Fields(read_yaml(path), str(path))
+    f = Fields(read_yaml(path), str(path)).allow(*KITCHEN_KEYS)
     scene = parse_scene(f.sub("scene"))
     cameras = parse_cameras(f)
     entries = f.get("catalogue", list)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Annotated, Any, Literal
@@ -239,7 +240,49 @@ class RobotFile(StrictModel):
         ):
             if len(values) != n:
                 raise ValueError(f"{key}: expected {n} numbers (one per arm joint), got {len(values)}")
+        for i, (joint, q) in enumerate(zip(self.arm_joints, self.home, strict=True)):
+            if abs(q) > MAX_HOME_RAD:
+                raise ValueError(
+                    f"home[{i}] ({joint}): {q:g} rad is outside [-{MAX_HOME_RAD:.4f}, {MAX_HOME_RAD:.4f}]"
+                )
         return self
+
+
+MAX_HOME_RAD = 2 * math.pi
+"""Largest home angle (rad) of any arm joint; the URDF's own limits are checked at load (`_check_home`)."""
+
+
+def _urdf_limits(urdf: Path) -> dict[str, tuple[float, float]]:
+    """(lower, upper) of each limited revolute or prismatic joint of a URDF; {} if it cannot be read as XML."""
+    import xml.etree.ElementTree as ET
+
+    try:
+        root = ET.parse(urdf).getroot()  # noqa: S314 - the user's own robot description
+    except (ET.ParseError, OSError):
+        return {}  # the simulator words its own error for a broken URDF
+    out: dict[str, tuple[float, float]] = {}
+    for joint in root.iter("joint"):
+        limit = joint.find("limit")
+        if joint.get("type") not in ("revolute", "prismatic") or limit is None:
+            continue
+        try:
+            out[str(joint.get("name"))] = (float(limit.get("lower", "0")), float(limit.get("upper", "0")))
+        except ValueError:
+            continue
+    return out
+
+
+def _check_home(m: RobotFile, urdf: Path, where: str) -> None:
+    """The home pose within the URDF's joint limits, or a one-line ConfigError naming the index and the joint."""
+    limits = _urdf_limits(urdf)
+    for i, (joint, q) in enumerate(zip(m.arm_joints, m.home, strict=True)):
+        if joint not in limits:
+            continue
+        lo, hi = limits[joint]
+        if lo < hi and not lo - 1e-6 <= q <= hi + 1e-6:
+            raise ConfigError(
+                f"{where}: home[{i}] ({joint}): {q:g} is outside the joint's limits [{lo:g}, {hi:g}] in {urdf.name}"
+            )
 
 
 def load_robot(name_or_path: str | Path = "panda") -> RobotConfig:
@@ -253,10 +296,12 @@ def load_robot(name_or_path: str | Path = "panda") -> RobotConfig:
     raw = read_yaml(path)
     m = validate(RobotFile, raw, str(path))
     grasp = GraspParams.from_section(m.grasp, str(path))
+    urdf = resolve_urdf(m.urdf, path)
+    _check_home(m, urdf, str(path))
     g, lim, p, c = m.gripper, m.limits, m.planner, m.control
     return RobotConfig(
         name=m.name,
-        urdf=resolve_urdf(m.urdf, path),
+        urdf=urdf,
         base_position=tuple(m.base_position),  # type: ignore[arg-type]
         arm_joints=tuple(m.arm_joints),
         end_effector_frame=m.end_effector_frame,

@@ -186,12 +186,14 @@ class SceneSpec:
 
 
 def _box(f: Fields, key: str) -> Box:
-    sub = f.sub(key)
-    return sub.vector("center", 3), sub.vector("size", 3)  # type: ignore[return-value]
+    sub = f.sub(key).allow("center", "size")
+    size = sub.vector("size", 3)
+    require(all(v > 0 for v in size), f"{sub.where}.size: every size must be > 0 metres, got {list(size)}")
+    return sub.vector("center", 3), size  # type: ignore[return-value]
 
 
 def _unit(raw: object, index: int, where: str) -> ShelfUnit:
-    f = Fields(raw, f"{where}[{index}]")  # type: ignore[arg-type]
+    f = Fields(raw, f"{where}[{index}]").allow(*_UNIT_KEYS)  # type: ignore[arg-type]
     rotation = f.get("rotation_deg", int, 0)
     require(
         rotation in _ROTATIONS,
@@ -199,7 +201,7 @@ def _unit(raw: object, index: int, where: str) -> ShelfUnit:
     )
     tiers = []
     for i, raw_tier in enumerate(f.get("tiers", list)):
-        t = Fields(raw_tier, f"{f.where}.tiers[{i}]")
+        t = Fields(raw_tier, f"{f.where}.tiers[{i}]").allow("center", "top_z", "slots")
         slots = t.vector("slots")
         require(len(slots) > 0, f"{t.where}.slots: list at least one slot position")
         tiers.append(ShelfTier(t.get("center", float), t.get("top_z", float), tuple(slots)))
@@ -213,17 +215,57 @@ def _unit(raw: object, index: int, where: str) -> ShelfUnit:
 
 def parse_scene(s: Fields) -> SceneSpec:
     """The ``scene:`` section of a kitchen file."""
+    s.allow(*_SCENE_KEYS)
+    floor_z = s.get("floor_z", float)
     units = tuple(_unit(u, i, f"{s.where}.shelves") for i, u in enumerate(s.get("shelves", list)))
     require(len(units) > 0, f"{s.where}.shelves: list at least one shelf unit")
     names = [u.name for u in units]
     require(len(set(names)) == len(names), f"{s.where}.shelves: unit names must be unique, got {names}")
+    seen: dict[tuple[float, float, float], str] = {}
+    for i, unit in enumerate(units):
+        for j, tier in enumerate(unit.tiers):
+            where = f"{s.where}.shelves[{i}].tiers[{j}]"
+            require(
+                tier.top_z > floor_z,
+                f"{where}.top_z: {tier.top_z:g} must be above scene.floor_z ({floor_z:g})",
+            )
+            for k, v in enumerate(tier.slots):
+                x, y = unit.to_world(tier.center, v)
+                key = (round(x, 6), round(y, 6), round(tier.top_z, 6))
+                name = f"{where}.slots[{k}] ({unit.name})"
+                require(key not in seen, f"{name} and {seen.get(key)} are the same slot position {list(key)}")
+                seen[key] = name
+    spots = tuple(_spot(p, i, s.where) for i, p in enumerate(s.get("place_spots", list)))
+    require(len(spots) > 0, f"{s.where}.place_spots: list at least one [x, y] table spot")
     return SceneSpec(
-        floor_z=s.get("floor_z", float),
+        floor_z=floor_z,
         pedestal=_box(s, "pedestal"),
         table=_box(s, "table"),
         shelves=units,
-        place_spots=tuple(_spot(p, i, s.where) for i, p in enumerate(s.get("place_spots", list))),
+        place_spots=spots,
     )
+
+
+_SCENE_KEYS = ("floor_z", "pedestal", "table", "shelves", "place_spots")
+_UNIT_KEYS = ("name", "rotation_deg", "tier_depth", "span", "tiers")
+_CAMERA_KEYS = (
+    "position",
+    "target",
+    "up",
+    "width",
+    "height",
+    "fov_deg",
+    "near",
+    "far",
+    "noise_std",
+    "depth_noise_std",
+)
+MIN_PIXELS, MAX_PIXELS = 16, 4096
+"""Smallest and largest camera image side, pixels (a 100000 x 100000 image does not fit in memory)."""
+MAX_DEPTH_NOISE_M = 1.0
+"""Largest depth noise, metres (pixel noise is on the 0-255 scale)."""
+MAX_FAR_M = 100.0
+"""Farthest a camera's far plane may be, metres (the kitchen is a few metres across)."""
 
 
 def _spot(raw: object, index: int, where: str) -> tuple[float, float]:
@@ -237,18 +279,30 @@ def _spot(raw: object, index: int, where: str) -> tuple[float, float]:
     return float(raw[0]), float(raw[1])  # type: ignore[index]
 
 
+def _pixels(c: Fields, key: str) -> int:
+    value = c.get(key, int)
+    require(
+        MIN_PIXELS <= value <= MAX_PIXELS,
+        f"{c.where}.{key}: must be {MIN_PIXELS} to {MAX_PIXELS} pixels, got {value}",
+    )
+    return value
+
+
 def _camera(c: Fields, name: str, role: str) -> CameraSpec:
+    near = c.number("near", 0.0, MAX_FAR_M, 0.05, above=True)
+    far = c.number("far", 0.0, MAX_FAR_M, 3.0, above=True)
+    require(near < far, f"{c.where}.far: must be larger than near ({near:g}), got {far:g}")
     return CameraSpec(
         position=c.vector("position", 3),  # type: ignore[arg-type]
         target=c.vector("target", 3),  # type: ignore[arg-type]
         up=c.vector("up", 3, (0.0, 0.0, 1.0)),  # type: ignore[arg-type]
-        width=c.get("width", int),
-        height=c.get("height", int),
-        fov_deg=c.get("fov_deg", float),
-        near=c.get("near", float, 0.05),
-        far=c.get("far", float, 3.0),
-        noise_std=c.get("noise_std", float, 0.0),
-        depth_noise_std=c.get("depth_noise_std", float, 0.0),
+        width=_pixels(c, "width"),
+        height=_pixels(c, "height"),
+        fov_deg=c.number("fov_deg", 1.0, 179.0),
+        near=near,
+        far=far,
+        noise_std=c.number("noise_std", 0.0, 255.0, 0.0),
+        depth_noise_std=c.number("depth_noise_std", 0.0, MAX_DEPTH_NOISE_M, 0.0),
         name=name,
         role=role,
     )
@@ -261,10 +315,10 @@ def parse_cameras(f: Fields) -> tuple[CameraSpec, ...]:
         The cameras in file order; at least one watches the shelf.
     """
     if "cameras" not in f.data and "camera" in f.data:
-        return (_camera(f.sub("camera"), "shelf", "shelf"),)
+        return (_camera(f.sub("camera").allow(*_CAMERA_KEYS), "shelf", "shelf"),)
     out = []
     for i, raw in enumerate(f.get("cameras", list)):
-        c = Fields(raw, f"{f.where}.cameras[{i}]")
+        c = Fields(raw, f"{f.where}.cameras[{i}]").allow(*_CAMERA_KEYS, "name", "role")
         role = c.get("role", str, "shelf")
         require(role in CAMERA_ROLES, f"{c.where}.role: {role!r} is not one of {', '.join(CAMERA_ROLES)}")
         out.append(_camera(c, c.get("name", str, f"camera{i}"), role))

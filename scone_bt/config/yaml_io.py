@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import math
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Annotated, Any, Union
@@ -158,10 +159,30 @@ class Fields:
             return default
         value = self.data[key]
         try:
-            return _adapter(kind).validate_python(value)
+            out = _adapter(kind).validate_python(value)
         except ValidationError:
             name = kind.__name__ if isinstance(kind, type) else "/".join(k.__name__ for k in kind)
             raise ConfigError(f"{self.where}.{key}: expected {name}, got {value!r}") from None
+        if isinstance(out, float) and not math.isfinite(out):
+            raise ConfigError(f"{self.where}.{key}: expected a finite number, got {value!r}")
+        return out
+
+    def number(self, key: str, lo: float, hi: float, default: Any = ..., *, above: bool = False) -> float:
+        """A finite number in [lo, hi] (in (lo, hi] with `above`), else one ConfigError naming the key and range."""
+        value = self.get(key, float, default)
+        ok = (lo < value if above else lo <= value) and value <= hi
+        if not ok:
+            bracket = "(" if above else "["
+            raise ConfigError(f"{self.where}.{key}: must be in {bracket}{lo:g}, {hi:g}], got {value!r}")
+        return float(value)
+
+    def allow(self, *keys: str) -> Fields:
+        """Self if every key of the mapping is one of `keys`; else one ConfigError naming it and the valid keys."""
+        for key in self.data:
+            if key not in keys:
+                shown = key if str(key).isprintable() else repr(key)
+                raise ConfigError(f"{self.where}: unknown key {shown!r}; valid: {', '.join(keys)}")
+        return self
 
     def vector(self, key: str, length: int | None = None, default: Any = ...) -> tuple[float, ...]:
         value = self.get(key, list, default)

@@ -49,3 +49,22 @@ def test_an_empty_or_missing_section_is_the_defaults_and_a_list_is_refused():
     assert GraspParams.from_section(None, "r.yaml") == GraspParams() == GraspParams.from_section({}, "r.yaml")
     with pytest.raises(ConfigError, match="r.yaml: grasp must be a mapping of settings"):
         GraspParams.from_section([1], "r.yaml")  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(
+    ("section", "message"),
+    [
+        ({"yaw_step_deg": 1.0e-9}, "r.yaml: grasp.yaw_step_deg must be between 1 and 180, got 1e-09"),
+        (
+            {"side_max_angle_deg": 1e9},
+            "r.yaml: grasp.side_max_angle_deg must be between 0 and 180, got 1000000000.0",
+        ),
+        ({"tilts_deg": [10, 95]}, "r.yaml: grasp.tilts_deg must each be between 0 and 90, got [10, 95]"),
+        ({"max_goal_grasps": 1000}, "r.yaml: grasp.max_goal_grasps must be between 1 and 64, got 1000"),
+        ({"offsets": [0.01] * 17}, "r.yaml: grasp.offsets takes at most 16 values, got 17"),
+    ],
+)
+def test_loop_driving_settings_are_bounded(section: dict, message: str):
+    with pytest.raises(ConfigError) as err:
+        GraspParams.from_section(section, "r.yaml")
+    assert str(err.value) == message

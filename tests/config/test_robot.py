@@ -1,0 +1,67 @@
+"""The robot file: a home pose outside the joints' range is one line naming the joint, before the robot acts."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+import yaml
+
+from scone_bt.config import load_robot
+from scone_bt.errors import ConfigError
+from scone_bt.resources import data_dir
+
+
+def _robot(tmp_path: Path) -> dict:
+    return yaml.safe_load((data_dir("robots") / "panda.yaml").read_text())
+
+
+def _refused(tmp_path: Path, doc: dict, *parts: str) -> None:
+    path = tmp_path / "arm.yaml"
+    path.write_text(yaml.safe_dump(doc))
+    with pytest.raises(ConfigError) as err:
+        load_robot(path)
+    msg = str(err.value)
+    assert "\n" not in msg and str(path) in msg
+    for part in parts:
+        assert part in msg, msg
+
+
+@pytest.mark.parametrize("name", ["panda", "iiwa7"])
+def test_committed_robots_load(name: str):
+    robot = load_robot(name)
+    assert len(robot.home) == robot.dof
+
+
+@pytest.mark.parametrize(
+    ("index", "value", "parts"),
+    [
+        (0, 1e6, ("home[0] (panda_joint1)", "outside")),
+        (3, -7.0, ("home[3] (panda_joint4)", "outside")),
+        (3, 0.5, ("home[3] (panda_joint4)", "limits", "panda.urdf")),  # within 2 pi, outside the URDF's range
+        (1, math.inf, ("home[1]",)),
+    ],
+)
+def test_home_outside_joint_limits_is_refused(
+    tmp_path: Path, index: int, value: float, parts: tuple[str, ...]
+):
+    doc = _robot(tmp_path)
+    doc["home"][index] = value
+    _refused(tmp_path, doc, *parts)
+
+
+@pytest.mark.parametrize(
+    ("key", "value"),
+    [
+        ("yaw_step_deg", 1.0e-9),
+        ("yaw_step_deg", 720.0),
+        ("side_max_angle_deg", 1e9),
+        ("ik_alternatives", 10**9),
+        ("path_retries", 10**9),
+    ],
+)
+def test_grasp_loop_settings_are_bounded(tmp_path: Path, key: str, value: float):
+    doc = _robot(tmp_path)
+    doc["grasp"][key] = value
+    _refused(tmp_path, doc, f"grasp.{key}", "between")

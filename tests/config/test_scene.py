@@ -1,0 +1,78 @@
+"""The kitchen file's scene and cameras: bad values are one line naming the file, the key and what is allowed."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import pytest
+import yaml
+
+from scone_bt.config import load_kitchen
+from scone_bt.errors import ConfigError
+from scone_bt.resources import data_dir
+
+
+def _kitchen(tmp_path: Path, edit: Callable[[dict[str, Any]], None]) -> Path:
+    doc = yaml.safe_load((data_dir("perception") / "kitchen.yaml").read_text())
+    edit(doc)
+    path = tmp_path / "kitchen.yaml"
+    path.write_text(yaml.safe_dump(doc))
+    return path
+
+
+def _refused(path: Path, *parts: str) -> str:
+    with pytest.raises(ConfigError) as err:
+        load_kitchen(path)
+    msg = str(err.value)
+    assert "\n" not in msg and str(path) in msg
+    for part in parts:
+        assert part in msg, msg
+    return msg
+
+
+def test_committed_kitchen_loads():
+    kitchen = load_kitchen("kitchen")
+    assert kitchen.scene.place_spots and kitchen.camera.width == 640
+
+
+@pytest.mark.parametrize(
+    ("key", "value", "shown"),
+    [
+        ("width", 100000, "16 to 4096"),
+        ("height", 100000, "16 to 4096"),
+        ("width", 0, "16 to 4096"),
+        ("fov_deg", 0.0, "fov_deg"),
+        ("fov_deg", 400.0, "fov_deg"),
+        ("near", -1.0, "near"),
+        ("far", 0.01, "larger than near"),
+        ("noise_std", 1e9, "noise_std"),
+        ("depth_noise_std", 1e9, "depth_noise_std"),
+        ("near", math.nan, "finite"),
+    ],
+)
+def test_camera_size_and_range_are_bounded(tmp_path: Path, key: str, value: Any, shown: str):
+    path = _kitchen(tmp_path, lambda d: d["cameras"][1].update({key: value}))
+    _refused(path, "cameras[1]", shown)
+
+
+@pytest.mark.parametrize(
+    ("edit", "parts"),
+    [
+        (lambda d: d.update(lights=1), ("unknown key 'lights'", "valid: scene, cameras")),
+        (lambda d: d["scene"].update(walls=1), ("scene: unknown key 'walls'", "place_spots")),
+        (lambda d: d["cameras"][0].update(zoom=2), ("cameras[0]: unknown key 'zoom'", "fov_deg")),
+        (lambda d: d["scene"].update(floor_z=math.nan), ("scene.floor_z", "finite")),
+        (lambda d: d["scene"]["table"].update(size=[0.5, -0.5, 0.6]), ("scene.table.size", "> 0")),
+        (lambda d: d["scene"].update(place_spots=[]), ("scene.place_spots", "at least one")),
+        (
+            lambda d: d["scene"]["shelves"][0]["tiers"][0].update(slots=[0.2, 0.3, 0.2]),
+            ("tiers[0].slots[2]", "tiers[0].slots[0]", "same slot position"),
+        ),
+        (lambda d: d["scene"]["shelves"][0]["tiers"][0].update(top_z=-1.0), ("top_z", "floor_z")),
+    ],
+)
+def test_scene_refuses_unknown_keys_and_bad_geometry(tmp_path: Path, edit: Callable, parts: tuple[str, ...]):
+    _refused(_kitchen(tmp_path, edit), *parts)
