@@ -292,10 +292,39 @@ def _arm_transfer(models: Sequence[Model], arms: list[str], seeds: int, estimato
 
 
 # ----- command ------------------------------------------------------------------------------------------------
+STORES = ("postgresql", "sqlite")
+
+
+def _check_args(args: argparse.Namespace) -> None:
+    """Every option of ``fleet`` before any store is opened or robot started: one line naming the flag."""
+    from scone_bt.checks import check_positive_int
+    from scone_bt.errors import SconeError
+    from scone_bt.experience import redact_url
+    from scone_bt.experience.open import is_postgres_url
+
+    backends = [b for b in args.stores.split(",") if b]
+    unknown = [b for b in backends if b not in STORES]
+    if unknown or not backends:
+        raise SconeError(f"--stores {args.stores}: give a comma list of {', '.join(STORES)}")
+    if args.postgres is not None and not is_postgres_url(args.postgres):
+        raise SconeError(
+            f"--postgres {redact_url(args.postgres)}: not a PostgreSQL URL; give postgresql://USER@HOST/DATABASE "
+            "(or leave it out for a temporary server)"
+        )
+    check_positive_int(args.robots, "--robots", maximum=64)
+    check_positive_int(args.outcomes, "--outcomes", maximum=100_000)
+    if not 0 <= args.kill_after <= args.outcomes:
+        raise SconeError(
+            f"--kill-after {args.kill_after}: must be an integer in 0..{args.outcomes} (0..--outcomes)"
+        )
+    check_positive_int(args.seeds, "--seeds", maximum=10_000)
+
+
 def _handler(args: argparse.Namespace) -> int:
     from scone_bt.errors import SconeError
     from scone_bt.resources import repo_root
 
+    _check_args(args)
     root = repo_root()
     if root is None:
         raise SconeError("scone-bench fleet reads tools/data/sc of a checkout")
@@ -317,7 +346,7 @@ def _handler(args: argparse.Namespace) -> int:
             elif backend == "postgresql":
                 report["stores"]["postgresql"] = _postgres_trial(args, files)
             else:
-                raise SconeError(f"unknown store {backend!r}; valid: postgresql, sqlite")
+                raise SconeError(f"unknown store {backend!r}; valid: {', '.join(STORES)}")
     if not args.no_learning:
         from scone_bt.embedding import load_embedder
 

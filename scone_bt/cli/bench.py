@@ -17,10 +17,10 @@ import sys
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
-from scone_bt.checks import check_output_file
+from scone_bt.checks import check_output_file, check_seed
 from scone_bt.errors import SconeError
 
-__all__ = ["main", "check_report_path", "interrupted_line", "BENCHMARK_MODULES"]
+__all__ = ["main", "check_report_path", "check_common_ranges", "interrupted_line", "BENCHMARK_MODULES"]
 
 # One line per benchmark module; its register() adds the subcommands.
 BENCHMARK_MODULES: tuple[str, ...] = (
@@ -52,22 +52,72 @@ def _leaf_parsers(parser: argparse.ArgumentParser) -> Iterator[argparse.Argument
             yield from _leaf_parsers(child)
 
 
+_FOLDER_INPUT_FILES = 10_000
+"""At most this many files of a folder given as an input are counted as inputs (its files, not its sub-folders')."""
+
+_OUTPUT_FOLDERS = ("out",)
+"""Options naming a folder the run writes into: the folder itself is protected, not the files it holds (a report
+of an earlier run there may be replaced)."""
+
+
+def _folder_files(folder: Path) -> list[Path]:
+    """The files directly inside `folder` (bounded): a folder given as an input reads them."""
+    files: list[Path] = []
+    try:
+        with os.scandir(folder) as entries:
+            for entry in entries:
+                if len(files) >= _FOLDER_INPUT_FILES:
+                    break
+                try:
+                    if entry.is_file():
+                        files.append(Path(entry.path))
+                except OSError:
+                    continue
+    except OSError:
+        pass
+    return files
+
+
 def _inputs(args: argparse.Namespace, outputs: Sequence[str]) -> dict[str, list[Path]]:
-    """The existing files named by the command's other options: what its report must not be written over."""
+    """The existing files named by the command's other options: what its report must not be written over.
+
+    A folder given as an input counts with the files directly inside it (e.g. ``scenarios DIR``: its .yaml files),
+    an output folder (--out) only as itself.
+    """
     out: dict[str, list[Path]] = {}
     for dest, value in vars(args).items():
         if dest in outputs or callable(value):
             continue
         for item in value if isinstance(value, (list, tuple)) else [value]:
             if isinstance(item, (str, Path)) and str(item) and os.path.exists(item):
-                out.setdefault(f"--{dest.replace('_', '-')}", []).append(Path(item))
+                files = out.setdefault(f"--{dest.replace('_', '-')}", [])
+                files.append(Path(item))
+                if os.path.isdir(item) and dest not in _OUTPUT_FOLDERS:
+                    files.extend(_folder_files(Path(item)))
     return out
+
+
+def check_common_ranges(args: argparse.Namespace) -> None:
+    """Options many benchmarks share, checked before any of them runs: one line naming the flag and its range."""
+    seed = getattr(args, "seed", None)
+    if isinstance(seed, int) and not isinstance(seed, bool):
+        check_seed(seed)
+    for dest, low in (("distractors", 0), ("jobs", 1), ("warmup", 0)):
+        value = getattr(args, dest, None)
+        if isinstance(value, int) and not isinstance(value, bool) and value < low:
+            raise SconeError(f"--{dest} {value}: must be an integer >= {low}")
 
 
 def check_report_path(args: argparse.Namespace) -> None:
     """--json of any benchmark, before it runs: not one of its inputs, not a device, not a non-JSON file."""
     path = getattr(args, "json", None)
     if path:
+        parent = Path(path).absolute().parent
+        if not parent.is_dir():
+            what = "is not a folder" if parent.exists() else "does not exist"
+            raise SconeError(
+                f"--json {path}: the folder {parent} {what}; create it first or give another path"
+            )
         check_output_file(
             Path(path),
             "--json",
@@ -116,6 +166,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         from scone_bt.extras import require
 
         require("bench", "scone-bench")
+        check_common_ranges(args)
         check_report_path(args)  # before the benchmark runs: minutes of work are not lost to a bad --json
         return int(args.func(args))
     except SconeError as exc:

@@ -226,13 +226,60 @@ def _analysis_options(
     )
 
 
+MAX_SIMULATED_PARTICIPANTS = 100_000
+"""Most participants `simulate` accepts: every one is held in memory until the log is written."""
+
+
+def _check_analysis_out(
+    out: Path, flag: str, force: bool, inputs: dict[str, list[Path]] | None = None
+) -> None:
+    """The analysis' output folder, before any sampling: writable (a file is made there and removed), none of its
+    result files one of the run's `inputs` (never replaced, even with --force), earlier results kept unless
+    `force`. Every message names `flag`."""
+    from scone_bt.checks import check_output_dir, same_file
+    from scone_bt.study.analysis import check_outputs, output_paths
+
+    check_output_dir(out, flag)
+    for path in output_paths(out).values():
+        for other_flag, files in (inputs or {}).items():
+            for other in files:
+                if other.exists() and same_file(path, other):
+                    raise SconeError(
+                        f"{flag} {out}: its {path.name} would replace the {other_flag} input ({other}); "
+                        f"inputs are never overwritten, give another {flag} folder"
+                    )
+    try:
+        check_outputs(out, force)
+    except SconeError as exc:
+        if flag == "--out":
+            raise
+        raise SconeError(
+            str(exc).replace("--out", flag).replace(" or pass --force to overwrite", "")
+        ) from None
+
+
+def _analysis_inputs(args: argparse.Namespace) -> dict[str, list[Path]]:
+    """The files `analyze` reads, by flag (a study log with the files SQLite keeps beside it)."""
+    from scone_bt.checks import sqlite_files
+
+    inputs: dict[str, list[Path]] = {}
+    if getattr(args, "db", None) is not None:
+        inputs["--db"] = sqlite_files(args.db)
+    for flag, dest in (("--ratings", "ratings"), ("--sessions", "sessions")):
+        if getattr(args, dest, None) is not None:
+            inputs[flag] = [Path(getattr(args, dest))]
+    return inputs
+
+
 def _analyze(data, args: argparse.Namespace, out: Path, force: bool = False) -> None:  # noqa: ANN001
     """Check options and output folder, then sample (the slow part), then write."""
-    from scone_bt.study.analysis import analyze, check_outputs
+    from scone_bt.study.analysis import analyze
     from scone_bt.study.outputs import write_outputs
 
     options = _analysis_options(args, data.available_models())
-    check_outputs(out, force)
+    _check_analysis_out(
+        out, "--out" if args.command == "analyze" else "--analyze", force, _analysis_inputs(args)
+    )
     result = analyze(data, options, printer=print)
     print(result.format())
     paths = write_outputs(result, data, out, force=True)
@@ -248,6 +295,7 @@ def _analyze_command(args: argparse.Namespace) -> int:
     from scone_bt.study.analysis import load_study
     from scone_bt.study.ratings_csv import load_ratings_csv, parse_column_map
 
+    _check_analysis_out(args.out, "--out", args.force, _analysis_inputs(args))  # before reading and sampling
     if args.ratings is None:
         if args.sessions is not None or args.columns:
             raise SconeError("--sessions and --columns go with --ratings (a study log has its own sessions)")
@@ -316,8 +364,11 @@ def _power(args: argparse.Namespace) -> int:
         ray=args.ray,
         response_noise_sd=args.answer_noise_sd,
     )
+    from scone_bt.checks import check_output_dir, check_seed
     from scone_bt.study.power import check_power_outputs
 
+    check_seed(args.seed)
+    check_output_dir(args.out, "--out")
     check_power_outputs(args.out, args.force)
     result = run_power(options, printer=print)
     print(result.format())
@@ -325,6 +376,38 @@ def _power(args: argparse.Namespace) -> int:
     print(f"results: {paths['json']}  plot: {paths['plot']}")
     print("NOTE: power comes from SIMULATED participants.")
     return 0
+
+
+def _check_host(host: str, token: str | None) -> None:
+    """`session`'s --host and --token, in this command's words (the tablet server names scone-run's --ui flags)."""
+    from scone_bt.study.ui import _is_local
+    from scone_bt.study.ui_args import MIN_TOKEN_LENGTH
+
+    if token is not None and len(token) < MIN_TOKEN_LENGTH:
+        raise SconeError(f"--token: must have at least {MIN_TOKEN_LENGTH} characters")
+    if token is None and not _is_local(host):
+        raise SconeError(
+            f"--host {host}: makes the tablet UI reachable from the network and needs --token (at least "
+            f"{MIN_TOKEN_LENGTH} characters); without one, use --host 127.0.0.1"
+        )
+
+
+def _check_simulate(args: argparse.Namespace) -> None:
+    """`simulate`'s options, before any participant is simulated or file made: one line naming the flag."""
+    from scone_bt import checks
+
+    checks.check_seed(args.seed)
+    if not 2 <= args.participants <= MAX_SIMULATED_PARTICIPANTS:
+        raise SconeError(
+            f"--participants {args.participants}: must be an integer in 2..{MAX_SIMULATED_PARTICIPANTS} "
+            "(at least 2 participants: one per group)"
+        )
+    checks.check_positive_int(args.jobs, "--jobs", maximum=1024)
+    checks.check_positive_int(args.steps, "--steps", maximum=1000)
+    if args.distractors < 0:
+        raise SconeError(f"--distractors {args.distractors}: must be 0 or more")
+    checks.check_range(args.condition_effect, "--condition-effect", -10.0, 10.0)
+    checks.check_output_file(args.db, "--db", must_not_exist=True)
 
 
 def _session(args: argparse.Namespace) -> int:
@@ -345,6 +428,7 @@ def _session(args: argparse.Namespace) -> int:
     if args.distractors < 0:
         raise SconeError(f"--distractors {args.distractors}: must be 0 or more")
     checks.check_output_file(args.db, "--db")
+    _check_host(args.host, args.token)
     if isinstance(args.experience, Path):
         # The study log and the robot's store are two databases: one file cannot be both.
         checks.check_output_file(
@@ -386,6 +470,7 @@ def _simulate(args: argparse.Namespace) -> int:
     from scone_bt.study.synthetic import SyntheticOptions
     from scone_bt.study.trust import TrustParameters
 
+    _check_simulate(args)
     trust = TrustParameters(condition_effect=args.condition_effect)
     if args.static_trust:
         trust = TrustParameters(
@@ -393,9 +478,7 @@ def _simulate(args: argparse.Namespace) -> int:
         )
     if args.analyze is not None:
         _analysis_options(args)  # fail early on bad analysis settings
-        from scone_bt.study.analysis import check_outputs
-
-        check_outputs(args.analyze)
+        _check_analysis_out(args.analyze, "--analyze", False, {"--db": [args.db]})
     options = SimulationOptions(
         participants=args.participants,
         seed=args.seed,
@@ -408,7 +491,16 @@ def _simulate(args: argparse.Namespace) -> int:
     from scone_bt.distributed import engine_from_args
 
     engine = engine_from_args(args, args.jobs) if args.ray or args.jobs > 1 else None
-    log = simulate_study(args.db, options, engine=engine)  # the same log on any engine and worker count
+    from scone_bt.checks import sqlite_files
+
+    try:
+        log = simulate_study(args.db, options, engine=engine)  # the same log on any engine and worker count
+    except Exception:
+        # A failed simulation stores nothing: the file it began (checked above not to exist) is removed, so the
+        # same command can be run again.
+        for path in sqlite_files(args.db):
+            path.unlink(missing_ok=True)
+        raise
     print(f"SIMULATED study written to {args.db}")
     if args.analyze is not None:
         from scone_bt.study.analysis import load_study

@@ -151,8 +151,19 @@ def _client(
     conn.close()
 
 
+def _guarded_client(
+    k: int, port: int, token: str, options: LoadTestOptions, deadline: float, budget: list[int], out: list
+) -> None:
+    """`_client`, whose failure is a record (`crash`) rather than a traceback printed by the thread."""
+    try:
+        _client(k, port, token, options, deadline, budget, out)
+    except BaseException as exc:  # noqa: BLE001 - reported by run_load_test, which then fails the run
+        text = " ".join(str(exc).split())[:200]
+        out.append(("crash", "client", 0, 0.0, f"client {k}: {type(exc).__name__}: {text or '(no message)'}"))
+
+
 def _run_clients(port: int, token: str, options: LoadTestOptions, start_at: float) -> list:
-    """In the client process: all clients as threads; returns every request record."""
+    """In the client process: all clients as threads; returns every request record (a failed client: `crash`)."""
     while time.time() < start_at:
         time.sleep(0.01)
     deadline = start_at + options.duration_s
@@ -160,15 +171,33 @@ def _run_clients(port: int, token: str, options: LoadTestOptions, start_at: floa
     records: list[list] = [[] for _ in range(options.clients)]
     threads = [
         threading.Thread(
-            target=_client, args=(k, port, token, options, deadline, budget, records[k]), daemon=True
+            target=_guarded_client, args=(k, port, token, options, deadline, budget, records[k]), daemon=True
         )
         for k in range(options.clients)
     ]
     for t in threads:
         t.start()
-    for t in threads:
+    for k, t in enumerate(threads):
         t.join(options.duration_s + 60)
+        if t.is_alive():
+            records[k].append(("crash", "client", 0, 0.0, f"client {k}: still running after the run's end"))
     return [r for rs in records for r in rs]
+
+
+def check_options(options: LoadTestOptions) -> None:
+    """The options' ranges, before the server starts: one line naming the flag and what is allowed."""
+    import math
+
+    from scone_bt.checks import check_positive_int, check_range, check_seed
+    from scone_bt.errors import SconeError
+
+    check_positive_int(options.clients, "--clients", maximum=1000)
+    if not (math.isfinite(options.duration_s) and 0 < options.duration_s <= 600):
+        raise SconeError(f"--duration {options.duration_s}: must be a number of seconds in (0, 600]")
+    check_positive_int(options.max_requests, "--max-requests")
+    check_range(options.think_s, "--think", 0.0, 60.0)
+    check_range(options.takeover_rate, "takeover_rate", 0.0, 1.0)
+    check_seed(options.rng_seed)
 
 
 # ------------------------------------------------------------------------------------------------ server side
@@ -185,10 +214,7 @@ def run_load_test(options: LoadTestOptions, db: Path | None = None) -> LoadTestR
     from scone_bt.study.questionnaires import QUESTIONNAIRES
     from scone_bt.study.ui import serve_tablet
 
-    if not 1 <= options.clients <= 1000:
-        raise SconeError(f"--clients {options.clients}: must be in 1..1000")
-    if not 0 < options.duration_s <= 600:
-        raise SconeError(f"--duration {options.duration_s}: must be in (0, 600] seconds")
+    check_options(options)
     token = np.random.default_rng(options.rng_seed).bytes(12).hex()
     tmp = None
     if db is None:
@@ -227,6 +253,10 @@ def run_load_test(options: LoadTestOptions, db: Path | None = None) -> LoadTestR
             stop.set()
             worker.join(10)
         log.close()
+        crashed = [r[4] for r in records if r[0] == "crash"]
+        if crashed:
+            more = f" (and {len(crashed) - 1} more)" if len(crashed) > 1 else ""
+            raise SconeError(f"tablet-load: a client failed, the run is not valid: {crashed[0]}{more}")
         return _score(records, db, options, errors, set(QUESTIONNAIRES))
     finally:
         stop.set()

@@ -65,3 +65,30 @@ def test_learning_trial_reports_cold_and_fleet_with_spread():
         assert set(result[key]) == {"mean", "std"} and result[key]["mean"] >= 0
     assert set(result["per_model_failures_mean"]) == {m.name for m in subset}
     assert result["arm_transfer"] is None  # only Panda models given
+
+
+@pytest.mark.parametrize(
+    ("argv", "flag"),
+    [
+        (["--postgres", "notaurl", "--stores", "postgresql", "--no-learning"], "--postgres notaurl"),
+        (["--robots", "0"], "--robots 0"),
+        (["--robots", "-1"], "--robots -1"),
+        (["--outcomes", "0"], "--outcomes 0"),
+        (["--kill-after", "-1"], "--kill-after -1"),
+        (["--seeds", "0"], "--seeds 0"),
+        (["--stores", "sqlite,mysql"], "--stores sqlite,mysql"),
+    ],
+)
+def test_bad_fleet_options_are_one_line_before_any_store(argv, flag, tmp_path, monkeypatch, capsys):
+    from scone_bt.benchmarks import fleet
+    from scone_bt.cli.bench import main
+
+    def never(*args, **kwargs):
+        raise AssertionError("the store trial ran")
+
+    monkeypatch.setattr(fleet, "store_trial", never)
+    monkeypatch.chdir(tmp_path)
+    assert main(["fleet", *argv]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"scone-bench: {flag}:")
+    assert list(tmp_path.iterdir()) == []  # no SQLite file named after the "URL"

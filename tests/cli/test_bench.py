@@ -108,3 +108,62 @@ def test_save_demo_never_overwrites_another_kind_of_file(tmp_path, capsys) -> No
         main(["viz", "--ticks", "2", "--save-demo", str(tmp_path), "--json", str(tmp_path / "v.json")]) == 2
     )
     assert "is a folder" in capsys.readouterr().err and not (tmp_path / "v.json").exists()
+
+
+@pytest.mark.parametrize("command", [["core"], ["viz", "--ticks", "1"]])
+@pytest.mark.parametrize("report", ["/proc/x/a.json", "/sys/a.json", "{tmp}/missing/a.json"])
+def test_a_report_that_cannot_be_written_is_refused_before_the_benchmark(
+    command, report, tmp_path, monkeypatch, capsys
+):
+    def never(args: object) -> int:
+        raise AssertionError("the benchmark ran")
+
+    monkeypatch.setattr("scone_bt.cli.bench._parser", _parser_with({"func": never}))
+    path = report.format(tmp=tmp_path)
+    assert main([*command, "--json", path]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"scone-bench: --json {path}:")
+
+
+def test_a_report_is_never_written_over_a_file_of_an_input_folder(tmp_path, monkeypatch, capsys):
+    folder = tmp_path / "scd"
+    folder.mkdir()
+    scenario = folder / "q.yaml"
+    scenario.write_text("name: q\n")
+
+    def never(args: object) -> int:
+        raise AssertionError("the benchmark ran")
+
+    monkeypatch.setattr("scone_bt.cli.bench._parser", _parser_with({"func": never}))
+    assert main(["scenarios", str(folder), "--json", str(scenario), "--force"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "is the --paths input of this run" in err
+    assert scenario.read_text() == "name: q\n"
+
+
+@pytest.mark.parametrize(
+    ("argv", "flag"),
+    [
+        (["viz", "--seed", "-1"], "--seed -1"),
+        (["tablet-load", "--seed", "-1"], "--seed -1"),
+        (["perception", "--seed", "-1"], "--seed -1"),
+        (["episode", "--seed", "-1"], "--seed -1"),
+        (["motion", "--seed", "-1"], "--seed -1"),
+        (["physics", "--seed", "-1"], "--seed -1"),
+        (["gate", "--seed", "-1"], "--seed -1"),
+        (["decisions", "--seed", "-1"], "--seed -1"),
+        (["study-analysis", "--seed", "-1"], "--seed -1"),
+        (["if-states", "--seed", "-1"], "--seed -1"),
+        (["gate", "--distractors", "-1"], "--distractors -1"),
+        (["decisions", "--warmup", "-1"], "--warmup -1"),
+        (["physics", "--jobs", "0"], "--jobs 0"),
+    ],
+)
+def test_out_of_range_shared_options_are_one_line_before_the_benchmark(argv, flag, monkeypatch, capsys):
+    def never(args: object) -> int:
+        raise AssertionError("the benchmark ran")
+
+    monkeypatch.setattr("scone_bt.cli.bench._parser", _parser_with({"func": never}))
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"scone-bench: {flag}:")

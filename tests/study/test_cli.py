@@ -109,3 +109,79 @@ def test_a_store_that_cannot_be_one_is_refused_before_a_session_row_exists(tmp_p
     for path in (db, other):
         with sqlite3.connect(f"file:{path}?mode=ro", uri=True) as conn:
             assert conn.execute("SELECT COUNT(*) FROM sessions").fetchone()[0] == 0
+
+
+@pytest.mark.parametrize(
+    ("argv", "flag"),
+    [
+        (["simulate", "--fast", "--seed", "-1"], "--seed -1"),
+        (["simulate", "--fast", "--participants", "1000000000"], "--participants 1000000000"),
+        (["simulate", "--fast", "--jobs", "0"], "--jobs 0"),
+        (["simulate", "--fast", "--jobs", "-2"], "--jobs -2"),
+        (["simulate", "--fast", "--condition-effect", "nan"], "--condition-effect nan"),
+        (["simulate", "--fast", "--condition-effect", "inf"], "--condition-effect inf"),
+        (["simulate", "--fast", "--analyze", "/proc/x"], "--analyze /proc/x"),
+    ],
+)
+def test_bad_simulate_options_are_one_line_before_any_file(argv, flag, tmp_path, capsys):
+    db = tmp_path / "sim.db"
+    assert main([*argv, "--db", str(db)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"scone-study: error: {flag}:")
+    assert not db.exists()
+
+
+def test_power_refuses_a_negative_seed(tmp_path, capsys):
+    assert main(["power", "--seed", "-1", "--out", str(tmp_path / "p")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--seed -1:" in err
+    assert not (tmp_path / "p").exists()
+
+
+def test_session_off_localhost_names_this_commands_flags(tmp_path, capsys):
+    db = tmp_path / "s.db"
+    argv = ["session", "--db", str(db), "--participant", "P01", "--group", "A", "--session", "1"]
+    assert main([*argv, "--host", "0.0.0.0"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--host 0.0.0.0:" in err and "--token" in err
+    assert "--ui-" not in err and not db.exists()
+
+
+def test_analyze_never_replaces_its_ratings_file_even_with_force(tmp_path, capsys):
+    folder = tmp_path / "csv2"
+    folder.mkdir()
+    ratings = folder / "scores.csv"
+    ratings.write_text("participant,rating\nP01,3\n")
+    assert main(["analyze", "--ratings", str(ratings), "--out", str(folder), "--force"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"--out {folder}:" in err and "--ratings input" in err
+    assert ratings.read_text() == "participant,rating\nP01,3\n"
+
+
+def test_analyze_into_a_folder_that_cannot_be_written_fails_before_sampling(tmp_path, monkeypatch, capsys):
+    from scone_bt.study import analysis
+
+    def never(*args, **kwargs):
+        raise AssertionError("sampled")
+
+    monkeypatch.setattr(analysis, "analyze", never)
+    db = tmp_path / "sim.db"
+    assert main(["simulate", "--fast", "--participants", "2", "--db", str(db)]) == 0
+    capsys.readouterr()
+    assert main(["analyze", "--db", str(db), "--out", "/sys/kernel/mm"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("scone-study: error: --out /sys/kernel/mm:")
+
+
+def test_a_failed_simulation_leaves_no_file_behind(tmp_path, monkeypatch, capsys):
+    from scone_bt.study import simulate
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("boom")
+
+    monkeypatch.setattr(simulate, "simulate_participant", broken)
+    monkeypatch.delenv("SCONE_BT_DEBUG", raising=False)
+    db = tmp_path / "sim.db"
+    assert main(["simulate", "--fast", "--participants", "2", "--db", str(db)]) == 3
+    assert "nothing was stored" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
