@@ -384,8 +384,6 @@ def _run(args: argparse.Namespace) -> int:
 
     if args.episodes < 0 or args.recipes < 1 or args.jobs < 1:
         raise SconeError("--episodes must be ≥ 0, --recipes and --jobs ≥ 1")
-    if args.json is not None and not Path(args.json).parent.exists():
-        raise SconeError(f"--json {args.json}: folder {Path(args.json).parent} does not exist")
     started = time.perf_counter()
     report: dict[str, Any] = {
         "benchmark": "decisions",

@@ -109,15 +109,13 @@ def check_common_ranges(args: argparse.Namespace) -> None:
 
 
 def check_report_path(args: argparse.Namespace) -> None:
-    """--json of any benchmark, before it runs: not one of its inputs, not a device, not a non-JSON file."""
+    """--json of any benchmark, before it runs: not one of its inputs, not a device, not a non-JSON file; its
+    folder made if missing."""
     path = getattr(args, "json", None)
     if path:
         parent = Path(path).absolute().parent
-        if not parent.is_dir():
-            what = "is not a folder" if parent.exists() else "does not exist"
-            raise SconeError(
-                f"--json {path}: the folder {parent} {what}; create it first or give another path"
-            )
+        if parent.exists() and not parent.is_dir():
+            raise SconeError(f"--json {path}: {parent} is not a folder; give another path")
         check_output_file(
             Path(path),
             "--json",
@@ -125,6 +123,8 @@ def check_report_path(args: argparse.Namespace) -> None:
             inputs=_inputs(args, ("json",)),
             force=bool(getattr(args, "force", False)),
         )
+        # Made now (the checks above found where it can be): the report is never lost to a missing folder.
+        parent.mkdir(parents=True, exist_ok=True)
 
 
 def _parser() -> argparse.ArgumentParser:

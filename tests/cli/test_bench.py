@@ -111,7 +111,7 @@ def test_save_demo_never_overwrites_another_kind_of_file(tmp_path, capsys) -> No
 
 
 @pytest.mark.parametrize("command", [["core"], ["viz", "--ticks", "1"]])
-@pytest.mark.parametrize("report", ["/proc/x/a.json", "/sys/a.json", "{tmp}/missing/a.json"])
+@pytest.mark.parametrize("report", ["/proc/x/a.json", "/sys/a.json", "/sys/kernel/missing/a.json"])
 def test_a_report_that_cannot_be_written_is_refused_before_the_benchmark(
     command, report, tmp_path, monkeypatch, capsys
 ):
@@ -123,6 +123,17 @@ def test_a_report_that_cannot_be_written_is_refused_before_the_benchmark(
     assert main([*command, "--json", path]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith(f"scone-bench: --json {path}:")
+
+
+def test_a_missing_report_folder_is_made_before_the_benchmark_runs(tmp_path, monkeypatch) -> None:
+    report = tmp_path / "missing" / "deeper" / "a.json"
+
+    def benchmark(args: object) -> int:
+        assert report.parent.is_dir()  # made before the work: the report is never lost to it
+        return 0
+
+    monkeypatch.setattr("scone_bt.cli.bench._parser", _parser_with({"func": benchmark}))
+    assert main(["core", "--json", str(report)]) == 0
 
 
 def test_a_report_is_never_written_over_a_file_of_an_input_folder(tmp_path, monkeypatch, capsys):
