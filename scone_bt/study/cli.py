@@ -295,7 +295,6 @@ def _analyze_command(args: argparse.Namespace) -> int:
     from scone_bt.study.analysis import load_study
     from scone_bt.study.ratings_csv import load_ratings_csv, parse_column_map
 
-    _check_analysis_out(args.out, "--out", args.force, _analysis_inputs(args))  # before reading and sampling
     if args.ratings is None:
         if args.sessions is not None or args.columns:
             raise SconeError("--sessions and --columns go with --ratings (a study log has its own sessions)")

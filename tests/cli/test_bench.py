@@ -72,7 +72,7 @@ def test_ctrl_c_in_sc_generate_is_one_line_and_keeps_the_finished_executions(tmp
 
     bench = Path(sys.executable).parent / "scone-bench"
     out = tmp_path / "sc"
-    argv = [str(bench), "sc", "generate", "--profiles", "p00_nominal", "--executions", "40"]
+    argv = [str(bench), "sc", "generate", "--profiles", "p00_nominal", "--executions", "400"]
     argv += ["--workers", "2", "--out", str(out), "--no-progress", "--json", str(tmp_path / "r.json")]
     proc = subprocess.Popen(
         argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True
@@ -83,6 +83,7 @@ def test_ctrl_c_in_sc_generate_is_one_line_and_keeps_the_finished_executions(tmp
         if partial.exists() and len(partial.read_text().splitlines()) >= 2:  # a header and one execution
             break
         time.sleep(0.1)
+    assert proc.poll() is None, "the generation ended before it was interrupted"
     os.killpg(proc.pid, signal.SIGINT)
     stdout, err = proc.communicate(timeout=60)
     assert proc.returncode == 130, err[-2000:]
