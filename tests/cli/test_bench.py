@@ -75,7 +75,14 @@ def test_ctrl_c_in_sc_generate_is_one_line_and_keeps_the_finished_executions(tmp
     argv = [str(bench), "sc", "generate", "--profiles", "p00_nominal", "--executions", "400"]
     argv += ["--workers", "2", "--out", str(out), "--no-progress", "--json", str(tmp_path / "r.json")]
     proc = subprocess.Popen(
-        argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True
+        argv,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+        # As from a shell: a test worker (pytest-xdist) may ignore SIGINT, and an ignored signal stays ignored
+        # across exec.
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     partial = out / ".p00_nominal.partial.csv"
     deadline = time.monotonic() + 120
