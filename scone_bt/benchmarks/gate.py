@@ -338,7 +338,8 @@ def _plot(report: dict[str, Any], path: Path) -> None:
     left.set_ylabel("attempts that succeed")
     left.set_title("attempt success against asking (after warm-up)")
     left.grid(alpha=0.3)
-    left.legend(fontsize=7)
+    if report["methods"]:  # a report with no method has nothing to label
+        left.legend(fontsize=7)
     lim = max(TARGETS) + 0.05
     right.plot([0, lim], [0, lim], "k--", lw=1, label="promise: realised = target")
     right.plot([0, lim], [0.02, lim + 0.02], "k:", lw=1, label="target + 0.02")

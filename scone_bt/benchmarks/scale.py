@@ -51,16 +51,20 @@ def burn_task(item: int) -> float:
 
 def machine_ceiling(workers: int, tasks: int = 8) -> float:
     """Speed-up of `workers` plain processes over one on CPU-only tasks, measured now: what the load allows."""
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
+    from scone_bt.distributed.pool import abort_pool, spawn_pool
 
     rates = []
     for w in (1, workers):
-        with ProcessPoolExecutor(w, mp_context=multiprocessing.get_context("spawn")) as pool:
+        pool = spawn_pool(w)
+        try:
             list(pool.map(burn_task, range(w)))  # process start-up outside the timing
             t0 = time.perf_counter()
             list(pool.map(burn_task, range(tasks)))
             rates.append(tasks / (time.perf_counter() - t0))
+        except BaseException:
+            abort_pool(pool)
+            raise
+        pool.shutdown(wait=True)
     return rates[1] / rates[0]
 
 

@@ -15,51 +15,30 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import contextlib
-import multiprocessing as mp
 import pickle
-import signal
 from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
+from scone_bt.distributed.pool import abort_pool, spawn_pool
 from scone_bt.errors import SconeError
 
 __all__ = ["ordered_map", "process_pool"]
-
-
-def _ignore_sigint() -> None:
-    """Worker initialiser: Ctrl-C is the parent's to handle (it terminates the workers)."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-
-
-def _abort(pool: cf.ProcessPoolExecutor) -> None:
-    """Drop queued calls and terminate the workers now (a running call is not waited for)."""
-    processes = list((getattr(pool, "_processes", None) or {}).values())
-    pool.shutdown(wait=False, cancel_futures=True)
-    for process in processes:
-        if process.is_alive():
-            process.terminate()
-    for process in processes:
-        process.join(timeout=5.0)
-        if process.is_alive():  # SIGTERM not handled in time (a busy machine): no second chance
-            process.kill()
-            process.join(timeout=5.0)
 
 
 @contextlib.contextmanager
 def process_pool(jobs: int) -> Iterator[cf.ProcessPoolExecutor | None]:
     """A pool of ``jobs`` spawned worker processes, or None when ``jobs`` is 1 (run in this process).
 
-    Spawn, not fork: the parent may hold PyBullet clients, torch thread pools and SQLite handles that a forked
-    child must not inherit.
+    Spawned workers that ignore SIGINT (`scone_bt.distributed.pool`).
     """
     if jobs <= 1:
         yield None
         return
-    pool = cf.ProcessPoolExecutor(jobs, mp_context=mp.get_context("spawn"), initializer=_ignore_sigint)
+    pool = spawn_pool(jobs)
     try:
         yield pool
     except BaseException:
-        _abort(pool)
+        abort_pool(pool)
         raise
     pool.shutdown(wait=True)
 

@@ -2,18 +2,19 @@
 
 A worker process that dies (killed, out of memory, a crash in a C extension) breaks a ProcessPoolExecutor as a
 whole; the pool is then rebuilt and every task that had not returned is submitted again, each counted against
-`max_retries`. Results are keyed by task index, so a task is reported exactly once.
+`max_retries`. Results are keyed by task index, so a task is reported exactly once. Workers ignore SIGINT; Ctrl-C (or a caller
+that stops reading) terminates them (`scone_bt.distributed.pool`).
 """
 
 from __future__ import annotations
 
-import multiprocessing
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, Future, wait
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any
 
 from scone_bt.distributed.options import EngineOptions
+from scone_bt.distributed.pool import abort_pool, spawn_pool
 from scone_bt.distributed.seeding import _NO_SHARED, run_seeded
 from scone_bt.errors import DistributedError
 
@@ -42,12 +43,8 @@ def imap_local(
         return
     todo = list(range(len(items)))[::-1]  # popped from the end: submitted in index order
     attempts = dict.fromkeys(range(len(items)), 0)
-    # spawn, not fork: the parent may hold PyBullet, torch or OpenMP state that a forked child must not inherit
-    context = multiprocessing.get_context("spawn")
     while todo:
-        pool = ProcessPoolExecutor(
-            workers, mp_context=context, initializer=_init_worker, initargs=(shared is not _NO_SHARED, shared)
-        )
+        pool = spawn_pool(workers, _init_worker, (shared is not _NO_SHARED, shared))
         running: dict[Future, int] = {}
         broken = False
         try:
@@ -68,8 +65,10 @@ def imap_local(
                     yield i, value
                 if broken:
                     break
-        finally:
-            pool.shutdown(wait=not broken, cancel_futures=True)
+        except BaseException:  # Ctrl-C, or the caller stopped reading: nothing waits for the running tasks
+            abort_pool(pool)
+            raise
+        pool.shutdown(wait=not broken, cancel_futures=True)
         if broken:
             todo.extend(running.values())  # tasks that were queued or running when a worker died
             todo = sorted(set(todo), reverse=True)

@@ -237,6 +237,14 @@ def _run(args: argparse.Namespace) -> int:
 
     try:
         results = run_cases(cases, jobs=args.jobs, out_dir=args.out, on_result=progress)
+    except KeyboardInterrupt:
+        bar.close()
+        junit = "" if args.junit is None else f"; --junit {args.junit} was not written"
+        print(
+            f"scone-scenario: interrupted after {done[0]} of {len(cases)} cases (their lines are above){junit}",
+            file=sys.stderr,
+        )
+        return 130
     finally:
         bar.close()
     wall = time.perf_counter() - started

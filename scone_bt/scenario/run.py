@@ -428,11 +428,12 @@ def run_cases(
                 on_result(results[i])
     else:
         import concurrent.futures as cf
-        import multiprocessing as mp
         from concurrent.futures.process import BrokenProcessPool
 
-        ctx = mp.get_context("spawn")  # no forked PyBullet or torch state
-        with cf.ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
+        from scone_bt.distributed.pool import abort_pool, spawn_pool
+
+        pool = spawn_pool(jobs)  # workers ignore Ctrl-C; here it stops them at once, not after every case
+        try:
             futures: dict[cf.Future[CaseResult], int] = {}
             try:
                 for i, case in enumerate(cases):
@@ -449,6 +450,10 @@ def run_cases(
                     results[i] = lost_case(cases[i])
                 if on_result is not None:
                     on_result(results[i])
+        except BaseException:
+            abort_pool(pool)
+            raise
+        pool.shutdown(wait=True)
         for i, case in enumerate(cases):
             if i not in results:
                 results[i] = lost_case(case)

@@ -41,3 +41,21 @@ def fail_on_two(item: tuple[int, str]) -> int:
     if n == 2:
         raise SconeError("item 2 is bad input")
     return n
+
+
+def sigint_ignored(_item: object) -> bool:
+    """Whether this worker ignores SIGINT (Ctrl-C is the parent's to handle)."""
+    import signal
+
+    return signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+
+
+def slow_then_mark(item: tuple[int, str]) -> int:
+    """Item 0 returns at once; any other sleeps 3 s, then leaves a marker file (proof that it ran to the end)."""
+    import time
+
+    n, folder = item
+    if n:
+        time.sleep(3.0)
+        (Path(folder) / f"finished-{n}").write_text("x")
+    return n

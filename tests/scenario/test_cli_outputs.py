@@ -176,3 +176,39 @@ def test_a_killed_worker_keeps_the_finished_results_and_reports_the_lost_cases(
     for name in ("killer", "stuck"):
         error = cases[name].find("error")
         assert error is not None and error.get("message") == run.WORKER_DIED
+
+
+@pytest.mark.slow
+def test_ctrl_c_stops_the_workers_at_once_and_says_how_far_the_run_got(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = _scenario(tmp_path)
+    marker = tmp_path / "a-slow-case-finished"
+    load, run_cases = model.load_scenarios, run.run_cases
+
+    def with_slow_cases(paths: Any) -> list[model.Case]:
+        (case,) = load(paths)
+        # each would leave the marker 3 s into its run, were it not terminated
+        slow = _InWorker(f"import time, pathlib; time.sleep(3); pathlib.Path({str(marker)!r}).touch()")
+        return [case] + [replace(case, name=f"slow{k}", sweep=(("doom", slow),)) for k in range(3)]
+
+    def interrupted_after_the_first(*args: Any, on_result: Any = None, **kwargs: Any) -> list[run.CaseResult]:
+        def seen(result: run.CaseResult) -> None:
+            on_result(result)
+            raise KeyboardInterrupt  # as Ctrl-C lands in the parent while the slow cases run
+
+        return run_cases(*args, on_result=seen, **kwargs)
+
+    monkeypatch.setattr(model, "load_scenarios", with_slow_cases)
+    monkeypatch.setattr(run, "run_cases", interrupted_after_the_first)
+    junit = tmp_path / "j.xml"
+    assert main(["run", str(path), "--jobs", "2", "--junit", str(junit)]) == 130
+    out, err = capsys.readouterr()
+    assert "Traceback" not in err and out == ""
+    assert err.splitlines()[-1] == (
+        f"scone-scenario: interrupted after 1 of 4 cases (their lines are above); --junit {junit} was not written"
+    )
+    import time
+
+    time.sleep(4.0)  # time enough for a slow case to finish, had its worker been left running
+    assert not marker.exists() and not junit.exists()
