@@ -59,8 +59,19 @@ def data_dir(kind: DataKind) -> Path:
     raise ConfigError(f"cannot find the {kind}/ folder; looked in: {', '.join(map(str, candidates))}")
 
 
-def resolve_file(kind: DataKind, name_or_path: str | os.PathLike[str], suffixes: tuple[str, ...]) -> Path:
-    """A file given by path, or by bare name inside data_dir(kind) (e.g. 'panda' → robots/panda.yaml)."""
+_WHAT: dict[str, str] = {"robots": "robot", "perception": "kitchen", "trees": "tree"}
+"""What a file of each kind is called in messages."""
+
+
+def resolve_file(
+    kind: DataKind, name_or_path: str | os.PathLike[str], suffixes: tuple[str, ...], flag: str | None = None
+) -> Path:
+    """A file given by path, or by bare name inside data_dir(kind) (e.g. 'panda' → robots/panda.yaml).
+
+    Raises:
+        ConfigError: a path (it has a folder or one of `suffixes`, or exists) that is not a file, naming `flag`.
+        UnknownNameError: a bare name that is not one of the files in data_dir(kind) (naming `flag`, if given).
+    """
     path = Path(name_or_path)
     if path.is_file():
         return path
@@ -70,7 +81,27 @@ def resolve_file(kind: DataKind, name_or_path: str | os.PathLike[str], suffixes:
         if candidate.is_file():
             return candidate
     names = sorted({p.stem for p in folder.iterdir() if p.suffix in suffixes})
-    raise UnknownNameError(kind.rstrip("s"), str(name_or_path), names)
+    what = _WHAT.get(kind, kind.rstrip("s"))
+    text = str(name_or_path)
+    looks_like_path = (
+        os.sep in text or (os.altsep is not None and os.altsep in text) or path.suffix in suffixes
+    )
+    if looks_like_path or path.exists():
+        reason = (
+            "is a folder, not a file"
+            if path.is_dir()
+            else "is not a file"
+            if path.exists()
+            else "no such file"
+        )
+        raise ConfigError(
+            f"{flag + ' ' if flag else ''}{text}: {reason}; give a {what} name (valid: {', '.join(names) or '(none)'}) "
+            f"or a path to a {what} YAML file"
+        )
+    error = UnknownNameError(what, text, names)
+    if flag:
+        error.args = (f"{flag} {text}: unknown {what}; valid: {', '.join(error.valid) or '(none)'}",)
+    raise error
 
 
 def shared_dir() -> Path | None:

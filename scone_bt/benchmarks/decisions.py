@@ -384,6 +384,9 @@ def _run(args: argparse.Namespace) -> int:
 
     if args.episodes < 0 or args.recipes < 1 or args.jobs < 1:
         raise SconeError("--episodes must be ≥ 0, --recipes and --jobs ≥ 1")
+    for target in args.target_error_rates:  # the gate's own range (GateOptions), checked before any replay
+        if not 0.0 < target < 1.0:
+            raise SconeError(f"--target-error-rates {target}: must be a number in (0, 1)")
     started = time.perf_counter()
     report: dict[str, Any] = {
         "benchmark": "decisions",

@@ -43,10 +43,12 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from scone_bt.behaviours import BehaviourOptions
+    from scone_bt.checks import check_positive_int
     from scone_bt.episode import EpisodeOptions, run_episode
     from scone_bt.errors import ConfigError
     from scone_bt.quiet import c_stdout_silenced
 
+    check_positive_int(args.max_ticks, "--max-ticks")
     recipes = [r.strip() for r in args.recipes.split(",") if r.strip()]
     if not recipes:
         raise ConfigError("--recipes: list at least one recipe id (e.g. example:hummus)")

@@ -46,6 +46,7 @@ def run(args: argparse.Namespace) -> int:
     """Render and score the scenes; print the JSON report (and write it to --json)."""
     import numpy as np
 
+    from scone_bt.checks import check_range
     from scone_bt.config import load_kitchen, load_robot
     from scone_bt.config.stocking import plan_stocking
     from scone_bt.errors import ConfigError
@@ -55,6 +56,8 @@ def run(args: argparse.Namespace) -> int:
     from scone_bt.quiet import c_stdout_silenced
     from scone_bt.world import Kitchen
 
+    for noise in args.noise:  # the scale of a camera's noise_std in a kitchen file
+        check_range(noise, "--noise", 0.0, 255.0)
     kitchen_cfg = load_kitchen(args.kitchen, args.catalogue or ())
     robot_cfg = load_robot(args.robot)
     slots = len(kitchen_cfg.scene.shelf_slots())

@@ -439,6 +439,7 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
     from scone_bt.config.schema import MAX_FILE_BYTES, check_input_file
     from scone_bt.episode import EpisodeOptions
     from scone_bt.human import HumanOptions
+    from scone_bt.resources import resolve_file
     from scone_bt.tree import load_tree_spec
 
     # Every value is checked here, before the kitchen is built or a model is loaded.
@@ -457,6 +458,13 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
         _check_estimator(args.estimator)
     if args.embedder is not None:
         _check_embedder(args.embedder)
+    # a missing path is named as a file that is not there, not as an unknown robot/kitchen/tree name
+    for flag, kind, name in (
+        ("--arm", "robots", args.arm),
+        ("--kitchen", "perception", args.kitchen),
+        ("--tree", "trees", args.tree),
+    ):
+        resolve_file(kind, name, (".yaml", ".yml"), flag=flag)
     for catalogue in args.catalogue:  # a device or FIFO would hang the loader: refused by what it is, unread
         try:
             check_input_file(catalogue, limit=MAX_FILE_BYTES)

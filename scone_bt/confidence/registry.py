@@ -28,7 +28,14 @@ from scone_bt.confidence.models import (
 )
 from scone_bt.errors import SconeError, UnknownNameError
 
-__all__ = ["BASE_ESTIMATORS", "CALIBRATED_ESTIMATORS", "ESTIMATORS", "GROUNDED_ESTIMATORS", "make_estimator"]
+__all__ = [
+    "BASE_ESTIMATORS",
+    "CALIBRATED_ESTIMATORS",
+    "ESTIMATORS",
+    "GROUNDED_ESTIMATORS",
+    "estimator_names",
+    "make_estimator",
+]
 
 _FACTORIES: dict[str, Callable[..., ConfidenceEstimator]] = {
     "knn": KNNEstimator,
@@ -51,6 +58,13 @@ CALIBRATED_ESTIMATORS: tuple[str, ...] = tuple(
 )
 _ALIASES = {"xgboost": "xgb"}
 _EPS_KEYS = ("epsilon", "half_life")
+
+
+def estimator_names() -> tuple[str, ...]:
+    """Every name `make_estimator` accepts, sorted (the one list an error message or a file check shows)."""
+    return tuple(sorted({*ESTIMATORS, *GROUNDED_ESTIMATORS, *CALIBRATED_ESTIMATORS, *_ALIASES}))
+
+
 _GROUNDED_KEYS = ("n_context", "context_weight")
 
 
@@ -71,9 +85,7 @@ def make_estimator(name: str, seed: int = 0, **options: float) -> ConfidenceEsti
     name = _ALIASES.get(name, name)
     if name.endswith("-cal"):
         if name not in CALIBRATED_ESTIMATORS:
-            raise UnknownNameError(
-                "estimator", name, (*ESTIMATORS, *GROUNDED_ESTIMATORS, *CALIBRATED_ESTIMATORS)
-            )
+            raise UnknownNameError("estimator", name, estimator_names())
         inner = name.removesuffix("-cal")
         return CalibratedEstimator(lambda: make_estimator(inner, seed, **options), seed=seed)
     if name == "physical":
@@ -85,12 +97,12 @@ def make_estimator(name: str, seed: int = 0, **options: float) -> ConfidenceEsti
             raise SconeError(f"bad option for estimator 'physical': {exc}") from None
     if name.startswith("grounded-"):
         if name not in GROUNDED_ESTIMATORS:
-            raise UnknownNameError("estimator", name, (*ESTIMATORS, *GROUNDED_ESTIMATORS))
+            raise UnknownNameError("estimator", name, estimator_names())
         grounded_opts = {k: options.pop(k) for k in _GROUNDED_KEYS if k in options}
         inner = make_estimator(name.removeprefix("grounded-"), seed, **options)
         return GroundedEstimator(inner, **grounded_opts)
     if name not in ESTIMATORS:
-        raise UnknownNameError("estimator", name, (*ESTIMATORS, *GROUNDED_ESTIMATORS))
+        raise UnknownNameError("estimator", name, estimator_names())
     eps_opts = {k: options.pop(k) for k in _EPS_KEYS if k in options}
     base_name = name.removeprefix("eps-")
     if eps_opts and base_name == name:

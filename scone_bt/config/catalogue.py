@@ -121,13 +121,19 @@ class Catalogue:
         return len(self.objects)
 
 
+MAX_PRODUCT_M = 1.0
+"""Largest extent of a product, metres: a grocery item a one-armed robot might fetch (the shipped catalogue's
+largest is 0.35 m); a 10 m product is a typo, refused with its file and name, not later as a shelf that is full."""
+_Extent = Annotated[float, Field(gt=0, le=MAX_PRODUCT_M, allow_inf_nan=False)]
+
+
 class _ProductFields(StrictModel):
     """One product as written in a family file; omitted fields come from the family's ``defaults``."""
 
     name: Annotated[str, Field(min_length=1)]
     aliases: list[Annotated[str, Field(min_length=1)]] = []
     shape: Literal["box", "cylinder"]
-    size: Annotated[list[PositiveFloat], Field(min_length=3, max_length=3)]
+    size: Annotated[list[_Extent], Field(min_length=3, max_length=3)]
     mass: PositiveFloat
     friction: PositiveFloat
     material: Annotated[str, Field(min_length=1)]
@@ -200,7 +206,12 @@ def catalogue_files(entries: Iterable[str | Path], base: Path, fallback: Path) -
     for entry in entries:
         for root in (Path(entry), base / entry, fallback / entry):
             if root.is_dir():
-                out.extend(sorted(p for p in root.iterdir() if p.suffix in (".yaml", ".yml")))
+                found = sorted(p for p in root.iterdir() if p.suffix in (".yaml", ".yml"))
+                if not found:
+                    raise ConfigError(
+                        f"{base}: catalogue entry {str(entry)!r}: the folder {root} holds no .yaml family files"
+                    )
+                out.extend(found)
                 break
             if root.is_file():
                 out.append(root)

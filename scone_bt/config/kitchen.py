@@ -9,6 +9,7 @@ from pathlib import Path
 from scone_bt.config.catalogue import Catalogue, ObjectSpec, catalogue_files, load_catalogue
 from scone_bt.config.scene import CameraSpec, SceneSpec, parse_cameras, parse_scene
 from scone_bt.config.yaml_io import Fields, read_yaml
+from scone_bt.errors import ConfigError
 from scone_bt.resources import data_dir, resolve_file
 
 __all__ = ["ObjectSpec", "Catalogue", "CameraSpec", "SceneSpec", "KitchenConfig", "load_kitchen"]
@@ -63,6 +64,11 @@ def load_kitchen(
     cameras = parse_cameras(f)
     entries = f.get("catalogue", list)
     files = catalogue_files(entries, path.parent, data_dir("perception")) + [Path(c) for c in catalogues]
+    if not files:
+        raise ConfigError(
+            f"{path}: catalogue: lists no product files, so the kitchen has no products; give family files or "
+            "folders of them (e.g. catalogue: [catalogue]) or --catalogue FILE"
+        )
     catalogue = load_catalogue(files)
     shelf_camera = next(c for c in cameras if c.role == "shelf")
     return KitchenConfig(scene=scene, camera=shelf_camera, catalogue=catalogue, source=path, cameras=cameras)

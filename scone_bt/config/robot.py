@@ -12,7 +12,7 @@ from pydantic import Field, field_validator, model_validator
 from scone_bt.config.grasp import PLANNERS, GraspParams
 from scone_bt.config.schema import FiniteFloat, NonNegativeFloat, PositiveFloat, StrictModel, validate
 from scone_bt.config.yaml_io import read_yaml
-from scone_bt.errors import ConfigError
+from scone_bt.errors import ConfigError, UnknownNameError
 from scone_bt.resources import resolve_file
 
 __all__ = [
@@ -272,6 +272,50 @@ def _urdf_limits(urdf: Path) -> dict[str, tuple[float, float]]:
     return out
 
 
+def _urdf_names(urdf: Path) -> tuple[list[str], list[str]] | None:
+    """(movable joints, links) of a URDF, in file order; None if it cannot be read as XML."""
+    import xml.etree.ElementTree as ET
+
+    try:
+        root = ET.parse(urdf).getroot()  # noqa: S314 - the user's own robot description
+    except (ET.ParseError, OSError):
+        return None  # the simulator words its own error for a broken URDF
+    joints = [str(j.get("name")) for j in root.iter("joint") if j.get("type") not in (None, "fixed")]
+    links = [str(link.get("name")) for link in root.iter("link")]
+    return joints, links
+
+
+def _check_names(m: RobotFile, urdf: Path, where: str) -> None:
+    """Every joint and link the robot file names is one of the URDF's, or a one-line ConfigError naming the file,
+    the key and the valid names (before the simulator or the motion model loads the URDF)."""
+    names = _urdf_names(urdf)
+    if names is None:
+        return
+    joints, links = names
+    keys: list[tuple[str, str, str, list[str]]] = [
+        *((f"arm_joints[{i}]", j, "movable joint", joints) for i, j in enumerate(m.arm_joints)),
+        *((f"gripper.joints[{i}]", j, "movable joint", joints) for i, j in enumerate(m.gripper.joints)),
+        ("end_effector_frame", m.end_effector_frame, "link", links),
+        *((f"collision.hand_links[{i}]", n, "link", links) for i, n in enumerate(m.collision.hand_links)),
+        *(
+            (f"collision.disabled_pairs[{i}][{k}]", n, "link", links)
+            for i, pair in enumerate(m.collision.disabled_pairs)
+            for k, n in enumerate(pair)
+        ),
+    ]
+    for key, name, kind, valid in keys:
+        if name not in valid:
+            raise UnknownURDFNameError(where, key, name, f"{kind} of {urdf.name}", valid)
+
+
+class UnknownURDFNameError(UnknownNameError, ConfigError):
+    """A joint or link name in a robot file that its URDF does not have: one line naming the file and the key."""
+
+    def __init__(self, where: str, key: str, name: str, kind: str, valid: list[str]) -> None:
+        super().__init__(kind, name, valid)
+        self.args = (f"{where}: {key}: {name!r} is not a {kind}; valid: {', '.join(valid) or '(none)'}",)
+
+
 def _check_home(m: RobotFile, urdf: Path, where: str) -> None:
     """The home pose within the URDF's joint limits, or a one-line ConfigError naming the index and the joint."""
     limits = _urdf_limits(urdf)
@@ -297,6 +341,7 @@ def load_robot(name_or_path: str | Path = "panda") -> RobotConfig:
     m = validate(RobotFile, raw, str(path))
     grasp = GraspParams.from_section(m.grasp, str(path))
     urdf = resolve_urdf(m.urdf, path)
+    _check_names(m, urdf, str(path))
     _check_home(m, urdf, str(path))
     g, lim, p, c = m.gripper, m.limits, m.planner, m.control
     return RobotConfig(

@@ -192,6 +192,14 @@ def _box(f: Fields, key: str) -> Box:
     return sub.vector("center", 3), size  # type: ignore[return-value]
 
 
+def _within_scene(values: tuple[float, ...], where: str) -> None:
+    """Positions along a shelf unit within MAX_SCENE_M of the robot, else one ConfigError naming the key."""
+    require(
+        all(abs(v) <= MAX_SCENE_M for v in values),
+        f"{where}: every value must be in [-{MAX_SCENE_M:g}, {MAX_SCENE_M:g}] metres, got {list(values)}",
+    )
+
+
 def _unit(raw: object, index: int, where: str) -> ShelfUnit:
     f = Fields(raw, f"{where}[{index}]").allow(*_UNIT_KEYS)  # type: ignore[arg-type]
     rotation = f.get("rotation_deg", int, 0)
@@ -204,12 +212,14 @@ def _unit(raw: object, index: int, where: str) -> ShelfUnit:
         t = Fields(raw_tier, f"{f.where}.tiers[{i}]").allow("center", "top_z", "slots")
         slots = t.vector("slots")
         require(len(slots) > 0, f"{t.where}.slots: list at least one slot position")
-        tiers.append(ShelfTier(t.get("center", float), t.get("top_z", float), tuple(slots)))
+        _within_scene(slots, f"{t.where}.slots")
+        center = t.number("center", -MAX_SCENE_M, MAX_SCENE_M)
+        tiers.append(ShelfTier(center, t.number("top_z", -MAX_SCENE_M, MAX_SCENE_M), tuple(slots)))
     require(len(tiers) > 0, f"{f.where}.tiers: list at least one tier")
     span = f.vector("span", 2)
+    _within_scene(span, f"{f.where}.span")
     require(span[0] < span[1], f"{f.where}.span: need v0 < v1, got {list(span)}")
-    depth = f.get("tier_depth", float)
-    require(depth > 0, f"{f.where}.tier_depth must be positive")
+    depth = f.number("tier_depth", 0.0, MAX_SCENE_M, above=True)
     return ShelfUnit(f.get("name", str, f"unit{index}"), rotation, depth, span, tuple(tiers))  # type: ignore[arg-type]
 
 
@@ -266,6 +276,11 @@ MAX_DEPTH_NOISE_M = 1.0
 """Largest depth noise, metres (pixel noise is on the 0-255 scale)."""
 MAX_FAR_M = 100.0
 """Farthest a camera's far plane may be, metres (the kitchen is a few metres across)."""
+MAX_FOV_DEG = 170.0
+"""Widest vertical field of view, degrees (what scone_bt.perception.camera renders)."""
+MAX_SCENE_M = 10.0
+"""Farthest a shelf unit's span, slots and tiers (centre, top) may be from the robot base, metres (the arms reach
+under 1 m; a 1e9 m shelf is a typo, not a kitchen)."""
 
 
 def _spot(raw: object, index: int, where: str) -> tuple[float, float]:
@@ -292,13 +307,25 @@ def _camera(c: Fields, name: str, role: str) -> CameraSpec:
     near = c.number("near", 0.0, MAX_FAR_M, 0.05, above=True)
     far = c.number("far", 0.0, MAX_FAR_M, 3.0, above=True)
     require(near < far, f"{c.where}.far: must be larger than near ({near:g}), got {far:g}")
+    position, target = c.vector("position", 3), c.vector("target", 3)
+    up = c.vector("up", 3, (0.0, 0.0, 1.0))
+    view = np.subtract(target, position)  # the same tests as scone_bt.perception.camera's, at load time
+    require(
+        bool(np.linalg.norm(view) >= 1e-6),
+        f"{c.where}.target: camera {name!r} looks at its own position {list(position)}; give another target",
+    )
+    require(
+        bool(np.linalg.norm(np.cross(view, up)) >= 1e-6 * np.linalg.norm(view)),
+        f"{c.where}.up: camera {name!r}: {list(up)} is parallel to its viewing direction (target - position = "
+        f"{[round(float(v), 6) for v in view]}); give an up vector that is not parallel to it",
+    )
     return CameraSpec(
-        position=c.vector("position", 3),  # type: ignore[arg-type]
-        target=c.vector("target", 3),  # type: ignore[arg-type]
-        up=c.vector("up", 3, (0.0, 0.0, 1.0)),  # type: ignore[arg-type]
+        position=position,  # type: ignore[arg-type]
+        target=target,  # type: ignore[arg-type]
+        up=up,  # type: ignore[arg-type]
         width=_pixels(c, "width"),
         height=_pixels(c, "height"),
-        fov_deg=c.number("fov_deg", 1.0, 179.0),
+        fov_deg=c.number("fov_deg", 1.0, MAX_FOV_DEG),
         near=near,
         far=far,
         noise_std=c.number("noise_std", 0.0, 255.0, 0.0),

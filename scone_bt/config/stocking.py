@@ -35,6 +35,7 @@ __all__ = [
     "lane_width",
     "pack_side_by_side",
     "plan_stocking",
+    "wider_than_every_tier",
 ]
 
 LANE_MIN_M = 0.10
@@ -138,6 +139,23 @@ def pack_side_by_side(scene: SceneSpec, specs: Sequence[ObjectSpec]) -> list[tup
     return [out[i] for i in range(len(specs))]
 
 
+def wider_than_every_tier(scene: SceneSpec, specs: Sequence[ObjectSpec]) -> str | None:
+    """One line naming the first product whose lane is longer than every tier of every unit (it stands nowhere,
+    however few products share the shelving), or None."""
+    for spec in specs:
+        if all(
+            lane_width(spec, u) > _length(u, i) + 1e-9 for u in scene.shelves for i in range(len(u.tiers))
+        ):
+            longest = max(_length(u, i) for u in scene.shelves for i in range(len(u.tiers)))
+            family = f" of family {spec.family!r}" if spec.family else ""
+            return (
+                f"product {spec.name!r}{family} ({' x '.join(f'{v:g}' for v in spec.size)} m) needs a "
+                f"{min(lane_width(spec, u) for u in scene.shelves):.2f} m lane, longer than every shelf tier (the longest is "
+                f"{longest:.2f} m); give it a smaller size in its catalogue file or leave it out of the recipe"
+            )
+    return None
+
+
 def fits_side_by_side(scene: SceneSpec, specs: Sequence[ObjectSpec]) -> bool:
     """True if `pack_side_by_side` stocks these products (then `plan_stocking` never refuses them)."""
     return pack_side_by_side(scene, specs) is not None
@@ -232,6 +250,8 @@ def plan_stocking(scene: SceneSpec, specs: Sequence[ObjectSpec], rng: np.random.
         # as it gets). What `fits_side_by_side` accepts is stocked here.
         packed = pack_side_by_side(scene, specs)
         if packed is None:
+            if (too_wide := wider_than_every_tier(scene, specs)) is not None:
+                raise ConfigError(too_wide)
             total = sum(lane_width(spec, scene.shelves[0]) for spec in specs)
             raise ConfigError(
                 f"{len(specs)} products do not fit the shelving side by side (they need about {total:.2f} m "

@@ -24,6 +24,7 @@ __all__ = [
     "EmbedderInfo",
     "available_embedders",
     "cache_file_for",
+    "embedder_names",
     "install_mpnet",
     "load_embedder",
     "load_finetuned",
@@ -62,6 +63,11 @@ class _Registered:
 
 _REGISTERED: dict[str, _Registered] = {}
 """Embedders that other packages add by name (the instruction-following benchmark adds "mpnet-ft")."""
+
+
+def embedder_names() -> tuple[str, ...]:
+    """The names `load_embedder` takes besides a folder or finetuned:<dir>: built in and registered so far."""
+    return (*EMBEDDER_NAMES, *_REGISTERED)
 
 
 def register_embedder(

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from scone_bt.config import Catalogue, SceneSpec
-from scone_bt.config.stocking import fits_side_by_side, lane_width, plan_stocking
+from scone_bt.config.stocking import fits_side_by_side, lane_width, plan_stocking, wider_than_every_tier
 from scone_bt.errors import ConfigError
 from scone_bt.recipes import Recipe, StockedRecipe, stock_recipe
 from scone_bt.recipes.stocking import ProductIndex
@@ -96,6 +96,10 @@ def stock_shelf(
     others = [n for n in catalogue.names() if n not in order]
     best, narrow = _max_and_narrowest(order, others, catalogue, scene)
     slots = len(scene.slots())
+    if best < 0 and distractors > 0:  # the recipe's own products do not fit: not a matter of --distractors
+        too_wide = wider_than_every_tier(scene, [catalogue.get(n) for n in order])
+        if too_wide is not None:
+            raise ConfigError(too_wide)
     if distractors > max(best, 0):
         raise ConfigError(
             f"--distractors {distractors}: {max(best, 0)} available for this recipe and shelf "

@@ -319,6 +319,22 @@ def _run_part(part: tuple[str, str], inputs: _PartInputs) -> tuple[str, str, obj
     return kind, name, result, time.perf_counter() - t0
 
 
+def check_embedders(names: Sequence[str]) -> None:
+    """Every name is an embedder the benchmark scores: a registry name but onehot (which it does not score),
+    finetuned:<dir> or a model directory; else UnknownNameError listing exactly those (checked before any work).
+    The registered names are those of this process (scone-bench registers mpnet-ft), as `load_embedder` sees them."""
+    from scone_bt.embedding.registry import embedder_names
+
+    known = [n for n in embedder_names() if n != "onehot"]
+    for name in names:
+        folder = Path(name.removeprefix("finetuned:")).expanduser()
+        if name in known or folder.is_dir():
+            continue
+        if name.startswith("finetuned:"):
+            raise SconeError(f"IF embedder {name!r}: no such folder {folder}")
+        raise UnknownNameError("IF embedder", name, [*known, "finetuned:<dir>", "<model directory>"])
+
+
 def run_benchmark(
     test: Sequence[IfState],
     train: Sequence[IfState],
@@ -342,8 +358,7 @@ def run_benchmark(
         raise SconeError(
             f"the IF benchmark needs train and test states; got {len(train)} train, {len(test)} test"
         )
-    if "onehot" in opts.embedders:
-        raise UnknownNameError("IF embedder", "onehot", ["minilm", "mpnet", "glove", "<model directory>"])
+    check_embedders(opts.embedders)
     parts = [("row", name) for name in opts.embedders]
     parts += [("pddl", "")] if opts.pddl else []
     parts += [("ticc", opts.ticc_embedder)] if opts.ticc else []

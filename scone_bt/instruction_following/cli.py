@@ -33,10 +33,22 @@ def _engine(args: argparse.Namespace):  # -> EngineOptions | None
 
 
 def _bench(args: argparse.Namespace) -> int:
-    from scone_bt.instruction_following.bench import BenchOptions, format_table, run_benchmark
+    from scone_bt.instruction_following.bench import (
+        BenchOptions,
+        check_embedders,
+        format_table,
+        run_benchmark,
+    )
     from scone_bt.instruction_following.mcts_baseline import MctsOptions
     from scone_bt.instruction_following.states import load_states
 
+    if args.limit < 0:
+        raise SconeError(f"--limit {args.limit}: must be 0 (every state) or a positive number of states")
+    embedders = tuple(e for e in args.embedders.split(",") if e)
+    try:
+        check_embedders(embedders)  # before the states are read or a worker starts
+    except SconeError as exc:
+        raise SconeError(f"--embedders {args.embedders}: {exc}") from None
     folder = default_states_dir()
     train_path = args.train or (folder / "train.jsonl" if folder else None)
     dev_path = args.dev or (folder / "dev.jsonl" if folder else None)
@@ -54,7 +66,7 @@ def _bench(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
     options = BenchOptions(
-        embedders=tuple(e for e in args.embedders.split(",") if e),
+        embedders=embedders,
         finetune=not args.no_finetune,
         finetune_base=args.finetune_base,
         finetune_dir=args.save_finetuned,

@@ -185,6 +185,31 @@ def _raise_node_problem(node: dict[Any, Any], where: str, kind: str, error: str,
     raise ConfigError(f"{where}: {kind} {node[kind]!r} needs a non-empty 'children' list")
 
 
+def _check_parameter_names(params: dict[str, Any], path: Path) -> None:
+    """The estimator and embedder a tree file names are ones the registries build, or a one-line ConfigError
+    naming the file, the key and the valid names (not only when the robot first needs them)."""
+    from scone_bt.confidence.registry import estimator_names
+
+    estimator = params.get("estimator")
+    valid = estimator_names()
+    if estimator is not None and estimator not in valid:
+        raise ConfigError(
+            f"{path}: parameters.estimator: unknown estimator {estimator!r}; valid: {', '.join(valid)}"
+        )
+    embedder = params.get("embedder")
+    if embedder is None:
+        return
+    from scone_bt.embedding.registry import embedder_names
+
+    names = (*embedder_names(), "mpnet-ft")  # mpnet-ft: registered once its benchmark is imported
+    if embedder in names or embedder.startswith("finetuned:") or Path(embedder).expanduser().is_dir():
+        return
+    raise ConfigError(
+        f"{path}: parameters.embedder: unknown embedder {embedder!r}; valid: {', '.join(sorted(set(names)))}, "
+        "finetuned:<dir> or a sentence-transformers model directory"
+    )
+
+
 def load_tree_spec(name_or_path: str | Path = "assistive_cooking") -> TreeSpec:
     """Read and validate trees/<name>.yaml (or a path): nodes, behaviour names, their args and the parameters.
 
@@ -207,6 +232,7 @@ def load_tree_spec(name_or_path: str | Path = "assistive_cooking") -> TreeSpec:
     _validate(data["root"], f"{path}:root")
     params = data.get("parameters", {}) or {}
     validate(TreeParameters, params, f"{path}: parameters")
+    _check_parameter_names(params, path)
     return TreeSpec(str(data.get("name", path.stem)), data["root"], params, path)
 
 

@@ -197,3 +197,15 @@ def test_jobs_must_be_positive(capsys: pytest.CaptureFixture[str]) -> None:
 
     assert main(["decisions", "--jobs", "0", "--episodes", "0"]) == 2
     assert "--jobs" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("rate", ["0", "nan", "2", "inf", "-0.1"])
+def test_target_error_rates_outside_the_gates_range_are_refused(
+    rate: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from scone_bt.cli.bench import main
+
+    argv = ["decisions", "--episodes", "0", "--jobs", "1", "--target-error-rates", "0.1", rate]
+    assert main([*argv, "--datasets", "/nonexistent"]) == 2  # refused before the datasets are read
+    err = capsys.readouterr().err.strip()
+    assert err == f"scone-bench: --target-error-rates {float(rate)}: must be a number in (0, 1)"

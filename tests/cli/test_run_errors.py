@@ -72,6 +72,22 @@ def test_bad_values_are_one_line_errors(argv, expected, capsys):
     assert expected in _one_line_error(argv, capsys)
 
 
+@pytest.mark.parametrize(
+    ("flag", "what", "valid"),
+    [
+        ("--arm", "robot", "iiwa7, panda"),
+        ("--kitchen", "kitchen", "kitchen"),
+        ("--tree", "tree", "assistive_cooking"),
+    ],
+)
+def test_a_missing_file_path_is_named_as_a_missing_file(tmp_path, capsys, flag, what, valid):
+    for missing in ("nofile.yaml", str(tmp_path / "nofile")):
+        assert _one_line_error([flag, missing], capsys) == (
+            f"scone-run: error: {flag} {missing}: no such file; give a {what} name (valid: {valid}) "
+            f"or a path to a {what} YAML file"
+        )
+
+
 def test_connect_to_a_viewer_that_is_not_running_fails_fast(capsys):
     result: list[str] = []
     port = _free_port()

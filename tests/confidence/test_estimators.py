@@ -132,6 +132,18 @@ def test_registry_names_and_errors():
         make_estimator("rf", k=3)
 
 
+@pytest.mark.parametrize("bad", ["catboost", "grounded-nosuch", "nosuch-cal"])
+def test_an_unknown_estimator_lists_exactly_the_names_that_are_accepted(bad: str) -> None:
+    from scone_bt.confidence.registry import estimator_names
+
+    with pytest.raises(UnknownNameError) as info:
+        make_estimator(bad)
+    assert tuple(info.value.valid) == estimator_names()
+    assert {"xgboost", "knn-cal", "grounded-knn", "physical", "eps-knn"} <= set(estimator_names())
+    for name in estimator_names():
+        make_estimator(name)  # every listed name builds
+
+
 def test_rebuild_from_the_experience_store(tmp_path):
     emb = OneHotEmbedder()
     with ExperienceStore(tmp_path / "e.sqlite") as store:

@@ -8,6 +8,7 @@ import pytest
 
 from scone_bt.config import load_kitchen
 from scone_bt.errors import ConfigError
+from scone_bt.resources import data_dir
 from scone_bt.world.visuals import DICTIONARY_SIZE, UNDRAWABLE_IDS
 
 GOOD = "{name: %s, size: [0.05, 0.05, 0.1], mass: 0.2, rgba: [0.5, 0.5, 0.5, 1], marker_id: %d}"  # noqa: UP031
@@ -121,6 +122,10 @@ def test_user_product_is_stocked_for_a_recipe(tmp_path):
             GOOD.replace("size: [0.05, 0.05, 0.1]", "size: [0.05, 0.1]") % ("my spice", 900),
             "size: List should have at least 3 items",
         ),
+        (
+            GOOD.replace("size: [0.05, 0.05, 0.1]", "size: [10.0, 0.05, 0.1]") % ("my spice", 900),
+            "product 'my spice': size[0]: Input should be less than or equal to 1 (got 10.0)",
+        ),
     ],
     ids=[
         "duplicate-name",
@@ -137,6 +142,7 @@ def test_user_product_is_stocked_for_a_recipe(tmp_path):
         "wrong-type",
         "marker-as-string",
         "short-size",
+        "ten-metre-product",
     ],
 )
 def test_bad_product_is_one_line_naming_file_product_and_field(tmp_path, product, expected):
@@ -172,3 +178,23 @@ def test_an_edited_family_file_is_read_again(tmp_path):
     path.write_text(text.replace("mass: 0.2", "mass: -1"))
     with pytest.raises(ConfigError, match="mass"):
         load_catalogue([path])
+
+
+def test_a_kitchen_without_products_names_its_catalogue_key(tmp_path):
+    text = (data_dir("perception") / "kitchen.yaml").read_text()
+    assert "catalogue: [catalogue]" in text
+    kitchen = tmp_path / "kitchen.yaml"
+    kitchen.write_text(text.replace("catalogue: [catalogue]", "catalogue: []"))
+    with pytest.raises(ConfigError) as err:
+        load_kitchen(kitchen)
+    assert str(err.value) == (
+        f"{kitchen}: catalogue: lists no product files, so the kitchen has no products; give family files or "
+        "folders of them (e.g. catalogue: [catalogue]) or --catalogue FILE"
+    )
+    (tmp_path / "empty").mkdir()
+    kitchen.write_text(text.replace("catalogue: [catalogue]", "catalogue: [empty]"))
+    with pytest.raises(ConfigError) as err:
+        load_kitchen(kitchen)
+    assert str(err.value) == (
+        f"{tmp_path}: catalogue entry 'empty': the folder {tmp_path / 'empty'} holds no .yaml family files"
+    )

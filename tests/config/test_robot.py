@@ -65,3 +65,37 @@ def test_grasp_loop_settings_are_bounded(tmp_path: Path, key: str, value: float)
     doc = _robot(tmp_path)
     doc["grasp"][key] = value
     _refused(tmp_path, doc, f"grasp.{key}", "between")
+
+
+@pytest.mark.parametrize(
+    ("key", "index", "value", "parts"),
+    [
+        (
+            "arm_joints",
+            2,
+            "panda_jointX",
+            ("arm_joints[2]: 'panda_jointX' is not a movable joint of panda.urdf",),
+        ),
+        (
+            "gripper.joints",
+            0,
+            "finger",
+            ("gripper.joints[0]: 'finger' is not a movable joint", "panda_finger_joint1"),
+        ),
+        ("end_effector_frame", None, "nosuch", ("end_effector_frame: 'nosuch' is not a link of panda.urdf",)),
+        ("collision.hand_links", 0, "palm", ("collision.hand_links[0]: 'palm' is not a link", "panda_hand")),
+    ],
+)
+def test_unknown_joint_or_frame_names_the_file_and_key(
+    tmp_path: Path, key: str, index: int | None, value: str, parts: tuple[str, ...]
+):
+    doc = _robot(tmp_path)
+    *outer, last = key.split(".")
+    section = doc
+    for part in outer:
+        section = section.setdefault(part, {})
+    if index is None:
+        section[last] = value
+    else:
+        section.setdefault(last, ["panda_hand"])[index] = value
+    _refused(tmp_path, doc, *parts, "valid: ")

@@ -76,3 +76,57 @@ def test_camera_size_and_range_are_bounded(tmp_path: Path, key: str, value: Any,
 )
 def test_scene_refuses_unknown_keys_and_bad_geometry(tmp_path: Path, edit: Callable, parts: tuple[str, ...]):
     _refused(_kitchen(tmp_path, edit), *parts)
+
+
+def _unit0(d: dict[str, Any]) -> dict[str, Any]:
+    return d["scene"]["shelves"][0]
+
+
+@pytest.mark.parametrize(
+    ("edit", "parts"),
+    [
+        (
+            lambda d: _unit0(d).update(span=[0.14, 1e9]),
+            ("scene.shelves[0].span: every value must be in [-10, 10] metres, got [0.14, 1000000000.0]",),
+        ),
+        (
+            lambda d: _unit0(d)["tiers"][1].update(center=1e9),
+            ("scene.shelves[0].tiers[1].center: must be in [-10, 10], got 1000000000.0",),
+        ),
+        (lambda d: _unit0(d)["tiers"][0].update(top_z=50.0), ("tiers[0].top_z: must be in [-10, 10]",)),
+        (
+            lambda d: _unit0(d)["tiers"][0].update(slots=[0.2, -1e6]),
+            ("tiers[0].slots: every value must be in",),
+        ),
+        (lambda d: _unit0(d).update(tier_depth=1e9), ("scene.shelves[0].tier_depth: must be in (0, 10]",)),
+        (lambda d: _unit0(d).update(tier_depth=0.0), ("scene.shelves[0].tier_depth: must be in (0, 10]",)),
+    ],
+)
+def test_shelf_geometry_is_bounded(tmp_path: Path, edit: Callable, parts: tuple[str, ...]):
+    _refused(_kitchen(tmp_path, edit), *parts)
+
+
+def _looking_along_up(d: dict[str, Any]) -> None:
+    camera = d["cameras"][1]
+    camera["up"] = [t - p for t, p in zip(camera["target"], camera["position"], strict=True)]
+
+
+@pytest.mark.parametrize(
+    ("edit", "parts"),
+    [
+        (_looking_along_up, ("cameras[1].up: camera 'shelf_left': ", "is parallel to its viewing direction")),
+        (
+            lambda d: d["cameras"][1].update(up=[0.0, 0.0, 0.0]),
+            ("cameras[1].up: camera 'shelf_left': [0.0, 0.0, 0.0] is parallel",),
+        ),
+        (
+            lambda d: d["cameras"][1].update(target=d["cameras"][1]["position"]),
+            ("cameras[1].target: camera 'shelf_left' looks at its own position",),
+        ),
+        (lambda d: d["cameras"][1].update(fov_deg=175.0), ("cameras[1].fov_deg: must be in [1, 170]",)),
+    ],
+)
+def test_a_camera_that_cannot_render_is_refused_at_load(
+    tmp_path: Path, edit: Callable, parts: tuple[str, ...]
+):
+    _refused(_kitchen(tmp_path, edit), *parts)

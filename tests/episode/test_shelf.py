@@ -48,3 +48,32 @@ def test_a_draw_that_fits_is_the_seeded_draw_it_always_was(kitchen_cfg) -> None:
     others = [n for n in catalogue.names() if n not in needed]
     expected = [str(n) for n in np.random.default_rng(0).choice(others, size=6, replace=False)]
     assert list(stock_shelf(recipe, catalogue, scene, 6, np.random.default_rng(0)).distractors) == expected
+
+
+def test_a_recipe_product_wider_than_every_tier_is_named_not_blamed_on_distractors(kitchen_cfg) -> None:
+    from dataclasses import replace
+
+    from scone_bt.config import Catalogue
+    from scone_bt.config.stocking import plan_stocking
+
+    recipe = load_recipe("example:tomato-pasta")
+    wide = stock_recipe(recipe, kitchen_cfg.catalogue).needed[0]
+    catalogue = Catalogue(
+        tuple(
+            replace(o, size=(0.9, 0.1, 0.2)) if o.name == wide else o for o in kitchen_cfg.catalogue.objects
+        )
+    )
+    needed = [catalogue.get(n) for n in stock_recipe(recipe, catalogue).needed]
+    for refuse in (
+        lambda: stock_shelf(recipe, catalogue, kitchen_cfg.scene, 6, np.random.default_rng(0)),
+        lambda: plan_stocking(kitchen_cfg.scene, needed, np.random.default_rng(0)),  # --distractors 0
+    ):
+        with pytest.raises(ConfigError) as refused:
+            refuse()
+        message = str(refused.value)
+        assert "\n" not in message and "--distractors" not in message
+        assert (
+            message.startswith(f"product {wide!r} of family ")
+            and "(0.9 x 0.1 x 0.2 m) needs a 0.93 m lane" in message
+        )
+        assert "longer than every shelf tier (the longest is 0.50 m)" in message

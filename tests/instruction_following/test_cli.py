@@ -54,6 +54,36 @@ def test_missing_states_file_is_one_line(tmp_path, capsys) -> None:
     assert err.startswith("scone-bench: states file not found") and "\n" not in err
 
 
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--limit", "-1"], "--limit -1: must be 0 (every state) or a positive number of states"),
+        (
+            ["--embedders", "minilm,onehot"],
+            "--embedders minilm,onehot: unknown IF embedder 'onehot'; valid: <model directory>, finetuned:<dir>, "
+            "glove, minilm, mpnet, mpnet-ft",
+        ),
+        (["--embedders", "nosuch"], "--embedders nosuch: unknown IF embedder 'nosuch'; valid: "),
+    ],
+)
+def test_bad_if_options_are_refused_before_the_states_are_read(tmp_path, capsys, argv, message) -> None:
+    missing = str(tmp_path / "nope.jsonl")  # reading it would be a different error
+    assert main(["if", "--states", missing, "--train", missing, *argv]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"scone-bench: {message}") and "\n" not in err
+
+
+def test_every_if_embedder_the_message_lists_is_accepted() -> None:
+    from scone_bt.errors import UnknownNameError
+    from scone_bt.instruction_following.bench import check_embedders
+
+    with pytest.raises(UnknownNameError) as err:
+        check_embedders(["nosuch"])
+    names = [n for n in err.value.valid if not n.startswith(("<", "finetuned:"))]
+    assert names and "onehot" not in names
+    check_embedders(names)
+
+
 def _states_files(folder) -> dict[str, bytes]:
     return {p.name: p.read_bytes() for p in sorted(folder.glob("*.jsonl"))}
 

@@ -85,3 +85,35 @@ def test_nesting_past_the_limit_is_refused_not_a_recursion_error(tmp_path: Path)
     path.write_text(yaml.safe_dump({"root": node}))
     with pytest.raises(ConfigError, match="the tree is nested deeper than 64 levels"):
         load_tree_spec(path)
+
+
+@pytest.mark.parametrize(
+    ("key", "value", "message"),
+    [
+        (
+            "estimator",
+            "nosuch",
+            "parameters.estimator: unknown estimator 'nosuch'; valid: conformal, eps-conformal, ",
+        ),
+        (
+            "embedder",
+            "nosuch",
+            "parameters.embedder: unknown embedder 'nosuch'; valid: glove, minilm, mpnet, ",
+        ),
+    ],
+)
+def test_an_unknown_estimator_or_embedder_names_the_file_and_key(tmp_path: Path, key, value, message):
+    path = tmp_path / "t.yaml"
+    path.write_text(yaml.safe_dump({"root": OK, "parameters": {key: value}}))
+    with pytest.raises(ConfigError) as err:
+        load_tree_spec(path)
+    assert str(err.value).startswith(f"{path}: {message}") and "\n" not in str(err.value)
+
+
+@pytest.mark.parametrize(
+    ("key", "value"), [("estimator", "grounded-knn-cal"), ("estimator", "xgboost"), ("embedder", "onehot")]
+)
+def test_every_registry_name_is_accepted_in_a_tree_file(tmp_path: Path, key, value):
+    path = tmp_path / "t.yaml"
+    path.write_text(yaml.safe_dump({"root": OK, "parameters": {key: value}}))
+    assert load_tree_spec(path).parameters[key] == value

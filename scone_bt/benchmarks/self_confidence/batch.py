@@ -16,6 +16,7 @@ import dataclasses
 import difflib
 import hashlib
 import json
+import math
 import os
 import platform
 import sys
@@ -360,8 +361,10 @@ def run_generate(args: argparse.Namespace) -> int:
         raise ConfigError(f"--executions {args.executions}: must be at least 1")
     if args.workers < 1:
         raise ConfigError(f"--workers {args.workers}: must be at least 1")
-    if args.max_minutes is not None and args.max_minutes <= 0:
-        raise ConfigError(f"--max-minutes {args.max_minutes}: must be positive")
+    if args.max_minutes is not None and not (math.isfinite(args.max_minutes) and args.max_minutes > 0):
+        raise ConfigError(
+            f"--max-minutes {args.max_minutes}: must be a finite number above 0 (leave it out: no limit)"
+        )
     for c in args.catalogue:
         if not Path(c).is_file():
             raise ConfigError(f"--catalogue {c}: no such file")

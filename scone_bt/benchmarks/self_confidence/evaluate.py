@@ -524,6 +524,11 @@ def run_evaluate(args: argparse.Namespace) -> int:
     )
     if args.workers < 1:
         raise ConfigError(f"--workers must be at least 1, got {args.workers}")
+    from scone_bt.config import load_kitchen
+    from scone_bt.resources import resolve_file
+
+    # read only when a dataset has no family column, so checked now: a bad --kitchen is not found after the work
+    load_kitchen(resolve_file("perception", args.kitchen, (".yaml", ".yml"), flag="--kitchen"))
     options = EvalOptions(
         n_test=args.n_test,
         steps=tuple(args.steps),

@@ -32,6 +32,7 @@ from scone_bt.benchmarks.self_confidence.report_types import (
     RobotSummary,
     TargetCheck,
 )
+from scone_bt.files import write_atomic, write_via
 from scone_bt.strict_json import clean_json, dumps
 
 __all__ = [
@@ -98,7 +99,7 @@ def write_json(path: Path | None, payload: Mapping[str, Any]) -> dict[str, Any]:
     cleaned = clean_json(payload)
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(dumps(cleaned, indent=1) + "\n")
+        write_atomic(path, dumps(cleaned, indent=1) + "\n")
     return cleaned
 
 
@@ -509,6 +510,16 @@ def _pyplot():  # noqa: ANN202 - matplotlib's module
     return plt
 
 
+def _save_png(plt: Any, fig: Any, path: Path) -> None:
+    """Save `fig` as a PNG at `path` through a temporary file beside it (an interrupted or failed write leaves the
+    old figure whole, never half a PNG), and close it."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        write_via(path, lambda tmp: fig.savefig(tmp, dpi=100, format="png"))
+    finally:
+        plt.close(fig)
+
+
 def plot_curves(report: EvaluationReport, out_dir: Path, name: str = "self_confidence") -> list[Path]:
     """One PNG per protocol (<out_dir>/<name>_<protocol>_curves.png): a panel per estimator, a line per embedder."""
     plt = _pyplot()
@@ -547,9 +558,7 @@ def plot_curves(report: EvaluationReport, out_dir: Path, name: str = "self_confi
         fig.suptitle(f"{_PROTOCOL_TITLES.get(protocol, protocol)}: accuracy ± std over datasets", fontsize=9)
         fig.tight_layout()
         path = Path(out_dir) / f"{name}_{protocol}_curves.png"
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path, dpi=100)
-        plt.close(fig)
+        _save_png(plt, fig, path)
         paths.append(path)
     return paths
 
@@ -594,7 +603,5 @@ def plot_reliability(report: EvaluationReport, path: Path) -> Path:
         ax.legend(fontsize=6, loc="upper left")
         ax.grid(alpha=0.3)
     fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
+    _save_png(plt, fig, path)
     return path

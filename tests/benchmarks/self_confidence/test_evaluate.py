@@ -90,6 +90,27 @@ def test_bad_names_are_one_line_errors_with_the_valid_list(sc_data, capsys, flag
     assert "Traceback" not in err
 
 
+@pytest.mark.parametrize(
+    ("kitchen", "message"),
+    [
+        ("nosuch", "--kitchen nosuch: unknown kitchen; valid: kitchen"),
+        (
+            "nofile.yaml",
+            "--kitchen nofile.yaml: no such file; give a kitchen name (valid: kitchen) or a path to a kitchen YAML file",
+        ),
+    ],
+)
+def test_a_bad_kitchen_is_refused_before_the_data_is_read(tmp_path, capsys, kitchen, message):
+    missing = tmp_path / "missing"  # reading the data first would be another error
+    assert (
+        main(
+            ["sc", "evaluate", "--data", str(missing), "--kitchen", kitchen, "--embedders", "onehot", *SMALL]
+        )
+        == 2
+    )
+    assert capsys.readouterr().err.strip() == f"scone-bench: {message}"
+
+
 def test_an_empty_or_missing_data_dir_is_a_one_line_error(tmp_path, capsys):
     (tmp_path / "empty").mkdir()
     for folder in (tmp_path / "empty", tmp_path / "missing"):

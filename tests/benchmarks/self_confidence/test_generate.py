@@ -122,6 +122,16 @@ def test_bad_inputs_are_one_line_errors_before_any_execution(tmp_path, capsys):
     assert not (tmp_path / "o").exists() or not any((tmp_path / "o").glob("*.csv"))
 
 
+@pytest.mark.parametrize("minutes", ["nan", "inf", "0", "-1"])
+def test_max_minutes_must_be_finite_and_positive(tmp_path, capsys, minutes):
+    base = ["sc", "generate", "--profiles-dir", str(PROFILES), "--out", str(tmp_path / "o"), "--no-progress"]
+    err = _one_line_error(capsys, [*base, "--max-minutes", minutes])
+    assert err == (
+        f"scone-bench: --max-minutes {float(minutes)}: must be a finite number above 0 (leave it out: no limit)"
+    )
+    assert not (tmp_path / "o").exists() or not any((tmp_path / "o").glob("*.csv"))
+
+
 @pytest.mark.slow
 def test_a_reused_kitchen_repeats_a_fresh_one_exactly(kitchen_cfg, robot_cfg):
     """Workers keep one kitchen and restore it between executions: the order a worker ran them in is invisible."""

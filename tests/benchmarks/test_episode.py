@@ -1,0 +1,19 @@
+"""``scone-bench episode``: bad options are one line, before any episode runs."""
+
+from __future__ import annotations
+
+import pytest
+
+from scone_bt.cli.bench import main
+
+
+@pytest.mark.parametrize("ticks", ["0", "-5"])
+def test_max_ticks_below_one_is_refused_before_an_episode_runs(monkeypatch, capsys, ticks):
+    def never(*args: object, **kwargs: object) -> None:
+        raise AssertionError("an episode ran")
+
+    monkeypatch.setattr("scone_bt.episode.run_episode", never)
+    assert main(["episode", "--max-ticks", ticks, "--quiet"]) == 2
+    assert (
+        capsys.readouterr().err == f"scone-bench: --max-ticks {ticks}: must be an integer in 1..1000000000\n"
+    )
