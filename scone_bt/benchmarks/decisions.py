@@ -382,8 +382,13 @@ def _run(args: argparse.Namespace) -> int:
     from scone_bt.benchmarks.workers import process_pool
     from scone_bt.errors import SconeError
 
-    if args.episodes < 0 or args.recipes < 1 or args.jobs < 1:
-        raise SconeError("--episodes must be ≥ 0, --recipes and --jobs ≥ 1")
+    for flag, value, low in (
+        ("--episodes", args.episodes, 0),
+        ("--recipes", args.recipes, 1),
+        ("--jobs", args.jobs, 1),
+    ):
+        if value < low:
+            raise SconeError(f"{flag} {value}: must be {low} or more")
     for target in args.target_error_rates:  # the gate's own range (GateOptions), checked before any replay
         if not 0.0 < target < 1.0:
             raise SconeError(f"--target-error-rates {target}: must be a number in (0, 1)")

@@ -44,11 +44,13 @@ def run(args: argparse.Namespace) -> int:
 
     from scone_bt.behaviours import BehaviourOptions
     from scone_bt.checks import check_positive_int
+    from scone_bt.config import load_robot
     from scone_bt.episode import EpisodeOptions, run_episode
     from scone_bt.errors import ConfigError
     from scone_bt.quiet import c_stdout_silenced
 
     check_positive_int(args.max_ticks, "--max-ticks")
+    load_robot(args.robot)  # a bad robot file is one line now, not after the first episode's start-up
     recipes = [r.strip() for r in args.recipes.split(",") if r.strip()]
     if not recipes:
         raise ConfigError("--recipes: list at least one recipe id (e.g. example:hummus)")

@@ -125,6 +125,9 @@ MAX_PRODUCT_M = 1.0
 """Largest extent of a product, metres: a grocery item a one-armed robot might fetch (the shipped catalogue's
 largest is 0.35 m); a 10 m product is a typo, refused with its file and name, not later as a shelf that is full."""
 _Extent = Annotated[float, Field(gt=0, le=MAX_PRODUCT_M, allow_inf_nan=False)]
+MAX_PRODUCT_KG = 50.0
+"""Heaviest product, kilograms: far past any arm's payload (the shipped catalogue's heaviest is 2 kg), so a product
+too heavy to lift is still a product the robot may fail on; 1e9 kg is a typo."""
 
 
 class _ProductFields(StrictModel):
@@ -134,7 +137,7 @@ class _ProductFields(StrictModel):
     aliases: list[Annotated[str, Field(min_length=1)]] = []
     shape: Literal["box", "cylinder"]
     size: Annotated[list[_Extent], Field(min_length=3, max_length=3)]
-    mass: PositiveFloat
+    mass: Annotated[float, Field(gt=0, le=MAX_PRODUCT_KG, allow_inf_nan=False)]
     friction: PositiveFloat
     material: Annotated[str, Field(min_length=1)]
     rgba: Annotated[list[UnitFloat], Field(min_length=4, max_length=4)]

@@ -219,6 +219,12 @@ def _unit(raw: object, index: int, where: str) -> ShelfUnit:
     span = f.vector("span", 2)
     _within_scene(span, f"{f.where}.span")
     require(span[0] < span[1], f"{f.where}.span: need v0 < v1, got {list(span)}")
+    for i, tier in enumerate(tiers):  # a slot beyond the shelf's block would stand its product on thin air
+        for k, v in enumerate(tier.slots):
+            require(
+                span[0] <= v <= span[1],
+                f"{f.where}.tiers[{i}].slots[{k}]: {v:g} lies outside the unit's span {list(span)}",
+            )
     depth = f.number("tier_depth", 0.0, MAX_SCENE_M, above=True)
     return ShelfUnit(f.get("name", str, f"unit{index}"), rotation, depth, span, tuple(tiers))  # type: ignore[arg-type]
 

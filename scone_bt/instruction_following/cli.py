@@ -33,6 +33,8 @@ def _engine(args: argparse.Namespace):  # -> EngineOptions | None
 
 
 def _bench(args: argparse.Namespace) -> int:
+    from scone_bt.checks import check_positive_int
+    from scone_bt.files import write_atomic
     from scone_bt.instruction_following.bench import (
         BenchOptions,
         check_embedders,
@@ -44,11 +46,16 @@ def _bench(args: argparse.Namespace) -> int:
 
     if args.limit < 0:
         raise SconeError(f"--limit {args.limit}: must be 0 (every state) or a positive number of states")
+    check_positive_int(args.simulations, "--simulations")
     embedders = tuple(e for e in args.embedders.split(",") if e)
-    try:
-        check_embedders(embedders)  # before the states are read or a worker starts
-    except SconeError as exc:
-        raise SconeError(f"--embedders {args.embedders}: {exc}") from None
+    # before the states are read or a worker starts
+    for flag, names in (("--embedders", embedders), ("--ticc-embedder", (args.ticc_embedder,))):
+        if flag == "--ticc-embedder" and args.no_ticc:
+            continue
+        try:
+            check_embedders(names)
+        except SconeError as exc:
+            raise SconeError(f"{flag} {','.join(names)}: {exc}") from None
     folder = default_states_dir()
     train_path = args.train or (folder / "train.jsonl" if folder else None)
     dev_path = args.dev or (folder / "dev.jsonl" if folder else None)
@@ -84,8 +91,8 @@ def _bench(args: argparse.Namespace) -> int:
     )
     print(format_table(result))
     print(json.dumps(report, ensure_ascii=False))
-    if args.json:
-        Path(args.json).write_text(json.dumps(report, indent=2, ensure_ascii=False) + "\n")
+    if args.json:  # written whole: an interrupted write leaves the last report as it was
+        write_atomic(args.json, json.dumps(report, indent=2, ensure_ascii=False) + "\n")
     return 0
 
 

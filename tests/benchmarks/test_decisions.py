@@ -209,3 +209,20 @@ def test_target_error_rates_outside_the_gates_range_are_refused(
     assert main([*argv, "--datasets", "/nonexistent"]) == 2  # refused before the datasets are read
     err = capsys.readouterr().err.strip()
     assert err == f"scone-bench: --target-error-rates {float(rate)}: must be a number in (0, 1)"
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--episodes", "-1"], "--episodes -1: must be 0 or more"),
+        (["--recipes", "0"], "--recipes 0: must be 1 or more"),
+        (["--jobs", "0"], "--jobs 0: must be an integer >= 1"),
+    ],
+)
+def test_a_bad_count_names_its_option(
+    argv: list[str], message: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from scone_bt.cli.bench import main
+
+    assert main(["decisions", *argv, "--datasets", "/nonexistent"]) == 2
+    assert capsys.readouterr().err.strip() == f"scone-bench: {message}"

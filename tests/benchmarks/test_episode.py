@@ -17,3 +17,12 @@ def test_max_ticks_below_one_is_refused_before_an_episode_runs(monkeypatch, caps
     assert (
         capsys.readouterr().err == f"scone-bench: --max-ticks {ticks}: must be an integer in 1..1000000000\n"
     )
+
+
+def test_an_unknown_robot_is_refused_before_an_episode_runs(monkeypatch, capsys):
+    def never(*args: object, **kwargs: object) -> None:
+        raise AssertionError("an episode ran")
+
+    monkeypatch.setattr("scone_bt.episode.run_episode", never)
+    assert main(["episode", "--robot", "nosuch", "--quiet"]) == 2
+    assert capsys.readouterr().err == "scone-bench: unknown robot 'nosuch'; valid: iiwa7, panda\n"

@@ -126,6 +126,10 @@ def test_user_product_is_stocked_for_a_recipe(tmp_path):
             GOOD.replace("size: [0.05, 0.05, 0.1]", "size: [10.0, 0.05, 0.1]") % ("my spice", 900),
             "product 'my spice': size[0]: Input should be less than or equal to 1 (got 10.0)",
         ),
+        (
+            GOOD.replace("mass: 0.2", "mass: 1000000000.0") % ("my spice", 900),
+            "product 'my spice': mass: Input should be less than or equal to 50",
+        ),
     ],
     ids=[
         "duplicate-name",
@@ -143,6 +147,7 @@ def test_user_product_is_stocked_for_a_recipe(tmp_path):
         "marker-as-string",
         "short-size",
         "ten-metre-product",
+        "billion-kilogram-product",
     ],
 )
 def test_bad_product_is_one_line_naming_file_product_and_field(tmp_path, product, expected):

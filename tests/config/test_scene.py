@@ -98,6 +98,10 @@ def _unit0(d: dict[str, Any]) -> dict[str, Any]:
             lambda d: _unit0(d)["tiers"][0].update(slots=[0.2, -1e6]),
             ("tiers[0].slots: every value must be in",),
         ),
+        (
+            lambda d: _unit0(d)["tiers"][2].update(slots=[0.2, 0.9]),
+            ("scene.shelves[0].tiers[2].slots[1]: 0.9 lies outside the unit's span [0.14, 0.66]",),
+        ),
         (lambda d: _unit0(d).update(tier_depth=1e9), ("scene.shelves[0].tier_depth: must be in (0, 10]",)),
         (lambda d: _unit0(d).update(tier_depth=0.0), ("scene.shelves[0].tier_depth: must be in (0, 10]",)),
     ],

@@ -64,6 +64,8 @@ def test_missing_states_file_is_one_line(tmp_path, capsys) -> None:
             "glove, minilm, mpnet, mpnet-ft",
         ),
         (["--embedders", "nosuch"], "--embedders nosuch: unknown IF embedder 'nosuch'; valid: "),
+        (["--ticc-embedder", "nosuch"], "--ticc-embedder nosuch: unknown IF embedder 'nosuch'; valid: "),
+        (["--simulations", "0"], "--simulations 0: must be an integer in 1..1000000000"),
     ],
 )
 def test_bad_if_options_are_refused_before_the_states_are_read(tmp_path, capsys, argv, message) -> None:

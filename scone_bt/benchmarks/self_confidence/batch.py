@@ -387,8 +387,12 @@ def run_generate(args: argparse.Namespace) -> int:
     pool = drawable_products(kitchen_cfg, products)
     most = max(p.objects_on_shelf for p in profiles)
     if len(pool) < most:
+        drawn = {o.name for o in pool}
+        unfit = [n for n in (products or ()) if n not in drawn]
+        shown = ", ".join(unfit[:5]) + (f" and {len(unfit) - 5} more" if len(unfit) > 5 else "")
+        why = f" ({shown} stand on no shelf tier: too deep or too long)" if unfit else ""
         raise ConfigError(
-            f"--products: {len(pool)} product(s) fit the shelving, profile needs {most} per execution "
+            f"--products: {len(pool)} product(s) fit the shelving{why}, profile needs {most} per execution "
             f"(objects_on_shelf); name more products"
         )
     out = Path(args.out)

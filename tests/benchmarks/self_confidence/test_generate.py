@@ -132,6 +132,15 @@ def test_max_minutes_must_be_finite_and_positive(tmp_path, capsys, minutes):
     assert not (tmp_path / "o").exists() or not any((tmp_path / "o").glob("*.csv"))
 
 
+def test_products_that_stand_on_no_tier_are_named_when_too_few_are_left(tmp_path, capsys):
+    base = ["sc", "generate", "--profiles", "p00_nominal", "--out", str(tmp_path / "o"), "--no-progress"]
+    err = _one_line_error(capsys, [*base, "--products", "tortillas,salt,rice paper"])
+    assert err == (
+        "scone-bench: --products: 1 product(s) fit the shelving (tortillas, rice paper stand on no shelf tier: "
+        "too deep or too long), profile needs 6 per execution (objects_on_shelf); name more products"
+    )
+
+
 @pytest.mark.slow
 def test_a_reused_kitchen_repeats_a_fresh_one_exactly(kitchen_cfg, robot_cfg):
     """Workers keep one kitchen and restore it between executions: the order a worker ran them in is invisible."""
