@@ -73,6 +73,25 @@ def _overruled(decision: Decision, kind: DecisionKind, reason: str, rule: str) -
     return replace(decision, kind=kind, reason=reason, rule=rule, explored=False)
 
 
+def _waiting(missing: tuple[str, ...], note: str, rule: str) -> Decision:
+    """IDLE, waiting for items the step needs now and the robot sees nowhere: about those items alone.
+
+    Not the idle decision it replaces with a new reason: that one's action, relevance, κ̂, need and rule belong to
+    another product (a line read "waiting: spaghetti not in sight … conf 0.33 (needed later) (help declined)"
+    with the parmesan's numbers).
+    """
+    nan = float("nan")
+    return Decision(
+        DecisionKind.IDLE,
+        None,
+        nan,
+        nan,
+        f"waiting: {', '.join(missing)} not in sight{note}",
+        "now",
+        rule=rule,
+    )
+
+
 def apply_failure_limit(decision: Decision, failures: int, limit: int) -> Decision:
     """The paper's rule: after ``limit`` failures on the same action, ask for help whatever κ̂ says."""
     if decision.kind is DecisionKind.ACT and decision.action is not None and failures >= limit:
@@ -314,7 +333,7 @@ class ConfidenceGate(StageBehaviour):
             if self.budget is not None:
                 decision = self._ask_for_missing(decision, view.missing)
             else:  # the paper's robot does not ask for what it cannot see: it says what it waits for
-                decision = replace(decision, reason=f"waiting: {', '.join(view.missing)} not in sight")
+                decision = _waiting(view.missing, "", "")
         if decision.kind is not DecisionKind.ACT:
             target = target if decision.kind is DecisionKind.ASK and decision.rule != "missing" else None
         self.write(Keys.DECISION, decision)
@@ -376,7 +395,7 @@ class ConfidenceGate(StageBehaviour):
             return decision
         new = [i for i in missing if i not in self._asked_missing]
         if not new:
-            return replace(decision, reason=f"waiting: {', '.join(missing)} not in sight (asked for)")
+            return _waiting(missing, " (asked for)", "missing")
         item = new[0]
         self._asked_missing.add(item)
         return Decision(

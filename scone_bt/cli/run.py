@@ -240,7 +240,8 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument(
         "--target-failure-rate",
         type=float,
-        help="the promise of the budget gate: at most this share of attempts may fail, in (0, 1) (tree default: 0.15)",
+        help="the promise of the budget gate: the share of attempts that may fail, kept over the long run, in (0, 1) "
+        "(tree default: 0.15)",
     )
     g.add_argument(
         "--no-self-confidence", action="store_true", help="the paper's control condition: always act"
@@ -271,7 +272,7 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument(
         "--estimator",
         help="κ̂ estimator: knn, lgbm, rf, svm, mlp, xgb, gp, conformal, each also as eps-<name>, grounded-<name> "
-        "(not conformal) and <name>-cal (default: the tree's, grounded-knn)",
+        "(not conformal) and <name>-cal, or physical (tree default: physical)",
     )
     g.add_argument(
         "--relevance-threshold", type=float, help="ρ: minimum cosine similarity of a relevant action"

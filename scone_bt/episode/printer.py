@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
@@ -12,7 +13,15 @@ from scone_bt.gate.types import DecisionKind
 if TYPE_CHECKING:
     from scone_bt.behaviours.options import BehaviourOptions
 
-__all__ = ["RULE_LABELS", "condition_line", "decision_line", "rule_note", "LinePrinter"]
+__all__ = [
+    "RULE_LABELS",
+    "condition_line",
+    "decision_line",
+    "percent",
+    "rule_note",
+    "shown_confidence",
+    "LinePrinter",
+]
 
 RULE_LABELS = {
     "failure-limit": "failure rule",
@@ -36,10 +45,15 @@ def condition_line(options: BehaviourOptions) -> str:
         return f"self-confidence OFF (the paper's control: always act, {failures})"
     if options.gate == "budget":
         return (
-            f"self-confidence on ({options.estimator}, failure budget: at most "
-            f"{options.target_failure_rate:.0%} of attempts may fail), {failures}"
+            f"self-confidence on ({options.estimator}, failure budget: {percent(options.target_failure_rate)} "
+            f"of attempts, kept over the long run), {failures}"
         )
     return f"self-confidence on ({options.estimator}, threshold {options.confidence_threshold:g}), {failures}"
+
+
+def percent(share: float) -> str:
+    """A share as a percentage with the digits it has (0.004 is "0.4%", not "0%"; 0.15 is "15%")."""
+    return f"{round(share * 100, 6):g}%"
 
 
 def rule_note(event: DecisionMade) -> str:
@@ -73,8 +87,35 @@ def decision_line(event: DecisionMade, steps_total: int) -> str:
         note += "  " + (f"({RULE_LABELS.get(event.rule, event.rule)})" if shown else rule_note(event))
     return (
         f"[step {event.step}/{steps_total}] {short!r:52} -> {target:28} "
-        f"rel {event.relevance:5.2f}  conf {event.confidence:4.2f}  {event.verdict.label}{note}"
+        f"rel {_number(event.relevance):>5}  conf {shown_confidence(event):>4}  {event.verdict.label}{note}"
     )
+
+
+def _number(value: float) -> str:
+    """Two decimals, or "--" where the decision has no such number (a rule decided about an unseen item)."""
+    return "--" if math.isnan(value) else f"{value:.2f}"
+
+
+def shown_confidence(event: DecisionMade) -> str:
+    """κ̂ with two decimals, rounded toward the side of the threshold the gate found it on.
+
+    Plain rounding printed "conf 0.93 ASK-HELP" under "threshold 0.93" for a κ̂ of 0.928: an act on κ̂ rounds up
+    (κ̂ ≥ threshold), an ask or an exploration on κ̂ rounds down (κ̂ < threshold), so the line never contradicts
+    its verdict; where a rule decided, it rounds to nearest. Either way it is within 0.01 of κ̂.
+    """
+    conf = event.confidence
+    if math.isnan(conf):
+        return "--"
+    hundredths = conf * 100
+    if (
+        abs(hundredths - round(hundredths)) < 1e-9 or event.rule
+    ):  # exact to the print (0.93 * 100 is 93.000…01)
+        return f"{conf:.2f}"
+    if event.verdict is DecisionKind.ACT and not event.explored:
+        return f"{math.ceil(hundredths) / 100:.2f}"
+    if event.verdict is DecisionKind.ASK or event.explored:
+        return f"{math.floor(hundredths) / 100:.2f}"
+    return f"{conf:.2f}"
 
 
 class LinePrinter:

@@ -23,7 +23,7 @@ import py_trees
 from scone_bt.behaviours import BehaviourOptions, EpisodeContext, Keys, OutcomeLabels
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig, load_kitchen, load_robot
 from scone_bt.defaults import EPISODE
-from scone_bt.episode.printer import RULE_LABELS, LinePrinter, condition_line
+from scone_bt.episode.printer import RULE_LABELS, LinePrinter, condition_line, percent
 from scone_bt.episode.resources import EpisodeResources, ModelPool
 from scone_bt.episode.seeds import PlannerSeedStream, SeedPlan, SeedStage
 from scone_bt.episode.shelf import stock_shelf
@@ -123,6 +123,8 @@ class EpisodeSummary:
     renders: int = 0
     condition: str = ""
     decided_by_rule: dict[str, int] = field(default_factory=dict)
+    not_stocked: int = 0
+    failure_budget: float | None = None
 
     def deterministic_part(self) -> dict[str, Any]:
         """The fields a seeded rerun must reproduce exactly."""
@@ -135,15 +137,30 @@ class EpisodeSummary:
     def format(self) -> str:
         fails = ", ".join(f"{k} {v}" for k, v in sorted(self.failures_by_stage.items())) or "none"
         on_table = sum(self.needed_on_table.values())
+        # the recipe's ingredients no product stands for: the human brings them (not counted above)
+        brought = (
+            f"   {self.not_stocked} more not stocked (the human brings them)" if self.not_stocked else ""
+        )
+        # an attempt the episode's end cut short has no outcome: said, so the counts add up
+        cut = self.attempted - self.successes - self.failures - self.takeovers
+        labelled = self.successes + self.failures
+        rate = (
+            f"   failure rate {percent(round(self.failures / labelled, 3))} (budget {percent(self.failure_budget)}, "
+            "kept over the long run)"
+            if self.failure_budget is not None and labelled
+            else ""
+        )
         rules = ", ".join(f"{RULE_LABELS.get(k, k)} {v}" for k, v in sorted(self.decided_by_rule.items()))
         return "\n".join(
             [
                 f"── summary: {self.recipe_title} ({self.recipe_id}) with {self.robot} ──",
                 *([f"condition          {self.condition}"] if self.condition else []),
                 f"steps completed    {self.steps_completed}/{self.steps_total}{'' if self.completed else '  (stopped early)'}",
-                f"ingredients        {on_table}/{len(self.needed_on_table)} on the table",
+                f"ingredients        {on_table}/{len(self.needed_on_table)} on the table{brought}",
                 f"actions attempted  {self.attempted}   successes {self.successes}   failures {self.failures} ({fails})"
-                + (f"   taken over {self.takeovers}" if self.takeovers else ""),
+                + (f"   taken over {self.takeovers}" if self.takeovers else "")
+                + (f"   cut short by the end of the episode {cut}" if cut > 0 else "")
+                + rate,
                 f"help requests      {self.help_requests}   clarifications {self.clarifications}"
                 f"   interventions {self.interventions}",
                 f"decisions          {self.decisions}   control ticks {self.control_ticks}"
@@ -467,6 +484,12 @@ def _summarise(
         renders=measured.renders,
         condition=condition_line(plan.behaviour),
         decided_by_rule=dict(ep.log_lines.rules),
+        not_stocked=len(recipe.unstocked) + len(recipe.off_shelf),
+        failure_budget=(
+            plan.behaviour.target_failure_rate
+            if plan.behaviour.use_self_confidence and plan.behaviour.gate == "budget"
+            else None
+        ),
     )
 
 

@@ -66,6 +66,16 @@ class GateOptions:
         return self.confidence_threshold
 
 
+def _told_apart(confidence: float, threshold: float) -> tuple[str, str]:
+    """Both numbers with two decimals, or with as many more (up to six) as it takes for them to differ: a reason
+    must never read "confidence 0.93 < 0.93"."""
+    for digits in range(2, 7):
+        a, b = f"{confidence:.{digits}f}", f"{threshold:.{digits}f}"
+        if a != b:
+            return a, b
+    return f"{confidence:.2f}", f"{threshold:.2f}"  # equal to six decimals: the threshold itself acts
+
+
 def decide(
     ranked: Sequence[RankedAction],
     confidences: Sequence[float],
@@ -144,7 +154,7 @@ def decide(
             action.text,
             action.relevance,
             conf,
-            f"confident: {conf:.2f} ≥ {threshold:.2f}",
+            "confident: {} ≥ {}".format(*_told_apart(conf, threshold)),
             need,
         )
     if explore and explore[best]:
@@ -153,7 +163,7 @@ def decide(
             action.text,
             action.relevance,
             conf,
-            f"exploring (ε-greedy): confidence {conf:.2f} < {threshold:.2f}, trying to learn",
+            "exploring (ε-greedy): confidence {} < {}, trying to learn".format(*_told_apart(conf, threshold)),
             need,
             explored=True,
         )
@@ -162,6 +172,6 @@ def decide(
         action.text,
         action.relevance,
         conf,
-        f"asking for help: confidence {conf:.2f} < {threshold:.2f}",
+        "asking for help: confidence {} < {}".format(*_told_apart(conf, threshold)),
         need,
     )

@@ -72,7 +72,7 @@ class CaseResult:
         reason: Why (the first failed expectation, the expected-failure reason, or the error).
         failures: Every failed expectation.
         sim_s: Simulated seconds the episode ran.
-        wall_s: Wall seconds the case took.
+        wall_s: Wall seconds the case's episode took (not the second run that records a failure).
         events: The episode's event log, one JSON line per event (with the tick).
         artifacts: Files written for a failing case (event log, recording).
         replay: The command that opens the recording in the viewer ("" without one).
@@ -361,6 +361,7 @@ def run_case(
             return CaseResult(
                 case.name, str(case.path), Verdict.ERROR, str(exc), wall_s=time.perf_counter() - started
             )
+    wall_s = time.perf_counter() - started  # the case's own run: not the second one that records a failure
     end = Outcome(
         completed=summary.completed,
         steps_completed=summary.steps_completed,
@@ -402,7 +403,7 @@ def run_case(
         reason,
         failures,
         sim_s=summary.sim_time,
-        wall_s=time.perf_counter() - started,
+        wall_s=wall_s,
         events=events,
         artifacts=tuple(artifacts),
         replay=replay,

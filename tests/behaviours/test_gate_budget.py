@@ -208,6 +208,31 @@ def test_a_missing_item_is_asked_for_once_then_waited_for() -> None:
     assert human.helped == ["spaghetti"]  # asked once
 
 
+@pytest.mark.parametrize("budgeted", [True, False])
+def test_waiting_for_a_missing_item_carries_no_other_products_numbers(budgeted: bool) -> None:
+    """The idle decision the wait replaces was about another product (the parmesan, needed later, declined): the
+    waiting line must not show its relevance, κ̂, need or rule as if they were the spaghetti's."""
+    import math
+
+    from scone_bt.behaviours.gate import _Pending
+
+    events = EventLog()
+    bb = _missing_step("spaghetti")
+    gate = _gate(events, _Kappa(0.9), BudgetOptions() if budgeted else None)
+    gate._asked_missing.add("spaghetti")  # asked for already: now it is waited for
+    parmesan = Decision(
+        DecisionKind.IDLE, "Put parmesan on table", 0.12, 0.33, "declined: waiting", "later", rule="declined"
+    )
+    gate._finish(_Pending(parmesan, None, {}, 1), parmesan)
+    wait = bb.get(Keys.DECISION)
+    assert wait.kind is DecisionKind.IDLE and wait.action is None and wait.object_name is None
+    assert math.isnan(wait.relevance) and math.isnan(wait.confidence) and wait.need == "now"
+    assert wait.rule == ("missing" if budgeted else "")
+    assert wait.reason == "waiting: spaghetti not in sight" + (" (asked for)" if budgeted else "")
+    (event,) = events.events
+    assert isinstance(event, DecisionMade) and event.action is None and event.need == "now"
+
+
 def test_each_missing_item_is_asked_for_in_turn() -> None:
     bb = _missing_step("spaghetti", "basil")
     gate = _gate(EventLog(), _Kappa(0.9), BudgetOptions())

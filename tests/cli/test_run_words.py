@@ -101,3 +101,27 @@ def test_uvicorn_lines_go_through_the_log_level(capsys):
             if type(handler).__name__ == "_StderrHandler":
                 root.removeHandler(handler)
         root.setLevel(logging.WARNING)
+
+
+def test_every_tree_default_the_help_states_is_the_tree_files() -> None:
+    """--help says "(tree default: X)" for the decision options; X must be what the shipped tree file sets (it
+    named grounded-knn as the default estimator while the tree's was physical)."""
+    import re
+
+    from scone_bt.tree.build import load_tree_spec
+
+    params = load_tree_spec().parameters
+    dests = {
+        "--estimator": "estimator",
+        "--gate": "gate",
+        "--target-failure-rate": "target_failure_rate",
+        "--confidence-threshold": "confidence_threshold",
+    }
+    stated = {}
+    for action in build_parser()._actions:
+        match = re.search(r"\(tree default: ([^)]+)\)", action.help or "")
+        if match and action.option_strings:
+            stated[action.option_strings[0]] = match.group(1)
+    assert set(stated) == set(dests)
+    for flag, key in dests.items():
+        assert stated[flag] == str(params[key]), flag

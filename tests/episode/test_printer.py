@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import math
 
+import pytest
+
 from scone_bt.behaviours import BehaviourOptions
-from scone_bt.episode.printer import LinePrinter, condition_line, decision_line
+from scone_bt.episode.printer import LinePrinter, condition_line, decision_line, shown_confidence
 from scone_bt.episode.runner import EpisodeSummary
 from scone_bt.events import DecisionMade
 from scone_bt.gate.types import DecisionKind
@@ -63,8 +65,13 @@ def test_the_printer_counts_the_decisions_each_rule_made() -> None:
 def test_the_condition_names_kappa_and_its_threshold_or_the_control() -> None:
     on = BehaviourOptions().resolve()
     assert condition_line(on) == (
-        f"self-confidence on ({on.estimator}, failure budget: at most {on.target_failure_rate:.0%} of attempts "
-        f"may fail), ask after {on.max_failures_per_action} failures on one action"
+        f"self-confidence on ({on.estimator}, failure budget: 15% of attempts, kept over the long run), "
+        f"ask after {on.max_failures_per_action} failures on one action"
+    )
+    small = BehaviourOptions(target_failure_rate=0.004).resolve()
+    assert "failure budget: 0.4% of attempts" in condition_line(small)  # was rounded to "0%"
+    assert "failure budget: 2.5% of attempts" in condition_line(
+        BehaviourOptions(target_failure_rate=0.025).resolve()
     )
     paper = BehaviourOptions(gate="paper").resolve()
     assert condition_line(paper) == (
@@ -87,3 +94,50 @@ def test_the_summary_states_the_condition_and_the_rules_that_decided() -> None:
     text = summary.format()
     assert "condition          self-confidence OFF (the paper's control" in text
     assert "made by a rule, not κ̂: failure rule 1, self-confidence off 1" in text
+
+
+@pytest.mark.parametrize(
+    ("verdict", "confidence", "rule", "explored", "shown"),
+    [
+        (DecisionKind.ASK, 0.928, "", False, "0.92"),  # below a threshold of 0.93: never printed as 0.93
+        (
+            DecisionKind.ACT,
+            0.921,
+            "",
+            False,
+            "0.93",
+        ),  # at or above a threshold of 0.921: never printed as 0.92
+        (DecisionKind.ACT, 0.928, "", True, "0.92"),  # an exploration acts below the threshold
+        (DecisionKind.ACT, 0.93, "", False, "0.93"),  # exact to the print: neither up nor down
+        (DecisionKind.ASK, 0.93, "", False, "0.93"),
+        (DecisionKind.ASK, 0.928, "failure-limit", False, "0.93"),  # a rule decided: plain rounding
+        (DecisionKind.IDLE, math.nan, "missing", False, "--"),
+    ],
+)
+def test_the_confidence_shown_never_contradicts_the_verdict(
+    verdict, confidence, rule, explored, shown
+) -> None:
+    event = DecisionMade(
+        0.0, 2, "Cook.", "Put garlic on table", 0.39, confidence, verdict, rule=rule, explored=explored
+    )
+    assert shown_confidence(event) == shown
+    assert f"conf {shown:>4}  {verdict.label}" in decision_line(event, 5)
+
+
+def test_the_summary_accounts_for_every_attempt_ingredient_and_the_budget() -> None:
+    base = dict(condition="", needed_on_table={"rice noodles": True})
+    cut = EpisodeSummary(
+        "example:x", "X", "panda", False, 0, 2, 1, 0, 0, {}, 0, 0, 0, 0, 3, 60, 60, 6.5, 1.0, **base,
+        decision_log=(), not_stocked=2, failure_budget=0.15,
+    )  # fmt: skip
+    text = cut.format()
+    assert "ingredients        1/1 on the table   2 more not stocked (the human brings them)" in text
+    assert "failures 0 (none)   cut short by the end of the episode 1" in text
+    assert "failure rate" not in text  # no attempt has an outcome yet
+    failed = EpisodeSummary(
+        "example:x", "X", "panda", True, 2, 2, 3, 0, 3, {"grasp": 3}, 0, 0, 0, 0, 3, 60, 60, 6.5, 1.0, **base,
+        decision_log=(), failure_budget=0.15,
+    )  # fmt: skip
+    line = next(x for x in failed.format().splitlines() if x.startswith("actions attempted"))
+    assert line.endswith("failures 3 (grasp 3)   failure rate 100% (budget 15%, kept over the long run)")
+    assert "more not stocked" not in failed.format() and "cut short" not in line

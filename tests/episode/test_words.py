@@ -32,7 +32,7 @@ def test_items_the_robot_placed_are_never_reported_missing_and_the_condition_is_
     assert summary.completed
     condition = condition_line(BehaviourOptions(seed=0).resolve())
     assert condition.startswith(
-        "self-confidence on (physical, failure budget: at most 15% of attempts may fail)"
+        "self-confidence on (physical, failure budget: 15% of attempts, kept over the long run)"
     )
     assert lines[1] == f"condition: {condition}"
     assert summary.condition == condition

@@ -24,6 +24,16 @@ def test_acts_when_confident_and_asks_when_not():
     assert decide(RANKED, [0.5, 0.0], options).kind == DecisionKind.ACT  # the threshold itself acts
 
 
+def test_a_reason_tells_confidence_and_threshold_apart():
+    options = GateOptions(confidence_threshold=0.93, relevance_threshold=0.4)
+    assert decide(RANKED, [0.92811, 0.0], options).reason == "asking for help: confidence 0.928 < 0.930"
+    assert decide(RANKED, [0.9301, 0.0], options).reason == "confident: 0.9301 ≥ 0.9300"
+    assert (
+        decide(RANKED, [0.93, 0.0], options).reason == "confident: 0.93 ≥ 0.93"
+    )  # equal: the threshold acts
+    assert decide(RANKED, [0.5, 0.0], options).reason == "asking for help: confidence 0.50 < 0.93"
+
+
 def test_idle_when_nothing_is_relevant_or_available():
     options = GateOptions(relevance_threshold=0.7)
     idle = decide(RANKED, [0.9, 0.9], options)

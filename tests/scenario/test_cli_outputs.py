@@ -212,3 +212,25 @@ def test_ctrl_c_stops_the_workers_at_once_and_says_how_far_the_run_got(
 
     time.sleep(4.0)  # time enough for a slow case to finish, had its worker been left running
     assert not marker.exists() and not junit.exists()
+
+
+def test_a_failed_case_reports_the_wall_time_of_its_own_run_not_of_the_recording(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A failing case runs again to save its recording; that second run is not the case's time."""
+    path = tmp_path / "f.yaml"
+    path.write_text(TINY.replace("{completes: false}", "{completes: true}"), encoding="utf-8")  # fails
+    (case,) = model.load_scenarios([path])
+    clock = [0.0]
+    episode = run._episode
+
+    def recording_takes_an_hour(case: Any, models: Any, rrd: Any, store: Any) -> Any:
+        result = episode(case, models, rrd, store)
+        clock[0] += 3600.0 if rrd is not None else 1.0
+        return result
+
+    monkeypatch.setattr(run, "_episode", recording_takes_an_hour)
+    monkeypatch.setattr(run.time, "perf_counter", lambda: clock[0])
+    result = run.run_case(case, tmp_path / "out")
+    assert result.verdict == run.Verdict.FAILED and result.wall_s == 1.0
+    assert (tmp_path / "out" / "f.rrd").exists()
