@@ -252,14 +252,18 @@ MAX_HOME_RAD = 2 * math.pi
 """Largest home angle (rad) of any arm joint; the URDF's own limits are checked at load (`_check_home`)."""
 
 
-def _urdf_limits(urdf: Path) -> dict[str, tuple[float, float]]:
-    """(lower, upper) of each limited revolute or prismatic joint of a URDF; {} if it cannot be read as XML."""
+def _urdf_root(urdf: Path) -> Any:
+    """The URDF's XML root element, read once for the checks below; None if it cannot be read as XML."""
     import xml.etree.ElementTree as ET
 
     try:
-        root = ET.parse(urdf).getroot()  # noqa: S314 - the user's own robot description
+        return ET.parse(urdf).getroot()  # noqa: S314 - the user's own robot description
     except (ET.ParseError, OSError):
-        return {}  # the simulator words its own error for a broken URDF
+        return None  # the simulator words its own error for a broken URDF
+
+
+def _urdf_limits(root: Any) -> dict[str, tuple[float, float]]:
+    """(lower, upper) of each limited revolute or prismatic joint of a URDF's root element."""
     out: dict[str, tuple[float, float]] = {}
     for joint in root.iter("joint"):
         limit = joint.find("limit")
@@ -272,26 +276,17 @@ def _urdf_limits(urdf: Path) -> dict[str, tuple[float, float]]:
     return out
 
 
-def _urdf_names(urdf: Path) -> tuple[list[str], list[str]] | None:
-    """(movable joints, links) of a URDF, in file order; None if it cannot be read as XML."""
-    import xml.etree.ElementTree as ET
-
-    try:
-        root = ET.parse(urdf).getroot()  # noqa: S314 - the user's own robot description
-    except (ET.ParseError, OSError):
-        return None  # the simulator words its own error for a broken URDF
+def _urdf_names(root: Any) -> tuple[list[str], list[str]]:
+    """(movable joints, links) of a URDF's root element, in file order."""
     joints = [str(j.get("name")) for j in root.iter("joint") if j.get("type") not in (None, "fixed")]
     links = [str(link.get("name")) for link in root.iter("link")]
     return joints, links
 
 
-def _check_names(m: RobotFile, urdf: Path, where: str) -> None:
+def _check_names(m: RobotFile, urdf: Path, root: Any, where: str) -> None:
     """Every joint and link the robot file names is one of the URDF's, or a one-line ConfigError naming the file,
     the key and the valid names (before the simulator or the motion model loads the URDF)."""
-    names = _urdf_names(urdf)
-    if names is None:
-        return
-    joints, links = names
+    joints, links = _urdf_names(root)
     keys: list[tuple[str, str, str, list[str]]] = [
         *((f"arm_joints[{i}]", j, "movable joint", joints) for i, j in enumerate(m.arm_joints)),
         *((f"gripper.joints[{i}]", j, "movable joint", joints) for i, j in enumerate(m.gripper.joints)),
@@ -316,9 +311,9 @@ class UnknownURDFNameError(UnknownNameError, ConfigError):
         self.args = (f"{where}: {key}: {name!r} is not a {kind}; valid: {', '.join(valid) or '(none)'}",)
 
 
-def _check_home(m: RobotFile, urdf: Path, where: str) -> None:
+def _check_home(m: RobotFile, urdf: Path, root: Any, where: str) -> None:
     """The home pose within the URDF's joint limits, or a one-line ConfigError naming the index and the joint."""
-    limits = _urdf_limits(urdf)
+    limits = _urdf_limits(root)
     for i, (joint, q) in enumerate(zip(m.arm_joints, m.home, strict=True)):
         if joint not in limits:
             continue
@@ -341,8 +336,10 @@ def load_robot(name_or_path: str | Path = "panda") -> RobotConfig:
     m = validate(RobotFile, raw, str(path))
     grasp = GraspParams.from_section(m.grasp, str(path))
     urdf = resolve_urdf(m.urdf, path)
-    _check_names(m, urdf, str(path))
-    _check_home(m, urdf, str(path))
+    root = _urdf_root(urdf)
+    if root is not None:
+        _check_names(m, urdf, root, str(path))
+        _check_home(m, urdf, root, str(path))
     g, lim, p, c = m.gripper, m.limits, m.planner, m.control
     return RobotConfig(
         name=m.name,
