@@ -25,6 +25,7 @@ __all__ = [
     "available_embedders",
     "cache_file_for",
     "embedder_names",
+    "names_an_embedder",
     "install_mpnet",
     "load_embedder",
     "load_finetuned",
@@ -68,6 +69,12 @@ _REGISTERED: dict[str, _Registered] = {}
 def embedder_names() -> tuple[str, ...]:
     """The names `load_embedder` takes besides a folder or finetuned:<dir>: built in and registered so far."""
     return (*EMBEDDER_NAMES, *_REGISTERED)
+
+
+def names_an_embedder(name: str) -> bool:
+    """Whether `load_embedder` takes ``name`` (a built-in or registered name, finetuned:<dir>, or a folder), without
+    loading anything: what a file or option check asks before the work starts."""
+    return name in embedder_names() or name.startswith("finetuned:") or Path(name).expanduser().is_dir()
 
 
 def register_embedder(
@@ -163,9 +170,7 @@ def load_embedder(
         if (path / "finetuned.json").is_file():
             return load_finetuned(path, cache_dir, disk_cache)
         return SentenceTransformerEmbedder(str(path.resolve()), path, cache_file)
-    raise UnknownNameError(
-        "embedder", name, [*EMBEDDER_NAMES, *_REGISTERED, "finetuned:<dir>", "<model directory>"]
-    )
+    raise UnknownNameError("embedder", name, [*embedder_names(), "finetuned:<dir>", "<model directory>"])
 
 
 def load_finetuned(

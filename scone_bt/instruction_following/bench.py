@@ -323,15 +323,17 @@ def check_embedders(names: Sequence[str]) -> None:
     """Every name is an embedder the benchmark scores: a registry name but onehot (which it does not score),
     finetuned:<dir> or a model directory; else UnknownNameError listing exactly those (checked before any work).
     The registered names are those of this process (scone-bench registers mpnet-ft), as `load_embedder` sees them."""
-    from scone_bt.embedding.registry import embedder_names
+    from scone_bt.embedding.registry import embedder_names, names_an_embedder
 
     known = [n for n in embedder_names() if n != "onehot"]
     for name in names:
         folder = Path(name.removeprefix("finetuned:")).expanduser()
-        if name in known or folder.is_dir():
-            continue
-        if name.startswith("finetuned:"):
+        if (
+            name.startswith("finetuned:") and not folder.is_dir()
+        ):  # stricter than the registry: a model is trained
             raise SconeError(f"IF embedder {name!r}: no such folder {folder}")
+        if name != "onehot" and names_an_embedder(name):
+            continue
         raise UnknownNameError("IF embedder", name, [*known, "finetuned:<dir>", "<model directory>"])
 
 

@@ -199,10 +199,10 @@ def _check_parameter_names(params: dict[str, Any], path: Path) -> None:
     embedder = params.get("embedder")
     if embedder is None:
         return
-    from scone_bt.embedding.registry import embedder_names
+    from scone_bt.embedding.registry import embedder_names, names_an_embedder
 
     names = (*embedder_names(), "mpnet-ft")  # mpnet-ft: registered once its benchmark is imported
-    if embedder in names or embedder.startswith("finetuned:") or Path(embedder).expanduser().is_dir():
+    if embedder == "mpnet-ft" or names_an_embedder(embedder):
         return
     raise ConfigError(
         f"{path}: parameters.embedder: unknown embedder {embedder!r}; valid: {', '.join(sorted(set(names)))}, "
