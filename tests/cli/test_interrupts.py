@@ -22,17 +22,29 @@ LINE = re.compile(
 RECORDING = re.compile(
     r".*; the recording so far is in (?P<path>\S+)(?P<kept> \(.+, the recording before it, is untouched\))?"
 )
-TINY = "id: tiny\ntitle: Tiny\ningredients: [salt]\nsteps: [Season with salt.]\n"
 
 pytestmark = pytest.mark.skipif(not SCONE_RUN.is_file(), reason="scone-run is not installed beside Python")
 
 
-def _start(tmp_path: Path, store: Path, recipe: str) -> subprocess.Popen:
+def _sigint_as_from_a_terminal() -> None:
+    """In the child before exec: SIGINT handled by default, as a terminal's shell starts a command. A runner started
+    in the background (`cmd &` in a script) ignores SIGINT, an ignored signal stays ignored across exec, and a
+    Ctrl-C before scone-run installs its handler would then be lost (the run went on to exit 0)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+def _start(tmp_path: Path, store: Path, recipe: str, max_ticks: int = 400) -> subprocess.Popen:
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}
-    argv = [str(SCONE_RUN), "--recipe", recipe, "--distractors", "0", "--max-ticks", "400"]
+    argv = [str(SCONE_RUN), "--recipe", recipe, "--distractors", "0", "--max-ticks", str(max_ticks)]
     argv += ["--embedder", "onehot", "--experience", str(store)]
     return subprocess.Popen(
-        argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, cwd=tmp_path
+        argv,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+        cwd=tmp_path,
+        preexec_fn=_sigint_as_from_a_terminal,
     )
 
 
@@ -58,12 +70,13 @@ def _check(proc: subprocess.Popen, store: Path) -> int:
 
 def test_ctrl_c_at_random_points_says_what_was_saved(tmp_path):
     """Four runs at once, each interrupted at a seeded random moment of its first 2.5 s (imports, start-up)."""
-    (tmp_path / "tiny.yaml").write_text(TINY)
     rng = random.Random(27)
     # from 0.4 s: before that the interpreter itself is starting (site, .pth files), where no code of ours runs
     delays = [rng.uniform(0.4, 2.5) for _ in range(4)]
     runs = [(delay, tmp_path / f"store{i}.db") for i, delay in enumerate(delays)]
-    procs = [(delay, store, _start(tmp_path, store, "tiny.yaml")) for delay, store in runs]
+    # a recipe that takes longer than every delay even alone with warm caches (the tiny one now ends in 1.6 s, and
+    # a run that had ended exited 0 before its interrupt)
+    procs = [(delay, store, _start(tmp_path, store, "example:tomato-pasta", 4000)) for delay, store in runs]
     t0 = time.monotonic()
     for delay, _store, proc in sorted(procs, key=lambda r: r[0]):
         time.sleep(max(0.0, delay - (time.monotonic() - t0)))
@@ -96,7 +109,13 @@ def test_ctrl_c_never_replaces_the_recording_a_save_would_overwrite(tmp_path):
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}
     argv = [str(SCONE_RUN), "--robot", "sim", "--headless", "--seed", "0", "--quiet", "--save", str(save)]
     proc = subprocess.Popen(
-        argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, cwd=tmp_path
+        argv,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+        cwd=tmp_path,
+        preexec_fn=_sigint_as_from_a_terminal,
     )
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and proc.poll() is None:
