@@ -116,6 +116,13 @@ class PickPlaceController:
         self._home_poll: Callable[[bool], tuple[bool, Segment | None]] | None = None
         self.total_exec_s = 0.0
         self.done_exec_s = 0.0
+        # From the transit on, every product the arm or the carried one touched (directly or through another
+        # product), and those of them that stood upright on the table when first touched: one of those that stands
+        # there no more when the attempt ends was knocked over by it.
+        self.watching = False
+        self.touched: set[str] = set()
+        self.stood: set[str] = set()
+        self.knocked: tuple[str, ...] = ()
 
     # ------------------------------------------------------------------------------------- commands
     def _command(self, q: np.ndarray, qd: np.ndarray | None = None) -> None:
@@ -149,6 +156,8 @@ class PickPlaceController:
         phase, seg = self.queue.pop(0)
         self.current = seg
         self._enter(phase)
+        if phase is MotionPhase.TRANSIT:
+            self.watching = True
         if phase is MotionPhase.CLOSE:
             self._gripper(True)
         elif phase is MotionPhase.RELEASE:
@@ -169,6 +178,7 @@ class PickPlaceController:
         self._enter(MotionPhase.RECOVER)
 
     def _finish(self) -> None:
+        self._knocked_over()
         self.still_held = self._stuck()
         self.finished = True
         self.end_time = self.arm.sim_time
@@ -224,7 +234,35 @@ class PickPlaceController:
                 self._after_wait(phase)
         else:
             self._track(arm)
+        if self.watching and not self.finished and self.phase_steps % _every(CONTACT_CHECK_S, dt) == 0:
+            self._watch_table(arm)
         self.phase_steps += 1
+
+    def _watch_table(self, arm: ArmExecutor) -> None:
+        """Note the products touched now and, of those touched for the first time, which stood on the table."""
+        new = arm.products_touched(self.held) - self.touched - {self.target_name}
+        if new:
+            self.touched |= new
+            self.stood.update(n for n in new if arm.is_on_table(n))
+
+    def _knocked_over(self) -> None:
+        """Products this attempt knocked over or off the table: the arm or the carried product touched them
+        (directly or through another product) while they stood upright there, and they stand there no more. A
+        placement that did so is not a success (the person sees the damage); a failed attempt's message says it
+        too."""
+        if not self.stood:
+            return
+        lost = self.stood - self.arm.objects_on_table()
+        if not lost:
+            return
+        self.knocked = tuple(sorted(lost))
+        what = f"knocked {', '.join(self.knocked)} over or off the table"
+        if self.success:
+            self.success = False
+            self.stage = FailureStage.COLLISION
+            self.message = f"{self.message}, but {what}"
+        else:
+            self.message = f"{self.message}; it {what}" if self.message else what
 
     def _start_plan(self, ready: object) -> None:
         from scone_bt.motion.pick_place import PickPlaceFailure

@@ -79,6 +79,14 @@ class ArmExecutor(Protocol):
         """The outcome sensor: the object rests upright on the table."""
         ...
 
+    def objects_on_table(self) -> frozenset[str]:
+        """The outcome sensor over every product: those resting upright on the table."""
+        ...
+
+    def products_touched(self, held: str | None) -> frozenset[str]:
+        """Products (other than ``held``) that an arm link or the held product ``held`` touches now."""
+        ...
+
 
 class SceneBox(Protocol):
     """An immovable box of the cell (centre and full size in metres, world frame)."""

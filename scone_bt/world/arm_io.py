@@ -15,12 +15,16 @@ import numpy as np
 if TYPE_CHECKING:
     from scone_bt.world.kitchen import Kitchen
 
-__all__ = ["FINGER_COUPLING_FORCE", "ArmIO"]
+__all__ = ["FINGER_COUPLING_FORCE", "PUSH_CHAIN", "ArmIO"]
 
 _POSITION_CONTROL = 2
 """pybullet.POSITION_CONTROL (a constant of its C API), named here so that a command does not import pybullet."""
 FINGER_COUPLING_FORCE = 50.0
 """Largest force (N) of the coupling that keeps the two fingers symmetric (the gearing of a parallel gripper)."""
+
+
+PUSH_CHAIN = 3
+"""Products in a row the robot's push is followed through (`ArmIO.products_touched`)."""
 
 
 class ArmIO:
@@ -138,6 +142,25 @@ class ArmIO:
                 continue
             return f"{bc.getJointInfo(rid, link)[12].decode()} hit {self.body_name(body)}"
         return None
+
+    def products_touched(self, held: str | None) -> frozenset[str]:
+        """Products (not ``held``) the robot pushes on: in contact with a robot link or the held product ``held``,
+        or with such a product (one product pushed into the next, up to `PUSH_CHAIN` deep)."""
+        k = self.kitchen
+        bc = k.bc
+        names = {b: n for n, b in k.objects.items()}
+        held_body = None if held is None else k.objects.get(held)
+        sources = [k.robot_id] if held_body is None else [k.robot_id, held_body]
+        seen = {b for b in sources}
+        found: set[int] = set()
+        for _ in range(PUSH_CHAIN):
+            nxt = {c[2] for src in sources for c in bc.getContactPoints(bodyA=src) if c[2] in names} - seen
+            if not nxt:
+                break
+            found |= nxt
+            seen |= nxt
+            sources = sorted(nxt)
+        return frozenset(names[b] for b in found)
 
     def body_name(self, body: int) -> str:
         """A product's or a static box's name, 'the floor', or 'body <id>' (names are unique per body)."""

@@ -353,6 +353,10 @@ class Kitchen:
         resting = abs(z - (cz + sz / 2) - spec.height / 2) < 0.03
         return inside and resting and self._upright(st)
 
+    def objects_on_table(self) -> frozenset[str]:
+        """Every product resting upright on the table top (ground truth, as `is_on_table`)."""
+        return frozenset(n for n in self.objects if self.is_on_table(n))
+
     def is_on_shelf(self, name: str) -> bool:
         """True if the object stands above the footprint of a shelf unit (ground truth)."""
         return self.config.scene.on_shelf(self.object_state(name).position, margin=0.0)
@@ -565,6 +569,10 @@ class Kitchen:
     def unexpected_contact(self, allow_gripper: bool, held: str | None, min_force: float) -> str | None:
         """'<link> hit <what>' for the first robot link pushing on something it should not touch, else None."""
         return self.arm_io.unexpected_contact(allow_gripper, held, min_force)
+
+    def products_touched(self, held: str | None) -> frozenset[str]:
+        """Products (not ``held``) touching a robot link or the held product ``held`` now."""
+        return self.arm_io.products_touched(held)
 
     # ----------------------------------------------------------------------------------------- cameras
     def camera_image(self, camera: PinholeView) -> CameraImage:

@@ -164,3 +164,21 @@ def test_second_robot_picks_and_places(kitchen_cfg, task_for, run_to_end):
             outcome = run_to_end(k, task_for(k, system, "salt"))
         assert outcome.success, outcome.message
         assert k.is_on_table("salt")
+
+
+def test_a_product_put_on_the_place_spot_during_the_transit_is_knocked_over_and_said(stocked, task_for):
+    """A person puts the sugar where the robot is carrying the salt: the lowering knocks it over, and the attempt
+    is a failure that names it, not a success (the salt itself stands on the table)."""
+    kitchen, system = stocked
+    task = task_for(kitchen, system, "salt")
+    task.start()
+    while not task.done():
+        kitchen.advance(0.1)
+        if task.progress().phase is MotionPhase.TRANSIT and kitchen.is_on_shelf("sugar"):
+            x, y, top = task.plan.place_spot
+            kitchen.place_object("sugar", (x, y, top))
+            assert kitchen.is_on_table("sugar")
+    outcome = task.outcome()
+    assert not kitchen.is_on_table("sugar")
+    assert not outcome.success and outcome.stage is FailureStage.COLLISION, outcome.message
+    assert "knocked sugar over or off the table" in outcome.message

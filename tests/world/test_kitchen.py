@@ -65,3 +65,23 @@ def test_the_human_finds_room_on_the_table_for_a_long_recipe(kitchen, kitchen_cf
         assert kitchen.human_place_on_table(spec.name), spec.name
     kitchen.advance(1.0)
     assert all(kitchen.is_on_table(spec.name) for spec in small)
+
+
+def test_products_touched_follows_a_push_from_product_to_product(kitchen, kitchen_cfg, rng):
+    """What the held product touches, and what that touches in turn (a row on the table); not a product apart."""
+    names = ("salt", "sugar", "honey", "ketchup")
+    kitchen.spawn([kitchen_cfg.catalogue.get(n) for n in names], rng)
+    (cx, cy, cz), (_, _, sz) = kitchen_cfg.scene.table
+    top = cz + sz / 2
+    x = 0.0
+    for name in names[:3]:  # salt, sugar and honey side by side, each touching the next
+        half = kitchen.specs[name].grasp_width / 2
+        x += half
+        kitchen.place_object(name, (cx - 0.1 + x, cy, top))
+        x += half
+    kitchen.place_object("ketchup", (cx + 0.2, cy + 0.2, top))
+    kitchen.advance(0.3)
+    assert kitchen.products_touched("salt") == frozenset({"sugar", "honey"})
+    assert kitchen.products_touched("ketchup") == frozenset()
+    assert kitchen.products_touched(None) == frozenset()  # the arm at home touches nothing
+    assert kitchen.objects_on_table() == frozenset(names)
