@@ -83,9 +83,17 @@ def _stocks(scene: SceneSpec, names: Sequence[str], catalogue: Catalogue, rng: n
 
 
 def stock_shelf(
-    recipe: Recipe, catalogue: Catalogue, scene: SceneSpec, distractors: int, rng: np.random.Generator
+    recipe: Recipe,
+    catalogue: Catalogue,
+    scene: SceneSpec,
+    distractors: int,
+    rng: np.random.Generator,
+    option: str = "--distractors",
 ) -> ShelfStock:
     """The recipe stocked beside ``distractors`` products it never uses, drawn from ``rng`` (module docstring).
+
+    ``option`` is what the user wrote the count as (the command line's flag, a scenario's ``world.distractors``),
+    named by the error.
 
     Raises:
         ConfigError: More distractors than fit side by side (the message gives the maximum).
@@ -96,13 +104,13 @@ def stock_shelf(
     others = [n for n in catalogue.names() if n not in order]
     best, narrow = _max_and_narrowest(order, others, catalogue, scene)
     slots = len(scene.slots())
-    if best < 0 and distractors > 0:  # the recipe's own products do not fit: not a matter of --distractors
+    if best < 0 and distractors > 0:  # the recipe's own products do not fit: not a matter of distractors
         too_wide = wider_than_every_tier(scene, [catalogue.get(n) for n in order])
         if too_wide is not None:
             raise ConfigError(too_wide)
     if distractors > max(best, 0):
         raise ConfigError(
-            f"--distractors {distractors}: {max(best, 0)} available for this recipe and shelf "
+            f"{option} {distractors}: {max(best, 0)} available for this recipe and shelf "
             f"({len(others)} other products, {slots} slots; more do not fit the shelving side by side)"
         )
     stocked = stock_recipe(recipe, catalogue, capacity=max(slots - distractors, 0), index=index)

@@ -778,7 +778,12 @@ def _episode_world(
     load_robot(arm)
     load_tree_spec(tree)
     shelf = stock_shelf(
-        load_recipe(recipe), kitchen.catalogue, kitchen.scene, distractors, np.random.default_rng(seed)
+        load_recipe(recipe),
+        kitchen.catalogue,
+        kitchen.scene,
+        distractors,
+        np.random.default_rng(seed),
+        option="distractors",
     )
     off = (*shelf.recipe.unstocked, *shelf.recipe.off_shelf)
     present = tuple(n for n in (*shelf.recipe.needed, *shelf.distractors) if n not in off)

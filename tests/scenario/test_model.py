@@ -57,6 +57,12 @@ def test_product_of_the_catalogue_not_in_this_episode(tmp_path: Path) -> None:
     assert "world.hidden_markers[0]: 'lard' is not stocked in this episode; valid: " in msg
 
 
+def test_too_many_distractors_names_the_scenario_key_not_the_command_line_flag(tmp_path: Path) -> None:
+    msg = _error(tmp_path, BASE + "world: {distractors: 40}\n")
+    assert ": world: distractors 40: " in msg and "available for this recipe and shelf" in msg, msg
+    assert "--distractors" not in msg
+
+
 def test_time_in_the_past(tmp_path: Path) -> None:
     msg = _error(tmp_path, BASE + "events:\n  - {at: -1, remove: salt}\n")
     assert msg.endswith("events[0]: at: -1.0 s is in the past (the episode starts at 0 s)")
