@@ -108,7 +108,8 @@ class DecisionMade(Event):
 
     Attributes:
         step: The robot's place in the recipe, 1-based.
-        instruction: That step's text ("(every step is served)" past the last one).
+        instruction: That step's text; past the last one "(every step is served)", or "(past the last step: items
+            on the card)" while items of the card no open step names are still fetched.
         action: The chosen action text, or None (idle, clarify).
         relevance: Its cosine similarity (NaN when none).
         confidence: κ̂ for it, in [0, 1] (NaN when none).

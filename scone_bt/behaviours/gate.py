@@ -35,7 +35,10 @@ if TYPE_CHECKING:
 __all__ = ["ConfidenceGate", "DecisionIs", "apply_failure_limit", "say_infeasible"]
 
 EVERY_STEP_SERVED = "(every step is served)"
-"""The instruction a decision reports past the recipe's last step."""
+"""The instruction a decision reports past the recipe's last step, with nothing of the card left to fetch."""
+CARD_ITEMS_LEFT = "(past the last step: items on the card)"
+"""The instruction a decision reports past the recipe's last step while items of the card that no open step names
+are still on the shelf (fetched as needed later; e.g. after the human answered "none of those" to a question)."""
 
 
 _SAY: dict[str, str] = {
@@ -429,6 +432,11 @@ class ConfidenceGate(StageBehaviour):
             return [float(c) for c in self.estimator.predict(X)], []
         return [float(c) for c in belief(X)], [bool(e) for e in explores(X)]
 
+    def _past_the_end(self) -> str:
+        """What a decision past the recipe's last step is about: nothing left, or the card's leftover items."""
+        view = self.read(Keys.STEP)
+        return CARD_ITEMS_LEFT if view is not None and view.selection.later else EVERY_STEP_SERVED
+
     def _event(
         self,
         decision: Decision,
@@ -441,7 +449,7 @@ class ConfidenceGate(StageBehaviour):
         return DecisionMade(
             sim_time=self.clock(),
             step=min(self.steps_total, index + 1),
-            instruction=self.read(Keys.INSTRUCTION) or EVERY_STEP_SERVED,
+            instruction=self.read(Keys.INSTRUCTION) or self._past_the_end(),
             action=decision.action,
             relevance=decision.relevance,
             confidence=decision.confidence,

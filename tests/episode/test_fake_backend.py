@@ -8,6 +8,7 @@ import json
 import subprocess
 import sys
 import textwrap
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -153,3 +154,23 @@ def test_a_whole_episode_imports_no_scientific_stack_for_its_self_confidence(tmp
     out = _fake_episode(tmp_path, heavy)
     assert out["summary"]["successes"] > 0 and out["summary"]["failures"] > 0, out["summary"]
     assert out["loaded"] == [], f"the episode imported {out['loaded']}"
+
+
+def test_after_none_of_those_a_fetch_past_the_last_step_is_not_called_every_step_served(tmp_path) -> None:
+    """The human says "none of those" to the cheese question: the robot is past the last step, yet still fetches
+    the card's cheeses (needed later). Such a line names them as the card's items, not "(every step is served)"."""
+    from scone_bt.behaviours.gate import CARD_ITEMS_LEFT, EVERY_STEP_SERVED
+    from scone_bt.human import ClarifyAnswer, HumanOptions
+
+    lines: list[str] = []
+    options = replace(
+        _options(tmp_path),
+        recipe=str(ROOT / "scenarios" / "recipes" / "cheddar-or-swiss.yaml"),
+        human=HumanOptions(clarify_answer=ClarifyAnswer.NONE),
+    )
+    summary = run_episode(options, printer=lines.append, backend=fake_backend(FakeScript(), []))
+    assert summary.clarifications == 1
+    decisions = [line for line in lines if line.startswith("[step")]
+    past = [line for line in decisions if CARD_ITEMS_LEFT in line]
+    assert past and all("cheese on table" in line and "(needed later)" in line for line in past)
+    assert all("(none)" in line for line in decisions if EVERY_STEP_SERVED in line)
