@@ -35,6 +35,10 @@ class _Interrupts:
 
     def install(self) -> None:
         if threading.current_thread() is threading.main_thread():  # signals can only be set from there
+            if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+                # Started with SIGINT ignored (`scone-run … &` in a script, nohup): a terminal's Ctrl-C is not
+                # meant for this run, and it keeps ignoring it, as such jobs conventionally do.
+                return
             previous = signal.signal(signal.SIGINT, self._handle)
             if previous != self._handle:
                 self.previous = previous

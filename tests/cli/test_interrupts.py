@@ -133,3 +133,28 @@ def test_ctrl_c_never_replaces_the_recording_a_save_would_overwrite(tmp_path):
     unfinished = tmp_path / "run.unfinished.rrd"
     assert Path(match["path"]) == unfinished and unfinished.read_bytes()[:3] == b"RRF"
     assert not list(tmp_path.glob(".run.rrd.*"))  # the temporary file became the unfinished recording
+
+
+def test_a_run_started_with_sigint_ignored_keeps_ignoring_it(tmp_path):
+    """`scone-run … &` in a script (or nohup) starts it with SIGINT ignored: a Ctrl-C meant for the terminal's
+    foreground job neither stops this run nor prints an interrupted line (it took it once its handler was in)."""
+    store = tmp_path / "store.db"
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    argv = [str(SCONE_RUN), "--recipe", "example:hummus", "--distractors", "0", "--max-ticks", "150"]
+    argv += ["--embedder", "onehot", "--experience", str(store), "--quiet"]
+    proc = subprocess.Popen(
+        argv,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+        cwd=tmp_path,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN),
+    )
+    for delay in (0.3, 1.0, 1.5):
+        time.sleep(delay)
+        if proc.poll() is None:
+            proc.send_signal(signal.SIGINT)
+    _out, err = proc.communicate(timeout=120)
+    # 1: the run ended as --max-ticks cut it (scone-run's "stopped early"), not 130 (interrupted)
+    assert proc.returncode == 1 and "interrupted" not in err, (proc.returncode, err[-2000:])
