@@ -168,6 +168,7 @@ class PickPlaceController:
         if self.stage is not None or self.finished:
             return
         self.stage, self.message = stage, message
+        self._knocked_over()
         self._gripper(False, release=True)
         self.queue = []
         if self.phase is MotionPhase.PLANNING or self.exec_start is None:
@@ -178,7 +179,6 @@ class PickPlaceController:
         self._enter(MotionPhase.RECOVER)
 
     def _finish(self) -> None:
-        self._knocked_over()
         self.still_held = self._stuck()
         self.finished = True
         self.end_time = self.arm.sim_time
@@ -249,7 +249,10 @@ class PickPlaceController:
         """Products this attempt knocked over or off the table: the arm or the carried product touched them
         (directly or through another product) while they stood upright there, and they stand there no more. A
         placement that did so is not a success (the person sees the damage); a failed attempt's message says it
-        too."""
+        too. Judged once, when the outcome is decided (after the settle, or at a failure), before the way home."""
+        if not self.watching:
+            return
+        self.watching = False
         if not self.stood:
             return
         lost = self.stood - self.arm.objects_on_table()
@@ -324,6 +327,7 @@ class PickPlaceController:
                     if stuck is not None
                     else "released, but the object is not resting upright on the table"
                 )
+            self._knocked_over()
         self.hold_q = self.current.trajectory.positions[-1] if self.current is not None else self.hold_q
         self._next()
 
