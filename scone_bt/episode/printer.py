@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 from scone_bt.affordances.types import object_of_action
 from scone_bt.events import ActCancelled, ActOutcome, ClarificationAsked, DecisionMade, Event, HelpRequested
 from scone_bt.gate.types import DecisionKind
+from scone_bt.motion.types import PLACED
 
 if TYPE_CHECKING:
     from scone_bt.behaviours.options import BehaviourOptions
@@ -151,7 +152,11 @@ class LinePrinter:
             self.printer(f"    ? asked which of {', '.join(event.candidates)}: the human says {said}")
         elif isinstance(event, ActOutcome):
             if event.success:
-                self.printer(f"    + success: {event.object_name} is on the table ({event.duration_s:.1f} s)")
+                # The outcome's notes (another place spot was taken during the carry) follow the line.
+                notes = event.message[len(PLACED) :] if event.message.startswith(PLACED) else ""
+                self.printer(
+                    f"    + success: {event.object_name} is on the table ({event.duration_s:.1f} s){notes}"
+                )
             else:
                 self.printer(f"    x failure at {event.stage}: {event.message}")
         elif isinstance(event, ActCancelled):

@@ -13,9 +13,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from scone_bt.motion.collision import Obstacle
 from scone_bt.motion.executor import ArmExecutor
+from scone_bt.motion.new_spot import SPOT_CHECK_S, SPOT_MARGIN, NewSpot
 from scone_bt.motion.pick_place import PickPlacePlan, Segment
-from scone_bt.motion.types import FailureStage, MotionPhase, PlanFailureReason, TimedTrajectory
+from scone_bt.motion.types import PLACED, FailureStage, MotionPhase, PlanFailureReason, TimedTrajectory
 
 __all__ = ["ExecutionSettings", "PickPlaceController"]
 
@@ -29,6 +31,16 @@ CONTACT_CHECK_S = 1.0 / 60.0
 """Simulated seconds between two collision checks while a segment is tracked."""
 SLIP_CHECK_S = 0.1
 """Simulated seconds between two checks that the carried object is still between the fingers."""
+
+
+MAX_NEW_SPOTS = 2
+"""Most times one attempt moves to another place spot (a person may take the next one too)."""
+
+NewSpotRequest = Callable[
+    [np.ndarray, tuple[Segment, ...], Obstacle, tuple[float, float, float], tuple[Obstacle, ...]],
+    Callable[[bool], tuple[bool, NewSpot | None]],
+]
+"""request(rest of the transit, lower/retreat/home segments, placed shape, spot, blockers) -> poll(block)."""
 
 
 def _every(seconds: float, time_step: float) -> int:
@@ -76,6 +88,8 @@ class PickPlaceController:
         request_home: Asks the worker for a way home from given joints; returns a poll(block) function.
         settings: Durations and thresholds.
         on_placed: Called once when the object is seen resting on the table after the release.
+        request_new_spot: Asks the worker for the rest of the motion to another spot when the planned one is
+            taken during the carry (`motion.new_spot`); None: the spot is not looked at again.
     """
 
     def __init__(
@@ -87,8 +101,10 @@ class PickPlaceController:
         request_home: Callable[[np.ndarray], Callable[[bool], tuple[bool, Segment | None]]],
         settings: ExecutionSettings = ExecutionSettings(),
         on_placed: Callable[[], None] | None = None,
+        request_new_spot: NewSpotRequest | None = None,
     ) -> None:
         self.arm = arm
+        self._request_new_spot = request_new_spot
         self._on_placed = on_placed
         self.target_name = target_name
         self.settings = settings
@@ -123,6 +139,14 @@ class PickPlaceController:
         self.touched: set[str] = set()
         self.stood: set[str] = set()
         self.knocked: tuple[str, ...] = ()
+        # Where the product goes (the plan's spot, or another one taken during the carry), and the look at it.
+        self.placed_at: Obstacle | None = None
+        self.place_spot: tuple[float, float, float] | None = None
+        self.spot_changes = 0
+        self.spot_notes: list[str] = []
+        self.spot_taken_by: tuple[str, ...] = ()
+        self._looking = request_new_spot is not None
+        self._spot_poll: Callable[[bool], tuple[bool, NewSpot | None]] | None = None
 
     # ------------------------------------------------------------------------------------- commands
     def _command(self, q: np.ndarray, qd: np.ndarray | None = None) -> None:
@@ -201,6 +225,15 @@ class PickPlaceController:
             self._command(self.hold_q)
             if self.phase_steps * dt >= s.think_s:
                 self._start_plan(self._plan_ready(True))
+        elif phase is MotionPhase.NEW_SPOT:
+            self._command(self.hold_q)
+            assert self._spot_poll is not None
+            # Taken up at a fixed simulated time, as the first plan and the way home are: a seeded run repeats.
+            if self.phase_steps * dt >= s.think_s / 2:
+                done, spot = self._spot_poll(True)
+                if done:
+                    assert spot is not None
+                    self._take_new_spot(spot)
         elif phase is MotionPhase.RECOVER:
             self._command(self.hold_q)
             assert self._home_poll is not None
@@ -285,6 +318,8 @@ class PickPlaceController:
             return
         assert isinstance(ready, PickPlacePlan)
         self.plan = ready
+        self.placed_at, self.place_spot = ready.placed, ready.place_spot
+        self._looking = self._looking and ready.placed is not None and ready.feasible is not None
         seg = {s.phase: s for s in ready.segments}
         self.queue = [
             (MotionPhase.APPROACH, seg[MotionPhase.APPROACH]),
@@ -316,7 +351,7 @@ class PickPlaceController:
         elif phase is MotionPhase.SETTLE:
             if self.arm.is_on_table(self.target_name):
                 self.success = True
-                self.message = "placed upright on the table"
+                self.message = PLACED + "".join(f" ({n})" for n in self.spot_notes)
                 if self._on_placed is not None:
                     self._on_placed()
             else:
@@ -342,6 +377,8 @@ class PickPlaceController:
         phase = self.phase
         if self.stage is None and self._check(phase, traj.positions[k]):
             return
+        if phase is MotionPhase.TRANSIT and self._spot_taken(arm, k):
+            return
         if k >= len(traj.times) - 1:
             self.executed.append(traj)
             if phase is MotionPhase.RECOVER_HOME:
@@ -355,6 +392,52 @@ class PickPlaceController:
                 )
                 return
             self._next()
+
+    def _spot_taken(self, arm: ArmExecutor, k: int) -> bool:
+        """While carrying, look at the place spot; if something stands there now, hold and ask the worker for
+        another spot from here (True: the arm holds from now on)."""
+        if not self._looking or self.stage is not None or self.placed_at is None:
+            return False
+        if self.phase_steps % _every(SPOT_CHECK_S, arm.time_step):
+            return False
+        mine = {self.target_name, self.held}
+        blockers = tuple(b for b in arm.products_at(self.placed_at, SPOT_MARGIN) if b.name not in mine)
+        if not blockers or self._request_new_spot is None or self.current is None:
+            return False
+        assert self.place_spot is not None
+        rest = self.current.trajectory.positions[k:]
+        original = tuple(seg for _, seg in self.queue if seg is not None)  # lower, retreat, home
+        self.spot_taken_by = tuple(sorted(b.name for b in blockers))
+        self._spot_poll = self._request_new_spot(rest, original, self.placed_at, self.place_spot, blockers)
+        self.hold_q = rest[0]
+        self._enter(MotionPhase.NEW_SPOT)
+        return True
+
+    def _take_new_spot(self, spot: NewSpot) -> None:
+        """Carry on with the worker's answer: to another spot, or the original plan resumed (none was found)."""
+        self._spot_poll = None
+        taken = ", ".join(self.spot_taken_by)
+        if spot.moved:
+            self.spot_changes += 1
+            self._looking = self.spot_changes < MAX_NEW_SPOTS
+            self.spot_notes.append(f"at another spot: {taken} stood on the one planned")
+        else:
+            self._looking = False  # going on as planned: looking again would only stop it again
+            self.spot_notes.append(f"{taken} stood on the planned spot, and {spot.why}")
+        self.placed_at, self.place_spot = spot.placed, spot.place_spot
+        transit, lower, retreat, home = spot.segments
+        self.queue = [
+            (MotionPhase.LOWER, lower),
+            (MotionPhase.RELEASE, None),
+            (MotionPhase.RETREAT, retreat),
+            (MotionPhase.SETTLE, None),
+            (MotionPhase.HOME, home),
+        ]
+        self.total_exec_s = (
+            self.done_exec_s + sum(x.trajectory.duration for x in spot.segments) + self.settings.open_s
+        )
+        self.current = transit
+        self._enter(MotionPhase.TRANSIT)
 
     def _finger_gap(self) -> float:
         """Both fingers' opening together, metres."""

@@ -16,6 +16,7 @@ import numpy as np
 
 if TYPE_CHECKING:
     from scone_bt.config import KitchenConfig, RobotConfig
+    from scone_bt.motion.collision import Obstacle
 
 __all__ = ["ArmExecutor", "Controller", "SceneBox", "Workcell"]
 
@@ -85,6 +86,11 @@ class ArmExecutor(Protocol):
 
     def products_touched(self, held: str | None) -> frozenset[str]:
         """Products (other than ``held``) that an arm link or the held product ``held`` touches now."""
+        ...
+
+    def products_at(self, spot: Obstacle, margin: float) -> tuple[Obstacle, ...]:
+        """A look at a spot on the table: the products standing on the table within ``margin`` (m) of where
+        ``spot`` (a shape standing upright there) would stand, each as its shape where it stands."""
         ...
 
 

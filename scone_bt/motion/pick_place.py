@@ -25,7 +25,7 @@ import numpy as np
 
 from scone_bt.motion.collision import Obstacle
 from scone_bt.motion.grasp import GraspCandidate, lifted
-from scone_bt.motion.grasp_search import prepare_grasps, preshape
+from scone_bt.motion.grasp_search import FeasibleGrasp, prepare_grasps, preshape
 from scone_bt.motion.model import ArmModel
 from scone_bt.motion.path_search import Paths, PathSearch, search_paths
 from scone_bt.motion.pick_request import PickPlaceRequest, PickScene, detected_obstacle
@@ -73,6 +73,7 @@ class PickPlacePlan:
         goal_set_sizes: Number of goals handed to OMPL for the approach and the transit.
         finger_position: Each finger's position (m) the hand is pre-shaped to for the approach and opens to at
             the release; None: fully open.
+        feasible: The grasp with its joint paths (what a new place spot is planned with, `motion.new_spot`).
     """
 
     segments: tuple[Segment, ...]
@@ -90,6 +91,7 @@ class PickPlacePlan:
     grasps_tried: int = 0
     goal_set_sizes: tuple[int, int] = (1, 1)
     finger_position: float | None = None
+    feasible: FeasibleGrasp | None = None
 
     def ee_path(self, arm: ArmModel, stride: int = 12) -> np.ndarray:
         """(N, 3) planned end-effector positions, metres."""
@@ -220,6 +222,7 @@ def assemble_plan(
         grasps_tried=grasps_tried,
         goal_set_sizes=paths.goal_set_sizes,
         finger_position=finger_position,
+        feasible=grasp,
     )
 
 

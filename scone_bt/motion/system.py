@@ -36,6 +36,7 @@ from scone_bt.motion.collision import Obstacle
 from scone_bt.motion.execution import ExecutionSettings, PickPlaceController
 from scone_bt.motion.executor import Workcell
 from scone_bt.motion.model import ArmModel, pose_matrix
+from scone_bt.motion.new_spot import NewSpot, new_spot
 from scone_bt.motion.pick_place import (
     PickPlaceFailure,
     PickPlacePlan,
@@ -202,6 +203,7 @@ class PickAndPlace:
         self._controller: PickPlaceController | None = None
         self._outcome: MotionOutcome | None = None
         self._q_start: np.ndarray | None = None
+        self._request: PickPlaceRequest | None = None
 
     # ------------------------------------------------------------------------------------- lifecycle
     def submit_plan(self) -> None:
@@ -236,6 +238,7 @@ class PickAndPlace:
             opening=sys_.opening,
             finger_closed=sys_.robot.gripper.closed_position,
         )
+        self._request = request
         self._future = sys_._worker.submit(
             plan_pick_and_place, sys_.arm, request, sys_.planner, sys_.limits, sys_.robot.control.rate_hz
         )
@@ -258,6 +261,7 @@ class PickAndPlace:
             self._request_home,
             sys_.settings,
             self._remember,
+            self._request_new_spot,
         )
         cell.add_controller(self._controller)
 
@@ -271,9 +275,45 @@ class PickAndPlace:
         return exc if exc is not None else fut.result()
 
     def _remember(self) -> None:
+        c = self._controller
+        placed = None if c is None else c.placed_at
+        if placed is not None:
+            self.system.placed[self.target.name] = placed
+
+    def _request_new_spot(
+        self,
+        rest: np.ndarray,
+        original: tuple[Segment, ...],
+        placed: Obstacle,
+        spot: tuple[float, float, float],
+        blockers: tuple[Obstacle, ...],
+    ) -> Callable[[bool], tuple[bool, NewSpot | None]]:
+        """Ask the worker for the rest of the motion to another spot (`motion.new_spot`); returns a poll(block)."""
+        sys_ = self.system
         plan = self.plan
-        if isinstance(plan, PickPlacePlan) and plan.placed is not None:
-            self.system.placed[self.target.name] = plan.placed
+        assert self._request is not None and isinstance(plan, PickPlacePlan) and plan.feasible is not None
+        fut = sys_._worker.submit(
+            new_spot,
+            sys_.arm,
+            self._request,
+            plan.feasible,
+            plan.finger_position,
+            rest,
+            original,
+            placed,
+            spot,
+            blockers,
+            sys_.planner,
+            sys_.limits,
+            sys_.robot.control.rate_hz,
+        )
+
+        def poll(block: bool) -> tuple[bool, NewSpot | None]:
+            if not block and not fut.done():
+                return False, None
+            return True, fut.result()  # a planner exception is an error, raised into the cell's step
+
+        return poll
 
     def _request_home(self, q: np.ndarray) -> Callable[[bool], tuple[bool, Segment | None]]:
         sys_ = self.system

@@ -16,7 +16,11 @@ __all__ = [
     "TimedTrajectory",
     "MotionOutcome",
     "MotionProgress",
+    "PLACED",
 ]
+
+PLACED = "placed upright on the table"
+"""A successful attempt's message; what follows it in parentheses are notes (another place spot was taken)."""
 
 
 class MotionPhase(str, Enum):  # noqa: UP042 (compares equal to the phase strings callers used before)
@@ -36,6 +40,7 @@ class MotionPhase(str, Enum):  # noqa: UP042 (compares equal to the phase string
     RETREAT = "retreat"
     SETTLE = "settle"
     HOME = "home"
+    NEW_SPOT = "new_spot"  # carrying: the place spot was taken; holding while the worker plans another
     RECOVER = "recover"  # after a failure: holding while the worker plans a way home
     RECOVER_HOME = "recover_home"
     DONE = "done"

@@ -357,6 +357,36 @@ class Kitchen:
         """Every product resting upright on the table top (ground truth, as `is_on_table`)."""
         return frozenset(n for n in self.objects if self.is_on_table(n))
 
+    def products_at(self, spot: Any, margin: float) -> tuple[Any, ...]:
+        """Products standing on the table within ``margin`` (m) of the upright shape ``spot`` (a motion
+        `Obstacle`), as obstacles where they stand (ground truth: the simulation's look at the spot)."""
+        from scone_bt.motion.collision import Obstacle
+        from scone_bt.motion.placement import Footprint, footprint_gaps
+        from scone_bt.motion.placement_search import obstacle_footprint
+
+        shape = obstacle_footprint(spot)
+        near: list[tuple[str, Footprint, ObjectState]] = []
+        for n in self.objects:
+            if n == spot.name or not self.is_on_table(n):
+                continue
+            st = self.object_state(n)
+            yaw = self.bc.getEulerFromQuaternion(st.orientation)[2]
+            near.append((n, Footprint.of(self.specs[n], st.position[0], st.position[1], yaw), st))
+        if not near:
+            return ()
+        gaps = footprint_gaps(
+            np.array([[shape.x, shape.y]]), np.array([shape.yaw]), shape, [f for _, f, _ in near]
+        )[0]
+        out = []
+        for (n, _, st), gap in zip(near, gaps, strict=True):
+            if gap < margin:
+                pose = np.eye(4)
+                pose[:3, :3] = np.array(self.bc.getMatrixFromQuaternion(st.orientation)).reshape(3, 3)
+                pose[:3, 3] = st.position
+                spec = self.specs[n]
+                out.append(Obstacle(n, spec.shape, spec.size, pose))
+        return tuple(out)
+
     def is_on_shelf(self, name: str) -> bool:
         """True if the object stands above the footprint of a shelf unit (ground truth)."""
         return self.config.scene.on_shelf(self.object_state(name).position, margin=0.0)

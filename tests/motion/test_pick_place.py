@@ -166,19 +166,47 @@ def test_second_robot_picks_and_places(kitchen_cfg, task_for, run_to_end):
         assert k.is_on_table("salt")
 
 
-def test_a_product_put_on_the_place_spot_during_the_transit_is_knocked_over_and_said(stocked, task_for):
-    """A person puts the sugar where the robot is carrying the salt: the lowering knocks it over, and the attempt
-    is a failure that names it, not a success (the salt itself stands on the table)."""
+def _put_on_the_spot_during_the_transit(kitchen, task, name):
+    """Run the task; once the carry has begun, a person stands ``name`` on the planned place spot."""
+    while not task.done():
+        kitchen.advance(0.1)
+        if task.progress().phase is MotionPhase.TRANSIT and kitchen.is_on_shelf(name):
+            x, y, top = task.plan.place_spot
+            kitchen.place_object(name, (x, y, top))
+            assert kitchen.is_on_table(name)
+    return task.outcome()
+
+
+def test_a_product_put_on_the_place_spot_during_the_carry_sends_the_robot_to_another_spot(stocked, task_for):
+    """A person puts the sugar where the robot is carrying the salt: the robot holds, plans another spot among
+    what stands on the table now, and puts the salt there; the sugar is untouched, and the outcome says why."""
     kitchen, system = stocked
     task = task_for(kitchen, system, "salt")
     task.start()
-    while not task.done():
-        kitchen.advance(0.1)
-        if task.progress().phase is MotionPhase.TRANSIT and kitchen.is_on_shelf("sugar"):
-            x, y, top = task.plan.place_spot
-            kitchen.place_object("sugar", (x, y, top))
-            assert kitchen.is_on_table("sugar")
-    outcome = task.outcome()
-    assert not kitchen.is_on_table("sugar")
-    assert not outcome.success and outcome.stage is FailureStage.COLLISION, outcome.message
-    assert "knocked sugar over or off the table" in outcome.message
+    outcome = _put_on_the_spot_during_the_transit(kitchen, task, "sugar")
+    assert outcome.success, outcome.message
+    assert outcome.message == "placed upright on the table (at another spot: sugar stood on the one planned)"
+    assert kitchen.is_on_table("salt") and kitchen.is_on_table("sugar")
+    salt, sugar = (np.array(kitchen.object_state(n).position[:2]) for n in ("salt", "sugar"))
+    assert np.linalg.norm(salt - sugar) > 0.05
+    # The robot remembers where the salt stands now, not the spot it first planned.
+    assert np.allclose(system.placed["salt"].pose[:2, 3], salt, atol=0.02)
+
+
+def test_a_product_put_on_the_place_spot_is_knocked_over_and_said_where_the_robot_does_not_look(
+    kitchen_cfg, robot_cfg, task_for
+):
+    """Without the look at the spot (a backend that cannot look again): lowering the salt knocks the sugar over,
+    and the attempt is a failure that names it, not a success (the salt itself stands on the table)."""
+    with Kitchen(kitchen_cfg, robot_cfg) as kitchen:
+        kitchen.spawn(
+            [kitchen_cfg.catalogue.get(n) for n in ("salt", "sugar", "honey")], np.random.default_rng(1)
+        )
+        with MotionSystem.build(kitchen) as system:
+            task = task_for(kitchen, system, "salt")
+            task._request_new_spot = None  # type: ignore[method-assign]
+            task.start()
+            outcome = _put_on_the_spot_during_the_transit(kitchen, task, "sugar")
+            assert not kitchen.is_on_table("sugar")
+            assert not outcome.success and outcome.stage is FailureStage.COLLISION, outcome.message
+            assert "knocked sugar over or off the table" in outcome.message
