@@ -33,6 +33,8 @@ SLIP_CHECK_S = 0.1
 """Simulated seconds between two checks that the carried object is still between the fingers."""
 
 
+WATCH_S = 1.0 / 30.0
+"""Simulated seconds between two notes of what the arm or the carried product touches (knocked-over products)."""
 MAX_NEW_SPOTS = 2
 """Most times one attempt moves to another place spot (a person may take the next one too)."""
 
@@ -267,7 +269,7 @@ class PickPlaceController:
                 self._after_wait(phase)
         else:
             self._track(arm)
-        if self.watching and not self.finished and self.phase_steps % _every(CONTACT_CHECK_S, dt) == 0:
+        if self.watching and not self.finished and self.phase_steps % _every(WATCH_S, dt) == 0:
             self._watch_table(arm)
         self.phase_steps += 1
 

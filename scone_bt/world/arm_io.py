@@ -36,6 +36,8 @@ class ArmIO:
 
     def __init__(self, kitchen: Kitchen) -> None:
         self.kitchen = kitchen
+        self._product_bodies: tuple[int, ...] = ()
+        self._product_names: dict[int, str] = {}  # body id → product name (`products_touched`)
         bc = kitchen.bc
         rid = kitchen.robot_id
         cfg = kitchen.robot_config
@@ -148,7 +150,11 @@ class ArmIO:
         or with such a product (one product pushed into the next, up to `PUSH_CHAIN` deep)."""
         k = self.kitchen
         bc = k.bc
-        names = {b: n for n, b in k.objects.items()}
+        bodies = tuple(k.objects.values())
+        if bodies != self._product_bodies:  # products spawned (or restocked) since: the body → name map anew
+            self._product_bodies = bodies
+            self._product_names = {b: n for n, b in k.objects.items()}
+        names = self._product_names
         held_body = None if held is None else k.objects.get(held)
         sources = [k.robot_id] if held_body is None else [k.robot_id, held_body]
         seen = {b for b in sources}

@@ -366,8 +366,13 @@ class Kitchen:
 
         shape = obstacle_footprint(spot)
         near: list[tuple[str, Footprint, ObjectState]] = []
-        for n in self.objects:
-            if n == spot.name or not self.is_on_table(n):
+        for n, body in self.objects.items():
+            if n == spot.name:
+                continue
+            (x, y, _z), _ = self.bc.getBasePositionAndOrientation(body)
+            # Beyond both footprints' covering circles: cannot be near (most products; no further query).
+            reach = shape.radius + float(np.hypot(*self.specs[n].size[:2])) / 2 + margin
+            if (x - shape.x) ** 2 + (y - shape.y) ** 2 > reach * reach or not self.is_on_table(n):
                 continue
             st = self.object_state(n)
             yaw = self.bc.getEulerFromQuaternion(st.orientation)[2]

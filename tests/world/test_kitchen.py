@@ -85,3 +85,31 @@ def test_products_touched_follows_a_push_from_product_to_product(kitchen, kitche
     assert kitchen.products_touched("ketchup") == frozenset()
     assert kitchen.products_touched(None) == frozenset()  # the arm at home touches nothing
     assert kitchen.objects_on_table() == frozenset(names)
+
+
+def test_products_at_a_spot_are_those_standing_on_the_table_within_the_margin(kitchen, kitchen_cfg, rng):
+    """The look at a place spot: what stands on the table over or beside its footprint, with its shape."""
+    import numpy as np
+
+    from scone_bt.motion.collision import Obstacle
+
+    names = ("salt", "sugar", "honey")
+    kitchen.spawn([kitchen_cfg.catalogue.get(n) for n in names], rng)
+    (cx, cy, cz), (_, _, sz) = kitchen_cfg.scene.table
+    top = cz + sz / 2
+    salt = kitchen.specs["salt"]
+    pose = np.eye(4)
+    pose[:3, 3] = (cx, cy, top + salt.height / 2)
+    spot = Obstacle("salt", salt.shape, salt.size, pose)  # where the salt would stand
+    kitchen.place_object("sugar", (cx + 0.01, cy, top))  # on the spot
+    half = (salt.grasp_width + kitchen.specs["honey"].grasp_width) / 2
+    kitchen.place_object("honey", (cx, cy + half + 0.003, top))  # 3 mm beside it
+    kitchen.advance(0.3)
+    found = kitchen.products_at(spot, 0.005)
+    assert sorted(o.name for o in found) == ["honey", "sugar"]
+    sugar = next(o for o in found if o.name == "sugar")
+    assert np.allclose(sugar.pose[:3, 3], kitchen.object_state("sugar").position)
+    assert sugar.size == kitchen.specs["sugar"].size
+    assert [o.name for o in kitchen.products_at(spot, 0.001)] == ["sugar"]  # honey keeps 3 mm
+    kitchen.park_object("sugar")  # taken away: the spot is free of it
+    assert [o.name for o in kitchen.products_at(spot, 0.001)] == []
