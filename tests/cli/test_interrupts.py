@@ -33,19 +33,31 @@ def _sigint_as_from_a_terminal() -> None:
     signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
-def _start(tmp_path: Path, store: Path, recipe: str, max_ticks: int = 400) -> subprocess.Popen:
-    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
-    argv = [str(SCONE_RUN), "--recipe", recipe, "--distractors", "0", "--max-ticks", str(max_ticks)]
-    argv += ["--embedder", "onehot", "--experience", str(store)]
+def _sigint_ignored() -> None:
+    """In the child before exec: SIGINT ignored, as `cmd &` in a script or nohup starts a command."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _popen(argv: list[str], cwd: Path, preexec_fn: object = _sigint_as_from_a_terminal) -> subprocess.Popen:
+    """``argv`` as its own process in ``cwd``, its output captured unbuffered."""
     return subprocess.Popen(
         argv,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
-        env=env,
-        cwd=tmp_path,
-        preexec_fn=_sigint_as_from_a_terminal,
+        env={**os.environ, "PYTHONUNBUFFERED": "1"},
+        cwd=cwd,
+        preexec_fn=preexec_fn,  # type: ignore[arg-type]
     )
+
+
+def _run_argv(store: Path, recipe: str, max_ticks: int) -> list[str]:
+    argv = [str(SCONE_RUN), "--recipe", recipe, "--distractors", "0", "--max-ticks", str(max_ticks)]
+    return argv + ["--embedder", "onehot", "--experience", str(store)]
+
+
+def _start(tmp_path: Path, store: Path, recipe: str, max_ticks: int = 400) -> subprocess.Popen:
+    return _popen(_run_argv(store, recipe, max_ticks), tmp_path)
 
 
 def _check(proc: subprocess.Popen, store: Path) -> int:
@@ -106,17 +118,8 @@ def test_ctrl_c_never_replaces_the_recording_a_save_would_overwrite(tmp_path):
     save = tmp_path / "run.rrd"
     before = b"RRF2" + b"the previous run" * 100
     save.write_bytes(before)
-    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
     argv = [str(SCONE_RUN), "--robot", "sim", "--headless", "--seed", "0", "--quiet", "--save", str(save)]
-    proc = subprocess.Popen(
-        argv,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env=env,
-        cwd=tmp_path,
-        preexec_fn=_sigint_as_from_a_terminal,
-    )
+    proc = _popen(argv, tmp_path)
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and proc.poll() is None:
         begun = [p for p in tmp_path.glob(".run.rrd.*.rrd") if p.stat().st_size > 0]
@@ -138,19 +141,8 @@ def test_ctrl_c_never_replaces_the_recording_a_save_would_overwrite(tmp_path):
 def test_a_run_started_with_sigint_ignored_keeps_ignoring_it(tmp_path):
     """`scone-run … &` in a script (or nohup) starts it with SIGINT ignored: a Ctrl-C meant for the terminal's
     foreground job neither stops this run nor prints an interrupted line (it took it once its handler was in)."""
-    store = tmp_path / "store.db"
-    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
-    argv = [str(SCONE_RUN), "--recipe", "example:hummus", "--distractors", "0", "--max-ticks", "150"]
-    argv += ["--embedder", "onehot", "--experience", str(store), "--quiet"]
-    proc = subprocess.Popen(
-        argv,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env=env,
-        cwd=tmp_path,
-        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN),
-    )
+    argv = [*_run_argv(tmp_path / "store.db", "example:hummus", 150), "--quiet"]
+    proc = _popen(argv, tmp_path, preexec_fn=_sigint_ignored)
     for delay in (0.3, 1.0, 1.5):
         time.sleep(delay)
         if proc.poll() is None:
