@@ -140,7 +140,6 @@ class PickPlaceController:
         self.watching = False
         self.touched: set[str] = set()
         self.stood: set[str] = set()
-        self.knocked: tuple[str, ...] = ()
         # Where the product goes (the plan's spot, or another one taken during the carry), and the look at it.
         self.placed_at: Obstacle | None = None
         self.place_spot: tuple[float, float, float] | None = None
@@ -293,8 +292,7 @@ class PickPlaceController:
         lost = self.stood - self.arm.objects_on_table()
         if not lost:
             return
-        self.knocked = tuple(sorted(lost))
-        what = f"knocked {', '.join(self.knocked)} over or off the table"
+        what = f"knocked {', '.join(sorted(lost))} over or off the table"
         if self.success:
             self.success = False
             self.stage = FailureStage.COLLISION

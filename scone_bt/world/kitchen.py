@@ -10,7 +10,7 @@ import contextlib
 import itertools
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -23,6 +23,9 @@ from scone_bt.quiet import c_stdout_silenced
 from scone_bt.world.arm_io import ArmIO
 from scone_bt.world.camera import camera_image
 from scone_bt.world.visuals import create_object_visual
+
+if TYPE_CHECKING:
+    from scone_bt.motion.collision import Obstacle
 
 __all__ = [
     "FULL_RATE_STEP_S",
@@ -357,9 +360,9 @@ class Kitchen:
         """Every product resting upright on the table top (ground truth, as `is_on_table`)."""
         return frozenset(n for n in self.objects if self.is_on_table(n))
 
-    def products_at(self, spot: Any, margin: float) -> tuple[Any, ...]:
-        """Products standing on the table within ``margin`` (m) of the upright shape ``spot`` (a motion
-        `Obstacle`), as obstacles where they stand (ground truth: the simulation's look at the spot)."""
+    def products_at(self, spot: Obstacle, margin: float) -> tuple[Obstacle, ...]:
+        """Products standing on the table within ``margin`` (m) of the upright shape ``spot``, as obstacles where
+        they stand (ground truth: the simulation's look at the spot)."""
         from scone_bt.motion.collision import Obstacle
         from scone_bt.motion.placement import Footprint, footprint_gaps
         from scone_bt.motion.placement_search import obstacle_footprint
