@@ -19,6 +19,7 @@ import numpy as np
 from scone_bt.motion.collision import Obstacle
 from scone_bt.motion.grasp_search import FeasibleGrasp
 from scone_bt.motion.model import ArmModel
+from scone_bt.motion.path_search import way_home
 from scone_bt.motion.pick_request import PickPlaceRequest, PickScene
 from scone_bt.motion.placement_search import find_spots, search_placements
 from scone_bt.motion.plan_session import PlanSession, Segment
@@ -151,9 +152,7 @@ def plan_new_spot(
     if not transit.success:
         return f"no way to another spot from where the arm holds ({transit.status.value})"
     placement = found.placements[transit.goal_index]
-    placed = Obstacle(scene.name, req.spec.shape, req.spec.size, placement.ee_place @ grasp.cand.object_in_ee)
-    w_after = session.world([*scene.fixed, placed], padding=0.004, finger_position=fingers)
-    home = session.plan(placement.q_ret, np.asarray(req.home, dtype=float), w_after, params.path_retries)
+    placed, home = way_home(session, scene, grasp, placement, fingers)
     if not home.success:
         return f"no way home from another spot ({home.status.value})"
     segments = (

@@ -22,7 +22,7 @@ from scone_bt.motion.plan_session import PlanSession
 from scone_bt.motion.plan_stats import PlanStats
 from scone_bt.motion.types import PlanResult
 
-__all__ = ["Paths", "PathSearch", "search_paths"]
+__all__ = ["Paths", "PathSearch", "search_paths", "way_home"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -69,6 +69,19 @@ class PathSearch:
     home_failure: str | None = None
 
 
+def way_home(
+    session: PlanSession, scene: PickScene, grasp: FeasibleGrasp, placement: Placement, fingers: float | None
+) -> tuple[Obstacle, PlanResult]:
+    """The product's shape where ``placement`` puts it (held by ``grasp``), and OMPL's way home from the retreat
+    among the fixed obstacles and it."""
+    req = scene.request
+    placed = Obstacle(scene.name, req.spec.shape, req.spec.size, placement.ee_place @ grasp.cand.object_in_ee)
+    # The hand has just retreated straight up from the object: the near-object margin, as for the retreat.
+    w_after = session.world([*scene.fixed, placed], padding=0.004, finger_position=fingers)
+    home = session.plan(placement.q_ret, np.asarray(req.home, dtype=float), w_after, req.params.path_retries)
+    return placed, home
+
+
 def search_paths(
     session: PlanSession, scene: PickScene, site: GraspSite, spots: PlacementSpots
 ) -> PathSearch:
@@ -108,12 +121,7 @@ def search_paths(
             pool.remove(chosen)
             continue
         placed = found.placements[transit.goal_index]
-        placed_obstacle = Obstacle(
-            scene.name, req.spec.shape, req.spec.size, placed.ee_place @ chosen.cand.object_in_ee
-        )
-        # The hand has just retreated straight up from the object: the near-object margin, as for the retreat.
-        w_after = session.world([*scene.fixed, placed_obstacle], padding=0.004, finger_position=fingers)
-        home = session.plan(placed.q_ret, np.asarray(req.home, dtype=float), w_after, params.path_retries)
+        placed_obstacle, home = way_home(session, scene, chosen, placed, fingers)
         if not home.success:
             # Home is the same for every grasp; another grasp would not change the way back.
             why = f"return home: {home.status.value} ({home.message})"
