@@ -121,11 +121,13 @@ def _recording_ompl_queries() -> Iterator[list[tuple[Any, Any, Any, Any]]]:
     """Every (start, goals, collision world, options) the pick-and-place hands to OMPL while the block runs.
 
     The planning thread calls `plan_joint_path` through scone_bt.motion.plan_session; the recorder wraps that name
-    for the block's duration and passes every call through unchanged.
+    for the block's duration and passes every call through unchanged. A goal the plan reached by its straight
+    segment alone (`direct_path`, asked before a goal set is built) is recorded as a query to that one goal: it
+    stands for the query it spared.
     """
     from scone_bt.motion import plan_session
 
-    original = plan_session.plan_joint_path
+    original, original_direct = plan_session.plan_joint_path, plan_session.direct_path
     calls: list[tuple[Any, Any, Any, Any]] = []
     lock = threading.Lock()
 
@@ -134,11 +136,20 @@ def _recording_ompl_queries() -> Iterator[list[tuple[Any, Any, Any, Any]]]:
             calls.append((start.copy(), goal.copy(), getattr(is_valid, "__self__", None), options))
         return original(start, goal, lower, upper, is_valid, options)
 
+    def recording_direct(start: Any, goal: Any, lower: Any, upper: Any, is_valid: Any, options: Any) -> Any:
+        result = original_direct(start, goal, lower, upper, is_valid, options)
+        if result is not None:
+            with lock:
+                calls.append((start.copy(), goal.copy(), getattr(is_valid, "__self__", None), options))
+        return result
+
     plan_session.plan_joint_path = recording  # type: ignore[assignment]
+    plan_session.direct_path = recording_direct  # type: ignore[assignment]
     try:
         yield calls
     finally:
         plan_session.plan_joint_path = original  # type: ignore[assignment]
+        plan_session.direct_path = original_direct  # type: ignore[assignment]
 
 
 def _compare(calls: list[tuple[Any, Any, Any, Any]]) -> list[dict[str, Any]]:

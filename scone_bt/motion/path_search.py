@@ -10,11 +10,12 @@ does not exist ends the search, as it is the same for every grasp.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from scone_bt.motion.collision import Obstacle
+from scone_bt.motion.collision import CollisionWorld, Obstacle
 from scone_bt.motion.grasp_search import FeasibleGrasp, GraspSite, search_grasps
 from scone_bt.motion.pick_request import PickScene
 from scone_bt.motion.placement_search import Placement, PlacementSpots, search_placements
@@ -94,28 +95,47 @@ def search_paths(
     placement_failed = False
     cursor = 0
     while True:
-        batch = search_grasps(session, scene, site, cursor, params.max_goal_grasps - len(pool))
-        pool.extend(batch.grasps)
-        cursor, grasps = batch.next_index, grasps + batch.stats
+        # The goal set is built grasp by grasp and ends at the first grasp reached in a straight line (most are):
+        # OMPL, with the whole set, runs only where none is; it would have taken the same grasp with the set
+        # built up front, as it tries the straight segments in order (`planner.direct_path`).
+        approach = None
+        while approach is None and len(pool) < params.max_goal_grasps:
+            batch = search_grasps(session, scene, site, cursor, 1)
+            cursor, grasps = batch.next_index, grasps + batch.stats
+            if not batch.grasps:
+                break  # no candidate left
+            pool.append(batch.grasps[0])
+            direct = session.direct(req.q_start, pool[-1].q_pre, site.free_world)
+            if direct is not None:
+                approach = replace(direct, goal_index=len(pool) - 1)
         if not pool:
             break
         approach_set = len(pool)
-        approach = session.plan(
-            req.q_start, np.array([g.q_pre for g in pool]), site.free_world, params.path_retries
-        )
+        if approach is None:
+            approach = session.plan(
+                req.q_start, np.array([g.q_pre for g in pool]), site.free_world, params.path_retries
+            )
         if not approach.success:
             path_failures.append(f"approach: {approach.status.value} ({approach.message})")
             pool = []  # none of these grasps can be reached: examine the next candidates
             continue
         chosen = pool[approach.goal_index]
-        found = search_placements(session, scene, chosen, spots, fingers)
+        # The transit's goal set likewise ends at the first placement reached in a straight line.
+        direct: list[PlanResult] = []
+        found = search_placements(
+            session, scene, chosen, spots, fingers, until=_straight_to(session, chosen.q_lift, direct)
+        )
         grasps, placements = grasps + found.grasp_stats, placements + found.stats
         if not found.placements or found.carry_world is None:
             placement_failed = placement_failed or found.carry_world is not None
             pool.remove(chosen)
             continue
         goals = np.array([pl.q_pp for pl in found.placements])
-        transit = session.plan(chosen.q_lift, goals, found.carry_world, params.path_retries)
+        transit = (
+            direct[0]
+            if direct
+            else session.plan(chosen.q_lift, goals, found.carry_world, params.path_retries)
+        )
         if not transit.success:
             path_failures.append(f"transit: {transit.status.value} ({transit.message})")
             pool.remove(chosen)
@@ -137,3 +157,21 @@ def search_paths(
         )
         return PathSearch(paths, grasps, placements, tuple(path_failures), placement_failed)
     return PathSearch(None, grasps, placements, tuple(path_failures), placement_failed)
+
+
+def _straight_to(
+    session: PlanSession, q_from: np.ndarray, direct: list[PlanResult]
+) -> Callable[[Placement, CollisionWorld], bool]:
+    """A `search_placements` stop: true at the first placement the straight segment from `q_from` reaches (that
+    segment goes into `direct`, as the query it replaces, with the placement's index as its goal)."""
+    seen = 0
+
+    def reached(placement: Placement, world: CollisionWorld) -> bool:
+        nonlocal seen
+        straight = session.direct(q_from, placement.q_pp, world)
+        seen += 1
+        if straight is not None:
+            direct.append(replace(straight, goal_index=seen - 1))
+        return straight is not None
+
+    return reached

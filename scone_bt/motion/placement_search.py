@@ -4,12 +4,13 @@ Spots are seeded samples of the observed free table area (`placement.sample_plac
 the yaws its rectangle fits at, which fix the hand's turn), or the request's explicit spots. For one grasp they are
 filtered by IK above the spot with the object in the hand, a collision-free lowering and a retreat (back up the
 lowering path; a side grasp backs out along its approach instead, as its fingers straddle the object below its
-top); the first `GraspParams.max_goal_placements` feasible ones form the transit's goal set.
+top); the first `GraspParams.max_goal_placements` feasible ones form the transit's goal set, or fewer where the
+caller stops at one the transit reaches in a straight line (`search_placements`'s `until`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -130,8 +131,13 @@ def search_placements(
     grasp: FeasibleGrasp,
     spots: PlacementSpots,
     fingers: float | None,
+    until: Callable[[Placement, CollisionWorld], bool] | None = None,
 ) -> PlacementSearch:
-    """The first feasible placements of the object held by `grasp`, in spot order (one per spot at most)."""
+    """The first feasible placements of the object held by `grasp`, in spot order (one per spot at most).
+
+    `until` is shown each placement as it is found, with the carry world; the search ends early once it answers
+    True (the path search stops at a spot the transit reaches in a straight line).
+    """
     arm, req = session.arm, scene.request
     params, name, cand = req.params, scene.name, grasp.cand
     carried = Obstacle(name, req.spec.shape, req.spec.size, cand.object_in_ee)
@@ -213,6 +219,8 @@ def search_placements(
                 stats = stats.blocked(why, names)
                 continue
             out.append(Placement(tuple(spot), ee_place, q_pp, lower, back))  # type: ignore[arg-type]
+            if until is not None and until(out[-1], w_carry):
+                return PlacementSearch(tuple(out), w_carry, stats)
             break
     return PlacementSearch(tuple(out), w_carry, stats)
 

@@ -14,7 +14,7 @@ import numpy as np
 
 from scone_bt.motion.collision import CollisionWorld, Obstacle
 from scone_bt.motion.model import ArmModel, IKOptions
-from scone_bt.motion.planner import PlannerOptions, plan_joint_path
+from scone_bt.motion.planner import PlannerOptions, direct_path, plan_joint_path
 from scone_bt.motion.timing import KinematicLimits, time_path
 from scone_bt.motion.types import MotionPhase, PlanResult, PlanStatus, TimedTrajectory
 
@@ -207,6 +207,22 @@ class PlanSession:
             if result.status is not PlanStatus.TIMED_OUT:
                 break
             result = self._plan_once(qa, qb, world)
+        return result
+
+    def direct(self, qa: np.ndarray, qb: np.ndarray, world: CollisionWorld) -> PlanResult | None:
+        """The straight joint-space segment from qa to qb when it is free in `world` (`planner.direct_path`), as
+        this plan's next query; None (no query used) where it is not, or the options do not try it.
+
+        It takes the place of the query `plan` would have made (that query's seed is used up), so a plan that
+        asks this first, and `plan` only where it answers None, seeds its later queries as one that asked `plan`.
+        """
+        if not self.options.try_direct or not (world.is_valid(qa) and world.is_valid(qb)):
+            return None
+        result = direct_path(qa, qb, self.arm.lower, self.arm.upper, world.is_valid, self.options)
+        if result is None:
+            return None
+        self.queries += 1
+        self.plans.append(result)
         return result
 
     def _plan_once(self, qa: np.ndarray, qb: np.ndarray, world: CollisionWorld) -> PlanResult:

@@ -27,6 +27,7 @@ __all__ = [
     "BACKENDS",
     "MOTION_RESOLUTION",
     "PlannerOptions",
+    "direct_path",
     "motion_step",
     "plan_joint_path",
     "segment_times",
@@ -148,16 +149,10 @@ def plan_joint_path(
         what = "goal configuration is" if len(goals) == 1 else f"all {len(goals)} goal configurations are"
         return PlanResult(PlanStatus.GOAL_INVALID, None, time.perf_counter() - t0, f"{what} in collision")
     if options.try_direct:
-        step = motion_step(lower, upper, options.resolution)
         for i in valid:
-            if _segment_free(is_valid, start, goals[i], segment_times(start, goals[i], step)[1:-1]):
-                return PlanResult(
-                    PlanStatus.SUCCESS,
-                    np.array([start, goals[i]]),
-                    time.perf_counter() - t0,
-                    "direct: the straight joint-space segment is collision-free",
-                    goal_index=i,
-                )
+            direct = _direct(start, goals[i], lower, upper, is_valid, options, t0)
+            if direct is not None:
+                return replace(direct, goal_index=i)
     why_not_vamp = ""
     if options.backend == "vamp":
         vamp, why_not_vamp = _plan_vamp(start, goals[valid], is_valid, options, t0)
@@ -170,6 +165,52 @@ def plan_joint_path(
     if result.success:
         return replace(result, goal_index=valid[result.goal_index])
     return result
+
+
+def direct_path(
+    start: np.ndarray,
+    goal: np.ndarray,
+    lower: np.ndarray,
+    upper: np.ndarray,
+    is_valid: Callable[[np.ndarray], bool],
+    options: PlannerOptions = PlannerOptions(),
+) -> PlanResult | None:
+    """The straight joint-space segment from a valid `start` to one valid `goal` (radians), checked as
+    `plan_joint_path` checks it before OMPL runs; None where a state on it is invalid.
+
+    A caller that builds a goal set goal by goal (`path_search`) asks this first and builds the set, and runs
+    OMPL, only where no goal so far is directly reachable: `plan_joint_path` with that set then returns what it
+    would have returned with the whole set built up front (it tries the straight segments in goal order).
+    """
+    return _direct(
+        np.asarray(start, dtype=float),
+        np.asarray(goal, dtype=float),
+        lower,
+        upper,
+        is_valid,
+        options,
+        time.perf_counter(),
+    )
+
+
+def _direct(
+    start: np.ndarray,
+    goal: np.ndarray,
+    lower: np.ndarray,
+    upper: np.ndarray,
+    is_valid: Callable[[np.ndarray], bool],
+    options: PlannerOptions,
+    t0: float,
+) -> PlanResult | None:
+    step = motion_step(lower, upper, options.resolution)
+    if not _segment_free(is_valid, start, goal, segment_times(start, goal, step)[1:-1]):
+        return None
+    return PlanResult(
+        PlanStatus.SUCCESS,
+        np.array([start, goal]),
+        time.perf_counter() - t0,
+        "direct: the straight joint-space segment is collision-free",
+    )
 
 
 def _segment_free(
