@@ -1,9 +1,12 @@
 """Path search: OMPL paths for the approach, the transit and the way home, falling back over grasps.
 
-OMPL plans the approach to a goal set of feasible grasps (the first `GraspParams.max_goal_grasps`) at once and
-reports which grasp it reached; a query that runs out of iterations is repeated with a fresh seed
-(`GraspParams.path_retries`) before it counts as no path. Placements for that grasp form the transit's goal set;
-then OMPL plans the transit and the way home. A grasp without a feasible placement or transit is dropped and the
+The approach's goal set is built grasp by grasp: each feasible grasp's straight joint-space segment from the start
+is checked as it is found, and the first one free ends the search (`PlanSession.direct`); only where none of the
+first `GraspParams.max_goal_grasps` is reached that way does OMPL plan to them all at once and report which grasp it
+reached. OMPL tries the straight segments in goal order first, so the grasp is the one a set built whole gives, and
+fewer candidates are examined. A query that runs out of iterations is repeated with a fresh seed
+(`GraspParams.path_retries`) before it counts as no path. Placements for that grasp form the transit's goal set the
+same way; then the way home. A grasp without a feasible placement or transit is dropped and the
 approach is planned again to the other grasps (more candidates are examined as the set empties); a way home that
 does not exist ends the search, as it is the same for every grasp.
 """

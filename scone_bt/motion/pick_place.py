@@ -7,8 +7,9 @@ Runs in a worker thread: it touches only Pinocchio, coal, OMPL and ruckig, never
 1. Grasp search (`grasp_search`): candidates cheapest first, filtered by the hand alone, then IK, the arm's
    collisions, and a straight descent and lift; the hand pre-shaped to the widest candidate.
 2. Placement spots (`placement_search.find_spots`): seeded samples of the observed free table area, or given.
-3. Path search (`path_search`): OMPL plans the approach to a goal set of grasps, then, for the grasp reached, the
-   placement search (`placement_search.search_placements`) gives the transit's goal set; then the way home. A
+3. Path search (`path_search`): the approach to a goal set of grasps (ended at the first reached in a straight
+   line; OMPL where none is), then, for the grasp reached, the placement search
+   (`placement_search.search_placements`) gives the transit's goal set likewise; then the way home. A
    grasp without a feasible placement or transit is dropped and the approach planned again to the others.
 4. Plan assembly (`assemble_plan`): every segment timed with ruckig into a `PickPlacePlan`; or failure diagnosis
    (`diagnose_failure`): a typed failure (`PlanFailureReason`) saying which stage ran out and what blocked it,
