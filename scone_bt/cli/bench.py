@@ -11,6 +11,7 @@ heavy imports happen inside ``func``.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import os
 import sys
@@ -84,17 +85,31 @@ def _inputs(args: argparse.Namespace, outputs: Sequence[str]) -> dict[str, list[
     A folder given as an input counts with the files directly inside it (e.g. ``scenarios DIR``: its .yaml files),
     an output folder (--out) only as itself.
     """
+    from scone_bt.config.inputs import kitchen_inputs, robot_inputs
+    from scone_bt.resources import resolve_file
+
+    # Options naming a kitchen or robot (a name or a path): their files and the files those read are inputs.
+    descriptions = {"kitchen": ("perception", kitchen_inputs), "arm": ("robots", robot_inputs)}
     out: dict[str, list[Path]] = {}
     for dest, value in vars(args).items():
-        if dest in outputs or callable(value):
+        # A subcommand's name is no path (a folder of that name in the working folder is not its input).
+        if dest in outputs or callable(value) or dest == "command" or dest.endswith("_command"):
             continue
         for item in value if isinstance(value, (list, tuple)) else [value]:
-            if isinstance(item, (str, Path)) and str(item) and os.path.exists(item):
-                files = out.setdefault(f"--{dest.replace('_', '-')}", [])
+            if not isinstance(item, (str, Path)) or not str(item):
+                continue
+            files = out.setdefault(f"--{dest.replace('_', '-')}", [])
+            if dest in descriptions:
+                kind, expand = descriptions[dest]
+                with contextlib.suppress(
+                    SconeError
+                ):  # a name that does not resolve: its loader words the error
+                    files.extend(expand(resolve_file(kind, str(item), (".yaml", ".yml"))))  # type: ignore[arg-type]
+            elif os.path.exists(item):
                 files.append(Path(item))
                 if os.path.isdir(item) and dest not in _OUTPUT_FOLDERS:
                     files.extend(_folder_files(Path(item)))
-    return out
+    return {flag: files for flag, files in out.items() if files}
 
 
 def check_common_ranges(args: argparse.Namespace) -> None:

@@ -217,7 +217,7 @@ def build_parser() -> argparse.ArgumentParser:
         type=Path,
         metavar="FILE.rrd",
         help="record the episode for the rerun viewer; an existing recording is replaced, any other file is refused "
-        "(see --force), and an input or the store of this run always",
+        "unless --force, and an input or the store of this run is refused even with --force",
     )
     g.add_argument("--viewer", action="store_true", help="spawn the rerun live viewer")
     g.add_argument(
@@ -358,10 +358,9 @@ def _run_inputs(args: argparse.Namespace) -> dict[str, list[Path]]:
     Names that do not resolve are left out here; their own loaders word the error.
     """
     from scone_bt.checks import sqlite_files
-    from scone_bt.config.catalogue import catalogue_files
-    from scone_bt.config.yaml_io import read_yaml
+    from scone_bt.config.inputs import kitchen_inputs, robot_inputs
     from scone_bt.recipes.recipe import EXAMPLES_DIR, recipe_corpus_path
-    from scone_bt.resources import data_dir, resolve_file
+    from scone_bt.resources import resolve_file
 
     out: dict[str, list[Path]] = {}
 
@@ -374,13 +373,8 @@ def _run_inputs(args: argparse.Namespace) -> dict[str, list[Path]]:
     if isinstance(store := _experience(args.experience), Path):
         out["--experience"] = sqlite_files(store)
     kitchen = resolved("perception", args.kitchen)
-    if kitchen is not None:
-        out["--kitchen"] = [kitchen]
-        try:  # the product files the kitchen names are inputs too
-            entries = read_yaml(kitchen).get("catalogue") or []
-            out["--kitchen"] += catalogue_files(entries, kitchen.parent, data_dir("perception"))
-        except (SconeError, TypeError):
-            pass
+    if kitchen is not None:  # with the product files it names
+        out["--kitchen"] = kitchen_inputs(kitchen)
     recipe = str(args.recipe)
     if recipe.startswith("example:"):
         out["--recipe"] = [EXAMPLES_DIR / f"{recipe.removeprefix('example:')}.yaml"]
@@ -389,9 +383,10 @@ def _run_inputs(args: argparse.Namespace) -> dict[str, list[Path]]:
     elif (corpus := recipe_corpus_path()) is not None:
         out["--recipe"] = [corpus]
     out["--catalogue"] = [Path(c) for c in args.catalogue]
-    for flag, kind, name in (("--tree", "trees", args.tree), ("--arm", "robots", args.arm)):
-        if (path := resolved(kind, name)) is not None:
-            out[flag] = [path]
+    if (tree := resolved("trees", args.tree)) is not None:
+        out["--tree"] = [tree]
+    if (robot := resolved("robots", args.arm)) is not None:  # with its URDF and meshes
+        out["--arm"] = robot_inputs(robot)
     return out
 
 

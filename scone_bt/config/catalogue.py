@@ -203,10 +203,15 @@ def _family_file(path: Path) -> tuple[ObjectSpec, ...]:
     return products
 
 
-def catalogue_files(entries: Iterable[str | Path], base: Path, fallback: Path) -> list[Path]:
-    """Family files named by a kitchen's ``catalogue:`` list: files or folders, relative to `base` or `fallback`."""
+def catalogue_files(
+    entries: Iterable[str | Path], base: Path, fallback: Path, where: str | None = None
+) -> list[Path]:
+    """Family files named by a kitchen's ``catalogue:`` list: files or folders, relative to `base` or `fallback`.
+
+    `where` (the kitchen file) names the file and key in an error; without it, `base`.
+    """
     out: list[Path] = []
-    for entry in entries:
+    for i, entry in enumerate(entries):
         for root in (Path(entry), base / entry, fallback / entry):
             if root.is_dir():
                 found = sorted(p for p in root.iterdir() if p.suffix in (".yaml", ".yml"))
@@ -220,7 +225,14 @@ def catalogue_files(entries: Iterable[str | Path], base: Path, fallback: Path) -
                 out.append(root)
                 break
         else:
-            raise ConfigError(f"{base}: catalogue entry {str(entry)!r} is neither a file nor a folder")
+            if where is None:
+                raise ConfigError(f"{base}: catalogue entry {str(entry)!r} is neither a file nor a folder")
+            folders = sorted(p.name for p in fallback.iterdir() if p.is_dir() and any(p.glob("*.y*ml")))
+            raise ConfigError(
+                f"{where}: catalogue[{i}]: {str(entry)!r} is neither a file nor a folder (relative to {base} or "
+                f"{fallback}); give family files (.yaml, .json) or folders of them (valid folders: "
+                f"{', '.join(folders)})"
+            )
     return out
 
 

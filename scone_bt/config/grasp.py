@@ -137,7 +137,15 @@ class GraspParams:
                 key = key.removesuffix("_deg")
                 value = tuple(map(math.radians, value)) if isinstance(value, tuple) else math.radians(value)
             values[key] = value
-        return replace(cls(), **values)
+        params = replace(cls(), **values)
+        if (
+            params.lift > params.max_lift
+        ):  # the lift is clipped to [lift, max_lift]: max_lift would win silently
+            raise ConfigError(
+                f"{where}: grasp.lift: {params.lift:g} m is above grasp.max_lift ({params.max_lift:g} m); "
+                "give a lift at most max_lift"
+            )
+        return params
 
 
 _ANGLES = frozenset({"max_carry_tilt", "yaw_step", "tilts", "side_max_angle"})
@@ -154,8 +162,28 @@ _BOUNDS: dict[str, tuple[float, float]] = {
     "max_goal_placements": (1, 64),
     "ik_alternatives": (0, 16),
     "path_retries": (0, 16),
+    # Distances (m) and a fraction: a value beyond these is a typo (a lift of 50 m, an approach of 100 m), which
+    # the planner would otherwise clip silently or turn into a false reason ("… is in the way").
+    "approach": (0.0, 0.5),
+    "lift": (0.0, 0.5),
+    "max_lift": (0.0, 0.5),
+    "retreat": (0.0, 0.5),
+    "clear_radius": (0.0, 1.0),
+    "max_depth": (0.0, 0.2),
+    "min_clearance": (0.0, 0.2),
+    "shallow_depth": (0.0, 0.2),
+    "place_drop": (0.0, 0.1),
+    "offsets": (0.0, 0.2),
+    "offset_margin": (0.0, 0.2),
+    "side_depth": (0.0, 0.2),
+    "side_shallow_depth": (0.0, 0.2),
+    "side_height_fraction": (0.0, 1.0),
+    "side_min_height": (0.0, 0.5),
+    "side_top_margin": (0.0, 0.5),
+    "opening_margin": (0.0, 0.1),
+    "preshape_margin": (0.0, 0.1),
 }
-"""Least and largest value of the settings that drive loops (for a list, of each of its values)."""
+"""Least and largest value of the settings that drive loops or are distances (for a list, of each of its values)."""
 MAX_LIST_LENGTH = 16
 """Most values a list setting (tilts, offsets) takes: each one multiplies the grasp candidates."""
 

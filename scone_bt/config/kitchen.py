@@ -63,7 +63,9 @@ def load_kitchen(
     scene = parse_scene(f.sub("scene"))
     cameras = parse_cameras(f)
     entries = f.get("catalogue", list)
-    files = catalogue_files(entries, path.parent, data_dir("perception")) + [Path(c) for c in catalogues]
+    files = catalogue_files(entries, path.parent, data_dir("perception"), str(path)) + [
+        Path(c) for c in catalogues
+    ]
     if not files:
         raise ConfigError(
             f"{path}: catalogue: lists no product files, so the kitchen has no products; give family files or "

@@ -157,6 +157,10 @@ _Pair = Annotated[list[_Name], Field(min_length=2, max_length=2)]
 _Scale = Annotated[float, Field(gt=0, le=1, allow_inf_nan=False)]
 
 
+MAX_GRIPPER_OPENING_M = 1.0
+"""A gripper's full opening is below this (metres); the physical κ̂ checks the same bound."""
+
+
 class _GripperModel(StrictModel):
     joints: Annotated[list[_Name], Field(min_length=1)]
     open_position: NonNegativeFloat
@@ -169,6 +173,12 @@ class _GripperModel(StrictModel):
         if self.open_position <= self.closed_position:
             raise ValueError(
                 f"open_position ({self.open_position}) must be larger than closed_position ({self.closed_position})"
+            )
+        opening = 2.0 * (self.open_position - self.closed_position)
+        if opening >= MAX_GRIPPER_OPENING_M:  # each finger's travel counts twice: a typo in metres
+            raise ValueError(
+                f"open_position ({self.open_position}) and closed_position ({self.closed_position}) open the "
+                f"gripper {opening:g} m (2 × their difference), not below {MAX_GRIPPER_OPENING_M:g} m"
             )
         return self
 
@@ -301,6 +311,13 @@ def _check_names(m: RobotFile, urdf: Path, root: Any, where: str) -> None:
     for key, name, kind, valid in keys:
         if name not in valid:
             raise UnknownURDFNameError(where, key, name, f"{kind} of {urdf.name}", valid)
+    for i, joint in enumerate(m.gripper.joints):
+        if joint in m.arm_joints:  # else the arm's chain comes out a joint short, blamed on arm_joints
+            fingers = [j for j in joints if j not in m.arm_joints]
+            raise ConfigError(
+                f"{where}: gripper.joints[{i}]: {joint!r} is one of arm_joints; a gripper joint moves a finger "
+                f"(joints of {urdf.name} not in arm_joints: {', '.join(fingers) or '(none)'})"
+            )
 
 
 class UnknownURDFNameError(UnknownNameError, ConfigError):

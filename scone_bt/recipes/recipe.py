@@ -171,6 +171,11 @@ def load_recipe(id_or_path: str) -> Recipe:
                 f"unknown example recipe {name!r}; valid: {', '.join('example:' + n for n in example_names())}"
             )
         return _load_file(file)
+    if path.is_dir():  # a folder is no recipe id (ids have no '/'), nor a recipe file
+        raise RecipeError(
+            f"recipe {id_or_path!r} is a folder; give a recipe file (.json, .yaml), example:<name> "
+            f"({', '.join(example_names())}) or a corpus id"
+        )
     corpus = recipe_corpus_path()
     if corpus is None:
         raise RecipeError(

@@ -9,6 +9,7 @@ the file, the key path and the valid choices (`scone_bt.errors.ConfigError`).
 from __future__ import annotations
 
 import copy
+import difflib
 import functools
 import itertools
 import math
@@ -695,9 +696,16 @@ def check_world(spec: ScenarioFile, path: Path, where: str) -> None:
             )
 
     cameras = [c.name for c in (*kitchen.shelf_cameras, *[c for c in kitchen.cameras if c.role != "shelf"])]
+    pinned: dict[str, int] = {}
     for i, pl in enumerate(w.place):
         product(pl.product, f"world.place[{i}].product")
         slot(pl.slot, f"world.place[{i}].slot")
+        if pl.slot in pinned:  # the later pin would move the earlier product away, and its pin would not hold
+            raise ConfigError(
+                f"{where}: world.place[{i}].slot: {pl.slot} is already world.place[{pinned[pl.slot]}]'s "
+                f"({w.place[pinned[pl.slot]].product}); give each product its own slot"
+            )
+        pinned[pl.slot] = i
         for j, name in enumerate(pl.neighbours):
             product(name, f"world.place[{i}].neighbours[{j}]")
         unit_name, tier_index = pl.slot.split("/")[:2]
@@ -737,10 +745,14 @@ def check_world(spec: ScenarioFile, path: Path, where: str) -> None:
                 raise ConfigError(
                     f"{where}: {key}.{field}: unknown camera {cam!r}; valid: {', '.join(cameras)}"
                 )
-        if ev.when is not None and ev.when.object is not None:
-            product(ev.when.object, f"{key}.when.object")
+        if ev.when is not None:
+            _check_match(ev.when, f"{where}: {key}.when", catalogue_names)
+            if ev.when.object is not None:
+                product(ev.when.object, f"{key}.when.object")
     for i, ex in enumerate(spec.expect):
         key = f"expect[{i}]"
+        if isinstance(ex, Count):  # a misspelt name would match no event, and the count would pass vacuously
+            _check_match(ex.count, f"{where}: {key}.count", catalogue_names)
         for field in ("asks_before_attempt", "never_attempts", "kappa"):
             if getattr(ex, field, None) is not None:
                 product(getattr(ex, field), f"{key}.{field}")
@@ -755,6 +767,19 @@ def check_world(spec: ScenarioFile, path: Path, where: str) -> None:
             t = getattr(ex, field, None)
             if t is not None and t > end:
                 raise ConfigError(f"{where}: {key}.{field}: {t:g} s is after the episode's end ({end:g} s)")
+
+
+def _check_match(match: EventMatch, where: str, products: set[str]) -> None:
+    """An event match's product and failure stage against what exists (one line naming the valid ones)."""
+    from scone_bt.motion.types import FailureStage
+
+    if match.object is not None and match.object not in products:
+        close = difflib.get_close_matches(match.object, sorted(products), n=1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise ConfigError(f"{where}.object: {match.object!r} is not a product of the catalogue{hint}")
+    stages = [s.value for s in FailureStage]
+    if match.stage is not None and match.stage not in stages:
+        raise ConfigError(f"{where}.stage: unknown failure stage {match.stage!r}; valid: {', '.join(stages)}")
 
 
 @functools.lru_cache(maxsize=64)

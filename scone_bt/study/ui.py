@@ -416,6 +416,31 @@ def build_app(state: TabletState, token: str | None, local_only: bool = True) ->
     return app
 
 
+def _check_listen(host: str, port: int) -> None:
+    """Raise UIError, one line saying why, where the server could not listen on host:port (a name that does not
+    resolve, a port in use, an address not on this machine); checked before uvicorn starts, which would log its
+    own error line first."""
+    import socket
+
+    try:
+        infos = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM, flags=socket.AI_PASSIVE)
+    except (socket.gaierror, UnicodeError) as exc:
+        why = exc.strerror if isinstance(exc, socket.gaierror) else str(exc)
+        raise UIError(
+            f"the tablet UI cannot listen on {host}:{port}: the host does not resolve ({why})"
+        ) from None
+    family, kind, proto, _, address = infos[0]
+    with socket.socket(family, kind, proto) as probe:
+        probe.setsockopt(
+            socket.SOL_SOCKET, socket.SO_REUSEADDR, 1
+        )  # as uvicorn binds: TIME_WAIT is no obstacle
+        try:
+            probe.bind(address)
+        except OSError as exc:
+            why = (exc.strerror or str(exc)).lower()
+            raise UIError(f"the tablet UI cannot listen on {host}:{port}: {why}") from None
+
+
 class TabletServer:
     """A running tablet UI. Use `.human_factory` and `.on_event` with run_episode, `.url` for the tablet.
 
@@ -439,6 +464,7 @@ class TabletServer:
         self.host = host
         if not 0 <= port <= 65535:
             raise UIError(f"port {port}: must be a TCP port in 0..65535 (0: any free port)")
+        _check_listen(host, port)
         config = uvicorn.Config(
             build_app(self.state, token, local_only=_is_local(host)),
             host=host,

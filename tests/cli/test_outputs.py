@@ -178,3 +178,54 @@ def test_a_folder_where_no_file_can_be_made_is_refused_even_for_root(tmp_path) -
         check_output_dir(Path("/proc/x"), "--out")
     assert check_output_file(tmp_path / "a" / "b.json", "--json") == tmp_path / "a" / "b.json"
     assert list(tmp_path.iterdir()) == []  # the probe left nothing behind
+
+
+def test_save_over_the_urdf_or_a_mesh_the_arm_file_reads_is_refused_even_with_force(tmp_path, capsys):
+    robots = tmp_path / "robots"
+    shutil.copytree(data_dir("robots") / "iiwa7", robots / "iiwa7")
+    arm = robots / "mine.yaml"
+    shutil.copyfile(data_dir("robots") / "iiwa7.yaml", arm)
+    urdf = robots / "iiwa7" / "iiwa7_gripper.urdf"
+    beside = robots / "iiwa7" / "notes.txt"
+    beside.write_text("a mesh or a note beside the URDF\n")
+    before = {p: _digest(p) for p in (urdf, beside)}
+    for target in (urdf, beside):
+        err = _refused(["--arm", str(arm), "--save", str(target), "--force"], capsys)
+        assert "is the --arm input of this run" in err
+    assert {p: _digest(p) for p in (urdf, beside)} == before
+
+
+def test_a_benchmark_report_is_never_written_over_a_product_file_the_kitchen_names(tmp_path, capsys):
+    """A JSON product file (a kitchen may name one) passes the report's own JSON check: only the kitchen's
+    list of product files protects it."""
+    products = tmp_path / "mine.json"
+    products.write_text(
+        json.dumps(
+            {
+                "family": "mine",
+                "source": "a test",
+                "defaults": {"shape": "box", "material": "cardboard", "friction": 0.5},
+                "products": [
+                    {"name": "widget flour", "size": [0.07, 0.05, 0.1], "mass": 0.3, "marker_id": 900},
+                ],
+            }
+        )
+    )
+    kitchen = tmp_path / "k.yaml"
+    text = (data_dir("perception") / "kitchen.yaml").read_text()
+    kitchen.write_text(
+        text.replace(
+            "catalogue: [catalogue]", f"catalogue: [{data_dir('perception') / 'catalogue'}, mine.json]"
+        )
+    )
+    assert str(products.name) in kitchen.read_text()
+    digest = _digest(products)
+    code = bench.main(["perception", "--kitchen", str(kitchen), "--scenes", "1", "--json", str(products)])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and "is the --kitchen input of this run" in err, err
+    assert _digest(products) == digest
+    # A kitchen named by its name protects its product files too; the subcommand's name is no path.
+    herbs = data_dir("perception") / "catalogue" / "herbs.yaml"
+    assert bench.main(["perception", "--kitchen", "kitchen", "--json", str(herbs)]) == 2
+    err = capsys.readouterr().err
+    assert "is the --kitchen input of this run" in err and "--command" not in err, err

@@ -74,3 +74,17 @@ def test_camera_shapes_lists_the_valid_choices(tmp_path: Path):
     assert (
         "camera_shapes" in message and "visual" in message and "collision" in message and "\n" not in message
     )
+
+
+def test_a_catalogue_entry_that_is_no_file_or_folder_names_the_kitchen_key_and_the_folders(tmp_path: Path):
+    from scone_bt.resources import data_dir
+
+    text = (data_dir("perception") / "kitchen.yaml").read_text()
+    kitchen = tmp_path / "k.yaml"
+    kitchen.write_text(text.replace("catalogue: [catalogue]", "catalogue: [catalogue, nosuchdir]"))
+    with pytest.raises(ConfigError) as err:
+        load_kitchen(kitchen)
+    msg = str(err.value)
+    assert msg.startswith(f"{kitchen}: catalogue[1]: 'nosuchdir' is neither a file nor a folder")
+    assert msg.endswith("give family files (.yaml, .json) or folders of them (valid folders: catalogue)")
+    assert "\n" not in msg

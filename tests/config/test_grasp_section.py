@@ -18,7 +18,8 @@ def test_angles_are_given_in_degrees_and_only_the_keys_given_change():
     assert params.tilts == pytest.approx((math.radians(10), math.radians(20)))
     assert params.max_goal_grasps == 2 and isinstance(params.approach, float)
     assert params.approach == GraspParams().approach
-    assert GraspParams.from_section({"approach": 1}, "r.yaml").approach == 1.0  # an int is a number of metres
+    retreat = GraspParams.from_section({"retreat": 0}, "r.yaml").retreat
+    assert retreat == 0.0 and isinstance(retreat, float)  # an int is a number of metres
 
 
 @pytest.mark.parametrize(
@@ -37,6 +38,14 @@ def test_angles_are_given_in_degrees_and_only_the_keys_given_change():
         ({"yaw_step_deg": "x"}, "r.yaml: grasp.yaw_step_deg must be float like 22.5, got 'x'"),
         ({"yaw_step_deg": 0}, "r.yaml: grasp.yaw_step_deg must be positive, got 0"),
         ({"max_goal_placements": 0}, "r.yaml: grasp.max_goal_placements must be positive, got 0"),
+        # distances beyond any kitchen arm's straight moves: typos, clipped silently or misreported before
+        ({"approach": 100}, "r.yaml: grasp.approach must be between 0 and 0.5, got 100"),
+        ({"lift": 50}, "r.yaml: grasp.lift must be between 0 and 0.5, got 50"),
+        ({"offsets": [0.02, 35]}, "r.yaml: grasp.offsets must each be between 0 and 0.2, got [0.02, 35]"),
+        (
+            {"lift": 0.3},
+            "r.yaml: grasp.lift: 0.3 m is above grasp.max_lift (0.25 m); give a lift at most max_lift",
+        ),
     ],
 )
 def test_a_bad_setting_is_one_line_naming_the_key(section, message):

@@ -99,3 +99,21 @@ def test_unknown_joint_or_frame_names_the_file_and_key(
     else:
         section.setdefault(last, ["panda_hand"])[index] = value
     _refused(tmp_path, doc, *parts, "valid: ")
+
+
+@pytest.mark.parametrize("value", [4.0, 0.6])
+def test_a_gripper_opening_past_a_metre_names_the_file_and_the_keys(tmp_path: Path, value: float):
+    doc = _robot(tmp_path)
+    doc["gripper"]["open_position"] = value
+    _refused(tmp_path, doc, "gripper:", f"open_position ({value})", "closed_position (0.0)", "not below 1 m")
+
+
+def test_a_gripper_joint_that_is_an_arm_joint_is_blamed_on_gripper_joints(tmp_path: Path):
+    doc = _robot(tmp_path)
+    doc["gripper"]["joints"] = ["panda_joint7", "panda_finger_joint2"]
+    _refused(
+        tmp_path,
+        doc,
+        "gripper.joints[0]: 'panda_joint7' is one of arm_joints; a gripper joint moves a finger",
+        "panda_finger_joint1",
+    )

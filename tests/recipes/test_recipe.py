@@ -57,3 +57,12 @@ def test_malformed_and_empty_recipes(tmp_path, kitchen_cfg):
     stocked = stock_recipe(load_recipe(str(nothing)), kitchen_cfg.catalogue)
     assert stocked.needed == () and stocked.unstocked == ("unobtainium",)
     assert stocked.not_fetchable == ("1 cup water",)
+
+
+def test_a_folder_given_as_the_recipe_says_so(tmp_path):
+    with pytest.raises(RecipeError) as err:
+        load_recipe(str(tmp_path))
+    assert str(err.value) == (
+        f"recipe {str(tmp_path)!r} is a folder; give a recipe file (.json, .yaml), example:<name> "
+        "(hummus, pancakes, tomato-pasta) or a corpus id"
+    )

@@ -203,3 +203,31 @@ def test_faults_are_range_checked(tmp_path: Path) -> None:
     assert "robot.calibration_offset[0]: Input should be less than or equal to 0.1" in msg
     msg = _error(tmp_path, BASE + "human: {help_answer: maybe}\n")
     assert "human.help_answer: Input should be 'fetch' or 'decline'" in msg
+
+
+def test_a_count_naming_no_product_or_stage_is_an_error_not_a_vacuous_pass(tmp_path: Path) -> None:
+    msg = _error(tmp_path, "description: d\nexpect:\n  - {count: {kind: outcome, object: sallt}, max: 0}\n")
+    assert msg.endswith(
+        "expect[0].count.object: 'sallt' is not a product of the catalogue (did you mean 'salt'?)"
+    )
+    msg = _error(tmp_path, "description: d\nexpect:\n  - {count: {kind: outcome, stage: grsp}, max: 0}\n")
+    assert msg.endswith(
+        "expect[0].count.stage: unknown failure stage 'grsp'; valid: perception, ik, planning, grasp, transit, "
+        "collision, place, timeout, cancelled"
+    )
+    msg = _error(tmp_path, BASE + "events:\n  - {when: {kind: outcome, stage: grsp}, remove: salt}\n")
+    assert "events[0].when.stage: unknown failure stage 'grsp'" in msg
+    # A product of the catalogue that this episode does not stock may be counted (an ask for a missing item).
+    load_scenario(
+        _write(tmp_path, "description: d\nexpect:\n  - {count: {kind: decision, object: lard}, max: 0}\n")
+    )
+
+
+def test_two_pins_on_one_slot_are_an_error(tmp_path: Path) -> None:
+    msg = _error(
+        tmp_path,
+        BASE + "world:\n  place: [{product: olive oil, slot: back/0/2}, {product: salt, slot: back/0/2}]\n",
+    )
+    assert msg.endswith(
+        "world.place[1].slot: back/0/2 is already world.place[0]'s (olive oil); give each product its own slot"
+    )

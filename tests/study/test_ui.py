@@ -181,6 +181,23 @@ def test_wildcard_bind_prints_a_reachable_url_and_bad_ports_are_refused():
         serve_tablet("127.0.0.1", 99999, None)
 
 
+def test_a_port_in_use_or_a_host_that_does_not_resolve_is_one_line_saying_which(caplog):
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        with pytest.raises(UIError) as err:
+            serve_tablet("127.0.0.1", port, None)
+    assert str(err.value) == f"the tablet UI cannot listen on 127.0.0.1:{port}: address already in use"
+    with pytest.raises(UIError) as err:
+        serve_tablet("nosuch.invalid", 8765, TOKEN)
+    assert str(err.value).startswith(
+        "the tablet UI cannot listen on nosuch.invalid:8765: the host does not resolve"
+    )
+    assert "\n" not in str(err.value)
+    assert not [r for r in caplog.records if r.name.startswith("uvicorn")]  # uvicorn never started to say it
+
+
 # ---------------------------------------------------------------------------------------------- issue 27: write bodies
 def _acting_tablet(server) -> dict[str, str]:  # noqa: ANN001
     server.state.start_episode(["Season with salt."], "bodies")

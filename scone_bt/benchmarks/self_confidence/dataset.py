@@ -258,10 +258,14 @@ def read_records(path: Path | str) -> list[ExecutionRecord]:
     if not path.exists():
         return []
     try:  # bounded, regular files only (read_text), and csv's own complaints as one line
-        rows = list(csv.DictReader(io.StringIO(read_text(path, limit=MAX_DATA_FILE_BYTES), newline="")))
+        reader = csv.DictReader(io.StringIO(read_text(path, limit=MAX_DATA_FILE_BYTES), newline=""))
+        rows = list(reader)
     except csv.Error as exc:
         raise ConfigError(f"{path}: not a readable CSV file ({exc})") from None
-    missing = [c for c in COLUMNS if rows and c not in rows[0]]
+    # The header is checked even without rows: a file of one line (someone's notes, another CSV's header) is not
+    # a generator file whose run was cut short, and would otherwise be written over.
+    header = reader.fieldnames or []
+    missing = [c for c in COLUMNS if header and c not in header]
     if missing:
         raise ConfigError(
             f"{path}: not a generator file of this version (missing column {missing[0]!r}); delete it to regenerate"

@@ -109,6 +109,21 @@ def test_an_old_generator_file_is_a_one_line_error(tmp_path):
     assert "\n" not in str(err.value)
 
 
+@pytest.mark.parametrize("text", ["just one line of my notes\n", "my,precious,data\n"])
+def test_a_file_of_one_line_that_is_no_generator_header_is_refused_not_resumed(tmp_path, text):
+    """Without rows the header alone says whose file it is: a generator run would write over it otherwise."""
+    path = tmp_path / "p01_weak_gripper.csv"
+    path.write_text(text)
+    with pytest.raises(ConfigError, match=r"not a generator file of this version"):
+        read_records(path)
+    assert path.read_text() == text
+    # A generator file cut short before its first row (the header alone) resumes from nothing; an empty one too.
+    header = write_records(tmp_path / "p.csv", []).read_text()
+    assert header.count("\n") == 1 and read_records(tmp_path / "p.csv") == []
+    (tmp_path / "empty.csv").write_text("")
+    assert read_records(tmp_path / "empty.csv") == []
+
+
 def test_a_malformed_number_names_the_row_and_column(tmp_path):
     path = write_records(tmp_path / "p.csv", _records())
     text = path.read_text().replace(",0.0325,", ",wide,")
