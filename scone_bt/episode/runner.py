@@ -373,7 +373,8 @@ def _build(
         gripper_opening_m=robot_cfg.gripper.opening_m,
     )
     say(
-        f"{recipe.recipe.title}: {len(recipe.steps)} steps, needs {', '.join(recipe.needed)}; "
+        f"{recipe.recipe.title}: {len(recipe.steps)} steps, needs "
+        f"{', '.join(recipe.needed) or 'nothing from the shelf'}; "
         f"distractors: {', '.join(plan.distractors) or 'none'}"
     )
     say(f"condition: {condition_line(behaviour)}")

@@ -125,3 +125,13 @@ def test_every_tree_default_the_help_states_is_the_tree_files() -> None:
     assert set(stated) == set(dests)
     for flag, key in dests.items():
         assert stated[flag] == str(params[key]), flag
+
+
+def test_a_recipe_that_needs_nothing_from_the_shelf_says_so(tmp_path, capsys):
+    recipe = tmp_path / "water.yaml"
+    recipe.write_text(
+        "id: mine\ntitle: Just water\ningredients:\n  - 1 cup water\nsteps:\n  - Boil the water.\n"
+    )
+    assert main(["--recipe", str(recipe), "--max-ticks", "60", "--distractors", "0"]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    assert first == "Just water: 1 steps, needs nothing from the shelf; distractors: none", first
