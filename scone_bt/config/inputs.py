@@ -44,7 +44,7 @@ def robot_inputs(robot: Path) -> list[Path]:
     except (SconeError, TypeError, AttributeError):
         return out
     out.append(urdf)
-    for path in sorted(urdf.parent.rglob("*")):
+    for path in urdf.parent.rglob("*"):  # lazily: a URDF in a large folder stops at the bound, unsorted
         if len(out) >= DESCRIPTION_FILES:
             break
         if path.is_file() and path != urdf:
