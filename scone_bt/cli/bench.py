@@ -101,9 +101,8 @@ def _inputs(args: argparse.Namespace, outputs: Sequence[str]) -> dict[str, list[
             files = out.setdefault(f"--{dest.replace('_', '-')}", [])
             if dest in descriptions:
                 kind, expand = descriptions[dest]
-                with contextlib.suppress(
-                    SconeError
-                ):  # a name that does not resolve: its loader words the error
+                # A name that does not resolve adds nothing: its own loader words the error.
+                with contextlib.suppress(SconeError):
                     files.extend(expand(resolve_file(kind, str(item), (".yaml", ".yml"))))  # type: ignore[arg-type]
             elif os.path.exists(item):
                 files.append(Path(item))
