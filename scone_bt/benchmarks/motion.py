@@ -131,16 +131,18 @@ def _recording_ompl_queries() -> Iterator[list[tuple[Any, Any, Any, Any]]]:
     calls: list[tuple[Any, Any, Any, Any]] = []
     lock = threading.Lock()
 
-    def recording(start: Any, goal: Any, lower: Any, upper: Any, is_valid: Any, options: Any) -> Any:
+    def record(start: Any, goal: Any, is_valid: Any, options: Any) -> None:
         with lock:
             calls.append((start.copy(), goal.copy(), getattr(is_valid, "__self__", None), options))
+
+    def recording(start: Any, goal: Any, lower: Any, upper: Any, is_valid: Any, options: Any) -> Any:
+        record(start, goal, is_valid, options)
         return original(start, goal, lower, upper, is_valid, options)
 
     def recording_direct(start: Any, goal: Any, lower: Any, upper: Any, is_valid: Any, options: Any) -> Any:
         result = original_direct(start, goal, lower, upper, is_valid, options)
         if result is not None:
-            with lock:
-                calls.append((start.copy(), goal.copy(), getattr(is_valid, "__self__", None), options))
+            record(start, goal, is_valid, options)
         return result
 
     plan_session.plan_joint_path = recording  # type: ignore[assignment]

@@ -79,8 +79,12 @@ class PhysicalEstimator(ConfidenceEstimator):
         gripper_opening_m: float = DEFAULT_OPENING_M,
         C: float = 1.0,
     ) -> None:
-        if not 0.0 < gripper_opening_m < 1.0:
-            raise SconeError(f"gripper_opening_m must be in (0, 1) metres, got {gripper_opening_m}")
+        from scone_bt.config.robot import MAX_GRIPPER_OPENING_M
+
+        if not 0.0 < gripper_opening_m < MAX_GRIPPER_OPENING_M:
+            raise SconeError(
+                f"gripper_opening_m must be in (0, {MAX_GRIPPER_OPENING_M:g}) metres, got {gripper_opening_m}"
+            )
         super().__init__(name, seed, prior)
         self.opening_m = float(gripper_opening_m)
         self.C = float(C)

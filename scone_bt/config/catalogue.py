@@ -208,7 +208,7 @@ def catalogue_files(
 ) -> list[Path]:
     """Family files named by a kitchen's ``catalogue:`` list: files or folders, relative to `base` or `fallback`.
 
-    `where` (the kitchen file) names the file and key in an error; without it, `base`.
+    `where` (the kitchen file) names the file in an error; without it, `base`.
     """
     out: list[Path] = []
     for i, entry in enumerate(entries):
@@ -225,11 +225,9 @@ def catalogue_files(
                 out.append(root)
                 break
         else:
-            if where is None:
-                raise ConfigError(f"{base}: catalogue entry {str(entry)!r} is neither a file nor a folder")
             folders = sorted(p.name for p in fallback.iterdir() if p.is_dir() and any(p.glob("*.y*ml")))
             raise ConfigError(
-                f"{where}: catalogue[{i}]: {str(entry)!r} is neither a file nor a folder (relative to {base} or "
+                f"{where or base}: catalogue[{i}]: {str(entry)!r} is neither a file nor a folder (relative to {base} or "
                 f"{fallback}); give family files (.yaml, .json) or folders of them (valid folders: "
                 f"{', '.join(folders)})"
             )

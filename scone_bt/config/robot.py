@@ -158,7 +158,7 @@ _Scale = Annotated[float, Field(gt=0, le=1, allow_inf_nan=False)]
 
 
 MAX_GRIPPER_OPENING_M = 1.0
-"""A gripper's full opening is below this (metres); the physical κ̂ checks the same bound."""
+"""A gripper's full opening is below this (metres); the robot file and the physical κ̂ check it."""
 
 
 class _GripperModel(StrictModel):
