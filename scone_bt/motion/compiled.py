@@ -1,0 +1,368 @@
+"""Compiled kernels (numba adapter): a serial arm's forward kinematics and damped least-squares IK.
+
+The only module that imports numba. Its kernels take plain arrays (`ArmModel` builds them) and are compiled once,
+on first use, into numba's on-disk cache (`cache=True`: later processes load them in milliseconds); they release
+the GIL, so a plan's IK does not stall the simulator's thread.
+
+Conventions: a chain of ``nj`` joints (index 0 the universe), each joint ``j >= 1`` revolute about the unit axis
+``axes[j]`` of its own frame, placed at ``placements[j]`` (4x4) in its parent's frame at q = 0 and driven by
+``q[j - 1]``; poses are in the arm's model frame (its base), lengths in metres, angles in radians. The logarithm
+and its Jacobian are Pinocchio's (``log6``, ``Jlog6``), so the IK takes the steps `ArmModel.ik` took with
+Pinocchio's kinematics, to rounding.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+__all__ = ["chain_poses", "ik_search", "jlog6", "log6"]
+
+_SMALL = 1e-4  # below this angle (rad) the series forms are exact to double precision (Pinocchio's threshold order)
+
+
+@njit(cache=True, nogil=True)
+def chain_poses(q, parents, placements, axes, out):  # pragma: no cover - compiled
+    """Fill ``out[j]`` (nj, 4, 4) with joint j's pose in the model frame at joint positions ``q``."""
+    nj = parents.shape[0]
+    for r in range(4):
+        for c in range(4):
+            out[0, r, c] = 1.0 if r == c else 0.0
+    local = np.empty((3, 4))
+    for j in range(1, nj):
+        x, y, z = axes[j, 0], axes[j, 1], axes[j, 2]
+        s, c = math.sin(q[j - 1]), math.cos(q[j - 1])
+        t = 1.0 - c
+        m00, m01, m02 = t * x * x + c, t * x * y - s * z, t * x * z + s * y
+        m10, m11, m12 = t * x * y + s * z, t * y * y + c, t * y * z - s * x
+        m20, m21, m22 = t * x * z - s * y, t * y * z + s * x, t * z * z + c
+        for r in range(3):
+            a0, a1, a2 = placements[j, r, 0], placements[j, r, 1], placements[j, r, 2]
+            local[r, 0] = a0 * m00 + a1 * m10 + a2 * m20
+            local[r, 1] = a0 * m01 + a1 * m11 + a2 * m21
+            local[r, 2] = a0 * m02 + a1 * m12 + a2 * m22
+            local[r, 3] = placements[j, r, 3]
+        p = parents[j]
+        for r in range(3):
+            b0, b1, b2 = out[p, r, 0], out[p, r, 1], out[p, r, 2]
+            for cc in range(4):
+                out[j, r, cc] = b0 * local[0, cc] + b1 * local[1, cc] + b2 * local[2, cc]
+            out[j, r, 3] += out[p, r, 3]
+        out[j, 3, 0] = out[j, 3, 1] = out[j, 3, 2] = 0.0
+        out[j, 3, 3] = 1.0
+
+
+@njit(cache=True, nogil=True)
+def _log3(rot, w):  # pragma: no cover - compiled
+    """Rotation vector of ``rot`` (3x3) into ``w``; returns its angle."""
+    tr = rot[0, 0] + rot[1, 1] + rot[2, 2]
+    cos_t = min(1.0, max(-1.0, 0.5 * (tr - 1.0)))
+    theta = math.acos(cos_t)
+    vx, vy, vz = rot[2, 1] - rot[1, 2], rot[0, 2] - rot[2, 0], rot[1, 0] - rot[0, 1]
+    if theta < _SMALL:
+        f = 0.5 * (1.0 + theta * theta / 6.0)
+        w[0], w[1], w[2] = f * vx, f * vy, f * vz
+        return theta
+    if theta > math.pi - 1e-3:
+        # Near a half turn the antisymmetric part vanishes: the axis from the symmetric part (R = 2aa^T - I).
+        best = 0
+        for i in range(1, 3):
+            if rot[i, i] > rot[best, best]:
+                best = i
+        i1, i2 = (best + 1) % 3, (best + 2) % 3
+        a = math.sqrt(max(0.0, (rot[best, best] - cos_t) / (1.0 - cos_t)))
+        axis = np.empty(3)
+        axis[best] = a
+        axis[i1] = (rot[i1, best] + rot[best, i1]) / (2.0 * a * (1.0 - cos_t))
+        axis[i2] = (rot[i2, best] + rot[best, i2]) / (2.0 * a * (1.0 - cos_t))
+        sign = axis[0] * vx + axis[1] * vy + axis[2] * vz
+        if sign < 0.0:
+            axis = -axis
+        w[0], w[1], w[2] = theta * axis[0], theta * axis[1], theta * axis[2]
+        return theta
+    f = 0.5 * theta / math.sin(theta)
+    w[0], w[1], w[2] = f * vx, f * vy, f * vz
+    return theta
+
+
+@njit(cache=True, nogil=True)
+def log6(rot, p, out):  # pragma: no cover - compiled
+    """Pinocchio's ``log6`` of the transform (rot, p) into ``out`` = [linear, angular]; returns the angle."""
+    w = np.empty(3)
+    t = _log3(rot, w)
+    t2 = t * t
+    if t < _SMALL:
+        alpha = 1.0 - t2 / 12.0 - t2 * t2 / 720.0
+        beta = 1.0 / 12.0 + t2 / 720.0
+    else:
+        st, ct = math.sin(t), math.cos(t)
+        alpha = t * st / (2.0 * (1.0 - ct))
+        beta = 1.0 / t2 - st / (2.0 * t * (1.0 - ct))
+    wp = w[0] * p[0] + w[1] * p[1] + w[2] * p[2]
+    cx = w[1] * p[2] - w[2] * p[1]
+    cy = w[2] * p[0] - w[0] * p[2]
+    cz = w[0] * p[1] - w[1] * p[0]
+    out[0] = alpha * p[0] - 0.5 * cx + beta * wp * w[0]
+    out[1] = alpha * p[1] - 0.5 * cy + beta * wp * w[1]
+    out[2] = alpha * p[2] - 0.5 * cz + beta * wp * w[2]
+    out[3], out[4], out[5] = w[0], w[1], w[2]
+    return t
+
+
+@njit(cache=True, nogil=True)
+def _jlog3(t, w, out):  # pragma: no cover - compiled
+    """Pinocchio's ``Jlog3`` at the rotation vector ``w`` of angle ``t`` into ``out`` (3x3)."""
+    if t < _SMALL:
+        a, b = 1.0 - t * t / 12.0, 1.0 / 12.0 + t * t / 720.0
+    else:
+        st, ct = math.sin(t), math.cos(t)
+        st_1mct = st / (1.0 - ct)
+        a = 0.5 * t * st_1mct
+        b = 1.0 / (t * t) - 0.5 * st_1mct / t
+    for i in range(3):
+        for k in range(3):
+            out[i, k] = b * w[i] * w[k]
+        out[i, i] += a
+    out[0, 1] -= 0.5 * w[2]
+    out[0, 2] += 0.5 * w[1]
+    out[1, 0] += 0.5 * w[2]
+    out[1, 2] -= 0.5 * w[0]
+    out[2, 0] -= 0.5 * w[1]
+    out[2, 1] += 0.5 * w[0]
+
+
+@njit(cache=True, nogil=True)
+def jlog6(rot, p, out):  # pragma: no cover - compiled
+    """Pinocchio's ``Jlog6`` of the transform (rot, p) into ``out`` (6x6)."""
+    w = np.empty(3)
+    t = _log3(rot, w)
+    a = np.empty((3, 3))
+    _jlog3(t, w, a)
+    t2 = t * t
+    if t < _SMALL:
+        beta = 1.0 / 12.0 + t2 / 720.0
+        beta_dot_over_theta = 1.0 / 360.0
+    else:
+        st, ct = math.sin(t), math.cos(t)
+        tinv = 1.0 / t
+        t2inv = tinv * tinv
+        inv_2_2ct = 1.0 / (2.0 * (1.0 - ct))
+        beta = t2inv - st * tinv * inv_2_2ct
+        beta_dot_over_theta = -2.0 * t2inv * t2inv + (1.0 + st * tinv) * t2inv * inv_2_2ct
+    wp = w[0] * p[0] + w[1] * p[1] + w[2] * p[2]
+    v = np.empty(3)
+    for i in range(3):
+        v[i] = beta_dot_over_theta * wp * w[i] - (t2 * beta_dot_over_theta + 2.0 * beta) * p[i]
+    c = np.empty((3, 3))
+    for i in range(3):
+        for k in range(3):
+            c[i, k] = v[i] * w[k] + beta * w[i] * p[k]
+        c[i, i] += wp * beta
+    c[0, 1] -= 0.5 * p[2]
+    c[0, 2] += 0.5 * p[1]
+    c[1, 0] += 0.5 * p[2]
+    c[1, 2] -= 0.5 * p[0]
+    c[2, 0] -= 0.5 * p[1]
+    c[2, 1] += 0.5 * p[0]
+    for i in range(6):
+        for k in range(6):
+            out[i, k] = 0.0
+    for i in range(3):
+        for k in range(3):
+            out[i, k] = a[i, k]
+            out[3 + i, 3 + k] = a[i, k]
+            s = 0.0
+            for m in range(3):
+                s += c[i, m] * a[m, k]
+            out[i, 3 + k] = s
+
+
+@njit(cache=True, nogil=True)
+def _solve_spd(a, b, n_rhs):  # pragma: no cover - compiled
+    """Solve a x = b in place of b for a symmetric positive definite 6x6 ``a`` (Cholesky; ``a`` overwritten)."""
+    for j in range(6):
+        s = a[j, j]
+        for k in range(j):
+            s -= a[j, k] * a[j, k]
+        d = math.sqrt(s)
+        a[j, j] = d
+        for i in range(j + 1, 6):
+            s = a[i, j]
+            for k in range(j):
+                s -= a[i, k] * a[j, k]
+            a[i, j] = s / d
+    for c in range(n_rhs):
+        for i in range(6):
+            s = b[i, c]
+            for k in range(i):
+                s -= a[i, k] * b[k, c]
+            b[i, c] = s / a[i, i]
+        for i in range(5, -1, -1):
+            s = b[i, c]
+            for k in range(i + 1, 6):
+                s -= a[k, i] * b[k, c]
+            b[i, c] = s / a[i, i]
+
+
+@njit(cache=True, nogil=True)
+def ik_search(
+    goal,
+    seeds,
+    lower,
+    upper,
+    parents,
+    placements,
+    axes,
+    ee_joint,
+    ee_placement,
+    settings,
+    out,
+):  # pragma: no cover - compiled
+    """`ArmModel.ik`'s damped least-squares search from each row of ``seeds`` in turn.
+
+    Args:
+        goal: (4, 4) the end-effector frame's target in the model frame.
+        seeds: (k, dof) start positions, the given seed first.
+        ee_joint, ee_placement: the end-effector frame's joint and its placement (4x4) there.
+        settings: (7,) max iterations, position and rotation tolerances, damping, step, posture gain, stall
+            iterations (`IKOptions`).
+        out: (dof + 2,) the answer: joint positions, then the position and rotation errors.
+
+    Returns:
+        True when some seed converged (the answer is in ``out``).
+    """
+    dof = seeds.shape[1]
+    nj = parents.shape[0]
+    max_iterations, pos_tol, rot_tol = int(settings[0]), settings[1], settings[2]
+    damping, step, gain, stall = settings[3], settings[4], settings[5], int(settings[6])
+    poses = np.empty((nj, 4, 4))
+    # The joints that move the end-effector (its chain), as columns of the Jacobian.
+    moves = np.zeros(nj, dtype=np.bool_)
+    j = ee_joint
+    while j > 0:
+        moves[j] = True
+        j = parents[j]
+    rot, p, err = np.empty((3, 3)), np.empty(3), np.empty(6)
+    rinv, pinv = np.empty((3, 3)), np.empty(3)
+    jl = np.empty((6, 6))
+    jac_local = np.empty((6, dof))
+    jac = np.empty((6, dof))
+    a = np.empty((6, 6))
+    rhs = np.empty((6, 1 + dof))
+    frame = np.empty((4, 4))
+    dq = np.empty(dof)
+    drift = np.empty(dof)
+    for s in range(seeds.shape[0]):
+        q0 = seeds[s]
+        q = q0.copy()
+        best, since_best = np.inf, 0
+        for _ in range(max_iterations):
+            chain_poses(q, parents, placements, axes, poses)
+            for r in range(3):
+                for c in range(4):
+                    v = (
+                        poses[ee_joint, r, 0] * ee_placement[0, c]
+                        + poses[ee_joint, r, 1] * ee_placement[1, c]
+                        + poses[ee_joint, r, 2] * ee_placement[2, c]
+                    )
+                    frame[r, c] = v + poses[ee_joint, r, 3] if c == 3 else v
+            # The goal seen from the current frame: frame^-1 goal.
+            for r in range(3):
+                for c in range(3):
+                    rot[r, c] = frame[0, r] * goal[0, c] + frame[1, r] * goal[1, c] + frame[2, r] * goal[2, c]
+                dx0, dx1, dx2 = goal[0, 3] - frame[0, 3], goal[1, 3] - frame[1, 3], goal[2, 3] - frame[2, 3]
+                p[r] = frame[0, r] * dx0 + frame[1, r] * dx1 + frame[2, r] * dx2
+            log6(rot, p, err)
+            pos_err = math.sqrt(err[0] * err[0] + err[1] * err[1] + err[2] * err[2])
+            rot_err = math.sqrt(err[3] * err[3] + err[4] * err[4] + err[5] * err[5])
+            if pos_err < pos_tol and rot_err < rot_tol:
+                for i in range(dof):
+                    out[i] = q[i]
+                out[dof], out[dof + 1] = pos_err, rot_err
+                return True
+            total = pos_err + 0.1 * rot_err
+            if total < 0.98 * best:
+                best, since_best = total, 0
+            else:
+                since_best += 1
+                if since_best > stall:
+                    break
+            # The frame's Jacobian in its own axes: joint j turns about its axis a through its origin o.
+            for c in range(dof):
+                jj = c + 1
+                if not moves[jj]:
+                    for r in range(6):
+                        jac_local[r, c] = 0.0
+                    continue
+                ax = (
+                    poses[jj, 0, 0] * axes[jj, 0]
+                    + poses[jj, 0, 1] * axes[jj, 1]
+                    + poses[jj, 0, 2] * axes[jj, 2]
+                )
+                ay = (
+                    poses[jj, 1, 0] * axes[jj, 0]
+                    + poses[jj, 1, 1] * axes[jj, 1]
+                    + poses[jj, 1, 2] * axes[jj, 2]
+                )
+                az = (
+                    poses[jj, 2, 0] * axes[jj, 0]
+                    + poses[jj, 2, 1] * axes[jj, 1]
+                    + poses[jj, 2, 2] * axes[jj, 2]
+                )
+                ox, oy, oz = (
+                    frame[0, 3] - poses[jj, 0, 3],
+                    frame[1, 3] - poses[jj, 1, 3],
+                    frame[2, 3] - poses[jj, 2, 3],
+                )
+                vx, vy, vz = ay * oz - az * oy, az * ox - ax * oz, ax * oy - ay * ox
+                for r in range(3):
+                    jac_local[r, c] = frame[0, r] * vx + frame[1, r] * vy + frame[2, r] * vz
+                    jac_local[3 + r, c] = frame[0, r] * ax + frame[1, r] * ay + frame[2, r] * az
+            # Jlog6 of the inverse transform (rot^T, -rot^T p).
+            for r in range(3):
+                for c in range(3):
+                    rinv[r, c] = rot[c, r]
+                pinv[r] = -(rot[0, r] * p[0] + rot[1, r] * p[1] + rot[2, r] * p[2])
+            jlog6(rinv, pinv, jl)
+            for r in range(6):
+                for c in range(dof):
+                    v = 0.0
+                    for m in range(6):
+                        v += jl[r, m] * jac_local[m, c]
+                    jac[r, c] = v
+            for r in range(6):
+                rhs[r, 0] = err[r]
+                for c in range(dof):
+                    rhs[r, 1 + c] = jac[r, c]
+                for c in range(6):
+                    v = 0.0
+                    for m in range(dof):
+                        v += jac[r, m] * jac[c, m]
+                    a[r, c] = v + (damping if r == c else 0.0)
+            _solve_spd(a, rhs, 1 + dof)
+            # dq = J^T x0 + (I - J^T X) (gain (q0 - q)): the step, and a drift towards the seed in the null space.
+            for i in range(dof):
+                drift[i] = gain * (q0[i] - q[i])
+            norm = 0.0
+            for i in range(dof):
+                v = 0.0
+                for r in range(6):
+                    v += jac[r, i] * rhs[r, 0]
+                v += drift[i]
+                for k in range(dof):
+                    jx = 0.0
+                    for r in range(6):
+                        jx += jac[r, i] * rhs[r, 1 + k]
+                    v -= jx * drift[k]
+                dq[i] = v
+                if abs(v) > norm:
+                    norm = abs(v)
+            scale = 0.5 / norm if norm > 0.5 else 1.0
+            for i in range(dof):
+                d = dq[i] * scale
+                if step != 1.0:
+                    d = step * d
+                q[i] = min(max(q[i] + d, lower[i]), upper[i])
+    return False
