@@ -2,11 +2,15 @@
 
 Obstacles are boxes and cylinders fixed in the world: the scene's static boxes (known geometry) and the other
 detected objects. An object held in the gripper is attached to the end-effector's joint and moves with the arm.
+
+A state is checked in two phases: spheres around the arm (`motion.spheres`, compiled) leave the pairs that may
+touch, and coal's GJK checks those on the collision model's own shapes. Pinocchio's geometry model of the world is
+made only where it is asked for (an arm whose joints the compiled kernel does not model, a held object at its tilt
+limit to rounding, VAMP's environment).
 """
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -15,6 +19,19 @@ import numpy as np
 
 from scone_bt.config.catalogue import Shape
 from scone_bt.motion.model import ArmModel
+from scone_bt.motion.spheres import (
+    PAIR_HELD,
+    PAIR_HELD_OBSTACLE,
+    PAIR_OBSTACLE,
+    PAIR_ROBOT,
+    Obstacles,
+    SphereChecks,
+    arm_spheres,
+)
+
+ATTACHED_SHRINK_M = 0.005
+"""A held object's collision shape is this much (m) smaller on every side than the object: it rests on (touches)
+its support when the grasp closes."""
 
 __all__ = ["Obstacle", "CollisionWorld", "HandModel", "interpolated"]
 
@@ -53,64 +70,34 @@ def _geometry(shape: str, size: Sequence[float], padding: float) -> object:
 
 SEEN_STATES = 50_000
 """Most answers a world keeps (`CollisionWorld.is_valid`); about 4 MB, far above a plan's few thousand checks."""
-_PLACED: dict[tuple[object, ...], _Placed] = {}
+_PLACED: dict[tuple[object, ...], object] = {}
 """Obstacle geometry objects already made, by what they are made of (see `_placed`)."""
 PLACED_CACHE_SIZE = 4096
 """Most geometry objects kept in `_PLACED` (it is emptied when full; a kitchen holds a few dozen obstacles)."""
 
 
-@dataclass(frozen=True, eq=False)
-class _Placed:
-    """A fixed obstacle made for a collision world: its padded Pinocchio geometry object in the arm's base frame,
-    and its centre's distance (m) from the arm's first joint and its bounding radius (m), padding included."""
-
-    geometry: object
-    distance: float
-    radius: float
-
-
-def _placed(ob: Obstacle, padding: float, base: np.ndarray, first_joint: np.ndarray) -> _Placed:
-    """The obstacle's `_Placed`, made once per obstacle, padding and arm and then taken from `_PLACED`.
-
-    A plan builds about five collision worlds over the same obstacles, at two or three paddings: each object is
-    made once and added to every world (Pinocchio copies the object into the model and shares its immutable
-    shape), which saved a third of building a world.
-    """
+def _placed(ob: Obstacle, padding: float, base: np.ndarray) -> object:
+    """The obstacle's padded Pinocchio geometry object in the arm's base frame, made once per obstacle, padding
+    and arm and then taken from `_PLACED` (Pinocchio copies it into each world's model, sharing its shape)."""
     import pinocchio as pin
 
     size = ob.size if type(ob.size) is tuple else tuple(float(v) for v in ob.size)
-    key = (ob.name, ob.shape, size, ob.pose.tobytes(), padding, base.tobytes(), first_joint.tobytes())
+    key = (ob.name, ob.shape, size, ob.pose.tobytes(), padding, base.tobytes())
     placed = _PLACED.get(key)
     if placed is None:
         pose = ob.pose.copy()
         pose[:3, 3] -= base
-        obj = pin.GeometryObject(
+        placed = pin.GeometryObject(
             f"obstacle:{ob.name}",
             0,
             0,
             pin.SE3(pose[:3, :3], pose[:3, 3]),
             _geometry(ob.shape, ob.size, padding),
         )
-        # Plain floats, in the order of numpy's row norm over all obstacles at once (the earlier form): the same
-        # floats at a third of the cost (two small numpy norms were half of making an obstacle).
-        x, y, z = pose[:3, 3].tolist()
-        fx, fy, fz = first_joint.tolist()
-        placed = _Placed(
-            obj,
-            _norm3((x - fx, y - fy, z - fz)),
-            0.5 * _norm3(tuple(float(s) + 2 * padding for s in size)),
-        )
         if len(_PLACED) >= PLACED_CACHE_SIZE:
             _PLACED.clear()
         _PLACED[key] = placed
     return placed
-
-
-def _norm3(v: Sequence[float]) -> float:
-    """The Euclidean norm of a 3-vector: ``sqrt((x*x + y*y) + z*z)``, bit-identical to ``np.linalg.norm`` of it
-    as a row (numpy sums fewer than eight terms in order)."""
-    x, y, z = v
-    return math.sqrt(x * x + y * y + z * z)
 
 
 class CollisionWorld:
@@ -140,73 +127,128 @@ class CollisionWorld:
         max_tilt: float | None = None,
         finger_position: float | None = None,
     ) -> None:
-        import pinocchio as pin
-
         self.arm = arm
         self.model = arm.model
-        self.data = arm.model.createData()
-        gm = arm.geometry_with_fingers(finger_position)
-        n_robot = gm.ngeoms
-        base = np.asarray(arm.config.base_position)
-        placed = [_placed(ob, padding, base, arm.first_joint_origin) for ob in obstacles]
-        obstacle_ids = [
-            (ob.name, gm.addGeometryObject(p.geometry)) for ob, p in zip(obstacles, placed, strict=True)
-        ]
-        attached_id = None
-        if attached is not None:
-            ee = self.model.frames[arm.ee_frame]
-            joint_from_ee = ee.placement.homogeneous
-            pose = joint_from_ee @ attached.pose
-            # Slightly smaller than the object: it rests on (touches) its support when the grasp closes.
-            obj = pin.GeometryObject(
-                f"attached:{attached.name}",
-                arm.ee_joint,
-                ee.parentFrame,
-                pin.SE3(pose[:3, :3], pose[:3, 3]),
-                _geometry(attached.shape, attached.size, -0.005),
-            )
-            attached_id = gm.addGeometryObject(obj)
+        self._obstacles = list(obstacles)
+        self._attached = attached
+        self._padding = padding
+        self._finger_position = finger_position
+        n_robot, n_ob = len(arm.robot_geometry), len(self._obstacles)
+        # Robot geometries first, then the obstacles in order, then the held object (Pinocchio's model's order).
+        held_id = n_robot + n_ob
+        base = np.asarray(arm.config.base_position, dtype=float)
+        poses = np.array([ob.pose for ob in self._obstacles], dtype=float).reshape(n_ob, 4, 4)
+        poses[:, :3, 3] -= base  # the model's frame: the arm's base
+        self._sizes = np.array([ob.size for ob in self._obstacles], dtype=float).reshape(n_ob, 3)
         # The pairs to check as one boolean matrix (pinocchio reads its upper triangle), set in one call: a
         # Python loop over a few hundred pairs cost as much as the checks of a short path.
-        check = np.zeros((gm.ngeoms, gm.ngeoms), dtype=bool)
+        check = np.zeros((held_id + (attached is not None),) * 2, dtype=bool)
         if len(arm.self_pairs):
             check[arm.self_pairs[:, 0], arm.self_pairs[:, 1]] = True
         moving, in_hand = arm.moving_geometry, arm.hand_geometry
-        if obstacle_ids:
-            ids = np.array([oid for _, oid in obstacle_ids])
-            # A pair whose two bounding spheres can never meet, whatever the joints do, is left out: each
-            # pair costs its own collision functor when the world is built.
-            radii = np.array([p.radius for p in placed])
-            distances = np.array([p.distance for p in placed])
+        if n_ob:
+            # A pair whose two bounding spheres can never meet, whatever the joints do, is left out.
+            sizes = self._sizes + 2 * padding
+            radii = 0.5 * np.sqrt((sizes * sizes).sum(axis=1))
+            offsets = poses[:, :3, 3] - arm.first_joint_origin
+            distances = np.sqrt((offsets * offsets).sum(axis=1))
             near = distances[None, :] <= (arm.geometry_reach_from_first_joint[:, None] + radii[None, :])
-            ignored = np.array([name in ignore_for_hand for name, _ in obstacle_ids])
-            check[:n_robot, ids] = moving[:, None] & near & ~(in_hand[:, None] & ignored[None, :])
-        if attached_id is not None:
-            check[:n_robot, attached_id] = moving & ~in_hand
-            for _, oid in obstacle_ids:
-                check[min(oid, attached_id), max(oid, attached_id)] = True
-        gm.setCollisionPairs(check, True)
-        self.geom_model = gm
-        self.geom_data = gm.createData()
-        # A broad phase: only pairs whose bounding boxes overlap reach the narrow phase (several times faster than
-        # checking every pair in a cluttered kitchen); it honours the pair list above. With a few dozen
-        # geometries, testing every pair of boxes beats maintaining an AABB tree: 7.8 against 16.0 us per
-        # check over 20,000 checks of real plans, with the same answer at every one.
-        self._broadphase = pin.BroadPhaseManager_NaiveCollisionManager(
-            self.model, self.geom_model, self.geom_data
-        )
+            ignored = np.array([ob.name in ignore_for_hand for ob in self._obstacles])
+            check[:n_robot, n_robot:held_id] = moving[:, None] & near & ~(in_hand[:, None] & ignored[None, :])
+        ee = self.model.frames[arm.ee_frame]
+        self._held_pose = None if attached is None else ee.placement.homogeneous @ attached.pose
+        if attached is not None:
+            check[:n_robot, held_id] = moving & ~in_hand
+            check[n_robot:held_id, held_id] = True
+        self._check = check
         self.checks = 0
         self.check_time = 0.0  # wall seconds spent in is_valid
-        self._pin = pin  # the module, looked up once rather than imported at every check
         # Answers by the state's bytes: OMPL and the straight-line checks ask about one state again and again (one
         # check in ten of a plan), and a state's answer never changes in a world. Still counted as checks.
         self._seen: dict[bytes, bool] = {}
         self.min_up = None if max_tilt is None else float(np.cos(max_tilt))
-        ee = self.model.frames[arm.ee_frame]
         self._ee_joint = ee.parentJoint
         # The axis kept vertical: the held object's up axis, or else the hand's approach axis pointing down.
         up_in_ee = attached.pose[:3, 2] if attached is not None else np.array([0.0, 0.0, -1.0])
         self._up_in_joint = np.asarray(ee.placement.rotation) @ up_in_ee
+        self._pinocchio: tuple[object, object, object, object] | None = None
+        self._spheres = self._sphere_checks(poses, held_id)
+
+    def _sphere_checks(self, poses: np.ndarray, held_id: int) -> SphereChecks | None:
+        """The spheres' broad phase and coal's GJK for this world (`motion.spheres`), or None: Pinocchio's."""
+        arm, attached = self.arm, self._attached
+        spheres = arm_spheres(arm, self._finger_position)
+        if spheres is None:
+            return None
+        n_robot = len(arm.robot_geometry)
+        first, second = np.nonzero(np.triu(self._check, 1))  # row by row: Pinocchio's order of its pairs
+        kinds = np.where(
+            second < n_robot,
+            PAIR_ROBOT,
+            np.where(
+                second < held_id, PAIR_OBSTACLE, np.where(first < n_robot, PAIR_HELD, PAIR_HELD_OBSTACLE)
+            ),
+        )
+        # (kind, robot geometry or -1, the other: robot geometry or obstacle index)
+        a = np.where(kinds == PAIR_HELD_OBSTACLE, -1, first)
+        b = np.where(
+            kinds == PAIR_ROBOT, second, np.where(kinds == PAIR_HELD_OBSTACLE, first, second) - n_robot
+        )
+        b = np.where(kinds == PAIR_HELD, -1, b)
+        held = None
+        if attached is not None:
+            size = tuple(float(v) - 2 * ATTACHED_SHRINK_M for v in attached.size)
+            held = (attached.name, attached.shape, size, self._held_pose, arm.ee_joint)
+        return SphereChecks(
+            spheres,
+            np.stack([kinds, a, b], axis=1),
+            Obstacles(
+                [ob.name for ob in self._obstacles], [ob.shape for ob in self._obstacles], self._sizes, poses
+            ),
+            self._padding,
+            held,
+            None if attached is None else _geometry(attached.shape, attached.size, -ATTACHED_SHRINK_M),
+            None if self.min_up is None else (arm.ee_joint, self.min_up, self._up_in_joint),
+            _geometry,
+        )
+
+    def _meshes(self) -> tuple[object, object, object, object]:
+        """Pinocchio's data, geometry model and data, and broad phase for this world (made on first need)."""
+        if self._pinocchio is not None:
+            return self._pinocchio
+        import pinocchio as pin
+
+        arm = self.arm
+        gm = arm.geometry_with_fingers(self._finger_position)
+        base = np.asarray(arm.config.base_position)
+        for ob in self._obstacles:
+            gm.addGeometryObject(_placed(ob, self._padding, base))
+        if self._attached is not None:
+            ee = self.model.frames[arm.ee_frame]
+            pose = self._held_pose
+            # Slightly smaller than the object: it rests on (touches) its support when the grasp closes.
+            obj = pin.GeometryObject(
+                f"attached:{self._attached.name}",
+                arm.ee_joint,
+                ee.parentFrame,
+                pin.SE3(pose[:3, :3], pose[:3, 3]),
+                _geometry(self._attached.shape, self._attached.size, -ATTACHED_SHRINK_M),
+            )
+            gm.addGeometryObject(obj)
+        gm.setCollisionPairs(self._check, True)
+        geom_data = gm.createData()
+        # A broad phase: only pairs whose bounding boxes overlap reach the narrow phase (several times faster than
+        # checking every pair in a cluttered kitchen); it honours the pair list above. With a few dozen
+        # geometries, testing every pair of boxes beats maintaining an AABB tree: 7.8 against 16.0 us per
+        # check over 20,000 checks of real plans, with the same answer at every one.
+        broadphase = pin.BroadPhaseManager_NaiveCollisionManager(self.model, gm, geom_data)
+        self._pinocchio = (self.model.createData(), gm, geom_data, broadphase)
+        return self._pinocchio
+
+    @property
+    def geom_model(self) -> object:
+        """Pinocchio's geometry model of this world: the arm, the padded obstacles and the held object."""
+        return self._meshes()[1]
 
     def is_valid(self, q: np.ndarray) -> bool:
         """True if q is within joint limits and nothing collides (self, obstacles, attached object)."""
@@ -232,13 +274,23 @@ class CollisionWorld:
 
     def _free(self, q: np.ndarray) -> bool:
         """True if q (within the joint limits) keeps a carried object upright and nothing collides."""
-        pin = self._pin
+        if self._spheres is not None:
+            free = self._spheres.free(q)
+            if free is not None:
+                return free
+        return self._free_pinocchio(q)
+
+    def _free_pinocchio(self, q: np.ndarray) -> bool:
+        """`_free` by Pinocchio's world (an arm without spheres, or a held object at its tilt limit)."""
+        import pinocchio as pin
+
+        data, _, _, broadphase = self._meshes()
         if self.min_up is not None:
-            pin.forwardKinematics(self.model, self.data, q)
-            up = self.data.oMi[self._ee_joint].rotation @ self._up_in_joint
+            pin.forwardKinematics(self.model, data, q)
+            up = data.oMi[self._ee_joint].rotation @ self._up_in_joint
             if up[2] < self.min_up:
                 return False
-        return not pin.computeCollisions(self.model, self.data, self._broadphase, q, True)
+        return not pin.computeCollisions(self.model, data, broadphase, q, True)
 
     def states_valid(self, states: np.ndarray) -> bool:
         """True if every row of the (n, dof) `states` is valid; checked in order, up to the first invalid one.
@@ -267,19 +319,17 @@ class CollisionWorld:
 
     def colliding_pairs(self, q: np.ndarray) -> list[tuple[str, str]]:
         """Names of the geometry pairs in collision at q (for messages)."""
+        if self._spheres is not None:
+            return self._spheres.colliding(np.asarray(q, dtype=float))
         import pinocchio as pin
 
-        pin.computeCollisions(self.model, self.data, self.geom_model, self.geom_data, q, False)
+        data, gm, geom_data, _ = self._meshes()
+        pin.computeCollisions(self.model, data, gm, geom_data, q, False)
         out = []
-        for k, res in enumerate(self.geom_data.collisionResults):
+        for k, res in enumerate(geom_data.collisionResults):
             if res.isCollision():
-                pair = self.geom_model.collisionPairs[k]
-                out.append(
-                    (
-                        self.geom_model.geometryObjects[pair.first].name,
-                        self.geom_model.geometryObjects[pair.second].name,
-                    )
-                )
+                pair = gm.collisionPairs[k]
+                out.append((gm.geometryObjects[pair.first].name, gm.geometryObjects[pair.second].name))
         return out
 
     def segment_valid(self, qa: np.ndarray, qb: np.ndarray, resolution: float = 0.02) -> bool:

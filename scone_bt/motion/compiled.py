@@ -18,7 +18,7 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["chain_poses", "ik_search", "jlog6", "log6"]
+__all__ = ["chain_poses", "ik_search", "jlog6", "log6", "pair_candidates"]
 
 _SMALL = 1e-4  # below this angle (rad) the series forms are exact to double precision (Pinocchio's threshold order)
 
@@ -366,3 +366,190 @@ def ik_search(
                     d = step * d
                 q[i] = min(max(q[i] + d, lower[i]), upper[i])
     return False
+
+
+# ------------------------------------------------------------------------------------------ sphere broad phase
+# Packed layouts (one float and one int array each for the arm, the world and the workspace: a compiled call's
+# price grows with its number of array arguments, about 60 ns each):
+#   arm_i:   [nj, ns, ng, parents (nj), sphere joint (ns), geometry's first sphere (ng), its count (ng),
+#             geometry joint (ng)]
+#   arm_f:   [joint placements (nj x 16), axes (nj x 3), sphere centres (ns x 3), radii (ns),
+#             geometry bounding centres (ng x 3), bounding radii (ng)]
+#   world_i: [obstacles no, pairs np, tilt checked (0/1), pairs (np x 3: kind, a, b)]
+#   world_f: [obstacle poses (no x 16), sizes (no x 3), held pose in its joint (16), held half extents (3),
+#             held joint, tilt joint, min up, up axis (3)]
+#   work:    [joint poses (nj x 16), sphere centres (ns x 3), bounding centres (ng x 3), held pose (16)]
+# Pair kinds: 0 robot geometry a ~ robot geometry b, 1 robot a ~ obstacle b, 2 robot a ~ held object,
+# 3 held object ~ obstacle b. An obstacle's size is its half extents, or (radius, half height, -1) for a cylinder.
+PAIR_ROBOT, PAIR_OBSTACLE, PAIR_HELD, PAIR_HELD_OBSTACLE = 0, 1, 2, 3
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _gap2_to(px, py, pz, pose, size):  # pragma: no cover - compiled
+    """Squared distance from a point to a solid box (half extents) or cylinder ((radius, half height, -1))."""
+    dx, dy, dz = px - pose[0, 3], py - pose[1, 3], pz - pose[2, 3]
+    lx = dx * pose[0, 0] + dy * pose[1, 0] + dz * pose[2, 0]
+    ly = dx * pose[0, 1] + dy * pose[1, 1] + dz * pose[2, 1]
+    lz = dx * pose[0, 2] + dy * pose[1, 2] + dz * pose[2, 2]
+    total = 0.0
+    if size[2] < 0.0:
+        radial = math.sqrt(lx * lx + ly * ly) - size[0]
+        axial = abs(lz) - size[1]
+        if radial > 0.0:
+            total += radial * radial
+        if axial > 0.0:
+            total += axial * axial
+        return total
+    for over in (abs(lx) - size[0], abs(ly) - size[1], abs(lz) - size[2]):
+        if over > 0.0:
+            total += over * over
+    return total
+
+
+@njit(cache=True, nogil=True)
+def _boxes_apart(pa, ha, pb, hb):  # pragma: no cover - compiled
+    """True if two oriented boxes (poses 4x4, half extents) are certainly apart: one of the 15 separating axes
+    (each box's face normals and the cross products of their edges) shows a gap between them."""
+    rot = np.empty((3, 3))  # b's axes in a's frame
+    absr = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            rot[i, j] = pa[0, i] * pb[0, j] + pa[1, i] * pb[1, j] + pa[2, i] * pb[2, j]
+            absr[i, j] = abs(rot[i, j]) + 1e-9  # near-parallel edges: the face axes decide
+    dx, dy, dz = pb[0, 3] - pa[0, 3], pb[1, 3] - pa[1, 3], pb[2, 3] - pa[2, 3]
+    t = np.empty(3)
+    for i in range(3):
+        t[i] = dx * pa[0, i] + dy * pa[1, i] + dz * pa[2, i]
+    for i in range(3):
+        if abs(t[i]) > ha[i] + hb[0] * absr[i, 0] + hb[1] * absr[i, 1] + hb[2] * absr[i, 2]:
+            return True
+    for j in range(3):
+        reach = ha[0] * absr[0, j] + ha[1] * absr[1, j] + ha[2] * absr[2, j] + hb[j]
+        if abs(t[0] * rot[0, j] + t[1] * rot[1, j] + t[2] * rot[2, j]) > reach:
+            return True
+    for i in range(3):
+        i1, i2 = (i + 1) % 3, (i + 2) % 3
+        for j in range(3):
+            j1, j2 = (j + 1) % 3, (j + 2) % 3
+            reach = ha[i1] * absr[i2, j] + ha[i2] * absr[i1, j] + hb[j1] * absr[i, j2] + hb[j2] * absr[i, j1]
+            if abs(t[i2] * rot[i1, j] - t[i1] * rot[i2, j]) > reach:
+                return True
+    return False
+
+
+@njit(cache=True, nogil=True)
+def pair_candidates(q, arm_f, arm_i, world_f, world_i, work, out):  # pragma: no cover - compiled
+    """The pairs whose spheres meet at ``q`` (their indices into ``out``), in pair order; the meshes of every other
+    pair are certainly apart.
+
+    Returns:
+        How many candidates there are; -1 when the held object tilts beyond its limit; -2 when it stands within
+        1e-12 of the limit (rounding decides: the caller asks Pinocchio).
+    """
+    nj, ns, ng = arm_i[0], arm_i[1], arm_i[2]
+    parents = arm_i[3 : 3 + nj]
+    sphere_joint = arm_i[3 + nj : 3 + nj + ns]
+    first = arm_i[3 + nj + ns : 3 + nj + ns + ng]
+    count = arm_i[3 + nj + ns + ng : 3 + nj + ns + 2 * ng]
+    geom_joint = arm_i[3 + nj + ns + 2 * ng : 3 + nj + ns + 3 * ng]
+    o = 0
+    placements = arm_f[o : o + nj * 16].reshape((nj, 4, 4))
+    o += nj * 16
+    axes = arm_f[o : o + nj * 3].reshape((nj, 3))
+    o += nj * 3
+    sphere_local = arm_f[o : o + ns * 3].reshape((ns, 3))
+    o += ns * 3
+    radius = arm_f[o : o + ns]
+    o += ns
+    bound_local = arm_f[o : o + ng * 3].reshape((ng, 3))
+    o += ng * 3
+    bound_radius = arm_f[o : o + ng]
+    n_ob, n_pairs, tilt_checked = world_i[0], world_i[1], world_i[2]
+    pairs = world_i[3 : 3 + 3 * n_pairs].reshape((n_pairs, 3))
+    w = 0
+    ob_pose = world_f[w : w + n_ob * 16].reshape((n_ob, 4, 4))
+    w += n_ob * 16
+    ob_size = world_f[w : w + n_ob * 3].reshape((n_ob, 3))
+    w += n_ob * 3
+    held_local = world_f[w : w + 16].reshape((4, 4))
+    w += 16
+    held_half = world_f[w : w + 3]
+    w += 3
+    held_joint, tilt_joint, min_up = int(world_f[w]), int(world_f[w + 1]), world_f[w + 2]
+    up_axis = world_f[w + 3 : w + 6]
+    poses = work[: nj * 16].reshape((nj, 4, 4))
+    centres = work[nj * 16 : nj * 16 + ns * 3].reshape((ns, 3))
+    bounds = work[nj * 16 + ns * 3 : nj * 16 + ns * 3 + ng * 3].reshape((ng, 3))
+
+    chain_poses(q, parents, placements, axes, poses)
+    if tilt_checked:
+        up = (
+            poses[tilt_joint, 2, 0] * up_axis[0]
+            + poses[tilt_joint, 2, 1] * up_axis[1]
+            + poses[tilt_joint, 2, 2] * up_axis[2]
+        )
+        if up < min_up - 1e-12:
+            return -1
+        if up < min_up + 1e-12:
+            return -2
+    for s in range(ns):
+        j = sphere_joint[s]
+        x, y, z = sphere_local[s, 0], sphere_local[s, 1], sphere_local[s, 2]
+        for r in range(3):
+            centres[s, r] = poses[j, r, 0] * x + poses[j, r, 1] * y + poses[j, r, 2] * z + poses[j, r, 3]
+    for g in range(ng):
+        j = geom_joint[g]
+        x, y, z = bound_local[g, 0], bound_local[g, 1], bound_local[g, 2]
+        for r in range(3):
+            bounds[g, r] = poses[j, r, 0] * x + poses[j, r, 1] * y + poses[j, r, 2] * z + poses[j, r, 3]
+    held = work[nj * 16 + ns * 3 + ng * 3 : nj * 16 + ns * 3 + ng * 3 + 16].reshape((4, 4))
+    if held_joint >= 0:
+        for r in range(3):
+            for c in range(4):
+                v = (
+                    poses[held_joint, r, 0] * held_local[0, c]
+                    + poses[held_joint, r, 1] * held_local[1, c]
+                    + poses[held_joint, r, 2] * held_local[2, c]
+                )
+                held[r, c] = v + poses[held_joint, r, 3] if c == 3 else v
+        held[3, 0] = held[3, 1] = held[3, 2] = 0.0
+        held[3, 3] = 1.0
+    found = 0
+    for k in range(n_pairs):
+        kind, a, b = pairs[k, 0], pairs[k, 1], pairs[k, 2]
+        meets = False
+        if kind == PAIR_HELD_OBSTACLE:
+            box = ob_size[b]
+            if box[2] < 0.0:  # a cylinder: its bounding box
+                box = np.empty(3)
+                box[0], box[1], box[2] = ob_size[b, 0], ob_size[b, 0], ob_size[b, 1]
+            meets = not _boxes_apart(held, held_half, ob_pose[b], box)
+        elif kind == PAIR_ROBOT:
+            dx, dy, dz = bounds[a, 0] - bounds[b, 0], bounds[a, 1] - bounds[b, 1], bounds[a, 2] - bounds[b, 2]
+            reach = bound_radius[a] + bound_radius[b]
+            if dx * dx + dy * dy + dz * dz <= reach * reach:
+                for sa in range(first[a], first[a] + count[a]):
+                    for sb in range(first[b], first[b] + count[b]):
+                        dx = centres[sa, 0] - centres[sb, 0]
+                        dy = centres[sa, 1] - centres[sb, 1]
+                        dz = centres[sa, 2] - centres[sb, 2]
+                        reach = radius[sa] + radius[sb]
+                        if dx * dx + dy * dy + dz * dz <= reach * reach:
+                            meets = True
+                            break
+                    if meets:
+                        break
+        else:
+            pose = held if kind == PAIR_HELD else ob_pose[b]
+            size = held_half if kind == PAIR_HELD else ob_size[b]
+            r = bound_radius[a]
+            if _gap2_to(bounds[a, 0], bounds[a, 1], bounds[a, 2], pose, size) <= r * r:
+                for s in range(first[a], first[a] + count[a]):
+                    r = radius[s]
+                    if _gap2_to(centres[s, 0], centres[s, 1], centres[s, 2], pose, size) <= r * r:
+                        meets = True
+                        break
+        if meets:
+            out[found] = k
+            found += 1
+    return found

@@ -142,23 +142,6 @@ def _every_pair(arm, obstacles, padding, fingers, ee_pose, ignore=()):
     return hits
 
 
-def test_an_obstacles_distance_and_radius_are_numpys_row_norms_bit_for_bit():
-    """`_placed` measures on plain floats what numpy's row norms measured; pair pruning compares these floats."""
-    from scone_bt.motion.collision import _PLACED, _placed
-
-    rng = np.random.default_rng(3)
-    base, first_joint = np.array([0.0, 0.0, 0.02]), np.array([0.0, 0.0, 0.333])
-    for i in range(500):
-        size = tuple(float(v) for v in rng.uniform(0.005, 0.6, 3).round(int(rng.integers(2, 7))))
-        padding = float(rng.choice([0.0, 0.004, 0.01]))
-        ob = Obstacle(f"o{i}", "box", size, _random_pose(rng))
-        placed = _placed(ob, padding, base, first_joint)
-        radius = 0.5 * np.linalg.norm(np.array([ob.size], dtype=float) + 2 * padding, axis=1)
-        distance = np.linalg.norm((np.array([ob.pose[:3, 3]]) - base) - first_joint, axis=1)
-        assert placed.radius == float(radius[0]) and placed.distance == float(distance[0])
-    _PLACED.clear()
-
-
 def test_ik_draws_its_restart_seeds_as_one_draw_per_seed(arm):
     """IK draws every restart's seed before it starts (the same numbers as one `uniform` call per seed): a solve
     leaves the plan's generator where it was left before, whichever seed converges."""
