@@ -55,6 +55,15 @@ from scone_bt.perception.types import Detection
 __all__ = ["MotionSystem", "PickAndPlace"]
 
 
+def _warm_up(arm: ArmModel, home: np.ndarray, static: Sequence[Obstacle]) -> None:
+    """One IK step and one collision check (their answers unused), so the compiled kernels are loaded."""
+    from scone_bt.motion.collision import CollisionWorld
+    from scone_bt.motion.model import IKOptions
+
+    arm.ik(arm.fk(home), home, np.random.default_rng(0), IKOptions(restarts=0, max_iterations=1))
+    CollisionWorld(arm, static).is_valid(home)
+
+
 class MotionSystem:
     """The arm model, the static collision scene and the planning worker of one cell (`Workcell`).
 
@@ -85,6 +94,9 @@ class MotionSystem:
         self.table = TableRegion.from_scene(cell.config.scene)
         self.static = self._static_obstacles()
         self._worker = cf.ThreadPoolExecutor(max_workers=1, thread_name_prefix="scone-motion")
+        # The process's first IK and collision check load the compiled kernels (numba: about half a second): the
+        # planning thread does that now, while the robot starts up, rather than in the first plan.
+        self._worker.submit(_warm_up, arm, self.home, self.static)
         self._active: PickAndPlace | None = None
         # Where this robot put objects on the table: what it knows stands there when the table is not observed.
         self.placed: dict[str, Obstacle] = {}
