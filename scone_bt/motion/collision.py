@@ -254,7 +254,8 @@ class CollisionWorld:
         """True if q is within joint limits and nothing collides (self, obstacles, attached object)."""
         t = time.perf_counter()
         self.checks += 1
-        key = np.asarray(q, dtype=float).tobytes()
+        q = np.asarray(q, dtype=float)
+        key = q.tobytes()
         valid = self._seen.get(key)
         if valid is None:
             valid = self._remember(key, self._valid(q))
@@ -268,6 +269,10 @@ class CollisionWorld:
         return valid
 
     def _valid(self, q: np.ndarray) -> bool:
+        if self._spheres is not None and q.shape == (self.arm.dof,):
+            valid = self._spheres.free(q)  # the joint limits too, in the same compiled call
+            if valid is not None:
+                return valid
         if not self.arm.within_limits(q):
             return False
         return self._free(q)

@@ -374,11 +374,13 @@ def ik_search(
 #   arm_i:   [nj, ns, ng, parents (nj), sphere joint (ns), geometry's first sphere (ng), its count (ng),
 #             geometry joint (ng)]
 #   arm_f:   [joint placements (nj x 16), axes (nj x 3), sphere centres (ns x 3), radii (ns),
-#             geometry bounding centres (ng x 3), bounding radii (ng)]
-#   world_i: [obstacles no, pairs np, tilt checked (0/1), pairs (np x 3: kind, a, b)]
+#             geometry bounding centres (ng x 3), bounding radii (ng), geometry placements (ng x 16),
+#             lowest and highest joint positions (2 x (nj - 1)), their tolerance included]
+#   world_i: [obstacles no, pairs np, tilt checked (0/1), joint limits checked (0/1), pairs (np x 3: kind, a, b)]
 #   world_f: [obstacle poses (no x 16), sizes (no x 3), held pose in its joint (16), held half extents (3),
 #             held joint, tilt joint, min up, up axis (3)]
-#   work:    [joint poses (nj x 16), sphere centres (ns x 3), bounding centres (ng x 3), held pose (16)]
+#   work:    [joint poses (nj x 16), sphere centres (ns x 3), bounding centres (ng x 3), held pose (16),
+#             geometry rotations (ng x 9) and translations (ng x 3): set only where some pair is a candidate]
 # Pair kinds: 0 robot geometry a ~ robot geometry b, 1 robot a ~ obstacle b, 2 robot a ~ held object,
 # 3 held object ~ obstacle b. An obstacle's size is its half extents, or (radius, half height, -1) for a cylinder.
 PAIR_ROBOT, PAIR_OBSTACLE, PAIR_HELD, PAIR_HELD_OBSTACLE = 0, 1, 2, 3
@@ -444,7 +446,8 @@ def pair_candidates(q, arm_f, arm_i, world_f, world_i, work, out):  # pragma: no
 
     Returns:
         How many candidates there are; -1 when the held object tilts beyond its limit; -2 when it stands within
-        1e-12 of the limit (rounding decides: the caller asks Pinocchio).
+        1e-12 of the limit (rounding decides: the caller asks Pinocchio); -3 when a joint is beyond its limits
+        (or NaN).
     """
     nj, ns, ng = arm_i[0], arm_i[1], arm_i[2]
     parents = arm_i[3 : 3 + nj]
@@ -464,8 +467,13 @@ def pair_candidates(q, arm_f, arm_i, world_f, world_i, work, out):  # pragma: no
     bound_local = arm_f[o : o + ng * 3].reshape((ng, 3))
     o += ng * 3
     bound_radius = arm_f[o : o + ng]
-    n_ob, n_pairs, tilt_checked = world_i[0], world_i[1], world_i[2]
-    pairs = world_i[3 : 3 + 3 * n_pairs].reshape((n_pairs, 3))
+    o += ng
+    geom_placement = arm_f[o : o + ng * 16].reshape((ng, 4, 4))
+    o += ng * 16
+    dof = nj - 1
+    lowest, highest = arm_f[o : o + dof], arm_f[o + dof : o + 2 * dof]
+    n_ob, n_pairs, tilt_checked, limits_checked = world_i[0], world_i[1], world_i[2], world_i[3]
+    pairs = world_i[4 : 4 + 3 * n_pairs].reshape((n_pairs, 3))
     w = 0
     ob_pose = world_f[w : w + n_ob * 16].reshape((n_ob, 4, 4))
     w += n_ob * 16
@@ -481,6 +489,10 @@ def pair_candidates(q, arm_f, arm_i, world_f, world_i, work, out):  # pragma: no
     centres = work[nj * 16 : nj * 16 + ns * 3].reshape((ns, 3))
     bounds = work[nj * 16 + ns * 3 : nj * 16 + ns * 3 + ng * 3].reshape((ng, 3))
 
+    if limits_checked:
+        for i in range(dof):
+            if not (lowest[i] <= q[i] <= highest[i]):  # NaN too
+                return -3
     chain_poses(q, parents, placements, axes, poses)
     if tilt_checked:
         up = (
@@ -552,4 +564,24 @@ def pair_candidates(q, arm_f, arm_i, world_f, world_i, work, out):  # pragma: no
         if meets:
             out[found] = k
             found += 1
+    if found:
+        # Each geometry's pose, for the narrow phase (GJK) of the candidates.
+        g0 = nj * 16 + ns * 3 + ng * 3 + 16
+        rotation = work[g0 : g0 + ng * 9].reshape((ng, 3, 3))
+        translation = work[g0 + ng * 9 : g0 + ng * 12].reshape((ng, 3))
+        for g in range(ng):
+            j = geom_joint[g]
+            for r in range(3):
+                for c in range(3):
+                    rotation[g, r, c] = (
+                        poses[j, r, 0] * geom_placement[g, 0, c]
+                        + poses[j, r, 1] * geom_placement[g, 1, c]
+                        + poses[j, r, 2] * geom_placement[g, 2, c]
+                    )
+                translation[g, r] = (
+                    poses[j, r, 0] * geom_placement[g, 0, 3]
+                    + poses[j, r, 1] * geom_placement[g, 1, 3]
+                    + poses[j, r, 2] * geom_placement[g, 2, 3]
+                    + poses[j, r, 3]
+                )
     return found

@@ -225,6 +225,9 @@ def _pack(arm: object, cover: _Cover, finger_position: float | None) -> ArmSpher
             cover.radius,
             bound_centre.ravel(),
             bound_radius,
+            placements.ravel(),
+            arm._lower_tol,  # type: ignore[attr-defined]
+            arm._upper_tol,  # type: ignore[attr-defined]
         ]
     ).astype(float)
     return ArmSpheres(
@@ -308,14 +311,22 @@ class SphereChecks:
                 np.asarray(up, dtype=float),
             ]
         )
-        head = [n_ob, len(self._pairs), int(tilt is not None)]
+        head = [n_ob, len(self._pairs), int(tilt is not None), 1]
         self._world_i = np.concatenate([head, self._pairs.ravel()]).astype(np.int64)
-        self._world_i_untilted = self._world_i.copy()
-        self._world_i_untilted[2] = 0
+        self._world_i_pairs_only = (
+            self._world_i.copy()
+        )  # for messages: every colliding pair, whatever the joints
+        self._world_i_pairs_only[2:4] = 0
         nj, ns, ng = spheres.n_joints, spheres.n_spheres, len(spheres.shapes)
-        self._work = np.empty(nj * 16 + ns * 3 + ng * 3 + 16)
-        self._poses = self._work[: nj * 16].reshape(nj, 4, 4)
-        self._held_pose = self._work[nj * 16 + ns * 3 + ng * 3 :].reshape(4, 4)
+        held_at = nj * 16 + ns * 3 + ng * 3
+        self._work = np.empty(held_at + 16 + ng * 12)
+        self._held_pose = self._work[held_at : held_at + 16].reshape(4, 4)
+        self._rotations = self._work[held_at + 16 : held_at + 16 + ng * 9].reshape(ng, 3, 3)
+        self._translations = self._work[held_at + 16 + ng * 9 :].reshape(ng, 3)
+        # One coal transform per geometry, set from the kernel's poses once per state that needs it.
+        self._transforms = [coal.Transform3s() for _ in range(ng + 1)]  # the held object's last
+        self._set_at = [0] * (ng + 1)
+        self._state = 0
         self._out = np.empty(max(len(self._pairs), 1), dtype=np.int64)
         self._obstacles = obstacles
         self._padding = padding
@@ -328,35 +339,37 @@ class SphereChecks:
         self._result = coal.CollisionResult()
         self.narrow = 0  # GJK calls made
 
-    def candidates(self, q: np.ndarray, tilt: bool = True) -> int:
-        """The kernel's answer at q: how many pairs' spheres meet (in ``self._out``), or -1 / -2 for the tilt."""
+    def candidates(self, q: np.ndarray, checks: bool = True) -> int:
+        """The kernel's answer at q: how many pairs' spheres meet (in ``self._out``); with `checks`, -1 / -2 for
+        the tilt, -3 for a joint beyond its limits (`compiled.pair_candidates`)."""
+        self._state += 1
         return int(
             self._kernel(
                 q,
                 self._spheres.arm_f,
                 self._spheres.arm_i,
                 self._world_f,
-                self._world_i if tilt else self._world_i_untilted,
+                self._world_i if checks else self._world_i_pairs_only,
                 self._work,
                 self._out,
             )
         )
 
     def free(self, q: np.ndarray) -> bool | None:
-        """True if nothing collides at q (within the joint limits) and a held object stays upright; None where the
-        held object stands at its tilt limit to rounding (the caller asks Pinocchio)."""
+        """True if q (a float64 (dof,) array) is within the joint limits, nothing collides and a held object stays
+        upright; None where the held object stands at its tilt limit to rounding (the caller asks Pinocchio)."""
         n = self.candidates(q)
         if n == 0:
             return True
-        if n == -1:
-            return False
-        if n < 0:
+        if n == -2:
             return None
+        if n < 0:
+            return False
         return not any(self._collides(k) for k in self._out[:n].tolist())
 
     def colliding(self, q: np.ndarray) -> list[tuple[str, str]]:
         """Names of the pairs in collision at q, in pair order (for messages)."""
-        n = self.candidates(q, tilt=False)
+        n = self.candidates(q, checks=False)
         return [self._names(k) for k in self._out[:n].tolist() if self._collides(k)]
 
     def _collides(self, k: int) -> bool:
@@ -375,12 +388,20 @@ class SphereChecks:
         return bool(self._coal.collide(shape_a, tf_a, shape_b, tf_b, self._request, self._result))
 
     def _robot(self, g: int) -> tuple[object, object]:
-        pose = self._poses[self._spheres.joints[g]] @ self._spheres.placements[g]
-        return self._spheres.shapes[g], self._coal.Transform3s(pose[:3, :3].copy(), pose[:3, 3].copy())
+        tf = self._transforms[g]
+        if self._set_at[g] != self._state:
+            tf.setRotation(self._rotations[g])
+            tf.setTranslation(self._translations[g])
+            self._set_at[g] = self._state
+        return self._spheres.shapes[g], tf
 
     def _held(self) -> tuple[object, object]:
-        pose = self._held_pose
-        return self._held_shape, self._coal.Transform3s(pose[:3, :3].copy(), pose[:3, 3].copy())
+        tf = self._transforms[-1]
+        if self._set_at[-1] != self._state:
+            tf.setRotation(self._held_pose[:3, :3])
+            tf.setTranslation(self._held_pose[:3, 3])
+            self._set_at[-1] = self._state
+        return self._held_shape, tf
 
     def _obstacle(self, o: int) -> tuple[object, object]:
         made = self._obstacle_shapes.get(o)

@@ -179,3 +179,26 @@ def test_an_arm_without_a_compiled_chain_is_checked_by_pinocchio(robot_cfg):
     for _ in range(50):
         q = arm.clamp(np.asarray(arm.config.home, dtype=float) + rng.normal(scale=1.0, size=arm.dof))
         assert world.is_valid(q) == world._free_pinocchio(q)
+
+
+def test_the_kernel_checks_the_joint_limits_as_within_limits_does(arm):
+    """A joint a hair beyond its limit (or NaN) is invalid in the same compiled call; at the limit it is not.
+    Messages still name what collides there."""
+    world = _shelf_world(arm)
+    home = np.asarray(arm.config.home, dtype=float)
+    for i in range(arm.dof):
+        for bound, step in ((arm.upper, 2e-9), (arm.lower, -2e-9)):
+            q = home.copy()
+            q[i] = bound[i]
+            assert world._spheres.candidates(q) >= 0 and arm.within_limits(q)
+            assert world.is_valid(q) == _pinocchio_answer(world, q)[0]
+            q[i] = bound[i] + step
+            assert world._spheres.candidates(q) == -3 and not world.is_valid(q) and not arm.within_limits(q)
+    q = home.copy()
+    q[2] = np.nan
+    assert world._spheres.candidates(q) == -3 and not world.is_valid(q)
+    inside = home.copy()
+    inside[1] = 1.2  # the arm reaching down into the shelf
+    beyond = inside.copy()
+    beyond[3] = arm.upper[3] + 0.01
+    assert world.colliding_pairs(inside) and world.colliding_pairs(beyond)
