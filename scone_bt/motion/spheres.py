@@ -287,7 +287,6 @@ class SphereChecks:
         self._spheres = spheres
         n_ob = len(obstacles.names)
         self._pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 3)
-        self._pair_rows = self._pairs.tolist()
         half = obstacles.sizes / 2 + padding
         box = np.array([shape == Shape.BOX for shape in obstacles.shapes], dtype=bool)
         # A cylinder's (radius, half height, -1), as the kernel reads it.
@@ -365,16 +364,16 @@ class SphereChecks:
             return None
         if n < 0:
             return False
-        return not any(self._collides(k) for k in self._out[:n].tolist())
+        return not any(self._collides(row) for row in self._pairs[self._out[:n]].tolist())
 
     def colliding(self, q: np.ndarray) -> list[tuple[str, str]]:
         """Names of the pairs in collision at q, in pair order (for messages)."""
         n = self.candidates(q, checks=False)
-        return [self._names(k) for k in self._out[:n].tolist() if self._collides(k)]
+        return [self._names(row) for row in self._pairs[self._out[:n]].tolist() if self._collides(row)]
 
-    def _collides(self, k: int) -> bool:
-        """Whether pair k's meshes collide at the state the kernel last placed."""
-        kind, a, b = self._pair_rows[k]
+    def _collides(self, pair: list[int]) -> bool:
+        """Whether the pair's (kind, a, b) meshes collide at the state the kernel last placed."""
+        kind, a, b = pair
         if kind == PAIR_ROBOT:
             (shape_a, tf_a), (shape_b, tf_b) = self._robot(a), self._robot(b)
         elif kind == PAIR_OBSTACLE:
@@ -413,9 +412,9 @@ class SphereChecks:
             made = self._obstacle_shapes[o] = (shape, tf)
         return made
 
-    def _names(self, k: int) -> tuple[str, str]:
-        """The Pinocchio world's names of pair k's two geometries, in its order (the lower index first)."""
-        kind, a, b = self._pair_rows[k]
+    def _names(self, pair: list[int]) -> tuple[str, str]:
+        """The Pinocchio world's names of the pair's two geometries, in its order (the lower index first)."""
+        kind, a, b = pair
         names = self._spheres.names
         if kind == PAIR_ROBOT:
             return names[a], names[b]
