@@ -37,6 +37,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from enum import Enum
+from functools import cached_property
 
 import numpy as np
 
@@ -75,11 +76,15 @@ class GraspFamily(str, Enum):  # noqa: UP042 (str() of members is used in messag
 class GraspCandidate:
     """One way to grasp the target.
 
+    Its poses (`grasp`, `pregrasp`, `object_in_ee`) are made when first asked for: a plan examines a few of the
+    ~50 candidates it generates (they took a millisecond a plan, made up front).
+
     Attributes:
         closing_yaw: World direction of the fingers' closing axis, radians.
-        grasp: (4, 4) end-effector pose at the grasp, world frame.
-        pregrasp: (4, 4) end-effector pose `approach` metres back along the approach.
-        object_in_ee: (4, 4) pose of the object's centre in the end-effector frame while held.
+        rotation: (3, 3) end-effector orientation at the grasp, world frame.
+        point: (3,) end-effector position at the grasp, world frame, metres.
+        approach: Distance (m) back along the approach from the grasp to the pre-grasp.
+        object_pose: (4, 4) pose of the object's centre, world frame.
         span: Object extent between the fingers, metres.
         tilt: Rotation (rad) of a top approach about the closing axis, away from vertical (0: top-down).
         family: Top, tilted or side.
@@ -87,13 +92,31 @@ class GraspCandidate:
     """
 
     closing_yaw: float
-    grasp: np.ndarray
-    pregrasp: np.ndarray
-    object_in_ee: np.ndarray
+    rotation: np.ndarray
+    point: np.ndarray
+    approach: float
+    object_pose: np.ndarray
     span: float
     tilt: float = 0.0
     family: GraspFamily = GraspFamily.TOP
     cost: float = 0.0
+
+    @cached_property
+    def grasp(self) -> np.ndarray:
+        """(4, 4) end-effector pose at the grasp, world frame."""
+        return _pose(self.rotation, self.point)
+
+    @cached_property
+    def pregrasp(self) -> np.ndarray:
+        """(4, 4) end-effector pose `approach` metres back along the approach."""
+        out = self.grasp.copy()
+        out[:3, 3] -= self.grasp[:3, 2] * self.approach
+        return out
+
+    @cached_property
+    def object_in_ee(self) -> np.ndarray:
+        """(4, 4) pose of the object's centre in the end-effector frame while held."""
+        return inverse_small(self.grasp) @ self.object_pose
 
     @property
     def label(self) -> str:
@@ -216,9 +239,6 @@ def grasp_candidates(
         family: GraspFamily,
         extra: float = 0.0,
     ) -> None:
-        grasp = _pose(rotation, point)
-        pregrasp = grasp.copy()
-        pregrasp[:3, 3] -= grasp[:3, 2] * params.approach
         span = _extent_along(spec, detection.yaw, yaw)
         wrist = abs(wrap_angle(yaw - preferred_yaw)) / (np.pi / 2)
         fc = params.family_cost[_FAMILY_INDEX[family]]
@@ -227,9 +247,10 @@ def grasp_candidates(
         out.append(
             GraspCandidate(
                 closing_yaw=float(yaw),
-                grasp=grasp,
-                pregrasp=pregrasp,
-                object_in_ee=inverse_small(grasp) @ obj_world,
+                rotation=rotation,
+                point=np.asarray(point, dtype=float),
+                approach=params.approach,
+                object_pose=obj_world,
                 span=span,
                 tilt=float(tilt),
                 family=family,

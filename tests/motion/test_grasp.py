@@ -177,3 +177,18 @@ def test_side_grasps_come_at_both_depths_the_deeper_first():
         face_to_point = (deep.grasp[:3, 3] - shallow.grasp[:3, 3]) @ deep.grasp[:3, 2]
         # The deeper point is 1.5 cm farther along the approach (or at the centre, if the box is thinner).
         assert 0.0 < face_to_point <= 0.015 + 1e-9
+
+
+def test_a_candidates_poses_are_made_when_asked_for_and_are_what_they_were():
+    """The pre-grasp is `approach` back along the grasp's approach axis and the object's pose in the hand is the
+    grasp's inverse times the object's: made on first access, then the same arrays."""
+    cands = grasp_candidates(_det("box", (0.5, 0.1, 0.3), 0.4), BOX)
+    assert cands and all("grasp" not in c.__dict__ for c in cands)
+    cand = cands[0]
+    grasp = cand.grasp
+    assert np.array_equal(grasp[:3, :3], cand.rotation) and np.array_equal(grasp[:3, 3], cand.point)
+    expected = grasp.copy()
+    expected[:3, 3] -= grasp[:3, 2] * cand.approach
+    assert np.array_equal(cand.pregrasp, expected)
+    assert np.allclose(grasp @ cand.object_in_ee, cand.object_pose, atol=1e-12)
+    assert cand.grasp is grasp and cand.object_in_ee is cand.object_in_ee
