@@ -18,6 +18,8 @@ import math
 import numpy as np
 from numba import njit
 
+from scone_bt.motion.spheres import PAIR_HELD, PAIR_HELD_OBSTACLE, PAIR_ROBOT
+
 __all__ = ["chain_poses", "ik_search", "jlog6", "log6", "pair_candidates"]
 
 _SMALL = 1e-4  # below this angle (rad) the series forms are exact to double precision (Pinocchio's threshold order)
@@ -383,7 +385,6 @@ def ik_search(
 #             geometry rotations (ng x 9) and translations (ng x 3): set only where some pair is a candidate]
 # Pair kinds: 0 robot geometry a ~ robot geometry b, 1 robot a ~ obstacle b, 2 robot a ~ held object,
 # 3 held object ~ obstacle b. An obstacle's size is its half extents, or (radius, half height, -1) for a cylinder.
-PAIR_ROBOT, PAIR_OBSTACLE, PAIR_HELD, PAIR_HELD_OBSTACLE = 0, 1, 2, 3
 
 
 @njit(cache=True, nogil=True, inline="always")

@@ -38,12 +38,8 @@ SPHERE_SLACK_M = 1e-4
 MAX_SPHERES = 8
 """Most spheres around one geometry."""
 
-PAIR_ROBOT, PAIR_OBSTACLE, PAIR_HELD, PAIR_HELD_OBSTACLE = (
-    0,
-    1,
-    2,
-    3,
-)  # as `compiled.pair_candidates` reads them
+PAIR_ROBOT, PAIR_OBSTACLE, PAIR_HELD, PAIR_HELD_OBSTACLE = 0, 1, 2, 3
+"""The kinds of pair `compiled.pair_candidates` tests (the first column of a world's pairs)."""
 
 
 def cover_points(points: np.ndarray, extra: float = 0.0) -> list[tuple[np.ndarray, float]]:

@@ -79,3 +79,14 @@ def test_a_chain_the_kernel_does_not_model_uses_pinocchio(arm, robot_cfg):
     flyer = pin.buildModelFromUrdf(str(robot_cfg.urdf), pin.JointModelFreeFlyer())
     assert _revolute_chain(flyer) is None
     assert _revolute_chain(arm.model) is not None
+
+
+def test_the_motion_systems_warm_up_runs_for_both_arms(any_arm):
+    """The warm-up a MotionSystem queues on its planning thread (its future is not read: an error there would
+    go unseen) runs to the end for each robot file."""
+    from scone_bt.motion.collision import Obstacle
+    from scone_bt.motion.model import pose_matrix
+    from scone_bt.motion.system import _warm_up
+
+    floor = Obstacle("floor", "box", (4.0, 4.0, 0.02), pose_matrix(np.eye(3), (0.0, 0.0, -0.01)))
+    assert _warm_up(any_arm, np.asarray(any_arm.config.home, dtype=float), [floor]) is None
