@@ -19,15 +19,8 @@ import numpy as np
 
 from scone_bt.config.catalogue import Shape
 from scone_bt.motion.model import ArmModel
-from scone_bt.motion.spheres import (
-    PAIR_HELD,
-    PAIR_HELD_OBSTACLE,
-    PAIR_OBSTACLE,
-    PAIR_ROBOT,
-    Obstacles,
-    SphereChecks,
-    arm_spheres,
-)
+from scone_bt.motion.pair_kinds import PAIR_HELD, PAIR_HELD_OBSTACLE, PAIR_OBSTACLE, PAIR_ROBOT
+from scone_bt.motion.spheres import Obstacles, SphereChecks, arm_spheres
 
 ATTACHED_SHRINK_M = 0.005
 """A held object's collision shape is this much (m) smaller on every side than the object: it rests on (touches)

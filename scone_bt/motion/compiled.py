@@ -18,7 +18,7 @@ import math
 import numpy as np
 from numba import njit
 
-from scone_bt.motion.spheres import PAIR_HELD, PAIR_HELD_OBSTACLE, PAIR_ROBOT
+from scone_bt.motion.pair_kinds import PAIR_HELD, PAIR_HELD_OBSTACLE, PAIR_ROBOT
 
 __all__ = ["chain_poses", "ik_search", "jlog6", "log6", "pair_candidates"]
 

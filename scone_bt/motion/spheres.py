@@ -22,14 +22,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from scone_bt.config.catalogue import Shape
+from scone_bt.motion.pair_kinds import PAIR_HELD, PAIR_OBSTACLE, PAIR_ROBOT
 
 __all__ = [
     "MAX_SPHERES",
     "Obstacles",
-    "PAIR_HELD",
-    "PAIR_HELD_OBSTACLE",
-    "PAIR_OBSTACLE",
-    "PAIR_ROBOT",
     "SPHERE_SLACK_M",
     "ArmSpheres",
     "SphereChecks",
@@ -41,9 +38,6 @@ SPHERE_SLACK_M = 1e-4
 """Metres added to every sphere and to the held object's box: GJK's tolerance (1e-6) lies far below it."""
 MAX_SPHERES = 8
 """Most spheres around one geometry."""
-
-PAIR_ROBOT, PAIR_OBSTACLE, PAIR_HELD, PAIR_HELD_OBSTACLE = 0, 1, 2, 3
-"""The kinds of pair `compiled.pair_candidates` tests (the first column of a world's pairs)."""
 
 
 def cover_points(points: np.ndarray, extra: float = 0.0) -> list[tuple[np.ndarray, float]]:
