@@ -56,6 +56,17 @@ def chain_poses(q, parents, placements, axes, out):  # pragma: no cover - compil
         out[j, 3, 3] = 1.0
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _compose(a, b, out):  # pragma: no cover - compiled
+    """``out`` (4x4) = the rigid transform ``a`` (4x4) after ``b`` (4x4), ``a @ b``."""
+    for r in range(3):
+        for c in range(4):
+            v = a[r, 0] * b[0, c] + a[r, 1] * b[1, c] + a[r, 2] * b[2, c]
+            out[r, c] = v + a[r, 3] if c == 3 else v
+    out[3, 0] = out[3, 1] = out[3, 2] = 0.0
+    out[3, 3] = 1.0
+
+
 @njit(cache=True, nogil=True)
 def _log3(rot, w):  # pragma: no cover - compiled
     """Rotation vector of ``rot`` (3x3) into ``w``; returns its angle."""
@@ -262,14 +273,7 @@ def ik_search(
         best, since_best = np.inf, 0
         for _ in range(max_iterations):
             chain_poses(q, parents, placements, axes, poses)
-            for r in range(3):
-                for c in range(4):
-                    v = (
-                        poses[ee_joint, r, 0] * ee_placement[0, c]
-                        + poses[ee_joint, r, 1] * ee_placement[1, c]
-                        + poses[ee_joint, r, 2] * ee_placement[2, c]
-                    )
-                    frame[r, c] = v + poses[ee_joint, r, 3] if c == 3 else v
+            _compose(poses[ee_joint], ee_placement, frame)
             # The goal seen from the current frame: frame^-1 goal.
             for r in range(3):
                 for c in range(3):
@@ -517,16 +521,7 @@ def pair_candidates(q, arm_f, arm_i, world_f, world_i, work, out):  # pragma: no
             bounds[g, r] = poses[j, r, 0] * x + poses[j, r, 1] * y + poses[j, r, 2] * z + poses[j, r, 3]
     held = work[nj * 16 + ns * 3 + ng * 3 : nj * 16 + ns * 3 + ng * 3 + 16].reshape((4, 4))
     if held_joint >= 0:
-        for r in range(3):
-            for c in range(4):
-                v = (
-                    poses[held_joint, r, 0] * held_local[0, c]
-                    + poses[held_joint, r, 1] * held_local[1, c]
-                    + poses[held_joint, r, 2] * held_local[2, c]
-                )
-                held[r, c] = v + poses[held_joint, r, 3] if c == 3 else v
-        held[3, 0] = held[3, 1] = held[3, 2] = 0.0
-        held[3, 3] = 1.0
+        _compose(poses[held_joint], held_local, held)
     found = 0
     for k in range(n_pairs):
         kind, a, b = pairs[k, 0], pairs[k, 1], pairs[k, 2]
