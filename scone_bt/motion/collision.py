@@ -264,8 +264,8 @@ class CollisionWorld:
     def _valid(self, q: np.ndarray) -> bool:
         if self._spheres is not None and q.shape == (self.arm.dof,):
             valid = self._spheres.free(q)  # the joint limits too, in the same compiled call
-            if valid is not None:
-                return valid
+            # None: within the limits, the held object at its tilt limit to rounding: Pinocchio decides
+            return self._free_pinocchio(q) if valid is None else valid
         if not self.arm.within_limits(q):
             return False
         return self._free(q)

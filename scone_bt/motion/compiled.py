@@ -124,6 +124,17 @@ def log6(rot, p, out):  # pragma: no cover - compiled
     return t
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _add_half_skew(out, v):  # pragma: no cover - compiled
+    """``out`` (3x3) += half the cross-product matrix of ``v`` ([v]x / 2)."""
+    out[0, 1] -= 0.5 * v[2]
+    out[0, 2] += 0.5 * v[1]
+    out[1, 0] += 0.5 * v[2]
+    out[1, 2] -= 0.5 * v[0]
+    out[2, 0] -= 0.5 * v[1]
+    out[2, 1] += 0.5 * v[0]
+
+
 @njit(cache=True, nogil=True)
 def _jlog3(t, w, out):  # pragma: no cover - compiled
     """Pinocchio's ``Jlog3`` at the rotation vector ``w`` of angle ``t`` into ``out`` (3x3)."""
@@ -138,12 +149,7 @@ def _jlog3(t, w, out):  # pragma: no cover - compiled
         for k in range(3):
             out[i, k] = b * w[i] * w[k]
         out[i, i] += a
-    out[0, 1] -= 0.5 * w[2]
-    out[0, 2] += 0.5 * w[1]
-    out[1, 0] += 0.5 * w[2]
-    out[1, 2] -= 0.5 * w[0]
-    out[2, 0] -= 0.5 * w[1]
-    out[2, 1] += 0.5 * w[0]
+    _add_half_skew(out, w)
 
 
 @njit(cache=True, nogil=True)
@@ -173,12 +179,7 @@ def jlog6(rot, p, out):  # pragma: no cover - compiled
         for k in range(3):
             c[i, k] = v[i] * w[k] + beta * w[i] * p[k]
         c[i, i] += wp * beta
-    c[0, 1] -= 0.5 * p[2]
-    c[0, 2] += 0.5 * p[1]
-    c[1, 0] += 0.5 * p[2]
-    c[1, 2] -= 0.5 * p[0]
-    c[2, 0] -= 0.5 * p[1]
-    c[2, 1] += 0.5 * p[0]
+    _add_half_skew(c, p)
     for i in range(6):
         for k in range(6):
             out[i, k] = 0.0
