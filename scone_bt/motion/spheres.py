@@ -306,9 +306,8 @@ class SphereChecks:
         )
         head = [n_ob, len(self._pairs), int(tilt is not None), 1]
         self._world_i = np.concatenate([head, self._pairs.ravel()]).astype(np.int64)
-        self._world_i_pairs_only = (
-            self._world_i.copy()
-        )  # for messages: every colliding pair, whatever the joints
+        # For messages: every colliding pair, whatever the joints and the tilt.
+        self._world_i_pairs_only = self._world_i.copy()
         self._world_i_pairs_only[2:4] = 0
         nj, ns, ng = spheres.n_joints, spheres.n_spheres, len(spheres.shapes)
         held_at = nj * 16 + ns * 3 + ng * 3
