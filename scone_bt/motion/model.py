@@ -351,7 +351,8 @@ class ArmModel:
         return self._ik_pinocchio(goal, seeds, options)
 
     def _ik_compiled(self, goal: np.ndarray, seeds: np.ndarray, options: IKOptions) -> IKSolution | None:
-        """`ik` by the compiled kernel (`motion.compiled.ik_search`): the same steps, a hundred times faster."""
+        """`ik` by the compiled kernel (`motion.compiled.ik_search`): the same steps, 1.4 us an iteration (~50 us
+        from Python with Pinocchio; 200 solves 44.6 -> 7.7 ms)."""
         from scone_bt.motion.compiled import ik_search
 
         parents, placements, axes = self.chain
