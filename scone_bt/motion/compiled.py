@@ -20,7 +20,7 @@ from numba import njit
 
 from scone_bt.motion.pair_kinds import PAIR_HELD, PAIR_HELD_OBSTACLE, PAIR_ROBOT
 
-__all__ = ["chain_poses", "ik_search", "jlog6", "log6", "pair_candidates"]
+__all__ = ["chain_poses", "first_candidates", "ik_search", "jlog6", "log6", "pair_candidates"]
 
 _SMALL = 1e-4  # below this angle (rad) the series forms are exact to double precision (Pinocchio's threshold order)
 
@@ -379,15 +379,17 @@ def ik_search(
 # Packed layouts (one float and one int array each for the arm, the world and the workspace: a compiled call's
 # price grows with its number of array arguments, about 60 ns each):
 #   arm_i:   [nj, ns, ng, parents (nj), sphere joint (ns), geometry's first sphere (ng), its count (ng),
-#             geometry joint (ng)]
+#             geometry joint (ng), geometry's first hull vertex (ng), its count (ng: 0 where it has none)]
 #   arm_f:   [joint placements (nj x 16), axes (nj x 3), sphere centres (ns x 3), radii (ns),
 #             geometry bounding centres (ng x 3), bounding radii (ng), geometry placements (ng x 16),
-#             lowest and highest joint positions (2 x (nj - 1)), their tolerance included]
+#             lowest and highest joint positions (2 x (nj - 1)), their tolerance included,
+#             each geometry's swept-sphere radius (ng), hull vertices in their geometry's frame (nh x 3)]
 #   world_i: [obstacles no, pairs np, tilt checked (0/1), joint limits checked (0/1), pairs (np x 3: kind, a, b)]
 #   world_f: [obstacle poses (no x 16), sizes (no x 3), held pose in its joint (16), held half extents (3),
 #             held joint, tilt joint, min up, up axis (3)]
 #   work:    [joint poses (nj x 16), sphere centres (ns x 3), bounding centres (ng x 3), held pose (16),
-#             geometry rotations (ng x 9) and translations (ng x 3): set only where some pair is a candidate]
+#             geometry rotations (ng x 9) and translations (ng x 3): set only where two hulls are tested or some
+#             pair is a candidate]
 # Pair kinds: 0 robot geometry a ~ robot geometry b, 1 robot a ~ obstacle b, 2 robot a ~ held object,
 # 3 held object ~ obstacle b. An obstacle's size is its half extents, or (radius, half height, -1) for a cylinder.
 
@@ -445,10 +447,86 @@ def _boxes_apart(pa, ha, pb, hb):  # pragma: no cover - compiled
     return False
 
 
+HULL_MARGIN_M = 1e-4
+"""Metres by which two robot hulls must be proven apart for the kernel to drop their pair (coal's GJK answers to
+about 1e-6 m: a pair this far apart is apart to coal too)."""
+HULL_ITERATIONS = 16
+"""Most steps of the hulls' distance bound before the pair goes to coal."""
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _pose_geometries(poses, geom_joint, geom_placement, rotation, translation):  # pragma: no cover - compiled
+    """Each robot geometry's rotation and translation in the model frame, from its joint's pose."""
+    for g in range(geom_joint.shape[0]):
+        j = geom_joint[g]
+        for r in range(3):
+            for c in range(3):
+                rotation[g, r, c] = (
+                    poses[j, r, 0] * geom_placement[g, 0, c]
+                    + poses[j, r, 1] * geom_placement[g, 1, c]
+                    + poses[j, r, 2] * geom_placement[g, 2, c]
+                )
+            translation[g, r] = (
+                poses[j, r, 0] * geom_placement[g, 0, 3]
+                + poses[j, r, 1] * geom_placement[g, 1, 3]
+                + poses[j, r, 2] * geom_placement[g, 2, 3]
+                + poses[j, r, 3]
+            )
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _support(rotation, translation, hull, first, count, g, vx, vy, vz, sign):  # pragma: no cover - compiled
+    """The vertex of geometry g's hull furthest along ``sign * v`` (world frame), as (x, y, z)."""
+    lx = (rotation[g, 0, 0] * vx + rotation[g, 1, 0] * vy + rotation[g, 2, 0] * vz) * sign
+    ly = (rotation[g, 0, 1] * vx + rotation[g, 1, 1] * vy + rotation[g, 2, 1] * vz) * sign
+    lz = (rotation[g, 0, 2] * vx + rotation[g, 1, 2] * vy + rotation[g, 2, 2] * vz) * sign
+    best, k_best = -np.inf, first[g]
+    for k in range(first[g], first[g] + count[g]):
+        d = lx * hull[k, 0] + ly * hull[k, 1] + lz * hull[k, 2]
+        if d > best:
+            best, k_best = d, k
+    px, py, pz = hull[k_best, 0], hull[k_best, 1], hull[k_best, 2]
+    return (
+        rotation[g, 0, 0] * px + rotation[g, 0, 1] * py + rotation[g, 0, 2] * pz + translation[g, 0],
+        rotation[g, 1, 0] * px + rotation[g, 1, 1] * py + rotation[g, 1, 2] * pz + translation[g, 1],
+        rotation[g, 2, 0] * px + rotation[g, 2, 1] * py + rotation[g, 2, 2] * pz + translation[g, 2],
+    )
+
+
+@njit(cache=True, nogil=True)
+def hulls_apart(rotation, translation, hull, first, count, margin, a, b, vx, vy, vz):  # pragma: no cover
+    """True if the convex hulls of geometries a and b (placed by ``rotation``/``translation``) are proven more than
+    ``margin`` apart; False where not proven (they may still be apart: coal decides).
+
+    A proof is a direction: for any v, the distance between the hulls is at least the smallest v . c / |v| over
+    the Minkowski difference A - B (c = the support point of A towards -v minus that of B towards v). Starting
+    from ``v`` (a point of A minus a point of B), Frank-Wolfe steps move v to the point of the segment [v, c]
+    closest to the origin, which tends to the closest point of A - B: the bound tends to the distance.
+    """
+    for _ in range(HULL_ITERATIONS):
+        vv = vx * vx + vy * vy + vz * vz
+        if vv <= 1e-24:
+            return False
+        ax, ay, az = _support(rotation, translation, hull, first, count, a, vx, vy, vz, -1.0)
+        bx, by, bz = _support(rotation, translation, hull, first, count, b, vx, vy, vz, 1.0)
+        wx, wy, wz = ax - bx, ay - by, az - bz
+        vw = vx * wx + vy * wy + vz * wz
+        if vw > 0.0 and vw * vw > margin * margin * vv:
+            return True
+        if vv - vw <= 1e-9 * vv:  # v is (to rounding) the closest point: no better bound exists
+            return False
+        dx, dy, dz = wx - vx, wy - vy, wz - vz
+        t = -(vx * dx + vy * dy + vz * dz) / (dx * dx + dy * dy + dz * dz)
+        if t > 1.0:
+            t = 1.0
+        vx, vy, vz = vx + t * dx, vy + t * dy, vz + t * dz
+    return False
+
+
 @njit(cache=True, nogil=True)
 def pair_candidates(q, arm_f, arm_i, world_f, world_i, work, out):  # pragma: no cover - compiled
-    """The pairs whose spheres meet at ``q`` (their indices into ``out``), in pair order; the meshes of every other
-    pair are certainly apart.
+    """The pairs whose spheres meet at ``q`` and, for two robot geometries, whose hulls are not proven apart (their
+    indices into ``out``), in pair order; the meshes of every other pair are certainly apart.
 
     Returns:
         How many candidates there are; -1 when the held object tilts beyond its limit; -2 when it stands within
@@ -461,6 +539,8 @@ def pair_candidates(q, arm_f, arm_i, world_f, world_i, work, out):  # pragma: no
     first = arm_i[3 + nj + ns : 3 + nj + ns + ng]
     count = arm_i[3 + nj + ns + ng : 3 + nj + ns + 2 * ng]
     geom_joint = arm_i[3 + nj + ns + 2 * ng : 3 + nj + ns + 3 * ng]
+    hull_first = arm_i[3 + nj + ns + 3 * ng : 3 + nj + ns + 4 * ng]
+    hull_count = arm_i[3 + nj + ns + 4 * ng : 3 + nj + ns + 5 * ng]
     o = 0
     placements = arm_f[o : o + nj * 16].reshape((nj, 4, 4))
     o += nj * 16
@@ -478,6 +558,10 @@ def pair_candidates(q, arm_f, arm_i, world_f, world_i, work, out):  # pragma: no
     o += ng * 16
     dof = nj - 1
     lowest, highest = arm_f[o : o + dof], arm_f[o + dof : o + 2 * dof]
+    o += 2 * dof
+    swept = arm_f[o : o + ng]
+    o += ng
+    hull = arm_f[o:].reshape((-1, 3))
     n_ob, n_pairs, tilt_checked, limits_checked = world_i[0], world_i[1], world_i[2], world_i[3]
     pairs = world_i[4 : 4 + 3 * n_pairs].reshape((n_pairs, 3))
     w = 0
@@ -523,6 +607,10 @@ def pair_candidates(q, arm_f, arm_i, world_f, world_i, work, out):  # pragma: no
     held = work[nj * 16 + ns * 3 + ng * 3 : nj * 16 + ns * 3 + ng * 3 + 16].reshape((4, 4))
     if held_joint >= 0:
         _compose(poses[held_joint], held_local, held)
+    g0 = nj * 16 + ns * 3 + ng * 3 + 16
+    rotation = work[g0 : g0 + ng * 9].reshape((ng, 3, 3))
+    translation = work[g0 + ng * 9 : g0 + ng * 12].reshape((ng, 3))
+    posed = False
     found = 0
     for k in range(n_pairs):
         kind, a, b = pairs[k, 0], pairs[k, 1], pairs[k, 2]
@@ -548,6 +636,17 @@ def pair_candidates(q, arm_f, arm_i, world_f, world_i, work, out):  # pragma: no
                             break
                     if meets:
                         break
+                if meets and hull_count[a] > 0 and hull_count[b] > 0:
+                    # Spheres meet: two hulls proven apart need no GJK (most such pairs: the wrist's links, 2-3 cm
+                    # apart with the wrist folded). (dx, dy, dz): a point of a's hull minus one of b's.
+                    if not posed:
+                        _pose_geometries(poses, geom_joint, geom_placement, rotation, translation)
+                        posed = True
+                    margin = HULL_MARGIN_M + swept[a] + swept[b]
+                    if hulls_apart(
+                        rotation, translation, hull, hull_first, hull_count, margin, a, b, dx, dy, dz
+                    ):
+                        meets = False
         else:
             pose = held if kind == PAIR_HELD else ob_pose[b]
             size = held_half if kind == PAIR_HELD else ob_size[b]
@@ -561,24 +660,19 @@ def pair_candidates(q, arm_f, arm_i, world_f, world_i, work, out):  # pragma: no
         if meets:
             out[found] = k
             found += 1
-    if found:
+    if found and not posed:
         # Each geometry's pose, for the narrow phase (GJK) of the candidates.
-        g0 = nj * 16 + ns * 3 + ng * 3 + 16
-        rotation = work[g0 : g0 + ng * 9].reshape((ng, 3, 3))
-        translation = work[g0 + ng * 9 : g0 + ng * 12].reshape((ng, 3))
-        for g in range(ng):
-            j = geom_joint[g]
-            for r in range(3):
-                for c in range(3):
-                    rotation[g, r, c] = (
-                        poses[j, r, 0] * geom_placement[g, 0, c]
-                        + poses[j, r, 1] * geom_placement[g, 1, c]
-                        + poses[j, r, 2] * geom_placement[g, 2, c]
-                    )
-                translation[g, r] = (
-                    poses[j, r, 0] * geom_placement[g, 0, 3]
-                    + poses[j, r, 1] * geom_placement[g, 1, 3]
-                    + poses[j, r, 2] * geom_placement[g, 2, 3]
-                    + poses[j, r, 3]
-                )
+        _pose_geometries(poses, geom_joint, geom_placement, rotation, translation)
     return found
+
+
+@njit(cache=True, nogil=True)
+def first_candidates(states, start, arm_f, arm_i, world_f, world_i, work, out):  # pragma: no cover - compiled
+    """`pair_candidates` row by row of the (n, dof) ``states`` from row ``start``, up to the first row whose
+    answer is not 0 (a free state with no candidate pair): that row and its answer, the work arrays set for it;
+    (n, 0) if every row is free. One call for a segment's states instead of one per state."""
+    for r in range(start, states.shape[0]):
+        found = pair_candidates(states[r], arm_f, arm_i, world_f, world_i, work, out)
+        if found != 0:
+            return r, found
+    return states.shape[0], 0

@@ -3,8 +3,10 @@
 Every robot geometry (a link's convex hull, or a primitive) is enclosed in a few spheres, cut across its principal
 axis (`cover_points`), and in one sphere around those. At a state, the compiled kernel (`compiled.pair_candidates`)
 places the spheres and keeps the pairs whose spheres meet the other side (another geometry's spheres, a padded
-obstacle's box or cylinder, the held object's box); only those pairs reach coal's GJK, on the same shapes the
-Pinocchio world holds. A pair whose spheres do not meet cannot collide, so the answer is the meshes' answer: the
+obstacle's box or cylinder, the held object's box); of two robot geometries whose spheres meet, it drops those
+whose hulls it proves apart by a distance bound (`compiled.hulls_apart`: the Panda's wrist links, a few
+centimetres apart with the wrist folded, meet by their spheres in one state in four). Only the pairs left reach
+coal's GJK, on the same shapes the Pinocchio world holds. A pair whose spheres do not meet cannot collide, so the answer is the meshes' answer: the
 spheres only spare the checks of what is certainly apart (most pairs of most states), and each world the ~0.3 ms
 Pinocchio took to make a collision functor for each of its ~220 pairs.
 
@@ -98,6 +100,18 @@ def _cover_geometry(geom: object, placement: np.ndarray) -> list[tuple[np.ndarra
     else:
         return None
     return cover_points(local @ placement[:3, :3].T + placement[:3, 3], extra)
+
+
+def _hull_vertices(geom: object) -> np.ndarray:
+    """(k, 3) points in the geometry's frame whose convex hull is the shape (its swept sphere aside): a convex
+    mesh's vertices, a box's corners; (0, 3) for a curved shape (the kernel leaves its pairs to coal)."""
+    kind = type(geom).__name__
+    if kind.startswith("Convex"):
+        return np.asarray(geom.points(), dtype=float).reshape(-1, 3)  # type: ignore[attr-defined]
+    if kind == "Box":
+        hx, hy, hz = (float(v) for v in geom.halfSide)  # type: ignore[attr-defined]
+        return np.array([[sx * hx, sy * hy, sz * hz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+    return np.zeros((0, 3))
 
 
 @dataclass(frozen=True, eq=False)
@@ -208,9 +222,13 @@ def _pack(arm: object, cover: _Cover, finger_position: float | None) -> ArmSpher
     parents, chain_placements, axes = arm.chain  # type: ignore[attr-defined]
     joints = np.array([int(g.parentJoint) for g in geoms], dtype=np.int64)
     nj, ns, ng = len(parents), len(cover.radius), len(geoms)
-    arm_i = np.concatenate([[nj, ns, ng], parents, cover.joint, cover.first, cover.count, joints]).astype(
-        np.int64
-    )
+    hulls = [_hull_vertices(g.geometry) for g in geoms]
+    hull_count = np.array([len(h) for h in hulls], dtype=np.int64)
+    hull_first = np.concatenate([[0], np.cumsum(hull_count)[:-1]]).astype(np.int64)
+    swept = [float(getattr(g.geometry, "getSweptSphereRadius", lambda: 0.0)()) for g in geoms]
+    arm_i = np.concatenate(
+        [[nj, ns, ng], parents, cover.joint, cover.first, cover.count, joints, hull_first, hull_count]
+    ).astype(np.int64)
     arm_f = np.concatenate(
         [
             chain_placements.ravel(),
@@ -222,6 +240,8 @@ def _pack(arm: object, cover: _Cover, finger_position: float | None) -> ArmSpher
             placements.ravel(),
             arm._lower_tol,  # type: ignore[attr-defined]
             arm._upper_tol,  # type: ignore[attr-defined]
+            swept,
+            np.concatenate(hulls).ravel(),
         ]
     ).astype(float)
     return ArmSpheres(
@@ -278,6 +298,7 @@ class SphereChecks:
 
         self._coal = coal
         self._kernel = compiled.pair_candidates
+        self._first = compiled.first_candidates
         self._spheres = spheres
         n_ob = len(obstacles.names)
         self._pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 3)
@@ -350,7 +371,35 @@ class SphereChecks:
     def free(self, q: np.ndarray) -> bool | None:
         """True if q (a float64 (dof,) array) is within the joint limits, nothing collides and a held object stays
         upright; None where the held object stands at its tilt limit to rounding (the caller asks Pinocchio)."""
-        n = self.candidates(q)
+        return self._answer(self.candidates(q))
+
+    def first_not_free(self, states: np.ndarray, start: int = 0) -> tuple[int, bool | None]:
+        """The first row of the C-ordered float64 (n, dof) `states`, from `start` on, that `free` does not call
+        free, and `free`'s answer there (False, or None); (n, True) if every row is free. One compiled call
+        checks the rows up to the first whose spheres meet (most states of a segment: none do)."""
+        n = len(states)
+        while start < n:
+            self._state += 1
+            row, found = self._first(
+                states,
+                start,
+                self._spheres.arm_f,
+                self._spheres.arm_i,
+                self._world_f,
+                self._world_i,
+                self._work,
+                self._out,
+            )
+            if row == n:
+                break
+            answer = self._answer(int(found))
+            if answer is not True:
+                return int(row), answer
+            start = int(row) + 1
+        return n, True
+
+    def _answer(self, n: int) -> bool | None:
+        """`free`'s answer from the kernel's `n` at the state it last placed (GJK on the candidate pairs)."""
         if n == 0:
             return True
         if n == -2:

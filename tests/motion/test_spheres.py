@@ -166,6 +166,9 @@ def test_a_held_object_at_its_tilt_limit_is_left_to_pinocchio(arm):
     assert at_limit._spheres.candidates(q) == -2
     assert at_limit._spheres.free(q) is None
     assert at_limit.is_valid(q) == _pinocchio_answer(at_limit, q)[0]
+    checks = at_limit.checks
+    assert at_limit.states_valid(np.array([q, q, q])) == at_limit.is_valid(q)  # a batch asks Pinocchio too
+    assert at_limit.checks - checks == (4 if at_limit.is_valid(q) else 2)
     steeper = CollisionWorld(arm, [], held, max_tilt=float(np.arccos(up)) * 0.5)
     assert steeper._spheres.candidates(q) == -1 and not steeper.is_valid(q)
 
@@ -202,3 +205,93 @@ def test_the_kernel_checks_the_joint_limits_as_within_limits_does(arm):
     beyond = inside.copy()
     beyond[3] = arm.upper[3] + 0.01
     assert world.colliding_pairs(inside) and world.colliding_pairs(beyond)
+
+
+def _hull_arrays(spheres):
+    """The packed hull vertices, first vertex and count per geometry, and swept radii (`compiled`'s layout)."""
+    nj, ns, ng = (int(v) for v in spheres.arm_i[:3])
+    first = spheres.arm_i[3 + nj + ns + 3 * ng : 3 + nj + ns + 4 * ng]
+    count = spheres.arm_i[3 + nj + ns + 4 * ng : 3 + nj + ns + 5 * ng]
+    o = nj * 19 + ns * 4 + ng * 4 + ng * 16 + 2 * (nj - 1)
+    return spheres.arm_f[o + ng :].reshape(-1, 3), first, count, spheres.arm_f[o : o + ng]
+
+
+def test_hulls_apart_proves_only_real_gaps(any_arm):
+    """Two robot hulls at random poses: proven apart only where coal measures more than the margin, and proven
+    for nearly every pair coal finds 5 mm apart or more (the Panda's meshes; the iiwa7's gripper boxes)."""
+    import coal
+
+    from scone_bt.motion import compiled
+
+    spheres = arm_spheres(any_arm, 0.02)
+    hull, first, count, swept = _hull_arrays(spheres)
+    with_hull = [g for g in range(len(spheres.shapes)) if count[g] > 0]
+    assert len(with_hull) >= 3
+    for g in with_hull:  # the packed vertices are the shape's own: its support in every direction is coal's
+        pts = hull[first[g] : first[g] + count[g]]
+        shape = spheres.shapes[g]
+        if type(shape).__name__ == "Box":
+            assert np.allclose(np.abs(pts), np.asarray(shape.halfSide))
+        else:
+            assert np.array_equal(pts, np.asarray(shape.points()).reshape(-1, 3))
+        assert swept[g] == 0.0
+    rng = np.random.default_rng(5)
+    ng = len(spheres.shapes)
+    rotation, translation = np.zeros((ng, 3, 3)), np.zeros((ng, 3))
+    proven_far = far = 0
+    for _ in range(3000):
+        a, b = rng.choice(with_hull, size=2, replace=False)
+        for g in (a, b):
+            rotation[g] = pin.Quaternion(*rng.normal(size=4)).normalized().matrix()
+        translation[a] = 0.0
+        translation[b] = rng.normal(size=3) * rng.uniform(0.02, 0.2)
+        tf = [coal.Transform3s(rotation[g].copy(), translation[g].copy()) for g in (a, b)]
+        gap = coal.distance(
+            spheres.shapes[a], tf[0], spheres.shapes[b], tf[1], coal.DistanceRequest(), coal.DistanceResult()
+        )
+        v = translation[a] - translation[b] + rng.normal(size=3) * 0.01
+        apart = compiled.hulls_apart(
+            rotation, translation, hull, first, count, compiled.HULL_MARGIN_M, a, b, *v
+        )
+        if apart:
+            assert gap > compiled.HULL_MARGIN_M, (a, b, gap)
+        if gap > 0.005:
+            far += 1
+            proven_far += apart
+    assert far > 500
+    assert proven_far / far > 0.95
+
+
+def test_a_folded_wrist_is_answered_as_pinocchio(arm):
+    """States with the wrist folded (the Panda's link 5 a few centimetres from link 7 and the hand, their spheres
+    meeting): the same answers and pairs as Pinocchio's world, with most of those pairs settled by the hulls'
+    bound instead of GJK."""
+    world = _shelf_world(arm, fingers=0.03)
+    rng = np.random.default_rng(13)
+    home = np.asarray(arm.config.home, dtype=float)
+    states = []
+    for _ in range(600):
+        q = home + rng.normal(scale=0.3, size=arm.dof)
+        q[5] = rng.uniform(1.2, 3.7) if arm.config.name == "panda" else q[5]
+        q[6] = rng.uniform(-2.8, 2.8)
+        states.append(arm.clamp(q))
+    answers = [world._free(q) for q in states]
+    narrow = world._spheres.narrow
+    for q, mine in zip(states, answers, strict=True):
+        theirs, their_pairs = _pinocchio_answer(world, q)
+        assert mine == theirs and world.colliding_pairs(q) == their_pairs, q
+    assert 0.2 < np.mean(answers) <= 1.0
+    kept = world._spheres._spheres.arm_i[_hull_count_slice(world)].copy()
+    world._spheres._spheres.arm_i[_hull_count_slice(world)] = 0
+    try:
+        before = world._spheres.narrow
+        assert [world._free(q) for q in states] == answers
+        without = world._spheres.narrow - before
+    finally:
+        world._spheres._spheres.arm_i[_hull_count_slice(world)] = kept
+    assert narrow < 0.5 * without, (narrow, without)
+
+
+def _hull_count_slice(world):
+    nj, ns, ng = (int(v) for v in world._spheres._spheres.arm_i[:3])
+    return slice(3 + nj + ns + 4 * ng, 3 + nj + ns + 5 * ng)
