@@ -12,6 +12,7 @@ limit to rounding, VAMP's environment).
 from __future__ import annotations
 
 import time
+import weakref
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -20,7 +21,7 @@ import numpy as np
 from scone_bt.config.catalogue import Shape
 from scone_bt.motion.model import ArmModel
 from scone_bt.motion.pair_kinds import PAIR_HELD, PAIR_HELD_OBSTACLE, PAIR_OBSTACLE, PAIR_ROBOT
-from scone_bt.motion.spheres import Obstacles, SphereChecks, arm_spheres
+from scone_bt.motion.spheres import POSITIONS_KEPT, Obstacles, SphereChecks, arm_spheres
 
 ATTACHED_SHRINK_M = 0.005
 """A held object's collision shape is this much (m) smaller on every side than the object: it rests on (touches)
@@ -380,32 +381,34 @@ class HandModel:
     ) -> None:
         import coal
 
-        ee = arm.model.frames[arm.ee_frame]
-        joint_from_ee = ee.placement.homogeneous
-        ee_from_joint = np.linalg.inv(joint_from_ee)
-        self._parts = [
-            (g.geometry, ee_from_joint @ g.placement.homogeneous)
-            for g in arm.geometry_with_fingers(finger_position).geometryObjects  # type: ignore[attr-defined]
-            if g.parentJoint == arm.ee_joint
-        ]
+        from scone_bt.motion import compiled
+
+        hand = _hand_parts(arm, finger_position)
+        self._parts = hand.parts
         # The hand's reach from the end-effector frame's origin: obstacles farther than this never touch it.
-        self._reach = max((float(np.linalg.norm(p[:3, 3])) + 0.12 for _, p in self._parts), default=0.3)
+        self._reach = hand.reach
         # Each part's bounding sphere in the end-effector frame: a part whose sphere misses an obstacle's box cannot
         # touch it, so most (part, obstacle) pairs need no GJK call (the answer is the same).
-        self._part_centres, self._part_radii = _bounding_spheres(self._parts)
+        self._part_centres = hand.centres
+        self._part_reach = hand.radii + SPHERE_SLACK
         self._padding = padding
         self._obstacle_list = list(obstacles)
         # An obstacle's coal shape is made the first time the hand comes near it (most never do).
         self._shapes: dict[int, tuple[object, object]] = {}
-        # Centres and bounding radii as arrays: one vectorised distance test per query picks the near ones.
-        self._centres = np.array([ob.pose[:3, 3] for ob in obstacles], dtype=float).reshape(-1, 3)
-        self._radii = np.array([0.5 * _size_norm(ob.size) + padding for ob in obstacles])
+        n = len(self._obstacle_list)
+        poses = np.array([ob.pose for ob in self._obstacle_list], dtype=float).reshape(n, 4, 4)
+        sizes = np.array([ob.size for ob in self._obstacle_list], dtype=float).reshape(n, 3)
+        # Centres and bounding radii: an obstacle farther than the hand's reach is not near.
+        self._centres = np.ascontiguousarray(poses[:, :3, 3])
+        self._radii = 0.5 * np.sqrt((sizes * sizes).sum(axis=1)) + padding
         # Each padded shape's world-aligned bounding box (around its own box, which bounds a cylinder too): half
         # extents, for the sphere-against-box test that spares most GJK calls.
-        rotations = np.array([ob.pose[:3, :3] for ob in obstacles], dtype=float).reshape(-1, 3, 3)
-        halves = np.array([ob.size for ob in obstacles], dtype=float).reshape(-1, 3) / 2 + padding
-        self._extents = (np.abs(rotations) * halves[:, None, :]).sum(axis=2)
-        self._names = [ob.name for ob in obstacles]
+        halves = sizes / 2 + padding
+        self._extents = (np.abs(poses[:, :3, :3]) * halves[:, None, :]).sum(axis=2)
+        self._names = [ob.name for ob in self._obstacle_list]
+        self._near = np.empty(n, dtype=np.int64)
+        self._pairs = np.empty((len(self._parts) * n, 2), dtype=np.int64)
+        self._kernel = compiled.hand_candidates
         self._request = coal.CollisionRequest()
         self._coal = coal
         self.checks = 0
@@ -423,49 +426,73 @@ class HandModel:
         """Names of the obstacles the hand touches with the end-effector frame at `ee_pose` (world (4, 4))."""
         coal = self._coal
         self.checks += 1
+        pose = np.ascontiguousarray(ee_pose, dtype=float)
+        # The near obstacles, and each part's bounding sphere against each near obstacle's bounding box, in one
+        # compiled call; GJK only on the pairs that may touch.
+        n = self._kernel(
+            pose,
+            self._part_centres,
+            self._part_reach,
+            self._centres,
+            self._radii,
+            self._extents,
+            self._reach,
+            self._near,
+            self._pairs,
+        )
         hits: list[str] = []
-        origin = ee_pose[:3, 3]
-        offsets = self._centres - origin
-        close = np.sqrt((offsets * offsets).sum(axis=1)) < self._reach + self._radii  # np.linalg.norm's sum
-        near = [k for k in np.flatnonzero(close).tolist() if self._names[k] not in ignore]
-        if not near:
+        if n == 0:
             return hits
-        # Each part's bounding sphere against each near obstacle's bounding box, all pairs at once; GJK only where
-        # they meet (a part whose sphere misses the box cannot touch the shape inside it: the answer is the same).
-        parts_world = self._part_centres @ ee_pose[:3, :3].T + origin
-        outside = np.abs(parts_world[:, None, :] - self._centres[near]) - self._extents[near]
-        np.maximum(outside, 0.0, out=outside)
-        reach = self._part_radii + SPHERE_SLACK
-        overlap = ((outside * outside).sum(axis=2) <= (reach * reach)[:, None]).tolist()
         result = coal.CollisionResult()
-        for (geom, local), row in zip(self._parts, overlap, strict=True):
-            if not any(row):
+        placed, geom, tf = -1, None, None
+        for part, k in self._pairs[:n].tolist():
+            name = self._names[k]
+            if name in hits or name in ignore:
                 continue
-            world = ee_pose @ local
-            tf = coal.Transform3s(world[:3, :3].copy(), world[:3, 3].copy())
-            for k, maybe in zip(near, row, strict=True):
-                name = self._names[k]
-                if not maybe or name in hits:
-                    continue
-                ogeom, otf = self._shape(k)
-                result.clear()
-                if coal.collide(geom, tf, ogeom, otf, self._request, result):
-                    hits.append(name)
+            if part != placed:
+                geom, local = self._parts[part]
+                world = pose @ local
+                tf = coal.Transform3s(world[:3, :3].copy(), world[:3, 3].copy())
+                placed = part
+            ogeom, otf = self._shape(k)
+            result.clear()
+            if coal.collide(geom, tf, ogeom, otf, self._request, result):
+                hits.append(name)
         return hits
 
 
-_SIZE_NORMS: dict[tuple[float, ...], float] = {}
+@dataclass(frozen=True, eq=False)
+class _HandParts:
+    """The hand's geometries at one finger position: (coal shape, (4, 4) pose in the end-effector frame) each, its
+    reach (m) from the end-effector frame's origin, and each part's bounding sphere there ((k, 3), (k,))."""
+
+    parts: list[tuple[object, np.ndarray]]
+    reach: float
+    centres: np.ndarray
+    radii: np.ndarray
 
 
-def _size_norm(size: Sequence[float]) -> float:
-    """np.linalg.norm(size), remembered by size (the same few dozen sizes come back in every hand model)."""
-    key = tuple(float(v) for v in size)
-    norm = _SIZE_NORMS.get(key)
-    if norm is None:
-        norm = float(np.linalg.norm(size))
-        if len(_SIZE_NORMS) < PLACED_CACHE_SIZE:
-            _SIZE_NORMS[key] = norm
-    return norm
+_HANDS: weakref.WeakKeyDictionary[ArmModel, dict[float | None, _HandParts]] = weakref.WeakKeyDictionary()
+
+
+def _hand_parts(arm: ArmModel, finger_position: float | None) -> _HandParts:
+    """The arm's `_HandParts` with its fingers at `finger_position` (made once per position, a few kept)."""
+    kept = _HANDS.setdefault(arm, {})
+    key = None if finger_position is None else float(finger_position)
+    hand = kept.get(key)
+    if hand is None:
+        ee = arm.model.frames[arm.ee_frame]
+        ee_from_joint = np.linalg.inv(ee.placement.homogeneous)
+        parts = [
+            (g.geometry, ee_from_joint @ g.placement.homogeneous)
+            for g in arm.geometry_with_fingers(key).geometryObjects  # type: ignore[attr-defined]
+            if g.parentJoint == arm.ee_joint
+        ]
+        reach = max((float(np.linalg.norm(p[:3, 3])) + 0.12 for _, p in parts), default=0.3)
+        if len(kept) >= POSITIONS_KEPT:
+            kept.clear()
+        hand = kept[key] = _HandParts(parts, reach, *_bounding_spheres(parts))
+    return hand
 
 
 SPHERE_SLACK = 1e-3

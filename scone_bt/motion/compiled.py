@@ -20,7 +20,16 @@ from numba import njit
 
 from scone_bt.motion.pair_kinds import PAIR_HELD, PAIR_HELD_OBSTACLE, PAIR_ROBOT
 
-__all__ = ["chain_poses", "first_candidates", "ik_search", "jlog6", "log6", "pair_candidates"]
+__all__ = [
+    "chain_poses",
+    "first_candidates",
+    "hand_candidates",
+    "hulls_apart",
+    "ik_search",
+    "jlog6",
+    "log6",
+    "pair_candidates",
+]
 
 _SMALL = 1e-4  # below this angle (rad) the series forms are exact to double precision (Pinocchio's threshold order)
 
@@ -676,3 +685,46 @@ def first_candidates(states, start, arm_f, arm_i, world_f, world_i, work, out): 
         if found != 0:
             return r, found
     return states.shape[0], 0
+
+
+@njit(cache=True, nogil=True)
+def hand_candidates(ee_pose, part_centres, part_reach, ob_centres, ob_radii, ob_extents, reach, near, out):
+    """The (part, obstacle) pairs of a hand at ``ee_pose`` (4x4, world) that may touch, part by part and each
+    part's obstacles in order, into ``out`` (k, 2); returns k.
+
+    An obstacle is near when its centre lies within ``reach`` plus its bounding radius of the hand's origin; a
+    part may touch a near obstacle when its bounding sphere (centre in the end-effector frame, radius
+    ``part_reach``) meets the obstacle's world-aligned bounding box (centre, half extents). ``near`` is workspace
+    (one int per obstacle). A pair not returned is certainly apart.
+    """
+    ox, oy, oz = ee_pose[0, 3], ee_pose[1, 3], ee_pose[2, 3]
+    n_near = 0
+    for k in range(ob_centres.shape[0]):
+        dx, dy, dz = ob_centres[k, 0] - ox, ob_centres[k, 1] - oy, ob_centres[k, 2] - oz
+        if math.sqrt(dx * dx + dy * dy + dz * dz) < reach + ob_radii[k]:
+            near[n_near] = k
+            n_near += 1
+    found = 0
+    for p in range(part_centres.shape[0]):
+        if n_near == 0:
+            break
+        lx, ly, lz = part_centres[p, 0], part_centres[p, 1], part_centres[p, 2]
+        px = ee_pose[0, 0] * lx + ee_pose[0, 1] * ly + ee_pose[0, 2] * lz + ox
+        py = ee_pose[1, 0] * lx + ee_pose[1, 1] * ly + ee_pose[1, 2] * lz + oy
+        pz = ee_pose[2, 0] * lx + ee_pose[2, 1] * ly + ee_pose[2, 2] * lz + oz
+        r2 = part_reach[p] * part_reach[p]
+        for i in range(n_near):
+            k = near[i]
+            total = 0.0
+            for over in (
+                abs(px - ob_centres[k, 0]) - ob_extents[k, 0],
+                abs(py - ob_centres[k, 1]) - ob_extents[k, 1],
+                abs(pz - ob_centres[k, 2]) - ob_extents[k, 2],
+            ):
+                if over > 0.0:
+                    total += over * over
+            if total <= r2:
+                out[found, 0] = p
+                out[found, 1] = k
+                found += 1
+    return found

@@ -28,6 +28,7 @@ from scone_bt.motion.pair_kinds import PAIR_HELD, PAIR_OBSTACLE, PAIR_ROBOT
 
 __all__ = [
     "MAX_SPHERES",
+    "POSITIONS_KEPT",
     "Obstacles",
     "SPHERE_SLACK_M",
     "ArmSpheres",
