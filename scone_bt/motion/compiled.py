@@ -29,6 +29,7 @@ __all__ = [
     "jlog6",
     "log6",
     "pair_candidates",
+    "sample_segment",
 ]
 
 _SMALL = 1e-4  # below this angle (rad) the series forms are exact to double precision (Pinocchio's threshold order)
@@ -728,3 +729,36 @@ def hand_candidates(ee_pose, part_centres, part_reach, ob_centres, ob_radii, ob_
                 out[found, 1] = k
                 found += 1
     return found
+
+
+@njit(cache=True, nogil=True)
+def sample_segment(
+    first, delta, phases, count, duration, dt, offset, row, times, pos, vel, acc
+):  # pragma: no cover
+    """Rows ``row`` to ``row + count - 1`` of a sampled trajectory: the straight segment ``first + s delta`` at
+    times k dt (k = 1..count, the last clipped to ``duration``), shifted by ``offset`` seconds, with s(t) a
+    rest-to-rest profile of seven constant-jerk phases (``phases`` (5, 7): each phase's duration, jerk and its
+    start's acceleration, velocity and position). The same floats as evaluating `timing._sample`'s expressions
+    with numpy."""
+    starts = np.empty(7)
+    total = 0.0
+    starts[0] = 0.0
+    for k in range(1, 7):
+        total = total + phases[0, k - 1]
+        starts[k] = total
+    for n in range(1, count + 1):
+        ts = min(n * dt, duration)
+        k = 6
+        while k > 0 and starts[k] > ts:
+            k -= 1
+        d = ts - starts[k]
+        j, a0, v0, p0 = phases[1, k], phases[2, k], phases[3, k], phases[4, k]
+        sp = p0 + d * (v0 + d * (a0 / 2 + d * j / 6))
+        sv = v0 + d * (a0 + d * j / 2)
+        sa = a0 + d * j
+        times[row] = offset + ts
+        for c in range(first.shape[0]):
+            pos[row, c] = first[c] + sp * delta[c]
+            vel[row, c] = sv * delta[c]
+            acc[row, c] = sa * delta[c]
+        row += 1

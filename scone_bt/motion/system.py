@@ -56,12 +56,19 @@ __all__ = ["MotionSystem", "PickAndPlace"]
 
 
 def _warm_up(arm: ArmModel, home: np.ndarray, static: Sequence[Obstacle]) -> None:
-    """One IK step and one collision check (their answers unused), so the compiled kernels are loaded."""
-    from scone_bt.motion.collision import CollisionWorld
+    """One IK step, a collision check of a state and of a segment, a hand check and a timed segment (their answers
+    unused), so every compiled kernel is loaded (~0.1 s each the first time in a process)."""
+    from scone_bt.motion.collision import CollisionWorld, HandModel
     from scone_bt.motion.model import IKOptions
+    from scone_bt.motion.timing import time_path
 
     arm.ik(arm.fk(home), home, np.random.default_rng(0), IKOptions(restarts=0, max_iterations=1))
-    CollisionWorld(arm, static).is_valid(home)
+    world = CollisionWorld(arm, static)
+    world.is_valid(home)
+    world.states_valid(np.array([home, home]))
+    HandModel(arm, static).colliding(arm.fk(home))
+    ones = np.ones(arm.dof)
+    time_path(np.array([home, home + 0.01]), KinematicLimits(ones, ones, ones), 100.0)
 
 
 class MotionSystem:

@@ -64,46 +64,69 @@ def time_path(
     from ruckig import InputParameter, Result, Ruckig, Trajectory
 
     path = np.asarray(path, dtype=float)
-    dof = path.shape[1]
     otg = Ruckig(1)
     segments = []
     t_calc = time.perf_counter()
-    for a, b in zip(path[:-1], path[1:], strict=True):
-        delta = b - a
-        travel = np.abs(delta)
-        if np.max(travel) < 1e-9:
-            continue
-        moving = travel > 1e-12
+    deltas = path[1:] - path[:-1]
+    travel = np.abs(deltas)
+    moving = travel > 1e-12
+    # Each segment's limits on s: the tightest joint's limit over its travel (joints that do not move aside).
+    with np.errstate(divide="ignore", invalid="ignore"):
+        bounds = [
+            np.where(moving, np.asarray(limit, dtype=float) / travel, np.inf).min(axis=1).tolist()
+            for limit in (limits.velocity, limits.acceleration, limits.jerk)
+        ]
+    for k in np.flatnonzero(travel.max(axis=1) >= 1e-9).tolist():
         inp = InputParameter(1)
         inp.current_position = [0.0]
         inp.target_position = [1.0]
-        inp.max_velocity = [float(np.min(limits.velocity[moving] / travel[moving]))]
-        inp.max_acceleration = [float(np.min(limits.acceleration[moving] / travel[moving]))]
-        inp.max_jerk = [float(np.min(limits.jerk[moving] / travel[moving]))]
+        inp.max_velocity = [bounds[0][k]]
+        inp.max_acceleration = [bounds[1][k]]
+        inp.max_jerk = [bounds[2][k]]
         traj = Trajectory(1)
         result = otg.calculate(inp, traj)
         if result not in (Result.Working, Result.Finished):
             raise SconeError(f"ruckig could not time a segment ({result.name}); check the robot's limits")
-        segments.append((a, delta, traj))
+        segments.append((path[k], deltas[k], traj))
     t_calc = time.perf_counter() - t_calc
 
     t_sample = time.perf_counter()
-    dt = 1.0 / rate_hz
-    times, pos, vel, acc = [np.zeros(1)], [path[:1]], [np.zeros((1, dof))], [np.zeros((1, dof))]
-    offset = 0.0
-    for a, delta, traj in segments:
-        duration = traj.duration
-        n = int(np.ceil(duration / dt - 1e-9))
-        ts = np.minimum(np.arange(1, n + 1) * dt, duration)
-        sva = _sample(traj, ts)  # (n, 3): s, ds/dt, d2s/dt2
-        times.append(offset + ts)
-        pos.append(a + sva[:, :1] * delta)
-        vel.append(sva[:, 1:2] * delta)
-        acc.append(sva[:, 2:3] * delta)
-        offset += duration
+    trajectory = _sampled(path[0], segments, 1.0 / rate_hz)
     t_sample = time.perf_counter() - t_sample
-    trajectory = TimedTrajectory(np.concatenate(times), np.vstack(pos), np.vstack(vel), np.vstack(acc))
     return trajectory, TimingReport(t_calc, t_sample)
+
+
+def _sampled(
+    start: np.ndarray, segments: list[tuple[np.ndarray, np.ndarray, object]], dt: float
+) -> TimedTrajectory:
+    """The chained segments (first state, delta, 1-DOF ruckig trajectory of s) sampled every `dt` seconds from
+    rest at `start`: each segment's samples in one compiled call (`compiled.sample_segment`)."""
+    from scone_bt.motion.compiled import sample_segment
+
+    counts = [int(np.ceil(traj.duration / dt - 1e-9)) for _, _, traj in segments]  # type: ignore[attr-defined]
+    rows = 1 + sum(counts)
+    times, pos = np.zeros(rows), np.empty((rows, len(start)))
+    vel, acc = np.zeros((rows, len(start))), np.zeros((rows, len(start)))
+    pos[0] = start
+    offset, row = 0.0, 1
+    for (a, delta, traj), n in zip(segments, counts, strict=True):
+        duration = traj.duration  # type: ignore[attr-defined]
+        profile = traj.profiles[0][0]  # type: ignore[attr-defined]
+        if profile.brake.duration > 0.0:  # never from rest: ruckig's own sampling
+            ts = np.minimum(np.arange(1, n + 1) * dt, duration)
+            sva = _sample(traj, ts)
+            times[row : row + n] = offset + ts
+            pos[row : row + n] = a + sva[:, :1] * delta
+            vel[row : row + n] = sva[:, 1:2] * delta
+            acc[row : row + n] = sva[:, 2:3] * delta
+        else:
+            phases = np.array(
+                [profile.t, profile.j, profile.a[:7], profile.v[:7], profile.p[:7]], dtype=float
+            )
+            sample_segment(a, delta, phases, n, duration, dt, offset, row, times, pos, vel, acc)
+        offset += duration
+        row += n
+    return TimedTrajectory(times, pos, vel, acc)
 
 
 def _sample(traj: object, ts: np.ndarray) -> np.ndarray:

@@ -67,3 +67,51 @@ def test_vectorised_sampling_matches_ruckigs_own():
         ts = np.linspace(0.0, traj.duration, 97)
         ref = np.array([[x[0] for x in traj.at_time(float(t))] for t in ts])
         assert np.allclose(_sample(traj, ts), ref, atol=1e-9)
+
+
+def test_compiled_sampling_gives_the_floats_of_the_vectorised_expressions(arm, robot_cfg):
+    """Each segment's samples from the compiled kernel equal `_sample`'s numpy evaluation bit for bit (so plans
+    executed before and after the kernel command the same joints)."""
+    from ruckig import InputParameter, Ruckig, Trajectory
+
+    from scone_bt.motion.timing import _sample
+
+    limits = limits_of(robot_cfg)
+    rng = np.random.default_rng(8)
+    home = np.asarray(robot_cfg.home, dtype=float)
+    for trial in range(30):
+        path = np.array(
+            [home] + [arm.clamp(home + rng.normal(0, 0.5, arm.dof)) for _ in range(1 + trial % 3)]
+        )
+        if trial % 5 == 0:
+            path = np.vstack([path, path[-1]])  # a segment without motion is skipped
+        scaled = limits.scaled(0.3) if trial % 2 else limits
+        rate = (240.0, 1000.0)[trial % 2]
+        traj, _ = time_path(path, scaled, rate)
+        times, pos, vel, acc = [np.zeros(1)], [path[:1]], [np.zeros((1, arm.dof))], [np.zeros((1, arm.dof))]
+        offset = 0.0
+        for a, b in zip(path[:-1], path[1:], strict=True):
+            delta = b - a
+            travel = np.abs(delta)
+            if np.max(travel) < 1e-9:
+                continue
+            moving = travel > 1e-12
+            inp = InputParameter(1)
+            inp.current_position, inp.target_position = [0.0], [1.0]
+            inp.max_velocity = [float(np.min(scaled.velocity[moving] / travel[moving]))]
+            inp.max_acceleration = [float(np.min(scaled.acceleration[moving] / travel[moving]))]
+            inp.max_jerk = [float(np.min(scaled.jerk[moving] / travel[moving]))]
+            one = Trajectory(1)
+            Ruckig(1).calculate(inp, one)
+            n = int(np.ceil(one.duration / (1.0 / rate) - 1e-9))
+            ts = np.minimum(np.arange(1, n + 1) * (1.0 / rate), one.duration)
+            sva = _sample(one, ts)
+            times.append(offset + ts)
+            pos.append(a + sva[:, :1] * delta)
+            vel.append(sva[:, 1:2] * delta)
+            acc.append(sva[:, 2:3] * delta)
+            offset += one.duration
+        assert np.array_equal(traj.times, np.concatenate(times))
+        assert np.array_equal(traj.positions, np.vstack(pos))
+        assert np.array_equal(traj.velocities, np.vstack(vel))
+        assert np.array_equal(traj.accelerations, np.vstack(acc))
