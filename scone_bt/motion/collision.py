@@ -175,7 +175,9 @@ class CollisionWorld:
         if spheres is None:
             return None
         n_robot = len(arm.robot_geometry)
-        first, second = np.nonzero(np.triu(self._check, 1))  # row by row: Pinocchio's order of its pairs
+        # Row by row: Pinocchio's order of its pairs. (It reads the upper triangle; the matrix has nothing below the
+        # diagonal: self pairs are (i, j) with i < j, obstacles and the held object come after the robot.)
+        first, second = np.nonzero(self._check)
         kinds = np.where(
             second < n_robot,
             PAIR_ROBOT,

@@ -343,12 +343,16 @@ class ArmModel:
         """
         goal = target.copy()
         goal[:3, 3] -= np.asarray(self.config.base_position)
-        seeds = [self.clamp(np.asarray(seed, dtype=float))]
-        # The random seeds in one draw: the same numbers, in the same order, as one draw per seed.
-        seeds.extend(rng.uniform(self.lower, self.upper, size=(options.restarts, self.dof)))
+        seeds = np.empty((1 + options.restarts, self.dof))
+        seeds[0] = self.clamp(np.asarray(seed, dtype=float))
+        if (
+            options.restarts
+        ):  # (a draw of none takes no number from rng, but costs as much as a draw of seven)
+            # The random seeds in one draw: the same numbers, in the same order, as one draw per seed.
+            seeds[1:] = rng.uniform(self.lower, self.upper, size=(options.restarts, self.dof))
         if self.chain is not None:
-            return self._ik_compiled(goal, np.array(seeds), options)
-        return self._ik_pinocchio(goal, seeds, options)
+            return self._ik_compiled(goal, seeds, options)
+        return self._ik_pinocchio(goal, list(seeds), options)
 
     def _ik_compiled(self, goal: np.ndarray, seeds: np.ndarray, options: IKOptions) -> IKSolution | None:
         """`ik` by the compiled kernel (`motion.compiled.ik_search`): the same steps, 1.4 us an iteration (~50 us

@@ -306,7 +306,10 @@ class SphereChecks:
         half = obstacles.sizes / 2 + padding
         box = np.array([shape == Shape.BOX for shape in obstacles.shapes], dtype=bool)
         # A cylinder's (radius, half height, -1), as the kernel reads it.
-        sizes = np.where(box[:, None], half, np.stack([half[:, 0], half[:, 2], -np.ones(n_ob)], axis=1))
+        sizes = half.copy()
+        cylinder = ~box
+        sizes[cylinder, 1] = half[cylinder, 2]
+        sizes[cylinder, 2] = -1.0
         held_local, held_half, held_joint = np.eye(4), np.zeros(3), -1
         self._held_name = ""
         if held is not None:
@@ -337,8 +340,9 @@ class SphereChecks:
         self._held_pose = self._work[held_at : held_at + 16].reshape(4, 4)
         self._rotations = self._work[held_at + 16 : held_at + 16 + ng * 9].reshape(ng, 3, 3)
         self._translations = self._work[held_at + 16 + ng * 9 :].reshape(ng, 3)
-        # One coal transform per geometry, set from the kernel's poses once per state that needs it.
-        self._transforms = [coal.Transform3s() for _ in range(ng + 1)]  # the held object's last
+        # One coal transform per geometry (made when first needed), set from the kernel's poses once per state that
+        # needs it.
+        self._transforms: list[object | None] = [None] * (ng + 1)  # the held object's last
         self._set_at = [0] * (ng + 1)
         self._state = 0
         self._out = np.empty(max(len(self._pairs), 1), dtype=np.int64)
@@ -431,6 +435,8 @@ class SphereChecks:
 
     def _robot(self, g: int) -> tuple[object, object]:
         tf = self._transforms[g]
+        if tf is None:
+            tf = self._transforms[g] = self._coal.Transform3s()
         if self._set_at[g] != self._state:
             tf.setRotation(self._rotations[g])
             tf.setTranslation(self._translations[g])
@@ -439,6 +445,8 @@ class SphereChecks:
 
     def _held(self) -> tuple[object, object]:
         tf = self._transforms[-1]
+        if tf is None:
+            tf = self._transforms[-1] = self._coal.Transform3s()
         if self._set_at[-1] != self._state:
             tf.setRotation(self._held_pose[:3, :3])
             tf.setTranslation(self._held_pose[:3, 3])
