@@ -308,6 +308,21 @@ class PlacementSet:
     candidates: int
 
 
+_UNIFORMS: dict[tuple[int, int], np.ndarray] = {}
+
+
+def _standard_uniforms(seed: int, n: int) -> np.ndarray:
+    """(n, 2) standard uniform draws of `np.random.default_rng(seed)` (made once per seed and count)."""
+    key = (int(seed), int(n))
+    draws = _UNIFORMS.get(key)
+    if draws is None:
+        if len(_UNIFORMS) >= 256:
+            _UNIFORMS.clear()
+        draws = _UNIFORMS[key] = np.random.default_rng(seed).random(size=(n, 2))
+        draws.flags.writeable = False
+    return draws
+
+
 def sample_placements(
     table: TableRegion,
     obstacles: Sequence[Footprint],
@@ -345,9 +360,10 @@ def sample_placements(
     # Centre the grid in the usable area so both edges get the same margin.
     gx += (x1 - gx[-1]) / 2
     gy += (y1 - gy[-1]) / 2
-    grid = np.array([(x, y) for x in gx for y in gy])
-    rng = np.random.default_rng(options.rng_seed)
-    rand = rng.uniform((x0, y0), (x1, y1), size=(options.random_samples, 2))
+    grid = np.stack(np.meshgrid(gx, gy, indexing="ij"), axis=-1).reshape(-1, 2)  # x by x, y by y within
+    # Generator.uniform's numbers (low + (high - low) u, u its standard draws), without a generator per call.
+    low, high = np.array([x0, y0]), np.array([x1, y1])
+    rand = low + (high - low) * _standard_uniforms(options.rng_seed, options.random_samples)
     pts = np.vstack([grid, rand]) if len(rand) else grid
     n = len(pts)
     base = np.asarray(base_xy, dtype=float)
@@ -374,10 +390,12 @@ def sample_placements(
     free_k = flat.free.reshape(n, k)
     free = free_k.any(axis=1)
     counts: dict[str, int] = {}
-    for i in np.flatnonzero(~free):
-        b = int(flat.blocker.reshape(n, k)[i, 0])
-        if b >= 0:
-            counts[obstacles[b].name] = counts.get(obstacles[b].name, 0) + 1
+    first_blocker = flat.blocker.reshape(n, k)[~free, 0]
+    for b, times in enumerate(
+        np.bincount(first_blocker[first_blocker >= 0], minlength=len(obstacles)).tolist()
+    ):
+        if times:
+            counts[obstacles[b].name] = counts.get(obstacles[b].name, 0) + times
     blockers = tuple(sorted(counts, key=lambda name: (-counts[name], name)))
     if not free.any():
         return PlacementSet((), blockers, n)
