@@ -169,10 +169,8 @@ def test_box_footprints_pack_a_table_that_circles_call_full():
 
 
 def test_the_random_candidates_are_the_generators_uniform_draws():
-    """`sample_placements` scales remembered standard draws: the same floats as `Generator.uniform` with the
-    seed, for any bounds (so spots, and plans, are those a generator per call gave)."""
-    from scone_bt.motion.placement import _standard_uniforms
-
+    """`sample_placements` scales the generator's standard draws: the same floats as `Generator.uniform` with the
+    seed, for any bounds (so spots, and plans, are those `uniform` gave)."""
     for seed in (0, 3, 12345):
         for x0, y0, x1, y1 in (
             (0.1, -0.3, 0.7, 0.4),
@@ -181,5 +179,5 @@ def test_the_random_candidates_are_the_generators_uniform_draws():
         ):
             low, high = np.array([x0, y0]), np.array([x1, y1])
             expected = np.random.default_rng(seed).uniform((x0, y0), (x1, y1), size=(48, 2))
-            assert np.array_equal(low + (high - low) * _standard_uniforms(seed, 48), expected)
-    assert not _standard_uniforms(0, 48).flags.writeable
+            draws = np.random.default_rng(seed).random(size=(48, 2))
+            assert np.array_equal(low + (high - low) * draws, expected)
