@@ -18,7 +18,7 @@ import math
 import numpy as np
 from numba import njit
 
-from scone_bt.motion.pair_kinds import PAIR_HELD, PAIR_HELD_OBSTACLE, PAIR_ROBOT
+from scone_bt.motion.pair_kinds import PAIR_HELD, PAIR_HELD_OBSTACLE, PAIR_OBSTACLE, PAIR_ROBOT
 
 __all__ = [
     "chain_poses",
@@ -396,10 +396,10 @@ def ik_search(
 #             each geometry's swept-sphere radius (ng), hull vertices in their geometry's frame (nh x 3)]
 #   world_i: [obstacles no, pairs np, tilt checked (0/1), joint limits checked (0/1), pairs (np x 3: kind, a, b)]
 #   world_f: [obstacle poses (no x 16), sizes (no x 3), held pose in its joint (16), held half extents (3),
-#             held joint, tilt joint, min up, up axis (3)]
+#             held joint, tilt joint, min up, up axis (3), obstacle bounding radii (no), held bounding radius]
 #   work:    [joint poses (nj x 16), sphere centres (ns x 3), bounding centres (ng x 3), held pose (16),
 #             geometry rotations (ng x 9) and translations (ng x 3): set only where two hulls are tested or some
-#             pair is a candidate]
+#             pair is a candidate, scratch (24)]
 # Pair kinds: 0 robot geometry a ~ robot geometry b, 1 robot a ~ obstacle b, 2 robot a ~ held object,
 # 3 held object ~ obstacle b. An obstacle's size is its half extents, or (radius, half height, -1) for a cylinder.
 
@@ -427,17 +427,18 @@ def _gap2_to(px, py, pz, pose, size):  # pragma: no cover - compiled
 
 
 @njit(cache=True, nogil=True)
-def _boxes_apart(pa, ha, pb, hb):  # pragma: no cover - compiled
+def _boxes_apart(pa, ha, pb, hb, scratch):  # pragma: no cover - compiled
     """True if two oriented boxes (poses 4x4, half extents) are certainly apart: one of the 15 separating axes
-    (each box's face normals and the cross products of their edges) shows a gap between them."""
-    rot = np.empty((3, 3))  # b's axes in a's frame
-    absr = np.empty((3, 3))
+    (each box's face normals and the cross products of their edges) shows a gap between them. ``scratch``: 21
+    floats of workspace."""
+    rot = scratch[:9].reshape((3, 3))  # b's axes in a's frame
+    absr = scratch[9:18].reshape((3, 3))
     for i in range(3):
         for j in range(3):
             rot[i, j] = pa[0, i] * pb[0, j] + pa[1, i] * pb[1, j] + pa[2, i] * pb[2, j]
             absr[i, j] = abs(rot[i, j]) + 1e-9  # near-parallel edges: the face axes decide
     dx, dy, dz = pb[0, 3] - pa[0, 3], pb[1, 3] - pa[1, 3], pb[2, 3] - pa[2, 3]
-    t = np.empty(3)
+    t = scratch[18:21]
     for i in range(3):
         t[i] = dx * pa[0, i] + dy * pa[1, i] + dz * pa[2, i]
     for i in range(3):
@@ -585,6 +586,9 @@ def pair_candidates(q, arm_f, arm_i, world_f, world_i, work, out):  # pragma: no
     w += 3
     held_joint, tilt_joint, min_up = int(world_f[w]), int(world_f[w + 1]), world_f[w + 2]
     up_axis = world_f[w + 3 : w + 6]
+    w += 6
+    ob_radius = world_f[w : w + n_ob]
+    held_radius = world_f[w + n_ob]
     poses = work[: nj * 16].reshape((nj, 4, 4))
     centres = work[nj * 16 : nj * 16 + ns * 3].reshape((ns, 3))
     bounds = work[nj * 16 + ns * 3 : nj * 16 + ns * 3 + ng * 3].reshape((ng, 3))
@@ -620,17 +624,31 @@ def pair_candidates(q, arm_f, arm_i, world_f, world_i, work, out):  # pragma: no
     g0 = nj * 16 + ns * 3 + ng * 3 + 16
     rotation = work[g0 : g0 + ng * 9].reshape((ng, 3, 3))
     translation = work[g0 + ng * 9 : g0 + ng * 12].reshape((ng, 3))
+    scratch = work[g0 + ng * 12 : g0 + ng * 12 + 24]
     posed = False
     found = 0
     for k in range(n_pairs):
         kind, a, b = pairs[k, 0], pairs[k, 1], pairs[k, 2]
         meets = False
+        if kind != PAIR_ROBOT:
+            # Bounding spheres first (the obstacle's, and a's or the held object's): most pairs are far apart.
+            if kind == PAIR_OBSTACLE:
+                cx, cy, cz, reach = bounds[a, 0], bounds[a, 1], bounds[a, 2], bound_radius[a] + ob_radius[b]
+            else:
+                cx, cy, cz, reach = held[0, 3], held[1, 3], held[2, 3], held_radius
+                reach += bound_radius[a] if kind == PAIR_HELD else ob_radius[b]
+            if kind == PAIR_HELD:
+                dx, dy, dz = cx - bounds[a, 0], cy - bounds[a, 1], cz - bounds[a, 2]
+            else:
+                dx, dy, dz = cx - ob_pose[b, 0, 3], cy - ob_pose[b, 1, 3], cz - ob_pose[b, 2, 3]
+            if dx * dx + dy * dy + dz * dz > reach * reach:
+                continue
         if kind == PAIR_HELD_OBSTACLE:
             box = ob_size[b]
             if box[2] < 0.0:  # a cylinder: its bounding box
-                box = np.empty(3)
+                box = scratch[21:24]
                 box[0], box[1], box[2] = ob_size[b, 0], ob_size[b, 0], ob_size[b, 1]
-            meets = not _boxes_apart(held, held_half, ob_pose[b], box)
+            meets = not _boxes_apart(held, held_half, ob_pose[b], box, scratch)
         elif kind == PAIR_ROBOT:
             dx, dy, dz = bounds[a, 0] - bounds[b, 0], bounds[a, 1] - bounds[b, 1], bounds[a, 2] - bounds[b, 2]
             reach = bound_radius[a] + bound_radius[b]

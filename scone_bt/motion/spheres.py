@@ -327,6 +327,9 @@ class SphereChecks:
                 held_half,
                 [float(held_joint), float(tilt_joint), float(min_up)],
                 np.asarray(up, dtype=float),
+                # Bounding radii (the padded shape's, a hair over: rounding never decides).
+                np.sqrt((sizes[:, :2] ** 2).sum(axis=1) + np.where(box, sizes[:, 2] ** 2, 0.0)) + 1e-9,
+                [float(np.sqrt((held_half**2).sum())) + 1e-9],
             ]
         )
         head = [n_ob, len(self._pairs), int(tilt is not None), 1]
@@ -336,10 +339,10 @@ class SphereChecks:
         self._world_i_pairs_only[2:4] = 0
         nj, ns, ng = spheres.n_joints, spheres.n_spheres, len(spheres.shapes)
         held_at = nj * 16 + ns * 3 + ng * 3
-        self._work = np.empty(held_at + 16 + ng * 12)
+        self._work = np.empty(held_at + 16 + ng * 12 + 24)
         self._held_pose = self._work[held_at : held_at + 16].reshape(4, 4)
         self._rotations = self._work[held_at + 16 : held_at + 16 + ng * 9].reshape(ng, 3, 3)
-        self._translations = self._work[held_at + 16 + ng * 9 :].reshape(ng, 3)
+        self._translations = self._work[held_at + 16 + ng * 9 : held_at + 16 + ng * 12].reshape(ng, 3)
         # One coal transform per geometry (made when first needed), set from the kernel's poses once per state that
         # needs it.
         self._transforms: list[object | None] = [None] * (ng + 1)  # the held object's last
