@@ -20,7 +20,7 @@ import numpy as np
 
 from scone_bt.config.catalogue import Shape
 from scone_bt.motion.model import ArmModel
-from scone_bt.motion.pair_kinds import PAIR_HELD, PAIR_HELD_OBSTACLE, PAIR_OBSTACLE, PAIR_ROBOT
+from scone_bt.motion.pair_kinds import PAIR_HELD_OBSTACLE, PAIR_OBSTACLE, PAIR_ROBOT
 from scone_bt.motion.spheres import POSITIONS_KEPT, Obstacles, SphereChecks, arm_spheres
 
 ATTACHED_SHRINK_M = 0.005
@@ -121,83 +121,78 @@ class CollisionWorld:
         max_tilt: float | None = None,
         finger_position: float | None = None,
     ) -> None:
+        from scone_bt.motion import compiled
+
         self.arm = arm
         self.model = arm.model
         self._obstacles = list(obstacles)
         self._attached = attached
         self._padding = padding
         self._finger_position = finger_position
-        n_robot, n_ob = len(arm.robot_geometry), len(self._obstacles)
-        # Robot geometries first, then the obstacles in order, then the held object (Pinocchio's model's order).
-        held_id = n_robot + n_ob
-        base = np.asarray(arm.config.base_position, dtype=float)
+        n_ob = len(self._obstacles)
         poses = np.array([ob.pose for ob in self._obstacles], dtype=float).reshape(n_ob, 4, 4)
-        poses[:, :3, 3] -= base  # the model's frame: the arm's base
+        poses[:, :3, 3] -= arm.config.base_position  # the model's frame: the arm's base
         self._sizes = np.array([ob.size for ob in self._obstacles], dtype=float).reshape(n_ob, 3)
-        # The pairs to check as one boolean matrix (pinocchio reads its upper triangle), set in one call: a
-        # Python loop over a few hundred pairs cost as much as the checks of a short path.
-        check = np.zeros((held_id + (attached is not None),) * 2, dtype=bool)
-        if len(arm.self_pairs):
-            check[arm.self_pairs[:, 0], arm.self_pairs[:, 1]] = True
-        moving, in_hand = arm.moving_geometry, arm.hand_geometry
-        if n_ob:
-            # A pair whose two bounding spheres can never meet, whatever the joints do, is left out.
-            sizes = self._sizes + 2 * padding
-            radii = 0.5 * np.sqrt((sizes * sizes).sum(axis=1))
-            offsets = poses[:, :3, 3] - arm.first_joint_origin
-            distances = np.sqrt((offsets * offsets).sum(axis=1))
-            near = distances[None, :] <= (arm.geometry_reach_from_first_joint[:, None] + radii[None, :])
-            ignored = np.array([ob.name in ignore_for_hand for ob in self._obstacles])
-            check[:n_robot, n_robot:held_id] = moving[:, None] & near & ~(in_hand[:, None] & ignored[None, :])
-        ee = self.model.frames[arm.ee_frame]
-        self._held_pose = None if attached is None else ee.placement.homogeneous @ attached.pose
-        if attached is not None:
-            check[:n_robot, held_id] = moving & ~in_hand
-            check[n_robot:held_id, held_id] = True
-        self._check = check
+        # The pairs to check, in Pinocchio's order, in one compiled pass (`compiled.world_pairs`): the arm's self
+        # pairs; each moving geometry with each obstacle whose bounding sphere it can reach (a pair that can never
+        # meet, whatever the joints do, is left out), but not the hand with what it may touch; the held object.
+        sizes = self._sizes + 2 * padding
+        ignored = np.array([ob.name in ignore_for_hand for ob in self._obstacles], dtype=bool)
+        self._pairs = np.empty(
+            (len(arm.self_pairs) + (len(arm.robot_geometry) + 1) * (n_ob + 1), 3), np.int64
+        )
+        n_pairs = compiled.world_pairs(
+            arm.self_pairs,
+            arm.moving_geometry,
+            arm.hand_geometry,
+            arm.geometry_reach_from_first_joint,
+            arm.first_joint_origin,
+            np.ascontiguousarray(poses[:, :3, 3]),
+            0.5 * np.sqrt((sizes * sizes).sum(axis=1)),
+            ignored,
+            attached is not None,
+            self._pairs,
+        )
+        self._pairs = self._pairs[:n_pairs]
+        ee_in_joint = arm._ee_in_joint
+        self._held_pose = None if attached is None else ee_in_joint @ attached.pose
         self.checks = 0
         self.check_time = 0.0  # wall seconds spent in is_valid
         # Answers by the state's bytes: OMPL and the straight-line checks ask about one state again and again (one
         # check in ten of a plan), and a state's answer never changes in a world. Still counted as checks.
         self._seen: dict[bytes, bool] = {}
         self.min_up = None if max_tilt is None else float(np.cos(max_tilt))
-        self._ee_joint = ee.parentJoint
+        self._ee_joint = arm.ee_joint
         # The axis kept vertical: the held object's up axis, or else the hand's approach axis pointing down.
         up_in_ee = attached.pose[:3, 2] if attached is not None else np.array([0.0, 0.0, -1.0])
-        self._up_in_joint = np.asarray(ee.placement.rotation) @ up_in_ee
+        self._up_in_joint = ee_in_joint[:3, :3] @ up_in_ee
         self._pinocchio: tuple[object, object, object, object] | None = None
-        self._spheres = self._sphere_checks(poses, held_id)
+        self._spheres = self._sphere_checks(poses)
 
-    def _sphere_checks(self, poses: np.ndarray, held_id: int) -> SphereChecks | None:
+    def _check_matrix(self) -> np.ndarray:
+        """The pairs as Pinocchio's boolean matrix over its geometries (robot, obstacles, held object)."""
+        n_robot, n_ob = len(self.arm.robot_geometry), len(self._obstacles)
+        held_id = n_robot + n_ob
+        check = np.zeros((held_id + (self._attached is not None),) * 2, dtype=bool)
+        kinds, a, b = self._pairs.T
+        rows = np.where(kinds == PAIR_HELD_OBSTACLE, n_robot + b, a)
+        cols = np.where(kinds == PAIR_ROBOT, b, np.where(kinds == PAIR_OBSTACLE, n_robot + b, held_id))
+        check[rows, cols] = True
+        return check
+
+    def _sphere_checks(self, poses: np.ndarray) -> SphereChecks | None:
         """The spheres' broad phase and coal's GJK for this world (`motion.spheres`), or None: Pinocchio's."""
         arm, attached = self.arm, self._attached
         spheres = arm_spheres(arm, self._finger_position)
         if spheres is None:
             return None
-        n_robot = len(arm.robot_geometry)
-        # Row by row: Pinocchio's order of its pairs. (It reads the upper triangle; the matrix has nothing below the
-        # diagonal: self pairs are (i, j) with i < j, obstacles and the held object come after the robot.)
-        first, second = np.nonzero(self._check)
-        kinds = np.where(
-            second < n_robot,
-            PAIR_ROBOT,
-            np.where(
-                second < held_id, PAIR_OBSTACLE, np.where(first < n_robot, PAIR_HELD, PAIR_HELD_OBSTACLE)
-            ),
-        )
-        # (kind, robot geometry or -1, the other: robot geometry or obstacle index)
-        a = np.where(kinds == PAIR_HELD_OBSTACLE, -1, first)
-        b = np.where(
-            kinds == PAIR_ROBOT, second, np.where(kinds == PAIR_HELD_OBSTACLE, first, second) - n_robot
-        )
-        b = np.where(kinds == PAIR_HELD, -1, b)
         held = None
         if attached is not None:
             size = tuple(float(v) - 2 * ATTACHED_SHRINK_M for v in attached.size)
             held = (attached.name, attached.shape, size, self._held_pose, arm.ee_joint)
         return SphereChecks(
             spheres,
-            np.stack([kinds, a, b], axis=1),
+            self._pairs,
             Obstacles(
                 [ob.name for ob in self._obstacles], [ob.shape for ob in self._obstacles], self._sizes, poses
             ),
@@ -231,7 +226,7 @@ class CollisionWorld:
                 _geometry(self._attached.shape, self._attached.size, -ATTACHED_SHRINK_M),
             )
             gm.addGeometryObject(obj)
-        gm.setCollisionPairs(self._check, True)
+        gm.setCollisionPairs(self._check_matrix(), True)
         geom_data = gm.createData()
         # A broad phase: only pairs whose bounding boxes overlap reach the narrow phase (several times faster than
         # checking every pair in a cluttered kitchen); it honours the pair list above. With a few dozen

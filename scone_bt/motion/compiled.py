@@ -30,6 +30,7 @@ __all__ = [
     "log6",
     "pair_candidates",
     "sample_segment",
+    "world_pairs",
 ]
 
 _SMALL = 1e-4  # below this angle (rad) the series forms are exact to double precision (Pinocchio's threshold order)
@@ -780,3 +781,46 @@ def sample_segment(
             vel[row, c] = sv * delta[c]
             acc[row, c] = sa * delta[c]
         row += 1
+
+
+@njit(cache=True, nogil=True)
+def world_pairs(
+    self_pairs, moving, in_hand, reach, first_origin, centres, radii, ignored, held, out
+):  # pragma: no cover - compiled
+    """A collision world's pairs (kind, a, b) into ``out``, in Pinocchio's order (its pair matrix's upper triangle
+    row by row: robot geometries, then obstacles, then the held object); returns how many.
+
+    Robot geometry r is paired with: the geometries of ``self_pairs`` (rows (r, j), j > r, sorted); every obstacle
+    o it can reach (``moving[r]``, the obstacle's bounding sphere (centre ``centres[o]``, model frame, radius
+    ``radii[o]``) within ``reach[r]`` of the first joint's origin) unless r is part of the hand and ``ignored[o]``;
+    the held object (``held``) unless r moves with it or never moves. Each obstacle is paired with the held
+    object.
+    """
+    n_robot, n_ob = moving.shape[0], centres.shape[0]
+    near = np.empty(n_ob)  # each obstacle's distance from the first joint's origin, less its radius
+    for o in range(n_ob):
+        dx, dy, dz = (
+            centres[o, 0] - first_origin[0],
+            centres[o, 1] - first_origin[1],
+            centres[o, 2] - first_origin[2],
+        )
+        near[o] = math.sqrt(dx * dx + dy * dy + dz * dz)
+    k, s = 0, 0
+    for r in range(n_robot):
+        while s < self_pairs.shape[0] and self_pairs[s, 0] == r:
+            out[k, 0], out[k, 1], out[k, 2] = PAIR_ROBOT, r, self_pairs[s, 1]
+            k += 1
+            s += 1
+        if moving[r]:
+            for o in range(n_ob):
+                if near[o] <= reach[r] + radii[o] and not (in_hand[r] and ignored[o]):
+                    out[k, 0], out[k, 1], out[k, 2] = PAIR_OBSTACLE, r, o
+                    k += 1
+            if held and not in_hand[r]:
+                out[k, 0], out[k, 1], out[k, 2] = PAIR_HELD, r, -1
+                k += 1
+    if held:
+        for o in range(n_ob):
+            out[k, 0], out[k, 1], out[k, 2] = PAIR_HELD_OBSTACLE, -1, o
+            k += 1
+    return k

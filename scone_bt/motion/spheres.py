@@ -268,6 +268,10 @@ class Obstacles:
     poses: np.ndarray
 
 
+_NO_HELD_POSE, _NO_HELD_HALF = np.eye(4), np.zeros(3)
+_NO_HELD_POSE.flags.writeable = _NO_HELD_HALF.flags.writeable = False
+
+
 class SphereChecks:
     """One collision world's checks: the spheres' broad phase, then coal's GJK on the pairs it leaves.
 
@@ -310,7 +314,7 @@ class SphereChecks:
         cylinder = ~box
         sizes[cylinder, 1] = half[cylinder, 2]
         sizes[cylinder, 2] = -1.0
-        held_local, held_half, held_joint = np.eye(4), np.zeros(3), -1
+        held_local, held_half, held_joint = _NO_HELD_POSE, _NO_HELD_HALF, -1
         self._held_name = ""
         if held is not None:
             self._held_name, shape, dims, pose, held_joint = held
@@ -327,9 +331,9 @@ class SphereChecks:
                 held_half,
                 [float(held_joint), float(tilt_joint), float(min_up)],
                 np.asarray(up, dtype=float),
-                # Bounding radii (the padded shape's, a hair over: rounding never decides).
-                np.sqrt((sizes[:, :2] ** 2).sum(axis=1) + np.where(box, sizes[:, 2] ** 2, 0.0)) + 1e-9,
-                [float(np.sqrt((held_half**2).sum())) + 1e-9],
+                # Bounding radii: of the padded shape's bounding box, a hair over (rounding never decides).
+                np.sqrt((half * half).sum(axis=1)) + 1e-9,
+                [math.sqrt(float(held_half @ held_half)) + 1e-9],
             ]
         )
         head = [n_ob, len(self._pairs), int(tilt is not None), 1]

@@ -295,3 +295,40 @@ def test_a_folded_wrist_is_answered_as_pinocchio(arm):
 def _hull_count_slice(world):
     nj, ns, ng = (int(v) for v in world._spheres._spheres.arm_i[:3])
     return slice(3 + nj + ns + 4 * ng, 3 + nj + ns + 5 * ng)
+
+
+@pytest.mark.parametrize("held", [False, True])
+def test_a_worlds_pairs_are_those_the_arm_can_bring_together(any_arm, held):
+    """The compiled pair list, as Pinocchio's matrix, against the rule written out with numpy: self pairs; moving
+    geometries with the obstacles their reach meets, less the hand with the ignored ones; the held object with
+    the moving geometries outside the hand and with every obstacle."""
+    arm = any_arm
+    rng = np.random.default_rng(21)
+    obstacles = [
+        Obstacle(
+            f"o{k}",
+            "box" if k % 3 else "cylinder",
+            tuple(rng.uniform(0.02, 0.3, 3)),
+            pose_matrix(np.eye(3), rng.uniform([-1.5, -1.5, -0.2], [1.5, 1.5, 1.5])),
+        )
+        for k in range(40)
+    ]
+    attached = Obstacle("jar", "cylinder", (0.07, 0.07, 0.12), pose_matrix(np.eye(3), (0, 0, 0.07)))
+    ignore = ["o1", "o2", "o7"]
+    world = CollisionWorld(arm, obstacles, attached if held else None, padding=0.02, ignore_for_hand=ignore)
+    n_robot, n_ob = len(arm.robot_geometry), len(obstacles)
+    expected = np.zeros((n_robot + n_ob + held,) * 2, dtype=bool)
+    expected[arm.self_pairs[:, 0], arm.self_pairs[:, 1]] = True
+    centres = np.array([ob.pose[:3, 3] for ob in obstacles]) - np.asarray(arm.config.base_position)
+    radii = 0.5 * np.linalg.norm(np.array([ob.size for ob in obstacles]) + 0.04, axis=1)
+    near = np.linalg.norm(centres - arm.first_joint_origin, axis=1)[None, :] <= (
+        arm.geometry_reach_from_first_joint[:, None] + radii[None, :]
+    )
+    ignored = np.array([ob.name in ignore for ob in obstacles])
+    moving, in_hand = arm.moving_geometry, arm.hand_geometry
+    expected[:n_robot, n_robot : n_robot + n_ob] = moving[:, None] & near & ~(in_hand[:, None] & ignored)
+    if held:
+        expected[:n_robot, -1] = moving & ~in_hand
+        expected[n_robot:-1, -1] = True
+    assert np.array_equal(world._check_matrix(), expected)
+    assert 0 < near.sum() < near.size  # some obstacles out of reach, some within
