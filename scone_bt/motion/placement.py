@@ -161,6 +161,9 @@ def footprint_gaps(
     pts = np.asarray(points, dtype=float).reshape(-1, 2)
     yaw = np.broadcast_to(np.asarray(yaws, dtype=float), (len(pts),))
     out = np.empty((len(pts), len(obstacles)))
+    own_axes: list[
+        tuple[np.ndarray, np.ndarray]
+    ] = []  # a rectangle's own edge normals and extents along them
     for j, ob in enumerate(obstacles):
         d = np.array([ob.x, ob.y]) - pts  # from the candidate to the obstacle
         if shape.is_round and ob.is_round:
@@ -182,14 +185,25 @@ def footprint_gaps(
             out[:, j] = outside + inside - r
         else:
             assert shape.half_size is not None and ob.half_size is not None
-            axes = [yaw, yaw + np.pi / 2, np.full(len(pts), ob.yaw), np.full(len(pts), ob.yaw + np.pi / 2)]
+            if not own_axes:  # the same for every obstacle: made once
+                for a in (yaw, yaw + np.pi / 2):
+                    n = np.column_stack([np.cos(a), np.sin(a)])
+                    pa = shape.half_size[0] * np.abs(np.cos(a - yaw)) + shape.half_size[1] * np.abs(
+                        np.sin(a - yaw)
+                    )
+                    own_axes.append((n, pa))
             best = np.full(len(pts), -np.inf)
-            for a in axes:
-                n = np.column_stack([np.cos(a), np.sin(a)])
+            for k, a in enumerate(
+                (yaw, yaw + np.pi / 2, np.full(len(pts), ob.yaw), np.full(len(pts), ob.yaw + np.pi / 2))
+            ):
+                if k < 2:
+                    n, pa = own_axes[k]
+                else:
+                    n = np.column_stack([np.cos(a), np.sin(a)])
+                    pa = shape.half_size[0] * np.abs(np.cos(a - yaw)) + shape.half_size[1] * np.abs(
+                        np.sin(a - yaw)
+                    )
                 dist = np.abs(np.sum(d * n, axis=1))
-                pa = shape.half_size[0] * np.abs(np.cos(a - yaw)) + shape.half_size[1] * np.abs(
-                    np.sin(a - yaw)
-                )
                 pb = ob.half_size[0] * np.abs(np.cos(a - ob.yaw)) + ob.half_size[1] * np.abs(
                     np.sin(a - ob.yaw)
                 )
@@ -419,15 +433,16 @@ def sample_placements(
         shadowed = (along > 0) & (along < reach) & (across < o.radius + shape.radius + 0.05)
         cost += options.shadow_weight * shadowed
     order = np.lexsort((pts[:, 1], pts[:, 0], np.round(cost, 9)))[: options.max_spots]
-    spots = []
-    for i in order:
-        yaws: tuple[float, ...] = ()
-        if not shape.is_round:
-            fitting = [j for j in np.argsort(yaw_cost[i], kind="stable") if free_k[i, j]]
-            yaws = tuple(dict.fromkeys(round(float(yaw_sets[i, j]), 9) + 0.0 for j in fitting))
-        spots.append(
-            PlacementSpot(
-                float(pts[i, 0]), float(pts[i, 1]), table.top_z, float(cost[i]), float(gap[i]), yaws
-            )
-        )
+    # Per spot, its fitting yaws cheapest first (each once, to the nanoradian), all spots' rankings at once.
+    fitting: list[list[tuple[float, bool]]] = [[]] * len(order)
+    if not shape.is_round:
+        ranks = np.argsort(yaw_cost[order], axis=1, kind="stable")
+        yaw_rows = np.take_along_axis(yaw_sets[order], ranks, axis=1).tolist()
+        fit_rows = np.take_along_axis(free_k[order], ranks, axis=1).tolist()
+        fitting = [list(zip(y, f, strict=True)) for y, f in zip(yaw_rows, fit_rows, strict=True)]
+    rows = zip(pts[order].tolist(), cost[order].tolist(), gap[order].tolist(), fitting, strict=True)
+    spots = [
+        PlacementSpot(x, y, table.top_z, c, g, tuple(dict.fromkeys(round(v, 9) + 0.0 for v, ok in fit if ok)))
+        for (x, y), c, g, fit in rows
+    ]
     return PlacementSet(tuple(spots), blockers, n)
