@@ -6,9 +6,10 @@ places the spheres and keeps the pairs whose spheres meet the other side (anothe
 obstacle's box or cylinder, the held object's box); of two robot geometries whose spheres meet, it drops those
 whose hulls it proves apart by a distance bound (`compiled.hulls_apart`: the Panda's wrist links, a few
 centimetres apart with the wrist folded, meet by their spheres in one state in four). Only the pairs left reach
-coal's GJK, on the same shapes the Pinocchio world holds. A pair whose spheres do not meet cannot collide, so the answer is the meshes' answer: the
-spheres only spare the checks of what is certainly apart (most pairs of most states), and each world the ~0.3 ms
-Pinocchio took to make a collision functor for each of its ~220 pairs.
+coal's GJK, on the same shapes the Pinocchio world holds. A pair whose spheres do not meet, or whose hulls are
+proven apart, cannot collide, so the answer is the meshes' answer: the spheres and the bound only spare the checks
+of what is certainly apart (most pairs of most states), and each world the ~0.3 ms Pinocchio took to make a
+collision functor for each of its ~220 pairs.
 
 Arrays are packed for the kernel (`compiled`'s layouts) once per arm and finger position (`ArmSpheres`) and once
 per collision world (`SphereChecks`).
