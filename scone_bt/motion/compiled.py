@@ -797,14 +797,14 @@ def world_pairs(
     object.
     """
     n_robot, n_ob = moving.shape[0], centres.shape[0]
-    near = np.empty(n_ob)  # each obstacle's distance from the first joint's origin, less its radius
+    distance = np.empty(n_ob)  # from the first joint's origin to each obstacle's centre
     for o in range(n_ob):
         dx, dy, dz = (
             centres[o, 0] - first_origin[0],
             centres[o, 1] - first_origin[1],
             centres[o, 2] - first_origin[2],
         )
-        near[o] = math.sqrt(dx * dx + dy * dy + dz * dz)
+        distance[o] = math.sqrt(dx * dx + dy * dy + dz * dz)
     k, s = 0, 0
     for r in range(n_robot):
         while s < self_pairs.shape[0] and self_pairs[s, 0] == r:
@@ -813,7 +813,7 @@ def world_pairs(
             s += 1
         if moving[r]:
             for o in range(n_ob):
-                if near[o] <= reach[r] + radii[o] and not (in_hand[r] and ignored[o]):
+                if distance[o] <= reach[r] + radii[o] and not (in_hand[r] and ignored[o]):
                     out[k, 0], out[k, 1], out[k, 2] = PAIR_OBSTACLE, r, o
                     k += 1
             if held and not in_hand[r]:

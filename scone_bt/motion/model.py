@@ -345,10 +345,9 @@ class ArmModel:
         goal[:3, 3] -= np.asarray(self.config.base_position)
         seeds = np.empty((1 + options.restarts, self.dof))
         seeds[0] = self.clamp(np.asarray(seed, dtype=float))
-        if (
-            options.restarts
-        ):  # (a draw of none takes no number from rng, but costs as much as a draw of seven)
-            # The random seeds in one draw: the same numbers, in the same order, as one draw per seed.
+        # The random seeds in one draw: the same numbers, in the same order, as one draw per seed. (A draw of none
+        # takes no number from rng but costs as much as a draw of seven: skipped.)
+        if options.restarts:
             seeds[1:] = rng.uniform(self.lower, self.upper, size=(options.restarts, self.dof))
         if self.chain is not None:
             return self._ik_compiled(goal, seeds, options)

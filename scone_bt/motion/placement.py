@@ -161,9 +161,8 @@ def footprint_gaps(
     pts = np.asarray(points, dtype=float).reshape(-1, 2)
     yaw = np.broadcast_to(np.asarray(yaws, dtype=float), (len(pts),))
     out = np.empty((len(pts), len(obstacles)))
-    own_axes: list[
-        tuple[np.ndarray, np.ndarray]
-    ] = []  # a rectangle's own edge normals and extents along them
+    # The placed rectangle's own edge normals and its extents along them: the same for every obstacle.
+    own_axes: list[tuple[np.ndarray, np.ndarray]] = []
     for j, ob in enumerate(obstacles):
         d = np.array([ob.x, ob.y]) - pts  # from the candidate to the obstacle
         if shape.is_round and ob.is_round:
@@ -185,7 +184,7 @@ def footprint_gaps(
             out[:, j] = outside + inside - r
         else:
             assert shape.half_size is not None and ob.half_size is not None
-            if not own_axes:  # the same for every obstacle: made once
+            if not own_axes:
                 for a in (yaw, yaw + np.pi / 2):
                     n = np.column_stack([np.cos(a), np.sin(a)])
                     pa = shape.half_size[0] * np.abs(np.cos(a - yaw)) + shape.half_size[1] * np.abs(
@@ -360,7 +359,7 @@ def sample_placements(
     gx += (x1 - gx[-1]) / 2
     gy += (y1 - gy[-1]) / 2
     grid = np.stack(np.meshgrid(gx, gy, indexing="ij"), axis=-1).reshape(-1, 2)  # x by x, y by y within
-    # Generator.uniform's numbers: low + (high - low) u, u its standard draws (a tenth of uniform's price).
+    # Generator.uniform's numbers: low + (high - low) u, u its standard draws (13 against 20 us a call).
     low, high = np.array([x0, y0]), np.array([x1, y1])
     rand = low + (high - low) * np.random.default_rng(options.rng_seed).random(
         size=(options.random_samples, 2)
