@@ -123,9 +123,7 @@ class WaitForHuman(StageBehaviour):
         self.seconds = seconds
 
     @classmethod
-    def from_context(  # type: ignore[override]
-        cls, name: str, context: EpisodeContext, seconds: float = 1.0
-    ) -> WaitForHuman:
+    def from_context(cls, name: str, context: EpisodeContext, seconds: float = 1.0) -> WaitForHuman:
         return cls(name, context.robot.now, seconds)
 
     def initialise(self) -> None:

@@ -90,11 +90,11 @@ def store_trial(
     killed_at = len(acked[0])
     for k in range(1, len(procs)):
         read(k, procs[k])
-    errors = [p.stderr.read().strip() for p in procs[1:] if p.wait() != 0]  # type: ignore[union-attr]
+    errors = [p.stderr.read().strip() for p in procs[1:] if p.wait() != 0]
     restarted = launch(0)
     read(0, restarted)
     if restarted.wait() != 0:
-        errors.append(restarted.stderr.read().strip())  # type: ignore[union-attr]
+        errors.append(restarted.stderr.read().strip())
     for p in [*procs, restarted]:
         for stream in (p.stdout, p.stderr):
             if stream is not None:

@@ -145,13 +145,13 @@ def _recording_ompl_queries() -> Iterator[list[tuple[Any, Any, Any, Any]]]:
             record(start, goal, is_valid, options)
         return result
 
-    plan_session.plan_joint_path = recording  # type: ignore[assignment]
-    plan_session.direct_path = recording_direct  # type: ignore[assignment]
+    plan_session.plan_joint_path = recording
+    plan_session.direct_path = recording_direct
     try:
         yield calls
     finally:
-        plan_session.plan_joint_path = original  # type: ignore[assignment]
-        plan_session.direct_path = original_direct  # type: ignore[assignment]
+        plan_session.plan_joint_path = original
+        plan_session.direct_path = original_direct
 
 
 def _compare(calls: list[tuple[Any, Any, Any, Any]]) -> list[dict[str, Any]]:
@@ -472,9 +472,7 @@ def _report(records: list[dict[str, Any]], cpu_total: float) -> dict[str, Any]:
         "cpu_s_total": round(cpu_total, 1),
     }
     report["targets_met"] = {
-        key: (
-            None if report[key] is None else (report[key] <= bound if op == "<=" else report[key] >= bound)  # type: ignore[operator]
-        )
+        key: (None if report[key] is None else (report[key] <= bound if op == "<=" else report[key] >= bound))
         for key, (op, bound) in TARGETS.items()
     }
     return report

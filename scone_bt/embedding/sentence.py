@@ -137,7 +137,7 @@ class SentenceTransformerEmbedder(Embedder):
         torch.set_num_threads(encode_threads())
         try:
             with torch.inference_mode():
-                out = self.model.encode(  # type: ignore[attr-defined]
+                out = self.model.encode(
                     list(texts),
                     batch_size=self.batch_size,
                     convert_to_numpy=True,

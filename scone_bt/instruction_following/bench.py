@@ -168,7 +168,7 @@ class BenchResult:
             out["best"] = {"policy": score.policy, "accuracy": round(score.accuracy, 4)}
             out["breakdown"] = {"best": _breakdown(score.episodes)}
             for b in self.baselines:
-                out["breakdown"][b.policy] = _breakdown(b.episodes)  # type: ignore[index]
+                out["breakdown"][b.policy] = _breakdown(b.episodes)
             out["failures"] = _failures(score.episodes)
         return out
 
@@ -381,7 +381,7 @@ def run_benchmark(
             skipped[name] = result
             log(f"skip {name}: {result}")
             continue
-        rows.append(result)  # type: ignore[arg-type]
+        rows.append(result)
         seconds[name] = sec
     finetuned: dict[str, object] = {}
     if opts.finetune:
@@ -407,7 +407,7 @@ def run_benchmark(
     for kind, name in parts:
         if kind != "row":
             result, sec = done[kind, name]
-            baselines.append(result)  # type: ignore[arg-type]
+            baselines.append(result)
             seconds[kind] = sec
     baselines.append(evaluate(SimilarityPolicy(None, "pick everything (chance)", score_fn=_zeros), test))
     return BenchResult(

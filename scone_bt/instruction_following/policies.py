@@ -70,7 +70,7 @@ def threshold_picks_score(
         recs.append(rec.mean())
     if np.ndim(threshold) == 0:
         return float(accs[0]), float(recs[0])
-    return np.array(accs), np.array(recs)  # type: ignore[return-value]
+    return np.array(accs), np.array(recs)
 
 
 def fit_threshold(

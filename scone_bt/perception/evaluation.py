@@ -105,7 +105,7 @@ def ground_truth(kitchen: Kitchen, camera: Camera) -> list[GroundTruth]:
             and np.all(uv[:, 1] >= 0)
             and np.all(uv[:, 1] <= camera.spec.height - 1)
         )
-        out.append(GroundTruth(name, tuple(float(v) for v in top), yaw, seen / len(points), in_view))  # type: ignore[arg-type]
+        out.append(GroundTruth(name, tuple(float(v) for v in top), yaw, seen / len(points), in_view))
     return out
 
 

@@ -338,7 +338,7 @@ class Kitchen:
     def object_state(self, name: str) -> ObjectState:
         body = self._body(name)
         pos, orn = self.bc.getBasePositionAndOrientation(body)
-        return ObjectState(name, body, tuple(pos), tuple(orn))  # type: ignore[arg-type]
+        return ObjectState(name, body, tuple(pos), tuple(orn))
 
     def _body(self, name: str) -> int:
         try:

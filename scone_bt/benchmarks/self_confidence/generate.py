@@ -125,7 +125,7 @@ class _Worker:
         key = id(kitchen.catalogue)
         if key not in self.detectors:
             self.detectors[key] = (kitchen.catalogue, Detector(kitchen.catalogue))
-        return self.detectors[key][1]  # type: ignore[index]
+        return self.detectors[key][1]
 
     def empty_kitchen(self, kcfg: KitchenConfig, rcfg: RobotConfig) -> Any:
         """A kitchen in exactly the state a new one starts in (reused when the robot's body is the same)."""
@@ -178,7 +178,7 @@ def _motion_system(kitchen: Any, robot: RobotConfig) -> Any:
         limits_of(robot),
         params,
         ExecutionSettings(),
-        robot,  # type: ignore[arg-type]
+        robot,
     )
 
 

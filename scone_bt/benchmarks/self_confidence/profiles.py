@@ -231,7 +231,7 @@ def load_profile(path: Path | str) -> Profile:
         velocity_scale=m.limits.velocity_scale,
         acceleration_scale=m.limits.acceleration_scale,
         jerk_scale=m.limits.jerk_scale,
-        calibration_offset=tuple(m.calibration_offset),  # type: ignore[arg-type]
+        calibration_offset=tuple(m.calibration_offset),
         injected=tuple(
             InjectedFailure(
                 stage=i.stage,
