@@ -40,10 +40,10 @@ typecheck: $(STAMP)
 # The documentation site (MkDocs, Material theme) into site/; --strict fails on a broken link or a missing page.
 # Its reference pages are generated from the code at build time (docs/gen_reference.py).
 docs: $(STAMP)
-	$(BIN)/python -m mkdocs build --strict
+	NO_MKDOCS_2_WARNING=1 DISABLE_MKDOCS_2_WARNING=true $(BIN)/python -m mkdocs build --strict
 
 docs-serve: $(STAMP)
-	$(BIN)/python -m mkdocs serve
+	NO_MKDOCS_2_WARNING=1 DISABLE_MKDOCS_2_WARNING=true $(BIN)/python -m mkdocs serve
 
 clean:
 	rm -rf $(VENV) runs .pytest_cache .mypy_cache site

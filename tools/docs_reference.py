@@ -3,7 +3,7 @@
 mkdocs-gen-files runs this script (mkdocs.yml, `plugins: gen-files`); it writes three virtual pages into the
 site: `reference/cli.md` (every command's `--help`, from the real argparse parsers), `reference/config.md` (every
 key of the configuration files, from the pydantic models) and `reference/scenario-schema.md` (the scenario file's
-JSON Schema). Nothing is copied by hand, so the pages cannot drift from the code. Run it alone to print them:
+JSON Schema), and `changelog.md` from CHANGELOG.md. Nothing is copied by hand, so the pages cannot drift from the code. Run it alone to print them:
 `python tools/docs_reference.py` (no network; it imports scone_bt only).
 """
 
@@ -82,28 +82,70 @@ def cli_page() -> str:
 
 # ---------------------------------------------------------------------------------------------- config keys
 # The files a user edits, each with the model that validates it; every other model of scone_bt.config follows.
-FILE_MODELS: tuple[tuple[str, str, str, str], ...] = (
+FILE_MODELS: tuple[tuple[str, str, str, str, str, tuple[str, ...]], ...] = (
+    # (title, module, model, what the file is, the shipped file whose comments describe the keys, its section)
     (
         "Tree parameters",
         "scone_bt.config.tree_parameters",
         "TreeParameters",
         "The `parameters:` section of a tree file (`trees/assistive_cooking.yaml`): the robot's decision "
         "defaults. `scone-run`'s flags override them for one run.",
+        "trees/assistive_cooking.yaml",
+        ("parameters",),
     ),
-    ("Robot file", "scone_bt.config.robot", "RobotFile", "`robots/<name>.yaml`: the arm, its gripper and planner."),
+    (
+        "Robot file",
+        "scone_bt.config.robot",
+        "RobotFile",
+        "`robots/<name>.yaml`: the arm, its gripper and planner.",
+        "robots/panda.yaml",
+        (),
+    ),
     (
         "Grasp section",
         "scone_bt.config.grasp",
         "_GraspSection",
         "The `grasp:` section of a robot file; every key is optional.",
+        "robots/panda.yaml",
+        ("grasp",),
     ),
     (
         "Catalogue family file",
         "scone_bt.config.catalogue",
         "_FamilyFile",
         "`perception/catalogue/<family>.yaml`, and a file given to `--catalogue`: products and their defaults.",
+        "",
+        (),
     ),
 )
+
+
+def yaml_comments(path: Path) -> dict[tuple[str, ...], str]:
+    """Each key's comment in a shipped YAML file, by its path of keys: the comment at the end of its line, else
+    the comment lines just above it (at its indentation). The shipped files explain every key this way."""
+    found: dict[tuple[str, ...], str] = {}
+    stack: list[tuple[int, str]] = []
+    above: list[str] = []
+    for line in path.read_text(encoding="utf-8").splitlines():
+        text = line.strip()
+        indent = len(line) - len(line.lstrip())
+        if text.startswith("#"):
+            above.append(text.lstrip("#").strip())
+            continue
+        head = text.split("#", 1)[0]
+        if not text or text.startswith("-") or ":" not in head:
+            above = []
+            continue
+        key = head.split(":", 1)[0].strip()
+        while stack and stack[-1][0] >= indent:
+            stack.pop()
+        stack.append((indent, key))
+        trailing = text.split(" #", 1)[1].strip() if " #" in text else ""
+        words = trailing or " ".join(above)
+        if words:
+            found[tuple(k for _, k in stack)] = words
+        above = []
+    return found
 
 
 def _type_name(annotation: Any) -> str:
@@ -127,23 +169,27 @@ def _type_name(annotation: Any) -> str:
 
 
 def _constraints(field: FieldInfo) -> str:
-    """The bounds pydantic enforces (`>= 0`, `<= 1`, `1-32 items`), from the field's metadata."""
+    """The bounds pydantic enforces (`>= 0`, `<= 1`, `1..32 items`), from the field's metadata."""
     words = []
+    lo = hi = None
     for meta in field.metadata:
         for attr, sign in (("gt", ">"), ("ge", ">="), ("lt", "<"), ("le", "<=")):
             value = getattr(meta, attr, None)
             if value is not None:
                 words.append(f"{sign} {value}")
-        lo, hi = getattr(meta, "min_length", None), getattr(meta, "max_length", None)
-        if lo is not None or hi is not None:
-            words.append(f"length {lo if lo is not None else 0}..{hi if hi is not None else '∞'}")
+        lo = getattr(meta, "min_length", None) if getattr(meta, "min_length", None) is not None else lo
+        hi = getattr(meta, "max_length", None) if getattr(meta, "max_length", None) is not None else hi
+    if lo is not None or hi is not None:
+        words.append(f"{lo or 0}..{hi if hi is not None else '∞'} items")
     return ", ".join(words)
 
 
 def _default(field: FieldInfo) -> str:
     if field.is_required():
         return "**required**"
-    value = field.get_default(call_default_factory=True) if field.default is PydanticUndefined else field.default
+    value = (
+        field.get_default(call_default_factory=True) if field.default is PydanticUndefined else field.default
+    )
     if isinstance(value, BaseModel):
         return "(its keys' defaults)"
     return f"`{json.dumps(value, default=str)}`"
@@ -164,17 +210,23 @@ def _nested(annotation: Any) -> Iterator[type[BaseModel]]:
         yield from _nested(arg)
 
 
-def _model_table(model: type[BaseModel], doc: str) -> list[str]:
-    out = [f'### {_title(model)} {{ #{_anchor(model)} }}', "", f"`{model.__module__}.{model.__name__}`", ""]
+def _model_table(
+    model: type[BaseModel],
+    doc: str,
+    comments: dict[tuple[str, ...], str] | None = None,
+    at: tuple[str, ...] = (),
+) -> list[str]:
+    comments = comments or {}
+    out = [f"### {_title(model)} {{ #{_anchor(model)} }}", "", f"`{model.__module__}.{model.__name__}`", ""]
     if doc:
         out += [doc, ""]
-    own = inspect.getdoc(model) or ""
-    if own and own != inspect.getdoc(BaseModel):
+    own = inspect.cleandoc(model.__dict__.get("__doc__") or "")  # its own docstring, not its base's
+    if own:
         out += [own.split("\n\n")[0], ""]
     out += ["| key | type | bounds | default | description |", "|---|---|---|---|---|"]
     for name, field in model.model_fields.items():
         key = field.alias or name
-        text = (field.description or "").replace("|", "\\|").replace("\n", " ")
+        text = (field.description or comments.get((*at, key), "")).replace("|", "\\|").replace("\n", " ")
         kind = _type_name(field.annotation).replace("|", "\\|")
         out.append(f"| `{key}` | {kind} | {_constraints(field)} | {_default(field)} | {text} |")
     return out + [""]
@@ -204,7 +256,7 @@ def config_page() -> str:
         "# Configuration keys",
         "",
         "Generated at build time from the pydantic models that validate each file (`scone_bt/config/`). A key",
-        "outside these tables, a wrong type (no `\"3\"` for 3, no `true` for 1), a value out of bounds or a NaN is",
+        'outside these tables, a wrong type (no `"3"` for 3, no `true` for 1), a value out of bounds or a NaN is',
         "one line naming the file, the key and what is allowed. Units are SI (metres, radians, seconds, kilograms,",
         "newtons) unless the key says otherwise (`_deg`, `_hz`).",
         "",
@@ -215,22 +267,29 @@ def config_page() -> str:
         "",
     ]
     shown: list[type[BaseModel]] = []
-    queue: list[tuple[type[BaseModel], str]] = []
-    for title, module, name, doc in FILE_MODELS:
+    Entry = tuple[type[BaseModel], str, dict[tuple[str, ...], str], tuple[str, ...]]
+    queue: list[Entry] = []
+    for title, module, name, doc, shipped, section in FILE_MODELS:
         model = getattr(importlib.import_module(module), name, None)
         if model is None:
             raise SystemExit(f"docs_reference: {module}.{name} is gone; update FILE_MODELS")
-        queue.append((model, f"**{title}.** {doc}"))
+        comments = yaml_comments(ROOT / shipped) if shipped else {}
+        queue.append((model, f"**{title}.** {doc}", comments, section))
     while queue:
-        model, doc = queue.pop(0)
+        model, doc, comments, at = queue.pop(0)
         if model in shown:
             continue
         shown.append(model)
-        out += _model_table(model, doc)
-        for field in model.model_fields.values():
+        out += _model_table(model, doc, comments, at)
+        inner_entries: list[Entry] = []
+        for key, field in model.model_fields.items():
             for inner in _nested(field.annotation):
                 if inner not in shown:
-                    queue.insert(0, (inner, f"A section of {_title(model)}."))
+                    where = " · ".join((*at, field.alias or key))
+                    inner_entries.append(
+                        (inner, f"The `{where}` section of {_title(model)}.", comments, (*at, key))
+                    )
+        queue[:0] = inner_entries
     rest = [m for m in _config_models() if m not in shown and m.model_fields]
     if rest:
         out += ["## Other validated sections", ""]
@@ -289,7 +348,13 @@ def _schema_type(spec: dict[str, Any]) -> str:
     return str(kind)
 
 
+def changelog_page() -> str:
+    """CHANGELOG.md of the checkout, which lives beside README.md, outside docs/."""
+    return (ROOT / "CHANGELOG.md").read_text(encoding="utf-8")
+
+
 PAGES: dict[str, Callable[[], str]] = {
+    "changelog.md": changelog_page,
     "reference/cli.md": cli_page,
     "reference/config.md": config_page,
     "reference/scenario-schema.md": scenario_schema_page,
