@@ -372,5 +372,5 @@ def _write_with_gen_files() -> None:
 if __name__ == "__main__":
     for path, make in PAGES.items():
         print(f"<!-- {path} -->\n{make()}")
-else:  # run by mkdocs-gen-files during `mkdocs build`
+elif __name__ == "<run_path>":  # run by mkdocs-gen-files (runpy.run_path) during `mkdocs build`
     _write_with_gen_files()

@@ -33,6 +33,7 @@ class _AskTheHuman(StageBehaviour):
 
 class AskForHelp(_AskTheHuman):
     READS = (Keys.DECISION, Keys.TARGET)
+    object_name: str  # set by initialise: the item asked for
 
     def initialise(self) -> None:
         target = self.read(Keys.TARGET)

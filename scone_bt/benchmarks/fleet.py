@@ -205,7 +205,7 @@ def learning_trial(models: Sequence[Model], seeds: int = 10, estimator: str = "e
     per_seed: dict[str, list[list[ReplayResult]]] = {"cold": [], "same_model": [], "fleet_pooled": []}
     per_model: dict[str, dict[str, list[int]]] = {m.name: {k: [] for k in per_seed} for m in panda}
     for s in range(seeds):
-        rows = {k: [] for k in per_seed}
+        rows: dict[str, list[ReplayResult]] = {k: [] for k in per_seed}
         for mi, m in enumerate(panda):
             order = np.random.default_rng([s, mi]).permutation(len(m.y))
             new, rest = order[:FIRST_N], order[FIRST_N:]

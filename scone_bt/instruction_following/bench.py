@@ -141,7 +141,7 @@ class BenchResult:
     def to_json(self) -> dict[str, object]:
         """Summary numbers, the per-category breakdown of the best policy, and a few failure examples."""
         best = self.best_row()
-        out: dict[str, object] = {
+        out: dict[str, Any] = {
             "counts": self.counts,
             "embedding_policies": [
                 {
@@ -365,7 +365,7 @@ def run_benchmark(
     parts += [("pddl", "")] if opts.pddl else []
     parts += [("ticc", opts.ticc_embedder)] if opts.ticc else []
     inputs = _PartInputs(tuple(train), tuple(dev), tuple(test), replace(opts, engine=None))
-    done: dict[tuple[str, str], tuple[object, float]] = {}
+    done: dict[tuple[str, str], tuple[Any, float]] = {}
     labels = {"row": "scoring {}", "pddl": "PDDL (LAMA)", "ticc": "TICC-style MCTS (intent model on {})"}
     for _i, (kind, name, result, sec) in imap_tasks(
         _run_part, parts, engine=opts.engine or EngineOptions(workers=1), shared=inputs

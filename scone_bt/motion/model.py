@@ -276,7 +276,7 @@ class ArmModel:
             out[k] += stroke
         return out
 
-    def can_reach(self, position: Sequence[float], margin: float = 0.0) -> bool:
+    def can_reach(self, position: Sequence[float] | np.ndarray, margin: float = 0.0) -> bool:
         """False if the point (world, metres) is certainly beyond the end-effector's reach."""
         return float(np.linalg.norm(np.asarray(position) - self.shoulder)) <= self.reach + margin
 

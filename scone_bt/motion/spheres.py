@@ -181,7 +181,11 @@ def arm_spheres(arm: Any, finger_position: float | None) -> ArmSpheres | None:
 
 def _open_cover(arm: Any) -> _Cover | None:
     gm = arm.geometry_with_fingers(None)
-    centre, radius, joint, first, count = [], [], [], [], []
+    centre: list[np.ndarray] = []
+    radius: list[float] = []
+    joint: list[int] = []
+    first: list[int] = []
+    count: list[int] = []
     for g in gm.geometryObjects:
         spheres = _cover_geometry(g.geometry, np.asarray(g.placement.homogeneous, dtype=float))
         if not spheres:
