@@ -170,8 +170,8 @@ def read_robot_visuals(urdf: str | Path, source: str = "visual") -> RobotVisuals
 
     visuals: list[LinkVisual] = []
     skipped: list[str] = []
-    inertial_pos: tuple[float, ...] = (0.0, 0.0, 0.0)
-    inertial_quat: tuple[float, ...] = (0.0, 0.0, 0.0, 1.0)
+    inertial_pos: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    inertial_quat: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 1.0)
     for link in links:
         name = link.get("name", "")
         if name == root_name:
