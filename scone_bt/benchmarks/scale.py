@@ -161,7 +161,8 @@ def run_scale(
     return {
         "benchmark": "scale",
         "profile": profile.name,
-        "robot": robot,
+        "robot": "sim",  # the backend (its executions build PyBullet kitchens directly)
+        "arm": robot,
         "executions": executions,
         "workers": list(workers),
         "ray": {"address": address, "how": how, "cluster_cpus": cpus},
