@@ -25,13 +25,25 @@ from scone_bt.behaviours.ports import (
 from scone_bt.confidence.grounded import grounded_features, is_grounded
 from scone_bt.events import DecisionMade, EventSink
 from scone_bt.experience.types import ExecutionContext
-from scone_bt.gate.budget import BudgetCounts, BudgetOptions, may_explore, threshold, too_wide
+from scone_bt.gate.budget import BudgetCounts, BudgetOptions
+from scone_bt.gate.rules import (
+    GateInput,
+    GateRules,
+    apply_failure_limit,
+    ask_for_missing,
+    gate_decision,
+    infeasible_decision,
+    say_infeasible,
+    waiting,
+)
 from scone_bt.gate.types import Decision, DecisionKind
+from scone_bt.relevance.types import RankedAction
 from scone_bt.robot.interface import Infeasible, PlannedPick, Robot
 
 if TYPE_CHECKING:
     from scone_bt.gate import GateOptions
 
+# apply_failure_limit and say_infeasible live in scone_bt.gate.rules; kept here for their callers
 __all__ = ["ConfidenceGate", "DecisionIs", "apply_failure_limit", "say_infeasible"]
 
 EVERY_STEP_SERVED = "(every step is served)"
@@ -39,23 +51,6 @@ EVERY_STEP_SERVED = "(every step is served)"
 CARD_ITEMS_LEFT = "(past the last step: items on the card)"
 """The instruction a decision reports past the recipe's last step while items of the card that no open step names
 are still on the shelf (fetched as needed later; e.g. after the human answered "none of those" to a question)."""
-
-
-_SAY: dict[str, str] = {
-    "no_grasp_ik": "I cannot reach the {item} to grasp it",
-    "grasps_blocked": "I cannot grasp the {item}: the {blocker} is in the way",
-    "no_table_space": "there is no room on the table for the {item}",
-    "no_placement_ik": "I cannot reach a free spot on the table with the {item}",
-    "placements_blocked": "I cannot put the {item} down: the {blocker} is in the way",
-}
-
-
-def say_infeasible(item: str, infeasible: Infeasible) -> str:
-    """The robot's words for a pick-and-place that cannot be planned, e.g. "I cannot grasp the parmesan: the
-    cooking cream is in the way"."""
-    blocker = infeasible.blockers[0] if infeasible.blockers else "shelf"
-    template = _SAY.get(infeasible.reason, "I cannot plan to fetch the {item}")
-    return template.format(item=item, blocker=blocker)
 
 
 @dataclass(frozen=True)
@@ -69,42 +64,6 @@ class _Pending:
     key: tuple[object, ...] = ()
     planned: PlannedPick | None = None
     started: float = 0.0
-
-
-def _overruled(decision: Decision, kind: DecisionKind, reason: str, rule: str) -> Decision:
-    """The decision as a rule made it rather than κ̂ against the threshold (never an exploration draw)."""
-    return replace(decision, kind=kind, reason=reason, rule=rule, explored=False)
-
-
-def _waiting(missing: tuple[str, ...], note: str, rule: str) -> Decision:
-    """IDLE, waiting for items the step needs now and the robot sees nowhere: about those items alone.
-
-    Not the idle decision it replaces with a new reason: that one's action, relevance, κ̂, need and rule belong to
-    another product (a line read "waiting: spaghetti not in sight … conf 0.33 (needed later) (help declined)"
-    with the parmesan's numbers).
-    """
-    nan = float("nan")
-    return Decision(
-        DecisionKind.IDLE,
-        None,
-        nan,
-        nan,
-        f"waiting: {', '.join(missing)} not in sight{note}",
-        "now",
-        rule=rule,
-    )
-
-
-def apply_failure_limit(decision: Decision, failures: int, limit: int) -> Decision:
-    """The paper's rule: after ``limit`` failures on the same action, ask for help whatever κ̂ says."""
-    if decision.kind is DecisionKind.ACT and decision.action is not None and failures >= limit:
-        return replace(
-            decision,
-            kind=DecisionKind.ASK,
-            reason=f"failed {limit} times on this action",
-            rule="failure-limit",
-        )
-    return decision
 
 
 class ConfidenceGate(StageBehaviour):
@@ -230,27 +189,29 @@ class ConfidenceGate(StageBehaviour):
         # the budget's exploration draws: their own seeded stream (κ̂'s draws are unchanged by them)
         self._rng = np.random.default_rng([self.seed, 0x6A7E])
 
-    def _options(self) -> tuple[GateOptions, bool]:
-        """The gate options for this decision, and whether the budget may explore now."""
-        if self.budget is None:
-            return self.gate_options, False
+    @property
+    def rules(self) -> GateRules:
+        """The gate's rules (scone_bt.gate.rules), as this behaviour was configured."""
+        return GateRules(
+            options=self.gate_options,
+            budget=self.budget,
+            exploration=self.budget,
+            failure_limit=self.limit,
+            opening_m=self.opening_m,
+        )
+
+    def _counts(self) -> BudgetCounts:
+        """The attempts so far (folded from the events) and what κ̂ has learnt, as the budget reads them."""
         attempts, failures, explored_failures = self.history.budget_counts()
-        counts = BudgetCounts(
+        return BudgetCounts(
             attempts, failures, explored_failures, int(getattr(self.estimator, "n_observations", 0))
         )
-        tau = threshold(self.budget, counts)
-        return replace(self.gate_options, confidence_threshold=tau, target_error_rate=None), may_explore(
-            self.budget, counts
-        )
 
-    def update(self) -> py_trees.common.Status:
-        if self._pending is not None:  # planning before commitment: poll, never block
-            return self._poll_plan()
-        from scone_bt.gate import decide
-
-        ranked = self.read(Keys.RANKED, [])
+    def _seen(
+        self, ranked: list[RankedAction], affordances: dict[str, Affordance]
+    ) -> tuple[GateInput, dict[str, ExecutionContext]]:
+        """What the gate sees this tick: κ̂ on the ranked actions, their contexts, the episode's counts."""
         vectors = self.read(Keys.ACTION_EMBEDDINGS, {})
-        affordances = {a.text: a for a in self.read(Keys.AFFORDANCES, [])}
         contexts = self._contexts([affordances[r.text] for r in ranked if r.text in affordances])
         if ranked:
             X = np.stack([vectors[r.text] for r in ranked])
@@ -261,20 +222,32 @@ class ConfidenceGate(StageBehaviour):
             confidences, explore = [], []
         view = self.read(Keys.STEP)
         ambiguous = tuple(action_text(i) for i in view.selection.ambiguous) if view is not None else ()
-        by_text = {r.text for r in ranked}
-        options, exploring = self._options()
-        if exploring and ranked and not explore:
-            draw = bool(self._rng.random() < self.budget.explore_rate)
-            # never explore an action that already failed in this episode: its failure is the lesson
-            explore = [draw and self.history.failures_of(r.text) == 0 for r in ranked]
-        decision = decide(ranked, confidences, options, tuple(a for a in ambiguous if a in by_text), explore)
-        decision = apply_failure_limit(decision, self.history.failures_of(decision.action or ""), self.limit)
+        counts = self._counts() if self.budget is not None else BudgetCounts()
+        seen = GateInput(
+            ranked=ranked,
+            confidences=confidences,
+            kappa_explores=explore,
+            ambiguous=ambiguous,
+            objects={r.text: affordances[r.text].object_name for r in ranked if r.text in affordances},
+            widths_m={t: c.detected_width_m for t, c in contexts.items()},
+            counts=counts,
+            failures={r.text: self.history.failures_of(r.text) for r in ranked},
+            declined=self.human.declined,
+            draw=self._rng.random,
+            draw_every_decision=True,  # one draw per decision while exploring: seeded episodes repeat
+        )
+        return seen, contexts
+
+    def update(self) -> py_trees.common.Status:
+        if self._pending is not None:  # planning before commitment: poll, never block
+            return self._poll_plan()
+        ranked = self.read(Keys.RANKED, [])
+        affordances = {a.text: a for a in self.read(Keys.AFFORDANCES, [])}
+        seen, contexts = self._seen(ranked, affordances)
+        decision = gate_decision(self.rules, seen).decision
         target = affordances.get(decision.action) if decision.action is not None else None
-        if target is not None:
-            decision = replace(decision, object_name=target.object_name)
-            decision = self._too_wide(decision, contexts.get(target.text))
-        decision = self._after_decline(decision, target is not None)
-        self.write(Keys.CONFIDENCES, dict(zip([r.text for r in ranked], confidences, strict=True)))
+        view = self.read(Keys.STEP)
+        self.write(Keys.CONFIDENCES, dict(zip([r.text for r in ranked], seen.confidences, strict=True)))
         self.write(Keys.CONTEXTS, contexts)
         self.write(Keys.PLANNED, None)
         self.write(Keys.PLAN_VERDICT, None)
@@ -284,7 +257,7 @@ class ConfidenceGate(StageBehaviour):
                 target.detection,
                 self.read(Keys.DETECTIONS, []),
                 self.read(Keys.TABLE_DETECTIONS, None),
-                self.seeds.next_seed(),
+                self.seeds.next_seed(),  # type: ignore[union-attr]
             )
             key = scene_key(request)
             known = self._infeasible.get(key)
@@ -319,13 +292,8 @@ class ConfidenceGate(StageBehaviour):
     ) -> Decision:
         """ASK-HELP instead of ACT: no plan exists in this scene, known before the arm moved (IDLE, waiting for
         the human, when the human already declined to fetch it)."""
-        why = say_infeasible(str(decision.object_name), infeasible)
-        if self.human.declined(str(decision.object_name)):
-            return _overruled(
-                decision, DecisionKind.IDLE, f"{why}, and the human declined to fetch it: waiting", "declined"
-            )
-        known = " (known: not planned again in this scene)" if again else ""
-        return _overruled(decision, DecisionKind.ASK, why + known, "infeasible")
+        declined = self.human.declined(str(decision.object_name))
+        return infeasible_decision(decision, infeasible, declined, again)
 
     def _finish(
         self, pending: _Pending, decision: Decision, planning_s: float | None = None
@@ -334,9 +302,9 @@ class ConfidenceGate(StageBehaviour):
         view = self.read(Keys.STEP)
         if decision.kind is DecisionKind.IDLE and view is not None and view.missing:
             if self.budget is not None:
-                decision = self._ask_for_missing(decision, view.missing)
+                decision = ask_for_missing(decision, view.missing, self._asked_missing)
             else:  # the paper's robot does not ask for what it cannot see: it says what it waits for
-                decision = _waiting(view.missing, "", "")
+                decision = waiting(view.missing, "", "")
         if decision.kind is not DecisionKind.ACT:
             target = target if decision.kind is DecisionKind.ASK and decision.rule != "missing" else None
         self.write(Keys.DECISION, decision)
@@ -351,66 +319,6 @@ class ConfidenceGate(StageBehaviour):
         if new_status is py_trees.common.Status.INVALID and self._pending is not None:
             self._pending = None  # interrupted while planning: nothing was committed
             self.write(Keys.MOTION_COMPUTING, False)
-
-    def _too_wide(self, decision: Decision, context: ExecutionContext | None) -> Decision:
-        """ASK-HELP instead of ACT (or exploring) for a product measured wider than the gripper opens."""
-        if decision.kind is not DecisionKind.ACT or context is None:
-            return decision
-        width = context.detected_width_m
-        if not too_wide(width, self.opening_m):
-            return decision
-        assert width is not None and self.opening_m is not None
-        reason = (
-            f"the {decision.object_name} measures {width * 100:.1f} cm across and my gripper opens "
-            f"{self.opening_m * 100:.1f} cm: please fetch it"
-        )
-        return _overruled(decision, DecisionKind.ASK, reason, "too-wide")
-
-    def _after_decline(self, decision: Decision, visible: bool) -> Decision:
-        """A help request the human declined is not made again: attempt instead, or wait (see the class)."""
-        item = decision.object_name
-        if decision.kind is not DecisionKind.ASK or item is None or not self.human.declined(str(item)):
-            return decision
-        failures = self.history.failures_of(decision.action or "")
-        if decision.rule == "too-wide":
-            why = "too wide for my gripper"
-            return _overruled(
-                decision,
-                DecisionKind.IDLE,
-                f"the human declined to fetch the {item}, {why}: waiting",
-                "declined",
-            )
-        if visible and failures < max(self.limit, 1):
-            reason = f"the human declined to fetch the {item}: trying it myself"
-            return _overruled(decision, DecisionKind.ACT, reason, "declined")
-        why = "I cannot see it" if not visible else f"it failed {failures} times"
-        return _overruled(
-            decision,
-            DecisionKind.IDLE,
-            f"the human declined to fetch the {item} and {why}: waiting",
-            "declined",
-        )
-
-    def _ask_for_missing(self, decision: Decision, missing: tuple[str, ...]) -> Decision:
-        """Idle, but the step needs items the robot sees nowhere and did not place: ask for the first one not
-        asked for yet (once each); when every one was asked for, say what it waits for."""
-        if not missing:
-            return decision
-        new = [i for i in missing if i not in self._asked_missing]
-        if not new:
-            return _waiting(missing, " (asked for)", "missing")
-        item = new[0]
-        self._asked_missing.add(item)
-        return Decision(
-            DecisionKind.ASK,
-            action_text(item),
-            float("nan"),
-            float("nan"),
-            f"I cannot see the {item} the step needs: please bring it",
-            "now",
-            object_name=item,
-            rule="missing",
-        )
 
     def _contexts(self, candidates: list[Affordance]) -> dict[str, ExecutionContext]:
         """Each candidate affordance's execution context by action text, from this tick's perception."""
@@ -475,7 +383,7 @@ class DecisionIs(StageBehaviour):
         self.kind = DecisionKind(kind)
 
     @classmethod
-    def from_context(cls, name: str, context: EpisodeContext, kind: str) -> DecisionIs:
+    def from_context(cls, name: str, context: EpisodeContext, kind: str) -> DecisionIs:  # type: ignore[override]
         return cls(name, kind)
 
     def update(self) -> py_trees.common.Status:

@@ -5,7 +5,10 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from scone_bt.config.tree_parameters import GateName
 
 __all__ = ["BehaviourOptions"]
 
@@ -37,7 +40,9 @@ class BehaviourOptions:
             (`scone_bt.episode.seeds.SeedPlan`).
 
     The fields of the tree file's ``parameters:`` (embedder, estimator, the thresholds, recipe_aware,
-    clarify_margin, max_failures_per_action, gate, target_failure_rate) left at None come from the tree file (`resolve`): one source.
+    clarify_margin, max_failures_per_action, gate, target_failure_rate) left at None come from the tree file
+    (`resolve`): one source. They are `TreeParameters`' fields, each optional, of the same types (a test holds
+    them to it); `scone-run` sets them from the options `scone_bt.cli.tree_options` derives from that model.
     """
 
     embedder: str | None = None
@@ -48,7 +53,7 @@ class BehaviourOptions:
     recipe_aware: bool | None = None
     clarify_margin: float | None = None
     max_failures_per_action: int | None = None
-    gate: str | None = None
+    gate: GateName | None = None
     target_failure_rate: float | None = None
     cache_dir: Path | None = None
     experience_path: Path | str | None = None

@@ -33,10 +33,10 @@ from __future__ import annotations
 import argparse
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -44,13 +44,19 @@ from scone_bt.experience.types import CONTEXT_FIELDS
 from scone_bt.files import write_via
 from scone_bt.reporting import emit_report
 
-__all__ = ["register", "StreamResult", "replay_stream", "TARGETS"]
+if TYPE_CHECKING:
+    from scone_bt.gate.rules import GateRules
+    from scone_bt.gate.types import Decision
+
+__all__ = ["register", "StreamResult", "replay_stream", "replay_rules", "TARGETS"]
 
 TARGETS: tuple[float, ...] = (0.05, 0.10, 0.15, 0.20, 0.25, 0.30, 0.40)
 """Target failure rates the report sweeps."""
 
 _CONTEXT = CONTEXT_FIELDS
 """The context columns in replay order (decision_time_context's)."""
+_WIDTH = _CONTEXT.index("detected_width_m")
+"""The column of the perceived width (what the too-wide rule reads)."""
 
 
 @dataclass
@@ -73,6 +79,40 @@ class StreamResult:
     thresholds: list[float] = field(default_factory=list)
 
 
+def replay_rules(gate: str, alpha: float, opening_m: float) -> GateRules:
+    """The gate's rules for a replayed method (see `replay_stream`'s ``gate``).
+
+    The per-action failure limit is not among them: it counts failures within one episode, and a stream's
+    executions are each from another.
+    """
+    from scone_bt.gate import GateOptions
+    from scone_bt.gate.budget import BudgetOptions
+    from scone_bt.gate.rules import GateRules
+
+    budget = BudgetOptions(target_failure_rate=alpha)
+    # one candidate of relevance 1 a decision: the relevance threshold never idles it
+    if gate == "budget":
+        return GateRules(budget=budget, exploration=budget, opening_m=opening_m)
+    if gate == "fixed":
+        return GateRules(budget=BudgetOptions(target_failure_rate=alpha, step=0.0), exploration=budget)
+    if gate == "conformal":
+        return GateRules(GateOptions(confidence_threshold=1.0 - alpha), exploration=budget)
+    return GateRules(GateOptions(confidence_threshold=0.5))
+
+
+class _LazyDraw(Sequence[bool]):
+    """One candidate's exploration draw, taken when the gate reads it (only below τ)."""
+
+    def __init__(self, draw: Callable[[], bool]) -> None:
+        self._draw = draw
+
+    def __len__(self) -> int:
+        return 1
+
+    def __getitem__(self, i):  # type: ignore[no-untyped-def]
+        return self._draw()
+
+
 def _features(vectors: np.ndarray, context: np.ndarray, grounded: bool) -> np.ndarray:
     return np.hstack([vectors, context]) if grounded else vectors
 
@@ -89,6 +129,8 @@ def replay_stream(
     warmup: int,
     opening_m: float,
     fleet: tuple[np.ndarray, np.ndarray] | None = None,
+    trace: list[Decision] | None = None,
+    draw: Callable[[], float] | None = None,
 ) -> StreamResult:
     """The online robot over one stream; see the module docstring.
 
@@ -105,10 +147,15 @@ def replay_stream(
         warmup: Decisions not scored.
         opening_m: The gripper's opening (what "wide" means).
         fleet: Rows and labels κ̂ learns before the stream (a fleet prior), or None (cold).
+        trace: If given, each decision is appended to it (the same `gate_decision` the tree's gate makes).
+        draw: The exploration draws, uniform in [0, 1) (default: a generator seeded with ``seed``).
     """
     from scone_bt.confidence import make_estimator
     from scone_bt.confidence.grounded import is_grounded
-    from scone_bt.gate.budget import BudgetCounts, BudgetOptions, may_explore, threshold, too_wide
+    from scone_bt.gate.budget import BudgetCounts
+    from scone_bt.gate.rules import GateInput, gate_decision
+    from scone_bt.gate.types import DecisionKind
+    from scone_bt.relevance.types import RankedAction
 
     options = {"gripper_opening_m": opening_m} if estimator == "physical" else {}
     est = make_estimator(estimator, seed=seed, **options)
@@ -116,43 +163,39 @@ def replay_stream(
     X = _features(vectors, context, grounded)
     if fleet is not None:
         est.fit(fleet[0] if grounded else fleet[0][:, : vectors.shape[1]], fleet[1])
-    budget = BudgetOptions(target_failure_rate=alpha)
-    explores = gate in ("budget", "fixed", "conformal")
-    rng = np.random.default_rng(seed)
+    rules = replay_rules(gate, alpha, opening_m)
+    draw = draw or np.random.default_rng(seed).random
     counts = BudgetCounts(learnt=est.n_observations)
     out = StreamResult()
     learnt: set[str] = set()
-    failed: set[str] = set()
-    wide = np.nan_to_num(context[:, 4], nan=0.0) > opening_m
+    failed: dict[str, int] = {}
+    widths = context[:, _WIDTH]
+    wide = np.nan_to_num(widths, nan=0.0) > opening_m
     wide_failed = False
+    belief = getattr(est, "belief", est.predict)
+    explore_fn = getattr(est, "explores", None) if gate == "paper" else None
     for t in range(len(success)):
         ok = bool(success[t])
-        if gate == "budget":
-            tau = threshold(budget, counts)
-        elif gate == "fixed":
-            tau = threshold(BudgetOptions(target_failure_rate=alpha, step=0.0), counts)
-        elif gate == "conformal":
-            tau = 1.0 - alpha
-        else:
-            tau = 0.5
-        belief = getattr(est, "belief", est.predict)
-        p = float(belief(X[t : t + 1])[0])
-        act = p >= tau
-        explored = False
-        if gate == "paper":
-            explore_fn = getattr(est, "explores", None)
-            if not act and explore_fn is not None and bool(explore_fn(X[t : t + 1])[0]):
-                act = explored = True
-        elif (
-            not act
-            and explores
-            and may_explore(budget, counts)
-            and rng.random() < budget.explore_rate
-            and products[t] not in failed  # as on the robot: an action that failed is never explored again
-        ):
-            act = explored = True
-        if gate == "budget" and too_wide(float(context[t, 4]), opening_m):
-            act = explored = False  # the tree's gate asks about what its gripper cannot hold (gate.budget)
+        product = products[t]
+        row = X[t : t + 1]
+        seen = GateInput(
+            # one candidate, relevant by construction: the stream is of actions the robot was asked to take
+            ranked=(RankedAction(product, 1.0),),
+            confidences=(float(belief(row)[0]),),
+            # the paper's ε-greedy κ̂ draws only when asked (below τ), as it did before the gate was shared
+            kappa_explores=_LazyDraw(lambda r=row: bool(explore_fn(r)[0])) if explore_fn is not None else (),
+            objects={product: product},
+            widths_m={product: float(widths[t])},
+            counts=counts,
+            failures=failed,
+            draw=draw,
+        )
+        result = gate_decision(rules, seen)
+        if trace is not None:
+            trace.append(result.decision)
+        tau = result.threshold
+        act = result.decision.kind is DecisionKind.ACT
+        explored = result.decision.explored
         novel = products[t] not in learnt
         scored = t >= warmup
         out.all_decisions += 1
@@ -167,7 +210,7 @@ def replay_stream(
             est.update(X[t], ok)
             learnt.add(products[t])
             if not ok:
-                failed.add(products[t])
+                failed[products[t]] = failed.get(products[t], 0) + 1
             counts = BudgetCounts(
                 attempts=counts.attempts + 1,
                 failures=counts.failures + (not ok),
@@ -426,6 +469,8 @@ def _episodes(args: argparse.Namespace) -> dict[str, Any]:
             seed = args.seed + i
             summary = run_episode(
                 EpisodeOptions(
+                    robot=args.arm,
+                    backend=args.robot,
                     recipe=recipes[i % len(recipes)],
                     seed=seed,
                     distractors=args.distractors,
@@ -583,6 +628,7 @@ def _run(args: argparse.Namespace) -> int:
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``gate`` to ``scone-bench``."""
     from scone_bt.confidence.physical import DEFAULT_OPENING_M
+    from scone_bt.robot.flags import add_robot_options
 
     p = sub.add_parser(
         "gate", help="does the gate keep its failure budget on new products, and at what help rate"
@@ -611,6 +657,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--recipes", type=int, default=20, help="corpus recipes the episodes cycle through")
     p.add_argument("--distractors", type=int, default=4, help="distractor products per episode")
+    add_robot_options(p, arm_help="robot file of the episodes (--episodes): a name in robots/ or a YAML path")
     p.add_argument("--no-replay", action="store_true", help="episodes only (skip the dataset replay)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")

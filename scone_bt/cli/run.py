@@ -81,9 +81,10 @@ import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 from scone_bt.checks import internal_error_line  # noqa: E402
+from scone_bt.cli.tree_options import add_tree_options, tree_overrides  # noqa: E402
 from scone_bt.defaults import EPISODE as _EPISODE  # noqa: E402
 from scone_bt.errors import SconeError  # noqa: E402
-from scone_bt.robot.registry import BACKENDS  # noqa: E402
+from scone_bt.robot.flags import add_robot_options, check_backend  # noqa: E402
 from scone_bt.study.ui_args import add_ui_arguments  # noqa: E402 - light: the package loads lazily
 
 __all__ = ["main", "build_parser", "LOG_LEVELS", "viewer_command"]
@@ -116,17 +117,6 @@ VIEWER_STALL_TIMEOUT_S = 5.0
 PG_CONNECT_TIMEOUT_S = 10  # scone_bt.experience.postgres.CONNECT_TIMEOUT_S
 
 
-def _robot_names() -> list[str]:
-    """The robot files --arm accepts by name (robots/*.yaml)."""
-    from scone_bt.resources import data_dir
-
-    try:
-        folder = data_dir("robots")
-    except SconeError:
-        return []
-    return sorted({p.stem for p in folder.iterdir() if p.suffix in (".yaml", ".yml")})
-
-
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="scone-run",
@@ -139,18 +129,7 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     g = p.add_argument_group("input")
-    g.add_argument(
-        "--robot",
-        default="sim",
-        help="robot backend; valid: %(choices)s (default: %(default)s)",
-        choices=sorted(BACKENDS),
-    )
-    g.add_argument(
-        "--arm",
-        default=_EPISODE.robot,
-        help=f"arm model: a robot file name in robots/ ({', '.join(_robot_names()) or 'none found'}) or a YAML path "
-        "(default: %(default)s)",
-    )
+    add_robot_options(g, arm_default=_EPISODE.robot)
     g.add_argument(
         "--recipe",
         default=_EPISODE.recipe,
@@ -231,23 +210,6 @@ def build_parser() -> argparse.ArgumentParser:
 
     g = p.add_argument_group("self-confidence")
     g.add_argument(
-        "--confidence-threshold",
-        type=float,
-        help="with --gate paper: act when κ̂ ≥ this, else ask (tree default: 0.5)",
-    )
-    g.add_argument(
-        "--gate",
-        choices=("budget", "paper"),
-        help="budget: keep the share of failed attempts at or under --target-failure-rate, online; "
-        "paper: the fixed --confidence-threshold (tree default: budget)",
-    )
-    g.add_argument(
-        "--target-failure-rate",
-        type=float,
-        help="the promise of the budget gate: the share of attempts that may fail, kept over the long run, in (0, 1) "
-        "(tree default: 0.15)",
-    )
-    g.add_argument(
         "--no-self-confidence", action="store_true", help="the paper's control condition: always act"
     )
     g.add_argument(
@@ -270,17 +232,11 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument(
         "--profile", default="", help="configuration label stored with each outcome (default: none)"
     )
-    g.add_argument(
-        "--embedder", help="ζ: minilm, mpnet, mpnet-ft, glove, onehot, finetuned:<dir> or a model directory"
+    g = p.add_argument_group(
+        "decision settings",
+        "the tree file's parameters (trees/*.yaml); one left out takes the tree file's value",
     )
-    g.add_argument(
-        "--estimator",
-        help="κ̂ estimator: knn, lgbm, rf, svm, mlp, xgb, gp, conformal, each also as eps-<name>, grounded-<name> "
-        "(not conformal) and <name>-cal, or physical (tree default: physical)",
-    )
-    g.add_argument(
-        "--relevance-threshold", type=float, help="ρ: minimum cosine similarity of a relevant action"
-    )
+    add_tree_options(g)
 
     g = p.add_argument_group("simulated human")
     g.add_argument(
@@ -443,17 +399,13 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
     from scone_bt.tree import load_tree_spec
 
     # Every value is checked here, before the kitchen is built or a model is loaded.
+    check_backend(args.robot)  # before anything else: a robot file given to --robot says to use --arm
     checks.check_seed(args.seed)
     checks.check_positive_int(args.max_ticks, "--max-ticks")
     if args.distractors < 0:
         raise SconeError(f"--distractors {args.distractors}: must be 0 or more")
     checks.check_range(args.takeover_probability, "--takeover-probability", 0.0, 1.0)
-    if args.confidence_threshold is not None:
-        checks.check_range(args.confidence_threshold, "--confidence-threshold", 0.0, 1.0)
-    if args.relevance_threshold is not None:
-        checks.check_range(args.relevance_threshold, "--relevance-threshold", -1.0, 1.0)
-    if args.target_failure_rate is not None and not 0.0 < args.target_failure_rate < 1.0:
-        raise SconeError(f"--target-failure-rate {args.target_failure_rate}: must be a number in (0, 1)")
+    tree = tree_overrides(args)  # the decision settings given, checked by the tree file's model
     if args.estimator is not None:
         _check_estimator(args.estimator)
     if args.embedder is not None:
@@ -489,12 +441,7 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
     load_tree_spec(args.tree)  # validated now (types and ranges), before the kitchen is built
     # Options not given on the command line come from the tree file's parameters (one source of defaults).
     behaviour = BehaviourOptions(
-        embedder=args.embedder,
-        estimator=args.estimator,
-        confidence_threshold=args.confidence_threshold,
-        gate=args.gate,
-        target_failure_rate=args.target_failure_rate,
-        relevance_threshold=args.relevance_threshold,
+        **tree,
         use_self_confidence=not args.no_self_confidence,
         experience_path=_experience(args.experience),
         robot_id=args.robot_id,

@@ -7,13 +7,16 @@ reverse.
 
 from __future__ import annotations
 
+import functools
 import math
+from collections.abc import Mapping
 from dataclasses import Field as Field_
 from dataclasses import dataclass, fields, replace
 from typing import TYPE_CHECKING, Annotated, Any
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, create_model
 
+from scone_bt.config.schema import format_validation_error
 from scone_bt.errors import ConfigError
 
 if TYPE_CHECKING:
@@ -129,7 +132,8 @@ class GraspParams:
         try:
             checked = _GraspSection.model_validate(section)
         except ValidationError as exc:
-            raise ConfigError(_section_error(exc, section, where)) from None
+            words = functools.partial(_section_words, section=section)
+            raise ConfigError(format_validation_error(exc, where, words=words)) from None
         values: dict[str, Any] = {}
         for key in checked.model_fields_set:
             value = getattr(checked, key)
@@ -227,27 +231,27 @@ _GraspSection: type[BaseModel] = create_model(
 """The `grasp:` section as a pydantic model: every key optional, unknown keys refused."""
 
 
-def _section_error(exc: ValidationError, section: dict[str, Any], where: str) -> str:
-    """pydantic's first problem as the one line the robot file's author reads: the key, what it takes, valid keys."""
-    error = exc.errors(include_url=False)[0]
+def _section_words(error: Mapping[str, Any], section: dict[str, Any]) -> str:
+    """A grasp-section problem in the words the robot file's author reads: the key, what it takes, valid keys
+    (`format_validation_error` puts the file before it)."""
     key = error["loc"][0] if error["loc"] else ""
     shown = key if str(key).isprintable() else repr(key)  # a key with a line break stays one line
     if error["type"] in ("extra_forbidden", "invalid_key"):  # a key that is not text is unknown too
-        return f"{where}: grasp.{shown} is not a grasp setting; valid: {', '.join(sorted(_GraspSection.model_fields))}"
+        return f"grasp.{shown} is not a grasp setting; valid: {', '.join(sorted(_GraspSection.model_fields))}"
     raw = section[key]
     kind, value = error["type"], error.get("input")
     number = isinstance(value, int | float)
     below_zero = number and value < 0
     if key in _POSITIVE and kind in ("greater_than", "greater_than_equal") and number and value <= 0:
-        return f"{where}: grasp.{key} must be positive, got {raw!r}"
+        return f"grasp.{key} must be positive, got {raw!r}"
     if kind == "finite_number" or (kind == "greater_than_equal" and below_zero):
-        return f"{where}: grasp.{key} must be non-negative and finite, got {raw!r}"
+        return f"grasp.{key} must be non-negative and finite, got {raw!r}"
     if kind in ("greater_than", "greater_than_equal", "less_than_equal") and key in _BOUNDS:
         lo, hi = _BOUNDS[key]
         each = " each" if isinstance(raw, list | tuple) else ""
-        return f"{where}: grasp.{key} must{each} be between {lo:g} and {hi:g}, got {raw!r}"
+        return f"grasp.{key} must{each} be between {lo:g} and {hi:g}, got {raw!r}"
     if kind == "too_long":
-        return f"{where}: grasp.{key} takes at most {MAX_LIST_LENGTH} values, got {len(raw)}"
+        return f"grasp.{key} takes at most {MAX_LIST_LENGTH} values, got {len(raw)}"
     name = key.removesuffix("_deg") if key.endswith("_deg") else key
     default = getattr(GraspParams(), name)
     if key.endswith("_deg"):  # the default as the file writes it
@@ -256,4 +260,4 @@ def _section_error(exc: ValidationError, section: dict[str, Any], where: str) ->
             if isinstance(default, tuple)
             else round(math.degrees(default), 6)
         )
-    return f"{where}: grasp.{key} must be {type(default).__name__} like {default!r}, got {raw!r}"
+    return f"grasp.{key} must be {type(default).__name__} like {default!r}, got {raw!r}"

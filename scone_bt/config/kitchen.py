@@ -5,16 +5,36 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import Any
 
 from scone_bt.config.catalogue import Catalogue, ObjectSpec, catalogue_files, load_catalogue
-from scone_bt.config.scene import CameraSpec, SceneSpec, parse_cameras, parse_scene
-from scone_bt.config.yaml_io import Fields, read_yaml
+from scone_bt.config.scene import (
+    CameraFile,
+    CameraSpec,
+    NamedCameraFile,
+    SceneFile,
+    SceneSpec,
+    camera_specs,
+    scene_spec,
+)
+from scone_bt.config.schema import StrictModel, validate
+from scone_bt.config.yaml_io import read_yaml
 from scone_bt.errors import ConfigError
 from scone_bt.resources import data_dir, resolve_file
 
 __all__ = ["ObjectSpec", "Catalogue", "CameraSpec", "SceneSpec", "KitchenConfig", "load_kitchen"]
 
-KITCHEN_KEYS = ("scene", "cameras", "camera", "catalogue")
+
+class KitchenFile(StrictModel):
+    """A kitchen file as written: the scene, the cameras (or one ``camera``) and the product files it lists."""
+
+    scene: SceneFile
+    cameras: list[NamedCameraFile] | None = None
+    camera: CameraFile | None = None
+    catalogue: list[Any]
+
+
+KITCHEN_KEYS = tuple(KitchenFile.model_fields)
 """The top-level keys of a kitchen file."""
 
 
@@ -59,10 +79,11 @@ def load_kitchen(
         catalogues: Extra product files (a user's own products), merged after the kitchen's ``catalogue:`` list.
     """
     path = resolve_file("perception", name_or_path, (".yaml", ".yml"))
-    f = Fields(read_yaml(path), str(path)).allow(*KITCHEN_KEYS)
-    scene = parse_scene(f.sub("scene"))
-    cameras = parse_cameras(f)
-    entries = f.get("catalogue", list)
+    where = str(path)
+    f = validate(KitchenFile, read_yaml(path), where)
+    scene = scene_spec(f.scene, f"{where}: scene")
+    cameras = camera_specs(f.cameras, f.camera, where)
+    entries = f.catalogue
     files = catalogue_files(entries, path.parent, data_dir("perception"), str(path)) + [
         Path(c) for c in catalogues
     ]

@@ -7,13 +7,14 @@ axis-aligned in the world. Slots are the places objects stand on: one per listed
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Any, Literal
 
 import numpy as np
+from pydantic import AfterValidator, Field, model_validator
 
-from scone_bt.config.yaml_io import Fields, require
+from scone_bt.config.schema import FiniteFloat, StrictModel
+from scone_bt.config.yaml_io import require
 
 __all__ = [
     "CAMERA_ROLES",
@@ -22,8 +23,11 @@ __all__ = [
     "ShelfUnit",
     "SceneSpec",
     "Slot",
-    "parse_scene",
-    "parse_cameras",
+    "SceneFile",
+    "CameraFile",
+    "NamedCameraFile",
+    "scene_spec",
+    "camera_specs",
 ]
 
 CAMERA_ROLES = ("shelf", "table")
@@ -186,13 +190,6 @@ class SceneSpec:
         return abs(position[0] - cx) <= sx / 2 + margin and abs(position[1] - cy) <= sy / 2 + margin
 
 
-def _box(f: Fields, key: str) -> Box:
-    sub = f.sub(key).allow("center", "size")
-    size = sub.vector("size", 3)
-    require(all(v > 0 for v in size), f"{sub.where}.size: every size must be > 0 metres, got {list(size)}")
-    return sub.vector("center", 3), size
-
-
 def _within_scene(values: tuple[float, ...], where: str) -> None:
     """Positions along a shelf unit within MAX_SCENE_M of the robot, else one ConfigError naming the key."""
     require(
@@ -201,82 +198,51 @@ def _within_scene(values: tuple[float, ...], where: str) -> None:
     )
 
 
-def _unit(raw: Any, index: int, where: str) -> ShelfUnit:
-    f = Fields(raw, f"{where}[{index}]").allow(*_UNIT_KEYS)
-    rotation = f.get("rotation_deg", int, 0)
-    require(
-        rotation in _ROTATIONS,
-        f"{f.where}.rotation_deg: {rotation} is not one of {', '.join(map(str, _ROTATIONS))}",
-    )
-    tiers = []
-    for i, raw_tier in enumerate(f.get("tiers", list)):
-        t = Fields(raw_tier, f"{f.where}.tiers[{i}]").allow("center", "top_z", "slots")
-        slots = t.vector("slots")
-        require(len(slots) > 0, f"{t.where}.slots: list at least one slot position")
-        _within_scene(slots, f"{t.where}.slots")
-        center = t.number("center", -MAX_SCENE_M, MAX_SCENE_M)
-        tiers.append(ShelfTier(center, t.number("top_z", -MAX_SCENE_M, MAX_SCENE_M), tuple(slots)))
-    require(len(tiers) > 0, f"{f.where}.tiers: list at least one tier")
-    span = f.vector("span", 2)
-    _within_scene(span, f"{f.where}.span")
-    require(span[0] < span[1], f"{f.where}.span: need v0 < v1, got {list(span)}")
+def _unit(u: UnitFile, index: int, where: str) -> ShelfUnit:
+    """One shelf unit, its slots checked against its span (the keys and ranges were checked by its model)."""
+    where = f"{where}[{index}]"
+    span = (u.span[0], u.span[1])
+    require(span[0] < span[1], f"{where}.span: need v0 < v1, got {list(span)}")
+    tiers = tuple(ShelfTier(t.center, t.top_z, tuple(t.slots)) for t in u.tiers)
     for i, tier in enumerate(tiers):  # a slot beyond the shelf's block would stand its product on thin air
         for k, v in enumerate(tier.slots):
             require(
                 span[0] <= v <= span[1],
-                f"{f.where}.tiers[{i}].slots[{k}]: {v:g} lies outside the unit's span {list(span)}",
+                f"{where}.tiers[{i}].slots[{k}]: {v:g} lies outside the unit's span {list(span)}",
             )
-    depth = f.number("tier_depth", 0.0, MAX_SCENE_M, above=True)
-    return ShelfUnit(f.get("name", str, f"unit{index}"), rotation, depth, span, tuple(tiers))
+    return ShelfUnit(
+        u.name if u.name is not None else f"unit{index}", u.rotation_deg, u.tier_depth, span, tiers
+    )
 
 
-def parse_scene(s: Fields) -> SceneSpec:
-    """The ``scene:`` section of a kitchen file."""
-    s.allow(*_SCENE_KEYS)
-    floor_z = s.get("floor_z", float)
-    units = tuple(_unit(u, i, f"{s.where}.shelves") for i, u in enumerate(s.get("shelves", list)))
-    require(len(units) > 0, f"{s.where}.shelves: list at least one shelf unit")
+def scene_spec(s: SceneFile, where: str) -> SceneSpec:
+    """The scene a validated ``scene:`` section describes, with the checks across its keys."""
+    units = tuple(_unit(u, i, f"{where}.shelves") for i, u in enumerate(s.shelves))
     names = [u.name for u in units]
-    require(len(set(names)) == len(names), f"{s.where}.shelves: unit names must be unique, got {names}")
+    require(len(set(names)) == len(names), f"{where}.shelves: unit names must be unique, got {names}")
     seen: dict[tuple[float, float, float], str] = {}
     for i, unit in enumerate(units):
         for j, tier in enumerate(unit.tiers):
-            where = f"{s.where}.shelves[{i}].tiers[{j}]"
+            at = f"{where}.shelves[{i}].tiers[{j}]"
             require(
-                tier.top_z > floor_z,
-                f"{where}.top_z: {tier.top_z:g} must be above scene.floor_z ({floor_z:g})",
+                tier.top_z > s.floor_z,
+                f"{at}.top_z: {tier.top_z:g} must be above scene.floor_z ({s.floor_z:g})",
             )
             for k, v in enumerate(tier.slots):
                 x, y = unit.to_world(tier.center, v)
                 key = (round(x, 6), round(y, 6), round(tier.top_z, 6))
-                name = f"{where}.slots[{k}] ({unit.name})"
+                name = f"{at}.slots[{k}] ({unit.name})"
                 require(key not in seen, f"{name} and {seen.get(key)} are the same slot position {list(key)}")
                 seen[key] = name
-    spots = tuple(_spot(p, i, s.where) for i, p in enumerate(s.get("place_spots", list)))
-    require(len(spots) > 0, f"{s.where}.place_spots: list at least one [x, y] table spot")
     return SceneSpec(
-        floor_z=floor_z,
-        pedestal=_box(s, "pedestal"),
-        table=_box(s, "table"),
+        floor_z=s.floor_z,
+        pedestal=s.pedestal.box(),
+        table=s.table.box(),
         shelves=units,
-        place_spots=spots,
+        place_spots=tuple((p[0], p[1]) for p in s.place_spots),
     )
 
 
-_SCENE_KEYS = ("floor_z", "pedestal", "table", "shelves", "place_spots")
-_UNIT_KEYS = ("name", "rotation_deg", "tier_depth", "span", "tiers")
-_CAMERA_KEYS = (
-    "position",
-    "target",
-    "up",
-    "width",
-    "height",
-    "fov_deg",
-    "near",
-    "far",
-    "noise_std",
-    "depth_noise_std",
-)
 MIN_PIXELS, MAX_PIXELS = 16, 4096
 """Smallest and largest camera image side, pixels (a 100000 x 100000 image does not fit in memory)."""
 MAX_DEPTH_NOISE_M = 1.0
@@ -290,76 +256,179 @@ MAX_SCENE_M = 10.0
 under 1 m; a 1e9 m shelf is a typo, not a kitchen)."""
 
 
-def _spot(raw: Any, index: int, where: str) -> tuple[float, float]:
-    """One table spot [x, y] in metres (a number or a string is a one-line error, not a TypeError)."""
-    ok = (
-        isinstance(raw, list)
-        and len(raw) == 2
-        and all(isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) for v in raw)
-    )
-    require(ok, f"{where}.place_spots[{index}]: expected [x, y] in metres, got {raw!r}")
-    return float(raw[0]), float(raw[1])
+# ---------------------------------------------------------------------------------------------- the file's models
+# pydantic checks every key, type and range (one line naming the key path: config.schema.format_validation_error);
+# the checks across keys (slots inside the span, unique names, a camera that can render) follow in scene_spec and
+# camera_specs, in the same words.
 
 
-def _pixels(c: Fields, key: str) -> int:
-    value = c.get(key, int)
-    require(
-        MIN_PIXELS <= value <= MAX_PIXELS,
-        f"{c.where}.{key}: must be {MIN_PIXELS} to {MAX_PIXELS} pixels, got {value}",
-    )
+def _in(lo: float, hi: float, above: bool = False) -> AfterValidator:
+    """A number in [lo, hi] (in (lo, hi] with ``above``), in the words the kitchen file's author reads."""
+
+    def check(value: float) -> float:
+        if not ((lo < value if above else lo <= value) and value <= hi):
+            raise ValueError(f"must be in {'(' if above else '['}{lo:g}, {hi:g}], got {value!r}")
+        return float(value)
+
+    return AfterValidator(check)
+
+
+def _pixels(value: int) -> int:
+    if not MIN_PIXELS <= value <= MAX_PIXELS:
+        raise ValueError(f"must be {MIN_PIXELS} to {MAX_PIXELS} pixels, got {value}")
     return value
 
 
-def _camera(c: Fields, name: str, role: str) -> CameraSpec:
-    near = c.number("near", 0.0, MAX_FAR_M, 0.05, above=True)
-    far = c.number("far", 0.0, MAX_FAR_M, 3.0, above=True)
-    require(near < far, f"{c.where}.far: must be larger than near ({near:g}), got {far:g}")
-    position, target = c.vector("position", 3), c.vector("target", 3)
-    up = c.vector("up", 3, (0.0, 0.0, 1.0))
+def _all_within_scene(values: list[float]) -> list[float]:
+    if not all(abs(v) <= MAX_SCENE_M for v in values):
+        raise ValueError(f"every value must be in [-{MAX_SCENE_M:g}, {MAX_SCENE_M:g}] metres, got {values}")
+    return values
+
+
+def _at_least_one(what: str) -> AfterValidator:
+    def check(values: list[Any]) -> list[Any]:
+        if not values:
+            raise ValueError(f"list at least one {what}")
+        return values
+
+    return AfterValidator(check)
+
+
+def _rotation(value: int) -> int:
+    if value not in _ROTATIONS:
+        raise ValueError(f"{value} is not one of {', '.join(map(str, _ROTATIONS))}")
+    return value
+
+
+def _positive_sizes(values: list[float]) -> list[float]:
+    if not all(v > 0 for v in values):
+        raise ValueError(f"every size must be > 0 metres, got {values}")
+    return values
+
+
+_Vec2 = Annotated[list[FiniteFloat], Field(min_length=2, max_length=2)]
+_Vec3 = Annotated[list[FiniteFloat], Field(min_length=3, max_length=3)]
+
+
+_SceneM = Annotated[float, Field(allow_inf_nan=False), _in(-MAX_SCENE_M, MAX_SCENE_M)]
+_Pixels = Annotated[int, AfterValidator(_pixels)]
+
+
+class BoxFile(StrictModel):
+    """A box of the scene: centre and full size, metres."""
+
+    center: _Vec3
+    size: Annotated[_Vec3, AfterValidator(_positive_sizes)]
+
+    def box(self) -> Box:
+        return tuple(self.center), tuple(self.size)  # type: ignore[return-value]
+
+
+class TierFile(StrictModel):
+    """One tier of a shelf unit (unit frame, metres)."""
+
+    center: _SceneM
+    top_z: _SceneM
+    slots: Annotated[list[FiniteFloat], _at_least_one("slot position"), AfterValidator(_all_within_scene)]
+
+
+class UnitFile(StrictModel):
+    """One shelf unit: its name, turn about the robot base (degrees), tier depth and span (metres), tiers."""
+
+    name: str | None = None
+    rotation_deg: Annotated[int, AfterValidator(_rotation)] = 0
+    tier_depth: Annotated[float, Field(allow_inf_nan=False), _in(0.0, MAX_SCENE_M, above=True)]
+    span: Annotated[_Vec2, AfterValidator(_all_within_scene)]
+    tiers: Annotated[list[TierFile], _at_least_one("tier")]
+
+
+class SceneFile(StrictModel):
+    """The ``scene:`` section of a kitchen file."""
+
+    floor_z: FiniteFloat
+    pedestal: BoxFile
+    table: BoxFile
+    shelves: Annotated[list[UnitFile], _at_least_one("shelf unit")]
+    place_spots: Annotated[list[_Vec2], _at_least_one("[x, y] table spot")]
+
+
+class CameraFile(StrictModel):
+    """A camera entry (world frame, metres; fov_deg the vertical field of view)."""
+
+    position: _Vec3
+    target: _Vec3
+    up: _Vec3 = [0.0, 0.0, 1.0]
+    width: _Pixels
+    height: _Pixels
+    fov_deg: Annotated[float, Field(allow_inf_nan=False), _in(1.0, MAX_FOV_DEG)]
+    near: Annotated[float, Field(allow_inf_nan=False), _in(0.0, MAX_FAR_M, above=True)] = 0.05
+    far: Annotated[float, Field(allow_inf_nan=False), _in(0.0, MAX_FAR_M, above=True)] = 3.0
+    noise_std: Annotated[float, Field(allow_inf_nan=False), _in(0.0, 255.0)] = 0.0
+    depth_noise_std: Annotated[float, Field(allow_inf_nan=False), _in(0.0, MAX_DEPTH_NOISE_M)] = 0.0
+
+    @model_validator(mode="after")
+    def _near_before_far(self) -> CameraFile:
+        if self.near >= self.far:
+            raise ValueError(f"far: must be larger than near ({self.near:g}), got {self.far:g}")
+        return self
+
+
+class NamedCameraFile(CameraFile):
+    """A camera of the ``cameras:`` list: also its name and what it watches."""
+
+    name: str | None = None
+    role: Literal["shelf", "table"] = "shelf"
+
+
+def _camera(c: CameraFile, name: str, role: str, where: str) -> CameraSpec:
+    """A camera from its validated entry, checked as scone_bt.perception.camera will use it."""
+    position, target, up = tuple(c.position), tuple(c.target), tuple(c.up)
     view = np.subtract(target, position)  # the same tests as scone_bt.perception.camera's, at load time
     require(
         bool(np.linalg.norm(view) >= 1e-6),
-        f"{c.where}.target: camera {name!r} looks at its own position {list(position)}; give another target",
+        f"{where}.target: camera {name!r} looks at its own position {list(position)}; give another target",
     )
     require(
         bool(np.linalg.norm(np.cross(view, up)) >= 1e-6 * np.linalg.norm(view)),
-        f"{c.where}.up: camera {name!r}: {list(up)} is parallel to its viewing direction (target - position = "
+        f"{where}.up: camera {name!r}: {list(up)} is parallel to its viewing direction (target - position = "
         f"{[round(float(v), 6) for v in view]}); give an up vector that is not parallel to it",
     )
     return CameraSpec(
-        position=position,
-        target=target,
-        up=up,
-        width=_pixels(c, "width"),
-        height=_pixels(c, "height"),
-        fov_deg=c.number("fov_deg", 1.0, MAX_FOV_DEG),
-        near=near,
-        far=far,
-        noise_std=c.number("noise_std", 0.0, 255.0, 0.0),
-        depth_noise_std=c.number("depth_noise_std", 0.0, MAX_DEPTH_NOISE_M, 0.0),
+        position=position,  # type: ignore[arg-type]
+        target=target,  # type: ignore[arg-type]
+        up=up,  # type: ignore[arg-type]
+        width=c.width,
+        height=c.height,
+        fov_deg=c.fov_deg,
+        near=c.near,
+        far=c.far,
+        noise_std=c.noise_std,
+        depth_noise_std=c.depth_noise_std,
         name=name,
         role=role,
     )
 
 
-def parse_cameras(f: Fields) -> tuple[CameraSpec, ...]:
-    """The ``cameras:`` list of a kitchen file (or a single ``camera:``, which watches the shelf).
+def camera_specs(
+    cameras: list[NamedCameraFile] | None, camera: CameraFile | None, where: str
+) -> tuple[CameraSpec, ...]:
+    """The ``cameras:`` list of a validated kitchen file (or its single ``camera:``, which watches the shelf).
 
     Returns:
         The cameras in file order; at least one watches the shelf.
     """
-    if "cameras" not in f.data and "camera" in f.data:
-        return (_camera(f.sub("camera").allow(*_CAMERA_KEYS), "shelf", "shelf"),)
-    out = []
-    for i, raw in enumerate(f.get("cameras", list)):
-        c = Fields(raw, f"{f.where}.cameras[{i}]").allow(*_CAMERA_KEYS, "name", "role")
-        role = c.get("role", str, "shelf")
-        require(role in CAMERA_ROLES, f"{c.where}.role: {role!r} is not one of {', '.join(CAMERA_ROLES)}")
-        out.append(_camera(c, c.get("name", str, f"camera{i}"), role))
+    if cameras is None and camera is not None:
+        return (_camera(camera, "shelf", "shelf", f"{where}: camera"),)
+    require(cameras is not None, f"{where}: missing key 'cameras' (or a single 'camera')")
+    assert cameras is not None
+    out = [
+        _camera(c, c.name if c.name is not None else f"camera{i}", c.role, f"{where}: cameras[{i}]")
+        for i, c in enumerate(cameras)
+    ]
     names = [c.name for c in out]
-    require(len(set(names)) == len(names), f"{f.where}.cameras: camera names must be unique, got {names}")
+    require(len(set(names)) == len(names), f"{where}: cameras: camera names must be unique, got {names}")
     require(
         any(c.role == "shelf" for c in out),
-        f"{f.where}.cameras: at least one camera needs role: shelf (valid roles: {', '.join(CAMERA_ROLES)})",
+        f"{where}: cameras: at least one camera needs role: shelf (valid roles: {', '.join(CAMERA_ROLES)})",
     )
     return tuple(out)

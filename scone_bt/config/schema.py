@@ -11,7 +11,7 @@ from __future__ import annotations
 import codecs
 import os
 import stat
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Annotated, Any, TypeVar
 
@@ -31,6 +31,7 @@ __all__ = [
     "file_kind",
     "validate",
     "format_validation_error",
+    "ErrorWords",
     "MAX_FILE_BYTES",
     "MAX_DATA_FILE_BYTES",
 ]
@@ -202,14 +203,18 @@ def _model_at(model: type[BaseModel], loc: tuple[Any, ...]) -> type[BaseModel] |
     return current if isinstance(current, type) and issubclass(current, BaseModel) else None
 
 
-def format_validation_error(exc: ValidationError, where: str, model: type[BaseModel] | None = None) -> str:
-    """ONE line for a pydantic error: `where: key.path: problem (got value)`, plus how many more problems."""
-    errors = exc.errors(include_url=False)
-    first = errors[0]
-    loc = tuple(first.get("loc", ()))
+ErrorWords = Callable[[Mapping[str, Any]], "str | None"]
+"""A file type's own words for one pydantic error (a dict of ``ValidationError.errors()``): the line after
+``where: ``, or None for the standard words."""
+
+_UNKNOWN_KEY = ("extra_forbidden", "invalid_key")
+
+
+def _standard_words(first: Mapping[str, Any], loc: tuple[Any, ...], model: type[BaseModel] | None) -> str:
+    """`key.path: problem (got value)`, an unknown key with the valid ones, or a missing key."""
     kind = first.get("type", "")
     key = _loc(loc)
-    if kind == "extra_forbidden":
+    if kind in _UNKNOWN_KEY:
         owner = _model_at(model, loc) if model is not None else None
         valid = ", ".join(owner.model_fields) if owner is not None else ""
         msg = f"unknown key {str(loc[-1])!r}" + (f"; valid: {valid}" if valid else "")
@@ -221,9 +226,43 @@ def format_validation_error(exc: ValidationError, where: str, model: type[BaseMo
         value = first.get("input")
         if "input" in first and kind != "value_error" and not isinstance(value, (dict, list)):
             msg += f" (got {_short(value)})"
+    return f"{key}: {msg}" if key and (loc or kind != "value_error") else msg
+
+
+def format_validation_error(
+    exc: ValidationError,
+    where: str,
+    model: type[BaseModel] | None = None,
+    *,
+    words: ErrorWords | None = None,
+    unknown_key_first: bool = False,
+    loc_filter: Callable[[tuple[Any, ...]], tuple[Any, ...]] | None = None,
+) -> str:
+    """The project's ONE line for a pydantic error: ``where: key.path: problem (got value)``, plus how many more.
+
+    The one formatter of validation errors: a file type with words of its own passes ``words`` (e.g. the robot
+    file's grasp section, a ratings CSV's row and column), never a formatter of its own.
+
+    Args:
+        exc: pydantic's error.
+        where: The file (and section) the data came from.
+        model: The model validated (lists the valid keys of an unknown one).
+        words: The file type's own words for the problem reported (None: the standard words).
+        unknown_key_first: Report an unknown key before other problems (a misspelt key explains a missing one).
+        loc_filter: Rewrites a problem's key path (e.g. drops a union's discriminator tags).
+    """
+    errors = exc.errors(include_url=False)
+    first: Mapping[str, Any] = errors[0]
+    if unknown_key_first:
+        first = next((e for e in errors if e.get("type") in _UNKNOWN_KEY), first)
+    loc = tuple(first.get("loc", ()))
+    if loc_filter is not None:
+        loc = loc_filter(loc)
+    text = words(first) if words is not None else None
+    if text is None:
+        text = _standard_words(first, loc, model)
     more = f" (and {len(errors) - 1} more problem{'s' if len(errors) > 2 else ''})" if len(errors) > 1 else ""
-    head = f"{where}: {key}: " if key and (loc or kind != "value_error") else f"{where}: "
-    return f"{head}{msg}{more}"
+    return f"{where}: {text}{more}"
 
 
 def validate(

@@ -13,21 +13,86 @@ from pydantic import Field
 
 from scone_bt.config.schema import StrictModel
 
-__all__ = ["TreeParameters", "PARAMETER_NAMES"]
+__all__ = ["TreeParameters", "PARAMETER_NAMES", "GateName"]
+
+
+GateName = Literal["budget", "paper"]
+"""The gate rules a tree can run: the failure budget, or the paper's fixed threshold (scone_bt.gate.budget.GATES)."""
 
 
 class TreeParameters(StrictModel):
-    """Validated tree parameters (see trees/assistive_cooking.yaml for what each means)."""
+    """Validated tree parameters: the one declaration of the robot's decision settings.
 
-    embedder: Annotated[str, Field(min_length=1)] = "minilm"
-    estimator: Annotated[str, Field(min_length=1)] = "physical"
-    confidence_threshold: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)] = 0.5
-    relevance_threshold: Annotated[float, Field(ge=-1, le=1, allow_inf_nan=False)] = 0.33
-    recipe_aware: bool = True
-    clarify_margin: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)] = 0.03
-    max_failures_per_action: Annotated[int, Field(ge=1, le=1000)] = 3
-    gate: Literal["budget", "paper"] = "budget"
-    target_failure_rate: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False)] = 0.15
+    `scone-run`'s options (`scone_bt.cli.tree_options`) and `BehaviourOptions`' fields are derived from these
+    fields; each description is the option's help text (trees/assistive_cooking.yaml says more about each).
+    """
+
+    embedder: Annotated[
+        str,
+        Field(
+            min_length=1,
+            description="ζ: minilm, mpnet, mpnet-ft, glove, onehot, finetuned:<dir> or a model directory",
+        ),
+    ] = "minilm"
+    estimator: Annotated[
+        str,
+        Field(
+            min_length=1,
+            description="κ̂ estimator: knn, lgbm, rf, svm, mlp, xgb, gp, conformal, each also as eps-<name>, "
+            "grounded-<name> (not conformal) and <name>-cal, or physical",
+        ),
+    ] = "physical"
+    confidence_threshold: Annotated[
+        float,
+        Field(ge=0, le=1, allow_inf_nan=False, description="with gate paper: act when κ̂ ≥ this, else ask"),
+    ] = 0.5
+    relevance_threshold: Annotated[
+        float,
+        Field(
+            ge=-1, le=1, allow_inf_nan=False, description="ρ: minimum cosine similarity of a relevant action"
+        ),
+    ] = 0.33
+    recipe_aware: Annotated[
+        bool,
+        Field(
+            description="rank against the recipe the robot knows and track its step from what it sees; off: the "
+            "paper's setting (the human's current step text alone, with ρ)"
+        ),
+    ] = True
+    clarify_margin: Annotated[
+        float,
+        Field(
+            ge=0,
+            le=1,
+            allow_inf_nan=False,
+            description="unnamed candidates closer than this in cosine similarity are ambiguous: ask which is meant",
+        ),
+    ] = 0.03
+    max_failures_per_action: Annotated[
+        int,
+        Field(
+            ge=1,
+            le=1000,
+            description="after this many failures of one action in an episode, ask (the paper: 3)",
+        ),
+    ] = 3
+    gate: Annotated[
+        GateName,
+        Field(
+            description="budget: keep the share of failed attempts at or under target_failure_rate, online; "
+            "paper: the fixed confidence_threshold"
+        ),
+    ] = "budget"
+    target_failure_rate: Annotated[
+        float,
+        Field(
+            gt=0,
+            lt=1,
+            allow_inf_nan=False,
+            description="the promise of the budget gate: the share of attempts that may fail, kept over the long "
+            "run, in (0, 1)",
+        ),
+    ] = 0.15
 
 
 PARAMETER_NAMES: tuple[str, ...] = tuple(TreeParameters.model_fields)

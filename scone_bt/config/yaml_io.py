@@ -2,20 +2,16 @@
 
 from __future__ import annotations
 
-import functools
-import math
-from collections.abc import Mapping
 from pathlib import Path
-from typing import Annotated, Any, Union
+from typing import Any
 
 import yaml
-from pydantic import ConfigDict, Field, TypeAdapter, ValidationError
 
 from scone_bt.config.schema import read_text
 from scone_bt.errors import ConfigError
 from scone_bt.resources import cache_switched_off, default_cache_dir
 
-__all__ = ["read_yaml", "require", "Fields"]
+__all__ = ["read_yaml", "require"]
 
 
 _UNPARSED = object()
@@ -125,80 +121,6 @@ def read_yaml(path: Path) -> dict[str, Any]:
     if not isinstance(data, dict):
         raise ConfigError(f"{path}: expected a mapping at the top level, got {type(data).__name__}")
     return data
-
-
-_STRICT = ConfigDict(strict=True)  # no "3" for 3 and no true for 1, as in the file models (config.schema)
-_Vector = TypeAdapter(list[Annotated[float, Field(allow_inf_nan=False)]], config=_STRICT)
-
-
-@functools.cache
-def _adapter(kind: type | tuple[type, ...]) -> TypeAdapter[Any]:
-    """A pydantic validator for `kind` (a tuple of types: any one of them), made once per kind."""
-    return TypeAdapter(Union[kind] if isinstance(kind, tuple) else kind, config=_STRICT)  # noqa: UP007
-
-
-class Fields:
-    """Typed access to one mapping of a config file, with errors that say where.
-
-    Each value is checked by pydantic in strict mode (an int is a float, nothing else converts); a problem is
-    one ConfigError naming the key path and what it takes.
-    """
-
-    def __init__(self, data: Mapping[str, Any], where: str) -> None:
-        if not isinstance(data, Mapping):
-            raise ConfigError(f"{where}: expected a mapping, got {type(data).__name__}")
-        self.data = data
-        self.where = where
-
-    def get(self, key: str, kind: type | tuple[type, ...], default: Any = ...) -> Any:
-        if key not in self.data:
-            if default is ...:
-                raise ConfigError(
-                    f"{self.where}: missing key {key!r}; present: {', '.join(map(str, self.data)) or '(none)'}"
-                )
-            return default
-        value = self.data[key]
-        try:
-            out = _adapter(kind).validate_python(value)
-        except ValidationError:
-            name = kind.__name__ if isinstance(kind, type) else "/".join(k.__name__ for k in kind)
-            raise ConfigError(f"{self.where}.{key}: expected {name}, got {value!r}") from None
-        if isinstance(out, float) and not math.isfinite(out):
-            raise ConfigError(f"{self.where}.{key}: expected a finite number, got {value!r}")
-        return out
-
-    def number(self, key: str, lo: float, hi: float, default: Any = ..., *, above: bool = False) -> float:
-        """A finite number in [lo, hi] (in (lo, hi] with `above`), else one ConfigError naming the key and range."""
-        value = self.get(key, float, default)
-        ok = (lo < value if above else lo <= value) and value <= hi
-        if not ok:
-            bracket = "(" if above else "["
-            raise ConfigError(f"{self.where}.{key}: must be in {bracket}{lo:g}, {hi:g}], got {value!r}")
-        return float(value)
-
-    def allow(self, *keys: str) -> Fields:
-        """Self if every key of the mapping is one of `keys`; else one ConfigError naming it and the valid keys."""
-        for key in self.data:
-            if key not in keys:
-                shown = key if str(key).isprintable() else repr(key)
-                raise ConfigError(f"{self.where}: unknown key {shown!r}; valid: {', '.join(keys)}")
-        return self
-
-    def vector(self, key: str, length: int | None = None, default: Any = ...) -> Any:
-        # Any: a tuple of floats whose length is checked here; callers store fixed-length tuples.
-        value = self.get(key, list, default)
-        if value is default and default is not ...:
-            return default
-        try:
-            out = tuple(_Vector.validate_python(value))
-        except ValidationError:
-            raise ConfigError(f"{self.where}.{key}: expected a list of numbers, got {value!r}") from None
-        if length is not None and len(out) != length:
-            raise ConfigError(f"{self.where}.{key}: expected {length} numbers, got {len(out)}")
-        return out
-
-    def sub(self, key: str) -> Fields:
-        return Fields(self.get(key, dict), f"{self.where}.{key}")
 
 
 def require(cond: bool, message: str) -> None:

@@ -25,15 +25,17 @@ column and what is allowed.
 from __future__ import annotations
 
 import csv
+import functools
 import io
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Annotated, Literal, TypeVar
+from typing import Annotated, Any, Literal, TypeVar
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, model_validator
 from pydantic_core import PydanticCustomError
 
+from scone_bt.config.schema import format_validation_error
 from scone_bt.errors import SconeError
 
 __all__ = [
@@ -177,23 +179,29 @@ _BELOW = {
 }
 
 
-def _row_error(path: Path, row: _Row, columns: Mapping[str, str], exc: ValidationError) -> RatingsFileError:
-    """pydantic's first problem with a row as the one line a spreadsheet user reads: row, column, what it takes."""
-    error = exc.errors(include_url=False)[0]
+def _row_words(error: Mapping[str, Any], row: _Row, columns: Mapping[str, str]) -> str:
+    """A row's problem in the words a spreadsheet user reads: row, column, what it takes (`format_validation_error`
+    puts the file before it)."""
     col = str(error["loc"][0]) if error["loc"] else "rating"  # a model-level check is the rating's scale
     value = row.values.get(col, "")
-    head = f"{path}: row {row.line}, column {columns.get(col, col)!r}"
+    head = f"row {row.line}, column {columns.get(col, col)!r}"
     if error["type"] == "string_too_short":
-        return RatingsFileError(f"{head} is empty")
+        return f"{head} is empty"
     if error["type"] == "literal_error":
-        return RatingsFileError(f"{head}: {value!r} is not one of {', '.join(_ALLOWED[col])}")
+        return f"{head}: {value!r} is not one of {', '.join(_ALLOWED[col])}"
     if error["type"] == "off_scale":
-        return RatingsFileError(f"{head}: {error['msg']}")
+        return f"{head}: {error['msg']}"
     if error["type"] == "greater_than_equal":
-        return RatingsFileError(f"{head}: {_BELOW[col].format(value=int(float(error['input'])))}")
+        return f"{head}: {_BELOW[col].format(value=int(float(error['input'])))}"
     # the rating is checked after `categories`, so a problem with it means the row's scale is a whole number
     what = _WHAT.get(col) or f"a whole number from 0 to {int(float(row.values['categories'])) - 1}"
-    return RatingsFileError(f"{head}: {value!r} is not {what}")
+    return f"{head}: {value!r} is not {what}"
+
+
+def _row_error(path: Path, row: _Row, columns: Mapping[str, str], exc: ValidationError) -> RatingsFileError:
+    """pydantic's first problem with a row as the project's one line (naming the file, row and column)."""
+    words = functools.partial(_row_words, row=row, columns=columns)
+    return RatingsFileError(format_validation_error(exc, str(path), words=words))
 
 
 R = TypeVar("R", bound=_DesignRow)

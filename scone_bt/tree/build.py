@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import inspect
 import typing
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Annotated, Any
@@ -12,7 +13,7 @@ import py_trees
 from pydantic import BaseModel, Field, ValidationError, create_model, field_validator
 
 from scone_bt.behaviours.context import EpisodeContext
-from scone_bt.config.schema import StrictModel, validate
+from scone_bt.config.schema import StrictModel, format_validation_error, validate
 from scone_bt.config.tree_parameters import TreeParameters
 from scone_bt.config.yaml_io import read_yaml
 from scone_bt.errors import ConfigError, UnknownNameError
@@ -122,16 +123,33 @@ class _CompositeNode(StrictModel):
     children: Annotated[list[Any], Field(min_length=1)]
 
 
-def _problem(model: type[BaseModel], data: dict[Any, Any]) -> tuple[str, str] | None:
-    """pydantic's first problem with `data` as (error type, top-level key), or None if it fits `model`."""
+_UNKNOWN_KEY = ("extra_forbidden", "invalid_key")
+
+
+def _problem(model: type[BaseModel], data: dict[Any, Any]) -> ValidationError | None:
+    """pydantic's error with `data`, or None if it fits `model`."""
     try:
         model.model_validate(data)
     except ValidationError as exc:
-        errors = exc.errors(include_url=False)
-        # An unknown key first: a misspelt key explains a "missing" one, and it is what the author must fix.
-        first = next((e for e in errors if e["type"] in ("extra_forbidden", "invalid_key")), errors[0])
-        return first["type"], str(first["loc"][0]) if first["loc"] else ""
+        return exc
     return None
+
+
+def _first(exc: ValidationError) -> tuple[str, str]:
+    """The problem reported, as (error type, top-level key): an unknown key first, since a misspelt key explains a
+    "missing" one and is what the author must fix (`format_validation_error(..., unknown_key_first=True)`)."""
+    errors = exc.errors(include_url=False)
+    first = next((e for e in errors if e["type"] in _UNKNOWN_KEY), errors[0])
+    return first["type"], str(first["loc"][0]) if first["loc"] else ""
+
+
+def _line(exc: ValidationError, where: str, words: Callable[[str, str], str]) -> str:
+    """The project's one line (`format_validation_error`), in the tree file's words for the problem."""
+
+    def say(error: Mapping[str, Any]) -> str:
+        return words(str(error["type"]), str(error["loc"][0]) if error["loc"] else "")
+
+    return format_validation_error(exc, where, words=say, unknown_key_first=True)
 
 
 def _validate(node: Any, where: str, depth: int = 0) -> None:
@@ -148,41 +166,46 @@ def _validate(node: Any, where: str, depth: int = 0) -> None:
             f"{where}: a node needs exactly one of: {', '.join(COMPOSITES)}, behaviour (got {sorted(map(str, node))})"
         )
     kind = kinds[0]
+    if "kind_name" in node:  # the name renamed below: a key of that name is unknown
+        raise ConfigError(f"{where}: {_node_words(node, kind, 'extra_forbidden', 'kind_name')}")
     if kind == "behaviour":
         problem = _problem(_BehaviourNode, node)
     else:
-        renamed = {("kind_name" if k == kind else k): v for k, v in node.items()}
-        problem = (
-            _problem(_CompositeNode, renamed) if "kind_name" not in node else ("extra_forbidden", "kind_name")
+        problem = _problem(
+            _CompositeNode,
+            {("kind_name" if k == kind else k): v for k, v in node.items()},
         )
     if problem is not None:
-        _raise_node_problem(node, where, kind, *problem)
+        error, key = _first(problem)
+        if key == "behaviour" and error not in _UNKNOWN_KEY:
+            from scone_bt.behaviours import BEHAVIOURS
+
+            raise UnknownNameError(f"behaviour at {where}", str(node["behaviour"]), BEHAVIOURS)
+        raise ConfigError(_line(problem, where, lambda e, k: _node_words(node, kind, e, k)))
     if kind == "behaviour":
-        _check_args(node["behaviour"], node.get("args") if node.get("args") is not None else {}, where)
+        _check_args(
+            node["behaviour"],
+            node.get("args") if node.get("args") is not None else {},
+            where,
+        )
         return
     for i, child in enumerate(node["children"]):
         _validate(child, f"{where}/{node[kind]}[{i}]", depth + 1)
 
 
-def _raise_node_problem(node: dict[Any, Any], where: str, kind: str, error: str, key: str) -> None:
-    """The node's first problem as one ConfigError (UnknownNameError for a behaviour name) naming the choices."""
-    from scone_bt.behaviours import BEHAVIOURS
-
+def _node_words(node: dict[Any, Any], kind: str, error: str, key: str) -> str:
+    """A node's problem in the tree file's words, naming the choices."""
     allowed = _NODE_KEYS["behaviour" if kind == "behaviour" else "composite"]
-    if error in ("extra_forbidden", "invalid_key"):
+    if error in _UNKNOWN_KEY:
         unknown = next(str(k) for k in node if k != kind and k not in allowed)
-        raise ConfigError(
-            f"{where}: unknown key {unknown!r}; valid: {kind}, {', '.join(allowed[1:] if kind == 'behaviour' else allowed)}"
-        )
+        return f"unknown key {unknown!r}; valid: {kind}, {', '.join(allowed[1:] if kind == 'behaviour' else allowed)}"
     if key == "name":
-        raise ConfigError(f"{where}: 'name' must be text, got {node['name']!r}")
-    if key == "behaviour":
-        raise UnknownNameError(f"behaviour at {where}", str(node["behaviour"]), BEHAVIOURS)
+        return f"'name' must be text, got {node['name']!r}"
     if key == "kind_name":
-        raise ConfigError(f"{where}: the {kind}'s name must be text, got {node[kind]!r}")
+        return f"the {kind}'s name must be text, got {node[kind]!r}"
     if key == "memory":
-        raise ConfigError(f"{where}: 'memory' must be true or false, got {node['memory']!r}")
-    raise ConfigError(f"{where}: {kind} {node[kind]!r} needs a non-empty 'children' list")
+        return f"'memory' must be true or false, got {node['memory']!r}"
+    return f"{kind} {node[kind]!r} needs a non-empty 'children' list"
 
 
 def _check_parameter_names(params: dict[str, Any], path: Path) -> None:
@@ -201,13 +224,28 @@ def _check_parameter_names(params: dict[str, Any], path: Path) -> None:
         return
     from scone_bt.embedding.registry import embedder_names, names_an_embedder
 
-    names = (*embedder_names(), "mpnet-ft")  # mpnet-ft: registered once its benchmark is imported
+    names = (
+        *embedder_names(),
+        "mpnet-ft",
+    )  # mpnet-ft: registered once its benchmark is imported
     if embedder == "mpnet-ft" or names_an_embedder(embedder):
         return
     raise ConfigError(
         f"{path}: parameters.embedder: unknown embedder {embedder!r}; valid: {', '.join(sorted(set(names)))}, "
         "finetuned:<dir> or a sentence-transformers model directory"
     )
+
+
+def _file_words(data: dict[Any, Any], error: str, key: str) -> str:
+    """A tree file's top-level problem in its words."""
+    if error in _UNKNOWN_KEY:
+        unknown = next(str(k) for k in data if k not in _TreeFile.model_fields)
+        return f"unknown key {unknown!r}; valid: {', '.join(_TreeFile.model_fields)}"
+    if key == "root":
+        return "missing 'root'"
+    if key == "name":
+        return f"'name' must be text, got {data['name']!r}"
+    return "'parameters' must be a mapping"
 
 
 def load_tree_spec(name_or_path: str | Path = "assistive_cooking") -> TreeSpec:
@@ -220,15 +258,7 @@ def load_tree_spec(name_or_path: str | Path = "assistive_cooking") -> TreeSpec:
     data = read_yaml(path)
     problem = _problem(_TreeFile, data)
     if problem is not None:
-        error, key = problem
-        if error in ("extra_forbidden", "invalid_key"):
-            unknown = next(str(k) for k in data if k not in _TreeFile.model_fields)
-            raise ConfigError(f"{path}: unknown key {unknown!r}; valid: {', '.join(_TreeFile.model_fields)}")
-        if key == "root":
-            raise ConfigError(f"{path}: missing 'root'")
-        if key == "name":
-            raise ConfigError(f"{path}: 'name' must be text, got {data['name']!r}")
-        raise ConfigError(f"{path}: 'parameters' must be a mapping")
+        raise ConfigError(_line(problem, str(path), lambda error, key: _file_words(data, error, key)))
     _validate(data["root"], f"{path}:root")
     params = data.get("parameters", {}) or {}
     validate(TreeParameters, params, f"{path}: parameters")

@@ -104,19 +104,19 @@ def test_uvicorn_lines_go_through_the_log_level(capsys):
 
 
 def test_every_tree_default_the_help_states_is_the_tree_files() -> None:
-    """--help says "(tree default: X)" for the decision options; X must be what the shipped tree file sets (it
-    named grounded-knn as the default estimator while the tree's was physical)."""
+    """--help says "(tree default: X)" for every decision option (one per tree parameter, derived from the
+    model); X must be what the shipped tree file sets (it once named grounded-knn as the default estimator while
+    the tree's was physical)."""
     import re
 
+    import yaml
+
+    from scone_bt.cli.tree_options import flag_of
+    from scone_bt.config.tree_parameters import PARAMETER_NAMES
     from scone_bt.tree.build import load_tree_spec
 
     params = load_tree_spec().parameters
-    dests = {
-        "--estimator": "estimator",
-        "--gate": "gate",
-        "--target-failure-rate": "target_failure_rate",
-        "--confidence-threshold": "confidence_threshold",
-    }
+    dests = {flag_of(name): name for name in PARAMETER_NAMES}
     stated = {}
     for action in build_parser()._actions:
         match = re.search(r"\(tree default: ([^)]+)\)", action.help or "")
@@ -124,7 +124,7 @@ def test_every_tree_default_the_help_states_is_the_tree_files() -> None:
             stated[action.option_strings[0]] = match.group(1)
     assert set(stated) == set(dests)
     for flag, key in dests.items():
-        assert stated[flag] == str(params[key]), flag
+        assert yaml.safe_load(stated[flag]) == params[key], flag  # as the tree file writes it
 
 
 def test_a_recipe_that_needs_nothing_from_the_shelf_says_so(tmp_path, capsys):

@@ -1,0 +1,65 @@
+"""Tree settings are declared once, in `TreeParameters`: scone-run's options and `BehaviourOptions` follow it."""
+
+from __future__ import annotations
+
+import dataclasses
+import typing
+
+import pytest
+
+import scone_bt.behaviours.options as options_module
+from scone_bt.behaviours import BehaviourOptions
+from scone_bt.cli.run import build_parser, main, options_from_args
+from scone_bt.cli.tree_options import flag_of
+from scone_bt.config.tree_parameters import PARAMETER_NAMES, GateName, TreeParameters
+
+
+def test_every_tree_parameter_is_a_scone_run_option_with_its_description_as_help() -> None:
+    actions = {a.dest: a for a in build_parser()._actions}
+    for name, field in TreeParameters.model_fields.items():
+        action = actions[name]
+        assert flag_of(name) in action.option_strings
+        assert action.default is None  # left out: the tree file's value
+        assert field.description and field.description in (action.help or "")
+    assert actions["gate"].choices == typing.get_args(GateName)
+
+
+def test_behaviour_options_hold_the_tree_parameters_with_their_types() -> None:
+    hints = typing.get_type_hints(BehaviourOptions, {**vars(options_module), "GateName": GateName})
+    defaults = {f.name: f.default for f in dataclasses.fields(BehaviourOptions)}
+    for name in PARAMETER_NAMES:
+        assert defaults[name] is None, name
+        assert hints[name] == (TreeParameters.model_fields[name].annotation | None), name
+
+
+def test_options_reach_the_behaviour_options_unmapped() -> None:
+    argv = [
+        "--no-recipe-aware",
+        "--clarify-margin",
+        "0.1",
+        "--max-failures-per-action",
+        "2",
+        "--gate",
+        "paper",
+    ]
+    behaviour = options_from_args(build_parser().parse_args(argv)).behaviour
+    assert (behaviour.recipe_aware, behaviour.clarify_margin, behaviour.max_failures_per_action) == (
+        False,
+        0.1,
+        2,
+    )
+    assert behaviour.gate == "paper" and behaviour.estimator is None  # not given: the tree file's
+
+
+@pytest.mark.parametrize(
+    ("argv", "line"),
+    [
+        (["--clarify-margin", "2"], "--clarify-margin 2.0: must be a number in [0, 1]"),
+        (["--max-failures-per-action", "0"], "--max-failures-per-action 0: must be a number in [1, 1000]"),
+        (["--target-failure-rate", "1"], "--target-failure-rate 1.0: must be a number in (0, 1)"),
+        (["--confidence-threshold", "nan"], "--confidence-threshold nan: must be a number in [0, 1]"),
+    ],
+)
+def test_a_bad_setting_is_one_line_naming_the_option_and_its_range(argv, line, capsys) -> None:
+    assert main(argv) == 2
+    assert capsys.readouterr().err == f"scone-run: error: {line}\n"

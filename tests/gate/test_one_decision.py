@@ -1,0 +1,164 @@
+"""One gate decision: the tree's ConfidenceGate and ``scone-bench gate``'s replay, fed the same stream, decide the
+same, because both call `scone_bt.gate.rules.gate_decision`."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from scone_bt.behaviours import ConfidenceGate, Keys
+from scone_bt.benchmarks.gate import replay_stream
+from scone_bt.confidence import make_estimator
+from scone_bt.confidence.grounded import grounded_features
+from scone_bt.events import ActOutcome, EventLog
+from scone_bt.experience.types import ExecutionContext
+from scone_bt.gate import GateOptions
+from scone_bt.gate.budget import BudgetOptions
+from scone_bt.gate.rules import GateInput, GateRules, gate_decision
+from scone_bt.gate.types import Decision, DecisionKind
+from scone_bt.relevance.types import RankedAction
+from tests.behaviours.fakes import FakeHuman, FakeRobot, affordance, blackboard
+
+OPENING_M = 0.08
+ALPHA = 0.1
+SEED = 3
+
+
+def _stream(n: int = 60, seed: int = 5) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]:
+    """Ten products (one embedding each) picked n times; the wide ones mostly fail."""
+    rng = np.random.default_rng(seed)
+    table = rng.normal(size=(10, 8)).astype(np.float32)
+    widths = np.linspace(0.03, 0.12, 10)
+    pick = rng.integers(0, 10, n)
+    w = widths[pick]
+    context = np.column_stack([np.ones(n), np.full(n, 0.1), np.ones(n), np.ones(n), w, np.full(n, 0.1)])
+    success = (w < 0.075) ^ (rng.random(n) < 0.1)
+    return table[pick], context, success, [f"product {i}" for i in pick]
+
+
+class _Draws:
+    """The same exploration draws for both paths, whenever each asks (a cycle of fixed numbers)."""
+
+    def __init__(self) -> None:
+        self.values = [0.3, 0.7, 0.1, 0.9, 0.4]
+        self.i = 0
+
+    def __call__(self) -> float:
+        self.i += 1
+        return self.values[self.i % len(self.values)]
+
+
+class _ConstantDraw:
+    def random(self) -> float:
+        return 0.3  # below the explore rate: every draw explores (the timing of draws cannot matter)
+
+
+def _replay(gate: str, stream) -> list[Decision]:
+    vectors, context, success, products = stream
+    trace: list[Decision] = []
+    replay_stream(
+        vectors,
+        context,
+        success,
+        products,
+        "physical",
+        gate,
+        ALPHA,
+        SEED,
+        0,
+        OPENING_M,
+        trace=trace,
+        draw=_ConstantDraw().random,
+    )
+    return trace
+
+
+def _behaviour(gate_name: str, stream) -> list[Decision]:
+    """The tree's gate ticked on the same stream: one candidate per tick, its outcome folded into the events."""
+    vectors, context, success, products = stream
+    kappa = make_estimator("physical", seed=SEED, gripper_opening_m=OPENING_M)
+    events = EventLog()
+    now: dict[str, ExecutionContext] = {}
+    budget = BudgetOptions(target_failure_rate=ALPHA) if gate_name == "budget" else None
+    gate = ConfidenceGate(
+        "gate",
+        lambda: kappa,
+        GateOptions(confidence_threshold=0.5, relevance_threshold=0.0),
+        # the per-episode failure limit out of the way: a stream's executions are each from another episode
+        10_000,
+        events,
+        events,
+        FakeRobot(time=1.0).now,
+        FakeHuman(),
+        1,
+        contexts=lambda detections, seen, frames: dict(now),
+        budget=budget,
+        seed=SEED,
+        opening_m=OPENING_M if budget is not None else None,
+    )
+    gate.setup()
+    gate._rng = _ConstantDraw()  # type: ignore[assignment]  # the replay's draws
+    decisions = []
+    for t, product in enumerate(products):
+        aff = affordance(product)
+        row = context[t]
+        ctx = ExecutionContext(
+            int(row[0]), float(row[1]), int(row[2]), bool(row[3]), float(row[4]), float(row[5])
+        )
+        now.clear()
+        now[product] = ctx
+        bb = blackboard(
+            RANKED=[RankedAction(aff.text, 1.0)],
+            ACTION_EMBEDDINGS={aff.text: vectors[t]},
+            AFFORDANCES=[aff],
+            INSTRUCTION="Fetch it.",
+            DETECTIONS=[aff.detection],
+            FRAMES={},
+        )
+        gate.tick_once()
+        decision = bb.get(Keys.DECISION)
+        decisions.append(decision)
+        if decision.kind is DecisionKind.ACT:  # as UpdateSelfConfidence and the outcome sensor do
+            ok = bool(success[t])
+            kappa.update(grounded_features(vectors[t : t + 1], [ctx])[0], ok)
+            events(ActOutcome(float(t), aff.text, product, ok, None if ok else "grasp"))
+    return decisions
+
+
+def _key(d: Decision) -> tuple[object, ...]:
+    return (d.kind, d.explored, d.rule, d.reason, round(d.confidence, 12), d.object_name)
+
+
+@pytest.mark.parametrize("gate", ["budget", "paper"])
+def test_the_tree_and_the_replay_decide_the_same_on_the_same_stream(gate: str) -> None:
+    stream = _stream()
+    replayed = _replay(gate, stream)
+    ticked = _behaviour(gate, stream)
+    assert [_key(d) for d in ticked] == [_key(d) for d in replayed]
+    kinds = {d.kind for d in replayed}
+    assert {DecisionKind.ACT, DecisionKind.ASK} <= kinds  # both outcomes are exercised
+    if gate == "budget":
+        rules = {d.rule for d in replayed}
+        assert "too-wide" in rules and any(d.explored for d in replayed)
+
+
+def test_steps_can_be_read_one_by_one() -> None:
+    """The decision composes named steps: the budget's τ, its exploration, the too-wide rule."""
+    budget = BudgetOptions(target_failure_rate=0.2)
+    rules = GateRules(budget=budget, exploration=budget, failure_limit=2, opening_m=OPENING_M)
+    ranked = (RankedAction("Put pot on table", 0.9),)
+    seen = GateInput(
+        ranked=ranked,
+        confidences=(0.3,),
+        objects={"Put pot on table": "pot"},
+        widths_m={"Put pot on table": 0.2},
+        draw=lambda: 0.0,
+    )
+    result = gate_decision(rules, seen)
+    assert result.threshold == pytest.approx(0.4) and result.exploring
+    assert result.decision.kind is DecisionKind.ASK and result.decision.rule == "too-wide"
+    assert not result.decision.explored
+    narrow = gate_decision(rules, GateInput(**{**seen.__dict__, "widths_m": {"Put pot on table": 0.05}}))
+    assert narrow.decision.kind is DecisionKind.ACT and narrow.decision.explored
+    failed = gate_decision(rules, GateInput(**{**seen.__dict__, "failures": {"Put pot on table": 1}}))
+    assert failed.decision.kind is DecisionKind.ASK and not failed.decision.explored  # never re-explored
