@@ -1,11 +1,15 @@
 """The import graph of scone_bt, read with `ast` (imports at module level and inside functions alike).
 
-- No cycle between subpackages (scone_bt.X ↔ scone_bt.Y, through any chain), nor between modules.
+- No cycle between subpackages (scone_bt.X ↔ scone_bt.Y, through any chain), nor between modules, inside a
+  package included: a submodule that imports a name from its own package's `__init__` (which re-exports its
+  submodules) is an edge like any other.
+- No submodule imports its own package's `__init__`: it imports from the submodule that defines the name. The
+  `__init__` re-exports are for users of the package (`from scone_bt.motion import MotionSystem`).
 - No stage of the robot imports the command line, the benchmarks or the study: the lab bench sits on top of the
   product, never inside it.
 
-Imports under `if TYPE_CHECKING:` are left out (they never run), and so is an import of a module's own parent
-package (importing a submodule initialises its parents anyway, so it adds no order between them).
+Imports under `if TYPE_CHECKING:` are left out (they never run). Importing a submodule initialises its parent
+packages first; that implicit edge is left out too, so that a package may re-export its submodules.
 """
 
 from __future__ import annotations
@@ -97,7 +101,7 @@ def _targets(module: str, path: Path, node: ast.Import | ast.ImportFrom, known: 
 
 
 def module_graph() -> dict[str, dict[str, list[str]]]:
-    """module → imported scone_bt module → where ("file:line"), parents of the importer left out."""
+    """module → imported scone_bt module → where ("file:line"); `from pkg import sub` is an edge to pkg.sub."""
     modules = _modules()
     known = set(modules)
     graph: dict[str, dict[str, list[str]]] = defaultdict(lambda: defaultdict(list))
@@ -107,7 +111,7 @@ def module_graph() -> dict[str, dict[str, list[str]]]:
             for target in _targets(module, path, node, known):
                 while target not in known and "." in target:  # `import a.b.name` of a non-module: its module
                     target = target.rsplit(".", 1)[0]
-                if target not in known or target == module or module.startswith(target + "."):
+                if target not in known or target == module:
                     continue
                 where = f"{path.relative_to(PACKAGE.parent)}:{node.lineno}"
                 if where not in graph[module][target]:
@@ -179,9 +183,9 @@ def test_the_graph_sees_imports_inside_functions_and_skips_type_checking():
     graph = module_graph()
     # cli/run.py imports the tablet UI inside a function
     assert "scone_bt.study.ui" in graph["scone_bt.cli.run"]
-    # config/grasp.py names RobotConfig only under TYPE_CHECKING
-    assert "scone_bt.config.robot" not in graph["scone_bt.config.grasp"]
-    assert "scone_bt.config.grasp" in graph["scone_bt.config.robot"]
+    # world/arm_io.py names Kitchen only under TYPE_CHECKING
+    assert "scone_bt.world.kitchen" not in graph["scone_bt.world.arm_io"]
+    assert "scone_bt.world.arm_io" in graph["scone_bt.world.kitchen"]
 
 
 def test_no_import_cycle_between_subpackages():
@@ -201,6 +205,69 @@ def test_no_import_cycle_between_modules():
     found = cycles(graph)
     assert not found, "import cycles between modules of scone_bt:\n" + "\n".join(
         _describe(graph, c) for c in found
+    )
+
+
+# Packages whose modules may name each other's types under `if TYPE_CHECKING:` in a cycle: in the simulated
+# backends the owner (world.Kitchen, robot.sim.SimRobot) hands itself to its helpers (arm I/O, cameras, the
+# render cache, the rig), which annotate it. Everywhere else even the types point one way.
+TYPED_CYCLES_ALLOWED = frozenset({"scone_bt.world", "scone_bt.robot"})
+
+
+def typed_module_graph() -> dict[str, dict[str, list[str]]]:
+    """As `module_graph`, with the imports under `if TYPE_CHECKING:` too."""
+    modules = _modules()
+    known = set(modules)
+    graph: dict[str, dict[str, list[str]]] = defaultdict(lambda: defaultdict(list))
+    for module, path in modules.items():
+        for node in _every_import(path):
+            for target in _targets(module, path, node, known):
+                while target not in known and "." in target:
+                    target = target.rsplit(".", 1)[0]
+                if target in known and target != module:
+                    graph[module][target].append(f"{path.relative_to(PACKAGE.parent)}:{node.lineno}")
+    return graph
+
+
+def test_no_cycle_even_through_type_only_imports():
+    graph = typed_module_graph()
+    found = [
+        c
+        for c in cycles(graph)
+        if not any(all(m.startswith(p + ".") for m in c) for p in TYPED_CYCLES_ALLOWED)
+    ]
+    assert not found, (
+        "import cycles between modules of scone_bt, TYPE_CHECKING imports included:\n"
+        + "\n".join(_describe(graph, c) for c in found)
+    )
+
+
+def own_package_imports() -> list[str]:
+    """'module → package (file:line)' for each import of a module's own (parent or higher) package `__init__`."""
+    return sorted(
+        f"  {module} → {target}  ({', '.join(where)})"
+        for module, targets in module_graph().items()
+        for target, where in targets.items()
+        if module.startswith(target + ".") and target != "scone_bt"
+    )
+
+
+def test_the_cycle_check_sees_a_cycle_through_an_init():
+    # a submodule that imports from its package's __init__, which re-exports it, closes a cycle
+    graph = {
+        "p": {"p.a": ["p/__init__.py:1"], "p.b": ["p/__init__.py:2"]},
+        "p.a": {"p": ["p/a.py:3"]},
+        "p.b": {},
+    }
+    assert cycles(graph) == [["p", "p.a"]]
+    assert "p.a → p  (p/a.py:3)" in _describe(graph, ["p", "p.a"])
+
+
+def test_no_module_imports_its_own_package_init():
+    found = own_package_imports()
+    assert not found, (
+        "modules import their own package's __init__; import from the submodule that defines the name:\n"
+        + "\n".join(found)
     )
 
 
@@ -241,6 +308,25 @@ def test_only_the_sim_backend_imports_the_simulated_world():
         "stages import the simulated world (only robot/sim.py, behind the backend registry, may):\n"
         + "\n".join(f"  {m} → {t}  ({', '.join(module_graph()[m][t])})" for m, t in found)
     )
+
+
+def _every_import(path: Path) -> Iterator[ast.Import | ast.ImportFrom]:
+    tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
+    yield from (n for n in ast.walk(tree) if isinstance(n, (ast.Import, ast.ImportFrom)))
+
+
+def test_perception_never_names_the_simulated_world():
+    # perception runs on real cameras too: not even a type of it comes from the simulated kitchen
+    modules = _modules()
+    found = [
+        f"  {module} → {target}  ({modules[module].relative_to(PACKAGE.parent)}:{node.lineno})"
+        for module, path in modules.items()
+        if _subpackage(module) == "perception"
+        for node in _every_import(path)
+        for target in _targets(module, path, node, set(modules))
+        if _subpackage(target) == "world"
+    ]
+    assert not found, "perception imports the simulated world (TYPE_CHECKING included):\n" + "\n".join(found)
 
 
 # The simulator backend (`scone-run --robot sim`): the simulated kitchen package and the backend module that builds

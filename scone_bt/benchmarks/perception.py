@@ -46,12 +46,12 @@ def run(args: argparse.Namespace) -> int:
     """Render and score the scenes; print the JSON report (and write it to --json)."""
     import numpy as np
 
+    from scone_bt.benchmarks.detection_scoring import ground_truth, score_frame, summarise
     from scone_bt.checks import check_range
     from scone_bt.config import load_kitchen, load_robot
     from scone_bt.config.stocking import plan_stocking
     from scone_bt.errors import ConfigError
     from scone_bt.perception import Camera, Detector
-    from scone_bt.perception.evaluation import ground_truth, score_frame, summarise
     from scone_bt.perception.observe import merge_detections
     from scone_bt.quiet import c_stdout_silenced
     from scone_bt.robot.flags import require_pybullet

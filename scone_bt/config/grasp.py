@@ -12,20 +12,24 @@ import math
 from collections.abc import Mapping
 from dataclasses import Field as Field_
 from dataclasses import dataclass, fields, replace
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import Annotated, Any, Protocol
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, create_model
 
 from scone_bt.config.schema import format_validation_error
 from scone_bt.errors import ConfigError
 
-if TYPE_CHECKING:
-    from scone_bt.config.robot import RobotConfig
-
 __all__ = ["GraspParams", "PLANNERS"]
 
 PLANNERS = ("RRTConnect", "RRT", "RRTstar", "PRM", "KPIECE1", "BKPIECE1", "LBKPIECE1", "BITstar", "AORRTC")
 """OMPL geometric planners selectable by name."""
+
+
+class _WithGrasp(Protocol):
+    """A robot configuration as `GraspParams.of` reads it (`config.robot.RobotConfig`, which imports this module)."""
+
+    @property
+    def grasp(self) -> GraspParams | None: ...
 
 
 @dataclass(frozen=True)
@@ -114,7 +118,7 @@ class GraspParams:
     path_retries: int = 1
 
     @classmethod
-    def of(cls, robot: RobotConfig) -> GraspParams:
+    def of(cls, robot: _WithGrasp) -> GraspParams:
         """The robot file's grasp settings (validated when the file was loaded), or the defaults."""
         return robot.grasp if robot.grasp is not None else cls()
 

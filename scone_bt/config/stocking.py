@@ -20,10 +20,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from scone_bt.config import ObjectSpec, SceneSpec
-from scone_bt.config.catalogue import Shape
+from scone_bt.config.catalogue import ObjectSpec, Shape
 from scone_bt.config.footprint import footprint
-from scone_bt.config.scene import ShelfUnit
+from scone_bt.config.scene import SceneSpec, ShelfUnit
 from scone_bt.errors import ConfigError
 
 __all__ = [

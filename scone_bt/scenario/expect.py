@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypeVar
 
 from scone_bt.events import ActOutcome, ActStarted, DecisionMade, Event, HelpRequested, StepDone
 from scone_bt.scenario.model import (
@@ -28,6 +28,8 @@ from scone_bt.scenario.model import (
 )
 
 __all__ = [
+    "CHECKS",
+    "Episode",
     "Record",
     "Outcome",
     "ExpectationFailure",
@@ -127,7 +129,8 @@ def event_line(record: Record) -> str:
     elif isinstance(e, ActOutcome):
         bits.append(f"{e.object_name} {'success' if e.success else f'FAILED at {e.stage}'}")
     elif hasattr(e, "object_name"):
-        bits.append(str(e.object_name) + (f" ({e.detail})" if getattr(e, "detail", "") else ""))
+        detail = getattr(e, "detail", "")
+        bits.append(str(e.object_name) + (f" ({detail})" if detail else ""))
     elif isinstance(e, StepDone):
         bits.append(e.detail[:60])
     else:
@@ -164,126 +167,170 @@ def _first(records: Sequence[Record], pred: Any, start: int = 0) -> int | None:
     return next((i for i in range(start, len(records)) if pred(records[i].event)), None)
 
 
+@dataclass(frozen=True)
+class Episode:
+    """What an expectation is checked on: the event records and the end, and how its failures are labelled."""
+
+    label: str
+    records: Sequence[Record]
+    end: Outcome
+
+    def fail(self, problem: str, index: int | None) -> ExpectationFailure:
+        """A failure at record ``index`` (None: at the end of the episode)."""
+        return _fail(self.label, problem, self.records, index, self.end)
+
+    def first(self, pred: Callable[[Event], bool], start: int = 0) -> int | None:
+        """The index of the first record from ``start`` whose event satisfies ``pred``."""
+        return _first(self.records, pred, start)
+
+
+Rule = Callable[[Any, Episode], "ExpectationFailure | None"]
+"""An expectation model's check: None when it holds on the episode, else the failure."""
+
+CHECKS: dict[type[Any], Rule] = {}
+"""Expectation model (`scenario.model.EXPECTATION_KINDS`) → its check."""
+
+_M = TypeVar("_M")
+
+
+def _checks(model: type[_M]) -> Callable[[Callable[[_M, Episode], ExpectationFailure | None]], Rule]:
+    """Register the decorated function as the check of ``model``."""
+
+    def register(rule: Callable[[_M, Episode], ExpectationFailure | None]) -> Rule:
+        CHECKS[model] = rule
+        return rule
+
+    return register
+
+
 def check(expectation: Any, records: Sequence[Record], end: Outcome) -> ExpectationFailure | None:
     """None if the expectation holds on this episode, else what broke and where."""
-    label = describe(expectation)
-    ex = expectation
-    if isinstance(ex, AsksBeforeAttempt):
-        name = ex.asks_before_attempt
-        ask = _first(records, lambda e: isinstance(e, HelpRequested) and e.object_name == name)
-        act = _first(records, lambda e: isinstance(e, ActStarted) and e.object_name == name)
-        if act is not None and (ask is None or act < ask):
-            return _fail(
-                label, f"the robot attempted {name!r} before asking for help with it", records, act, end
-            )
-        if ask is None:
-            return _fail(label, f"the robot never asked for help with {name!r}", records, None, end)
-        return None
-    if isinstance(ex, NeverAttempts):
-        name = ex.never_attempts
-        act = _first(records, lambda e: isinstance(e, ActStarted) and e.object_name == name)
-        return None if act is None else _fail(label, f"the robot attempted {name!r}", records, act, end)
-    if isinstance(ex, CompletesStep):
-        done = [i for i, r in enumerate(records) if isinstance(r.event, StepDone)]
-        k = ex.completes_step
-        if len(done) < k:
-            return _fail(label, f"step {k} was never done ({len(done)} steps done)", records, None, end)
-        t = records[done[k - 1]].event.sim_time
-        if ex.within_s is not None and t > ex.within_s:
-            return _fail(
-                label, f"step {k} was done at {t:.1f} s, after {ex.within_s:g} s", records, done[k - 1], end
-            )
-        return None
-    if isinstance(ex, Completes):
-        if end.completed != ex.completes:
-            what = "was done" if end.completed else f"was not done ({end.steps_completed} steps done)"
-            return _fail(label, f"the recipe {what}", records, None, end)
-        if ex.completes and ex.within_s is not None:
-            last = max((i for i, r in enumerate(records) if isinstance(r.event, StepDone)), default=None)
-            t = records[last].event.sim_time if last is not None else end.sim_time
-            if t > ex.within_s:
-                return _fail(
-                    label, f"the recipe was done at {t:.1f} s, after {ex.within_s:g} s", records, last, end
-                )
-        return None
-    if isinstance(ex, MaxFailures):
-        failed = [
-            i
-            for i, r in enumerate(records)
-            if isinstance(r.event, ActOutcome)
-            and not r.event.success
-            and (ex.object is None or r.event.object_name == ex.object)
-        ]
-        if len(failed) > ex.max_failures:
-            return _fail(
-                label,
-                f"{len(failed)} failures, more than {ex.max_failures}",
-                records,
-                failed[ex.max_failures],
-                end,
-            )
-        return None
-    if isinstance(ex, Kappa):
-        start = 0
-        if ex.after is not None:
-            hit = _first(records, lambda e: matches(e, ex.after))
-            if hit is None:
-                return _fail(
-                    label,
-                    f"the event it waits for ({describe_match(ex.after)}) never happened",
-                    records,
-                    None,
-                    end,
-                )
-            start = hit + 1
-        i = _first(
-            records,
-            lambda e: (
-                isinstance(e, DecisionMade) and e.object_name == ex.kappa and not math.isnan(e.confidence)
-            ),
-            start,
-        )
-        if i is None:
-            return _fail(label, f"no decision about {ex.kappa!r} followed", records, None, end)
-        value = records[i].event.confidence
-        if ex.below is not None and not value < ex.below:
-            return _fail(label, f"κ̂ was {value:.3f}, not below {ex.below:g}", records, i, end)
-        if ex.above is not None and not value > ex.above:
-            return _fail(label, f"κ̂ was {value:.3f}, not above {ex.above:g}", records, i, end)
-        return None
-    if isinstance(ex, NoRepeatedFailure):
-        seen: set[tuple[str, str | None]] = set()
-        for i, r in enumerate(records):
-            e = r.event
-            if isinstance(e, ActOutcome) and not e.success:
-                key = (e.action, e.stage)
-                if key in seen:
-                    return _fail(label, f"{e.action!r} failed at {e.stage} again", records, i, end)
-                seen.add(key)
-        return None
-    if isinstance(ex, DecisionsMatch):
-        tokens = decision_tokens(records)
-        if re.search(ex.decisions_match, tokens) is None:
-            shown = tokens if len(tokens) <= 300 else tokens[:297] + "..."
-            return _fail(label, f"the decisions were: {shown or '(none)'}", records, None, end)
-        return None
-    if isinstance(ex, Count):
-        hits = [i for i, r in enumerate(records) if matches(r.event, ex.count)]
-        if ex.max is not None and len(hits) > ex.max:
-            return _fail(
-                label, f"{len(hits)} matching events, more than {ex.max}", records, hits[ex.max], end
-            )
-        if len(hits) < ex.min:
-            return _fail(label, f"{len(hits)} matching events, fewer than {ex.min}", records, None, end)
-        return None
-    if isinstance(ex, OnTable):
-        off = [n for n in ex.on_table if not end.on_table.get(n, False)]
-        return (
-            None
-            if not off
-            else _fail(label, f"not on the table at the end: {', '.join(off)}", records, None, end)
-        )
-    raise TypeError(f"unknown expectation {type(ex).__name__}")
+    rule = CHECKS.get(type(expectation))
+    if rule is None:
+        raise TypeError(f"unknown expectation {type(expectation).__name__}")
+    return rule(expectation, Episode(describe(expectation), records, end))
+
+
+@_checks(AsksBeforeAttempt)
+def _asks_before_attempt(ex: AsksBeforeAttempt, ep: Episode) -> ExpectationFailure | None:
+    name = ex.asks_before_attempt
+    ask = ep.first(lambda e: isinstance(e, HelpRequested) and e.object_name == name)
+    act = ep.first(lambda e: isinstance(e, ActStarted) and e.object_name == name)
+    if act is not None and (ask is None or act < ask):
+        return ep.fail(f"the robot attempted {name!r} before asking for help with it", act)
+    if ask is None:
+        return ep.fail(f"the robot never asked for help with {name!r}", None)
+    return None
+
+
+@_checks(NeverAttempts)
+def _never_attempts(ex: NeverAttempts, ep: Episode) -> ExpectationFailure | None:
+    name = ex.never_attempts
+    act = ep.first(lambda e: isinstance(e, ActStarted) and e.object_name == name)
+    return None if act is None else ep.fail(f"the robot attempted {name!r}", act)
+
+
+@_checks(CompletesStep)
+def _completes_step(ex: CompletesStep, ep: Episode) -> ExpectationFailure | None:
+    done = [i for i, r in enumerate(ep.records) if isinstance(r.event, StepDone)]
+    k = ex.completes_step
+    if len(done) < k:
+        return ep.fail(f"step {k} was never done ({len(done)} steps done)", None)
+    t = ep.records[done[k - 1]].event.sim_time
+    if ex.within_s is not None and t > ex.within_s:
+        return ep.fail(f"step {k} was done at {t:.1f} s, after {ex.within_s:g} s", done[k - 1])
+    return None
+
+
+@_checks(Completes)
+def _completes(ex: Completes, ep: Episode) -> ExpectationFailure | None:
+    end = ep.end
+    if end.completed != ex.completes:
+        what = "was done" if end.completed else f"was not done ({end.steps_completed} steps done)"
+        return ep.fail(f"the recipe {what}", None)
+    if ex.completes and ex.within_s is not None:
+        last = max((i for i, r in enumerate(ep.records) if isinstance(r.event, StepDone)), default=None)
+        t = ep.records[last].event.sim_time if last is not None else end.sim_time
+        if t > ex.within_s:
+            return ep.fail(f"the recipe was done at {t:.1f} s, after {ex.within_s:g} s", last)
+    return None
+
+
+@_checks(MaxFailures)
+def _max_failures(ex: MaxFailures, ep: Episode) -> ExpectationFailure | None:
+    failed = [
+        i
+        for i, r in enumerate(ep.records)
+        if isinstance(r.event, ActOutcome)
+        and not r.event.success
+        and (ex.object is None or r.event.object_name == ex.object)
+    ]
+    if len(failed) > ex.max_failures:
+        return ep.fail(f"{len(failed)} failures, more than {ex.max_failures}", failed[ex.max_failures])
+    return None
+
+
+@_checks(Kappa)
+def _kappa(ex: Kappa, ep: Episode) -> ExpectationFailure | None:
+    start = 0
+    after = ex.after
+    if after is not None:
+        hit = ep.first(lambda e: matches(e, after))
+        if hit is None:
+            return ep.fail(f"the event it waits for ({describe_match(after)}) never happened", None)
+        start = hit + 1
+    i = ep.first(
+        lambda e: isinstance(e, DecisionMade) and e.object_name == ex.kappa and not math.isnan(e.confidence),
+        start,
+    )
+    if i is None:
+        return ep.fail(f"no decision about {ex.kappa!r} followed", None)
+    decision = ep.records[i].event
+    assert isinstance(decision, DecisionMade)  # what ep.first looked for
+    value = decision.confidence
+    if ex.below is not None and not value < ex.below:
+        return ep.fail(f"κ̂ was {value:.3f}, not below {ex.below:g}", i)
+    if ex.above is not None and not value > ex.above:
+        return ep.fail(f"κ̂ was {value:.3f}, not above {ex.above:g}", i)
+    return None
+
+
+@_checks(NoRepeatedFailure)
+def _no_repeated_failure(ex: NoRepeatedFailure, ep: Episode) -> ExpectationFailure | None:
+    seen: set[tuple[str, str | None]] = set()
+    for i, r in enumerate(ep.records):
+        e = r.event
+        if isinstance(e, ActOutcome) and not e.success:
+            key = (e.action, e.stage)
+            if key in seen:
+                return ep.fail(f"{e.action!r} failed at {e.stage} again", i)
+            seen.add(key)
+    return None
+
+
+@_checks(DecisionsMatch)
+def _decisions_match(ex: DecisionsMatch, ep: Episode) -> ExpectationFailure | None:
+    tokens = decision_tokens(ep.records)
+    if re.search(ex.decisions_match, tokens) is None:
+        shown = tokens if len(tokens) <= 300 else tokens[:297] + "..."
+        return ep.fail(f"the decisions were: {shown or '(none)'}", None)
+    return None
+
+
+@_checks(Count)
+def _count(ex: Count, ep: Episode) -> ExpectationFailure | None:
+    hits = [i for i, r in enumerate(ep.records) if matches(r.event, ex.count)]
+    if ex.max is not None and len(hits) > ex.max:
+        return ep.fail(f"{len(hits)} matching events, more than {ex.max}", hits[ex.max])
+    if len(hits) < ex.min:
+        return ep.fail(f"{len(hits)} matching events, fewer than {ex.min}", None)
+    return None
+
+
+@_checks(OnTable)
+def _on_table(ex: OnTable, ep: Episode) -> ExpectationFailure | None:
+    off = [n for n in ex.on_table if not ep.end.on_table.get(n, False)]
+    return None if not off else ep.fail(f"not on the table at the end: {', '.join(off)}", None)
 
 
 def describe_match(match: EventMatch) -> str:

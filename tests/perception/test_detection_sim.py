@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from scone_bt.benchmarks.detection_scoring import ground_truth, score_frame
 from scone_bt.perception import Camera, Detector, Tracker
-from scone_bt.perception.evaluation import ground_truth, score_frame
 
 pytestmark = pytest.mark.slow
 

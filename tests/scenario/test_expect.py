@@ -8,8 +8,8 @@ import pytest
 
 from scone_bt.events import ActOutcome, ActStarted, DecisionMade, HelpRequested, StepDone
 from scone_bt.gate.types import DecisionKind
-from scone_bt.scenario.expect import Outcome, Record, check, decision_tokens
-from scone_bt.scenario.model import ScenarioFile
+from scone_bt.scenario.expect import CHECKS, Outcome, Record, check, decision_tokens
+from scone_bt.scenario.model import EXPECTATION_KINDS, ScenarioFile
 
 
 def _decision(t: float, verdict: str, obj: str | None, conf: float = 0.5, rule: str = "") -> DecisionMade:
@@ -100,3 +100,15 @@ def test_a_named_expectation_reports_its_name_and_tokens_replace_spaces() -> Non
     assert failure is not None and failure.expectation == "keeps off the salt"
     assert decision_tokens(STREAM) == "act:salt act:salt ask:olive_oil"
     assert math.isnan(_decision(0, "idle", None, math.nan).confidence)
+
+
+def test_every_expectation_kind_has_its_own_check():
+    assert set(CHECKS) == set(EXPECTATION_KINDS.values())
+
+
+def test_an_unknown_expectation_is_refused_naming_its_type():
+    class Stranger:
+        name = "stranger"
+
+    with pytest.raises(TypeError, match="unknown expectation Stranger"):
+        check(Stranger(), STREAM, END)

@@ -248,11 +248,10 @@ def _code_digest() -> str:
     if not _CODE_DIGEST:
         import hashlib
 
-        import scone_bt.benchmarks.self_confidence as sc
         import scone_bt.confidence as conf
 
         h = hashlib.sha1()
-        here = Path(sc.__file__).parent
+        here = Path(__file__).parent  # this package's folder, without importing its own __init__
         files = [*sorted(Path(conf.__file__).parent.glob("*.py"))]
         files += [here / f for f in ("protocols.py", "evaldata.py", "metrics.py", "dataset.py")]
         for f in files:

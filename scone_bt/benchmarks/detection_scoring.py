@@ -1,6 +1,7 @@
-"""Scoring detections against the simulator's ground truth (benchmarks and tests only).
+"""Scoring detections against the simulator's ground truth (`scone-bench perception` and its tests).
 
-This module reads ground truth from the kitchen; the robot's own stages never import it. An object counts as
+This module reads ground truth from the simulated kitchen, so it sits with the benchmarks: `scone_bt.perception`
+never imports `scone_bt.world`, not even for a type. An object counts as
 unoccluded when rays from the camera reach every sample point of its marker (corners and centre) on the object's
 own collision shape, and every sample point projects inside the image.
 """
