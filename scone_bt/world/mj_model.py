@@ -153,6 +153,13 @@ def arm_spec(robot: RobotConfig) -> mujoco.MjSpec:
     except ValueError as exc:
         first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise ConfigError(f"{robot.source}: MuJoCo could not load URDF {robot.urdf} ({first})") from None
+    # The URDF's visual meshes (the Panda's 116k triangles) are left out, as PyBullet's cameras leave them out
+    # (robots/*.yaml camera_shapes: collision); the products' looks added later must stay, so MuJoCo's own
+    # discarding of contact-free geoms is switched off once they are gone.
+    for geom in list(spec.geoms):
+        if geom.contype == 0 and geom.conaffinity == 0:
+            spec.delete(geom)
+    spec.compiler.discardvisual = False
     names = {j.name for j in spec.joints}
     for joint in (*robot.arm_joints, *robot.gripper.joints):
         if joint not in names:
