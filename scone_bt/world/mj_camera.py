@@ -116,11 +116,15 @@ class MjCameras:
         # OpenCV's camera axes (x right, y down, z forward) to OpenGL's (x right, y up, looking along -z).
         d.cam_xmat[c] = (pose[:3, :3] @ np.diag([1.0, -1.0, -1.0])).flatten()
         renderer.update_scene(d, camera=c)
-        renderer.disable_depth_rendering()
-        rgb = np.ascontiguousarray(renderer.render())
-        renderer.enable_depth_rendering()
-        depth = np.ascontiguousarray(renderer.render(), dtype=np.float32)
-        renderer.disable_depth_rendering()
+        # One pass for both images (`mujoco.Renderer` draws the scene twice for RGB and depth).
+        mj = self.mujoco
+        renderer._gl_context.make_current()
+        rgb = np.empty((spec.height, spec.width, 3), dtype=np.uint8)
+        buffer = np.empty((spec.height, spec.width), dtype=np.float32)
+        mj.mjr_render(renderer._rect, renderer._scene, renderer._mjr_context)
+        mj.mjr_readPixels(rgb, buffer, renderer._rect, renderer._mjr_context)
+        rgb = np.ascontiguousarray(np.flipud(rgb))
+        depth = _metric_depth(np.flipud(buffer), m.vis.map.znear * extent, m.vis.map.zfar * extent)
         self.renders += 1
         rgb.setflags(write=False)
         depth.setflags(write=False)
@@ -130,6 +134,16 @@ class MjCameras:
         for renderer in self._renderers.values():
             renderer.close()
         self._renderers.clear()
+
+
+def _metric_depth(buffer: np.ndarray, near: float, far: float) -> np.ndarray:
+    """MuJoCo's reversed-Z depth buffer to metric depth along the optical axis (as `mujoco.Renderer` converts it)."""
+    zfar, znear = np.float32(far), np.float32(near)
+    c = -(zfar + znear) / (zfar - znear)
+    d = -(np.float32(2) * zfar * znear) / (zfar - znear)
+    c = np.float32(-0.5) * c - np.float32(0.5)
+    d = np.float32(-0.5) * d
+    return np.ascontiguousarray(d / (buffer.astype(np.float64) + c), dtype=np.float32)
 
 
 def _moved(before: np.ndarray, now: np.ndarray) -> bool:

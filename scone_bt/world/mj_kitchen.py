@@ -25,6 +25,7 @@ from scone_bt.world.ground_truth import GroundTruth, ObjectState, yaw_of
 from scone_bt.world.mj_model import (
     ARM_GAINS,
     COVER_SLOTS,
+    PAD_TORSION_M,
     PARK_Z_M,
     StaticBox,
     build_model,
@@ -313,7 +314,7 @@ class MjKitchen(GroundTruth):
             if product is not None:
                 mu = self.specs[product].friction * g.finger_friction if product in self.specs else None
                 if mu is not None:
-                    m.pair_friction[p, :2] = mu
+                    m.pair_friction[p, :3] = [mu, mu, mu * PAD_TORSION_M]
         self._keep_stepping()
 
     # ----------------------------------------------------------------------------------------- robot

@@ -31,6 +31,7 @@ if TYPE_CHECKING:
 __all__ = [
     "ARM_GAINS",
     "COVER_SLOTS",
+    "NOSLIP_ITERATIONS",
     "SUBSTEP_S",
     "EGL_PACKAGES",
     "ArmGains",
@@ -46,6 +47,14 @@ EGL_PACKAGES = "libegl1 libegl-mesa0 libgl1-mesa-dri"
 SUBSTEP_S = 1.0 / 480.0
 """Longest MuJoCo step, seconds: a control step (1 / physics_hz) is split into equal steps no longer than this (the
 stiff joint servos and the finger contacts stay stable with the implicit integrator at this step)."""
+NOSLIP_ITERATIONS = 4
+"""Iterations of MuJoCo's no-slip solver pass per step (see `build_model`)."""
+PAD_TORSION_M = 0.01
+"""Torsional friction of a finger pad per unit of its sliding friction, metres: a pad's contact patch resists
+twisting (about (2/3) of a 1.5 cm patch radius). MuJoCo gives a mesh finger one or two contact points where Bullet
+keeps a manifold of several; without this a held jar pivots about the line between the two fingers and falls out."""
+PAD_SOLREF_S = 0.005
+"""Time constant of the finger pads' contacts, seconds (MuJoCo's solref; over twice the physics step)."""
 COVER_SLOTS = 8
 """Covers (a hand over a lid, a cloth over a lens) the model keeps ready: adding one then needs no recompile."""
 PARK_Z_M = -5.0
@@ -210,6 +219,9 @@ def _add_arm(spec: mujoco.MjSpec, robot: RobotConfig, gains: ArmGains) -> None:
                 geom.rgba = [0.25, 0.25, 0.27, 1.0]
     effort = robot.control.max_joint_force
     for joint in spec.joints:
+        # The robot file's force limits apply, as PyBullet's motors apply them (the URDF's efforts do not: the
+        # Panda's fingers would squeeze with 20 N instead of the gripper's max_force).
+        joint.actfrclimited = 0
         if joint.name in robot.arm_joints:
             joint.armature = gains.armature
             act = spec.add_actuator()
@@ -220,9 +232,8 @@ def _add_arm(spec: mujoco.MjSpec, robot: RobotConfig, gains: ArmGains) -> None:
             act.biasprm[:3] = [0.0, -gains.stiffness, -gains.damping]
             act.biastype = mujoco.mjtBias.mjBIAS_AFFINE
             act.gaintype = mujoco.mjtGain.mjGAIN_FIXED
-            limit = min(effort, joint.actfrcrange[1]) if joint.actfrclimited == 1 else effort
             act.forcelimited = 1
-            act.forcerange = [-limit, limit]
+            act.forcerange = [-effort, effort]
             act.ctrllimited = 0
         elif joint.name in finger_joints:
             joint.armature = 0.01
@@ -374,7 +385,11 @@ def _finger_pairs(spec: mujoco.MjSpec, robot: RobotConfig, products: Sequence[Ob
             pair.geomname1 = finger
             pair.geomname2 = product.name
             pair.condim = 4
-            pair.friction = [mu, mu, 0.001, 0.0001, 0.0001]
+            pair.friction = [mu, mu, mu * PAD_TORSION_M, 0.0001, 0.0001]
+            # Stiffer than MuJoCo's default contact (0.02 s): squeezed with 40 N the default lets a pad sink
+            # 2.4 mm into a jar, and the jar creeps along the pads through the carry (1.6 cm in 3 s).
+            pair.solref = [PAD_SOLREF_S, 1.0]
+            pair.solimp = [0.95, 0.99, 0.001, 0.5, 2.0]
 
 
 def build_model(
@@ -413,7 +428,16 @@ def build_model(
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
     spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
     spec.option.impratio = 10.0
+    # MuJoCo's soft contacts let a held product creep through the fingers under the carry's accelerations (a
+    # 0.35 kg jar slid 1.6 cm in 3 s with four times its weight in friction to spare); the no-slip pass removes
+    # that creep, as Bullet's rigid friction has none.
+    spec.option.noslip_iterations = NOSLIP_ITERATIONS
     spec.option.gravity = [0.0, 0.0, -9.81]
+    if hasattr(mujoco.mjtEnableBit, "mjENBL_SLEEP"):
+        # Resting products sleep until something awake touches them (MuJoCo 3.4+): most products stand still
+        # on the shelf all episode, and their contacts are most of the solver's work (PyBullet's kitchen freezes
+        # them for the same reason).
+        spec.option.enableflags |= int(mujoco.mjtEnableBit.mjENBL_SLEEP)
     width = max(c.width for c in kitchen.cameras)
     height = max(c.height for c in kitchen.cameras)
     spec.visual.global_.offwidth = int(width)
