@@ -25,7 +25,9 @@ def mujoco_backend(request: BackendRequest) -> SimBackend:
     from scone_bt.world.mj_model import import_mujoco
 
     if request.gui:
-        raise ConfigError("--gui opens PyBullet's window; --robot mujoco records with rerun instead (--record)")
+        raise ConfigError(
+            "--gui opens PyBullet's window; --robot mujoco records with rerun instead (--record)"
+        )
     mujoco = import_mujoco()
     check_rendering(mujoco)
     from scone_bt.world.mj_kitchen import MjKitchen

@@ -52,9 +52,9 @@ class MjCameras:
         self.renders = 0
         self.reused = 0
         self._renderers: dict[tuple[int, int], Any] = {}
-        self._last: weakref.WeakKeyDictionary[Any, tuple[tuple[object, ...], np.ndarray, np.ndarray, np.ndarray]] = (
-            weakref.WeakKeyDictionary()
-        )
+        self._last: weakref.WeakKeyDictionary[
+            Any, tuple[tuple[object, ...], np.ndarray, np.ndarray, np.ndarray]
+        ] = weakref.WeakKeyDictionary()
         m = self.model
         radius = np.zeros(m.nbody)
         for g in range(m.ngeom):

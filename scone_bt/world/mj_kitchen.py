@@ -125,9 +125,9 @@ class MjKitchen(GroundTruth):
             body = model.body(name).id
             self.objects[name] = body
             self._names[body] = name
-        self._static_geom_names = {
-            model.geom(b.name).id: b.name for b in parts.boxes
-        } | {model.geom("floor").id: "the floor"}
+        self._static_geom_names = {model.geom(b.name).id: b.name for b in parts.boxes} | {
+            model.geom("floor").id: "the floor"
+        }
         self._free_qpos = {n: int(model.jnt_qposadr[model.body_jntadr[b]]) for n, b in self.objects.items()}
         self._free_dof = {n: int(model.jnt_dofadr[model.body_jntadr[b]]) for n, b in self.objects.items()}
         self._cover_mocap = [int(model.body_mocapid[model.body(f"cover{i}").id]) for i in range(COVER_SLOTS)]
@@ -183,15 +183,15 @@ class MjKitchen(GroundTruth):
             self.specs[spec.name] = spec
             self.spawn_slots[spec.name] = (x, y, z)
             half = place.yaw / 2
-            self._set_pose(spec.name, (x, y, z + spec.height / 2 + 1e-3), (0, 0, math.sin(half), math.cos(half)))
+            self._set_pose(
+                spec.name, (x, y, z + spec.height / 2 + 1e-3), (0, 0, math.sin(half), math.cos(half))
+            )
         self.mujoco.mj_forward(self.model, self.data)
         self.wake()
         self.advance(0.5)
         return dict(self.spawn_slots)
 
-    def _set_pose(
-        self, name: str, position: Sequence[float], orientation: Sequence[float]
-    ) -> None:
+    def _set_pose(self, name: str, position: Sequence[float], orientation: Sequence[float]) -> None:
         """Put a product's free body at a pose (quaternion x, y, z, w) at rest."""
         a, v = self._free_qpos[name], self._free_dof[name]
         x, y, z, w = orientation
@@ -218,7 +218,9 @@ class MjKitchen(GroundTruth):
         self._body(name)
         x, y, z = (float(v) for v in surface)
         half = float(yaw) / 2
-        self._set_pose(name, (x, y, z + self.specs[name].height / 2 + 1e-3), (0, 0, math.sin(half), math.cos(half)))
+        self._set_pose(
+            name, (x, y, z + self.specs[name].height / 2 + 1e-3), (0, 0, math.sin(half), math.cos(half))
+        )
         self.mujoco.mj_forward(self.model, self.data)
         self.wake()
 
@@ -412,7 +414,9 @@ class MjKitchen(GroundTruth):
                 continue
             if link == self.robot_root:
                 continue  # the base stands on its pedestal
-            if link in self.gripper_bodies and (allow_gripper or (held is not None and self._names.get(other) == held)):
+            if link in self.gripper_bodies and (
+                allow_gripper or (held is not None and self._names.get(other) == held)
+            ):
                 continue
             return f"{self.model.body(link).name} hit {self._what(other_geom, other)}"
         return None
@@ -483,7 +487,10 @@ class MjKitchen(GroundTruth):
         qvel = self.data.qvel
         for name in self.objects:
             v = self._free_dof[name]
-            if np.abs(qvel[v : v + 3]).max() > REST_LINEAR_M_S or np.abs(qvel[v + 3 : v + 6]).max() > REST_ANGULAR_RAD_S:
+            if (
+                np.abs(qvel[v : v + 3]).max() > REST_LINEAR_M_S
+                or np.abs(qvel[v + 3 : v + 6]).max() > REST_ANGULAR_RAD_S
+            ):
                 return False
         joints = np.concatenate([self.arm_dof, self.finger_dof])
         return bool(np.abs(qvel[joints]).max() <= REST_JOINT_RAD_S)
@@ -532,4 +539,3 @@ def _is_descendant(model: Any, body: int, ancestor: int) -> bool:
         if body == 0:
             return False
         body = int(model.body_parentid[body])
-

@@ -249,7 +249,10 @@ def _add_arm(spec: mujoco.MjSpec, robot: RobotConfig, gains: ArmGains) -> None:
             act.forcerange = [-robot.gripper.max_force, robot.gripper.max_force]
             act.ctrllimited = 0
     fingers = list(robot.gripper.joints)
-    if len(fingers) == 2:
+    coupled = any(
+        eq.type == mujoco.mjtEq.mjEQ_JOINT and {eq.name1, eq.name2} == set(fingers) for eq in spec.equalities
+    )
+    if len(fingers) == 2 and not coupled:  # the Panda's URDF couples them already (<mimic>)
         # A parallel gripper's gearing: both fingers at the same opening (`world.arm_io.couple_fingers`).
         eq = spec.add_equality()
         eq.type = mujoco.mjtEq.mjEQ_JOINT

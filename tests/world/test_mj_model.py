@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 
 from scone_bt.config import load_robot
 from scone_bt.errors import ConfigError
 
+os.environ.setdefault("MUJOCO_GL", "egl")  # before mujoco is first imported (it reads it then)
 mujoco = pytest.importorskip("mujoco")
 
 from scone_bt.motion.model import ArmModel  # noqa: E402
