@@ -445,6 +445,9 @@ def build_model(
     height = max(c.height for c in kitchen.cameras)
     spec.visual.global_.offwidth = int(width)
     spec.visual.global_.offheight = int(height)
+    # No multisampling: PyBullet's TinyRenderer has none either, and resolving 4 samples made reading an image
+    # back cost more than drawing it on the software renderer.
+    spec.visual.quality.offsamples = 0
     # A soft, mostly ambient light without highlights (as PyBullet's renders: white lids must not bleach).
     spec.visual.headlight.ambient = [0.6, 0.6, 0.6]
     spec.visual.headlight.diffuse = [0.4, 0.4, 0.4]
