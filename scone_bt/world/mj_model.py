@@ -116,9 +116,22 @@ def import_mujoco() -> Any:
     os.environ.setdefault("MUJOCO_GL", "egl")
     try:
         import mujoco
-    except ImportError:
-        raise ConfigError("--robot mujoco needs the mujoco package: pip install -e '.[mujoco]'") from None
+    except ImportError as exc:
+        if exc.name is not None and exc.name.split(".")[0] == "mujoco":
+            raise ConfigError("--robot mujoco needs the mujoco package: pip install -e '.[mujoco]'") from None
+        raise _no_rendering(exc) from None
+    except Exception as exc:  # noqa: BLE001 (a GL backend that cannot load fails inside PyOpenGL, any type)
+        raise _no_rendering(exc) from None
     return mujoco
+
+
+def _no_rendering(exc: BaseException) -> ConfigError:
+    """The one line for a MuJoCo that cannot load its OpenGL backend (MUJOCO_GL)."""
+    detail = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+    return ConfigError(
+        f"MuJoCo cannot load its MUJOCO_GL={os.environ.get('MUJOCO_GL')} renderer ({detail}); headless rendering "
+        f"needs MUJOCO_GL=egl and Mesa's EGL: apt-get install {EGL_PACKAGES}"
+    )
 
 
 def _urdf_text(robot: RobotConfig) -> str:

@@ -73,3 +73,16 @@ def test_without_the_extra_the_backend_names_it_in_one_line():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert out.stdout.strip() == "--robot mujoco needs the mujoco package: pip install -e '.[mujoco]'", out
+
+
+def test_a_renderer_that_cannot_load_is_one_line_naming_the_debian_packages():
+    out = subprocess.run(
+        [sys.executable, "-m", "scone_bt.cli.run", "--robot", "mujoco", "--headless", "--seed", "0"],
+        capture_output=True,
+        text=True,
+        env={**os.environ, "MUJOCO_GL": "bogus"},
+        timeout=300,
+    )
+    lines = (out.stdout + out.stderr).strip().splitlines()
+    assert out.returncode == 2 and len(lines) == 1, out.stdout + out.stderr
+    assert "MUJOCO_GL=bogus" in lines[0] and "libegl1 libegl-mesa0 libgl1-mesa-dri" in lines[0]
