@@ -16,11 +16,12 @@ run: $(STAMP)
 	@mkdir -p runs
 	$(BIN)/scone-run --robot sim --headless --seed 0 --save runs/episode.rrd
 
-# The suite and the fast scenarios (tags: [fast]); .ci/run adds the rest of the library (docs/scenarios.md).
+# The suite and the fast scenarios (tags: [fast]), on PyBullet and on MuJoCo; .ci/run adds the rest of the library (docs/scenarios.md).
 # Two pytest-xdist workers (12.5 -> 8.3 min on 2 cores); `make test JOBS=0` runs it in one process.
 JOBS ?= 2
 test: $(STAMP)
 	$(BIN)/python -m pytest tests scenarios -m "not scenario or fast" -n $(JOBS)
+	$(BIN)/python -m pytest scenarios -m fast --robot mujoco -n $(JOBS)
 
 scenarios: $(STAMP)
 	$(BIN)/python -m pytest scenarios -m "not fast" -n 2 --junitxml=runs/scenarios-junit.xml

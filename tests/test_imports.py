@@ -290,8 +290,9 @@ def test_every_subpackage_is_a_stage_or_on_the_bench():
     assert not unclassified, f"classify the new subpackages in STAGES or LAB_BENCH: {sorted(unclassified)}"
 
 
-# The simulated backend's module, the one stage module that may build the PyBullet kitchen (`scone_bt.world`).
-SIM_BACKEND = "scone_bt.robot.sim"
+# The simulated backends' modules, the stage modules that may build a simulated kitchen (`scone_bt.world`): PyBullet's
+# (``--robot sim``) and MuJoCo's (``--robot mujoco``).
+SIM_BACKENDS = frozenset({"scone_bt.robot.sim", "scone_bt.robot.mujoco_sim"})
 
 
 def test_only_the_sim_backend_imports_the_simulated_world():
@@ -302,11 +303,11 @@ def test_only_the_sim_backend_imports_the_simulated_world():
         if _subpackage(module) in STAGES
         and _subpackage(module) != "world"
         and _subpackage(target) == "world"
-        and module != SIM_BACKEND
+        and module not in SIM_BACKENDS
     )
     assert not found, (
-        "stages import the simulated world (only robot/sim.py, behind the backend registry, may):\n"
-        + "\n".join(f"  {m} → {t}  ({', '.join(module_graph()[m][t])})" for m, t in found)
+        "stages import the simulated world (only robot/sim.py and robot/mujoco_sim.py, behind the backend "
+        "registry, may):\n" + "\n".join(f"  {m} → {t}  ({', '.join(module_graph()[m][t])})" for m, t in found)
     )
 
 
@@ -376,3 +377,40 @@ def test_only_the_sim_backend_imports_pybullet():
     assert not outside, "modules outside the sim backend import the simulator:\n" + "\n".join(
         f"  {m}: {', '.join(w)}" for m, w in sorted(outside.items())
     )
+
+
+# The MuJoCo backend (`scone-run --robot mujoco`): its kitchen, model and cameras, and the backend module. These
+# modules, and no other, may import mujoco; none of them imports PyBullet (`test_only_the_sim_backend_imports_pybullet`
+# keeps PyBullet out of them, and tests/episode/test_mujoco_episode.py checks both at run time).
+MUJOCO_BACKEND_MODULES = frozenset(
+    {
+        "scone_bt.world.mj_camera",
+        "scone_bt.world.mj_kitchen",
+        "scone_bt.world.mj_model",
+        "scone_bt.robot.mujoco_sim",
+    }
+)
+
+
+def _imports_of(packages: tuple[str, ...]) -> dict[str, list[str]]:
+    found: dict[str, list[str]] = defaultdict(list)
+    for module, path in _modules().items():
+        for package, line in _external_imports(path):
+            if package in packages:
+                found[module].append(f"{package} ({path.relative_to(PACKAGE.parent)}:{line})")
+    return found
+
+
+def test_only_the_mujoco_backend_imports_mujoco():
+    assert set(_modules()) >= MUJOCO_BACKEND_MODULES, "MUJOCO_BACKEND_MODULES names a module that is gone"
+    found = _imports_of(("mujoco",))
+    assert any(i.startswith("mujoco ") for i in found["scone_bt.world.mj_model"])
+    outside = {m: where for m, where in found.items() if m not in MUJOCO_BACKEND_MODULES}
+    assert not outside, "modules outside the MuJoCo backend import mujoco:\n" + "\n".join(
+        f"  {m}: {', '.join(w)}" for m, w in sorted(outside.items())
+    )
+
+
+def test_the_mujoco_backend_never_imports_pybullet():
+    found = simulator_imports()
+    assert not {m: w for m, w in found.items() if m in MUJOCO_BACKEND_MODULES}

@@ -1,7 +1,7 @@
 """The robot backends ``scone-run --robot`` accepts, by name: the one place that says which code builds which.
 
 A new backend is a module with a `BackendFactory` and one line here; the factory is imported only when its name is
-chosen, so the simulator's dependencies (PyBullet, Pinocchio) load only for ``--robot sim``.
+chosen, so a simulator's dependencies (PyBullet, or MuJoCo) load only for its own name.
 """
 
 from __future__ import annotations
@@ -22,8 +22,15 @@ def _sim(request: BackendRequest) -> Backend:
     return sim_backend(request)
 
 
+def _mujoco(request: BackendRequest) -> Backend:
+    from scone_bt.robot.mujoco_sim import mujoco_backend
+
+    return mujoco_backend(request)
+
+
 BACKENDS: dict[str, BackendFactory] = {
     "sim": _sim,  # PyBullet: scone_bt/robot/sim.py
+    "mujoco": _mujoco,  # MuJoCo: scone_bt/robot/mujoco_sim.py (the mujoco extra)
 }
 """Backend name → its factory."""
 

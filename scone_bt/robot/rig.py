@@ -238,7 +238,7 @@ class SimWorld:
         """Where the product stands now: the point under its base (m) and its yaw (rad)."""
         here = self.kitchen.object_state(name)
         height = self.kitchen.specs[name].height
-        yaw = self.kitchen.bc.getEulerFromQuaternion(here.orientation)[2]
+        yaw = self.kitchen.object_yaw(name)
         return (here.position[0], here.position[1], here.position[2] - height / 2 - 1e-3), yaw
 
     def swap(self, name: str, other: str) -> None:

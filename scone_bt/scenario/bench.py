@@ -11,12 +11,12 @@ from typing import Any
 __all__ = ["register", "run"]
 
 
-def run(paths: list[str], jobs: int, out_dir: Path | None) -> dict[str, Any]:
-    """The report of one run of the scenarios under ``paths``."""
-    from scone_bt.scenario.model import load_scenarios
+def run(paths: list[str], jobs: int, out_dir: Path | None, robot: str | None = None) -> dict[str, Any]:
+    """The report of one run of the scenarios under ``paths`` (on the robot backend ``robot``; None: each file's)."""
+    from scone_bt.scenario.model import load_scenarios, on_backend
     from scone_bt.scenario.run import run_cases
 
-    cases = load_scenarios(paths)
+    cases = [on_backend(c, robot) for c in load_scenarios(paths)]
     started = time.perf_counter()
     results = run_cases(cases, jobs=jobs, out_dir=out_dir)
     wall = time.perf_counter() - started
@@ -24,6 +24,7 @@ def run(paths: list[str], jobs: int, out_dir: Path | None) -> dict[str, Any]:
         "passed": sum(r.verdict == "passed" for r in results),
         "expected_failures": sum(r.verdict == "xfail" for r in results),
         "failed": sum(r.verdict in ("failed", "xpass", "error") for r in results),
+        "robot": robot or "per file",
         "jobs": jobs,
         "wall_s": round(wall, 1),
         "scenarios": [
@@ -45,7 +46,7 @@ def _main(args: argparse.Namespace) -> int:
 
     if args.jobs < 1:
         raise SconeError(f"--jobs {args.jobs}: give 1 or more")
-    report = run(args.paths or ["scenarios"], args.jobs, args.out)
+    report = run(args.paths or ["scenarios"], args.jobs, args.out, args.robot)
     emit_report(report, args.json, force=getattr(args, "force", False))
     return 0
 
@@ -57,6 +58,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("paths", nargs="*", help="scenario files or folders (default: scenarios/)")
     p.add_argument("--jobs", type=int, default=1, help="cases run at once, each in its own process")
+    p.add_argument(
+        "--robot",
+        default=None,
+        help="robot backend every case runs on: sim (PyBullet) or mujoco (default: each file's world.robot)",
+    )
     p.add_argument(
         "--out", type=Path, default=None, help="folder for failing cases' event logs and recordings"
     )

@@ -1,6 +1,7 @@
 """``scone-scenario``: run scenario files headless and report, for people without pytest habits.
 
     scone-scenario run scenarios/ [--jobs 2] [--junit report.xml] [--out runs/scenarios] [-k PATTERN] [-t TAG]
+    scone-scenario run scenarios/ --robot mujoco   # every case on the MuJoCo backend
     scone-scenario check scenarios/          # validate only
     scone-scenario schema [FILE] [--force]   # the JSON Schema of a scenario file
 
@@ -42,6 +43,11 @@ def _parser() -> argparse.ArgumentParser:
         default=None,
         help="folder for a failing case's event log and recording (default: beside the --junit report, else "
         "runs/scenarios)",
+    )
+    r.add_argument(
+        "--robot",
+        default=None,
+        help="robot backend every case runs on: sim (PyBullet) or mujoco (default: each file's world.robot)",
     )
     r.add_argument("-k", dest="select", default=None, help="run only cases whose name contains this text")
     r.add_argument(
@@ -194,14 +200,14 @@ def _wrap(suite: ET.Element) -> ET.Element:
 
 def _run(args: argparse.Namespace) -> int:
     from scone_bt.checks import check_output_dir
-    from scone_bt.scenario.model import load_scenarios
+    from scone_bt.scenario.model import load_scenarios, on_backend
     from scone_bt.scenario.run import WORKER_DIED, Verdict, run_cases
 
     if args.out is None:
         args.out = args.junit.parent if args.junit is not None else Path("runs/scenarios")
     if args.jobs < 1:
         raise SconeError(f"--jobs {args.jobs}: give 1 or more")
-    cases = load_scenarios(args.paths)
+    cases = [on_backend(c, args.robot) for c in load_scenarios(args.paths)]
     # the outputs are checked before any case runs: a bad path found after the run would lose every result
     if args.junit is not None:
         check_junit(args.junit, _scenario_inputs(args.paths, cases), args.force)

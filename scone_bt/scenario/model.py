@@ -9,6 +9,7 @@ the file, the key path and the valid choices (`scone_bt.errors.ConfigError`).
 from __future__ import annotations
 
 import copy
+import dataclasses
 import difflib
 import functools
 import itertools
@@ -25,7 +26,7 @@ from pydantic import Discriminator, Field, Tag, ValidationError, field_validator
 from scone_bt.config.schema import StrictModel, format_validation_error
 from scone_bt.config.yaml_io import read_yaml
 from scone_bt.defaults import EPISODE
-from scone_bt.errors import ConfigError, SconeError
+from scone_bt.errors import ConfigError, SconeError, UnknownNameError
 from scone_bt.events import EVENT_TYPES
 
 __all__ = [
@@ -37,6 +38,7 @@ __all__ = [
     "load_scenarios",
     "scenario_files",
     "json_schema",
+    "on_backend",
 ]
 
 _Seconds = Annotated[float, Field(allow_inf_nan=False)]
@@ -75,6 +77,9 @@ class Placement(StrictModel):
 class WorldSection(StrictModel):
     """What the episode is: arm, kitchen, recipe, tree and its parameters, seed, and how the shelf is stocked."""
 
+    robot: str = "sim"
+    """The robot backend (``scone-run --robot``: sim = PyBullet, mujoco); ``--robot`` of the scenario commands
+    overrides it."""
     arm: _Name = EPISODE.robot
     kitchen: _Name = EPISODE.kitchen
     catalogues: Annotated[list[_Name], Field(max_length=20)] = []
@@ -90,6 +95,11 @@ class WorldSection(StrictModel):
     hidden_markers: Annotated[list[_Name], Field(max_length=45)] = []
     on_table: Annotated[list[_Name], Field(max_length=45)] = []
     experience_from: Annotated[list[Annotated[int, Field(ge=0, le=2**31 - 1)]], Field(max_length=5)] = []
+
+    @field_validator("robot")
+    @classmethod
+    def _robot(cls, value: str) -> str:
+        return _backend_name(value)
 
     @field_validator("parameters")
     @classmethod
@@ -426,6 +436,21 @@ _SweepValues = Annotated[
 ]
 
 
+def _backend_name(value: str) -> str:
+    from scone_bt.robot.registry import BACKENDS
+
+    if value not in BACKENDS:
+        raise ValueError(f"unknown robot backend {value!r}; valid: {', '.join(sorted(BACKENDS))}")
+    return value
+
+
+class BackendExpectation(StrictModel):
+    """How a case is expected to end on one robot backend, where that differs from the file's ``expected``."""
+
+    expected: Literal["pass", "fail"] = "fail"
+    reason: Annotated[str, Field(min_length=1, max_length=2000)]
+
+
 class ScenarioFile(StrictModel):
     """A scenario file (scenarios/*.yaml)."""
 
@@ -440,6 +465,16 @@ class ScenarioFile(StrictModel):
     events: Annotated[list[ScenarioEvent], Field(max_length=100)] = []
     expect: Annotated[list[Expectation], Field(min_length=1, max_length=100)]
     sweep: dict[str, _SweepValues] = {}
+    expected_on: dict[str, BackendExpectation] = {}
+    """Per robot backend (by name), an ``expected`` and its ``reason`` that replace the file's on that backend
+    (a case that fails on one engine for a measured engine difference)."""
+
+    @field_validator("expected_on")
+    @classmethod
+    def _expected_on(cls, value: dict[str, BackendExpectation]) -> dict[str, BackendExpectation]:
+        for name in value:
+            _backend_name(name)
+        return value
 
     @model_validator(mode="after")
     def _reason(self) -> ScenarioFile:
@@ -619,6 +654,7 @@ def load_scenario(path: Path | str) -> list[Case]:
         for key, value in zip(keys, combo, strict=True):
             if key.split(".")[0].split("[")[0] in (
                 "sweep",
+                "expected_on",
                 "name",
                 "expected",
                 "reason",
@@ -633,6 +669,26 @@ def load_scenario(path: Path | str) -> list[Case]:
         check_world(case_spec, path, case_where)
         cases.append(Case(path, f"{name}[{label}]", case_spec, tuple(zip(keys, combo, strict=True))))
     return cases
+
+
+def on_backend(case: Case, backend: str | None) -> Case:
+    """The case as it runs on the robot backend ``backend`` (None: the file's ``world.robot``), with that backend's
+    ``expected_on`` entry in force.
+
+    Raises:
+        ConfigError: ``backend`` is not a backend's name (one line naming the valid ones).
+    """
+    from scone_bt.robot.registry import BACKENDS
+
+    if backend is not None and backend not in BACKENDS:
+        raise UnknownNameError("robot backend", backend, BACKENDS)
+    spec = case.spec
+    name = backend or spec.world.robot
+    update: dict[str, Any] = {"world": spec.world.model_copy(update={"robot": name})}
+    if name in spec.expected_on:
+        entry = spec.expected_on[name]
+        update |= {"expected": entry.expected, "reason": entry.reason}
+    return dataclasses.replace(case, spec=spec.model_copy(update=update))
 
 
 def resolve_input(value: str, base: Path) -> str:

@@ -29,6 +29,11 @@ def pytest_addoption(parser: pytest.Parser) -> None:
         "report, else runs/scenarios)",
     )
     group.addoption(
+        "--robot",
+        default=None,
+        help="robot backend every scenario runs on: sim (PyBullet) or mujoco (default: each file's world.robot)",
+    )
+    group.addoption(
         "--scenario-no-recording",
         action="store_true",
         help="do not re-run a failing scenario to save its .rrd recording",
@@ -61,10 +66,10 @@ class ScenarioYaml(pytest.File):
 
     def collect(self) -> Any:
         from scone_bt.errors import SconeError
-        from scone_bt.scenario.model import load_scenario
+        from scone_bt.scenario.model import load_scenario, on_backend
 
         try:
-            cases = load_scenario(self.path)
+            cases = [on_backend(c, self.config.getoption("--robot")) for c in load_scenario(self.path)]
         except SconeError as exc:
             raise self.CollectError(str(exc)) from None
         for case in cases:

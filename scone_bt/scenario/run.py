@@ -281,6 +281,7 @@ def episode_options(
     )
     h = case.spec.human
     return EpisodeOptions(
+        backend=w.robot,
         robot=resolve_input(w.arm, base),
         kitchen=resolve_input(w.kitchen, base),
         catalogues=tuple(resolve_input(c, base) for c in w.catalogues),

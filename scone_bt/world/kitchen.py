@@ -340,6 +340,10 @@ class Kitchen:
         pos, orn = self.bc.getBasePositionAndOrientation(body)
         return ObjectState(name, body, tuple(pos), tuple(orn))
 
+    def object_yaw(self, name: str) -> float:
+        """The object's heading now: its rotation about z, radians (roll-pitch-yaw)."""
+        return float(self.bc.getEulerFromQuaternion(self.object_state(name).orientation)[2])
+
     def _body(self, name: str) -> int:
         try:
             return self.objects[name]

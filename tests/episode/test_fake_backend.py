@@ -131,7 +131,7 @@ def test_the_human_fetches_through_the_world(tmp_path) -> None:
 
 def test_an_unknown_backend_is_refused_by_name(tmp_path) -> None:
     options = EpisodeOptions(backend="ros2")
-    with pytest.raises(UnknownNameError, match="robot backend 'ros2'; valid: sim"):
+    with pytest.raises(UnknownNameError, match="robot backend 'ros2'; valid: mujoco, sim"):
         run_episode(options, printer=lambda _line: None)
 
 

@@ -1,0 +1,541 @@
+"""A MuJoCo kitchen: the same robot, shelves, table, cameras and products as `world.Kitchen`, on MuJoCo.
+
+`MjKitchen` offers what the motion system (`motion.executor.Workcell`), the cameras (`perception.images.ImageSource`),
+a recording (`viz.scene.SceneView`) and the test rig (`robot.rig.SimWorld`) use of a kitchen, with the same names and
+meanings as the PyBullet `Kitchen`, so none of them changes. The arm follows its joint targets through MuJoCo
+position actuators with gravity compensation; grasps hold by contact friction only; outcomes are read from MuJoCo's
+contacts. Products are compiled into the model when the shelf is stocked (one compile per stocking); covers are
+mocap boxes the model keeps ready.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
+from scone_bt.config.stocking import Placement, plan_stocking
+from scone_bt.errors import ConfigError, UnknownNameError
+from scone_bt.perception.images import CameraImage, PinholeView
+from scone_bt.world.ground_truth import GroundTruth, ObjectState, yaw_of
+from scone_bt.world.mj_model import (
+    ARM_GAINS,
+    COVER_SLOTS,
+    PAD_TORSION_M,
+    PARK_Z_M,
+    StaticBox,
+    build_model,
+    import_mujoco,
+)
+
+if TYPE_CHECKING:
+    from scone_bt.world.mj_camera import MjCameras
+
+__all__ = ["MjKitchen"]
+
+Controller = Callable[["MjKitchen"], None]
+"""Called before every control step, e.g. to send joint targets."""
+
+REST_LINEAR_M_S = 1e-3
+"""A body slower than this (m/s) counts as at rest (as in `world.kitchen`)."""
+REST_ANGULAR_RAD_S = 1e-2
+"""... and turning slower than this (rad/s)."""
+REST_JOINT_RAD_S = 1e-3
+"""A robot joint slower than this (rad/s) counts as at rest."""
+WAKE_S = 0.5
+"""Simulated seconds the physics keeps stepping after the world was changed from outside."""
+_KITCHEN_IDS = itertools.count()
+
+
+class MjKitchen(GroundTruth):
+    """The simulated world on MuJoCo. Create with `MjKitchen(kitchen_cfg, robot_cfg)`; stock it with `spawn`.
+
+    Args:
+        kitchen: Scene, cameras and catalogue.
+        robot: The arm to load.
+        time_step: Control step in seconds (default: the robot file's, 1 / control.physics_hz).
+    """
+
+    PARK_Y_M = 3.0
+    """Products taken out of the kitchen stand on the floor this far from the robot (out of every camera's view)."""
+
+    def __init__(self, kitchen: KitchenConfig, robot: RobotConfig, *, time_step: float | None = None) -> None:
+        self.mujoco = import_mujoco()
+        self.config = kitchen
+        self.robot_config = robot
+        self.time_step = float(time_step or 1.0 / robot.control.physics_hz)
+        self.sim_time = 0.0
+        self.steps = 0
+        self.steps_skipped = 0
+        self.state_version = 0
+        self.uid = next(_KITCHEN_IDS)
+        self.model_version = 0
+        self.objects: dict[str, int] = {}
+        self.specs: dict[str, ObjectSpec] = {}
+        self.spawn_slots: dict[str, tuple[float, float, float]] = {}
+        self._controllers: list[Controller] = []
+        self._awake_until = 0.0
+        self._covers: dict[int, int] = {}  # handle → cover slot
+        self._cover_ids = itertools.count()
+        self._cameras: MjCameras | None = None
+        self._build(())
+        self.hold_arm(robot.home)
+        self.set_gripper_target(robot.gripper.open_position)
+
+    # ----------------------------------------------------------------------------------------- model
+    def _build(self, products: Sequence[ObjectSpec]) -> None:
+        """Compile the kitchen with ``products`` and carry the arm's state over (its joints, targets, the clock)."""
+        mj = self.mujoco
+        old = getattr(self, "data", None)
+        old_index = getattr(self, "_qpos_of", None)
+        model, parts = build_model(self.config, self.robot_config, products, self.time_step)
+        data = mj.MjData(model)
+        self.model, self.data, self.parts = model, data, parts
+        self.substeps = max(1, round(self.time_step / model.opt.timestep))
+        cfg = self.robot_config
+        joint = {n: model.joint(n).id for n in (*cfg.arm_joints, *cfg.gripper.joints)}
+        self._qpos_of = {n: int(model.jnt_qposadr[j]) for n, j in joint.items()}
+        self._dof_of = {n: int(model.jnt_dofadr[j]) for n, j in joint.items()}
+        self.arm_qpos = np.array([self._qpos_of[n] for n in cfg.arm_joints])
+        self.arm_dof = np.array([self._dof_of[n] for n in cfg.arm_joints])
+        self.finger_qpos = np.array([self._qpos_of[n] for n in cfg.gripper.joints])
+        self.finger_dof = np.array([self._dof_of[n] for n in cfg.gripper.joints])
+        self.arm_act = np.array([model.actuator(n).id for n in cfg.arm_joints])
+        self.finger_act = np.array([model.actuator(n).id for n in cfg.gripper.joints])
+        self._feed_forward = ARM_GAINS.damping / ARM_GAINS.stiffness
+        # The robot's bodies: the URDF's (every body before the first scene body), the base first.
+        root = int(model.body_parentid[model.jnt_bodyid[joint[cfg.arm_joints[0]]]])
+        robot_bodies = [b for b in range(1, model.nbody) if _is_descendant(model, b, root)]
+        self.robot_root = int(root)
+        self.robot_bodies = frozenset(robot_bodies)
+        finger_bodies = {int(model.jnt_bodyid[joint[n]]) for n in cfg.gripper.joints}
+        self.finger_bodies = tuple(sorted(finger_bodies))
+        last_arm_body = int(model.jnt_bodyid[joint[cfg.arm_joints[-1]]])
+        self.gripper_bodies = frozenset(
+            b for b in robot_bodies if b != last_arm_body and _is_descendant(model, b, last_arm_body)
+        )
+        self.static_boxes: list[StaticBox] = list(parts.boxes)
+        self._names: dict[int, str] = {}  # body id → product name
+        self.objects = {}
+        for name in parts.products:
+            body = model.body(name).id
+            self.objects[name] = body
+            self._names[body] = name
+        self._static_geom_names = {model.geom(b.name).id: b.name for b in parts.boxes} | {
+            model.geom("floor").id: "the floor"
+        }
+        self._free_qpos = {n: int(model.jnt_qposadr[model.body_jntadr[b]]) for n, b in self.objects.items()}
+        self._free_dof = {n: int(model.jnt_dofadr[model.body_jntadr[b]]) for n, b in self.objects.items()}
+        self._cover_mocap = [int(model.body_mocapid[model.body(f"cover{i}").id]) for i in range(COVER_SLOTS)]
+        self._cover_geom = [model.geom(f"cover{i}").id for i in range(COVER_SLOTS)]
+        if old is not None and old_index is not None:
+            for n, adr in old_index.items():
+                data.qpos[self._qpos_of[n]] = old.qpos[adr]
+            data.ctrl[self.arm_act] = old.ctrl[self.arm_act]
+            data.ctrl[self.finger_act] = old.ctrl[self.finger_act]
+            data.time = old.time
+        else:
+            for n, q in zip(cfg.arm_joints, cfg.home, strict=True):
+                data.qpos[self._qpos_of[n]] = q
+            data.qpos[self.finger_qpos] = cfg.gripper.open_position
+        self.set_gripper_properties()
+        self.model_version += 1
+        self._cameras = None
+        self._covers.clear()
+        self.uid = next(_KITCHEN_IDS)
+        self.mujoco.mj_forward(model, data)
+
+    # ----------------------------------------------------------------------------------------- objects
+    def spawn(
+        self, specs: Sequence[ObjectSpec], rng: np.random.Generator
+    ) -> dict[str, tuple[float, float, float]]:
+        """Stock the shelving (`plan_stocking`: heaviest lowest, facing the robot) and let the objects settle.
+
+        Returns:
+            name → surface point under the object's centre (x, y, z), metres.
+        """
+        for spec in specs:
+            if spec.name in self.objects:
+                raise ConfigError(f"object {spec.name!r} is already in the kitchen")
+        return self.spawn_planned(specs, plan_stocking(self.config.scene, specs, rng))
+
+    def spawn_planned(
+        self, specs: Sequence[ObjectSpec], places: Sequence[Placement]
+    ) -> dict[str, tuple[float, float, float]]:
+        """Put ``specs`` where a stocking plan says and let them settle (one model compile for all of them).
+
+        Returns:
+            name → surface point under the object's centre (x, y, z), metres.
+        """
+        for spec in specs:
+            if spec.name in self.objects:
+                raise ConfigError(f"object {spec.name!r} is already in the kitchen")
+        kept = {n: self.object_state(n) for n in self.objects}
+        self._build([*self.specs.values(), *specs])
+        for name, st in kept.items():
+            self._set_pose(name, st.position, st.orientation)
+        for spec, place in zip(specs, places, strict=True):
+            x, y, z = place.position
+            self.specs[spec.name] = spec
+            self.spawn_slots[spec.name] = (x, y, z)
+            half = place.yaw / 2
+            self._set_pose(
+                spec.name, (x, y, z + spec.height / 2 + 1e-3), (0, 0, math.sin(half), math.cos(half))
+            )
+        self.mujoco.mj_forward(self.model, self.data)
+        self.wake()
+        self.advance(0.5)
+        return dict(self.spawn_slots)
+
+    def _set_pose(self, name: str, position: Sequence[float], orientation: Sequence[float]) -> None:
+        """Put a product's free body at a pose (quaternion x, y, z, w) at rest."""
+        a, v = self._free_qpos[name], self._free_dof[name]
+        x, y, z, w = orientation
+        self.data.qpos[a : a + 7] = [*position, w, x, y, z]
+        self.data.qvel[v : v + 6] = 0.0
+
+    def object_state(self, name: str) -> ObjectState:
+        body = self._body(name)
+        w, x, y, z = (float(c) for c in self.data.xquat[body])
+        return ObjectState(name, body, tuple(float(c) for c in self.data.xpos[body]), (x, y, z, w))  # type: ignore[arg-type]
+
+    def object_yaw(self, name: str) -> float:
+        """The object's heading now: its rotation about z, radians (roll-pitch-yaw)."""
+        return yaw_of(self.object_state(name).orientation)
+
+    def _body(self, name: str) -> int:
+        try:
+            return self.objects[name]
+        except KeyError:
+            raise UnknownNameError("object in the kitchen", name, self.objects) from None
+
+    def place_object(self, name: str, surface: Sequence[float], yaw: float = 0.0) -> None:
+        """Stand the product upright on ``surface`` (x, y, z under its centre, metres), turned by ``yaw``, at rest."""
+        self._body(name)
+        x, y, z = (float(v) for v in surface)
+        half = float(yaw) / 2
+        self._set_pose(
+            name, (x, y, z + self.specs[name].height / 2 + 1e-3), (0, 0, math.sin(half), math.cos(half))
+        )
+        self.mujoco.mj_forward(self.model, self.data)
+        self.wake()
+
+    def park_object(self, name: str) -> None:
+        """Take the product out of the kitchen: it stands on the floor far from the shelving, table and cameras."""
+        self._body(name)
+        index = list(self.objects).index(name)
+        self.place_object(name, (0.5 * index, self.PARK_Y_M, self.config.scene.floor_z))
+
+    def touches_robot(self, name: str) -> bool:
+        """True if the object touches the robot (in or against the gripper: a person does not grab it away)."""
+        body = self._body(name)
+        for a, b, _ in self._contacts():
+            if (a == body and b in self.robot_bodies) or (b == body and a in self.robot_bodies):
+                return True
+        return False
+
+    def place_on_table(self, name: str) -> bool:
+        """Put the object on a free table spot by hand (not by the robot); False when the table is full."""
+        spot = self.free_place_spot(self.specs[name])
+        if spot is None:
+            return False
+        self.place_object(name, spot, 0.0)
+        return True
+
+    def human_place_on_table(self, name: str) -> bool:
+        """The simulated human carries the object to a free table spot."""
+        return self.place_on_table(name)
+
+    # ----------------------------------------------------------------------------------------- covers
+    def add_cover(
+        self,
+        center: Sequence[float],
+        size: Sequence[float],
+        rgba: Sequence[float] = (0.2, 0.2, 0.2, 1.0),
+        orientation: Sequence[float] = (0.0, 0.0, 0.0, 1.0),
+    ) -> int:
+        """An opaque box the cameras see but nothing collides with; ``orientation`` a quaternion (x, y, z, w).
+
+        Returns:
+            Its handle for `remove_cover`.
+        """
+        used = set(self._covers.values())
+        free = [i for i in range(COVER_SLOTS) if i not in used]
+        if not free:
+            raise ConfigError(f"at most {COVER_SLOTS} covers at a time in the MuJoCo kitchen")
+        slot = free[0]
+        geom = self._cover_geom[slot]
+        half = [float(s) / 2 for s in size]
+        self.model.geom_size[geom] = half
+        self.model.geom_rbound[geom] = float(np.linalg.norm(half))
+        self.model.geom_rgba[geom] = [float(c) for c in rgba]
+        x, y, z, w = (float(c) for c in orientation)
+        self.data.mocap_pos[self._cover_mocap[slot]] = [float(c) for c in center]
+        self.data.mocap_quat[self._cover_mocap[slot]] = [w, x, y, z]
+        self.mujoco.mj_forward(self.model, self.data)
+        handle = next(self._cover_ids)
+        self._covers[handle] = slot
+        self._scene_changed()
+        return handle
+
+    def remove_cover(self, handle: int) -> None:
+        """Take away a cover `add_cover` made."""
+        slot = self._covers.pop(handle, None)
+        if slot is None:
+            return
+        self.data.mocap_pos[self._cover_mocap[slot]] = [0.0, 0.0, PARK_Z_M - slot]
+        self.mujoco.mj_forward(self.model, self.data)
+        self._scene_changed()
+
+    def _scene_changed(self) -> None:
+        self.uid = next(_KITCHEN_IDS)
+        self.state_version += 1
+
+    def set_gripper_properties(
+        self, max_force: float | None = None, finger_friction: float | None = None
+    ) -> None:
+        """Change the gripper's force limit (N per finger) and the finger pads' friction from now on."""
+        import dataclasses
+
+        g = self.robot_config.gripper
+        g = dataclasses.replace(
+            g,
+            max_force=g.max_force if max_force is None else float(max_force),
+            finger_friction=g.finger_friction if finger_friction is None else float(finger_friction),
+        )
+        self.robot_config = dataclasses.replace(self.robot_config, gripper=g)
+        m = self.model
+        for act in self.finger_act:
+            m.actuator_forcerange[act] = [-g.max_force, g.max_force]
+        for p in range(m.npair):
+            product = self._names.get(int(m.geom_bodyid[m.pair_geom2[p]]))
+            if product is not None:
+                mu = self.specs[product].friction * g.finger_friction if product in self.specs else None
+                if mu is not None:
+                    m.pair_friction[p, :3] = [mu, mu, mu * PAD_TORSION_M]
+        self._keep_stepping()
+
+    # ----------------------------------------------------------------------------------------- robot
+    def arm_joint_positions(self) -> np.ndarray:
+        return self.data.qpos[self.arm_qpos].copy()
+
+    def arm_joint_velocities(self) -> np.ndarray:
+        return self.data.qvel[self.arm_dof].copy()
+
+    def gripper_positions(self) -> np.ndarray:
+        return self.data.qpos[self.finger_qpos].copy()
+
+    def hold_arm(self, q: Sequence[float]) -> None:
+        """Command arm joint position targets (zero velocity feed-forward)."""
+        self.command_arm(np.asarray(q, dtype=float))
+        self._keep_stepping()
+
+    def command_arm(self, q: np.ndarray, qd: np.ndarray | None = None) -> None:
+        """Position control towards q with velocity feed-forward qd (zero when None).
+
+        The servo pushes kp (q - q_now) + kd (qd - qd_now): the affine actuator's target is q + kd / kp qd.
+        """
+        target = np.asarray(q, dtype=float)
+        if qd is not None:
+            target = target + self._feed_forward * np.asarray(qd, dtype=float)
+        self.data.ctrl[self.arm_act] = target
+
+    def set_gripper_target(self, position: float, force: float | None = None) -> None:
+        g = self.robot_config.gripper
+        f = g.max_force if force is None else float(force)
+        for act in self.finger_act:
+            self.model.actuator_forcerange[act] = [-f, f]
+        self.data.ctrl[self.finger_act] = float(position)
+        self._keep_stepping()
+
+    def couple_fingers(self) -> None:
+        """The fingers are coupled by the model's joint equality (made with the model): nothing to do."""
+
+    # ----------------------------------------------------------------------------------------- contacts
+    def _contacts(self) -> list[tuple[int, int, float]]:
+        """(body a, body b, normal force N) of every active contact now."""
+        d, m = self.data, self.model
+        n = d.ncon
+        if not n:
+            return []
+        geoms = d.contact.geom[:n]
+        addr = d.contact.efc_address[:n]
+        forces = np.where(addr >= 0, d.efc_force[np.maximum(addr, 0)], 0.0)
+        bodies = m.geom_bodyid[geoms]
+        return [(int(a), int(b), float(f)) for (a, b), f in zip(bodies, forces, strict=True)]
+
+    def _contact_geoms(self) -> list[tuple[int, int, int, int, float]]:
+        d, m = self.data, self.model
+        n = d.ncon
+        if not n:
+            return []
+        geoms = d.contact.geom[:n]
+        addr = d.contact.efc_address[:n]
+        forces = np.where(addr >= 0, d.efc_force[np.maximum(addr, 0)], 0.0)
+        bodies = m.geom_bodyid[geoms]
+        return [
+            (int(ga), int(gb), int(ba), int(bb), float(f))
+            for (ga, gb), (ba, bb), f in zip(geoms, bodies, forces, strict=True)
+        ]
+
+    def held_object(self, min_force: float) -> str | None:
+        """What every finger touches with at least min_force newtons, by name, else None."""
+        touching: dict[int, set[int]] = {f: set() for f in self.finger_bodies}
+        for a, b, force in self._contacts():
+            if force < min_force:
+                continue
+            if a in touching and b in self._names:
+                touching[a].add(b)
+            elif b in touching and a in self._names:
+                touching[b].add(a)
+        common = set.intersection(*touching.values()) if touching else set()
+        return self._names[min(common)] if common else None
+
+    def _what(self, geom: int, body: int) -> str:
+        if body in self._names:
+            return self._names[body]
+        return self._static_geom_names.get(geom, f"body {body}")
+
+    def unexpected_contact(self, allow_gripper: bool, held: str | None, min_force: float) -> str | None:
+        """'<link> hit <what>' for the first robot link pushing on something it should not touch, else None."""
+        robot = self.robot_bodies
+        for ga, gb, ba, bb, force in self._contact_geoms():
+            if force < min_force:
+                continue
+            if ba in robot and bb not in robot:
+                link, other, other_geom = ba, bb, gb
+            elif bb in robot and ba not in robot:
+                link, other, other_geom = bb, ba, ga
+            else:
+                continue
+            if link == self.robot_root:
+                continue  # the base stands on its pedestal
+            if link in self.gripper_bodies and (
+                allow_gripper or (held is not None and self._names.get(other) == held)
+            ):
+                continue
+            return f"{self.model.body(link).name} hit {self._what(other_geom, other)}"
+        return None
+
+    def products_touched(self, held: str | None) -> frozenset[str]:
+        """Products (not ``held``) the robot pushes on, or pushes into the next (three deep, as `world.arm_io`)."""
+        from scone_bt.world.arm_io import PUSH_CHAIN
+
+        pairs = self._contacts()
+        held_body = None if held is None else self.objects.get(held)
+        sources = set(self.robot_bodies) | ({held_body} if held_body is not None else set())
+        seen = set(sources)
+        found: set[int] = set()
+        for _ in range(PUSH_CHAIN):
+            nxt = set()
+            for a, b, _ in pairs:
+                if a in sources and b in self._names:
+                    nxt.add(b)
+                elif b in sources and a in self._names:
+                    nxt.add(a)
+            nxt -= seen
+            if not nxt:
+                break
+            found |= nxt
+            seen |= nxt
+            sources = nxt
+        return frozenset(self._names[b] for b in found)
+
+    # ----------------------------------------------------------------------------------------- cameras
+    def camera_image(self, camera: PinholeView) -> CameraImage:
+        """The camera's noise-free image of the kitchen now (`perception.images.ImageSource`; world.mj_camera)."""
+        if self._cameras is None:
+            from scone_bt.world.mj_camera import MjCameras
+
+            self._cameras = MjCameras(self)
+        return self._cameras.image(camera)
+
+    def link_poses(self) -> dict[str, tuple[tuple[float, ...], tuple[float, ...]]]:
+        """World pose (position, quaternion xyzw) of every robot link, by link name; the base is 'base'."""
+        out = {}
+        d = self.data
+        for b in sorted(self.robot_bodies):
+            w, x, y, z = (float(c) for c in d.xquat[b])
+            name = "base" if b == self.robot_root else self.model.body(b).name
+            out[name] = (tuple(float(c) for c in d.xpos[b]), (x, y, z, w))
+        return out
+
+    # ----------------------------------------------------------------------------------------- time
+    def add_controller(self, controller: Controller) -> None:
+        self._controllers.append(controller)
+        self._keep_stepping()
+
+    def remove_controller(self, controller: Controller) -> None:
+        if controller in self._controllers:
+            self._controllers.remove(controller)
+            self._keep_stepping()
+
+    def wake(self, seconds: float = WAKE_S) -> None:
+        """Step the physics for at least ``seconds`` from now, even if all is at rest."""
+        self._keep_stepping(seconds)
+
+    def _keep_stepping(self, seconds: float = WAKE_S) -> None:
+        self._awake_until = max(self._awake_until, self.sim_time + seconds)
+        self.state_version += 1
+
+    def at_rest(self) -> bool:
+        """True if no object and no robot joint moves faster than the rest thresholds (ground truth)."""
+        qvel = self.data.qvel
+        for name in self.objects:
+            v = self._free_dof[name]
+            if (
+                np.abs(qvel[v : v + 3]).max() > REST_LINEAR_M_S
+                or np.abs(qvel[v + 3 : v + 6]).max() > REST_ANGULAR_RAD_S
+            ):
+                return False
+        joints = np.concatenate([self.arm_dof, self.finger_dof])
+        return bool(np.abs(qvel[joints]).max() <= REST_JOINT_RAD_S)
+
+    def advance(self, seconds: float) -> None:
+        """Advance simulated time by ``seconds``, running the controllers before each control step.
+
+        A sleeping scene (no controller, no pending `wake`, everything at rest) is not stepped: the clock moves on
+        and the world stays as it is, decided from the simulated state alone (seeded runs repeat exactly).
+        """
+        n = max(1, round(seconds / self.time_step))
+        if not self._controllers and self.sim_time >= self._awake_until and self.at_rest():
+            self.steps_skipped += n
+            self.steps += n
+            self.sim_time += n * self.time_step
+            return
+        mj, m, d, sub = self.mujoco, self.model, self.data, self.substeps
+        for _ in range(n):
+            for controller in list(self._controllers):
+                controller(self)
+            mj.mj_step(m, d, nstep=sub)
+            self.steps += 1
+            self.sim_time += self.time_step
+        # mj_step leaves positions one integration ahead of the kinematics it computed: bring them level, so
+        # object_state and the cameras see the state the next step starts from.
+        mj.mj_kinematics(m, d)
+        self.state_version += 1
+
+    def close(self) -> None:
+        if self._cameras is not None:
+            self._cameras.close()
+            self._cameras = None
+
+    def __enter__(self) -> MjKitchen:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def _is_descendant(model: Any, body: int, ancestor: int) -> bool:
+    """True if ``body`` is ``ancestor`` or below it in the kinematic tree."""
+    while True:
+        if body == ancestor:
+            return True
+        if body == 0:
+            return False
+        body = int(model.body_parentid[body])

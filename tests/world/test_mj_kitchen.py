@@ -1,0 +1,130 @@
+"""The MuJoCo kitchen: its frames feed the same ArUco detector, its contacts the same outcome sensing."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+
+os.environ.setdefault("MUJOCO_GL", "egl")  # before mujoco is first imported (it reads it then)
+pytest.importorskip("mujoco")
+
+from scone_bt.perception.observe import Observer  # noqa: E402
+
+pytestmark = pytest.mark.slow
+
+NAMES = ("salt", "sugar", "honey", "pasta", "tomato sauce", "olive oil", "rice", "flour", "butter", "milk")
+
+
+@pytest.fixture(scope="module")
+def stocked(kitchen_cfg, robot_cfg):
+    from scone_bt.world.mj_kitchen import MjKitchen
+
+    kitchen = MjKitchen(kitchen_cfg, robot_cfg)
+    kitchen.spawn([kitchen_cfg.catalogue.get(n) for n in NAMES], np.random.default_rng(0))
+    yield kitchen
+    kitchen.close()
+
+
+def _top(kitchen, name: str) -> np.ndarray:
+    top = np.array(kitchen.object_state(name).position)
+    top[2] += kitchen.specs[name].height / 2
+    return top
+
+
+def test_the_detector_finds_every_stocked_product_on_mujoco_frames(stocked, kitchen_cfg):
+    assert all(stocked.is_on_shelf(n) for n in NAMES)
+    seen = Observer(kitchen_cfg).observe(stocked, np.random.default_rng(0))
+    found = {d.name: d for d in seen.detections}
+    assert set(found) == set(NAMES)
+    errors = [float(np.linalg.norm(np.subtract(d.position, _top(stocked, n)))) for n, d in found.items()]
+    assert np.median(errors) <= 0.002 and max(errors) <= 0.005, errors
+    frame = seen.frame
+    assert frame.rgb.shape == (frame.depth.shape[0], frame.depth.shape[1], 3)
+    # Depth is metric along the optical axis: the detected lid lies at its true distance (checked above), and
+    # nothing is nearer than the near plane.
+    assert float(frame.depth.min()) >= kitchen_cfg.cameras[0].near
+
+
+def test_an_unchanged_view_is_not_rendered_again_and_a_cover_hides_a_lid(stocked, kitchen_cfg):
+    from scone_bt.perception.camera import Camera
+
+    camera = Camera(kitchen_cfg.shelf_cameras[0])
+    first = stocked.camera_image(camera)
+    again = stocked.camera_image(camera)
+    assert first.fresh and not again.fresh and again.rgb is first.rgb
+    observer = Observer(kitchen_cfg)
+    before = {d.name for d in observer.observe(stocked, np.random.default_rng(0)).detections}
+    name = sorted(before)[0]
+    spec = stocked.specs[name]
+    x, y, z = stocked.object_state(name).position
+    side = max(spec.size[:2]) + 0.024
+    handle = stocked.add_cover((x, y, z + spec.height / 2 + 0.012), (side, side, 0.004))
+    covered = {d.name for d in Observer(kitchen_cfg).observe(stocked, np.random.default_rng(0)).detections}
+    stocked.remove_cover(handle)
+    assert name not in covered and covered == before - {name}
+
+
+def test_a_product_placed_by_hand_rests_on_the_table_and_parks_out_of_view(stocked):
+    assert stocked.place_on_table("salt")
+    stocked.advance(0.5)
+    assert stocked.is_on_table("salt") and "salt" in stocked.objects_on_table()
+    stocked.park_object("salt")
+    stocked.advance(0.5)
+    assert not stocked.is_on_table("salt") and not stocked.is_on_shelf("salt")
+
+
+def test_a_pick_and_place_holds_by_contact_friction_and_reports_its_outcome(kitchen_cfg, robot_cfg):
+    from scone_bt.motion import MotionSystem
+    from scone_bt.perception.types import Detection
+    from scone_bt.world.mj_kitchen import MjKitchen
+
+    def detect(kitchen, name):
+        return Detection(name, 0, tuple(_top(kitchen, name)), kitchen.object_yaw(name), 1.0, (0, 0, 1, 1))
+
+    with MjKitchen(kitchen_cfg, robot_cfg) as kitchen:
+        kitchen.spawn(
+            [kitchen_cfg.catalogue.get(n) for n in ("salt", "olive oil", "honey")], np.random.default_rng(1)
+        )
+        with MotionSystem.build(kitchen) as system:
+            others = [(detect(kitchen, n), kitchen.specs[n]) for n in ("olive oil", "honey")]
+            task = system.pick_and_place(detect(kitchen, "salt"), kitchen.specs["salt"], others, rng_seed=1)
+            task.start()
+            held_seen = False
+            while not task.done():
+                kitchen.advance(0.1)
+                held_seen |= kitchen.held_object(1.0) == "salt"
+            outcome = task.outcome()
+        assert outcome.success, outcome.message
+        assert held_seen and kitchen.is_on_table("salt") and kitchen.held_object(1.0) is None
+        # Nothing attached the jar to the hand: a MuJoCo model has no weld or connect constraint but the fingers'.
+        assert kitchen.model.neq == 1 and kitchen.model.eq_type[0] == kitchen.mujoco.mjtEq.mjEQ_JOINT
+
+
+def test_a_weak_gripper_drops_a_heavy_bottle(kitchen_cfg, robot_cfg):
+    """The same failure stage PyBullet reports when the grip cannot carry the product (a worn gripper)."""
+    from scone_bt.motion import FailureStage, MotionSystem
+    from scone_bt.perception.types import Detection
+    from scone_bt.world.mj_kitchen import MjKitchen
+
+    with MjKitchen(kitchen_cfg, robot_cfg) as kitchen:
+        kitchen.spawn([kitchen_cfg.catalogue.get("olive oil")], np.random.default_rng(0))
+        kitchen.set_gripper_properties(max_force=4.0, finger_friction=0.3)
+        st = kitchen.object_state("olive oil")
+        det = Detection(
+            "olive oil",
+            0,
+            tuple(_top(kitchen, "olive oil")),
+            kitchen.object_yaw("olive oil"),
+            1.0,
+            (0, 0, 1, 1),
+        )
+        with MotionSystem.build(kitchen) as system:
+            task = system.pick_and_place(det, kitchen.specs["olive oil"], [], rng_seed=0)
+            task.start()
+            while not task.done():
+                kitchen.advance(0.1)
+            outcome = task.outcome()
+        assert not outcome.success and outcome.stage in (FailureStage.GRASP, FailureStage.TRANSIT)
+        assert st.position != kitchen.object_state("olive oil").position
