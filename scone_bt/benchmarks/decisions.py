@@ -234,7 +234,13 @@ def _catalogue() -> Any:
 
 
 def _episode(
-    recipe_id: str, seed: int, distractors: int, estimator: str, relevance_threshold: float | None
+    recipe_id: str,
+    seed: int,
+    distractors: int,
+    estimator: str,
+    relevance_threshold: float | None,
+    arm: str = "panda",
+    backend: str = "sim",
 ) -> dict[str, Any]:
     """One seeded episode, judged: its per-episode row plus ``attempted``, ``successes`` and ``help``.
 
@@ -247,6 +253,8 @@ def _episode(
     events: list[Event] = []
     summary = run_episode(
         EpisodeOptions(
+            robot=arm,
+            backend=backend,
             recipe=recipe_id,
             seed=seed,
             distractors=distractors,
@@ -275,9 +283,17 @@ def _episodes(args: argparse.Namespace, pool: Any) -> dict[str, Any]:
 
     slots = len(load_kitchen().scene.shelf_slots())
     recipes = pick_recipes(args.recipes, args.seed, slots - args.distractors)
-    load_robot("panda")
+    load_robot(args.arm)
     calls = [
-        (recipes[i % len(recipes)], args.seed + i, args.distractors, args.estimator, args.relevance_threshold)
+        (
+            recipes[i % len(recipes)],
+            args.seed + i,
+            args.distractors,
+            args.estimator,
+            args.relevance_threshold,
+            args.arm,
+            args.robot,
+        )
         for i in range(args.episodes)
     ]
     totals: Counter[str] = Counter()
@@ -427,6 +443,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--recipes", type=int, default=20, help="corpus recipes the episodes cycle through")
     p.add_argument("--distractors", type=int, default=4, help="distractor products per episode")
     p.add_argument("--estimator", default="eps-knn", help="κ̂ in the episodes")
+    from scone_bt.robot.flags import add_robot_options
+
+    add_robot_options(p, arm_help="robot file of the episodes: a name in robots/ or a YAML path")
     p.add_argument(
         "--relevance-threshold", type=float, help="ρ of the semantic fallback (default: the tree file's)"
     )

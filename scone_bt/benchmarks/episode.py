@@ -50,7 +50,7 @@ def run(args: argparse.Namespace) -> int:
     from scone_bt.quiet import c_stdout_silenced
 
     check_positive_int(args.max_ticks, "--max-ticks")
-    load_robot(args.robot)  # a bad robot file is one line now, not after the first episode's start-up
+    load_robot(args.arm)  # a bad robot file is one line now, not after the first episode's start-up
     recipes = [r.strip() for r in args.recipes.split(",") if r.strip()]
     if not recipes:
         raise ConfigError("--recipes: list at least one recipe id (e.g. example:hummus)")
@@ -63,7 +63,8 @@ def run(args: argparse.Namespace) -> int:
     for i, recipe in enumerate(recipes):
         bar.set_postfix_str(recipe)
         options = EpisodeOptions(
-            robot=args.robot,
+            robot=args.arm,
+            backend=args.robot,
             recipe=recipe,
             seed=args.seed + i,
             distractors=args.distractors,
@@ -111,6 +112,7 @@ def run(args: argparse.Namespace) -> int:
     result: dict[str, Any] = {
         "recipes": recipes,
         "robot": args.robot,
+        "arm": args.arm,
         "seed": args.seed,
         "episodes": episodes,
         "sim_s": round(total_sim, 3),
@@ -150,7 +152,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         default=",".join(DEFAULT_RECIPES),
         help="comma-separated recipe ids (default: five recipes)",
     )
-    p.add_argument("--robot", default="panda", help="robot file name or path (default panda)")
+    from scone_bt.robot.flags import add_robot_options
+
+    add_robot_options(p)
     p.add_argument("--seed", type=int, default=0, help="seed of the first episode; episode i uses seed + i")
     p.add_argument("--distractors", type=int, default=4, help="distractor products per episode (default 4)")
     p.add_argument(

@@ -426,6 +426,8 @@ def _episodes(args: argparse.Namespace) -> dict[str, Any]:
             seed = args.seed + i
             summary = run_episode(
                 EpisodeOptions(
+                    robot=args.arm,
+                    backend=args.robot,
                     recipe=recipes[i % len(recipes)],
                     seed=seed,
                     distractors=args.distractors,
@@ -583,6 +585,7 @@ def _run(args: argparse.Namespace) -> int:
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``gate`` to ``scone-bench``."""
     from scone_bt.confidence.physical import DEFAULT_OPENING_M
+    from scone_bt.robot.flags import add_robot_options
 
     p = sub.add_parser(
         "gate", help="does the gate keep its failure budget on new products, and at what help rate"
@@ -611,6 +614,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--recipes", type=int, default=20, help="corpus recipes the episodes cycle through")
     p.add_argument("--distractors", type=int, default=4, help="distractor products per episode")
+    add_robot_options(p, arm_help="robot file of the episodes (--episodes): a name in robots/ or a YAML path")
     p.add_argument("--no-replay", action="store_true", help="episodes only (skip the dataset replay)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")

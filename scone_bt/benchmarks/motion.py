@@ -485,7 +485,9 @@ def run(args: argparse.Namespace) -> int:
     from scone_bt.config import load_kitchen
     from scone_bt.errors import ConfigError
     from scone_bt.quiet import quiet_backends
+    from scone_bt.robot.flags import require_pybullet
 
+    require_pybullet(args.robot, "scone-bench motion")
     if args.queries < 1 or args.clutter < 0 or args.table_objects < 0 or args.jobs < 1:
         raise ConfigError("--queries and --jobs must be >= 1, --clutter and --table-objects >= 0")
     args.planners = tuple(dict.fromkeys(p.strip() for p in args.planner.split(",") if p.strip()))
@@ -523,9 +525,12 @@ def run(args: argparse.Namespace) -> int:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``motion`` to ``scone-bench``."""
+    from scone_bt.robot.flags import add_backend_option
+
     b = sub.add_parser("motion", help="pick-and-place planning and physics over the catalogue, both arms")
     b.add_argument("--queries", type=int, default=200, help="queries per arm (default 200)")
     b.add_argument("--arms", default="panda,iiwa7", help="comma-separated robot files (default panda,iiwa7)")
+    add_backend_option(b)
     b.add_argument("--clutter", type=int, default=11, help="other products on the shelving (default 11)")
     b.add_argument("--table-objects", type=int, default=2, help="products already on the table (default 2)")
     b.add_argument("--kitchen", default="kitchen", help="kitchen file (default perception/kitchen.yaml)")

@@ -54,12 +54,14 @@ def run(args: argparse.Namespace) -> int:
     from scone_bt.perception.evaluation import ground_truth, score_frame, summarise
     from scone_bt.perception.observe import merge_detections
     from scone_bt.quiet import c_stdout_silenced
+    from scone_bt.robot.flags import require_pybullet
     from scone_bt.world import Kitchen
 
     for noise in args.noise:  # the scale of a camera's noise_std in a kitchen file
         check_range(noise, "--noise", 0.0, 255.0)
     kitchen_cfg = load_kitchen(args.kitchen, args.catalogue or ())
-    robot_cfg = load_robot(args.robot)
+    require_pybullet(args.robot, "scone-bench perception")
+    robot_cfg = load_robot(args.arm)
     slots = len(kitchen_cfg.scene.shelf_slots())
     catalogue = kitchen_cfg.catalogue
     if args.scenes < 1 or args.table_objects < 0:
@@ -212,6 +214,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--kitchen", default="kitchen", help="kitchen file name or path (default kitchen)")
     p.add_argument("--catalogue", action="append", help="extra product file (repeatable)")
-    p.add_argument("--robot", default="panda", help="robot file name or path (default panda)")
+    from scone_bt.robot.flags import add_robot_options
+
+    add_robot_options(p)
     p.add_argument("--json", type=Path, help="also write the JSON report to this file")
     p.set_defaults(func=run)

@@ -101,8 +101,10 @@ def _arm_report(args: argparse.Namespace, arm: str) -> dict[str, Any]:
 
 def run(args: argparse.Namespace) -> int:
     from scone_bt.errors import ConfigError
+    from scone_bt.robot.flags import require_pybullet
     from scone_bt.world.kitchen import FULL_RATE_STEP_S
 
+    require_pybullet(args.robot, "scone-bench physics")
     if args.queries < 1 or args.jobs < 1 or args.clutter < 0 or args.table_objects < 0:
         raise ConfigError("--queries and --jobs must be >= 1, --clutter and --table-objects >= 0")
     arms = [a for a in args.arms.split(",") if a]
@@ -128,6 +130,8 @@ def run(args: argparse.Namespace) -> int:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``physics`` to ``scone-bench``."""
+    from scone_bt.robot.flags import add_backend_option
+
     p = sub.add_parser(
         "physics", help="physics shortcuts against the full-rate simulation, same executions (JSON)"
     )
@@ -140,6 +144,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--table-objects", type=int, default=_DEFAULTS["table_objects"], help="products on the table"
     )
     p.add_argument("--kitchen", default="kitchen", help="kitchen file (default perception/kitchen.yaml)")
+    add_backend_option(p)
     p.add_argument("--seed", type=int, default=_DEFAULTS["seed"])
     p.add_argument(
         "--jobs", type=int, default=1, help="processes running the queries (the report is the same)"

@@ -195,7 +195,9 @@ def run_scale(
 
 def _handler(args: argparse.Namespace) -> int:
     from scone_bt.quiet import quiet_backends
+    from scone_bt.robot.flags import require_pybullet
 
+    require_pybullet(args.robot, "scone-bench scale")  # its executions build PyBullet kitchens directly
     quiet_backends()
     os.environ.setdefault("OMP_NUM_THREADS", "1")
     report = run_scale(
@@ -221,7 +223,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     s.add_argument(
         "--profile", default="p00_nominal", help="profile in tools/profiles (default: p00_nominal)"
     )
-    s.add_argument("--arm", default="panda", help="robot file (default: panda)")
+    from scone_bt.robot.flags import add_robot_options
+
+    add_robot_options(s)
     s.add_argument(
         "--ray",
         default="local",

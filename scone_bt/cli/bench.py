@@ -21,7 +21,14 @@ from pathlib import Path
 from scone_bt.checks import check_output_file, check_seed
 from scone_bt.errors import SconeError
 
-__all__ = ["main", "check_report_path", "check_common_ranges", "interrupted_line", "BENCHMARK_MODULES"]
+__all__ = [
+    "main",
+    "check_report_path",
+    "check_common_ranges",
+    "check_backend_option",
+    "interrupted_line",
+    "BENCHMARK_MODULES",
+]
 
 # One line per benchmark module; its register() adds the subcommands.
 BENCHMARK_MODULES: tuple[str, ...] = (
@@ -122,6 +129,15 @@ def check_common_ranges(args: argparse.Namespace) -> None:
             raise SconeError(f"--{dest} {value}: must be an integer >= {low}")
 
 
+def check_backend_option(args: argparse.Namespace) -> None:
+    """--robot of any benchmark names a backend (a robot file given to it is told to use --arm)."""
+    robot = getattr(args, "robot", None)
+    if isinstance(robot, str):
+        from scone_bt.robot.flags import check_backend
+
+        check_backend(robot)
+
+
 def check_report_path(args: argparse.Namespace) -> None:
     """--json of any benchmark, before it runs: not one of its inputs, not a device, not a non-JSON file; its
     folder made if missing."""
@@ -181,6 +197,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
         require("bench", "scone-bench")
         check_common_ranges(args)
+        check_backend_option(args)
         check_report_path(args)  # before the benchmark runs: minutes of work are not lost to a bad --json
         return int(args.func(args))
     except SconeError as exc:

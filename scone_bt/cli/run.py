@@ -83,7 +83,7 @@ from pathlib import Path  # noqa: E402
 from scone_bt.checks import internal_error_line  # noqa: E402
 from scone_bt.defaults import EPISODE as _EPISODE  # noqa: E402
 from scone_bt.errors import SconeError  # noqa: E402
-from scone_bt.robot.registry import BACKENDS  # noqa: E402
+from scone_bt.robot.flags import add_robot_options, check_backend  # noqa: E402
 from scone_bt.study.ui_args import add_ui_arguments  # noqa: E402 - light: the package loads lazily
 
 __all__ = ["main", "build_parser", "LOG_LEVELS", "viewer_command"]
@@ -116,17 +116,6 @@ VIEWER_STALL_TIMEOUT_S = 5.0
 PG_CONNECT_TIMEOUT_S = 10  # scone_bt.experience.postgres.CONNECT_TIMEOUT_S
 
 
-def _robot_names() -> list[str]:
-    """The robot files --arm accepts by name (robots/*.yaml)."""
-    from scone_bt.resources import data_dir
-
-    try:
-        folder = data_dir("robots")
-    except SconeError:
-        return []
-    return sorted({p.stem for p in folder.iterdir() if p.suffix in (".yaml", ".yml")})
-
-
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="scone-run",
@@ -139,18 +128,7 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     g = p.add_argument_group("input")
-    g.add_argument(
-        "--robot",
-        default="sim",
-        help="robot backend; valid: %(choices)s (default: %(default)s)",
-        choices=sorted(BACKENDS),
-    )
-    g.add_argument(
-        "--arm",
-        default=_EPISODE.robot,
-        help=f"arm model: a robot file name in robots/ ({', '.join(_robot_names()) or 'none found'}) or a YAML path "
-        "(default: %(default)s)",
-    )
+    add_robot_options(g, arm_default=_EPISODE.robot)
     g.add_argument(
         "--recipe",
         default=_EPISODE.recipe,
@@ -443,6 +421,7 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
     from scone_bt.tree import load_tree_spec
 
     # Every value is checked here, before the kitchen is built or a model is loaded.
+    check_backend(args.robot)  # before anything else: a robot file given to --robot says to use --arm
     checks.check_seed(args.seed)
     checks.check_positive_int(args.max_ticks, "--max-ticks")
     if args.distractors < 0:

@@ -19,6 +19,7 @@ from pathlib import Path
 
 from scone_bt.defaults import EPISODE
 from scone_bt.errors import SconeError
+from scone_bt.robot.flags import add_robot_options, check_backend
 
 __all__ = ["main", "build_parser"]
 
@@ -44,7 +45,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     s.add_argument("--session", type=int, required=True, help="1 or 2; with --group it sets the condition")
     s.add_argument("--recipe", default=EPISODE.recipe, help="recipe id or file")
-    s.add_argument("--arm", default=EPISODE.robot, help="arm model in robots/")
+    add_robot_options(s, arm_default=EPISODE.robot)
     s.add_argument("--seed", type=int, default=EPISODE.seed, help="seeds object placement and the robot")
     s.add_argument(
         "--distractors", type=int, default=EPISODE.distractors, help="objects not in the recipe on the shelf"
@@ -76,6 +77,7 @@ def build_parser() -> argparse.ArgumentParser:
     m.add_argument("--steps", type=int, default=5, help="recipe steps per synthetic episode (--fast)")
     m.add_argument("--recipe", default="example:hummus", help="recipe of physics episodes")
     m.add_argument("--distractors", type=int, default=2, help="distractors in physics episodes")
+    add_robot_options(m, arm_help="robot file of physics episodes: a name in robots/ or a YAML path")
     m.add_argument(
         "--condition-effect",
         type=float,
@@ -406,6 +408,11 @@ def _check_simulate(args: argparse.Namespace) -> None:
     if args.distractors < 0:
         raise SconeError(f"--distractors {args.distractors}: must be 0 or more")
     checks.check_range(args.condition_effect, "--condition-effect", -10.0, 10.0)
+    check_backend(args.robot)
+    if not args.fast:  # a bad robot file is one line now, not after the first participant
+        from scone_bt.config import load_robot
+
+        load_robot(args.arm)
     checks.check_output_file(args.db, "--db", must_not_exist=True)
 
 
@@ -440,10 +447,12 @@ def _session(args: argparse.Namespace) -> int:
                 open_store(args.experience).close()
             except SconeError as exc:
                 raise SconeError(f"--experience {exc}") from None
+    check_backend(args.robot)
     load_robot(args.arm)
     load_recipe(args.recipe)
     options = EpisodeOptions(
         robot=args.arm,
+        backend=args.robot,
         recipe=args.recipe,
         seed=args.seed,
         max_ticks=args.max_ticks,
@@ -486,6 +495,8 @@ def _simulate(args: argparse.Namespace) -> int:
         synthetic=SyntheticOptions(steps=args.steps),
         recipe=args.recipe,
         distractors=args.distractors,
+        robot=args.arm,
+        backend=args.robot,
     )
     from scone_bt.distributed import engine_from_args
 

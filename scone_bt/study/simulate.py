@@ -38,7 +38,8 @@ class SimulationOptions:
         recipe: Recipe of physics episodes (short by default).
         distractors: Distractors on the shelf in physics episodes.
         max_ticks: Limit of physics episodes (0.1 s ticks).
-        robot: Arm model of physics episodes.
+        robot: Robot file (arm model) of physics episodes.
+        backend: Robot backend of physics episodes (`scone_bt.robot.registry.BACKENDS`).
         experience_path: Experience store κ̂ is rebuilt from in physics episodes (None: learn within each episode).
     """
 
@@ -51,6 +52,7 @@ class SimulationOptions:
     distractors: int = 2
     max_ticks: int = 3000
     robot: str = "panda"
+    backend: str = "sim"
     experience_path: Path | None = None
 
     def __post_init__(self) -> None:
@@ -91,6 +93,7 @@ def _physics_episode(
     )
     episode = EpisodeOptions(
         robot=options.robot,
+        backend=options.backend,
         recipe=options.recipe,
         seed=seed,
         max_ticks=options.max_ticks,

@@ -24,5 +24,10 @@ def test_an_unknown_robot_is_refused_before_an_episode_runs(monkeypatch, capsys)
         raise AssertionError("an episode ran")
 
     monkeypatch.setattr("scone_bt.episode.run_episode", never)
-    assert main(["episode", "--robot", "nosuch", "--quiet"]) == 2
+    assert main(["episode", "--arm", "nosuch", "--quiet"]) == 2
     assert capsys.readouterr().err == "scone-bench: unknown robot 'nosuch'; valid: iiwa7, panda\n"
+    # --robot is the backend in every command: a robot file there is told to use --arm
+    assert main(["episode", "--robot", "panda", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("scone-bench: --robot 'panda': --robot names the robot backend (sim)")
+    assert err.endswith("give the robot file with --arm panda\n") and err.count("\n") == 1

@@ -21,11 +21,21 @@ def test_bad_arguments_give_one_line(argv, expected, capsys):
     assert "\n" not in err and "Traceback" not in err
 
 
-def test_bad_backend_is_rejected_by_argparse(capsys):
-    with pytest.raises(SystemExit) as exit_:
-        main(["--robot", "real"])
-    assert exit_.value.code == 2
-    assert "sim" in capsys.readouterr().err
+def test_bad_backend_is_one_line_naming_the_backends(capsys):
+    assert main(["--robot", "real"]) == 2
+    err = capsys.readouterr().err
+    assert (
+        err
+        == "scone-run: error: --robot 'real': unknown robot backend; valid: sim (the robot file is --arm)\n"
+    )
+
+
+@pytest.mark.parametrize("robot_file", ["panda", "robots/panda.yaml", "mine.yml"])
+def test_a_robot_file_given_to_robot_says_to_use_arm(robot_file, capsys):
+    assert main(["--robot", robot_file]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"--robot {robot_file!r}" in err and f"--arm {robot_file}" in err
+    assert "valid" not in err or "sim" in err
 
 
 # ---------------------------------------------------------------------------------------------- issue 18: hostile input

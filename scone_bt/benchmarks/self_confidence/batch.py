@@ -109,7 +109,7 @@ LOG_NAME = "generation.json"
 """The log of every run in --out, and the settings each profile's rows were generated with."""
 
 SETTINGS: dict[str, str] = {
-    "robot": "--robot",
+    "robot": "--arm",
     "kitchen": "--kitchen",
     "catalogues": "--catalogue",
     "products": "--products",
@@ -356,6 +356,7 @@ def run_generate(args: argparse.Namespace) -> int:
     from scone_bt.config import load_kitchen, load_robot
     from scone_bt.distributed import engine_from_args, imap_tasks, start_engine
     from scone_bt.reporting import emit_report
+    from scone_bt.robot.flags import require_pybullet
 
     if args.executions < 1:
         raise ConfigError(f"--executions {args.executions}: must be at least 1")
@@ -369,7 +370,8 @@ def run_generate(args: argparse.Namespace) -> int:
         if not Path(c).is_file():
             raise ConfigError(f"--catalogue {c}: no such file")
     kitchen_cfg = load_kitchen(args.kitchen, args.catalogue)
-    robot_cfg = load_robot(args.robot)  # a bad robot name fails here, before any work
+    require_pybullet(args.robot, "scone-bench sc generate")
+    robot_cfg = load_robot(args.arm)  # a bad robot name fails here, before any work
     profiles_dir = Path(args.profiles_dir)
     if not profiles_dir.is_dir():
         raise ConfigError(f"--profiles-dir {profiles_dir}: no such folder")
@@ -414,7 +416,7 @@ def run_generate(args: argparse.Namespace) -> int:
     beyond = {name: {i: r for i, r in got.items() if i >= args.executions} for name, got in rows.items()}
     by_name = {p.name: p for p in profiles}
     tasks = [
-        ExecutionTask(p, i, args.kitchen, args.robot, catalogues, products)
+        ExecutionTask(p, i, args.kitchen, args.arm, catalogues, products)
         for p in profiles
         for i in range(args.executions)
         if i not in done[p.name]

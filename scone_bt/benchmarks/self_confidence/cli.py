@@ -31,6 +31,7 @@ def _generate(args: argparse.Namespace) -> int:
 
 def _register_generate(sc_sub: argparse._SubParsersAction) -> None:
     from scone_bt.distributed import add_engine_arguments
+    from scone_bt.robot.flags import add_robot_options
 
     g = sc_sub.add_parser(
         "generate",
@@ -74,7 +75,7 @@ def _register_generate(sc_sub: argparse._SubParsersAction) -> None:
         "--seed", type=int, default=None, help="replace every profile's base seed (default: the file's)"
     )
     g.add_argument("--kitchen", default="kitchen", help="kitchen file name or path (default: kitchen)")
-    g.add_argument("--robot", default="panda", help="robot file name or path (default: panda)")
+    add_robot_options(g)
     g.add_argument(
         "--max-minutes", type=float, default=None, help="stop after this long (finished rows are kept)"
     )

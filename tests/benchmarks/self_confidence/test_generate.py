@@ -226,10 +226,10 @@ def test_a_resume_with_other_settings_is_refused_before_running(tmp_path, kitche
     final = out / "p00_nominal.csv"
     before, log = final.read_bytes(), (out / "generation.json").read_bytes()
     err = _one_line_error(
-        capsys, _generate(out, "--executions", "2", "--robot", "iiwa7", "--products", ",".join(names))
+        capsys, _generate(out, "--executions", "2", "--arm", "iiwa7", "--products", ",".join(names))
     )
     assert "p00_nominal.csv" in err and "another generation" in err
-    assert "--robot: it holds panda.yaml sha256:" in err and "this run asks iiwa7.yaml sha256:" in err
+    assert "--arm: it holds panda.yaml sha256:" in err and "this run asks iiwa7.yaml sha256:" in err
     assert f"--products: it holds all products, this run asks {names[0]}," in err
     assert final.read_bytes() == before and (out / "generation.json").read_bytes() == log
     assert len(fake_runs) == 1

@@ -1,0 +1,122 @@
+"""--robot is the backend and --arm the robot file, in every command (scone-run, scone-bench, scone-study)."""
+
+from __future__ import annotations
+
+import argparse
+
+import pytest
+
+from scone_bt.cli import bench
+from scone_bt.cli.run import build_parser as run_parser
+from scone_bt.errors import SconeError
+from scone_bt.robot import flags as robot_options
+from scone_bt.robot import registry
+from scone_bt.study.cli import build_parser as study_parser
+
+
+def _leaves(parser: argparse.ArgumentParser, path: str = "") -> dict[str, argparse.ArgumentParser]:
+    subs = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
+    if not subs:
+        return {path: parser}
+    out: dict[str, argparse.ArgumentParser] = {}
+    for action in subs:
+        for name, child in action.choices.items():
+            out.update(_leaves(child, f"{path} {name}".strip()))
+    return out
+
+
+def _every_command() -> dict[str, argparse.ArgumentParser]:
+    commands = {"scone-run": run_parser()}
+    commands.update({f"scone-bench {k}": p for k, p in _leaves(bench._parser()).items()})
+    commands.update({f"scone-study {k}": p for k, p in _leaves(study_parser()).items()})
+    return commands
+
+
+def _option(parser: argparse.ArgumentParser, flag: str) -> argparse.Action | None:
+    return next((a for a in parser._actions if flag in a.option_strings), None)
+
+
+def test_robot_is_a_backend_and_arm_a_robot_file_in_every_command() -> None:
+    with_robot = []
+    for name, parser in _every_command().items():
+        robot, arm = _option(parser, "--robot"), _option(parser, "--arm")
+        if robot is not None:
+            with_robot.append(name)
+            assert robot.default in registry.BACKENDS, name
+            assert "backend" in (robot.help or ""), name
+        if arm is not None:
+            assert robot is not None, f"{name}: --arm without --robot"
+            assert arm.default == "panda", name
+    # the commands that build a robot: each has the backend flag
+    for name in (
+        "scone-run",
+        "scone-bench episode",
+        "scone-bench perception",
+        "scone-bench sc generate",
+        "scone-bench gate",
+        "scone-bench scale",
+        "scone-bench decisions",
+        "scone-bench motion",
+        "scone-bench physics",
+        "scone-study session",
+        "scone-study simulate",
+    ):
+        assert name in with_robot, name
+
+
+def test_a_backend_added_to_the_registry_is_accepted_by_name(monkeypatch) -> None:
+    monkeypatch.setitem(registry.BACKENDS, "other", registry.BACKENDS["sim"])
+    assert robot_options.check_backend("other") == "other"
+    with pytest.raises(SconeError, match=r"^--robot 'nosuch': unknown robot backend; valid: other, sim "):
+        robot_options.check_backend("nosuch")
+
+
+def test_episodes_run_on_the_named_backend(monkeypatch, capsys) -> None:
+    """scone-bench episode hands --robot to run_episode's backend factory and --arm to the robot file."""
+    monkeypatch.setitem(registry.BACKENDS, "other", registry.BACKENDS["sim"])
+    seen = []
+
+    def capture(options, **kwargs):
+        seen.append(options)
+        raise SconeError("stop here")
+
+    monkeypatch.setattr("scone_bt.episode.run_episode", capture)
+    assert bench.main(["episode", "--robot", "other", "--arm", "iiwa7", "--recipes", "example:hummus"]) == 2
+    assert "stop here" in capsys.readouterr().err
+    assert seen[0].backend == "other" and seen[0].robot == "iiwa7"
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["perception", "--scenes", "1"],
+        ["sc", "generate", "--executions", "1"],
+        ["scale", "--executions", "1"],
+        ["motion", "--queries", "1"],
+        ["physics", "--queries", "1"],
+    ],
+)
+def test_benchmarks_that_build_pybullet_directly_refuse_another_backend(argv, monkeypatch, capsys) -> None:
+    monkeypatch.setitem(registry.BACKENDS, "other", registry.BACKENDS["sim"])
+    assert bench.main([*argv, "--robot", "other"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--robot other" in err and "only --robot sim is supported" in err
+
+
+@pytest.mark.parametrize("command", [["episode"], ["sc", "generate"], ["gate", "--no-replay"]])
+def test_a_robot_file_given_to_robot_in_scone_bench_says_to_use_arm(command, capsys) -> None:
+    assert bench.main([*command, "--robot", "robots/iiwa7.yaml"]) == 2
+    err = capsys.readouterr().err
+    assert err == (
+        "scone-bench: --robot 'robots/iiwa7.yaml': --robot names the robot backend (sim); "
+        "give the robot file with --arm robots/iiwa7.yaml\n"
+    )
+
+
+def test_scone_study_robot_is_the_backend(tmp_path, capsys) -> None:
+    from scone_bt.study.cli import main
+
+    code = main(["simulate", "--db", str(tmp_path / "s.db"), "--participants", "2", "--robot", "panda"])
+    assert code == 2
+    err = capsys.readouterr().err
+    assert "--robot 'panda'" in err and "--arm panda" in err and err.count("\n") == 1
