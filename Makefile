@@ -5,7 +5,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: run test scenarios lint clean vamp
+.PHONY: run test scenarios lint typecheck docs docs-serve clean vamp
 
 $(STAMP): pyproject.toml
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV) || python3 -m venv $(VENV)
@@ -34,5 +34,17 @@ lint: $(STAMP)
 	$(BIN)/ruff check scone_bt tests tools
 	$(BIN)/ruff format --check scone_bt tests tools
 
+# mypy on scone_bt/, configured in pyproject.toml ([tool.mypy]; docs/how-to/typecheck.md).
+typecheck: $(STAMP)
+	$(BIN)/python -m mypy
+
+# The documentation site (MkDocs, Material theme) into site/; --strict fails on a broken link or a missing page.
+# Its reference pages are generated from the code at build time (docs/gen_reference.py).
+docs: $(STAMP)
+	NO_MKDOCS_2_WARNING=1 DISABLE_MKDOCS_2_WARNING=true $(BIN)/python -m mkdocs build --strict
+
+docs-serve: $(STAMP)
+	NO_MKDOCS_2_WARNING=1 DISABLE_MKDOCS_2_WARNING=true $(BIN)/python -m mkdocs serve
+
 clean:
-	rm -rf $(VENV) runs .pytest_cache
+	rm -rf $(VENV) runs .pytest_cache .mypy_cache site

@@ -27,13 +27,14 @@ from scone_bt.robot.interface import Infeasible
 __all__ = ["BlackboardError", "Key", "Keys", "StageBehaviour"]
 
 T = TypeVar("T")
+T_co = TypeVar("T_co", covariant=True)  # a Key[X] is read as, and written with, any supertype of X
 
 
 class BlackboardError(SconeError):
     """A key read before anything wrote it, or written with a value of the wrong type."""
 
 
-class Key(str, Generic[T]):
+class Key(str, Generic[T_co]):
     """A blackboard key: its path (the string itself) and the type of the value it holds.
 
     Args:
@@ -45,7 +46,7 @@ class Key(str, Generic[T]):
     kind: type
     optional: bool
 
-    def __new__(cls, path: str, kind: type, optional: bool = False) -> Key[T]:
+    def __new__(cls, path: str, kind: type, optional: bool = False) -> Key[T_co]:
         key = super().__new__(cls, path)
         key.kind = kind
         key.optional = optional

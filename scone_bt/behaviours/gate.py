@@ -264,7 +264,7 @@ class ConfidenceGate(StageBehaviour):
         by_text = {r.text for r in ranked}
         options, exploring = self._options()
         if exploring and ranked and not explore:
-            draw = bool(self._rng.random() < self.budget.explore_rate)  # type: ignore[union-attr]
+            draw = bool(self._rng.random() < self.budget.explore_rate)
             # never explore an action that already failed in this episode: its failure is the lesson
             explore = [draw and self.history.failures_of(r.text) == 0 for r in ranked]
         decision = decide(ranked, confidences, options, tuple(a for a in ambiguous if a in by_text), explore)
@@ -284,7 +284,7 @@ class ConfidenceGate(StageBehaviour):
                 target.detection,
                 self.read(Keys.DETECTIONS, []),
                 self.read(Keys.TABLE_DETECTIONS, None),
-                self.seeds.next_seed(),  # type: ignore[union-attr]
+                self.seeds.next_seed(),
             )
             key = scene_key(request)
             known = self._infeasible.get(key)
@@ -475,7 +475,7 @@ class DecisionIs(StageBehaviour):
         self.kind = DecisionKind(kind)
 
     @classmethod
-    def from_context(cls, name: str, context: EpisodeContext, kind: str) -> DecisionIs:  # type: ignore[override]
+    def from_context(cls, name: str, context: EpisodeContext, kind: str) -> DecisionIs:
         return cls(name, kind)
 
     def update(self) -> py_trees.common.Status:

@@ -33,6 +33,7 @@ class _AskTheHuman(StageBehaviour):
 
 class AskForHelp(_AskTheHuman):
     READS = (Keys.DECISION, Keys.TARGET)
+    object_name: str  # set by initialise: the item asked for
 
     def initialise(self) -> None:
         target = self.read(Keys.TARGET)
@@ -123,9 +124,7 @@ class WaitForHuman(StageBehaviour):
         self.seconds = seconds
 
     @classmethod
-    def from_context(  # type: ignore[override]
-        cls, name: str, context: EpisodeContext, seconds: float = 1.0
-    ) -> WaitForHuman:
+    def from_context(cls, name: str, context: EpisodeContext, seconds: float = 1.0) -> WaitForHuman:
         return cls(name, context.robot.now, seconds)
 
     def initialise(self) -> None:

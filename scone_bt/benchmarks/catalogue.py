@@ -93,7 +93,7 @@ class _Accuracy:
 def _accuracy(pairs: list[tuple[str, str]], keep_errors: int = 8) -> _Accuracy:
     from scone_bt.recipes.normalise import item_key, normalise_ingredient
 
-    errors = []
+    errors: list[tuple[str, str, str]] = []
     correct = 0
     for line, label in pairs:
         got = item_key(normalise_ingredient(line))

@@ -186,7 +186,9 @@ def bench_decision_path(emb, estimators: list[str], reps: int) -> dict:  # noqa:
     out = {}
     for name in estimators:
         est = make_estimator(name, seed=0).fit(X, y)
-        after_update, steady, kinds = [], [], {}
+        after_update: list[float] = []
+        steady: list[float] = []
+        kinds: dict[str, int] = {}
         for _ in range(reps):
             for instruction in INSTRUCTIONS:
                 for forget, samples in ((True, after_update), (False, steady)):

@@ -90,11 +90,11 @@ def store_trial(
     killed_at = len(acked[0])
     for k in range(1, len(procs)):
         read(k, procs[k])
-    errors = [p.stderr.read().strip() for p in procs[1:] if p.wait() != 0]  # type: ignore[union-attr]
+    errors = [p.stderr.read().strip() for p in procs[1:] if p.wait() != 0]
     restarted = launch(0)
     read(0, restarted)
     if restarted.wait() != 0:
-        errors.append(restarted.stderr.read().strip())  # type: ignore[union-attr]
+        errors.append(restarted.stderr.read().strip())
     for p in [*procs, restarted]:
         for stream in (p.stdout, p.stderr):
             if stream is not None:
@@ -205,7 +205,7 @@ def learning_trial(models: Sequence[Model], seeds: int = 10, estimator: str = "e
     per_seed: dict[str, list[list[ReplayResult]]] = {"cold": [], "same_model": [], "fleet_pooled": []}
     per_model: dict[str, dict[str, list[int]]] = {m.name: {k: [] for k in per_seed} for m in panda}
     for s in range(seeds):
-        rows = {k: [] for k in per_seed}
+        rows: dict[str, list[ReplayResult]] = {k: [] for k in per_seed}
         for mi, m in enumerate(panda):
             order = np.random.default_rng([s, mi]).permutation(len(m.y))
             new, rest = order[:FIRST_N], order[FIRST_N:]

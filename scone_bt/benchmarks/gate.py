@@ -431,7 +431,7 @@ def _episodes(args: argparse.Namespace) -> dict[str, Any]:
                     recipe=recipes[i % len(recipes)],
                     seed=seed,
                     distractors=args.distractors,
-                    behaviour=BehaviourOptions(seed=seed, **extra),  # type: ignore[arg-type]
+                    behaviour=BehaviourOptions(seed=seed, **extra),
                 ),
                 printer=lambda _line: None,
                 on_event=events.append,

@@ -47,7 +47,7 @@ import threading
 import time
 from collections import Counter
 from collections.abc import Iterator
-from typing import Any
+from typing import Any, cast
 
 from scone_bt.reporting import emit_report
 
@@ -145,13 +145,14 @@ def _recording_ompl_queries() -> Iterator[list[tuple[Any, Any, Any, Any]]]:
             record(start, goal, is_valid, options)
         return result
 
-    plan_session.plan_joint_path = recording  # type: ignore[assignment]
-    plan_session.direct_path = recording_direct  # type: ignore[assignment]
+    # cast: the wrappers take and return what the functions they stand in for do
+    plan_session.plan_joint_path = cast(Any, recording)
+    plan_session.direct_path = cast(Any, recording_direct)
     try:
         yield calls
     finally:
-        plan_session.plan_joint_path = original  # type: ignore[assignment]
-        plan_session.direct_path = original_direct  # type: ignore[assignment]
+        plan_session.plan_joint_path = original
+        plan_session.direct_path = original_direct
 
 
 def _compare(calls: list[tuple[Any, Any, Any, Any]]) -> list[dict[str, Any]]:
@@ -203,7 +204,7 @@ def _compare(calls: list[tuple[Any, Any, Any, Any]]) -> list[dict[str, Any]]:
 
 
 def _query(
-    kitchen: str,
+    kitchen_file: str,
     arm_name: str,
     seed: int,
     clutter: int,
@@ -224,7 +225,7 @@ def _query(
     from scone_bt.world import Kitchen
 
     quiet_backends()
-    w = _setup(kitchen, arm_name)
+    w = _setup(kitchen_file, arm_name)
     kcfg, rcfg, params = w["kcfg"], w["rcfg"], w["params"]
     g = rcfg.gripper
     opening = 2.0 * (g.open_position - g.closed_position)
@@ -248,7 +249,10 @@ def _query(
         )
         shelf = [(_detect(kitchen, s.name), s) for s in extra if s.name not in on_table]
         table = [(_detect(kitchen, n), kitchen.specs[n]) for n in on_table]
-        with _recording_ompl_queries() if compare_vamp else contextlib.nullcontext([]) as calls:
+        recorder: contextlib.AbstractContextManager[list[tuple[Any, Any, Any, Any]]] = (
+            _recording_ompl_queries() if compare_vamp else contextlib.nullcontext([])
+        )
+        with recorder as calls:
             task = system.pick_and_place(
                 _detect(kitchen, target.name), target, shelf, rng_seed=i, table_obstacles=table
             )
@@ -445,7 +449,7 @@ def _report(records: list[dict[str, Any]], cpu_total: float) -> dict[str, Any]:
                 reasons[key] += 1
             if fits_gripper and fits_payload:
                 examples.setdefault(key, []).append(f"{rec['target']}: {rec['message'][:160]}")
-    report = {
+    report: dict[str, Any] = {
         "queries": counts["queries"],
         "fits_gripper": counts["fits_gripper"],
         "fits_gripper_and_payload": counts["fits_gripper_and_payload"],
@@ -472,9 +476,7 @@ def _report(records: list[dict[str, Any]], cpu_total: float) -> dict[str, Any]:
         "cpu_s_total": round(cpu_total, 1),
     }
     report["targets_met"] = {
-        key: (
-            None if report[key] is None else (report[key] <= bound if op == "<=" else report[key] >= bound)  # type: ignore[operator]
-        )
+        key: (None if report[key] is None else (report[key] <= bound if op == "<=" else report[key] >= bound))
         for key, (op, bound) in TARGETS.items()
     }
     return report

@@ -110,7 +110,7 @@ def _inputs(args: argparse.Namespace, outputs: Sequence[str]) -> dict[str, list[
                 kind, expand = descriptions[dest]
                 # A name that does not resolve adds nothing: its own loader words the error.
                 with contextlib.suppress(SconeError):
-                    files.extend(expand(resolve_file(kind, str(item), (".yaml", ".yml"))))  # type: ignore[arg-type]
+                    files.extend(expand(resolve_file(kind, str(item), (".yaml", ".yml"))))
             elif os.path.exists(item):
                 files.append(Path(item))
                 if os.path.isdir(item) and dest not in _OUTPUT_FOLDERS:

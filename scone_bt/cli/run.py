@@ -46,7 +46,7 @@ class _Interrupts:
     def restore(self) -> None:
         """Give SIGINT back to whoever had it (a test runner calling `main`), once the run is over."""
         if self.previous is not None and threading.current_thread() is threading.main_thread():
-            signal.signal(signal.SIGINT, self.previous)  # type: ignore[arg-type]
+            signal.signal(signal.SIGINT, self.previous)
             self.previous = None
 
     def _handle(self, signum: int, frame: object) -> None:
@@ -344,7 +344,7 @@ def _run_inputs(args: argparse.Namespace) -> dict[str, list[Path]]:
 
     def resolved(kind: str, name: str) -> Path | None:
         try:
-            return resolve_file(kind, name, (".yaml", ".yml"))  # type: ignore[arg-type]
+            return resolve_file(kind, name, (".yaml", ".yml"))
         except SconeError:
             return None
 

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from typing import Any
 
 import numpy as np
 
@@ -61,8 +62,8 @@ class GPEstimator(ConfidenceEstimator):
         self.length_scale = length_scale
         self.restarts = restarts
         self.reoptimise_growth = reoptimise_growth
-        self._model: object = None
-        self._kernel: object = None  # the last optimised kernel
+        self._model: Any = None
+        self._kernel: Any = None  # the last optimised kernel
         self._n_optimised = 0  # outcomes it was optimised on
         self._kernel_fixed = False  # a kernel from another GP (share_hyperparameters) is never re-optimised
 
@@ -97,4 +98,4 @@ class GPEstimator(ConfidenceEstimator):
         self._model = model
 
     def _predict_model(self, X: np.ndarray) -> np.ndarray:
-        return self._model.predict_proba(_unit(X.astype(np.float64)))[:, 1]  # type: ignore[attr-defined]
+        return self._model.predict_proba(_unit(X.astype(np.float64)))[:, 1]

@@ -8,6 +8,7 @@ scikit-learn, LightGBM and XGBoost are imported when a model is first fitted.
 from __future__ import annotations
 
 import warnings
+from typing import Any
 
 import numpy as np
 
@@ -29,9 +30,9 @@ def _unit(X: np.ndarray) -> np.ndarray:
     return X / np.where(norms > 0, norms, 1.0)
 
 
-def _success_column(model: object, X: np.ndarray) -> np.ndarray:
-    proba = model.predict_proba(X)  # type: ignore[attr-defined]
-    classes = list(model.classes_)  # type: ignore[attr-defined]
+def _success_column(model: Any, X: np.ndarray) -> np.ndarray:
+    proba = model.predict_proba(X)
+    classes = list(model.classes_)
     return proba[:, classes.index(True)]  # classes are bools or 0/1; True == 1 finds either
 
 
@@ -75,10 +76,10 @@ def _forest_class() -> type:
         from sklearn.tree import DecisionTreeClassifier
 
         class _Forest(RandomForestClassifier):
-            def _make_estimator(self, append: bool = True, random_state: object = None) -> object:
+            def _make_estimator(self, append: bool = True, random_state: Any = None) -> Any:
                 tree = DecisionTreeClassifier(**{p: getattr(self, p) for p in self.estimator_params})
                 if random_state is not None:
-                    tree.random_state = random_state.randint(np.iinfo(np.int32).max)  # type: ignore[attr-defined]
+                    tree.random_state = random_state.randint(np.iinfo(np.int32).max)
                 if append:
                     self.estimators_.append(tree)
                 return tree
@@ -98,20 +99,20 @@ class RandomForestEstimator(ConfidenceEstimator):
     def __init__(self, name: str = "rf", seed: int = 0, n_estimators: int = 50, prior: float = 0.5) -> None:
         super().__init__(name, seed, prior)
         self.n_estimators = n_estimators
-        self._model: object = None
+        self._model: Any = None
 
     def _fit_model(self, X: np.ndarray, y: np.ndarray) -> None:
         self._model = _forest_class()(n_estimators=self.n_estimators, random_state=self.seed, n_jobs=1)
-        self._model.fit(X, y)  # type: ignore[attr-defined]
+        self._model.fit(X, y)
 
     def _predict_model(self, X: np.ndarray) -> np.ndarray:
         X = np.ascontiguousarray(X, dtype=np.float32)
-        column = list(self._model.classes_).index(True)  # type: ignore[attr-defined]
+        column = list(self._model.classes_).index(True)
         total = np.zeros(len(X))
-        for tree in self._model.estimators_:  # type: ignore[attr-defined]
+        for tree in self._model.estimators_:
             fractions = tree.tree_.predict(X).reshape(len(X), -1)  # (n, n_classes) for one output
             total += fractions[:, column] / fractions.sum(axis=1)
-        return total / len(self._model.estimators_)  # type: ignore[attr-defined]
+        return total / len(self._model.estimators_)
 
 
 class SVMEstimator(ConfidenceEstimator):
@@ -125,7 +126,7 @@ class SVMEstimator(ConfidenceEstimator):
     def __init__(self, name: str = "svm", seed: int = 0, C: float = 1.0, prior: float = 0.5) -> None:
         super().__init__(name, seed, prior)
         self.C = C
-        self._model: object = None
+        self._model: Any = None
         self._calibrated = False
 
     def _fit_model(self, X: np.ndarray, y: np.ndarray) -> None:
@@ -144,7 +145,7 @@ class SVMEstimator(ConfidenceEstimator):
     def _predict_model(self, X: np.ndarray) -> np.ndarray:
         if self._calibrated:
             return _success_column(self._model, X)
-        f = self._model.decision_function(X)  # type: ignore[attr-defined]
+        f = self._model.decision_function(X)
         return 1.0 / (1.0 + np.exp(-2.0 * f))
 
 
@@ -171,7 +172,7 @@ class MLPEstimator(ConfidenceEstimator):
     def __init__(self, name: str = "mlp", seed: int = 0, hidden: int = 64, prior: float = 0.5) -> None:
         super().__init__(name, seed, prior)
         self.hidden = hidden
-        self._model: object = None
+        self._model: Any = None
 
     def _fit_model(self, X: np.ndarray, y: np.ndarray) -> None:
         from sklearn.exceptions import ConvergenceWarning
@@ -230,7 +231,7 @@ class LGBMEstimator(ConfidenceEstimator):
             raise SconeError(f"{name}: colsample must be in (0, 1], got {colsample}")
         self.n_estimators = n_estimators
         self.colsample = colsample
-        self._model: object = None
+        self._model: Any = None
 
     def _fit_model(self, X: np.ndarray, y: np.ndarray) -> None:
         from lightgbm import LGBMClassifier
@@ -262,7 +263,7 @@ class XGBEstimator(ConfidenceEstimator):
     def __init__(self, name: str = "xgb", seed: int = 0, n_estimators: int = 50, prior: float = 0.5) -> None:
         super().__init__(name, seed, prior)
         self.n_estimators = n_estimators
-        self._booster: object = None
+        self._booster: Any = None
 
     def _fit_model(self, X: np.ndarray, y: np.ndarray) -> None:
         from xgboost import XGBClassifier
@@ -279,4 +280,4 @@ class XGBEstimator(ConfidenceEstimator):
         self._booster.fit(X, y.astype(int))
 
     def _predict_model(self, X: np.ndarray) -> np.ndarray:
-        return self._booster.predict_proba(X)[:, 1]  # type: ignore[attr-defined]
+        return self._booster.predict_proba(X)[:, 1]

@@ -11,6 +11,7 @@ either. "xgboost" is accepted for "xgb".
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any
 
 from scone_bt.confidence.base import ConfidenceEstimator
 from scone_bt.confidence.calibration import CalibratedEstimator
@@ -98,9 +99,9 @@ def make_estimator(name: str, seed: int = 0, **options: float) -> ConfidenceEsti
     if name.startswith("grounded-"):
         if name not in GROUNDED_ESTIMATORS:
             raise UnknownNameError("estimator", name, estimator_names())
-        grounded_opts = {k: options.pop(k) for k in _GROUNDED_KEYS if k in options}
-        inner = make_estimator(name.removeprefix("grounded-"), seed, **options)
-        return GroundedEstimator(inner, **grounded_opts)
+        grounded_opts: dict[str, Any] = {k: options.pop(k) for k in _GROUNDED_KEYS if k in options}
+        base = make_estimator(name.removeprefix("grounded-"), seed, **options)
+        return GroundedEstimator(base, **grounded_opts)
     if name not in ESTIMATORS:
         raise UnknownNameError("estimator", name, estimator_names())
     eps_opts = {k: options.pop(k) for k in _EPS_KEYS if k in options}

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from dataclasses import field as dataclass_field
 from enum import StrEnum
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Literal, cast
 
 from pydantic import Field
 
@@ -173,11 +173,11 @@ def _product(raw: Any, defaults: _Defaults, family: str, where: str, index: int)
         name=p.name.strip(),
         aliases=tuple(a.strip() for a in p.aliases),
         shape=Shape(p.shape),
-        size=tuple(p.size),  # type: ignore[arg-type]
+        size=cast("tuple[float, float, float]", tuple(p.size)),
         mass=p.mass,
         friction=p.friction,
         material=p.material,
-        rgba=tuple(p.rgba),  # type: ignore[arg-type]
+        rgba=cast("tuple[float, float, float, float]", tuple(p.rgba)),
         marker_id=p.marker_id,
         family=family,
     )

@@ -222,7 +222,7 @@ def _section_field(f: Field_) -> tuple[str, tuple[Any, Any]]:
 _GraspSection: type[BaseModel] = create_model(
     "GraspSection",
     __config__=ConfigDict(extra="forbid", frozen=True),
-    **dict(_section_field(f) for f in fields(GraspParams)),  # type: ignore[call-overload]
+    **dict(_section_field(f) for f in fields(GraspParams)),
 )
 """The `grasp:` section as a pydantic model: every key optional, unknown keys refused."""
 

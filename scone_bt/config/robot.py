@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Literal, cast
 
 from pydantic import Field, field_validator, model_validator
 
@@ -72,7 +72,7 @@ class PlannerSpec:
 CAMERA_SHAPES = ("visual", "collision")
 """What the kitchen's cameras render of the robot: its URDF's visual meshes, or its collision shapes."""
 
-DEFAULT_CAMERA_SHAPES = "visual"
+DEFAULT_CAMERA_SHAPES: Literal["visual", "collision"] = "visual"
 
 DEFAULT_PHYSICS_HZ = 120.0
 """Physics steps per simulated second when a robot file does not say (the simulator's step is 1 / physics_hz)."""
@@ -234,7 +234,7 @@ class RobotFile(StrictModel):
     planner: _PlannerModel = _PlannerModel()
     control: _ControlModel = _ControlModel()
     collision: _CollisionModel = _CollisionModel()
-    camera_shapes: Literal["visual", "collision"] = DEFAULT_CAMERA_SHAPES  # type: ignore[assignment]
+    camera_shapes: Literal["visual", "collision"] = DEFAULT_CAMERA_SHAPES
     grasp: dict[str, Any] = {}  # checked by scone_bt.config.grasp.GraspParams.from_section in load_robot
 
     @model_validator(mode="after")
@@ -361,7 +361,7 @@ def load_robot(name_or_path: str | Path = "panda") -> RobotConfig:
     return RobotConfig(
         name=m.name,
         urdf=urdf,
-        base_position=tuple(m.base_position),  # type: ignore[arg-type]
+        base_position=cast("tuple[float, float, float]", tuple(m.base_position)),
         arm_joints=tuple(m.arm_joints),
         end_effector_frame=m.end_effector_frame,
         home=tuple(m.home),

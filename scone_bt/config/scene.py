@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -189,7 +190,7 @@ def _box(f: Fields, key: str) -> Box:
     sub = f.sub(key).allow("center", "size")
     size = sub.vector("size", 3)
     require(all(v > 0 for v in size), f"{sub.where}.size: every size must be > 0 metres, got {list(size)}")
-    return sub.vector("center", 3), size  # type: ignore[return-value]
+    return sub.vector("center", 3), size
 
 
 def _within_scene(values: tuple[float, ...], where: str) -> None:
@@ -200,8 +201,8 @@ def _within_scene(values: tuple[float, ...], where: str) -> None:
     )
 
 
-def _unit(raw: object, index: int, where: str) -> ShelfUnit:
-    f = Fields(raw, f"{where}[{index}]").allow(*_UNIT_KEYS)  # type: ignore[arg-type]
+def _unit(raw: Any, index: int, where: str) -> ShelfUnit:
+    f = Fields(raw, f"{where}[{index}]").allow(*_UNIT_KEYS)
     rotation = f.get("rotation_deg", int, 0)
     require(
         rotation in _ROTATIONS,
@@ -226,7 +227,7 @@ def _unit(raw: object, index: int, where: str) -> ShelfUnit:
                 f"{f.where}.tiers[{i}].slots[{k}]: {v:g} lies outside the unit's span {list(span)}",
             )
     depth = f.number("tier_depth", 0.0, MAX_SCENE_M, above=True)
-    return ShelfUnit(f.get("name", str, f"unit{index}"), rotation, depth, span, tuple(tiers))  # type: ignore[arg-type]
+    return ShelfUnit(f.get("name", str, f"unit{index}"), rotation, depth, span, tuple(tiers))
 
 
 def parse_scene(s: Fields) -> SceneSpec:
@@ -289,7 +290,7 @@ MAX_SCENE_M = 10.0
 under 1 m; a 1e9 m shelf is a typo, not a kitchen)."""
 
 
-def _spot(raw: object, index: int, where: str) -> tuple[float, float]:
+def _spot(raw: Any, index: int, where: str) -> tuple[float, float]:
     """One table spot [x, y] in metres (a number or a string is a one-line error, not a TypeError)."""
     ok = (
         isinstance(raw, list)
@@ -297,7 +298,7 @@ def _spot(raw: object, index: int, where: str) -> tuple[float, float]:
         and all(isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) for v in raw)
     )
     require(ok, f"{where}.place_spots[{index}]: expected [x, y] in metres, got {raw!r}")
-    return float(raw[0]), float(raw[1])  # type: ignore[index]
+    return float(raw[0]), float(raw[1])
 
 
 def _pixels(c: Fields, key: str) -> int:
@@ -326,9 +327,9 @@ def _camera(c: Fields, name: str, role: str) -> CameraSpec:
         f"{[round(float(v), 6) for v in view]}); give an up vector that is not parallel to it",
     )
     return CameraSpec(
-        position=position,  # type: ignore[arg-type]
-        target=target,  # type: ignore[arg-type]
-        up=up,  # type: ignore[arg-type]
+        position=position,
+        target=target,
+        up=up,
         width=_pixels(c, "width"),
         height=_pixels(c, "height"),
         fov_deg=c.number("fov_deg", 1.0, MAX_FOV_DEG),

@@ -184,7 +184,8 @@ class Fields:
                 raise ConfigError(f"{self.where}: unknown key {shown!r}; valid: {', '.join(keys)}")
         return self
 
-    def vector(self, key: str, length: int | None = None, default: Any = ...) -> tuple[float, ...]:
+    def vector(self, key: str, length: int | None = None, default: Any = ...) -> Any:
+        # Any: a tuple of floats whose length is checked here; callers store fixed-length tuples.
         value = self.get(key, list, default)
         if value is default and default is not ...:
             return default

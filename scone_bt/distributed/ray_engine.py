@@ -80,7 +80,7 @@ def connect_ray(address: str | None = "auto", num_cpus: int | None = None) -> st
 
     if ray.is_initialized():
         return "already connected"
-    common = {
+    common: dict[str, Any] = {
         "include_dashboard": False,
         "log_to_driver": False,
         "logging_level": "ERROR",

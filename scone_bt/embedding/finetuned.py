@@ -21,7 +21,7 @@ import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -287,7 +287,7 @@ def train_finetuned(
     optim = torch.optim.Adam(model.parameters(), lr=opts.learning_rate, weight_decay=opts.weight_decay)
     anchors = np.repeat([p[0] for p in pairs], opts.negatives)
     positives = np.repeat([p[1] for p in pairs], opts.negatives)
-    history = []
+    history: list[float] = []
     start = time.perf_counter()
     threads = torch.get_num_threads()
     # a 2-layer head on a few thousand triplets gains nothing from threads, and on a loaded machine loses a lot
@@ -297,7 +297,8 @@ def train_finetuned(
     finally:
         torch.set_num_threads(threads)
     model.eval()
-    lin1, lin2 = model[0], model[3]
+    lin1: Any = model[0]  # nn.Linear layers (indexing a Sequential is typed as Module)
+    lin2: Any = model[3]
     head = _Head(
         lin1.weight.detach().numpy().copy(),
         lin1.bias.detach().numpy().copy(),

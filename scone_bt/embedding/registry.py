@@ -212,7 +212,8 @@ def available_embedders(cache_dir: Path | None = None) -> list[EmbedderInfo]:
 
 def _mpnet_zip_parts() -> tuple[list[Path], list[str]]:
     """Paths of the installed zip parts, in order, and the names of parts not installed."""
-    found, missing = [], []
+    found: list[Path] = []
+    missing: list[str] = []
     for dist_name in MPNET_PARTS:
         try:
             dist = md.distribution(dist_name)

@@ -12,6 +12,7 @@ import os
 import threading
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -117,14 +118,14 @@ class SentenceTransformerEmbedder(Embedder):
             )
         self.model_dir = model_dir
         self.batch_size = batch_size
-        self._model: object | None = None
+        self._model: Any = None  # a SentenceTransformer, imported only when first used
         dim = declared_dim(model_dir)
         if dim is None:  # the layout does not say: load now and measure
             dim = int(self._raw_encode(["probe"]).shape[1])
         super().__init__(name, dim, f"{name}@{model_fingerprint(model_dir)}", cache_file)
 
     @property
-    def model(self) -> object:
+    def model(self) -> Any:
         """The loaded model (loaded on first use; a broken directory raises ModelUnavailableError then)."""
         if self._model is None:
             self._model = _load_model(self.model_dir)
@@ -137,7 +138,7 @@ class SentenceTransformerEmbedder(Embedder):
         torch.set_num_threads(encode_threads())
         try:
             with torch.inference_mode():
-                out = self.model.encode(  # type: ignore[attr-defined]
+                out = self.model.encode(
                     list(texts),
                     batch_size=self.batch_size,
                     convert_to_numpy=True,

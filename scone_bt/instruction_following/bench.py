@@ -141,7 +141,7 @@ class BenchResult:
     def to_json(self) -> dict[str, object]:
         """Summary numbers, the per-category breakdown of the best policy, and a few failure examples."""
         best = self.best_row()
-        out: dict[str, object] = {
+        out: dict[str, Any] = {
             "counts": self.counts,
             "embedding_policies": [
                 {
@@ -168,7 +168,7 @@ class BenchResult:
             out["best"] = {"policy": score.policy, "accuracy": round(score.accuracy, 4)}
             out["breakdown"] = {"best": _breakdown(score.episodes)}
             for b in self.baselines:
-                out["breakdown"][b.policy] = _breakdown(b.episodes)  # type: ignore[index]
+                out["breakdown"][b.policy] = _breakdown(b.episodes)
             out["failures"] = _failures(score.episodes)
         return out
 
@@ -365,7 +365,7 @@ def run_benchmark(
     parts += [("pddl", "")] if opts.pddl else []
     parts += [("ticc", opts.ticc_embedder)] if opts.ticc else []
     inputs = _PartInputs(tuple(train), tuple(dev), tuple(test), replace(opts, engine=None))
-    done: dict[tuple[str, str], tuple[object, float]] = {}
+    done: dict[tuple[str, str], tuple[Any, float]] = {}
     labels = {"row": "scoring {}", "pddl": "PDDL (LAMA)", "ticc": "TICC-style MCTS (intent model on {})"}
     for _i, (kind, name, result, sec) in imap_tasks(
         _run_part, parts, engine=opts.engine or EngineOptions(workers=1), shared=inputs
@@ -381,7 +381,7 @@ def run_benchmark(
             skipped[name] = result
             log(f"skip {name}: {result}")
             continue
-        rows.append(result)  # type: ignore[arg-type]
+        rows.append(result)
         seconds[name] = sec
     finetuned: dict[str, object] = {}
     if opts.finetune:
@@ -407,7 +407,7 @@ def run_benchmark(
     for kind, name in parts:
         if kind != "row":
             result, sec = done[kind, name]
-            baselines.append(result)  # type: ignore[arg-type]
+            baselines.append(result)
             seconds[kind] = sec
     baselines.append(evaluate(SimilarityPolicy(None, "pick everything (chance)", score_fn=_zeros), test))
     return BenchResult(

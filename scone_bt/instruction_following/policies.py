@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Literal, overload
 
 import numpy as np
 
@@ -49,9 +49,21 @@ def relative_scores(scores: Sequence[np.ndarray]) -> list[np.ndarray]:
     ]
 
 
+@overload
+def threshold_picks_score(
+    scores: Sequence[np.ndarray], states: Sequence[IfState], threshold: float
+) -> tuple[float, float]: ...
+
+
+@overload
+def threshold_picks_score(
+    scores: Sequence[np.ndarray], states: Sequence[IfState], threshold: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]: ...
+
+
 def threshold_picks_score(
     scores: Sequence[np.ndarray], states: Sequence[IfState], threshold: float | np.ndarray
-) -> tuple[float, float]:
+) -> tuple[float, float] | tuple[np.ndarray, np.ndarray]:
     """Mean IF accuracy and recall of "pick while the best remaining scores ≥ threshold"; with an array of
     thresholds, arrays of both (one entry per threshold)."""
     flat = np.concatenate([np.asarray(sc, dtype=float) for sc in scores])
@@ -70,7 +82,7 @@ def threshold_picks_score(
         recs.append(rec.mean())
     if np.ndim(threshold) == 0:
         return float(accs[0]), float(recs[0])
-    return np.array(accs), np.array(recs)  # type: ignore[return-value]
+    return np.array(accs), np.array(recs)
 
 
 def fit_threshold(

@@ -103,7 +103,11 @@ class RecipeSimilarityPolicy:
         top = max(scores.values())
         ok = [a for a in remaining if a in scores and scores[a] >= self.rho and scores[a] >= top - self.delta]
         if not picked and not ok:
-            ok = [max(scores, key=scores.get)] if max(scores, key=scores.get) in remaining else []
+            ok = (
+                [max(scores, key=scores.__getitem__)]
+                if max(scores, key=scores.__getitem__) in remaining
+                else []
+            )
         return max(ok, key=lambda a: scores[a]) if ok else None
 
 

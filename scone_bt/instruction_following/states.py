@@ -239,7 +239,7 @@ def states_text(states: Iterable[IfState]) -> str:
 def save_states(path: str | os.PathLike[str], states: Iterable[IfState]) -> int:
     """Write states as JSON Lines, atomically (a reader never sees half a file); returns how many were written."""
     chosen = list(states)
-    write_atomic(path, states_text(chosen))
+    write_atomic(Path(path), states_text(chosen))
     return len(chosen)
 
 

@@ -15,6 +15,7 @@ import time
 import weakref
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -53,7 +54,7 @@ class Obstacle:
     pose: np.ndarray
 
 
-def _geometry(shape: str, size: Sequence[float], padding: float) -> object:
+def _geometry(shape: str, size: Sequence[float], padding: float) -> Any:
     import coal
 
     sx, sy, sz = (float(s) + 2 * padding for s in size)
@@ -64,13 +65,13 @@ def _geometry(shape: str, size: Sequence[float], padding: float) -> object:
 
 SEEN_STATES = 50_000
 """Most answers a world keeps (`CollisionWorld.is_valid`); about 4 MB, far above a plan's few thousand checks."""
-_PLACED: dict[tuple[object, ...], object] = {}
+_PLACED: dict[tuple[Any, ...], Any] = {}
 """Obstacle geometry objects already made, by what they are made of (see `_placed`)."""
 PLACED_CACHE_SIZE = 4096
 """Most geometry objects kept in `_PLACED` (it is emptied when full; a kitchen holds a few dozen obstacles)."""
 
 
-def _placed(ob: Obstacle, padding: float, base: np.ndarray) -> object:
+def _placed(ob: Obstacle, padding: float, base: np.ndarray) -> Any:
     """The obstacle's padded Pinocchio geometry object in the arm's base frame, made once per obstacle, padding
     and arm and then taken from `_PLACED` (Pinocchio copies it into each world's model, sharing its shape)."""
     import pinocchio as pin
@@ -166,7 +167,7 @@ class CollisionWorld:
         # The axis kept vertical: the held object's up axis, or else the hand's approach axis pointing down.
         up_in_ee = attached.pose[:3, 2] if attached is not None else np.array([0.0, 0.0, -1.0])
         self._up_in_joint = ee_in_joint[:3, :3] @ up_in_ee
-        self._pinocchio: tuple[object, object, object, object] | None = None
+        self._pinocchio: tuple[Any, Any, Any, Any] | None = None
         self._spheres = self._sphere_checks(poses)
 
     def _check_matrix(self) -> np.ndarray:
@@ -203,7 +204,7 @@ class CollisionWorld:
             _geometry,
         )
 
-    def _meshes(self) -> tuple[object, object, object, object]:
+    def _meshes(self) -> tuple[Any, Any, Any, Any]:
         """Pinocchio's data, geometry model and data, and broad phase for this world (made on first need)."""
         if self._pinocchio is not None:
             return self._pinocchio
@@ -237,7 +238,7 @@ class CollisionWorld:
         return self._pinocchio
 
     @property
-    def geom_model(self) -> object:
+    def geom_model(self) -> Any:
         """Pinocchio's geometry model of this world: the arm, the padded obstacles and the held object."""
         return self._meshes()[1]
 
@@ -391,7 +392,7 @@ class HandModel:
         self._padding = padding
         self._obstacle_list = list(obstacles)
         # An obstacle's coal shape is made the first time the hand comes near it (most never do).
-        self._shapes: dict[int, tuple[object, object]] = {}
+        self._shapes: dict[int, tuple[Any, Any]] = {}
         n = len(self._obstacle_list)
         poses = np.array([ob.pose for ob in self._obstacle_list], dtype=float).reshape(n, 4, 4)
         sizes = np.array([ob.size for ob in self._obstacle_list], dtype=float).reshape(n, 3)
@@ -410,7 +411,7 @@ class HandModel:
         self._coal = coal
         self.checks = 0
 
-    def _shape(self, k: int) -> tuple[object, object]:
+    def _shape(self, k: int) -> tuple[Any, Any]:
         """Obstacle k's padded coal geometry and its world transform (made once)."""
         shape = self._shapes.get(k)
         if shape is None:
@@ -463,7 +464,7 @@ class _HandParts:
     """The hand's geometries at one finger position: (coal shape, (4, 4) pose in the end-effector frame) each, its
     reach (m) from the end-effector frame's origin, and each part's bounding sphere there ((k, 3), (k,))."""
 
-    parts: list[tuple[object, np.ndarray]]
+    parts: list[tuple[Any, np.ndarray]]
     reach: float
     centres: np.ndarray
     radii: np.ndarray
@@ -482,7 +483,7 @@ def _hand_parts(arm: ArmModel, finger_position: float | None) -> _HandParts:
         ee_from_joint = np.linalg.inv(ee.placement.homogeneous)
         parts = [
             (g.geometry, ee_from_joint @ g.placement.homogeneous)
-            for g in arm.geometry_with_fingers(key).geometryObjects  # type: ignore[attr-defined]
+            for g in arm.geometry_with_fingers(key).geometryObjects
             if g.parentJoint == arm.ee_joint
         ]
         reach = max((float(np.linalg.norm(p[:3, 3])) + 0.12 for _, p in parts), default=0.3)
@@ -496,12 +497,12 @@ SPHERE_SLACK = 1e-3
 """Metres added to a part's bounding radius before a pair is skipped (GJK's tolerance is far below it)."""
 
 
-def _bounding_spheres(parts: Sequence[tuple[object, np.ndarray]]) -> tuple[np.ndarray, np.ndarray]:
+def _bounding_spheres(parts: Sequence[tuple[Any, np.ndarray]]) -> tuple[np.ndarray, np.ndarray]:
     """(k, 3) centres in the end-effector frame and (k,) radii of spheres around each hand part's geometry."""
     centres, radii = [], []
     for geom, local in parts:
-        geom.computeLocalAABB()  # type: ignore[attr-defined]
-        centre = np.asarray(geom.aabb_center, dtype=float)  # type: ignore[attr-defined]
+        geom.computeLocalAABB()
+        centre = np.asarray(geom.aabb_center, dtype=float)
         centres.append(local[:3, :3] @ centre + local[:3, 3])
-        radii.append(float(geom.aabb_radius))  # type: ignore[attr-defined]
+        radii.append(float(geom.aabb_radius))
     return np.array(centres, dtype=float).reshape(-1, 3), np.array(radii, dtype=float)

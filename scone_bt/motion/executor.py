@@ -112,4 +112,6 @@ class Workcell(ArmExecutor, Protocol):
     """The executor with the cell it stands in: the kitchen's description and the fixed boxes planning avoids."""
 
     config: KitchenConfig
-    static_boxes: Sequence[SceneBox]
+
+    @property
+    def static_boxes(self) -> Sequence[SceneBox]: ...  # read-only here: a list of any SceneBox type fits

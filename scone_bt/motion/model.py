@@ -12,6 +12,7 @@ import math
 import threading
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -21,7 +22,7 @@ from scone_bt.errors import ConfigError, UnknownNameError
 __all__ = ["ArmModel", "IKOptions", "IKSolution", "inverse_small", "pose_matrix", "solve_small"]
 
 
-def _gufunc(name: str) -> object | None:
+def _gufunc(name: str) -> Any | None:
     """numpy's own LAPACK gufunc behind `np.linalg.<name>` (None where this numpy has no such private module)."""
     try:
         from numpy.linalg import _umath_linalg
@@ -42,14 +43,14 @@ def solve_small(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """
     if _SOLVE is None:  # pragma: no cover
         return np.linalg.solve(a, b)
-    return _SOLVE(a, b, signature="dd->d")  # type: ignore[operator]
+    return _SOLVE(a, b, signature="dd->d")
 
 
 def inverse_small(a: np.ndarray) -> np.ndarray:
     """`np.linalg.inv(a)` for a non-singular float64 square matrix (a pose), the same LAPACK call, bit-identical."""
     if _INV is None:  # pragma: no cover
         return np.linalg.inv(a)
-    return _INV(a, signature="d->d")  # type: ignore[operator]
+    return _INV(a, signature="d->d")
 
 
 def pose_matrix(rotation: np.ndarray, translation: Sequence[float]) -> np.ndarray:
@@ -143,7 +144,7 @@ class ArmModel:
         self.ee_frame = self.model.getFrameId(robot.end_effector_frame)
         self.ee_joint = self.model.frames[self.ee_frame].parentJoint
         self._local = threading.local()
-        self._finger_models: dict[float | None, object] = {}  # geometry_with_fingers' templates, by position
+        self._finger_models: dict[float | None, Any] = {}  # geometry_with_fingers' templates, by position
         self.lower = np.array(self.model.lowerPositionLimit, dtype=float)
         self.upper = np.array(self.model.upperPositionLimit, dtype=float)
         self._lower_tol, self._upper_tol = self.lower - 1e-9, self.upper + 1e-9
@@ -181,7 +182,7 @@ class ArmModel:
         self.moving_geometry = np.array([link != links[0] for link in links])
         self.hand_geometry = np.array([link in hand_links for link in links])
 
-    def geometry_with_fingers(self, position: float | None) -> object:
+    def geometry_with_fingers(self, position: float | None) -> Any:
         """A copy of the collision model with each finger at `position` (m from centre, like the gripper joints).
 
         None (or the open position) gives the model as loaded, fingers fully open. The fingers move along the
@@ -192,9 +193,9 @@ class ArmModel:
         if template is None:
             template = self._finger_models[key] = self._fingers_at(key)
         # A copy for the caller to add to; the template (moved fingers and all) is made once per position.
-        return template.copy()  # type: ignore[attr-defined]
+        return template.copy()
 
-    def _fingers_at(self, position: float | None) -> object:
+    def _fingers_at(self, position: float | None) -> Any:
         """`geometry_with_fingers(position)` made afresh."""
         import pinocchio as pin
 
@@ -275,7 +276,7 @@ class ArmModel:
             out[k] += stroke
         return out
 
-    def can_reach(self, position: Sequence[float], margin: float = 0.0) -> bool:
+    def can_reach(self, position: Sequence[float] | np.ndarray, margin: float = 0.0) -> bool:
         """False if the point (world, metres) is certainly beyond the end-effector's reach."""
         return float(np.linalg.norm(np.asarray(position) - self.shoulder)) <= self.reach + margin
 
@@ -289,7 +290,7 @@ class ArmModel:
                 geom.geometry = mesh.convex
 
     @property
-    def data(self) -> object:
+    def data(self) -> Any:
         """Pinocchio workspace of the calling thread (planning runs in a worker while the main thread reads FK)."""
         data = getattr(self._local, "data", None)
         if data is None:
@@ -452,16 +453,16 @@ class ArmModel:
         return None
 
     # ------------------------------------------------------------------------------------------ collisions
-    def _disabled_link_pairs(self, full: object) -> set[frozenset[str]]:
+    def _disabled_link_pairs(self, full: Any) -> set[frozenset[str]]:
         """Link pairs never checked: parent/child links plus the YAML's `collision.disabled_pairs`."""
         pairs: set[frozenset[str]] = set()
         model = full
         links_of_joint: dict[int, list[str]] = {}
-        for frame in model.frames:  # type: ignore[attr-defined]
+        for frame in model.frames:
             if frame.type.name == "BODY":
                 links_of_joint.setdefault(frame.parentJoint, []).append(frame.name)
-        for j in range(1, model.njoints):  # type: ignore[attr-defined]
-            parent = model.parents[j]  # type: ignore[attr-defined]
+        for j in range(1, model.njoints):
+            parent = model.parents[j]
             for a in links_of_joint.get(parent, []):
                 for b in links_of_joint.get(j, []):
                     pairs.add(frozenset((a, b)))
@@ -471,7 +472,7 @@ class ArmModel:
                 for b in links:
                     if a != b:
                         pairs.add(frozenset((a, b)))
-        known = {f.name for f in model.frames}  # type: ignore[attr-defined]
+        known = {f.name for f in model.frames}
         for a, b in self.config.disabled_collisions:
             for link in (a, b):
                 if link not in known:
@@ -503,17 +504,17 @@ _REVOLUTE_AXES = {
 }
 
 
-def _revolute_chain(model: object) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+def _revolute_chain(model: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """(parents, placements (nj, 4, 4), axes (nj, 3)) of a model whose joints all turn about one of their frame's
     axes, joint j driven by q[j - 1] (`motion.compiled`'s chain); None for any other model."""
-    nj = model.njoints  # type: ignore[attr-defined]
+    nj = model.njoints
     axes = np.zeros((nj, 3))
     for j in range(1, nj):
-        joint = model.joints[j]  # type: ignore[attr-defined]
+        joint = model.joints[j]
         axis = _REVOLUTE_AXES.get(joint.shortname())
         if axis is None or joint.idx_q != j - 1 or joint.nq != 1:
             return None
         axes[j] = axis
-    parents = np.array([max(int(model.parents[j]), 0) for j in range(nj)], dtype=np.int64)  # type: ignore[attr-defined]
-    placements = np.array([model.jointPlacements[j].homogeneous for j in range(nj)], dtype=float)  # type: ignore[attr-defined]
+    parents = np.array([max(int(model.parents[j]), 0) for j in range(nj)], dtype=np.int64)
+    placements = np.array([model.jointPlacements[j].homogeneous for j in range(nj)], dtype=float)
     return parents, placements, axes

@@ -156,9 +156,9 @@ def plan_new_spot(
     if not home.success:
         return f"no way home from another spot ({home.status.value})"
     segments = (
-        session.timed(MotionPhase.TRANSIT, transit.path),  # type: ignore[arg-type]
+        session.timed(MotionPhase.TRANSIT, transit.path),
         session.timed(MotionPhase.LOWER, placement.lower, slow=True),
         session.timed(MotionPhase.RETREAT, placement.retreat, slow=True),
-        session.timed(MotionPhase.HOME, home.path),  # type: ignore[arg-type]
+        session.timed(MotionPhase.HOME, home.path),
     )
     return NewSpot(segments, placed, placement.spot, True)

@@ -124,9 +124,9 @@ def search_paths(
             continue
         chosen = pool[approach.goal_index]
         # The transit's goal set likewise ends at the first placement reached in a straight line.
-        direct: list[PlanResult] = []
+        straight: list[PlanResult] = []
         found = search_placements(
-            session, scene, chosen, spots, fingers, until=_straight_to(session, chosen.q_lift, direct)
+            session, scene, chosen, spots, fingers, until=_straight_to(session, chosen.q_lift, straight)
         )
         grasps, placements = grasps + found.grasp_stats, placements + found.stats
         if not found.placements or found.carry_world is None:
@@ -135,8 +135,8 @@ def search_paths(
             continue
         goals = np.array([pl.q_pp for pl in found.placements])
         transit = (
-            direct[0]
-            if direct
+            straight[0]
+            if straight
             else session.plan(chosen.q_lift, goals, found.carry_world, params.path_retries)
         )
         if not transit.success:

@@ -199,13 +199,13 @@ def assemble_plan(
     """Every segment timed with ruckig, in order, with the plan's statistics."""
     grasp, placement = paths.grasp, paths.placement
     segments = (
-        session.timed(MotionPhase.APPROACH, paths.approach.path),  # type: ignore[arg-type]
+        session.timed(MotionPhase.APPROACH, paths.approach.path),
         session.timed(MotionPhase.DESCEND, grasp.descend, slow=True),
         session.timed(MotionPhase.LIFT, grasp.lift, slow=True),
-        session.timed(MotionPhase.TRANSIT, paths.transit.path),  # type: ignore[arg-type]
+        session.timed(MotionPhase.TRANSIT, paths.transit.path),
         session.timed(MotionPhase.LOWER, placement.lower, slow=True),
         session.timed(MotionPhase.RETREAT, placement.retreat, slow=True),
-        session.timed(MotionPhase.HOME, paths.home.path),  # type: ignore[arg-type]
+        session.timed(MotionPhase.HOME, paths.home.path),
     )
     return PickPlacePlan(
         segments=segments,
@@ -311,4 +311,4 @@ def plan_home(
     result = p.plan(q_start, np.asarray(home, dtype=float), world)
     if not result.success:
         return None
-    return p.timed(MotionPhase.HOME, result.path)  # type: ignore[arg-type]
+    return p.timed(MotionPhase.HOME, result.path)

@@ -110,7 +110,7 @@ def find_spots(scene: PickScene) -> PlacementSpots:
     """The request's spots, or spots sampled on the observed free table area; none without a table."""
     req = scene.request
     if req.place_spots:
-        return PlacementSpots(tuple((tuple(s), ()) for s in req.place_spots))  # type: ignore[misc]
+        return PlacementSpots(tuple((tuple(s), ()) for s in req.place_spots))
     if req.table is None:
         return PlacementSpots(())
     sampled = sample_placements(
@@ -119,7 +119,7 @@ def find_spots(scene: PickScene) -> PlacementSpots:
         Footprint.of(req.spec),
         req.spec.height,
         replace(req.placement, rng_seed=req.rng_seed),
-        tuple(scene.base[:2]),  # type: ignore[arg-type]
+        tuple(scene.base[:2]),
         arrival_yaw=req.target.yaw - scene.target_dir,
     )
     return PlacementSpots(tuple((s.xyz, s.yaws) for s in sampled.spots), sampled.blockers)
@@ -218,7 +218,7 @@ def search_placements(
             if back is None:
                 stats = stats.blocked(why, names)
                 continue
-            out.append(Placement(tuple(spot), ee_place, q_pp, lower, back))  # type: ignore[arg-type]
+            out.append(Placement(tuple(spot), ee_place, q_pp, lower, back))
             if until is not None and until(out[-1], w_carry):
                 return PlacementSearch(tuple(out), w_carry, stats)
             break

@@ -21,6 +21,7 @@ import math
 import weakref
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -77,20 +78,20 @@ def cover_points(points: np.ndarray, extra: float = 0.0) -> list[tuple[np.ndarra
     return spheres
 
 
-def _cover_geometry(geom: object, placement: np.ndarray) -> list[tuple[np.ndarray, float]] | None:
+def _cover_geometry(geom: Any, placement: np.ndarray) -> list[tuple[np.ndarray, float]] | None:
     """Spheres around one coal geometry placed at `placement` (4x4) in its joint's frame; None: a shape without."""
     swept = getattr(geom, "getSweptSphereRadius", None)
     extra = float(swept()) if swept is not None else 0.0
     kind = type(geom).__name__
     if kind.startswith("Convex"):
-        local = np.asarray(geom.points(), dtype=float).reshape(-1, 3)  # type: ignore[attr-defined]
+        local = np.asarray(geom.points(), dtype=float).reshape(-1, 3)
     elif kind == "Box":
-        hx, hy, hz = (float(v) for v in geom.halfSide)  # type: ignore[attr-defined]
+        hx, hy, hz = (float(v) for v in geom.halfSide)
         local = np.array([[sx * hx, sy * hy, sz * hz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
     elif kind == "Sphere":
-        return [(placement[:3, 3].copy(), float(geom.radius) + extra)]  # type: ignore[attr-defined]
+        return [(placement[:3, 3].copy(), float(geom.radius) + extra)]
     elif kind in ("Cylinder", "Capsule"):
-        radius, half = float(geom.radius), float(geom.halfLength)  # type: ignore[attr-defined]
+        radius, half = float(geom.radius), float(geom.halfLength)
         if kind == "Capsule":
             half += radius  # its end caps lie inside the longer cylinder
         # Slices of the cylinder itself (rim points would not hold its curved side).
@@ -104,14 +105,14 @@ def _cover_geometry(geom: object, placement: np.ndarray) -> list[tuple[np.ndarra
     return cover_points(local @ placement[:3, :3].T + placement[:3, 3], extra)
 
 
-def _hull_vertices(geom: object) -> np.ndarray:
+def _hull_vertices(geom: Any) -> np.ndarray:
     """(k, 3) points in the geometry's frame whose convex hull is the shape (its swept sphere aside): a convex
     mesh's vertices, a box's corners; (0, 3) for a curved shape (the kernel leaves its pairs to coal)."""
     kind = type(geom).__name__
     if kind.startswith("Convex"):
-        return np.asarray(geom.points(), dtype=float).reshape(-1, 3)  # type: ignore[attr-defined]
+        return np.asarray(geom.points(), dtype=float).reshape(-1, 3)
     if kind == "Box":
-        hx, hy, hz = (float(v) for v in geom.halfSide)  # type: ignore[attr-defined]
+        hx, hy, hz = (float(v) for v in geom.halfSide)
         return np.array([[sx * hx, sy * hy, sz * hz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
     return np.zeros((0, 3))
 
@@ -132,7 +133,7 @@ class ArmSpheres:
 
     arm_f: np.ndarray
     arm_i: np.ndarray
-    shapes: tuple[object, ...]
+    shapes: tuple[Any, ...]
     placements: np.ndarray
     joints: np.ndarray
     names: tuple[str, ...]
@@ -152,13 +153,13 @@ class _Cover:
     count: np.ndarray
 
 
-_OPEN: weakref.WeakKeyDictionary[object, _Cover | None] = weakref.WeakKeyDictionary()
-_BY_POSITION: weakref.WeakKeyDictionary[object, dict[float | None, ArmSpheres]] = weakref.WeakKeyDictionary()
+_OPEN: weakref.WeakKeyDictionary[Any, _Cover | None] = weakref.WeakKeyDictionary()
+_BY_POSITION: weakref.WeakKeyDictionary[Any, dict[float | None, ArmSpheres]] = weakref.WeakKeyDictionary()
 POSITIONS_KEPT = 64
 """Finger positions whose `ArmSpheres` an arm keeps (each plan pre-shapes the hand to its own)."""
 
 
-def arm_spheres(arm: object, finger_position: float | None) -> ArmSpheres | None:
+def arm_spheres(arm: Any, finger_position: float | None) -> ArmSpheres | None:
     """The arm's `ArmSpheres` with its fingers at `finger_position` (m, as `ArmModel.geometry_with_fingers`);
     None where the arm has no compiled chain or a geometry's shape has no cover (the world asks Pinocchio)."""
     if getattr(arm, "chain", None) is None:
@@ -178,9 +179,13 @@ def arm_spheres(arm: object, finger_position: float | None) -> ArmSpheres | None
     return spheres
 
 
-def _open_cover(arm: object) -> _Cover | None:
-    gm = arm.geometry_with_fingers(None)  # type: ignore[attr-defined]
-    centre, radius, joint, first, count = [], [], [], [], []
+def _open_cover(arm: Any) -> _Cover | None:
+    gm = arm.geometry_with_fingers(None)
+    centre: list[np.ndarray] = []
+    radius: list[float] = []
+    joint: list[int] = []
+    first: list[int] = []
+    count: list[int] = []
     for g in gm.geometryObjects:
         spheres = _cover_geometry(g.geometry, np.asarray(g.placement.homogeneous, dtype=float))
         if not spheres:
@@ -200,17 +205,17 @@ def _open_cover(arm: object) -> _Cover | None:
     )
 
 
-def _pack(arm: object, cover: _Cover, finger_position: float | None) -> ArmSpheres:
+def _pack(arm: Any, cover: _Cover, finger_position: float | None) -> ArmSpheres:
     """The open hand's cover with the fingers' spheres moved as their geometry moves (along the end-effector's
     closing axis, `ArmModel.geometry_with_fingers`), packed with the chain."""
-    gm = arm.geometry_with_fingers(finger_position)  # type: ignore[attr-defined]
+    gm = arm.geometry_with_fingers(finger_position)
     geoms = list(gm.geometryObjects)
     placements = np.array([g.placement.homogeneous for g in geoms], dtype=float)
     centre = cover.centre.copy()
     if finger_position is not None:
-        shift = finger_position - arm.config.gripper.open_position  # type: ignore[attr-defined]
-        rotation = np.asarray(arm.model.frames[arm.ee_frame].placement.rotation)  # type: ignore[attr-defined]
-        for k, side in arm.finger_geometry.items():  # type: ignore[attr-defined]
+        shift = finger_position - arm.config.gripper.open_position
+        rotation = np.asarray(arm.model.frames[arm.ee_frame].placement.rotation)
+        for k, side in arm.finger_geometry.items():
             rows = slice(int(cover.first[k]), int(cover.first[k] + cover.count[k]))
             centre[rows] += rotation @ np.array([0.0, side * shift, 0.0])
     # One sphere around each geometry's spheres: a pair whose two bounding spheres are apart needs no other test.
@@ -221,7 +226,7 @@ def _pack(arm: object, cover: _Cover, finger_position: float | None) -> ArmSpher
         c = 0.5 * (centre[rows].min(axis=0) + centre[rows].max(axis=0))
         bound_centre[k] = c
         bound_radius[k] = float((np.sqrt(((centre[rows] - c) ** 2).sum(axis=1)) + cover.radius[rows]).max())
-    parents, chain_placements, axes = arm.chain  # type: ignore[attr-defined]
+    parents, chain_placements, axes = arm.chain
     joints = np.array([int(g.parentJoint) for g in geoms], dtype=np.int64)
     nj, ns, ng = len(parents), len(cover.radius), len(geoms)
     hulls = [_hull_vertices(g.geometry) for g in geoms]
@@ -240,8 +245,8 @@ def _pack(arm: object, cover: _Cover, finger_position: float | None) -> ArmSpher
             bound_centre.ravel(),
             bound_radius,
             placements.ravel(),
-            arm._lower_tol,  # type: ignore[attr-defined]
-            arm._upper_tol,  # type: ignore[attr-defined]
+            arm._lower_tol,
+            arm._upper_tol,
             swept,
             np.concatenate(hulls).ravel(),
         ]
@@ -294,9 +299,9 @@ class SphereChecks:
         obstacles: Obstacles,
         padding: float,
         held: tuple[str, str, Sequence[float], np.ndarray, int] | None,
-        held_shape: object | None,
+        held_shape: Any | None,
         tilt: tuple[int, float, np.ndarray] | None,
-        shape_of: object,
+        shape_of: Any,
     ) -> None:
         import coal
 
@@ -350,14 +355,14 @@ class SphereChecks:
         self._translations = self._work[held_at + 16 + ng * 9 : held_at + 16 + ng * 12].reshape(ng, 3)
         # One coal transform per geometry (made when first needed), set from the kernel's poses once per state that
         # needs it.
-        self._transforms: list[object | None] = [None] * (ng + 1)  # the held object's last
+        self._transforms: list[Any | None] = [None] * (ng + 1)  # the held object's last
         self._set_at = [0] * (ng + 1)
         self._state = 0
         self._out = np.empty(max(len(self._pairs), 1), dtype=np.int64)
         self._obstacles = obstacles
         self._padding = padding
         self._shape_of = shape_of
-        self._obstacle_shapes: dict[int, tuple[object, object]] = {}  # made when first a candidate
+        self._obstacle_shapes: dict[int, tuple[Any, Any]] = {}  # made when first a candidate
         self._held_shape = held_shape
         # coal's default request: without contacts coal missed a 0.15 mm penetration that Pinocchio's request
         # (with its cached GJK guess) and this one both find (a motion benchmark plan's state)
@@ -441,7 +446,7 @@ class SphereChecks:
         self._result.clear()
         return bool(self._coal.collide(shape_a, tf_a, shape_b, tf_b, self._request, self._result))
 
-    def _robot(self, g: int) -> tuple[object, object]:
+    def _robot(self, g: int) -> tuple[Any, Any]:
         tf = self._transforms[g]
         if tf is None:
             tf = self._transforms[g] = self._coal.Transform3s()
@@ -451,7 +456,7 @@ class SphereChecks:
             self._set_at[g] = self._state
         return self._spheres.shapes[g], tf
 
-    def _held(self) -> tuple[object, object]:
+    def _held(self) -> tuple[Any, Any]:
         tf = self._transforms[-1]
         if tf is None:
             tf = self._transforms[-1] = self._coal.Transform3s()
@@ -461,13 +466,13 @@ class SphereChecks:
             self._set_at[-1] = self._state
         return self._held_shape, tf
 
-    def _obstacle(self, o: int) -> tuple[object, object]:
+    def _obstacle(self, o: int) -> tuple[Any, Any]:
         made = self._obstacle_shapes.get(o)
         if made is None:
             obstacles = self._obstacles
             pose = obstacles.poses[o]
             tf = self._coal.Transform3s(pose[:3, :3].copy(), pose[:3, 3].copy())
-            shape = self._shape_of(obstacles.shapes[o], obstacles.sizes[o], self._padding)  # type: ignore[operator]
+            shape = self._shape_of(obstacles.shapes[o], obstacles.sizes[o], self._padding)
             made = self._obstacle_shapes[o] = (shape, tf)
         return made
 

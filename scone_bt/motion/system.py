@@ -250,7 +250,7 @@ class PickAndPlace:
             rng_seed=self.rng_seed,
             table=sys_.table,
             table_obstacles=table_objects,
-            place_spots=() if self.place_spot is None else (tuple(self.place_spot),),  # type: ignore[arg-type]
+            place_spots=() if self.place_spot is None else (tuple(self.place_spot),),
             params=sys_.params,
             placement=sys_.placement,
             preferred_yaw=sys_.preferred_yaw,

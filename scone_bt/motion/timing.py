@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -97,21 +98,21 @@ def time_path(
 
 
 def _sampled(
-    start: np.ndarray, segments: list[tuple[np.ndarray, np.ndarray, object]], dt: float
+    start: np.ndarray, segments: list[tuple[np.ndarray, np.ndarray, Any]], dt: float
 ) -> TimedTrajectory:
     """The chained segments (first state, delta, 1-DOF ruckig trajectory of s) sampled every `dt` seconds from
     rest at `start`: each segment's samples in one compiled call (`compiled.sample_segment`)."""
     from scone_bt.motion.compiled import sample_segment
 
-    counts = [int(np.ceil(traj.duration / dt - 1e-9)) for _, _, traj in segments]  # type: ignore[attr-defined]
+    counts = [int(np.ceil(traj.duration / dt - 1e-9)) for _, _, traj in segments]
     rows = 1 + sum(counts)
     times, pos = np.zeros(rows), np.empty((rows, len(start)))
     vel, acc = np.zeros((rows, len(start))), np.zeros((rows, len(start)))
     pos[0] = start
     offset, row = 0.0, 1
     for (a, delta, traj), n in zip(segments, counts, strict=True):
-        duration = traj.duration  # type: ignore[attr-defined]
-        profile = traj.profiles[0][0]  # type: ignore[attr-defined]
+        duration = traj.duration
+        profile = traj.profiles[0][0]
         if profile.brake.duration > 0.0:  # never from rest: ruckig's own sampling
             ts = np.minimum(np.arange(1, n + 1) * dt, duration)
             sva = _sample(traj, ts)
@@ -129,16 +130,16 @@ def _sampled(
     return TimedTrajectory(times, pos, vel, acc)
 
 
-def _sample(traj: object, ts: np.ndarray) -> np.ndarray:
+def _sample(traj: Any, ts: np.ndarray) -> np.ndarray:
     """(n, 3) position, velocity and acceleration of a 1-DOF ruckig trajectory at times ts (vectorised).
 
     A rest-to-rest profile is seven constant-jerk phases: each sample is the cubic of its phase, evaluated for
     all samples at once instead of one `at_time` call per control step. A profile with a braking pre-phase
     (never the case from rest) falls back to `at_time`.
     """
-    profile = traj.profiles[0][0]  # type: ignore[attr-defined]
+    profile = traj.profiles[0][0]
     if profile.brake.duration > 0.0:
-        return np.array([[x[0] for x in traj.at_time(float(t))] for t in ts])  # type: ignore[attr-defined]
+        return np.array([[x[0] for x in traj.at_time(float(t))] for t in ts])
     durations = np.asarray(profile.t, dtype=float)
     starts = np.concatenate([[0.0], np.cumsum(durations)[:-1]])
     k = np.clip(np.searchsorted(starts, ts, side="right") - 1, 0, len(durations) - 1)

@@ -199,7 +199,9 @@ def _base_spheres(robot: Any) -> np.ndarray:
     return _BASE_SPHERES[key]
 
 
-def _below_base(centre: np.ndarray, rotation: np.ndarray, half: np.ndarray, base: np.ndarray) -> np.ndarray:
+def _below_base(
+    centre: np.ndarray, rotation: np.ndarray, half: np.ndarray, base: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Centre and half extents of an upright box cut down to just below the base's spheres, if it holds the base.
 
     The mesh checker never pairs the base link with obstacles (it cannot move), but VAMP checks every sphere: a
@@ -306,7 +308,7 @@ def plan_vamp(
         if valid:
             break
 
-    def fail(status: PlanStatus, why: str, t: float, **kw: int) -> VampPlan:
+    def fail(status: PlanStatus, why: str, t: float, **kw: Any) -> VampPlan:
         return VampPlan(PlanResult(status, None, t, f"VAMP: {why}"), env_s, padding, **kw)
 
     if not start_ok:

@@ -46,7 +46,9 @@ class RelevanceFilter:
             )
 
     @classmethod
-    def fit(cls, scores: Sequence[float], labels: Sequence[bool], embedder: str = "") -> RelevanceFilter:
+    def fit(
+        cls, scores: Sequence[float] | np.ndarray, labels: Sequence[bool] | np.ndarray, embedder: str = ""
+    ) -> RelevanceFilter:
         """Threshold that best separates relevant from irrelevant scores (maximum balanced accuracy).
 
         Use per-(instruction, action) similarities labelled "this action serves this instruction", or per-

@@ -352,7 +352,7 @@ class SimWorld:
             motion = self.robot.motion
             motion.planner = dataclasses.replace(motion.planner, time_limit_s=float(planner_budget_s))
         if calibration_offset is not None:
-            self.robot.calibration_offset = tuple(float(c) for c in calibration_offset)  # type: ignore[assignment]
+            self.robot.calibration_offset = tuple(float(c) for c in calibration_offset)
         scales = {
             "velocity_scale": velocity_scale,
             "acceleration_scale": acceleration_scale,

@@ -89,13 +89,13 @@ def _scenario_inputs(paths: Sequence[str], cases: Sequence[object]) -> list[Path
 
     files = list(scenario_files(paths))
     for case in cases:
-        w, base = case.spec.world, case.base  # type: ignore[attr-defined]
+        w, base = case.spec.world, case.base
         for ref in (w.arm, w.kitchen, w.recipe, w.tree, *w.catalogues):
             if Path(resolved := resolve_input(ref, base)).is_file():
                 files.append(Path(resolved))
-        if case.spec.robot.profile is not None:  # type: ignore[attr-defined]
+        if case.spec.robot.profile is not None:
             with contextlib.suppress(SconeError):  # an unknown profile is the case's own error when it runs
-                files.append(profile_path(case.spec.robot.profile, base))  # type: ignore[attr-defined]
+                files.append(profile_path(case.spec.robot.profile, base))
     return files
 
 
@@ -153,10 +153,10 @@ def summary_table(results: Sequence[object]) -> str:
     """One row per case: verdict, simulated and wall seconds, name, reason."""
     rows = [f"{'verdict':<8} {'sim s':>7} {'wall s':>7}  name"]
     for r in results:
-        reason = f"  — {r.reason}" if r.reason else ""  # type: ignore[attr-defined]
+        reason = f"  — {r.reason}" if r.reason else ""
         if len(reason) > 140:
             reason = reason[:137] + "..."
-        rows.append(f"{r.verdict:<8} {r.sim_s:7.1f} {r.wall_s:7.1f}  {r.name}{reason}")  # type: ignore[attr-defined]
+        rows.append(f"{r.verdict:<8} {r.sim_s:7.1f} {r.wall_s:7.1f}  {r.name}{reason}")
     return "\n".join(rows)
 
 
@@ -166,29 +166,29 @@ def junit_xml(results: Sequence[object], wall_s: float) -> bytes:
         "testsuite",
         name="scone-scenarios",
         tests=str(len(results)),
-        failures=str(sum(r.verdict in ("failed", "xpass") for r in results)),  # type: ignore[attr-defined]
-        errors=str(sum(r.verdict == "error" for r in results)),  # type: ignore[attr-defined]
-        skipped=str(sum(r.verdict == "xfail" for r in results)),  # type: ignore[attr-defined]
+        failures=str(sum(r.verdict in ("failed", "xpass") for r in results)),
+        errors=str(sum(r.verdict == "error" for r in results)),
+        skipped=str(sum(r.verdict == "xfail" for r in results)),
         time=f"{wall_s:.3f}",
     )
     for r in results:
         case = ET.SubElement(
             suite,
             "testcase",
-            classname=Path(r.path).stem,  # type: ignore[attr-defined]
-            name=r.name,  # type: ignore[attr-defined]
-            time=f"{r.wall_s:.3f}",  # type: ignore[attr-defined]
+            classname=Path(r.path).stem,
+            name=r.name,
+            time=f"{r.wall_s:.3f}",
         )
         ET.SubElement(case, "properties").extend(
-            [ET.Element("property", name="sim_s", value=f"{r.sim_s:.1f}")]  # type: ignore[attr-defined]
+            [ET.Element("property", name="sim_s", value=f"{r.sim_s:.1f}")]
         )
-        if r.verdict in ("failed", "xpass"):  # type: ignore[attr-defined]
-            f = ET.SubElement(case, "failure", message=r.reason)  # type: ignore[attr-defined]
-            f.text = r.report()  # type: ignore[attr-defined]
-        elif r.verdict == "error":  # type: ignore[attr-defined]
-            ET.SubElement(case, "error", message=r.reason)  # type: ignore[attr-defined]
-        elif r.verdict == "xfail":  # type: ignore[attr-defined]
-            ET.SubElement(case, "skipped", type="pytest.xfail", message=r.reason)  # type: ignore[attr-defined]
+        if r.verdict in ("failed", "xpass"):
+            f = ET.SubElement(case, "failure", message=r.reason)
+            f.text = r.report()
+        elif r.verdict == "error":
+            ET.SubElement(case, "error", message=r.reason)
+        elif r.verdict == "xfail":
+            ET.SubElement(case, "skipped", type="pytest.xfail", message=r.reason)
     return ET.tostring(_wrap(suite), encoding="utf-8", xml_declaration=True)
 
 
@@ -233,12 +233,12 @@ def _run(args: argparse.Namespace) -> int:
         done[0] += 1
         r = result
         if not args.quiet:
-            line = f"[{done[0]}/{len(cases)}] {r.verdict:<7} {r.name}  ({r.sim_s:.1f} s simulated, {r.wall_s:.1f} s wall)"  # type: ignore[attr-defined]
+            line = f"[{done[0]}/{len(cases)}] {r.verdict:<7} {r.name}  ({r.sim_s:.1f} s simulated, {r.wall_s:.1f} s wall)"
             if bar.disable:
                 print(line, file=sys.stderr, flush=True)
             else:
                 bar.write(line, file=sys.stderr)
-        bar.set_postfix_str(f"last: {r.name} {r.verdict}", refresh=False)  # type: ignore[attr-defined]
+        bar.set_postfix_str(f"last: {r.name} {r.verdict}", refresh=False)
         bar.update(1)
 
     try:

@@ -245,7 +245,7 @@ def check(expectation: Any, records: Sequence[Record], end: Outcome) -> Expectat
         )
         if i is None:
             return _fail(label, f"no decision about {ex.kappa!r} followed", records, None, end)
-        value = records[i].event.confidence  # type: ignore[attr-defined]
+        value = records[i].event.confidence
         if ex.below is not None and not value < ex.below:
             return _fail(label, f"κ̂ was {value:.3f}, not below {ex.below:g}", records, i, end)
         if ex.above is not None and not value > ex.above:

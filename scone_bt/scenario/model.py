@@ -171,7 +171,7 @@ class HumanSection(StrictModel):
 class EventMatch(StrictModel):
     """Matches one typed event: its stored ``kind`` and, if given, its fields."""
 
-    kind: Literal[EVENT_KINDS]  # type: ignore[valid-type]
+    kind: Literal[EVENT_KINDS]
     object: _Name | None = None
     success: bool | None = None
     stage: _Name | None = None
@@ -462,8 +462,8 @@ class ScenarioFile(StrictModel):
     world: WorldSection = WorldSection()
     robot: RobotSection = RobotSection()
     human: HumanSection = HumanSection()
-    events: Annotated[list[ScenarioEvent], Field(max_length=100)] = []  # type: ignore[valid-type]
-    expect: Annotated[list[Expectation], Field(min_length=1, max_length=100)]  # type: ignore[valid-type]
+    events: Annotated[list[ScenarioEvent], Field(max_length=100)] = []
+    expect: Annotated[list[Expectation], Field(min_length=1, max_length=100)]
     sweep: dict[str, _SweepValues] = {}
     expected_on: dict[str, BackendExpectation] = {}
     """Per robot backend (by name), an ``expected`` and its ``reason`` that replace the file's on that backend

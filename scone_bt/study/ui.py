@@ -377,7 +377,7 @@ def build_app(state: TabletState, token: str | None, local_only: bool = True) ->
         dependency.__annotations__["request"] = Request
 
     app = FastAPI(title="SCONE-BT tablet", docs_url=None, redoc_url=None, openapi_url=None)
-    app.add_middleware(RequestGuard, token=token, local_only=local_only)  # type: ignore[arg-type]
+    app.add_middleware(RequestGuard, token=token, local_only=local_only)
     page = _page()
 
     @app.get("/", response_class=HTMLResponse)

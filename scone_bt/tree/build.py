@@ -63,7 +63,7 @@ ARG_MODELS: dict[str, type[StrictModel]] = {"DecisionIs": _DecisionIsArgs, "Wait
 
 def _signature_model(cls: type) -> type[BaseModel]:
     """A pydantic model of a behaviour's keyword arguments (those of `from_context` after name and context)."""
-    build = cls.from_context  # type: ignore[attr-defined]
+    build = cls.from_context
     try:
         hints = typing.get_type_hints(build)
     except NameError:  # an annotation only a type checker can resolve: the args are still checked by name

@@ -100,5 +100,5 @@ def body_poses(path: str | Path) -> dict[str, list[tuple[int, tuple[float, float
         frames = batch.column("Transform3D:child_frame").to_pylist()
         translations = batch.column("Transform3D:translation").to_pylist()
         for tick, frame, translation in zip(ticks, frames, translations, strict=True):
-            out.setdefault(frame[0], []).append((int(tick), tuple(translation[0])))  # type: ignore[arg-type]
+            out.setdefault(frame[0], []).append((int(tick), tuple(translation[0])))
     return {frame: sorted(rows) for frame, rows in out.items()}

@@ -176,7 +176,7 @@ def _tree_signature(root: Any) -> tuple[tuple[int, Any, str, int], ...]:
 
 
 def _rgba255(rgba: Sequence[float]) -> tuple[int, int, int, int]:
-    return tuple(int(round(255 * max(0.0, min(1.0, float(c))))) for c in rgba)  # type: ignore[return-value]
+    return tuple(int(round(255 * max(0.0, min(1.0, float(c))))) for c in rgba)
 
 
 class Recorder:

@@ -6,6 +6,7 @@ import math
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from scone_bt.errors import ConfigError, UnknownNameError
 
@@ -88,7 +89,8 @@ def rpy_to_quat(roll: float, pitch: float, yaw: float) -> tuple[float, float, fl
     )
 
 
-def _floats(text: str | None, n: int, default: tuple[float, ...], where: str) -> tuple[float, ...]:
+def _floats(text: str | None, n: int, default: tuple[float, ...], where: str) -> Any:
+    # Any: the length n is checked here at run time, and callers store fixed-length tuples.
     if text is None:
         return default
     parts = text.split()
@@ -103,12 +105,14 @@ def _floats(text: str | None, n: int, default: tuple[float, ...], where: str) ->
     return values
 
 
-def _origin(elem: ET.Element | None, where: str) -> tuple[tuple[float, float, float], tuple[float, ...]]:
+def _origin(
+    elem: ET.Element | None, where: str
+) -> tuple[tuple[float, float, float], tuple[float, float, float, float]]:
     if elem is None:
         return (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)
     xyz = _floats(elem.get("xyz"), 3, (0.0, 0.0, 0.0), f"{where} origin xyz")
     rpy = _floats(elem.get("rpy"), 3, (0.0, 0.0, 0.0), f"{where} origin rpy")
-    return xyz, rpy_to_quat(*rpy)  # type: ignore[return-value]
+    return xyz, rpy_to_quat(*rpy)
 
 
 def _resolve_mesh(filename: str, urdf: Path) -> Path | None:
@@ -157,7 +161,7 @@ def read_robot_visuals(urdf: str | Path, source: str = "visual") -> RobotVisuals
         raise ConfigError(f"cannot read URDF {path}: {exc}") from None
     where = str(path)
     colours = _material_colours(root, where)
-    children = {j.find("child").get("link") for j in root.findall("joint") if j.find("child") is not None}  # type: ignore[union-attr]
+    children = {c.get("link") for j in root.findall("joint") if (c := j.find("child")) is not None}
     links = root.findall("link")
     roots = [lk.get("name", "") for lk in links if lk.get("name") not in children]
     if not roots:
@@ -166,8 +170,8 @@ def read_robot_visuals(urdf: str | Path, source: str = "visual") -> RobotVisuals
 
     visuals: list[LinkVisual] = []
     skipped: list[str] = []
-    inertial_pos: tuple[float, ...] = (0.0, 0.0, 0.0)
-    inertial_quat: tuple[float, ...] = (0.0, 0.0, 0.0, 1.0)
+    inertial_pos: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    inertial_quat: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 1.0)
     for link in links:
         name = link.get("name", "")
         if name == root_name:
@@ -189,7 +193,7 @@ def read_robot_visuals(urdf: str | Path, source: str = "visual") -> RobotVisuals
                     rgba = colours.get(mat.get("name", ""), _DEFAULT_RGBA)
             geom = elem.find("geometry")
             shape = geom[0] if geom is not None and len(geom) else None
-            common = {"link": name, "position": pos, "quaternion": quat, "rgba": rgba}
+            common: dict[str, Any] = {"link": name, "position": pos, "quaternion": quat, "rgba": rgba}
             if shape is None:
                 skipped.append(f"{name}: {source} without geometry")
             elif shape.tag == "mesh":
@@ -204,17 +208,17 @@ def read_robot_visuals(urdf: str | Path, source: str = "visual") -> RobotVisuals
                     skipped.append(f"{name}: mesh {filename!r} not found")
                 else:
                     scale = _floats(shape.get("scale"), 3, (1.0, 1.0, 1.0), f"{lw} mesh scale")
-                    visuals.append(LinkVisual(kind="mesh", mesh=mesh, scale=scale, **common))  # type: ignore[arg-type]
+                    visuals.append(LinkVisual(kind="mesh", mesh=mesh, scale=scale, **common))
             elif shape.tag == "box":
                 size = _floats(shape.get("size"), 3, (0.0, 0.0, 0.0), f"{lw} box size")
-                visuals.append(LinkVisual(kind="box", size=size, **common))  # type: ignore[arg-type]
+                visuals.append(LinkVisual(kind="box", size=size, **common))
             elif shape.tag == "cylinder":
                 r = float(shape.get("radius", 0.0))
                 length = float(shape.get("length", 0.0))
-                visuals.append(LinkVisual(kind="cylinder", size=(r, r, length), **common))  # type: ignore[arg-type]
+                visuals.append(LinkVisual(kind="cylinder", size=(r, r, length), **common))
             elif shape.tag == "sphere":
                 r = float(shape.get("radius", 0.0))
-                visuals.append(LinkVisual(kind="sphere", size=(r, r, r), **common))  # type: ignore[arg-type]
+                visuals.append(LinkVisual(kind="sphere", size=(r, r, r), **common))
             else:
                 skipped.append(
                     f"{name}: geometry <{shape.tag}> not drawable (use mesh, box, cylinder, sphere)"
@@ -222,8 +226,8 @@ def read_robot_visuals(urdf: str | Path, source: str = "visual") -> RobotVisuals
     return RobotVisuals(
         name=root.get("name", path.stem),
         root_link=root_name,
-        root_inertial_position=inertial_pos,  # type: ignore[arg-type]
-        root_inertial_quaternion=inertial_quat,  # type: ignore[arg-type]
+        root_inertial_position=inertial_pos,
+        root_inertial_quaternion=inertial_quat,
         visuals=tuple(visuals),
         skipped=tuple(skipped),
     )

@@ -338,7 +338,7 @@ class Kitchen:
     def object_state(self, name: str) -> ObjectState:
         body = self._body(name)
         pos, orn = self.bc.getBasePositionAndOrientation(body)
-        return ObjectState(name, body, tuple(pos), tuple(orn))  # type: ignore[arg-type]
+        return ObjectState(name, body, tuple(pos), tuple(orn))
 
     def object_yaw(self, name: str) -> float:
         """The object's heading now: its rotation about z, radians (roll-pitch-yaw)."""
@@ -567,7 +567,7 @@ class Kitchen:
         ids = [self.joint_index[n] for n in self.robot_config.gripper.joints]
         return np.array([s[0] for s in self.bc.getJointStates(self.robot_id, ids)])
 
-    def hold_arm(self, q: Sequence[float]) -> None:
+    def hold_arm(self, q: Sequence[float] | np.ndarray) -> None:
         """Command arm joint position targets (PyBullet position control, zero velocity feed-forward)."""
         self.command_arm(np.asarray(q, dtype=float))
         self._keep_stepping()

@@ -453,7 +453,7 @@ def run_generate(args: argparse.Namespace) -> int:
                 stopped = True
                 break
     finally:
-        results.close()  # type: ignore[attr-defined]  # stops the pool or cancels the Ray tasks still running
+        results.close()  # stops the pool or cancels the Ray tasks still running
         bar.close()
     elapsed = time.perf_counter() - t0
     cpu = _cpu_s() - cpu0  # this process and its finished worker processes (a Ray cluster's are not counted)

@@ -362,8 +362,8 @@ def read_dataset(path: Path | str) -> list[Dataset]:
             Dataset(
                 name=name,
                 actions=tuple(str(rows[i]["action"]) for i in idx),
-                objects=tuple(str(rows[i][obj_col]) for i in idx),  # type: ignore[index]
-                success=np.array([_outcome(rows[i][out_col], path, i) for i in idx], dtype=bool),  # type: ignore[index]
+                objects=tuple(str(rows[i][obj_col]) for i in idx),
+                success=np.array([_outcome(rows[i][out_col], path, i) for i in idx], dtype=bool),
                 failure_stages=tuple(str(rows[i].get("failure_stage") or "") for i in idx),
                 families=tuple(str(rows[i].get("family") or "") for i in idx),
                 context={

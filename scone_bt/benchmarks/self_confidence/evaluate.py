@@ -171,7 +171,7 @@ def prior_baseline(
 ) -> PairResult:
     """Every protocol for a predictor that ignores the action (the smoothed success rate seen so far)."""
     zeros = [np.zeros((len(d), 1)) for d in datasets]
-    return evaluate_pair("none", "prior", datasets, zeros, lambda seed: _Prior(), options, protocols)  # type: ignore[arg-type, return-value]
+    return evaluate_pair("none", "prior", datasets, zeros, lambda seed: _Prior(), options, protocols)
 
 
 @dataclass(frozen=True)

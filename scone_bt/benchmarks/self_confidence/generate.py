@@ -23,7 +23,7 @@ import dataclasses
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -96,7 +96,11 @@ def _fits(scene: Any, specs: Sequence[ObjectSpec]) -> bool:
 
 def _shifted(det: Detection, offset: Sequence[float]) -> Detection:
     return dataclasses.replace(
-        det, position=tuple(float(a + b) for a, b in zip(det.position, offset, strict=True))
+        det,
+        position=cast(
+            "tuple[float, float, float]",
+            tuple(float(a + b) for a, b in zip(det.position, offset, strict=True)),
+        ),
     )
 
 
@@ -105,13 +109,13 @@ class _Worker:
 
     def __init__(self) -> None:
         self.configs: dict[tuple[str, str, tuple[str, ...]], tuple[KitchenConfig, RobotConfig]] = {}
-        self.arms: dict[tuple[str, str], object] = {}
-        self.detectors: dict[int, object] = {}
+        self.arms: dict[tuple[str, str], Any] = {}  # ArmModel, imported in the worker
+        self.detectors: dict[int, tuple[Any, Any]] = {}  # (catalogue, its Detector)
         self.kitchen: Any = None
         self.kitchen_key: object = None
         self.start_state: int | None = None
 
-    def arm(self, robot: RobotConfig) -> object:
+    def arm(self, robot: RobotConfig) -> Any:
         from scone_bt.motion import ArmModel
 
         key = (str(robot.source), str(robot.urdf))
@@ -125,7 +129,7 @@ class _Worker:
         key = id(kitchen.catalogue)
         if key not in self.detectors:
             self.detectors[key] = (kitchen.catalogue, Detector(kitchen.catalogue))
-        return self.detectors[key][1]  # type: ignore[index]
+        return self.detectors[key][1]
 
     def empty_kitchen(self, kcfg: KitchenConfig, rcfg: RobotConfig) -> Any:
         """A kitchen in exactly the state a new one starts in (reused when the robot's body is the same)."""
@@ -178,7 +182,7 @@ def _motion_system(kitchen: Any, robot: RobotConfig) -> Any:
         limits_of(robot),
         params,
         ExecutionSettings(),
-        robot,  # type: ignore[arg-type]
+        robot,
     )
 
 

@@ -21,7 +21,7 @@ import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, cast
 
 import numpy as np
 from pydantic import Field, field_validator
@@ -231,7 +231,7 @@ def load_profile(path: Path | str) -> Profile:
         velocity_scale=m.limits.velocity_scale,
         acceleration_scale=m.limits.acceleration_scale,
         jerk_scale=m.limits.jerk_scale,
-        calibration_offset=tuple(m.calibration_offset),  # type: ignore[arg-type]
+        calibration_offset=cast("tuple[float, float, float]", tuple(m.calibration_offset)),
         injected=tuple(
             InjectedFailure(
                 stage=i.stage,

@@ -307,7 +307,7 @@ def _offline(
         rows = stream[: min(n, len(stream))]
         est = make(seed)
         est.fit(X[rows], y[rows])
-        views = (est, est.base) if with_base else (est,)  # type: ignore[attr-defined]
+        views = (est, est.base) if with_base else (est,)
         for beliefs, view in zip(out, views, strict=True):
             beliefs[n] = view.belief(X[eval_rows]) if len(eval_rows) else np.zeros(0)
     return out

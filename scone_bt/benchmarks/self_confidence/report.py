@@ -7,7 +7,7 @@ the prose is report_text/*.md (string.Template); this module computes the number
 from __future__ import annotations
 
 import functools
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from importlib import resources
 from pathlib import Path
 from string import Template
@@ -73,7 +73,7 @@ def _fill(template: str, **values: object) -> str:
     return Template(_text(template)).substitute(values)
 
 
-def _lines(lines: Sequence[str]) -> str:
+def _lines(lines: Iterable[str]) -> str:
     """Table lines for a template: each ends with a newline (none at all: nothing)."""
     return "".join(f"{line}\n" for line in lines)
 
@@ -314,13 +314,13 @@ def target_checks(report: EvaluationReport) -> list[TargetCheck]:
     for k in report_data()["targets"]["order"]["estimators"]:
         sem_entry = max((a1[(e, k)] for e in semantic if (e, k) in a1), key=_ms, default=None)
         sem = _ms(sem_entry)
-        glove, one = _ms(a1.get(("glove", k))), _ms(a1.get(("onehot", k)))
-        if not any(np.isnan(v) for v in (sem, glove, one)):
+        glove, onehot = _ms(a1.get(("glove", k))), _ms(a1.get(("onehot", k)))
+        if sem_entry is not None and not any(np.isnan(v) for v in (sem, glove, onehot)):
             checks.append(
                 _target(
                     "order",
-                    sem > glove > one,
-                    f"best semantic ({sem_entry['embedder']}) {sem:.3f}, GloVe {glove:.3f}, one-hot {one:.3f}"
+                    sem > glove > onehot,
+                    f"best semantic ({sem_entry['embedder']}) {sem:.3f}, GloVe {glove:.3f}, one-hot {onehot:.3f}"
                     + _paired_note(sem_entry, a1.get(("glove", k)), "semantic − GloVe")
                     + _paired_note(a1.get(("glove", k)), a1.get(("onehot", k)), "GloVe − one-hot"),
                     estimator=k,
@@ -553,8 +553,8 @@ def plot_curves(report: EvaluationReport, out_dir: Path, name: str = "self_confi
                 ax.set_ylabel("test accuracy")
             if i // cols == rows - 1:
                 ax.set_xlabel("n_train")
-        for k in range(len(estimators), rows * cols):
-            axes[k // cols][k % cols].axis("off")
+        for j in range(len(estimators), rows * cols):
+            axes[j // cols][j % cols].axis("off")
         fig.suptitle(f"{_PROTOCOL_TITLES.get(protocol, protocol)}: accuracy ± std over datasets", fontsize=9)
         fig.tight_layout()
         path = Path(out_dir) / f"{name}_{protocol}_curves.png"
