@@ -28,7 +28,12 @@ from typing import Any
 
 from scone_bt.benchmarks.progress import progress_bar
 from scone_bt.benchmarks.self_confidence.dataset import ExecutionRecord, read_records, write_records
-from scone_bt.benchmarks.self_confidence.generate import ExecutionTask, drawable_products, execute_task
+from scone_bt.benchmarks.self_confidence.generate import (
+    ENGINES,
+    ExecutionTask,
+    drawable_products,
+    execute_task,
+)
 from scone_bt.benchmarks.self_confidence.profiles import Profile, load_profiles
 from scone_bt.errors import ConfigError
 from scone_bt.files import write_atomic
@@ -109,6 +114,7 @@ LOG_NAME = "generation.json"
 """The log of every run in --out, and the settings each profile's rows were generated with."""
 
 SETTINGS: dict[str, str] = {
+    "backend": "--robot",
     "robot": "--arm",
     "kitchen": "--kitchen",
     "catalogues": "--catalogue",
@@ -116,7 +122,8 @@ SETTINGS: dict[str, str] = {
     "seed": "--seed",
     "profile": "the profile",
 }
-"""What defines a generation, and the option that sets each (for messages)."""
+"""What defines a generation, and the option that sets each (for messages). A generation recorded before the
+engine was a setting has no "backend": it was PyBullet's (``sim``)."""
 
 
 def _file_id(path: Path) -> str:
@@ -140,6 +147,7 @@ def generation_settings(
     catalogues: Sequence[str],
     products: Sequence[str] | None,
     seed: int,
+    backend: str = "sim",
 ) -> dict[str, Any]:
     """What made a profile's rows, as generation.json records it (file names and digests, no machine paths).
 
@@ -150,8 +158,10 @@ def generation_settings(
         catalogues: The --catalogue files.
         products: The --products restriction (None: the whole catalogue).
         seed: The --seed offset (0 without --seed).
+        backend: The engine the rows were run on (--robot: sim is PyBullet, mujoco).
     """
     return {
+        "backend": backend,
         "robot": _file_id(robot),
         "kitchen": _file_id(kitchen),
         "catalogues": [_file_id(Path(c)) for c in catalogues],
@@ -190,6 +200,8 @@ def read_log(path: Path) -> dict[str, Any]:
     if not isinstance(generations, dict):
         raise ConfigError(f'{path}: "generations" must be an object (profile name -> settings); {fix}')
     for name, recorded in generations.items():
+        if isinstance(recorded, dict):
+            recorded.setdefault("backend", "sim")  # recorded before the engine was a setting: PyBullet's
         if not isinstance(recorded, dict) or set(recorded) != set(SETTINGS):
             raise ConfigError(
                 f'{path}: "generations" / {name!r} must be an object with exactly the keys '
@@ -332,16 +344,19 @@ def _code_version() -> str | None:
     return out.stdout.strip() or None if out.returncode == 0 else None
 
 
-def _write_log(path: Path, log: dict[str, Any], argv: Sequence[str], summary: dict[str, Any]) -> None:
+def _write_log(
+    path: Path, log: dict[str, Any], argv: Sequence[str], summary: dict[str, Any], engine: str = "sim"
+) -> None:
     """Append this run to generation.json (read and checked before the run), keeping earlier runs."""
     from importlib.metadata import version
 
+    engine_version = {"pybullet": version("pybullet")} if engine == "sim" else {engine: version(engine)}
     log.setdefault("runs", []).append(
         {
             "command": _portable(argv),
             "when": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
             "python": platform.python_version(),
-            "pybullet": version("pybullet"),
+            **engine_version,
             "cpu_count": os.cpu_count(),
             "code": _code_version(),
             **summary,
@@ -356,7 +371,7 @@ def run_generate(args: argparse.Namespace) -> int:
     from scone_bt.config import load_kitchen, load_robot
     from scone_bt.distributed import engine_from_args, imap_tasks, start_engine
     from scone_bt.reporting import emit_report
-    from scone_bt.robot.flags import require_pybullet
+    from scone_bt.robot.flags import check_backend
 
     if args.executions < 1:
         raise ConfigError(f"--executions {args.executions}: must be at least 1")
@@ -370,7 +385,17 @@ def run_generate(args: argparse.Namespace) -> int:
         if not Path(c).is_file():
             raise ConfigError(f"--catalogue {c}: no such file")
     kitchen_cfg = load_kitchen(args.kitchen, args.catalogue)
-    require_pybullet(args.robot, "scone-bench sc generate")
+    engine = check_backend(args.robot)
+    if engine not in ENGINES:
+        raise ConfigError(
+            f"scone-bench sc generate --robot {engine}: the generator runs on {', '.join(ENGINES)} "
+            "(it drives the kitchen of the engine directly)"
+        )
+    if engine == "mujoco":  # the extra and headless rendering, checked before any work (one line each)
+        from scone_bt.world.mj_camera import check_rendering
+        from scone_bt.world.mj_model import import_mujoco
+
+        check_rendering(import_mujoco())
     robot_cfg = load_robot(args.arm)  # a bad robot name fails here, before any work
     profiles_dir = Path(args.profiles_dir)
     if not profiles_dir.is_dir():
@@ -404,7 +429,7 @@ def run_generate(args: argparse.Namespace) -> int:
     catalogues = tuple(str(c) for c in args.catalogue)
     asked = {
         p.name: generation_settings(
-            base_profiles[p.name], robot_cfg.source, kitchen_cfg.source, catalogues, products, offset
+            base_profiles[p.name], robot_cfg.source, kitchen_cfg.source, catalogues, products, offset, engine
         )
         for p in profiles
     }
@@ -416,13 +441,13 @@ def run_generate(args: argparse.Namespace) -> int:
     beyond = {name: {i: r for i, r in got.items() if i >= args.executions} for name, got in rows.items()}
     by_name = {p.name: p for p in profiles}
     tasks = [
-        ExecutionTask(p, i, args.kitchen, args.arm, catalogues, products)
+        ExecutionTask(p, i, args.kitchen, args.arm, catalogues, products, engine)
         for p in profiles
         for i in range(args.executions)
         if i not in done[p.name]
     ]
-    engine = engine_from_args(args, args.workers)
-    start_engine(engine)  # an unreachable Ray cluster fails here, before any work
+    pool_engine = engine_from_args(args, args.workers)
+    start_engine(pool_engine)  # an unreachable Ray cluster fails here, before any work
     to_record = {t.profile.name for t in tasks if recorded.get(t.profile.name) != asked[t.profile.name]}
     if to_record:
         # Recorded before the first row is written: an interrupted run is resumed only with the same settings.
@@ -439,7 +464,7 @@ def run_generate(args: argparse.Namespace) -> int:
         _note(bar, f"resuming: {skipped} executions already recorded, {len(tasks)} to run")
     stopped = False
     results: Iterator[tuple[int, tuple[str, ExecutionRecord, float]]] = imap_tasks(
-        execute_task, tasks, engine=engine
+        execute_task, tasks, engine=pool_engine
     )
     try:
         for _i, (name, record, wall) in results:
@@ -464,9 +489,10 @@ def run_generate(args: argparse.Namespace) -> int:
         "executions_resumed": skipped,
         "wall_s": round(elapsed, 1),
         "executions_per_s": round(run / elapsed, 3) if run and elapsed > 0 else None,
-        "cpu_s_per_execution": round(cpu / run, 3) if run and engine.kind.value == "local" else None,
+        "cpu_s_per_execution": round(cpu / run, 3) if run and pool_engine.kind.value == "local" else None,
         "workers": args.workers,
-        "engine": engine.label,
+        "engine": pool_engine.label,
+        "backend": engine,
         "products_drawn_from": len(pool),
         "user_catalogues": [Path(c).name for c in catalogues],
         "load_average_1min": {
@@ -480,6 +506,7 @@ def run_generate(args: argparse.Namespace) -> int:
         log,
         sys.argv[1:] if sys.argv and "scone-bench" in sys.argv[0] else ["sc", "generate"],
         summary,
+        engine,
     )
     emit_report(summary, args.json)
     return 0 if all(v["complete"] for v in summary["profiles"].values()) else 1

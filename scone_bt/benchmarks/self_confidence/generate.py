@@ -11,10 +11,14 @@ says whether the product stands on the table. A profile only changes parameters 
 profiles.INJECTABLE_STAGES). The target and the distractors are drawn uniformly from the whole catalogue (or the
 --products restriction) for every execution.
 
-Speed (scone-bench sc generate): one kitchen per worker process, emptied and restored to its saved start state
+The engine is the backend's (`--robot`: ``sim`` is PyBullet, ``mujoco`` MuJoCo's `world.mj_kitchen.MjKitchen`); the
+products, their slots, every seed, the detector, the planner and the outcome sensor are the same code on both, so
+execution *i* of a profile is the same task on either engine.
+
+Speed (scone-bench sc generate): one PyBullet kitchen per worker process, emptied and restored to its saved start state
 (PyBullet saveState / restoreState) between executions instead of rebuilt; a shelf camera with no product in view
 is not rendered (it would show nothing to detect; its noise comes from its own generator, so skipping it changes no
-other draw).
+other draw). A MuJoCo kitchen is built afresh for each execution: it compiles its model whenever it is stocked anyway.
 """
 
 from __future__ import annotations
@@ -37,6 +41,7 @@ from scone_bt.perception import context as perception_context
 from scone_bt.perception.types import Detection, Frame
 
 __all__ = [
+    "ENGINES",
     "INJECTED_FORCE_FACTOR",
     "ExecutionTask",
     "choose_objects",
@@ -48,6 +53,9 @@ __all__ = [
 
 INJECTED_FORCE_FACTOR = 0.1
 """An injected grasp failure closes the gripper with this fraction of its force."""
+
+ENGINES = ("sim", "mujoco")
+"""The backends (`--robot`) the generator runs its executions on: PyBullet and MuJoCo."""
 
 _ADVANCE_S = 0.1
 _MAX_SIM_S = 60.0
@@ -131,9 +139,18 @@ class _Worker:
             self.detectors[key] = (kitchen.catalogue, Detector(kitchen.catalogue))
         return self.detectors[key][1]
 
-    def empty_kitchen(self, kcfg: KitchenConfig, rcfg: RobotConfig) -> Any:
-        """A kitchen in exactly the state a new one starts in (reused when the robot's body is the same)."""
+    def empty_kitchen(self, kcfg: KitchenConfig, rcfg: RobotConfig, engine: str = "sim") -> Any:
+        """A kitchen in exactly the state a new one starts in (a PyBullet one is reused when the robot's body is
+        the same; a MuJoCo one is built afresh, as it recompiles its model for every stocking anyway)."""
         from scone_bt.quiet import c_stdout_silenced
+
+        if engine == "mujoco":
+            from scone_bt.world.mj_kitchen import MjKitchen
+
+            if self.kitchen is not None:
+                self.kitchen.close()
+            self.kitchen, self.kitchen_key = MjKitchen(kcfg, rcfg), None
+            return self.kitchen
         from scone_bt.world import Kitchen
 
         # Force is only a motor setting (set per command); finger friction, the URDF and the physics rate shape the
@@ -145,7 +162,7 @@ class _Worker:
             rcfg.urdf,
             rcfg.control.physics_hz,
         )
-        if self.kitchen is None or key != self.kitchen_key:
+        if self.kitchen is None or key != self.kitchen_key or not hasattr(self.kitchen, "bc"):
             if self.kitchen is not None:
                 self.kitchen.close()
             with c_stdout_silenced():
@@ -209,7 +226,7 @@ def _look(kitchen: Any, kcfg: KitchenConfig, seed: int) -> tuple[dict[str, Detec
     from scone_bt.world.camera import box_in_view
 
     detector = _WORKER.detector(kcfg)
-    boxes = [kitchen.bc.getAABB(body) for body in kitchen.objects.values()]
+    boxes = _product_boxes(kitchen)
     best: dict[str, Detection] = {}
     frames: list[Frame] = []
     for k, spec in enumerate(kcfg.shelf_cameras):
@@ -226,6 +243,25 @@ def _look(kitchen: Any, kcfg: KitchenConfig, seed: int) -> tuple[dict[str, Detec
             if det.name not in best or det.confidence > best[det.name].confidence:
                 best[det.name] = det
     return best, frames
+
+
+def _product_boxes(kitchen: Any) -> list[tuple[Any, Any]]:
+    """Each product's axis-aligned box now (world, metres): PyBullet's AABB, or on another engine the box around
+    the product's catalogue extent at its ground-truth pose (a cylinder as its square box)."""
+    from scone_bt.world.ground_truth import rotation_of
+
+    bc = getattr(kitchen, "bc", None)
+    if bc is not None:
+        return [bc.getAABB(body) for body in kitchen.objects.values()]
+    boxes = []
+    for name in kitchen.objects:
+        state = kitchen.object_state(name)
+        half = np.abs(rotation_of(state.orientation)) @ (
+            np.asarray(kitchen.specs[name].size, dtype=float) / 2
+        )
+        centre = np.asarray(state.position, dtype=float)
+        boxes.append((centre - half, centre + half))
+    return boxes
 
 
 def perceived_context(
@@ -261,6 +297,7 @@ def run_execution(
     robot_cfg: RobotConfig,
     target_name: str | None = None,
     pool: Sequence[ObjectSpec] | None = None,
+    engine: str = "sim",
 ) -> tuple[ExecutionRecord, float]:
     """Run execution `index` of `profile`; returns the record and its wall time (s).
 
@@ -271,6 +308,7 @@ def run_execution(
         robot_cfg: The robot before the profile's overrides.
         target_name: Force this target instead of the seeded draw (for per-product sweeps).
         pool: Products to draw from (default: drawable_products of the kitchen's catalogue).
+        engine: The backend the execution runs on (`ENGINES`: ``sim`` is PyBullet, ``mujoco``).
     """
     t0 = time.perf_counter()
     seed = profile.execution_seed(index)
@@ -291,7 +329,7 @@ def run_execution(
         )
     specs = [target, *others]
 
-    kitchen = _WORKER.empty_kitchen(kcfg, rcfg)
+    kitchen = _WORKER.empty_kitchen(kcfg, rcfg, engine)
     kitchen.spawn(specs, rng)
     detections, frames = _look(kitchen, kcfg, seed)
     # What the robot acts on: its camera-to-robot error moves every detection and every depth point alike.
@@ -377,6 +415,7 @@ class ExecutionTask:
         robot: Robot file name or path, loaded in the worker.
         catalogues: Extra product files (a user's own products), loaded in the worker.
         products: Restrict the draw to these products (None: the whole catalogue).
+        engine: The backend it runs on (`ENGINES`).
     """
 
     profile: Profile
@@ -385,6 +424,7 @@ class ExecutionTask:
     robot: str = "panda"
     catalogues: tuple[str, ...] = ()
     products: tuple[str, ...] | None = None
+    engine: str = "sim"
 
 
 _POOLS: dict[tuple[object, ...], tuple[ObjectSpec, ...]] = {}
@@ -401,5 +441,7 @@ def execute_task(task: ExecutionTask) -> tuple[str, ExecutionRecord, float]:
     pool_key = (*key, task.products)
     if pool_key not in _POOLS:
         _POOLS[pool_key] = drawable_products(kitchen_cfg, task.products)
-    record, wall = run_execution(task.profile, task.index, kitchen_cfg, robot_cfg, pool=_POOLS[pool_key])
+    record, wall = run_execution(
+        task.profile, task.index, kitchen_cfg, robot_cfg, pool=_POOLS[pool_key], engine=task.engine
+    )
     return task.profile.name, record, wall
