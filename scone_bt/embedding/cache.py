@@ -78,7 +78,8 @@ class EmbeddingCache:
         assert self._conn is not None
         try:
             rows = self._conn.execute(
-                "SELECT text, vector FROM embeddings WHERE model = ? LIMIT ?", (self.model_key, MEMORY_ENTRIES)
+                "SELECT text, vector FROM embeddings WHERE model = ? LIMIT ?",
+                (self.model_key, MEMORY_ENTRIES),
             ).fetchall()
         except sqlite3.Error:
             return

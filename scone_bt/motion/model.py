@@ -18,7 +18,15 @@ import numpy as np
 from scone_bt.config import RobotConfig
 from scone_bt.errors import ConfigError, UnknownNameError
 
-__all__ = ["FINGER_MODELS_KEPT", "ArmModel", "IKOptions", "IKSolution", "inverse_small", "pose_matrix", "solve_small"]
+__all__ = [
+    "FINGER_MODELS_KEPT",
+    "ArmModel",
+    "IKOptions",
+    "IKSolution",
+    "inverse_small",
+    "pose_matrix",
+    "solve_small",
+]
 
 
 def _gufunc(name: str) -> object | None:
