@@ -184,42 +184,51 @@ def run(args: argparse.Namespace) -> int:
         # and the user's own cache is neither used nor filled.
         cache_dir = Path(args.cache_dir) if args.cache_dir else Path(tmp) / "cache"
         bar = progress_bar(len(recipes), "soak", args.quiet, unit="episode")
-        for i, recipe in enumerate(recipes):
-            bar.set_postfix_str(recipe)
-            options = EpisodeOptions(
-                robot=args.arm,
-                backend=args.robot,
-                recipe=recipe,
-                seed=args.seed + i,
-                distractors=args.distractors,
-                max_ticks=args.max_ticks,
-                behaviour=BehaviourOptions(seed=args.seed + i, experience_path=store, cache_dir=cache_dir),
-            )
-            with c_stdout_silenced():
-                summary = run_episode(options, printer=lambda _line: None, models=models)
-            gc.collect()  # what is still reachable is what the sample should see, not garbage awaiting a pass
-            rss_mb, fds, threads = process_sample()
-            embedder = next(iter(models._embedders.values()), None)
-            cache = getattr(embedder, "cache", None)
-            samples.append(
-                EpisodeSample(
-                    episode=i,
+        interrupted = False
+        try:
+            for i, recipe in enumerate(recipes):
+                bar.set_postfix_str(recipe)
+                options = EpisodeOptions(
+                    robot=args.arm,
+                    backend=args.robot,
                     recipe=recipe,
-                    completed=summary.completed,
-                    wall_s=round(summary.wall_time, 3),
-                    rss_mb=round(rss_mb, 2),
-                    fds=fds,
-                    threads=threads,
-                    python_threads=threading.active_count(),
-                    bodies=summary.bodies,
-                    constraints=summary.constraints,
-                    store_bytes=_store_bytes(store),
-                    outcomes=_outcomes(store),
-                    embedding_cache_entries=len(cache) if cache is not None else 0,
+                    seed=args.seed + i,
+                    distractors=args.distractors,
+                    max_ticks=args.max_ticks,
+                    behaviour=BehaviourOptions(
+                        seed=args.seed + i, experience_path=store, cache_dir=cache_dir
+                    ),
                 )
-            )
-            bar.update()
+                with c_stdout_silenced():
+                    summary = run_episode(options, printer=lambda _line: None, models=models)
+                gc.collect()  # what is still reachable is what the sample should see, not garbage awaiting a pass
+                rss_mb, fds, threads = process_sample()
+                caches = [getattr(e, "cache", None) for e in models.embedders()]
+                samples.append(
+                    EpisodeSample(
+                        episode=i,
+                        recipe=recipe,
+                        completed=summary.completed,
+                        wall_s=round(summary.wall_time, 3),
+                        rss_mb=round(rss_mb, 2),
+                        fds=fds,
+                        threads=threads,
+                        python_threads=threading.active_count(),
+                        bodies=summary.bodies,
+                        constraints=summary.constraints,
+                        store_bytes=_store_bytes(store),
+                        outcomes=_outcomes(store),
+                        embedding_cache_entries=sum(len(c) for c in caches if c is not None),
+                    )
+                )
+                bar.set_postfix_str(f"{rss_mb:.0f} MB, {fds} fds, {threads} threads")
+                bar.update()
+        except KeyboardInterrupt:
+            # Hours of samples are not lost to a Ctrl-C: the report covers the episodes that ran.
+            interrupted = True
         bar.close()
+    if not samples:
+        raise KeyboardInterrupt
     warmup = min(args.warmup, len(samples) - 1)
     after = samples[warmup:]
     growth = slope([s.rss_mb for s in after])
@@ -230,9 +239,12 @@ def run(args: argparse.Namespace) -> int:
         "robot": args.robot,
         "arm": args.arm,
         "seed": args.seed,
+        "max_steps": args.max_steps,
+        "max_ticks": args.max_ticks,
         "warmup": warmup,
         "episodes_completed": sum(s.completed for s in samples),
         "episodes_run": len(samples),
+        "interrupted": interrupted,
         "rss_growth_mb_per_episode": round(growth, 4) if growth is not None else None,
         "rss_mb_after_warmup": base.rss_mb,
         "rss_mb_last": last.rss_mb,
@@ -254,7 +266,7 @@ def run(args: argparse.Namespace) -> int:
         and growth <= TARGETS["rss_growth_mb_per_episode"]
         and result["fd_growth"] <= 0
         and result["thread_growth"] <= 0
-        and result["episodes_completed"] == len(samples)
+        and result["episodes_completed"] == args.episodes
     )
     if args.plot:
         _plot(samples, warmup, Path(args.plot))
