@@ -88,7 +88,7 @@ def run(args: argparse.Namespace) -> int:
     from scone_bt.behaviours import BehaviourOptions
     from scone_bt.checks import check_positive_int
     from scone_bt.config import load_robot
-    from scone_bt.episode import EpisodeOptions, run_episode
+    from scone_bt.episode import EpisodeOptions, ModelPool, run_episode
     from scone_bt.errors import ConfigError
     from scone_bt.quiet import c_stdout_silenced
 
@@ -103,6 +103,9 @@ def run(args: argparse.Namespace) -> int:
     breakdown: dict[str, float] = {}
     cpu_breakdown: dict[str, float] = {}
     bar = progress_bar(len(recipes), "episodes", args.quiet, unit="episode")
+    # One pool for every episode, as a robot running all day has: the embedder and its cache load once, not once
+    # per episode (each load read the whole cache file into memory again).
+    models = ModelPool()
     for i, recipe in enumerate(recipes):
         bar.set_postfix_str(recipe)
         options = EpisodeOptions(
@@ -115,7 +118,7 @@ def run(args: argparse.Namespace) -> int:
         )
         cpu0 = time.process_time()
         with c_stdout_silenced():
-            summary = run_episode(options, printer=lambda _line: None)
+            summary = run_episode(options, printer=lambda _line: None, models=models)
         cpu = time.process_time() - cpu0
         bar.update()
         total_sim += summary.sim_time
@@ -148,6 +151,7 @@ def run(args: argparse.Namespace) -> int:
             }
         )
     bar.close()
+    models.close()
     cold = (
         None
         if args.no_cold
