@@ -83,37 +83,29 @@ def _read_safetensors(path: Path) -> dict[str, np.ndarray]:
     return out
 
 
-# numpy has no erf and scipy takes half a second to import: a fit exact to float32 does.
+_ERFC_FIT = (
+    -1.26551223,
+    1.00002368,
+    0.37409196,
+    0.09678418,
+    -0.18628806,
+    0.27886807,
+    -1.13520398,
+    1.48851587,
+    -0.82215223,
+    0.17087277,
+)
+"""Numerical Recipes' Chebyshev fit of erfc (fractional error under 1.2e-7 everywhere)."""
+
+
 def _erf(x: np.ndarray) -> np.ndarray:
-    """erf of a float32 array, to within 1.2e-7 (Numerical Recipes' erfc Chebyshev fit)."""
+    """erf of a float32 array to float32 precision (numpy has no erf; scipy takes half a second to import)."""
     z = np.abs(x).astype(np.float64)
     t = 1.0 / (1.0 + 0.5 * z)
-    poly = (
-        -z * z
-        - 1.26551223
-        + t
-        * (
-            1.00002368
-            + t
-            * (
-                0.37409196
-                + t
-                * (
-                    0.09678418
-                    + t
-                    * (
-                        -0.18628806
-                        + t
-                        * (
-                            0.27886807
-                            + t * (-1.13520398 + t * (1.48851587 + t * (-0.82215223 + t * 0.17087277)))
-                        )
-                    )
-                )
-            )
-        )
-    )
-    erfc = t * np.exp(poly)
+    poly = np.zeros_like(t)
+    for c in reversed(_ERFC_FIT[1:]):
+        poly = (poly + c) * t
+    erfc = t * np.exp(-z * z + _ERFC_FIT[0] + poly)
     return (np.sign(x) * (1.0 - erfc)).astype(np.float32)
 
 
