@@ -85,23 +85,26 @@ class EmbeddingCache:
             return
         self._remember(rows)
 
-    def _remember(self, rows: Sequence[tuple[str, bytes]]) -> None:
-        """Keep the file's (text, vector bytes) rows in memory (a vector of the wrong length is ignored)."""
+    def _remember(self, rows: Sequence[tuple[str, bytes]]) -> dict[str, np.ndarray]:
+        """Keep the file's (text, vector bytes) rows in memory (a vector of the wrong length is ignored); the
+        vectors read, by text (the bound may have let some go from memory already)."""
+        read: dict[str, np.ndarray] = {}
         for text, blob in rows:
             vec = np.frombuffer(blob, dtype=np.float32)
             if vec.shape == (self.dim,):
-                self._memory[text] = vec
+                self._memory[text] = read[text] = vec
         self._trim()
+        return read
 
     def _trim(self) -> None:
         while len(self._memory) > MEMORY_ENTRIES:
             self._memory.popitem(last=False)
 
-    def _from_file(self, texts: list[str]) -> None:
+    def _from_file(self, texts: list[str]) -> dict[str, np.ndarray]:
         """Read back into memory those of ``texts`` the file holds (they left memory, or another process wrote
-        them)."""
+        them); their vectors by text."""
         if self._conn is None or not texts:
-            return
+            return {}
         rows: list[tuple[str, bytes]] = []
         with self._lock:
             try:
@@ -113,8 +116,8 @@ class EmbeddingCache:
                         (self.model_key, *chunk),
                     ).fetchall()
             except sqlite3.Error:
-                return
-        self._remember(rows)
+                return {}
+        return self._remember(rows)
 
     def __len__(self) -> int:
         return len(self._memory)
@@ -132,17 +135,16 @@ class EmbeddingCache:
     def lookup(self, texts: Sequence[str]) -> tuple[dict[str, np.ndarray], list[str]]:
         """The cached vectors among `texts` (from memory, else the file), and the distinct texts cached nowhere,
         in first-seen order; counts hits and misses."""
-        absent = [t for t in dict.fromkeys(texts) if t not in self._memory]
-        self._from_file(absent)
         found: dict[str, np.ndarray] = {}
+        for text in dict.fromkeys(texts):
+            vec = self.get(text)
+            if vec is not None:
+                found[text] = vec
+        found.update(self._from_file([t for t in dict.fromkeys(texts) if t not in found]))
         seen: set[str] = set()
         todo = []
         for text in texts:
-            vec = found.get(text)
-            if vec is None:
-                vec = self.get(text)
-            if vec is not None:
-                found[text] = vec
+            if text in found:
                 self.hits += 1
             else:
                 self.misses += 1
