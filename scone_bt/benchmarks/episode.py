@@ -8,6 +8,10 @@ arm's execution controller), perception (render and detect), embedding, waiting 
 the tree, the simulated human and logging. CPU seconds of the process (all threads) and the load average are
 reported beside the wall figures, since wall time on a shared machine says as much about the neighbours.
 
+``startup_to_first_decision_cold_s`` is what a user who types a new recipe waits: the first recipe run again in a
+fresh process whose embedding cache is empty (a temporary folder), so none of its texts are cached and nothing is
+loaded yet (``--no-cold`` skips it).
+
     scone-bench episode                          # the five default recipes, seed 0
     scone-bench episode --recipes example:hummus --json out.json
 """
@@ -33,9 +37,48 @@ DEFAULT_RECIPES = (
     "pdr:baked-salmon",
 )
 """Three hand-written recipes and two from the corpus (../shared/data/recipes)."""
-TARGETS = {"sim_per_wall": 20.0, "startup_to_first_decision_s": 2.0}
+TARGETS = {"sim_per_wall": 20.0, "startup_to_first_decision_s": 2.0, "startup_to_first_decision_cold_s": 2.0}
 """Issue 29's targets (2-core machine, idle): whole episodes at 20x real time, the first decision within 2 s with a
-warm embedding cache (an earlier issue asked for 5x and 5 s)."""
+warm embedding cache (an earlier issue asked for 5x and 5 s); issue 51's: within 2 s with an empty one too."""
+
+_COLD_SCRIPT = """
+import json, sys
+from pathlib import Path
+from scone_bt.behaviours import BehaviourOptions
+from scone_bt.episode import EpisodeOptions, run_episode
+from scone_bt.quiet import c_stdout_silenced
+robot, recipe, seed, distractors, max_ticks, cache = sys.argv[1:7]
+options = EpisodeOptions(
+    robot=robot, recipe=recipe, seed=int(seed), distractors=int(distractors), max_ticks=int(max_ticks),
+    behaviour=BehaviourOptions(seed=int(seed), cache_dir=Path(cache)),
+)
+with c_stdout_silenced():
+    summary = run_episode(options, printer=lambda _line: None)
+print(json.dumps({"first": summary.startup_to_first_decision_s, "wall": summary.wall_time}))
+"""
+
+
+def cold_first_decision(
+    robot: str, recipe: str, seed: int, distractors: int, max_ticks: int
+) -> dict[str, Any]:
+    """The episode run in a fresh process with an empty embedding cache: its first decision's and end's wall
+    seconds from the episode's start (``first``, ``wall``)."""
+    import json
+    import subprocess
+    import sys
+    import tempfile
+
+    from scone_bt.errors import SconeError
+
+    with tempfile.TemporaryDirectory(prefix="scone-cold-cache-") as cache:
+        args = [robot, recipe, str(seed), str(distractors), str(max_ticks), cache]
+        done = subprocess.run(
+            [sys.executable, "-c", _COLD_SCRIPT, *args], capture_output=True, text=True, check=False
+        )
+    if done.returncode != 0:
+        last = (done.stderr.strip().splitlines() or ["no output"])[-1]
+        raise SconeError(f"the cold-cache episode ({recipe}) failed: {last}")
+    return json.loads(done.stdout.strip().splitlines()[-1])
 
 
 def run(args: argparse.Namespace) -> int:
@@ -45,7 +88,7 @@ def run(args: argparse.Namespace) -> int:
     from scone_bt.behaviours import BehaviourOptions
     from scone_bt.checks import check_positive_int
     from scone_bt.config import load_robot
-    from scone_bt.episode import EpisodeOptions, run_episode
+    from scone_bt.episode import EpisodeOptions, ModelPool, run_episode
     from scone_bt.errors import ConfigError
     from scone_bt.quiet import c_stdout_silenced
 
@@ -60,6 +103,9 @@ def run(args: argparse.Namespace) -> int:
     breakdown: dict[str, float] = {}
     cpu_breakdown: dict[str, float] = {}
     bar = progress_bar(len(recipes), "episodes", args.quiet, unit="episode")
+    # One pool for every episode, as a robot running all day has: the embedder and its cache load once, not once
+    # per episode (each load read the whole cache file into memory again).
+    models = ModelPool()
     for i, recipe in enumerate(recipes):
         bar.set_postfix_str(recipe)
         options = EpisodeOptions(
@@ -73,7 +119,7 @@ def run(args: argparse.Namespace) -> int:
         )
         cpu0 = time.process_time()
         with c_stdout_silenced():
-            summary = run_episode(options, printer=lambda _line: None)
+            summary = run_episode(options, printer=lambda _line: None, models=models)
         cpu = time.process_time() - cpu0
         bar.update()
         total_sim += summary.sim_time
@@ -106,6 +152,12 @@ def run(args: argparse.Namespace) -> int:
             }
         )
     bar.close()
+    models.close()
+    cold = (
+        None
+        if args.no_cold
+        else cold_first_decision(args.robot, recipes[0], args.seed, args.distractors, args.max_ticks)
+    )
     firsts = [
         e["startup_to_first_decision_s"] for e in episodes if e["startup_to_first_decision_s"] is not None
     ]
@@ -125,6 +177,10 @@ def run(args: argparse.Namespace) -> int:
         "startup_to_first_decision_warm_median_s": round(float(np.median(firsts[1:])), 3)
         if firsts[1:]
         else None,
+        # The first recipe again, in a fresh process with an empty embedding cache: what a new recipe waits.
+        "startup_to_first_decision_cold_s": round(cold["first"], 3)
+        if cold and cold["first"] is not None
+        else None,
         "startup_cpu_s": [e["cpu_breakdown_s"].get("startup") for e in episodes],
         "wall_breakdown_s": {k: round(v, 3) for k, v in sorted(breakdown.items())},
         "wall_breakdown_fraction": {k: round(v / total_wall, 4) for k, v in sorted(breakdown.items())},
@@ -139,6 +195,13 @@ def run(args: argparse.Namespace) -> int:
         result["sim_per_wall"] >= TARGETS["sim_per_wall"]
         and firsts
         and result["startup_to_first_decision_s"] <= TARGETS["startup_to_first_decision_s"]
+        and (
+            cold is None
+            or (
+                result["startup_to_first_decision_cold_s"] is not None
+                and result["startup_to_first_decision_cold_s"] <= TARGETS["startup_to_first_decision_cold_s"]
+            )
+        )
     )
     emit_report(result, args.json)
     return 0
@@ -161,5 +224,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--max-ticks", type=int, default=4000, help="control-tick limit per episode (default 4000)"
     )
     p.add_argument("--json", type=Path, help="also write the JSON report to this file")
+    p.add_argument(
+        "--no-cold", action="store_true", help="skip the first recipe's run with an empty embedding cache"
+    )
     p.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
     p.set_defaults(func=run)

@@ -40,6 +40,7 @@ BENCHMARK_MODULES: tuple[str, ...] = (
     "scone_bt.benchmarks.fleet",
     "scone_bt.benchmarks.perception",
     "scone_bt.benchmarks.episode",
+    "scone_bt.benchmarks.soak",
     "scone_bt.benchmarks.catalogue",
     "scone_bt.benchmarks.motion",
     "scone_bt.benchmarks.physics",

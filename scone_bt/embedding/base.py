@@ -50,13 +50,14 @@ class Embedder(ABC):
         """Unit vectors for `texts`, float32 of shape (len(texts), dim); rows follow the input order."""
         if isinstance(texts, str):
             texts = [texts]
-        todo = self.cache.missing(texts)
+        found, todo = self.cache.lookup(texts)
         if todo:
-            self.cache.put(todo, normalize_rows(self._encode(todo)))
+            vectors = normalize_rows(self._encode(todo))
+            self.cache.put(todo, vectors)
+            found.update(zip(todo, vectors, strict=True))  # kept here: a bounded cache may drop them
         if not texts:
             return np.zeros((0, self.dim), dtype=np.float32)
-        get = self.cache.get
-        return np.stack([get(t) for t in texts])
+        return np.stack([found[t] for t in texts])
 
     def embed_uncached(self, texts: Sequence[str]) -> np.ndarray:
         """Unit vectors for distinct `texts` encoded now, in one pass in the given order, bypassing the cache.

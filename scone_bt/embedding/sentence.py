@@ -2,6 +2,10 @@
 
 torch and sentence_transformers are imported here only, and only when a text is first missing from the embedding
 cache: with a warm on-disk cache an episode never imports them (about 6 s of start-up on the 2-core machine).
+A plain BERT with mean pooling (MiniLM) is not run in torch at all but in numpy (`bert_numpy`): the same vectors
+within `bert_numpy.TOLERANCE`, a first answer on a new recipe without torch's start-up, and none of torch's
+per-shape kernel caches in a process that runs all day. ``SCONE_BT_EMBED_RUNTIME=torch`` runs such a model in
+torch instead.
 """
 
 from __future__ import annotations
@@ -24,10 +28,14 @@ __all__ = [
     "encode_threads",
     "is_sentence_transformer_dir",
     "model_fingerprint",
+    "numpy_runtime",
+    "RUNTIME_ENV",
 ]
 
 _MODELS: dict[str, object] = {}  # loaded once per process, shared by every embedder of the same directory
 _LOCK = threading.Lock()
+RUNTIME_ENV = "SCONE_BT_EMBED_RUNTIME"
+"""``torch``: run every model in sentence-transformers, even one `bert_numpy` computes."""
 
 
 def is_sentence_transformer_dir(path: Path) -> bool:
@@ -80,6 +88,10 @@ def declared_dim(path: Path) -> int | None:
 def _load_model(path: Path) -> object:
     key = str(path.resolve())
     with _LOCK:
+        if key not in _MODELS and numpy_runtime(path):
+            from scone_bt.embedding.bert_numpy import NumpyBert
+
+            _MODELS[key] = NumpyBert(path)
         if key not in _MODELS:
             # No hub traffic, ever: the workplace is offline and a run must not wait on a network timeout.
             os.environ.setdefault("HF_HUB_OFFLINE", "1")
@@ -98,6 +110,13 @@ def _load_model(path: Path) -> object:
                     f"cannot load a sentence-transformers model from {path}: {type(exc).__name__}: {exc}"
                 ) from None
         return _MODELS[key]
+
+
+def numpy_runtime(path: Path) -> bool:
+    """Whether the model in ``path`` runs in numpy (`bert_numpy.supports`, unless $SCONE_BT_EMBED_RUNTIME=torch)."""
+    from scone_bt.embedding.bert_numpy import supports
+
+    return os.environ.get(RUNTIME_ENV, "").strip().lower() != "torch" and supports(path)
 
 
 class SentenceTransformerEmbedder(Embedder):
@@ -132,6 +151,22 @@ class SentenceTransformerEmbedder(Embedder):
         return self._model
 
     def _raw_encode(self, texts: Sequence[str]) -> np.ndarray:
+        from scone_bt.embedding.bert_numpy import NumpyBert
+
+        model = self.model
+        if isinstance(model, NumpyBert):
+            from threadpoolctl import threadpool_limits
+
+            # Batches of similar lengths pad little (as sentence-transformers batches); rows back in input order.
+            order = sorted(range(len(texts)), key=lambda i: -len(texts[i]))
+            out = np.zeros((len(texts), model.dim), dtype=np.float32)
+            # BLAS threads as torch's (`encode_threads`): on a busy 2-core machine two threads made a batch ~10x
+            # slower than one (each waits for the other's core).
+            with threadpool_limits(limits=encode_threads(), user_api="blas"):
+                for start in range(0, len(order), self.batch_size):
+                    rows = order[start : start + self.batch_size]
+                    out[rows] = model.encode([texts[i] for i in rows])
+            return out
         import torch
 
         before = torch.get_num_threads()

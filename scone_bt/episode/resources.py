@@ -39,6 +39,10 @@ class ModelPool:
             self.loads += 1
         return self._embedders[key]
 
+    def embedders(self) -> tuple[Embedder, ...]:
+        """The embedders loaded so far."""
+        return tuple(self._embedders.values())
+
     def close(self) -> None:
         """Close the embeddings' on-disk caches."""
         for embedder in self._embedders.values():

@@ -125,6 +125,8 @@ class EpisodeSummary:
     decided_by_rule: dict[str, int] = field(default_factory=dict)
     not_stocked: int = 0
     failure_budget: float | None = None
+    bodies: int = 0
+    constraints: int = 0
 
     def deterministic_part(self) -> dict[str, Any]:
         """The fields a seeded rerun must reproduce exactly."""
@@ -483,6 +485,8 @@ def _summarise(
         physics_steps=measured.physics_steps - measured.physics_steps_skipped,
         physics_steps_skipped=measured.physics_steps_skipped,
         renders=measured.renders,
+        bodies=measured.bodies,
+        constraints=measured.constraints,
         condition=condition_line(plan.behaviour),
         decided_by_rule=dict(ep.log_lines.rules),
         not_stocked=len(recipe.unstocked) + len(recipe.off_shelf),

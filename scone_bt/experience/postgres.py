@@ -7,12 +7,19 @@ connection dropped mid-append reconnects and appends again without risk of a dup
 
 Tables: scone_meta (application, schema_version) and scone_outcomes. A database whose scone_outcomes table has
 no scone_meta, or a newer schema, is refused and left untouched.
+
+A row that cannot be read (a context that is not a JSON object, a malformed execution context: damage made
+outside scone-bt) is quarantined as the SQLite store does it: reads skip it, `quarantined` says which rows and why,
+a one-line warning on stderr names each row the first time this store meets it, and the robots go on learning
+from the other rows. The row stays in the database as it is.
 """
 
 from __future__ import annotations
 
 import contextlib
+import json
 import re
+import sys
 import threading
 from typing import Any
 
@@ -80,6 +87,9 @@ class PostgresExperienceStore(OutcomeStore):
             scone_outcomes table; the message names the URL (without its password).
     """
 
+    quarantined: dict[int, str]
+    """Rows met so far that cannot be read, by row id (scone_outcomes.id): why (skipped, never changed)."""
+
     def __init__(self, url: str, connect_timeout_s: float = CONNECT_TIMEOUT_S) -> None:
         if not is_postgres_url(url):
             raise ExperienceStoreError(
@@ -88,6 +98,7 @@ class PostgresExperienceStore(OutcomeStore):
         self.url = url
         self.location = redact_url(url)
         self.notice: str | None = None
+        self.quarantined = {}
         self._timeout = connect_timeout_s
         self._lock = threading.Lock()
         self._conn: Any = None
@@ -215,18 +226,41 @@ class PostgresExperienceStore(OutcomeStore):
     def _select(
         self, embedder: str | None, robot_id: str | None, arm: str | None, profile: str | None
     ) -> list[tuple[Any, ...]]:
+        """Readable rows (contexts decoded); unreadable ones are quarantined, and named once on stderr."""
         import psycopg
 
+        from scone_bt.experience.store import decode_row, rows_named
+
         where, args = where_clause("%s", embedder=embedder, robot_id=robot_id, arm=arm, profile=profile)
-        sql = f"SELECT {_SELECT_COLUMNS} FROM scone_outcomes"
+        sql = f"SELECT id, {_SELECT_COLUMNS} FROM scone_outcomes"
         sql += where
+        readable: list[tuple[Any, ...]] = []
+        new: list[int] = []
         with self._lock:
             try:
-                return self._connection().execute(sql + " ORDER BY id", args).fetchall()
+                rows = self._connection().execute(sql + " ORDER BY id", args).fetchall()
             except psycopg.Error as exc:
                 self._drop()
                 first = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
                 raise ExperienceStoreError(f"cannot read experience store {self.location}: {first}") from None
+            for row_id, *row in rows:
+                if row_id in self.quarantined:
+                    continue
+                decoded, why = decode_row(_as_stored(row))
+                if decoded is None:
+                    self.quarantined[row_id] = f"outcome {row[0]}: {why}"
+                    new.append(row_id)
+                else:
+                    readable.append(decoded)
+        if new:
+            rows_word, kept = ("", "it is") if len(new) == 1 else (f"{len(new)} rows, ", "they are")
+            print(
+                f"warning: experience store {self.location}: {rows_word}{rows_named(new, self.quarantined)}: "
+                f"cannot be read; left in the database as {kept}, not learnt from",
+                file=sys.stderr,
+                flush=True,
+            )
+        return readable
 
     def __len__(self) -> int:
         with self._lock:
@@ -247,3 +281,12 @@ class PostgresExperienceStore(OutcomeStore):
 
     def __repr__(self) -> str:
         return f"PostgresExperienceStore({self.location!r})"
+
+
+def _as_stored(row: list[Any]) -> tuple[Any, ...]:
+    """A PostgreSQL row in COLUMNS order as the SQLite store holds it, for the one check both share
+    (`store.decode_row`): success as 0 or 1, the context as JSON text (jsonb hands back any JSON value)."""
+    oid, t, a, o, e, s, f, c, r, arm, p = row
+    success = int(s) if isinstance(s, bool) else s
+    context = c if isinstance(c, str) else json.dumps(c)
+    return (oid, t, a, o, e, success, f, context, r, arm, p)

@@ -48,7 +48,7 @@ from scone_bt.experience.base import (
 )
 from scone_bt.experience.types import ExecutionContext, Outcome
 
-__all__ = ["APPLICATION_ID", "SCHEMA_VERSION", "ExperienceStore", "decode_row"]
+__all__ = ["APPLICATION_ID", "SCHEMA_VERSION", "ExperienceStore", "decode_row", "rows_named"]
 
 APPLICATION_ID = 0x5C0E0B7  # "SCONE-BT": marks the file as ours (PRAGMA application_id)
 _SQLITE_MAGIC = b"SQLite format 3\x00"
@@ -176,7 +176,7 @@ def decode_row(row: tuple[Any, ...]) -> tuple[tuple[Any, ...] | None, str]:
     return (oid, t, a, o, e, s, f, ctx, r, arm, p), ""
 
 
-def _rows_named(ids: list[int], why: dict[int, str] | None = None) -> str:
+def rows_named(ids: list[int], why: dict[int, str] | None = None) -> str:
     """'row 3 (why), row 7 (why)', the first few by id, then how many more."""
     named = [f"row {i}" + (f" ({why[i]})" if why else "") for i in ids[:_NAMED]]
     more = f" and {len(ids) - _NAMED} more" if len(ids) > _NAMED else ""
@@ -375,7 +375,7 @@ class ExperienceStore(OutcomeStore):
         )
         if unreadable:
             self.notice += (
-                f"; {_rows_named(sorted(unreadable), unreadable)} cannot be read: "
+                f"; {rows_named(sorted(unreadable), unreadable)} cannot be read: "
                 "kept in the file as they are, not learnt from"
             )
 
@@ -446,7 +446,7 @@ class ExperienceStore(OutcomeStore):
         if new:
             rows, kept = ("", "it is") if len(new) == 1 else (f"{len(new)} rows, ", "they are")
             print(
-                f"warning: experience store {self.path}: {rows}{_rows_named(new, self.quarantined)}: cannot be "
+                f"warning: experience store {self.path}: {rows}{rows_named(new, self.quarantined)}: cannot be "
                 f"read; left in the file as {kept}, not learnt from",
                 file=sys.stderr,
                 flush=True,

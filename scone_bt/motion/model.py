@@ -19,7 +19,15 @@ import numpy as np
 from scone_bt.config import RobotConfig
 from scone_bt.errors import ConfigError, UnknownNameError
 
-__all__ = ["ArmModel", "IKOptions", "IKSolution", "inverse_small", "pose_matrix", "solve_small"]
+__all__ = [
+    "FINGER_MODELS_KEPT",
+    "ArmModel",
+    "IKOptions",
+    "IKSolution",
+    "inverse_small",
+    "pose_matrix",
+    "solve_small",
+]
 
 
 def _gufunc(name: str) -> Any | None:
@@ -31,6 +39,8 @@ def _gufunc(name: str) -> Any | None:
     return getattr(_umath_linalg, name, None)
 
 
+FINGER_MODELS_KEPT = 64
+"""Finger positions whose collision-model template an `ArmModel` keeps (as `spheres.POSITIONS_KEPT`)."""
 _SOLVE = _gufunc("solve")
 _INV = _gufunc("inv")
 
@@ -144,7 +154,9 @@ class ArmModel:
         self.ee_frame = self.model.getFrameId(robot.end_effector_frame)
         self.ee_joint = self.model.frames[self.ee_frame].parentJoint
         self._local = threading.local()
-        self._finger_models: dict[float | None, Any] = {}  # geometry_with_fingers' templates, by position
+        # geometry_with_fingers' templates, by position: at most FINGER_MODELS_KEPT (emptied when full), since an
+        # arm shared by the episodes of a process meets a new position with every new product width.
+        self._finger_models: dict[float | None, Any] = {}
         self.lower = np.array(self.model.lowerPositionLimit, dtype=float)
         self.upper = np.array(self.model.upperPositionLimit, dtype=float)
         self._lower_tol, self._upper_tol = self.lower - 1e-9, self.upper + 1e-9
@@ -191,6 +203,8 @@ class ArmModel:
         key = None if position is None else float(position)
         template = self._finger_models.get(key)
         if template is None:
+            if len(self._finger_models) >= FINGER_MODELS_KEPT:
+                self._finger_models.clear()
             template = self._finger_models[key] = self._fingers_at(key)
         # A copy for the caller to add to; the template (moved fingers and all) is made once per position.
         return template.copy()

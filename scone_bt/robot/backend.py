@@ -50,6 +50,8 @@ class BackendStats:
         renders: Camera images captured.
         physics_steps: Physics steps of the simulation (taken or skipped).
         physics_steps_skipped: Of them, the steps a sleeping scene did not need.
+        bodies: Bodies in the world now (PyBullet's: the scene, the arm and the products; 0 where none are counted).
+        constraints: Constraints in the world now (a grasp's, PyBullet's).
     """
 
     perception_wall_s: float = 0.0
@@ -57,6 +59,8 @@ class BackendStats:
     renders: int = 0
     physics_steps: int = 0
     physics_steps_skipped: int = 0
+    bodies: int = 0
+    constraints: int = 0
 
 
 class Backend(Protocol):

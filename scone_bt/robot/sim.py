@@ -221,6 +221,8 @@ class SimBackend:
             renders=self.robot.renders,
             physics_steps=kitchen.steps,
             physics_steps_skipped=kitchen.steps_skipped,
+            bodies=kitchen.bodies(),
+            constraints=kitchen.constraints(),
         )
 
 

@@ -778,6 +778,14 @@ class Kitchen:
         self.uid = next(_KITCHEN_IDS)
         self.state_version += 1
 
+    def bodies(self) -> int:
+        """Bodies in the simulation now (the scene's boxes, the arm, the products)."""
+        return int(self.bc.getNumBodies())
+
+    def constraints(self) -> int:
+        """Constraints in the simulation now (a held product's grasp)."""
+        return int(self.bc.getNumConstraints())
+
     def close(self) -> None:
         with contextlib.suppress(Exception):  # already disconnected: closing twice must be harmless
             self.bc.disconnect()

@@ -6,6 +6,7 @@ Runs in a fresh interpreter, since this test session may have imported torch alr
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 import textwrap
@@ -51,6 +52,8 @@ def test_a_warm_cache_embeds_without_torch_and_a_miss_loads_the_model(tmp_path) 
         text=True,
         timeout=600,
         check=False,
+        # MiniLM runs in numpy by default (never torch: tests/embedding/test_bert_numpy.py); torch's laziness here
+        env={**os.environ, "SCONE_BT_EMBED_RUNTIME": "torch"},
     )
     assert done.returncode == 0, done.stderr[-3000:]
     out = json.loads(done.stdout.strip().splitlines()[-1])

@@ -153,20 +153,43 @@ def test_sqlite_and_postgres_return_the_same_outcomes(pg_url, tmp_path):
 @pytest.mark.parametrize(
     ("context", "why"),
     [
-        ("[1, 2]", "its context is not a JSON object"),
-        ('{"execution": {"shelf_tier": "two"}}', "shelf_tier must be int, got 'two'"),
+        ("[1, 2]", "context is a JSON list, not an object"),
+        ('{"execution": {"shelf_tier": "two"}}', "context execution: shelf_tier must be int, got 'two'"),
     ],
 )
-def test_a_row_that_cannot_be_read_is_refused_naming_its_outcome_id(pg_url, context, why):
+def test_an_unreadable_row_is_quarantined_with_one_warning_and_the_rest_still_teach(
+    pg_url, context, why, capsys
+):
+    from scone_bt.confidence import make_estimator, rebuild_estimator
+    from scone_bt.embedding.onehot import OneHotEmbedder
+
     with open_store(pg_url) as store:
-        store.append(_outcome(0))
-        store.append(_outcome(1))
+        for i in range(5):
+            store.append(_outcome(i))
     with psycopg.connect(pg_url, autocommit=True) as conn:  # damage made outside scone-bt
         conn.execute(
             "UPDATE scone_outcomes SET context = %s::jsonb WHERE outcome_id = 'panda-1:1'", (context,)
         )
-    with open_store(pg_url) as store, pytest.raises(ExperienceStoreError) as err:
-        store.outcomes()
-    message = str(err.value)
-    assert "stored outcome panda-1:1" in message and why in message and "\n" not in message
-    assert "the store is damaged (it was left as it is)" in message
+        row_id = conn.execute("SELECT id FROM scone_outcomes WHERE outcome_id = 'panda-1:1'").fetchone()[0]
+        raw_before = conn.execute("SELECT * FROM scone_outcomes ORDER BY id").fetchall()
+    capsys.readouterr()
+    # Two robots of the fleet read the store: each warns once, and learns from the four whole rows.
+    for _robot in range(2):
+        with open_store(pg_url) as store:
+            assert [o.outcome_id for o in store.outcomes()] == [f"panda-1:{i}" for i in (0, 2, 3, 4)]
+            warning = capsys.readouterr().err
+            assert warning.count("\n") == 1 and warning.startswith(f"warning: experience store {pg_url}: ")
+            assert f"row {row_id} (outcome panda-1:1: {why}" in warning
+            assert "left in the database as it is, not learnt from" in warning
+            assert list(store.quarantined) == [row_id]
+            est = make_estimator("grounded-knn")
+            actions = sorted({o.action for o in _outcomes_all()})
+            assert rebuild_estimator(est, store, OneHotEmbedder(actions)) == 4
+            assert capsys.readouterr().err == ""  # named once per store
+            assert len(store) == 5  # still in the database
+    with psycopg.connect(pg_url, autocommit=True) as conn:
+        assert conn.execute("SELECT * FROM scone_outcomes ORDER BY id").fetchall() == raw_before
+
+
+def _outcomes_all() -> list[Outcome]:
+    return [_outcome(i) for i in range(5)]

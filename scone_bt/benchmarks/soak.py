@@ -1,0 +1,320 @@
+"""``scone-bench soak``: many seeded episodes in one process, with the process's resources sampled after each.
+
+A lab runs the robot for hours and a study runs dozens of sessions in one process: whatever an episode leaves
+behind adds up. The soak runs ``--episodes`` corpus recipes back to back (one `ModelPool`, one experience store,
+as a long-running robot would) and samples after every episode: resident memory, open file descriptors, OS
+threads, the backend's bodies and constraints, the experience store's size, and the embedding cache's entries.
+
+``rss_growth_mb_per_episode`` is the least-squares slope of resident memory over the episodes after a warm-up
+(``--warmup``, 10 by default: the models and the first recipes' caches load there). ``fd_growth`` and
+``thread_growth`` are the last episode's count less the count at the end of the warm-up.
+
+    scone-bench soak --episodes 200 --json docs/results/soak.json --plot docs/results/soak.png
+"""
+
+from __future__ import annotations
+
+import argparse
+import gc
+import os
+import tempfile
+import threading
+import time
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
+
+from scone_bt.benchmarks.progress import progress_bar
+from scone_bt.reporting import emit_report
+
+__all__ = ["EpisodeSample", "TARGETS", "corpus_recipes", "process_sample", "register", "run", "slope"]
+
+TARGETS = {"rss_growth_mb_per_episode": 0.5, "fd_growth": 0, "thread_growth": 0}
+"""Issue 51's targets over 200 episodes: memory (MB per episode after the warm-up), descriptors and threads flat."""
+
+
+@dataclass(frozen=True)
+class EpisodeSample:
+    """The process after one episode of the soak.
+
+    Attributes:
+        episode: Its index (0 first).
+        recipe: The recipe id.
+        completed: Whether the recipe was done before the tick limit.
+        wall_s: The episode's wall seconds.
+        rss_mb: Resident memory of the process, MB (2**20 bytes).
+        fds: Open file descriptors (/proc/self/fd).
+        threads: OS threads of the process (/proc/self/status), the interpreter's and native ones (torch, BLAS).
+        python_threads: Threads the interpreter knows (`threading.active_count`).
+        bodies: Bodies in the backend's world at the episode's end (PyBullet's; 0 where it has none).
+        constraints: Constraints in the backend's world at the episode's end.
+        store_bytes: The experience store's file size, bytes (main file plus its WAL).
+        outcomes: Outcomes in the experience store.
+        embedding_cache_entries: Texts the shared embedder holds in memory.
+    """
+
+    episode: int
+    recipe: str
+    completed: bool
+    wall_s: float
+    rss_mb: float
+    fds: int
+    threads: int
+    python_threads: int
+    bodies: int
+    constraints: int
+    store_bytes: int
+    outcomes: int
+    embedding_cache_entries: int
+
+
+def _status_field(name: str) -> int:
+    """A numeric field of /proc/self/status (the first number on its line)."""
+    with open("/proc/self/status", encoding="ascii") as f:
+        for line in f:
+            if line.startswith(name + ":"):
+                return int(line.split()[1])
+    raise RuntimeError(f"/proc/self/status has no {name} line")
+
+
+def process_sample() -> tuple[float, int, int]:
+    """Resident memory (MB), open file descriptors and OS threads of this process (Linux /proc)."""
+    rss_mb = _status_field("VmRSS") / 1024.0
+    fds = len(os.listdir("/proc/self/fd")) - 1  # the listing's own descriptor
+    return rss_mb, fds, _status_field("Threads")
+
+
+def slope(values: list[float]) -> float | None:
+    """Least-squares slope of ``values`` against their index (per step); None for fewer than two."""
+    n = len(values)
+    if n < 2:
+        return None
+    mean_x, mean_y = (n - 1) / 2.0, sum(values) / n
+    num = sum((i - mean_x) * (v - mean_y) for i, v in enumerate(values))
+    den = sum((i - mean_x) ** 2 for i in range(n))
+    return num / den
+
+
+def corpus_recipes(count: int, seed: int, max_steps: int) -> list[str]:
+    """``count`` corpus recipe ids drawn with ``seed`` (without replacement while the corpus lasts).
+
+    Only recipes of at most ``max_steps`` steps that name something the kitchen stocks are drawn, so every
+    episode asks the robot for something and the soak's wall time stays bounded.
+    """
+    import numpy as np
+
+    from scone_bt.config import load_kitchen
+    from scone_bt.defaults import EPISODE
+    from scone_bt.errors import ConfigError
+    from scone_bt.recipes import stock_recipe
+    from scone_bt.recipes.recipe import corpus_entries
+
+    catalogue = load_kitchen(EPISODE.kitchen).catalogue
+    ids = []
+    for entry in corpus_entries():
+        try:
+            recipe = entry.recipe()
+        except Exception:  # a damaged corpus line is not the soak's to judge: it is left out
+            continue
+        if len(recipe.steps) <= max_steps and stock_recipe(recipe, catalogue).needed:
+            ids.append(recipe.id)
+    if not ids:
+        raise ConfigError(
+            f"--max-steps {max_steps}: no corpus recipe has this few steps and stocked products"
+        )
+    rng = np.random.default_rng(seed)
+    out: list[str] = []
+    while len(out) < count:
+        out.extend(ids[i] for i in rng.permutation(len(ids)))
+    return out[:count]
+
+
+def _store_bytes(path: Path) -> int:
+    return sum(p.stat().st_size for p in (path, Path(f"{path}-wal")) if p.exists())
+
+
+def _plot(samples: list[EpisodeSample], warmup: int, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    x = [s.episode for s in samples]
+    fig, axes = plt.subplots(2, 2, figsize=(10, 6), sharex=True)
+    series = (
+        ("resident memory (MB)", [s.rss_mb for s in samples]),
+        ("open file descriptors", [s.fds for s in samples]),
+        ("OS threads", [s.threads for s in samples]),
+        ("experience store (kB)", [s.store_bytes / 1024 for s in samples]),
+    )
+    for ax, (title, ys) in zip(axes.flat, series, strict=True):
+        ax.plot(x, ys, lw=1)
+        ax.axvline(warmup - 0.5, color="grey", ls=":", lw=1)
+        ax.set_title(title, fontsize=10)
+    for ax in axes[1]:
+        ax.set_xlabel("episode")
+    fig.suptitle(f"scone-bench soak: {len(samples)} episodes in one process (dotted: end of the warm-up)")
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the soak; print the JSON report (and write it to --json, the plot to --plot)."""
+    from scone_bt.behaviours import BehaviourOptions
+    from scone_bt.checks import check_positive_int
+    from scone_bt.config import load_robot
+    from scone_bt.episode import EpisodeOptions, run_episode
+    from scone_bt.episode.resources import ModelPool
+    from scone_bt.quiet import c_stdout_silenced
+    from scone_bt.robot.registry import backend_factory
+
+    check_positive_int(args.episodes, "--episodes")
+    check_positive_int(args.max_ticks, "--max-ticks")
+    check_positive_int(args.max_steps, "--max-steps")
+    backend_factory(args.robot)  # an unknown backend is one line now
+    load_robot(args.arm)
+    recipes = corpus_recipes(args.episodes, args.seed, args.max_steps)
+    samples: list[EpisodeSample] = []
+    started = time.perf_counter()
+    with tempfile.TemporaryDirectory(prefix="scone-soak-") as tmp, ModelPool() as models:
+        store = Path(tmp) / "experience.sqlite"
+        # A cache folder of the soak's own: every recipe starts with its texts unembedded, as a new user's would,
+        # and the user's own cache is neither used nor filled.
+        cache_dir = Path(args.cache_dir) if args.cache_dir else Path(tmp) / "cache"
+        bar = progress_bar(len(recipes), "soak", args.quiet, unit="episode")
+        interrupted = False
+        try:
+            for i, recipe in enumerate(recipes):
+                bar.set_postfix_str(recipe)
+                options = EpisodeOptions(
+                    robot=args.arm,
+                    backend=args.robot,
+                    recipe=recipe,
+                    seed=args.seed + i,
+                    distractors=args.distractors,
+                    max_ticks=args.max_ticks,
+                    behaviour=BehaviourOptions(
+                        seed=args.seed + i, experience_path=store, cache_dir=cache_dir
+                    ),
+                )
+                with c_stdout_silenced():
+                    summary = run_episode(options, printer=lambda _line: None, models=models)
+                gc.collect()  # what is still reachable is what the sample should see, not garbage awaiting a pass
+                rss_mb, fds, threads = process_sample()
+                caches = [getattr(e, "cache", None) for e in models.embedders()]
+                samples.append(
+                    EpisodeSample(
+                        episode=i,
+                        recipe=recipe,
+                        completed=summary.completed,
+                        wall_s=round(summary.wall_time, 3),
+                        rss_mb=round(rss_mb, 2),
+                        fds=fds,
+                        threads=threads,
+                        python_threads=threading.active_count(),
+                        bodies=summary.bodies,
+                        constraints=summary.constraints,
+                        store_bytes=_store_bytes(store),
+                        outcomes=_outcomes(store),
+                        embedding_cache_entries=sum(len(c) for c in caches if c is not None),
+                    )
+                )
+                bar.set_postfix_str(f"{rss_mb:.0f} MB, {fds} fds, {threads} threads")
+                bar.update()
+        except KeyboardInterrupt:
+            # Hours of samples are not lost to a Ctrl-C: the report covers the episodes that ran.
+            interrupted = True
+        bar.close()
+    if not samples:
+        raise KeyboardInterrupt
+    warmup = min(args.warmup, len(samples) - 1)
+    after = samples[warmup:]
+    growth = slope([s.rss_mb for s in after])
+    last = samples[-1]
+    base = samples[warmup - 1] if warmup > 0 else samples[0]
+    result: dict[str, Any] = {
+        "episodes": args.episodes,
+        "robot": args.robot,
+        "arm": args.arm,
+        "seed": args.seed,
+        "max_steps": args.max_steps,
+        "max_ticks": args.max_ticks,
+        "warmup": warmup,
+        "episodes_completed": sum(s.completed for s in samples),
+        "episodes_run": len(samples),
+        "interrupted": interrupted,
+        "rss_growth_mb_per_episode": round(growth, 4) if growth is not None else None,
+        "rss_mb_after_warmup": base.rss_mb,
+        "rss_mb_last": last.rss_mb,
+        "rss_mb_max": max(s.rss_mb for s in samples),
+        "fd_growth": last.fds - base.fds,
+        "thread_growth": last.threads - base.threads,
+        "python_thread_growth": last.python_threads - base.python_threads,
+        "bodies_growth": last.bodies - base.bodies,
+        "constraints_growth": last.constraints - base.constraints,
+        "store_bytes_per_outcome": round(last.store_bytes / last.outcomes, 1) if last.outcomes else None,
+        "outcomes": last.outcomes,
+        "wall_s": round(time.perf_counter() - started, 1),
+        "cpu_count": os.cpu_count(),
+        "targets": TARGETS,
+        "per_episode": [asdict(s) for s in samples],
+    }
+    result["meets_targets"] = bool(
+        growth is not None
+        and growth <= TARGETS["rss_growth_mb_per_episode"]
+        and result["fd_growth"] <= 0
+        and result["thread_growth"] <= 0
+        and result["episodes_completed"] == args.episodes
+    )
+    if args.plot:
+        _plot(samples, warmup, Path(args.plot))
+    emit_report(result, args.json)
+    return 0
+
+
+def _outcomes(path: Path) -> int:
+    """Outcomes in the SQLite store at ``path`` (0 before its first)."""
+    if not path.exists():
+        return 0
+    from scone_bt.experience import open_store
+
+    with open_store(path) as store:
+        return len(store)
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add ``soak`` to ``scone-bench``."""
+    from scone_bt.defaults import EPISODE
+    from scone_bt.robot.registry import BACKENDS, DEFAULT_BACKEND
+
+    p = sub.add_parser(
+        "soak", help="many episodes in one process: memory, descriptors, threads per episode (JSON)"
+    )
+    p.add_argument("--episodes", type=int, default=200, help="episodes to run (default 200)")
+    p.add_argument(
+        "--robot",
+        default=DEFAULT_BACKEND,
+        help=f"robot backend: {', '.join(BACKENDS)} (default {DEFAULT_BACKEND})",
+    )
+    p.add_argument("--arm", default=EPISODE.robot, help=f"robot file name or path (default {EPISODE.robot})")
+    p.add_argument("--seed", type=int, default=0, help="seeds the recipes' draw; episode i uses seed + i")
+    p.add_argument(
+        "--warmup", type=int, default=10, help="episodes before the memory slope is fitted (default 10)"
+    )
+    p.add_argument("--distractors", type=int, default=4, help="distractor products per episode (default 4)")
+    p.add_argument(
+        "--max-ticks", type=int, default=4000, help="control-tick limit per episode (default 4000)"
+    )
+    p.add_argument(
+        "--max-steps",
+        type=int,
+        default=12,
+        help="draw corpus recipes of at most this many steps (default 12)",
+    )
+    p.add_argument("--cache-dir", type=Path, help="embedding cache folder (default: a temporary one, empty)")
+    p.add_argument("--plot", type=Path, help="also plot the per-episode series to this PNG")
+    p.add_argument("--json", type=Path, help="also write the JSON report to this file")
+    p.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
+    p.set_defaults(func=run)

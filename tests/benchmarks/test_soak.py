@@ -1,0 +1,57 @@
+"""``scone-bench soak``: twenty episodes in one process leave descriptors and threads where they were.
+
+Memory slopes belong in the benchmark's JSON (docs/results/soak.json), not in a timed test: here only what must
+hold exactly is checked.
+"""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from scone_bt.benchmarks.soak import corpus_recipes, slope
+from scone_bt.cli.bench import main
+
+
+def test_slope_is_the_least_squares_fit():
+    assert slope([1.0, 3.0, 5.0, 7.0]) == pytest.approx(2.0)
+    assert slope([4.0, 4.0, 4.0]) == pytest.approx(0.0)
+    assert slope([1.0]) is None
+
+
+def test_the_recipes_are_drawn_with_the_seed_and_all_short():
+    from scone_bt.recipes.recipe import load_recipe
+
+    a, b = corpus_recipes(30, 7, 4), corpus_recipes(30, 7, 4)
+    assert a == b and corpus_recipes(30, 8, 4) != a
+    assert all(len(load_recipe(r).steps) <= 4 for r in a[:5])
+
+
+def test_an_unknown_backend_is_one_line_before_an_episode_runs(monkeypatch, capsys):
+    def never(*args: object, **kwargs: object) -> None:
+        raise AssertionError("an episode ran")
+
+    monkeypatch.setattr("scone_bt.episode.run_episode", never)
+    assert main(["soak", "--robot", "nosuch", "--quiet"]) == 2
+    assert capsys.readouterr().err == "scone-bench: unknown robot backend 'nosuch'; valid: sim\n"
+
+
+@pytest.mark.slow
+def test_twenty_episodes_leave_descriptors_and_threads_flat(tmp_path, capsys):
+    out = tmp_path / "soak.json"
+    args = ["soak", "--episodes", "20", "--warmup", "5", "--max-steps", "4", "--quiet", "--json", str(out)]
+    assert main(args) == 0
+    report = json.loads(out.read_text())
+    capsys.readouterr()
+    assert report["episodes_run"] == 20 and report["episodes_completed"] == 20
+    rows = report["per_episode"]
+    assert len(rows) == 20 and [r["episode"] for r in rows] == list(range(20))
+    # After the warm-up (the models loaded, the store opened once), every episode ends with the same descriptors
+    # and threads: a kitchen, a planner thread or a file an episode left open would add one per episode.
+    assert {r["fds"] for r in rows[5:]} == {rows[4]["fds"]}
+    assert {r["threads"] for r in rows[5:]} == {rows[4]["threads"]}
+    assert report["fd_growth"] == 0 and report["thread_growth"] == 0
+    # Each episode's world was its own: bodies are the scene, the arm and that episode's products, nothing kept.
+    assert all(r["bodies"] > 0 for r in rows) and all(r["constraints"] <= 1 for r in rows)
+    assert rows[-1]["outcomes"] >= rows[0]["outcomes"] and report["store_bytes_per_outcome"] > 0
