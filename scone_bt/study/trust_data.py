@@ -12,6 +12,7 @@ tasks (A, B), both succeeding or both failing (``B_SF``), then rated C, D and E 
 from __future__ import annotations
 
 import csv
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -28,6 +29,7 @@ __all__ = [
     "data_dir",
     "load_tasks",
     "load_trust_data",
+    "rating_to_trust",
 ]
 
 DOMAINS: tuple[str, ...] = ("household", "driving")
@@ -48,6 +50,11 @@ RATING_RANGE = (1, 7)
 
 class TrustDataError(SconeError):
     """A ratings or task file that cannot be used; the message names the file, row and column."""
+
+
+def rating_to_trust(rating: float) -> float:
+    """A 1-7 rating on the paper's (0, 1) trust scale, sigmoid(rating - 3.5) (runExperiment.loadData)."""
+    return 1.0 / (1.0 + math.exp(-(rating - 3.5)))
 
 
 def data_dir() -> Path:

@@ -34,7 +34,9 @@ GOOD = "5,5,3,6,7,7,5,4,4,6,2,8,5,1\n"
 
 def test_missing_column_names_file_row_and_column(tmp_path: Path) -> None:
     path = _write(tmp_path, HEADER.replace(",E2_rating", "") + "5,5,3,6,7,7,5,4,6,2,8,5,1\n")
-    with pytest.raises(TrustDataError, match=r"ratings\.csv: row 0 \(header\), missing column\(s\) E2_rating;"):
+    with pytest.raises(
+        TrustDataError, match=r"ratings\.csv: row 0 \(header\), missing column\(s\) E2_rating;"
+    ):
         load_trust_data("household", path)
 
 
