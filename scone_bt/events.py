@@ -41,6 +41,7 @@ __all__ = [
     "Intervention",
     "CleanUpStarted",
     "StepDone",
+    "TrustEstimated",
     "EVENT_TYPES",
     "EpisodeStats",
     "fold",
@@ -269,6 +270,24 @@ class StepDone(Event):
         return {"sim_time": round(self.sim_time, 3), "object": None, "detail": self.detail}
 
 
+@dataclass(frozen=True)
+class TrustEstimated(_ActionEvent):
+    """The robot's estimate of how much the person trusts it with an action, beside its own κ̂
+    (`scone_bt.study.trust_estimate`: the trust-transfer model fitted to human ratings, fed what the person saw).
+
+    Attributes:
+        trust: Predicted trust of the person that the action succeeds, in [0, 1].
+        confidence: κ̂ for the action, in [0, 1].
+        risk: "over" (the person likely trusts it more than κ̂ warrants), "under" (they saw similar actions fail
+            but κ̂ is high) or "" (neither).
+    """
+
+    kind: ClassVar[str] = "trust_estimate"
+    trust: float
+    confidence: float
+    risk: str = ""
+
+
 EVENT_TYPES: Mapping[str, type[Event]] = MappingProxyType(
     {
         cls.kind: cls
@@ -286,6 +305,7 @@ EVENT_TYPES: Mapping[str, type[Event]] = MappingProxyType(
             Intervention,
             CleanUpStarted,
             StepDone,
+            TrustEstimated,
         )
     }
 )
