@@ -23,7 +23,7 @@ import numpy as np
 
 from scone_bt.errors import SconeError
 
-__all__ = ["register", "evaluate_split", "PAPER_RESULTS", "BASELINES"]
+__all__ = ["register", "evaluate_split", "calibration", "PAPER_RESULTS", "BASELINES"]
 
 PAPER_RESULTS = Path(__file__).resolve().parents[2] / "tools" / "data" / "trust" / "paper_results.json"
 BASELINES: tuple[str, ...] = ("constant", "gp", "pmgp", "pogp", "lineargaussian", "rnn")
@@ -112,6 +112,86 @@ def _bench(args: argparse.Namespace) -> int:
     return 0
 
 
+def calibration(participants: int, steps: int, seed: int) -> dict:
+    """Simulated studies with the fitted participants, self-confidence off and on (synthetic episodes).
+
+    At every decision on an action, the robot's online estimate of the person's trust (OnlineTrust, a person of
+    unknown disposition) is compared with the true success probability of the action (its calibration gap) and
+    with the simulated person's own trust; the risks it flags are counted.
+    """
+    from scone_bt.config import load_kitchen
+    from scone_bt.events import DecisionMade, Event
+    from scone_bt.gate.types import DecisionKind
+    from scone_bt.study.design import Condition, assign_group
+    from scone_bt.study.synthetic import SyntheticOptions, SyntheticRobot, run_synthetic_episode
+    from scone_bt.study.trust import SimulatedParticipant, trust_parameters
+    from scone_bt.study.trust_estimate import OnlineTrust
+    from scone_bt.study.trust_transfer import TransferModel
+
+    params = trust_parameters("fitted")
+    assert params.transfer is not None
+    model = TransferModel(params.transfer)
+    names = tuple(load_kitchen().catalogue.names())
+    out = {}
+    for condition in (Condition.OFF, Condition.ON):
+        acc: dict[str, list] = {k: [] for k in ("est_gap", "person_gap", "tracking", "risk", "acts")}
+        attempts = 0
+        for i in range(participants):
+            robot = SyntheticRobot.sample(names, seed * 1_000 + i)
+            person = SimulatedParticipant(f"SIM{i + 1:03d}", assign_group(i), params, seed=seed * 100_003 + i)
+            online = OnlineTrust(model)
+
+            def sink(event: Event, robot=robot, person=person, online=online, acc=acc) -> None:  # noqa: ANN001
+                if isinstance(event, DecisionMade) and event.action and event.object_name:
+                    name = event.object_name
+                    est = online.estimate(event.sim_time, {event.action: (name, robot.confidence[name])})[0]
+                    own = person.trust_in(event.action)
+                    acc["est_gap"].append(abs(est.trust - robot.success[name]))
+                    acc["person_gap"].append(abs(own - robot.success[name]))
+                    acc["tracking"].append(abs(est.trust - own))
+                    acc["risk"].append(est.risk)
+                    acc["acts"].append(event.verdict is DecisionKind.ACT)
+                online(event)
+
+            summary = run_synthetic_episode(
+                robot, condition, person, sink, seed * 1_000 + 10 * i, SyntheticOptions(steps=steps)
+            )
+            attempts += summary["attempted"]
+        risk, acts = np.array(acc["risk"]), np.array(acc["acts"], dtype=bool)
+        out[f"self_confidence_{condition.value}"] = {
+            "decisions": len(risk),
+            "acting_decisions": int(acts.sum()),
+            "attempts": attempts,
+            "calibration_gap_estimate": round(float(np.mean(acc["est_gap"])), 4),
+            "calibration_gap_person": round(float(np.mean(acc["person_gap"])), 4),
+            "estimate_vs_person_mae": round(float(np.mean(acc["tracking"])), 4),
+            "over_trust_rate": round(float(np.mean(risk == "over")), 4),
+            "under_trust_rate": round(float(np.mean(risk == "under")), 4),
+            "over_trust_rate_when_acting": round(float(np.mean(risk[acts] == "over")), 4)
+            if acts.any()
+            else None,
+        }
+    return out
+
+
+def _calibration_bench(args: argparse.Namespace) -> int:
+    from scone_bt.reporting import emit_report
+
+    start = time.perf_counter()
+    report = {
+        "data": "SIMULATED",
+        "participants": args.participants,
+        "steps": args.steps,
+        "seed": args.seed,
+        "gap": "mean |trust - the action's true success probability| over decisions",
+        "assumed": "risk margins (0.25), help_logit, take-over curve; no trust-aware condition yet",
+        **calibration(args.participants, args.steps, args.seed),
+    }
+    report["wall_s"] = round(time.perf_counter() - start, 2)
+    emit_report(report, args.json)
+    return 0
+
+
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``trust`` to ``scone-bench``."""
     b = sub.add_parser(
@@ -124,3 +204,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     b.add_argument("--json", help="also write the JSON report to this file")
     b.set_defaults(func=_bench)
+
+    c = sub.add_parser(
+        "trust-calibration",
+        help="SIMULATED fitted participants, self-confidence off/on: calibration gap and trust-risk rates",
+    )
+    c.add_argument("--participants", type=int, default=31)
+    c.add_argument("--steps", type=int, default=5, help="recipe steps per synthetic episode")
+    c.add_argument("--seed", type=int, default=0)
+    c.add_argument("--json", help="also write the JSON report to this file")
+    c.set_defaults(func=_calibration_bench)

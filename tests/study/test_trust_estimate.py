@@ -46,3 +46,15 @@ def test_events_in_estimates_out(model: TransferModel) -> None:
     )  # two failures of a glass jar: trust is low now
     assert after[1].risk == "under"  # similar failures seen, yet κ̂ 0.9 for the rice
     assert isinstance(after[1], TrustEstimated) and after[1].to_json()["object"] == "bag of rice"
+
+
+def test_calibration_report_of_simulated_studies() -> None:
+    from scone_bt.study.trust_bench import calibration
+
+    report = calibration(participants=2, steps=2, seed=0)
+    assert set(report) == {"self_confidence_off", "self_confidence_on"}
+    for row in report.values():
+        assert row["decisions"] >= row["acting_decisions"] and row["decisions"] >= 4
+        for key in ("calibration_gap_estimate", "calibration_gap_person", "over_trust_rate", "under_trust_rate"):
+            assert 0.0 <= row[key] <= 1.0
+    assert calibration(participants=2, steps=2, seed=0) == report  # seeded
