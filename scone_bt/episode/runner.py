@@ -494,9 +494,17 @@ def _summarise(
     )
 
 
+def _online_trust() -> Any:
+    """The person's trust estimated online for the recording (the fitted model; its ζ loads here, once)."""
+    from scone_bt.study.trust_estimate import OnlineTrust
+    from scone_bt.study.trust_transfer import TransferModel, load_fitted
+
+    return OnlineTrust(TransferModel(load_fitted()))
+
+
 def _tick_logger(recorder: Any, scene: SceneView, ep: _Episode, lines: list[str]) -> Callable[[int], None]:
     """Records the state after each tree tick: what changed on the blackboard, the poses, the tick's lines."""
-    snapshots = SnapshotBuilder(scene, ep.plan.recipe, ep.human, ep.events, lines)
+    snapshots = SnapshotBuilder(scene, ep.plan.recipe, ep.human, ep.events, lines, trust=_online_trust())
 
     def log_tick(tick: int) -> None:
         recorder.log_tick(snapshots.build(tick, ep.root))
