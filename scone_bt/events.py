@@ -42,6 +42,7 @@ __all__ = [
     "CleanUpStarted",
     "StepDone",
     "TrustEstimated",
+    "ConfidenceStated",
     "EVENT_TYPES",
     "EpisodeStats",
     "fold",
@@ -288,6 +289,15 @@ class TrustEstimated(_ActionEvent):
     risk: str = ""
 
 
+@dataclass(frozen=True)
+class ConfidenceStated(_ActionEvent):
+    """The robot says its confidence in words before an act the person likely over-trusts (tree parameter
+    ``trust_aware: true``); ``text`` is what it says."""
+
+    kind: ClassVar[str] = "confidence_stated"
+    text: str
+
+
 EVENT_TYPES: Mapping[str, type[Event]] = MappingProxyType(
     {
         cls.kind: cls
@@ -306,6 +316,7 @@ EVENT_TYPES: Mapping[str, type[Event]] = MappingProxyType(
             CleanUpStarted,
             StepDone,
             TrustEstimated,
+            ConfidenceStated,
         )
     }
 )

@@ -371,6 +371,7 @@ def _build(
         kappa=resources.estimator,
         recorder=resources.store,
         gripper_opening_m=robot_cfg.gripper.opening_m,
+        trust=_listening_trust(events) if behaviour.trust_aware else None,
     )
     say(
         f"{recipe.recipe.title}: {len(recipe.steps)} steps, needs "
@@ -500,6 +501,13 @@ def _online_trust() -> Any:
     from scone_bt.study.trust_transfer import TransferModel, load_fitted
 
     return OnlineTrust(TransferModel(load_fitted()))
+
+
+def _listening_trust(events: EventLog) -> Any:
+    """trust_aware: the person's trust estimated online, fed every event of the episode from now on."""
+    trust = _online_trust()
+    events.listen(trust)
+    return trust
 
 
 def _tick_logger(recorder: Any, scene: SceneView, ep: _Episode, lines: list[str]) -> Callable[[int], None]:
