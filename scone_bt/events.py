@@ -274,7 +274,7 @@ class StepDone(Event):
 @dataclass(frozen=True)
 class TrustEstimated(_ActionEvent):
     """The robot's estimate of how much the person trusts it with an action, beside its own κ̂
-    (`scone_bt.study.trust_estimate`: the trust-transfer model fitted to human ratings, fed what the person saw).
+    (`scone_bt.trust.estimate`: the trust-transfer model fitted to human ratings, fed what the person saw).
 
     Attributes:
         trust: Predicted trust of the person that the action succeeds, in [0, 1].

@@ -39,6 +39,7 @@ STAGES = (
     "relevance",
     "robot",
     "tree",
+    "trust",
     "viz",
     "world",
 )

@@ -67,7 +67,7 @@ class EpisodeContext:
         recorder: Opens (once) the experience store, or gives None.
         gripper_opening_m: How wide the arm's gripper opens, metres (None: unknown; the budget gate then never
             asks because a product is too wide).
-        trust: The person's trust estimated online (`scone_bt.study.trust_estimate.OnlineTrust`), listening to
+        trust: The person's trust estimated online (`scone_bt.trust.estimate.OnlineTrust`), listening to
             the events; set with the tree parameter ``trust_aware``, else None.
     """
 

@@ -497,8 +497,8 @@ def _summarise(
 
 def _online_trust() -> Any:
     """The person's trust estimated online for the recording (the fitted model; its ζ loads here, once)."""
-    from scone_bt.study.trust_estimate import OnlineTrust
-    from scone_bt.study.trust_transfer import TransferModel, load_fitted
+    from scone_bt.trust.estimate import OnlineTrust
+    from scone_bt.trust.transfer import TransferModel, load_fitted
 
     return OnlineTrust(TransferModel(load_fitted()))
 

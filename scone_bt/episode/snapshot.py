@@ -43,7 +43,7 @@ class SnapshotBuilder:
         human: The human (the recipe view shows their progress).
         events: The episode's events (the counters are their fold).
         lines: The log lines printed since the last snapshot; emptied by each `build`.
-        trust: The person's trust estimated online (`scone_bt.study.trust_estimate.OnlineTrust`), fed the episode's
+        trust: The person's trust estimated online (`scone_bt.trust.estimate.OnlineTrust`), fed the episode's
             events here; at each decision it gives the trust per offered object beside κ̂, and over-/under-trust
             risks as log lines. The estimate is drawn, never sent to the event sinks: the episode's events are
             the same with and without a viewer.

@@ -225,7 +225,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--trust-params",
         choices=("fitted", "hand"),
         default="fitted",
-        help="simulated participants: fitted to human ratings (trust_fitted.json) or hand-set",
+        help="simulated participants: fitted to human ratings (scone_bt/trust/fitted.json) or hand-set",
     )
     b.add_argument("--json", help="also write the JSON report to this file")
     b.set_defaults(func=_bench)

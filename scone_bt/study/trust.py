@@ -18,7 +18,7 @@ The trust model (documented in docs/study.md):
   ``d_q``; reverse-scored items are answered on the flipped scale. This is the generative form of the paper's
   Eq. (3), so with the dynamics switched off (gains 0) the analysis must recover ``condition_effect`` exactly.
 
-With ``transfer`` set (the fitted model, trust_transfer.py; the default of `scone-study simulate` and `power`), trust
+With ``transfer`` set (the fitted model, scone_bt.trust.transfer; the default of `scone-study simulate` and `power`), trust
 is per action and moves across actions through ζ: the person's trust that the robot can do action ``a`` is
 ``sigmoid(prior(a) + u_p + Σ_o w_o k(a, o) g_o)`` over what they saw (``g_o`` = the fitted success gain or failure
 loss, ``help_logit`` for a help request; ``w_o`` = 1, times ``carry_over`` for session-1 events in session 2), with
@@ -42,7 +42,7 @@ from scone_bt.events import ActOutcome, ActStarted, Event, HelpRequested
 from scone_bt.human import SimulatedHuman
 from scone_bt.study.design import Condition, Group
 from scone_bt.study.questionnaires import Questionnaire
-from scone_bt.study.trust_transfer import TransferModel, TransferParameters, load_fitted
+from scone_bt.trust.transfer import TransferModel, TransferParameters, load_fitted
 
 __all__ = [
     "GENERIC_ACTION",
@@ -86,7 +86,7 @@ class TrustParameters:
         session_effect: Shift of the answers (logit) in session 2.
         response_noise_sd: Per-session noise of the answers (logit).
         item_sd: Spread of the fixed item offsets (logit).
-        transfer: The fitted per-action model (trust_transfer.py); None: the single hand-set trust above.
+        transfer: The fitted per-action model (scone_bt.trust.transfer); None: the single hand-set trust above.
         help_logit: With `transfer`: logit change per help request on the same action, transferred like an
             outcome. Assumed (no data): the hand-set help_gain's effect at trust 0.5.
     """
@@ -153,7 +153,7 @@ class TrustParameters:
 
 
 def trust_parameters(name: str, **overrides: float) -> TrustParameters:
-    """A named parameter set: "fitted" (the committed fit, trust_fitted.json) or "hand" (the dataclass defaults)."""
+    """A named parameter set: "fitted" (the committed fit, scone_bt/trust/fitted.json) or "hand" (the dataclass defaults)."""
     if name not in TRUST_PARAMETER_SETS:
         raise UnknownNameError("trust parameters", name, TRUST_PARAMETER_SETS)
     if name == "hand":

@@ -1,4 +1,4 @@
-"""``scone-bench trust``: the trust-transfer model (trust_transfer.py) on Soh et al.'s human ratings, on the paper's
+"""``scone-bench trust``: the trust-transfer model (scone_bt.trust.transfer) on Soh et al.'s human ratings, on the paper's
 two splits, beside the paper's own models.
 
 For each domain (household, driving) and split (participants: 10 folds of 3 held-out participants; tasks: 12
@@ -9,7 +9,7 @@ from its code/results/*.pkl); every fold's test targets are checked to equal the
 paper's. Target: our MAE <= the paper's GP's on both splits in both domains.
 
     scone-bench trust --json tools/data/trust/bench_trust.json
-    scone-bench trust --write        # also refit on all household ratings -> scone_bt/study/trust_fitted.json
+    scone-bench trust --write        # also refit on all household ratings -> scone_bt/trust/fitted.json
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ def evaluate_split(
     data, vectors: np.ndarray, kind: str, l2: float = 1.0, saved_targets: list[list[float]] | None = None
 ) -> dict[str, float]:  # data: TrustDataset
     """Mean over folds of MAE and NLL of the model fitted outside each fold."""
-    from scone_bt.study.trust_transfer import CLIP, fit_vector, paper_splits, predict_rows, rows_of
+    from scone_bt.trust.transfer import CLIP, fit_vector, paper_splits, predict_rows, rows_of
 
     rows = rows_of(data)
     sim = vectors @ vectors.T
@@ -69,8 +69,8 @@ def _baselines(saved: dict) -> dict:
 def _bench(args: argparse.Namespace) -> int:
     from scone_bt.embedding import load_embedder
     from scone_bt.reporting import emit_report
-    from scone_bt.study.trust_data import DOMAINS, load_trust_data
-    from scone_bt.study.trust_transfer import FITTED_PARAMETERS, fit_transfer
+    from scone_bt.trust.data import DOMAINS, load_trust_data
+    from scone_bt.trust.transfer import FITTED_PARAMETERS, fit_transfer
 
     start = time.perf_counter()
     paper = json.loads(PAPER_RESULTS.read_text())
@@ -125,8 +125,8 @@ def calibration(participants: int, steps: int, seed: int) -> dict:
     from scone_bt.study.design import Condition, assign_group
     from scone_bt.study.synthetic import SyntheticOptions, SyntheticRobot, run_synthetic_episode
     from scone_bt.study.trust import SimulatedParticipant, trust_parameters
-    from scone_bt.study.trust_estimate import OnlineTrust
-    from scone_bt.study.trust_transfer import TransferModel
+    from scone_bt.trust.estimate import OnlineTrust
+    from scone_bt.trust.transfer import TransferModel
 
     params = trust_parameters("fitted")
     assert params.transfer is not None
@@ -200,7 +200,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--embedder", default="minilm", help="ζ (a load_embedder name)")
     b.add_argument("--l2", type=float, default=1.0, help="L2 penalty on the prior's anchor weights")
     b.add_argument(
-        "--write", action="store_true", help="write the household fit to scone_bt/study/trust_fitted.json"
+        "--write", action="store_true", help="write the household fit to scone_bt/trust/fitted.json"
     )
     b.add_argument("--json", help="also write the JSON report to this file")
     b.set_defaults(func=_bench)

@@ -103,8 +103,8 @@ def test_an_interrupted_action_is_cancelled_on_invalid(setup) -> None:
 
 def test_trust_aware_states_its_confidence_before_an_act_the_person_over_trusts() -> None:
     from scone_bt.events import ConfidenceStated, TrustEstimated
-    from scone_bt.study.trust_estimate import OnlineTrust
-    from scone_bt.study.trust_transfer import TransferModel, load_fitted
+    from scone_bt.trust.estimate import OnlineTrust
+    from scone_bt.trust.transfer import TransferModel, load_fitted
 
     trust = OnlineTrust(TransferModel(load_fitted()))
     for kappa, warned in ((0.3, True), (0.9, False)):

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from scone_bt.study.trust_bench import PAPER_RESULTS, evaluate_split
-from scone_bt.study.trust_data import load_trust_data
-from scone_bt.study.trust_transfer import (
+from scone_bt.trust.data import load_trust_data
+from scone_bt.trust.transfer import (
     Observation,
     TransferModel,
     TrustRows,
@@ -83,7 +83,7 @@ def test_failure_transfers_by_similarity() -> None:
 
 
 def test_committed_fit_is_the_household_fit() -> None:
-    """scone_bt/study/trust_fitted.json is what fitting the vendored ratings gives now (not a stale file)."""
+    """scone_bt/trust/fitted.json is what fitting the vendored ratings gives now (not a stale file)."""
     from scone_bt.embedding import load_embedder
 
     data = load_trust_data("household")

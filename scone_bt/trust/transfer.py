@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from scone_bt.errors import SconeError
-from scone_bt.study.trust_data import TrustDataset, rating_to_trust
+from scone_bt.trust.data import TrustDataset, rating_to_trust
 
 __all__ = [
     "CLIP",
@@ -43,7 +43,7 @@ __all__ = [
     "rows_of",
 ]
 
-FITTED_PARAMETERS = Path(__file__).with_name("trust_fitted.json")
+FITTED_PARAMETERS = Path(__file__).with_name("fitted.json")
 """The household fit `scone-study simulate` and `power` use by default (written by `scone-bench trust --write`)."""
 CLIP = (0.01, 0.99)
 """Predictions are clipped to this range before MAE and NLL, as the paper's models clip theirs."""

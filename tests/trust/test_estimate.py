@@ -6,8 +6,8 @@ import pytest
 
 from scone_bt.errors import SconeError
 from scone_bt.events import ActOutcome, EventLog, HelpRequested, TrustEstimated
-from scone_bt.study.trust_estimate import OnlineTrust, RiskOptions, classify_risk
-from scone_bt.study.trust_transfer import TransferModel, load_fitted
+from scone_bt.trust.estimate import OnlineTrust, RiskOptions, classify_risk
+from scone_bt.trust.transfer import TransferModel, load_fitted
 
 JAR, BOTTLE, RICE = (
     "Put the glass jar on table",
@@ -55,7 +55,12 @@ def test_calibration_report_of_simulated_studies() -> None:
     assert set(report) == {"self_confidence_off", "self_confidence_on"}
     for row in report.values():
         assert row["decisions"] >= row["acting_decisions"] and row["decisions"] >= 4
-        for key in ("calibration_gap_estimate", "calibration_gap_person", "over_trust_rate", "under_trust_rate"):
+        for key in (
+            "calibration_gap_estimate",
+            "calibration_gap_person",
+            "over_trust_rate",
+            "under_trust_rate",
+        ):
             assert 0.0 <= row[key] <= 1.0
     assert calibration(participants=2, steps=2, seed=0) == report  # seeded
 
@@ -68,9 +73,13 @@ def test_the_recording_gets_the_persons_trust_beside_kappa_and_risk_lines(model:
     conf = {BOTTLE: 0.2, RICE: 0.9}
     by_text = {BOTTLE: "glass bottle", RICE: "bag of rice"}
     first = builder._person_trust(1.0, conf, by_text)
-    assert set(first) == {"glass bottle", "bag of rice"} and lines[0].startswith("over-trust risk: glass bottle")
+    assert set(first) == {"glass bottle", "bag of rice"} and lines[0].startswith(
+        "over-trust risk: glass bottle"
+    )
     events(ActOutcome(2.0, JAR, "glass jar", False, "grasp", 5.0))  # fed to the estimate at the next snapshot
     events(ActOutcome(3.0, JAR, "glass jar", False, "grasp", 5.0))
     after = builder._person_trust(4.0, conf, by_text)
-    assert after["glass bottle"] < first["glass bottle"] and lines[-1].startswith("under-trust risk: bag of rice")
+    assert after["glass bottle"] < first["glass bottle"] and lines[-1].startswith(
+        "under-trust risk: bag of rice"
+    )
     assert len(events.events) == 2  # the estimate is drawn, never added to the episode's events

@@ -8,7 +8,7 @@ turns the κ̂ of the actions now on offer into `TrustEstimated` events, one per
 - **under-trust**: the person saw similar actions fail (failure exposure, the summed kernel similarity to failures
   seen, at least `exposure`) and κ̂ exceeds their predicted trust by at least `under_margin`.
 
-The margins are assumptions (no data says where a gap becomes a risk); the trust model is fitted (trust_transfer.py).
+The margins are assumptions (no data says where a gap becomes a risk); the trust model is fitted (scone_bt.trust.transfer).
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ import numpy as np
 
 from scone_bt.errors import SconeError
 from scone_bt.events import ActOutcome, Event, HelpRequested, TrustEstimated
-from scone_bt.study.trust_transfer import TransferModel
+from scone_bt.trust.transfer import TransferModel
 
 __all__ = ["OnlineTrust", "RiskOptions", "classify_risk"]
 

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from scone_bt.errors import UnknownNameError
-from scone_bt.study.trust_data import TrustDataError, load_tasks, load_trust_data
+from scone_bt.trust.data import TrustDataError, load_tasks, load_trust_data
 
 
 def test_vendored_files_load() -> None:
