@@ -39,7 +39,8 @@ class BehaviourOptions:
             (`scone_bt.episode.seeds.SeedPlan`).
 
     The fields of the tree file's ``parameters:`` (embedder, estimator, the thresholds, recipe_aware,
-    clarify_margin, max_failures_per_action, gate, target_failure_rate, trust_aware) left at None come from the tree file (`resolve`): one source.
+    clarify_margin, max_failures_per_action, gate, target_failure_rate, trust_aware) left at None come from the
+    tree file (`resolve`): one source.
     """
 
     embedder: str | None = None

@@ -53,7 +53,10 @@ def scene_key(request: PickRequest) -> tuple[object, ...]:
 
 def confidence_in_words(object_name: str, confidence: float) -> str:
     """What the robot says before an act the person likely over-trusts (trust_aware)."""
-    return f"I am not sure about this one: I may drop the {object_name} (I expect to succeed {confidence:.0%} of the time)."
+    return (
+        f"I am not sure about this one: I may drop the {object_name} "
+        f"(I expect to succeed {confidence:.0%} of the time)."
+    )
 
 
 class PickAndPlace(StageBehaviour):

@@ -68,7 +68,8 @@ class PowerOptions:
         response_noise_sd: Per-session noise of the simulated answers (logit). 0 draws them from Eq. (3) itself;
             the trust model's own default (0.3) adds a term the paper model lacks, whose HDIs are then too narrow
             and whose power is optimistic (docs/study.md).
-        trust_params: The simulated participants' trust: "fitted" (to human ratings, scone_bt/trust/fitted.json) or "hand".
+        trust_params: The simulated participants' trust: "fitted" (to human ratings, scone_bt/trust/fitted.json)
+            or "hand".
     """
 
     participants: tuple[int, ...] = (10, 20, 31, 50)

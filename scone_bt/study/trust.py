@@ -18,8 +18,8 @@ The trust model (documented in docs/study.md):
   ``d_q``; reverse-scored items are answered on the flipped scale. This is the generative form of the paper's
   Eq. (3), so with the dynamics switched off (gains 0) the analysis must recover ``condition_effect`` exactly.
 
-With ``transfer`` set (the fitted model, scone_bt.trust.transfer; the default of `scone-study simulate` and `power`), trust
-is per action and moves across actions through ζ: the person's trust that the robot can do action ``a`` is
+With ``transfer`` set (the fitted model, scone_bt.trust.transfer; the default of `scone-study simulate` and
+`power`), trust is per action and moves across actions through ζ: the person's trust that the robot can do action ``a`` is
 ``sigmoid(prior(a) + u_p + Σ_o w_o k(a, o) g_o)`` over what they saw (``g_o`` = the fitted success gain or failure
 loss, ``help_logit`` for a help request; ``w_o`` = 1, times ``carry_over`` for session-1 events in session 2), with
 ``u_p ~ Normal(0, disposition_sd)``. Take-overs use the trust in the action the robot starts; questionnaires the
@@ -153,7 +153,8 @@ class TrustParameters:
 
 
 def trust_parameters(name: str, **overrides: float) -> TrustParameters:
-    """A named parameter set: "fitted" (the committed fit, scone_bt/trust/fitted.json) or "hand" (the dataclass defaults)."""
+    """A named parameter set: "fitted" (the committed fit, scone_bt/trust/fitted.json) or "hand" (the dataclass
+    defaults)."""
     if name not in TRUST_PARAMETER_SETS:
         raise UnknownNameError("trust parameters", name, TRUST_PARAMETER_SETS)
     if name == "hand":

@@ -1,5 +1,5 @@
-"""``scone-bench trust``: the trust-transfer model (scone_bt.trust.transfer) on Soh et al.'s human ratings, on the paper's
-two splits, beside the paper's own models.
+"""``scone-bench trust``: the trust-transfer model (scone_bt.trust.transfer) on Soh et al.'s human ratings, on
+the paper's two splits, beside the paper's own models.
 
 For each domain (household, driving) and split (participants: 10 folds of 3 held-out participants; tasks: 12
 folds, one held-out task each), the model is fitted on every rating outside the fold and predicts the fold's

@@ -8,7 +8,8 @@ turns the κ̂ of the actions now on offer into `TrustEstimated` events, one per
 - **under-trust**: the person saw similar actions fail (failure exposure, the summed kernel similarity to failures
   seen, at least `exposure`) and κ̂ exceeds their predicted trust by at least `under_margin`.
 
-The margins are assumptions (no data says where a gap becomes a risk); the trust model is fitted (scone_bt.trust.transfer).
+The margins are assumptions (no data says where a gap becomes a risk); the trust model is fitted
+(scone_bt.trust.transfer).
 """
 
 from __future__ import annotations
