@@ -105,3 +105,20 @@ def test_household_beats_the_papers_gp_on_both_splits() -> None:
         ours = evaluate_split(data, vectors, kind)
         gp = np.mean([f["mae"] for f in saved[kind]["folds"]])
         assert ours["mae"] <= gp, kind
+
+
+def test_scone_bench_trust_prints_the_issues_keys(tmp_path, capsys) -> None:
+    from scone_bt.cli.bench import main
+
+    out = tmp_path / "trust.json"
+    assert main(["trust", "--json", str(out)]) == 0
+    report = json.loads(out.read_text())
+    assert json.loads(capsys.readouterr().out) == report
+    for domain in ("household", "driving"):
+        d = report[domain]
+        for split in ("participants", "tasks"):
+            assert 0 < d[split]["mae"] < 0.5 and 0 < d[split]["nll"] < 1
+            for name in ("constant", "gp"):
+                base = d["baselines"][name][split]
+                assert {"mae", "nll", "source"} <= set(base) and base["source"].startswith("code/results/")
+    assert report["target_met"] is True
