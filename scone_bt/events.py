@@ -41,6 +41,8 @@ __all__ = [
     "Intervention",
     "CleanUpStarted",
     "StepDone",
+    "TrustEstimated",
+    "ConfidenceStated",
     "EVENT_TYPES",
     "EpisodeStats",
     "fold",
@@ -269,6 +271,33 @@ class StepDone(Event):
         return {"sim_time": round(self.sim_time, 3), "object": None, "detail": self.detail}
 
 
+@dataclass(frozen=True)
+class TrustEstimated(_ActionEvent):
+    """The robot's estimate of how much the person trusts it with an action, beside its own κ̂
+    (`scone_bt.trust.estimate`: the trust-transfer model fitted to human ratings, fed what the person saw).
+
+    Attributes:
+        trust: Predicted trust of the person that the action succeeds, in [0, 1].
+        confidence: κ̂ for the action, in [0, 1].
+        risk: "over" (the person likely trusts it more than κ̂ warrants), "under" (they saw similar actions fail
+            but κ̂ is high) or "" (neither).
+    """
+
+    kind: ClassVar[str] = "trust_estimate"
+    trust: float
+    confidence: float
+    risk: str = ""
+
+
+@dataclass(frozen=True)
+class ConfidenceStated(_ActionEvent):
+    """The robot says its confidence in words before an act the person likely over-trusts (tree parameter
+    ``trust_aware: true``); ``text`` is what it says."""
+
+    kind: ClassVar[str] = "confidence_stated"
+    text: str
+
+
 EVENT_TYPES: Mapping[str, type[Event]] = MappingProxyType(
     {
         cls.kind: cls
@@ -286,6 +315,8 @@ EVENT_TYPES: Mapping[str, type[Event]] = MappingProxyType(
             Intervention,
             CleanUpStarted,
             StepDone,
+            TrustEstimated,
+            ConfidenceStated,
         )
     }
 )

@@ -14,6 +14,7 @@ from scone_bt.events import (
     ActStarted,
     ClarificationAsked,
     CleanUpStarted,
+    ConfidenceStated,
     DecisionMade,
     EpisodeStats,
     EventLog,
@@ -24,6 +25,7 @@ from scone_bt.events import (
     PlanInfeasible,
     StepDone,
     TakeOver,
+    TrustEstimated,
     from_json,
     summarise,
 )
@@ -49,6 +51,8 @@ EPISODE = [
     Intervention(24.0, "a", "fetched by the human"),
     CleanUpStarted(25.0, "b", "the robot dropped it"),
     StepDone(26.0, "Add salt."),
+    TrustEstimated(26.5, "Put a on table", "a", 0.71, 0.3, "over"),
+    ConfidenceStated(26.5, "Put a on table", "a", "I am not sure about this one: I may drop the a."),
 ]
 
 

@@ -43,6 +43,7 @@ STAGES = (
     "relevance",
     "robot",
     "tree",
+    "trust",
     "viz",
     "world",
 )

@@ -30,6 +30,8 @@ class BehaviourOptions:
         gate: "budget" (the threshold kept online so that at most target_failure_rate of attempts fail;
             scone_bt.gate.budget) or "paper" (the fixed confidence_threshold).
         target_failure_rate: The promise: the share of the robot's attempts that may fail, in (0, 1).
+        trust_aware: Track the person's trust online (the model fitted to human ratings) and, before an act the
+            person likely over-trusts, say the robot's confidence in words. The gate itself does not change.
         cache_dir: On-disk embedding cache, or None.
         experience_path: Experience store: an SQLite file, a postgresql:// URL (a fleet's shared store), or None
             for in-memory learning only.
@@ -40,8 +42,8 @@ class BehaviourOptions:
             (`scone_bt.episode.seeds.SeedPlan`).
 
     The fields of the tree file's ``parameters:`` (embedder, estimator, the thresholds, recipe_aware,
-    clarify_margin, max_failures_per_action, gate, target_failure_rate) left at None come from the tree file
-    (`resolve`): one source. They are `TreeParameters`' fields, each optional, of the same types (a test holds
+    clarify_margin, max_failures_per_action, gate, target_failure_rate, trust_aware) left at None come from the
+    tree file (`resolve`): one source. They are `TreeParameters`' fields, each optional, of the same types (a test holds
     them to it); `scone-run` sets them from the options `scone_bt.cli.tree_options` derives from that model.
     """
 
@@ -55,6 +57,7 @@ class BehaviourOptions:
     max_failures_per_action: int | None = None
     gate: GateName | None = None
     target_failure_rate: float | None = None
+    trust_aware: bool | None = None
     cache_dir: Path | None = None
     experience_path: Path | str | None = None
     robot_id: str = ""

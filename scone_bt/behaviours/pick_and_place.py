@@ -2,17 +2,20 @@
 
 from __future__ import annotations
 
+import math
+from typing import Any
+
 import py_trees
 
 from scone_bt.behaviours.base import Keys, StageBehaviour
 from scone_bt.behaviours.context import EpisodeContext
 from scone_bt.behaviours.ports import HumanChannel, PlannerSeeds
-from scone_bt.events import ActStarted, EventSink, TakeOver
+from scone_bt.events import ActStarted, ConfidenceStated, EventSink, TakeOver
 from scone_bt.motion.types import FailureStage, MotionOutcome, MotionPhase
 from scone_bt.perception.types import Detection
 from scone_bt.robot.interface import MotionHandle, PickRequest, Robot, obstacles_except
 
-__all__ = ["PickAndPlace", "pick_request", "scene_key"]
+__all__ = ["PickAndPlace", "pick_request", "scene_key", "confidence_in_words"]
 
 _NEAR_M = 0.35  # shelf detections within this of the target are the scene a grasp plan depends on
 _GRID_M = 0.02  # positions are compared on this grid: a product that moved less did not change the scene
@@ -48,31 +51,57 @@ def scene_key(request: PickRequest) -> tuple[object, ...]:
     return cell(request.target), near, table
 
 
+def confidence_in_words(object_name: str, confidence: float) -> str:
+    """What the robot says before an act the person likely over-trusts (trust_aware)."""
+    return (
+        f"I am not sure about this one: I may drop the {object_name} "
+        f"(I expect to succeed {confidence:.0%} of the time)."
+    )
+
+
 class PickAndPlace(StageBehaviour):
     """Moves the decided object from the shelf to the table.
 
     Obstacles are what perception reports: the shelf detections, and what stands on the table from
     `Keys.TABLE_DETECTIONS`. While that key is absent (no table camera), the robot knows only what it placed
     itself; it never reads the simulator's true poses. Each tick it asks the human whether they take over; if so
-    the motion is cancelled (`TakeOver`), and `ObserveOutcome` labels nothing.
+    the motion is cancelled (`TakeOver`), and `ObserveOutcome` labels nothing. With `trust` (tree parameter
+    ``trust_aware``) it first emits the person's estimated trust in the act (`TrustEstimated`) and, when they likely
+    over-trust it, says its confidence in words (`ConfidenceStated`).
     """
 
     READS = (Keys.DECISION, Keys.TARGET, Keys.DETECTIONS, Keys.TABLE_DETECTIONS, Keys.PLANNED)
     WRITES = (Keys.MOTION_OUTCOME, Keys.MOTION_TASK, Keys.MOTION_COMPUTING, Keys.PLANNED)
 
     def __init__(
-        self, name: str, robot: Robot, human: HumanChannel, events: EventSink, seeds: PlannerSeeds
+        self,
+        name: str,
+        robot: Robot,
+        human: HumanChannel,
+        events: EventSink,
+        seeds: PlannerSeeds,
+        trust: Any = None,
     ) -> None:
         super().__init__(name)
         self.robot = robot
         self.human = human
         self.events = events
         self.seeds = seeds
+        self.trust = trust
         self.task: MotionHandle | None = None
 
     @classmethod
     def from_context(cls, name: str, context: EpisodeContext) -> PickAndPlace:
-        return cls(name, context.robot, context.human, context.events, context.seeds)
+        return cls(name, context.robot, context.human, context.events, context.seeds, context.trust)
+
+    def _state_confidence(self, confidence: float) -> None:
+        """trust_aware: the person's estimated trust in this act, and a spoken warning when they over-trust it."""
+        now = self.robot.now()
+        (estimate,) = self.trust.estimate(now, {self.action: (self.object_name, confidence)})
+        self.events(estimate)
+        if estimate.risk == "over":
+            text = confidence_in_words(self.object_name, confidence)
+            self.events(ConfidenceStated(now, self.action, self.object_name, text))
 
     def setup(self, **kwargs: object) -> None:
         self.write(Keys.MOTION_COMPUTING, False)
@@ -84,6 +113,8 @@ class PickAndPlace(StageBehaviour):
         self.action = target.text
         planned = self.read(Keys.PLANNED)  # the gate planned before it committed (plan_pick_and_place)
         self.write(Keys.PLANNED, None)
+        if self.trust is not None and math.isfinite(decision.confidence):
+            self._state_confidence(decision.confidence)
         self.human.robot_busy(True)
         self.human.decide_takeover(self.object_name)
         self.events(ActStarted(self.robot.now(), self.action, self.object_name, decision.confidence))

@@ -47,6 +47,7 @@ BENCHMARK_MODULES: tuple[str, ...] = (
     "scone_bt.benchmarks.gate",
     "scone_bt.benchmarks.decisions",
     "scone_bt.study.analysis_bench",
+    "scone_bt.study.trust_bench",
     "scone_bt.scenario.bench",
 )
 

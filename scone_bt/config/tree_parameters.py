@@ -93,6 +93,13 @@ class TreeParameters(StrictModel):
             "run, in (0, 1)",
         ),
     ] = 0.15
+    trust_aware: Annotated[
+        bool,
+        Field(
+            description="say the robot's confidence in words before an act the person likely over-trusts "
+            "(the person's trust estimated online from what they saw)"
+        ),
+    ] = False
 
 
 PARAMETER_NAMES: tuple[str, ...] = tuple(TreeParameters.model_fields)

@@ -373,6 +373,7 @@ def _build(
         kappa=resources.estimator,
         recorder=resources.store,
         gripper_opening_m=robot_cfg.gripper.opening_m,
+        trust=_listening_trust(events) if behaviour.trust_aware else None,
     )
     say(
         f"{recipe.recipe.title}: {len(recipe.steps)} steps, needs "
@@ -498,9 +499,24 @@ def _summarise(
     )
 
 
+def _online_trust() -> Any:
+    """The person's trust estimated online for the recording (the fitted model; its ζ loads here, once)."""
+    from scone_bt.trust.estimate import OnlineTrust
+    from scone_bt.trust.transfer import TransferModel, load_fitted
+
+    return OnlineTrust(TransferModel(load_fitted()))
+
+
+def _listening_trust(events: EventLog) -> Any:
+    """trust_aware: the person's trust estimated online, fed every event of the episode from now on."""
+    trust = _online_trust()
+    events.listen(trust)
+    return trust
+
+
 def _tick_logger(recorder: Any, scene: SceneView, ep: _Episode, lines: list[str]) -> Callable[[int], None]:
     """Records the state after each tree tick: what changed on the blackboard, the poses, the tick's lines."""
-    snapshots = SnapshotBuilder(scene, ep.plan.recipe, ep.human, ep.events, lines)
+    snapshots = SnapshotBuilder(scene, ep.plan.recipe, ep.human, ep.events, lines, trust=_online_trust())
 
     def log_tick(tick: int) -> None:
         recorder.log_tick(snapshots.build(tick, ep.root))

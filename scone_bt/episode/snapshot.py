@@ -43,10 +43,20 @@ class SnapshotBuilder:
         human: The human (the recipe view shows their progress).
         events: The episode's events (the counters are their fold).
         lines: The log lines printed since the last snapshot; emptied by each `build`.
+        trust: The person's trust estimated online (`scone_bt.trust.estimate.OnlineTrust`), fed the episode's
+            events here; at each decision it gives the trust per offered object beside κ̂, and over-/under-trust
+            risks as log lines. The estimate is drawn, never sent to the event sinks: the episode's events are
+            the same with and without a viewer.
     """
 
     def __init__(
-        self, scene: SceneView, recipe: StockedRecipe, human: Any, events: EventLog, lines: list[str]
+        self,
+        scene: SceneView,
+        recipe: StockedRecipe,
+        human: Any,
+        events: EventLog,
+        lines: list[str],
+        trust: Any = None,
     ) -> None:
         self.scene = scene
         self.recipe = recipe
@@ -67,6 +77,8 @@ class SnapshotBuilder:
             self.reader.register_key(key=key, access=py_trees.common.Access.READ)
         self._seen: dict[str, int] = {}
         self.lines = lines
+        self.trust = trust
+        self._fed = 0  # events already given to `trust`
 
     def _new(self, key: str) -> Any:
         value = self.reader.get(key) if self.reader.exists(key) else None
@@ -74,6 +86,24 @@ class SnapshotBuilder:
             return None
         self._seen[key] = id(value)
         return value
+
+    def _person_trust(
+        self, sim_time: float, conf: dict[str, float], by_text: dict[str, str]
+    ) -> dict[str, float]:
+        """The person's estimated trust per offered object at a decision (nothing without `trust`)."""
+        if self.trust is None:
+            return {}
+        for event in self.events.events[self._fed :]:
+            self.trust(event)
+        self._fed = len(self.events.events)
+        offered = {t: (by_text[t], float(c)) for t, c in conf.items() if t in by_text}
+        estimates = self.trust.estimate(sim_time, offered)
+        for e in estimates:
+            if e.risk:
+                self.lines.append(
+                    f"{e.risk}-trust risk: {e.object_name} (person's trust ~{e.trust:.2f}, κ̂ {e.confidence:.2f})"
+                )
+        return {e.object_name: e.trust for e in estimates}
 
     def build(self, tick: int, root: py_trees.behaviour.Behaviour) -> Any:
         from scone_bt.viz import RecipeView, TickSnapshot
@@ -84,6 +114,8 @@ class SnapshotBuilder:
         affordances = None
         confidences: dict[str, float] = {}
         contexts: dict[str, Any] = {}
+        conf: dict[str, float] = {}
+        by_text: dict[str, str] = {}
         if decision is not None:
             contexts = dict(self.reader.get(Keys.CONTEXTS) or {}) if self.reader.exists(Keys.CONTEXTS) else {}
             ranked = self.reader.get(Keys.RANKED) or []
@@ -93,6 +125,7 @@ class SnapshotBuilder:
             ]
             by_text = {a.text: a.object_name for a in (self.reader.get(Keys.AFFORDANCES) or [])}
             confidences = {by_text[t]: float(c) for t, c in conf.items() if t in by_text}
+        person_trust = self._person_trust(scene.sim_time, conf, by_text)
         ee_path = trajectory = None
         task = self.reader.get(Keys.MOTION_TASK) if self.reader.exists(Keys.MOTION_TASK) else None
         if task is not None:
@@ -136,6 +169,7 @@ class SnapshotBuilder:
             executed_q=scene.arm_joint_positions(),
             tree=root,
             confidences=confidences,
+            person_trust=person_trust,
             contexts=contexts,
             counters=counters,
             recipe=recipe,

@@ -49,13 +49,11 @@ def _bench(args: argparse.Namespace) -> int:
     from scone_bt.study.outputs import write_outputs
     from scone_bt.study.power import simulate_counts
     from scone_bt.study.simulate import SimulationOptions, simulate_study
-    from scone_bt.study.trust import TrustParameters
+    from scone_bt.study.trust import trust_parameters
 
     quiet_backends(("pymc", "pytensor"))
     effect = 1.0
-    trust = TrustParameters(
-        success_gain=0.0, failure_loss=0.0, help_gain=0.0, condition_effect=effect, response_noise_sd=0.0
-    )
+    trust = trust_parameters(args.trust_params).static(condition_effect=effect, response_noise_sd=0.0)
     load = os.getloadavg()[0]
     with tempfile.TemporaryDirectory(prefix="scone-bench-analysis-") as folder:
         log = simulate_study(
@@ -93,6 +91,7 @@ def _bench(args: argparse.Namespace) -> int:
         "benchmark": "study-analysis",
         "data": "SIMULATED",
         "participants": args.participants,
+        "trust_params": args.trust_params,
         "model": options.specification,
         "sampler": options.sampler_json(),
         "wall_s": round(wall, 1),
@@ -222,6 +221,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--seed", type=int, default=0)
     b.add_argument("--out", type=Path, help="also write results.json, scores.csv and Fig. 3 here")
     b.add_argument("--force", action="store_true", help="overwrite earlier results in --out")
+    b.add_argument(
+        "--trust-params",
+        choices=("fitted", "hand"),
+        default="fitted",
+        help="simulated participants: fitted to human ratings (scone_bt/trust/fitted.json) or hand-set",
+    )
     b.add_argument("--json", help="also write the JSON report to this file")
     b.set_defaults(func=_bench)
 

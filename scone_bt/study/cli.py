@@ -87,6 +87,7 @@ def build_parser() -> argparse.ArgumentParser:
     m.add_argument(
         "--static-trust", action="store_true", help="trust ignores the episodes (for effect-recovery checks)"
     )
+    _add_trust_params(m)
     m.add_argument("--analyze", type=Path, metavar="DIR", help="analyse the result into DIR afterwards")
     m.add_argument(
         "--jobs",
@@ -343,8 +344,19 @@ def _add_power_parser(sub) -> None:  # noqa: ANN001 - argparse's private subpars
 
     add_engine_arguments(w)
     w.add_argument("--seed", type=int, default=0, help="seeds every simulated study and its sampler")
+    _add_trust_params(w)
     w.add_argument("--out", type=Path, default=Path("runs/power"), help="folder for power.json, power.png")
     w.add_argument("--force", action="store_true", help="overwrite earlier results in --out")
+
+
+def _add_trust_params(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--trust-params",
+        choices=("fitted", "hand"),
+        default="fitted",
+        help="simulated participants' trust: fitted to human ratings (Soh et al., transfer across actions "
+        "through ζ; help requests and take-overs assumed) or the hand-set model (docs/study.md)",
+    )
 
 
 def _power(args: argparse.Namespace) -> int:
@@ -364,6 +376,7 @@ def _power(args: argparse.Namespace) -> int:
         seed=args.seed,
         ray=args.ray,
         response_noise_sd=args.answer_noise_sd,
+        trust_params=args.trust_params,
     )
     from scone_bt.checks import check_output_dir, check_seed
     from scone_bt.study.power import check_power_outputs
@@ -476,14 +489,12 @@ def _session(args: argparse.Namespace) -> int:
 def _simulate(args: argparse.Namespace) -> int:
     from scone_bt.study.simulate import SimulationOptions, simulate_study
     from scone_bt.study.synthetic import SyntheticOptions
-    from scone_bt.study.trust import TrustParameters
+    from scone_bt.study.trust import trust_parameters
 
     _check_simulate(args)
-    trust = TrustParameters(condition_effect=args.condition_effect)
+    trust = trust_parameters(args.trust_params, condition_effect=args.condition_effect)
     if args.static_trust:
-        trust = TrustParameters(
-            success_gain=0.0, failure_loss=0.0, help_gain=0.0, condition_effect=args.condition_effect
-        )
+        trust = trust.static()
     if args.analyze is not None:
         _analysis_options(args)  # fail early on bad analysis settings
         _check_analysis_out(args.analyze, "--analyze", False, {"--db": [args.db]})
@@ -511,7 +522,7 @@ def _simulate(args: argparse.Namespace) -> int:
         for path in sqlite_files(args.db):
             path.unlink(missing_ok=True)
         raise
-    print(f"SIMULATED study written to {args.db}")
+    print(f"SIMULATED study written to {args.db}; {trust.label}")
     if args.analyze is not None:
         from scone_bt.study.analysis import load_study
 

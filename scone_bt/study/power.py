@@ -68,6 +68,8 @@ class PowerOptions:
         response_noise_sd: Per-session noise of the simulated answers (logit). 0 draws them from Eq. (3) itself;
             the trust model's own default (0.3) adds a term the paper model lacks, whose HDIs are then too narrow
             and whose power is optimistic (docs/study.md).
+        trust_params: The simulated participants' trust: "fitted" (to human ratings, scone_bt/trust/fitted.json)
+            or "hand".
     """
 
     participants: tuple[int, ...] = (10, 20, 31, 50)
@@ -84,6 +86,7 @@ class PowerOptions:
     seed: int = 0
     ray: str | None = None
     response_noise_sd: float = 0.0
+    trust_params: str = "fitted"
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.response_noise_sd) and self.response_noise_sd >= 0):
@@ -92,6 +95,8 @@ class PowerOptions:
             raise SconeError(f"--n: participant numbers must be 2 or more, got {list(self.participants)}")
         if self.repetitions < 1:
             raise SconeError(f"--repetitions must be at least 1, got {self.repetitions}")
+        if self.trust_params not in ("fitted", "hand"):
+            raise UnknownNameError("trust parameters", self.trust_params, ("fitted", "hand"))
         if self.measure not in MEASURES:
             raise UnknownNameError("measure", self.measure, MEASURES)
         if self.workers is not None and self.workers < 1:
@@ -122,6 +127,12 @@ class PowerOptions:
             hdi_prob=self.hdi_prob,
             seed=seed,
         )
+
+
+_TRUST_LABEL = {
+    "fitted": "trust fitted to human ratings (Soh et al.); take-overs and help requests assumed",
+    "hand": "hand-set trust parameters",
+}
 
 
 @dataclass(frozen=True)
@@ -182,6 +193,7 @@ class PowerResult:
         lines = [
             f"── power (SIMULATED): {o.measure}, {o.specification} model, true effect {o.effect:+g}, "
             f"ROPE [{o.rope[0]:g}, {o.rope[1]:g}], {o.repetitions} studies per N ──",
+            f"participants: {_TRUST_LABEL[o.trust_params]}",
             f"{'N':>5} {'power':>6} {'95% CI':>15} {'coverage':>9} {'mean est.':>10} {'HDI width':>10}",
         ]
         for p in self.points:
@@ -244,14 +256,10 @@ def simulate_counts(
 def _simulate_answers(options: PowerOptions, item: WorkItem, folder: Path):  # -> StudyData
     from scone_bt.study.analysis import load_study
     from scone_bt.study.simulate import SimulationOptions, simulate_study
-    from scone_bt.study.trust import TrustParameters
+    from scone_bt.study.trust import trust_parameters
 
-    trust = TrustParameters(
-        success_gain=0.0,
-        failure_loss=0.0,
-        help_gain=0.0,
-        condition_effect=options.effect,
-        response_noise_sd=options.response_noise_sd,
+    trust = trust_parameters(options.trust_params).static(
+        condition_effect=options.effect, response_noise_sd=options.response_noise_sd
     )
     sim = SimulationOptions(participants=item.participants, fast=True, trust=trust, seed=item.study_seed)
     log = simulate_study(folder / "study.db", sim, printer=lambda _l: None)

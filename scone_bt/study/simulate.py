@@ -143,7 +143,7 @@ def simulate_participant(index: int, options: SimulationOptions) -> list[_Sessio
             "simulated": True,
             "mode": "fast" if options.fast else "physics",
             "seed": seed,
-            "trust_model": options.trust.__dict__,
+            "trust_model": options.trust.describe(),
         }
         events: list[Event] = []
         sink = events.append

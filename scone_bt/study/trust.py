@@ -17,22 +17,46 @@ The trust model (documented in docs/study.md):
   logit ``P(y <= k) = sigmoid(c_k - (tau + d_q))`` with evenly spaced cut-points ``c`` and fixed item offsets
   ``d_q``; reverse-scored items are answered on the flipped scale. This is the generative form of the paper's
   Eq. (3), so with the dynamics switched off (gains 0) the analysis must recover ``condition_effect`` exactly.
+
+With ``transfer`` set (the fitted model, scone_bt.trust.transfer; the default of `scone-study simulate` and
+`power`), trust is per action and moves across actions through ζ: the person's trust that the robot can do action ``a`` is
+``sigmoid(prior(a) + u_p + Σ_o w_o k(a, o) g_o)`` over what they saw (``g_o`` = the fitted success gain or failure
+loss, ``help_logit`` for a help request; ``w_o`` = 1, times ``carry_over`` for session-1 events in session 2), with
+``u_p ~ Normal(0, disposition_sd)``. Take-overs use the trust in the action the robot starts; questionnaires the
+trust in a generic fetch (GENERIC_ACTION), which every outcome moves by its similarity. Fitted to human ratings:
+prior, gains, kernel, disposition sd. Assumed (no data): help_logit, the take-over curve, carry_over, and the
+answer model.
 """
 
 from __future__ import annotations
 
+import functools
 import math
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
-from scone_bt.errors import SconeError
-from scone_bt.events import ActOutcome, Event, HelpRequested
+from scone_bt.affordances.types import action_text
+from scone_bt.errors import SconeError, UnknownNameError
+from scone_bt.events import ActOutcome, ActStarted, Event, HelpRequested
 from scone_bt.human import SimulatedHuman
 from scone_bt.study.design import Condition, Group
 from scone_bt.study.questionnaires import Questionnaire
+from scone_bt.trust.transfer import TransferModel, TransferParameters, load_fitted
 
-__all__ = ["TrustParameters", "SimulatedParticipant", "TrustfulHuman", "item_offsets"]
+__all__ = [
+    "GENERIC_ACTION",
+    "TRUST_PARAMETER_SETS",
+    "TrustParameters",
+    "SimulatedParticipant",
+    "TrustfulHuman",
+    "item_offsets",
+    "trust_parameters",
+]
+
+GENERIC_ACTION = "Put the object on table"
+"""The action whose trust a participant's questionnaire answers come from under the transfer model."""
+TRUST_PARAMETER_SETS: tuple[str, ...] = ("fitted", "hand")
 
 
 def _sigmoid(x: float) -> float:
@@ -62,6 +86,9 @@ class TrustParameters:
         session_effect: Shift of the answers (logit) in session 2.
         response_noise_sd: Per-session noise of the answers (logit).
         item_sd: Spread of the fixed item offsets (logit).
+        transfer: The fitted per-action model (scone_bt.trust.transfer); None: the single hand-set trust above.
+        help_logit: With `transfer`: logit change per help request on the same action, transferred like an
+            outcome. Assumed (no data): the hand-set help_gain's effect at trust 0.5.
     """
 
     initial_mean: float = 0.4
@@ -77,6 +104,8 @@ class TrustParameters:
     session_effect: float = 0.0
     response_noise_sd: float = 0.3
     item_sd: float = 0.3
+    transfer: TransferParameters | None = None
+    help_logit: float = 0.06
 
     def __post_init__(self) -> None:
         for name in ("success_gain", "failure_loss", "max_takeover", "carry_over"):
@@ -91,7 +120,52 @@ class TrustParameters:
     @property
     def dynamic(self) -> bool:
         """False when trust ignores what the robot does (the setting for effect-recovery checks)."""
+        if self.transfer is not None:
+            return bool(self.transfer.success_gain or self.transfer.failure_loss or self.help_logit)
         return bool(self.success_gain or self.failure_loss or self.help_gain)
+
+    def static(self, **overrides: float) -> TrustParameters:
+        """The same participants with trust that ignores the episodes (every gain 0)."""
+        transfer = self.transfer and replace(self.transfer, success_gain=0.0, failure_loss=0.0)
+        return replace(
+            self,
+            success_gain=0.0,
+            failure_loss=0.0,
+            help_gain=0.0,
+            help_logit=0.0,
+            transfer=transfer,
+            **overrides,
+        )
+
+    def describe(self) -> dict:
+        """JSON-ready parameters (stored with every simulated session)."""
+        return asdict(self)
+
+    @property
+    def label(self) -> str:
+        """One line for output: where the parameters come from."""
+        if self.transfer is None:
+            return "hand-set trust parameters (docs/study.md)"
+        return (
+            f"trust fitted to human ratings ({self.transfer.source}; transfer across actions through "
+            f"{self.transfer.embedder}); help requests, take-overs, carry-over: hand-set (assumed)"
+        )
+
+
+def trust_parameters(name: str, **overrides: float) -> TrustParameters:
+    """A named parameter set: "fitted" (the committed fit, scone_bt/trust/fitted.json) or "hand" (the dataclass
+    defaults)."""
+    if name not in TRUST_PARAMETER_SETS:
+        raise UnknownNameError("trust parameters", name, TRUST_PARAMETER_SETS)
+    if name == "hand":
+        return TrustParameters(**overrides)
+    return TrustParameters(transfer=load_fitted(), **overrides)
+
+
+@functools.lru_cache(maxsize=2)
+def _transfer_model(params: TransferParameters) -> TransferModel:
+    """One model per process (it loads ζ once)."""
+    return TransferModel(params)
 
 
 def item_offsets(questionnaire: Questionnaire, sd: float, seed: int = 1234) -> dict[str, float]:
@@ -126,14 +200,44 @@ class SimulatedParticipant:
 
     def __post_init__(self) -> None:
         self.rng = np.random.default_rng(self.seed)
-        self.disposition = self.params.initial_mean + float(self.rng.normal(0.0, self.params.initial_sd))
-        self.trust = _sigmoid(self.disposition)
+        transfer = self.params.transfer
+        # The transfer model's disposition is an offset to each action's prior; the hand-set one is the trust.
+        if transfer is not None:
+            self.disposition = float(self.rng.normal(0.0, transfer.disposition_sd))
+        else:
+            self.disposition = self.params.initial_mean + float(self.rng.normal(0.0, self.params.initial_sd))
+        self._seen: list[tuple[str, float, float]] = []  # (action, logit effect at k = 1, weight)
+        self._current: str | None = None
+        self.trust = self._general() if transfer is not None else _sigmoid(self.disposition)
         self.history: list[tuple[str, float]] = [("start", self.trust)]
+
+    # ----------------------------------------------------------------------------------------- per action
+    def trust_in(self, action: str) -> float:
+        """Trust that the robot can do `action` (the hand-set model has one trust for every action)."""
+        if self.params.transfer is None:
+            return self.trust
+        model = _transfer_model(self.params.transfer)
+        logit = float(model.prior_logit([action])[0]) + self.disposition
+        if self._seen:
+            k = model.kernel([action], [a for a, _, _ in self._seen])[0]
+            logit += float(np.sum(k * np.array([g * w for _, g, w in self._seen])))
+        return _sigmoid(logit)
+
+    def _general(self) -> float:
+        return self.trust_in(GENERIC_ACTION)
+
+    def consider(self, action: str) -> None:
+        """The robot is about to start `action`: take-overs are decided on the trust in it."""
+        self._current = action
 
     # ----------------------------------------------------------------------------------------- dynamics
     def start_session(self, session_index: int) -> None:
         """Session 2 starts with part of the session-1 change kept (carry_over)."""
-        if session_index > 1:
+        if session_index > 1 and self.params.transfer is not None:
+            self._seen = [(a, g, w * self.params.carry_over) for a, g, w in self._seen]
+            self.trust = self._general()
+            self.history.append(("session", self.trust))
+        elif session_index > 1:
             base = _sigmoid(self.disposition)
             self.trust = base + self.params.carry_over * (self.trust - base)
             self.history.append(("session", self.trust))
@@ -141,6 +245,9 @@ class SimulatedParticipant:
     def observe(self, event: Event) -> None:
         """React to one episode event (the on_event stream): outcomes and help requests move trust."""
         p = self.params
+        if p.transfer is not None:
+            self._observe_transfer(event)
+            return
         if isinstance(event, ActOutcome):
             if event.success:
                 self.trust += p.success_gain * (1.0 - self.trust)
@@ -154,9 +261,25 @@ class SimulatedParticipant:
         self.trust = min(max(self.trust, 1e-4), 1 - 1e-4)
         self.history.append((event.kind, self.trust))
 
+    def _observe_transfer(self, event: Event) -> None:
+        t = self.params.transfer
+        assert t is not None
+        if isinstance(event, ActStarted):
+            self._current = event.action
+            return
+        if isinstance(event, ActOutcome):
+            self._seen.append((event.action, t.success_gain if event.success else -t.failure_loss, 1.0))
+        elif isinstance(event, HelpRequested):
+            self._seen.append((event.action, self.params.help_logit, 1.0))
+        else:
+            return
+        self.trust = self._general()
+        self.history.append((event.kind, self.trust))
+
     def takeover_probability(self) -> float:
         p = self.params
-        return p.max_takeover * _sigmoid((p.intervention_threshold - self.trust) / p.intervention_slope)
+        trust = self.trust_in(self._current) if self._current is not None else self.trust
+        return p.max_takeover * _sigmoid((p.intervention_threshold - trust) / p.intervention_slope)
 
     def decides_to_take_over(self) -> bool:
         """One seeded draw when the robot starts an action."""
@@ -200,5 +323,7 @@ class TrustfulHuman(SimulatedHuman):
 
     def decide_takeover(self, object_name: str) -> None:
         self._takeover_at = None
+        if self.participant is not None:
+            self.participant.consider(action_text(object_name))
         if self.participant is not None and self.participant.decides_to_take_over():
             self._takeover_at = (object_name, self.kitchen.sim_time + self.options.takeover_delay_s)

@@ -53,8 +53,17 @@ def default_blueprint() -> rrb.Blueprint:
     )
 
     plots = rrb.Vertical(
-        rrb.TimeSeriesView(
-            origin=P.CONFIDENCE, name="Self-confidence κ̂ per object", axis_y=rrb.ScalarAxis(range=(0.0, 1.0))
+        rrb.Horizontal(
+            rrb.TimeSeriesView(
+                origin=P.CONFIDENCE,
+                name="Self-confidence κ̂ per object",
+                axis_y=rrb.ScalarAxis(range=(0.0, 1.0)),
+            ),
+            rrb.TimeSeriesView(
+                origin=P.PERSON_TRUST,
+                name="Person's trust per object (estimated)",
+                axis_y=rrb.ScalarAxis(range=(0.0, 1.0)),
+            ),
         ),
         rrb.TimeSeriesView(origin=P.COUNTERS, name="Outcomes"),
         rrb.Tabs(

@@ -76,6 +76,7 @@ TREE_TEXT = f"{TREE}/text"
 TREE_STATUS = f"{TREE}/status"  # one child entity per behaviour, mirroring the tree
 
 CONFIDENCE = "confidence"  # one child per object: κ̂ over time
+PERSON_TRUST = "person_trust"  # one child per object: the person's trust as the robot estimates it, over time
 COUNTERS = "counters"  # one child per counter
 
 TRAJECTORY = "trajectory"

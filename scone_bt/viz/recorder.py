@@ -380,6 +380,9 @@ class Recorder:
         for name, value in snap.confidences.items():
             if math.isfinite(value):
                 self._log_scalar(P.CONFIDENCE, name, float(value))
+        for name, value in snap.person_trust.items():
+            if math.isfinite(value):
+                self._log_scalar(P.PERSON_TRUST, name, float(value))
         for name, value in snap.counters.items():
             if self._counters.get(name) != value:
                 self._counters[name] = int(value)

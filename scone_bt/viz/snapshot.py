@@ -62,6 +62,8 @@ class TickSnapshot:
         executed_q: (dof,) arm joint positions measured at the end of this tick, radians.
         tree: Root behaviour of the py_trees tree (or the BehaviourTree); every node's status is logged.
         confidences: Object name → κ̂ success probability in [0, 1], for the objects re-estimated this tick.
+        person_trust: Object name → the person's trust in the robot's fetching it, in [0, 1], as the robot
+            estimates it from what the person saw (scone_bt.trust.estimate), drawn beside κ̂.
         contexts: Action text → the execution context the gate perceived for it this tick (grounded κ̂).
         counters: Counter name → running total (successes, failures, help requests, interventions, ...).
         recipe: The recipe's state, when it changed (or every tick; unchanged states are not re-logged).
@@ -81,6 +83,7 @@ class TickSnapshot:
     executed_q: np.ndarray | None = None
     tree: Any | None = None
     confidences: Mapping[str, float] = field(default_factory=dict)
+    person_trust: Mapping[str, float] = field(default_factory=dict)
     contexts: Mapping[str, ExecutionContext] = field(default_factory=dict)
     counters: Mapping[str, int] = field(default_factory=dict)
     recipe: RecipeView | None = None

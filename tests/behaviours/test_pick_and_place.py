@@ -99,3 +99,30 @@ def test_an_interrupted_action_is_cancelled_on_invalid(setup) -> None:
     assert robot.handles[0].cancelled
     assert bb.get(Keys.MOTION_OUTCOME).stage is FailureStage.CANCELLED
     assert bb.get(Keys.MOTION_COMPUTING) is False and human.busy == [True, False]
+
+
+def test_trust_aware_states_its_confidence_before_an_act_the_person_over_trusts() -> None:
+    from scone_bt.events import ConfidenceStated, TrustEstimated
+    from scone_bt.trust.estimate import OnlineTrust
+    from scone_bt.trust.transfer import TransferModel, load_fitted
+
+    trust = OnlineTrust(TransferModel(load_fitted()))
+    for kappa, warned in ((0.3, True), (0.9, False)):
+        robot, human, events = FakeRobot(planning_ticks=1), FakeHuman(), EventLog()
+        node = PickAndPlace("PickAndPlace", robot, human, events, _Seeds(), trust)
+        node.setup()
+        target = affordance("salt")
+        blackboard(
+            DECISION=Decision(DecisionKind.ACT, target.text, 0.6, kappa, "confident", "now", (), "salt"),
+            TARGET=target,
+            DETECTIONS=[target.detection],
+        )
+        node.tick_once()
+        kinds = [type(e) for e in events.events]
+        estimate = events.events[0]
+        assert isinstance(estimate, TrustEstimated) and estimate.confidence == kappa and estimate.trust > 0.6
+        if warned:  # a person's ~0.7 trust against κ̂ 0.3: over-trust, said in words before the act starts
+            assert kinds == [TrustEstimated, ConfidenceStated, ActStarted]
+            assert events.events[1].text.startswith("I am not sure about this one: I may drop the salt")
+        else:
+            assert kinds == [TrustEstimated, ActStarted]

@@ -41,7 +41,10 @@ def test_simulate_command_takes_jobs(tmp_path, capsys):
         == 0
     )
     assert "SIMULATED study written" in capsys.readouterr().out
-    simulate_study(
-        tmp_path / "s.db", SimulationOptions(participants=4, fast=True), printer=lambda _l: None
-    ).close()
+    from scone_bt.study.trust import trust_parameters
+
+    fitted = SimulationOptions(
+        participants=4, fast=True, trust=trust_parameters("fitted")
+    )  # the CLI's default
+    simulate_study(tmp_path / "s.db", fitted, printer=lambda _l: None).close()
     assert _content(tmp_path / "p.db") == _content(tmp_path / "s.db")

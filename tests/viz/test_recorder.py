@@ -95,6 +95,7 @@ def run_episode(kitchen, recorder) -> None:
             executed_q=kitchen.arm_joint_positions(),
             tree=wrapped if tick % 2 else tree,
             confidences={n: 0.3 + 0.01 * tick for n in OBJECTS} if tick % 4 == 0 else {},
+            person_trust={n: 0.7 - 0.01 * tick for n in OBJECTS} if tick % 4 == 0 else {},
             counters={
                 "successes": tick // 6,
                 "failures": 0,
@@ -155,6 +156,7 @@ def test_recording_holds_every_tick_and_the_expected_entities(recording):
         "/tree/status/Cook",
         "/tree/status/Cook/Gate/Ask_for_help",
         "/confidence/black_pepper",
+        "/person_trust/black_pepper",
         "/counters/help_requests",
         "/trajectory/planned/position",
         "/trajectory/planned/velocity",
