@@ -261,6 +261,12 @@ class TabletHuman(SimulatedHuman):
         self.state.start_episode([s.instruction for s in self.recipe.steps], self.state.label)
 
     def request_help(self, object_name: str) -> None:
+        for f in self._fetches:
+            if f.object_name == object_name and f.kind is FetchReason.INTERVENTION and f.cause != "takeover":
+                # a clean-up the participant was asked to do: the robot now asks for it, so it is help
+                f.kind, f.cause = FetchReason.HELP, ""
+                self.state.add_fetch(object_name, FetchReason.HELP.value)
+                return
         if not self.is_fetching(object_name):
             self._fetches.append(_Fetch(object_name, math.inf, FetchReason.HELP))
             self.state.add_fetch(object_name, FetchReason.HELP.value)
@@ -274,7 +280,7 @@ class TabletHuman(SimulatedHuman):
     def take_over(self, object_name: str) -> None:
         self.state.clear_takeover()
         if not self.is_fetching(object_name):
-            self._fetches.append(_Fetch(object_name, math.inf, FetchReason.INTERVENTION))
+            self._fetches.append(_Fetch(object_name, math.inf, FetchReason.INTERVENTION, "takeover"))
             self.state.add_fetch(object_name, FetchReason.INTERVENTION.value)
 
     def robot_busy(self, busy: bool) -> None:
