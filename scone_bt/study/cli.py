@@ -61,6 +61,11 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument(
         "--no-questionnaire", action="store_true", help="skip the questionnaires after the episode"
     )
+    s.add_argument(
+        "--autostart",
+        action="store_true",
+        help="start the episode at once instead of waiting for Start on the tablet or the researcher's page",
+    )
 
     m = sub.add_parser(
         "simulate",
@@ -453,7 +458,7 @@ def _session(args: argparse.Namespace) -> int:
     log = _open_log(args.db, expect_existing=False)
     if log.simulated:
         raise SconeError(f"{args.db} holds SIMULATED data; record real sessions in another file")
-    server = serve_tablet(args.host, args.port, args.token)
+    server = serve_tablet(args.host, args.port, args.token, start_gate=not args.autostart)
     try:
         sid, summary = run_study_session(log, plan, options, server, questionnaires=not args.no_questionnaire)
     finally:

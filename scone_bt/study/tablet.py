@@ -26,7 +26,7 @@ from scone_bt.study.questionnaires import (
     validate_answers,
 )
 
-__all__ = ["TabletState", "TabletHuman", "TabletPhase", "PHASES", "AlreadySubmittedError"]
+__all__ = ["TabletState", "TabletHuman", "TabletPhase", "PHASES", "START_BY", "AlreadySubmittedError"]
 
 
 class TabletPhase(str, Enum):  # noqa: UP042 (the page receives the values)
@@ -49,12 +49,26 @@ class AlreadySubmittedError(QuestionnaireError):
     """A questionnaire submitted a second time: the first answers stand."""
 
 
-class TabletState:
-    """What the tablet shows and what the participant did, guarded by one lock."""
+START_BY = ("participant", "researcher", "autostart")
+"""Who started a session: the participant's Start, the researcher's page, or --autostart."""
 
-    def __init__(self) -> None:
+
+class TabletState:
+    """What the tablet shows and what the participant did, guarded by one lock.
+
+    Args:
+        start_gate: The episode waits in "Waiting to start" until the participant or the researcher presses Start
+            (`start`, `wait_start`); False starts it at once (scone-run --ui, --autostart).
+    """
+
+    def __init__(self, start_gate: bool = False) -> None:
         self._lock = threading.Lock()
         self._version = 0
+        self.start_gate = start_gate
+        self.started_by: str | None = None if start_gate else "autostart"
+        self._started = threading.Event()
+        if not start_gate:
+            self._started.set()
         self.phase = TabletPhase.WAITING
         self.label = ""
         self.steps: list[str] = []
@@ -77,8 +91,10 @@ class TabletState:
 
     # ----------------------------------------------------------------------------------------- episode side
     def start_episode(self, steps: Sequence[str], label: str = "") -> None:
+        """The episode is built: show its recipe (and, behind the start gate, wait for Start)."""
         with self._lock:
-            self.phase, self.label = TabletPhase.EPISODE, label or self.label
+            self.label = label or self.label
+            self.phase = TabletPhase.EPISODE if self._started.is_set() else TabletPhase.WAITING
             self.steps, self.step_index, self.step_done = list(steps), 0, [False] * len(steps)
             self.robot = {"action": None, "confidence": None, "kind": None, "status": "idle"}
             self.acting_object = self.takeover_object = None
@@ -149,7 +165,28 @@ class TabletState:
             self.robot["status"] = "finished"
             self._touch()
 
+    def wait_start(self, poll_s: float = 0.25) -> str:
+        """Block until Start was pressed (at once without the gate); returns who started it (`START_BY`)."""
+        while not self._started.wait(poll_s):  # a short wait at a time: Ctrl-C still interrupts it
+            pass
+        assert self.started_by is not None
+        return self.started_by
+
     # ----------------------------------------------------------------------------------------- participant side
+    def start(self, by: str) -> bool:
+        """The participant or the researcher presses Start; False if the session had started already."""
+        if by not in START_BY:
+            raise ValueError(f"start by {by!r}; valid: {', '.join(START_BY)}")
+        with self._lock:
+            if self._started.is_set():
+                return False
+            self.started_by = by
+            self._started.set()
+            if self.phase is TabletPhase.WAITING and self.steps:
+                self.phase = TabletPhase.EPISODE
+            self._touch()
+            return True
+
     def confirm(self, object_name: str) -> bool:
         """The participant says the object is on the table. False if nothing was pending for it."""
         with self._lock:
@@ -226,6 +263,8 @@ class TabletState:
             return {
                 "version": self._version,
                 "phase": self.phase.value,
+                "can_start": not self._started.is_set(),
+                "started_by": self.started_by,
                 "label": self.label,
                 "steps": [
                     {

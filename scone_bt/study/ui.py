@@ -345,8 +345,8 @@ def _no_constant(name: str) -> None:
     raise ValueError(f"{name} is not JSON")  # Python's json accepts NaN and Infinity; JSON does not
 
 
-def _page() -> str:
-    return resources.files("scone_bt.study").joinpath("static/tablet.html").read_text(encoding="utf-8")
+def _page(name: str = "tablet.html") -> str:
+    return resources.files("scone_bt.study").joinpath(f"static/{name}").read_text(encoding="utf-8")
 
 
 def build_app(state: TabletState, token: str | None, local_only: bool = True) -> Any:
@@ -378,11 +378,31 @@ def build_app(state: TabletState, token: str | None, local_only: bool = True) ->
 
     app = FastAPI(title="SCONE-BT tablet", docs_url=None, redoc_url=None, openapi_url=None)
     app.add_middleware(RequestGuard, token=token, local_only=local_only)  # type: ignore[arg-type]
-    page = _page()
+    page, researcher_page = _page(), _page("researcher.html")
 
     @app.get("/", response_class=HTMLResponse)
     def index() -> str:
         return page
+
+    @app.get("/researcher", response_class=HTMLResponse)
+    def researcher() -> str:
+        """The researcher's page (behind the same token): the session's state and its own Start button."""
+        return researcher_page
+
+    def start(by: str) -> dict[str, Any]:
+        if not state.start(by):
+            raise HTTPException(
+                status_code=409, detail=f"the session was started already ({state.started_by})"
+            )
+        return {"ok": True, "started_by": by}
+
+    @app.post("/api/start", dependencies=[Depends(no_fields)])
+    def participant_start() -> dict[str, Any]:
+        return start("participant")
+
+    @app.post("/api/researcher/start", dependencies=[Depends(no_fields)])
+    def researcher_start() -> dict[str, Any]:
+        return start("researcher")
 
     @app.get("/api/state")
     def get_state() -> dict[str, Any]:
@@ -448,7 +468,14 @@ class TabletServer:
         url: The page's address, token included.
     """
 
-    def __init__(self, host: str, port: int, token: str | None, state: TabletState | None = None) -> None:
+    def __init__(
+        self,
+        host: str,
+        port: int,
+        token: str | None,
+        state: TabletState | None = None,
+        start_gate: bool = False,
+    ) -> None:
         import uvicorn
 
         if token is not None and len(token) < MIN_TOKEN_LENGTH:
@@ -458,7 +485,7 @@ class TabletServer:
                 f"serving the tablet UI on {host} makes it reachable from the network and needs a session token "
                 f"(--ui-token, at least {MIN_TOKEN_LENGTH} characters); without one, use --ui-host 127.0.0.1"
             )
-        self.state = state or TabletState()
+        self.state = state or TabletState(start_gate=start_gate)
         self.token = token
         self.host = host
         if not 0 <= port <= 65535:
@@ -492,7 +519,9 @@ class TabletServer:
         self.port = int(self._server.servers[0].sockets[0].getsockname()[1])
         reach = reachable_address(host)
         shown = f"[{reach}]" if ":" in reach else reach
-        self.url = f"http://{shown}:{self.port}/" + (f"?token={token}" if token else "")
+        query = f"?token={token}" if token else ""
+        self.url = f"http://{shown}:{self.port}/" + query
+        self.researcher_url = f"http://{shown}:{self.port}/researcher" + query
 
     # ----------------------------------------------------------------------------------------- episode hooks
     def human_factory(self, kitchen: Any, recipe: Any, options: Any, seed: int) -> TabletHuman:
@@ -568,9 +597,15 @@ class TabletServer:
         self.close()
 
 
-def serve_tablet(host: str = "127.0.0.1", port: int = 8765, token: str | None = None) -> TabletServer:
-    """Start the tablet UI in a background thread (port 0 picks a free port); raises UIError when it cannot."""
-    return TabletServer(host, port, token)
+def serve_tablet(
+    host: str = "127.0.0.1", port: int = 8765, token: str | None = None, start_gate: bool = False
+) -> TabletServer:
+    """Start the tablet UI in a background thread (port 0 picks a free port); raises UIError when it cannot.
+
+    With ``start_gate`` the episode waits until Start is pressed on the tablet or on the researcher's page
+    (``/researcher``, behind the same token).
+    """
+    return TabletServer(host, port, token, start_gate=start_gate)
 
 
 def tablet_from_args(args: Any) -> TabletServer | None:
