@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any
 
-from scone_bt.events import CleanUpStarted, Event
+from scone_bt.events import Event
 from scone_bt.human import FetchReason, SimulatedHuman
 from scone_bt.human.simulated import _Fetch
 from scone_bt.study.questionnaires import (
@@ -25,6 +25,7 @@ from scone_bt.study.questionnaires import (
     get_questionnaire,
     validate_answers,
 )
+from scone_bt.study.words import it_them
 
 __all__ = ["TabletState", "TabletHuman", "TabletPhase", "PHASES", "START_BY", "AlreadySubmittedError"]
 
@@ -40,8 +41,8 @@ class TabletPhase(str, Enum):  # noqa: UP042 (the page receives the values)
 
 PHASES = tuple(p.value for p in TabletPhase)
 _REASONS = {
-    FetchReason.HELP.value: "The robot asks for your help: please bring it to the table.",
-    FetchReason.INTERVENTION.value: "You took over: please bring it to the table.",
+    FetchReason.HELP.value: "The robot asks for your help: please bring {it} to the table.",
+    FetchReason.INTERVENTION.value: "You took over: please bring {it} to the table.",
 }
 
 
@@ -128,9 +129,18 @@ class TabletState:
             self._fetches[object_name] = {
                 "object": object_name,
                 "kind": kind,
-                "reason": reason or _REASONS.get(kind, ""),
+                "reason": reason or _REASONS.get(kind, "").format(it=it_them(object_name)),
             }
             self._touch()
+
+    def explain_fetch(self, object_name: str, why: str) -> None:
+        """Give a pending help request the robot's reason ("I cannot see the garlic.") above what to do."""
+        with self._lock:
+            fetch = self._fetches.get(object_name)
+            if fetch is not None and fetch["kind"] == FetchReason.HELP.value and why:
+                fetch["reason"] = f"{why} Please bring {it_them(object_name)} to the table."
+                fetch["why"] = why
+                self._touch()
 
     def retain_fetches(self, objects: set[str]) -> None:
         """Forget fetches the human has finished."""
@@ -339,15 +349,13 @@ class TabletHuman(SimulatedHuman):
                 f.ready_at
             ):  # a clean-up SimulatedHuman started: the participant does it instead
                 f.ready_at = math.inf
-                reason = next(
-                    (
-                        e.detail
-                        for e in new
-                        if isinstance(e, CleanUpStarted) and e.object_name == f.object_name
-                    ),
-                    "",
+                name, it = f.object_name, it_them(f.object_name)
+                said = (
+                    f"The robot dropped the {name}: please bring {it} to the table."
+                    if f.cause == "dropped"
+                    else f"The robot has not fetched the {name} for a while: please bring {it} to the table."
                 )
-                self.state.add_fetch(f.object_name, f.kind.value, f"Please bring it to the table ({reason}).")
+                self.state.add_fetch(name, f.kind.value, said)
         self.state.retain_fetches({f.object_name for f in self._fetches})
         self.state.sync_recipe(self.step_index, self.step_done)
         return new

@@ -20,17 +20,7 @@ from importlib import resources
 from typing import Any
 
 from scone_bt.errors import SconeError
-from scone_bt.events import (
-    ActOutcome,
-    ActStarted,
-    ClarificationAsked,
-    DecisionMade,
-    Event,
-    EventSink,
-    HelpRequested,
-    StepDone,
-    TakeOver,
-)
+from scone_bt.events import ActOutcome, ActStarted, DecisionMade, Event, EventSink, HelpRequested
 from scone_bt.gate.types import DecisionKind
 from scone_bt.study.questionnaires import QUESTIONNAIRES, Questionnaire
 from scone_bt.study.tablet import AlreadySubmittedError, TabletHuman, TabletState
@@ -486,6 +476,7 @@ class TabletServer:
                 f"(--ui-token, at least {MIN_TOKEN_LENGTH} characters); without one, use --ui-host 127.0.0.1"
             )
         self.state = state or TabletState(start_gate=start_gate)
+        self._why: dict[str, str] = {}  # item → the robot's words for its latest ASK decision about it
         self.token = token
         self.host = host
         if not 0 <= port <= 65535:
@@ -529,38 +520,38 @@ class TabletServer:
         return TabletHuman(kitchen, recipe, options, seed=seed, state=self.state)
 
     def on_event(self, event: Event) -> None:
-        """run_episode's on_event: keep the tablet's view of the robot up to date."""
+        """run_episode's on_event: keep the tablet's view of the robot up to date, in plain words (`words`)."""
+        from scone_bt.study.words import decision_words, feed_line, help_words
+
         s = self.state
         if isinstance(event, DecisionMade):
+            said = decision_words(event)
+            if event.verdict is DecisionKind.ASK and event.object_name:
+                self._why[event.object_name] = help_words(event)
             s.set_robot(
                 action=event.action,
                 confidence=_finite(event.confidence),  # JSON has no NaN
                 kind=event.verdict.value,
                 status=_STATUS[event.verdict],
+                say=said,
+                rule=event.rule,
             )
         elif isinstance(event, ActStarted):
-            s.set_robot(action=event.action, confidence=_finite(event.confidence), status="acting")
-            s.note(f"The robot is fetching the {event.object_name}.")
+            s.set_robot(
+                action=event.action,
+                confidence=_finite(event.confidence),
+                status="acting",
+                say=f"I am fetching the {event.object_name}.",
+            )
         elif isinstance(event, ActOutcome):
-            s.set_robot(status="idle")
-            s.note(
-                f"The {event.object_name} is on the table."
-                if event.success
-                else f"The robot failed with the {event.object_name} ({event.stage})."
-            )
+            s.set_robot(status="idle", say="")
         elif isinstance(event, HelpRequested):
-            s.note(
-                f"The robot asks for help: {event.reason}."
-                if event.reason
-                else f"The robot asks for help with the {event.object_name}."
-            )
-        elif isinstance(event, ClarificationAsked):
-            said = ", ".join(event.answer) or "none of those"
-            s.note(f"The robot asked which of {', '.join(event.candidates)} the step means: {said}.")
-        elif isinstance(event, TakeOver):
-            s.note(f"You took over: {event.action}.")
-        elif isinstance(event, StepDone):
-            s.note(f"Step done: {event.detail}")
+            why = event.reason or self._why.pop(event.object_name, "")
+            s.set_robot(status="asking", say=why or f"Please bring the {event.object_name}.")
+            s.explain_fetch(event.object_name, why)
+        line = feed_line(event)
+        if line:
+            s.note(line)
 
     def chain(self, *sinks: EventSink) -> EventSink:
         """An on_event that feeds the tablet and the given sinks (e.g. a StudyLog's event_sink)."""
