@@ -156,10 +156,16 @@ class DecisionMade(Event):
 
 @dataclass(frozen=True)
 class ActStarted(_ActionEvent):
-    """The robot starts a pick-and-place; ``confidence`` is κ̂ for it."""
+    """The robot starts a pick-and-place; ``confidence`` is κ̂ for it.
+
+    Attributes:
+        window_s: Simulated seconds the robot announces the attempt before it moves (the take-over window; 0: it
+            moves at once).
+    """
 
     kind: ClassVar[str] = "act"
     confidence: float
+    window_s: float = 0.0
 
 
 @dataclass(frozen=True)

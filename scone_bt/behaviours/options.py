@@ -27,6 +27,8 @@ class BehaviourOptions:
         gate: "budget" (the threshold kept online so that at most target_failure_rate of attempts fail;
             scone_bt.gate.budget) or "paper" (the fixed confidence_threshold).
         target_failure_rate: The promise: the share of the robot's attempts that may fail, in (0, 1).
+        takeover_window_s: Simulated seconds the robot announces an attempt before it moves, when a person can take
+            over (a human channel with ``announces_attempts``; the tablet).
         cache_dir: On-disk embedding cache, or None.
         experience_path: Experience store: an SQLite file, a postgresql:// URL (a fleet's shared store), or None
             for in-memory learning only.
@@ -37,7 +39,7 @@ class BehaviourOptions:
             (`scone_bt.episode.seeds.SeedPlan`).
 
     The fields of the tree file's ``parameters:`` (embedder, estimator, the thresholds, recipe_aware,
-    clarify_margin, max_failures_per_action, gate, target_failure_rate) left at None come from the tree file (`resolve`): one source.
+    clarify_margin, max_failures_per_action, gate, target_failure_rate, takeover_window_s) left at None come from the tree file (`resolve`): one source.
     """
 
     embedder: str | None = None
@@ -50,6 +52,7 @@ class BehaviourOptions:
     max_failures_per_action: int | None = None
     gate: str | None = None
     target_failure_rate: float | None = None
+    takeover_window_s: float | None = None
     cache_dir: Path | None = None
     experience_path: Path | str | None = None
     robot_id: str = ""

@@ -28,6 +28,7 @@ class TreeParameters(StrictModel):
     max_failures_per_action: Annotated[int, Field(ge=1, le=1000)] = 3
     gate: Literal["budget", "paper"] = "budget"
     target_failure_rate: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False)] = 0.15
+    takeover_window_s: Annotated[float, Field(ge=0, le=60, allow_inf_nan=False)] = 2.0
 
 
 PARAMETER_NAMES: tuple[str, ...] = tuple(TreeParameters.model_fields)

@@ -37,11 +37,17 @@ def run_study_session(
 
     behaviour = replace(episode_options.behaviour, use_self_confidence=plan.condition is Condition.ON)
     options = replace(episode_options, behaviour=behaviour)
+    from scone_bt.tree import load_tree_spec
+
+    resolved = behaviour.resolve(load_tree_spec(options.tree).parameters)
     info = {
         "recipe": options.recipe,
         "seed": options.seed,
         "robot": options.robot,
         "tablet": server.url.split("?")[0],
+        # simulated seconds the robot announces each attempt before moving (the time to take over)
+        "takeover_window_s": resolved.takeover_window_s,
+        "start_gate": server.state.start_gate,
     }
     sid = log.start_session(plan, info)
     server.state.label = f"{plan.participant} · session {plan.session_index}"

@@ -76,6 +76,7 @@ class TabletState:
         self.step_index = 0
         self.step_done: list[bool] = []
         self.robot: dict[str, Any] = {"action": None, "confidence": None, "kind": None, "status": "idle"}
+        self.sim_time = 0.0
         self.acting_object: str | None = None
         self.takeover_object: str | None = None
         self._fetches: dict[str, dict[str, Any]] = {}  # object name → {object, kind, reason}
@@ -115,13 +116,38 @@ class TabletState:
             self.robot.update(fields)
             self._touch()
 
+    def announce(self, object_name: str, window_s: float, now: float) -> None:
+        """The robot announces an attempt and stays still for ``window_s`` simulated seconds (take-over window)."""
+        with self._lock:
+            self.robot.update(
+                status="announcing",
+                say=f"I am about to fetch the {object_name}. Take over now if you want to.",
+                window_s=window_s,
+                window_until=now + window_s,
+            )
+            self.sim_time = now
+            self._touch()
+
+    def sync_time(self, now: float) -> None:
+        """The episode's simulated time (ticks the take-over window's countdown; the robot moves at its end)."""
+        with self._lock:
+            self.sim_time = now
+            until = self.robot.get("window_until")
+            if until is None:
+                return
+            if now >= until and self.robot.get("status") == "announcing":
+                self.robot.update(status="acting", say=f"I am fetching the {self.acting_object}.")
+                self.robot["window_until"] = None
+            self._touch()
+
     def set_acting(self, object_name: str | None) -> None:
         with self._lock:
             self.acting_object = object_name
             if object_name is None:
                 self.takeover_object = None
-                if self.robot.get("status") == "acting":
+                if self.robot.get("status") in ("acting", "announcing"):
                     self.robot["status"] = "idle"
+                self.robot["window_until"] = None
             self._touch()
 
     def add_fetch(self, object_name: str, kind: str, reason: str | None = None) -> None:
@@ -162,6 +188,7 @@ class TabletState:
         with self._lock:
             self.takeover_object = None
             self.acting_object = None
+            self.robot["window_until"] = None
             self._touch()
 
     def note(self, line: str) -> None:
@@ -284,11 +311,19 @@ class TabletState:
                     }
                     for i, (t, d) in enumerate(zip(self.steps, self.step_done, strict=True))
                 ],
-                "robot": dict(self.robot),
+                "robot": {
+                    **self.robot,
+                    "window_left_s": (
+                        None
+                        if self.robot.get("window_until") is None
+                        else round(max(0.0, self.robot["window_until"] - self.sim_time), 1)
+                    ),
+                },
                 "can_take_over": self.acting_object is not None and self.takeover_object is None,
                 "acting_object": self.acting_object,
                 "requests": [dict(f) for f in self._fetches.values()],
                 "feed": list(self.feed),
+                "questionnaires_total": len(self._questionnaires),
                 "questionnaires": [
                     q.as_json() for q in self._questionnaires if q.name not in self._submitted
                 ],
@@ -304,6 +339,7 @@ class TabletHuman(SimulatedHuman):
     """
 
     state: TabletState = field(default_factory=TabletState)
+    announces_attempts = True  # a person: the robot announces each attempt and waits its take-over window
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -357,5 +393,6 @@ class TabletHuman(SimulatedHuman):
                 )
                 self.state.add_fetch(name, f.kind.value, said)
         self.state.retain_fetches({f.object_name for f in self._fetches})
+        self.state.sync_time(now)
         self.state.sync_recipe(self.step_index, self.step_done)
         return new

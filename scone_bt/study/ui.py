@@ -542,7 +542,10 @@ class TabletServer:
                 confidence=_finite(event.confidence),
                 status="acting",
                 say=f"I am fetching the {event.object_name}.",
+                window_until=None,
             )
+            if event.window_s > 0:
+                s.announce(event.object_name, event.window_s, event.sim_time)
         elif isinstance(event, ActOutcome):
             s.set_robot(status="idle", say="")
         elif isinstance(event, HelpRequested):
