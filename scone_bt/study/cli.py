@@ -281,6 +281,8 @@ def _analyze(data, args: argparse.Namespace, out: Path, force: bool = False) -> 
     from scone_bt.study.analysis import analyze
     from scone_bt.study.outputs import write_outputs
 
+    for note in getattr(data, "notes", ()):
+        print(f"scone-study: warning: {note}", file=sys.stderr)
     options = _analysis_options(args, data.available_models())
     _check_analysis_out(
         out, "--out" if args.command == "analyze" else "--analyze", force, _analysis_inputs(args)
