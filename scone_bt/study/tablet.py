@@ -68,6 +68,7 @@ class TabletState:
         self.start_gate = start_gate
         self.started_by: str | None = None if start_gate else "autostart"
         self._started = threading.Event()
+        self.ready = False  # the robot is set up and waits for Start (`ready_to_start`)
         if not start_gate:
             self._started.set()
         self.phase = TabletPhase.WAITING
@@ -202,8 +203,16 @@ class TabletState:
             self.robot["status"] = "finished"
             self._touch()
 
+    def ready_to_start(self) -> None:
+        """The robot is set up (models loaded, tree built): Start can be pressed now."""
+        with self._lock:
+            self.ready = True
+            self._touch()
+
     def wait_start(self, poll_s: float = 0.25) -> str:
-        """Block until Start was pressed (at once without the gate); returns who started it (`START_BY`)."""
+        """Say the robot is ready, then block until Start was pressed (at once without the gate); returns who
+        started it (`START_BY`)."""
+        self.ready_to_start()
         while not self._started.wait(poll_s):  # a short wait at a time: Ctrl-C still interrupts it
             pass
         assert self.started_by is not None
@@ -211,11 +220,12 @@ class TabletState:
 
     # ----------------------------------------------------------------------------------------- participant side
     def start(self, by: str) -> bool:
-        """The participant or the researcher presses Start; False if the session had started already."""
+        """The participant or the researcher presses Start; False if the session had started already or the robot
+        is not ready yet."""
         if by not in START_BY:
             raise ValueError(f"start by {by!r}; valid: {', '.join(START_BY)}")
         with self._lock:
-            if self._started.is_set():
+            if self._started.is_set() or not self.ready:
                 return False
             self.started_by = by
             self._started.set()
@@ -300,7 +310,8 @@ class TabletState:
             return {
                 "version": self._version,
                 "phase": self.phase.value,
-                "can_start": not self._started.is_set(),
+                "can_start": self.ready and not self._started.is_set(),
+                "getting_ready": not self.ready and not self._started.is_set(),
                 "started_by": self.started_by,
                 "label": self.label,
                 "steps": [

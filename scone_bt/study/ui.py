@@ -20,7 +20,7 @@ from importlib import resources
 from typing import Any
 
 from scone_bt.errors import SconeError
-from scone_bt.events import ActOutcome, ActStarted, DecisionMade, Event, EventSink, HelpRequested
+from scone_bt.events import ActOutcome, ActStarted, DecisionMade, Event, EventSink, HelpRequested, TakeOver
 from scone_bt.gate.types import DecisionKind
 from scone_bt.study.questionnaires import QUESTIONNAIRES, Questionnaire
 from scone_bt.study.tablet import AlreadySubmittedError, TabletHuman, TabletState
@@ -381,9 +381,12 @@ def build_app(state: TabletState, token: str | None, local_only: bool = True) ->
 
     def start(by: str) -> dict[str, Any]:
         if not state.start(by):
-            raise HTTPException(
-                status_code=409, detail=f"the session was started already ({state.started_by})"
+            detail = (
+                f"the session was started already ({state.started_by})"
+                if state.started_by
+                else "the robot is not ready yet; Start is possible once it is"
             )
+            raise HTTPException(status_code=409, detail=detail)
         return {"ok": True, "started_by": by}
 
     @app.post("/api/start", dependencies=[Depends(no_fields)])
@@ -548,6 +551,12 @@ class TabletServer:
                 s.announce(event.object_name, event.window_s, event.sim_time)
         elif isinstance(event, ActOutcome):
             s.set_robot(status="idle", say="")
+        elif isinstance(event, TakeOver):
+            s.set_robot(
+                status="stopped",
+                say=f"You took over: I stopped. Please bring the {event.object_name} to the table.",
+                window_until=None,
+            )
         elif isinstance(event, HelpRequested):
             why = event.reason or self._why.pop(event.object_name, "")
             s.set_robot(status="asking", say=why or f"Please bring the {event.object_name}.")

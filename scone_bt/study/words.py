@@ -130,6 +130,8 @@ def help_words(event: DecisionMade) -> str:
 def feed_line(event: Event) -> str | None:
     """The feed's line for an event, in the participant's words (None: nothing to say)."""
     if isinstance(event, ActStarted):
+        if event.window_s > 0:
+            return f"The robot is about to fetch the {event.object_name}."
         return f"The robot is fetching the {event.object_name}."
     if isinstance(event, ActOutcome):
         item = event.object_name

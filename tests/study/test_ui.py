@@ -287,6 +287,9 @@ def test_the_start_gate_opens_once_from_the_tablet_or_the_researchers_page():
         assert _get(base + "researcher")[0] == 403  # behind the same token
         state = server.state
         state.start_episode(["Boil water."])
+        assert _get(base + "api/state", auth)[1]["can_start"] is False  # the robot is still being set up
+        assert _post(base + "api/start", headers=auth) == 409
+        state.ready_to_start()
         snap = _get(base + "api/state", auth)[1]
         assert snap["phase"] == "waiting" and snap["can_start"] is True and snap["started_by"] is None
         assert _post(base + "api/researcher/start", headers=auth) == 200
