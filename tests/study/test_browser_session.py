@@ -114,6 +114,13 @@ def test_a_whole_session_in_chromium(browser_page, tmp_path):
         _fits_the_screen(page, "1-waiting-to-start")
         with page.expect_response("**/api/start"):
             page.click("#start")
+        researcher = page.context.new_page()  # the researcher's page, behind the same token
+        researcher.set_viewport_size(VIEWPORT)
+        researcher.goto(f"{base}researcher?token={TOKEN}")
+        researcher.wait_for_function("document.getElementById('phase').textContent.includes('participant')")
+        assert researcher.locator("#start").is_disabled()  # started already, by the participant
+        _fits_the_screen(researcher, "0-researcher-page")
+        researcher.close()
 
         # --- the control condition fails the yogurt three times, then asks: the card says why
         request = page.locator('.request[data-object="yogurt"][data-kind="help"]')
