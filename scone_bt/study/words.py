@@ -89,7 +89,7 @@ def decision_words(event: DecisionMade) -> str:
     item = event.object_name or ""
     kind, rule = event.verdict, event.rule
     if kind is DecisionKind.CLARIFY:
-        return "Which item does this step mean? Please tell me on the robot's screen."
+        return "I am not sure which item this step means: I am asking."
     if kind is DecisionKind.IDLE:
         if rule in ("missing", "") and event.reason.startswith("waiting:"):
             items = _drop_notes(event.reason[len("waiting:") :]).replace(" not in sight", "")
