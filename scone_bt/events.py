@@ -39,6 +39,7 @@ __all__ = [
     "HelpDeclined",
     "HelpGiven",
     "Intervention",
+    "INTERVENTION_CAUSES",
     "CleanUpStarted",
     "StepDone",
     "TrustEstimated",
@@ -157,10 +158,16 @@ class DecisionMade(Event):
 
 @dataclass(frozen=True)
 class ActStarted(_ActionEvent):
-    """The robot starts a pick-and-place; ``confidence`` is κ̂ for it."""
+    """The robot starts a pick-and-place; ``confidence`` is κ̂ for it.
+
+    Attributes:
+        window_s: Simulated seconds the robot announces the attempt before it moves (the take-over window; 0: it
+            moves at once).
+    """
 
     kind: ClassVar[str] = "act"
     confidence: float
+    window_s: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -246,11 +253,28 @@ class HelpDeclined(_HumanFetch):
     kind: ClassVar[str] = "declined"
 
 
+INTERVENTION_CAUSES: Mapping[str, str] = MappingProxyType(
+    {
+        "takeover": "the participant took over the robot's action and brought the item",
+        "dropped": "the participant brought an item the robot had dropped, unasked",
+        "idle": "the participant brought an item the robot neither fetched nor asked for",
+        "by-hand": "the participant did a step by hand",
+    }
+)
+"""Why an intervention counts, by cause: something the participant did that the robot did not ask for. Time the
+robot waits on its own help request never makes one."""
+
+
 @dataclass(frozen=True)
 class Intervention(_HumanFetch):
-    """The human put an object on the table unasked (after a take-over, a drop or a long idle robot)."""
+    """The human put an object on the table unasked (after a take-over, a drop or a long idle robot).
+
+    Attributes:
+        cause: Why it counts, a key of `INTERVENTION_CAUSES` ("" only in logs written before causes were stored).
+    """
 
     kind: ClassVar[str] = "intervention"
+    cause: str = ""
 
 
 @dataclass(frozen=True)

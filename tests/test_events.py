@@ -48,7 +48,7 @@ EPISODE = [
     ActStarted(17.0, "Put a on table", "a", 0.8),
     TakeOver(18.0, "Put a on table", "a"),
     ActCancelled(18.1, "Put a on table", "a"),
-    Intervention(24.0, "a", "fetched by the human"),
+    Intervention(24.0, "a", "fetched by the human", "takeover"),
     CleanUpStarted(25.0, "b", "the robot dropped it"),
     StepDone(26.0, "Add salt."),
     TrustEstimated(26.5, "Put a on table", "a", 0.71, 0.3, "over"),
@@ -73,7 +73,13 @@ def test_stored_json_keeps_the_logs_field_names() -> None:
         "kind",
     ]
     assert decision["kind"] == "act" and decision["object"] == "salt" and decision["candidates"] == []
-    assert act == {"sim_time": 0.5, "action": "Put salt on table", "object": "salt", "confidence": 0.5}
+    assert act == {
+        "sim_time": 0.5,
+        "action": "Put salt on table",
+        "object": "salt",
+        "confidence": 0.5,
+        "window_s": 0.0,
+    }
     assert (outcome["success"], outcome["stage"]) == (False, "grasp")
     assert StepDone(1.23456, "x").to_json() == {"sim_time": 1.235, "object": None, "detail": "x"}
 

@@ -32,6 +32,8 @@ class BehaviourOptions:
         target_failure_rate: The promise: the share of the robot's attempts that may fail, in (0, 1).
         trust_aware: Track the person's trust online (the model fitted to human ratings) and, before an act the
             person likely over-trusts, say the robot's confidence in words. The gate itself does not change.
+        takeover_window_s: Simulated seconds the robot announces an attempt before it moves, when a person can take
+            over (a human channel with ``announces_attempts``; the tablet).
         cache_dir: On-disk embedding cache, or None.
         experience_path: Experience store: an SQLite file, a postgresql:// URL (a fleet's shared store), or None
             for in-memory learning only.
@@ -42,7 +44,8 @@ class BehaviourOptions:
             (`scone_bt.episode.seeds.SeedPlan`).
 
     The fields of the tree file's ``parameters:`` (embedder, estimator, the thresholds, recipe_aware,
-    clarify_margin, max_failures_per_action, gate, target_failure_rate, trust_aware) left at None come from the
+    clarify_margin, max_failures_per_action, gate, target_failure_rate, trust_aware,
+    takeover_window_s) left at None come from the
     tree file (`resolve`): one source. They are `TreeParameters`' fields, each optional, of the same types (a test holds
     them to it); `scone-run` sets them from the options `scone_bt.cli.tree_options` derives from that model.
     """
@@ -58,6 +61,7 @@ class BehaviourOptions:
     gate: GateName | None = None
     target_failure_rate: float | None = None
     trust_aware: bool | None = None
+    takeover_window_s: float | None = None
     cache_dir: Path | None = None
     experience_path: Path | str | None = None
     robot_id: str = ""

@@ -68,6 +68,10 @@ class PickAndPlace(StageBehaviour):
     the motion is cancelled (`TakeOver`), and `ObserveOutcome` labels nothing. With `trust` (tree parameter
     ``trust_aware``) it first emits the person's estimated trust in the act (`TrustEstimated`) and, when they likely
     over-trust it, says its confidence in words (`ConfidenceStated`).
+
+    With a person on the human channel (``announces_attempts``, the tablet) the robot first announces the attempt
+    and stays still for ``window_s`` simulated seconds (the tree's ``takeover_window_s``), so that the person has
+    time to take over before anything moves; `ActStarted` records the window.
     """
 
     READS = (Keys.DECISION, Keys.TARGET, Keys.DETECTIONS, Keys.TABLE_DETECTIONS, Keys.PLANNED)
@@ -81,6 +85,7 @@ class PickAndPlace(StageBehaviour):
         events: EventSink,
         seeds: PlannerSeeds,
         trust: Any = None,
+        window_s: float = 0.0,
     ) -> None:
         super().__init__(name)
         self.robot = robot
@@ -88,11 +93,22 @@ class PickAndPlace(StageBehaviour):
         self.events = events
         self.seeds = seeds
         self.trust = trust
+        # simulated humans decide at once (their take-over delay is the reaction): only a person gets a window
+        self.window_s = window_s if getattr(human, "announces_attempts", False) else 0.0
         self.task: MotionHandle | None = None
 
     @classmethod
     def from_context(cls, name: str, context: EpisodeContext) -> PickAndPlace:
-        return cls(name, context.robot, context.human, context.events, context.seeds, context.trust)
+        window = context.options.takeover_window_s
+        return cls(
+            name,
+            context.robot,
+            context.human,
+            context.events,
+            context.seeds,
+            context.trust,
+            window_s=float(window or 0.0),
+        )
 
     def _state_confidence(self, confidence: float) -> None:
         """trust_aware: the person's estimated trust in this act, and a spoken warning when they over-trust it."""
@@ -117,21 +133,50 @@ class PickAndPlace(StageBehaviour):
             self._state_confidence(decision.confidence)
         self.human.robot_busy(True)
         self.human.decide_takeover(self.object_name)
-        self.events(ActStarted(self.robot.now(), self.action, self.object_name, decision.confidence))
-        if planned is not None:
-            self.task = planned.execute()
+        now = self.robot.now()
+        self.events(
+            ActStarted(now, self.action, self.object_name, decision.confidence, window_s=self.window_s)
+        )
+        self.task = None
+        self._planned = planned
+        self._target = target
+        self.move_at = now + self.window_s
+        self.write(Keys.MOTION_OUTCOME, None)
+        if self.window_s <= 0:
+            self._move()
+
+    def _move(self) -> None:
+        """Start the motion: the plan the gate made, or a new one."""
+        if self._planned is not None:
+            self.task = self._planned.execute()
         else:
             table: tuple[Detection, ...] | None = self.read(Keys.TABLE_DETECTIONS, None)
             request = pick_request(
-                target.detection, self.read(Keys.DETECTIONS, []), table, self.seeds.next_seed()
+                self._target.detection, self.read(Keys.DETECTIONS, []), table, self.seeds.next_seed()
             )
             self.task = self.robot.start_pick_and_place(request)
+        self._planned = None
         self.write(Keys.MOTION_TASK, self.task)
-        self.write(Keys.MOTION_OUTCOME, None)
 
     def update(self) -> py_trees.common.Status:
+        if self.task is None:  # announcing: the arm has not moved
+            if self.human.wants_takeover(self.object_name):
+                self.human.take_over(self.object_name)
+                self.events(TakeOver(self.robot.now(), self.action, self.object_name))
+                self.write(
+                    Keys.MOTION_OUTCOME,
+                    MotionOutcome(False, FailureStage.CANCELLED, "taken over before the robot moved", 0.0),
+                )
+                self.feedback_message = "taken over before moving"
+                return py_trees.common.Status.SUCCESS
+            if self.robot.now() < self.move_at:
+                self.feedback_message = (
+                    f"announcing {self.action}: {self.move_at - self.robot.now():.1f} s to take over"
+                )
+                return py_trees.common.Status.RUNNING
+            self._move()
         task = self.task
-        assert task is not None  # initialise ran
+        assert task is not None
         if not task.done() and self.human.wants_takeover(self.object_name):
             task.cancel()
             self.human.take_over(self.object_name)

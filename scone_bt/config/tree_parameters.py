@@ -100,6 +100,16 @@ class TreeParameters(StrictModel):
             "(the person's trust estimated online from what they saw)"
         ),
     ] = False
+    takeover_window_s: Annotated[
+        float,
+        Field(
+            ge=0,
+            le=60,
+            allow_inf_nan=False,
+            description="simulated seconds the robot announces an attempt before it moves, so that a person on the "
+            "tablet can take over (simulated humans get no window)",
+        ),
+    ] = 2.0
 
 
 PARAMETER_NAMES: tuple[str, ...] = tuple(TreeParameters.model_fields)

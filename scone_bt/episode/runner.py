@@ -533,6 +533,7 @@ def run_episode(
     models: ModelPool | None = None,
     hook: EpisodeHook | None = None,
     backend: BackendFactory | None = None,
+    wait_to_start: Callable[[], None] | None = None,
 ) -> EpisodeSummary:
     """Run one episode to completion (or to max_ticks) and return its summary: build, loop, summarise.
 
@@ -547,6 +548,8 @@ def run_episode(
             scenario runner (`scone_bt.scenario`) passes one; ``scone-run`` does not.
         backend: Builds the robot and its world (None: the factory ``options.backend`` names in
             `scone_bt.robot.registry.BACKENDS`); a test passes a fake.
+        wait_to_start: Called once when everything is set up, before the first tick; simulated time and the
+            events begin when it returns (the study's start gate). Its wait counts in none of the summary's times.
     """
     started, started_cpu = time.perf_counter(), time.thread_time()
     clock = WallClock()
@@ -594,6 +597,10 @@ def run_episode(
             ep.tree.setup(timeout=120)
             recorder = _make_recorder(options)
             recorder.log_static_scene(scene)
+            if wait_to_start is not None:
+                waiting = time.perf_counter()
+                wait_to_start()
+                started += time.perf_counter() - waiting  # the wall times begin at the start
             log_tick = _tick_logger(recorder, scene, ep, lines) if recording and scene is not None else None
             clock.add(LoopPart.STARTUP, time.perf_counter() - started, time.thread_time() - started_cpu)
             ticks, control_ticks = _loop(ep, options, clock, hook, realtime, log_tick)

@@ -7,7 +7,11 @@ then cooks it (``cook_time_s``) and moves to the next step. The human fetches ob
   probability ``takeover_probability``);
 - clean-up: a needed object is neither on the shelf nor on the table (the robot dropped it), or the robot has been
   idle on this step for ``patience_s`` (the human stops waiting).
-Take-overs and clean-ups are interventions. Fetching takes ``fetch_time_s`` of simulated time.
+Take-overs and clean-ups are interventions, each with its cause (`scone_bt.events.INTERVENTION_CAUSES`). Idle means
+neither acting nor asking: the patience clock restarts whenever the robot stops acting or stops waiting on its own
+request, so the time the robot waits on the human never counts. A clean-up of an item the robot then asks for
+becomes that help request (the item is brought at the robot's request, not counted as an intervention). Fetching
+takes ``fetch_time_s`` of simulated time.
 
 When the robot asks which item a step means (ASK-CLARIFY), the human names the candidates its current step
 needs, else those the next step that needs any of them needs, else none ("none of those"); answering takes
@@ -84,6 +88,7 @@ class _Fetch:
     object_name: str
     ready_at: float
     kind: FetchReason
+    cause: str = ""  # with INTERVENTION: the key of INTERVENTION_CAUSES it will be counted under
 
 
 @dataclass
@@ -103,7 +108,9 @@ class SimulatedHuman:
         self.step_index = 0
         self.step_done = [False] * len(self.recipe.steps)
         self._cooking_until: float | None = None
-        self._step_started = self.kitchen.sim_time
+        self._idle_since = (
+            self.kitchen.sim_time
+        )  # when the robot last stopped acting or asking (or the step began)
         self._robot_busy_since: float | None = None
         self._fetches: list[_Fetch] = []
         self.help_given = 0
@@ -147,6 +154,13 @@ class SimulatedHuman:
                 HelpDeclined(self.kitchen.sim_time, object_name, "the human declined: try it yourself")
             )
             return
+        for fetch in self._fetches:
+            if fetch.object_name == object_name and fetch.kind is FetchReason.INTERVENTION:
+                if (
+                    fetch.cause != "takeover"
+                ):  # a clean-up under way: now it is brought because the robot asked
+                    fetch.kind, fetch.cause = FetchReason.HELP, ""
+                return
         if not self.is_fetching(object_name):
             self._fetches.append(
                 _Fetch(object_name, self.kitchen.sim_time + self.options.fetch_time_s, FetchReason.HELP)
@@ -187,15 +201,20 @@ class SimulatedHuman:
         if not self.is_fetching(object_name):
             self._fetches.append(
                 _Fetch(
-                    object_name, self.kitchen.sim_time + self.options.fetch_time_s, FetchReason.INTERVENTION
+                    object_name,
+                    self.kitchen.sim_time + self.options.fetch_time_s,
+                    FetchReason.INTERVENTION,
+                    "takeover",
                 )
             )
 
     def robot_busy(self, busy: bool) -> None:
-        """The robot reports whether it is working on the current step (resets the human's patience)."""
+        """The robot reports whether it acts or waits on its own request (True), or neither (False).
+
+        Either edge restarts the human's patience: it runs only while the robot neither acts nor asks.
+        """
         self._robot_busy_since = self.kitchen.sim_time if busy else None
-        if busy:
-            self._step_started = self.kitchen.sim_time
+        self._idle_since = self.kitchen.sim_time
 
     # -------------------------------------------------------------------------------------------- tick
     def update(self) -> list[Event]:
@@ -214,7 +233,7 @@ class SimulatedHuman:
                         new.append(HelpGiven(now, fetch.object_name, "fetched by the human"))
                     else:
                         self.interventions += 1
-                        new.append(Intervention(now, fetch.object_name, "fetched by the human"))
+                        new.append(Intervention(now, fetch.object_name, "fetched by the human", fetch.cause))
         if self.done:
             self.events += new
             return new
@@ -226,19 +245,18 @@ class SimulatedHuman:
                 new.append(StepDone(now, step.instruction))
                 self._cooking_until = None
                 self.step_index = min(self.step_index + 1, len(self.recipe.steps) - 1)
-                self._step_started = now
+                self._idle_since = now
         elif not missing:
             self._cooking_until = now + self.options.cook_time_s
         else:
             for name in missing:
                 dropped = not self.kitchen.is_on_shelf(name) and not self.kitchen.touches_robot(name)
-                waited = (
-                    self._robot_busy_since is None and now - self._step_started >= self.options.patience_s
-                )
+                waited = self._robot_busy_since is None and now - self._idle_since >= self.options.patience_s
                 if (dropped or waited) and not self.is_fetching(name):
                     reason = "the robot dropped it" if dropped else "the robot was idle too long"
+                    cause = "dropped" if dropped else "idle"
                     self._fetches.append(
-                        _Fetch(name, now + self.options.fetch_time_s, FetchReason.INTERVENTION)
+                        _Fetch(name, now + self.options.fetch_time_s, FetchReason.INTERVENTION, cause)
                     )
                     new.append(CleanUpStarted(now, name, reason))
         self.events += new

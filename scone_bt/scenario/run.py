@@ -223,7 +223,9 @@ class ScenarioHook:
             if not self.world.is_on_table(name) and self.world.place_on_table(name):
                 assert self.events is not None
                 self.events(
-                    Intervention(self.world.sim_time, name, "scenario: the human did the step by hand")
+                    Intervention(
+                        self.world.sim_time, name, "scenario: the human did the step by hand", "by-hand"
+                    )
                 )
 
     def _start_faults(self) -> dict[str, Any]:

@@ -232,6 +232,7 @@ class StudyData:
         source: Where the data came from (for messages and results.json).
         questionnaires: The questionnaires in the ratings, in order.
         score_units: Questionnaire → how its score column is scaled (for the figure's axis labels).
+        notes: One-line warnings about the data the analysis was run on (e.g. participants left out).
     """
 
     ratings: Any  # pandas.DataFrame
@@ -240,6 +241,7 @@ class StudyData:
     source: str = ""
     questionnaires: tuple[str, ...] = tuple(QUESTIONNAIRES)
     score_units: dict[str, str] = field(default_factory=dict)
+    notes: tuple[str, ...] = ()
 
     @property
     def has_interventions(self) -> bool:
@@ -335,6 +337,7 @@ def load_study(log: StudyLog) -> StudyData:
     sessions = [s for s in log.sessions() if s.ended is not None]
     if not sessions:
         raise SconeError(f"{log.path} has no finished sessions to analyse")
+    sessions, notes = check_crossover(sessions, str(log.path))
     by_id = {s.id: s for s in sessions}
     rows = []
     answers: dict[tuple[int, str], dict[str, float | None]] = {}
@@ -373,7 +376,50 @@ def load_study(log: StudyLog) -> StudyData:
             row[name] = q.score(answers.get((s.id, name), {}))
         table.append(row)
     units = {"mdmt": "score (0-7)", "tps_hri": "score (%)"}
-    return StudyData(pd.DataFrame(rows), pd.DataFrame(table), log.simulated, str(log.path), score_units=units)
+    return StudyData(
+        pd.DataFrame(rows), pd.DataFrame(table), log.simulated, str(log.path), score_units=units, notes=notes
+    )
+
+
+def check_crossover(sessions: Sequence[Any], source: str) -> tuple[list[Any], tuple[str, ...]]:
+    """The finished sessions of a study log as the crossover design needs them, as the CSV route checks its files.
+
+    A participant without both conditions (one session so far) is left out, said in one line; data of one group
+    only are refused: every "on" session would also be a session 1 (or every one a session 2), so condition and
+    session order are confounded and no contrast could be decided.
+
+    Returns:
+        The sessions kept, and the one-line notes.
+    """
+    by_participant: dict[str, list[Any]] = {}
+    for s in sessions:
+        by_participant.setdefault(s.participant, []).append(s)
+    partial = {p: ss for p, ss in by_participant.items() if {s.condition for s in ss} != {"on", "off"}}
+    notes: list[str] = []
+    if partial:
+        said = ", ".join(
+            f"{p} ({'/'.join(sorted({s.condition for s in ss}))} only)" for p, ss in sorted(partial.items())
+        )
+        notes.append(
+            f"{source}: {len(partial)} participant(s) with one condition only, left out of the analysis: {said}; "
+            "every participant needs both sessions (on and off)"
+        )
+    kept = [s for s in sessions if s.participant not in partial]
+    if not kept:
+        raise SconeError(
+            f"{source}: no participant has finished both sessions (on and off); nothing to analyse yet"
+        )
+    groups = sorted({s.group for s in kept})
+    if len(groups) == 1:
+        order = "/".join(
+            s.condition for s in sorted(by_participant[kept[0].participant], key=lambda s: s.session_index)
+        )
+        raise SconeError(
+            f"{source}: every participant is in group {groups[0]} (order {order}); the design needs both groups A "
+            "and B, so that each condition is seen in session 1 and in session 2, else condition and session "
+            "order are confounded"
+        )
+    return kept, tuple(notes)
 
 
 def decide(hdi: tuple[float, float], rope: tuple[float, float]) -> str:

@@ -62,6 +62,11 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument(
         "--no-questionnaire", action="store_true", help="skip the questionnaires after the episode"
     )
+    s.add_argument(
+        "--autostart",
+        action="store_true",
+        help="start the episode at once instead of waiting for Start on the tablet or the researcher's page",
+    )
 
     m = sub.add_parser(
         "simulate",
@@ -279,6 +284,8 @@ def _analyze(data, args: argparse.Namespace, out: Path, force: bool = False) -> 
     from scone_bt.study.analysis import analyze
     from scone_bt.study.outputs import write_outputs
 
+    for note in getattr(data, "notes", ()):
+        print(f"scone-study: warning: {note}", file=sys.stderr)
     options = _analysis_options(args, data.available_models())
     _check_analysis_out(
         out, "--out" if args.command == "analyze" else "--analyze", force, _analysis_inputs(args)
@@ -475,7 +482,7 @@ def _session(args: argparse.Namespace) -> int:
     log = _open_log(args.db, expect_existing=False)
     if log.simulated:
         raise SconeError(f"{args.db} holds SIMULATED data; record real sessions in another file")
-    server = serve_tablet(args.host, args.port, args.token)
+    server = serve_tablet(args.host, args.port, args.token, start_gate=not args.autostart)
     try:
         sid, summary = run_study_session(log, plan, options, server, questionnaires=not args.no_questionnaire)
     finally:

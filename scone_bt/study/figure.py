@@ -23,6 +23,18 @@ _POLICY_COLOURS = ("#c4553d", "#3d8c5a")  # off red, on green
 _G_COLOURS = ("#6c7a89", "#3b5b92")  # neutral: G is no treatment
 
 
+def _padded(values: Any, *more: float, pad: float = 0.08) -> tuple[float, float]:
+    """Axis limits that hold every value with a margin of ``pad`` of their span on each side, so that no line
+    (ROPE, zero, HDI end) is drawn on the axis frame."""
+    import numpy as np
+
+    v = np.concatenate([np.asarray(values, dtype=float).ravel(), np.asarray(more, dtype=float)])
+    v = v[np.isfinite(v)]
+    lo, hi = float(v.min()), float(v.max())
+    margin = pad * (hi - lo) if hi > lo else 0.5
+    return lo - margin, hi + margin
+
+
 def _histogram(
     ax: Any, samples: Any, contrast: Any, rope: tuple[float, float], hdi_prob: float, scale: str
 ) -> None:
@@ -32,7 +44,7 @@ def _histogram(
         ax.axvline(x, color="#d08a1e", lw=1.2, ls="--")
     ax.text(rope[1], ymax * 0.95, " ROPE", color="#d08a1e", fontsize=7, va="top")
     lo, hi = contrast.hdi
-    y = ymax * 0.06
+    y = ymax * 0.12  # the bar's end labels below it stay above the axis frame
     ax.plot([lo, hi], [y, y], color="black", lw=4, solid_capstyle="butt")
     ax.text((lo + hi) / 2, y + ymax * 0.04, f"{hdi_prob:.0%} HDI", ha="center", fontsize=7)
     ax.text(lo, y - ymax * 0.02, f"{lo:.2f}", ha="center", va="top", fontsize=7)
@@ -46,6 +58,7 @@ def _histogram(
         va="top",
     )
     ax.axvline(0.0, color="grey", lw=0.8, ls=":")
+    ax.set_xlim(*_padded(samples, *rope, 0.0, lo, hi))
     ax.set_ylim(0, ymax * 1.05)
     ax.set_xlabel(f"{contrast.label} ({scale})", fontsize=8)
     ax.set_yticks([])
@@ -63,6 +76,7 @@ def _candles(
     """Mean ± sd as a box, min-max as whiskers, per level."""
     import numpy as np
 
+    extent: list[float] = []
     for x, level in enumerate(levels):
         vals = frame[frame[by].astype(str) == level][column].to_numpy(dtype=float)
         vals = vals[~np.isnan(vals)]
@@ -71,12 +85,15 @@ def _candles(
         m = vals.mean()
         s = vals.std(ddof=1) if len(vals) > 1 else 0.0
         colour = colours[x]
+        extent += [vals.min(), vals.max(), m - s, m + s]
         ax.vlines(x, vals.min(), vals.max(), color=colour, lw=1)
         ax.bar(x, 2 * s, bottom=m - s, width=0.45, color=colour, alpha=0.45, edgecolor=colour)
         ax.hlines(m, x - 0.22, x + 0.22, color=colour, lw=2.5)
         ax.text(x + 0.26, m, f"{m:.2f}", fontsize=7, va="center")
     ax.set_xticks([0, 1], list(names), fontsize=8)
     ax.set_xlim(-0.6, 1.8)
+    if extent:
+        ax.set_ylim(*_padded(extent))  # whiskers and boxes end inside the frame
 
 
 def plot_results(

@@ -19,11 +19,20 @@ from pathlib import Path
 from typing import Any
 
 from scone_bt.errors import SconeError
-from scone_bt.events import EVENT_TYPES, Event, EventSink, Intervention, from_json, is_legacy_takeover
+from scone_bt.events import (
+    EVENT_TYPES,
+    INTERVENTION_CAUSES,
+    Event,
+    EventSink,
+    Intervention,
+    from_json,
+    is_legacy_takeover,
+)
 from scone_bt.study.design import SessionPlan
 from scone_bt.study.questionnaires import get_questionnaire, validate_answers
 
 __all__ = [
+    "UNRECORDED_CAUSE",
     "StudyLog",
     "StudyLogError",
     "SessionRow",
@@ -38,7 +47,10 @@ _SQLITE_MAGIC = b"SQLite format 3\x00"
 EXPORT_FILES = ("sessions.csv", "events.csv", "responses.csv", "scores.csv")
 """What `export_csv` writes into its folder."""
 _SESSION_KEY = ("data", "session_id", "participant", "group", "session_index", "condition")
-_SESSION_COLUMNS = (*_SESSION_KEY, "started", "ended", "interventions", "summary")
+_CAUSE_COLUMNS = tuple(f"interventions_{cause.replace('-', '_')}" for cause in INTERVENTION_CAUSES)
+_SESSION_COLUMNS = (*_SESSION_KEY, "started", "ended", "interventions", *_CAUSE_COLUMNS, "summary")
+UNRECORDED_CAUSE = "unrecorded"
+"""The cause under which an intervention of a log written before causes were stored is counted."""
 _RESPONSE_COLUMNS = ("data", "session_id", "questionnaire", "item", "item_index", "value", "time")
 _SCORE_COLUMNS = (*_SESSION_KEY, "questionnaire", "score", "subscales")
 
@@ -436,14 +448,21 @@ class StudyLog:
                 out.append(from_json(row.kind, row.data))
         return out
 
+    def intervention_causes(self, session_id: int) -> dict[str, int]:
+        """The session's interventions by cause (`scone_bt.events.INTERVENTION_CAUSES`; every cause listed, 0
+        where none), plus `UNRECORDED_CAUSE` for those of an older log that stored no cause."""
+        counts = dict.fromkeys(INTERVENTION_CAUSES, 0)
+        for e in self.events(session_id):
+            if e.kind != Intervention.kind or is_legacy_takeover(e.kind, e.data):
+                continue
+            cause = str(e.data.get("cause") or UNRECORDED_CAUSE)
+            counts[cause] = counts.get(cause, 0) + 1
+        return counts
+
     def interventions(self, session_id: int) -> int:
-        """Objects the participant fetched as an intervention (after a take-over or as a clean-up), as the
-        episode summary counts them."""
-        return sum(
-            1
-            for e in self.events(session_id)
-            if e.kind == Intervention.kind and not is_legacy_takeover(e.kind, e.data)
-        )
+        """The session's interventions, summed over their causes (`intervention_causes`): what the participant
+        did that the robot did not ask for, as the episode summary counts them."""
+        return sum(self.intervention_causes(session_id).values())
 
     # ----------------------------------------------------------------------------------------- export
     def export_csv(self, folder: str | Path) -> dict[str, Path]:
@@ -468,7 +487,7 @@ class StudyLog:
                         **_session_key(label, s),
                         "started": s.started,
                         "ended": s.ended,
-                        "interventions": self.interventions(s.id),
+                        **self._cause_columns(s.id),
                         "summary": json.dumps(s.summary),
                     }
                     for s in sessions
@@ -504,6 +523,13 @@ class StudyLog:
             except OSError as exc:
                 raise StudyLogError(f"cannot write {paths[name]}: {exc.strerror or exc}") from None
         return paths
+
+    def _cause_columns(self, session_id: int) -> dict[str, int]:
+        """sessions.csv's count columns: the total and one per cause (the total includes unrecorded causes)."""
+        causes = self.intervention_causes(session_id)
+        out = {"interventions": sum(causes.values())}
+        out.update({column: causes[c] for column, c in zip(_CAUSE_COLUMNS, INTERVENTION_CAUSES, strict=True)})
+        return out
 
     @staticmethod
     def _score_rows(

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
@@ -25,6 +26,10 @@ def run_study_session(
 ) -> tuple[int, Any]:
     """Run one session in real time with the tablet; every event and answer is committed as it happens.
 
+    With the server's start gate the episode is built, then waits in "Waiting to start" until the participant or
+    the researcher presses Start; a ``start`` event (who, and the wall seconds waited) is stored then, and
+    simulated time and the episode's events begin after it.
+
     Returns:
         The session id and the EpisodeSummary.
     """
@@ -32,11 +37,17 @@ def run_study_session(
 
     behaviour = replace(episode_options.behaviour, use_self_confidence=plan.condition is Condition.ON)
     options = replace(episode_options, behaviour=behaviour)
+    from scone_bt.tree import load_tree_spec
+
+    resolved = behaviour.resolve(load_tree_spec(options.tree).parameters)
     info = {
         "recipe": options.recipe,
         "seed": options.seed,
         "robot": options.robot,
         "tablet": server.url.split("?")[0],
+        # simulated seconds the robot announces each attempt before moving (the time to take over)
+        "takeover_window_s": resolved.takeover_window_s,
+        "start_gate": server.state.start_gate,
     }
     sid = log.start_session(plan, info)
     server.state.label = f"{plan.participant} · session {plan.session_index}"
@@ -44,12 +55,24 @@ def run_study_session(
         f"session {sid}: participant {plan.participant}, group {plan.group.value}, session {plan.session_index}, self-confidence {plan.condition.value}"
     )
     printer(f"tablet: {server.url}")
+
+    def wait_to_start() -> None:
+        built = time.monotonic()  # the robot is ready: models loaded, tree set up
+        if server.state.start_gate:
+            printer(f"waiting for Start on the tablet, or on the researcher's page: {server.researcher_url}")
+        by = server.state.wait_start()
+        log.record_event(
+            sid, "start", {"sim_time": 0.0, "by": by, "waited_s": round(time.monotonic() - built, 3)}
+        )
+        printer(f"session started ({by})")
+
     summary = run_episode(
         options,
         printer=printer,
         on_event=server.chain(log.event_sink(sid)),
         human_factory=server.human_factory,
         realtime=True,
+        wait_to_start=wait_to_start,
     )
     log.end_session(sid, {**summary.deterministic_part(), "wall_time": round(summary.wall_time, 3)})
     if questionnaires:

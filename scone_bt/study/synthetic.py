@@ -162,7 +162,7 @@ def run_synthetic_episode(
                 clock += 1.0
                 emit(TakeOver(clock, action, name))
                 clock += options.fetch_time_s
-                emit(Intervention(clock, name, "fetched by the human"))
+                emit(Intervention(clock, name, "fetched by the human", "takeover"))
                 break
             clock += options.act_time_s
             success = bool(rng.random() < robot.success[name])
@@ -175,7 +175,7 @@ def run_synthetic_episode(
             if dropped:
                 emit(CleanUpStarted(clock, name, "the robot dropped it"))
                 clock += options.fetch_time_s
-                emit(Intervention(clock, name, "fetched by the human"))
+                emit(Intervention(clock, name, "fetched by the human", "dropped"))
                 break
         clock += 2.0
         emit(StepDone(clock, instruction))

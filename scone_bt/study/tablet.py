@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any
 
-from scone_bt.events import CleanUpStarted, Event
+from scone_bt.events import Event
 from scone_bt.human import FetchReason, SimulatedHuman
 from scone_bt.human.simulated import _Fetch
 from scone_bt.study.questionnaires import (
@@ -25,8 +25,9 @@ from scone_bt.study.questionnaires import (
     get_questionnaire,
     validate_answers,
 )
+from scone_bt.study.words import it_them
 
-__all__ = ["TabletState", "TabletHuman", "TabletPhase", "PHASES", "AlreadySubmittedError"]
+__all__ = ["TabletState", "TabletHuman", "TabletPhase", "PHASES", "START_BY", "AlreadySubmittedError"]
 
 
 class TabletPhase(str, Enum):  # noqa: UP042 (the page receives the values)
@@ -40,8 +41,8 @@ class TabletPhase(str, Enum):  # noqa: UP042 (the page receives the values)
 
 PHASES = tuple(p.value for p in TabletPhase)
 _REASONS = {
-    FetchReason.HELP.value: "The robot asks for your help: please bring it to the table.",
-    FetchReason.INTERVENTION.value: "You took over: please bring it to the table.",
+    FetchReason.HELP.value: "The robot asks for your help: please bring {it} to the table.",
+    FetchReason.INTERVENTION.value: "You took over: please bring {it} to the table.",
 }
 
 
@@ -49,18 +50,34 @@ class AlreadySubmittedError(QuestionnaireError):
     """A questionnaire submitted a second time: the first answers stand."""
 
 
-class TabletState:
-    """What the tablet shows and what the participant did, guarded by one lock."""
+START_BY = ("participant", "researcher", "autostart")
+"""Who started a session: the participant's Start, the researcher's page, or --autostart."""
 
-    def __init__(self) -> None:
+
+class TabletState:
+    """What the tablet shows and what the participant did, guarded by one lock.
+
+    Args:
+        start_gate: The episode waits in "Waiting to start" until the participant or the researcher presses Start
+            (`start`, `wait_start`); False starts it at once (scone-run --ui, --autostart).
+    """
+
+    def __init__(self, start_gate: bool = False) -> None:
         self._lock = threading.Lock()
         self._version = 0
+        self.start_gate = start_gate
+        self.started_by: str | None = None if start_gate else "autostart"
+        self._started = threading.Event()
+        self.ready = False  # the robot is set up and waits for Start (`ready_to_start`)
+        if not start_gate:
+            self._started.set()
         self.phase = TabletPhase.WAITING
         self.label = ""
         self.steps: list[str] = []
         self.step_index = 0
         self.step_done: list[bool] = []
         self.robot: dict[str, Any] = {"action": None, "confidence": None, "kind": None, "status": "idle"}
+        self.sim_time = 0.0
         self.acting_object: str | None = None
         self.takeover_object: str | None = None
         self._fetches: dict[str, dict[str, Any]] = {}  # object name → {object, kind, reason}
@@ -77,8 +94,10 @@ class TabletState:
 
     # ----------------------------------------------------------------------------------------- episode side
     def start_episode(self, steps: Sequence[str], label: str = "") -> None:
+        """The episode is built: show its recipe (and, behind the start gate, wait for Start)."""
         with self._lock:
-            self.phase, self.label = TabletPhase.EPISODE, label or self.label
+            self.label = label or self.label
+            self.phase = TabletPhase.EPISODE if self._started.is_set() else TabletPhase.WAITING
             self.steps, self.step_index, self.step_done = list(steps), 0, [False] * len(steps)
             self.robot = {"action": None, "confidence": None, "kind": None, "status": "idle"}
             self.acting_object = self.takeover_object = None
@@ -98,13 +117,38 @@ class TabletState:
             self.robot.update(fields)
             self._touch()
 
+    def announce(self, object_name: str, window_s: float, now: float) -> None:
+        """The robot announces an attempt and stays still for ``window_s`` simulated seconds (take-over window)."""
+        with self._lock:
+            self.robot.update(
+                status="announcing",
+                say=f"I am about to fetch the {object_name}. Take over now if you want to.",
+                window_s=window_s,
+                window_until=now + window_s,
+            )
+            self.sim_time = now
+            self._touch()
+
+    def sync_time(self, now: float) -> None:
+        """The episode's simulated time (ticks the take-over window's countdown; the robot moves at its end)."""
+        with self._lock:
+            self.sim_time = now
+            until = self.robot.get("window_until")
+            if until is None:
+                return
+            if now >= until and self.robot.get("status") == "announcing":
+                self.robot.update(status="acting", say=f"I am fetching the {self.acting_object}.")
+                self.robot["window_until"] = None
+            self._touch()
+
     def set_acting(self, object_name: str | None) -> None:
         with self._lock:
             self.acting_object = object_name
             if object_name is None:
                 self.takeover_object = None
-                if self.robot.get("status") == "acting":
+                if self.robot.get("status") in ("acting", "announcing"):
                     self.robot["status"] = "idle"
+                self.robot["window_until"] = None
             self._touch()
 
     def add_fetch(self, object_name: str, kind: str, reason: str | None = None) -> None:
@@ -112,9 +156,18 @@ class TabletState:
             self._fetches[object_name] = {
                 "object": object_name,
                 "kind": kind,
-                "reason": reason or _REASONS.get(kind, ""),
+                "reason": reason or _REASONS.get(kind, "").format(it=it_them(object_name)),
             }
             self._touch()
+
+    def explain_fetch(self, object_name: str, why: str) -> None:
+        """Give a pending help request the robot's reason ("I cannot see the garlic.") above what to do."""
+        with self._lock:
+            fetch = self._fetches.get(object_name)
+            if fetch is not None and fetch["kind"] == FetchReason.HELP.value and why:
+                fetch["reason"] = f"{why} Please bring {it_them(object_name)} to the table."
+                fetch["why"] = why
+                self._touch()
 
     def retain_fetches(self, objects: set[str]) -> None:
         """Forget fetches the human has finished."""
@@ -136,6 +189,7 @@ class TabletState:
         with self._lock:
             self.takeover_object = None
             self.acting_object = None
+            self.robot["window_until"] = None
             self._touch()
 
     def note(self, line: str) -> None:
@@ -149,7 +203,37 @@ class TabletState:
             self.robot["status"] = "finished"
             self._touch()
 
+    def ready_to_start(self) -> None:
+        """The robot is set up (models loaded, tree built): Start can be pressed now."""
+        with self._lock:
+            self.ready = True
+            self._touch()
+
+    def wait_start(self, poll_s: float = 0.25) -> str:
+        """Say the robot is ready, then block until Start was pressed (at once without the gate); returns who
+        started it (`START_BY`)."""
+        self.ready_to_start()
+        while not self._started.wait(poll_s):  # a short wait at a time: Ctrl-C still interrupts it
+            pass
+        assert self.started_by is not None
+        return self.started_by
+
     # ----------------------------------------------------------------------------------------- participant side
+    def start(self, by: str) -> bool:
+        """The participant or the researcher presses Start; False if the session had started already or the robot
+        is not ready yet."""
+        if by not in START_BY:
+            raise ValueError(f"start by {by!r}; valid: {', '.join(START_BY)}")
+        with self._lock:
+            if self._started.is_set() or not self.ready:
+                return False
+            self.started_by = by
+            self._started.set()
+            if self.phase is TabletPhase.WAITING and self.steps:
+                self.phase = TabletPhase.EPISODE
+            self._touch()
+            return True
+
     def confirm(self, object_name: str) -> bool:
         """The participant says the object is on the table. False if nothing was pending for it."""
         with self._lock:
@@ -226,6 +310,9 @@ class TabletState:
             return {
                 "version": self._version,
                 "phase": self.phase.value,
+                "can_start": self.ready and not self._started.is_set(),
+                "getting_ready": not self.ready and not self._started.is_set(),
+                "started_by": self.started_by,
                 "label": self.label,
                 "steps": [
                     {
@@ -235,11 +322,19 @@ class TabletState:
                     }
                     for i, (t, d) in enumerate(zip(self.steps, self.step_done, strict=True))
                 ],
-                "robot": dict(self.robot),
+                "robot": {
+                    **self.robot,
+                    "window_left_s": (
+                        None
+                        if self.robot.get("window_until") is None
+                        else round(max(0.0, self.robot["window_until"] - self.sim_time), 1)
+                    ),
+                },
                 "can_take_over": self.acting_object is not None and self.takeover_object is None,
                 "acting_object": self.acting_object,
                 "requests": [dict(f) for f in self._fetches.values()],
                 "feed": list(self.feed),
+                "questionnaires_total": len(self._questionnaires),
                 "questionnaires": [
                     q.as_json() for q in self._questionnaires if q.name not in self._submitted
                 ],
@@ -255,12 +350,19 @@ class TabletHuman(SimulatedHuman):
     """
 
     state: TabletState = field(default_factory=TabletState)
+    announces_attempts = True  # a person: the robot announces each attempt and waits its take-over window
 
     def __post_init__(self) -> None:
         super().__post_init__()
         self.state.start_episode([s.instruction for s in self.recipe.steps], self.state.label)
 
     def request_help(self, object_name: str) -> None:
+        for f in self._fetches:
+            if f.object_name == object_name and f.kind is FetchReason.INTERVENTION and f.cause != "takeover":
+                # a clean-up the participant was asked to do: the robot now asks for it, so it is help
+                f.kind, f.cause = FetchReason.HELP, ""
+                self.state.add_fetch(object_name, FetchReason.HELP.value)
+                return
         if not self.is_fetching(object_name):
             self._fetches.append(_Fetch(object_name, math.inf, FetchReason.HELP))
             self.state.add_fetch(object_name, FetchReason.HELP.value)
@@ -274,7 +376,7 @@ class TabletHuman(SimulatedHuman):
     def take_over(self, object_name: str) -> None:
         self.state.clear_takeover()
         if not self.is_fetching(object_name):
-            self._fetches.append(_Fetch(object_name, math.inf, FetchReason.INTERVENTION))
+            self._fetches.append(_Fetch(object_name, math.inf, FetchReason.INTERVENTION, "takeover"))
             self.state.add_fetch(object_name, FetchReason.INTERVENTION.value)
 
     def robot_busy(self, busy: bool) -> None:
@@ -294,15 +396,14 @@ class TabletHuman(SimulatedHuman):
                 f.ready_at
             ):  # a clean-up SimulatedHuman started: the participant does it instead
                 f.ready_at = math.inf
-                reason = next(
-                    (
-                        e.detail
-                        for e in new
-                        if isinstance(e, CleanUpStarted) and e.object_name == f.object_name
-                    ),
-                    "",
+                name, it = f.object_name, it_them(f.object_name)
+                said = (
+                    f"The robot dropped the {name}: please bring {it} to the table."
+                    if f.cause == "dropped"
+                    else f"The robot has not fetched the {name} for a while: please bring {it} to the table."
                 )
-                self.state.add_fetch(f.object_name, f.kind.value, f"Please bring it to the table ({reason}).")
+                self.state.add_fetch(name, f.kind.value, said)
         self.state.retain_fetches({f.object_name for f in self._fetches})
+        self.state.sync_time(now)
         self.state.sync_recipe(self.step_index, self.step_done)
         return new

@@ -20,17 +20,7 @@ from importlib import resources
 from typing import Any
 
 from scone_bt.errors import SconeError
-from scone_bt.events import (
-    ActOutcome,
-    ActStarted,
-    ClarificationAsked,
-    DecisionMade,
-    Event,
-    EventSink,
-    HelpRequested,
-    StepDone,
-    TakeOver,
-)
+from scone_bt.events import ActOutcome, ActStarted, DecisionMade, Event, EventSink, HelpRequested, TakeOver
 from scone_bt.gate.types import DecisionKind
 from scone_bt.study.questionnaires import QUESTIONNAIRES, Questionnaire
 from scone_bt.study.tablet import AlreadySubmittedError, TabletHuman, TabletState
@@ -345,8 +335,8 @@ def _no_constant(name: str) -> None:
     raise ValueError(f"{name} is not JSON")  # Python's json accepts NaN and Infinity; JSON does not
 
 
-def _page() -> str:
-    return resources.files("scone_bt.study").joinpath("static/tablet.html").read_text(encoding="utf-8")
+def _page(name: str = "tablet.html") -> str:
+    return resources.files("scone_bt.study").joinpath(f"static/{name}").read_text(encoding="utf-8")
 
 
 def build_app(state: TabletState, token: str | None, local_only: bool = True) -> Any:
@@ -378,11 +368,34 @@ def build_app(state: TabletState, token: str | None, local_only: bool = True) ->
 
     app = FastAPI(title="SCONE-BT tablet", docs_url=None, redoc_url=None, openapi_url=None)
     app.add_middleware(RequestGuard, token=token, local_only=local_only)
-    page = _page()
+    page, researcher_page = _page(), _page("researcher.html")
 
     @app.get("/", response_class=HTMLResponse)
     def index() -> str:
         return page
+
+    @app.get("/researcher", response_class=HTMLResponse)
+    def researcher() -> str:
+        """The researcher's page (behind the same token): the session's state and its own Start button."""
+        return researcher_page
+
+    def start(by: str) -> dict[str, Any]:
+        if not state.start(by):
+            detail = (
+                f"the session was started already ({state.started_by})"
+                if state.started_by
+                else "the robot is not ready yet; Start is possible once it is"
+            )
+            raise HTTPException(status_code=409, detail=detail)
+        return {"ok": True, "started_by": by}
+
+    @app.post("/api/start", dependencies=[Depends(no_fields)])
+    def participant_start() -> dict[str, Any]:
+        return start("participant")
+
+    @app.post("/api/researcher/start", dependencies=[Depends(no_fields)])
+    def researcher_start() -> dict[str, Any]:
+        return start("researcher")
 
     @app.get("/api/state")
     def get_state() -> dict[str, Any]:
@@ -448,7 +461,14 @@ class TabletServer:
         url: The page's address, token included.
     """
 
-    def __init__(self, host: str, port: int, token: str | None, state: TabletState | None = None) -> None:
+    def __init__(
+        self,
+        host: str,
+        port: int,
+        token: str | None,
+        state: TabletState | None = None,
+        start_gate: bool = False,
+    ) -> None:
         import uvicorn
 
         if token is not None and len(token) < MIN_TOKEN_LENGTH:
@@ -458,7 +478,8 @@ class TabletServer:
                 f"serving the tablet UI on {host} makes it reachable from the network and needs a session token "
                 f"(--ui-token, at least {MIN_TOKEN_LENGTH} characters); without one, use --ui-host 127.0.0.1"
             )
-        self.state = state or TabletState()
+        self.state = state or TabletState(start_gate=start_gate)
+        self._why: dict[str, str] = {}  # item → the robot's words for its latest ASK decision about it
         self.token = token
         self.host = host
         if not 0 <= port <= 65535:
@@ -492,7 +513,9 @@ class TabletServer:
         self.port = int(self._server.servers[0].sockets[0].getsockname()[1])
         reach = reachable_address(host)
         shown = f"[{reach}]" if ":" in reach else reach
-        self.url = f"http://{shown}:{self.port}/" + (f"?token={token}" if token else "")
+        query = f"?token={token}" if token else ""
+        self.url = f"http://{shown}:{self.port}/" + query
+        self.researcher_url = f"http://{shown}:{self.port}/researcher" + query
 
     # ----------------------------------------------------------------------------------------- episode hooks
     def human_factory(self, kitchen: Any, recipe: Any, options: Any, seed: int) -> TabletHuman:
@@ -500,38 +523,47 @@ class TabletServer:
         return TabletHuman(kitchen, recipe, options, seed=seed, state=self.state)
 
     def on_event(self, event: Event) -> None:
-        """run_episode's on_event: keep the tablet's view of the robot up to date."""
+        """run_episode's on_event: keep the tablet's view of the robot up to date, in plain words (`words`)."""
+        from scone_bt.study.words import decision_words, feed_line, help_words
+
         s = self.state
         if isinstance(event, DecisionMade):
+            said = decision_words(event)
+            if event.verdict is DecisionKind.ASK and event.object_name:
+                self._why[event.object_name] = help_words(event)
             s.set_robot(
                 action=event.action,
                 confidence=_finite(event.confidence),  # JSON has no NaN
                 kind=event.verdict.value,
                 status=_STATUS[event.verdict],
+                say=said,
+                rule=event.rule,
             )
         elif isinstance(event, ActStarted):
-            s.set_robot(action=event.action, confidence=_finite(event.confidence), status="acting")
-            s.note(f"The robot is fetching the {event.object_name}.")
+            s.set_robot(
+                action=event.action,
+                confidence=_finite(event.confidence),
+                status="acting",
+                say=f"I am fetching the {event.object_name}.",
+                window_until=None,
+            )
+            if event.window_s > 0:
+                s.announce(event.object_name, event.window_s, event.sim_time)
         elif isinstance(event, ActOutcome):
-            s.set_robot(status="idle")
-            s.note(
-                f"The {event.object_name} is on the table."
-                if event.success
-                else f"The robot failed with the {event.object_name} ({event.stage})."
+            s.set_robot(status="idle", say="")
+        elif isinstance(event, TakeOver):
+            s.set_robot(
+                status="stopped",
+                say=f"You took over: I stopped. Please bring the {event.object_name} to the table.",
+                window_until=None,
             )
         elif isinstance(event, HelpRequested):
-            s.note(
-                f"The robot asks for help: {event.reason}."
-                if event.reason
-                else f"The robot asks for help with the {event.object_name}."
-            )
-        elif isinstance(event, ClarificationAsked):
-            said = ", ".join(event.answer) or "none of those"
-            s.note(f"The robot asked which of {', '.join(event.candidates)} the step means: {said}.")
-        elif isinstance(event, TakeOver):
-            s.note(f"You took over: {event.action}.")
-        elif isinstance(event, StepDone):
-            s.note(f"Step done: {event.detail}")
+            why = event.reason or self._why.pop(event.object_name, "")
+            s.set_robot(status="asking", say=why or f"Please bring the {event.object_name}.")
+            s.explain_fetch(event.object_name, why)
+        line = feed_line(event)
+        if line:
+            s.note(line)
 
     def chain(self, *sinks: EventSink) -> EventSink:
         """An on_event that feeds the tablet and the given sinks (e.g. a StudyLog's event_sink)."""
@@ -568,9 +600,15 @@ class TabletServer:
         self.close()
 
 
-def serve_tablet(host: str = "127.0.0.1", port: int = 8765, token: str | None = None) -> TabletServer:
-    """Start the tablet UI in a background thread (port 0 picks a free port); raises UIError when it cannot."""
-    return TabletServer(host, port, token)
+def serve_tablet(
+    host: str = "127.0.0.1", port: int = 8765, token: str | None = None, start_gate: bool = False
+) -> TabletServer:
+    """Start the tablet UI in a background thread (port 0 picks a free port); raises UIError when it cannot.
+
+    With ``start_gate`` the episode waits until Start is pressed on the tablet or on the researcher's page
+    (``/researcher``, behind the same token).
+    """
+    return TabletServer(host, port, token, start_gate=start_gate)
 
 
 def tablet_from_args(args: Any) -> TabletServer | None:

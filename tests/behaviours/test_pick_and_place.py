@@ -126,3 +126,51 @@ def test_trust_aware_states_its_confidence_before_an_act_the_person_over_trusts(
             assert events.events[1].text.startswith("I am not sure about this one: I may drop the salt")
         else:
             assert kinds == [TrustEstimated, ActStarted]
+
+
+class _Person(FakeHuman):
+    """A human channel with a person on it (the tablet): the robot announces each attempt first."""
+
+    announces_attempts = True
+
+
+def _announcing(window_s: float):
+    robot, human, events = FakeRobot(), _Person(), EventLog()
+    node = PickAndPlace("PickAndPlace", robot, human, events, _Seeds(), window_s=window_s)
+    node.setup()
+    target = affordance("salt")
+    bb = blackboard(
+        DECISION=Decision(DecisionKind.ACT, target.text, 0.6, 0.9, "confident", "now", (), "salt"),
+        TARGET=target,
+        DETECTIONS=[target.detection],
+    )
+    return node, robot, human, events, bb
+
+
+def test_the_robot_announces_and_stays_still_for_the_take_over_window() -> None:
+    node, robot, _, events, _ = _announcing(2.0)
+    node.tick_once()
+    assert events.events == [ActStarted(0.0, "Put salt on table", "salt", 0.9, window_s=2.0)]
+    for t in (0.5, 1.0, 1.9):
+        robot.time = t
+        node.tick_once()
+        assert node.status is Status.RUNNING and robot.requests == []  # nothing moves in the window
+    robot.time = 2.0
+    node.tick_once()
+    assert len(robot.requests) == 1  # then it moves
+
+
+def test_a_take_over_in_the_window_cancels_before_anything_moved() -> None:
+    node, robot, human, events, bb = _announcing(2.0)
+    node.tick_once()
+    robot.time, human.takeover = 1.2, "salt"
+    node.tick_once()
+    assert node.status is Status.SUCCESS and robot.requests == [] and human.taken == ["salt"]
+    assert events.events[-1] == TakeOver(1.2, "Put salt on table", "salt")
+    assert bb.get(Keys.MOTION_OUTCOME).stage is FailureStage.CANCELLED
+
+
+def test_a_simulated_human_gets_no_window() -> None:
+    robot, human, events = FakeRobot(), FakeHuman(), EventLog()
+    node = PickAndPlace("PickAndPlace", robot, human, events, _Seeds(), window_s=2.0)
+    assert node.window_s == 0.0

@@ -38,7 +38,7 @@ def test_help_takeover_and_questionnaire_in_chromium(kitchen, stocked, browser_p
         on_event(HelpRequested(0.0, f"Put {first} on table", first))
         done = page.locator(f'.request[data-object="{first}"] button.done')
         done.wait_for()
-        assert "21%" in page.locator("#status").inner_text()
+        assert "21 %" in page.locator("#confidence").inner_text()
         for _ in range(5):  # nothing happens before the participant confirms
             kitchen.advance(0.1)
             human.update()

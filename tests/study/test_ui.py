@@ -278,3 +278,26 @@ def test_questionnaire_answers_are_checked_against_their_schema(tmp_path):
             _raw(server.port, "POST", "/api/questionnaires/mdmt", auth, json.dumps(good).encode())[0] == 200
         )
     log.close()
+
+
+def test_the_start_gate_opens_once_from_the_tablet_or_the_researchers_page():
+    with serve_tablet("127.0.0.1", 0, "abcdefgh-123", start_gate=True) as server:
+        base, auth = server.url.split("?")[0], {"X-Session-Token": "abcdefgh-123"}
+        assert _get(server.researcher_url)[0] == 200
+        assert _get(base + "researcher")[0] == 403  # behind the same token
+        state = server.state
+        state.start_episode(["Boil water."])
+        assert _get(base + "api/state", auth)[1]["can_start"] is False  # the robot is still being set up
+        assert _post(base + "api/start", headers=auth) == 409
+        state.ready_to_start()
+        snap = _get(base + "api/state", auth)[1]
+        assert snap["phase"] == "waiting" and snap["can_start"] is True and snap["started_by"] is None
+        assert _post(base + "api/researcher/start", headers=auth) == 200
+        assert _post(base + "api/start", headers=auth) == 409  # started already
+        assert state.wait_start() == "researcher"
+        snap = _get(base + "api/state", auth)[1]
+        assert snap["phase"] == "episode" and snap["can_start"] is False
+    with serve_tablet(
+        "127.0.0.1", 0, None
+    ) as server:  # no gate (scone-run --ui, --autostart): started at once
+        assert server.state.wait_start() == "autostart" and _post(server.url + "api/start") == 409
