@@ -316,10 +316,16 @@ class TrustEstimated(_ActionEvent):
 @dataclass(frozen=True)
 class ConfidenceStated(_ActionEvent):
     """The robot says its confidence in words before an act the person likely over-trusts (tree parameter
-    ``trust_aware: true``); ``text`` is what it says."""
+    ``trust_aware: true``).
+
+    Attributes:
+        text: What it says.
+        confidence: κ̂ it states, in [0, 1].
+    """
 
     kind: ClassVar[str] = "confidence_stated"
     text: str
+    confidence: float
 
 
 EVENT_TYPES: Mapping[str, type[Event]] = MappingProxyType(

@@ -52,7 +52,7 @@ EPISODE = [
     CleanUpStarted(25.0, "b", "the robot dropped it"),
     StepDone(26.0, "Add salt."),
     TrustEstimated(26.5, "Put a on table", "a", 0.71, 0.3, "over"),
-    ConfidenceStated(26.5, "Put a on table", "a", "I am not sure about this one: I may drop the a."),
+    ConfidenceStated(26.5, "Put a on table", "a", "I am not sure about this one: I may drop the a.", 0.3),
 ]
 
 

@@ -14,8 +14,9 @@ from scone_bt.events import ActStarted, ConfidenceStated, EventSink, TakeOver
 from scone_bt.motion.types import FailureStage, MotionOutcome, MotionPhase
 from scone_bt.perception.types import Detection
 from scone_bt.robot.interface import MotionHandle, PickRequest, Robot, obstacles_except
+from scone_bt.trust.estimate import confidence_in_words
 
-__all__ = ["PickAndPlace", "pick_request", "scene_key", "confidence_in_words"]
+__all__ = ["PickAndPlace", "pick_request", "scene_key"]
 
 _NEAR_M = 0.35  # shelf detections within this of the target are the scene a grasp plan depends on
 _GRID_M = 0.02  # positions are compared on this grid: a product that moved less did not change the scene
@@ -49,14 +50,6 @@ def scene_key(request: PickRequest) -> tuple[object, ...]:
     )
     table = None if request.table is None else frozenset(cell(d) for d in request.table)
     return cell(request.target), near, table
-
-
-def confidence_in_words(object_name: str, confidence: float) -> str:
-    """What the robot says before an act the person likely over-trusts (trust_aware)."""
-    return (
-        f"I am not sure about this one: I may drop the {object_name} "
-        f"(I expect to succeed {confidence:.0%} of the time)."
-    )
 
 
 class PickAndPlace(StageBehaviour):
@@ -117,7 +110,7 @@ class PickAndPlace(StageBehaviour):
         self.events(estimate)
         if estimate.risk == "over":
             text = confidence_in_words(self.object_name, confidence)
-            self.events(ConfidenceStated(now, self.action, self.object_name, text))
+            self.events(ConfidenceStated(now, self.action, self.object_name, text, round(confidence, 4)))
 
     def setup(self, **kwargs: object) -> None:
         self.write(Keys.MOTION_COMPUTING, False)

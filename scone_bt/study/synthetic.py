@@ -26,6 +26,7 @@ from scone_bt.events import (
     ActOutcome,
     ActStarted,
     CleanUpStarted,
+    ConfidenceStated,
     DecisionMade,
     Event,
     EventLog,
@@ -40,6 +41,7 @@ from scone_bt.gate.types import DecisionKind
 from scone_bt.motion.types import FailureStage
 from scone_bt.study.design import Condition
 from scone_bt.study.trust import SimulatedParticipant
+from scone_bt.trust.estimate import confidence_in_words
 
 __all__ = ["SyntheticRobot", "SyntheticOptions", "run_synthetic_episode"]
 
@@ -55,6 +57,8 @@ class SyntheticOptions:
         drop_probability: Share of failures that drop the object (the participant cleans up).
         act_time_s: Duration of one robot attempt.
         fetch_time_s: Duration of the participant fetching an object.
+        trust_aware: As the tree parameter: the robot tracks the person's trust online and, before an act they
+            likely over-trust, states its confidence (`ConfidenceStated`).
     """
 
     steps: int = 5
@@ -63,6 +67,7 @@ class SyntheticOptions:
     drop_probability: float = 0.3
     act_time_s: float = 25.0
     fetch_time_s: float = 6.0
+    trust_aware: bool = False
 
     def __post_init__(self) -> None:
         if self.steps < 1 or self.max_failures < 1:
@@ -97,6 +102,14 @@ class SyntheticRobot:
         return cls(success, confidence)
 
 
+def _online_trust():  # noqa: ANN202 - an OnlineTrust (the model loads ζ once per process)
+    from scone_bt.study.trust import _transfer_model
+    from scone_bt.trust.estimate import OnlineTrust
+    from scone_bt.trust.transfer import load_fitted
+
+    return OnlineTrust(_transfer_model(load_fitted()))
+
+
 def run_synthetic_episode(
     robot: SyntheticRobot,
     condition: Condition,
@@ -126,11 +139,14 @@ def run_synthetic_episode(
     )
     clock = 0.0
     events = EventLog()
+    trust = _online_trust() if options.trust_aware else None
 
     def emit(event: Event) -> None:
         events(event)
         on_event(event)
         participant.observe(event)
+        if trust is not None:
+            trust(event)
 
     for step, name in enumerate(objects, 1):
         action = action_text(name)
@@ -157,6 +173,13 @@ def run_synthetic_episode(
                 clock += options.fetch_time_s
                 emit(HelpGiven(clock, name, "fetched by the human"))
                 break
+            if trust is not None:
+                (estimate,) = trust.estimate(clock, {action: (name, conf)})
+                emit(estimate)
+                if estimate.risk == "over":
+                    emit(
+                        ConfidenceStated(clock, action, name, confidence_in_words(name, conf), round(conf, 4))
+                    )
             emit(ActStarted(clock, action, name, round(conf, 4)))
             if participant.decides_to_take_over():
                 clock += 1.0

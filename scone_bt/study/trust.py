@@ -38,7 +38,7 @@ import numpy as np
 
 from scone_bt.affordances.types import action_text
 from scone_bt.errors import SconeError, UnknownNameError
-from scone_bt.events import ActOutcome, ActStarted, Event, HelpRequested
+from scone_bt.events import ActOutcome, ActStarted, ConfidenceStated, Event, HelpRequested
 from scone_bt.human import SimulatedHuman
 from scone_bt.study.design import Condition, Group
 from scone_bt.study.questionnaires import Questionnaire
@@ -89,6 +89,9 @@ class TrustParameters:
         transfer: The fitted per-action model (scone_bt.trust.transfer); None: the single hand-set trust above.
         help_logit: With `transfer`: logit change per help request on the same action, transferred like an
             outcome. Assumed (no data): the hand-set help_gain's effect at trust 0.5.
+        warning_weight: With `transfer`: share of the logit gap between the person's trust in an action and the κ̂
+            the robot states (`ConfidenceStated`, trust_aware) that the statement closes, transferred like an
+            outcome. Assumed (no data on how people take a spoken warning).
     """
 
     initial_mean: float = 0.4
@@ -106,6 +109,7 @@ class TrustParameters:
     item_sd: float = 0.3
     transfer: TransferParameters | None = None
     help_logit: float = 0.06
+    warning_weight: float = 0.5
 
     def __post_init__(self) -> None:
         for name in ("success_gain", "failure_loss", "max_takeover", "carry_over"):
@@ -121,7 +125,8 @@ class TrustParameters:
     def dynamic(self) -> bool:
         """False when trust ignores what the robot does (the setting for effect-recovery checks)."""
         if self.transfer is not None:
-            return bool(self.transfer.success_gain or self.transfer.failure_loss or self.help_logit)
+            t = self.transfer
+            return bool(t.success_gain or t.failure_loss or self.help_logit or self.warning_weight)
         return bool(self.success_gain or self.failure_loss or self.help_gain)
 
     def static(self, **overrides: float) -> TrustParameters:
@@ -133,6 +138,7 @@ class TrustParameters:
             failure_loss=0.0,
             help_gain=0.0,
             help_logit=0.0,
+            warning_weight=0.0,
             transfer=transfer,
             **overrides,
         )
@@ -271,6 +277,9 @@ class SimulatedParticipant:
             self._seen.append((event.action, t.success_gain if event.success else -t.failure_loss, 1.0))
         elif isinstance(event, HelpRequested):
             self._seen.append((event.action, self.params.help_logit, 1.0))
+        elif isinstance(event, ConfidenceStated):
+            gap = _logit(event.confidence) - _logit(self.trust_in(event.action))
+            self._seen.append((event.action, self.params.warning_weight * gap, 1.0))
         else:
             return
         self.trust = self._general()

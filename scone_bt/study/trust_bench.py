@@ -113,14 +113,14 @@ def _bench(args: argparse.Namespace) -> int:
 
 
 def calibration(participants: int, steps: int, seed: int) -> dict:
-    """Simulated studies with the fitted participants, self-confidence off and on (synthetic episodes).
+    """Simulated studies with the fitted participants: self-confidence off, on, and on with trust_aware.
 
     At every decision on an action, the robot's online estimate of the person's trust (OnlineTrust, a person of
     unknown disposition) is compared with the true success probability of the action (its calibration gap) and
     with the simulated person's own trust; the risks it flags are counted.
     """
     from scone_bt.config import load_kitchen
-    from scone_bt.events import DecisionMade, Event
+    from scone_bt.events import ActStarted, ConfidenceStated, DecisionMade, Event
     from scone_bt.gate.types import DecisionKind
     from scone_bt.study.design import Condition, assign_group
     from scone_bt.study.synthetic import SyntheticOptions, SyntheticRobot, run_synthetic_episode
@@ -133,8 +133,16 @@ def calibration(participants: int, steps: int, seed: int) -> dict:
     model = TransferModel(params.transfer)
     names = tuple(load_kitchen().catalogue.names())
     out = {}
-    for condition in (Condition.OFF, Condition.ON):
-        acc: dict[str, list] = {k: [] for k in ("est_gap", "person_gap", "tracking", "risk", "acts")}
+    settings = (
+        ("self_confidence_off", Condition.OFF, False),
+        ("self_confidence_on", Condition.ON, False),
+        ("trust_aware", Condition.ON, True),
+        ("trust_aware_self_confidence_off", Condition.OFF, True),
+    )
+    for label, condition, aware in settings:
+        acc: dict[str, list] = {
+            k: [] for k in ("est_gap", "person_gap", "tracking", "risk", "acts", "act_gap", "warned")
+        }
         attempts = 0
         for i in range(participants):
             robot = SyntheticRobot.sample(names, seed * 1_000 + i)
@@ -151,19 +159,34 @@ def calibration(participants: int, steps: int, seed: int) -> dict:
                     acc["tracking"].append(abs(est.trust - own))
                     acc["risk"].append(est.risk)
                     acc["acts"].append(event.verdict is DecisionKind.ACT)
+                elif isinstance(event, ActStarted):  # after any spoken warning (trust_aware)
+                    acc["act_gap"].append(
+                        abs(person.trust_in(event.action) - robot.success[event.object_name])
+                    )
+                elif isinstance(event, ConfidenceStated):
+                    acc["warned"].append(event.object_name)
                 online(event)
 
             summary = run_synthetic_episode(
-                robot, condition, person, sink, seed * 1_000 + 10 * i, SyntheticOptions(steps=steps)
+                robot,
+                condition,
+                person,
+                sink,
+                seed * 1_000 + 10 * i,
+                SyntheticOptions(steps=steps, trust_aware=aware),
             )
             attempts += summary["attempted"]
         risk, acts = np.array(acc["risk"]), np.array(acc["acts"], dtype=bool)
-        out[f"self_confidence_{condition.value}"] = {
+        out[label] = {
             "decisions": len(risk),
             "acting_decisions": int(acts.sum()),
             "attempts": attempts,
             "calibration_gap_estimate": round(float(np.mean(acc["est_gap"])), 4),
             "calibration_gap_person": round(float(np.mean(acc["person_gap"])), 4),
+            "calibration_gap_person_at_acts": round(float(np.mean(acc["act_gap"])), 4)
+            if acc["act_gap"]
+            else None,
+            "warnings_spoken": len(acc["warned"]),
             "estimate_vs_person_mae": round(float(np.mean(acc["tracking"])), 4),
             "over_trust_rate": round(float(np.mean(risk == "over")), 4),
             "under_trust_rate": round(float(np.mean(risk == "under")), 4),
@@ -184,7 +207,8 @@ def _calibration_bench(args: argparse.Namespace) -> int:
         "steps": args.steps,
         "seed": args.seed,
         "gap": "mean |trust - the action's true success probability| over decisions",
-        "assumed": "risk margins (0.25), help_logit, take-over curve; no trust-aware condition yet",
+        "assumed": "risk margins (0.25), help_logit, warning_weight (0.5: a spoken warning closes half the logit "
+        "gap between the person's trust and the stated κ̂), take-over curve",
         **calibration(args.participants, args.steps, args.seed),
     }
     report["wall_s"] = round(time.perf_counter() - start, 2)

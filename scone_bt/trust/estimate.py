@@ -23,7 +23,7 @@ from scone_bt.errors import SconeError
 from scone_bt.events import ActOutcome, Event, HelpRequested, TrustEstimated
 from scone_bt.trust.transfer import TransferModel
 
-__all__ = ["OnlineTrust", "RiskOptions", "classify_risk"]
+__all__ = ["OnlineTrust", "RiskOptions", "classify_risk", "confidence_in_words"]
 
 
 @dataclass(frozen=True)
@@ -48,6 +48,14 @@ class RiskOptions:
                 raise SconeError(f"trust risk option {name} must be in [0, 1], got {getattr(self, name)}")
         if self.exposure < 0:
             raise SconeError(f"trust risk option exposure must be 0 or more, got {self.exposure}")
+
+
+def confidence_in_words(object_name: str, confidence: float) -> str:
+    """What the robot says before an act the person likely over-trusts (trust_aware)."""
+    return (
+        f"I am not sure about this one: I may drop the {object_name} "
+        f"(I expect to succeed {confidence:.0%} of the time)."
+    )
 
 
 def classify_risk(

@@ -88,3 +88,13 @@ def test_parameter_sets_and_the_simulate_flag(tmp_path, capsys) -> None:
     with pytest.raises(SystemExit) as bad:  # argparse's choices: the valid names on one usage line
         main(["simulate", "--fast", "--trust-params", "guess", "--db", str(tmp_path / "x.db")])
     assert bad.value.code == 2 and "choose from 'fitted', 'hand'" in capsys.readouterr().err
+
+
+def test_a_spoken_warning_moves_trust_towards_the_stated_confidence() -> None:
+    from scone_bt.events import ConfidenceStated
+
+    p = _participant()
+    before = _logit(p.trust_in(JAR))
+    p.observe(ConfidenceStated(1.0, JAR, "glass jar", "I may drop the glass jar", 0.3))
+    assert _logit(p.trust_in(JAR)) == pytest.approx(before + 0.5 * (_logit(0.3) - before))  # warning_weight
+    assert _participant().params.static().warning_weight == 0.0

@@ -52,7 +52,13 @@ def test_calibration_report_of_simulated_studies() -> None:
     from scone_bt.study.trust_bench import calibration
 
     report = calibration(participants=2, steps=2, seed=0)
-    assert set(report) == {"self_confidence_off", "self_confidence_on"}
+    assert set(report) == {
+        "self_confidence_off",
+        "self_confidence_on",
+        "trust_aware",
+        "trust_aware_self_confidence_off",
+    }
+    assert report["trust_aware_self_confidence_off"]["warnings_spoken"] > 0
     for row in report.values():
         assert row["decisions"] >= row["acting_decisions"] and row["decisions"] >= 4
         for key in (
