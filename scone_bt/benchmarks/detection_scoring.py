@@ -1,7 +1,8 @@
 """Scoring detections against the simulator's ground truth (`scone-bench perception` and its tests).
 
-This module reads ground truth from the simulated kitchen, so it sits with the benchmarks: `scone_bt.perception`
-never imports `scone_bt.world`, not even for a type. An object counts as
+This module reads ground truth from the kitchen (PyBullet's `world.Kitchen` or MuJoCo's
+`world.mj_kitchen.MjKitchen`: poses through `object_state`, sight lines through `ray_bodies`), so it sits with the
+benchmarks: `scone_bt.perception` never imports `scone_bt.world`, not even for a type. An object counts as
 unoccluded when rays from the camera reach every sample point of its marker (corners and centre) on the object's
 own collision shape, and every sample point projects inside the image.
 """
@@ -74,12 +75,24 @@ class FrameScore:
     yaw_errors: tuple[float, ...]
 
 
+def _rotation(quaternion: Sequence[float]) -> np.ndarray:
+    """(3, 3) rotation of a unit quaternion (x, y, z, w)."""
+    x, y, z, w = quaternion
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
 def _sample_points(kitchen: Kitchen, name: str) -> tuple[np.ndarray, np.ndarray, float]:
     """Marker corners and centre slightly inside the lid (world), the top centre, and the yaw."""
     spec = kitchen.specs[name]
     marker = lid_marker(spec)
-    pos, orn = kitchen.bc.getBasePositionAndOrientation(kitchen.objects[name])
-    rot = np.array(kitchen.bc.getMatrixFromQuaternion(orn)).reshape(3, 3)
+    state = kitchen.object_state(name)
+    pos, rot = state.position, _rotation(state.orientation)
     half = 0.45 * marker.side
     local = np.array(
         [[0, 0, 0], [-half, half, 0], [half, half, 0], [half, -half, 0], [-half, -half, 0]], float
@@ -96,8 +109,7 @@ def ground_truth(kitchen: Kitchen, camera: Camera) -> list[GroundTruth]:
     eye = np.asarray(camera.spec.position, dtype=float)
     for name, body in kitchen.objects.items():
         points, top, yaw = _sample_points(kitchen, name)
-        hits = kitchen.bc.rayTestBatch([eye.tolist()] * len(points), points.tolist())
-        seen = sum(1 for hit in hits if hit[0] == body)
+        seen = sum(1 for hit in kitchen.ray_bodies(eye, points) if hit == body)
         uv, z = project(points, camera.intrinsics, camera.world_from_camera)
         in_view = bool(
             np.all(z > 0)

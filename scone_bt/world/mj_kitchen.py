@@ -203,6 +203,21 @@ class MjKitchen(GroundTruth):
         w, x, y, z = (float(c) for c in self.data.xquat[body])
         return ObjectState(name, body, tuple(float(c) for c in self.data.xpos[body]), (x, y, z, w))  # type: ignore[arg-type]
 
+    def ray_bodies(self, start: Sequence[float], ends: np.ndarray) -> list[int]:
+        """The body id each ray from ``start`` to a row of ``ends`` (n, 3) hits first, -1 where none (metres).
+
+        Every geom counts, the products' looks and covers included (a cover hides what is behind it)."""
+        mj, m, d = self.mujoco, self.model, self.data
+        origin = np.asarray(start, dtype=float)
+        hit = np.zeros(1, dtype=np.int32)
+        out = []
+        for end in np.asarray(ends, dtype=float):
+            vec = end - origin
+            distance = mj.mj_ray(m, d, origin, vec, None, 1, -1, hit)
+            # mj_ray measures in units of vec: a hit beyond the end point (1) is not on the way there.
+            out.append(int(m.geom_bodyid[hit[0]]) if distance >= 0 and distance <= 1.0 + 1e-9 else -1)
+        return out
+
     def object_yaw(self, name: str) -> float:
         """The object's heading now: its rotation about z, radians (roll-pitch-yaw)."""
         return yaw_of(self.object_state(name).orientation)
