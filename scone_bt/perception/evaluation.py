@@ -1,6 +1,7 @@
 """Scoring detections against the simulator's ground truth (benchmarks and tests only).
 
-This module reads ground truth from the kitchen; the robot's own stages never import it. An object counts as
+This module reads ground truth from the kitchen (PyBullet's, or MuJoCo's through `world.mj_truth`); the robot's own
+stages never import it. An object counts as
 unoccluded when rays from the camera reach every sample point of its marker (corners and centre) on the object's
 own collision shape, and every sample point projects inside the image.
 """
@@ -73,12 +74,33 @@ class FrameScore:
     yaw_errors: tuple[float, ...]
 
 
+def _first_bodies(kitchen: Kitchen, eye: np.ndarray, points: np.ndarray) -> list[int]:
+    """The body each ray from ``eye`` to a point hits first (-1: none), on the kitchen's engine."""
+    bc = getattr(kitchen, "bc", None)
+    if bc is None:  # a MuJoCo kitchen (world.mj_kitchen): its rays are MuJoCo's
+        from scone_bt.world.mj_truth import first_bodies
+
+        return first_bodies(kitchen, eye, points)
+    return [hit[0] for hit in bc.rayTestBatch([eye.tolist()] * len(points), points.tolist())]
+
+
+def _pose(kitchen: Kitchen, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """A product's position and rotation matrix now (ground truth, either engine)."""
+    bc = getattr(kitchen, "bc", None)
+    if bc is None:
+        from scone_bt.world.ground_truth import rotation_of
+
+        state = kitchen.object_state(name)
+        return np.asarray(state.position, dtype=float), rotation_of(state.orientation)
+    pos, orn = bc.getBasePositionAndOrientation(kitchen.objects[name])
+    return np.asarray(pos, dtype=float), np.array(bc.getMatrixFromQuaternion(orn)).reshape(3, 3)
+
+
 def _sample_points(kitchen: Kitchen, name: str) -> tuple[np.ndarray, np.ndarray, float]:
     """Marker corners and centre slightly inside the lid (world), the top centre, and the yaw."""
     spec = kitchen.specs[name]
     marker = lid_marker(spec)
-    pos, orn = kitchen.bc.getBasePositionAndOrientation(kitchen.objects[name])
-    rot = np.array(kitchen.bc.getMatrixFromQuaternion(orn)).reshape(3, 3)
+    pos, rot = _pose(kitchen, name)
     half = 0.45 * marker.side
     local = np.array(
         [[0, 0, 0], [-half, half, 0], [half, half, 0], [half, -half, 0], [-half, -half, 0]], float
@@ -95,8 +117,7 @@ def ground_truth(kitchen: Kitchen, camera: Camera) -> list[GroundTruth]:
     eye = np.asarray(camera.spec.position, dtype=float)
     for name, body in kitchen.objects.items():
         points, top, yaw = _sample_points(kitchen, name)
-        hits = kitchen.bc.rayTestBatch([eye.tolist()] * len(points), points.tolist())
-        seen = sum(1 for hit in hits if hit[0] == body)
+        seen = sum(1 for hit in _first_bodies(kitchen, eye, points) if hit == body)
         uv, z = project(points, camera.intrinsics, camera.world_from_camera)
         in_view = bool(
             np.all(z > 0)
