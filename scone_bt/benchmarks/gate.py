@@ -25,6 +25,14 @@ stream's first failed one, summed and the largest per stream), and the realised 
 The tree's default (``default.*``) is ``budget:<the tree's estimator>`` at the tree's ``target_failure_rate``, cold
 and fleet-warm (κ̂ first learns every execution of the other streams: a fleet's shared store).
 
+``--prior DIR`` (the move to another body): before each stream, every κ̂ first learns the outcomes of the
+same-named dataset in DIR (the same robot's executions on another engine; ``default.*`` is then the taught robot),
+and the report adds ``cross_engine`` (`scone_bt.benchmarks.cross_engine`): per profile the success rates of the
+same executions on both engines, the executions whose outcome flips, and per α in 0.10, 0.15, 0.20 the default
+gate taught and cold, with the decisions its budget needs before the realised rate is back within α + 0.02.
+
+    scone-bench gate --datasets tools/data/sc_mujoco --prior tools/data/sc --json docs/results/gate_mujoco.json
+
     scone-bench gate --json docs/results/gate.json --plot docs/results/gate.png
 """
 
@@ -77,6 +85,8 @@ class StreamResult:
     all_failures: int = 0
     all_asked: int = 0
     thresholds: list[float] = field(default_factory=list)
+    trace: list[int] = field(default_factory=list)
+    """Every decision in order: 1 acted and succeeded, 0 acted and failed, -1 asked."""
 
 
 def replay_rules(gate: str, alpha: float, opening_m: float) -> GateRules:
@@ -200,6 +210,7 @@ def replay_stream(
         scored = t >= warmup
         out.all_decisions += 1
         out.thresholds.append(tau)
+        out.trace.append(int(ok) if act else -1)
         if act:
             out.all_attempts += 1
             out.all_failures += not ok
@@ -237,7 +248,9 @@ def replay_stream(
 
 def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
     tot = {
-        k: sum(getattr(r, k) for r in results) for k in StreamResult.__dataclass_fields__ if k != "thresholds"
+        k: sum(getattr(r, k) for r in results)
+        for k in StreamResult.__dataclass_fields__
+        if k not in ("thresholds", "trace")
     }
     n = max(tot["decisions"], 1)
     att = tot["attempts"]
@@ -280,13 +293,19 @@ class _Streams:
     products: list[tuple[str, ...]]
 
 
-def _load(args: argparse.Namespace, oracle: bool) -> _Streams:
+def _datasets_folder(args: argparse.Namespace) -> Path:
+    from scone_bt.resources import repo_root
+
+    return Path(args.datasets) if args.datasets else (repo_root() or Path(".")) / "tools" / "data" / "sc"
+
+
+def _load(args: argparse.Namespace, oracle: bool, folder: Path | None = None) -> _Streams:
     from scone_bt.benchmarks.self_confidence.dataset import load_datasets
     from scone_bt.benchmarks.self_confidence.evaldata import decision_time_context
     from scone_bt.embedding import load_embedder
-    from scone_bt.resources import repo_root
 
-    folder = Path(args.datasets) if args.datasets else (repo_root() or Path(".")) / "tools" / "data" / "sc"
+    if folder is None:
+        folder = _datasets_folder(args)
     datasets = load_datasets(folder)
 
     def column(d: Any, name: str) -> np.ndarray:
@@ -320,18 +339,45 @@ def _glass(d: Any) -> np.ndarray:
     return np.array([m == "glass" for m in d.materials], dtype=float) if d.materials else np.zeros(len(d))
 
 
+def _rows(streams: _Streams, which: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
+    """Streams' rows as κ̂ learns them (embedding then context) and their outcomes."""
+    return (
+        np.vstack([np.hstack([streams.vectors[i], streams.context[i]]) for i in which]),
+        np.concatenate([streams.success[i] for i in which]),
+    )
+
+
 def _method(
-    streams: _Streams, estimator: str, gate: str, alpha: float, args: argparse.Namespace, fleet: bool = False
+    streams: _Streams,
+    estimator: str,
+    gate: str,
+    alpha: float,
+    args: argparse.Namespace,
+    fleet: bool = False,
+    taught: _Streams | None = None,
 ) -> dict[str, Any]:
+    return _rates(_stream_results(streams, estimator, gate, alpha, args, fleet, taught))
+
+
+def _stream_results(
+    streams: _Streams,
+    estimator: str,
+    gate: str,
+    alpha: float,
+    args: argparse.Namespace,
+    fleet: bool = False,
+    taught: _Streams | None = None,
+) -> list[StreamResult]:
+    """Every stream replayed; ``taught`` (--prior): κ̂ first learns the same-named stream of it."""
     results = []
     for j in range(len(streams.names)):
-        prior = None
-        if fleet:
-            others = [i for i in range(len(streams.names)) if i != j]
-            prior = (
-                np.vstack([np.hstack([streams.vectors[i], streams.context[i]]) for i in others]),
-                np.concatenate([streams.success[i] for i in others]),
-            )
+        parts = []
+        if taught is not None:
+            parts.append(_rows(taught, [taught.names.index(streams.names[j])]))
+        others = [i for i in range(len(streams.names)) if i != j]
+        if fleet and others:
+            parts.append(_rows(streams, others))
+        prior = (np.vstack([x for x, _ in parts]), np.concatenate([y for _, y in parts])) if parts else None
         results.append(
             replay_stream(
                 streams.vectors[j],
@@ -347,7 +393,7 @@ def _method(
                 prior,
             )
         )
-    return _rates(results)
+    return results
 
 
 def _tree_defaults() -> tuple[str, float]:
@@ -548,23 +594,45 @@ def _replay(
     args: argparse.Namespace, estimators: list[str], default_estimator: str, default_target: float
 ) -> dict[str, Any]:
     """The online replay of every method over the datasets (the report's replay part)."""
+    from scone_bt.errors import SconeError
+
     streams = _load(args, oracle=False)
+    taught = taught_oracle = None
+    if args.prior is not None:
+        taught = _load(args, oracle=False, folder=Path(args.prior))
+        taught_oracle = _load(args, oracle=True, folder=Path(args.prior))
+        missing = [n for n in streams.names if n not in taught.names]
+        if missing:
+            raise SconeError(
+                f"--prior {args.prior}: no dataset {missing[0]!r} (it holds {', '.join(taught.names)}); "
+                "κ̂ learns the same-named dataset before each stream"
+            )
     methods: dict[str, dict[str, Any]] = {}
     for est in estimators:
         for gate in ("budget", "fixed"):
-            methods[f"{gate}:{est}"] = {f"{a:g}": _method(streams, est, gate, a, args) for a in TARGETS}
-    methods["conformal"] = {f"{a:g}": _method(streams, "conformal", "conformal", a, args) for a in TARGETS}
-    methods["paper"] = {"0.5": _method(streams, "eps-knn", "paper", 0.5, args)}
+            methods[f"{gate}:{est}"] = {
+                f"{a:g}": _method(streams, est, gate, a, args, taught=taught) for a in TARGETS
+            }
+    methods["conformal"] = {
+        f"{a:g}": _method(streams, "conformal", "conformal", a, args, taught=taught) for a in TARGETS
+    }
+    methods["paper"] = {"0.5": _method(streams, "eps-knn", "paper", 0.5, args, taught=taught)}
     oracle = _load(args, oracle=True)
-    methods["oracle"] = {f"{a:g}": _method(oracle, "physical", "budget", a, args) for a in TARGETS}
+    methods["oracle"] = {
+        f"{a:g}": _method(oracle, "physical", "budget", a, args, taught=taught_oracle) for a in TARGETS
+    }
     default = methods[f"budget:{default_estimator}"] if default_estimator in estimators else None
     if default is None or f"{default_target:g}" not in default:
-        cold = _method(streams, default_estimator, "budget", default_target, args)
+        cold = _method(streams, default_estimator, "budget", default_target, args, taught=taught)
     else:
         cold = default[f"{default_target:g}"]
-    warm = _method(streams, default_estimator, "budget", default_target, args, fleet=True)
+    warm = _method(streams, default_estimator, "budget", default_target, args, fleet=True, taught=taught)
+    extra: dict[str, Any] = {}
+    if taught is not None:
+        extra["cross_engine"] = _cross_engine(args, streams, taught, default_estimator)
     return {
         "datasets": streams.names,
+        **({"prior": str(args.prior), "prior_datasets": taught.names} if taught is not None else {}),
         "targets": list(TARGETS),
         "default": {
             "estimator": default_estimator,
@@ -585,7 +653,71 @@ def _replay(
             },
         },
         "methods": methods,
+        **extra,
         "decision_path_ms": _decision_path(streams, default_estimator, args),
+    }
+
+
+def _cross_engine(
+    args: argparse.Namespace, streams: _Streams, taught: _Streams, estimator: str
+) -> dict[str, Any]:
+    """The gap between the engines per profile, and the default gate taught (--prior) and cold after the move."""
+    from dataclasses import asdict
+
+    from scone_bt.benchmarks.cross_engine import (
+        CROSS_ENGINE_TARGETS,
+        TOLERANCE,
+        engine_gap,
+        recovery_decisions,
+    )
+
+    gaps = engine_gap(Path(args.prior), _datasets_folder(args), streams.names)
+    by_target: dict[str, Any] = {}
+    for alpha in CROSS_ENGINE_TARGETS:
+        row: dict[str, Any] = {}
+        for label, prior in (("prior", taught), ("cold", None)):
+            results = _stream_results(streams, estimator, "budget", alpha, args, taught=prior)
+            rates = _rates(results)
+            recovery = {
+                n: recovery_decisions(r.trace, alpha) for n, r in zip(streams.names, results, strict=True)
+            }
+            row[label] = {
+                "attempt_failure_rate": rates["attempt_failure_rate"],
+                "help_rate": rates["help_rate"],
+                "attempt_success_rate": rates["attempt_success_rate"],
+                "attempt_failure_rate_per_stream": dict(
+                    zip(streams.names, rates["attempt_failure_rate_per_stream"], strict=True)
+                ),
+                "meets_target": rates["attempt_failure_rate"] is not None
+                and rates["attempt_failure_rate"] <= alpha + TOLERANCE + 1e-12
+                and rates["help_rate"] <= 0.50,
+                "all_decisions": rates["all_decisions"],
+                "recovery_decisions": recovery,
+                "recovered_streams": sum(v is not None for v in recovery.values()),
+            }
+        by_target[f"{alpha:g}"] = row
+    return {
+        "prior": str(args.prior),
+        "tolerance": TOLERANCE,
+        "help_rate_limit": 0.50,
+        "recovery_definition": (
+            "decisions on this engine (warm-up included) before the budget's realised attempt failure rate, "
+            "counted from the move, is within alpha + tolerance and stays there to the end of the stream; "
+            "0: never above; null: ends above"
+        ),
+        "default": by_target,
+        "profiles": {
+            n: {
+                **{k: v for k, v in asdict(g).items() if k != "flips"},
+                "flipped": [asdict(f) for f in g.flips],
+            }
+            for n, g in gaps.items()
+        },
+        "pooled": {
+            "matched": sum(g.matched for g in gaps.values()),
+            "to_failure": sum(g.to_failure for g in gaps.values()),
+            "to_success": sum(g.to_success for g in gaps.values()),
+        },
     }
 
 
@@ -634,6 +766,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         "gate", help="does the gate keep its failure budget on new products, and at what help rate"
     )
     p.add_argument("--datasets", help="self-confidence datasets folder (default tools/data/sc)")
+    p.add_argument(
+        "--prior",
+        type=Path,
+        default=None,
+        metavar="DIR",
+        help="datasets κ̂ learns before each same-named stream (the robot's outcomes on another engine)",
+    )
     p.add_argument("--embedder", default="minilm", help="ζ (default: %(default)s)")
     p.add_argument(
         "--estimators",

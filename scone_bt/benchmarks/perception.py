@@ -1,5 +1,8 @@
 """``scone-bench perception``: detection accuracy of the shelf and table cameras on seeded scenes (JSON).
 
+``--robot`` picks the engine that renders (``sim``: PyBullet's TinyRenderer, ``mujoco``: MuJoCo's renderer, with
+MuJoCo's rays for the ground truth); the scenes, the detector and the scoring are the same.
+
 Each scene stocks the shelving with a random draw of the catalogue (21 products by default, drawn again if they
 do not fit side by side; random slots, heaviest lowest, random yaws, settled by physics, the arm at home) and puts
 three more on the table by the simulated human's hand. Every
@@ -54,13 +57,22 @@ def run(args: argparse.Namespace) -> int:
     from scone_bt.perception import Camera, Detector
     from scone_bt.perception.observe import merge_detections
     from scone_bt.quiet import c_stdout_silenced
-    from scone_bt.robot.flags import require_pybullet
-    from scone_bt.world import Kitchen
+    from scone_bt.robot.flags import check_backend
 
     for noise in args.noise:  # the scale of a camera's noise_std in a kitchen file
         check_range(noise, "--noise", 0.0, 255.0)
     kitchen_cfg = load_kitchen(args.kitchen, args.catalogue or ())
-    require_pybullet(args.robot, "scone-bench perception")
+    engine = check_backend(args.robot)
+    if engine not in ("sim", "mujoco"):
+        raise ConfigError(f"scone-bench perception --robot {engine}: it renders on sim (PyBullet) or mujoco")
+    if engine == "mujoco":  # the extra and headless rendering, one line each, before any scene is built
+        from scone_bt.world.mj_camera import check_rendering
+        from scone_bt.world.mj_model import import_mujoco
+
+        check_rendering(import_mujoco())
+        from scone_bt.world.mj_kitchen import MjKitchen as Kitchen
+    else:
+        from scone_bt.world import Kitchen  # type: ignore[assignment]
     robot_cfg = load_robot(args.arm)
     slots = len(kitchen_cfg.scene.shelf_slots())
     catalogue = kitchen_cfg.catalogue
@@ -97,7 +109,7 @@ def run(args: argparse.Namespace) -> int:
         key: {"render_ms": [], "render_cpu_ms": [], "detect_ms": [], "detect_cpu_ms": []} for key in scores
     }
 
-    def shoot(key: str, camera: Camera, kitchen: Kitchen, rng: np.random.Generator) -> list[Any]:
+    def shoot(key: str, camera: Camera, kitchen: Any, rng: np.random.Generator) -> list[Any]:
         w0, c0 = time.perf_counter(), time.process_time()
         with c_stdout_silenced():
             frame = camera.capture(kitchen, rng)
@@ -171,6 +183,7 @@ def run(args: argparse.Namespace) -> int:
         "shelf_slots": slots,
         "shelf_units": len(kitchen_cfg.scene.shelves),
         "products": len(catalogue),
+        "robot": engine,
         "seed": args.seed,
         "shelf_cameras": [asdict(c) for c in kitchen_cfg.shelf_cameras],
         "table_camera": asdict(table_spec) if table_spec is not None else None,

@@ -114,13 +114,13 @@ LOG_NAME = "generation.json"
 """The log of every run in --out, and the settings each profile's rows were generated with."""
 
 SETTINGS: dict[str, str] = {
-    "backend": "--robot",
     "robot": "--arm",
     "kitchen": "--kitchen",
     "catalogues": "--catalogue",
     "products": "--products",
     "seed": "--seed",
     "profile": "the profile",
+    "backend": "--robot",
 }
 """What defines a generation, and the option that sets each (for messages). A generation recorded before the
 engine was a setting has no "backend": it was PyBullet's (``sim``)."""
@@ -161,13 +161,13 @@ def generation_settings(
         backend: The engine the rows were run on (--robot: sim is PyBullet, mujoco).
     """
     return {
-        "backend": backend,
         "robot": _file_id(robot),
         "kitchen": _file_id(kitchen),
         "catalogues": [_file_id(Path(c)) for c in catalogues],
         "products": None if products is None else list(products),
         "seed": seed,
         "profile": _profile_id(profile),
+        "backend": backend,
     }
 
 

@@ -301,3 +301,57 @@ def test_the_generation_log_is_replaced_whole_not_rewritten_in_place(tmp_path, f
     assert (tmp_path / "alias.json").read_text() == first
     assert [r["executions_run"] for r in json.loads(log.read_text())["runs"]] == [1, 1]
     assert not [p for p in out.iterdir() if p.name.endswith(".tmp")]
+
+
+# ----------------------------------------------------------------------- the engine (--robot)
+def test_a_generation_of_another_engine_is_not_resumed(tmp_path, fake_runs, capsys):
+    os.environ.setdefault("MUJOCO_GL", "egl")  # before mujoco is first imported (it reads it then)
+    pytest.importorskip("mujoco")
+    out = tmp_path / "X"
+    assert bench(_generate(out, "--executions", "1")) == 0
+    final = out / "p00_nominal.csv"
+    before = final.read_bytes()
+    err = _one_line_error(capsys, _generate(out, "--executions", "2", "--robot", "mujoco"))
+    assert "another generation" in err and "--robot: it holds sim, this run asks mujoco" in err
+    assert final.read_bytes() == before and len(fake_runs) == 1
+    # a log written before the engine was a setting holds PyBullet's rows: they resume under --robot sim
+    log = json.loads((out / "generation.json").read_text())
+    del log["generations"]["p00_nominal"]["backend"]
+    (out / "generation.json").write_text(json.dumps(log))
+    assert bench(_generate(out, "--executions", "2")) == 0
+    assert [t.index for t in fake_runs] == [0, 1] and {t.engine for t in fake_runs} == {"sim"}
+
+
+def test_robot_names_an_engine_the_generator_runs_on(tmp_path, fake_runs, capsys):
+    err = _one_line_error(capsys, _generate(tmp_path / "X", "--robot", "panda"))
+    assert "--robot names the robot backend" in err and "--arm panda" in err
+    assert fake_runs == []
+
+
+@pytest.mark.slow
+def test_a_mujoco_execution_is_the_same_task_and_repeats_exactly(kitchen_cfg, robot_cfg):
+    """Execution i is one task on either engine (products, slots, seeds); on MuJoCo a fresh kitchen each time."""
+    os.environ.setdefault("MUJOCO_GL", "egl")  # before mujoco is first imported (it reads it then)
+    pytest.importorskip("mujoco")
+    import scone_bt.benchmarks.self_confidence.generate as gen
+
+    prof = load_profile(PROFILES / "p00_nominal.yaml")
+    pool = tuple(o for o in drawable_products(kitchen_cfg) if o.family in ("cans", "boxes", "bags"))
+    saved = gen._WORKER
+    try:
+        gen._WORKER = gen._Worker()
+        first, again = (
+            gen.run_execution(prof, 1, kitchen_cfg, robot_cfg, pool=pool, engine="mujoco")[0]
+            for _ in range(2)
+        )
+        bullet = gen.run_execution(prof, 1, kitchen_cfg, robot_cfg, pool=pool)[0]
+    finally:
+        gen._WORKER = saved
+    assert again == first
+    assert (first.object, first.seed, first.shelf_unit, first.slot) == (
+        bullet.object,
+        bullet.seed,
+        bullet.shelf_unit,
+        bullet.slot,
+    )
+    assert first.detected and abs(first.detected_width_m - bullet.detected_width_m) < 0.005
