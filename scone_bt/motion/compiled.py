@@ -18,10 +18,12 @@ import math
 import numpy as np
 from numba import njit
 
+from scone_bt.motion.kernel_layout import ARM_F, ARM_I, REST, WORK, WORLD_F, WORLD_I, layout_digest
 from scone_bt.motion.pair_kinds import PAIR_HELD, PAIR_HELD_OBSTACLE, PAIR_OBSTACLE, PAIR_ROBOT
 
 __all__ = [
     "chain_poses",
+    "field_span",
     "first_candidates",
     "hand_candidates",
     "hulls_apart",
@@ -535,6 +537,59 @@ def hulls_apart(rotation, translation, hull, first, count, margin, a, b, vx, vy,
     return False
 
 
+# The flat arrays' offset tables (`kernel_layout`), numpy globals that numba compiles in as constants, and each
+# field's row in them. numba's on-disk cache keeps them as they were when it compiled and refreshes only when this
+# file changes: LAYOUT_DIGEST, checked at import, makes a change of layout a change of this file.
+LAYOUT_DIGEST = "ef043c033c443461"
+if layout_digest() != LAYOUT_DIGEST:
+    raise RuntimeError(
+        f"scone_bt/motion/compiled.py: LAYOUT_DIGEST is {LAYOUT_DIGEST!r} but the kernel's layouts "
+        f"(motion/kernel_layout.py) hash to {layout_digest()!r}; set it to that (this refreshes numba's cache)"
+    )
+_AI, _AF, _WI, _WF, _WK = ARM_I.table(), ARM_F.table(), WORLD_I.table(), WORLD_F.table(), WORK.table()
+_AI_NJ, _AI_NS, _AI_NG, _AI_PARENTS, _AI_SPHERE_JOINT, _AI_FIRST, _AI_COUNT = (
+    ARM_I.index(n) for n in ("nj", "ns", "ng", "parents", "sphere_joint", "first", "count")
+)
+_AI_GEOM_JOINT, _AI_HULL_FIRST, _AI_HULL_COUNT = (
+    ARM_I.index(n) for n in ("geom_joint", "hull_first", "hull_count")
+)
+_AF_PLACEMENTS, _AF_AXES, _AF_SPHERE_LOCAL, _AF_RADIUS, _AF_BOUND_LOCAL, _AF_BOUND_RADIUS = (
+    ARM_F.index(n) for n in ("placements", "axes", "sphere_local", "radius", "bound_local", "bound_radius")
+)
+_AF_GEOM_PLACEMENT, _AF_LOWEST, _AF_HIGHEST, _AF_SWEPT, _AF_HULL = (
+    ARM_F.index(n) for n in ("geom_placement", "lowest", "highest", "swept", "hull")
+)
+_WI_N_OB, _WI_N_PAIRS, _WI_TILT_CHECKED, _WI_LIMITS_CHECKED, _WI_PAIRS = (
+    WORLD_I.index(n) for n in ("n_ob", "n_pairs", "tilt_checked", "limits_checked", "pairs")
+)
+_WF_OB_POSE, _WF_OB_SIZE, _WF_HELD_LOCAL, _WF_HELD_HALF, _WF_HELD_JOINT = (
+    WORLD_F.index(n) for n in ("ob_pose", "ob_size", "held_local", "held_half", "held_joint")
+)
+_WF_TILT_JOINT, _WF_MIN_UP, _WF_UP_AXIS, _WF_OB_RADIUS, _WF_HELD_RADIUS = (
+    WORLD_F.index(n) for n in ("tilt_joint", "min_up", "up_axis", "ob_radius", "held_radius")
+)
+_WK_POSES, _WK_CENTRES, _WK_BOUNDS, _WK_HELD, _WK_ROTATION, _WK_TRANSLATION, _WK_SCRATCH = (
+    WORK.index(n) for n in ("poses", "centres", "bounds", "held", "rotation", "translation", "scratch")
+)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def field_span(table, k, a, b, c, total):  # pragma: no cover - compiled
+    """[start, end) of field ``k`` of a flat array of length ``total`` by its layout's offset ``table``
+    (`kernel_layout.Layout.table`), for the layout's sizes (a, b, c); as `kernel_layout.Layout.span`."""
+    start = table[k, 0, 0] + table[k, 0, 1] * a + table[k, 0, 2] * b + table[k, 0, 3] * c
+    if table[k, 1, 0] == REST:  # the rest of the array
+        return start, total
+    return start, start + table[k, 1, 0] + table[k, 1, 1] * a + table[k, 1, 2] * b + table[k, 1, 3] * c
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _field(array, table, k, a, b, c):  # pragma: no cover - compiled
+    """Field ``k`` of the flat ``array`` (1-D) by its layout's offset ``table``, for sizes (a, b, c)."""
+    start, end = field_span(table, k, a, b, c, array.shape[0])
+    return array[start:end]
+
+
 @njit(cache=True, nogil=True)
 def pair_candidates(q, arm_f, arm_i, world_f, world_i, work, out):  # pragma: no cover - compiled
     """The pairs whose spheres meet at ``q`` and, for two robot geometries, whose hulls are not proven apart (their
@@ -545,54 +600,52 @@ def pair_candidates(q, arm_f, arm_i, world_f, world_i, work, out):  # pragma: no
         1e-12 of the limit (rounding decides: the caller asks Pinocchio); -3 when a joint is beyond its limits
         (or NaN).
     """
-    nj, ns, ng = arm_i[0], arm_i[1], arm_i[2]
-    parents = arm_i[3 : 3 + nj]
-    sphere_joint = arm_i[3 + nj : 3 + nj + ns]
-    first = arm_i[3 + nj + ns : 3 + nj + ns + ng]
-    count = arm_i[3 + nj + ns + ng : 3 + nj + ns + 2 * ng]
-    geom_joint = arm_i[3 + nj + ns + 2 * ng : 3 + nj + ns + 3 * ng]
-    hull_first = arm_i[3 + nj + ns + 3 * ng : 3 + nj + ns + 4 * ng]
-    hull_count = arm_i[3 + nj + ns + 4 * ng : 3 + nj + ns + 5 * ng]
-    o = 0
-    placements = arm_f[o : o + nj * 16].reshape((nj, 4, 4))
-    o += nj * 16
-    axes = arm_f[o : o + nj * 3].reshape((nj, 3))
-    o += nj * 3
-    sphere_local = arm_f[o : o + ns * 3].reshape((ns, 3))
-    o += ns * 3
-    radius = arm_f[o : o + ns]
-    o += ns
-    bound_local = arm_f[o : o + ng * 3].reshape((ng, 3))
-    o += ng * 3
-    bound_radius = arm_f[o : o + ng]
-    o += ng
-    geom_placement = arm_f[o : o + ng * 16].reshape((ng, 4, 4))
-    o += ng * 16
+    nj, ns, ng = (
+        _field(arm_i, _AI, _AI_NJ, 0, 0, 0)[0],
+        _field(arm_i, _AI, _AI_NS, 0, 0, 0)[0],
+        _field(arm_i, _AI, _AI_NG, 0, 0, 0)[0],
+    )
+    parents = _field(arm_i, _AI, _AI_PARENTS, nj, ns, ng)
+    sphere_joint = _field(arm_i, _AI, _AI_SPHERE_JOINT, nj, ns, ng)
+    first = _field(arm_i, _AI, _AI_FIRST, nj, ns, ng)
+    count = _field(arm_i, _AI, _AI_COUNT, nj, ns, ng)
+    geom_joint = _field(arm_i, _AI, _AI_GEOM_JOINT, nj, ns, ng)
+    hull_first = _field(arm_i, _AI, _AI_HULL_FIRST, nj, ns, ng)
+    hull_count = _field(arm_i, _AI, _AI_HULL_COUNT, nj, ns, ng)
+    placements = _field(arm_f, _AF, _AF_PLACEMENTS, nj, ns, ng).reshape((nj, 4, 4))
+    axes = _field(arm_f, _AF, _AF_AXES, nj, ns, ng).reshape((nj, 3))
+    sphere_local = _field(arm_f, _AF, _AF_SPHERE_LOCAL, nj, ns, ng).reshape((ns, 3))
+    radius = _field(arm_f, _AF, _AF_RADIUS, nj, ns, ng)
+    bound_local = _field(arm_f, _AF, _AF_BOUND_LOCAL, nj, ns, ng).reshape((ng, 3))
+    bound_radius = _field(arm_f, _AF, _AF_BOUND_RADIUS, nj, ns, ng)
+    geom_placement = _field(arm_f, _AF, _AF_GEOM_PLACEMENT, nj, ns, ng).reshape((ng, 4, 4))
     dof = nj - 1
-    lowest, highest = arm_f[o : o + dof], arm_f[o + dof : o + 2 * dof]
-    o += 2 * dof
-    swept = arm_f[o : o + ng]
-    o += ng
-    hull = arm_f[o:].reshape((-1, 3))
-    n_ob, n_pairs, tilt_checked, limits_checked = world_i[0], world_i[1], world_i[2], world_i[3]
-    pairs = world_i[4 : 4 + 3 * n_pairs].reshape((n_pairs, 3))
-    w = 0
-    ob_pose = world_f[w : w + n_ob * 16].reshape((n_ob, 4, 4))
-    w += n_ob * 16
-    ob_size = world_f[w : w + n_ob * 3].reshape((n_ob, 3))
-    w += n_ob * 3
-    held_local = world_f[w : w + 16].reshape((4, 4))
-    w += 16
-    held_half = world_f[w : w + 3]
-    w += 3
-    held_joint, tilt_joint, min_up = int(world_f[w]), int(world_f[w + 1]), world_f[w + 2]
-    up_axis = world_f[w + 3 : w + 6]
-    w += 6
-    ob_radius = world_f[w : w + n_ob]
-    held_radius = world_f[w + n_ob]
-    poses = work[: nj * 16].reshape((nj, 4, 4))
-    centres = work[nj * 16 : nj * 16 + ns * 3].reshape((ns, 3))
-    bounds = work[nj * 16 + ns * 3 : nj * 16 + ns * 3 + ng * 3].reshape((ng, 3))
+    lowest = _field(arm_f, _AF, _AF_LOWEST, nj, ns, ng)
+    highest = _field(arm_f, _AF, _AF_HIGHEST, nj, ns, ng)
+    swept = _field(arm_f, _AF, _AF_SWEPT, nj, ns, ng)
+    hull = _field(arm_f, _AF, _AF_HULL, nj, ns, ng).reshape((-1, 3))
+    n_ob = _field(world_i, _WI, _WI_N_OB, 0, 0, 0)[0]
+    n_pairs = _field(world_i, _WI, _WI_N_PAIRS, 0, 0, 0)[0]
+    tilt_checked = _field(world_i, _WI, _WI_TILT_CHECKED, 0, 0, 0)[0]
+    limits_checked = _field(world_i, _WI, _WI_LIMITS_CHECKED, 0, 0, 0)[0]
+    pairs = _field(world_i, _WI, _WI_PAIRS, n_ob, n_pairs, 0).reshape((n_pairs, 3))
+    ob_pose = _field(world_f, _WF, _WF_OB_POSE, n_ob, 0, 0).reshape((n_ob, 4, 4))
+    ob_size = _field(world_f, _WF, _WF_OB_SIZE, n_ob, 0, 0).reshape((n_ob, 3))
+    held_local = _field(world_f, _WF, _WF_HELD_LOCAL, n_ob, 0, 0).reshape((4, 4))
+    held_half = _field(world_f, _WF, _WF_HELD_HALF, n_ob, 0, 0)
+    held_joint = int(_field(world_f, _WF, _WF_HELD_JOINT, n_ob, 0, 0)[0])
+    tilt_joint = int(_field(world_f, _WF, _WF_TILT_JOINT, n_ob, 0, 0)[0])
+    min_up = _field(world_f, _WF, _WF_MIN_UP, n_ob, 0, 0)[0]
+    up_axis = _field(world_f, _WF, _WF_UP_AXIS, n_ob, 0, 0)
+    ob_radius = _field(world_f, _WF, _WF_OB_RADIUS, n_ob, 0, 0)
+    held_radius = _field(world_f, _WF, _WF_HELD_RADIUS, n_ob, 0, 0)[0]
+    poses = _field(work, _WK, _WK_POSES, nj, ns, ng).reshape((nj, 4, 4))
+    centres = _field(work, _WK, _WK_CENTRES, nj, ns, ng).reshape((ns, 3))
+    bounds = _field(work, _WK, _WK_BOUNDS, nj, ns, ng).reshape((ng, 3))
+    held = _field(work, _WK, _WK_HELD, nj, ns, ng).reshape((4, 4))
+    rotation = _field(work, _WK, _WK_ROTATION, nj, ns, ng).reshape((ng, 3, 3))
+    translation = _field(work, _WK, _WK_TRANSLATION, nj, ns, ng).reshape((ng, 3))
+    scratch = _field(work, _WK, _WK_SCRATCH, nj, ns, ng)
 
     if limits_checked:
         for i in range(dof):
@@ -619,13 +672,8 @@ def pair_candidates(q, arm_f, arm_i, world_f, world_i, work, out):  # pragma: no
         x, y, z = bound_local[g, 0], bound_local[g, 1], bound_local[g, 2]
         for r in range(3):
             bounds[g, r] = poses[j, r, 0] * x + poses[j, r, 1] * y + poses[j, r, 2] * z + poses[j, r, 3]
-    held = work[nj * 16 + ns * 3 + ng * 3 : nj * 16 + ns * 3 + ng * 3 + 16].reshape((4, 4))
     if held_joint >= 0:
         _compose(poses[held_joint], held_local, held)
-    g0 = nj * 16 + ns * 3 + ng * 3 + 16
-    rotation = work[g0 : g0 + ng * 9].reshape((ng, 3, 3))
-    translation = work[g0 + ng * 9 : g0 + ng * 12].reshape((ng, 3))
-    scratch = work[g0 + ng * 12 : g0 + ng * 12 + 24]
     posed = False
     found = 0
     for k in range(n_pairs):

@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from scone_bt.config.catalogue import Shape
+from scone_bt.motion.kernel_layout import ARM_F, ARM_I, WORK, WORLD_F, WORLD_I
 from scone_bt.motion.pair_kinds import PAIR_HELD, PAIR_OBSTACLE, PAIR_ROBOT
 
 __all__ = [
@@ -233,24 +234,40 @@ def _pack(arm: Any, cover: _Cover, finger_position: float | None) -> ArmSpheres:
     hull_count = np.array([len(h) for h in hulls], dtype=np.int64)
     hull_first = np.concatenate([[0], np.cumsum(hull_count)[:-1]]).astype(np.int64)
     swept = [float(getattr(g.geometry, "getSweptSphereRadius", lambda: 0.0)()) for g in geoms]
-    arm_i = np.concatenate(
-        [[nj, ns, ng], parents, cover.joint, cover.first, cover.count, joints, hull_first, hull_count]
-    ).astype(np.int64)
-    arm_f = np.concatenate(
-        [
-            chain_placements.ravel(),
-            axes.ravel(),
-            centre.ravel(),
-            cover.radius,
-            bound_centre.ravel(),
-            bound_radius,
-            placements.ravel(),
-            arm._lower_tol,
-            arm._upper_tol,
-            swept,
-            np.concatenate(hulls).ravel(),
-        ]
-    ).astype(float)
+    sizes = {"nj": nj, "ns": ns, "ng": ng}
+    arm_i = ARM_I.pack(
+        sizes,
+        {
+            "nj": [nj],
+            "ns": [ns],
+            "ng": [ng],
+            "parents": parents,
+            "sphere_joint": cover.joint,
+            "first": cover.first,
+            "count": cover.count,
+            "geom_joint": joints,
+            "hull_first": hull_first,
+            "hull_count": hull_count,
+        },
+        np.int64,
+    )
+    arm_f = ARM_F.pack(
+        sizes,
+        {
+            "placements": chain_placements,
+            "axes": axes,
+            "sphere_local": centre,
+            "radius": cover.radius,
+            "bound_local": bound_centre,
+            "bound_radius": bound_radius,
+            "geom_placement": placements,
+            "lowest": arm._lower_tol,
+            "highest": arm._upper_tol,
+            "swept": swept,
+            "hull": np.concatenate(hulls),
+        },
+        float,
+    )
     return ArmSpheres(
         arm_f=arm_f,
         arm_i=arm_i,
@@ -329,30 +346,47 @@ class SphereChecks:
             held_half = np.array([sx / 2, sy / 2 if shape == Shape.BOX else sx / 2, sz / 2]) + SPHERE_SLACK_M
             held_local = np.asarray(pose, dtype=float)
         tilt_joint, min_up, up = (0, 0.0, np.zeros(3)) if tilt is None else tilt
-        self._world_f = np.concatenate(
-            [
-                obstacles.poses.ravel(),
-                sizes.ravel(),
-                held_local.ravel(),
-                held_half,
-                [float(held_joint), float(tilt_joint), float(min_up)],
-                np.asarray(up, dtype=float),
+        self._world_f = WORLD_F.pack(
+            {"n_ob": n_ob},
+            {
+                "ob_pose": obstacles.poses,
+                "ob_size": sizes,
+                "held_local": held_local,
+                "held_half": held_half,
+                "held_joint": [float(held_joint)],
+                "tilt_joint": [float(tilt_joint)],
+                "min_up": [float(min_up)],
+                "up_axis": up,
                 # Bounding radii: of the padded shape's bounding box, a hair over (rounding never decides).
-                np.sqrt((half * half).sum(axis=1)) + 1e-9,
-                [math.sqrt(float(held_half @ held_half)) + 1e-9],
-            ]
+                "ob_radius": np.sqrt((half * half).sum(axis=1)) + 1e-9,
+                "held_radius": [math.sqrt(float(held_half @ held_half)) + 1e-9],
+            },
+            float,
         )
-        head = [n_ob, len(self._pairs), int(tilt is not None), 1]
-        self._world_i = np.concatenate([head, self._pairs.ravel()]).astype(np.int64)
+        counts = {"n_ob": n_ob, "n_pairs": len(self._pairs)}
+        self._world_i = WORLD_I.pack(
+            counts,
+            {
+                "n_ob": [n_ob],
+                "n_pairs": [len(self._pairs)],
+                "tilt_checked": [int(tilt is not None)],
+                "limits_checked": [1],
+                "pairs": self._pairs,
+            },
+            np.int64,
+        )
         # For messages: every colliding pair, whatever the joints and the tilt.
         self._world_i_pairs_only = self._world_i.copy()
-        self._world_i_pairs_only[2:4] = 0
+        for check in ("tilt_checked", "limits_checked"):
+            start, end = WORLD_I.span(check, counts)
+            self._world_i_pairs_only[start:end] = 0
         nj, ns, ng = spheres.n_joints, spheres.n_spheres, len(spheres.shapes)
-        held_at = nj * 16 + ns * 3 + ng * 3
-        self._work = np.empty(held_at + 16 + ng * 12 + 24)
-        self._held_pose = self._work[held_at : held_at + 16].reshape(4, 4)
-        self._rotations = self._work[held_at + 16 : held_at + 16 + ng * 9].reshape(ng, 3, 3)
-        self._translations = self._work[held_at + 16 + ng * 9 : held_at + 16 + ng * 12].reshape(ng, 3)
+        work_sizes = {"nj": nj, "ns": ns, "ng": ng}
+        self._work = np.empty(WORK.span("scratch", work_sizes)[1])
+        work = WORK.unpack(self._work, work_sizes)
+        self._held_pose = work["held"][0]
+        self._rotations = work["rotation"]
+        self._translations = work["translation"]
         # One coal transform per geometry (made when first needed), set from the kernel's poses once per state that
         # needs it.
         self._transforms: list[Any | None] = [None] * (ng + 1)  # the held object's last

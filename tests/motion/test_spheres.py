@@ -9,6 +9,7 @@ import pytest
 from scone_bt.config import load_robot
 from scone_bt.motion import ArmModel, CollisionWorld
 from scone_bt.motion.collision import Obstacle
+from scone_bt.motion.kernel_layout import ARM_F, ARM_I
 from scone_bt.motion.model import pose_matrix
 from scone_bt.motion.spheres import arm_spheres, cover_points
 
@@ -40,12 +41,10 @@ def test_every_robot_geometry_lies_in_its_spheres(any_arm):
     """Vertices, random hull points and primitive samples of each geometry, at random joints, in its spheres."""
     spheres = arm_spheres(any_arm, None)
     assert spheres is not None
-    ns = spheres.n_spheres
-    nj = spheres.n_joints
-    centres = spheres.arm_f[nj * 19 : nj * 19 + ns * 3].reshape(ns, 3)
-    radii = spheres.arm_f[nj * 19 + ns * 3 : nj * 19 + ns * 4]
-    first = spheres.arm_i[3 + nj + ns : 3 + nj + ns + len(spheres.shapes)]
-    count = spheres.arm_i[3 + nj + ns + len(spheres.shapes) : 3 + nj + ns + 2 * len(spheres.shapes)]
+    sizes = {"nj": spheres.n_joints, "ns": spheres.n_spheres, "ng": len(spheres.shapes)}
+    floats, ints = ARM_F.unpack(spheres.arm_f, sizes), ARM_I.unpack(spheres.arm_i, sizes)
+    centres, radii = floats["sphere_local"], floats["radius"]
+    first, count = ints["first"], ints["count"]
     rng = np.random.default_rng(1)
     for g, (shape, placement) in enumerate(zip(spheres.shapes, spheres.placements, strict=True)):
         kind = type(shape).__name__
@@ -208,12 +207,10 @@ def test_the_kernel_checks_the_joint_limits_as_within_limits_does(arm):
 
 
 def _hull_arrays(spheres):
-    """The packed hull vertices, first vertex and count per geometry, and swept radii (`compiled`'s layout)."""
-    nj, ns, ng = (int(v) for v in spheres.arm_i[:3])
-    first = spheres.arm_i[3 + nj + ns + 3 * ng : 3 + nj + ns + 4 * ng]
-    count = spheres.arm_i[3 + nj + ns + 4 * ng : 3 + nj + ns + 5 * ng]
-    o = nj * 19 + ns * 4 + ng * 4 + ng * 16 + 2 * (nj - 1)
-    return spheres.arm_f[o + ng :].reshape(-1, 3), first, count, spheres.arm_f[o : o + ng]
+    """The packed hull vertices, first vertex and count per geometry, and swept radii (`kernel_layout`)."""
+    sizes = {"nj": spheres.n_joints, "ns": spheres.n_spheres, "ng": len(spheres.shapes)}
+    floats, ints = ARM_F.unpack(spheres.arm_f, sizes), ARM_I.unpack(spheres.arm_i, sizes)
+    return floats["hull"], ints["hull_first"], ints["hull_count"], floats["swept"]
 
 
 def test_hulls_apart_proves_only_real_gaps(any_arm):
@@ -293,8 +290,9 @@ def test_a_folded_wrist_is_answered_as_pinocchio(arm):
 
 
 def _hull_count_slice(world):
-    nj, ns, ng = (int(v) for v in world._spheres._spheres.arm_i[:3])
-    return slice(3 + nj + ns + 4 * ng, 3 + nj + ns + 5 * ng)
+    spheres = world._spheres._spheres
+    sizes = {"nj": spheres.n_joints, "ns": spheres.n_spheres, "ng": len(spheres.shapes)}
+    return slice(*ARM_I.span("hull_count", sizes))
 
 
 @pytest.mark.parametrize("held", [False, True])
