@@ -26,7 +26,7 @@ def mujoco_backend(request: BackendRequest) -> SimBackend:
 
     if request.gui:
         raise ConfigError(
-            "--gui opens PyBullet's window; --robot mujoco records with rerun instead (--record)"
+            "--gui opens PyBullet's own window; with --robot mujoco watch the run with --viewer or --save"
         )
     mujoco = import_mujoco()
     check_rendering(mujoco)

@@ -144,6 +144,8 @@ class MjKitchen(GroundTruth):
             data.qpos[self.finger_qpos] = cfg.gripper.open_position
         self.set_gripper_properties()
         self.model_version += 1
+        if self._cameras is not None:  # bound to the old model: its renderers go with it
+            self._cameras.close()
         self._cameras = None
         self._covers.clear()
         self.uid = next(_KITCHEN_IDS)
