@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import re
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -353,7 +353,6 @@ def run_benchmark(
         SconeError: no test or no train states.
     """
     from scone_bt.distributed import EngineOptions, imap_tasks
-    from scone_bt.embedding import FinetuneOptions, load_embedder, train_finetuned
 
     opts = options or BenchOptions()
     if not test or not train:
@@ -385,24 +384,10 @@ def run_benchmark(
         seconds[name] = sec
     finetuned: dict[str, object] = {}
     if opts.finetune:
-        base = opts.finetune_base
-        if base == "auto":
-            base = "mpnet" if "mpnet" in opts.embedders and "mpnet" not in skipped else "minilm"
-        t0 = time.perf_counter()
-        encoder = load_embedder(base, opts.cache_dir)
-        log(f"fine-tuning on {base} ({len(train)} train states) ...")
-        examples = [(s.instruction, tuple(sorted(s.relevant)), s.available) for s in train]
-        ft_opts = FinetuneOptions()
-        emb = train_finetuned(examples, encoder, opts.finetune_dir, options=ft_opts)
-        label = f"fine-tuned {base}"
-        rows.append(_embedding_row(label, emb, train, dev, test))
-        seconds[label] = time.perf_counter() - t0
-        finetuned = {
-            "base": base,
-            "dim": emb.dim,
-            "epochs": ft_opts.epochs,
-            "train_seconds": emb.meta.get("train_seconds"),
-        }
+        tuned = _finetuned_row(opts, skipped, train, dev, test, log)
+        rows.append(tuned.row)
+        seconds[tuned.row.name] = tuned.seconds
+        finetuned = tuned.info
     baselines: list[IfScore] = []
     for kind, name in parts:
         if kind != "row":
@@ -418,6 +403,45 @@ def run_benchmark(
         seconds=seconds,
         finetuned=finetuned,
     )
+
+
+@dataclass(frozen=True)
+class _Finetuned:
+    """The fine-tuned embedder's row, the seconds it took (training and scoring) and what the report says of it."""
+
+    row: EmbedderRow
+    seconds: float
+    info: dict[str, object]
+
+
+def _finetuned_row(
+    opts: BenchOptions,
+    skipped: Mapping[str, str],
+    train: Sequence[IfState],
+    dev: Sequence[IfState],
+    test: Sequence[IfState],
+    log: Callable[[str], None],
+) -> _Finetuned:
+    """Fine-tune ``opts.finetune_base`` (auto: mpnet when it was scored, else minilm) on ``train``, and score it."""
+    from scone_bt.embedding import FinetuneOptions, load_embedder, train_finetuned
+
+    base = opts.finetune_base
+    if base == "auto":
+        base = "mpnet" if "mpnet" in opts.embedders and "mpnet" not in skipped else "minilm"
+    t0 = time.perf_counter()
+    encoder = load_embedder(base, opts.cache_dir)
+    log(f"fine-tuning on {base} ({len(train)} train states) ...")
+    examples = [(s.instruction, tuple(sorted(s.relevant)), s.available) for s in train]
+    ft_opts = FinetuneOptions()
+    emb = train_finetuned(examples, encoder, opts.finetune_dir, options=ft_opts)
+    row = _embedding_row(f"fine-tuned {base}", emb, train, dev, test)
+    info: dict[str, object] = {
+        "base": base,
+        "dim": emb.dim,
+        "epochs": ft_opts.epochs,
+        "train_seconds": emb.meta.get("train_seconds"),
+    }
+    return _Finetuned(row, time.perf_counter() - t0, info)
 
 
 def _zeros(state: IfState) -> dict[str, float]:

@@ -92,6 +92,18 @@ def _rollout_value(belief: float, p_success: float, opts: MctsOptions) -> float:
     return p_success * (belief - (1.0 - belief) * opts.wrong_penalty) - (1.0 - p_success) * opts.failure_cost
 
 
+def _backup(root: _Node, path: list[_Node], rewards: list[float], tail: float, discount: float) -> None:
+    """Back the simulation's discounted returns up the nodes of ``path`` (after ``root``), the rollout's ``tail``
+    after the last reward."""
+    ret = tail * discount ** len(rewards)
+    for k in range(len(rewards) - 1, -1, -1):
+        ret = rewards[k] + discount * ret
+        n = path[k + 1]
+        n.visits += 1
+        n.value += (ret - n.value) / n.visits
+    root.visits += 1
+
+
 def mcts_decide(
     remaining: Sequence[str],
     belief: dict[str, float],
@@ -162,14 +174,7 @@ def mcts_decide(
             disc *= opts.discount
             left.remove(a)
             depth += 1
-        # Backup discounted returns.
-        ret = tail * opts.discount ** len(rewards)
-        for k in range(len(rewards) - 1, -1, -1):
-            ret = rewards[k] + opts.discount * ret
-            n = path[k + 1]
-            n.visits += 1
-            n.value += (ret - n.value) / n.visits
-        root.visits += 1
+        _backup(root, path, rewards, tail, opts.discount)
     values = {a: c.value for a, c in root.children.items() if c.visits}
     best = max(values, key=lambda a: (values[a], root.children[a].visits))
     return (None if best == _STOP else best), values

@@ -12,6 +12,7 @@ from __future__ import annotations
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Any, NamedTuple
 
 from scone_bt.instruction_following.states import IfState, item_of_action, mentioned_items
 
@@ -64,6 +65,44 @@ def instruction_goal(instruction: str, items: Sequence[str], head_nouns: bool = 
     return mentioned_items(instruction, items, head_nouns=head_nouns)
 
 
+class _FetchDomain(NamedTuple):
+    """The fetch domain's types, fluents and actions (unified_planning objects)."""
+
+    item_t: Any
+    place_t: Any
+    at: Any
+    holding: Any
+    on_table: Any
+    hand_empty: Any
+    pick: Any
+    place: Any
+
+
+def _fetch_domain(ups: Any) -> _FetchDomain:
+    """Items at slots, one hand: pick an item from its slot into the empty hand, place the held item on the table."""
+    item_t, place_t = ups.UserType("Item"), ups.UserType("Slot")
+    at = ups.Fluent("at", ups.BoolType(), i=item_t, s=place_t)
+    holding = ups.Fluent("holding", ups.BoolType(), i=item_t)
+    on_table = ups.Fluent("on_table", ups.BoolType(), i=item_t)
+    hand_empty = ups.Fluent("hand_empty", ups.BoolType())
+
+    pick = ups.InstantaneousAction("pick", i=item_t, s=place_t)
+    i, s = pick.parameter("i"), pick.parameter("s")
+    pick.add_precondition(at(i, s))
+    pick.add_precondition(hand_empty())
+    pick.add_effect(at(i, s), False)
+    pick.add_effect(holding(i), True)
+    pick.add_effect(hand_empty(), False)
+
+    place = ups.InstantaneousAction("place", i=item_t)
+    j = place.parameter("i")
+    place.add_precondition(holding(j))
+    place.add_effect(holding(j), False)
+    place.add_effect(on_table(j), True)
+    place.add_effect(hand_empty(), True)
+    return _FetchDomain(item_t, place_t, at, holding, on_table, hand_empty, pick, place)
+
+
 def plan_fetches(
     items: Sequence[str],
     locations: dict[str, tuple[int, int]],
@@ -92,26 +131,7 @@ def plan_fetches(
 
     env = ups.get_environment()
     env.credits_stream = None  # the engines' credits banner would go to stdout
-    item_t, place_t = ups.UserType("Item"), ups.UserType("Slot")
-    at = ups.Fluent("at", ups.BoolType(), i=item_t, s=place_t)
-    holding = ups.Fluent("holding", ups.BoolType(), i=item_t)
-    on_table = ups.Fluent("on_table", ups.BoolType(), i=item_t)
-    hand_empty = ups.Fluent("hand_empty", ups.BoolType())
-
-    pick = ups.InstantaneousAction("pick", i=item_t, s=place_t)
-    i, s = pick.parameter("i"), pick.parameter("s")
-    pick.add_precondition(at(i, s))
-    pick.add_precondition(hand_empty())
-    pick.add_effect(at(i, s), False)
-    pick.add_effect(holding(i), True)
-    pick.add_effect(hand_empty(), False)
-
-    place = ups.InstantaneousAction("place", i=item_t)
-    j = place.parameter("i")
-    place.add_precondition(holding(j))
-    place.add_effect(holding(j), False)
-    place.add_effect(on_table(j), True)
-    place.add_effect(hand_empty(), True)
+    item_t, place_t, at, holding, on_table, hand_empty, pick, place = _fetch_domain(ups)
 
     problem = ups.Problem("fetch")
     for f in (at, holding, on_table, hand_empty):

@@ -295,6 +295,80 @@ _NO_HELD_POSE, _NO_HELD_HALF = np.eye(4), np.zeros(3)
 _NO_HELD_POSE.flags.writeable = _NO_HELD_HALF.flags.writeable = False
 
 
+@dataclass(frozen=True, eq=False)
+class _PackedWorld:
+    """A collision world packed for `compiled.pair_candidates` (`kernel_layout.WORLD_F`, `WORLD_I`): its floats,
+    its ints, the ints with the joint-limit and tilt checks off (for messages: every colliding pair), and the held
+    object's name ("" when none)."""
+
+    world_f: np.ndarray
+    world_i: np.ndarray
+    world_i_pairs_only: np.ndarray
+    held_name: str
+
+
+def _pack_world(
+    pairs: np.ndarray,
+    obstacles: Obstacles,
+    padding: float,
+    held: tuple[str, str, Sequence[float], np.ndarray, int] | None,
+    tilt: tuple[int, float, np.ndarray] | None,
+) -> _PackedWorld:
+    """`SphereChecks`' world arrays (its arguments of the same names)."""
+    n_ob = len(obstacles.names)
+    half = obstacles.sizes / 2 + padding
+    box = np.array([shape == Shape.BOX for shape in obstacles.shapes], dtype=bool)
+    # A cylinder's (radius, half height, -1), as the kernel reads it.
+    sizes = half.copy()
+    cylinder = ~box
+    sizes[cylinder, 1] = half[cylinder, 2]
+    sizes[cylinder, 2] = -1.0
+    held_local, held_half, held_joint = _NO_HELD_POSE, _NO_HELD_HALF, -1
+    held_name = ""
+    if held is not None:
+        held_name, shape, dims, pose, held_joint = held
+        sx, sy, sz = (float(v) for v in dims)
+        # The held shape's bounding box (a cylinder's too), grown by the slack.
+        held_half = np.array([sx / 2, sy / 2 if shape == Shape.BOX else sx / 2, sz / 2]) + SPHERE_SLACK_M
+        held_local = np.asarray(pose, dtype=float)
+    tilt_joint, min_up, up = (0, 0.0, np.zeros(3)) if tilt is None else tilt
+    world_f = WORLD_F.pack(
+        {"n_ob": n_ob},
+        {
+            "ob_pose": obstacles.poses,
+            "ob_size": sizes,
+            "held_local": held_local,
+            "held_half": held_half,
+            "held_joint": [float(held_joint)],
+            "tilt_joint": [float(tilt_joint)],
+            "min_up": [float(min_up)],
+            "up_axis": up,
+            # Bounding radii: of the padded shape's bounding box, a hair over (rounding never decides).
+            "ob_radius": np.sqrt((half * half).sum(axis=1)) + 1e-9,
+            "held_radius": [math.sqrt(float(held_half @ held_half)) + 1e-9],
+        },
+        float,
+    )
+    counts = {"n_ob": n_ob, "n_pairs": len(pairs)}
+    world_i = WORLD_I.pack(
+        counts,
+        {
+            "n_ob": [n_ob],
+            "n_pairs": [len(pairs)],
+            "tilt_checked": [int(tilt is not None)],
+            "limits_checked": [1],
+            "pairs": pairs,
+        },
+        np.int64,
+    )
+    # For messages: every colliding pair, whatever the joints and the tilt.
+    pairs_only = world_i.copy()
+    for check in ("tilt_checked", "limits_checked"):
+        start, end = WORLD_I.span(check, counts)
+        pairs_only[start:end] = 0
+    return _PackedWorld(world_f, world_i, pairs_only, held_name)
+
+
 class SphereChecks:
     """One collision world's checks: the spheres' broad phase, then coal's GJK on the pairs it leaves.
 
@@ -328,58 +402,11 @@ class SphereChecks:
         self._kernel = compiled.pair_candidates
         self._first = compiled.first_candidates
         self._spheres = spheres
-        n_ob = len(obstacles.names)
         self._pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 3)
-        half = obstacles.sizes / 2 + padding
-        box = np.array([shape == Shape.BOX for shape in obstacles.shapes], dtype=bool)
-        # A cylinder's (radius, half height, -1), as the kernel reads it.
-        sizes = half.copy()
-        cylinder = ~box
-        sizes[cylinder, 1] = half[cylinder, 2]
-        sizes[cylinder, 2] = -1.0
-        held_local, held_half, held_joint = _NO_HELD_POSE, _NO_HELD_HALF, -1
-        self._held_name = ""
-        if held is not None:
-            self._held_name, shape, dims, pose, held_joint = held
-            sx, sy, sz = (float(v) for v in dims)
-            # The held shape's bounding box (a cylinder's too), grown by the slack.
-            held_half = np.array([sx / 2, sy / 2 if shape == Shape.BOX else sx / 2, sz / 2]) + SPHERE_SLACK_M
-            held_local = np.asarray(pose, dtype=float)
-        tilt_joint, min_up, up = (0, 0.0, np.zeros(3)) if tilt is None else tilt
-        self._world_f = WORLD_F.pack(
-            {"n_ob": n_ob},
-            {
-                "ob_pose": obstacles.poses,
-                "ob_size": sizes,
-                "held_local": held_local,
-                "held_half": held_half,
-                "held_joint": [float(held_joint)],
-                "tilt_joint": [float(tilt_joint)],
-                "min_up": [float(min_up)],
-                "up_axis": up,
-                # Bounding radii: of the padded shape's bounding box, a hair over (rounding never decides).
-                "ob_radius": np.sqrt((half * half).sum(axis=1)) + 1e-9,
-                "held_radius": [math.sqrt(float(held_half @ held_half)) + 1e-9],
-            },
-            float,
-        )
-        counts = {"n_ob": n_ob, "n_pairs": len(self._pairs)}
-        self._world_i = WORLD_I.pack(
-            counts,
-            {
-                "n_ob": [n_ob],
-                "n_pairs": [len(self._pairs)],
-                "tilt_checked": [int(tilt is not None)],
-                "limits_checked": [1],
-                "pairs": self._pairs,
-            },
-            np.int64,
-        )
-        # For messages: every colliding pair, whatever the joints and the tilt.
-        self._world_i_pairs_only = self._world_i.copy()
-        for check in ("tilt_checked", "limits_checked"):
-            start, end = WORLD_I.span(check, counts)
-            self._world_i_pairs_only[start:end] = 0
+        packed = _pack_world(self._pairs, obstacles, padding, held, tilt)
+        self._held_name = packed.held_name
+        self._world_f, self._world_i = packed.world_f, packed.world_i
+        self._world_i_pairs_only = packed.world_i_pairs_only
         nj, ns, ng = spheres.n_joints, spheres.n_spheres, len(spheres.shapes)
         work_sizes = {"nj": nj, "ns": ns, "ng": ng}
         self._work = np.empty(WORK.span("scratch", work_sizes)[1])

@@ -145,6 +145,48 @@ def _material_colours(root: ET.Element, where: str) -> dict[str, tuple[float, ..
     return colours
 
 
+def _element_visual(
+    elem: ET.Element, name: str, source: str, where: str, path: Path, colours: dict[str, tuple[float, ...]]
+) -> LinkVisual | str:
+    """One ``<visual>`` (or ``<collision>``) element of link ``name`` as a drawable, or why it is skipped."""
+    lw = f"{where} link {name} {source}"
+    pos, quat = _origin(elem.find("origin"), lw)
+    rgba: tuple[float, ...] = _DEFAULT_RGBA
+    mat = elem.find("material")
+    if mat is not None:
+        colour = mat.find("color")
+        if colour is not None:
+            rgba = _floats(colour.get("rgba"), 4, _DEFAULT_RGBA, f"{lw} material")
+        else:
+            rgba = colours.get(mat.get("name", ""), _DEFAULT_RGBA)
+    geom = elem.find("geometry")
+    shape = geom[0] if geom is not None and len(geom) else None
+    common: dict[str, Any] = {"link": name, "position": pos, "quaternion": quat, "rgba": rgba}
+    if shape is None:
+        return f"{name}: {source} without geometry"
+    if shape.tag == "mesh":
+        filename = shape.get("filename", "")
+        suffix = Path(filename).suffix.lower()
+        if suffix not in MESH_SUFFIXES:
+            return f"{name}: mesh format {suffix or '(none)'} not drawable (use {', '.join(MESH_SUFFIXES)})"
+        mesh = _resolve_mesh(filename, path)
+        if mesh is None:
+            return f"{name}: mesh {filename!r} not found"
+        scale = _floats(shape.get("scale"), 3, (1.0, 1.0, 1.0), f"{lw} mesh scale")
+        return LinkVisual(kind="mesh", mesh=mesh, scale=scale, **common)
+    if shape.tag == "box":
+        size = _floats(shape.get("size"), 3, (0.0, 0.0, 0.0), f"{lw} box size")
+        return LinkVisual(kind="box", size=size, **common)
+    if shape.tag == "cylinder":
+        r = float(shape.get("radius", 0.0))
+        length = float(shape.get("length", 0.0))
+        return LinkVisual(kind="cylinder", size=(r, r, length), **common)
+    if shape.tag == "sphere":
+        r = float(shape.get("radius", 0.0))
+        return LinkVisual(kind="sphere", size=(r, r, r), **common)
+    return f"{name}: geometry <{shape.tag}> not drawable (use mesh, box, cylinder, sphere)"
+
+
 def read_robot_visuals(urdf: str | Path, source: str = "visual") -> RobotVisuals:
     """Parse the drawable geometry of every link.
 
@@ -181,48 +223,11 @@ def read_robot_visuals(urdf: str | Path, source: str = "visual") -> RobotVisuals
                     inertial.find("origin"), f"{where} link {name} inertial"
                 )
         for elem in link.findall(source):
-            lw = f"{where} link {name} {source}"
-            pos, quat = _origin(elem.find("origin"), lw)
-            rgba: tuple[float, ...] = _DEFAULT_RGBA
-            mat = elem.find("material")
-            if mat is not None:
-                colour = mat.find("color")
-                if colour is not None:
-                    rgba = _floats(colour.get("rgba"), 4, _DEFAULT_RGBA, f"{lw} material")
-                else:
-                    rgba = colours.get(mat.get("name", ""), _DEFAULT_RGBA)
-            geom = elem.find("geometry")
-            shape = geom[0] if geom is not None and len(geom) else None
-            common: dict[str, Any] = {"link": name, "position": pos, "quaternion": quat, "rgba": rgba}
-            if shape is None:
-                skipped.append(f"{name}: {source} without geometry")
-            elif shape.tag == "mesh":
-                filename = shape.get("filename", "")
-                suffix = Path(filename).suffix.lower()
-                mesh = _resolve_mesh(filename, path) if suffix in MESH_SUFFIXES else None
-                if suffix not in MESH_SUFFIXES:
-                    skipped.append(
-                        f"{name}: mesh format {suffix or '(none)'} not drawable (use {', '.join(MESH_SUFFIXES)})"
-                    )
-                elif mesh is None:
-                    skipped.append(f"{name}: mesh {filename!r} not found")
-                else:
-                    scale = _floats(shape.get("scale"), 3, (1.0, 1.0, 1.0), f"{lw} mesh scale")
-                    visuals.append(LinkVisual(kind="mesh", mesh=mesh, scale=scale, **common))
-            elif shape.tag == "box":
-                size = _floats(shape.get("size"), 3, (0.0, 0.0, 0.0), f"{lw} box size")
-                visuals.append(LinkVisual(kind="box", size=size, **common))
-            elif shape.tag == "cylinder":
-                r = float(shape.get("radius", 0.0))
-                length = float(shape.get("length", 0.0))
-                visuals.append(LinkVisual(kind="cylinder", size=(r, r, length), **common))
-            elif shape.tag == "sphere":
-                r = float(shape.get("radius", 0.0))
-                visuals.append(LinkVisual(kind="sphere", size=(r, r, r), **common))
+            found = _element_visual(elem, name, source, where, path, colours)
+            if isinstance(found, str):
+                skipped.append(found)
             else:
-                skipped.append(
-                    f"{name}: geometry <{shape.tag}> not drawable (use mesh, box, cylinder, sphere)"
-                )
+                visuals.append(found)
     return RobotVisuals(
         name=root.get("name", path.stem),
         root_link=root_name,
