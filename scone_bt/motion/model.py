@@ -154,9 +154,7 @@ class ArmModel:
         self.ee_frame = self.model.getFrameId(robot.end_effector_frame)
         self.ee_joint = self.model.frames[self.ee_frame].parentJoint
         self._local = threading.local()
-        # geometry_with_fingers' templates, by position: at most FINGER_MODELS_KEPT (emptied when full), since an
-        # arm shared by the episodes of a process meets a new position with every new product width.
-        self._finger_models: dict[float | None, Any] = {}
+        self._finger_models: dict[float | None, Any] = {}  # by finger position; bound: FINGER_MODELS_KEPT
         self.lower = np.array(self.model.lowerPositionLimit, dtype=float)
         self.upper = np.array(self.model.upperPositionLimit, dtype=float)
         self._lower_tol, self._upper_tol = self.lower - 1e-9, self.upper + 1e-9

@@ -43,7 +43,7 @@ def test_the_robots_dependencies_hold_no_lab_bench_and_dev_installs_every_extra(
     assert not {_name(r) for r in project["dependencies"]} & LAB_BENCH
     extras = project["optional-dependencies"]
     assert set(extras) >= {"study", "bench", "fleet", "dev"}
-    assert "scone-bt[study,bench,fleet]" in extras["dev"]
+    assert "scone-bt[study,bench,fleet,mujoco]" in extras["dev"]
 
 
 def _run(code: str, timeout: int = 600) -> subprocess.CompletedProcess[str]:

@@ -75,8 +75,10 @@ def test_config_reference_has_every_tree_parameter_and_robot_key():
     for model in (TreeParameters, RobotFile):
         for key in model.model_fields:
             assert f"| `{key}` |" in page, key
-    # the shipped tree file's comments describe the keys
-    assert "at most this share of the robot's attempts may fail" in page
+    # the model's own descriptions (the one declaration of each tree setting) describe the keys
+    assert TreeParameters.model_fields["target_failure_rate"].description in page
+    # and the shipped files' comments describe the keys a model leaves undescribed
+    assert "room the fingers need beyond the object" in page
 
 
 def test_scenario_schema_page_lists_the_top_level_keys():
