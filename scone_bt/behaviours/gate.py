@@ -257,7 +257,7 @@ class ConfidenceGate(StageBehaviour):
                 target.detection,
                 self.read(Keys.DETECTIONS, []),
                 self.read(Keys.TABLE_DETECTIONS, None),
-                self.seeds.next_seed(),  # type: ignore[union-attr]
+                self.seeds.next_seed(),
             )
             key = scene_key(request)
             known = self._infeasible.get(key)
@@ -383,7 +383,7 @@ class DecisionIs(StageBehaviour):
         self.kind = DecisionKind(kind)
 
     @classmethod
-    def from_context(cls, name: str, context: EpisodeContext, kind: str) -> DecisionIs:  # type: ignore[override]
+    def from_context(cls, name: str, context: EpisodeContext, kind: str) -> DecisionIs:
         return cls(name, kind)
 
     def update(self) -> py_trees.common.Status:

@@ -21,7 +21,10 @@ from scone_bt.perception.camera import Camera, project
 from scone_bt.perception.types import Detection
 
 if TYPE_CHECKING:
-    from scone_bt.world import Kitchen
+    from scone_bt.world import Kitchen as _PyBulletKitchen
+    from scone_bt.world.mj_kitchen import MjKitchen
+
+    Kitchen = _PyBulletKitchen | MjKitchen
 
 __all__ = ["GroundTruth", "FrameScore", "ground_truth", "score_frame", "summarise"]
 
@@ -109,7 +112,7 @@ def ground_truth(kitchen: Kitchen, camera: Camera) -> list[GroundTruth]:
     eye = np.asarray(camera.spec.position, dtype=float)
     for name, body in kitchen.objects.items():
         points, top, yaw = _sample_points(kitchen, name)
-        seen = sum(1 for hit in kitchen.ray_bodies(eye, points) if hit == body)
+        hits = sum(1 for hit in kitchen.ray_bodies(eye, points) if hit == body)
         uv, z = project(points, camera.intrinsics, camera.world_from_camera)
         in_view = bool(
             np.all(z > 0)
@@ -123,7 +126,7 @@ def ground_truth(kitchen: Kitchen, camera: Camera) -> list[GroundTruth]:
                 name,
                 cast("tuple[float, float, float]", tuple(float(v) for v in top)),
                 yaw,
-                seen / len(points),
+                hits / len(points),
                 in_view,
             )
         )

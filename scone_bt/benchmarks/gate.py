@@ -43,6 +43,7 @@ import sys
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -110,6 +111,11 @@ def replay_rules(gate: str, alpha: float, opening_m: float) -> GateRules:
     return GateRules(GateOptions(confidence_threshold=0.5))
 
 
+def _explores(explore_fn: Callable[[np.ndarray], np.ndarray], row: np.ndarray) -> bool:
+    """The paper's ε-greedy κ̂'s draw for one row."""
+    return bool(explore_fn(row)[0])
+
+
 class _LazyDraw(Sequence[bool]):
     """One candidate's exploration draw, taken when the gate reads it (only below τ)."""
 
@@ -119,7 +125,7 @@ class _LazyDraw(Sequence[bool]):
     def __len__(self) -> int:
         return 1
 
-    def __getitem__(self, i):  # type: ignore[no-untyped-def]
+    def __getitem__(self, i):
         return self._draw()
 
 
@@ -193,7 +199,7 @@ def replay_stream(
             ranked=(RankedAction(product, 1.0),),
             confidences=(float(belief(row)[0]),),
             # the paper's ε-greedy κ̂ draws only when asked (below τ), as it did before the gate was shared
-            kappa_explores=_LazyDraw(lambda r=row: bool(explore_fn(r)[0])) if explore_fn is not None else (),
+            kappa_explores=_LazyDraw(partial(_explores, explore_fn, row)) if explore_fn is not None else (),
             objects={product: product},
             widths_m={product: float(widths[t])},
             counts=counts,

@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import argparse
 import typing
-from typing import Any
+from collections.abc import Callable
+from typing import Any, cast
 
 from scone_bt.errors import SconeError
 
@@ -36,8 +37,9 @@ def add_tree_options(parser: argparse.ArgumentParser | argparse._ArgumentGroup) 
         elif typing.get_origin(kind) is typing.Literal:
             parser.add_argument(flag_of(name), choices=typing.get_args(kind), default=None, help=text)
         else:
-            metavar = {float: "NUMBER", int: "N"}.get(kind, "NAME")  # type: ignore[call-overload]
-            parser.add_argument(flag_of(name), type=kind, default=None, metavar=metavar, help=text)
+            convert = cast(Callable[[str], Any], kind)  # float, int or str: each parses its own text
+            metavar = "NUMBER" if kind is float else "N" if kind is int else "NAME"
+            parser.add_argument(flag_of(name), type=convert, default=None, metavar=metavar, help=text)
 
 
 def _bounds(name: str) -> str | None:

@@ -244,9 +244,13 @@ def _section_words(error: Mapping[str, Any], section: dict[str, Any]) -> str:
         return f"grasp.{shown} is not a grasp setting; valid: {', '.join(sorted(_GraspSection.model_fields))}"
     raw = section[key]
     kind, value = error["type"], error.get("input")
-    number = isinstance(value, int | float)
-    below_zero = number and value < 0
-    if key in _POSITIVE and kind in ("greater_than", "greater_than_equal") and number and value <= 0:
+    below_zero = isinstance(value, int | float) and value < 0
+    if (
+        key in _POSITIVE
+        and kind in ("greater_than", "greater_than_equal")
+        and isinstance(value, int | float)
+        and value <= 0
+    ):
         return f"grasp.{key} must be positive, got {raw!r}"
     if kind == "finite_number" or (kind == "greater_than_equal" and below_zero):
         return f"grasp.{key} must be non-negative and finite, got {raw!r}"

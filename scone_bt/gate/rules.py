@@ -152,7 +152,7 @@ class _BudgetDraws(Sequence[bool]):
     def __len__(self) -> int:
         return len(self._seen.ranked)
 
-    def __getitem__(self, i):  # type: ignore[no-untyped-def]
+    def __getitem__(self, i):
         if isinstance(i, slice):
             return [self[j] for j in range(len(self))[i]]
         # never explore an action that already failed: its failure is the lesson
@@ -201,7 +201,11 @@ def name_object(decision: Decision, seen: GateInput, rules: GateRules) -> Decisi
 
 def ask_if_too_wide(decision: Decision, seen: GateInput, rules: GateRules) -> Decision:
     """ASK-HELP instead of ACT (or exploring) for a product measured wider than the gripper opens."""
-    if decision.kind is not DecisionKind.ACT or decision.action not in seen.objects:
+    if (
+        decision.kind is not DecisionKind.ACT
+        or decision.action is None
+        or decision.action not in seen.objects
+    ):
         return decision
     width = seen.widths_m.get(decision.action)
     if not too_wide(width, rules.opening_m):

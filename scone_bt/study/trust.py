@@ -33,6 +33,7 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import asdict, dataclass, field, replace
+from typing import Any
 
 import numpy as np
 
@@ -164,8 +165,8 @@ def trust_parameters(name: str, **overrides: float) -> TrustParameters:
     if name not in TRUST_PARAMETER_SETS:
         raise UnknownNameError("trust parameters", name, TRUST_PARAMETER_SETS)
     if name == "hand":
-        return TrustParameters(**overrides)
-    return TrustParameters(transfer=load_fitted(), **overrides)
+        return TrustParameters(**dict[str, Any](overrides))
+    return TrustParameters(**dict[str, Any](transfer=load_fitted(), **overrides))
 
 
 @functools.lru_cache(maxsize=2)

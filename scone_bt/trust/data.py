@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import csv
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -198,7 +199,7 @@ def _record(path: Path, n: int, row: dict[str, str], tasks: dict[int, TrustTask]
     )
 
 
-def _check_columns(path: Path, header: list[str] | None, needed: tuple[str, ...]) -> None:
+def _check_columns(path: Path, header: Sequence[str] | None, needed: tuple[str, ...]) -> None:
     missing = [c for c in needed if c not in (header or [])]
     if missing:
         raise TrustDataError(

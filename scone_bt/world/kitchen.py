@@ -340,7 +340,7 @@ class Kitchen:
         pos, orn = self.bc.getBasePositionAndOrientation(body)
         return ObjectState(name, body, tuple(pos), tuple(orn))
 
-    def ray_bodies(self, start: Sequence[float], ends: np.ndarray) -> list[int]:
+    def ray_bodies(self, start: Sequence[float] | np.ndarray, ends: np.ndarray) -> list[int]:
         """The body id each ray from ``start`` to a row of ``ends`` (n, 3) hits first, -1 where none (metres)."""
         hits = self.bc.rayTestBatch([list(map(float, start))] * len(ends), np.asarray(ends).tolist())
         return [int(hit[0]) for hit in hits]

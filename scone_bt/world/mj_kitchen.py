@@ -205,7 +205,7 @@ class MjKitchen(GroundTruth):
         w, x, y, z = (float(c) for c in self.data.xquat[body])
         return ObjectState(name, body, tuple(float(c) for c in self.data.xpos[body]), (x, y, z, w))  # type: ignore[arg-type]
 
-    def ray_bodies(self, start: Sequence[float], ends: np.ndarray) -> list[int]:
+    def ray_bodies(self, start: Sequence[float] | np.ndarray, ends: np.ndarray) -> list[int]:
         """The body id each ray from ``start`` to a row of ``ends`` (n, 3) hits first, -1 where none (metres).
 
         Every geom counts, the products' looks and covers included (a cover hides what is behind it)."""
@@ -473,7 +473,7 @@ class MjKitchen(GroundTruth):
 
     def link_poses(self) -> dict[str, tuple[tuple[float, ...], tuple[float, ...]]]:
         """World pose (position, quaternion xyzw) of every robot link, by link name; the base is 'base'."""
-        out = {}
+        out: dict[str, tuple[tuple[float, ...], tuple[float, ...]]] = {}
         d = self.data
         for b in sorted(self.robot_bodies):
             w, x, y, z = (float(c) for c in d.xquat[b])

@@ -26,7 +26,7 @@ def test_bad_backend_is_one_line_naming_the_backends(capsys):
     err = capsys.readouterr().err
     assert (
         err
-        == "scone-run: error: --robot 'real': unknown robot backend; valid: sim (the robot file is --arm)\n"
+        == "scone-run: error: --robot 'real': unknown robot backend; valid: mujoco, sim (the robot file is --arm)\n"
     )
 
 
