@@ -584,7 +584,12 @@ def _replay(
         cold = _method(streams, default_estimator, "budget", default_target, args, taught=taught)
     else:
         cold = default[f"{default_target:g}"]
-    warm = _method(streams, default_estimator, "budget", default_target, args, fleet=True, taught=taught)
+    # The fleet-warm variant relearns the other streams' 1,000 rows at every update: --no-sweep leaves it out.
+    warm = (
+        None
+        if args.no_sweep
+        else _method(streams, default_estimator, "budget", default_target, args, fleet=True, taught=taught)
+    )
     extra: dict[str, Any] = {}
     if taught is not None:
         extra["cross_engine"] = _cross_engine(args, streams, taught, default_estimator)
@@ -600,7 +605,9 @@ def _replay(
             "attempt_failure_rate_seen": cold["attempt_failure_rate_seen"],
             "attempt_success_rate": cold["attempt_success_rate"],
             "help_rate": cold["help_rate"],
-            "fleet_warm": {
+            "fleet_warm": None
+            if warm is None
+            else {
                 k: warm[k]
                 for k in (
                     "attempt_failure_rate",
@@ -759,7 +766,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--no-sweep",
         action="store_true",
-        help="replay only the tree's default gate (and --prior's cross-engine figures), not every method and α",
+        help="replay only the tree's default gate, cold (and --prior's cross-engine figures): no method sweep, "
+        "no fleet-warm variant",
     )
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
