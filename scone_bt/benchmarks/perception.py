@@ -71,8 +71,11 @@ def run(args: argparse.Namespace) -> int:
 
         check_rendering(import_mujoco())
         from scone_bt.world.mj_kitchen import MjKitchen as Kitchen
+        from scone_bt.world.mj_truth import first_bodies as rays
     else:
         from scone_bt.world import Kitchen  # type: ignore[assignment]
+
+        rays = None
     robot_cfg = load_robot(args.arm)
     slots = len(kitchen_cfg.scene.shelf_slots())
     catalogue = kitchen_cfg.catalogue
@@ -154,7 +157,7 @@ def run(args: argparse.Namespace) -> int:
                 per_camera = [shoot(key, cam, kitchen, rng) for cam in cameras]
                 # Shelf cameras are scored on the shelf's products (the table is the table camera's).
                 merged = [d for d in merge_detections(per_camera) if kitchen_cfg.scene.on_shelf(d.position)]
-                truth = _merge_truth([ground_truth(kitchen, cam) for cam in cameras])
+                truth = _merge_truth([ground_truth(kitchen, cam, rays) for cam in cameras])
                 scores[key].append(score_frame(merged, [t for t in truth if t.name in shelf_names]))
             if table_camera is not None:
                 detections = [
@@ -162,7 +165,7 @@ def run(args: argparse.Namespace) -> int:
                     for d in shoot("table", table_camera, kitchen, rng)
                     if kitchen_cfg.scene.on_table(d.position)
                 ]
-                truth = [t for t in ground_truth(kitchen, table_camera) if kitchen.is_on_table(t.name)]
+                truth = [t for t in ground_truth(kitchen, table_camera, rays) if kitchen.is_on_table(t.name)]
                 scores["table"].append(score_frame(detections, truth))
 
     def report(key: str) -> dict[str, float | int]:

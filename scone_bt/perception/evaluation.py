@@ -1,16 +1,16 @@
 """Scoring detections against the simulator's ground truth (benchmarks and tests only).
 
-This module reads ground truth from the kitchen (PyBullet's, or MuJoCo's through `world.mj_truth`); the robot's own
-stages never import it. An object counts as
+This module reads ground truth from the kitchen (PyBullet's, or another engine's given its ray test, e.g.
+`world.mj_truth.first_bodies`); the robot's own stages never import it. An object counts as
 unoccluded when rays from the camera reach every sample point of its marker (corners and centre) on the object's
 own collision shape, and every sample point projects inside the image.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, cast
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -74,24 +74,36 @@ class FrameScore:
     yaw_errors: tuple[float, ...]
 
 
-def _first_bodies(kitchen: Kitchen, eye: np.ndarray, points: np.ndarray) -> list[int]:
-    """The body each ray from ``eye`` to a point hits first (-1: none), on the kitchen's engine."""
-    bc = getattr(kitchen, "bc", None)
-    if bc is None:  # a MuJoCo kitchen (world.mj_kitchen): its rays are MuJoCo's
-        from scone_bt.world.mj_truth import first_bodies
+RayTest = Callable[[Any, np.ndarray, np.ndarray], list[int]]
+"""(kitchen, eye, (n, 3) points) → the body each segment from the eye to a point hits first (-1: none)."""
 
-        return first_bodies(kitchen, eye, points)
+
+def _first_bodies(kitchen: Kitchen, eye: np.ndarray, points: np.ndarray, rays: RayTest | None) -> list[int]:
+    """The body each ray from ``eye`` to a point hits first (-1: none): PyBullet's, or the engine's ``rays``."""
+    if rays is not None:
+        return rays(kitchen, eye, points)
+    bc = kitchen.bc
     return [hit[0] for hit in bc.rayTestBatch([eye.tolist()] * len(points), points.tolist())]
+
+
+def _rotation(quaternion: Sequence[float]) -> np.ndarray:
+    """(3, 3) rotation of a unit quaternion (x, y, z, w)."""
+    x, y, z, w = (float(c) for c in quaternion)
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
 
 
 def _pose(kitchen: Kitchen, name: str) -> tuple[np.ndarray, np.ndarray]:
     """A product's position and rotation matrix now (ground truth, either engine)."""
     bc = getattr(kitchen, "bc", None)
-    if bc is None:
-        from scone_bt.world.ground_truth import rotation_of
-
+    if bc is None:  # another engine's kitchen: its ground-truth pose (world.ground_truth.ObjectState)
         state = kitchen.object_state(name)
-        return np.asarray(state.position, dtype=float), rotation_of(state.orientation)
+        return np.asarray(state.position, dtype=float), _rotation(state.orientation)
     pos, orn = bc.getBasePositionAndOrientation(kitchen.objects[name])
     return np.asarray(pos, dtype=float), np.array(bc.getMatrixFromQuaternion(orn)).reshape(3, 3)
 
@@ -111,13 +123,19 @@ def _sample_points(kitchen: Kitchen, name: str) -> tuple[np.ndarray, np.ndarray,
     return points, top, float(np.arctan2(rot[1, 0], rot[0, 0]))
 
 
-def ground_truth(kitchen: Kitchen, camera: Camera) -> list[GroundTruth]:
-    """Truth for every object in the kitchen, as seen from `camera`."""
+def ground_truth(kitchen: Kitchen, camera: Camera, rays: RayTest | None = None) -> list[GroundTruth]:
+    """Truth for every object in the kitchen, as seen from `camera`.
+
+    Args:
+        kitchen: The simulated kitchen (PyBullet's, or another engine's with ``rays``).
+        camera: The camera whose view is scored.
+        rays: The engine's ray test (e.g. `world.mj_truth.first_bodies`); None: PyBullet's.
+    """
     out = []
     eye = np.asarray(camera.spec.position, dtype=float)
     for name, body in kitchen.objects.items():
         points, top, yaw = _sample_points(kitchen, name)
-        seen = sum(1 for hit in _first_bodies(kitchen, eye, points) if hit == body)
+        seen = sum(1 for hit in _first_bodies(kitchen, eye, points, rays) if hit == body)
         uv, z = project(points, camera.intrinsics, camera.world_from_camera)
         in_view = bool(
             np.all(z > 0)
