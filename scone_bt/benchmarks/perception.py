@@ -63,6 +63,8 @@ def run(args: argparse.Namespace) -> int:
         check_range(noise, "--noise", 0.0, 255.0)
     kitchen_cfg = load_kitchen(args.kitchen, args.catalogue or ())
     engine = check_backend(args.robot)
+    kitchen_type: Any  # the engine's kitchen class
+    rays: Any  # the engine's ray test for the ground truth (None: PyBullet's)
     if engine not in ("sim", "mujoco"):
         raise ConfigError(f"scone-bench perception --robot {engine}: it renders on sim (PyBullet) or mujoco")
     if engine == "mujoco":  # the extra and headless rendering, one line each, before any scene is built
@@ -70,12 +72,14 @@ def run(args: argparse.Namespace) -> int:
         from scone_bt.world.mj_model import import_mujoco
 
         check_rendering(import_mujoco())
-        from scone_bt.world.mj_kitchen import MjKitchen as Kitchen
-        from scone_bt.world.mj_truth import first_bodies as rays
-    else:
-        from scone_bt.world import Kitchen  # type: ignore[assignment]
+        from scone_bt.world.mj_kitchen import MjKitchen
+        from scone_bt.world.mj_truth import first_bodies
 
-        rays = None
+        kitchen_type, rays = MjKitchen, first_bodies
+    else:
+        from scone_bt.world import Kitchen
+
+        kitchen_type, rays = Kitchen, None
     robot_cfg = load_robot(args.arm)
     slots = len(kitchen_cfg.scene.shelf_slots())
     catalogue = kitchen_cfg.catalogue
@@ -145,7 +149,7 @@ def run(args: argparse.Namespace) -> int:
         else:
             raise ConfigError(f"--objects {objects}: no draw of that many products fits the shelving")
         with c_stdout_silenced():
-            kitchen = Kitchen(kitchen_cfg, robot_cfg)
+            kitchen = kitchen_type(kitchen_cfg, robot_cfg)
         with kitchen:
             kitchen.spawn_planned(specs, places)
             for spec in specs[objects:]:
