@@ -388,7 +388,6 @@ MUJOCO_BACKEND_MODULES = frozenset(
         "scone_bt.world.mj_camera",
         "scone_bt.world.mj_kitchen",
         "scone_bt.world.mj_model",
-        "scone_bt.world.mj_truth",
         "scone_bt.robot.mujoco_sim",
     }
 )

@@ -606,7 +606,7 @@ def _replay(
     taught = taught_oracle = None
     if args.prior is not None:
         taught = _load(args, oracle=False, folder=Path(args.prior))
-        taught_oracle = _load(args, oracle=True, folder=Path(args.prior))
+        taught_oracle = None if args.no_sweep else _load(args, oracle=True, folder=Path(args.prior))
         missing = [n for n in streams.names if n not in taught.names]
         if missing:
             raise SconeError(
@@ -614,25 +614,31 @@ def _replay(
                 "κ̂ learns the same-named dataset before each stream"
             )
     methods: dict[str, dict[str, Any]] = {}
-    for est in estimators:
+    for est in estimators if not args.no_sweep else ():
         for gate in ("budget", "fixed"):
             methods[f"{gate}:{est}"] = {
                 f"{a:g}": _method(streams, est, gate, a, args, taught=taught) for a in TARGETS
             }
-    methods["conformal"] = {
-        f"{a:g}": _method(streams, "conformal", "conformal", a, args, taught=taught) for a in TARGETS
-    }
-    methods["paper"] = {"0.5": _method(streams, "eps-knn", "paper", 0.5, args, taught=taught)}
-    oracle = _load(args, oracle=True)
-    methods["oracle"] = {
-        f"{a:g}": _method(oracle, "physical", "budget", a, args, taught=taught_oracle) for a in TARGETS
-    }
-    default = methods[f"budget:{default_estimator}"] if default_estimator in estimators else None
+    if not args.no_sweep:
+        methods["conformal"] = {
+            f"{a:g}": _method(streams, "conformal", "conformal", a, args, taught=taught) for a in TARGETS
+        }
+        methods["paper"] = {"0.5": _method(streams, "eps-knn", "paper", 0.5, args, taught=taught)}
+        oracle = _load(args, oracle=True)
+        methods["oracle"] = {
+            f"{a:g}": _method(oracle, "physical", "budget", a, args, taught=taught_oracle) for a in TARGETS
+        }
+    default = methods.get(f"budget:{default_estimator}")
     if default is None or f"{default_target:g}" not in default:
         cold = _method(streams, default_estimator, "budget", default_target, args, taught=taught)
     else:
         cold = default[f"{default_target:g}"]
-    warm = _method(streams, default_estimator, "budget", default_target, args, fleet=True, taught=taught)
+    # The fleet-warm variant relearns the other streams' 1,000 rows at every update: --no-sweep leaves it out.
+    warm = (
+        None
+        if args.no_sweep
+        else _method(streams, default_estimator, "budget", default_target, args, fleet=True, taught=taught)
+    )
     extra: dict[str, Any] = {}
     if taught is not None:
         extra["cross_engine"] = _cross_engine(args, streams, taught, default_estimator)
@@ -648,7 +654,9 @@ def _replay(
             "attempt_failure_rate_seen": cold["attempt_failure_rate_seen"],
             "attempt_success_rate": cold["attempt_success_rate"],
             "help_rate": cold["help_rate"],
-            "fleet_warm": {
+            "fleet_warm": None
+            if warm is None
+            else {
                 k: warm[k]
                 for k in (
                     "attempt_failure_rate",
@@ -804,6 +812,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--distractors", type=int, default=4, help="distractor products per episode")
     add_robot_options(p, arm_help="robot file of the episodes (--episodes): a name in robots/ or a YAML path")
     p.add_argument("--no-replay", action="store_true", help="episodes only (skip the dataset replay)")
+    p.add_argument(
+        "--no-sweep",
+        action="store_true",
+        help="replay only the tree's default gate, cold (and --prior's cross-engine figures): no method sweep, "
+        "no fleet-warm variant",
+    )
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     p.add_argument("--json", type=Path, help="also write the JSON report to this file")

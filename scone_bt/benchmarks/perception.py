@@ -1,7 +1,8 @@
 """``scone-bench perception``: detection accuracy of the shelf and table cameras on seeded scenes (JSON).
 
 ``--robot`` picks the engine that renders (``sim``: PyBullet's TinyRenderer, ``mujoco``: MuJoCo's renderer, with
-MuJoCo's rays for the ground truth); the scenes, the detector and the scoring are the same.
+MuJoCo's rays for the ground truth, through the kitchen's `ray_bodies`); the scenes, the detector and the
+scoring are the same.
 
 Each scene stocks the shelving with a random draw of the catalogue (21 products by default, drawn again if they
 do not fit side by side; random slots, heaviest lowest, random yaws, settled by physics, the arm at home) and puts
@@ -63,6 +64,7 @@ def run(args: argparse.Namespace) -> int:
         check_range(noise, "--noise", 0.0, 255.0)
     kitchen_cfg = load_kitchen(args.kitchen, args.catalogue or ())
     engine = check_backend(args.robot)
+    kitchen_type: Any  # the engine's kitchen class
     if engine not in ("sim", "mujoco"):
         raise ConfigError(f"scone-bench perception --robot {engine}: it renders on sim (PyBullet) or mujoco")
     if engine == "mujoco":  # the extra and headless rendering, one line each, before any scene is built
@@ -70,9 +72,13 @@ def run(args: argparse.Namespace) -> int:
         from scone_bt.world.mj_model import import_mujoco
 
         check_rendering(import_mujoco())
-        from scone_bt.world.mj_kitchen import MjKitchen as Kitchen
+        from scone_bt.world.mj_kitchen import MjKitchen
+
+        kitchen_type = MjKitchen
     else:
-        from scone_bt.world import Kitchen  # type: ignore[assignment]
+        from scone_bt.world import Kitchen
+
+        kitchen_type = Kitchen
     robot_cfg = load_robot(args.arm)
     slots = len(kitchen_cfg.scene.shelf_slots())
     catalogue = kitchen_cfg.catalogue
@@ -142,7 +148,7 @@ def run(args: argparse.Namespace) -> int:
         else:
             raise ConfigError(f"--objects {objects}: no draw of that many products fits the shelving")
         with c_stdout_silenced():
-            kitchen = Kitchen(kitchen_cfg, robot_cfg)
+            kitchen = kitchen_type(kitchen_cfg, robot_cfg)
         with kitchen:
             kitchen.spawn_planned(specs, places)
             for spec in specs[objects:]:

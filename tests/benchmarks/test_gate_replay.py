@@ -259,3 +259,44 @@ def test_the_report_is_out_before_the_figure_and_a_figure_replaces_only_a_figure
     gate._plot(report, old)  # an empty figure is still a figure
     assert "<svg" in old.read_text() and (old.stat().st_mode & 0o777) == 0o640
     assert sorted(p.name for p in tmp_path.iterdir()) == ["g.json", "old.svg"]  # no temporary left
+
+
+def test_prior_teaches_the_same_robot_first_and_reports_the_gap(tmp_path: Path, capsys) -> None:
+    """--prior DIR: κ̂ first learns the same-named stream of DIR; the report pairs the executions and says when
+    the budget keeps its promise again. The prior here is the same outcomes with one execution flipped."""
+    from scone_bt.benchmarks.cross_engine import CROSS_ENGINE_TARGETS
+
+    moved = _tiny_datasets(tmp_path / "moved")
+    prior = tmp_path / "prior"
+    prior.mkdir()
+    for name in ("a", "b"):
+        lines = (moved / f"{name}.csv").read_text().splitlines()
+        if name == "a":  # execution 2 succeeded on the other engine
+            cells = lines[3].split(",")
+            assert cells[0] == "2"
+            cells[4], cells[5] = ("failure", "grasp") if cells[4] == "success" else ("success", "")
+            lines[3] = ",".join(cells)
+        (prior / f"{name}.csv").write_text("\n".join(lines) + "\n")
+    base = ["gate", "--datasets", str(moved), "--embedder", "onehot", "--warmup", "3", "--no-sweep"]
+    out = tmp_path / "g.json"
+    assert main([*base, "--prior", str(prior), "--json", str(out)]) == 0
+    report = json.loads(out.read_text())
+    assert report["methods"] == {} and report["prior_datasets"] == ["a", "b"]
+    cross = report["cross_engine"]
+    assert set(cross["default"]) == {f"{a:g}" for a in CROSS_ENGINE_TARGETS}
+    for row in cross["default"].values():
+        for label in ("prior", "cold"):
+            assert set(row[label]["recovery_decisions"]) == {"a", "b"}
+            assert isinstance(row[label]["meets_target"], bool)
+    gap = cross["profiles"]
+    assert gap["b"]["flipped"] == [] and gap["b"]["success_rate"] == gap["b"]["success_rate_prior"]
+    assert [f["index"] for f in gap["a"]["flipped"]] == [2] and gap["a"]["matched"] == 15
+    assert cross["pooled"]["matched"] == 30
+    # cold (no --prior) has no cross-engine section; a prior without the stream is one line
+    assert main([*base, "--json", str(tmp_path / "cold.json")]) == 0
+    assert "cross_engine" not in json.loads((tmp_path / "cold.json").read_text())
+    (prior / "b.csv").unlink()
+    capsys.readouterr()
+    assert main([*base, "--prior", str(prior)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "--prior" in err and "no dataset 'b'" in err and "\n" not in err
