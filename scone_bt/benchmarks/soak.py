@@ -163,7 +163,7 @@ def _plot(samples: list[EpisodeSample], warmup: int, path: Path) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run the soak; print the JSON report (and write it to --json, the plot to --plot)."""
     from scone_bt.behaviours import BehaviourOptions
-    from scone_bt.checks import check_positive_int
+    from scone_bt.checks import check_output_file, check_positive_int
     from scone_bt.config import load_robot
     from scone_bt.episode import EpisodeOptions, run_episode
     from scone_bt.episode.resources import ModelPool
@@ -175,6 +175,9 @@ def run(args: argparse.Namespace) -> int:
     check_positive_int(args.max_steps, "--max-steps")
     backend_factory(args.robot)  # an unknown backend is one line now
     load_robot(args.arm)
+    if args.plot:  # before hours of episodes: a file the plot must not replace is one line now
+        inputs = {"--json": [args.json]} if args.json else {}
+        check_output_file(Path(args.plot), "--plot", kind="image", inputs=inputs, force=args.force)
     recipes = corpus_recipes(args.episodes, args.seed, args.max_steps)
     samples: list[EpisodeSample] = []
     started = time.perf_counter()

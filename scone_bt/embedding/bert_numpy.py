@@ -22,8 +22,8 @@ import numpy as np
 __all__ = ["NumpyBert", "TOLERANCE", "supports"]
 
 TOLERANCE = 1e-5
-"""Largest difference of any vector component from sentence-transformers' vector of the same text (both unit
-length; measured: under 1e-6 on the corpus's texts)."""
+"""Largest difference allowed (and tested: tests/embedding/test_bert_numpy.py) of any vector component from
+sentence-transformers' unit vector of the same text."""
 
 _MODULES = [
     "sentence_transformers.models.Transformer",
