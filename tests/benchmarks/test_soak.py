@@ -34,7 +34,9 @@ def test_an_unknown_backend_is_one_line_before_an_episode_runs(monkeypatch, caps
 
     monkeypatch.setattr("scone_bt.episode.run_episode", never)
     assert main(["soak", "--robot", "nosuch", "--quiet"]) == 2
-    assert capsys.readouterr().err == "scone-bench: unknown robot backend 'nosuch'; valid: sim\n"
+    assert capsys.readouterr().err == (
+        "scone-bench: --robot 'nosuch': unknown robot backend; valid: mujoco, sim (the robot file is --arm)\n"
+    )
 
 
 @pytest.mark.slow
