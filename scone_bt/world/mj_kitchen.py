@@ -536,6 +536,14 @@ class MjKitchen(GroundTruth):
         mj.mj_kinematics(m, d)
         self.state_version += 1
 
+    def bodies(self) -> int:
+        """Bodies in the compiled model now (the world, the scene, the arm's links, the products)."""
+        return int(self.model.nbody)
+
+    def constraints(self) -> int:
+        """Equality constraints in the model now (the fingers' coupling; a grasp is contacts, not a constraint)."""
+        return int(self.model.neq)
+
     def close(self) -> None:
         if self._cameras is not None:
             self._cameras.close()

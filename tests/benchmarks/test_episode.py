@@ -29,5 +29,5 @@ def test_an_unknown_robot_is_refused_before_an_episode_runs(monkeypatch, capsys)
     # --robot is the backend in every command: a robot file there is told to use --arm
     assert main(["episode", "--robot", "panda", "--quiet"]) == 2
     err = capsys.readouterr().err
-    assert err.startswith("scone-bench: --robot 'panda': --robot names the robot backend (sim)")
+    assert err.startswith("scone-bench: --robot 'panda': --robot names the robot backend (mujoco, sim)")
     assert err.endswith("give the robot file with --arm panda\n") and err.count("\n") == 1

@@ -47,12 +47,18 @@ def test_episode_shows_which_episode_runs_unless_quiet(monkeypatch, capsys, quie
 
     ran: list[str] = []
 
-    def fake_run_episode(options, printer):  # noqa: ANN001, ANN202
+    def fake_run_episode(options, printer, **kwargs):  # noqa: ANN001, ANN003, ANN202
         ran.append(options.recipe)
         return _summary(options.recipe)
 
     monkeypatch.setattr(scone_bt.episode, "run_episode", fake_run_episode)
-    argv = ["episode", "--recipes", "example:hummus,example:pancakes", *(["--quiet"] if quiet else [])]
+    argv = [
+        "episode",
+        "--recipes",
+        "example:hummus,example:pancakes",
+        "--no-cold",
+        *(["--quiet"] if quiet else []),
+    ]
     assert main(argv) == 0
     out, err = capsys.readouterr()
     assert ran == ["example:hummus", "example:pancakes"]

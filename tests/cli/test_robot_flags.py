@@ -42,7 +42,8 @@ def test_robot_is_a_backend_and_arm_a_robot_file_in_every_command() -> None:
         robot, arm = _option(parser, "--robot"), _option(parser, "--arm")
         if robot is not None:
             with_robot.append(name)
-            assert robot.default in registry.BACKENDS, name
+            # a scenario command's default is None: each file's world.robot names its backend
+            assert robot.default is None or robot.default in registry.BACKENDS, name
             assert "backend" in (robot.help or ""), name
         if arm is not None:
             assert robot is not None, f"{name}: --arm without --robot"
@@ -67,7 +68,9 @@ def test_robot_is_a_backend_and_arm_a_robot_file_in_every_command() -> None:
 def test_a_backend_added_to_the_registry_is_accepted_by_name(monkeypatch) -> None:
     monkeypatch.setitem(registry.BACKENDS, "other", registry.BACKENDS["sim"])
     assert robot_options.check_backend("other") == "other"
-    with pytest.raises(SconeError, match=r"^--robot 'nosuch': unknown robot backend; valid: other, sim "):
+    with pytest.raises(
+        SconeError, match=r"^--robot 'nosuch': unknown robot backend; valid: mujoco, other, sim "
+    ):
         robot_options.check_backend("nosuch")
 
 
@@ -87,20 +90,22 @@ def test_episodes_run_on_the_named_backend(monkeypatch, capsys) -> None:
 
 
 @pytest.mark.parametrize(
-    "argv",
+    ("argv", "says"),
     [
-        ["perception", "--scenes", "1"],
-        ["sc", "generate", "--executions", "1"],
-        ["scale", "--executions", "1"],
-        ["motion", "--queries", "1"],
-        ["physics", "--queries", "1"],
+        (["perception", "--scenes", "1"], "it renders on sim (PyBullet) or mujoco"),
+        (["sc", "generate", "--executions", "1"], "the generator runs on sim, mujoco"),
+        (["scale", "--executions", "1"], "only --robot sim is supported"),
+        (["motion", "--queries", "1"], "only --robot sim is supported"),
+        (["physics", "--queries", "1"], "only --robot sim is supported"),
     ],
 )
-def test_benchmarks_that_build_pybullet_directly_refuse_another_backend(argv, monkeypatch, capsys) -> None:
+def test_benchmarks_that_build_an_engine_directly_refuse_another_backend(
+    argv, says, monkeypatch, capsys
+) -> None:
     monkeypatch.setitem(registry.BACKENDS, "other", registry.BACKENDS["sim"])
     assert bench.main([*argv, "--robot", "other"]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "--robot other" in err and "only --robot sim is supported" in err
+    assert err.count("\n") == 1 and "--robot other" in err and says in err
 
 
 @pytest.mark.parametrize("command", [["episode"], ["sc", "generate"], ["gate", "--no-replay"]])
@@ -108,7 +113,7 @@ def test_a_robot_file_given_to_robot_in_scone_bench_says_to_use_arm(command, cap
     assert bench.main([*command, "--robot", "robots/iiwa7.yaml"]) == 2
     err = capsys.readouterr().err
     assert err == (
-        "scone-bench: --robot 'robots/iiwa7.yaml': --robot names the robot backend (sim); "
+        "scone-bench: --robot 'robots/iiwa7.yaml': --robot names the robot backend (mujoco, sim); "
         "give the robot file with --arm robots/iiwa7.yaml\n"
     )
 
