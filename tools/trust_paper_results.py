@@ -2,7 +2,8 @@
 clear-nus/human-trust-transfer) into tools/data/trust/paper_results.json, so `scone-bench trust` reads JSON, never
 pickles. Run once against a checkout or bare mirror of that repository:
 
-    python tools/trust_paper_results.py --git-dir /work/.mirror/clear-nus+human-trust-transfer/repo
+    git clone --bare https://github.com/clear-nus/human-trust-transfer mirror.git
+    python tools/trust_paper_results.py --git-dir mirror.git
 
 Each pickle holds, per test fold, (MAE, NLL, array of [predicted, true] trust on the sigmoid(rating - 3.5) scale).
 The file names follow the paper's notebook (ModelComparison.ipynb): <domain>_<model>_<latent dim>_<split>_<mode>.
