@@ -47,9 +47,9 @@ from pathlib import Path
 from scone_bt.behaviours import BehaviourOptions
 from scone_bt.episode import EpisodeOptions, run_episode
 from scone_bt.quiet import c_stdout_silenced
-robot, recipe, seed, distractors, max_ticks, cache = sys.argv[1:7]
+arm, backend, recipe, seed, distractors, max_ticks, cache = sys.argv[1:8]
 options = EpisodeOptions(
-    robot=robot, recipe=recipe, seed=int(seed), distractors=int(distractors), max_ticks=int(max_ticks),
+    robot=arm, backend=backend, recipe=recipe, seed=int(seed), distractors=int(distractors), max_ticks=int(max_ticks),
     behaviour=BehaviourOptions(seed=int(seed), cache_dir=Path(cache)),
 )
 with c_stdout_silenced():
@@ -59,7 +59,7 @@ print(json.dumps({"first": summary.startup_to_first_decision_s, "wall": summary.
 
 
 def cold_first_decision(
-    robot: str, recipe: str, seed: int, distractors: int, max_ticks: int
+    arm: str, backend: str, recipe: str, seed: int, distractors: int, max_ticks: int
 ) -> dict[str, Any]:
     """The episode run in a fresh process with an empty embedding cache: its first decision's and end's wall
     seconds from the episode's start (``first``, ``wall``)."""
@@ -71,7 +71,7 @@ def cold_first_decision(
     from scone_bt.errors import SconeError
 
     with tempfile.TemporaryDirectory(prefix="scone-cold-cache-") as cache:
-        args = [robot, recipe, str(seed), str(distractors), str(max_ticks), cache]
+        args = [arm, backend, recipe, str(seed), str(distractors), str(max_ticks), cache]
         done = subprocess.run(
             [sys.executable, "-c", _COLD_SCRIPT, *args], capture_output=True, text=True, check=False
         )
@@ -156,7 +156,7 @@ def run(args: argparse.Namespace) -> int:
     cold = (
         None
         if args.no_cold
-        else cold_first_decision(args.robot, recipes[0], args.seed, args.distractors, args.max_ticks)
+        else cold_first_decision(args.arm, args.robot, recipes[0], args.seed, args.distractors, args.max_ticks)
     )
     firsts = [
         e["startup_to_first_decision_s"] for e in episodes if e["startup_to_first_decision_s"] is not None
