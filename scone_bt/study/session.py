@@ -53,9 +53,16 @@ def run_study_session(
         "trust_shown": server.state.trust_shown,
     }
     sid = log.start_session(plan, info)
-    server.state.on_trust_view = lambda shown: log.record_event(
-        sid, "trust_view", {"sim_time": round(server.state.sim_time, 3), "shown": shown, "by": "researcher"}
-    )
+
+    def trust_view(shown: bool) -> None:
+        """The researcher showed or hid the estimated trust on the tablet: stored when it happened."""
+        log.record_event(
+            sid,
+            "trust_view",
+            {"sim_time": round(server.state.sim_time, 3), "shown": shown, "by": "researcher"},
+        )
+
+    server.state.on_trust_view = trust_view
     server.state.label = f"{plan.participant} · session {plan.session_index}"
     printer(
         f"session {sid}: participant {plan.participant}, group {plan.group.value}, session {plan.session_index}, self-confidence {plan.condition.value}"

@@ -336,7 +336,7 @@ class TabletState:
         """What a page shows: the participant's tablet gets the estimated trust only while it is shown; the
         researcher's page always gets it, and whether the participant sees it."""
         with self._lock:
-            view = {"trust_shown": self.trust_shown} if researcher else {}
+            view: dict[str, Any] = {"trust_shown": self.trust_shown} if researcher else {}
             if researcher or self.trust_shown:
                 view["trust"] = [dict(r) for r in self.trust]
             return view | {

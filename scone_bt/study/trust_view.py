@@ -24,7 +24,7 @@ __all__ = ["BlackboardOffer", "RISK_WORDS", "TrustRow", "TrustView", "trust_rows
 RISK_WORDS: Mapping[str, str] = {
     "over": "over-trust risk: likely trusted more than the robot's confidence warrants",
     "under": "under-trust risk: similar actions were seen to fail, but the robot is confident",
-    "": "no risk flagged: trust and the robot's confidence are close",
+    "": "no risk flagged",
 }
 """What each risk (`scone_bt.trust.estimate.classify_risk`) means, in the words the study view shows."""
 
