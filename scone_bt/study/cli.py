@@ -67,6 +67,12 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="start the episode at once instead of waiting for Start on the tablet or the researcher's page",
     )
+    s.add_argument(
+        "--show-trust",
+        action="store_true",
+        help="show the person's estimated trust on the participant's tablet from the start (default: hidden; "
+        "the researcher's page always shows it and has a switch for the participant's view)",
+    )
 
     m = sub.add_parser(
         "simulate",
@@ -482,7 +488,9 @@ def _session(args: argparse.Namespace) -> int:
     log = _open_log(args.db, expect_existing=False)
     if log.simulated:
         raise SconeError(f"{args.db} holds SIMULATED data; record real sessions in another file")
-    server = serve_tablet(args.host, args.port, args.token, start_gate=not args.autostart)
+    server = serve_tablet(
+        args.host, args.port, args.token, start_gate=not args.autostart, trust_shown=args.show_trust
+    )
     try:
         sid, summary = run_study_session(log, plan, options, server, questionnaires=not args.no_questionnaire)
     finally:

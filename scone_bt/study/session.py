@@ -28,7 +28,8 @@ def run_study_session(
 
     With the server's start gate the episode is built, then waits in "Waiting to start" until the participant or
     the researcher presses Start; a ``start`` event (who, and the wall seconds waited) is stored then, and
-    simulated time and the episode's events begin after it.
+    simulated time and the episode's events begin after it. Each time the researcher shows or hides the person's
+    estimated trust on the participant's tablet, a ``trust_view`` record (shown, and the simulated time) is stored.
 
     Returns:
         The session id and the EpisodeSummary.
@@ -48,8 +49,20 @@ def run_study_session(
         # simulated seconds the robot announces each attempt before moving (the time to take over)
         "takeover_window_s": resolved.takeover_window_s,
         "start_gate": server.state.start_gate,
+        # the participant's tablet shows the person's estimated trust (changes: the trust_view records)
+        "trust_shown": server.state.trust_shown,
     }
     sid = log.start_session(plan, info)
+
+    def trust_view(shown: bool) -> None:
+        """The researcher showed or hid the estimated trust on the tablet: stored when it happened."""
+        log.record_event(
+            sid,
+            "trust_view",
+            {"sim_time": round(server.state.sim_time, 3), "shown": shown, "by": "researcher"},
+        )
+
+    server.state.on_trust_view = trust_view
     server.state.label = f"{plan.participant} · session {plan.session_index}"
     printer(
         f"session {sid}: participant {plan.participant}, group {plan.group.value}, session {plan.session_index}, self-confidence {plan.condition.value}"

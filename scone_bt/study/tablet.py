@@ -60,9 +60,12 @@ class TabletState:
     Args:
         start_gate: The episode waits in "Waiting to start" until the participant or the researcher presses Start
             (`start`, `wait_start`); False starts it at once (scone-run --ui, --autostart).
+        trust_shown: The participant's tablet shows the person's estimated trust (`set_trust`) from the start; the
+            researcher's page always shows it, and its switch changes this for the rest of the session
+            (`show_trust`).
     """
 
-    def __init__(self, start_gate: bool = False) -> None:
+    def __init__(self, start_gate: bool = False, trust_shown: bool = False) -> None:
         self._lock = threading.Lock()
         self._version = 0
         self.start_gate = start_gate
@@ -88,6 +91,9 @@ class TabletState:
         self._storing: set[str] = set()  # claimed by a submission whose answers are being written
         self._on_submit: Callable[[str, dict[str, float | None]], None] | None = None
         self.questionnaires_done = threading.Event()
+        self.trust_shown = trust_shown
+        self.trust: list[dict[str, Any]] = []  # the study view's rows (`scone_bt.study.trust_view.TrustRow`)
+        self.on_trust_view: Callable[[bool], None] | None = None  # told each change of `trust_shown`
 
     def _touch(self) -> None:
         self._version += 1
@@ -104,6 +110,7 @@ class TabletState:
             self._fetches.clear()
             self._confirmed.clear()
             self.feed.clear()
+            self.trust = []
             self._touch()
 
     def sync_recipe(self, step_index: int, step_done: Sequence[bool]) -> None:
@@ -192,6 +199,12 @@ class TabletState:
             self.robot["window_until"] = None
             self._touch()
 
+    def set_trust(self, rows: Sequence[dict[str, Any]]) -> None:
+        """The person's estimated trust per action on offer, as of the latest decision."""
+        with self._lock:
+            self.trust = [dict(r) for r in rows]
+            self._touch()
+
     def note(self, line: str) -> None:
         with self._lock:
             self.feed.appendleft(line)
@@ -253,6 +266,20 @@ class TabletState:
             self._touch()
             return self.takeover_object
 
+    # ----------------------------------------------------------------------------------------- researcher side
+    def show_trust(self, shown: bool) -> bool:
+        """The researcher shows (True) or hides the estimated trust on the participant's tablet; False if it was
+        so already. `on_trust_view` hears each change (in the caller's thread, after the lock)."""
+        with self._lock:
+            if shown == self.trust_shown:
+                return False
+            self.trust_shown = shown
+            self._touch()
+            callback = self.on_trust_view
+        if callback is not None:
+            callback(shown)
+        return True
+
     # ----------------------------------------------------------------------------------------- questionnaires
     def ask(
         self,
@@ -305,9 +332,14 @@ class TabletState:
             self._touch()
 
     # ----------------------------------------------------------------------------------------- view
-    def snapshot(self) -> dict[str, Any]:
+    def snapshot(self, researcher: bool = False) -> dict[str, Any]:
+        """What a page shows: the participant's tablet gets the estimated trust only while it is shown; the
+        researcher's page always gets it, and whether the participant sees it."""
         with self._lock:
-            return {
+            view: dict[str, Any] = {"trust_shown": self.trust_shown} if researcher else {}
+            if researcher or self.trust_shown:
+                view["trust"] = [dict(r) for r in self.trust]
+            return view | {
                 "version": self._version,
                 "phase": self.phase.value,
                 "can_start": self.ready and not self._started.is_set(),

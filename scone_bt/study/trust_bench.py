@@ -18,12 +18,14 @@ import argparse
 import json
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from scone_bt.errors import SconeError
+from scone_bt.study.design import Condition
 
-__all__ = ["register", "evaluate_split", "calibration", "PAPER_RESULTS", "BASELINES"]
+__all__ = ["register", "evaluate_split", "calibration", "CALIBRATION_SETTINGS", "PAPER_RESULTS", "BASELINES"]
 
 PAPER_RESULTS = Path(__file__).resolve().parents[2] / "tools" / "data" / "trust" / "paper_results.json"
 BASELINES: tuple[str, ...] = ("constant", "gp", "pmgp", "pogp", "lineargaussian", "rnn")
@@ -112,17 +114,71 @@ def _bench(args: argparse.Namespace) -> int:
     return 0
 
 
-def calibration(participants: int, steps: int, seed: int) -> dict:
-    """Simulated studies with the fitted participants: self-confidence off, on, and on with trust_aware.
+CALIBRATION_SETTINGS: tuple[tuple[str, Condition, bool], ...] = (
+    ("self_confidence_off", Condition.OFF, False),
+    ("self_confidence_on", Condition.ON, False),
+    ("trust_aware", Condition.ON, True),
+    ("trust_aware_self_confidence_off", Condition.OFF, True),
+)
+"""The calibration report's settings, in order: label, self-confidence condition, trust_aware."""
 
-    At every decision on an action, the robot's online estimate of the person's trust (OnlineTrust, a person of
-    unknown disposition) is compared with the true success probability of the action (its calibration gap) and
-    with the simulated person's own trust; the risks it flags are counted.
+
+class _CalibrationTally:
+    """An event sink over one simulated participant's episodes that adds what the report averages to `acc`.
+
+    At every decision on an action, the robot's online estimate of the person's trust (`online`) is compared with
+    the action's true success probability and with the simulated person's own trust; the risk it flags is kept.
     """
+
+    def __init__(self, robot: Any, person: Any, online: Any, acc: dict[str, list]) -> None:
+        self.robot, self.person, self.online, self.acc = robot, person, online, acc
+
+    def __call__(self, event: Any) -> None:
+        from scone_bt.events import ActStarted, ConfidenceStated, DecisionMade
+        from scone_bt.gate.types import DecisionKind
+
+        robot, person, acc = self.robot, self.person, self.acc
+        if isinstance(event, DecisionMade) and event.action and event.object_name:
+            name = event.object_name
+            est = self.online.estimate(event.sim_time, {event.action: (name, robot.confidence[name])})[0]
+            own = person.trust_in(event.action)
+            acc["est_gap"].append(abs(est.trust - robot.success[name]))
+            acc["person_gap"].append(abs(own - robot.success[name]))
+            acc["tracking"].append(abs(est.trust - own))
+            acc["risk"].append(est.risk)
+            acc["acts"].append(event.verdict is DecisionKind.ACT)
+        elif isinstance(event, ActStarted):  # after any spoken warning (trust_aware)
+            acc["act_gap"].append(abs(person.trust_in(event.action) - robot.success[event.object_name]))
+        elif isinstance(event, ConfidenceStated):
+            acc["warned"].append(event.object_name)
+        self.online(event)
+
+
+def _calibration_summary(acc: dict[str, list], attempts: int) -> dict[str, Any]:
+    """One setting's numbers in the report (see `calibration`)."""
+    risk, acts = np.array(acc["risk"]), np.array(acc["acts"], dtype=bool)
+    return {
+        "decisions": len(risk),
+        "acting_decisions": int(acts.sum()),
+        "attempts": attempts,
+        "calibration_gap_estimate": round(float(np.mean(acc["est_gap"])), 4),
+        "calibration_gap_person": round(float(np.mean(acc["person_gap"])), 4),
+        "calibration_gap_person_at_acts": round(float(np.mean(acc["act_gap"])), 4)
+        if acc["act_gap"]
+        else None,
+        "warnings_spoken": len(acc["warned"]),
+        "estimate_vs_person_mae": round(float(np.mean(acc["tracking"])), 4),
+        "over_trust_rate": round(float(np.mean(risk == "over")), 4),
+        "under_trust_rate": round(float(np.mean(risk == "under")), 4),
+        "over_trust_rate_when_acting": round(float(np.mean(risk[acts] == "over")), 4) if acts.any() else None,
+    }
+
+
+def calibration(participants: int, steps: int, seed: int) -> dict:
+    """Simulated studies with the fitted participants in each of `CALIBRATION_SETTINGS` (`_CalibrationTally`
+    says what is compared at each decision); label -> that setting's numbers."""
     from scone_bt.config import load_kitchen
-    from scone_bt.events import ActStarted, ConfidenceStated, DecisionMade, Event
-    from scone_bt.gate.types import DecisionKind
-    from scone_bt.study.design import Condition, assign_group
+    from scone_bt.study.design import assign_group
     from scone_bt.study.synthetic import SyntheticOptions, SyntheticRobot, run_synthetic_episode
     from scone_bt.study.trust import SimulatedParticipant, trust_parameters
     from scone_bt.trust.estimate import OnlineTrust
@@ -133,13 +189,7 @@ def calibration(participants: int, steps: int, seed: int) -> dict:
     model = TransferModel(params.transfer)
     names = tuple(load_kitchen().catalogue.names())
     out = {}
-    settings = (
-        ("self_confidence_off", Condition.OFF, False),
-        ("self_confidence_on", Condition.ON, False),
-        ("trust_aware", Condition.ON, True),
-        ("trust_aware_self_confidence_off", Condition.OFF, True),
-    )
-    for label, condition, aware in settings:
+    for label, condition, aware in CALIBRATION_SETTINGS:
         acc: dict[str, list] = {
             k: [] for k in ("est_gap", "person_gap", "tracking", "risk", "acts", "act_gap", "warned")
         }
@@ -147,53 +197,16 @@ def calibration(participants: int, steps: int, seed: int) -> dict:
         for i in range(participants):
             robot = SyntheticRobot.sample(names, seed * 1_000 + i)
             person = SimulatedParticipant(f"SIM{i + 1:03d}", assign_group(i), params, seed=seed * 100_003 + i)
-            online = OnlineTrust(model)
-
-            def sink(event: Event, robot=robot, person=person, online=online, acc=acc) -> None:  # noqa: ANN001
-                if isinstance(event, DecisionMade) and event.action and event.object_name:
-                    name = event.object_name
-                    est = online.estimate(event.sim_time, {event.action: (name, robot.confidence[name])})[0]
-                    own = person.trust_in(event.action)
-                    acc["est_gap"].append(abs(est.trust - robot.success[name]))
-                    acc["person_gap"].append(abs(own - robot.success[name]))
-                    acc["tracking"].append(abs(est.trust - own))
-                    acc["risk"].append(est.risk)
-                    acc["acts"].append(event.verdict is DecisionKind.ACT)
-                elif isinstance(event, ActStarted):  # after any spoken warning (trust_aware)
-                    acc["act_gap"].append(
-                        abs(person.trust_in(event.action) - robot.success[event.object_name])
-                    )
-                elif isinstance(event, ConfidenceStated):
-                    acc["warned"].append(event.object_name)
-                online(event)
-
             summary = run_synthetic_episode(
                 robot,
                 condition,
                 person,
-                sink,
+                _CalibrationTally(robot, person, OnlineTrust(model), acc),
                 seed * 1_000 + 10 * i,
                 SyntheticOptions(steps=steps, trust_aware=aware),
             )
             attempts += summary["attempted"]
-        risk, acts = np.array(acc["risk"]), np.array(acc["acts"], dtype=bool)
-        out[label] = {
-            "decisions": len(risk),
-            "acting_decisions": int(acts.sum()),
-            "attempts": attempts,
-            "calibration_gap_estimate": round(float(np.mean(acc["est_gap"])), 4),
-            "calibration_gap_person": round(float(np.mean(acc["person_gap"])), 4),
-            "calibration_gap_person_at_acts": round(float(np.mean(acc["act_gap"])), 4)
-            if acc["act_gap"]
-            else None,
-            "warnings_spoken": len(acc["warned"]),
-            "estimate_vs_person_mae": round(float(np.mean(acc["tracking"])), 4),
-            "over_trust_rate": round(float(np.mean(risk == "over")), 4),
-            "under_trust_rate": round(float(np.mean(risk == "under")), 4),
-            "over_trust_rate_when_acting": round(float(np.mean(risk[acts] == "over")), 4)
-            if acts.any()
-            else None,
-        }
+        out[label] = _calibration_summary(acc, attempts)
     return out
 
 

@@ -24,6 +24,7 @@ from scone_bt.events import ActOutcome, ActStarted, DecisionMade, Event, EventSi
 from scone_bt.gate.types import DecisionKind
 from scone_bt.study.questionnaires import QUESTIONNAIRES, Questionnaire
 from scone_bt.study.tablet import AlreadySubmittedError, TabletHuman, TabletState
+from scone_bt.study.trust_view import TrustView
 from scone_bt.study.ui_args import MIN_TOKEN_LENGTH, add_ui_arguments
 
 __all__ = [
@@ -294,7 +295,7 @@ def reachable_address(host: str) -> str:
     return "127.0.0.1"
 
 
-def _schemas() -> tuple[Any, Any]:
+def _schemas() -> tuple[Any, Any, Any]:
     from typing import Annotated
 
     from pydantic import BaseModel, ConfigDict, Field, TypeAdapter
@@ -304,12 +305,19 @@ def _schemas() -> tuple[Any, Any]:
 
         model_config = ConfigDict(extra="forbid", strict=True)
 
+    class TrustSwitch(BaseModel):
+        """The researcher's switch: show the estimated trust on the participant's tablet, or hide it."""
+
+        model_config = ConfigDict(extra="forbid", strict=True)  # strict: no "true", no 1
+        shown: bool
+
     answer = Annotated[float, Field(strict=True, allow_inf_nan=False)]  # strict: no "3", no true
-    return TypeAdapter(NoFields), TypeAdapter(dict[str, answer | None])
+    return TypeAdapter(NoFields), TypeAdapter(dict[str, answer | None]), TypeAdapter(TrustSwitch)
 
 
-NO_FIELDS, ANSWERS = _schemas()
-"""The schemas of the write endpoints' bodies: a button press, a questionnaire's answers."""
+NO_FIELDS, ANSWERS, TRUST_SWITCH = _schemas()
+"""The schemas of the write endpoints' bodies: a button press, a questionnaire's answers, the researcher's
+trust switch."""
 
 
 def _validated(schema: Any, raw: bytes, allow_empty: bool) -> Any:
@@ -339,19 +347,9 @@ def _page(name: str = "tablet.html") -> str:
     return resources.files("scone_bt.study").joinpath(f"static/{name}").read_text(encoding="utf-8")
 
 
-def build_app(state: TabletState, token: str | None, local_only: bool = True) -> Any:
-    """The FastAPI application over a TabletState, behind RequestGuard (Host, token, body size, Origin).
-
-    Args:
-        state: What the tablet shows and what the participant did.
-        token: Session token every request must carry, or None (localhost only).
-        local_only: Answer only requests whose Host is a local name (the server is bound to localhost).
-    """
-    from fastapi import Depends, FastAPI, HTTPException, Request
-    from fastapi.responses import HTMLResponse, JSONResponse
-
-    from scone_bt.errors import UnknownNameError
-    from scone_bt.study.questionnaires import QuestionnaireError
+def _body_dependencies() -> tuple[Any, Any, Any]:
+    """FastAPI dependencies that read a write's body: a button press, a questionnaire's answers, the switch."""
+    from fastapi import Request
 
     async def no_fields(request):  # noqa: ANN001, ANN202 - annotated below
         """The body of a button press: none, or the empty JSON object (nothing else is taken as a press)."""
@@ -361,13 +359,21 @@ def build_app(state: TabletState, token: str | None, local_only: bool = True) ->
         """A questionnaire's answers: one JSON object of item keys to finite numbers or null."""
         return _validated(ANSWERS, await request.body(), allow_empty=False)
 
+    async def switch_body(request):  # noqa: ANN001, ANN202 - annotated below
+        """The researcher's switch: {"shown": true} or {"shown": false}, nothing else."""
+        return _validated(TRUST_SWITCH, await request.body(), allow_empty=False).shown
+
     # FastAPI resolves annotations in this module's globals, where the lazily imported Request is not: the class
     # itself is given instead of its name.
-    for dependency in (no_fields, answers_body):
+    for dependency in (no_fields, answers_body, switch_body):
         dependency.__annotations__["request"] = Request
+    return no_fields, answers_body, switch_body
 
-    app = FastAPI(title="SCONE-BT tablet", docs_url=None, redoc_url=None, openapi_url=None)
-    app.add_middleware(RequestGuard, token=token, local_only=local_only)
+
+def _page_routes(app: Any) -> None:
+    """The participant's page and the researcher's page."""
+    from fastapi.responses import HTMLResponse
+
     page, researcher_page = _page(), _page("researcher.html")
 
     @app.get("/", response_class=HTMLResponse)
@@ -378,6 +384,11 @@ def build_app(state: TabletState, token: str | None, local_only: bool = True) ->
     def researcher() -> str:
         """The researcher's page (behind the same token): the session's state and its own Start button."""
         return researcher_page
+
+
+def _start_routes(app: Any, state: TabletState, no_fields: Any) -> None:
+    """Start, from the participant's tablet or the researcher's page."""
+    from fastapi import Depends, HTTPException
 
     def start(by: str) -> dict[str, Any]:
         if not state.start(by):
@@ -397,6 +408,11 @@ def build_app(state: TabletState, token: str | None, local_only: bool = True) ->
     def researcher_start() -> dict[str, Any]:
         return start("researcher")
 
+
+def _episode_routes(app: Any, state: TabletState, no_fields: Any) -> None:
+    """What the participant sees and does during the episode: the state, Done on a request, Take over."""
+    from fastapi import Depends, HTTPException
+
     @app.get("/api/state")
     def get_state() -> dict[str, Any]:
         return state.snapshot()
@@ -414,6 +430,30 @@ def build_app(state: TabletState, token: str | None, local_only: bool = True) ->
             raise HTTPException(status_code=409, detail="the robot is not acting now")
         return {"ok": True, "object": name}
 
+
+def _researcher_routes(app: Any, state: TabletState, switch_body: Any) -> None:
+    """The researcher's view of the state (the estimated trust always in it) and the switch that shows or hides
+    the estimate on the participant's tablet."""
+    from fastapi import Depends
+
+    @app.get("/api/researcher/state")
+    def researcher_state() -> dict[str, Any]:
+        return state.snapshot(researcher=True)
+
+    @app.post("/api/researcher/trust-view")
+    def trust_view(shown: bool = Depends(switch_body)) -> dict[str, Any]:  # noqa: B008
+        changed = state.show_trust(shown)
+        return {"ok": True, "shown": shown, "changed": changed}
+
+
+def _questionnaire_routes(app: Any, state: TabletState, answers_body: Any) -> None:
+    """A questionnaire's answers, stored once."""
+    from fastapi import Depends
+    from fastapi.responses import JSONResponse
+
+    from scone_bt.errors import UnknownNameError
+    from scone_bt.study.questionnaires import QuestionnaireError
+
     @app.post("/api/questionnaires/{name}")
     def submit(name: str, answers: dict[str, float | None] = Depends(answers_body)) -> Any:  # noqa: B008
         try:
@@ -426,6 +466,25 @@ def build_app(state: TabletState, token: str | None, local_only: bool = True) ->
             return JSONResponse({"detail": str(exc)}, status_code=409)
         return {"ok": True}
 
+
+def build_app(state: TabletState, token: str | None, local_only: bool = True) -> Any:
+    """The FastAPI application over a TabletState, behind RequestGuard (Host, token, body size, Origin).
+
+    Args:
+        state: What the tablet shows and what the participant did.
+        token: Session token every request must carry, or None (localhost only).
+        local_only: Answer only requests whose Host is a local name (the server is bound to localhost).
+    """
+    from fastapi import FastAPI
+
+    no_fields, answers_body, switch_body = _body_dependencies()
+    app = FastAPI(title="SCONE-BT tablet", docs_url=None, redoc_url=None, openapi_url=None)
+    app.add_middleware(RequestGuard, token=token, local_only=local_only)
+    _page_routes(app)
+    _start_routes(app, state, no_fields)
+    _episode_routes(app, state, no_fields)
+    _researcher_routes(app, state, switch_body)
+    _questionnaire_routes(app, state, answers_body)
     return app
 
 
@@ -458,6 +517,7 @@ class TabletServer:
 
     Attributes:
         state: The shared state (tests and the session runner read it).
+        trust_view: The person's estimated trust per action on offer, fed every event (the study view).
         url: The page's address, token included.
     """
 
@@ -468,6 +528,8 @@ class TabletServer:
         token: str | None,
         state: TabletState | None = None,
         start_gate: bool = False,
+        trust_shown: bool = False,
+        trust_view: TrustView | None = None,
     ) -> None:
         import uvicorn
 
@@ -478,7 +540,8 @@ class TabletServer:
                 f"serving the tablet UI on {host} makes it reachable from the network and needs a session token "
                 f"(--ui-token, at least {MIN_TOKEN_LENGTH} characters); without one, use --ui-host 127.0.0.1"
             )
-        self.state = state or TabletState(start_gate=start_gate)
+        self.state = state or TabletState(start_gate=start_gate, trust_shown=trust_shown)
+        self.trust_view = trust_view or TrustView()
         self._why: dict[str, str] = {}  # item → the robot's words for its latest ASK decision about it
         self.token = token
         self.host = host
@@ -519,7 +582,9 @@ class TabletServer:
 
     # ----------------------------------------------------------------------------------------- episode hooks
     def human_factory(self, kitchen: Any, recipe: Any, options: Any, seed: int) -> TabletHuman:
-        """run_episode's human_factory: a TabletHuman on this server's state."""
+        """run_episode's human_factory: a TabletHuman on this server's state (the trust model loads now, before
+        Start)."""
+        self.trust_view.load()
         return TabletHuman(kitchen, recipe, options, seed=seed, state=self.state)
 
     def on_event(self, event: Event) -> None:
@@ -564,6 +629,9 @@ class TabletServer:
         line = feed_line(event)
         if line:
             s.note(line)
+        rows = self.trust_view(event)
+        if rows is not None:
+            s.set_trust([r.to_json() for r in rows])
 
     def chain(self, *sinks: EventSink) -> EventSink:
         """An on_event that feeds the tablet and the given sinks (e.g. a StudyLog's event_sink)."""
@@ -601,14 +669,19 @@ class TabletServer:
 
 
 def serve_tablet(
-    host: str = "127.0.0.1", port: int = 8765, token: str | None = None, start_gate: bool = False
+    host: str = "127.0.0.1",
+    port: int = 8765,
+    token: str | None = None,
+    start_gate: bool = False,
+    trust_shown: bool = False,
 ) -> TabletServer:
     """Start the tablet UI in a background thread (port 0 picks a free port); raises UIError when it cannot.
 
     With ``start_gate`` the episode waits until Start is pressed on the tablet or on the researcher's page
-    (``/researcher``, behind the same token).
+    (``/researcher``, behind the same token). ``trust_shown`` shows the person's estimated trust on the
+    participant's tablet from the start (the researcher's page switches it; it always shows it itself).
     """
-    return TabletServer(host, port, token, start_gate=start_gate)
+    return TabletServer(host, port, token, start_gate=start_gate, trust_shown=trust_shown)
 
 
 def tablet_from_args(args: Any) -> TabletServer | None:

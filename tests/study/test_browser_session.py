@@ -1,6 +1,7 @@
 """A whole study session in a real browser: `scone-study session` runs as a participant's session would, and
 headless Chromium at tablet size (1024×768) presses Start, answers a help request, takes over once and fills both
-questionnaires. Screenshots of each stage go to runs/browser-session/ (CI artifacts)."""
+questionnaires; the researcher's page shows the person's estimated trust and shows it on the tablet, then hides it
+again. Screenshots of each stage go to runs/browser-session/ (CI artifacts)."""
 
 from __future__ import annotations
 
@@ -119,8 +120,19 @@ def test_a_whole_session_in_chromium(browser_page, tmp_path):
         researcher.goto(f"{base}researcher?token={TOKEN}")
         researcher.wait_for_function("document.getElementById('phase').textContent.includes('participant')")
         assert researcher.locator("#start").is_disabled()  # started already, by the participant
+
+        # --- the person's estimated trust: on the researcher's page always, on the tablet once switched on
+        researcher.locator("#trust tr").first.wait_for(timeout=120_000)  # the robot's first decision
+        assert not researcher.locator("#trust-shown").is_checked()  # hidden from the participant by default
+        assert "Hidden from the participant" in researcher.locator("#trust-note").inner_text()
+        assert researcher.locator('#trust tr[data-object="yogurt"] td').count() == 4
+        assert page.locator("#trust-card").is_hidden() and page.locator("#trust tr").count() == 0
         _fits_the_screen(researcher, "0-researcher-page")
-        researcher.close()
+        with researcher.expect_response("**/api/researcher/trust-view") as switched:
+            researcher.click("#trust-shown")
+        assert switched.value.ok and researcher.locator("#trust-shown").is_checked()
+        page.locator('#trust-card #trust tr[data-object="yogurt"]').wait_for()  # the participant sees it now
+        assert "%" in page.locator('#trust tr[data-object="yogurt"]').inner_text()
 
         # --- the control condition fails the yogurt three times, then asks: the card says why
         request = page.locator('.request[data-object="yogurt"][data-kind="help"]')
@@ -130,6 +142,10 @@ def test_a_whole_session_in_chromium(browser_page, tmp_path):
         _fits_the_screen(page, "2-help-request")
         with page.expect_response("**/api/requests/*/done"):
             request.locator("button.done").click()
+        with researcher.expect_response("**/api/researcher/trust-view"):
+            researcher.click("#trust-shown")  # the researcher hides it again
+        page.locator("#trust-card").wait_for(state="hidden")
+        researcher.close()
 
         # --- the salt: announced with Take over for the window, before the arm moves
         takeover = page.locator("#takeover:not([disabled])", has_text="Take over: salt")
@@ -197,6 +213,8 @@ def test_a_whole_session_in_chromium(browser_page, tmp_path):
         events = log.events(session.id)
         kinds = [e.kind for e in events]
         assert kinds[0] == "start" and events[0].data["by"] == "participant"
+        assert session.info["trust_shown"] is False
+        assert [e.data["shown"] for e in events if e.kind == "trust_view"] == [True, False]
         assert all(e.data["window_s"] == 2.0 for e in events if e.kind == "act")
         assert kinds.count("help_request") == 1 and kinds.count("takeover") == 1
         assert log.intervention_causes(session.id) == {"takeover": 1, "dropped": 0, "idle": 0, "by-hand": 0}

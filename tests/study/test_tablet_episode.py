@@ -7,9 +7,11 @@ tablet shows before the human's next update.
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
-from scone_bt.events import ActStarted, Event, TakeOver
+from scone_bt.events import ActStarted, DecisionMade, Event, TakeOver
 from scone_bt.study import StudyLog, plan_session
 from scone_bt.study.tablet import TabletHuman, TabletState
 from scone_bt.study.ui import serve_tablet
@@ -21,6 +23,8 @@ class _Participant:
     def __init__(self, state: TabletState) -> None:
         self.state = state
         self.actions: list[tuple[str, str, str]] = []
+        self.trust_seen: dict[str, list[dict]] = {}  # object → the study view's rows for it, as the run went
+        self.participant_saw_trust = False
 
     def on_event(self, event: Event) -> None:
         if isinstance(event, ActStarted) and not any(a[0] == "takeover" for a in self.actions):
@@ -29,6 +33,11 @@ class _Participant:
             self.actions.append(("takeover", taken, ""))
 
     def confirm_requests(self) -> None:
+        self.participant_saw_trust |= "trust" in self.state.snapshot()
+        for row in self.state.snapshot(researcher=True)["trust"]:
+            seen = self.trust_seen.setdefault(row["object"], [])
+            if not seen or seen[-1] != row:
+                seen.append(row)
         for request in self.state.snapshot()["requests"]:
             if not request.get("confirmed") and self.state.confirm(request["object"]):
                 self.actions.append(("done", request["object"], request["kind"]))
@@ -75,3 +84,18 @@ def test_episode_with_tablet(tmp_path):
     helps = [a for a in participant.actions if a[0] == "done" and a[2] == "help"]
     assert kinds.count("help_request") == summary.help_requests and len(helps) == kinds.count("help")
     assert summary.interventions == log.interventions(sid) >= 1
+    # the study view: the person's estimated trust beside κ̂ for every object the robot offered to fetch,
+    # updated as the episode ran; hidden from the participant (the default)
+    needed = set(summary.needed_on_table)
+    assert needed <= set(participant.trust_seen), (needed, set(participant.trust_seen))
+    decided = [
+        e for e in events if isinstance(e, DecisionMade) and e.object_name and math.isfinite(e.confidence)
+    ]
+    for e in decided:  # the decision's κ̂ is one of the values the view showed for its object
+        assert any(
+            abs(r["confidence"] - round(e.confidence, 4)) < 1e-4
+            for r in participant.trust_seen[e.object_name]
+        )
+    assert any(len(rows) > 1 for rows in participant.trust_seen.values())  # it changed as the episode ran
+    assert not participant.participant_saw_trust
+    log.close()
