@@ -42,6 +42,7 @@ STAGES = (
     "recipes",
     "relevance",
     "robot",
+    "stocking",
     "tree",
     "trust",
     "viz",

@@ -27,14 +27,14 @@ from scone_bt.episode.heap import release_free_heap
 from scone_bt.episode.printer import RULE_LABELS, LinePrinter, condition_line, percent
 from scone_bt.episode.resources import EpisodeResources, ModelPool
 from scone_bt.episode.seeds import PlannerSeedStream, SeedPlan, SeedStage
-from scone_bt.episode.shelf import stock_shelf
 from scone_bt.episode.snapshot import SnapshotBuilder
 from scone_bt.errors import ConfigError
 from scone_bt.events import DecisionMade, Event, EventLog, EventSink
 from scone_bt.human import HumanOptions, SimulatedHuman
-from scone_bt.recipes import StockedRecipe, load_recipe
+from scone_bt.recipes import load_recipe
 from scone_bt.robot.backend import Backend, BackendFactory, BackendRequest
 from scone_bt.robot.registry import DEFAULT_BACKEND, backend_factory
+from scone_bt.stocking import StockedRecipe, stock_shelf
 from scone_bt.tree import build_tree, load_tree_spec
 
 if TYPE_CHECKING:
