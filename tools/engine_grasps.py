@@ -54,8 +54,8 @@ def main(argv: list[str]) -> int:
     import numpy as np
 
     from scone_bt.config import load_kitchen, load_robot
-    from scone_bt.config.stocking import plan_stocking
     from scone_bt.errors import ConfigError
+    from scone_bt.stocking import plan_stocking
 
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--scenes", type=int, default=6)

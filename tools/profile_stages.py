@@ -28,7 +28,7 @@ RULES: tuple[tuple[str, re.Pattern[str]], ...] = (
     ("self-confidence fit", re.compile(r"scone_bt/confidence/")),
     (
         "scene set-up (shelf, robot load)",
-        re.compile(r"scone_bt/episode/shelf\.py|scone_bt/robot/sim\.py|setup \("),
+        re.compile(r"scone_bt/stocking/shelf\.py|scone_bt/robot/sim\.py|setup \("),
     ),
     ("recording (rerun)", re.compile(r"scone_bt/viz/|rerun/")),
     (

@@ -22,8 +22,8 @@ from scone_bt.behaviours.ports import (
 from scone_bt.config import Catalogue, SceneSpec
 from scone_bt.embedding.base import Embedder
 from scone_bt.events import EventSink
-from scone_bt.recipes import StockedRecipe
 from scone_bt.robot.interface import Robot
+from scone_bt.stocking import StockedRecipe
 
 __all__ = ["EpisodeContext", "OutcomeLabels"]
 

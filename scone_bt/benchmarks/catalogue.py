@@ -131,7 +131,7 @@ def run_catalogue_benchmark(
     from scone_bt.config import load_kitchen
     from scone_bt.recipes.normalise import ItemClass, classify_item, normalise_ingredient
     from scone_bt.recipes.recipe import corpus_entries
-    from scone_bt.recipes.stocking import ProductIndex, stock_recipe
+    from scone_bt.stocking.needs import ProductIndex, stock_recipe
 
     wall0, cpu0 = time.perf_counter(), time.process_time()
     cfg = load_kitchen(kitchen, catalogues)

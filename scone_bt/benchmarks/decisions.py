@@ -199,8 +199,8 @@ def judge_fetches(events: Sequence[Event], steps: Sequence[Sequence[str]]) -> di
 def pick_recipes(n: int, seed: int, max_needed: int) -> list[str]:
     """``n`` corpus recipe ids, drawn with ``seed`` from those whose stocked items fit ``max_needed``."""
     from scone_bt.config import load_kitchen
-    from scone_bt.recipes import stock_recipe
     from scone_bt.recipes.recipe import read_corpus
+    from scone_bt.stocking import stock_recipe
 
     catalogue = load_kitchen().catalogue
     fits = []
@@ -248,7 +248,8 @@ def _episode(
     """
     from scone_bt.behaviours import BehaviourOptions
     from scone_bt.episode import EpisodeOptions, run_episode
-    from scone_bt.recipes import load_recipe, stock_recipe
+    from scone_bt.recipes import load_recipe
+    from scone_bt.stocking import stock_recipe
 
     events: list[Event] = []
     summary = run_episode(

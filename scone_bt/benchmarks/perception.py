@@ -53,12 +53,12 @@ def run(args: argparse.Namespace) -> int:
     from scone_bt.benchmarks.detection_scoring import ground_truth, score_frame, summarise
     from scone_bt.checks import check_range
     from scone_bt.config import load_kitchen, load_robot
-    from scone_bt.config.stocking import plan_stocking
     from scone_bt.errors import ConfigError
     from scone_bt.perception import Camera, Detector
     from scone_bt.perception.observe import merge_detections
     from scone_bt.quiet import c_stdout_silenced
     from scone_bt.robot.flags import check_backend
+    from scone_bt.stocking import plan_stocking
 
     for noise in args.noise:  # the scale of a camera's noise_std in a kitchen file
         check_range(noise, "--noise", 0.0, 255.0)

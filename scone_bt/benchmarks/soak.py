@@ -106,8 +106,8 @@ def corpus_recipes(count: int, seed: int, max_steps: int) -> list[str]:
     from scone_bt.config import load_kitchen
     from scone_bt.defaults import EPISODE
     from scone_bt.errors import ConfigError
-    from scone_bt.recipes import stock_recipe
     from scone_bt.recipes.recipe import corpus_entries
+    from scone_bt.stocking import stock_recipe
 
     catalogue = load_kitchen(EPISODE.kitchen).catalogue
     ids = []

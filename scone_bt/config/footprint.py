@@ -1,6 +1,6 @@
 """How much room a product takes on a shelf tier: pure geometry of the catalogue's sizes.
 
-Stocking the shelf (`config.stocking`), the test rig and the robot's own perceived context (`perception.context`)
+Stocking the shelf (`stocking.place`), the test rig and the robot's own perceived context (`perception.context`)
 all measure a product's footprint the same way.
 """
 

@@ -27,14 +27,14 @@ from scone_bt.episode.heap import release_free_heap
 from scone_bt.episode.printer import RULE_LABELS, LinePrinter, condition_line, percent
 from scone_bt.episode.resources import EpisodeResources, ModelPool
 from scone_bt.episode.seeds import PlannerSeedStream, SeedPlan, SeedStage
-from scone_bt.episode.shelf import stock_shelf
 from scone_bt.episode.snapshot import SnapshotBuilder
 from scone_bt.errors import ConfigError
 from scone_bt.events import DecisionMade, Event, EventLog, EventSink
 from scone_bt.human import HumanOptions, SimulatedHuman
-from scone_bt.recipes import StockedRecipe, load_recipe
+from scone_bt.recipes import load_recipe
 from scone_bt.robot.backend import Backend, BackendFactory, BackendRequest
 from scone_bt.robot.registry import DEFAULT_BACKEND, backend_factory
+from scone_bt.stocking import StockedRecipe, stock_shelf
 from scone_bt.tree import build_tree, load_tree_spec
 
 if TYPE_CHECKING:
@@ -525,6 +525,31 @@ def _tick_logger(recorder: Any, scene: SceneView, ep: _Episode, lines: list[str]
     return log_tick
 
 
+@dataclass
+class _Start:
+    """The episode's start and what its callbacks share: the wall and CPU clocks at the start (seconds; the wall
+    one moves past a wait for the start), the first decision's wall time since, the lines of the tick being
+    recorded."""
+
+    printer: Callable[[str], None]
+    recording: bool
+    wall: float = field(default_factory=time.perf_counter)
+    cpu: float = field(default_factory=time.thread_time)
+    first_decision: float | None = None
+    lines: list[str] = field(default_factory=list)
+
+    def say(self, line: str) -> None:
+        """Print a line (and keep it for the tick's recording)."""
+        if self.recording:
+            self.lines.append(line)
+        self.printer(line)
+
+    def timing(self, event: Event) -> None:
+        """An event sink that notes when the first decision was made."""
+        if isinstance(event, DecisionMade) and self.first_decision is None:
+            self.first_decision = time.perf_counter() - self.wall
+
+
 def run_episode(
     options: EpisodeOptions,
     printer: Callable[[str], None] = print,
@@ -552,9 +577,8 @@ def run_episode(
         wait_to_start: Called once when everything is set up, before the first tick; simulated time and the
             events begin when it returns (the study's start gate). Its wait counts in none of the summary's times.
     """
-    started, started_cpu = time.perf_counter(), time.thread_time()
+    start = _Start(printer, _recording(options))
     clock = WallClock()
-    first_decision: list[float] = []
     plan = _plan(options)
     factory = backend or backend_factory(options.backend)
     built = factory(
@@ -562,64 +586,63 @@ def run_episode(
             plan.kitchen, plan.robot, plan.robot_seeds.generator(SeedStage.PERCEPTION), gui=options.gui
         )
     )
-    recorder = None
-    lines: list[str] = []  # lines of this tick, for the recording
-    recording = _recording(options)
-
-    def say(line: str) -> None:
-        if recording:
-            lines.append(line)
-        printer(line)
-
-    def timing(event: Event) -> None:
-        if isinstance(event, DecisionMade) and not first_decision:
-            first_decision.append(time.perf_counter() - started)
-
     resources = EpisodeResources(
         built.robot,
         plan.behaviour,
         plan.behaviour.robot_id or plan.robot.name,
         plan.robot.name,
-        say,
+        start.say,
         models,
         estimator_seed=plan.robot_seeds.integer(SeedStage.ESTIMATORS),
         gripper_opening_m=plan.robot.gripper.opening_m,
     )
     try:
         with resources:
-            scene = built.scene
-            if recording and scene is None:
+            if start.recording and built.scene is None:
                 raise ConfigError(
                     "this robot backend has no scene to draw: it cannot be recorded (--save, --viewer)"
                 )
-            sinks = (timing, *((on_event,) if on_event is not None else ()))
-            ep = _build(options, plan, built, resources, say, sinks, human_factory, hook, clock)
-            complete = False
-            try:
-                ep.tree.setup(timeout=120)
-                recorder = _make_recorder(options)
-                recorder.log_static_scene(scene)
-                if wait_to_start is not None:
-                    waiting = time.perf_counter()
-                    wait_to_start()
-                    started += time.perf_counter() - waiting  # the wall times begin at the start
-                log_tick = (
-                    _tick_logger(recorder, scene, ep, lines) if recording and scene is not None else None
-                )
-                clock.add(LoopPart.STARTUP, time.perf_counter() - started, time.thread_time() - started_cpu)
-                ticks, control_ticks = _loop(ep, options, clock, hook, realtime, log_tick)
-                summary = _summarise(
-                    ep, ticks, control_ticks, clock, started, first_decision[0] if first_decision else None
-                )
-                ep.tree.shutdown()
-                complete = True
-                return summary
-            finally:
-                if recorder is not None:
-                    # A run that ended early (an interrupt, an error) never replaces an existing recording.
-                    recorder.close(complete=complete)
-                py_trees.blackboard.Blackboard.clear()
+            sinks = (start.timing, *((on_event,) if on_event is not None else ()))
+            ep = _build(options, plan, built, resources, start.say, sinks, human_factory, hook, clock)
+            return _run(ep, options, start, clock, hook, realtime, wait_to_start)
     finally:
         # After the resources closed (the world, the planner thread): a process running episodes all day
         # otherwise kept tens of MB of freed heap per episode (episode/heap.py).
         release_free_heap()
+
+
+def _run(
+    ep: _Episode,
+    options: EpisodeOptions,
+    start: _Start,
+    clock: WallClock,
+    hook: EpisodeHook | None,
+    realtime: bool,
+    wait_to_start: Callable[[], None] | None,
+) -> EpisodeSummary:
+    """Set the tree up, begin the recording, wait for the start, tick to the end and summarise."""
+    scene = ep.backend.scene
+    recorder = None
+    complete = False
+    try:
+        ep.tree.setup(timeout=120)
+        recorder = _make_recorder(options)
+        recorder.log_static_scene(scene)
+        if wait_to_start is not None:
+            waiting = time.perf_counter()
+            wait_to_start()
+            start.wall += time.perf_counter() - waiting  # the wall times begin at the start
+        log_tick = (
+            _tick_logger(recorder, scene, ep, start.lines) if start.recording and scene is not None else None
+        )
+        clock.add(LoopPart.STARTUP, time.perf_counter() - start.wall, time.thread_time() - start.cpu)
+        ticks, control_ticks = _loop(ep, options, clock, hook, realtime, log_tick)
+        summary = _summarise(ep, ticks, control_ticks, clock, start.wall, start.first_decision)
+        ep.tree.shutdown()
+        complete = True
+        return summary
+    finally:
+        if recorder is not None:
+            # A run that ended early (an interrupt, an error) never replaces an existing recording.
+            recorder.close(complete=complete)
+        py_trees.blackboard.Blackboard.clear()

@@ -10,7 +10,7 @@ import py_trees
 from scone_bt.behaviours import Keys
 from scone_bt.events import EventLog
 from scone_bt.motion.types import TimedTrajectory
-from scone_bt.recipes import StockedRecipe
+from scone_bt.stocking import StockedRecipe
 
 if TYPE_CHECKING:
     from scone_bt.viz.scene import SceneView

@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from scone_bt.events import CleanUpStarted, Event, HelpDeclined, HelpGiven, Intervention, StepDone
-from scone_bt.recipes import StockedRecipe
+from scone_bt.stocking import StockedRecipe
 
 if TYPE_CHECKING:  # the human reads the world only through the test rig's protocol, never the simulator
     from scone_bt.robot.rig import HumanWorld

@@ -19,11 +19,12 @@ from scone_bt.errors import ConfigError, UnknownNameError
 if TYPE_CHECKING:
     import numpy as np
 
-    from scone_bt.config import ObjectSpec
-    from scone_bt.robot.sim import SimRobot
+    from scone_bt.config import ObjectSpec, RobotConfig
+    from scone_bt.motion.system import MotionSystem
+    from scone_bt.perception.observe import Observer
     from scone_bt.world import Kitchen
 
-__all__ = ["HumanWorld", "World", "SimWorld", "SlotRef"]
+__all__ = ["HumanWorld", "RigRobot", "World", "SimWorld", "SlotRef"]
 
 COVER_DISTANCE_M = 0.02
 """A lens cover stands this far past the camera's near clipping plane."""
@@ -153,6 +154,21 @@ def _quaternion_z_to(direction: Sequence[float]) -> tuple[float, float, float, f
     return (ax * h, ay * h, 0.0, math.cos(angle / 2))
 
 
+class RigRobot(Protocol):
+    """What the test rig reaches into on a simulated robot (`robot.sim.SimRobot`): its cameras, its planner, its
+    calibration and its limits."""
+
+    robot_config: RobotConfig
+    calibration_offset: tuple[float, float, float]
+    """Metres added to every detection's position."""
+
+    @property
+    def observer(self) -> Observer: ...
+
+    @property
+    def motion(self) -> MotionSystem: ...
+
+
 class SimWorld:
     """`World` on the PyBullet simulation: `Kitchen`'s public methods, the robot's cameras and motion system.
 
@@ -161,7 +177,7 @@ class SimWorld:
         robot: The simulated robot (set up: cameras and motion system built).
     """
 
-    def __init__(self, kitchen: Kitchen, robot: SimRobot) -> None:
+    def __init__(self, kitchen: Kitchen, robot: RigRobot) -> None:
         self.kitchen = kitchen
         self.robot = robot
         self._lid_covers: dict[str, int] = {}

@@ -851,8 +851,8 @@ def _episode_world(
     """The kitchen, the products on its shelf and the recipe's step count, as the episode will draw them
     (cached: the cases of a sweep share one world)."""
     from scone_bt.config import load_kitchen, load_robot
-    from scone_bt.episode.shelf import stock_shelf
     from scone_bt.recipes import load_recipe
+    from scone_bt.stocking import stock_shelf
     from scone_bt.tree import load_tree_spec
 
     kitchen = load_kitchen(kitchen_file, catalogues)

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
-    from scone_bt.world.kitchen import Kitchen
+    from scone_bt.world.parts import BulletParts
 
 __all__ = ["FINGER_COUPLING_FORCE", "PUSH_CHAIN", "ArmIO"]
 
@@ -34,7 +34,7 @@ class ArmIO:
         kitchen: The simulated kitchen whose robot this drives.
     """
 
-    def __init__(self, kitchen: Kitchen) -> None:
+    def __init__(self, kitchen: BulletParts) -> None:
         self.kitchen = kitchen
         self._product_bodies: tuple[int, ...] = ()
         self._product_names: dict[int, str] = {}  # body id → product name (`products_touched`)

@@ -27,7 +27,7 @@ from scone_bt.perception.camera import project
 from scone_bt.perception.images import CameraImage, PinholeView
 
 if TYPE_CHECKING:
-    from scone_bt.world.kitchen import Kitchen
+    from scone_bt.world.parts import BulletParts
 
 __all__ = [
     "PATCH_MARGIN_M",
@@ -126,7 +126,7 @@ def _geometry(camera: PinholeView) -> tuple[object, ...]:
     return (s.position, s.target, s.up, s.width, s.height, s.fov_deg, s.near, s.far)
 
 
-def keep_background(kitchen: Kitchen, camera: PinholeView) -> None:
+def keep_background(kitchen: BulletParts, camera: PinholeView) -> None:
     """Render the camera's image of the kitchen while it holds no product, once per static scene (a kitchen's
     ``static_key``: kitchens of one scene share it) and camera geometry, as the base of later first images
     (`camera_image`).
@@ -166,7 +166,7 @@ def keep_background(kitchen: Kitchen, camera: PinholeView) -> None:
     _BACKGROUNDS[key] = (shown, rgb, depth)
 
 
-def camera_image(kitchen: Kitchen, camera: PinholeView) -> CameraImage:
+def camera_image(kitchen: BulletParts, camera: PinholeView) -> CameraImage:
     """The camera's noise-free image of the kitchen as it is now (arrays read-only).
 
     A camera's last image is handed back while the same kitchen (``Kitchen.uid``) shows it the same bodies and
@@ -230,7 +230,7 @@ def box_in_view(camera: PinholeView, lo: Sequence[float], hi: Sequence[float]) -
     )
 
 
-def _view(kitchen: Kitchen, camera: PinholeView) -> _View:
+def _view(kitchen: BulletParts, camera: PinholeView) -> _View:
     """What the camera would show: which objects and robot links have their bounding box in view, their poses
     and boxes. The static scene never changes (covers renew the kitchen's uid)."""
     bc = kitchen.bc
@@ -349,7 +349,7 @@ def dirty_windows(camera: PinholeView, boxes: np.ndarray) -> list[Window] | None
 
 
 def _patched(
-    kitchen: Kitchen, camera: PinholeView, windows: Sequence[Window], rgb: np.ndarray, depth: np.ndarray
+    kitchen: BulletParts, camera: PinholeView, windows: Sequence[Window], rgb: np.ndarray, depth: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
     """A copy of the last image (rgb, depth) with each of `windows` rendered anew (read-only arrays)."""
     rgb, depth = rgb.copy(), depth.copy()
@@ -378,7 +378,7 @@ def _window_projection(projection: Sequence[float], width: int, height: int, win
 
 
 def _render(
-    kitchen: Kitchen, camera: PinholeView, window: Window | None = None
+    kitchen: BulletParts, camera: PinholeView, window: Window | None = None
 ) -> tuple[np.ndarray, np.ndarray]:
     """Noise-free RGB (h, w, 3) uint8 and metric depth (h, w) float32 of the kitchen as it is now: the whole image,
     or only `window` of it."""

@@ -16,10 +16,10 @@ import numpy as np
 
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
 from scone_bt.config.catalogue import Shape
-from scone_bt.config.stocking import Placement, plan_stocking
 from scone_bt.errors import ConfigError, UnknownNameError
 from scone_bt.perception.images import CameraImage, PinholeView
 from scone_bt.quiet import c_stdout_silenced
+from scone_bt.stocking import Placement, plan_stocking
 from scone_bt.world.arm_io import ArmIO
 from scone_bt.world.camera import camera_image
 from scone_bt.world.visuals import create_object_visual

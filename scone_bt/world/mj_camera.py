@@ -20,7 +20,7 @@ from scone_bt.world.camera import REUSE_MAX_MOVE_M, REUSE_MAX_TURN_RAD, box_in_v
 from scone_bt.world.mj_model import EGL_PACKAGES
 
 if TYPE_CHECKING:
-    from scone_bt.world.mj_kitchen import MjKitchen
+    from scone_bt.world.parts import MjParts
 
 __all__ = ["MjCameras", "check_rendering"]
 
@@ -45,7 +45,7 @@ class MjCameras:
         kitchen: The MuJoCo kitchen whose model and state are rendered.
     """
 
-    def __init__(self, kitchen: MjKitchen) -> None:
+    def __init__(self, kitchen: MjParts) -> None:
         self.kitchen = kitchen
         self.mujoco = kitchen.mujoco
         self.model = kitchen.model

@@ -18,9 +18,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
-from scone_bt.config.stocking import Placement, plan_stocking
 from scone_bt.errors import ConfigError, UnknownNameError
 from scone_bt.perception.images import CameraImage, PinholeView
+from scone_bt.stocking import Placement, plan_stocking
 from scone_bt.world.ground_truth import GroundTruth, ObjectState, yaw_of
 from scone_bt.world.mj_model import (
     ARM_GAINS,

@@ -21,7 +21,7 @@ import numpy as np
 from scone_bt.resources import cache_switched_off, default_cache_dir
 
 if TYPE_CHECKING:
-    from scone_bt.world.kitchen import Kitchen
+    from scone_bt.world.parts import BulletParts
 
 __all__ = [
     "RENDER_CACHE_ENV",
@@ -76,7 +76,7 @@ def _shape_rows(rows: Sequence[Sequence[object]]) -> list[object]:
     return out
 
 
-def background_digest(kitchen: Kitchen, geometry: Sequence[object], renderer: str | Path) -> str:
+def background_digest(kitchen: BulletParts, geometry: Sequence[object], renderer: str | Path) -> str:
     """A digest of everything the renderer is given for one camera's image of the kitchen as it is now.
 
     Args:

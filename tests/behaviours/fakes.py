@@ -212,7 +212,7 @@ def fake_context(
     from scone_bt.embedding import load_embedder
     from scone_bt.episode.seeds import PlannerSeedStream, SeedPlan
     from scone_bt.events import EventLog
-    from scone_bt.recipes.stocking import StockedStep
+    from scone_bt.stocking import StockedStep
 
     kitchen = load_kitchen()
     steps = tuple(StockedStep(text, objects) for text, objects in recipe_steps)

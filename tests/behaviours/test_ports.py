@@ -49,7 +49,7 @@ def test_real_classes_have_every_member_of_their_interface(cls, protocol) -> Non
 def test_the_humans_are_human_channels(cls) -> None:
     from types import SimpleNamespace
 
-    from scone_bt.recipes.stocking import StockedStep
+    from scone_bt.stocking import StockedStep
 
     recipe = SimpleNamespace(steps=(StockedStep("Add salt.", ("salt",)),))
     assert isinstance(cls(SimpleNamespace(sim_time=0.0), recipe), HumanChannel)

@@ -71,8 +71,8 @@ def test_user_file_adds_products_without_code(tmp_path, kitchen_cfg):
 
 
 def test_user_product_is_stocked_for_a_recipe(tmp_path):
-    from scone_bt.recipes import stock_recipe
     from scone_bt.recipes.recipe import recipe_from_record
+    from scone_bt.stocking import stock_recipe
 
     path = _user_file(tmp_path, "  - " + GOOD % ("yuzu kosho", 900) + "\n")
     cfg = load_kitchen(catalogues=[path])

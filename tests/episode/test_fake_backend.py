@@ -22,7 +22,7 @@ from tests.episode.fake_backend import FakeScript, fake_backend
 ROOT = Path(__file__).resolve().parents[2]
 
 # What only the simulated backend may load: a fake episode that loads any of them is welded to the simulator.
-# (The shelf's pure stocking geometry, which the episode plans with, is config.stocking.)
+# (The shelf's pure stocking geometry, which the episode plans with, is scone_bt.stocking.)
 SIMULATOR_MODULES = (
     "pybullet",
     "pybullet_utils",

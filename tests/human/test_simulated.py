@@ -1,5 +1,6 @@
 from scone_bt.human import HumanOptions, SimulatedHuman
-from scone_bt.recipes import load_recipe, stock_recipe
+from scone_bt.recipes import load_recipe
+from scone_bt.stocking import stock_recipe
 
 
 def test_human_works_through_steps_with_help(kitchen, kitchen_cfg, rng):

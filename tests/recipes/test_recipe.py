@@ -3,8 +3,9 @@ import json
 import pytest
 
 from scone_bt.errors import RecipeError
-from scone_bt.recipes import load_recipe, match_catalogue, stock_recipe
+from scone_bt.recipes import load_recipe
 from scone_bt.recipes.recipe import recipe_corpus_path
+from scone_bt.stocking import match_catalogue, stock_recipe
 
 
 def test_examples_load_and_stock(kitchen_cfg):

@@ -20,7 +20,8 @@ CHROMIUM = "/usr/bin/chromium"
 @pytest.fixture
 def stocked(kitchen, kitchen_cfg, rng):
     """The tomato-pasta recipe with its objects on the shelf."""
-    from scone_bt.recipes import load_recipe, stock_recipe
+    from scone_bt.recipes import load_recipe
+    from scone_bt.stocking import stock_recipe
 
     recipe = stock_recipe(load_recipe("example:tomato-pasta"), kitchen_cfg.catalogue)
     kitchen.spawn([kitchen_cfg.catalogue.get(n) for n in recipe.needed], rng)

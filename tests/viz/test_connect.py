@@ -176,7 +176,7 @@ def test_a_peer_that_handshakes_and_then_reads_nothing_never_holds_the_robot(
 ):
     """Refused before the first tick (rerun's blueprint send waits for it), or, where rerun buffered that send,
     dropped with one warning line at the first check; never a hang, and the file keeps every tick."""
-    import scone_bt.viz.recorder as recorder
+    import scone_bt.viz.sinks as recorder
 
     port, state = peer
     state["answer"] = bytes(
@@ -212,7 +212,7 @@ def test_a_viewer_that_stalls_or_dies_mid_run_does_not_hold_the_episode(viewer, 
     import random
     import signal
 
-    import scone_bt.viz.recorder as recorder
+    import scone_bt.viz.sinks as recorder
     from scone_bt.viz.readback import summarize_recording
 
     proc, port = viewer

@@ -65,7 +65,7 @@ _MAX_DRAWS = 100
 
 def drawable_products(kitchen: KitchenConfig, names: Sequence[str] | None = None) -> tuple[ObjectSpec, ...]:
     """The products an execution draws from: the catalogue (or `names` of it) that fits some shelf tier."""
-    from scone_bt.config.stocking import fits_shelf
+    from scone_bt.stocking import fits_shelf
 
     chosen = kitchen.catalogue.objects if names is None else tuple(kitchen.catalogue.get(n) for n in names)
     return tuple(o for o in chosen if fits_shelf(o, kitchen.scene))
@@ -93,7 +93,7 @@ def choose_objects(
 
 
 def _fits(scene: Any, specs: Sequence[ObjectSpec]) -> bool:
-    from scone_bt.config.stocking import plan_stocking
+    from scone_bt.stocking import plan_stocking
 
     try:
         plan_stocking(scene, specs, np.random.default_rng(0))

@@ -20,7 +20,7 @@ PROFILES = ROOT / "tools" / "profiles"
 
 
 def test_draws_are_seeded_uniform_over_the_whole_catalogue_and_fit_the_shelving(kitchen_cfg):
-    from scone_bt.config.stocking import plan_stocking
+    from scone_bt.stocking import plan_stocking
 
     prof = load_profile(PROFILES / "p00_nominal.yaml")
     pool = drawable_products(kitchen_cfg)

@@ -21,10 +21,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from scone_bt.config import Catalogue, SceneSpec
-from scone_bt.config.stocking import fits_side_by_side, lane_width, plan_stocking, wider_than_every_tier
 from scone_bt.errors import ConfigError
-from scone_bt.recipes import Recipe, StockedRecipe, stock_recipe
-from scone_bt.recipes.stocking import ProductIndex
+from scone_bt.recipes.recipe import Recipe
+from scone_bt.stocking.lanes import lane_width
+from scone_bt.stocking.needs import ProductIndex, StockedRecipe, stock_recipe
+from scone_bt.stocking.pack import fits_side_by_side, wider_than_every_tier
+from scone_bt.stocking.place import plan_stocking
 
 __all__ = ["ShelfStock", "max_distractors", "stock_shelf"]
 

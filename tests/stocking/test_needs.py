@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import pytest
 
-from scone_bt.recipes import stock_recipe
 from scone_bt.recipes.normalise import normalise_ingredient
 from scone_bt.recipes.recipe import recipe_from_record
-from scone_bt.recipes.stocking import MatchRule, ProductIndex
+from scone_bt.stocking import stock_recipe
+from scone_bt.stocking.needs import MatchRule, ProductIndex
 
 
 @pytest.fixture(scope="module")

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from scone_bt.episode.shelf import max_distractors, stock_shelf
 from scone_bt.errors import ConfigError
-from scone_bt.recipes import load_recipe, stock_recipe
+from scone_bt.recipes import load_recipe
+from scone_bt.stocking import max_distractors, stock_recipe, stock_shelf
 
 
 def test_the_quoted_maximum_stands_on_the_shelf_and_one_more_is_refused(kitchen_cfg, kitchen) -> None:
@@ -28,7 +28,7 @@ def test_the_quoted_maximum_stands_on_the_shelf_and_one_more_is_refused(kitchen_
 
 
 def test_counts_near_the_maximum_are_stocked_whatever_the_seed(kitchen_cfg) -> None:
-    from scone_bt.config.stocking import plan_stocking
+    from scone_bt.stocking import plan_stocking
 
     catalogue, scene = kitchen_cfg.catalogue, kitchen_cfg.scene
     recipe = load_recipe("example:pancakes")
@@ -54,7 +54,7 @@ def test_a_recipe_product_wider_than_every_tier_is_named_not_blamed_on_distracto
     from dataclasses import replace
 
     from scone_bt.config import Catalogue
-    from scone_bt.config.stocking import plan_stocking
+    from scone_bt.stocking import plan_stocking
 
     recipe = load_recipe("example:tomato-pasta")
     wide = stock_recipe(recipe, kitchen_cfg.catalogue).needed[0]

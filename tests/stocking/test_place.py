@@ -7,8 +7,8 @@ import pytest
 
 from scone_bt.config import ObjectSpec
 from scone_bt.config.footprint import footprint
-from scone_bt.config.stocking import FINGER_ROOM_M, LANE_MIN_M, plan_stocking
 from scone_bt.errors import ConfigError
+from scone_bt.stocking import FINGER_ROOM_M, LANE_MIN_M, plan_stocking
 
 
 def _product(name: str, mass: float, size=(0.06, 0.06, 0.10), shape: str = "cylinder") -> ObjectSpec:
@@ -102,7 +102,7 @@ def test_products_that_fit_their_tier_keep_their_seeded_places(kitchen_cfg):
 
 def test_a_tight_set_that_fits_side_by_side_is_always_stocked(kitchen_cfg):
     # The narrowest catalogue products up to the most that fit: drawn slots and heaviest-first packing crowd them.
-    from scone_bt.config.stocking import fits_side_by_side, lane_width
+    from scone_bt.stocking import fits_side_by_side, lane_width
 
     scene, catalogue = kitchen_cfg.scene, kitchen_cfg.catalogue
     specs = sorted(

@@ -1,0 +1,93 @@
+"""Draws the behaviour tree: its graph, each behaviour's status on the timeline and the tree as text."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import py_trees
+import rerun as rr
+
+from scone_bt.viz import paths as P
+from scone_bt.viz.colours import STATUS_COLOURS
+from scone_bt.viz.render import STATUSES, TreeNode, flatten_tree, layout_tree, tree_text
+from scone_bt.viz.sinks import Sinks
+
+__all__ = ["TreeDrawer"]
+
+_Signature = tuple[tuple[int, Any, str, int], ...]
+
+
+def _tree_signature(root: Any) -> _Signature:
+    """Identity, status, feedback and child count of every behaviour: equal signatures, nothing to log."""
+    out = []
+    stack = [root]
+    while stack:
+        behaviour = stack.pop()
+        children = getattr(behaviour, "children", None) or ()
+        out.append(
+            (id(behaviour), behaviour.status, getattr(behaviour, "feedback_message", ""), len(children))
+        )
+        stack.extend(reversed(children))
+    return tuple(out)
+
+
+class TreeDrawer:
+    """The tree's graph and text when a status or feedback changed; a node's status when it changed."""
+
+    def __init__(self, sinks: Sinks) -> None:
+        self._sinks = sinks
+        self._shape: tuple[str, ...] = ()
+        self._signature: _Signature = ()
+        self._state: dict[str, tuple[str, str]] = {}
+        self._layout: dict[str, tuple[float, float]] = {}
+
+    def log_tree(self, tree: Any) -> None:
+        """A py_trees BehaviourTree or its root behaviour."""
+        root = tree.root if isinstance(tree, py_trees.trees.BehaviourTree) else tree
+        signature = _tree_signature(root)
+        if signature == self._signature:
+            return
+        self._signature = signature
+        nodes = flatten_tree(root)
+        shape = tuple(n.node_id for n in nodes)
+        if shape != self._shape:
+            self._log_shape(nodes, shape)
+        changed = False
+        for node in nodes:
+            state = (node.status, node.feedback)
+            previous = self._state.get(node.node_id)
+            if previous == state:
+                continue
+            changed = True
+            if previous is None or previous[0] != node.status:
+                self._sinks.rec.log(f"{P.TREE_STATUS}/{node.node_id}", rr.StateChange(state=[node.status]))
+            self._state[node.node_id] = state
+        if changed:
+            self._log_views(nodes)
+
+    def _log_shape(self, nodes: list[TreeNode], shape: tuple[str, ...]) -> None:
+        """A new tree: its edges, its layout, and each node's status colours (static)."""
+        self._shape = shape
+        self._state = {}
+        self._layout = layout_tree(nodes)
+        edges = [(n.parent, n.node_id) for n in nodes if n.parent is not None]
+        self._sinks.rec.log(P.TREE_GRAPH, rr.GraphEdges(edges, graph_type="directed"))
+        for node in nodes:
+            self._sinks.rec.log(
+                f"{P.TREE_STATUS}/{node.node_id}",
+                rr.StateConfiguration(values=list(STATUSES), colors=[STATUS_COLOURS[s] for s in STATUSES]),
+                static=True,
+            )
+
+    def _log_views(self, nodes: list[TreeNode]) -> None:
+        self._sinks.rec.log(
+            P.TREE_GRAPH,
+            rr.GraphNodes(
+                [n.node_id for n in nodes],
+                positions=[self._layout[n.node_id] for n in nodes],
+                labels=[f"{n.name}: {n.status.lower()}" for n in nodes],
+                colors=[STATUS_COLOURS.get(n.status, STATUS_COLOURS["INVALID"]) for n in nodes],
+                radii=[10.0 if n.is_leaf else 14.0 for n in nodes],
+            ),
+        )
+        self._sinks.rec.log(P.TREE_TEXT, rr.TextDocument(tree_text(nodes)))
