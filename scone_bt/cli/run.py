@@ -118,6 +118,7 @@ PG_CONNECT_TIMEOUT_S = 10  # scone_bt.experience.postgres.CONNECT_TIMEOUT_S
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """`scone-run`'s parser: its option groups, in the order --help lists them."""
     p = argparse.ArgumentParser(
         prog="scone-run",
         description=(
@@ -128,6 +129,24 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="examples:" + __doc__.split("Examples:", 1)[1],
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
+    _add_input_options(p)
+    _add_run_control_options(p)
+    _add_rerun_options(p)
+    _add_self_confidence_options(p)
+    g = p.add_argument_group(
+        "decision settings",
+        "the tree file's parameters (trees/*.yaml); one left out takes the tree file's value",
+    )
+    add_tree_options(g)
+    _add_human_options(p)
+
+    # A real person instead of the simulated human: the tablet UI (scone_bt/study).
+    add_ui_arguments(p)
+    return p
+
+
+def _add_input_options(p: argparse.ArgumentParser) -> None:
+    """What the episode runs: robot, recipe, kitchen, catalogues, tree, distractors."""
     g = p.add_argument_group("input")
     add_robot_options(g, arm_default=_EPISODE.robot)
     g.add_argument(
@@ -158,6 +177,9 @@ def build_parser() -> argparse.ArgumentParser:
         help="objects not in the recipe put on the shelf (default: %(default)s)",
     )
 
+
+def _add_run_control_options(p: argparse.ArgumentParser) -> None:
+    """Seed, length, windows, printing, logging and --force."""
     g = p.add_argument_group("run control")
     g.add_argument(
         "--seed",
@@ -190,6 +212,9 @@ def build_parser() -> argparse.ArgumentParser:
         "is never overwritten)",
     )
 
+
+def _add_rerun_options(p: argparse.ArgumentParser) -> None:
+    """Recording and the rerun viewer."""
     g = p.add_argument_group("rerun output")
     g.add_argument(
         "--save",
@@ -208,6 +233,9 @@ def build_parser() -> argparse.ArgumentParser:
         "dropped and the episode goes on",
     )
 
+
+def _add_self_confidence_options(p: argparse.ArgumentParser) -> None:
+    """The self-confidence switch and the outcome store κ̂ is rebuilt from."""
     g = p.add_argument_group("self-confidence")
     g.add_argument(
         "--no-self-confidence", action="store_true", help="the paper's control condition: always act"
@@ -232,12 +260,10 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument(
         "--profile", default="", help="configuration label stored with each outcome (default: none)"
     )
-    g = p.add_argument_group(
-        "decision settings",
-        "the tree file's parameters (trees/*.yaml); one left out takes the tree file's value",
-    )
-    add_tree_options(g)
 
+
+def _add_human_options(p: argparse.ArgumentParser) -> None:
+    """The simulated human."""
     g = p.add_argument_group("simulated human")
     g.add_argument(
         "--takeover-probability",
@@ -245,10 +271,6 @@ def build_parser() -> argparse.ArgumentParser:
         default=0.0,
         help="chance the human takes over an action (default: 0)",
     )
-
-    # A real person instead of the simulated human: the tablet UI (scone_bt/study).
-    add_ui_arguments(p)
-    return p
 
 
 def _quiet_backends() -> None:

@@ -1,5 +1,6 @@
 """``scone-bench scenarios``: run the scenario library and print JSON (passed, expected failures, failed, wall
-time, and per scenario its verdict, reason, simulated and wall seconds)."""
+time, and per scenario its verdict, reason, simulated and wall seconds): a thin layer over
+`scone_bt.scenario.runner`."""
 
 from __future__ import annotations
 
@@ -13,17 +14,17 @@ __all__ = ["register", "run"]
 
 def run(paths: list[str], jobs: int, out_dir: Path | None, robot: str | None = None) -> dict[str, Any]:
     """The report of one run of the scenarios under ``paths`` (on the robot backend ``robot``; None: each file's)."""
-    from scone_bt.scenario.model import load_scenarios, on_backend
-    from scone_bt.scenario.run import run_cases
+    from scone_bt.scenario.runner import Tally, load_cases, run_cases
 
-    cases = [on_backend(c, robot) for c in load_scenarios(paths)]
+    cases = load_cases(paths, robot)
     started = time.perf_counter()
     results = run_cases(cases, jobs=jobs, out_dir=out_dir)
     wall = time.perf_counter() - started
+    tally = Tally.of(results)
     return {
-        "passed": sum(r.verdict == "passed" for r in results),
-        "expected_failures": sum(r.verdict == "xfail" for r in results),
-        "failed": sum(r.verdict in ("failed", "xpass", "error") for r in results),
+        "passed": tally.passed,
+        "expected_failures": tally.xfail,
+        "failed": tally.not_ok,
         "robot": robot or "per file",
         "jobs": jobs,
         "wall_s": round(wall, 1),
@@ -41,12 +42,10 @@ def run(paths: list[str], jobs: int, out_dir: Path | None, robot: str | None = N
 
 
 def _main(args: argparse.Namespace) -> int:
-    from scone_bt.errors import SconeError
     from scone_bt.reporting import emit_report
+    from scone_bt.scenario.runner import check_jobs
 
-    if args.jobs < 1:
-        raise SconeError(f"--jobs {args.jobs}: give 1 or more")
-    report = run(args.paths or ["scenarios"], args.jobs, args.out, args.robot)
+    report = run(args.paths or ["scenarios"], check_jobs(args.jobs), args.out, args.robot)
     emit_report(report, args.json, force=getattr(args, "force", False))
     return 0
 

@@ -1,5 +1,8 @@
 """``scone-scenario``: run scenario files headless and report, for people without pytest habits.
 
+A thin layer over `scone_bt.scenario.runner` (which loads, selects, runs and counts the cases): here are its
+arguments, its progress lines, the summary and the JUnit report.
+
     scone-scenario run scenarios/ [--jobs 2] [--junit report.xml] [--out runs/scenarios] [-k PATTERN] [-t TAG]
     scone-scenario run scenarios/ --robot mujoco   # every case on the MuJoCo backend
     scone-scenario check scenarios/          # validate only
@@ -19,9 +22,14 @@ import sys
 import time
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 from xml.etree import ElementTree as ET
 
 from scone_bt.errors import SconeError
+
+if TYPE_CHECKING:
+    from scone_bt.scenario.model import Case
+    from scone_bt.scenario.run import CaseResult
 
 __all__ = ["main", "junit_xml", "summary_table"]
 
@@ -198,88 +206,84 @@ def _wrap(suite: ET.Element) -> ET.Element:
     return root
 
 
-def _run(args: argparse.Namespace) -> int:
-    from scone_bt.checks import check_output_dir
-    from scone_bt.scenario.model import load_scenarios, on_backend
-    from scone_bt.scenario.run import WORKER_DIED, Verdict, run_cases
+class _Progress:
+    """A line per case as its result comes: under a bar on a terminal; in a CI log only the line (a bar there is
+    noise)."""
 
-    if args.out is None:
-        args.out = args.junit.parent if args.junit is not None else Path("runs/scenarios")
-    if args.jobs < 1:
-        raise SconeError(f"--jobs {args.jobs}: give 1 or more")
-    cases = [on_backend(c, args.robot) for c in load_scenarios(args.paths)]
-    # the outputs are checked before any case runs: a bad path found after the run would lose every result
+    def __init__(self, total: int, quiet: bool) -> None:
+        from tqdm import tqdm
+
+        self.total, self.quiet, self.done = total, quiet, 0
+        self.bar = tqdm(total=total, file=sys.stderr, unit="case", disable=quiet or not sys.stderr.isatty())
+
+    def __call__(self, r: CaseResult) -> None:
+        self.done += 1
+        if not self.quiet:
+            line = f"[{self.done}/{self.total}] {r.verdict:<7} {r.name}  ({r.sim_s:.1f} s simulated, {r.wall_s:.1f} s wall)"
+            if self.bar.disable:
+                print(line, file=sys.stderr, flush=True)
+            else:
+                self.bar.write(line, file=sys.stderr)
+        self.bar.set_postfix_str(f"last: {r.name} {r.verdict}", refresh=False)
+        self.bar.update(1)
+
+
+def _cases(args: argparse.Namespace) -> list[Case]:
+    """The cases to run; the outputs checked before any runs (a bad path found after the run would lose every
+    result)."""
+    from scone_bt.checks import check_output_dir
+    from scone_bt.scenario.runner import Selection, check_jobs, default_out_dir, load_cases
+
+    args.out = default_out_dir(args.out, args.junit)
+    check_jobs(args.jobs)
+    cases = load_cases(args.paths, args.robot)
     if args.junit is not None:
         check_junit(args.junit, _scenario_inputs(args.paths, cases), args.force)
     check_output_dir(args.out, "--out")
-    if args.select:
-        cases = [c for c in cases if args.select in c.name]
-        if not cases:
-            raise SconeError(f"-k {args.select!r}: no case name contains it")
-    if args.tag:
-        cases = [c for c in cases if set(c.spec.tags) & set(args.tag)]
-    if args.skip_tag:
-        cases = [c for c in cases if not set(c.spec.tags) & set(args.skip_tag)]
-    if not cases:
-        raise SconeError("no case left after --tag/--skip-tag")
-    from tqdm import tqdm
+    return Selection(args.select, tuple(args.tag), tuple(args.skip_tag)).apply(cases)
 
-    started = time.perf_counter()
-    done = [0]
-    # a bar on a terminal; in a CI log only the line per case (a bar there is noise)
-    bar = tqdm(total=len(cases), file=sys.stderr, unit="case", disable=args.quiet or not sys.stderr.isatty())
 
-    def progress(result: object) -> None:
-        done[0] += 1
-        r = result
-        if not args.quiet:
-            line = f"[{done[0]}/{len(cases)}] {r.verdict:<7} {r.name}  ({r.sim_s:.1f} s simulated, {r.wall_s:.1f} s wall)"
-            if bar.disable:
-                print(line, file=sys.stderr, flush=True)
-            else:
-                bar.write(line, file=sys.stderr)
-        bar.set_postfix_str(f"last: {r.name} {r.verdict}", refresh=False)
-        bar.update(1)
+def _write_junit(path: Path, results: Sequence[CaseResult], wall_s: float) -> None:
+    from scone_bt.files import write_atomic
 
     try:
-        results = run_cases(cases, jobs=args.jobs, out_dir=args.out, on_result=progress)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        write_atomic(path, junit_xml(results, wall_s))  # an interrupted write leaves the old report whole
+    except OSError as exc:  # checked before the run, so only a full disk or the like is left
+        raise SconeError(
+            f"--junit {path}: cannot write it ({exc.strerror or exc}); the results are in the summary above"
+        ) from None
+
+
+def _run(args: argparse.Namespace) -> int:
+    """`scone-scenario run`: the runner's results as failure reports, a table, a JUnit file; exit 0, 1 or 130."""
+    from scone_bt.scenario import runner
+
+    cases = _cases(args)
+    started = time.perf_counter()
+    progress = _Progress(len(cases), args.quiet)
+    try:
+        results = runner.run_cases(cases, jobs=args.jobs, out_dir=args.out, on_result=progress)
     except KeyboardInterrupt:
-        bar.close()
+        progress.bar.close()
         junit = "" if args.junit is None else f"; --junit {args.junit} was not written"
         print(
-            f"scone-scenario: interrupted after {done[0]} of {len(cases)} cases (their lines are above){junit}",
+            f"scone-scenario: interrupted after {progress.done} of {len(cases)} cases (their lines are above){junit}",
             file=sys.stderr,
         )
         return 130
     finally:
-        bar.close()
+        progress.bar.close()
     wall = time.perf_counter() - started
     for r in results:
         if not r.ok:
             print(r.report())
             print()
     print(summary_table(results))
-    counts = {
-        v: sum(r.verdict == v for r in results) for v in ("passed", "xfail", "failed", "xpass", "error")
-    }
-    print(
-        f"{len(results)} cases: {counts['passed']} passed, {counts['xfail']} failed as expected, "
-        f"{counts['failed']} failed, {counts['xpass']} passed unexpectedly, {counts['error']} errors "
-        f"in {wall:.1f} s wall"
-    )
+    print(runner.Tally.of(results).line(wall))
     if args.junit is not None:
-        from scone_bt.files import write_atomic
-
-        try:
-            args.junit.parent.mkdir(parents=True, exist_ok=True)
-            write_atomic(
-                args.junit, junit_xml(results, wall)
-            )  # an interrupted write leaves the old report whole
-        except OSError as exc:  # checked before the run, so only a full disk or the like is left
-            raise SconeError(
-                f"--junit {args.junit}: cannot write it ({exc.strerror or exc}); the results are in the summary above"
-            ) from None
-    lost = [r.name for r in results if r.verdict == Verdict.ERROR and r.reason == WORKER_DIED]
+        _write_junit(args.junit, results, wall)
+    lost = runner.lost_names(results)
     if lost:
         shown = ", ".join(lost[:10]) + (f" and {len(lost) - 10} more" if len(lost) > 10 else "")
         print(
@@ -323,3 +327,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("scone-scenario: interrupted", file=sys.stderr)
         return 130
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

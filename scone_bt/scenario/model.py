@@ -699,13 +699,57 @@ def resolve_input(value: str, base: Path) -> str:
     return value
 
 
-def check_world(spec: ScenarioFile, path: Path, where: str) -> None:
-    """Check the scenario against the kitchen it names: products, slots, cameras, times, the profile.
+@dataclass(frozen=True)
+class _Kitchen:
+    """What a scenario's names are checked against: the products stocked in this episode, the catalogue's, the
+    shelf units, the cameras, the recipe's step count and the episode's end (s); `where` starts each error."""
 
-    Loads the kitchen, catalogue, recipe, robot and tree files and draws the seeded stocking (pure and cheap), so
-    a name that is not in this episode's kitchen is an error before the simulator starts.
-    """
+    where: str
+    present: frozenset[str]
+    catalogue: frozenset[str]
+    units: dict[str, Any]
+    cameras: tuple[str, ...]
+    steps: int
+    end_s: float
 
+    def product(self, name: str, key: str) -> None:
+        """`name` is stocked in this episode, or one line saying why not."""
+        if name in self.present:
+            return
+        why = (
+            "is not a product of the catalogue"
+            if name not in self.catalogue
+            else "is not stocked in this episode"
+        )
+        raise ConfigError(f"{self.where}: {key}: {name!r} {why}; valid: {', '.join(sorted(self.present))}")
+
+    def slot(self, text: str, key: str) -> None:
+        """`text` ("unit/tier/index") names a slot of the kitchen's shelves."""
+        m = _SLOT.fullmatch(text)
+        assert m is not None  # the pattern was checked by the model
+        unit, tier, index = m.group(1), int(m.group(2)), int(m.group(3))
+        if unit not in self.units:
+            raise ConfigError(
+                f"{self.where}: {key}: unknown shelf unit {unit!r}; valid: {', '.join(self.units)}"
+            )
+        tiers = self.units[unit].tiers
+        if tier >= len(tiers):
+            raise ConfigError(f"{self.where}: {key}: unit {unit!r} has tiers 0-{len(tiers) - 1} (got {tier})")
+        if index >= len(tiers[tier].slots):
+            raise ConfigError(
+                f"{self.where}: {key}: tier {unit}/{tier} has slots 0-{len(tiers[tier].slots) - 1} (got {index})"
+            )
+
+    def camera(self, name: str, key: str) -> None:
+        """`name` is one of the kitchen's cameras."""
+        if name not in self.cameras:
+            raise ConfigError(
+                f"{self.where}: {key}: unknown camera {name!r}; valid: {', '.join(self.cameras)}"
+            )
+
+
+def _kitchen_of(spec: ScenarioFile, path: Path, where: str) -> _Kitchen:
+    """The kitchen the scenario names, stocked for its seed (its files loaded; the profile's name checked)."""
     base = path.parent
     w = spec.world
     try:
@@ -722,40 +766,39 @@ def check_world(spec: ScenarioFile, path: Path, where: str) -> None:
             profile_path(spec.robot.profile, base)
     except SconeError as exc:
         raise ConfigError(f"{where}: world: {exc}") from None
-    present_set = set(present)
-    catalogue_names = set(kitchen.catalogue.names())
+    cameras = (*kitchen.shelf_cameras, *[c for c in kitchen.cameras if c.role != "shelf"])
+    return _Kitchen(
+        where,
+        frozenset(present),
+        frozenset(kitchen.catalogue.names()),
+        {u.name: u for u in kitchen.scene.shelves},
+        tuple(c.name for c in cameras),
+        steps,
+        w.max_ticks * w.tick_period,
+    )
 
-    def product(name: str, key: str) -> None:
-        if name in present_set:
-            return
-        why = (
-            "is not a product of the catalogue"
-            if name not in catalogue_names
-            else "is not stocked in this episode"
-        )
-        raise ConfigError(f"{where}: {key}: {name!r} {why}; valid: {', '.join(sorted(present_set))}")
 
-    units = {u.name: u for u in kitchen.scene.shelves}
+def check_world(spec: ScenarioFile, path: Path, where: str) -> None:
+    """Check the scenario against the kitchen it names: products, slots, cameras, times, the profile.
 
-    def slot(text: str, key: str) -> None:
-        m = _SLOT.fullmatch(text)
-        assert m is not None  # the pattern was checked by the model
-        unit, tier, index = m.group(1), int(m.group(2)), int(m.group(3))
-        if unit not in units:
-            raise ConfigError(f"{where}: {key}: unknown shelf unit {unit!r}; valid: {', '.join(units)}")
-        tiers = units[unit].tiers
-        if tier >= len(tiers):
-            raise ConfigError(f"{where}: {key}: unit {unit!r} has tiers 0-{len(tiers) - 1} (got {tier})")
-        if index >= len(tiers[tier].slots):
-            raise ConfigError(
-                f"{where}: {key}: tier {unit}/{tier} has slots 0-{len(tiers[tier].slots) - 1} (got {index})"
-            )
+    Loads the kitchen, catalogue, recipe, robot and tree files and draws the seeded stocking (pure and cheap), so
+    a name that is not in this episode's kitchen is an error before the simulator starts.
+    """
+    k = _kitchen_of(spec, path, where)
+    _check_placements(spec.world, k)
+    for i, ev in enumerate(spec.events):
+        _check_event(ev, f"events[{i}]", k)
+    for i, ex in enumerate(spec.expect):
+        _check_expectation(ex, f"expect[{i}]", k)
 
-    cameras = [c.name for c in (*kitchen.shelf_cameras, *[c for c in kitchen.cameras if c.role != "shelf"])]
+
+def _check_placements(w: Any, k: _Kitchen) -> None:
+    """world.place (products, slots, one product a slot, room for the neighbours), hidden_markers, on_table."""
+    where = k.where
     pinned: dict[str, int] = {}
     for i, pl in enumerate(w.place):
-        product(pl.product, f"world.place[{i}].product")
-        slot(pl.slot, f"world.place[{i}].slot")
+        k.product(pl.product, f"world.place[{i}].product")
+        k.slot(pl.slot, f"world.place[{i}].slot")
         if pl.slot in pinned:  # the later pin would move the earlier product away, and its pin would not hold
             raise ConfigError(
                 f"{where}: world.place[{i}].slot: {pl.slot} is already world.place[{pinned[pl.slot]}]'s "
@@ -763,9 +806,9 @@ def check_world(spec: ScenarioFile, path: Path, where: str) -> None:
             )
         pinned[pl.slot] = i
         for j, name in enumerate(pl.neighbours):
-            product(name, f"world.place[{i}].neighbours[{j}]")
+            k.product(name, f"world.place[{i}].neighbours[{j}]")
         unit_name, tier_index = pl.slot.split("/")[:2]
-        room = len(units[unit_name].tiers[int(tier_index)].slots)
+        room = len(k.units[unit_name].tiers[int(tier_index)].slots)
         if pl.gap_m is not None and len(pl.neighbours) > 2:
             raise ConfigError(
                 f"{where}: world.place[{i}].gap_m: a gap places at most 2 neighbours, one on each side "
@@ -778,51 +821,53 @@ def check_world(spec: ScenarioFile, path: Path, where: str) -> None:
             )
     for key in ("hidden_markers", "on_table"):
         for i, name in enumerate(getattr(w, key)):
-            product(name, f"world.{key}[{i}]")
-    end = w.max_ticks * w.tick_period
-    for i, ev in enumerate(spec.events):
-        key = f"events[{i}]"
-        if ev.at is not None and ev.at > end:
-            raise ConfigError(
-                f"{where}: {key}.at: {ev.at:g} s is after the episode's end ({end:g} s: max_ticks × tick_period)"
-            )
-        for field in ("remove", "to_table", "hide_marker", "show_marker"):
-            if getattr(ev, field, None) is not None:
-                product(getattr(ev, field), f"{key}.{field}")
-        if isinstance(ev, SwapEvent):
-            product(ev.swap.product, f"{key}.swap.product")
-            product(ev.swap.with_, f"{key}.swap.with")
-        if isinstance(ev, MoveEvent):
-            product(ev.move.product, f"{key}.move.product")
-            slot(ev.move.slot, f"{key}.move.slot")
-        for field in ("cover_camera", "uncover_camera"):
-            cam = getattr(ev, field, None)
-            if cam is not None and cam not in cameras:
-                raise ConfigError(
-                    f"{where}: {key}.{field}: unknown camera {cam!r}; valid: {', '.join(cameras)}"
-                )
-        if ev.when is not None:
-            _check_match(ev.when, f"{where}: {key}.when", catalogue_names)
-            if ev.when.object is not None:
-                product(ev.when.object, f"{key}.when.object")
-    for i, ex in enumerate(spec.expect):
-        key = f"expect[{i}]"
-        if isinstance(ex, Count):  # a misspelt name would match no event, and the count would pass vacuously
-            _check_match(ex.count, f"{where}: {key}.count", catalogue_names)
-        for field in ("asks_before_attempt", "never_attempts", "kappa"):
-            if getattr(ex, field, None) is not None:
-                product(getattr(ex, field), f"{key}.{field}")
-        if isinstance(ex, OnTable):
-            for j, name in enumerate(ex.on_table):
-                product(name, f"{key}.on_table[{j}]")
-        if isinstance(ex, CompletesStep) and ex.completes_step > steps:
-            raise ConfigError(
-                f"{where}: {key}.completes_step: the recipe has steps 1-{steps} (got {ex.completes_step})"
-            )
-        for field in ("within_s",):
-            t = getattr(ex, field, None)
-            if t is not None and t > end:
-                raise ConfigError(f"{where}: {key}.{field}: {t:g} s is after the episode's end ({end:g} s)")
+            k.product(name, f"world.{key}[{i}]")
+
+
+def _check_event(ev: Any, key: str, k: _Kitchen) -> None:
+    """One event: its time within the episode, the products, slot and camera it names, its condition."""
+    if ev.at is not None and ev.at > k.end_s:
+        raise ConfigError(
+            f"{k.where}: {key}.at: {ev.at:g} s is after the episode's end ({k.end_s:g} s: max_ticks × tick_period)"
+        )
+    for field in ("remove", "to_table", "hide_marker", "show_marker"):
+        if getattr(ev, field, None) is not None:
+            k.product(getattr(ev, field), f"{key}.{field}")
+    if isinstance(ev, SwapEvent):
+        k.product(ev.swap.product, f"{key}.swap.product")
+        k.product(ev.swap.with_, f"{key}.swap.with")
+    if isinstance(ev, MoveEvent):
+        k.product(ev.move.product, f"{key}.move.product")
+        k.slot(ev.move.slot, f"{key}.move.slot")
+    for field in ("cover_camera", "uncover_camera"):
+        cam = getattr(ev, field, None)
+        if cam is not None:
+            k.camera(cam, f"{key}.{field}")
+    if ev.when is not None:
+        _check_match(ev.when, f"{k.where}: {key}.when", set(k.catalogue))
+        if ev.when.object is not None:
+            k.product(ev.when.object, f"{key}.when.object")
+
+
+def _check_expectation(ex: Any, key: str, k: _Kitchen) -> None:
+    """One expectation: the products and events it names, its step within the recipe, its time within the
+    episode."""
+    if isinstance(ex, Count):  # a misspelt name would match no event, and the count would pass vacuously
+        _check_match(ex.count, f"{k.where}: {key}.count", set(k.catalogue))
+    for field in ("asks_before_attempt", "never_attempts", "kappa"):
+        if getattr(ex, field, None) is not None:
+            k.product(getattr(ex, field), f"{key}.{field}")
+    if isinstance(ex, OnTable):
+        for j, name in enumerate(ex.on_table):
+            k.product(name, f"{key}.on_table[{j}]")
+    if isinstance(ex, CompletesStep) and ex.completes_step > k.steps:
+        raise ConfigError(
+            f"{k.where}: {key}.completes_step: the recipe has steps 1-{k.steps} (got {ex.completes_step})"
+        )
+    for field in ("within_s",):
+        t = getattr(ex, field, None)
+        if t is not None and t > k.end_s:
+            raise ConfigError(f"{k.where}: {key}.{field}: {t:g} s is after the episode's end ({k.end_s:g} s)")
 
 
 def _check_match(match: EventMatch, where: str, products: set[str]) -> None:

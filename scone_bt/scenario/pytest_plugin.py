@@ -6,6 +6,10 @@ Each case of a ``*.yaml`` file in a folder named ``scenarios`` is one test item 
 xfail (strict: passing is a failure). A failing case writes its event log and recording into ``--scenario-out``
 and its report names the expectation, the tick and the events around it. Importing this module is cheap: the
 simulator loads only when a scenario runs.
+
+A thin layer over `scone_bt.scenario.runner`, as ``scone-scenario run`` is: the cases, the output folder, each
+case's run and its verdict come from there; the selection, the worker processes and the JUnit report from pytest
+and pytest-xdist. The verdict maps one to one: passed passes, xfail is an xfail, failed, xpass and error fail.
 """
 
 from __future__ import annotations
@@ -16,8 +20,6 @@ from typing import Any
 import pytest
 
 __all__ = ["pytest_addoption", "pytest_collect_file", "pytest_configure"]
-
-_MODELS: Any = None
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:
@@ -54,11 +56,10 @@ def pytest_collect_file(parent: pytest.Collector, file_path: Path) -> pytest.Col
 
 def _out_dir(config: pytest.Config) -> Path:
     """Where a failing case's log and recording go: --scenario-out, else beside the JUnit report."""
-    given = config.getoption("--scenario-out")
-    if given:
-        return Path(given)
-    junit = getattr(config.option, "xmlpath", None)
-    return Path(junit).parent if junit else Path("runs/scenarios")
+    from scone_bt.scenario.runner import default_out_dir
+
+    given, junit = config.getoption("--scenario-out"), getattr(config.option, "xmlpath", None)
+    return default_out_dir(Path(given) if given else None, Path(junit) if junit else None)
 
 
 class ScenarioYaml(pytest.File):
@@ -66,10 +67,10 @@ class ScenarioYaml(pytest.File):
 
     def collect(self) -> Any:
         from scone_bt.errors import SconeError
-        from scone_bt.scenario.model import load_scenario, on_backend
+        from scone_bt.scenario.runner import load_cases
 
         try:
-            cases = [on_backend(c, self.config.getoption("--robot")) for c in load_scenario(self.path)]
+            cases = load_cases([self.path], self.config.getoption("--robot"))
         except SconeError as exc:
             raise self.CollectError(str(exc)) from None
         for case in cases:
@@ -91,24 +92,17 @@ class ScenarioItem(pytest.Item):
         for tag in case.spec.tags:  # `pytest -m <tag>` selects by the file's tags
             self.config.addinivalue_line("markers", f"{tag}: scenarios tagged {tag}")
             self.add_marker(tag)
-        if case.spec.expected == "fail":
-            self.add_marker(pytest.mark.xfail(reason=case.spec.reason, strict=True, raises=ScenarioFailed))
 
     def runtest(self) -> None:
-        global _MODELS
-        from scone_bt.episode.resources import ModelPool
-        from scone_bt.scenario.run import Verdict, run_case
+        from scone_bt.scenario.run import Verdict
+        from scone_bt.scenario.runner import run_one
 
-        if _MODELS is None:
-            _MODELS = ModelPool()
-        out = _out_dir(self.config)
-        result = run_case(
-            self.case, out, _MODELS, record_failures=not self.config.getoption("--scenario-no-recording")
-        )
+        record = not self.config.getoption("--scenario-no-recording")
+        result = run_one(self.case, _out_dir(self.config), record_failures=record)
         self.user_properties.append(("sim_s", f"{result.sim_s:.1f}"))
-        if result.verdict == Verdict.ERROR:
-            raise ScenarioFailed(result.report())
-        if result.failures:
+        if result.verdict == Verdict.XFAIL:
+            pytest.xfail(result.reason)
+        if not result.ok:  # failed, passed against its `expected: fail`, or an error
             raise ScenarioFailed(result.report())
 
     def repr_failure(self, excinfo: pytest.ExceptionInfo[BaseException], style: Any = None) -> str:

@@ -2,7 +2,8 @@
 then the expectations checked on the typed event stream.
 
 The rig (`ScenarioHook`) is the episode's `EpisodeHook`: it acts only through `scone_bt.robot.rig.World` and runs
-between control ticks on the episode's thread, so a case repeats exactly (same events, same JSONL log).
+between control ticks on the episode's thread, so a case repeats exactly (same events, same JSONL log). Many
+cases at once: `scone_bt.scenario.runner`.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ import math
 import re
 import tempfile
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -42,11 +43,8 @@ __all__ = [
     "ScenarioHook",
     "Verdict",
     "episode_options",
-    "WORKER_DIED",
     "event_json",
-    "lost_case",
     "run_case",
-    "run_cases",
     "safe_name",
 ]
 
@@ -412,80 +410,3 @@ def run_case(
         replay=replay,
         log=tuple(lines),
     )
-
-
-def run_cases(
-    cases: Sequence[Case],
-    jobs: int = 1,
-    out_dir: Path | None = None,
-    on_result: Callable[[CaseResult], None] | None = None,
-) -> list[CaseResult]:
-    """Run cases, ``jobs`` at a time in worker processes (each loads the embedder once); results in case order."""
-    results: dict[int, CaseResult] = {}
-    if jobs <= 1 or len(cases) <= 1:
-        from scone_bt.episode.resources import ModelPool
-
-        models = ModelPool()
-        for i, case in enumerate(cases):
-            results[i] = run_case(case, out_dir, models)
-            if on_result is not None:
-                on_result(results[i])
-    else:
-        import concurrent.futures as cf
-        from concurrent.futures.process import BrokenProcessPool
-
-        from scone_bt.distributed.pool import abort_pool, spawn_pool
-
-        pool = spawn_pool(jobs)  # workers ignore Ctrl-C; here it stops them at once, not after every case
-        try:
-            futures: dict[cf.Future[CaseResult], int] = {}
-            try:
-                for i, case in enumerate(cases):
-                    futures[pool.submit(_worker_run, case, out_dir)] = i
-            except BrokenProcessPool:
-                pass  # a worker died already: the cases not submitted are reported lost below
-            for fut in cf.as_completed(futures):
-                i = futures[fut]
-                try:
-                    results[i] = fut.result()
-                except BrokenProcessPool:
-                    # one killed worker (kill -9, the out-of-memory killer) breaks the whole pool: the cases
-                    # that finished keep their results, every other one is an error, not a lost run
-                    results[i] = lost_case(cases[i])
-                if on_result is not None:
-                    on_result(results[i])
-        except BaseException:
-            abort_pool(pool)
-            raise
-        pool.shutdown(wait=True)
-        for i, case in enumerate(cases):
-            if i not in results:
-                results[i] = lost_case(case)
-                if on_result is not None:
-                    on_result(results[i])
-    return [results[i] for i in range(len(cases))]
-
-
-WORKER_DIED = (
-    "a worker process died (killed, e.g. by kill -9 or the out-of-memory killer) before this case finished; "
-    "it did not run to the end: run it again, with fewer --jobs if memory is short"
-)
-"""The reason of a case lost with its worker process."""
-
-
-def lost_case(case: Case) -> CaseResult:
-    """The error result of a case whose worker process died before it finished."""
-    return CaseResult(case.name, str(case.path), Verdict.ERROR, WORKER_DIED)
-
-
-_MODELS: Any = None
-
-
-def _worker_run(case: Case, out_dir: Path | None) -> CaseResult:
-    global _MODELS
-    if _MODELS is None:
-        from scone_bt.episode.resources import ModelPool
-
-        _MODELS = ModelPool()
-    result = run_case(case, out_dir, _MODELS)
-    return result

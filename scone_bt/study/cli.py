@@ -25,6 +25,7 @@ __all__ = ["main", "build_parser"]
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """`scone-study`'s parser: one sub-command each, declared in its own function."""
     p = argparse.ArgumentParser(
         prog="scone-study",
         description="The trust study toolkit: tablet sessions with durable logging, simulated participants, and the paper's Bayesian analysis.",
@@ -32,7 +33,20 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     sub = p.add_subparsers(dest="command", required=True, metavar="{session,simulate,analyze,power,export}")
+    _add_session_parser(sub)
+    m = _add_simulate_parser(sub)
+    a = _add_analyze_parser(sub)
+    _add_power_parser(sub)
+    for parser in (a, m):
+        _add_analysis_options(parser)
+    e = sub.add_parser("export", help="write sessions, events, responses and scores as CSV")
+    e.add_argument("--db", type=Path, required=True)
+    e.add_argument("--out", type=Path, required=True)
+    return p
 
+
+def _add_session_parser(sub: argparse._SubParsersAction) -> None:
+    """`session`: one real study session with the tablet UI."""
     s = sub.add_parser(
         "session",
         help="run one real study session with the tablet UI",
@@ -74,6 +88,9 @@ def build_parser() -> argparse.ArgumentParser:
         "the researcher's page always shows it and has a switch for the participant's view)",
     )
 
+
+def _add_simulate_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    """`simulate`: the whole study with simulated participants (its analysis options added by the caller)."""
     m = sub.add_parser(
         "simulate",
         help="run the whole study with simulated participants (output labelled SIMULATED)",
@@ -109,7 +126,11 @@ def build_parser() -> argparse.ArgumentParser:
     from scone_bt.distributed import add_engine_arguments
 
     add_engine_arguments(m)
+    return m
 
+
+def _add_analyze_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    """`analyze`: the study log or the ratings CSV in (its analysis options added by the caller)."""
     a = sub.add_parser(
         "analyze",
         help="the paper's Bayesian analysis: Eq. (3) ordered logit, Eq. (4) Poisson",
@@ -138,49 +159,51 @@ def build_parser() -> argparse.ArgumentParser:
         help="folder for results.json, scores.csv, fig3.png, fig3.pdf",
     )
     a.add_argument("--force", action="store_true", help="overwrite earlier results in --out")
-    _add_power_parser(sub)
-    for parser in (a, m):
-        parser.add_argument(
-            "--model",
-            choices=("paper", "extended"),
-            default="paper",
-            help="paper: Eq. (3)/(4) as published; extended: adds group A/B, single-difference coding",
-        )
-        parser.add_argument(
-            "--effect-prior-sd", type=float, help="prior sd of the effects (unset: the model's, 1)"
-        )
-        parser.add_argument(
-            "--cutpoint-prior-sd",
-            type=float,
-            help="prior sd of the cut-points (unset: the model's; paper 1, extended 1.5)",
-        )
-        parser.add_argument(
-            "--scale-prior-sd",
-            type=float,
-            help="scale of the participant/question sd priors (unset: the model's, 1)",
-        )
-        parser.add_argument("--chains", type=int, default=6, help="MCMC chains")
-        parser.add_argument("--tune", type=int, default=500, help="warm-up draws per chain")
-        parser.add_argument("--draws", type=int, default=500, help="kept draws per chain")
-        parser.add_argument("--cores", type=int, help="processes for the chains (default: PyMC's choice)")
-        parser.add_argument(
-            "--rope",
-            type=float,
-            nargs=2,
-            default=(-0.18, 0.18),
-            metavar=("LOW", "HIGH"),
-            help="region of practical equivalence",
-        )
-        parser.add_argument(
-            "--models",
-            help="comma list of questionnaires (mdmt, tps_hri, ...), trust (pooled), interventions "
-            "(default: every questionnaire, and interventions where known)",
-        )
+    return a
 
-    e = sub.add_parser("export", help="write sessions, events, responses and scores as CSV")
-    e.add_argument("--db", type=Path, required=True)
-    e.add_argument("--out", type=Path, required=True)
-    return p
+
+def _add_analysis_options(parser: argparse.ArgumentParser) -> None:
+    """The model, its priors and the sampler; the defaults are `AnalysisOptions`' (the paper's)."""
+    from scone_bt.study.analysis import AnalysisOptions
+    from scone_bt.study.models import SPECIFICATIONS
+
+    defaults = AnalysisOptions  # its fields' defaults
+    parser.add_argument(
+        "--model",
+        choices=SPECIFICATIONS,
+        default=defaults.specification,
+        help="paper: Eq. (3)/(4) as published; extended: adds group A/B, single-difference coding",
+    )
+    parser.add_argument(
+        "--effect-prior-sd", type=float, help="prior sd of the effects (unset: the model's, 1)"
+    )
+    parser.add_argument(
+        "--cutpoint-prior-sd",
+        type=float,
+        help="prior sd of the cut-points (unset: the model's; paper 1, extended 1.5)",
+    )
+    parser.add_argument(
+        "--scale-prior-sd",
+        type=float,
+        help="scale of the participant/question sd priors (unset: the model's, 1)",
+    )
+    parser.add_argument("--chains", type=int, default=defaults.chains, help="MCMC chains")
+    parser.add_argument("--tune", type=int, default=defaults.tune, help="warm-up draws per chain")
+    parser.add_argument("--draws", type=int, default=defaults.draws, help="kept draws per chain")
+    parser.add_argument("--cores", type=int, help="processes for the chains (default: PyMC's choice)")
+    parser.add_argument(
+        "--rope",
+        type=float,
+        nargs=2,
+        default=defaults.rope,
+        metavar=("LOW", "HIGH"),
+        help="region of practical equivalence",
+    )
+    parser.add_argument(
+        "--models",
+        help="comma list of questionnaires (mdmt, tps_hri, ...), trust (pooled), interventions "
+        "(default: every questionnaire, and interventions where known)",
+    )
 
 
 def _quiet() -> None:
@@ -326,37 +349,44 @@ def _analyze_command(args: argparse.Namespace) -> int:
 
 
 def _add_power_parser(sub) -> None:  # noqa: ANN001 - argparse's private subparsers type
+    """`power`: study planning by simulation; the defaults are `PowerOptions`'."""
+    from scone_bt.distributed import add_engine_arguments
+    from scone_bt.study.models import SPECIFICATIONS
+    from scone_bt.study.power import PowerOptions
+
+    d = PowerOptions  # its fields' defaults, read without building (and checking) options
     w = sub.add_parser(
         "power",
         help="study planning: P(HDI excludes the ROPE) against the number of participants, by simulation",
         formatter_class=argparse.ArgumentDefaultsHelpFormatter,
     )
-    w.add_argument("--n", default="10,20,31,50", help="comma list of participant numbers")
-    w.add_argument("--repetitions", type=int, default=20, help="simulated studies per participant number")
-    w.add_argument("--effect", type=float, default=1.0, help="true condition effect (logit, or log-rate)")
+    n = ",".join(map(str, d.participants))
+    w.add_argument("--n", default=n, help="comma list of participant numbers")
+    w.add_argument(
+        "--repetitions", type=int, default=d.repetitions, help="simulated studies per participant number"
+    )
+    w.add_argument(
+        "--effect", type=float, default=d.effect, help="true condition effect (logit, or log-rate)"
+    )
     w.add_argument(
         "--measure",
-        default="mdmt",
+        default=d.measure,
         help="mdmt or tps_hri (simulated participants' answers) or interventions (Eq. 4 counts)",
     )
-    w.add_argument("--model", choices=("paper", "extended"), default="paper", help="model fitted")
-    w.add_argument("--rope", type=float, nargs=2, default=(-0.18, 0.18), metavar=("LOW", "HIGH"), help="ROPE")
-    w.add_argument("--chains", type=int, default=2, help="MCMC chains per analysis")
-    w.add_argument("--tune", type=int, default=300, help="warm-up draws per chain")
-    w.add_argument("--draws", type=int, default=300, help="kept draws per chain")
-    from scone_bt.study.power import PowerOptions
-
+    w.add_argument("--model", choices=SPECIFICATIONS, default=d.specification, help="model fitted")
+    w.add_argument("--rope", type=float, nargs=2, default=d.rope, metavar=("LOW", "HIGH"), help="ROPE")
+    w.add_argument("--chains", type=int, default=d.chains, help="MCMC chains per analysis")
+    w.add_argument("--tune", type=int, default=d.tune, help="warm-up draws per chain")
+    w.add_argument("--draws", type=int, default=d.draws, help="kept draws per chain")
     w.add_argument(
         "--answer-noise-sd",
         type=float,
-        default=PowerOptions.response_noise_sd,
+        default=d.response_noise_sd,
         help="per-session noise of the simulated answers, logit (0: answers drawn from Eq. 3)",
     )
     w.add_argument("--workers", type=int, help="processes (default: CPU count), or Ray workers with --ray")
-    from scone_bt.distributed import add_engine_arguments
-
     add_engine_arguments(w)
-    w.add_argument("--seed", type=int, default=0, help="seeds every simulated study and its sampler")
+    w.add_argument("--seed", type=int, default=d.seed, help="seeds every simulated study and its sampler")
     _add_trust_params(w)
     w.add_argument("--out", type=Path, default=Path("runs/power"), help="folder for power.json, power.png")
     w.add_argument("--force", action="store_true", help="overwrite earlier results in --out")

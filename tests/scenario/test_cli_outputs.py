@@ -11,7 +11,7 @@ from typing import Any
 
 import pytest
 
-from scone_bt.scenario import cli, model, run
+from scone_bt.scenario import cli, model, run, runner
 from scone_bt.scenario.cli import main
 
 TINY = "description: A short run that does not finish the recipe.\nworld: {max_ticks: 20}\nexpect:\n  - {completes: false}\n"
@@ -27,7 +27,7 @@ def _no_case_runs(monkeypatch: pytest.MonkeyPatch) -> None:
     def refuse(*args: Any, **kwargs: Any) -> None:
         raise AssertionError("a case ran although an output path is bad")
 
-    monkeypatch.setattr(run, "run_cases", refuse)
+    monkeypatch.setattr(runner, "run_cases", refuse)
 
 
 def _one_line(capsys: pytest.CaptureFixture[str]) -> str:
@@ -143,7 +143,7 @@ def test_a_killed_worker_keeps_the_finished_results_and_reports_the_lost_cases(
 ) -> None:
     path = _scenario(tmp_path)
     flag = tmp_path / "first-result-in"
-    load, run_cases = model.load_scenarios, run.run_cases
+    load, run_cases = model.load_scenarios, runner.run_cases
 
     def with_doomed_cases(paths: Any) -> list[model.Case]:
         (case,) = load(paths)
@@ -160,7 +160,7 @@ def test_a_killed_worker_keeps_the_finished_results_and_reports_the_lost_cases(
         return run_cases(*args, on_result=seen, **kwargs)
 
     monkeypatch.setattr(model, "load_scenarios", with_doomed_cases)
-    monkeypatch.setattr(run, "run_cases", touching_the_flag)
+    monkeypatch.setattr(runner, "run_cases", touching_the_flag)
     junit = tmp_path / "rep" / "j.xml"
     assert main(["run", str(path), "--jobs", "2", "--junit", str(junit), "--quiet"]) == 1
     out, err = capsys.readouterr()
@@ -175,7 +175,7 @@ def test_a_killed_worker_keeps_the_finished_results_and_reports_the_lost_cases(
     assert cases["a"].find("error") is None
     for name in ("killer", "stuck"):
         error = cases[name].find("error")
-        assert error is not None and error.get("message") == run.WORKER_DIED
+        assert error is not None and error.get("message") == runner.WORKER_DIED
 
 
 @pytest.mark.slow
@@ -184,7 +184,7 @@ def test_ctrl_c_stops_the_workers_at_once_and_says_how_far_the_run_got(
 ) -> None:
     path = _scenario(tmp_path)
     marker = tmp_path / "a-slow-case-finished"
-    load, run_cases = model.load_scenarios, run.run_cases
+    load, run_cases = model.load_scenarios, runner.run_cases
 
     def with_slow_cases(paths: Any) -> list[model.Case]:
         (case,) = load(paths)
@@ -200,7 +200,7 @@ def test_ctrl_c_stops_the_workers_at_once_and_says_how_far_the_run_got(
         return run_cases(*args, on_result=seen, **kwargs)
 
     monkeypatch.setattr(model, "load_scenarios", with_slow_cases)
-    monkeypatch.setattr(run, "run_cases", interrupted_after_the_first)
+    monkeypatch.setattr(runner, "run_cases", interrupted_after_the_first)
     junit = tmp_path / "j.xml"
     assert main(["run", str(path), "--jobs", "2", "--junit", str(junit)]) == 130
     out, err = capsys.readouterr()

@@ -1,0 +1,105 @@
+"""One scenario runner: `scone-scenario run` and `pytest scenarios/` select, run and judge cases through
+`scone_bt.scenario.runner`, and give a case the same verdict."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from scone_bt.errors import SconeError
+from scone_bt.scenario import runner
+from scone_bt.scenario.cli import main
+from scone_bt.scenario.run import CaseResult
+
+pytest_plugins = ["pytester"]
+
+TINY = "description: A short run.\nworld: {max_ticks: 20}\nexpect:\n  - {completes: false}\n"
+VERDICTS = ("passed", "xfail", "failed", "xpass", "error")
+
+
+def _library(folder: Path) -> Path:
+    """A scenario folder with one file per verdict, named after it; `fast` tags the first two."""
+    folder.mkdir(parents=True, exist_ok=True)
+    for k, verdict in enumerate(VERDICTS):
+        tags = "tags: [fast]\n" if k < 2 else "tags: [slow]\n"
+        (folder / f"{verdict}.yaml").write_text(TINY + tags, encoding="utf-8")
+    return folder
+
+
+def _judged_by_name(monkeypatch: pytest.MonkeyPatch, ran: list[str]) -> None:
+    """Each case runs to the verdict its file is named after (no episode)."""
+
+    def run_one(case: Any, out_dir: Any, record_failures: bool = True) -> CaseResult:
+        ran.append(case.name)
+        return CaseResult(case.name, str(case.path), case.name, f"because {case.name}")
+
+    monkeypatch.setattr(runner, "run_one", run_one)
+
+
+def test_selection_by_name_and_tags_refuses_an_empty_result(tmp_path: Path) -> None:
+    cases = runner.load_cases([_library(tmp_path / "lib")], None)
+    names = [c.name for c in cases]
+    assert sorted(names) == sorted(VERDICTS)
+    assert [c.name for c in runner.Selection(name="pass").apply(cases)] == ["passed", "xpass"]
+    assert {c.name for c in runner.Selection(tags=("fast",)).apply(cases)} == {"passed", "xfail"}
+    assert {c.name for c in runner.Selection(skip_tags=("fast",)).apply(cases)} == {
+        "failed",
+        "xpass",
+        "error",
+    }
+    with pytest.raises(SconeError, match=r"^-k 'nothing': no case name contains it$"):
+        runner.Selection(name="nothing").apply(cases)
+    with pytest.raises(SconeError, match=r"^no case left after --tag/--skip-tag$"):
+        runner.Selection(tags=("fast",), skip_tags=("fast",)).apply(cases)
+    with pytest.raises(SconeError, match=r"^--jobs 0: give 1 or more$"):
+        runner.check_jobs(0)
+
+
+def test_tally_counts_each_verdict_and_what_fails() -> None:
+    results = [CaseResult(v, "f.yaml", v, "") for v in (*VERDICTS, "passed")]
+    tally = runner.Tally.of(results)
+    assert (tally.passed, tally.xfail, tally.failed, tally.xpass, tally.error) == (2, 1, 1, 1, 1)
+    assert tally.not_ok == 3 and tally.total == 6
+    assert tally.line(1.25) == (
+        "6 cases: 2 passed, 1 failed as expected, 1 failed, 1 passed unexpectedly, 1 errors in 1.2 s wall"
+    )
+
+
+def test_the_cli_and_the_pytest_plugin_give_each_case_the_same_verdict(
+    tmp_path: Path,
+    pytester: pytest.Pytester,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    ran: list[str] = []
+    _judged_by_name(monkeypatch, ran)
+    folder = _library(pytester.path / "scenarios")
+    assert main(["run", str(folder), "--quiet", "--out", str(tmp_path / "out")]) == 1
+    out = capsys.readouterr().out
+    assert "5 cases: 1 passed, 1 failed as expected, 1 failed, 1 passed unexpectedly, 1 errors" in out
+    assert sorted(ran) == sorted(VERDICTS)
+
+    ran.clear()
+    result = pytester.inline_run(
+        str(folder), "-p", "no:cacheprovider", "--scenario-out", str(tmp_path / "out")
+    )
+    assert sorted(ran) == sorted(VERDICTS)
+    outcome = {
+        r.nodeid.split("::")[-1]: r for r in result.getreports("pytest_runtest_logreport") if r.when == "call"
+    }
+    assert outcome["passed"].passed
+    assert outcome["xfail"].skipped and outcome["xfail"].wasxfail == "because xfail"
+    for name in ("failed", "xpass", "error"):  # each fails, with the runner's report as its message
+        assert outcome[name].failed and f"{name} ({folder / name}.yaml): {name}: because {name}" in str(
+            outcome[name].longrepr
+        )
+
+    # the same selection by tag: `-t fast` on the command line, `-m fast` under pytest
+    ran.clear()
+    assert main(["run", str(folder), "--quiet", "-t", "fast", "--out", str(tmp_path / "out")]) == 0
+    cli_ran = sorted(ran)
+    ran.clear()
+    pytester.inline_run(str(folder), "-p", "no:cacheprovider", "-m", "fast", "--scenario-out", str(tmp_path))
+    assert sorted(ran) == cli_ran == ["passed", "xfail"]
