@@ -11,12 +11,15 @@ from typing import Any
 __all__ = ["register", "run"]
 
 
-def run(paths: list[str], jobs: int, out_dir: Path | None, robot: str | None = None) -> dict[str, Any]:
-    """The report of one run of the scenarios under ``paths`` (on the robot backend ``robot``; None: each file's)."""
+def run(
+    paths: list[str], jobs: int, out_dir: Path | None, robot: str | None = None, arm: str | None = None
+) -> dict[str, Any]:
+    """The report of one run of the scenarios under ``paths`` (on the robot backend ``robot`` with the robot file
+    ``arm``; None: each file's)."""
     from scone_bt.scenario.model import load_scenarios, on_backend
     from scone_bt.scenario.run import run_cases
 
-    cases = [on_backend(c, robot) for c in load_scenarios(paths)]
+    cases = [on_backend(c, robot, arm) for c in load_scenarios(paths)]
     started = time.perf_counter()
     results = run_cases(cases, jobs=jobs, out_dir=out_dir)
     wall = time.perf_counter() - started
@@ -25,6 +28,7 @@ def run(paths: list[str], jobs: int, out_dir: Path | None, robot: str | None = N
         "expected_failures": sum(r.verdict == "xfail" for r in results),
         "failed": sum(r.verdict in ("failed", "xpass", "error") for r in results),
         "robot": robot or "per file",
+        "arm": arm or "per file",
         "jobs": jobs,
         "wall_s": round(wall, 1),
         "scenarios": [
@@ -46,7 +50,7 @@ def _main(args: argparse.Namespace) -> int:
 
     if args.jobs < 1:
         raise SconeError(f"--jobs {args.jobs}: give 1 or more")
-    report = run(args.paths or ["scenarios"], args.jobs, args.out, args.robot)
+    report = run(args.paths or ["scenarios"], args.jobs, args.out, args.robot, args.arm)
     emit_report(report, args.json, force=getattr(args, "force", False))
     return 0
 
@@ -62,6 +66,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--robot",
         default=None,
         help="robot backend every case runs on: sim (PyBullet) or mujoco (default: each file's world.robot)",
+    )
+    p.add_argument(
+        "--arm",
+        default=None,
+        help="robot file every case runs with: a name in robots/ or a YAML path (default: each file's world.arm)",
     )
     p.add_argument(
         "--out", type=Path, default=None, help="folder for failing cases' event logs and recordings"

@@ -49,6 +49,11 @@ def _parser() -> argparse.ArgumentParser:
         default=None,
         help="robot backend every case runs on: sim (PyBullet) or mujoco (default: each file's world.robot)",
     )
+    r.add_argument(
+        "--arm",
+        default=None,
+        help="robot file every case runs with: a name in robots/ or a YAML path (default: each file's world.arm)",
+    )
     r.add_argument("-k", dest="select", default=None, help="run only cases whose name contains this text")
     r.add_argument(
         "-t", "--tag", action="append", default=[], help="run only cases tagged so (repeat: any of them)"
@@ -207,7 +212,7 @@ def _run(args: argparse.Namespace) -> int:
         args.out = args.junit.parent if args.junit is not None else Path("runs/scenarios")
     if args.jobs < 1:
         raise SconeError(f"--jobs {args.jobs}: give 1 or more")
-    cases = [on_backend(c, args.robot) for c in load_scenarios(args.paths)]
+    cases = [on_backend(c, args.robot, args.arm) for c in load_scenarios(args.paths)]
     # the outputs are checked before any case runs: a bad path found after the run would lose every result
     if args.junit is not None:
         check_junit(args.junit, _scenario_inputs(args.paths, cases), args.force)

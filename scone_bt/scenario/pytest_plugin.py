@@ -34,6 +34,12 @@ def pytest_addoption(parser: pytest.Parser) -> None:
         help="robot backend every scenario runs on: sim (PyBullet) or mujoco (default: each file's world.robot)",
     )
     group.addoption(
+        "--arm",
+        default=None,
+        help="robot file every scenario runs with: a name in robots/ or a YAML path (default: each file's "
+        "world.arm)",
+    )
+    group.addoption(
         "--scenario-no-recording",
         action="store_true",
         help="do not re-run a failing scenario to save its .rrd recording",
@@ -69,7 +75,8 @@ class ScenarioYaml(pytest.File):
         from scone_bt.scenario.model import load_scenario, on_backend
 
         try:
-            cases = [on_backend(c, self.config.getoption("--robot")) for c in load_scenario(self.path)]
+            robot, arm = self.config.getoption("--robot"), self.config.getoption("--arm")
+            cases = [on_backend(c, robot, arm) for c in load_scenario(self.path)]
         except SconeError as exc:
             raise self.CollectError(str(exc)) from None
         for case in cases:
