@@ -75,9 +75,23 @@ def test_without_the_extra_the_backend_names_it_in_one_line():
     assert out.stdout.strip() == "--robot mujoco needs the mujoco package: pip install -e '.[mujoco]'", out
 
 
-def test_a_renderer_that_cannot_load_is_one_line_naming_the_debian_packages():
+def test_a_renderer_that_cannot_load_is_one_line_naming_the_debian_packages(tmp_path):
+    db, rrd = tmp_path / "outcomes.db", tmp_path / "run.rrd"
     out = subprocess.run(
-        [sys.executable, "-m", "scone_bt.cli.run", "--robot", "mujoco", "--headless", "--seed", "0"],
+        [
+            sys.executable,
+            "-m",
+            "scone_bt.cli.run",
+            "--robot",
+            "mujoco",
+            "--headless",
+            "--seed",
+            "0",
+            "--experience",
+            str(db),
+            "--save",
+            str(rrd),
+        ],
         capture_output=True,
         text=True,
         env={**os.environ, "MUJOCO_GL": "bogus"},
@@ -86,6 +100,7 @@ def test_a_renderer_that_cannot_load_is_one_line_naming_the_debian_packages():
     lines = (out.stdout + out.stderr).strip().splitlines()
     assert out.returncode == 2 and len(lines) == 1, out.stdout + out.stderr
     assert "MUJOCO_GL=bogus" in lines[0] and "libegl1 libegl-mesa0 libgl1-mesa-dri" in lines[0]
+    assert not db.exists() and not rrd.exists()  # nothing is stored
 
 
 @pytest.mark.parametrize(
