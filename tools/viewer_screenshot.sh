@@ -102,8 +102,10 @@ EOF
 # 3. Open it headless and let the viewer screenshot itself.
 echo "viewer_screenshot: rendering the viewer (software Vulkan, ~20-60 s)" >&2
 export WGPU_BACKEND=${WGPU_BACKEND:-vulkan}
-# A fresh viewer state every time (XDG_DATA_HOME): a state the viewer persisted from an earlier run (yours, or the
-# last screenshot's) otherwise carries over, e.g. a behaviour-tree graph shot before it has laid out.
+# A fresh viewer state every time (XDG_DATA_HOME): the viewer otherwise restores what it persisted in ~/.local/share
+# from earlier sessions (yours, or the last screenshot's), so the shot would depend on them.
+# Look at the PNG: once, the behaviour-tree panel of one MuJoCo recording came out as unlabelled dots, on every
+# render of that file; a new recording of the same episode rendered it laid out.
 export XDG_RUNTIME_DIR=$TMP XDG_DATA_HOME=$TMP/data LC_ALL=C.UTF-8
 SW=$((2 * W + 100)) SH=$((2 * H + 100))
 xvfb-run -a -s "-screen 0 ${SW}x${SH}x24" bash -c '
