@@ -23,8 +23,10 @@ test: $(STAMP)
 	$(BIN)/python -m pytest tests scenarios -m "not scenario or fast" -n $(JOBS)
 	$(BIN)/python -m pytest scenarios -m fast --robot mujoco -n $(JOBS)
 
+# The rest of the scenario library, on PyBullet and then on MuJoCo (each case's expected_on says where it differs).
 scenarios: $(STAMP)
 	$(BIN)/python -m pytest scenarios -m "not fast" -n 2 --junitxml=runs/scenarios-junit.xml
+	$(BIN)/python -m pytest scenarios -m "not fast" --robot mujoco -n 2 --junitxml=runs/scenarios-mujoco-junit.xml
 
 # VAMP (vamp-planner, Panda only) built from its PyPI sdist and third_party/vamp/, into .venv; not part of test or run.
 vamp: $(STAMP)

@@ -156,7 +156,9 @@ def run(args: argparse.Namespace) -> int:
     cold = (
         None
         if args.no_cold
-        else cold_first_decision(args.arm, args.robot, recipes[0], args.seed, args.distractors, args.max_ticks)
+        else cold_first_decision(
+            args.arm, args.robot, recipes[0], args.seed, args.distractors, args.max_ticks
+        )
     )
     firsts = [
         e["startup_to_first_decision_s"] for e in episodes if e["startup_to_first_decision_s"] is not None

@@ -12,11 +12,14 @@ from typing import Any
 __all__ = ["register", "run"]
 
 
-def run(paths: list[str], jobs: int, out_dir: Path | None, robot: str | None = None) -> dict[str, Any]:
-    """The report of one run of the scenarios under ``paths`` (on the robot backend ``robot``; None: each file's)."""
+def run(
+    paths: list[str], jobs: int, out_dir: Path | None, robot: str | None = None, arm: str | None = None
+) -> dict[str, Any]:
+    """The report of one run of the scenarios under ``paths`` (on the robot backend ``robot`` with the robot file
+    ``arm``; None: each file's)."""
     from scone_bt.scenario.runner import Tally, load_cases, run_cases
 
-    cases = load_cases(paths, robot)
+    cases = load_cases(paths, robot, arm)
     started = time.perf_counter()
     results = run_cases(cases, jobs=jobs, out_dir=out_dir)
     wall = time.perf_counter() - started
@@ -26,6 +29,7 @@ def run(paths: list[str], jobs: int, out_dir: Path | None, robot: str | None = N
         "expected_failures": tally.xfail,
         "failed": tally.not_ok,
         "robot": robot or "per file",
+        "arm": arm or "per file",
         "jobs": jobs,
         "wall_s": round(wall, 1),
         "scenarios": [
@@ -45,7 +49,7 @@ def _main(args: argparse.Namespace) -> int:
     from scone_bt.reporting import emit_report
     from scone_bt.scenario.runner import check_jobs
 
-    report = run(args.paths or ["scenarios"], check_jobs(args.jobs), args.out, args.robot)
+    report = run(args.paths or ["scenarios"], check_jobs(args.jobs), args.out, args.robot, args.arm)
     emit_report(report, args.json, force=getattr(args, "force", False))
     return 0
 
@@ -61,6 +65,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--robot",
         default=None,
         help="robot backend every case runs on: sim (PyBullet) or mujoco (default: each file's world.robot)",
+    )
+    p.add_argument(
+        "--arm",
+        default=None,
+        help="robot file every case runs with: a name in robots/ or a YAML path (default: each file's world.arm)",
     )
     p.add_argument(
         "--out", type=Path, default=None, help="folder for failing cases' event logs and recordings"

@@ -57,6 +57,11 @@ def _parser() -> argparse.ArgumentParser:
         default=None,
         help="robot backend every case runs on: sim (PyBullet) or mujoco (default: each file's world.robot)",
     )
+    r.add_argument(
+        "--arm",
+        default=None,
+        help="robot file every case runs with: a name in robots/ or a YAML path (default: each file's world.arm)",
+    )
     r.add_argument("-k", dest="select", default=None, help="run only cases whose name contains this text")
     r.add_argument(
         "-t", "--tag", action="append", default=[], help="run only cases tagged so (repeat: any of them)"
@@ -236,7 +241,7 @@ def _cases(args: argparse.Namespace) -> list[Case]:
 
     args.out = default_out_dir(args.out, args.junit)
     check_jobs(args.jobs)
-    cases = load_cases(args.paths, args.robot)
+    cases = load_cases(args.paths, args.robot, args.arm)
     if args.junit is not None:
         check_junit(args.junit, _scenario_inputs(args.paths, cases), args.force)
     check_output_dir(args.out, "--out")

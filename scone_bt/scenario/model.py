@@ -26,7 +26,7 @@ from pydantic import Discriminator, Field, Tag, ValidationError, field_validator
 from scone_bt.config.schema import StrictModel, format_validation_error
 from scone_bt.config.yaml_io import read_yaml
 from scone_bt.defaults import EPISODE
-from scone_bt.errors import ConfigError, SconeError, UnknownNameError
+from scone_bt.errors import ConfigError, SconeError
 from scone_bt.events import EVENT_TYPES
 
 __all__ = [
@@ -671,20 +671,26 @@ def load_scenario(path: Path | str) -> list[Case]:
     return cases
 
 
-def on_backend(case: Case, backend: str | None) -> Case:
+def on_backend(case: Case, backend: str | None, arm: str | None = None) -> Case:
     """The case as it runs on the robot backend ``backend`` (None: the file's ``world.robot``), with that backend's
-    ``expected_on`` entry in force.
+    ``expected_on`` entry in force, and with the robot file ``arm`` (None: the file's ``world.arm``).
 
     Raises:
-        ConfigError: ``backend`` is not a backend's name (one line naming the valid ones).
+        SconeError: ``backend`` is not a backend's name (one line naming the valid ones, or saying to give a robot
+            file with ``--arm``), or ``arm`` is not a robot file (one line naming the valid ones).
     """
-    from scone_bt.robot.registry import BACKENDS
+    from scone_bt.config import load_robot
+    from scone_bt.robot.flags import check_backend
 
-    if backend is not None and backend not in BACKENDS:
-        raise UnknownNameError("robot backend", backend, BACKENDS)
+    if backend is not None:
+        check_backend(backend)
+    world: dict[str, Any] = {"robot": backend or case.spec.world.robot}
+    if arm is not None:
+        load_robot(arm)  # a bad robot file stops here, before any case runs
+        world["arm"] = str(Path(arm).resolve()) if Path(arm).is_file() else arm
     spec = case.spec
-    name = backend or spec.world.robot
-    update: dict[str, Any] = {"world": spec.world.model_copy(update={"robot": name})}
+    name = world["robot"]
+    update: dict[str, Any] = {"world": spec.world.model_copy(update=world)}
     if name in spec.expected_on:
         entry = spec.expected_on[name]
         update |= {"expected": entry.expected, "reason": entry.reason}

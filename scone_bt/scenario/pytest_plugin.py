@@ -36,6 +36,12 @@ def pytest_addoption(parser: pytest.Parser) -> None:
         help="robot backend every scenario runs on: sim (PyBullet) or mujoco (default: each file's world.robot)",
     )
     group.addoption(
+        "--arm",
+        default=None,
+        help="robot file every scenario runs with: a name in robots/ or a YAML path (default: each file's "
+        "world.arm)",
+    )
+    group.addoption(
         "--scenario-no-recording",
         action="store_true",
         help="do not re-run a failing scenario to save its .rrd recording",
@@ -70,7 +76,7 @@ class ScenarioYaml(pytest.File):
         from scone_bt.scenario.runner import load_cases
 
         try:
-            cases = load_cases([self.path], self.config.getoption("--robot"))
+            cases = load_cases([self.path], self.config.getoption("--robot"), self.config.getoption("--arm"))
         except SconeError as exc:
             raise self.CollectError(str(exc)) from None
         for case in cases:

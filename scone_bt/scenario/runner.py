@@ -32,11 +32,12 @@ __all__ = [
 ]
 
 
-def load_cases(paths: Sequence[Path | str], robot: str | None) -> list[Case]:
-    """Every case of the scenario files (or folders of them) `paths`, on the backend `robot` (None: each file's)."""
+def load_cases(paths: Sequence[Path | str], robot: str | None, arm: str | None = None) -> list[Case]:
+    """Every case of the scenario files (or folders of them) `paths`, on the backend `robot` with the robot file
+    `arm` (None: each file's)."""
     from scone_bt.scenario import model  # through the module: a test may stand in for the loader
 
-    return [model.on_backend(c, robot) for c in model.load_scenarios(paths)]
+    return [model.on_backend(c, robot, arm) for c in model.load_scenarios(paths)]
 
 
 def default_out_dir(out: Path | None, junit: Path | None) -> Path:

@@ -472,13 +472,25 @@ class MjKitchen(GroundTruth):
         return self._cameras.image(camera)
 
     def link_poses(self) -> dict[str, tuple[tuple[float, ...], tuple[float, ...]]]:
-        """World pose (position, quaternion xyzw) of every robot link, by link name; the base is 'base'."""
+        """World pose (position, quaternion xyzw) of every robot link, by link name; the base is 'base'.
+
+        As on PyBullet (`world.Kitchen.link_poses`), the links are at their URDF link frames and the base at its
+        centre of mass, in its inertial frame: a recording shifts it back by the URDF's inertial origin.
+        """
+        mj = import_mujoco()
         out: dict[str, tuple[tuple[float, ...], tuple[float, ...]]] = {}
-        d = self.data
+        m, d = self.model, self.data
         for b in sorted(self.robot_bodies):
-            w, x, y, z = (float(c) for c in d.xquat[b])
-            name = "base" if b == self.robot_root else self.model.body(b).name
-            out[name] = (tuple(float(c) for c in d.xpos[b]), (x, y, z, w))
+            if b == self.robot_root:
+                ipos, iquat = self.parts.root_inertial
+                name, position, quat = "base", np.empty(3), np.empty(4)
+                mj.mju_rotVecQuat(position, np.asarray(ipos), d.xquat[b])
+                position += d.xpos[b]
+                mj.mju_mulQuat(quat, d.xquat[b], np.asarray(iquat))
+            else:
+                name, position, quat = m.body(b).name, d.xpos[b], d.xquat[b]
+            w, x, y, z = (float(c) for c in quat)
+            out[name] = (tuple(float(c) for c in position), (x, y, z, w))
         return out
 
     # ----------------------------------------------------------------------------------------- time

@@ -100,11 +100,15 @@ class ModelParts:
         boxes: The fixed scene's boxes.
         products: Product names in the order their bodies were added.
         cameras: Camera names (the kitchen file's), each a model camera of the same name.
+        root_inertial: The arm's root link's inertial origin in its link frame, as the URDF gives it: position
+            (m) and quaternion (w, x, y, z). The compiled model turns that frame to the principal axes of inertia;
+            PyBullet reports the base pose in the URDF's frame (`MjKitchen.link_poses` does the same).
     """
 
     boxes: tuple[StaticBox, ...]
     products: tuple[str, ...]
     cameras: tuple[str, ...]
+    root_inertial: tuple[tuple[float, float, float], tuple[float, float, float, float]]
 
 
 def import_mujoco() -> Any:
@@ -477,5 +481,13 @@ def build_model(
         model = spec.compile()
     except ValueError as exc:
         raise ConfigError(f"MuJoCo could not compile the kitchen model ({str(exc).strip()})") from None
-    parts = ModelParts(tuple(boxes), tuple(p.name for p in products), tuple(c.name for c in kitchen.cameras))
+    first_arm_body = model.jnt_bodyid[model.joint(robot.arm_joints[0]).id]
+    root = spec.body(model.body(model.body_parentid[first_arm_body]).name)
+    ipos, iquat = (float(c) for c in root.ipos), (float(c) for c in root.iquat)
+    parts = ModelParts(
+        tuple(boxes),
+        tuple(p.name for p in products),
+        tuple(c.name for c in kitchen.cameras),
+        root_inertial=(tuple(ipos), tuple(iquat)),  # type: ignore[arg-type]
+    )
     return model, parts

@@ -1,4 +1,5 @@
-"""--robot is the backend and --arm the robot file, in every command (scone-run, scone-bench, scone-study)."""
+"""--robot is the backend and --arm the robot file, in every command (scone-run, scone-bench, scone-scenario,
+scone-study)."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ from scone_bt.cli.run import build_parser as run_parser
 from scone_bt.errors import SconeError
 from scone_bt.robot import flags as robot_options
 from scone_bt.robot import registry
+from scone_bt.scenario import cli as scenario_cli
 from scone_bt.study.cli import build_parser as study_parser
 
 
@@ -29,6 +31,7 @@ def _every_command() -> dict[str, argparse.ArgumentParser]:
     commands = {"scone-run": run_parser()}
     commands.update({f"scone-bench {k}": p for k, p in _leaves(bench._parser()).items()})
     commands.update({f"scone-study {k}": p for k, p in _leaves(study_parser()).items()})
+    commands.update({f"scone-scenario {k}": p for k, p in _leaves(scenario_cli._parser()).items()})
     return commands
 
 
@@ -47,7 +50,8 @@ def test_robot_is_a_backend_and_arm_a_robot_file_in_every_command() -> None:
             assert "backend" in (robot.help or ""), name
         if arm is not None:
             assert robot is not None, f"{name}: --arm without --robot"
-            assert arm.default == "panda", name
+            # a scenario command's default is None: each file's world.arm names its robot file
+            assert arm.default == ("panda" if robot.default is not None else None), name
     # the commands that build a robot: each has the backend flag
     for name in (
         "scone-run",
@@ -61,6 +65,8 @@ def test_robot_is_a_backend_and_arm_a_robot_file_in_every_command() -> None:
         "scone-bench physics",
         "scone-study session",
         "scone-study simulate",
+        "scone-scenario run",
+        "scone-bench scenarios",
     ):
         assert name in with_robot, name
 
@@ -125,3 +131,18 @@ def test_scone_study_robot_is_the_backend(tmp_path, capsys) -> None:
     assert code == 2
     err = capsys.readouterr().err
     assert "--robot 'panda'" in err and "--arm panda" in err and err.count("\n") == 1
+
+
+def test_a_robot_file_given_to_robot_in_scone_scenario_says_to_use_arm(capsys) -> None:
+    assert scenario_cli.main(["run", "scenarios/", "--robot", "robots/iiwa7.yaml"]) == 2
+    err = capsys.readouterr().err
+    assert err == (
+        "scone-scenario: --robot 'robots/iiwa7.yaml': --robot names the robot backend (mujoco, sim); "
+        "give the robot file with --arm robots/iiwa7.yaml\n"
+    )
+
+
+def test_scone_bench_scenarios_refuses_an_unknown_arm_in_one_line(capsys) -> None:
+    assert bench.main(["scenarios", "--arm", "nosuch"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "nosuch" in err and "iiwa7, panda" in err

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from scone_bt.errors import ConfigError, UnknownNameError
+from scone_bt.errors import ConfigError, SconeError
 from scone_bt.scenario.model import load_scenario, on_backend
 from scone_bt.scenario.run import episode_options
 
@@ -33,8 +33,27 @@ def test_an_unknown_backend_is_one_line_naming_the_valid_ones(tmp_path: Path) ->
     with pytest.raises(ConfigError) as info:
         _case(tmp_path, BASE + "expected_on:\n  gazebo: {reason: r}\n")
     assert "gazebo" in str(info.value)
-    with pytest.raises(UnknownNameError, match="valid: mujoco, sim"):
+    with pytest.raises(SconeError, match="unknown robot backend; valid: mujoco, sim"):
         on_backend(_case(tmp_path, BASE), "gazebo")
+
+
+@pytest.mark.parametrize("robot_file", ["iiwa7", "robots/iiwa7.yaml"])
+def test_a_robot_file_given_as_the_backend_says_to_use_arm(tmp_path: Path, robot_file: str) -> None:
+    with pytest.raises(SconeError) as info:
+        on_backend(_case(tmp_path, BASE), robot_file)
+    message = str(info.value)
+    assert "\n" not in message and f"--arm {robot_file}" in message
+
+
+def test_arm_names_the_robot_file_of_every_case(tmp_path: Path) -> None:
+    case = _case(tmp_path, BASE + "world: {robot: mujoco}\n")
+    assert case.spec.world.arm == "panda"
+    on_iiwa = on_backend(case, None, "iiwa7")
+    assert on_iiwa.spec.world.arm == "iiwa7" and on_iiwa.spec.world.robot == "mujoco"
+    assert episode_options(on_iiwa).robot == "iiwa7"
+    with pytest.raises(SconeError) as info:
+        on_backend(case, "sim", "nosuch")
+    assert "\n" not in str(info.value) and "iiwa7, panda" in str(info.value)
 
 
 def test_expected_on_applies_only_on_its_backend(tmp_path: Path) -> None:

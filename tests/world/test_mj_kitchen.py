@@ -128,3 +128,31 @@ def test_a_weak_gripper_drops_a_heavy_bottle(kitchen_cfg, robot_cfg):
             outcome = task.outcome()
         assert not outcome.success and outcome.stage in (FailureStage.GRASP, FailureStage.TRANSIT)
         assert st.position != kitchen.object_state("olive oil").position
+
+
+def test_a_users_catalogue_file_works_unchanged_on_mujoco(tmp_path, robot_cfg):
+    """A product of the user's own file (``--catalogue``): built with its size, mass and friction, and its ArUco lid
+    found by the same detector."""
+    from scone_bt.config import load_kitchen
+    from scone_bt.world.mj_kitchen import MjKitchen
+
+    mine = tmp_path / "mine.yaml"
+    mine.write_text(
+        "family: my jars\nsource: measured with a ruler\n"
+        "defaults: {shape: cylinder, material: glass, friction: 0.4}\nproducts:\n"
+        "  - {name: saffron syrup, size: [0.06, 0.06, 0.12], mass: 0.23, rgba: [0.9, 0.6, 0.1, 1], marker_id: 900}\n",
+        encoding="utf-8",
+    )
+    cfg = load_kitchen(catalogues=[mine])
+    with MjKitchen(cfg, robot_cfg) as kitchen:
+        kitchen.spawn([cfg.catalogue.get(n) for n in ("saffron syrup", "salt")], np.random.default_rng(0))
+        body = kitchen.model.body("saffron syrup")
+        solid = kitchen.model.geom("saffron syrup")
+        assert float(body.mass[0]) == pytest.approx(0.23)
+        assert float(solid.friction[0]) == pytest.approx(0.4)
+        assert tuple(solid.size[:2]) == pytest.approx((0.03, 0.06))  # cylinder: radius, half height
+        assert kitchen.is_on_shelf("saffron syrup")
+        found = {d.name: d for d in Observer(cfg).observe(kitchen, np.random.default_rng(0)).detections}
+        assert "saffron syrup" in found  # named from its own marker id, 900
+        error = np.linalg.norm(np.subtract(found["saffron syrup"].position, _top(kitchen, "saffron syrup")))
+        assert error <= 0.005
