@@ -394,7 +394,7 @@ def sample_placements(
         return PlacementSet((), (), 0)
     base = np.asarray(base_xy, dtype=float)
     cands = _fit_candidates(table, obstacles, shape, pts, options, base, arrival_yaw)
-    free = cands.free.any(axis=1)
+    free = np.asarray(cands.free.any(axis=1))  # asarray: numpy types any() as a scalar or an array
     blockers = _blockers(cands, free, obstacles)
     if not free.any():
         return PlacementSet((), blockers, len(pts))
