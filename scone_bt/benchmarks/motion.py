@@ -47,6 +47,7 @@ import threading
 import time
 from collections import Counter
 from collections.abc import Iterator
+from dataclasses import dataclass
 from typing import Any, cast
 
 from scone_bt.reporting import emit_report
@@ -203,6 +204,42 @@ def _compare(calls: list[tuple[Any, Any, Any, Any]]) -> list[dict[str, Any]]:
     return rows
 
 
+@dataclass(frozen=True, eq=False)
+class _Draw:
+    """Query i's seeded products: the target, the others, and the generator that then places them on the shelving.
+
+    Attributes:
+        target: The product to fetch (a catalogue entry).
+        extra: The other products: `clutter` on the shelving, then those the human has carried to the table.
+        rng: The query's generator ([seed, i]), past the draw of `extra`.
+    """
+
+    target: Any
+    extra: list[Any]
+    rng: Any
+
+
+@dataclass(frozen=True, eq=False)
+class _Executed:
+    """What one query's pick-and-place did in the physics.
+
+    Attributes:
+        task: The finished pick-and-place task (its plan, or why none exists).
+        outcome: Its outcome.
+        sim_s: Simulated seconds from its start to its end.
+        on_shelf: The target stood on a shelf when the query began.
+        static_names: The kitchen's fixed structure (shelving, table), by name.
+        calls: The OMPL queries recorded for the VAMP comparison (empty without it).
+    """
+
+    task: Any
+    outcome: Any
+    sim_s: float
+    on_shelf: bool
+    static_names: set[str]
+    calls: list[tuple[Any, Any, Any, Any]]
+
+
 def _query(
     kitchen_file: str,
     arm_name: str,
@@ -216,36 +253,48 @@ def _query(
 
     With `compare_vamp`, the record also holds ``planners``: the OMPL queries of the plan solved by both planners.
     """
-    import numpy as np
-
-    from scone_bt.motion import MotionSystem, PickPlacePlan
-    from scone_bt.motion.execution import ExecutionSettings
-    from scone_bt.motion.timing import limits_of
     from scone_bt.quiet import quiet_backends
-    from scone_bt.world import Kitchen
 
     quiet_backends()
     w = _setup(kitchen_file, arm_name)
-    kcfg, rcfg, params = w["kcfg"], w["rcfg"], w["params"]
-    g = rcfg.gripper
+    draw = _draw(w["kcfg"], seed, clutter + table_objects, i)
+    executed = _execute(w, draw, clutter, i, compare_vamp)
+    g, params, target = w["rcfg"].gripper, w["params"], draw.target
     opening = 2.0 * (g.open_position - g.closed_position)
+    fits_gripper = target.grasp_width <= opening - params.opening_margin
+    fits_payload = 2 * g.max_force * g.finger_friction * target.friction >= PAYLOAD_SAFETY * target.mass * G
+    return _record(i, target, bool(fits_gripper), bool(fits_payload), executed, compare_vamp)
+
+
+def _draw(kcfg: Any, seed: int, others: int, i: int) -> _Draw:
+    """Query i's target (a seeded permutation of the catalogue) and `others` other products (seed [seed, i])."""
+    import numpy as np
+
     catalogue = list(kcfg.catalogue.objects)
     order = np.random.default_rng(seed).permutation(len(catalogue))
     rng = np.random.default_rng([seed, i])
     target = catalogue[int(order[i % len(order)])]
-    others = [o for o in catalogue if o.name != target.name]
-    picks = rng.choice(len(others), size=clutter + table_objects, replace=False)
-    extra = [others[int(j)] for j in picks]
-    fits_gripper = target.grasp_width <= opening - params.opening_margin
-    fits_payload = 2 * g.max_force * g.finger_friction * target.friction >= PAYLOAD_SAFETY * target.mass * G
+    rest = [o for o in catalogue if o.name != target.name]
+    picks = rng.choice(len(rest), size=others, replace=False)
+    return _Draw(target, [rest[int(j)] for j in picks], rng)
+
+
+def _execute(w: dict[str, Any], draw: _Draw, clutter: int, i: int, compare_vamp: bool) -> _Executed:
+    """Stock a fresh kitchen with the draw, then plan and execute the pick-and-place (seeded by i)."""
+    from scone_bt.motion import MotionSystem
+    from scone_bt.motion.execution import ExecutionSettings
+    from scone_bt.motion.timing import limits_of
+    from scone_bt.world import Kitchen
+
+    kcfg, rcfg, target, extra = w["kcfg"], w["rcfg"], draw.target, draw.extra
     with Kitchen(kcfg, rcfg) as kitchen:
-        kitchen.spawn([target, *extra], rng)
+        kitchen.spawn([target, *extra], draw.rng)
         on_table = [s.name for s in extra[clutter:] if kitchen.human_place_on_table(s.name)]
         kitchen.advance(0.3)
         on_shelf = kitchen.is_on_shelf(target.name)
         static_names = {b.name for b in kitchen.static_boxes}
         system = MotionSystem(
-            kitchen, w["arm"], w["options"], limits_of(rcfg), params, ExecutionSettings(), rcfg
+            kitchen, w["arm"], w["options"], limits_of(rcfg), w["params"], ExecutionSettings(), rcfg
         )
         shelf = [(_detect(kitchen, s.name), s) for s in extra if s.name not in on_table]
         table = [(_detect(kitchen, n), kitchen.specs[n]) for n in on_table]
@@ -265,24 +314,33 @@ def _query(
             outcome = task.outcome()
         sim_s = kitchen.sim_time - start
         system.close()
-    plan = task.plan
+    return _Executed(task, outcome, sim_s, bool(on_shelf), static_names, calls)
+
+
+def _record(
+    i: int, target: Any, fits_gripper: bool, fits_payload: bool, executed: _Executed, compare_vamp: bool
+) -> dict[str, Any]:
+    """One query's record: the target, whether it fits, the outcome, and the plan's figures or why none exists."""
+    from scone_bt.motion import PickPlacePlan
+
+    plan, outcome = executed.task.plan, executed.outcome
     assert outcome is not None
     rec: dict[str, Any] = {
         "i": i,
         "target": target.name,
-        "fits_gripper": bool(fits_gripper),
-        "fits_payload": bool(fits_payload),
+        "fits_gripper": fits_gripper,
+        "fits_payload": fits_payload,
         "success": bool(outcome.success),
         "stage": outcome.stage.value if outcome.stage else None,
         "message": outcome.message,
-        "sim_s": sim_s,
+        "sim_s": executed.sim_s,
         "planned": isinstance(plan, PickPlacePlan),
         "reason": None,
-        "on_shelf": bool(on_shelf),
+        "on_shelf": executed.on_shelf,
         "scene_only": False,
     }
     if compare_vamp:
-        rec["planners"] = _compare(calls)
+        rec["planners"] = _compare(executed.calls)
     if isinstance(plan, PickPlacePlan):
         rec.update(
             family=plan.grasp.family.value,
@@ -294,7 +352,7 @@ def _query(
     elif plan is not None:
         rec["reason"] = plan.reason.value
         # Blocked by the shelving's own structure alone (no product among what blocked the most grasps).
-        rec["scene_only"] = bool(plan.blockers) and set(plan.blockers) <= static_names
+        rec["scene_only"] = bool(plan.blockers) and set(plan.blockers) <= executed.static_names
     return rec
 
 

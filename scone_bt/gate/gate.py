@@ -86,6 +86,9 @@ def decide(
     """Act on the most relevant action, ask for help with it, ask which item is meant, or idle; see the module
     docstring.
 
+    Its named steps, in order: `_check_aligned`, `_candidates` (rule 0), `_nothing_to_fetch`, the most relevant
+    candidate and `_probability`, `_irrelevant` (rule 1), then `_act_or_ask` (rules 2 to 4).
+
     Args:
         ranked: Candidate actions with their relevance (any order; usually rank_actions' best-first list).
         confidences: κ̂ success probability of each, aligned with `ranked`.
@@ -98,6 +101,22 @@ def decide(
     Raises:
         SconeError: lengths differ, or a confidence is not a number in [0, 1].
     """
+    _check_aligned(ranked, confidences, explore)
+    pool = _candidates(ranked, options.recipe_aware, ambiguous)
+    if not pool:
+        return _nothing_to_fetch(ambiguous)
+    best = max(pool, key=lambda i: (ranked[i].relevance, -i))
+    action = ranked[best]
+    conf = _probability(action, confidences[best])
+    if not options.recipe_aware and action.relevance < options.relevance_threshold:
+        return _irrelevant(action, conf, options.relevance_threshold)
+    return _act_or_ask(action, conf, options, bool(explore and explore[best]))
+
+
+def _check_aligned(
+    ranked: Sequence[RankedAction], confidences: Sequence[float], explore: Sequence[bool]
+) -> None:
+    """One confidence per action, and one exploration flag per action where there are any."""
     if len(ranked) != len(confidences):
         raise SconeError(
             f"{len(ranked)} ranked actions but {len(confidences)} confidences; pass one per action"
@@ -106,37 +125,55 @@ def decide(
         raise SconeError(
             f"{len(ranked)} ranked actions but {len(explore)} exploration flags; pass one per action"
         )
-    recipe_aware = options.recipe_aware
-    pool = list(range(len(ranked)))
-    if recipe_aware:
-        now = [i for i, r in enumerate(ranked) if r.need == "now"]
-        # an ambiguous step still needs something: ask which before fetching for steps ahead
-        pool = now or ([] if ambiguous else [i for i, r in enumerate(ranked) if r.need == "later"])
-    if not pool:
-        if ambiguous:
-            return Decision(
-                DecisionKind.CLARIFY,
-                None,
-                float("nan"),
-                float("nan"),
-                "which one does the step mean: " + ", ".join(ambiguous),
-                candidates=tuple(ambiguous),
-            )
-        return Decision(DecisionKind.IDLE, None, float("nan"), float("nan"), "no actions are available")
-    best = max(pool, key=lambda i: (ranked[i].relevance, -i))
-    action, conf = ranked[best], float(confidences[best])
+
+
+def _candidates(ranked: Sequence[RankedAction], recipe_aware: bool, ambiguous: Sequence[str]) -> list[int]:
+    """Indices of the actions the gate may pick from: every action, or with recipe-aware ranking (rule 0) those
+    needed now, else (the step being clear) those needed later."""
+    if not recipe_aware:
+        return list(range(len(ranked)))
+    now = [i for i, r in enumerate(ranked) if r.need == "now"]
+    # an ambiguous step still needs something: ask which before fetching for steps ahead
+    return now or ([] if ambiguous else [i for i, r in enumerate(ranked) if r.need == "later"])
+
+
+def _nothing_to_fetch(ambiguous: Sequence[str]) -> Decision:
+    """No candidate: ask which item an ambiguous step means (CLARIFY), else IDLE."""
+    if ambiguous:
+        return Decision(
+            DecisionKind.CLARIFY,
+            None,
+            float("nan"),
+            float("nan"),
+            "which one does the step mean: " + ", ".join(ambiguous),
+            candidates=tuple(ambiguous),
+        )
+    return Decision(DecisionKind.IDLE, None, float("nan"), float("nan"), "no actions are available")
+
+
+def _probability(action: RankedAction, confidence: float) -> float:
+    """κ̂'s confidence in `action` as a float, refused unless it is a probability."""
+    conf = float(confidence)
     if not (0.0 <= conf <= 1.0) or math.isnan(conf):
         raise SconeError(f"confidence of {action.text!r} is {conf}; κ̂ must give a probability in [0, 1]")
+    return conf
+
+
+def _irrelevant(action: RankedAction, conf: float, relevance_threshold: float) -> Decision:
+    """IDLE: even the most relevant action is below the relevance threshold (rule 1)."""
+    return Decision(
+        DecisionKind.IDLE,
+        None,
+        action.relevance,
+        conf,
+        f"no action is relevant (best {action.text!r} {action.relevance:.2f} < {relevance_threshold:.2f})",
+    )
+
+
+def _act_or_ask(action: RankedAction, conf: float, options: GateOptions, explored: bool) -> Decision:
+    """ACT without self-confidence (rule 2) or when κ̂ reaches the threshold (rule 3); below it, ACT on an
+    exploration draw (rule 4), else ASK."""
     need = action.need
-    if not recipe_aware and action.relevance < options.relevance_threshold:
-        return Decision(
-            DecisionKind.IDLE,
-            None,
-            action.relevance,
-            conf,
-            f"no action is relevant (best {action.text!r} {action.relevance:.2f} "
-            f"< {options.relevance_threshold:.2f})",
-        )
     if not options.use_self_confidence:
         return Decision(
             DecisionKind.ACT,
@@ -157,7 +194,7 @@ def decide(
             "confident: {} ≥ {}".format(*_told_apart(conf, threshold)),
             need,
         )
-    if explore and explore[best]:
+    if explored:
         return Decision(
             DecisionKind.ACT,
             action.text,

@@ -197,6 +197,54 @@ def _extent_along(spec: ObjectSpec, obj_yaw: float, direction_yaw: float) -> flo
     return float(abs(np.cos(d)) * spec.size[0] + abs(np.sin(d)) * spec.size[1])
 
 
+@dataclass(frozen=True, eq=False)
+class _CandidateMaker:
+    """Makes the candidates of one detected object, each costed as the module docstring says.
+
+    Attributes:
+        spec: The object's catalogue model.
+        object_yaw: Its detected yaw, radians.
+        object_pose: (4, 4) pose of its centre, world frame.
+        params: Generation settings and cost weights.
+        preferred_yaw: Closing-axis yaw (rad) of the arm's home pose.
+        opening: The gripper's full opening (m); None costs spans against 0.08 m.
+    """
+
+    spec: ObjectSpec
+    object_yaw: float
+    object_pose: np.ndarray
+    params: GraspParams
+    preferred_yaw: float
+    opening: float | None
+
+    def __call__(
+        self,
+        rotation: np.ndarray,
+        point: np.ndarray,
+        yaw: float,
+        tilt: float,
+        family: GraspFamily,
+        extra: float = 0.0,
+    ) -> GraspCandidate:
+        params = self.params
+        span = _extent_along(self.spec, self.object_yaw, yaw)
+        wrist = abs(wrap_angle(yaw - self.preferred_yaw)) / (np.pi / 2)
+        fc = params.family_cost[_FAMILY_INDEX[family]]
+        cost = fc + params.wrist_weight * wrist + params.tilt_weight * abs(tilt)
+        cost += params.span_weight * span / (self.opening or 0.08) + extra
+        return GraspCandidate(
+            closing_yaw=float(yaw),
+            rotation=rotation,
+            point=np.asarray(point, dtype=float),
+            approach=params.approach,
+            object_pose=self.object_pose,
+            span=span,
+            tilt=float(tilt),
+            family=family,
+            cost=float(cost),
+        )
+
+
 def grasp_candidates(
     detection: Detection,
     spec: ObjectSpec,
@@ -214,111 +262,115 @@ def grasp_candidates(
         opening: The gripper's full opening (m); None keeps every span.
     """
     top = np.asarray(detection.position, dtype=float)
-    height = spec.height
-    support = top[2] - height
-    obj_world = object_pose(detection, spec)
+    make = _CandidateMaker(spec, detection.yaw, object_pose(detection, spec), params, preferred_yaw, opening)
     radial = float(np.arctan2(top[1], top[0]))  # from the robot towards the object
-    out: list[GraspCandidate] = []
+    out = _top_grasps(make, top, _top_axes(detection, spec, params, radial))
+    if params.side_grasps:
+        out += _side_grasps(make, top, radial)
+    out = _fitting(out, opening, params)
+    out.sort(key=lambda c: c.cost)
+    return out
 
-    # Closing axes of the top family (modulo half turns): cylinders over the sweep, boxes across each face pair.
+
+def _top_axes(detection: Detection, spec: ObjectSpec, params: GraspParams, radial: float) -> list[float]:
+    """Closing axes of the top family (modulo half turns): cylinders over the sweep, boxes across each face pair."""
     if spec.shape == Shape.BOX:
-        axes = [detection.yaw, detection.yaw + np.pi / 2]
-    else:
-        n = max(1, int(round(np.pi / params.yaw_step)))
-        axes = [radial + np.pi / 2 + k * np.pi / n for k in range(n)]
-    depth = float(np.clip(height - params.min_clearance, 0.0, params.max_depth))
+        return [detection.yaw, detection.yaw + np.pi / 2]
+    n = max(1, int(round(np.pi / params.yaw_step)))
+    return [radial + np.pi / 2 + k * np.pi / n for k in range(n)]
+
+
+def _top_grasps(make: _CandidateMaker, top: np.ndarray, axes: list[float]) -> list[GraspCandidate]:
+    """Top grasps about each axis at both wrist angles: centred, shallow, off-centre (boxes), then tilted."""
+    spec, params = make.spec, make.params
+    depth = float(np.clip(spec.height - params.min_clearance, 0.0, params.max_depth))
     top_point = top - np.array([0.0, 0.0, depth])
     shallow = params.shallow_depth > 0 and params.shallow_depth < depth - 0.005
     shallow_point = top - np.array([0.0, 0.0, params.shallow_depth])
-
-    def add(
-        rotation: np.ndarray,
-        point: np.ndarray,
-        yaw: float,
-        tilt: float,
-        family: GraspFamily,
-        extra: float = 0.0,
-    ) -> None:
-        span = _extent_along(spec, detection.yaw, yaw)
-        wrist = abs(wrap_angle(yaw - preferred_yaw)) / (np.pi / 2)
-        fc = params.family_cost[_FAMILY_INDEX[family]]
-        cost = fc + params.wrist_weight * wrist + params.tilt_weight * abs(tilt)
-        cost += params.span_weight * span / (opening or 0.08) + extra
-        out.append(
-            GraspCandidate(
-                closing_yaw=float(yaw),
-                rotation=rotation,
-                point=np.asarray(point, dtype=float),
-                approach=params.approach,
-                object_pose=obj_world,
-                span=span,
-                tilt=float(tilt),
-                family=family,
-                cost=float(cost),
-            )
-        )
-
+    out: list[GraspCandidate] = []
     for axis in axes:
         for yaw in (wrap_angle(axis), wrap_angle(axis + np.pi)):  # both wrist angles
-            add(top_down_rotation(yaw), top_point, yaw, 0.0, GraspFamily.TOP)
+            out.append(make(top_down_rotation(yaw), top_point, yaw, 0.0, GraspFamily.TOP))
             if shallow:
-                add(top_down_rotation(yaw), shallow_point, yaw, 0.0, GraspFamily.TOP, params.shallow_cost)
+                out.append(
+                    make(
+                        top_down_rotation(yaw), shallow_point, yaw, 0.0, GraspFamily.TOP, params.shallow_cost
+                    )
+                )
             lean = np.array([-np.sin(yaw), np.cos(yaw), 0.0])  # where a positive tilt points the approach
             if spec.shape == Shape.BOX:
-                half = _extent_along(spec, detection.yaw, yaw + np.pi / 2) / 2
-                for off in params.offsets:
-                    if off <= 0 or off > half - params.offset_margin:
-                        continue
-                    for sign in (1.0, -1.0):
-                        point = top_point + sign * off * lean
-                        extra = params.offset_weight * off / half
-                        add(top_down_rotation(yaw), point, yaw, 0.0, GraspFamily.TOP, extra)
+                out += _offset_grasps(make, top_point, yaw, lean)
             for t in params.tilts:
                 for tilt in (t, -t):
                     # Never lean towards the robot: the hand would come from behind the object.
                     if np.sign(tilt) * (lean[:2] @ top[:2]) < -1e-9:
                         continue
-                    add(top_down_rotation(yaw, tilt), top_point, yaw, tilt, GraspFamily.TILTED)
-
-    if params.side_grasps:
-        z_lo = support + params.side_min_height
-        z_hi = top[2] - params.side_top_margin
-        if z_lo <= z_hi:
-            z = float(np.clip(support + params.side_height_fraction * height, z_lo, z_hi))
-            if spec.shape == Shape.BOX:
-                approaches = [detection.yaw + k * np.pi / 2 for k in range(4)]
-            else:
-                n = max(1, int(round(params.side_max_angle / params.yaw_step)))
-                approaches = [radial + k * params.side_max_angle / n for k in range(-n, n + 1)]
-            for phi in approaches:
-                if np.cos(phi - radial) < np.cos(params.side_max_angle) - 1e-9:
-                    continue
-                d = np.array([np.cos(phi), np.sin(phi), 0.0])
-                half = _extent_along(spec, detection.yaw, phi) / 2
-                depths = [(min(half, params.side_depth), 0.0)]
-                if 0 < params.side_shallow_depth < depths[0][0] - 1e-9:
-                    depths.append((params.side_shallow_depth, params.shallow_cost))
-                closing = phi + np.pi / 2  # side_rotation(closing) approaches along (sin, -cos) = d
-                for depth_in, extra in depths:
-                    point = np.array([top[0], top[1], z]) - d * (half - depth_in)
-                    for yaw in (wrap_angle(closing), wrap_angle(closing + np.pi)):
-                        rot = side_rotation(wrap_angle(closing))
-                        if yaw != wrap_angle(
-                            closing
-                        ):  # the other wrist angle: fingers swapped, x axis flipped
-                            rot = rot @ np.diag([-1.0, -1.0, 1.0])
-                        add(rot, point, yaw, 0.0, GraspFamily.SIDE, extra)
-
-    limit = None if opening is None else opening - params.opening_margin
-    if limit is not None:
-        fitting = [c for c in out if c.span <= limit]
-        if fitting:
-            out = fitting
-        else:
-            narrowest = min(c.span for c in out)
-            out = [c for c in out if c.span <= narrowest + 1e-6]
-    out.sort(key=lambda c: c.cost)
+                    out.append(make(top_down_rotation(yaw, tilt), top_point, yaw, tilt, GraspFamily.TILTED))
     return out
+
+
+def _offset_grasps(
+    make: _CandidateMaker, top_point: np.ndarray, yaw: float, lean: np.ndarray
+) -> list[GraspCandidate]:
+    """A box's top grasps at `yaw` moved off its centre both ways along `lean` (perpendicular to the closing)."""
+    params = make.params
+    half = _extent_along(make.spec, make.object_yaw, yaw + np.pi / 2) / 2
+    out: list[GraspCandidate] = []
+    for off in params.offsets:
+        if off <= 0 or off > half - params.offset_margin:
+            continue
+        for sign in (1.0, -1.0):
+            point = top_point + sign * off * lean
+            extra = params.offset_weight * off / half
+            out.append(make(top_down_rotation(yaw), point, yaw, 0.0, GraspFamily.TOP, extra))
+    return out
+
+
+def _side_grasps(make: _CandidateMaker, top: np.ndarray, radial: float) -> list[GraspCandidate]:
+    """Horizontal grasps from the faces that look towards the robot, at both wrist angles and each depth."""
+    spec, params = make.spec, make.params
+    height = spec.height
+    support = top[2] - height
+    z_lo = support + params.side_min_height
+    z_hi = top[2] - params.side_top_margin
+    if z_lo > z_hi:
+        return []
+    z = float(np.clip(support + params.side_height_fraction * height, z_lo, z_hi))
+    if spec.shape == Shape.BOX:
+        approaches = [make.object_yaw + k * np.pi / 2 for k in range(4)]
+    else:
+        n = max(1, int(round(params.side_max_angle / params.yaw_step)))
+        approaches = [radial + k * params.side_max_angle / n for k in range(-n, n + 1)]
+    out: list[GraspCandidate] = []
+    for phi in approaches:
+        if np.cos(phi - radial) < np.cos(params.side_max_angle) - 1e-9:
+            continue
+        d = np.array([np.cos(phi), np.sin(phi), 0.0])
+        half = _extent_along(spec, make.object_yaw, phi) / 2
+        depths = [(min(half, params.side_depth), 0.0)]
+        if 0 < params.side_shallow_depth < depths[0][0] - 1e-9:
+            depths.append((params.side_shallow_depth, params.shallow_cost))
+        closing = phi + np.pi / 2  # side_rotation(closing) approaches along (sin, -cos) = d
+        for depth_in, extra in depths:
+            point = np.array([top[0], top[1], z]) - d * (half - depth_in)
+            for yaw in (wrap_angle(closing), wrap_angle(closing + np.pi)):
+                rot = side_rotation(wrap_angle(closing))
+                if yaw != wrap_angle(closing):  # the other wrist angle: fingers swapped, x axis flipped
+                    rot = rot @ np.diag([-1.0, -1.0, 1.0])
+                out.append(make(rot, point, yaw, 0.0, GraspFamily.SIDE, extra))
+    return out
+
+
+def _fitting(cands: list[GraspCandidate], opening: float | None, params: GraspParams) -> list[GraspCandidate]:
+    """The candidates whose span fits the opening; if none does, the narrowest (the physics decides)."""
+    if opening is None:
+        return cands
+    limit = opening - params.opening_margin
+    fitting = [c for c in cands if c.span <= limit]
+    if fitting:
+        return fitting
+    narrowest = min(c.span for c in cands)
+    return [c for c in cands if c.span <= narrowest + 1e-6]
 
 
 def place_pose(

@@ -321,6 +321,49 @@ class PlacementSet:
     candidates: int
 
 
+@dataclass(frozen=True, eq=False)
+class _Candidates:
+    """Sampled centres, each with its candidate yaws, and which (centre, yaw) fit (`sample_placements`' step).
+
+    Attributes:
+        points: (n, 2) centres, world frame, metres.
+        rel: (n, 2) the centres relative to the robot's base, metres.
+        yaws: (n, k) candidate yaws per centre, radians (k = 1 for a round object).
+        clearance: The free-spot test of every (centre, yaw), centre by centre, yaw within (n * k rows).
+    """
+
+    points: np.ndarray
+    rel: np.ndarray
+    yaws: np.ndarray
+    clearance: Clearance
+
+    @property
+    def free(self) -> np.ndarray:
+        """(n, k) True where the footprint fits at that centre and yaw."""
+        return self.clearance.free.reshape(self.yaws.shape)
+
+
+@dataclass(frozen=True, eq=False)
+class _Kept:
+    """The centres where some yaw fits, with what ranks them (`sample_placements`' step).
+
+    Attributes:
+        points: (m, 2) centres, world frame, metres.
+        rel: (m, 2) the centres relative to the robot's base, metres.
+        yaws: (m, k) candidate yaws per centre, radians.
+        free: (m, k) which of them fit.
+        yaw_cost: (m, k) each yaw's cost (turn and packing terms; inf where it does not fit).
+        gap: (m,) room (m) to the nearest footprint at the centre's cheapest yaw.
+    """
+
+    points: np.ndarray
+    rel: np.ndarray
+    yaws: np.ndarray
+    free: np.ndarray
+    yaw_cost: np.ndarray
+    gap: np.ndarray
+
+
 def sample_placements(
     table: TableRegion,
     obstacles: Sequence[Footprint],
@@ -346,13 +389,30 @@ def sample_placements(
     """
     if not isinstance(shape, Footprint):
         shape = Footprint("object", 0.0, 0.0, float(shape), float(height))
+    pts = _candidate_points(table, shape, options)
+    if pts is None:
+        return PlacementSet((), (), 0)
+    base = np.asarray(base_xy, dtype=float)
+    cands = _fit_candidates(table, obstacles, shape, pts, options, base, arrival_yaw)
+    free = np.asarray(cands.free.any(axis=1))  # asarray: numpy types any() as a scalar or an array
+    blockers = _blockers(cands, free, obstacles)
+    if not free.any():
+        return PlacementSet((), blockers, len(pts))
+    kept = _keep_fitting(cands, free, options)
+    cost = _spot_costs(kept, table, obstacles, shape, height, base, options)
+    spots = _ordered_spots(kept, cost, table.top_z, shape.is_round, options.max_spots)
+    return PlacementSet(tuple(spots), blockers, len(pts))
+
+
+def _candidate_points(table: TableRegion, shape: Footprint, options: PlacementOptions) -> np.ndarray | None:
+    """(n, 2) centres: a regular grid, then the seeded uniform samples; None where no footprint could fit."""
     (cx, cy), (sx, sy) = table.center, table.size
     # The grid covers every centre whose footprint could fit at some yaw.
     inset = (min(shape.half_size) if shape.half_size is not None else shape.radius) + options.edge_margin
     x0, x1 = cx - sx / 2 + inset, cx + sx / 2 - inset
     y0, y1 = cy - sy / 2 + inset, cy + sy / 2 - inset
     if x0 > x1 or y0 > y1:
-        return PlacementSet((), (), 0)
+        return None
     gx = np.arange(x0, x1 + 1e-9, options.grid_step)
     gy = np.arange(y0, y1 + 1e-9, options.grid_step)
     # Centre the grid in the usable area so both edges get the same margin.
@@ -364,12 +424,22 @@ def sample_placements(
     rand = low + (high - low) * np.random.default_rng(options.rng_seed).random(
         size=(options.random_samples, 2)
     )
-    pts = np.vstack([grid, rand]) if len(rand) else grid
+    return np.vstack([grid, rand]) if len(rand) else grid
+
+
+def _fit_candidates(
+    table: TableRegion,
+    obstacles: Sequence[Footprint],
+    shape: Footprint,
+    pts: np.ndarray,
+    options: PlacementOptions,
+    base: np.ndarray,
+    arrival_yaw: float,
+) -> _Candidates:
+    """Each centre's candidate yaws, and the free-spot test of every (centre, yaw)."""
     n = len(pts)
-    base = np.asarray(base_xy, dtype=float)
     rel = pts - base
     bearing = np.arctan2(rel[:, 1], rel[:, 0])
-
     # Candidate yaws per point (one for a round object): arrival, a quarter turn from it, the table's axes.
     if shape.is_round:
         yaw_sets = np.zeros((n, 1))
@@ -387,22 +457,26 @@ def sample_placements(
         options.clearance,
         options.edge_margin,
     )
-    free_k = flat.free.reshape(n, k)
-    free = free_k.any(axis=1)
+    return _Candidates(pts, rel, yaw_sets, flat)
+
+
+def _blockers(cands: _Candidates, free: np.ndarray, obstacles: Sequence[Footprint]) -> tuple[str, ...]:
+    """What ruled out the centres where nothing fits (at their first yaw), most often first."""
     counts: dict[str, int] = {}
-    first_blocker = flat.blocker.reshape(n, k)[~free, 0]
+    first_blocker = cands.clearance.blocker.reshape(cands.yaws.shape)[~free, 0]
     for b, times in enumerate(
         np.bincount(first_blocker[first_blocker >= 0], minlength=len(obstacles)).tolist()
     ):
         if times:
             counts[obstacles[b].name] = counts.get(obstacles[b].name, 0) + times
-    blockers = tuple(sorted(counts, key=lambda name: (-counts[name], name)))
-    if not free.any():
-        return PlacementSet((), blockers, n)
+    return tuple(sorted(counts, key=lambda name: (-counts[name], name)))
 
-    # Per point, the cost of each fitting yaw (turning away from the arrival yaw costs a little).
+
+def _keep_fitting(cands: _Candidates, free: np.ndarray, options: PlacementOptions) -> _Kept:
+    """The centres where some yaw fits, with each yaw's cost (turning away from the arrival yaw costs a little)."""
+    flat, yaw_sets, free_k = cands.clearance, cands.yaws, cands.free
     turn = np.abs(wrap_angle(yaw_sets - yaw_sets[:, :1], np.pi)) / (np.pi / 2)
-    room = np.minimum(flat.gap, np.maximum(flat.edge_gap, 0.0)).reshape(n, k)
+    room = np.minimum(flat.gap, np.maximum(flat.edge_gap, 0.0)).reshape(yaw_sets.shape)
     yaw_cost = (
         options.turn_weight * turn
         + options.pack_weight * np.minimum(room, options.pack_gap) / options.pack_gap
@@ -410,10 +484,22 @@ def sample_placements(
     yaw_cost = np.where(free_k, yaw_cost, np.inf)
     best_yaw = np.argmin(yaw_cost, axis=1)
     keep = np.flatnonzero(free)
-    pts, rel, yaw_cost, yaw_sets, free_k = pts[keep], rel[keep], yaw_cost[keep], yaw_sets[keep], free_k[keep]
-    gap = flat.gap.reshape(n, k)[keep, best_yaw[keep]]
+    gap = flat.gap.reshape(yaw_sets.shape)[keep, best_yaw[keep]]
+    return _Kept(cands.points[keep], cands.rel[keep], yaw_sets[keep], free_k[keep], yaw_cost[keep], gap)
 
-    diag = float(np.hypot(sx, sy))
+
+def _spot_costs(
+    kept: _Kept,
+    table: TableRegion,
+    obstacles: Sequence[Footprint],
+    shape: Footprint,
+    height: float,
+    base: np.ndarray,
+    options: PlacementOptions,
+) -> np.ndarray:
+    """(m,) each kept centre's cost: reach, blocking, its cheapest yaw and the shadow of tall obstacles."""
+    rel = kept.rel
+    diag = float(np.hypot(*table.size))
     reach = np.linalg.norm(rel, axis=1)
     tall = height >= options.tall_height
     preferred = options.tall_reach if tall else options.preferred_reach
@@ -421,7 +507,7 @@ def sample_placements(
     span = max(float(reach.max() - reach.min()), 1e-9)
     depth = (reach - reach.min()) / span  # 0 at the spot nearest the robot, 1 at the farthest
     cost += options.block_weight * ((1.0 - depth) if tall else 0.3 * depth)
-    cost += yaw_cost.min(axis=1)
+    cost += kept.yaw_cost.min(axis=1)
     ray = rel / np.maximum(reach, 1e-9)[:, None]
     for o in obstacles:
         if o.height < options.tall_height:
@@ -431,17 +517,24 @@ def sample_placements(
         across = np.abs(ray[:, 0] * orel[1] - ray[:, 1] * orel[0])
         shadowed = (along > 0) & (along < reach) & (across < o.radius + shape.radius + 0.05)
         cost += options.shadow_weight * shadowed
-    order = np.lexsort((pts[:, 1], pts[:, 0], np.round(cost, 9)))[: options.max_spots]
+    return cost
+
+
+def _ordered_spots(
+    kept: _Kept, cost: np.ndarray, top_z: float, is_round: bool, max_spots: int
+) -> list[PlacementSpot]:
+    """The cheapest `max_spots` spots (ties by x, then y), each with its fitting yaws cheapest first."""
+    pts = kept.points
+    order = np.lexsort((pts[:, 1], pts[:, 0], np.round(cost, 9)))[:max_spots]
     # Per spot, its fitting yaws cheapest first (each once, to the nanoradian), all spots' rankings at once.
     fitting: list[list[tuple[float, bool]]] = [[]] * len(order)
-    if not shape.is_round:
-        ranks = np.argsort(yaw_cost[order], axis=1, kind="stable")
-        yaw_rows = np.take_along_axis(yaw_sets[order], ranks, axis=1).tolist()
-        fit_rows = np.take_along_axis(free_k[order], ranks, axis=1).tolist()
+    if not is_round:
+        ranks = np.argsort(kept.yaw_cost[order], axis=1, kind="stable")
+        yaw_rows = np.take_along_axis(kept.yaws[order], ranks, axis=1).tolist()
+        fit_rows = np.take_along_axis(kept.free[order], ranks, axis=1).tolist()
         fitting = [list(zip(y, f, strict=True)) for y, f in zip(yaw_rows, fit_rows, strict=True)]
-    rows = zip(pts[order].tolist(), cost[order].tolist(), gap[order].tolist(), fitting, strict=True)
-    spots = [
-        PlacementSpot(x, y, table.top_z, c, g, tuple(dict.fromkeys(round(v, 9) + 0.0 for v, ok in fit if ok)))
+    rows = zip(pts[order].tolist(), cost[order].tolist(), kept.gap[order].tolist(), fitting, strict=True)
+    return [
+        PlacementSpot(x, y, top_z, c, g, tuple(dict.fromkeys(round(v, 9) + 0.0 for v, ok in fit if ok)))
         for (x, y), c, g, fit in rows
     ]
-    return PlacementSet(tuple(spots), blockers, n)

@@ -125,6 +125,83 @@ def find_spots(scene: PickScene) -> PlacementSpots:
     return PlacementSpots(tuple((s.xyz, s.yaws) for s in sampled.spots), sampled.blockers)
 
 
+@dataclass(frozen=True, eq=False)
+class _PlaceWorlds:
+    """The collision checks one grasp's placements go through.
+
+    Attributes:
+        carry: The arm carrying the object among the fixed obstacles (the transit's world).
+        lower: The same with a tighter padding, for the lowering.
+        hand: The hand alone among the fixed obstacles: a first look at each release pose.
+    """
+
+    carry: CollisionWorld
+    lower: CollisionWorld
+    hand: HandModel
+
+
+class _IkSeeds:
+    """Where IK above a spot starts, learnt over one grasp's spots (what has worked so far)."""
+
+    def __init__(self) -> None:
+        self.last: np.ndarray | None = None  # the last posture found above the table
+        self.searched = False  # the one full search from home is spent
+        # how often the turned lifted posture seeded IK above a spot, or did not
+        self.misses = self.hits_rotated = 0
+
+    def above(
+        self,
+        session: PlanSession,
+        scene: PickScene,
+        grasp: FeasibleGrasp,
+        pose: np.ndarray,
+        radial: float,
+        turn: float,
+    ) -> np.ndarray | None:
+        """(dof,) joints at `pose` above a spot, or None out of reach."""
+        rotated = _turned_lift(session, grasp, radial, turn)
+        # Seeds in the order that has worked: the turned lifted posture, or the last posture found above the
+        # table once the turned one stops carrying over (e.g. from a shelf behind the robot).
+        last = self.last
+        seeds = (
+            [rotated]
+            if last is None
+            else ([last, rotated] if self.misses > self.hits_rotated else [rotated, last])
+        )
+        q_pp = None
+        for s0 in seeds:
+            q_pp = session.ik(pose, s0, restarts=0)
+            if q_pp is not None:
+                if s0 is rotated:
+                    self.hits_rotated += 1
+                break
+            if s0 is rotated:
+                self.misses += 1
+        if q_pp is None and not self.searched:
+            # The lifted posture does not carry over: one full search from home, whose answer seeds every
+            # later spot.
+            self.searched = True
+            q_pp = session.ik(pose, np.asarray(scene.request.home, dtype=float), restarts=4)
+        if q_pp is not None:
+            self.last = q_pp
+        return q_pp
+
+
+def _turned_lift(session: PlanSession, grasp: FeasibleGrasp, radial: float, turn: float) -> np.ndarray:
+    """The lifted arm turned by the base joint, and a top-down hand's extra turn by the wrist (the last joint
+    turns a downward-pointing hand the other way about world z)."""
+    arm = session.arm
+    rotated = grasp.q_lift.copy()
+    # The base turns the way its joint limits allow (the short way round may cross them).
+    rotated[0] += min(
+        (radial + k * 2 * np.pi for k in (-1, 0, 1)),
+        key=lambda r: (not arm.lower[0] <= grasp.q_lift[0] + r <= arm.upper[0], abs(r)),
+    )
+    if grasp.cand.family is GraspFamily.TOP:
+        rotated[-1] -= turn - radial
+    return rotated
+
+
 def search_placements(
     session: PlanSession,
     scene: PickScene,
@@ -152,12 +229,12 @@ def search_placements(
     w_lower = session.world(
         scene.fixed, carried, padding=0.004, max_tilt=params.max_carry_tilt, finger_position=fingers
     )
-    hand_table = HandModel(arm, scene.fixed, padding=0.004, finger_position=fingers)
+    worlds = _PlaceWorlds(
+        w_carry, w_lower, HandModel(arm, scene.fixed, padding=0.004, finger_position=fingers)
+    )
     out: list[Placement] = []
     stats = PlanStats()
-    seed: np.ndarray | None = None
-    searched = False
-    misses = hits_rotated = 0  # how often the turned lifted posture seeded IK above a spot, or did not
+    seeds = _IkSeeds()
     for spot, yaws in spots.spots:
         if len(out) >= params.max_goal_placements:
             break
@@ -165,64 +242,51 @@ def search_placements(
         radial = float(np.arctan2(spot[1] - scene.base[1], spot[0] - scene.base[0])) - scene.target_dir
         radial = wrap_angle(radial)
         for turn in _place_turns(radial, yaws, req.target.yaw, cand.family is GraspFamily.TOP):
-            ee_place = place_pose(spot, req.spec, cand.object_in_ee, cand.grasp, turn, params)
-            where = format_point(spot[:2])
-            hits = hand_table.colliding(ee_place) or hand_table.colliding(lifted(ee_place, params.retreat))
-            if hits:
-                stats = stats.blocked(f"at {where} the hand collides with {hits[0]}", hits)
-                continue
-            # Seed: the lifted arm turned by the base joint, and a top-down hand's extra turn by the wrist
-            # (the last joint turns a downward-pointing hand the other way about world z).
-            rotated = grasp.q_lift.copy()
-            # The base turns the way its joint limits allow (the short way round may cross them).
-            rotated[0] += min(
-                (radial + k * 2 * np.pi for k in (-1, 0, 1)),
-                key=lambda r: (not arm.lower[0] <= grasp.q_lift[0] + r <= arm.upper[0], abs(r)),
+            placement, stats = _place_at(
+                session, scene, grasp, worlds, seeds, spot, radial, turn, stats, fingers
             )
-            if cand.family is GraspFamily.TOP:
-                rotated[-1] -= turn - radial
-            above = lifted(ee_place, params.approach)
-            # Seeds in the order that has worked: the turned lifted posture, or the last posture found above
-            # the table once the turned one stops carrying over (e.g. from a shelf behind the robot).
-            seeds = (
-                [rotated] if seed is None else ([seed, rotated] if misses > hits_rotated else [rotated, seed])
-            )
-            q_pp = None
-            for s0 in seeds:
-                q_pp = session.ik(above, s0, restarts=0)
-                if q_pp is not None:
-                    if s0 is rotated:
-                        hits_rotated += 1
-                    break
-                if s0 is rotated:
-                    misses += 1
-            if q_pp is None and not searched:
-                # The lifted posture does not carry over: one full search from home, whose answer seeds every
-                # later spot.
-                searched = True
-                q_pp = session.ik(above, np.asarray(req.home, dtype=float), restarts=4)
-            if q_pp is None:
-                stats = stats.blocked(f"above {where} out of reach", ())
+            if placement is None:
                 continue
-            seed = q_pp
-            stats = stats.reached()
-            if not w_carry.is_valid(q_pp):
-                why = f"above {where} collides ({collision_pair(w_carry, q_pp)})"
-                stats = stats.blocked(why, blockers_at(w_carry, q_pp))
-                continue
-            lower, why, names = session.line(q_pp, ee_place, w_lower, f"lowering to {where}")
-            if lower is None:
-                stats = stats.blocked(why, names)
-                continue
-            back, why, names = _retreat(session, scene, grasp, ee_place, lower, fingers)
-            if back is None:
-                stats = stats.blocked(why, names)
-                continue
-            out.append(Placement(tuple(spot), ee_place, q_pp, lower, back))
-            if until is not None and until(out[-1], w_carry):
+            out.append(placement)
+            if until is not None and until(placement, w_carry):
                 return PlacementSearch(tuple(out), w_carry, stats)
             break
     return PlacementSearch(tuple(out), w_carry, stats)
+
+
+def _place_at(
+    session: PlanSession,
+    scene: PickScene,
+    grasp: FeasibleGrasp,
+    worlds: _PlaceWorlds,
+    seeds: _IkSeeds,
+    spot: tuple[float, float, float],
+    radial: float,
+    turn: float,
+    stats: PlanStats,
+    fingers: float | None,
+) -> tuple[Placement | None, PlanStats]:
+    """The placement at `spot` with the hand turned by `turn`, or None; `stats` with why not (or the reach)."""
+    req, params, cand = scene.request, scene.request.params, grasp.cand
+    ee_place = place_pose(spot, req.spec, cand.object_in_ee, cand.grasp, turn, params)
+    where = format_point(spot[:2])
+    hits = worlds.hand.colliding(ee_place) or worlds.hand.colliding(lifted(ee_place, params.retreat))
+    if hits:
+        return None, stats.blocked(f"at {where} the hand collides with {hits[0]}", hits)
+    q_pp = seeds.above(session, scene, grasp, lifted(ee_place, params.approach), radial, turn)
+    if q_pp is None:
+        return None, stats.blocked(f"above {where} out of reach", ())
+    stats = stats.reached()
+    if not worlds.carry.is_valid(q_pp):
+        why = f"above {where} collides ({collision_pair(worlds.carry, q_pp)})"
+        return None, stats.blocked(why, blockers_at(worlds.carry, q_pp))
+    lower, why, names = session.line(q_pp, ee_place, worlds.lower, f"lowering to {where}")
+    if lower is None:
+        return None, stats.blocked(why, names)
+    back, why, names = _retreat(session, scene, grasp, ee_place, lower, fingers)
+    if back is None:
+        return None, stats.blocked(why, names)
+    return Placement(tuple(spot), ee_place, q_pp, lower, back), stats
 
 
 def _retreat(

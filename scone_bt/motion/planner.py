@@ -12,6 +12,7 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
@@ -270,57 +271,18 @@ def _solve(
     options: PlannerOptions,
     t0: float,
 ) -> PlanResult:
+    """OMPL's answer for a valid start and valid goals: seeded, bounded by iterations, then simplified."""
     from ompl import base as ob
     from ompl import geometric as og
     from ompl import util as ou
 
     silence_ompl()
-    dof = len(start)
     ou.RNG.setSeed(int(options.rng_seed) % 2_147_483_646 + 1)  # OMPL treats 0 as "pick a random seed"
-    space = ob.RealVectorStateSpace(dof)
-    bounds = ob.RealVectorBounds(dof)
-    for i in range(dof):
-        bounds.setLow(i, float(lower[i]))
-        bounds.setHigh(i, float(upper[i]))
-    space.setBounds(bounds)
-    si = ob.SpaceInformation(space)
-    # The callback must not hold OMPL objects: a C++ -> Python -> C++ cycle would leak (and nanobind reports it).
-    # map over the state's __getitem__ rather than a generator: the same floats, a third cheaper per check.
-    si.setStateValidityChecker(lambda s: is_valid(np.fromiter(map(s.__getitem__, range(dof)), float, dof)))
-    si.setStateValidityCheckingResolution(options.resolution)
-    si.setup()
+    space, si = _space_information(lower, upper, is_valid, options.resolution)
     ss = og.SimpleSetup(si)
-    a = space.allocState()
-    for i in range(dof):
-        a[i] = float(start[i])
-    if len(goals) == 1:
-        b = space.allocState()
-        for i in range(dof):
-            b[i] = float(goals[0][i])
-        ss.setStartAndGoalStates(a, b)
-    else:
-        ss.setStartState(a)
-        goal_set = ob.GoalStates(si)
-        for g in goals:
-            b = space.allocState()
-            for i in range(dof):
-                b[i] = float(g[i])
-            goal_set.addState(b)
-        goal_set.setThreshold(1e-9)
-        ss.setGoal(goal_set)
+    _set_start_and_goals(ss, space, si, start, goals)
     ss.setPlanner(_planner(options.name, si))
-    # The budget counts planner iterations, not wall seconds: on a busy machine a wall-clock limit would cut a
-    # search short in one run and not in the next, and a seeded run would not repeat. time_limit_s converts at
-    # ITERATIONS_PER_S; a wall-clock cap far above it only guards against a pathological validity checker.
-    budget = max(1, int(np.ceil(float(options.time_limit_s) * ITERATIONS_PER_S)))
-    deadline = time.perf_counter() + WALL_CAP_FACTOR * float(options.time_limit_s) + 1.0
-    calls = [0]
-
-    def stop() -> bool:
-        calls[0] += 1
-        return calls[0] > budget or time.perf_counter() > deadline
-
-    status = ss.solve(ob.PlannerTerminationCondition(stop))
+    status = ss.solve(ob.PlannerTerminationCondition(_iteration_budget(options)))
     kind = status.getStatus().name
     if kind != "EXACT_SOLUTION":
         reason = {
@@ -332,13 +294,8 @@ def _solve(
         return PlanResult(reason, None, time.perf_counter() - t0, f"OMPL {options.name}: {status.asString()}")
     path = ss.getSolutionPath()
     if options.simplify:
-        simplifier = og.PathSimplifier(si)
-        for _ in range(options.simplify_rounds):
-            changed = simplifier.reduceVertices(path)
-            changed = simplifier.partialShortcutPath(path) or changed
-            changed = simplifier.collapseCloseVertices(path) or changed
-            if not changed:
-                break
+        _simplify(og.PathSimplifier(si), path, options.simplify_rounds)
+    dof = len(start)
     points = np.array([[path.getState(k)[i] for i in range(dof)] for k in range(path.getStateCount())])
     index = int(np.argmin(np.max(np.abs(goals - points[-1]), axis=1)))
     points[0], points[-1] = start, goals[index]
@@ -349,3 +306,78 @@ def _solve(
         f"{options.name}: {len(points)} waypoints",
         goal_index=index,
     )
+
+
+def _space_information(
+    lower: np.ndarray, upper: np.ndarray, is_valid: Callable[[np.ndarray], bool], resolution: float
+) -> tuple[Any, Any]:
+    """OMPL's joint space within the limits, and its space information checking states with `is_valid`."""
+    from ompl import base as ob
+
+    dof = len(lower)
+    space = ob.RealVectorStateSpace(dof)
+    bounds = ob.RealVectorBounds(dof)
+    for i in range(dof):
+        bounds.setLow(i, float(lower[i]))
+        bounds.setHigh(i, float(upper[i]))
+    space.setBounds(bounds)
+    si = ob.SpaceInformation(space)
+    # The callback must not hold OMPL objects: a C++ -> Python -> C++ cycle would leak (and nanobind reports it).
+    # map over the state's __getitem__ rather than a generator: the same floats, a third cheaper per check.
+    si.setStateValidityChecker(lambda s: is_valid(np.fromiter(map(s.__getitem__, range(dof)), float, dof)))
+    si.setStateValidityCheckingResolution(resolution)
+    si.setup()
+    return space, si
+
+
+def _set_start_and_goals(ss: Any, space: Any, si: Any, start: np.ndarray, goals: np.ndarray) -> None:
+    """The query's start, and its one goal or its goal set (OMPL copies the states)."""
+    from ompl import base as ob
+
+    dof = len(start)
+    a = space.allocState()
+    for i in range(dof):
+        a[i] = float(start[i])
+    if len(goals) == 1:
+        b = space.allocState()
+        for i in range(dof):
+            b[i] = float(goals[0][i])
+        ss.setStartAndGoalStates(a, b)
+        return
+    ss.setStartState(a)
+    goal_set = ob.GoalStates(si)
+    for g in goals:
+        b = space.allocState()
+        for i in range(dof):
+            b[i] = float(g[i])
+        goal_set.addState(b)
+    goal_set.setThreshold(1e-9)
+    ss.setGoal(goal_set)
+
+
+def _iteration_budget(options: PlannerOptions) -> Callable[[], bool]:
+    """The search's stop condition: true once its iterations are spent (or, as a guard, its wall-clock cap).
+
+    The budget counts planner iterations, not wall seconds: on a busy machine a wall-clock limit would cut a
+    search short in one run and not in the next, and a seeded run would not repeat. time_limit_s converts at
+    ITERATIONS_PER_S; a wall-clock cap far above it only guards against a pathological validity checker.
+    """
+    budget = max(1, int(np.ceil(float(options.time_limit_s) * ITERATIONS_PER_S)))
+    deadline = time.perf_counter() + WALL_CAP_FACTOR * float(options.time_limit_s) + 1.0
+    calls = [0]
+
+    def stop() -> bool:
+        calls[0] += 1
+        return calls[0] > budget or time.perf_counter() > deadline
+
+    return stop
+
+
+def _simplify(simplifier: Any, path: Any, rounds: int) -> None:
+    """Shortcut and prune the path in place, a fixed number of rounds at most (not a wall-time budget)."""
+    for _ in range(rounds):
+        changed = simplifier.reduceVertices(path)
+        changed = simplifier.partialShortcutPath(path) or changed
+        changed = simplifier.collapseCloseVertices(path) or changed
+        if not changed:
+            break
