@@ -226,7 +226,8 @@ def _learn(
     learnt: set[str],
     failed: dict[str, int],
 ) -> BudgetCounts:
-    """κ̂ learns attempt ``t``'s outcome (an attempt is the only labelled kind); the budget's counts after it."""
+    """κ̂ learns attempt ``t``'s outcome (an attempt is the only labelled kind), ``learnt`` and ``failed`` note
+    the product; returns the budget's counts after it."""
     from scone_bt.gate.budget import BudgetCounts
 
     est = replay.estimator
