@@ -119,41 +119,61 @@ def _read_pdr_labels(path: Path) -> list[tuple[str, str]]:
     return pairs
 
 
-def run_catalogue_benchmark(
-    kitchen: str = "kitchen",
-    catalogues: tuple[str, ...] = (),
-    corpus: Path | None = None,
-    pdr_labels: Path | None = None,
-    pdr_heldout: Path | None = None,
-    progress: bool = False,
-) -> dict[str, Any]:
-    """Every figure of the catalogue benchmark as one JSON-ready mapping (``progress``: a bar on stderr)."""
-    from scone_bt.config import load_kitchen
-    from scone_bt.recipes.normalise import ItemClass, classify_item, normalise_ingredient
-    from scone_bt.recipes.recipe import corpus_entries
-    from scone_bt.stocking.needs import ProductIndex, stock_recipe
+@dataclass(frozen=True)
+class _Normalisation:
+    """Normalisation accuracy on the nw: labels and on the two hand-labelled pdr: samples (None: no file)."""
 
-    wall0, cpu0 = time.perf_counter(), time.process_time()
-    cfg = load_kitchen(kitchen, catalogues)
-    cat = cfg.catalogue
-    entries = list(corpus_entries(corpus))
-    records = [e.record for e in entries]
-    recipes = [e.recipe() for e in entries]
-    bar = progress_bar(len(recipes), "recipes", not progress, unit="recipe")
-    bar.set_postfix_str("normalisation accuracy")
+    nw: _Accuracy
+    pdr: _Accuracy | None
+    heldout: _Accuracy | None
 
+
+@dataclass(frozen=True)
+class _Stocking:
+    """Ingredient mentions by class and stocking rule, and per recipe how many stocked products it needs.
+
+    Attributes:
+        kinds: Mentions per class ("stocked", "unstocked", or an `ItemClass` value).
+        rules: Stocked mentions per matching rule.
+        unstocked_items: Normalised items that name food the catalogue does not stock.
+        fully: Recipes with every fetchable ingredient stocked.
+        fits: Recipes whose stocked products plus DISTRACTORS fit the shelf slots.
+        needed_counts: Stocked products per recipe, in corpus order.
+        slots: The kitchen's shelf slots.
+    """
+
+    kinds: Counter[str]
+    rules: Counter[str]
+    unstocked_items: Counter[str]
+    fully: int
+    fits: int
+    needed_counts: list[int]
+    slots: int
+
+
+def _normalisation(
+    records: list[dict[str, Any]], pdr_labels: Path | None, pdr_heldout: Path | None
+) -> _Normalisation:
+    """Score the normaliser on the nw: recipes' Cooklang labels and the labelled pdr: samples."""
     nw_pairs = [
         (line, label_item(s["name"]))
         for r in records
         if str(r.get("id", "")).startswith("nw:") and r.get("ingredients_structured")
         for line, s in zip(r["ingredients"], r["ingredients_structured"], strict=False)
     ]
-    nw = _accuracy(nw_pairs)
     pdr_path = pdr_labels or default_pdr_labels()
     pdr = _accuracy(_read_pdr_labels(pdr_path)) if pdr_path is not None else None
     heldout_path = pdr_heldout or (default_pdr_heldout() if pdr_labels is None else None)
     heldout = _accuracy(_read_pdr_labels(heldout_path)) if heldout_path is not None else None
+    return _Normalisation(_accuracy(nw_pairs), pdr, heldout)
 
+
+def _stocking(recipes: list[Any], cfg: Any, bar: Any) -> _Stocking:
+    """Classify and match every ingredient line, and stock every recipe (one bar step per recipe)."""
+    from scone_bt.recipes.normalise import ItemClass, classify_item, normalise_ingredient
+    from scone_bt.stocking.needs import ProductIndex, stock_recipe
+
+    cat = cfg.catalogue
     index = ProductIndex(cat)
     slots = len(cfg.scene.shelf_slots())
     kinds: Counter[str] = Counter()
@@ -161,7 +181,6 @@ def run_catalogue_benchmark(
     unstocked_items: Counter[str] = Counter()
     fully = fits = 0
     needed_counts = []
-    bar.set_postfix_str("stocking")
     for recipe in recipes:
         for line in recipe.ingredients:
             item = normalise_ingredient(line)
@@ -181,43 +200,95 @@ def run_catalogue_benchmark(
         fully += not stocked.unstocked
         fits += len(stocked.needed) + DISTRACTORS <= slots
         bar.update()
-    bar.close()
-    mentions = sum(kinds.values())
-    covered = kinds["stocked"] + kinds[ItemClass.WATER.value] + kinds[ItemClass.TOOL.value]
-    result: dict[str, Any] = {
-        "products": len(cat),
-        "families": len(cat.families()),
-        "products_per_family": dict(Counter(o.family for o in cat.objects)),
+    return _Stocking(kinds, rules, unstocked_items, fully, fits, needed_counts, slots)
+
+
+def _normalisation_report(norm: _Normalisation) -> dict[str, Any]:
+    """The report's accuracy figures and error samples."""
+    nw, pdr, heldout = norm.nw, norm.pdr, norm.heldout
+    return {
         "normalisation_accuracy": round(nw.value, 4),
         "normalisation_lines": nw.total,
         "pdr_sample_accuracy": round(pdr.value, 4) if pdr is not None else None,
         "pdr_sample_lines": pdr.total if pdr is not None else 0,
         "pdr_heldout_accuracy": round(heldout.value, 4) if heldout is not None else None,
         "pdr_heldout_lines": heldout.total if heldout is not None else 0,
-        "recipes": len(recipes),
+    }
+
+
+def _error_samples(norm: _Normalisation) -> dict[str, Any]:
+    """A few lines each sample normalised wrongly: (line, label, normalised)."""
+    return {
+        "nw_errors_sample": [list(e) for e in norm.nw.errors],
+        "pdr_errors_sample": [list(e) for e in norm.pdr.errors] if norm.pdr is not None else [],
+        "pdr_heldout_errors_sample": [list(e) for e in norm.heldout.errors]
+        if norm.heldout is not None
+        else [],
+    }
+
+
+def _stocking_report(st: _Stocking, recipes: int) -> dict[str, Any]:
+    """The report's coverage and shelf figures."""
+    from scone_bt.recipes.normalise import ItemClass
+
+    kinds, needed_counts = st.kinds, st.needed_counts
+    mentions = sum(kinds.values())
+    covered = kinds["stocked"] + kinds[ItemClass.WATER.value] + kinds[ItemClass.TOOL.value]
+    return {
+        "recipes": recipes,
         "mentions": mentions,
         "mention_coverage": round(covered / mentions, 4) if mentions else 0.0,
         "mentions_by_class": {k: kinds[k] for k in ("stocked", "water", "tool", "unstocked", "nothing")},
         "stocked_mentions_by_rule": {
-            r: rules[r] for r in ("exact", "in_line", "grade", "part", "kind", "spelling")
+            r: st.rules[r] for r in ("exact", "in_line", "grade", "part", "kind", "spelling")
         },
-        "recipes_fully_stocked_fraction": round(fully / len(recipes), 4) if recipes else 0.0,
-        "recipes_fit_shelf_fraction": round(fits / len(recipes), 4) if recipes else 0.0,
-        "shelf_slots": slots,
+        "recipes_fully_stocked_fraction": round(st.fully / recipes, 4) if recipes else 0.0,
+        "recipes_fit_shelf_fraction": round(st.fits / recipes, 4) if recipes else 0.0,
+        "shelf_slots": st.slots,
         "distractors": DISTRACTORS,
         "stocked_products_per_recipe": {
             "median": statistics.median(needed_counts) if needed_counts else 0,
             "p90": sorted(needed_counts)[int(0.9 * (len(needed_counts) - 1))] if needed_counts else 0,
             "max": max(needed_counts, default=0),
         },
-        "top_unstocked_items": dict(unstocked_items.most_common(15)),
-        "nw_errors_sample": [list(e) for e in nw.errors],
-        "pdr_errors_sample": [list(e) for e in pdr.errors] if pdr is not None else [],
-        "pdr_heldout_errors_sample": [list(e) for e in heldout.errors] if heldout is not None else [],
+        "top_unstocked_items": dict(st.unstocked_items.most_common(15)),
+    }
+
+
+def run_catalogue_benchmark(
+    kitchen: str = "kitchen",
+    catalogues: tuple[str, ...] = (),
+    corpus: Path | None = None,
+    pdr_labels: Path | None = None,
+    pdr_heldout: Path | None = None,
+    progress: bool = False,
+) -> dict[str, Any]:
+    """Every figure of the catalogue benchmark as one JSON-ready mapping (``progress``: a bar on stderr)."""
+    from scone_bt.config import load_kitchen
+    from scone_bt.recipes.recipe import corpus_entries
+
+    wall0, cpu0 = time.perf_counter(), time.process_time()
+    cfg = load_kitchen(kitchen, catalogues)
+    cat = cfg.catalogue
+    entries = list(corpus_entries(corpus))
+    records = [e.record for e in entries]
+    recipes = [e.recipe() for e in entries]
+    bar = progress_bar(len(recipes), "recipes", not progress, unit="recipe")
+    bar.set_postfix_str("normalisation accuracy")
+    norm = _normalisation(records, pdr_labels, pdr_heldout)
+    bar.set_postfix_str("stocking")
+    stocking = _stocking(recipes, cfg, bar)
+    bar.close()
+    return {
+        "products": len(cat),
+        "families": len(cat.families()),
+        "products_per_family": dict(Counter(o.family for o in cat.objects)),
+        **_normalisation_report(norm),
+        **_stocking_report(stocking, len(recipes)),
+        **_error_samples(norm),
         "wall_s": round(time.perf_counter() - wall0, 2),
         "cpu_s": round(time.process_time() - cpu0, 2),
     }
-    return result
 
 
 def _run(args: argparse.Namespace) -> int:

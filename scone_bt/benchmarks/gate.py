@@ -54,7 +54,8 @@ from scone_bt.files import write_via
 from scone_bt.reporting import emit_report
 
 if TYPE_CHECKING:
-    from scone_bt.gate.rules import GateRules
+    from scone_bt.gate.budget import BudgetCounts
+    from scone_bt.gate.rules import GateInput, GateRules
     from scone_bt.gate.types import Decision
 
 __all__ = ["register", "StreamResult", "replay_stream", "replay_rules", "TARGETS"]
@@ -133,6 +134,130 @@ def _features(vectors: np.ndarray, context: np.ndarray, grounded: bool) -> np.nd
     return np.hstack([vectors, context]) if grounded else vectors
 
 
+@dataclass(frozen=True)
+class _Replay:
+    """What one stream's replay decides with.
+
+    Attributes:
+        estimator: κ̂, learning online (fitted on the fleet prior first, if any).
+        rows: (n, d) κ̂'s input rows: the embeddings, then the context when κ̂ is grounded.
+        rules: The replayed method's gate rules.
+        draw: The exploration draws, uniform in [0, 1).
+        belief: κ̂'s belief for a row (its prediction when it has no separate belief).
+        explore_fn: The paper's ε-greedy κ̂'s own draw (``paper`` gate only), else None.
+        widths: (n,) the perceived widths, m (NaN unknown).
+        wide: (n,) whether each product was perceived wider than the gripper's opening.
+    """
+
+    estimator: Any
+    rows: np.ndarray
+    rules: GateRules
+    draw: Callable[[], float]
+    belief: Callable[[np.ndarray], np.ndarray]
+    explore_fn: Callable[[np.ndarray], np.ndarray] | None
+    widths: np.ndarray
+    wide: np.ndarray
+
+
+def _start_replay(
+    vectors: np.ndarray,
+    context: np.ndarray,
+    estimator: str,
+    gate: str,
+    alpha: float,
+    seed: int,
+    opening_m: float,
+    fleet: tuple[np.ndarray, np.ndarray] | None,
+    draw: Callable[[], float] | None,
+) -> _Replay:
+    """κ̂ (fitted on the fleet prior), its rows, the method's rules and the draws (`replay_stream`'s arguments)."""
+    from scone_bt.confidence import make_estimator
+    from scone_bt.confidence.grounded import is_grounded
+
+    options = {"gripper_opening_m": opening_m} if estimator == "physical" else {}
+    est = make_estimator(estimator, seed=seed, **options)
+    grounded = is_grounded(est)
+    X = _features(vectors, context, grounded)
+    if fleet is not None:
+        est.fit(fleet[0] if grounded else fleet[0][:, : vectors.shape[1]], fleet[1])
+    widths = context[:, _WIDTH]
+    return _Replay(
+        estimator=est,
+        rows=X,
+        rules=replay_rules(gate, alpha, opening_m),
+        draw=draw or np.random.default_rng(seed).random,
+        belief=getattr(est, "belief", est.predict),
+        explore_fn=getattr(est, "explores", None) if gate == "paper" else None,
+        widths=widths,
+        wide=np.nan_to_num(widths, nan=0.0) > opening_m,
+    )
+
+
+def _gate_input(
+    replay: _Replay, t: int, product: str, counts: BudgetCounts, failed: dict[str, int]
+) -> GateInput:
+    """The gate's view of decision ``t``: the stream's one action, κ̂'s belief, the width and the counts."""
+    from scone_bt.gate.rules import GateInput
+    from scone_bt.relevance.types import RankedAction
+
+    row = replay.rows[t : t + 1]
+    explore_fn = replay.explore_fn
+    return GateInput(
+        # one candidate, relevant by construction: the stream is of actions the robot was asked to take
+        ranked=(RankedAction(product, 1.0),),
+        confidences=(float(replay.belief(row)[0]),),
+        # the paper's ε-greedy κ̂ draws only when asked (below τ), as it did before the gate was shared
+        kappa_explores=_LazyDraw(partial(_explores, explore_fn, row)) if explore_fn is not None else (),
+        objects={product: product},
+        widths_m={product: float(replay.widths[t])},
+        counts=counts,
+        failures=failed,
+        draw=replay.draw,
+    )
+
+
+def _learn(
+    replay: _Replay,
+    t: int,
+    product: str,
+    ok: bool,
+    explored: bool,
+    counts: BudgetCounts,
+    learnt: set[str],
+    failed: dict[str, int],
+) -> BudgetCounts:
+    """κ̂ learns attempt ``t``'s outcome (an attempt is the only labelled kind), ``learnt`` and ``failed`` note
+    the product; returns the budget's counts after it."""
+    from scone_bt.gate.budget import BudgetCounts
+
+    est = replay.estimator
+    est.update(replay.rows[t], ok)
+    learnt.add(product)
+    if not ok:
+        failed[product] = failed.get(product, 0) + 1
+    return BudgetCounts(
+        attempts=counts.attempts + 1,
+        failures=counts.failures + (not ok),
+        explored_failures=counts.explored_failures + (explored and not ok),
+        learnt=est.n_observations,
+    )
+
+
+def _score(out: StreamResult, act: bool, ok: bool, explored: bool, novel: bool) -> None:
+    """Tally one decision after the warm-up."""
+    out.decisions += 1
+    out.explored += explored
+    if act:
+        out.attempts += 1
+        out.failures += not ok
+        out.novel_attempts += novel
+        out.novel_failures += novel and not ok
+    elif ok:
+        out.asked_ok += 1
+    else:
+        out.asked_fail += 1
+
+
 def replay_stream(
     vectors: np.ndarray,
     context: np.ndarray,
@@ -166,89 +291,41 @@ def replay_stream(
         trace: If given, each decision is appended to it (the same `gate_decision` the tree's gate makes).
         draw: The exploration draws, uniform in [0, 1) (default: a generator seeded with ``seed``).
     """
-    from scone_bt.confidence import make_estimator
-    from scone_bt.confidence.grounded import is_grounded
     from scone_bt.gate.budget import BudgetCounts
-    from scone_bt.gate.rules import GateInput, gate_decision
+    from scone_bt.gate.rules import gate_decision
     from scone_bt.gate.types import DecisionKind
-    from scone_bt.relevance.types import RankedAction
 
-    options = {"gripper_opening_m": opening_m} if estimator == "physical" else {}
-    est = make_estimator(estimator, seed=seed, **options)
-    grounded = is_grounded(est)
-    X = _features(vectors, context, grounded)
-    if fleet is not None:
-        est.fit(fleet[0] if grounded else fleet[0][:, : vectors.shape[1]], fleet[1])
-    rules = replay_rules(gate, alpha, opening_m)
-    draw = draw or np.random.default_rng(seed).random
-    counts = BudgetCounts(learnt=est.n_observations)
+    replay = _start_replay(vectors, context, estimator, gate, alpha, seed, opening_m, fleet, draw)
+    counts = BudgetCounts(learnt=replay.estimator.n_observations)
     out = StreamResult()
     learnt: set[str] = set()
     failed: dict[str, int] = {}
-    widths = context[:, _WIDTH]
-    wide = np.nan_to_num(widths, nan=0.0) > opening_m
     wide_failed = False
-    belief = getattr(est, "belief", est.predict)
-    explore_fn = getattr(est, "explores", None) if gate == "paper" else None
     for t in range(len(success)):
         ok = bool(success[t])
         product = products[t]
-        row = X[t : t + 1]
-        seen = GateInput(
-            # one candidate, relevant by construction: the stream is of actions the robot was asked to take
-            ranked=(RankedAction(product, 1.0),),
-            confidences=(float(belief(row)[0]),),
-            # the paper's ε-greedy κ̂ draws only when asked (below τ), as it did before the gate was shared
-            kappa_explores=_LazyDraw(partial(_explores, explore_fn, row)) if explore_fn is not None else (),
-            objects={product: product},
-            widths_m={product: float(widths[t])},
-            counts=counts,
-            failures=failed,
-            draw=draw,
-        )
-        result = gate_decision(rules, seen)
+        result = gate_decision(replay.rules, _gate_input(replay, t, product, counts, failed))
         if trace is not None:
             trace.append(result.decision)
-        tau = result.threshold
         act = result.decision.kind is DecisionKind.ACT
         explored = result.decision.explored
-        novel = products[t] not in learnt
+        novel = product not in learnt
         scored = t >= warmup
         out.all_decisions += 1
-        out.thresholds.append(tau)
+        out.thresholds.append(result.threshold)
         out.trace.append(int(ok) if act else -1)
         if act:
             out.all_attempts += 1
             out.all_failures += not ok
-            if wide[t] and wide_failed and scored:
+            if replay.wide[t] and wide_failed and scored:
                 out.wide_after_failure += 1
-            if wide[t] and not ok:
+            if replay.wide[t] and not ok:
                 wide_failed = True
-            est.update(X[t], ok)
-            learnt.add(products[t])
-            if not ok:
-                failed[products[t]] = failed.get(products[t], 0) + 1
-            counts = BudgetCounts(
-                attempts=counts.attempts + 1,
-                failures=counts.failures + (not ok),
-                explored_failures=counts.explored_failures + (explored and not ok),
-                learnt=est.n_observations,
-            )
+            counts = _learn(replay, t, product, ok, explored, counts, learnt, failed)
         else:
             out.all_asked += 1
-        if not scored:
-            continue
-        out.decisions += 1
-        out.explored += explored
-        if act:
-            out.attempts += 1
-            out.failures += not ok
-            out.novel_attempts += novel
-            out.novel_failures += novel and not ok
-        elif ok:
-            out.asked_ok += 1
-        else:
-            out.asked_fail += 1
+        if scored:
+            _score(out, act, ok, explored, novel)
     return out
 
 
@@ -351,18 +428,6 @@ def _rows(streams: _Streams, which: Sequence[int]) -> tuple[np.ndarray, np.ndarr
         np.vstack([np.hstack([streams.vectors[i], streams.context[i]]) for i in which]),
         np.concatenate([streams.success[i] for i in which]),
     )
-
-
-def _method(
-    streams: _Streams,
-    estimator: str,
-    gate: str,
-    alpha: float,
-    args: argparse.Namespace,
-    fleet: bool = False,
-    taught: _Streams | None = None,
-) -> dict[str, Any]:
-    return _rates(_stream_results(streams, estimator, gate, alpha, args, fleet, taught))
 
 
 def _stream_results(
@@ -596,6 +661,35 @@ def _decision_path(
     return {"objects": 21, "estimator": estimator, **_percentiles_ms(samples), "target_p50_ms": 10.0}
 
 
+def _sweep(
+    args: argparse.Namespace,
+    estimators: list[str],
+    streams: _Streams,
+    taught: _Streams | None,
+    taught_oracle: _Streams | None,
+) -> dict[str, dict[str, Any]]:
+    """Every method's rates per target failure rate (none with --no-sweep)."""
+    methods: dict[str, dict[str, Any]] = {}
+    if args.no_sweep:
+        return methods
+    for est in estimators:
+        for gate in ("budget", "fixed"):
+            methods[f"{gate}:{est}"] = {
+                f"{a:g}": _rates(_stream_results(streams, est, gate, a, args, taught=taught)) for a in TARGETS
+            }
+    methods["conformal"] = {
+        f"{a:g}": _rates(_stream_results(streams, "conformal", "conformal", a, args, taught=taught))
+        for a in TARGETS
+    }
+    methods["paper"] = {"0.5": _rates(_stream_results(streams, "eps-knn", "paper", 0.5, args, taught=taught))}
+    oracle = _load(args, oracle=True)
+    methods["oracle"] = {
+        f"{a:g}": _rates(_stream_results(oracle, "physical", "budget", a, args, taught=taught_oracle))
+        for a in TARGETS
+    }
+    return methods
+
+
 def _replay(
     args: argparse.Namespace, estimators: list[str], default_estimator: str, default_target: float
 ) -> dict[str, Any]:
@@ -613,31 +707,23 @@ def _replay(
                 f"--prior {args.prior}: no dataset {missing[0]!r} (it holds {', '.join(taught.names)}); "
                 "κ̂ learns the same-named dataset before each stream"
             )
-    methods: dict[str, dict[str, Any]] = {}
-    for est in estimators if not args.no_sweep else ():
-        for gate in ("budget", "fixed"):
-            methods[f"{gate}:{est}"] = {
-                f"{a:g}": _method(streams, est, gate, a, args, taught=taught) for a in TARGETS
-            }
-    if not args.no_sweep:
-        methods["conformal"] = {
-            f"{a:g}": _method(streams, "conformal", "conformal", a, args, taught=taught) for a in TARGETS
-        }
-        methods["paper"] = {"0.5": _method(streams, "eps-knn", "paper", 0.5, args, taught=taught)}
-        oracle = _load(args, oracle=True)
-        methods["oracle"] = {
-            f"{a:g}": _method(oracle, "physical", "budget", a, args, taught=taught_oracle) for a in TARGETS
-        }
+    methods = _sweep(args, estimators, streams, taught, taught_oracle)
     default = methods.get(f"budget:{default_estimator}")
     if default is None or f"{default_target:g}" not in default:
-        cold = _method(streams, default_estimator, "budget", default_target, args, taught=taught)
+        cold = _rates(
+            _stream_results(streams, default_estimator, "budget", default_target, args, taught=taught)
+        )
     else:
         cold = default[f"{default_target:g}"]
     # The fleet-warm variant relearns the other streams' 1,000 rows at every update: --no-sweep leaves it out.
     warm = (
         None
         if args.no_sweep
-        else _method(streams, default_estimator, "budget", default_target, args, fleet=True, taught=taught)
+        else _rates(
+            _stream_results(
+                streams, default_estimator, "budget", default_target, args, fleet=True, taught=taught
+            )
+        )
     )
     extra: dict[str, Any] = {}
     if taught is not None:

@@ -22,7 +22,7 @@ from __future__ import annotations
 import argparse
 import copy
 import time
-from dataclasses import asdict, replace
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -46,25 +46,10 @@ def _merge_truth(per_camera: list[list[Any]]) -> list[Any]:
     return list(best.values())
 
 
-def run(args: argparse.Namespace) -> int:
-    """Render and score the scenes; print the JSON report (and write it to --json)."""
-    import numpy as np
-
-    from scone_bt.benchmarks.detection_scoring import ground_truth, score_frame, summarise
-    from scone_bt.checks import check_range
-    from scone_bt.config import load_kitchen, load_robot
+def _kitchen_type(engine: str) -> Any:
+    """The engine's kitchen class; MuJoCo's extra and headless rendering are checked first (one line each)."""
     from scone_bt.errors import ConfigError
-    from scone_bt.perception import Camera, Detector
-    from scone_bt.perception.observe import merge_detections
-    from scone_bt.quiet import c_stdout_silenced
-    from scone_bt.robot.flags import check_backend
-    from scone_bt.stocking import plan_stocking
 
-    for noise in args.noise:  # the scale of a camera's noise_std in a kitchen file
-        check_range(noise, "--noise", 0.0, 255.0)
-    kitchen_cfg = load_kitchen(args.kitchen, args.catalogue or ())
-    engine = check_backend(args.robot)
-    kitchen_type: Any  # the engine's kitchen class
     if engine not in ("sim", "mujoco"):
         raise ConfigError(f"scone-bench perception --robot {engine}: it renders on sim (PyBullet) or mujoco")
     if engine == "mujoco":  # the extra and headless rendering, one line each, before any scene is built
@@ -74,12 +59,16 @@ def run(args: argparse.Namespace) -> int:
         check_rendering(import_mujoco())
         from scone_bt.world.mj_kitchen import MjKitchen
 
-        kitchen_type = MjKitchen
-    else:
-        from scone_bt.world import Kitchen
+        return MjKitchen
+    from scone_bt.world import Kitchen
 
-        kitchen_type = Kitchen
-    robot_cfg = load_robot(args.arm)
+    return Kitchen
+
+
+def _shelf_objects(args: argparse.Namespace, kitchen_cfg: Any) -> int:
+    """Products on the shelving per scene (--objects, else DEFAULT_OBJECTS or as many as fit)."""
+    from scone_bt.errors import ConfigError
+
     slots = len(kitchen_cfg.scene.shelf_slots())
     catalogue = kitchen_cfg.catalogue
     if args.scenes < 1 or args.table_objects < 0:
@@ -91,7 +80,38 @@ def run(args: argparse.Namespace) -> int:
             f"--objects {objects}: must be in 1-{most} ({slots} shelf slots, {len(catalogue)} products, "
             f"--table-objects {args.table_objects})"
         )
-    table_spec = kitchen_cfg.table_camera
+    return objects
+
+
+@dataclass(frozen=True)
+class _Cameras:
+    """The cameras scored per scene.
+
+    Attributes:
+        variants: Resolution key ("640x480") → the shelf cameras at it (the kitchen file's own included).
+        noisy: Noise key ("noise_8") → the shelf cameras with that extra pixel noise.
+        default_key: The kitchen file's resolution key (the headline).
+        table: The table camera, or None when the kitchen has none.
+    """
+
+    variants: dict[str, list[Any]]
+    noisy: dict[str, list[Any]]
+    default_key: str
+    table: Any
+
+    @property
+    def keys(self) -> list[str]:
+        """Every shelf camera set, resolutions first."""
+        return [*self.variants, *self.noisy]
+
+    def shelf(self, key: str) -> list[Any]:
+        """The shelf cameras of ``key``."""
+        return self.variants.get(key) or self.noisy[key]
+
+
+def _cameras(kitchen_cfg: Any, noise: list[float]) -> _Cameras:
+    """The shelf cameras at each resolution and noise level, and the table camera."""
+    from scone_bt.perception import Camera
 
     variants: dict[str, list[Camera]] = {}
     for w, h in RESOLUTIONS:
@@ -101,26 +121,35 @@ def run(args: argparse.Namespace) -> int:
     variants.setdefault(default_key, [Camera(c) for c in kitchen_cfg.shelf_cameras])
     noisy = {
         f"noise_{n:g}": [Camera(replace(c, noise_std=n)) for c in kitchen_cfg.shelf_cameras]
-        for n in args.noise
+        for n in noise
         if n != base.noise_std
     }
-    table_camera = Camera(table_spec) if table_spec is not None else None
-    detector = Detector(catalogue)
+    table_spec = kitchen_cfg.table_camera
+    return _Cameras(variants, noisy, default_key, Camera(table_spec) if table_spec is not None else None)
 
-    keys = [*variants, *noisy]
-    scores: dict[str, list[Any]] = {key: [] for key in [*keys, "table"]}
-    # Wall and CPU time: TinyRenderer and OpenCV run in this process, so CPU time stays meaningful on a shared
-    # machine.
-    times: dict[str, dict[str, list[float]]] = {
-        key: {"render_ms": [], "render_cpu_ms": [], "detect_ms": [], "detect_cpu_ms": []} for key in scores
-    }
 
-    def shoot(key: str, camera: Camera, kitchen: Any, rng: np.random.Generator) -> list[Any]:
+class _Shots:
+    """Renders and detects, keeping each camera set's frame scores and wall and CPU times (ms)."""
+
+    def __init__(self, detector: Any, keys: list[str]) -> None:
+        self.detector = detector
+        self.scores: dict[str, list[Any]] = {key: [] for key in [*keys, "table"]}
+        # Wall and CPU time: TinyRenderer and OpenCV run in this process, so CPU time stays meaningful on a
+        # shared machine.
+        self.times: dict[str, dict[str, list[float]]] = {
+            key: {"render_ms": [], "render_cpu_ms": [], "detect_ms": [], "detect_cpu_ms": []}
+            for key in self.scores
+        }
+
+    def shoot(self, key: str, camera: Any, kitchen: Any, rng: Any) -> list[Any]:
+        """One frame of ``camera`` and its detections, timed under ``key``."""
+        from scone_bt.quiet import c_stdout_silenced
+
         w0, c0 = time.perf_counter(), time.process_time()
         with c_stdout_silenced():
             frame = camera.capture(kitchen, rng)
         w1, c1 = time.perf_counter(), time.process_time()
-        detections = detector.detect(frame)
+        detections = self.detector.detect(frame)
         w2, c2 = time.perf_counter(), time.process_time()
         for name, value in (
             ("render_ms", w1 - w0),
@@ -128,79 +157,139 @@ def run(args: argparse.Namespace) -> int:
             ("detect_ms", w2 - w1),
             ("detect_cpu_ms", c2 - c1),
         ):
-            times[key][name].append(1000 * value)
+            self.times[key][name].append(1000 * value)
         return detections
 
-    for scene in range(args.scenes):
-        rng = np.random.default_rng(args.seed + scene)
-        for _ in range(100):  # a draw of products too wide to stand side by side is drawn again
-            chosen = rng.choice(len(catalogue), size=objects + args.table_objects, replace=False)
-            specs = [catalogue.objects[int(i)] for i in chosen]
-            # The stocking is planned once, here, and the kitchen is stocked with that plan; a draw that does
-            # not fit is planned on a copy of the generator, so `rng` stays where it was for the next choice.
-            trial = copy.deepcopy(rng)
-            try:
-                places = plan_stocking(kitchen_cfg.scene, specs, trial)
-            except ConfigError:
-                continue
-            rng = trial
-            break
-        else:
-            raise ConfigError(f"--objects {objects}: no draw of that many products fits the shelving")
-        with c_stdout_silenced():
-            kitchen = kitchen_type(kitchen_cfg, robot_cfg)
-        with kitchen:
-            kitchen.spawn_planned(specs, places)
-            for spec in specs[objects:]:
-                kitchen.human_place_on_table(spec.name)
-            kitchen.advance(0.5)
-            shelf_names = {s.name for s in specs[:objects]}
-            for key in keys:
-                cameras = variants.get(key) or noisy[key]
-                per_camera = [shoot(key, cam, kitchen, rng) for cam in cameras]
-                # Shelf cameras are scored on the shelf's products (the table is the table camera's).
-                merged = [d for d in merge_detections(per_camera) if kitchen_cfg.scene.on_shelf(d.position)]
-                truth = _merge_truth([ground_truth(kitchen, cam) for cam in cameras])
-                scores[key].append(score_frame(merged, [t for t in truth if t.name in shelf_names]))
-            if table_camera is not None:
-                detections = [
-                    d
-                    for d in shoot("table", table_camera, kitchen, rng)
-                    if kitchen_cfg.scene.on_table(d.position)
-                ]
-                truth = [t for t in ground_truth(kitchen, table_camera) if kitchen.is_on_table(t.name)]
-                scores["table"].append(score_frame(detections, truth))
+    def report(self, key: str) -> dict[str, float | int]:
+        """The scores of ``key`` summarised, with the median times per frame."""
+        import numpy as np
 
-    def report(key: str) -> dict[str, float | int]:
-        out = summarise(scores[key])
+        from scone_bt.benchmarks.detection_scoring import summarise
+
+        out = summarise(self.scores[key])
         out.update(
             {
                 f"{name}_per_frame": float(np.median(v)) if v else float("nan")
-                for name, v in times[key].items()
+                for name, v in self.times[key].items()
             }
         )
         return out
 
-    headline = report(default_key)
+
+@dataclass(frozen=True)
+class _Scene:
+    """One scene's draw: its products (shelf ones first, then the table's) and their planned places."""
+
+    specs: list[Any]
+    places: Any
+    rng: Any
+    """The generator after the draw (the frames' noise continues from it)."""
+
+
+def _draw_scene(kitchen_cfg: Any, objects: int, table_objects: int, seed: int) -> _Scene:
+    """Draw products that fit side by side and plan their stocking (a draw too wide is drawn again)."""
+    import numpy as np
+
+    from scone_bt.errors import ConfigError
+    from scone_bt.stocking import plan_stocking
+
+    catalogue = kitchen_cfg.catalogue
+    rng = np.random.default_rng(seed)
+    for _ in range(100):  # a draw of products too wide to stand side by side is drawn again
+        chosen = rng.choice(len(catalogue), size=objects + table_objects, replace=False)
+        specs = [catalogue.objects[int(i)] for i in chosen]
+        # The stocking is planned once, here, and the kitchen is stocked with that plan; a draw that does
+        # not fit is planned on a copy of the generator, so `rng` stays where it was for the next choice.
+        trial = copy.deepcopy(rng)
+        try:
+            places = plan_stocking(kitchen_cfg.scene, specs, trial)
+        except ConfigError:
+            continue
+        return _Scene(specs, places, trial)
+    raise ConfigError(f"--objects {objects}: no draw of that many products fits the shelving")
+
+
+def _score_scene(
+    kitchen: Any, kitchen_cfg: Any, scene: _Scene, objects: int, cameras: _Cameras, shots: _Shots
+) -> None:
+    """Stock the kitchen, then score every shelf camera set and the table camera on it."""
+    from scone_bt.benchmarks.detection_scoring import ground_truth, score_frame
+    from scone_bt.perception.observe import merge_detections
+
+    specs, rng = scene.specs, scene.rng
+    kitchen.spawn_planned(specs, scene.places)
+    for spec in specs[objects:]:
+        kitchen.human_place_on_table(spec.name)
+    kitchen.advance(0.5)
+    shelf_names = {s.name for s in specs[:objects]}
+    for key in cameras.keys:
+        shelf = cameras.shelf(key)
+        per_camera = [shots.shoot(key, cam, kitchen, rng) for cam in shelf]
+        # Shelf cameras are scored on the shelf's products (the table is the table camera's).
+        merged = [d for d in merge_detections(per_camera) if kitchen_cfg.scene.on_shelf(d.position)]
+        truth = _merge_truth([ground_truth(kitchen, cam) for cam in shelf])
+        shots.scores[key].append(score_frame(merged, [t for t in truth if t.name in shelf_names]))
+    table = cameras.table
+    if table is not None:
+        detections = [
+            d for d in shots.shoot("table", table, kitchen, rng) if kitchen_cfg.scene.on_table(d.position)
+        ]
+        truth = [t for t in ground_truth(kitchen, table) if kitchen.is_on_table(t.name)]
+        shots.scores["table"].append(score_frame(detections, truth))
+
+
+def run(args: argparse.Namespace) -> int:
+    """Render and score the scenes; print the JSON report (and write it to --json)."""
+    from scone_bt.checks import check_range
+    from scone_bt.config import load_kitchen, load_robot
+    from scone_bt.perception import Detector
+    from scone_bt.quiet import c_stdout_silenced
+    from scone_bt.robot.flags import check_backend
+
+    for noise in args.noise:  # the scale of a camera's noise_std in a kitchen file
+        check_range(noise, "--noise", 0.0, 255.0)
+    kitchen_cfg = load_kitchen(args.kitchen, args.catalogue or ())
+    engine = check_backend(args.robot)
+    kitchen_type = _kitchen_type(engine)
+    robot_cfg = load_robot(args.arm)
+    objects = _shelf_objects(args, kitchen_cfg)
+    cameras = _cameras(kitchen_cfg, args.noise)
+    shots = _Shots(Detector(kitchen_cfg.catalogue), cameras.keys)
+    for scene in range(args.scenes):
+        drawn = _draw_scene(kitchen_cfg, objects, args.table_objects, args.seed + scene)
+        with c_stdout_silenced():
+            kitchen = kitchen_type(kitchen_cfg, robot_cfg)
+        with kitchen:
+            _score_scene(kitchen, kitchen_cfg, drawn, objects, cameras, shots)
+    emit_report(_report(args, kitchen_cfg, engine, objects, cameras, shots), args.json)
+    return 0
+
+
+def _report(
+    args: argparse.Namespace, kitchen_cfg: Any, engine: str, objects: int, cameras: _Cameras, shots: _Shots
+) -> dict[str, Any]:
+    """The JSON report: the headline at the kitchen file's resolution, then each variant's."""
+    headline = shots.report(cameras.default_key)
+    table_spec = kitchen_cfg.table_camera
     result: dict[str, Any] = {
         "scenes": args.scenes,
         "objects_per_scene": objects,
         "table_objects_per_scene": args.table_objects,
-        "shelf_slots": slots,
+        "shelf_slots": len(kitchen_cfg.scene.shelf_slots()),
         "shelf_units": len(kitchen_cfg.scene.shelves),
-        "products": len(catalogue),
+        "products": len(kitchen_cfg.catalogue),
         "robot": engine,
         "seed": args.seed,
         "shelf_cameras": [asdict(c) for c in kitchen_cfg.shelf_cameras],
         "table_camera": asdict(table_spec) if table_spec is not None else None,
-        "default_resolution": default_key,
+        "default_resolution": cameras.default_key,
         "recall_unoccluded": headline["recall_unoccluded"],
         "precision": headline["precision"],
         "position_error_median_m": headline["position_error_median_m"],
         "default": headline,
-        "table": report("table") if table_camera is not None else None,
-        "resolutions": {key: report(key) for key in variants},
-        "noise": {key: report(key) for key in noisy},
+        "table": shots.report("table") if cameras.table is not None else None,
+        "resolutions": {key: shots.report(key) for key in cameras.variants},
+        "noise": {key: shots.report(key) for key in cameras.noisy},
         "targets": TARGETS,
     }
     result["meets_targets"] = bool(
@@ -208,8 +297,7 @@ def run(args: argparse.Namespace) -> int:
         and headline["precision"] >= TARGETS["precision"]
         and headline["position_error_median_m"] <= TARGETS["position_error_median_m"]
     )
-    emit_report(result, args.json)
-    return 0
+    return result
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -19,9 +19,12 @@ import os
 import sys
 import time
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from scone_bt.reporting import emit_report
+
+if TYPE_CHECKING:
+    from scone_bt.benchmarks.self_confidence.profiles import Profile
 
 __all__ = ["register", "run_scale", "noop_task", "timed_execution"]
 
@@ -72,20 +75,13 @@ def _load() -> list[float]:
     return [round(x, 2) for x in os.getloadavg()]
 
 
-def run_scale(
-    executions: int = 8,
-    workers: tuple[int, ...] = (1, 2),
-    profile_name: str = "p00_nominal",
-    robot: str = "panda",
-    address: str = "local",
-    overhead_tasks: int = 200,
-    log: Any = lambda _m: None,
-) -> dict[str, Any]:
-    """Measure generation throughput per worker count on Ray; returns the JSON report."""
+def _checked_profile(
+    executions: int, workers: tuple[int, ...], profile_name: str, robot: str, address: str
+) -> Profile:
+    """The profile, after every argument is checked (one line each, before Ray starts)."""
     from scone_bt.benchmarks.self_confidence import load_profiles
-    from scone_bt.benchmarks.self_confidence.generate import ExecutionTask
-    from scone_bt.distributed import EngineKind, EngineOptions, map_tasks
-    from scone_bt.distributed.ray_engine import cluster_cpus, connect_ray
+    from scone_bt.config import load_robot
+    from scone_bt.distributed import EngineKind, EngineOptions
     from scone_bt.errors import SconeError
     from scone_bt.resources import repo_root
 
@@ -96,8 +92,6 @@ def run_scale(
     if profiles_dir is None or not profiles_dir.is_dir():
         raise SconeError("scone-bench scale needs the profiles in tools/profiles of a checkout")
     (profile,) = load_profiles(profiles_dir, [profile_name])
-    from scone_bt.config import load_robot
-
     load_robot(robot)  # an unknown robot is one line here, not a failed task on every worker
     local_cpus = max(os.cpu_count() or 1, 2)
     if address in ("local", "auto") and max(workers) > local_cpus:
@@ -106,20 +100,16 @@ def run_scale(
     EngineOptions(
         EngineKind.RAY, address=address
     )  # a bad --ray value is a one-line error before anything starts
-    load_before = _load()
-    t_start = time.perf_counter()
-    how = connect_ray(address, num_cpus=max(workers) if address in ("local", "auto") else None)
-    cpus = cluster_cpus()
-    if max(workers) > cpus:
-        raise SconeError(f"--workers {max(workers)} exceeds the cluster's {cpus} CPUs")
-    log(f"ray: {how} ({cpus} CPUs)")
-    tasks = [ExecutionTask(profile, i, robot=robot) for i in range(executions)]
-    warm = [ExecutionTask(profile, 100_000 + k, robot=robot) for k in range(max(workers))]
-    t_warm = time.perf_counter()
-    map_tasks(
-        timed_execution, warm, engine=EngineOptions(EngineKind.RAY, workers=max(workers), address=address)
-    )
-    warmup_s = time.perf_counter() - t_warm  # imports + arm model + one execution, on every worker at once
+    return profile
+
+
+def _timed_runs(
+    tasks: list[Any], workers: tuple[int, ...], address: str, log: Any
+) -> tuple[dict[str, dict[str, Any]], dict[int, list[Any]]]:
+    """The executions on each worker count: (worker count → figures, worker count → records)."""
+    from scone_bt.distributed import EngineKind, EngineOptions, map_tasks
+
+    executions = len(tasks)
     runs: dict[str, dict[str, Any]] = {}
     records: dict[int, list[Any]] = {}
     for w in workers:
@@ -139,11 +129,67 @@ def run_scale(
             "success_rate": round(sum(r.success for r in records[w]) / executions, 3),
         }
         log(f"{w} worker(s): {runs[str(w)]['executions_per_s']} executions/s")
-    engine = EngineOptions(EngineKind.RAY, workers=min(2, cpus), address=address)
+    return runs, records
+
+
+def _noop_roundtrip_s(workers: int, address: str, overhead_tasks: int) -> float:
+    """Ray's round trip of one empty task, s (after a warm-up batch)."""
+    from scone_bt.distributed import EngineKind, EngineOptions, map_tasks
+
+    engine = EngineOptions(EngineKind.RAY, workers=workers, address=address)
     map_tasks(noop_task, range(20), engine=engine)  # warm
     t0 = time.perf_counter()
     map_tasks(noop_task, range(overhead_tasks), engine=engine)
-    noop_s = (time.perf_counter() - t0) / overhead_tasks
+    return (time.perf_counter() - t0) / overhead_tasks
+
+
+def _projection(task_s: float, noop_s: float) -> dict[str, Any]:
+    """The speed-up 100 workers would get, on paper, from the task time and Ray's per-task round trip."""
+    per_task = noop_s  # what Ray adds per task; the runs' outside-task time also holds CPU contention and tail idling
+    # N workers: each task costs task_s plus its overhead; the driver dispatches one task per noop_s at most
+    ideal_100 = 100 * task_s / (task_s + per_task)
+    projected = min(ideal_100, task_s / noop_s) if noop_s > 0 else ideal_100
+    return {
+        "task_s": task_s,
+        "overhead_s_per_task": round(per_task, 4),
+        "speedup_if_overhead_only": round(ideal_100, 1),
+        "driver_dispatch_limit_speedup": round(task_s / noop_s, 1) if noop_s > 0 else None,
+        "speedup": round(projected, 1),
+    }
+
+
+def run_scale(
+    executions: int = 8,
+    workers: tuple[int, ...] = (1, 2),
+    profile_name: str = "p00_nominal",
+    robot: str = "panda",
+    address: str = "local",
+    overhead_tasks: int = 200,
+    log: Any = lambda _m: None,
+) -> dict[str, Any]:
+    """Measure generation throughput per worker count on Ray; returns the JSON report."""
+    from scone_bt.benchmarks.self_confidence.generate import ExecutionTask
+    from scone_bt.distributed import EngineKind, EngineOptions, map_tasks
+    from scone_bt.distributed.ray_engine import cluster_cpus, connect_ray
+    from scone_bt.errors import SconeError
+
+    profile = _checked_profile(executions, workers, profile_name, robot, address)
+    load_before = _load()
+    t_start = time.perf_counter()
+    how = connect_ray(address, num_cpus=max(workers) if address in ("local", "auto") else None)
+    cpus = cluster_cpus()
+    if max(workers) > cpus:
+        raise SconeError(f"--workers {max(workers)} exceeds the cluster's {cpus} CPUs")
+    log(f"ray: {how} ({cpus} CPUs)")
+    tasks = [ExecutionTask(profile, i, robot=robot) for i in range(executions)]
+    warm = [ExecutionTask(profile, 100_000 + k, robot=robot) for k in range(max(workers))]
+    t_warm = time.perf_counter()
+    map_tasks(
+        timed_execution, warm, engine=EngineOptions(EngineKind.RAY, workers=max(workers), address=address)
+    )
+    warmup_s = time.perf_counter() - t_warm  # imports + arm model + one execution, on every worker at once
+    runs, records = _timed_runs(tasks, workers, address, log)
+    noop_s = _noop_roundtrip_s(min(2, cpus), address, overhead_tasks)
     # What this machine allows right now: plain processes on pure CPU work, 1 vs the most workers (no Ray).
     ceiling = machine_ceiling(max(workers)) if max(workers) > 1 else 1.0
     log(f"machine ceiling (plain processes, CPU-only work): {ceiling:.2f}x")
@@ -153,11 +199,6 @@ def run_scale(
     identical = all(records[w] == local for w in workers)
     base = runs[str(workers[0])]["executions_per_s"]
     speedups = {str(w): round(runs[str(w)]["executions_per_s"] / base, 3) for w in workers}
-    task_s = runs[str(workers[0])]["task_wall_s_mean"]
-    per_task = noop_s  # what Ray adds per task; the runs' outside-task time also holds CPU contention and tail idling
-    # N workers: each task costs task_s plus its overhead; the driver dispatches one task per noop_s at most
-    ideal_100 = 100 * task_s / (task_s + per_task)
-    projected = min(ideal_100, task_s / noop_s) if noop_s > 0 else ideal_100
     return {
         "benchmark": "scale",
         "profile": profile.name,
@@ -179,13 +220,7 @@ def run_scale(
                 1000 * runs[str(max(workers))]["overhead_s_per_task"], 2
             ),
         },
-        "projection_100_workers": {
-            "task_s": task_s,
-            "overhead_s_per_task": round(per_task, 4),
-            "speedup_if_overhead_only": round(ideal_100, 1),
-            "driver_dispatch_limit_speedup": round(task_s / noop_s, 1) if noop_s > 0 else None,
-            "speedup": round(projected, 1),
-        },
+        "projection_100_workers": _projection(runs[str(workers[0])]["task_wall_s_mean"], noop_s),
         "load_average_before": load_before,
         "load_average_after": _load(),
         "cpu_count": os.cpu_count(),

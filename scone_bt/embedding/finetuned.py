@@ -215,44 +215,48 @@ def ranking_accuracy(examples: Iterable[InstructionExample | Sequence], embedder
     return hits / total if total else float("nan")
 
 
-def train_finetuned(
-    examples: Iterable[InstructionExample | Sequence],
-    base: Embedder,
-    out_dir: Path | None = None,
-    *,
-    options: FinetuneOptions | None = None,
-    cache_dir: Path | None = None,
-) -> FinetunedEmbedder:
-    """Train the paper's MLP head on labelled instructions and return the fine-tuned embedder.
+@dataclass(frozen=True)
+class _Triplets:
+    """The texts training sees and its (instruction, positive, negatives) triplets.
 
-    Args:
-        examples: InstructionExample objects, or (instruction, relevant actions, available actions) tuples.
-        base: Frozen encoder (e.g. `load_embedder("minilm")`).
-        out_dir: If given, the result is saved there (load it later with load_embedder("finetuned:<out_dir>")).
-        options: Training settings (FinetuneOptions()); seeded, and the base vectors are encoded afresh (not
-            from the cache), so a run repeats exactly on one machine whatever the cache holds.
-        cache_dir: Embedding cache directory of the result (default: the base's own cache file).
+    Attributes:
+        instructions: Every instruction, sorted (their ids index it).
+        actions: Every action, relevant or available, sorted (their ids index it).
+        pairs: (instruction id, relevant action id, ids of the actions its negatives are drawn from).
+    """
 
-    Returns:
-        The trained embedder (`meta["history"]` holds the mean loss per epoch).
+    instructions: list[str]
+    actions: list[str]
+    pairs: list[tuple[int, int, np.ndarray]]
+
+
+@dataclass(frozen=True)
+class _Fit:
+    """A trained head and how its training went.
+
+    Attributes:
+        head: The trained weights.
+        history: Mean triplet loss per epoch.
+        triplets_per_epoch: Triplets in one epoch (pairs × negatives).
+        seconds: Wall time of the training epochs, s.
+    """
+
+    head: _Head
+    history: list[float]
+    triplets_per_epoch: int
+    seconds: float
+
+
+def _triplets(data: list[InstructionExample]) -> _Triplets:
+    """Every relevant action that has something to contrast with, as a triplet of ids.
 
     Raises:
-        SconeError: no example has both a relevant action and a negative to contrast it with.
+        SconeError: No example has both a relevant action and a negative.
     """
-    import torch
-
-    from scone_bt.embedding.cache import cache_file_for
-
-    opts = options or FinetuneOptions()
-    data = [InstructionExample.coerce(e) for e in examples]
-    encoder = base
-    base_spec = _base_spec(encoder)
-
     actions = sorted({a for ex in data for a in (*ex.relevant, *ex.available)})
     instructions = sorted({ex.instruction for ex in data})
     action_id = {a: i for i, a in enumerate(actions)}
     inst_id = {t: i for i, t in enumerate(instructions)}
-    # (instruction, positive, pool of negatives) for every relevant action that has something to contrast with
     pairs: list[tuple[int, int, np.ndarray]] = []
     for ex in data:
         relevant = set(ex.relevant)
@@ -267,14 +271,21 @@ def train_finetuned(
         raise SconeError(
             "no training triplets: give examples with relevant actions and other available actions"
         )
+    return _Triplets(instructions, actions, pairs)
 
+
+def _fit_head(encoder: Embedder, triplets: _Triplets, opts: FinetuneOptions) -> _Fit:
+    """Train the MLP head on the triplets, seeded: initialisation, negatives, dropout and order repeat."""
+    import torch
+
+    pairs = triplets.pairs
     torch.manual_seed(opts.seed)
     rng = np.random.default_rng(opts.seed)
     # One fresh pass per list, not the cache: cached vectors carry the low bits of whatever batches filled the
     # cache, and those bits changed the trained head (mean cosine 0.92 between two heads trained on the same
     # texts, one from a fresh cache, one from a used one). Fresh passes make training repeat exactly.
-    x_inst = torch.from_numpy(encoder.embed_uncached(instructions))
-    x_act = torch.from_numpy(encoder.embed_uncached(actions))
+    x_inst = torch.from_numpy(encoder.embed_uncached(triplets.instructions))
+    x_act = torch.from_numpy(encoder.embed_uncached(triplets.actions))
     model = torch.nn.Sequential(
         torch.nn.Linear(encoder.dim, opts.hidden),
         torch.nn.ReLU(),
@@ -305,6 +316,40 @@ def train_finetuned(
         lin2.weight.detach().numpy().copy(),
         lin2.bias.detach().numpy().copy(),
     )
+    return _Fit(head, history, len(anchors), time.perf_counter() - start)
+
+
+def train_finetuned(
+    examples: Iterable[InstructionExample | Sequence],
+    base: Embedder,
+    out_dir: Path | None = None,
+    *,
+    options: FinetuneOptions | None = None,
+    cache_dir: Path | None = None,
+) -> FinetunedEmbedder:
+    """Train the paper's MLP head on labelled instructions and return the fine-tuned embedder.
+
+    Args:
+        examples: InstructionExample objects, or (instruction, relevant actions, available actions) tuples.
+        base: Frozen encoder (e.g. `load_embedder("minilm")`).
+        out_dir: If given, the result is saved there (load it later with load_embedder("finetuned:<out_dir>")).
+        options: Training settings (FinetuneOptions()); seeded, and the base vectors are encoded afresh (not
+            from the cache), so a run repeats exactly on one machine whatever the cache holds.
+        cache_dir: Embedding cache directory of the result (default: the base's own cache file).
+
+    Returns:
+        The trained embedder (`meta["history"]` holds the mean loss per epoch).
+
+    Raises:
+        SconeError: no example has both a relevant action and a negative to contrast it with.
+    """
+    from scone_bt.embedding.cache import cache_file_for
+
+    opts = options or FinetuneOptions()
+    data = [InstructionExample.coerce(e) for e in examples]
+    encoder = base
+    base_spec = _base_spec(encoder)
+    fit = _fit_head(encoder, _triplets(data), opts)
     meta = {
         "format": FORMAT,
         "version": _VERSION,
@@ -312,12 +357,12 @@ def train_finetuned(
         "base_dim": encoder.dim,
         "options": asdict(opts),
         "n_examples": len(data),
-        "n_triplets_per_epoch": len(anchors),
-        "train_seconds": round(time.perf_counter() - start, 3),
-        "history": [round(h, 6) for h in history],
+        "n_triplets_per_epoch": fit.triplets_per_epoch,
+        "train_seconds": round(fit.seconds, 3),
+        "history": [round(h, 6) for h in fit.history],
     }
     cache_file = encoder.cache.path if cache_dir is None else cache_file_for(cache_dir)
-    result = FinetunedEmbedder(encoder, head, meta, None, cache_file)
+    result = FinetunedEmbedder(encoder, fit.head, meta, None, cache_file)
     if out_dir is not None:
         result.save(Path(out_dir))
     return result

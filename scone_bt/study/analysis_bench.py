@@ -23,6 +23,7 @@ import resource
 import tempfile
 import time
 from pathlib import Path
+from typing import Any
 
 from scone_bt.reporting import emit_report
 
@@ -112,81 +113,92 @@ def _bench(args: argparse.Namespace) -> int:
     return 0
 
 
-def _recovery(args: argparse.Namespace) -> int:
-    import numpy as np
-
-    from scone_bt.quiet import quiet_backends
+def _seed_runs(args: argparse.Namespace, seed: int, priors: Any, without_r: str | None) -> dict[str, dict]:
+    """One simulated study at ``seed``: each questionnaire's condition contrast (and clmm's), and Eq. (4)'s."""
     from scone_bt.study.analysis import AnalysisOptions, contrasts_of, fit_ordinal, fit_poisson, load_study
-    from scone_bt.study.models import Priors
     from scone_bt.study.power import simulate_counts
-    from scone_bt.study.r_clmm import fit_clmm, r_unavailable
+    from scone_bt.study.r_clmm import fit_clmm
     from scone_bt.study.simulate import SimulationOptions, simulate_study
     from scone_bt.study.trust import TrustParameters
 
+    trust = TrustParameters(
+        success_gain=0.0, failure_loss=0.0, help_gain=0.0, condition_effect=args.effect, response_noise_sd=0.0
+    )
+    options = AnalysisOptions(
+        chains=args.chains, tune=args.tune, draws=args.draws, cores=args.cores, seed=seed, priors=priors
+    )
+    with tempfile.TemporaryDirectory(prefix="scone-bench-recovery-") as folder:
+        log = simulate_study(
+            Path(folder) / "sim.db",
+            SimulationOptions(participants=args.participants, fast=True, trust=trust, seed=seed),
+            printer=lambda _l: None,
+        )
+        data = load_study(log)
+        log.close()
+    runs: dict[str, dict] = {}
+    for q in ("mdmt", "tps_hri"):
+        ratings = data.ratings[data.ratings["questionnaire"] == q].reset_index(drop=True)
+        c = contrasts_of(fit_ordinal(ratings, options, q), options)[0]
+        run = {"seed": seed, "mean": c.mean, "sd": c.sd, "hdi": list(c.hdi)}
+        if without_r is None:
+            ml = fit_clmm(
+                ratings[["category", "condition", "session_index", "participant", "item"]],
+                "category ~ condition + session_index + (1|participant) + (1|item)",
+            )
+            run["clmm"], run["clmm_se"] = (round(v, 4) for v in ml.fixed["conditionon"])
+        runs[q] = run
+    counts = fit_poisson(simulate_counts(args.participants, args.effect, seed).sessions, options, "counts")
+    c = contrasts_of(counts, options)[0]
+    runs["interventions_eq4_counts"] = {"seed": seed, "mean": c.mean, "sd": c.sd, "hdi": list(c.hdi)}
+    return runs
+
+
+def _recovery_summary(rs: list[dict], effect: float) -> dict[str, Any]:
+    """One measure over the seeds: coverage, bias, calibration of the spread, and the gap to clmm."""
+    import numpy as np
+
+    means = np.array([r["mean"] for r in rs])
+    entry: dict[str, Any] = {
+        "coverage": sum(r["hdi"][0] <= effect <= r["hdi"][1] for r in rs) / len(rs),
+        "mean_estimate": round(float(means.mean()), 4),
+        "bias": round(float(means.mean() - effect), 4),
+        "bias_se": round(float(means.std(ddof=1) / np.sqrt(len(rs))), 4) if len(rs) > 1 else None,
+        "mean_posterior_sd": round(float(np.mean([r["sd"] for r in rs])), 4),
+    }
+    if len(rs) > 1:
+        # Calibration: if the data follow the model, the estimates spread across studies as much as one
+        # study's posterior sd says (ratio near 1; with n studies the ratio's own se is about 1/sqrt(2(n-1))).
+        entry["sd_of_estimates"] = round(float(means.std(ddof=1)), 4)
+        entry["sd_of_estimates_over_mean_sd"] = round(
+            float(means.std(ddof=1)) / entry["mean_posterior_sd"], 3
+        )
+    if rs and "clmm" in rs[0]:
+        ml = np.array([r["clmm"] for r in rs])
+        diff = means - ml
+        entry["clmm_mean_estimate"] = round(float(ml.mean()), 4)
+        entry["clmm_mean_se"] = round(float(np.mean([r["clmm_se"] for r in rs])), 4)
+        if len(rs) > 1:
+            entry["clmm_sd_of_estimates"] = round(float(ml.std(ddof=1)), 4)
+        entry["mean_minus_clmm"] = round(float(diff.mean()), 4)
+        entry["mean_minus_clmm_range"] = [round(float(diff.min()), 4), round(float(diff.max()), 4)]
+    return entry
+
+
+def _recovery(args: argparse.Namespace) -> int:
+    from scone_bt.quiet import quiet_backends
+    from scone_bt.study.models import Priors
+    from scone_bt.study.r_clmm import r_unavailable
+
     quiet_backends(("pymc", "pytensor"))
     effect = args.effect
-    trust = TrustParameters(
-        success_gain=0.0, failure_loss=0.0, help_gain=0.0, condition_effect=effect, response_noise_sd=0.0
-    )
     priors = Priors(args.effect_prior_sd, args.cutpoint_prior_sd, args.scale_prior_sd)
     without_r = r_unavailable()
     load, start = os.getloadavg()[0], time.perf_counter()
     runs: dict[str, list[dict]] = {"mdmt": [], "tps_hri": [], "interventions_eq4_counts": []}
     for seed in range(args.first_seed, args.first_seed + args.seeds):
-        options = AnalysisOptions(
-            chains=args.chains, tune=args.tune, draws=args.draws, cores=args.cores, seed=seed, priors=priors
-        )
-        with tempfile.TemporaryDirectory(prefix="scone-bench-recovery-") as folder:
-            log = simulate_study(
-                Path(folder) / "sim.db",
-                SimulationOptions(participants=args.participants, fast=True, trust=trust, seed=seed),
-                printer=lambda _l: None,
-            )
-            data = load_study(log)
-            log.close()
-        for q in ("mdmt", "tps_hri"):
-            ratings = data.ratings[data.ratings["questionnaire"] == q].reset_index(drop=True)
-            c = contrasts_of(fit_ordinal(ratings, options, q), options)[0]
-            run = {"seed": seed, "mean": c.mean, "sd": c.sd, "hdi": list(c.hdi)}
-            if without_r is None:
-                ml = fit_clmm(
-                    ratings[["category", "condition", "session_index", "participant", "item"]],
-                    "category ~ condition + session_index + (1|participant) + (1|item)",
-                )
-                run["clmm"], run["clmm_se"] = (round(v, 4) for v in ml.fixed["conditionon"])
-            runs[q].append(run)
-        counts = fit_poisson(simulate_counts(args.participants, effect, seed).sessions, options, "counts")
-        c = contrasts_of(counts, options)[0]
-        runs["interventions_eq4_counts"].append(
-            {"seed": seed, "mean": c.mean, "sd": c.sd, "hdi": list(c.hdi)}
-        )
-    summary = {}
-    for name, rs in runs.items():
-        means = np.array([r["mean"] for r in rs])
-        entry = {
-            "coverage": sum(r["hdi"][0] <= effect <= r["hdi"][1] for r in rs) / len(rs),
-            "mean_estimate": round(float(means.mean()), 4),
-            "bias": round(float(means.mean() - effect), 4),
-            "bias_se": round(float(means.std(ddof=1) / np.sqrt(len(rs))), 4) if len(rs) > 1 else None,
-            "mean_posterior_sd": round(float(np.mean([r["sd"] for r in rs])), 4),
-        }
-        if len(rs) > 1:
-            # Calibration: if the data follow the model, the estimates spread across studies as much as one
-            # study's posterior sd says (ratio near 1; with n studies the ratio's own se is about 1/sqrt(2(n-1))).
-            entry["sd_of_estimates"] = round(float(means.std(ddof=1)), 4)
-            entry["sd_of_estimates_over_mean_sd"] = round(
-                float(means.std(ddof=1)) / entry["mean_posterior_sd"], 3
-            )
-        if rs and "clmm" in rs[0]:
-            ml = np.array([r["clmm"] for r in rs])
-            diff = means - ml
-            entry["clmm_mean_estimate"] = round(float(ml.mean()), 4)
-            entry["clmm_mean_se"] = round(float(np.mean([r["clmm_se"] for r in rs])), 4)
-            if len(rs) > 1:
-                entry["clmm_sd_of_estimates"] = round(float(ml.std(ddof=1)), 4)
-            entry["mean_minus_clmm"] = round(float(diff.mean()), 4)
-            entry["mean_minus_clmm_range"] = [round(float(diff.min()), 4), round(float(diff.max()), 4)]
-        summary[name] = entry
+        for name, run in _seed_runs(args, seed, priors, without_r).items():
+            runs[name].append(run)
+    summary = {name: _recovery_summary(rs, effect) for name, rs in runs.items()}
     report = {
         "benchmark": "study-recovery",
         "data": "SIMULATED",

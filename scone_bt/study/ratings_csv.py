@@ -262,6 +262,108 @@ def _check_design(
         )
 
 
+_Plan = dict[str, dict[int, tuple[str, str, int]]]
+"""Participant → session → (condition, group, the row that first gave them)."""
+
+
+@dataclass(frozen=True)
+class _Ratings:
+    """The checked ratings file.
+
+    Attributes:
+        records: One dict per non-empty rating (the analysis frame's rows).
+        plan: Each participant's sessions (`_Plan`).
+        categories: Questionnaire → (its scale's categories, the row and the question that set it).
+    """
+
+    records: list[dict[str, Any]]
+    plan: _Plan
+    categories: dict[str, tuple[int, int, str]]
+
+
+def _check_session(plan: _Plan, rpath: Path, row: _Row, checked: _RatingRow) -> None:
+    """Record the row's session, refusing one whose condition or group another row contradicts."""
+    participant, condition, group = checked.participant, checked.condition, checked.group
+    session = int(checked.session)
+    known = plan.setdefault(participant, {}).setdefault(session, (condition, group, row.line))
+    if known[:2] != (condition, group):
+        raise RatingsFileError(
+            f"{rpath}: row {row.line}: participant {participant!r} session {session} is condition {condition} "
+            f"group {group}, but row {known[2]} says condition {known[0]} group {known[1]}"
+        )
+
+
+def _check_scale(
+    categories: dict[str, tuple[int, int, str]], rpath: Path, row: _Row, checked: _RatingRow
+) -> str:
+    """The row's questionnaire, refusing a scale size other than its questionnaire's first."""
+    question, k = checked.question, checked.categories
+    questionnaire = row.values.get("questionnaire") or DEFAULT_QUESTIONNAIRE
+    first = categories.setdefault(questionnaire, (k, row.line, question))
+    if first[0] != k:
+        hint = "" if "questionnaire" in row.values else "; add a questionnaire column to fit them separately"
+        raise RatingsFileError(
+            f"{rpath}: row {row.line}: question {question!r} has {k} categories but {first[2]!r} "
+            f"(row {first[1]}) of questionnaire {questionnaire!r} has {first[0]}{hint}"
+        )
+    return questionnaire
+
+
+def _read_ratings(rpath: Path, columns: Mapping[str, str]) -> _Ratings:
+    """Read and check every row of the ratings file, row by row, then the study's design."""
+    plan: _Plan = {}
+    categories: dict[str, tuple[int, int, str]] = {}
+    seen: dict[tuple[str, int, str, str], int] = {}
+    records = []
+    for row in _read(rpath, RATINGS_COLUMNS, OPTIONAL_RATINGS_COLUMNS, columns):
+        checked = _parse_row(_RatingRow, rpath, row, columns)
+        _check_session(plan, rpath, row, checked)
+        questionnaire = _check_scale(categories, rpath, row, checked)
+        participant, session, question = checked.participant, int(checked.session), checked.question
+        key = (participant, session, questionnaire, question)
+        if key in seen:
+            raise RatingsFileError(
+                f"{rpath}: row {row.line} repeats participant {participant!r} session {session} question "
+                f"{question!r} (first on row {seen[key]})"
+            )
+        seen[key] = row.line
+        if checked.rating is None:
+            continue  # a skipped item ("does not fit")
+        records.append(
+            {
+                "session_id": f"{participant}/{session}",
+                "participant": participant,
+                "group": checked.group,
+                "condition": checked.condition,
+                "session_index": session,
+                "questionnaire": questionnaire,
+                "item": question,
+                "category": checked.rating,
+                "n_categories": checked.categories,
+            }
+        )
+    _check_design(rpath, plan, columns)
+    if not records:
+        raise RatingsFileError(f"{rpath}: every rating is empty; nothing to analyse")
+    return _Ratings(records, plan, categories)
+
+
+def _session_table(plan: _Plan) -> list[dict[str, Any]]:
+    """One row per session, in participant and session order (interventions unknown: NaN)."""
+    return [
+        {
+            "session_id": f"{participant}/{session}",
+            "participant": participant,
+            "group": group,
+            "condition": condition,
+            "session_index": session,
+            "interventions": float("nan"),
+        }
+        for participant, sessions_of in sorted(plan.items())
+        for session, (condition, group, _line) in sorted(sessions_of.items())
+    ]
+
+
 def load_ratings_csv(
     ratings: str | Path,
     sessions: str | Path | None = None,
@@ -286,82 +388,18 @@ def load_ratings_csv(
 
     columns = dict(columns or {})
     rpath = Path(ratings)
-    rows = _read(rpath, RATINGS_COLUMNS, OPTIONAL_RATINGS_COLUMNS, columns)
-    plan: dict[str, dict[int, tuple[str, str, int]]] = {}
-    categories: dict[str, tuple[int, int, str]] = {}
-    seen: dict[tuple[str, int, str, str], int] = {}
-    records = []
-    for row in rows:
-        checked = _parse_row(_RatingRow, rpath, row, columns)
-        participant, condition, group = checked.participant, checked.condition, checked.group
-        session = int(checked.session)
-        sessions_of = plan.setdefault(participant, {})
-        known = sessions_of.setdefault(session, (condition, group, row.line))
-        if known[:2] != (condition, group):
-            raise RatingsFileError(
-                f"{rpath}: row {row.line}: participant {participant!r} session {session} is condition {condition} "
-                f"group {group}, but row {known[2]} says condition {known[0]} group {known[1]}"
-            )
-        question, k = checked.question, checked.categories
-        questionnaire = row.values.get("questionnaire") or DEFAULT_QUESTIONNAIRE
-        first = categories.setdefault(questionnaire, (k, row.line, question))
-        if first[0] != k:
-            hint = (
-                "" if "questionnaire" in row.values else "; add a questionnaire column to fit them separately"
-            )
-            raise RatingsFileError(
-                f"{rpath}: row {row.line}: question {question!r} has {k} categories but {first[2]!r} "
-                f"(row {first[1]}) of questionnaire {questionnaire!r} has {first[0]}{hint}"
-            )
-        key = (participant, session, questionnaire, question)
-        if key in seen:
-            raise RatingsFileError(
-                f"{rpath}: row {row.line} repeats participant {participant!r} session {session} question "
-                f"{question!r} (first on row {seen[key]})"
-            )
-        seen[key] = row.line
-        rating = checked.rating
-        if rating is None:
-            continue  # a skipped item ("does not fit")
-        records.append(
-            {
-                "session_id": f"{participant}/{session}",
-                "participant": participant,
-                "group": group,
-                "condition": condition,
-                "session_index": session,
-                "questionnaire": questionnaire,
-                "item": question,
-                "category": rating,
-                "n_categories": k,
-            }
-        )
-    _check_design(rpath, plan, columns)
-    if not records:
-        raise RatingsFileError(f"{rpath}: every rating is empty; nothing to analyse")
-    frame = pd.DataFrame(records)
-    table = []
-    for participant, sessions_of in sorted(plan.items()):
-        for session, (condition, group, _line) in sorted(sessions_of.items()):
-            table.append(
-                {
-                    "session_id": f"{participant}/{session}",
-                    "participant": participant,
-                    "group": group,
-                    "condition": condition,
-                    "session_index": session,
-                    "interventions": float("nan"),
-                }
-            )
+    checked = _read_ratings(rpath, columns)
+    frame = pd.DataFrame(checked.records)
+    table = _session_table(checked.plan)
     table_frame = pd.DataFrame(table)
     if sessions is not None:
-        counts = _load_sessions(Path(sessions), plan, columns)
+        counts = _load_sessions(Path(sessions), checked.plan, columns)
         table_frame["interventions"] = [counts[(r["participant"], r["session_index"])] for r in table]
-    names = tuple(sorted(categories))
+    names = tuple(sorted(checked.categories))
     for name in names:
         means = frame[frame["questionnaire"] == name].groupby("session_id")["category"].mean()
         table_frame[name] = table_frame["session_id"].map(means)
-    units = {name: f"mean rating (0-{categories[name][0] - 1})" for name in names}
+    units = {name: f"mean rating (0-{checked.categories[name][0] - 1})" for name in names}
     label = str(rpath) + (f" + {sessions}" if sessions is not None else "")
     return StudyData(frame, table_frame, simulated, label, names, units)
 

@@ -14,7 +14,7 @@ analysis cannot tell the difference except by the session's ``synthetic`` flag. 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -110,6 +110,105 @@ def _online_trust():  # noqa: ANN202 - an OnlineTrust (the model loads ζ once p
     return OnlineTrust(_transfer_model(load_fitted()))
 
 
+@dataclass(frozen=True)
+class _Episode:
+    """What every step of one synthetic episode shares.
+
+    Attributes:
+        robot: The synthetic robot (true success and κ̂ per object).
+        gate: The gate's options (`GateOptions`) for the episode's condition.
+        options: The episode's settings.
+        participant: The simulated participant (decides take-overs).
+        rng: The episode's outcome draws.
+        events: The episode's events so far (failure counts, the summary's fold).
+        emit: Sends one event to the log, the caller, the participant and the trust tracker.
+        trust: The online trust tracker (`OnlineTrust`), or None when the robot is not trust-aware.
+    """
+
+    robot: SyntheticRobot
+    gate: Any
+    options: SyntheticOptions
+    participant: SimulatedParticipant
+    rng: np.random.Generator
+    events: EventLog
+    emit: Callable[[Event], None]
+    trust: Any
+
+
+def _decide(ep: _Episode, step: int, instruction: str, name: str, clock: float) -> DecisionKind:
+    """The tree's decision on the step's one action (the gate, then the failure limit), emitted."""
+    from scone_bt.behaviours.gate import apply_failure_limit
+    from scone_bt.gate import decide
+    from scone_bt.relevance.types import RankedAction
+
+    action = action_text(name)
+    conf = ep.robot.confidence[name]
+    decision = decide([RankedAction(action, 1.0)], [conf], ep.gate)
+    decision = apply_failure_limit(decision, ep.events.failures_of(action), ep.options.max_failures)
+    ep.emit(
+        DecisionMade(
+            clock,
+            step,
+            instruction,
+            action,
+            1.0,
+            round(conf, 4),
+            decision.kind,
+            object_name=name,
+            reason=decision.reason,
+        )
+    )
+    return decision.kind
+
+
+def _act(ep: _Episode, name: str, clock: float) -> tuple[float, bool]:
+    """One attempt at fetching ``name`` (stating its confidence first when trust-aware); (clock, step done)."""
+    action, conf, opts = action_text(name), ep.robot.confidence[name], ep.options
+    if ep.trust is not None:
+        (estimate,) = ep.trust.estimate(clock, {action: (name, conf)})
+        ep.emit(estimate)
+        if estimate.risk == "over":
+            ep.emit(ConfidenceStated(clock, action, name, confidence_in_words(name, conf), round(conf, 4)))
+    ep.emit(ActStarted(clock, action, name, round(conf, 4)))
+    if ep.participant.decides_to_take_over():
+        clock += 1.0
+        ep.emit(TakeOver(clock, action, name))
+        clock += opts.fetch_time_s
+        ep.emit(Intervention(clock, name, "fetched by the human", "takeover"))
+        return clock, True
+    clock += opts.act_time_s
+    success = bool(ep.rng.random() < ep.robot.success[name])
+    if success:
+        ep.emit(ActOutcome(clock, action, name, True, None, opts.act_time_s))
+        return clock, True
+    dropped = bool(ep.rng.random() < opts.drop_probability)
+    stage = FailureStage.PLACE if dropped else FailureStage.GRASP
+    ep.emit(ActOutcome(clock, action, name, False, stage.value, opts.act_time_s))
+    if dropped:
+        ep.emit(CleanUpStarted(clock, name, "the robot dropped it"))
+        clock += opts.fetch_time_s
+        ep.emit(Intervention(clock, name, "fetched by the human", "dropped"))
+        return clock, True
+    return clock, False
+
+
+def _step(ep: _Episode, step: int, name: str, clock: float) -> float:
+    """One recipe step: decide and act until the object is on the table; returns the clock after it."""
+    action = action_text(name)
+    instruction = f"Step {step}: bring the {name}."
+    done = False
+    while not done:
+        if _decide(ep, step, instruction, name, clock) is DecisionKind.ASK:
+            ep.emit(HelpRequested(clock, action, name))
+            clock += ep.options.fetch_time_s
+            ep.emit(HelpGiven(clock, name, "fetched by the human"))
+            break
+        clock, done = _act(ep, name, clock)
+    clock += 2.0
+    ep.emit(StepDone(clock, instruction))
+    return clock
+
+
 def run_synthetic_episode(
     robot: SyntheticRobot,
     condition: Condition,
@@ -123,9 +222,7 @@ def run_synthetic_episode(
     Each decision is the tree's: `scone_bt.gate.decide` on the step's one action, then the failure limit
     (`apply_failure_limit`); the counts are the events' fold (`scone_bt.events.summarise`).
     """
-    from scone_bt.behaviours.gate import apply_failure_limit
-    from scone_bt.gate import GateOptions, decide
-    from scone_bt.relevance.types import RankedAction
+    from scone_bt.gate import GateOptions
 
     rng = np.random.default_rng([seed, 11])
     names = sorted(robot.success)
@@ -137,7 +234,6 @@ def run_synthetic_episode(
     gate = GateOptions(
         confidence_threshold=options.confidence_threshold, use_self_confidence=condition is Condition.ON
     )
-    clock = 0.0
     events = EventLog()
     trust = _online_trust() if options.trust_aware else None
 
@@ -148,60 +244,10 @@ def run_synthetic_episode(
         if trust is not None:
             trust(event)
 
+    episode = _Episode(robot, gate, options, participant, rng, events, emit, trust)
+    clock = 0.0
     for step, name in enumerate(objects, 1):
-        action = action_text(name)
-        instruction = f"Step {step}: bring the {name}."
-        while True:
-            conf = robot.confidence[name]
-            decision = decide([RankedAction(action, 1.0)], [conf], gate)
-            decision = apply_failure_limit(decision, events.failures_of(action), options.max_failures)
-            emit(
-                DecisionMade(
-                    clock,
-                    step,
-                    instruction,
-                    action,
-                    1.0,
-                    round(conf, 4),
-                    decision.kind,
-                    object_name=name,
-                    reason=decision.reason,
-                )
-            )
-            if decision.kind is DecisionKind.ASK:
-                emit(HelpRequested(clock, action, name))
-                clock += options.fetch_time_s
-                emit(HelpGiven(clock, name, "fetched by the human"))
-                break
-            if trust is not None:
-                (estimate,) = trust.estimate(clock, {action: (name, conf)})
-                emit(estimate)
-                if estimate.risk == "over":
-                    emit(
-                        ConfidenceStated(clock, action, name, confidence_in_words(name, conf), round(conf, 4))
-                    )
-            emit(ActStarted(clock, action, name, round(conf, 4)))
-            if participant.decides_to_take_over():
-                clock += 1.0
-                emit(TakeOver(clock, action, name))
-                clock += options.fetch_time_s
-                emit(Intervention(clock, name, "fetched by the human", "takeover"))
-                break
-            clock += options.act_time_s
-            success = bool(rng.random() < robot.success[name])
-            if success:
-                emit(ActOutcome(clock, action, name, True, None, options.act_time_s))
-                break
-            dropped = bool(rng.random() < options.drop_probability)
-            stage = FailureStage.PLACE if dropped else FailureStage.GRASP
-            emit(ActOutcome(clock, action, name, False, stage.value, options.act_time_s))
-            if dropped:
-                emit(CleanUpStarted(clock, name, "the robot dropped it"))
-                clock += options.fetch_time_s
-                emit(Intervention(clock, name, "fetched by the human", "dropped"))
-                break
-        clock += 2.0
-        emit(StepDone(clock, instruction))
+        clock = _step(episode, step, name, clock)
     stats = events.stats
     return {
         "synthetic": True,

@@ -23,6 +23,7 @@ import sys
 import time
 from collections import Counter
 from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -35,6 +36,7 @@ from scone_bt.benchmarks.self_confidence.generate import (
     execute_task,
 )
 from scone_bt.benchmarks.self_confidence.profiles import Profile, load_profiles
+from scone_bt.config import ObjectSpec
 from scone_bt.errors import ConfigError
 from scone_bt.files import write_atomic
 
@@ -365,14 +367,8 @@ def _write_log(
     write_atomic(path, json.dumps(log, indent=1) + "\n")  # an interrupted write keeps the old log whole
 
 
-def run_generate(args: argparse.Namespace) -> int:
-    """Run the executions `args` asks for; print (and with --json write) the summary. 0 when every profile is
-    complete, 1 when stopped early (--max-minutes)."""
-    from scone_bt.config import load_kitchen, load_robot
-    from scone_bt.distributed import engine_from_args, imap_tasks, start_engine
-    from scone_bt.reporting import emit_report
-    from scone_bt.robot.flags import check_backend
-
+def _check_numbers(args: argparse.Namespace) -> None:
+    """--executions, --workers, --max-minutes and every --catalogue file, before anything is loaded."""
     if args.executions < 1:
         raise ConfigError(f"--executions {args.executions}: must be at least 1")
     if args.workers < 1:
@@ -384,7 +380,12 @@ def run_generate(args: argparse.Namespace) -> int:
     for c in args.catalogue:
         if not Path(c).is_file():
             raise ConfigError(f"--catalogue {c}: no such file")
-    kitchen_cfg = load_kitchen(args.kitchen, args.catalogue)
+
+
+def _backend(args: argparse.Namespace) -> str:
+    """The --robot backend, refused unless the generator drives its kitchen (MuJoCo's rendering checked)."""
+    from scone_bt.robot.flags import check_backend
+
     engine = check_backend(args.robot)
     if engine not in ENGINES:
         raise ConfigError(
@@ -396,7 +397,11 @@ def run_generate(args: argparse.Namespace) -> int:
         from scone_bt.world.mj_model import import_mujoco
 
         check_rendering(import_mujoco())
-    robot_cfg = load_robot(args.arm)  # a bad robot name fails here, before any work
+    return engine
+
+
+def _offset_profiles(args: argparse.Namespace) -> tuple[list[Profile], dict[str, Profile], int]:
+    """(the profiles with --seed added to their seeds, the profiles as their files give them, --seed)."""
     profiles_dir = Path(args.profiles_dir)
     if not profiles_dir.is_dir():
         raise ConfigError(f"--profiles-dir {profiles_dir}: no such folder")
@@ -410,8 +415,11 @@ def run_generate(args: argparse.Namespace) -> int:
             raise ConfigError(
                 f"--seed {offset}: profile {bad[0].name} would get seed {bad[0].seed}, not in 0-42949"
             )
-    products = parse_products(args.products, kitchen_cfg.catalogue.names())
-    pool = drawable_products(kitchen_cfg, products)
+    return profiles, base_profiles, offset
+
+
+def _check_pool(pool: Sequence[ObjectSpec], products: Sequence[str] | None, profiles: list[Profile]) -> None:
+    """Refuse a product pool smaller than a profile's products per execution, naming those that fit no tier."""
     most = max(p.objects_on_shelf for p in profiles)
     if len(pool) < most:
         drawn = {o.name for o in pool}
@@ -422,10 +430,45 @@ def run_generate(args: argparse.Namespace) -> int:
             f"--products: {len(pool)} product(s) fit the shelving{why}, profile needs {most} per execution "
             f"(objects_on_shelf); name more products"
         )
-    out = Path(args.out)
-    check_writable(out)
-    log_path = out / LOG_NAME
-    log = read_log(log_path)  # a damaged log stops the run now, not after every execution has run
+
+
+@dataclass(frozen=True)
+class _Setup:
+    """A generation run's checked settings.
+
+    Attributes:
+        engine: The backend (`ENGINES`).
+        profiles: The profiles, their seeds offset by --seed.
+        base_profiles: Name → the profile as its file gives it (the generation's record).
+        offset: --seed.
+        products: The --products restriction, or None.
+        pool: The products executions draw from.
+        catalogues: The --catalogue files.
+        asked: Profile name → the settings this run generates with (`generation_settings`).
+    """
+
+    engine: str
+    profiles: list[Profile]
+    base_profiles: dict[str, Profile]
+    offset: int
+    products: tuple[str, ...] | None
+    pool: tuple[ObjectSpec, ...]
+    catalogues: tuple[str, ...]
+    asked: dict[str, dict[str, Any]]
+
+
+def _setup(args: argparse.Namespace) -> _Setup:
+    """Check and load everything a run needs, in the order a bad value is best reported, before any work."""
+    from scone_bt.config import load_kitchen, load_robot
+
+    _check_numbers(args)
+    kitchen_cfg = load_kitchen(args.kitchen, args.catalogue)
+    engine = _backend(args)
+    robot_cfg = load_robot(args.arm)  # a bad robot name fails here, before any work
+    profiles, base_profiles, offset = _offset_profiles(args)
+    products = parse_products(args.products, kitchen_cfg.catalogue.names())
+    pool = drawable_products(kitchen_cfg, products)
+    _check_pool(pool, products, profiles)
     catalogues = tuple(str(c) for c in args.catalogue)
     asked = {
         p.name: generation_settings(
@@ -433,27 +476,88 @@ def run_generate(args: argparse.Namespace) -> int:
         )
         for p in profiles
     }
+    return _Setup(engine, profiles, base_profiles, offset, products, pool, catalogues, asked)
+
+
+@dataclass(frozen=True)
+class _Work:
+    """What a run resumes and what it executes.
+
+    Attributes:
+        log_path: --out's generation.json.
+        log: Its contents, read and checked before the run.
+        done: Profile name → index → the rows of this run's executions (recorded ones, then new ones).
+        beyond: Profile name → rows past --executions (not this run's; kept in the file it rewrites).
+        tasks: The executions still to run.
+    """
+
+    log_path: Path
+    log: dict[str, Any]
+    done: dict[str, dict[int, ExecutionRecord]]
+    beyond: dict[str, dict[int, ExecutionRecord]]
+    tasks: list[ExecutionTask]
+
+
+def _work(args: argparse.Namespace, setup: _Setup) -> _Work:
+    """Read --out's rows and log; refuse rows of another generation; the executions still to run."""
+    out = Path(args.out)
+    check_writable(out)
+    log_path = out / LOG_NAME
+    log = read_log(log_path)  # a damaged log stops the run now, not after every execution has run
     recorded = log.get("generations", {})
+    profiles, asked = setup.profiles, setup.asked
     # Every profile's rows are checked before anything runs: one of another generation stops the whole run.
-    rows = {p.name: _resume(out, p, offset, recorded.get(p.name), asked[p.name]) for p in profiles}
+    rows = {p.name: _resume(out, p, setup.offset, recorded.get(p.name), asked[p.name]) for p in profiles}
     done = {name: {i: r for i, r in got.items() if i < args.executions} for name, got in rows.items()}
     # Rows past --executions are not this run's, but they stay in the file it rewrites.
     beyond = {name: {i: r for i, r in got.items() if i >= args.executions} for name, got in rows.items()}
-    by_name = {p.name: p for p in profiles}
     tasks = [
-        ExecutionTask(p, i, args.kitchen, args.arm, catalogues, products, engine)
+        ExecutionTask(p, i, args.kitchen, args.arm, setup.catalogues, setup.products, setup.engine)
         for p in profiles
         for i in range(args.executions)
         if i not in done[p.name]
     ]
-    pool_engine = engine_from_args(args, args.workers)
-    start_engine(pool_engine)  # an unreachable Ray cluster fails here, before any work
-    to_record = {t.profile.name for t in tasks if recorded.get(t.profile.name) != asked[t.profile.name]}
+    return _Work(log_path, log, done, beyond, tasks)
+
+
+def _record_generations(work: _Work, asked: dict[str, dict[str, Any]]) -> None:
+    """Record the settings of every profile this run adds rows to, before the first row is written."""
+    recorded = work.log.get("generations", {})
+    to_record = {t.profile.name for t in work.tasks if recorded.get(t.profile.name) != asked[t.profile.name]}
     if to_record:
         # Recorded before the first row is written: an interrupted run is resumed only with the same settings.
-        log["generations"] = {**recorded, **{name: asked[name] for name in sorted(to_record)}}
-        write_atomic(log_path, json.dumps(log, indent=1) + "\n")
-    walls: dict[str, list[float]] = {p.name: [] for p in profiles}
+        work.log["generations"] = {**recorded, **{name: asked[name] for name in sorted(to_record)}}
+        write_atomic(work.log_path, json.dumps(work.log, indent=1) + "\n")
+
+
+@dataclass(frozen=True)
+class _Ran:
+    """How the executions went.
+
+    Attributes:
+        walls: Profile name → the wall time of each execution this run ran, s.
+        resumed: Executions already recorded (not run again).
+        stopped: Whether --max-minutes stopped the run early.
+        elapsed: Wall time of the run, s.
+        cpu: CPU time of this process and its finished worker processes, s.
+        load_before: The 1-minute load average at the start (None where the system has none).
+    """
+
+    walls: dict[str, list[float]]
+    resumed: int
+    stopped: bool
+    elapsed: float
+    cpu: float
+    load_before: float | None
+
+
+def _execute(args: argparse.Namespace, setup: _Setup, work: _Work, pool_engine: Any) -> _Ran:
+    """Run the tasks on the engine, saving each profile's rows after every execution; stop at --max-minutes."""
+    from scone_bt.distributed import imap_tasks
+
+    done, tasks, out = work.done, work.tasks, Path(args.out)
+    by_name = {p.name: p for p in setup.profiles}
+    walls: dict[str, list[float]] = {p.name: [] for p in setup.profiles}
     load_before = os.getloadavg()[0] if hasattr(os, "getloadavg") else None
     cpu0 = _cpu_s()
     t0 = time.perf_counter()
@@ -470,7 +574,7 @@ def run_generate(args: argparse.Namespace) -> int:
         for _i, (name, record, wall) in results:
             done[name][record.index] = record
             walls[name].append(wall)
-            _save(out, by_name[name], {**beyond[name], **done[name]}, len(done[name]) >= args.executions)
+            _save(out, by_name[name], {**work.beyond[name], **done[name]}, len(done[name]) >= args.executions)
             bar.set_postfix_str(f"{name} {len(done[name])}/{args.executions}")
             bar.update(1)
             if deadline is not None and time.perf_counter() > deadline:
@@ -482,31 +586,57 @@ def run_generate(args: argparse.Namespace) -> int:
         bar.close()
     elapsed = time.perf_counter() - t0
     cpu = _cpu_s() - cpu0  # this process and its finished worker processes (a Ray cluster's are not counted)
-    run = sum(len(w) for w in walls.values())
-    summary: dict[str, Any] = {
-        "profiles": {p.name: summarise(p, done[p.name], args.executions, walls[p.name]) for p in profiles},
+    return _Ran(walls, skipped, stopped, elapsed, cpu, load_before)
+
+
+def _summary(
+    args: argparse.Namespace, setup: _Setup, work: _Work, ran: _Ran, pool_engine: Any
+) -> dict[str, Any]:
+    """The run's JSON summary (also appended to generation.json)."""
+    run = sum(len(w) for w in ran.walls.values())
+    elapsed = ran.elapsed
+    return {
+        "profiles": {
+            p.name: summarise(p, work.done[p.name], args.executions, ran.walls[p.name])
+            for p in setup.profiles
+        },
         "executions_run": run,
-        "executions_resumed": skipped,
+        "executions_resumed": ran.resumed,
         "wall_s": round(elapsed, 1),
         "executions_per_s": round(run / elapsed, 3) if run and elapsed > 0 else None,
-        "cpu_s_per_execution": round(cpu / run, 3) if run and pool_engine.kind.value == "local" else None,
+        "cpu_s_per_execution": round(ran.cpu / run, 3) if run and pool_engine.kind.value == "local" else None,
         "workers": args.workers,
         "engine": pool_engine.label,
-        "backend": engine,
-        "products_drawn_from": len(pool),
-        "user_catalogues": [Path(c).name for c in catalogues],
+        "backend": setup.engine,
+        "products_drawn_from": len(setup.pool),
+        "user_catalogues": [Path(c).name for c in setup.catalogues],
         "load_average_1min": {
-            "start": round(load_before, 2) if load_before is not None else None,
+            "start": round(ran.load_before, 2) if ran.load_before is not None else None,
             "end": round(os.getloadavg()[0], 2) if hasattr(os, "getloadavg") else None,
         },
-        "stopped_early": stopped,
+        "stopped_early": ran.stopped,
     }
+
+
+def run_generate(args: argparse.Namespace) -> int:
+    """Run the executions `args` asks for; print (and with --json write) the summary. 0 when every profile is
+    complete, 1 when stopped early (--max-minutes)."""
+    from scone_bt.distributed import engine_from_args, start_engine
+    from scone_bt.reporting import emit_report
+
+    setup = _setup(args)
+    work = _work(args, setup)
+    pool_engine = engine_from_args(args, args.workers)
+    start_engine(pool_engine)  # an unreachable Ray cluster fails here, before any work
+    _record_generations(work, setup.asked)
+    ran = _execute(args, setup, work, pool_engine)
+    summary = _summary(args, setup, work, ran, pool_engine)
     _write_log(
-        log_path,
-        log,
+        work.log_path,
+        work.log,
         sys.argv[1:] if sys.argv and "scone-bench" in sys.argv[0] else ["sc", "generate"],
         summary,
-        engine,
+        setup.engine,
     )
     emit_report(summary, args.json)
     return 0 if all(v["complete"] for v in summary["profiles"].values()) else 1

@@ -495,27 +495,28 @@ def _embed_all(
     return features, skipped, seconds
 
 
-def run_evaluate(args: argparse.Namespace) -> int:
-    """The ``sc evaluate`` handler (see the module docstring)."""
-    from scone_bt.benchmarks.self_confidence.report import (
-        dataset_summary,
-        evaluation_markdown,
-        plot_curves,
-        plot_reliability,
-    )
-    from scone_bt.distributed import engine_from_args, map_tasks
-    from scone_bt.files import write_atomic
-    from scone_bt.reporting import emit_report
-    from scone_bt.strict_json import dumps
+@dataclass(frozen=True)
+class _Grid:
+    """The checked grid of one ``sc evaluate`` run.
 
-    def log(msg: str) -> None:
-        print(msg, file=sys.stderr, flush=True)
+    Attributes:
+        protocols: The protocols to evaluate.
+        embedders: The embedders asked for (those that cannot load are skipped later).
+        estimators: The κ̂ names.
+        options: The evaluation's settings.
+    """
 
-    # One BLAS/OpenMP thread per worker: the fits are tiny, and threads of parallel workers only fight over cores.
-    for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-        os.environ.setdefault(var, "1")
-    os.environ.setdefault("TOKENIZERS_PARALLELISM", "false")
-    t0 = time.perf_counter()
+    protocols: list[Protocol]
+    embedders: list[str]
+    estimators: list[str]
+    options: EvalOptions
+
+
+def _grid(args: argparse.Namespace) -> _Grid:
+    """Check the names, --workers and --kitchen, before any work."""
+    from scone_bt.config import load_kitchen
+    from scone_bt.resources import resolve_file
+
     protocols, estimators = _check_names(
         split_names(args.protocols, [p.value for p in Protocol]),
         embedders := split_names(args.embedders, DEFAULT_EMBEDDERS),
@@ -523,9 +524,6 @@ def run_evaluate(args: argparse.Namespace) -> int:
     )
     if args.workers < 1:
         raise ConfigError(f"--workers must be at least 1, got {args.workers}")
-    from scone_bt.config import load_kitchen
-    from scone_bt.resources import resolve_file
-
     # read only when a dataset has no family column, so checked now: a bad --kitchen is not found after the work
     load_kitchen(resolve_file("perception", args.kitchen, (".yaml", ".yml"), flag="--kitchen"))
     options = EvalOptions(
@@ -537,35 +535,43 @@ def run_evaluate(args: argparse.Namespace) -> int:
         epsilon=args.epsilon,
         refit_every=args.refit_every,
     )
-    report_files: dict[str, Path] = {}
-    if args.out is not None:  # before the evaluation: minutes of work are not lost to a bad --out or --name
-        plots: dict[str, OutputKind] = {f"_{p.value}_curves.png": "image" for p in protocols}
-        report_files = check_report_files(
-            Path(args.out),
-            args.name,
-            {".json": "json", ".md": "text", **plots, "_reliability.png": "image"},
-            Path(args.data),
-            force=bool(getattr(args, "force", False)),
-        )
-    datasets = load_eval_datasets(args.data, min_rows=options.min_rows, kitchen=args.kitchen)
-    features, skipped, embed_s = _embed_all(embedders, datasets, args.cache_dir, log, args.kitchen)
-    embedders = [e for e in embedders if e in features]
-    if not embedders:
-        raise SconeError(f"no embedder could be loaded ({'; '.join(skipped.values())})")
-    if any(k.startswith("grounded-") for k in estimators) and all(
-        np.isnan(d.context).all() for d in datasets
-    ):
-        log(f"note: {args.data} has no context columns; grounded estimators see only missing-value flags")
-    t_embed = time.perf_counter() - t0
+    return _Grid(protocols, embedders, estimators, options)
+
+
+def _report_files(args: argparse.Namespace, protocols: Sequence[Protocol]) -> dict[str, Path]:
+    """--out's report files, checked before the evaluation: minutes of work are not lost to a bad --out."""
+    if args.out is None:
+        return {}
+    plots: dict[str, OutputKind] = {f"_{p.value}_curves.png": "image" for p in protocols}
+    return check_report_files(
+        Path(args.out),
+        args.name,
+        {".json": "json", ".md": "text", **plots, "_reliability.png": "image"},
+        Path(args.data),
+        force=bool(getattr(args, "force", False)),
+    )
+
+
+def _evaluate_cells(
+    args: argparse.Namespace,
+    grid: _Grid,
+    datasets: list[EvalDataset],
+    features: dict[str, list[np.ndarray]],
+    embedders: list[str],
+    engine: Any,
+) -> list[CellResult]:
+    """Every cell (pair × shuffle × dataset) on the engine, in the grid's order (cached cells reused)."""
+    from scone_bt.distributed import map_tasks
+
+    options, estimators = grid.options, grid.estimators
     pairs = [(e, k) for e in embedders for k in estimators]
     # Cells (pair × shuffle × dataset) are the tasks: many small ones balance the workers, and a finished cell
     # is cached, so a rerun, or a run after one more dataset landed, computes only what changed.
     tasks = [(e, k, s, di) for e, k in pairs for s in range(options.shuffles) for di in range(len(datasets))]
-    engine = engine_from_args(args, args.workers, progress="cells (pair × dataset)")
     cache = None if args.no_cell_cache else _cell_cache_dir(args.cache_dir)
     paired = paired_calibrated(estimators)
     inputs = GridInputs(
-        tuple(datasets), {e: features[e] for e in embedders}, options, tuple(protocols), cache, paired
+        tuple(datasets), {e: features[e] for e in embedders}, options, tuple(grid.protocols), cache, paired
     )
     # A base estimator's cells come with its calibrated variant's (evaluate_grid_cells): no task of their own.
     bases = {k.removesuffix("-cal") for k in paired}
@@ -580,8 +586,54 @@ def run_evaluate(args: argparse.Namespace) -> int:
         done[work[i]] = got[0]
         if len(got) > 1:
             done[(e, k.removesuffix("-cal"), s_, di)] = got[1]
-    cells = [done[t] for t in tasks]
-    per_pair = len(tasks) // max(len(pairs), 1)
+    return [done[t] for t in tasks]
+
+
+def _write_report_files(report: EvaluationReport, args: argparse.Namespace, files: dict[str, Path]) -> None:
+    """The JSON, the Markdown and the figures into --out."""
+    from scone_bt.benchmarks.self_confidence.report import evaluation_markdown, plot_curves, plot_reliability
+    from scone_bt.files import write_atomic
+    from scone_bt.strict_json import dumps
+
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    write_atomic(files[".json"], dumps(report, indent=1) + "\n")
+    write_atomic(files[".md"], evaluation_markdown(report, args.name))
+    plot_curves(report, out, args.name)
+    plot_reliability(report, files["_reliability.png"])
+
+
+def run_evaluate(args: argparse.Namespace) -> int:
+    """The ``sc evaluate`` handler (see the module docstring)."""
+    from scone_bt.benchmarks.self_confidence.report import dataset_summary
+    from scone_bt.distributed import engine_from_args
+    from scone_bt.reporting import emit_report
+
+    def log(msg: str) -> None:
+        print(msg, file=sys.stderr, flush=True)
+
+    # One BLAS/OpenMP thread per worker: the fits are tiny, and threads of parallel workers only fight over cores.
+    for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ.setdefault(var, "1")
+    os.environ.setdefault("TOKENIZERS_PARALLELISM", "false")
+    t0 = time.perf_counter()
+    grid = _grid(args)
+    options, protocols, estimators = grid.options, grid.protocols, grid.estimators
+    report_files = _report_files(args, protocols)
+    datasets = load_eval_datasets(args.data, min_rows=options.min_rows, kitchen=args.kitchen)
+    features, skipped, embed_s = _embed_all(grid.embedders, datasets, args.cache_dir, log, args.kitchen)
+    embedders = [e for e in grid.embedders if e in features]
+    if not embedders:
+        raise SconeError(f"no embedder could be loaded ({'; '.join(skipped.values())})")
+    if any(k.startswith("grounded-") for k in estimators) and all(
+        np.isnan(d.context).all() for d in datasets
+    ):
+        log(f"note: {args.data} has no context columns; grounded estimators see only missing-value flags")
+    t_embed = time.perf_counter() - t0
+    engine = engine_from_args(args, args.workers, progress="cells (pair × dataset)")
+    cells = _evaluate_cells(args, grid, datasets, features, embedders, engine)
+    pairs = [(e, k) for e in embedders for k in estimators]
+    per_pair = len(cells) // max(len(pairs), 1)
     results = [
         aggregate_cells(e, k, cells[i * per_pair : (i + 1) * per_pair], protocols, options)
         for i, (e, k) in enumerate(pairs)
@@ -615,18 +667,13 @@ def run_evaluate(args: argparse.Namespace) -> int:
             total=round(wall, 2),
             workers=args.workers,
             engine=engine.label,
-            cells=len(tasks),
+            cells=len(cells),
             cells_wall_s_sum=round(sum(c.wall_s for c in cells), 1),
         ),
     )
     report = clean_report(report)  # NaN → null, the same text as the file
     if args.out is not None:
-        out = Path(args.out)
-        out.mkdir(parents=True, exist_ok=True)
-        write_atomic(report_files[".json"], dumps(report, indent=1) + "\n")
-        write_atomic(report_files[".md"], evaluation_markdown(report, args.name))
-        plot_curves(report, out, args.name)
-        plot_reliability(report, report_files["_reliability.png"])
+        _write_report_files(report, args, report_files)
     emit_report(report, args.json, indent=1, make_parent=True)
     return 0
 

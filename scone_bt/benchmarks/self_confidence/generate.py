@@ -35,6 +35,7 @@ from scone_bt.affordances.types import action_text
 from scone_bt.benchmarks.self_confidence.dataset import ExecutionRecord
 from scone_bt.benchmarks.self_confidence.profiles import Profile
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
+from scone_bt.config.catalogue import Catalogue
 from scone_bt.errors import ConfigError
 from scone_bt.experience.types import ExecutionContext
 from scone_bt.perception import context as perception_context
@@ -290,6 +291,130 @@ def perceived_context(
     return context, "" if place is None else place[0], slot
 
 
+def _objects(
+    profile: Profile,
+    index: int,
+    kitchen_cfg: KitchenConfig,
+    target_name: str | None,
+    pool: Sequence[ObjectSpec] | None,
+) -> tuple[ObjectSpec, list[ObjectSpec]]:
+    """The execution's target and distractors (`choose_objects`), with ``target_name`` forced if given."""
+    pool = drawable_products(kitchen_cfg) if pool is None else pool
+    target, others = choose_objects(profile, index, pool, kitchen_cfg.scene)
+    if target_name is not None and target_name != target.name:
+        forced = kitchen_cfg.catalogue.get(target_name)
+        others = [o for o in [target, *others] if o.name != forced.name][: len(others)]
+        target = forced
+    return target, others
+
+
+def _configs(
+    profile: Profile, kitchen_cfg: KitchenConfig, robot_cfg: RobotConfig, injected: frozenset[str]
+) -> tuple[KitchenConfig, RobotConfig]:
+    """The kitchen and robot with the profile's overrides, and the gripper weakened for an injected grasp."""
+    kcfg, rcfg = profile.apply(kitchen_cfg, robot_cfg)
+    if "grasp" in injected:
+        g = rcfg.gripper
+        rcfg = dataclasses.replace(
+            rcfg, gripper=dataclasses.replace(g, max_force=g.max_force * INJECTED_FORCE_FACTOR)
+        )
+    return kcfg, rcfg
+
+
+@dataclass(frozen=True)
+class _Perceived:
+    """What the robot perceived in one execution (its calibration error included).
+
+    Attributes:
+        by_name: Product name → the detection the robot acts on.
+        context: The target's perceived context (`perceived_context`).
+        unit: The shelf unit of the target's detection ("" when not detected).
+        slot: The nearest shelf slot of its detection, or None.
+    """
+
+    by_name: dict[str, Detection]
+    context: ExecutionContext
+    unit: str
+    slot: int | None
+
+
+def _perceive(
+    kitchen: Any, kcfg: KitchenConfig, seed: int, profile: Profile, target: str, injected: frozenset[str]
+) -> _Perceived:
+    """Render and detect; shift by the profile's calibration error; the target's context (hidden if injected)."""
+    detections, frames = _look(kitchen, kcfg, seed)
+    # What the robot acts on: its camera-to-robot error moves every detection and every depth point alike.
+    offset = profile.calibration_offset
+    by_name = {n: _shifted(d, offset) for n, d in detections.items()}
+    seen_frames = [_miscalibrated(f, offset) for f in frames]
+    perceived = by_name if "perception" not in injected else {n: d for n, d in by_name.items() if n != target}
+    ctx, unit, slot = perceived_context(target, perceived, seen_frames, kcfg)
+    return _Perceived(by_name, ctx, unit, slot)
+
+
+def _record(
+    index: int, seed: int, target: ObjectSpec, seen: _Perceived, success: bool, stage: str | None, detail: str
+) -> ExecutionRecord:
+    """The execution's row: its outcome, the target's perceived context and its true size and mass."""
+    ctx = seen.context
+    return ExecutionRecord(
+        index=index,
+        action=action_text(target.name),
+        object=target.name,
+        success=success,
+        failure_stage=stage,
+        seed=seed,
+        detail=detail,
+        family=target.family,
+        shelf_unit=seen.unit,
+        shelf_tier=ctx.shelf_tier,
+        slot=seen.slot,
+        clearance_m=ctx.clearance_m,
+        neighbours=ctx.neighbours,
+        detected=bool(ctx.detected),
+        detected_width_m=ctx.detected_width_m,
+        detected_height_m=ctx.detected_height_m,
+        width_m=round(target.grasp_width, 4),
+        height_m=round(target.height, 4),
+        mass_kg=round(target.mass, 4),
+        material=target.material,
+    )
+
+
+def _attempt(
+    kitchen: Any,
+    rcfg: RobotConfig,
+    catalogue: Catalogue,
+    target: ObjectSpec,
+    seen: _Perceived,
+    seed: int,
+    injected: frozenset[str],
+) -> tuple[bool, str | None, str]:
+    """Pick and place the target as perceived, in simulated time; (success, failure stage, detail)."""
+    by_name = seen.by_name
+    if "perception" in injected:
+        return False, "perception", "injected: target not detected"
+    if target.name not in by_name:
+        return False, "perception", f"target not detected ({len(by_name)} products seen)"
+    if "planning" in injected:
+        return False, "planning", "injected: no plan within the budget"
+    obstacles = [(d, catalogue.get(n)) for n, d in by_name.items() if n != target.name]
+    with _motion_system(kitchen, rcfg) as system:
+        task = system.pick_and_place(by_name[target.name], target, obstacles, rng_seed=seed)
+        task.start()
+        settled = None
+        while settled is None and kitchen.sim_time < _MAX_SIM_S:
+            if task.is_planning():
+                task.wait_planned()  # simulated time must not depend on the planning thread's speed
+            kitchen.advance(_ADVANCE_S)
+            settled = _settled(task)
+        if settled is None:
+            task.cancel()
+            return False, "timeout", f"not finished after {_MAX_SIM_S:.0f} simulated seconds"
+    success, stage, message = settled
+    return success, stage, ("injected weak grasp; " if "grasp" in injected else "") + message
+
+
 def run_execution(
     profile: Profile,
     index: int,
@@ -312,82 +437,15 @@ def run_execution(
     """
     t0 = time.perf_counter()
     seed = profile.execution_seed(index)
-    catalogue = kitchen_cfg.catalogue
-    pool = drawable_products(kitchen_cfg) if pool is None else pool
-    target, others = choose_objects(profile, index, pool, kitchen_cfg.scene)
-    if target_name is not None and target_name != target.name:
-        forced = catalogue.get(target_name)
-        others = [o for o in [target, *others] if o.name != forced.name][: len(others)]
-        target = forced
+    target, others = _objects(profile, index, kitchen_cfg, target_name, pool)
     rng = np.random.default_rng([seed, 1])
     injected = profile.draw_injections(target, rng)
-    kcfg, rcfg = profile.apply(kitchen_cfg, robot_cfg)
-    if "grasp" in injected:
-        g = rcfg.gripper
-        rcfg = dataclasses.replace(
-            rcfg, gripper=dataclasses.replace(g, max_force=g.max_force * INJECTED_FORCE_FACTOR)
-        )
-    specs = [target, *others]
-
+    kcfg, rcfg = _configs(profile, kitchen_cfg, robot_cfg, injected)
     kitchen = _WORKER.empty_kitchen(kcfg, rcfg, engine)
-    kitchen.spawn(specs, rng)
-    detections, frames = _look(kitchen, kcfg, seed)
-    # What the robot acts on: its camera-to-robot error moves every detection and every depth point alike.
-    offset = profile.calibration_offset
-    by_name = {n: _shifted(d, offset) for n, d in detections.items()}
-    seen_frames = [_miscalibrated(f, offset) for f in frames]
-    perceived = (
-        by_name if "perception" not in injected else {n: d for n, d in by_name.items() if n != target.name}
-    )
-    ctx, unit, slot = perceived_context(target.name, perceived, seen_frames, kcfg)
-
-    def record(success: bool, stage: str | None, detail: str) -> tuple[ExecutionRecord, float]:
-        rec = ExecutionRecord(
-            index=index,
-            action=action_text(target.name),
-            object=target.name,
-            success=success,
-            failure_stage=stage,
-            seed=seed,
-            detail=detail,
-            family=target.family,
-            shelf_unit=unit,
-            shelf_tier=ctx.shelf_tier,
-            slot=slot,
-            clearance_m=ctx.clearance_m,
-            neighbours=ctx.neighbours,
-            detected=bool(ctx.detected),
-            detected_width_m=ctx.detected_width_m,
-            detected_height_m=ctx.detected_height_m,
-            width_m=round(target.grasp_width, 4),
-            height_m=round(target.height, 4),
-            mass_kg=round(target.mass, 4),
-            material=target.material,
-        )
-        return rec, time.perf_counter() - t0
-
-    if "perception" in injected:
-        return record(False, "perception", "injected: target not detected")
-    if target.name not in by_name:
-        return record(False, "perception", f"target not detected ({len(by_name)} products seen)")
-    if "planning" in injected:
-        return record(False, "planning", "injected: no plan within the budget")
-    obstacles = [(d, catalogue.get(n)) for n, d in by_name.items() if n != target.name]
-    with _motion_system(kitchen, rcfg) as system:
-        task = system.pick_and_place(by_name[target.name], target, obstacles, rng_seed=seed)
-        task.start()
-        settled = None
-        while settled is None and kitchen.sim_time < _MAX_SIM_S:
-            if task.is_planning():
-                task.wait_planned()  # simulated time must not depend on the planning thread's speed
-            kitchen.advance(_ADVANCE_S)
-            settled = _settled(task)
-        if settled is None:
-            task.cancel()
-            return record(False, "timeout", f"not finished after {_MAX_SIM_S:.0f} simulated seconds")
-    success, stage, message = settled
-    detail = ("injected weak grasp; " if "grasp" in injected else "") + message
-    return record(success, stage, detail)
+    kitchen.spawn([target, *others], rng)
+    seen = _perceive(kitchen, kcfg, seed, profile, target.name, injected)
+    success, stage, detail = _attempt(kitchen, rcfg, kitchen_cfg.catalogue, target, seen, seed, injected)
+    return _record(index, seed, target, seen, success, stage, detail), time.perf_counter() - t0
 
 
 def _settled(task: Any) -> tuple[bool, str | None, str] | None:
