@@ -223,30 +223,12 @@ def _add_arm(spec: mujoco.MjSpec, robot: RobotConfig, gains: ArmGains) -> None:
         joint.actfrclimited = 0
         if joint.name in robot.arm_joints:
             joint.armature = gains.armature
-            act = spec.add_actuator()
-            act.name = joint.name
-            act.target = joint.name
-            act.trntype = mujoco.mjtTrn.mjTRN_JOINT
-            act.gainprm[0] = gains.stiffness
-            act.biasprm[:3] = [0.0, -gains.stiffness, -gains.damping]
-            act.biastype = mujoco.mjtBias.mjBIAS_AFFINE
-            act.gaintype = mujoco.mjtGain.mjGAIN_FIXED
-            act.forcelimited = 1
-            act.forcerange = [-effort, effort]
-            act.ctrllimited = 0
+            _add_servo(spec, joint.name, gains.stiffness, gains.damping, effort)
         elif joint.name in finger_joints:
             joint.armature = 0.01
-            act = spec.add_actuator()
-            act.name = joint.name
-            act.target = joint.name
-            act.trntype = mujoco.mjtTrn.mjTRN_JOINT
-            act.gainprm[0] = gains.finger_stiffness
-            act.biasprm[:3] = [0.0, -gains.finger_stiffness, -gains.finger_damping]
-            act.biastype = mujoco.mjtBias.mjBIAS_AFFINE
-            act.gaintype = mujoco.mjtGain.mjGAIN_FIXED
-            act.forcelimited = 1
-            act.forcerange = [-robot.gripper.max_force, robot.gripper.max_force]
-            act.ctrllimited = 0
+            _add_servo(
+                spec, joint.name, gains.finger_stiffness, gains.finger_damping, robot.gripper.max_force
+            )
     fingers = list(robot.gripper.joints)
     coupled = any(
         eq.type == mujoco.mjtEq.mjEQ_JOINT and {eq.name1, eq.name2} == set(fingers) for eq in spec.equalities
@@ -258,6 +240,22 @@ def _add_arm(spec: mujoco.MjSpec, robot: RobotConfig, gains: ArmGains) -> None:
         eq.name1, eq.name2 = fingers
         eq.data[:5] = [0.0, 1.0, 0.0, 0.0, 0.0]
         eq.name = "finger_coupling"
+
+
+def _add_servo(spec: mujoco.MjSpec, joint: str, stiffness: float, damping: float, force_limit: float) -> None:
+    """A position actuator on ``joint``: stiffness (per rad or m), damping, force limit (N m or N) both ways."""
+    mujoco = import_mujoco()
+    act = spec.add_actuator()
+    act.name = joint
+    act.target = joint
+    act.trntype = mujoco.mjtTrn.mjTRN_JOINT
+    act.gainprm[0] = stiffness
+    act.biasprm[:3] = [0.0, -stiffness, -damping]
+    act.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+    act.gaintype = mujoco.mjtGain.mjGAIN_FIXED
+    act.forcelimited = 1
+    act.forcerange = [-force_limit, force_limit]
+    act.ctrllimited = 0
 
 
 def _add_scene(spec: mujoco.MjSpec, kitchen: KitchenConfig, boxes: Sequence[StaticBox]) -> None:
