@@ -372,27 +372,20 @@ class MjKitchen(GroundTruth, SimClock):
 
     def products_touched(self, held: str | None) -> frozenset[str]:
         """Products (not ``held``) the robot pushes on, or pushes into the next (three deep, as `world.arm_io`)."""
-        from scone_bt.world.arm_io import PUSH_CHAIN
+        from scone_bt.world.arm_io import pushed_along
 
         pairs = self._contacts()
+        products = self._names
         held_body = None if held is None else self.objects.get(held)
         sources = set(self.robot_bodies) | ({held_body} if held_body is not None else set())
-        seen = set(sources)
-        found: set[int] = set()
-        for _ in range(PUSH_CHAIN):
-            nxt = set()
-            for a, b, _ in pairs:
-                if a in sources and b in self._names:
-                    nxt.add(b)
-                elif b in sources and a in self._names:
-                    nxt.add(a)
-            nxt -= seen
-            if not nxt:
-                break
-            found |= nxt
-            seen |= nxt
-            sources = nxt
-        return frozenset(self._names[b] for b in found)
+
+        def touching(bodies: Sequence[int]) -> set[int]:
+            among = set(bodies)
+            return {b for a, b, _ in pairs if a in among and b in products} | {
+                a for a, b, _ in pairs if b in among and a in products
+            }
+
+        return frozenset(products[b] for b in pushed_along(sorted(sources), touching))
 
     # ----------------------------------------------------------------------------------------- cameras
     def camera_image(self, camera: PinholeView) -> CameraImage:
