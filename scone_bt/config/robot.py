@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
-from typing import Annotated, Any, Literal, cast
+from typing import TYPE_CHECKING, Annotated, Any, Literal, TypeVar, cast
 
 from pydantic import Field, field_validator, model_validator
 
@@ -14,6 +14,9 @@ from scone_bt.config.schema import FiniteFloat, NonNegativeFloat, PositiveFloat,
 from scone_bt.config.yaml_io import read_yaml
 from scone_bt.errors import ConfigError, UnknownNameError
 from scone_bt.resources import resolve_file
+
+if TYPE_CHECKING:
+    from _typeshed import DataclassInstance
 
 __all__ = [
     "CAMERA_SHAPES",
@@ -341,6 +344,16 @@ def _check_home(m: RobotFile, urdf: Path, root: Any, where: str) -> None:
             )
 
 
+_Spec = TypeVar("_Spec", bound="DataclassInstance")
+
+
+def _spec_of(spec: type[_Spec], section: StrictModel) -> _Spec:
+    """The frozen ``spec`` dataclass from the validated file section with the same field names (lists as tuples):
+    the section's keys are the spec's fields, so nothing is copied by hand."""
+    values = {f.name: getattr(section, f.name) for f in fields(spec)}
+    return spec(**{name: tuple(v) if isinstance(v, list) else v for name, v in values.items()})
+
+
 def load_robot(name_or_path: str | Path = "panda") -> RobotConfig:
     """Load a robot by name (robots/<name>.yaml) or path; every key is validated before anything runs.
 
@@ -357,7 +370,6 @@ def load_robot(name_or_path: str | Path = "panda") -> RobotConfig:
     if root is not None:
         _check_names(m, urdf, root, str(path))
         _check_home(m, urdf, root, str(path))
-    g, lim, p, c = m.gripper, m.limits, m.planner, m.control
     return RobotConfig(
         name=m.name,
         urdf=urdf,
@@ -365,35 +377,10 @@ def load_robot(name_or_path: str | Path = "panda") -> RobotConfig:
         arm_joints=tuple(m.arm_joints),
         end_effector_frame=m.end_effector_frame,
         home=tuple(m.home),
-        gripper=GripperSpec(
-            joints=tuple(g.joints),
-            open_position=g.open_position,
-            closed_position=g.closed_position,
-            max_force=g.max_force,
-            finger_friction=g.finger_friction,
-        ),
-        limits=LimitsSpec(
-            velocity=tuple(lim.velocity),
-            acceleration=tuple(lim.acceleration),
-            jerk=tuple(lim.jerk),
-            velocity_scale=lim.velocity_scale,
-            acceleration_scale=lim.acceleration_scale,
-            jerk_scale=lim.jerk_scale,
-        ),
-        planner=PlannerSpec(
-            name=p.name,
-            time_limit_s=p.time_limit_s,
-            simplify=p.simplify,
-            rng_seed=p.rng_seed,
-            backend=p.backend,
-        ),
-        control=ControlSpec(
-            rate_hz=c.rate_hz,
-            position_gain=c.position_gain,
-            max_joint_force=c.max_joint_force,
-            physics_hz=c.physics_hz,
-            solver_residual=c.solver_residual,
-        ),
+        gripper=_spec_of(GripperSpec, m.gripper),
+        limits=_spec_of(LimitsSpec, m.limits),
+        planner=_spec_of(PlannerSpec, m.planner),
+        control=_spec_of(ControlSpec, m.control),
         source=path,
         raw=raw,
         disabled_collisions=tuple((a, b) for a, b in m.collision.disabled_pairs),

@@ -19,7 +19,6 @@ from __future__ import annotations
 import contextlib
 import json
 import re
-import sys
 import threading
 from typing import Any
 
@@ -229,13 +228,11 @@ class PostgresExperienceStore(OutcomeStore):
         """Readable rows (contexts decoded); unreadable ones are quarantined, and named once on stderr."""
         import psycopg
 
-        from scone_bt.experience.store import decode_row, rows_named
+        from scone_bt.experience.store import sift_rows, warn_unreadable
 
         where, args = where_clause("%s", embedder=embedder, robot_id=robot_id, arm=arm, profile=profile)
         sql = f"SELECT id, {_SELECT_COLUMNS} FROM scone_outcomes"
         sql += where
-        readable: list[tuple[Any, ...]] = []
-        new: list[int] = []
         with self._lock:
             try:
                 rows = self._connection().execute(sql + " ORDER BY id", args).fetchall()
@@ -243,23 +240,8 @@ class PostgresExperienceStore(OutcomeStore):
                 self._drop()
                 first = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
                 raise ExperienceStoreError(f"cannot read experience store {self.location}: {first}") from None
-            for row_id, *row in rows:
-                if row_id in self.quarantined:
-                    continue
-                decoded, why = decode_row(_as_stored(row))
-                if decoded is None:
-                    self.quarantined[row_id] = f"outcome {row[0]}: {why}"
-                    new.append(row_id)
-                else:
-                    readable.append(decoded)
-        if new:
-            rows_word, kept = ("", "it is") if len(new) == 1 else (f"{len(new)} rows, ", "they are")
-            print(
-                f"warning: experience store {self.location}: {rows_word}{rows_named(new, self.quarantined)}: "
-                f"cannot be read; left in the database as {kept}, not learnt from",
-                file=sys.stderr,
-                flush=True,
-            )
+            readable, new = sift_rows(rows, self.quarantined, _as_stored, name_outcome=True)
+        warn_unreadable(self.location, new, self.quarantined, "the database")
         return readable
 
     def __len__(self) -> int:

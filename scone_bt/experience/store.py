@@ -32,7 +32,7 @@ import sqlite3
 import stat
 import sys
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -48,7 +48,15 @@ from scone_bt.experience.base import (
 )
 from scone_bt.experience.types import ExecutionContext, Outcome
 
-__all__ = ["APPLICATION_ID", "SCHEMA_VERSION", "ExperienceStore", "decode_row", "rows_named"]
+__all__ = [
+    "APPLICATION_ID",
+    "SCHEMA_VERSION",
+    "ExperienceStore",
+    "decode_row",
+    "rows_named",
+    "sift_rows",
+    "warn_unreadable",
+]
 
 APPLICATION_ID = 0x5C0E0B7  # "SCONE-BT": marks the file as ours (PRAGMA application_id)
 _SQLITE_MAGIC = b"SQLite format 3\x00"
@@ -181,6 +189,44 @@ def rows_named(ids: list[int], why: dict[int, str] | None = None) -> str:
     named = [f"row {i}" + (f" ({why[i]})" if why else "") for i in ids[:_NAMED]]
     more = f" and {len(ids) - _NAMED} more" if len(ids) > _NAMED else ""
     return ", ".join(named) + more
+
+
+def sift_rows(
+    rows: Iterable[Sequence[Any]],
+    quarantined: dict[int, str],
+    prepare: Callable[[list[Any]], tuple[Any, ...]] = tuple,
+    name_outcome: bool = False,
+) -> tuple[list[tuple[Any, ...]], list[int]]:
+    """The readable rows of ``rows`` (row id, then COLUMNS), decoded, and the ids of those newly found unreadable.
+
+    Rows already in ``quarantined`` are skipped; new unreadable ones are added to it with why (after their outcome
+    id when ``name_outcome``). ``prepare`` turns a row's COLUMNS into what `decode_row` checks.
+    """
+    readable: list[tuple[Any, ...]] = []
+    new: list[int] = []
+    for row_id, *row in rows:
+        if row_id in quarantined:
+            continue
+        decoded, why = decode_row(prepare(row))
+        if decoded is None:
+            quarantined[row_id] = f"outcome {row[0]}: {why}" if name_outcome else why
+            new.append(row_id)
+        else:
+            readable.append(decoded)
+    return readable, new
+
+
+def warn_unreadable(location: str, new: list[int], quarantined: dict[int, str], kept_in: str) -> None:
+    """The one-line stderr warning naming rows found unreadable (``kept_in``: where they stay, e.g. "the file")."""
+    if not new:
+        return
+    rows, kept = ("", "it is") if len(new) == 1 else (f"{len(new)} rows, ", "they are")
+    print(
+        f"warning: experience store {location}: {rows}{rows_named(new, quarantined)}: cannot be read; left in "
+        f"{kept_in} as {kept}, not learnt from",
+        file=sys.stderr,
+        flush=True,
+    )
 
 
 class ExperienceStore(OutcomeStore):
@@ -431,26 +477,10 @@ class ExperienceStore(OutcomeStore):
         where, args = where_clause("?", embedder=embedder, robot_id=robot_id, arm=arm, profile=profile)
         sql = f"SELECT id, {', '.join(COLUMNS)} FROM outcomes"
         sql += where
-        readable: list[tuple[Any, ...]] = []
-        new: list[int] = []
         with self._lock:
-            for row_id, *row in self._connection().execute(sql + " ORDER BY id", args).fetchall():
-                if row_id in self.quarantined:
-                    continue
-                decoded, why = decode_row(tuple(row))
-                if decoded is None:
-                    self.quarantined[row_id] = why
-                    new.append(row_id)
-                else:
-                    readable.append(decoded)
-        if new:
-            rows, kept = ("", "it is") if len(new) == 1 else (f"{len(new)} rows, ", "they are")
-            print(
-                f"warning: experience store {self.path}: {rows}{rows_named(new, self.quarantined)}: cannot be "
-                f"read; left in the file as {kept}, not learnt from",
-                file=sys.stderr,
-                flush=True,
-            )
+            rows = self._connection().execute(sql + " ORDER BY id", args).fetchall()
+            readable, new = sift_rows(rows, self.quarantined)
+        warn_unreadable(str(self.path), new, self.quarantined, "the file")
         return readable
 
     def __len__(self) -> int:

@@ -13,21 +13,9 @@ if TYPE_CHECKING:
     import numpy as np
 
     from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
+    from scone_bt.motion.executor import SceneBox
 
-__all__ = ["BoxView", "ObjectPose", "SceneView"]
-
-
-class BoxView(Protocol):
-    """An immovable box of the scene: centre and full size, metres, world frame."""
-
-    @property
-    def name(self) -> str: ...
-
-    @property
-    def center(self) -> tuple[float, float, float]: ...
-
-    @property
-    def size(self) -> tuple[float, float, float]: ...
+__all__ = ["ObjectPose", "SceneView"]
 
 
 class ObjectPose(Protocol):
@@ -59,7 +47,7 @@ class SceneView(Protocol):
         ...
 
     @property
-    def static_boxes(self) -> Sequence[BoxView]:
+    def static_boxes(self) -> Sequence[SceneBox]:
         """The fixed scene: shelves, table, pedestal."""
         ...
 

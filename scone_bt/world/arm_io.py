@@ -8,6 +8,7 @@ success comes from contacts and friction only; nothing attaches the object to th
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -15,7 +16,7 @@ import numpy as np
 if TYPE_CHECKING:
     from scone_bt.world.parts import BulletParts
 
-__all__ = ["FINGER_COUPLING_FORCE", "PUSH_CHAIN", "ArmIO"]
+__all__ = ["FINGER_COUPLING_FORCE", "PUSH_CHAIN", "ArmIO", "pushed_along"]
 
 _POSITION_CONTROL = 2
 """pybullet.POSITION_CONTROL (a constant of its C API), named here so that a command does not import pybullet."""
@@ -25,6 +26,22 @@ FINGER_COUPLING_FORCE = 50.0
 
 PUSH_CHAIN = 3
 """Products in a row the robot's push is followed through (`ArmIO.products_touched`)."""
+
+
+def pushed_along(sources: Sequence[int], touching: Callable[[Sequence[int]], set[int]]) -> set[int]:
+    """The product bodies a push from the bodies ``sources`` reaches, one product pushed into the next, up to
+    `PUSH_CHAIN` deep; ``touching(bodies)`` is the product bodies in contact with any of ``bodies`` (both engines'
+    `products_touched`)."""
+    seen = set(sources)
+    found: set[int] = set()
+    for _ in range(PUSH_CHAIN):
+        nxt = touching(sources) - seen
+        if not nxt:
+            break
+        found |= nxt
+        seen |= nxt
+        sources = sorted(nxt)
+    return found
 
 
 class ArmIO:
@@ -157,16 +174,11 @@ class ArmIO:
         names = self._product_names
         held_body = None if held is None else k.objects.get(held)
         sources = [k.robot_id] if held_body is None else [k.robot_id, held_body]
-        seen = {b for b in sources}
-        found: set[int] = set()
-        for _ in range(PUSH_CHAIN):
-            nxt = {c[2] for src in sources for c in bc.getContactPoints(bodyA=src) if c[2] in names} - seen
-            if not nxt:
-                break
-            found |= nxt
-            seen |= nxt
-            sources = sorted(nxt)
-        return frozenset(names[b] for b in found)
+
+        def touching(bodies: Sequence[int]) -> set[int]:
+            return {c[2] for src in bodies for c in bc.getContactPoints(bodyA=src) if c[2] in names}
+
+        return frozenset(names[b] for b in pushed_along(sources, touching))
 
     def body_name(self, body: int) -> str:
         """A product's or a static box's name, 'the floor', or 'body <id>' (names are unique per body)."""

@@ -9,8 +9,7 @@ from __future__ import annotations
 import contextlib
 import itertools
 from collections.abc import Callable, Iterator, Sequence
-from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
@@ -19,13 +18,13 @@ from scone_bt.config.catalogue import Shape
 from scone_bt.errors import ConfigError, UnknownNameError
 from scone_bt.perception.images import CameraImage, PinholeView
 from scone_bt.quiet import c_stdout_silenced
-from scone_bt.stocking import Placement, plan_stocking
+from scone_bt.stocking import Placement
 from scone_bt.world.arm_io import ArmIO
 from scone_bt.world.camera import camera_image
+from scone_bt.world.ground_truth import GroundTruth, ObjectState
+from scone_bt.world.scene_boxes import StaticBox, box_colour, static_boxes
+from scone_bt.world.sim_clock import REST_ANGULAR_RAD_S, REST_JOINT_RAD_S, REST_LINEAR_M_S, WAKE_S, SimClock
 from scone_bt.world.visuals import create_object_visual
-
-if TYPE_CHECKING:
-    from scone_bt.motion.collision import Obstacle
 
 __all__ = [
     "FULL_RATE_STEP_S",
@@ -45,14 +44,6 @@ FULL_RATE_SOLVER_ITERATIONS = 150
 """Solver iterations of the reference simulation (`full_rate_physics`)."""
 FULL_RATE_SOLVER_RESIDUAL = 1e-7
 """The constraint solver's residual threshold of the reference simulation: PyBullet's default."""
-REST_LINEAR_M_S = 1e-3
-"""A body slower than this (m/s, every axis) counts as at rest."""
-REST_ANGULAR_RAD_S = 1e-2
-"""... and turning slower than this (rad/s, every axis)."""
-REST_JOINT_RAD_S = 1e-3
-"""A robot joint slower than this (rad/s) counts as at rest."""
-WAKE_S = 0.5
-"""Simulated seconds the physics keeps stepping after the world was changed from outside."""
 FREEZE_MARGIN_M = 0.08
 """A resting object is frozen only if no robot link or moving object comes within this of it (bounding boxes).
 (Awake object-steps in the seeded `scone-run --seed 0` episode: 12,408 with 0.15 m, 7,140 with 0.08 m; the outcomes
@@ -86,25 +77,6 @@ def full_rate_physics() -> Iterator[None]:
             setattr(Kitchen, name, value)
 
 
-@dataclass(frozen=True)
-class StaticBox:
-    """An immovable box of the scene. Centre and full size in metres, world frame."""
-
-    name: str
-    center: tuple[float, float, float]
-    size: tuple[float, float, float]
-
-
-@dataclass(frozen=True)
-class ObjectState:
-    """Ground-truth pose of one spawned object: position (m) and quaternion (x, y, z, w)."""
-
-    name: str
-    body_id: int
-    position: tuple[float, float, float]
-    orientation: tuple[float, float, float, float]
-
-
 def _bullet_client(connection_mode: int) -> Any:
     """A pybullet BulletClient that binds each function to its client once, not on every attribute access.
 
@@ -125,7 +97,7 @@ def _bullet_client(connection_mode: int) -> Any:
     return _BoundClient(connection_mode=connection_mode)
 
 
-class Kitchen:
+class Kitchen(GroundTruth, SimClock):
     """The simulated world. Create with `Kitchen(kitchen_cfg, robot_cfg)`; spawn objects with `spawn`.
 
     Args:
@@ -217,23 +189,12 @@ class Kitchen:
         import pybullet as p
 
         scene = self.config.scene
-        boxes = [
-            StaticBox("pedestal", *scene.pedestal),
-            StaticBox("table", *scene.table),
-        ]
-        for unit in scene.shelves:
-            for i, (center, size) in enumerate(unit.boxes(scene.floor_z)):
-                # The first unit keeps the historical names (shelf_tier0...), which logs and tests refer to.
-                prefix = "shelf" if unit is scene.shelves[0] else f"shelf_{unit.name}"
-                boxes.append(StaticBox(f"{prefix}_tier{i}", center, size))
-        colours = {"pedestal": (0.3, 0.3, 0.3, 1), "table": (0.55, 0.40, 0.25, 1)}
+        boxes = static_boxes(self.config)
         self.static_body_ids: dict[str, int] = {}
         for box in boxes:
             half = [s / 2 for s in box.size]
             col = self.bc.createCollisionShape(p.GEOM_BOX, halfExtents=half)
-            vis = self.bc.createVisualShape(
-                p.GEOM_BOX, halfExtents=half, rgbaColor=colours.get(box.name, (0.75, 0.72, 0.65, 1))
-            )
+            vis = self.bc.createVisualShape(p.GEOM_BOX, halfExtents=half, rgbaColor=box_colour(box.name))
             body = self.bc.createMultiBody(0, col, vis, basePosition=box.center)
             self.bc.changeDynamics(body, -1, lateralFriction=0.8)
             self.static_body_ids[box.name] = body
@@ -277,19 +238,6 @@ class Kitchen:
         return rid, index
 
     # ----------------------------------------------------------------------------------------- objects
-    def spawn(
-        self, specs: Sequence[ObjectSpec], rng: np.random.Generator
-    ) -> dict[str, tuple[float, float, float]]:
-        """Stock the shelving (`plan_stocking`: heaviest lowest, facing the robot) and let the objects settle.
-
-        Returns:
-            name → surface point under the object's centre (x, y, z), metres.
-        """
-        for spec in specs:
-            if spec.name in self.objects:
-                raise ConfigError(f"object {spec.name!r} is already in the kitchen")
-        return self.spawn_planned(specs, plan_stocking(self.config.scene, specs, rng))
-
     def spawn_planned(
         self, specs: Sequence[ObjectSpec], places: Sequence[Placement]
     ) -> dict[str, tuple[float, float, float]]:
@@ -301,9 +249,7 @@ class Kitchen:
         """
         import pybullet as p
 
-        for spec in specs:
-            if spec.name in self.objects:
-                raise ConfigError(f"object {spec.name!r} is already in the kitchen")
+        self._refuse_present(specs)
         if self.keep_backgrounds and not self.objects:
             from scone_bt.perception.camera import Camera
             from scone_bt.world.camera import keep_background
@@ -345,140 +291,19 @@ class Kitchen:
         hits = self.bc.rayTestBatch([list(map(float, start))] * len(ends), np.asarray(ends).tolist())
         return [int(hit[0]) for hit in hits]
 
-    def object_yaw(self, name: str) -> float:
-        """The object's heading now: its rotation about z, radians (roll-pitch-yaw)."""
-        return float(self.bc.getEulerFromQuaternion(self.object_state(name).orientation)[2])
+    def _yaw(self, orientation: tuple[float, float, float, float]) -> float:
+        return float(self.bc.getEulerFromQuaternion(orientation)[2])
 
-    def _body(self, name: str) -> int:
-        try:
-            return self.objects[name]
-        except KeyError:
-            raise UnknownNameError("object in the kitchen", name, self.objects) from None
-
-    def is_on_table(self, name: str) -> bool:
-        """True if the object rests upright on the table top (ground truth)."""
-        (cx, cy, cz), (sx, sy, sz) = self.config.scene.table
-        st = self.object_state(name)
-        x, y, z = st.position
-        spec = self.specs[name]
-        inside = abs(x - cx) <= sx / 2 and abs(y - cy) <= sy / 2
-        resting = abs(z - (cz + sz / 2) - spec.height / 2) < 0.03
-        return inside and resting and self._upright(st)
-
-    def objects_on_table(self) -> frozenset[str]:
-        """Every product resting upright on the table top (ground truth, as `is_on_table`)."""
-        return frozenset(n for n in self.objects if self.is_on_table(n))
-
-    def products_at(self, spot: Obstacle, margin: float) -> tuple[Obstacle, ...]:
-        """Products standing on the table within ``margin`` (m) of the upright shape ``spot``, as obstacles where
-        they stand (ground truth: the simulation's look at the spot)."""
-        from scone_bt.motion.collision import Obstacle
-        from scone_bt.motion.placement import Footprint, footprint_gaps
-        from scone_bt.motion.placement_search import obstacle_footprint
-
-        shape = obstacle_footprint(spot)
-        near: list[tuple[str, Footprint, ObjectState]] = []
-        for n, body in self.objects.items():
-            if n == spot.name:
-                continue
-            (x, y, _z), _ = self.bc.getBasePositionAndOrientation(body)
-            # Beyond both footprints' covering circles: cannot be near (most products; no further query).
-            reach = shape.radius + float(np.hypot(*self.specs[n].size[:2])) / 2 + margin
-            if (x - shape.x) ** 2 + (y - shape.y) ** 2 > reach * reach or not self.is_on_table(n):
-                continue
-            st = self.object_state(n)
-            yaw = self.bc.getEulerFromQuaternion(st.orientation)[2]
-            near.append((n, Footprint.of(self.specs[n], st.position[0], st.position[1], yaw), st))
-        if not near:
-            return ()
-        gaps = footprint_gaps(
-            np.array([[shape.x, shape.y]]), np.array([shape.yaw]), shape, [f for _, f, _ in near]
-        )[0]
-        out = []
-        for (n, _, st), gap in zip(near, gaps, strict=True):
-            if gap < margin:
-                pose = np.eye(4)
-                pose[:3, :3] = np.array(self.bc.getMatrixFromQuaternion(st.orientation)).reshape(3, 3)
-                pose[:3, 3] = st.position
-                spec = self.specs[n]
-                out.append(Obstacle(n, spec.shape, spec.size, pose))
-        return tuple(out)
-
-    def is_on_shelf(self, name: str) -> bool:
-        """True if the object stands above the footprint of a shelf unit (ground truth)."""
-        return self.config.scene.on_shelf(self.object_state(name).position, margin=0.0)
-
-    def _upright(self, st: ObjectState) -> bool:
-        rot = np.array(self.bc.getMatrixFromQuaternion(st.orientation)).reshape(3, 3)
-        return bool(rot[2, 2] > 0.9)
-
-    def free_place_spot(self, spec: ObjectSpec | None = None) -> tuple[float, float, float] | None:
-        """A free table spot (x, y, table top z), ground truth: what the human sees when putting something down.
-
-        The configured place spots come first, then a 2 cm grid over the table top (nearest the robot first), so
-        a long recipe still finds room once the spots are taken. Without `spec` a spot is free when no object
-        stands within 7 cm of it; with it, when the product's footprint (a box's rectangle, put down square to
-        the table; a round product's circle) clears every footprint standing on the table by 1 cm and stays on
-        the table. The test is the robot's own (`motion.placement.clear_spots`), fed with the simulator's truth.
-        """
-        from scone_bt.motion.placement import Footprint, TableRegion, clear_spots
-
-        scene = self.config.scene
-        table = TableRegion.from_scene(scene)
-        (cx, cy), (sx, sy) = table.center, table.size
-        top = table.top_z
-        standing = []
-        for n in self.objects:
-            st = self.object_state(n)
-            x, y, z = st.position
-            if top - 0.05 <= z <= top + 0.3:
-                yaw = self.bc.getEulerFromQuaternion(st.orientation)[2]
-                standing.append(Footprint.of(self.specs[n], x, y, yaw))
-        grid = [
-            (float(x), float(y))
-            for x in np.arange(cx - sx / 2 + 0.04, cx + sx / 2 - 0.04 + 1e-9, 0.02)
-            for y in sorted(np.arange(cy - sy / 2 + 0.04, cy + sy / 2 - 0.04 + 1e-9, 0.02), key=abs)
-        ]
-        points = np.array([*scene.place_spots, *grid], dtype=float)
-        if spec is None:
-            near = [Footprint(f.name, f.x, f.y, 0.07, f.height) for f in standing]
-            clear = clear_spots(table, near, Footprint("spot", 0.0, 0.0, 0.0, 0.0), points, 0.0, 1e-9)
-        else:
-            clear = clear_spots(table, standing, Footprint.of(spec), points, 0.0, 0.01)
-        free = np.flatnonzero(clear.free)
-        if not len(free):
-            return None
-        x, y = points[free[0]]
-        return (float(x), float(y), top)
+    def _rotation(self, orientation: tuple[float, float, float, float]) -> np.ndarray:
+        return np.array(self.bc.getMatrixFromQuaternion(orientation)).reshape(3, 3)
 
     def touches_robot(self, name: str) -> bool:
         """True if the object touches the robot (in or against the gripper: a person does not grab it away)."""
         return bool(self.bc.getContactPoints(bodyA=self._body(name), bodyB=self.robot_id))
 
-    def human_place_on_table(self, name: str) -> bool:
-        """The simulated human carries the object to a free table spot (by hand, not by the robot)."""
-        return self.place_on_table(name)
-
-    def place_on_table(self, name: str) -> bool:
-        """Put the object on a free table spot by hand (not by the robot); False when the table is full."""
-        spec = self.specs[name]
-        spot = self.free_place_spot(spec)
-        if spot is None:
-            return False
-        x, y, top = spot
-        self.bc.resetBasePositionAndOrientation(
-            self._body(name), (x, y, top + spec.height / 2 + 1e-3), (0, 0, 0, 1)
-        )
-        self.bc.resetBaseVelocity(self._body(name), (0, 0, 0), (0, 0, 0))
-        self.wake()
-        return True
-
     # ----------------------------------------------------------------------------------------- test rig
     # Changes a test rig (`scone_bt.robot.rig`) makes from outside the robot, the way a person would in a real
     # kitchen: put a product somewhere by hand, take it away, hold something in front of a camera or over a lid.
-
-    PARK_Y_M = 3.0
-    """Products taken out of the kitchen stand on the floor this far from the robot (out of every camera's view)."""
 
     def place_object(self, name: str, surface: Sequence[float], yaw: float = 0.0) -> None:
         """Stand the product upright on the surface point ``surface`` (x, y, z of the surface under its centre,
@@ -490,12 +315,6 @@ class Kitchen:
         self.bc.resetBasePositionAndOrientation(body, (x, y, z + spec.height / 2 + 1e-3), orientation)
         self.bc.resetBaseVelocity(body, (0, 0, 0), (0, 0, 0))
         self.wake()
-
-    def park_object(self, name: str) -> None:
-        """Take the product out of the kitchen: it stands on the floor far from the shelving, table and cameras."""
-        self._body(name)  # the one-line error for an unknown name
-        index = list(self.objects).index(name)
-        self.place_object(name, (0.5 * index, self.PARK_Y_M, self.config.scene.floor_z))
 
     def add_cover(
         self,
@@ -546,15 +365,7 @@ class Kitchen:
     ) -> None:
         """Change the gripper's force limit (N per finger) and the finger pads' friction from now on (a worn motor,
         greasy pads). The next grasp closes with the new force; ``None`` keeps a value."""
-        import dataclasses
-
-        g = self.robot_config.gripper
-        g = dataclasses.replace(
-            g,
-            max_force=g.max_force if max_force is None else float(max_force),
-            finger_friction=g.finger_friction if finger_friction is None else float(finger_friction),
-        )
-        self.robot_config = dataclasses.replace(self.robot_config, gripper=g)
+        g = self._replace_gripper(max_force, finger_friction)
         for joint in g.joints:
             self.bc.changeDynamics(self.robot_id, self.joint_index[joint], lateralFriction=g.finger_friction)
         self._keep_stepping()
@@ -638,15 +449,6 @@ class Kitchen:
         return out
 
     # ----------------------------------------------------------------------------------------- time
-    def add_controller(self, controller: Controller) -> None:
-        self._controllers.append(controller)
-        self._keep_stepping()
-
-    def remove_controller(self, controller: Controller) -> None:
-        if controller in self._controllers:
-            self._controllers.remove(controller)
-            self._keep_stepping()
-
     def wake(self, seconds: float = WAKE_S) -> None:
         """Step the physics for at least `seconds` from now, even if all is at rest, and freeze nothing meanwhile.
 
@@ -655,10 +457,6 @@ class Kitchen:
         """
         self._settle_until = max(self._settle_until, self.sim_time + seconds)
         self._keep_stepping(seconds)
-
-    def _keep_stepping(self, seconds: float = WAKE_S) -> None:
-        self._awake_until = max(self._awake_until, self.sim_time + seconds)
-        self.state_version += 1
 
     def at_rest(self) -> bool:
         """True if no object and no robot joint moves faster than the rest thresholds (ground truth)."""

@@ -18,10 +18,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
-from scone_bt.errors import ConfigError, UnknownNameError
+from scone_bt.errors import ConfigError
 from scone_bt.perception.images import CameraImage, PinholeView
-from scone_bt.stocking import Placement, plan_stocking
-from scone_bt.world.ground_truth import GroundTruth, ObjectState, yaw_of
+from scone_bt.stocking import Placement
+from scone_bt.world.ground_truth import GroundTruth, ObjectState
 from scone_bt.world.mj_model import (
     ARM_GAINS,
     COVER_SLOTS,
@@ -31,6 +31,7 @@ from scone_bt.world.mj_model import (
     build_model,
     import_mujoco,
 )
+from scone_bt.world.sim_clock import REST_ANGULAR_RAD_S, REST_JOINT_RAD_S, REST_LINEAR_M_S, SimClock
 
 if TYPE_CHECKING:
     from scone_bt.world.mj_camera import MjCameras
@@ -40,18 +41,10 @@ __all__ = ["MjKitchen"]
 Controller = Callable[["MjKitchen"], None]
 """Called before every control step, e.g. to send joint targets."""
 
-REST_LINEAR_M_S = 1e-3
-"""A body slower than this (m/s) counts as at rest (as in `world.kitchen`)."""
-REST_ANGULAR_RAD_S = 1e-2
-"""... and turning slower than this (rad/s)."""
-REST_JOINT_RAD_S = 1e-3
-"""A robot joint slower than this (rad/s) counts as at rest."""
-WAKE_S = 0.5
-"""Simulated seconds the physics keeps stepping after the world was changed from outside."""
 _KITCHEN_IDS = itertools.count()
 
 
-class MjKitchen(GroundTruth):
+class MjKitchen(GroundTruth, SimClock):
     """The simulated world on MuJoCo. Create with `MjKitchen(kitchen_cfg, robot_cfg)`; stock it with `spawn`.
 
     Args:
@@ -59,9 +52,6 @@ class MjKitchen(GroundTruth):
         robot: The arm to load.
         time_step: Control step in seconds (default: the robot file's, 1 / control.physics_hz).
     """
-
-    PARK_Y_M = 3.0
-    """Products taken out of the kitchen stand on the floor this far from the robot (out of every camera's view)."""
 
     def __init__(self, kitchen: KitchenConfig, robot: RobotConfig, *, time_step: float | None = None) -> None:
         self.mujoco = import_mujoco()
@@ -152,19 +142,6 @@ class MjKitchen(GroundTruth):
         self.mujoco.mj_forward(model, data)
 
     # ----------------------------------------------------------------------------------------- objects
-    def spawn(
-        self, specs: Sequence[ObjectSpec], rng: np.random.Generator
-    ) -> dict[str, tuple[float, float, float]]:
-        """Stock the shelving (`plan_stocking`: heaviest lowest, facing the robot) and let the objects settle.
-
-        Returns:
-            name → surface point under the object's centre (x, y, z), metres.
-        """
-        for spec in specs:
-            if spec.name in self.objects:
-                raise ConfigError(f"object {spec.name!r} is already in the kitchen")
-        return self.spawn_planned(specs, plan_stocking(self.config.scene, specs, rng))
-
     def spawn_planned(
         self, specs: Sequence[ObjectSpec], places: Sequence[Placement]
     ) -> dict[str, tuple[float, float, float]]:
@@ -173,9 +150,7 @@ class MjKitchen(GroundTruth):
         Returns:
             name → surface point under the object's centre (x, y, z), metres.
         """
-        for spec in specs:
-            if spec.name in self.objects:
-                raise ConfigError(f"object {spec.name!r} is already in the kitchen")
+        self._refuse_present(specs)
         kept = {n: self.object_state(n) for n in self.objects}
         self._build([*self.specs.values(), *specs])
         for name, st in kept.items():
@@ -220,16 +195,6 @@ class MjKitchen(GroundTruth):
             out.append(int(m.geom_bodyid[hit[0]]) if distance >= 0 and distance <= 1.0 + 1e-9 else -1)
         return out
 
-    def object_yaw(self, name: str) -> float:
-        """The object's heading now: its rotation about z, radians (roll-pitch-yaw)."""
-        return yaw_of(self.object_state(name).orientation)
-
-    def _body(self, name: str) -> int:
-        try:
-            return self.objects[name]
-        except KeyError:
-            raise UnknownNameError("object in the kitchen", name, self.objects) from None
-
     def place_object(self, name: str, surface: Sequence[float], yaw: float = 0.0) -> None:
         """Stand the product upright on ``surface`` (x, y, z under its centre, metres), turned by ``yaw``, at rest."""
         self._body(name)
@@ -241,12 +206,6 @@ class MjKitchen(GroundTruth):
         self.mujoco.mj_forward(self.model, self.data)
         self.wake()
 
-    def park_object(self, name: str) -> None:
-        """Take the product out of the kitchen: it stands on the floor far from the shelving, table and cameras."""
-        self._body(name)
-        index = list(self.objects).index(name)
-        self.place_object(name, (0.5 * index, self.PARK_Y_M, self.config.scene.floor_z))
-
     def touches_robot(self, name: str) -> bool:
         """True if the object touches the robot (in or against the gripper: a person does not grab it away)."""
         body = self._body(name)
@@ -254,18 +213,6 @@ class MjKitchen(GroundTruth):
             if (a == body and b in self.robot_bodies) or (b == body and a in self.robot_bodies):
                 return True
         return False
-
-    def place_on_table(self, name: str) -> bool:
-        """Put the object on a free table spot by hand (not by the robot); False when the table is full."""
-        spot = self.free_place_spot(self.specs[name])
-        if spot is None:
-            return False
-        self.place_object(name, spot, 0.0)
-        return True
-
-    def human_place_on_table(self, name: str) -> bool:
-        """The simulated human carries the object to a free table spot."""
-        return self.place_on_table(name)
 
     # ----------------------------------------------------------------------------------------- covers
     def add_cover(
@@ -316,15 +263,7 @@ class MjKitchen(GroundTruth):
         self, max_force: float | None = None, finger_friction: float | None = None
     ) -> None:
         """Change the gripper's force limit (N per finger) and the finger pads' friction from now on."""
-        import dataclasses
-
-        g = self.robot_config.gripper
-        g = dataclasses.replace(
-            g,
-            max_force=g.max_force if max_force is None else float(max_force),
-            finger_friction=g.finger_friction if finger_friction is None else float(finger_friction),
-        )
-        self.robot_config = dataclasses.replace(self.robot_config, gripper=g)
+        g = self._replace_gripper(max_force, finger_friction)
         m = self.model
         for act in self.finger_act:
             m.actuator_forcerange[act] = [-g.max_force, g.max_force]
@@ -375,17 +314,10 @@ class MjKitchen(GroundTruth):
     # ----------------------------------------------------------------------------------------- contacts
     def _contacts(self) -> list[tuple[int, int, float]]:
         """(body a, body b, normal force N) of every active contact now."""
-        d, m = self.data, self.model
-        n = d.ncon
-        if not n:
-            return []
-        geoms = d.contact.geom[:n]
-        addr = d.contact.efc_address[:n]
-        forces = np.where(addr >= 0, d.efc_force[np.maximum(addr, 0)], 0.0)
-        bodies = m.geom_bodyid[geoms]
-        return [(int(a), int(b), float(f)) for (a, b), f in zip(bodies, forces, strict=True)]
+        return [(a, b, f) for _, _, a, b, f in self._contact_geoms()]
 
     def _contact_geoms(self) -> list[tuple[int, int, int, int, float]]:
+        """(geom a, geom b, body a, body b, normal force N) of every active contact now."""
         d, m = self.data, self.model
         n = d.ncon
         if not n:
@@ -440,27 +372,20 @@ class MjKitchen(GroundTruth):
 
     def products_touched(self, held: str | None) -> frozenset[str]:
         """Products (not ``held``) the robot pushes on, or pushes into the next (three deep, as `world.arm_io`)."""
-        from scone_bt.world.arm_io import PUSH_CHAIN
+        from scone_bt.world.arm_io import pushed_along
 
         pairs = self._contacts()
+        products = self._names
         held_body = None if held is None else self.objects.get(held)
         sources = set(self.robot_bodies) | ({held_body} if held_body is not None else set())
-        seen = set(sources)
-        found: set[int] = set()
-        for _ in range(PUSH_CHAIN):
-            nxt = set()
-            for a, b, _ in pairs:
-                if a in sources and b in self._names:
-                    nxt.add(b)
-                elif b in sources and a in self._names:
-                    nxt.add(a)
-            nxt -= seen
-            if not nxt:
-                break
-            found |= nxt
-            seen |= nxt
-            sources = nxt
-        return frozenset(self._names[b] for b in found)
+
+        def touching(bodies: Sequence[int]) -> set[int]:
+            among = set(bodies)
+            return {b for a, b, _ in pairs if a in among and b in products} | {
+                a for a, b, _ in pairs if b in among and a in products
+            }
+
+        return frozenset(products[b] for b in pushed_along(sorted(sources), touching))
 
     # ----------------------------------------------------------------------------------------- cameras
     def camera_image(self, camera: PinholeView) -> CameraImage:
@@ -494,23 +419,6 @@ class MjKitchen(GroundTruth):
         return out
 
     # ----------------------------------------------------------------------------------------- time
-    def add_controller(self, controller: Controller) -> None:
-        self._controllers.append(controller)
-        self._keep_stepping()
-
-    def remove_controller(self, controller: Controller) -> None:
-        if controller in self._controllers:
-            self._controllers.remove(controller)
-            self._keep_stepping()
-
-    def wake(self, seconds: float = WAKE_S) -> None:
-        """Step the physics for at least ``seconds`` from now, even if all is at rest."""
-        self._keep_stepping(seconds)
-
-    def _keep_stepping(self, seconds: float = WAKE_S) -> None:
-        self._awake_until = max(self._awake_until, self.sim_time + seconds)
-        self.state_version += 1
-
     def at_rest(self) -> bool:
         """True if no object and no robot joint moves faster than the rest thresholds (ground truth)."""
         qvel = self.data.qvel

@@ -24,6 +24,7 @@ from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
 from scone_bt.config.catalogue import Shape
 from scone_bt.config.markers import CAP_THICKNESS_M, INK_THICKNESS_M, LAYER_GAP_M, MARKER_CELLS, lid_marker
 from scone_bt.errors import ConfigError
+from scone_bt.world.scene_boxes import StaticBox, box_colour, static_boxes
 
 if TYPE_CHECKING:
     import mujoco
@@ -81,15 +82,6 @@ class ArmGains:
 
 
 ARM_GAINS = ArmGains()
-
-
-@dataclass(frozen=True)
-class StaticBox:
-    """An immovable box of the scene. Centre and full size in metres, world frame."""
-
-    name: str
-    center: tuple[float, float, float]
-    size: tuple[float, float, float]
 
 
 @dataclass(frozen=True)
@@ -203,16 +195,6 @@ def _matte(spec: mujoco.MjSpec) -> str:
     return "matte"
 
 
-def _static_boxes(kitchen: KitchenConfig) -> list[StaticBox]:
-    scene = kitchen.scene
-    boxes = [StaticBox("pedestal", *scene.pedestal), StaticBox("table", *scene.table)]
-    for unit in scene.shelves:
-        for i, (center, size) in enumerate(unit.boxes(scene.floor_z)):
-            prefix = "shelf" if unit is scene.shelves[0] else f"shelf_{unit.name}"
-            boxes.append(StaticBox(f"{prefix}_tier{i}", tuple(center), tuple(size)))  # type: ignore[arg-type]
-    return boxes
-
-
 def _add_arm(spec: mujoco.MjSpec, robot: RobotConfig, gains: ArmGains) -> None:
     """Actuators, gravity compensation, finger coupling and contact bits on the arm already in ``spec``."""
     mujoco = import_mujoco()
@@ -241,30 +223,12 @@ def _add_arm(spec: mujoco.MjSpec, robot: RobotConfig, gains: ArmGains) -> None:
         joint.actfrclimited = 0
         if joint.name in robot.arm_joints:
             joint.armature = gains.armature
-            act = spec.add_actuator()
-            act.name = joint.name
-            act.target = joint.name
-            act.trntype = mujoco.mjtTrn.mjTRN_JOINT
-            act.gainprm[0] = gains.stiffness
-            act.biasprm[:3] = [0.0, -gains.stiffness, -gains.damping]
-            act.biastype = mujoco.mjtBias.mjBIAS_AFFINE
-            act.gaintype = mujoco.mjtGain.mjGAIN_FIXED
-            act.forcelimited = 1
-            act.forcerange = [-effort, effort]
-            act.ctrllimited = 0
+            _add_servo(spec, joint.name, gains.stiffness, gains.damping, effort)
         elif joint.name in finger_joints:
             joint.armature = 0.01
-            act = spec.add_actuator()
-            act.name = joint.name
-            act.target = joint.name
-            act.trntype = mujoco.mjtTrn.mjTRN_JOINT
-            act.gainprm[0] = gains.finger_stiffness
-            act.biasprm[:3] = [0.0, -gains.finger_stiffness, -gains.finger_damping]
-            act.biastype = mujoco.mjtBias.mjBIAS_AFFINE
-            act.gaintype = mujoco.mjtGain.mjGAIN_FIXED
-            act.forcelimited = 1
-            act.forcerange = [-robot.gripper.max_force, robot.gripper.max_force]
-            act.ctrllimited = 0
+            _add_servo(
+                spec, joint.name, gains.finger_stiffness, gains.finger_damping, robot.gripper.max_force
+            )
     fingers = list(robot.gripper.joints)
     coupled = any(
         eq.type == mujoco.mjtEq.mjEQ_JOINT and {eq.name1, eq.name2} == set(fingers) for eq in spec.equalities
@@ -278,11 +242,26 @@ def _add_arm(spec: mujoco.MjSpec, robot: RobotConfig, gains: ArmGains) -> None:
         eq.name = "finger_coupling"
 
 
+def _add_servo(spec: mujoco.MjSpec, joint: str, stiffness: float, damping: float, force_limit: float) -> None:
+    """A position actuator on ``joint``: stiffness (per rad or m), damping, force limit (N m or N) both ways."""
+    mujoco = import_mujoco()
+    act = spec.add_actuator()
+    act.name = joint
+    act.target = joint
+    act.trntype = mujoco.mjtTrn.mjTRN_JOINT
+    act.gainprm[0] = stiffness
+    act.biasprm[:3] = [0.0, -stiffness, -damping]
+    act.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+    act.gaintype = mujoco.mjtGain.mjGAIN_FIXED
+    act.forcelimited = 1
+    act.forcerange = [-force_limit, force_limit]
+    act.ctrllimited = 0
+
+
 def _add_scene(spec: mujoco.MjSpec, kitchen: KitchenConfig, boxes: Sequence[StaticBox]) -> None:
     mujoco = import_mujoco()
     scene = kitchen.scene
     world = spec.worldbody
-    colours = {"pedestal": (0.3, 0.3, 0.3, 1), "table": (0.55, 0.40, 0.25, 1)}
     static_bits = 1 | ROBOT_GROUP | FINGER_GROUP
     for box in boxes:
         geom = world.add_geom()
@@ -290,7 +269,7 @@ def _add_scene(spec: mujoco.MjSpec, kitchen: KitchenConfig, boxes: Sequence[Stat
         geom.type = mujoco.mjtGeom.mjGEOM_BOX
         geom.size = [s / 2 for s in box.size]
         geom.pos = list(box.center)
-        geom.rgba = list(colours.get(box.name, (0.75, 0.72, 0.65, 1)))
+        geom.rgba = list(box_colour(box.name))
         geom.friction = [0.8, 0.005, 0.0001]
         geom.contype = 1
         geom.conaffinity = static_bits
@@ -438,7 +417,7 @@ def build_model(
         if not geom.name:
             geom.name = f"{geom.parent.name}_geom{k}"
     _add_arm(spec, robot, gains)
-    boxes = _static_boxes(kitchen)
+    boxes = static_boxes(kitchen)
     _add_scene(spec, kitchen, boxes)
     for i, product in enumerate(products):
         _add_product(spec, product, i)
