@@ -13,7 +13,9 @@ Per method and per target failure rate α (0.05 … 0.40), pooled over the strea
 would have succeeded), ``over_step_rate`` (acted, failed), ``attempt_failure_rate`` (failed attempts / attempts),
 its split into ``attempt_failure_rate_novel`` (products κ̂ had no outcome of in the stream) and ``_seen``,
 ``wide_attempts_after_first_wide_failure`` (attempts of products perceived wider than the gripper's opening after a
-stream's first failed one, summed and the largest per stream), and the realised rate per stream. Methods:
+stream's first failed one, summed and the largest per stream), the realised rate per stream, and
+``max_excess_failures``: the largest F − α · A reached at any point of any stream, warm-up included (the strict
+promise keeps it ≤ 1 wherever confident attempts did not fail; gate.budget.has_credit). Methods:
 
 - ``budget:<κ̂>``: the failure-budget gate (scone_bt.gate.budget) over κ̂ (the tree's default: ``physical``);
 - ``fixed:<κ̂>``: the same κ̂ and exploration with a threshold fixed at τ₀ (1 − 3α) (no online calibration);
@@ -70,6 +72,7 @@ class StreamResult:
     all_attempts: int = 0
     all_failures: int = 0
     all_asked: int = 0
+    max_excess: float = 0.0
     thresholds: list[float] = field(default_factory=list)
 
 
@@ -174,6 +177,7 @@ def replay_stream(
                 explored_failures=counts.explored_failures + (explored and not ok),
                 learnt=est.n_observations,
             )
+            out.max_excess = max(out.max_excess, counts.failures - alpha * counts.attempts)
         else:
             out.all_asked += 1
         if not scored:
@@ -194,7 +198,9 @@ def replay_stream(
 
 def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
     tot = {
-        k: sum(getattr(r, k) for r in results) for k in StreamResult.__dataclass_fields__ if k != "thresholds"
+        k: sum(getattr(r, k) for r in results)
+        for k in StreamResult.__dataclass_fields__
+        if k not in ("thresholds", "max_excess")
     }
     n = max(tot["decisions"], 1)
     att = tot["attempts"]
@@ -221,6 +227,7 @@ def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
         "wide_attempts_after_first_wide_failure": tot["wide_after_failure"],
         "wide_attempts_after_first_wide_failure_max_per_stream": max(r.wide_after_failure for r in results),
         "attempt_failure_rate_per_stream": [ratio(r.failures, r.attempts) for r in results],
+        "max_excess_failures": round(max(r.max_excess for r in results), 4),
         "all_decisions": {
             "attempt_failure_rate": ratio(tot["all_failures"], tot["all_attempts"]),
             "help_rate": round(tot["all_asked"] / max(tot["all_decisions"], 1), 4),
@@ -529,6 +536,7 @@ def _replay(
             "attempt_failure_rate_seen": cold["attempt_failure_rate_seen"],
             "attempt_success_rate": cold["attempt_success_rate"],
             "help_rate": cold["help_rate"],
+            "max_excess_failures": cold["max_excess_failures"],
             "fleet_warm": {
                 k: warm[k]
                 for k in (
