@@ -22,8 +22,12 @@ object and outcome):
     height_m           catalogue height, metres
     mass_kg            catalogue mass, kilograms
     material           catalogue material
+    detected_depth_m   perceived longer horizontal extent of the lid, metres (empty when not measured)
+    detected_fill      perceived lid area over its bounding rectangle (π/4 cylinder, 1 box; empty likewise)
+    depth_m            catalogue longer horizontal extent, metres
+    shape              catalogue shape (box, cylinder)
 
-Every column from shelf_unit to detected_height_m is what the robot perceived, computed by the episode's own
+The last four columns came later: a file without them is still read (they are then unknown). Every column from shelf_unit to detected_height_m is what the robot perceived, computed by the episode's own
 context function (`scone_bt.perception.context.execution_contexts`, see generate.perceived_context); an undetected
 target leaves them empty (detected 0). width_m to material describe the product, not what the robot knew.
 
@@ -79,6 +83,10 @@ COLUMNS = (
     "height_m",
     "mass_kg",
     "material",
+    "detected_depth_m",
+    "detected_fill",
+    "depth_m",
+    "shape",
 )
 """Columns the generator writes, in this order (see the module docstring)."""
 
@@ -93,8 +101,14 @@ CONTEXT_COLUMNS = (
     "width_m",
     "height_m",
     "mass_kg",
+    "detected_depth_m",
+    "detected_fill",
+    "depth_m",
 )
 """Numeric context columns, read into `Dataset.context` as float arrays (NaN where a row leaves one empty)."""
+
+_LATER = ("detected_depth_m", "detected_fill", "depth_m", "shape")
+"""Columns a file of the previous schema lacks (read as unknown)."""
 
 _TRUE = {"success", "1", "true", "yes", "ok"}
 _FALSE = {"failure", "0", "false", "no", "fail"}
@@ -148,6 +162,10 @@ class ExecutionRecord:
     height_m: float = float("nan")
     mass_kg: float = float("nan")
     material: str = ""
+    detected_depth_m: float | None = None
+    detected_fill: float | None = None
+    depth_m: float = float("nan")
+    shape: str = ""
 
     def row(self) -> list[str]:
         """The CSV row, in COLUMNS order."""
@@ -179,6 +197,10 @@ class ExecutionRecord:
             num(self.height_m),
             num(self.mass_kg),
             self.material,
+            num(self.detected_depth_m),
+            num(self.detected_fill),
+            num(self.depth_m),
+            self.shape,
         ]
 
 
@@ -265,7 +287,7 @@ def read_records(path: Path | str) -> list[ExecutionRecord]:
     # The header is checked even without rows: a file of one line (someone's notes, another CSV's header) is not
     # a generator file whose run was cut short, and would otherwise be written over.
     header = reader.fieldnames or []
-    missing = [c for c in COLUMNS if header and c not in header]
+    missing = [c for c in COLUMNS if header and c not in header and c not in _LATER]
     if missing:
         raise ConfigError(
             f"{path}: not a generator file of this version (missing column {missing[0]!r}); delete it to regenerate"
@@ -274,7 +296,7 @@ def read_records(path: Path | str) -> list[ExecutionRecord]:
     for i, r in enumerate(rows):
 
         def opt(column: str, r: dict[str, str] = r, i: int = i) -> float | None:
-            v = _float(r[column], path, i, column)
+            v = _float(r.get(column) or "", path, i, column)
             return None if v != v else v
 
         def opt_int(column: str, r: dict[str, str] = r, i: int = i) -> int | None:
@@ -302,6 +324,10 @@ def read_records(path: Path | str) -> list[ExecutionRecord]:
                 height_m=_float(r["height_m"], path, i, "height_m"),
                 mass_kg=_float(r["mass_kg"], path, i, "mass_kg"),
                 material=r["material"],
+                detected_depth_m=opt("detected_depth_m"),
+                detected_fill=opt("detected_fill"),
+                depth_m=opt("depth_m") or float("nan"),
+                shape=r.get("shape") or "",
             )
         )
     return out

@@ -321,6 +321,10 @@ def run_execution(
             height_m=round(target.height, 4),
             mass_kg=round(target.mass, 4),
             material=target.material,
+            detected_depth_m=ctx.detected_depth_m,
+            detected_fill=ctx.detected_fill,
+            depth_m=round(max(target.size[0], target.size[1]), 4),
+            shape=str(target.shape.value),
         )
         return rec, time.perf_counter() - t0
 
