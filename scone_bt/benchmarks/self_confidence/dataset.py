@@ -26,8 +26,13 @@ object and outcome):
     detected_fill      perceived lid area over its bounding rectangle (π/4 cylinder, 1 box; empty likewise)
     depth_m            catalogue longer horizontal extent, metres
     shape              catalogue shape (box, cylinder)
+    probe_held         the heft test (motion.probe, sensing only): 1 if the fingers still held it after the hold
+    probe_load_n       vertical load the fingers carried over the hold's second half, newtons
+    probe_load_first_n the same over its first half, newtons
+    probe_grip_n       the fingers' summed grip force over the second half, newtons
+    probe_s            simulated seconds the probe took (all probe columns empty when the arm never held it up)
 
-The last four columns came later: a file without them is still read (they are then unknown). Every column from shelf_unit to detected_height_m is what the robot perceived, computed by the episode's own
+The last nine columns came later: a file without them is still read (they are then unknown). Every column from shelf_unit to detected_height_m is what the robot perceived, computed by the episode's own
 context function (`scone_bt.perception.context.execution_contexts`, see generate.perceived_context); an undetected
 target leaves them empty (detected 0). width_m to material describe the product, not what the robot knew.
 
@@ -87,6 +92,11 @@ COLUMNS = (
     "detected_fill",
     "depth_m",
     "shape",
+    "probe_held",
+    "probe_load_n",
+    "probe_load_first_n",
+    "probe_grip_n",
+    "probe_s",
 )
 """Columns the generator writes, in this order (see the module docstring)."""
 
@@ -104,10 +114,25 @@ CONTEXT_COLUMNS = (
     "detected_depth_m",
     "detected_fill",
     "depth_m",
+    "probe_held",
+    "probe_load_n",
+    "probe_load_first_n",
+    "probe_grip_n",
+    "probe_s",
 )
 """Numeric context columns, read into `Dataset.context` as float arrays (NaN where a row leaves one empty)."""
 
-_LATER = ("detected_depth_m", "detected_fill", "depth_m", "shape")
+_LATER = (
+    "detected_depth_m",
+    "detected_fill",
+    "depth_m",
+    "shape",
+    "probe_held",
+    "probe_load_n",
+    "probe_load_first_n",
+    "probe_grip_n",
+    "probe_s",
+)
 """Columns a file of the previous schema lacks (read as unknown)."""
 
 _TRUE = {"success", "1", "true", "yes", "ok"}
@@ -166,6 +191,11 @@ class ExecutionRecord:
     detected_fill: float | None = None
     depth_m: float = float("nan")
     shape: str = ""
+    probe_held: bool | None = None
+    probe_load_n: float | None = None
+    probe_load_first_n: float | None = None
+    probe_grip_n: float | None = None
+    probe_s: float | None = None
 
     def row(self) -> list[str]:
         """The CSV row, in COLUMNS order."""
@@ -201,6 +231,11 @@ class ExecutionRecord:
             num(self.detected_fill),
             num(self.depth_m),
             self.shape,
+            "" if self.probe_held is None else str(int(self.probe_held)),
+            num(self.probe_load_n),
+            num(self.probe_load_first_n),
+            num(self.probe_grip_n),
+            num(self.probe_s),
         ]
 
 
@@ -328,6 +363,11 @@ def read_records(path: Path | str) -> list[ExecutionRecord]:
                 detected_fill=opt("detected_fill"),
                 depth_m=opt("depth_m") or float("nan"),
                 shape=r.get("shape") or "",
+                probe_held=None if not r.get("probe_held") else r["probe_held"].strip() == "1",
+                probe_load_n=opt("probe_load_n"),
+                probe_load_first_n=opt("probe_load_first_n"),
+                probe_grip_n=opt("probe_grip_n"),
+                probe_s=opt("probe_s"),
             )
         )
     return out

@@ -33,11 +33,13 @@ from scone_bt.benchmarks.self_confidence.profiles import Profile
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
 from scone_bt.errors import ConfigError
 from scone_bt.experience.types import ExecutionContext
+from scone_bt.motion.probe import ProbeSettings
 from scone_bt.perception import context as perception_context
 from scone_bt.perception.types import Detection, Frame
 
 __all__ = [
     "INJECTED_FORCE_FACTOR",
+    "RECORDING_PROBE",
     "ExecutionTask",
     "choose_objects",
     "drawable_products",
@@ -45,6 +47,10 @@ __all__ = [
     "perceived_context",
     "run_execution",
 ]
+
+RECORDING_PROBE = ProbeSettings(set_back=False)
+"""Every execution hefts its product first and records what the fingers felt, then always carries on (the probe
+only senses): a replay decides afterwards whether a robot that probes would have set it back (benchmarks.gate)."""
 
 INJECTED_FORCE_FACTOR = 0.1
 """An injected grasp failure closes the gripper with this fraction of its force."""
@@ -299,7 +305,10 @@ def run_execution(
     )
     ctx, unit, slot = perceived_context(target.name, perceived, seen_frames, kcfg)
 
+    reading: list[object] = []  # the heft test's reading, once the motion ran
+
     def record(success: bool, stage: str | None, detail: str) -> tuple[ExecutionRecord, float]:
+        felt = reading[0] if reading else None
         rec = ExecutionRecord(
             index=index,
             action=action_text(target.name),
@@ -325,6 +334,11 @@ def run_execution(
             detected_fill=ctx.detected_fill,
             depth_m=round(max(target.size[0], target.size[1]), 4),
             shape=str(target.shape.value),
+            probe_held=None if felt is None else bool(felt.held),  # type: ignore[attr-defined]
+            probe_load_n=None if felt is None else felt.load_n,  # type: ignore[attr-defined]
+            probe_load_first_n=None if felt is None else felt.load_first_n,  # type: ignore[attr-defined]
+            probe_grip_n=None if felt is None else felt.grip_n,  # type: ignore[attr-defined]
+            probe_s=None if felt is None else felt.seconds,  # type: ignore[attr-defined]
         )
         return rec, time.perf_counter() - t0
 
@@ -337,6 +351,7 @@ def run_execution(
     obstacles = [(d, catalogue.get(n)) for n, d in by_name.items() if n != target.name]
     with _motion_system(kitchen, rcfg) as system:
         task = system.pick_and_place(by_name[target.name], target, obstacles, rng_seed=seed)
+        task.probe = RECORDING_PROBE
         task.start()
         settled = None
         while settled is None and kitchen.sim_time < _MAX_SIM_S:
@@ -344,6 +359,8 @@ def run_execution(
                 task.wait_planned()  # simulated time must not depend on the planning thread's speed
             kitchen.advance(_ADVANCE_S)
             settled = _settled(task)
+        if task.probe_reading is not None:
+            reading.append(task.probe_reading)
         if settled is None:
             task.cancel()
             return record(False, "timeout", f"not finished after {_MAX_SIM_S:.0f} simulated seconds")

@@ -21,7 +21,8 @@ from scone_bt.errors import ConfigError
 CONTRACT = (
     "index, action, object, family, outcome, failure_stage, seed, detail, shelf_unit, shelf_tier, slot, "
     "clearance_m, neighbours, detected, detected_width_m, detected_height_m, width_m, height_m, mass_kg, material, "
-    "detected_depth_m, detected_fill, depth_m, shape"
+    "detected_depth_m, detected_fill, depth_m, shape, probe_held, probe_load_n, probe_load_first_n, probe_grip_n, "
+    "probe_s"
 )
 
 
