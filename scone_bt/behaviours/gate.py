@@ -26,6 +26,7 @@ from scone_bt.confidence.grounded import grounded_features, is_grounded
 from scone_bt.events import DecisionMade, EventSink
 from scone_bt.experience.types import ExecutionContext
 from scone_bt.gate.budget import BudgetCounts, BudgetOptions, may_explore, threshold, too_wide
+from scone_bt.gate.probe import ProbeOptions, in_band
 from scone_bt.gate.types import Decision, DecisionKind
 from scone_bt.robot.interface import Infeasible, PlannedPick, Robot
 
@@ -164,6 +165,7 @@ class ConfidenceGate(StageBehaviour):
         robot: Robot | None = None,
         seeds: PlannerSeeds | None = None,
         opening_m: float | None = None,
+        probe: ProbeOptions | None = None,
     ) -> None:
         """``human`` is read only for the human's current step in the recipe-blind setting (no tracked step).
 
@@ -188,6 +190,7 @@ class ConfidenceGate(StageBehaviour):
         self._pending: _Pending | None = None
         self._infeasible: dict[tuple[object, ...], Infeasible] = {}
         self.opening_m = opening_m  # None: no too-wide rule (the paper's gate)
+        self.probe = probe  # None: no heft test (gate.probe)
 
     @classmethod
     def from_context(cls, name: str, context: EpisodeContext) -> ConfidenceGate:
@@ -223,6 +226,7 @@ class ConfidenceGate(StageBehaviour):
             robot=context.robot if budget is not None else None,
             seeds=context.seeds,
             opening_m=context.gripper_opening_m if budget is not None else None,
+            probe=opts.probe.options() if budget is not None and opts.probe is not None else None,
         )
 
     def setup(self, **kwargs: object) -> None:
@@ -272,6 +276,7 @@ class ConfidenceGate(StageBehaviour):
         target = affordances.get(decision.action) if decision.action is not None else None
         if target is not None:
             decision = replace(decision, object_name=target.object_name)
+            decision = self._probe_first(decision, options.confidence_threshold)
             decision = self._too_wide(decision, contexts.get(target.text))
         decision = self._after_decline(decision, target is not None)
         self.write(Keys.CONFIDENCES, dict(zip([r.text for r in ranked], confidences, strict=True)))
@@ -286,6 +291,8 @@ class ConfidenceGate(StageBehaviour):
                 self.read(Keys.TABLE_DETECTIONS, None),
                 self.seeds.next_seed(),  # type: ignore[union-attr]
             )
+            if decision.probe and self.probe is not None:
+                request = replace(request, probe=self.probe.motion())
             key = scene_key(request)
             known = self._infeasible.get(key)
             if known is not None:  # the same request in an unchanged scene: no plan exists, ask again at once
@@ -351,6 +358,22 @@ class ConfidenceGate(StageBehaviour):
         if new_status is py_trees.common.Status.INVALID and self._pending is not None:
             self._pending = None  # interrupted while planning: nothing was committed
             self.write(Keys.MOTION_COMPUTING, False)
+
+    def _probe_first(self, decision: Decision, tau: float) -> Decision:
+        """Heft first what κ̂ is unsure of (within the probe band around τ; gate.probe), and ask about what a
+        probe already set back in this episode, saying why."""
+        if self.probe is None or decision.action is None or decision.rule != "":
+            return decision
+        if decision.kind not in (DecisionKind.ACT, DecisionKind.ASK):
+            return decision
+        probe_reason = getattr(self.history, "probe_reason", None)
+        reason = probe_reason(decision.action) if probe_reason is not None else None
+        if reason is not None:
+            return _overruled(decision, DecisionKind.ASK, f"{reason}: please bring it", "probe")
+        if not in_band(decision.confidence, tau, self.probe):
+            return decision
+        why = f"unsure (confidence {decision.confidence:.2f}, threshold {tau:.2f}): hefting the {decision.object_name} first"
+        return replace(decision, kind=DecisionKind.ACT, reason=why, explored=False, probe=True)
 
     def _too_wide(self, decision: Decision, context: ExecutionContext | None) -> Decision:
         """ASK-HELP instead of ACT (or exploring) for a product measured wider than the gripper opens."""
@@ -462,6 +485,7 @@ class ConfidenceGate(StageBehaviour):
             context=context,
             rule=decision.rule,
             planning_s=None if planning_s is None else round(planning_s, 4),
+            probe=decision.probe,
         )
 
 

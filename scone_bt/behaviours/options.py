@@ -27,6 +27,7 @@ class BehaviourOptions:
         gate: "budget" (the threshold kept online so that at most target_failure_rate of attempts fail;
             scone_bt.gate.budget) or "paper" (the fixed confidence_threshold).
         target_failure_rate: The promise: the share of the robot's attempts that may fail, in (0, 1).
+        probe: The heft test's settings (config.tree_parameters.ProbeParameters; the budget gate only).
         cache_dir: On-disk embedding cache, or None.
         experience_path: Experience store: an SQLite file, a postgresql:// URL (a fleet's shared store), or None
             for in-memory learning only.
@@ -50,6 +51,7 @@ class BehaviourOptions:
     max_failures_per_action: int | None = None
     gate: str | None = None
     target_failure_rate: float | None = None
+    probe: Any = None
     cache_dir: Path | None = None
     experience_path: Path | str | None = None
     robot_id: str = ""

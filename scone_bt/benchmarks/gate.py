@@ -53,6 +53,8 @@ TARGETS: tuple[float, ...] = (0.05, 0.10, 0.15, 0.20, 0.25, 0.30, 0.40)
 
 _CONTEXT = CONTEXT_FIELDS
 """The context columns in replay order (decision_time_context's)."""
+PROBE_COLUMNS = ("probe_held", "probe_load_n", "probe_load_first_n", "probe_grip_n", "probe_s")
+"""What the generator's probe felt (dataset columns), in the order replay_stream reads them."""
 
 
 @dataclass
@@ -73,6 +75,12 @@ class StreamResult:
     all_failures: int = 0
     all_asked: int = 0
     max_excess: float = 0.0
+    probes: int = 0
+    aborted: int = 0
+    aborted_would_succeed: int = 0
+    probe_caught: int = 0
+    probe_s: float = 0.0
+    probes_felt: int = 0
     thresholds: list[float] = field(default_factory=list)
 
 
@@ -92,6 +100,8 @@ def replay_stream(
     warmup: int,
     opening_m: float,
     fleet: tuple[np.ndarray, np.ndarray] | None = None,
+    probe: Any = None,
+    readings: np.ndarray | None = None,
 ) -> StreamResult:
     """The online robot over one stream; see the module docstring.
 
@@ -108,10 +118,19 @@ def replay_stream(
         warmup: Decisions not scored.
         opening_m: The gripper's opening (what "wide" means).
         fleet: Rows and labels κ̂ learns before the stream (a fleet prior), or None (cold).
+        probe: gate.probe.ProbeOptions: the budget gate hefts actions in its band first (None: no probe).
+        readings: (n, 5) what the recorded probe felt (PROBE_COLUMNS; NaN where the arm never held the product
+            up); None: the stream has no probe readings, so no probe is possible.
     """
     from scone_bt.confidence import make_estimator
     from scone_bt.confidence.grounded import is_grounded
     from scone_bt.gate.budget import BudgetCounts, BudgetOptions, may_explore, threshold, too_wide
+    from scone_bt.gate.probe import in_band
+    from scone_bt.motion.probe import ProbeReading, judge_probe
+
+    settings = probe.motion() if probe is not None else None
+    if readings is None:
+        probe = None
 
     options = {"gripper_opening_m": opening_m} if estimator == "physical" else {}
     est = make_estimator(estimator, seed=seed, **options)
@@ -154,8 +173,31 @@ def replay_stream(
             and products[t] not in failed  # as on the robot: an action that failed is never explored again
         ):
             act = explored = True
-        if gate == "budget" and too_wide(float(context[t, 4]), opening_m):
+        wide_ask = gate == "budget" and too_wide(float(context[t, 4]), opening_m)
+        if wide_ask:
             act = explored = False  # the tree's gate asks about what its gripper cannot hold (gate.budget)
+        aborted = False
+        if gate == "budget" and not wide_ask and in_band(p, tau, probe):
+            assert readings is not None and settings is not None
+            out.probes += t >= warmup
+            act, explored = True, False  # a probe needs no exploration credit (gate.probe)
+            held, load, first, grip, seconds = readings[t]
+            if not np.isnan(
+                held
+            ):  # the arm held it up: the probe felt it (else it failed before, as recorded)
+                if t >= warmup:
+                    out.probe_s += seconds
+                    out.probes_felt += 1
+                reading = ProbeReading(bool(held), float(load), float(first), float(grip), float(seconds))
+                aborted = not judge_probe(reading, settings)[0]  # type: ignore[arg-type]
+        if aborted:
+            # set back where it stood: no attempt, no failure; the person fetches it; κ̂ learns it did not carry
+            act = False
+            est.update(X[t], False)
+            learnt.add(products[t])
+            counts = BudgetCounts(
+                counts.attempts, counts.failures, counts.explored_failures, est.n_observations
+            )
         novel = products[t] not in learnt
         scored = t >= warmup
         out.all_decisions += 1
@@ -184,6 +226,11 @@ def replay_stream(
             continue
         out.decisions += 1
         out.explored += explored
+        if aborted:
+            out.aborted += 1
+            out.aborted_would_succeed += ok
+            out.probe_caught += not ok
+            continue
         if act:
             out.attempts += 1
             out.failures += not ok
@@ -200,8 +247,9 @@ def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
     tot = {
         k: sum(getattr(r, k) for r in results)
         for k in StreamResult.__dataclass_fields__
-        if k not in ("thresholds", "max_excess")
+        if k not in ("thresholds", "max_excess", "probe_s")
     }
+    probe_s = sum(r.probe_s for r in results)
     n = max(tot["decisions"], 1)
     att = tot["attempts"]
     seen_att = att - tot["novel_attempts"]
@@ -214,7 +262,13 @@ def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
         "decisions": tot["decisions"],
         "attempts": att,
         "success_rate": round((att - tot["failures"]) / n, 4),
-        "help_rate": round((tot["asked_ok"] + tot["asked_fail"]) / n, 4),
+        # an aborted probe is an ask for the person: counted in the help rate (and apart, aborted_rate)
+        "help_rate": round((tot["asked_ok"] + tot["asked_fail"] + tot["aborted"]) / n, 4),
+        "aborted_rate": round(tot["aborted"] / n, 4),
+        "probes": tot["probes"],
+        "probe_s_mean": round(probe_s / tot["probes_felt"], 3) if tot["probes_felt"] else None,
+        "aborted_would_have_succeeded": tot["aborted_would_succeed"],
+        "aborted_would_have_failed": tot["probe_caught"],
         "over_ask_rate": round(tot["asked_ok"] / n, 4),
         "over_step_rate": round(tot["failures"] / n, 4),
         "attempt_failure_rate": ratio(tot["failures"], att),
@@ -242,6 +296,7 @@ class _Streams:
     context: list[np.ndarray]
     success: list[np.ndarray]
     products: list[tuple[str, ...]]
+    readings: list[np.ndarray | None] = field(default_factory=list)
 
 
 def _load(args: argparse.Namespace, oracle: bool) -> _Streams:
@@ -277,7 +332,15 @@ def _load(args: argparse.Namespace, oracle: bool) -> _Streams:
         context,
         [np.asarray(d.success) for d in datasets],
         [tuple(d.objects) for d in datasets],
+        [_readings(d) for d in datasets],
     )
+
+
+def _readings(d: Any) -> np.ndarray | None:
+    """(n, 5) probe readings in PROBE_COLUMNS order, or None for a dataset recorded without the probe."""
+    if any(c not in d.context for c in PROBE_COLUMNS):
+        return None
+    return np.column_stack([d.context[c] for c in PROBE_COLUMNS])
 
 
 def _glass(d: Any) -> np.ndarray:
@@ -285,7 +348,13 @@ def _glass(d: Any) -> np.ndarray:
 
 
 def _method(
-    streams: _Streams, estimator: str, gate: str, alpha: float, args: argparse.Namespace, fleet: bool = False
+    streams: _Streams,
+    estimator: str,
+    gate: str,
+    alpha: float,
+    args: argparse.Namespace,
+    fleet: bool = False,
+    probe: Any = None,
 ) -> dict[str, Any]:
     results = []
     for j in range(len(streams.names)):
@@ -309,17 +378,20 @@ def _method(
                 args.warmup,
                 args.opening,
                 prior,
+                probe,
+                streams.readings[j] if streams.readings else None,
             )
         )
     return _rates(results)
 
 
-def _tree_defaults() -> tuple[str, float]:
+def _tree_defaults() -> tuple[str, float, Any]:
+    """The tree's κ̂, target failure rate and probe options (None: the probe is off)."""
     from scone_bt.config.tree_parameters import TreeParameters
     from scone_bt.tree import load_tree_spec
 
     params = TreeParameters.model_validate(load_tree_spec("assistive_cooking").parameters)
-    return params.estimator, params.target_failure_rate
+    return params.estimator, params.target_failure_rate, params.probe.options()
 
 
 def _plot(report: dict[str, Any], path: Path) -> None:
@@ -507,7 +579,11 @@ def _decision_path(
 
 
 def _replay(
-    args: argparse.Namespace, estimators: list[str], default_estimator: str, default_target: float
+    args: argparse.Namespace,
+    estimators: list[str],
+    default_estimator: str,
+    default_target: float,
+    probe: Any = None,
 ) -> dict[str, Any]:
     """The online replay of every method over the datasets (the report's replay part)."""
     streams = _load(args, oracle=False)
@@ -521,10 +597,20 @@ def _replay(
     methods["oracle"] = {f"{a:g}": _method(oracle, "physical", "budget", a, args) for a in TARGETS}
     default = methods[f"budget:{default_estimator}"] if default_estimator in estimators else None
     if default is None or f"{default_target:g}" not in default:
-        cold = _method(streams, default_estimator, "budget", default_target, args)
+        plain = _method(streams, default_estimator, "budget", default_target, args)
     else:
-        cold = default[f"{default_target:g}"]
-    warm = _method(streams, default_estimator, "budget", default_target, args, fleet=True)
+        plain = default[f"{default_target:g}"]
+    probing = probe is not None and any(r is not None for r in streams.readings)
+    if (
+        probing
+    ):  # the tree's gate hefts what it is unsure of (gate.probe): its own sweep beside the plain budget
+        methods[f"budget+probe:{default_estimator}"] = {
+            f"{a:g}": _method(streams, default_estimator, "budget", a, args, probe=probe) for a in TARGETS
+        }
+        cold = methods[f"budget+probe:{default_estimator}"][f"{default_target:g}"]
+    else:
+        cold = plain
+    warm = _method(streams, default_estimator, "budget", default_target, args, fleet=True, probe=probe)
     return {
         "datasets": streams.names,
         "targets": list(TARGETS),
@@ -537,6 +623,16 @@ def _replay(
             "attempt_success_rate": cold["attempt_success_rate"],
             "help_rate": cold["help_rate"],
             "max_excess_failures": cold["max_excess_failures"],
+            "probe": probing,
+            "aborted_rate": cold["aborted_rate"],
+            "probe_s_mean": cold["probe_s_mean"],
+            "probes": cold["probes"],
+            "aborted_would_have_succeeded": cold["aborted_would_have_succeeded"],
+            "aborted_would_have_failed": cold["aborted_would_have_failed"],
+            "without_probe": {
+                k: plain[k]
+                for k in ("attempt_failure_rate", "attempt_success_rate", "help_rate", "max_excess_failures")
+            },
             "fleet_warm": {
                 k: warm[k]
                 for k in (
@@ -544,6 +640,7 @@ def _replay(
                     "attempt_failure_rate_novel",
                     "attempt_success_rate",
                     "help_rate",
+                    "aborted_rate",
                 )
             },
         },
@@ -560,7 +657,7 @@ def _run(args: argparse.Namespace) -> int:
     if args.episodes < 0 or args.recipes < 1:
         raise SconeError("--episodes must be ≥ 0 and --recipes ≥ 1")
     started = time.perf_counter()
-    default_estimator, default_target = _tree_defaults()
+    default_estimator, default_target, probe = _tree_defaults()
     estimators = [e for e in args.estimators.split(",") if e] or [default_estimator]
     from scone_bt.cli.run import _check_estimator  # one check of registry names, before any work
 
@@ -578,7 +675,7 @@ def _run(args: argparse.Namespace) -> int:
         "gripper_opening_m": args.opening,
     }
     if not args.no_replay:
-        report.update(_replay(args, estimators, default_estimator, default_target))
+        report.update(_replay(args, estimators, default_estimator, default_target, probe))
     if args.episodes:
         report["episodes"] = _episodes(args)
     report["wall_s"] = round(time.perf_counter() - started, 1)

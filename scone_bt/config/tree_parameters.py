@@ -13,7 +13,25 @@ from pydantic import Field
 
 from scone_bt.config.schema import StrictModel
 
-__all__ = ["TreeParameters", "PARAMETER_NAMES"]
+__all__ = ["ProbeParameters", "TreeParameters", "PARAMETER_NAMES"]
+
+
+class ProbeParameters(StrictModel):
+    """The heft test (scone_bt/gate/probe.py, scone_bt/motion/probe.py): when the budget gate probes, and how."""
+
+    enabled: bool = True
+    below: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)] = 0.3
+    above: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)] = 0.0
+    lift_m: Annotated[float, Field(ge=0.005, le=0.05, allow_inf_nan=False)] = 0.015
+    hold_s: Annotated[float, Field(ge=0.1, le=3, allow_inf_nan=False)] = 0.5
+
+    def options(self) -> object | None:
+        """gate.probe.ProbeOptions, or None when the probe is off."""
+        if not self.enabled:
+            return None
+        from scone_bt.gate.probe import ProbeOptions
+
+        return ProbeOptions(below=self.below, above=self.above, lift_m=self.lift_m, hold_s=self.hold_s)
 
 
 class TreeParameters(StrictModel):
@@ -28,6 +46,7 @@ class TreeParameters(StrictModel):
     max_failures_per_action: Annotated[int, Field(ge=1, le=1000)] = 3
     gate: Literal["budget", "paper"] = "budget"
     target_failure_rate: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False)] = 0.15
+    probe: ProbeParameters = ProbeParameters()
 
 
 PARAMETER_NAMES: tuple[str, ...] = tuple(TreeParameters.model_fields)

@@ -68,6 +68,7 @@ class FailureStage(str, Enum):  # noqa: UP042 (str() of members is relied upon e
     PLACE = "place"  # released but not resting upright on the table
     TIMEOUT = "timeout"
     CANCELLED = "cancelled"  # the human took over
+    PROBE = "probe"  # set back where it stood after the heft test (motion.probe): an aborted attempt, not a failure
 
 
 class PlanFailureReason(str, Enum):  # noqa: UP042
