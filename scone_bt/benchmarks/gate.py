@@ -125,7 +125,7 @@ def replay_stream(
     from scone_bt.confidence import make_estimator
     from scone_bt.confidence.grounded import is_grounded
     from scone_bt.gate.budget import BudgetCounts, BudgetOptions, may_explore, threshold, too_wide
-    from scone_bt.gate.probe import in_band
+    from scone_bt.gate.probe import in_band, probe_credit
     from scone_bt.motion.probe import ProbeReading, judge_probe
 
     settings = probe.motion() if probe is not None else None
@@ -177,7 +177,7 @@ def replay_stream(
         if wide_ask:
             act = explored = False  # the tree's gate asks about what its gripper cannot hold (gate.budget)
         aborted = False
-        if gate == "budget" and not wide_ask and in_band(p, tau, probe):
+        if gate == "budget" and not wide_ask and in_band(p, tau, probe, probe_credit(probe, budget, counts)):
             assert readings is not None and settings is not None
             out.probes += t >= warmup
             act, explored = True, False  # a probe needs no exploration credit (gate.probe)

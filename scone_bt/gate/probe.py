@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 from scone_bt.errors import SconeError
 
-__all__ = ["ProbeOptions", "in_band"]
+__all__ = ["ProbeOptions", "in_band", "probe_credit"]
 
 
 @dataclass(frozen=True)
@@ -31,6 +31,9 @@ class ProbeOptions:
         hold_s: How long it is held up while the fingers feel it, seconds, in [0.1, 3].
         max_unsteady: Set back when the felt load changes by more than this share during the hold, in (0, 1].
         max_traction: Set back when the felt load over the grip force exceeds this, in (0, 10].
+        credit: A probe below τ is made only while one more failure keeps failures ≤ α × attempts + ``credit``
+            (gate.budget.has_credit with this allowance; None: always): what a probe cannot feel (a product that
+            holds in the fingers and fails later) is paid for from a bounded excess.
     """
 
     below: float = 0.3
@@ -39,10 +42,13 @@ class ProbeOptions:
     hold_s: float = 0.5
     max_unsteady: float = 0.03
     max_traction: float = 10.0
+    credit: float | None = None
 
     def __post_init__(self) -> None:
-        for name in ("below", "above", "lift_m", "hold_s", "max_unsteady", "max_traction"):
+        for name in ("below", "above", "lift_m", "hold_s", "max_unsteady", "max_traction", "credit"):
             value = getattr(self, name)
+            if name == "credit" and value is None:
+                continue
             if isinstance(value, bool) or not isinstance(value, int | float):
                 raise SconeError(f"probe.{name} must be a number, got {value!r}")
         checks = (
@@ -52,6 +58,7 @@ class ProbeOptions:
             ("hold_s", 0.1 <= self.hold_s <= 3.0, "in [0.1, 3] (seconds)"),
             ("max_unsteady", 0.0 < self.max_unsteady <= 1.0, "in (0, 1]"),
             ("max_traction", 0.0 < self.max_traction <= 10.0, "in (0, 10]"),
+            ("credit", self.credit is None or 0.0 <= self.credit <= 100.0, "None or in [0, 100]"),
         )
         for name, ok, allowed in checks:
             value = getattr(self, name)
@@ -70,8 +77,26 @@ class ProbeOptions:
         )
 
 
-def in_band(confidence: float, threshold: float, options: ProbeOptions | None) -> bool:
-    """Whether κ̂'s ``confidence`` is unsure enough, against the gate's ``threshold``, to probe first."""
+def in_band(confidence: float, threshold: float, options: ProbeOptions | None, credit: bool = True) -> bool:
+    """Whether κ̂'s ``confidence`` is unsure enough, against the gate's ``threshold``, to probe first.
+
+    ``credit``: whether the failure budget has room for one more failure within ``options.credit``
+    (`probe_credit`); read only below the threshold.
+    """
     if options is None or not math.isfinite(confidence):
         return False
+    if confidence < threshold and options.credit is not None and not credit:
+        return False
     return threshold - options.below <= confidence < threshold + options.above
+
+
+def probe_credit(options: ProbeOptions | None, budget: object, counts: object) -> bool:
+    """Whether a probe below τ has room for one more failure: gate.budget.has_credit with the probe's allowance
+    (True without one)."""
+    if options is None or options.credit is None:
+        return True
+    from dataclasses import replace
+
+    from scone_bt.gate.budget import has_credit
+
+    return has_credit(replace(budget, excess_allowance=options.credit), counts)  # type: ignore[type-var]

@@ -263,6 +263,7 @@ def run_execution(
     robot_cfg: RobotConfig,
     target_name: str | None = None,
     pool: Sequence[ObjectSpec] | None = None,
+    probe: ProbeSettings = RECORDING_PROBE,
 ) -> tuple[ExecutionRecord, float]:
     """Run execution `index` of `profile`; returns the record and its wall time (s).
 
@@ -273,6 +274,8 @@ def run_execution(
         robot_cfg: The robot before the profile's overrides.
         target_name: Force this target instead of the seeded draw (for per-product sweeps).
         pool: Products to draw from (default: drawable_products of the kitchen's catalogue).
+        probe: The heft test's settings (default: sensing only, always carrying on; with ``set_back`` a probe
+            that sets the product back is recorded as a failure without a stage, its detail saying so).
     """
     t0 = time.perf_counter()
     seed = profile.execution_seed(index)
@@ -351,7 +354,7 @@ def run_execution(
     obstacles = [(d, catalogue.get(n)) for n, d in by_name.items() if n != target.name]
     with _motion_system(kitchen, rcfg) as system:
         task = system.pick_and_place(by_name[target.name], target, obstacles, rng_seed=seed)
-        task.probe = RECORDING_PROBE
+        task.probe = probe
         task.start()
         settled = None
         while settled is None and kitchen.sim_time < _MAX_SIM_S:
