@@ -13,7 +13,9 @@ Per method and per target failure rate α (0.05 … 0.40), pooled over the strea
 would have succeeded), ``over_step_rate`` (acted, failed), ``attempt_failure_rate`` (failed attempts / attempts),
 its split into ``attempt_failure_rate_novel`` (products κ̂ had no outcome of in the stream) and ``_seen``,
 ``wide_attempts_after_first_wide_failure`` (attempts of products perceived wider than the gripper's opening after a
-stream's first failed one, summed and the largest per stream), and the realised rate per stream. Methods:
+stream's first failed one, summed and the largest per stream), the realised rate per stream, and
+``max_excess_failures``: the largest F − α · A reached at any point of any stream, warm-up included (the strict
+promise keeps it ≤ 1 wherever confident attempts did not fail; gate.budget.has_credit). Methods:
 
 - ``budget:<κ̂>``: the failure-budget gate (scone_bt.gate.budget) over κ̂ (the tree's default: ``physical``);
 - ``fixed:<κ̂>``: the same κ̂ and exploration with a threshold fixed at τ₀ (1 − 3α) (no online calibration);
@@ -45,6 +47,7 @@ from scone_bt.files import write_via
 from scone_bt.reporting import emit_report
 
 if TYPE_CHECKING:
+    from scone_bt.gate.probe import ProbeOptions
     from scone_bt.gate.rules import GateRules
     from scone_bt.gate.types import Decision
 
@@ -57,6 +60,8 @@ _CONTEXT = CONTEXT_FIELDS
 """The context columns in replay order (decision_time_context's)."""
 _WIDTH = _CONTEXT.index("detected_width_m")
 """The column of the perceived width (what the too-wide rule reads)."""
+PROBE_COLUMNS = ("probe_held", "probe_load_n", "probe_load_first_n", "probe_grip_n", "probe_s")
+"""What the generator's probe felt (dataset columns), in the order replay_stream reads them."""
 
 
 @dataclass
@@ -76,11 +81,19 @@ class StreamResult:
     all_attempts: int = 0
     all_failures: int = 0
     all_asked: int = 0
+    max_excess: float = 0.0
+    probes: int = 0
+    aborted: int = 0
+    aborted_would_succeed: int = 0
+    probe_caught: int = 0
+    probe_s: float = 0.0
+    probes_felt: int = 0
     thresholds: list[float] = field(default_factory=list)
 
 
-def replay_rules(gate: str, alpha: float, opening_m: float) -> GateRules:
-    """The gate's rules for a replayed method (see `replay_stream`'s ``gate``).
+def replay_rules(gate: str, alpha: float, opening_m: float, probe: ProbeOptions | None = None) -> GateRules:
+    """The gate's rules for a replayed method (see `replay_stream`'s ``gate``); ``probe``: the budget gate's heft
+    test (None: none).
 
     The per-action failure limit is not among them: it counts failures within one episode, and a stream's
     executions are each from another.
@@ -92,7 +105,7 @@ def replay_rules(gate: str, alpha: float, opening_m: float) -> GateRules:
     budget = BudgetOptions(target_failure_rate=alpha)
     # one candidate of relevance 1 a decision: the relevance threshold never idles it
     if gate == "budget":
-        return GateRules(budget=budget, exploration=budget, opening_m=opening_m)
+        return GateRules(budget=budget, exploration=budget, opening_m=opening_m, probe=probe)
     if gate == "fixed":
         return GateRules(budget=BudgetOptions(target_failure_rate=alpha, step=0.0), exploration=budget)
     if gate == "conformal":
@@ -131,6 +144,8 @@ def replay_stream(
     fleet: tuple[np.ndarray, np.ndarray] | None = None,
     trace: list[Decision] | None = None,
     draw: Callable[[], float] | None = None,
+    probe: ProbeOptions | None = None,
+    readings: np.ndarray | None = None,
 ) -> StreamResult:
     """The online robot over one stream; see the module docstring.
 
@@ -149,13 +164,22 @@ def replay_stream(
         fleet: Rows and labels κ̂ learns before the stream (a fleet prior), or None (cold).
         trace: If given, each decision is appended to it (the same `gate_decision` the tree's gate makes).
         draw: The exploration draws, uniform in [0, 1) (default: a generator seeded with ``seed``).
+        probe: The budget gate's heft test (gate.probe; the rules' `probe_first`): it hefts actions in its band
+            first (None: no probe).
+        readings: (n, 5) what the recorded probe felt (PROBE_COLUMNS; NaN where the arm never held the product
+            up); None: the stream has no probe readings, so no probe is possible.
     """
     from scone_bt.confidence import make_estimator
     from scone_bt.confidence.grounded import is_grounded
     from scone_bt.gate.budget import BudgetCounts
     from scone_bt.gate.rules import GateInput, gate_decision
     from scone_bt.gate.types import DecisionKind
+    from scone_bt.motion.probe import ProbeReading, ProbeSettings, judge_probe
     from scone_bt.relevance.types import RankedAction
+
+    settings = probe.motion() if probe is not None else None
+    if readings is None:
+        probe = None
 
     options = {"gripper_opening_m": opening_m} if estimator == "physical" else {}
     est = make_estimator(estimator, seed=seed, **options)
@@ -163,7 +187,7 @@ def replay_stream(
     X = _features(vectors, context, grounded)
     if fleet is not None:
         est.fit(fleet[0] if grounded else fleet[0][:, : vectors.shape[1]], fleet[1])
-    rules = replay_rules(gate, alpha, opening_m)
+    rules = replay_rules(gate, alpha, opening_m, probe)
     draw = draw or np.random.default_rng(seed).random
     counts = BudgetCounts(learnt=est.n_observations)
     out = StreamResult()
@@ -196,6 +220,27 @@ def replay_stream(
         tau = result.threshold
         act = result.decision.kind is DecisionKind.ACT
         explored = result.decision.explored
+        aborted = False
+        if result.decision.probe:
+            assert readings is not None and isinstance(settings, ProbeSettings)
+            out.probes += t >= warmup
+            held, load, first, grip, seconds = readings[t]
+            if not np.isnan(
+                held
+            ):  # the arm held it up: the probe felt it (else it failed before, as recorded)
+                if t >= warmup:
+                    out.probe_s += seconds
+                    out.probes_felt += 1
+                reading = ProbeReading(bool(held), float(load), float(first), float(grip), float(seconds))
+                aborted = not judge_probe(reading, settings)[0]
+        if aborted:
+            # set back where it stood: no attempt, no failure; the person fetches it; κ̂ learns it did not carry
+            act = False
+            est.update(X[t], False)
+            learnt.add(products[t])
+            counts = BudgetCounts(
+                counts.attempts, counts.failures, counts.explored_failures, est.n_observations
+            )
         novel = products[t] not in learnt
         scored = t >= warmup
         out.all_decisions += 1
@@ -217,12 +262,18 @@ def replay_stream(
                 explored_failures=counts.explored_failures + (explored and not ok),
                 learnt=est.n_observations,
             )
+            out.max_excess = max(out.max_excess, counts.failures - alpha * counts.attempts)
         else:
             out.all_asked += 1
         if not scored:
             continue
         out.decisions += 1
         out.explored += explored
+        if aborted:
+            out.aborted += 1
+            out.aborted_would_succeed += ok
+            out.probe_caught += not ok
+            continue
         if act:
             out.attempts += 1
             out.failures += not ok
@@ -237,8 +288,11 @@ def replay_stream(
 
 def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
     tot = {
-        k: sum(getattr(r, k) for r in results) for k in StreamResult.__dataclass_fields__ if k != "thresholds"
+        k: sum(getattr(r, k) for r in results)
+        for k in StreamResult.__dataclass_fields__
+        if k not in ("thresholds", "max_excess", "probe_s")
     }
+    probe_s = sum(r.probe_s for r in results)
     n = max(tot["decisions"], 1)
     att = tot["attempts"]
     seen_att = att - tot["novel_attempts"]
@@ -251,7 +305,13 @@ def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
         "decisions": tot["decisions"],
         "attempts": att,
         "success_rate": round((att - tot["failures"]) / n, 4),
-        "help_rate": round((tot["asked_ok"] + tot["asked_fail"]) / n, 4),
+        # an aborted probe is an ask for the person: counted in the help rate (and apart, aborted_rate)
+        "help_rate": round((tot["asked_ok"] + tot["asked_fail"] + tot["aborted"]) / n, 4),
+        "aborted_rate": round(tot["aborted"] / n, 4),
+        "probes": tot["probes"],
+        "probe_s_mean": round(probe_s / tot["probes_felt"], 3) if tot["probes_felt"] else None,
+        "aborted_would_have_succeeded": tot["aborted_would_succeed"],
+        "aborted_would_have_failed": tot["probe_caught"],
         "over_ask_rate": round(tot["asked_ok"] / n, 4),
         "over_step_rate": round(tot["failures"] / n, 4),
         "attempt_failure_rate": ratio(tot["failures"], att),
@@ -264,6 +324,7 @@ def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
         "wide_attempts_after_first_wide_failure": tot["wide_after_failure"],
         "wide_attempts_after_first_wide_failure_max_per_stream": max(r.wide_after_failure for r in results),
         "attempt_failure_rate_per_stream": [ratio(r.failures, r.attempts) for r in results],
+        "max_excess_failures": round(max(r.max_excess for r in results), 4),
         "all_decisions": {
             "attempt_failure_rate": ratio(tot["all_failures"], tot["all_attempts"]),
             "help_rate": round(tot["all_asked"] / max(tot["all_decisions"], 1), 4),
@@ -278,6 +339,7 @@ class _Streams:
     context: list[np.ndarray]
     success: list[np.ndarray]
     products: list[tuple[str, ...]]
+    readings: list[np.ndarray | None] = field(default_factory=list)
 
 
 def _load(args: argparse.Namespace, oracle: bool) -> _Streams:
@@ -313,7 +375,15 @@ def _load(args: argparse.Namespace, oracle: bool) -> _Streams:
         context,
         [np.asarray(d.success) for d in datasets],
         [tuple(d.objects) for d in datasets],
+        [_readings(d) for d in datasets],
     )
+
+
+def _readings(d: Any) -> np.ndarray | None:
+    """(n, 5) probe readings in PROBE_COLUMNS order, or None for a dataset recorded without the probe."""
+    if any(c not in d.context for c in PROBE_COLUMNS):
+        return None
+    return np.column_stack([d.context[c] for c in PROBE_COLUMNS])
 
 
 def _glass(d: Any) -> np.ndarray:
@@ -321,7 +391,13 @@ def _glass(d: Any) -> np.ndarray:
 
 
 def _method(
-    streams: _Streams, estimator: str, gate: str, alpha: float, args: argparse.Namespace, fleet: bool = False
+    streams: _Streams,
+    estimator: str,
+    gate: str,
+    alpha: float,
+    args: argparse.Namespace,
+    fleet: bool = False,
+    probe: ProbeOptions | None = None,
 ) -> dict[str, Any]:
     results = []
     for j in range(len(streams.names)):
@@ -345,17 +421,20 @@ def _method(
                 args.warmup,
                 args.opening,
                 prior,
+                probe=probe,
+                readings=streams.readings[j] if streams.readings else None,
             )
         )
     return _rates(results)
 
 
-def _tree_defaults() -> tuple[str, float]:
+def _tree_defaults() -> tuple[str, float, ProbeOptions | None]:
+    """The tree's κ̂, target failure rate and probe options (None: the probe is off)."""
     from scone_bt.config.tree_parameters import TreeParameters
     from scone_bt.tree import load_tree_spec
 
     params = TreeParameters.model_validate(load_tree_spec("assistive_cooking").parameters)
-    return params.estimator, params.target_failure_rate
+    return params.estimator, params.target_failure_rate, params.probe.options()
 
 
 def _plot(report: dict[str, Any], path: Path) -> None:
@@ -545,7 +624,11 @@ def _decision_path(
 
 
 def _replay(
-    args: argparse.Namespace, estimators: list[str], default_estimator: str, default_target: float
+    args: argparse.Namespace,
+    estimators: list[str],
+    default_estimator: str,
+    default_target: float,
+    probe: ProbeOptions | None = None,
 ) -> dict[str, Any]:
     """The online replay of every method over the datasets (the report's replay part)."""
     streams = _load(args, oracle=False)
@@ -559,10 +642,20 @@ def _replay(
     methods["oracle"] = {f"{a:g}": _method(oracle, "physical", "budget", a, args) for a in TARGETS}
     default = methods[f"budget:{default_estimator}"] if default_estimator in estimators else None
     if default is None or f"{default_target:g}" not in default:
-        cold = _method(streams, default_estimator, "budget", default_target, args)
+        plain = _method(streams, default_estimator, "budget", default_target, args)
     else:
-        cold = default[f"{default_target:g}"]
-    warm = _method(streams, default_estimator, "budget", default_target, args, fleet=True)
+        plain = default[f"{default_target:g}"]
+    probing = probe is not None and any(r is not None for r in streams.readings)
+    if (
+        probing
+    ):  # the tree's gate hefts what it is unsure of (gate.probe): its own sweep beside the plain budget
+        methods[f"budget+probe:{default_estimator}"] = {
+            f"{a:g}": _method(streams, default_estimator, "budget", a, args, probe=probe) for a in TARGETS
+        }
+        cold = methods[f"budget+probe:{default_estimator}"][f"{default_target:g}"]
+    else:
+        cold = plain
+    warm = _method(streams, default_estimator, "budget", default_target, args, fleet=True, probe=probe)
     return {
         "datasets": streams.names,
         "targets": list(TARGETS),
@@ -574,6 +667,17 @@ def _replay(
             "attempt_failure_rate_seen": cold["attempt_failure_rate_seen"],
             "attempt_success_rate": cold["attempt_success_rate"],
             "help_rate": cold["help_rate"],
+            "max_excess_failures": cold["max_excess_failures"],
+            "probe": probing,
+            "aborted_rate": cold["aborted_rate"],
+            "probe_s_mean": cold["probe_s_mean"],
+            "probes": cold["probes"],
+            "aborted_would_have_succeeded": cold["aborted_would_have_succeeded"],
+            "aborted_would_have_failed": cold["aborted_would_have_failed"],
+            "without_probe": {
+                k: plain[k]
+                for k in ("attempt_failure_rate", "attempt_success_rate", "help_rate", "max_excess_failures")
+            },
             "fleet_warm": {
                 k: warm[k]
                 for k in (
@@ -581,6 +685,7 @@ def _replay(
                     "attempt_failure_rate_novel",
                     "attempt_success_rate",
                     "help_rate",
+                    "aborted_rate",
                 )
             },
         },
@@ -597,7 +702,7 @@ def _run(args: argparse.Namespace) -> int:
     if args.episodes < 0 or args.recipes < 1:
         raise SconeError("--episodes must be ≥ 0 and --recipes ≥ 1")
     started = time.perf_counter()
-    default_estimator, default_target = _tree_defaults()
+    default_estimator, default_target, probe = _tree_defaults()
     estimators = [e for e in args.estimators.split(",") if e] or [default_estimator]
     from scone_bt.cli.run import _check_estimator  # one check of registry names, before any work
 
@@ -615,7 +720,7 @@ def _run(args: argparse.Namespace) -> int:
         "gripper_opening_m": args.opening,
     }
     if not args.no_replay:
-        report.update(_replay(args, estimators, default_estimator, default_target))
+        report.update(_replay(args, estimators, default_estimator, default_target, probe))
     if args.episodes:
         report["episodes"] = _episodes(args)
     report["wall_s"] = round(time.perf_counter() - started, 1)
