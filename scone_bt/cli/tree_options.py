@@ -58,7 +58,7 @@ def option_fields() -> tuple[tuple[tuple[str, ...], FieldInfo], ...]:
 def add_tree_options(parser: argparse.ArgumentParser | argparse._ArgumentGroup) -> None:
     """Add one option per tree parameter (default None: the tree file's value)."""
     for path, field in option_fields():
-        kind = field.annotation
+        kind: Any = field.annotation
         default = "true" if field.default is True else "false" if field.default is False else field.default
         text = f"{field.description} (tree default: {default})"
         flag, dest = flag_of(path), dest_of(path)
@@ -69,7 +69,7 @@ def add_tree_options(parser: argparse.ArgumentParser | argparse._ArgumentGroup) 
         elif typing.get_origin(kind) is typing.Literal:
             parser.add_argument(flag, dest=dest, choices=typing.get_args(kind), default=None, help=text)
         else:
-            metavar = {float: "NUMBER", int: "N"}.get(kind, "NAME")  # type: ignore[call-overload]
+            metavar = {float: "NUMBER", int: "N"}.get(kind, "NAME")
             parser.add_argument(flag, dest=dest, type=kind, default=None, metavar=metavar, help=text)
 
 

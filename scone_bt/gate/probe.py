@@ -14,8 +14,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from scone_bt.errors import SconeError
+
+if TYPE_CHECKING:
+    from scone_bt.gate.budget import BudgetCounts, BudgetOptions
 
 __all__ = ["ProbeOptions", "in_band", "probe_credit"]
 
@@ -90,7 +94,7 @@ def in_band(confidence: float, threshold: float, options: ProbeOptions | None, c
     return threshold - options.below <= confidence < threshold + options.above
 
 
-def probe_credit(options: ProbeOptions | None, budget: object, counts: object) -> bool:
+def probe_credit(options: ProbeOptions | None, budget: BudgetOptions, counts: BudgetCounts) -> bool:
     """Whether a probe below τ has room for one more failure: gate.budget.has_credit with the probe's allowance
     (True without one)."""
     if options is None or options.credit is None:
@@ -99,4 +103,4 @@ def probe_credit(options: ProbeOptions | None, budget: object, counts: object) -
 
     from scone_bt.gate.budget import has_credit
 
-    return has_credit(replace(budget, excess_allowance=options.credit), counts)  # type: ignore[type-var]
+    return has_credit(replace(budget, excess_allowance=options.credit), counts)

@@ -216,7 +216,7 @@ def probe_first(decision: Decision, seen: GateInput, rules: GateRules) -> Decisi
         return decision
     if decision.kind not in (DecisionKind.ACT, DecisionKind.ASK):
         return decision
-    reason = seen.probe_reasons.get(decision.action)
+    reason = seen.probe_reasons.get(str(decision.action))
     if reason is not None:
         return overruled(decision, DecisionKind.ASK, f"{reason}: please bring it", "probe")
     options, _ = threshold_options(rules, seen.counts)

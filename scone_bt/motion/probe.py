@@ -230,7 +230,7 @@ class ProbeController(PickPlaceController):
         self.total_exec_s += self._up.duration + self.probe.hold_s + rest.duration - traj.duration
 
     # ------------------------------------------------------------------------------------- the hold
-    def __call__(self, arm: object) -> None:  # type: ignore[override]
+    def __call__(self, arm: object) -> None:
         if self.finished or self.phase is not MotionPhase.PROBE_HOLD:
             if self.phase is MotionPhase.PROBE and self._probe_start is None:
                 self._probe_start = self.arm.sim_time

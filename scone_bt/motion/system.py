@@ -284,7 +284,7 @@ class PickAndPlace:
                 *args, probe=self.probe, hand_z=lambda q: float(arm.fk(q)[2, 3]), **more
             )
         else:
-            self._controller = PickPlaceController(*args, **more)  # type: ignore[arg-type]
+            self._controller = PickPlaceController(*args, **more)
         cell.add_controller(self._controller)
 
     def _poll_plan(self, block: bool) -> object | None:
