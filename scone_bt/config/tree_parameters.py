@@ -20,8 +20,8 @@ class ProbeParameters(StrictModel):
     """The heft test (scone_bt/gate/probe.py, scone_bt/motion/probe.py): when the budget gate probes, and how."""
 
     enabled: bool = True
-    below: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)] = 0.3
-    above: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)] = 0.0
+    below: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)] = 1.0
+    above: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)] = 0.45
     lift_m: Annotated[float, Field(ge=0.005, le=0.05, allow_inf_nan=False)] = 0.015
     hold_s: Annotated[float, Field(ge=0.1, le=3, allow_inf_nan=False)] = 0.5
 

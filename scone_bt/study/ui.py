@@ -28,6 +28,7 @@ from scone_bt.events import (
     Event,
     EventSink,
     HelpRequested,
+    ProbeAborted,
     StepDone,
     TakeOver,
 )
@@ -519,6 +520,9 @@ class TabletServer:
                 if event.success
                 else f"The robot failed with the {event.object_name} ({event.stage})."
             )
+        elif isinstance(event, ProbeAborted):
+            s.set_robot(status="idle")
+            s.note(f"The robot hefted the {event.object_name} and set it back: {event.reason}.")
         elif isinstance(event, HelpRequested):
             s.note(
                 f"The robot asks for help: {event.reason}."
