@@ -370,6 +370,8 @@ class ConfidenceGate(StageBehaviour):
         reason = probe_reason(decision.action) if probe_reason is not None else None
         if reason is not None:
             return _overruled(decision, DecisionKind.ASK, f"{reason}: please bring it", "probe")
+        if self.history.failures_of(decision.action) > 0:
+            return decision  # as with exploration: an action that failed is not tried again on a probe's word
         if not in_band(decision.confidence, tau, self.probe):
             return decision
         why = f"unsure (confidence {decision.confidence:.2f}, threshold {tau:.2f}): hefting the {decision.object_name} first"

@@ -177,7 +177,12 @@ def replay_stream(
         if wide_ask:
             act = explored = False  # the tree's gate asks about what its gripper cannot hold (gate.budget)
         aborted = False
-        if gate == "budget" and not wide_ask and in_band(p, tau, probe, probe_credit(probe, budget, counts)):
+        if (
+            gate == "budget"
+            and not wide_ask
+            and products[t] not in failed  # as on the robot: an action that failed is not probed again
+            and in_band(p, tau, probe, probe_credit(probe, budget, counts))
+        ):
             assert readings is not None and settings is not None
             out.probes += t >= warmup
             act, explored = True, False  # a probe needs no exploration credit (gate.probe)
