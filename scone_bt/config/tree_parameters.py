@@ -41,7 +41,7 @@ class ProbeParameters(StrictModel):
             allow_inf_nan=False,
             description="probe actions whose κ̂ is down to this far below the budget's threshold τ",
         ),
-    ] = 0.3
+    ] = 1.0
     above: Annotated[
         float,
         Field(
@@ -50,7 +50,7 @@ class ProbeParameters(StrictModel):
             allow_inf_nan=False,
             description="probe actions whose κ̂ is up to this far above τ (0: only what would be asked)",
         ),
-    ] = 0.0
+    ] = 0.45
     lift_m: Annotated[
         float,
         Field(

@@ -40,12 +40,12 @@ class ProbeOptions:
             holds in the fingers and fails later) is paid for from a bounded excess.
     """
 
-    below: float = 0.3
-    above: float = 0.0
+    below: float = 1.0
+    above: float = 0.45
     lift_m: float = 0.015
     hold_s: float = 0.5
-    max_unsteady: float = 0.03
-    max_traction: float = 10.0
+    max_unsteady: float = 0.01
+    max_traction: float = 0.3
     credit: float | None = None
 
     def __post_init__(self) -> None:

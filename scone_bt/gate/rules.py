@@ -211,7 +211,8 @@ def name_object(decision: Decision, seen: GateInput, rules: GateRules) -> Decisi
 def probe_first(decision: Decision, seen: GateInput, rules: GateRules) -> Decision:
     """The heft test (gate.probe): ask about what a probe already set back in this episode, saying why; else
     ACT with a probe first when κ̂ is unsure (within the probe band around τ, whether κ̂'s decision was to act,
-    explore or ask; below τ only with the probe's credit, `probe_credit`). A decision a rule made is left alone."""
+    explore or ask; below τ only with the probe's credit, `probe_credit`), unless the action already failed. A
+    decision a rule made is left alone."""
     if rules.probe is None or decision.action not in seen.objects or decision.rule != "":
         return decision
     if decision.kind not in (DecisionKind.ACT, DecisionKind.ASK):
@@ -219,6 +220,8 @@ def probe_first(decision: Decision, seen: GateInput, rules: GateRules) -> Decisi
     reason = seen.probe_reasons.get(str(decision.action))
     if reason is not None:
         return overruled(decision, DecisionKind.ASK, f"{reason}: please bring it", "probe")
+    if seen.failures.get(str(decision.action), 0) > 0:
+        return decision  # as with exploration: an action that failed is not tried again on a probe's word
     options, _ = threshold_options(rules, seen.counts)
     tau = options.act_threshold
     credit = probe_credit(rules.probe, rules.budget, seen.counts) if rules.budget is not None else True

@@ -67,8 +67,8 @@ class ProbeSettings:
     lift_m: float = 0.015
     hold_s: float = 0.5
     up_s: float = 0.4
-    max_traction: float = 0.25
-    max_unsteady: float = 0.03
+    max_traction: float = 0.3
+    max_unsteady: float = 0.01
     set_back: bool = True
 
     def __post_init__(self) -> None:

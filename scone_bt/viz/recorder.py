@@ -869,6 +869,6 @@ def _log_level(line: str) -> str:
     head = line.lstrip().lower()
     if head.startswith(("error", "failed", "failure")):
         return rr.TextLogLevel.ERROR
-    if head.startswith(("warn", "ask", "help")):
+    if head.startswith(("warn", "ask", "help", "- set back")):
         return rr.TextLogLevel.WARN
     return rr.TextLogLevel.INFO

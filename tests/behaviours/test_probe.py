@@ -81,7 +81,7 @@ def _scene() -> py_trees.blackboard.Client:
 def test_an_unsure_action_is_probed_then_set_back_and_asked_for_saying_why() -> None:
     robot, events, kappa = FakeRobot(time=3.0), EventLog(), _Kappa(0.45)
     bb = _scene()
-    gate = _gate(robot, events, kappa, ProbeOptions(below=0.3))
+    gate = _gate(robot, events, kappa, ProbeOptions(below=0.3, above=0.0))
     gate.tick_once()
     decision = bb.get(Keys.DECISION)
     # κ̂ 0.45 is below τ = 0.55 but inside the band: it acts, hefting first, instead of asking
@@ -131,11 +131,11 @@ def test_an_unsure_action_is_probed_then_set_back_and_asked_for_saying_why() -> 
 def test_only_actions_inside_the_band_are_probed(confidence: float, probed: bool) -> None:
     robot, events = FakeRobot(time=3.0), EventLog()
     bb = _scene()
-    _gate(robot, events, _Kappa(confidence), ProbeOptions(below=0.25)).tick_once()
+    _gate(robot, events, _Kappa(confidence), ProbeOptions(below=0.25, above=0.0)).tick_once()
     decision = bb.get(Keys.DECISION)
     assert decision.probe is probed
     assert decision.kind is (DecisionKind.ACT if confidence > 0.3 else DecisionKind.ASK)
-    assert in_band(confidence, 0.55, ProbeOptions(below=0.25)) is probed
+    assert in_band(confidence, 0.55, ProbeOptions(below=0.25, above=0.0)) is probed
 
 
 def test_without_the_probe_the_unsure_action_is_asked_about() -> None:
