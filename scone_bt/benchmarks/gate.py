@@ -126,9 +126,9 @@ def replay_stream(
     from scone_bt.confidence.grounded import is_grounded
     from scone_bt.gate.budget import BudgetCounts, BudgetOptions, may_explore, threshold, too_wide
     from scone_bt.gate.probe import in_band, probe_credit
-    from scone_bt.motion.probe import ProbeReading, judge_probe
+    from scone_bt.motion.probe import ProbeReading, ProbeSettings, judge_probe
 
-    settings = probe.motion() if probe is not None else None
+    settings = ProbeSettings.of(probe) if probe is not None else None
     if readings is None:
         probe = None
 
@@ -396,7 +396,9 @@ def _tree_defaults() -> tuple[str, float, Any]:
     from scone_bt.tree import load_tree_spec
 
     params = TreeParameters.model_validate(load_tree_spec("assistive_cooking").parameters)
-    return params.estimator, params.target_failure_rate, params.probe.options()
+    from scone_bt.gate.probe import ProbeOptions
+
+    return params.estimator, params.target_failure_rate, ProbeOptions.of(params.probe)
 
 
 def _plot(report: dict[str, Any], path: Path) -> None:

@@ -25,14 +25,6 @@ class ProbeParameters(StrictModel):
     lift_m: Annotated[float, Field(ge=0.005, le=0.05, allow_inf_nan=False)] = 0.015
     hold_s: Annotated[float, Field(ge=0.1, le=3, allow_inf_nan=False)] = 0.5
 
-    def options(self) -> object | None:
-        """gate.probe.ProbeOptions, or None when the probe is off."""
-        if not self.enabled:
-            return None
-        from scone_bt.gate.probe import ProbeOptions
-
-        return ProbeOptions(below=self.below, above=self.above, lift_m=self.lift_m, hold_s=self.hold_s)
-
 
 class TreeParameters(StrictModel):
     """Validated tree parameters (see trees/assistive_cooking.yaml for what each means)."""
