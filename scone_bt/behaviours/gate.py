@@ -185,7 +185,7 @@ class ConfidenceGate(StageBehaviour):
             robot=context.robot if budget is not None else None,
             seeds=context.seeds,
             opening_m=context.gripper_opening_m if budget is not None else None,
-            probe=opts.probe.options() if budget is not None and opts.probe is not None else None,
+            probe=ProbeOptions.of(opts.probe) if budget is not None and opts.probe is not None else None,
         )
 
     def setup(self, **kwargs: object) -> None:
@@ -276,7 +276,9 @@ class ConfidenceGate(StageBehaviour):
                 self.seeds.next_seed(),  # type: ignore[union-attr]
             )
             if decision.probe and self.probe is not None:
-                request = replace(request, probe=self.probe.motion())
+                from scone_bt.motion.probe import ProbeSettings
+
+                request = replace(request, probe=ProbeSettings.of(self.probe))
             key = scene_key(request)
             known = self._infeasible.get(key)
             if known is not None:  # the same request in an unchanged scene: no plan exists, ask again at once

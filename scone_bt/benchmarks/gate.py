@@ -177,7 +177,7 @@ def replay_stream(
     from scone_bt.motion.probe import ProbeReading, ProbeSettings, judge_probe
     from scone_bt.relevance.types import RankedAction
 
-    settings = probe.motion() if probe is not None else None
+    settings = ProbeSettings.of(probe) if probe is not None else None
     if readings is None:
         probe = None
 
@@ -222,7 +222,7 @@ def replay_stream(
         explored = result.decision.explored
         aborted = False
         if result.decision.probe:
-            assert readings is not None and isinstance(settings, ProbeSettings)
+            assert readings is not None and settings is not None
             out.probes += t >= warmup
             held, load, first, grip, seconds = readings[t]
             if not np.isnan(
@@ -431,10 +431,11 @@ def _method(
 def _tree_defaults() -> tuple[str, float, ProbeOptions | None]:
     """The tree's κ̂, target failure rate and probe options (None: the probe is off)."""
     from scone_bt.config.tree_parameters import TreeParameters
+    from scone_bt.gate.probe import ProbeOptions
     from scone_bt.tree import load_tree_spec
 
     params = TreeParameters.model_validate(load_tree_spec("assistive_cooking").parameters)
-    return params.estimator, params.target_failure_rate, params.probe.options()
+    return params.estimator, params.target_failure_rate, ProbeOptions.of(params.probe)
 
 
 def _plot(report: dict[str, Any], path: Path) -> None:

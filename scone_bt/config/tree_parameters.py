@@ -7,14 +7,11 @@ at None are filled from here (`BehaviourOptions.resolve`).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Annotated, Literal
+from typing import Annotated, Literal
 
 from pydantic import Field
 
 from scone_bt.config.schema import StrictModel
-
-if TYPE_CHECKING:
-    from scone_bt.gate.probe import ProbeOptions
 
 __all__ = ["ProbeParameters", "TreeParameters", "PARAMETER_NAMES", "GateName"]
 
@@ -66,14 +63,6 @@ class ProbeParameters(StrictModel):
             description="how long the probe holds it up while the fingers feel its load, simulated seconds",
         ),
     ] = 0.5
-
-    def options(self) -> ProbeOptions | None:
-        """gate.probe.ProbeOptions, or None when the probe is off."""
-        if not self.enabled:
-            return None
-        from scone_bt.gate.probe import ProbeOptions
-
-        return ProbeOptions(below=self.below, above=self.above, lift_m=self.lift_m, hold_s=self.hold_s)
 
 
 class TreeParameters(StrictModel):

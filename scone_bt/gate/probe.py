@@ -69,16 +69,14 @@ class ProbeOptions:
             if not ok or (value is not None and not math.isfinite(float(value))):
                 raise SconeError(f"probe.{name} must be {allowed}, got {value}")
 
-    def motion(self) -> object:
-        """The heft test's settings for the motion stage (motion.probe.ProbeSettings)."""
-        from scone_bt.motion.probe import ProbeSettings
-
-        return ProbeSettings(
-            lift_m=self.lift_m,
-            hold_s=self.hold_s,
-            max_unsteady=self.max_unsteady,
-            max_traction=self.max_traction,
-        )
+    @classmethod
+    def of(cls, params: object) -> ProbeOptions | None:
+        """From a tree file's validated ``probe:`` section (config.tree_parameters.ProbeParameters, read by its
+        attributes); None when it is not enabled."""
+        if not getattr(params, "enabled", True):
+            return None
+        names = ("below", "above", "lift_m", "hold_s")
+        return cls(**{n: getattr(params, n) for n in names if hasattr(params, n)})
 
 
 def in_band(confidence: float, threshold: float, options: ProbeOptions | None, credit: bool = True) -> bool:

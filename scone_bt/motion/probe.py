@@ -71,6 +71,12 @@ class ProbeSettings:
     max_unsteady: float = 0.01
     set_back: bool = True
 
+    @classmethod
+    def of(cls, options: object) -> ProbeSettings:
+        """The motion's settings from the gate's probe options (gate.probe.ProbeOptions, read by attributes)."""
+        names = ("lift_m", "hold_s", "max_unsteady", "max_traction")
+        return cls(**{n: getattr(options, n) for n in names})
+
     def __post_init__(self) -> None:
         checks = (
             ("lift_m", 0.005 <= self.lift_m <= 0.05, "in [0.005, 0.05] m"),

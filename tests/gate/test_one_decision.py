@@ -24,7 +24,7 @@ from tests.behaviours.fakes import FakeHuman, FakeRobot, affordance, blackboard
 OPENING_M = 0.08
 ALPHA = 0.1
 SEED = 3
-PROBE = ProbeOptions(below=0.3, above=0.05)
+PROBE = ProbeOptions(below=0.5, above=0.2)
 
 
 def _stream(n: int = 60, seed: int = 5) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]:
@@ -102,9 +102,7 @@ def _aborted(readings, t: int) -> bool:
     if np.isnan(held):
         return False
     reading = ProbeReading(bool(held), float(load), float(first), float(grip), float(seconds))
-    settings = PROBE.motion()
-    assert isinstance(settings, ProbeSettings)
-    return not judge_probe(reading, settings)[0]
+    return not judge_probe(reading, ProbeSettings.of(PROBE))[0]
 
 
 def _behaviour(gate_name: str, stream, probe: ProbeOptions | None = None, readings=None) -> list[Decision]:
@@ -202,7 +200,8 @@ def test_the_tree_and_the_replay_probe_the_same_on_a_stream_with_probe_readings(
 
 def test_the_probe_step_asks_about_what_a_probe_set_back_in_this_episode() -> None:
     budget = BudgetOptions(target_failure_rate=0.2)
-    rules = GateRules(budget=budget, exploration=budget, opening_m=OPENING_M, probe=PROBE)
+    band = ProbeOptions(below=0.3, above=0.0)  # κ̂ in [0.1, 0.4) against τ₀ = 0.4
+    rules = GateRules(budget=budget, exploration=budget, opening_m=OPENING_M, probe=band)
     text = "Put jar on table"
     seen = GateInput(
         ranked=(RankedAction(text, 0.9),),
@@ -223,6 +222,8 @@ def test_the_probe_step_asks_about_what_a_probe_set_back_in_this_episode() -> No
     assert again.decision.reason == "the jar slips: please bring it"
     sure = gate_decision(rules, GateInput(**{**seen.__dict__, "confidences": (0.05,)})).decision
     assert (sure.kind, sure.probe) == (DecisionKind.ASK, False)  # below the band: asked as before
+    failed = gate_decision(rules, GateInput(**{**seen.__dict__, "failures": {text: 1}})).decision
+    assert (failed.kind, failed.probe) == (DecisionKind.ASK, False)  # an action that failed is not probed
 
 
 def test_steps_can_be_read_one_by_one() -> None:
