@@ -13,7 +13,9 @@ Per method and per target failure rate α (0.05 … 0.40), pooled over the strea
 would have succeeded), ``over_step_rate`` (acted, failed), ``attempt_failure_rate`` (failed attempts / attempts),
 its split into ``attempt_failure_rate_novel`` (products κ̂ had no outcome of in the stream) and ``_seen``,
 ``wide_attempts_after_first_wide_failure`` (attempts of products perceived wider than the gripper's opening after a
-stream's first failed one, summed and the largest per stream), and the realised rate per stream. Methods:
+stream's first failed one, summed and the largest per stream), the realised rate per stream, and
+``max_excess_failures``: the largest F − α · A reached at any point of any stream, warm-up included (the strict
+promise keeps it ≤ 1 wherever confident attempts did not fail; gate.budget.has_credit). Methods:
 
 - ``budget:<κ̂>``: the failure-budget gate (scone_bt.gate.budget) over κ̂ (the tree's default: ``physical``);
 - ``fixed:<κ̂>``: the same κ̂ and exploration with a threshold fixed at τ₀ (1 − 3α) (no online calibration);
@@ -54,6 +56,7 @@ from scone_bt.files import write_via
 from scone_bt.reporting import emit_report
 
 if TYPE_CHECKING:
+    from scone_bt.gate.probe import ProbeOptions
     from scone_bt.gate.rules import GateRules
     from scone_bt.gate.types import Decision
 
@@ -66,6 +69,8 @@ _CONTEXT = CONTEXT_FIELDS
 """The context columns in replay order (decision_time_context's)."""
 _WIDTH = _CONTEXT.index("detected_width_m")
 """The column of the perceived width (what the too-wide rule reads)."""
+PROBE_COLUMNS = ("probe_held", "probe_load_n", "probe_load_first_n", "probe_grip_n", "probe_s")
+"""What the generator's probe felt (dataset columns), in the order replay_stream reads them."""
 
 
 @dataclass
@@ -85,13 +90,28 @@ class StreamResult:
     all_attempts: int = 0
     all_failures: int = 0
     all_asked: int = 0
+    max_excess: float = 0.0
+    probes: int = 0
+    aborted: int = 0
+    aborted_would_succeed: int = 0
+    probe_caught: int = 0
+    probe_s: float = 0.0
+    probes_felt: int = 0
     thresholds: list[float] = field(default_factory=list)
     trace: list[int] = field(default_factory=list)
     """Every decision in order: 1 acted and succeeded, 0 acted and failed, -1 asked."""
 
 
-def replay_rules(gate: str, alpha: float, opening_m: float) -> GateRules:
-    """The gate's rules for a replayed method (see `replay_stream`'s ``gate``).
+def replay_rules(
+    gate: str,
+    alpha: float,
+    opening_m: float,
+    probe: ProbeOptions | None = None,
+    excess_allowance: float | None = None,
+) -> GateRules:
+    """The gate's rules for a replayed method (see `replay_stream`'s ``gate``); ``probe``: the budget gate's heft
+    test (None: none); ``excess_allowance``: exploration spends only credit (gate.budget.has_credit; None: the
+    budget's exploration rule alone).
 
     The per-action failure limit is not among them: it counts failures within one episode, and a stream's
     executions are each from another.
@@ -100,12 +120,15 @@ def replay_rules(gate: str, alpha: float, opening_m: float) -> GateRules:
     from scone_bt.gate.budget import BudgetOptions
     from scone_bt.gate.rules import GateRules
 
-    budget = BudgetOptions(target_failure_rate=alpha)
+    budget = BudgetOptions(target_failure_rate=alpha, excess_allowance=excess_allowance)
     # one candidate of relevance 1 a decision: the relevance threshold never idles it
     if gate == "budget":
-        return GateRules(budget=budget, exploration=budget, opening_m=opening_m)
+        return GateRules(budget=budget, exploration=budget, opening_m=opening_m, probe=probe)
     if gate == "fixed":
-        return GateRules(budget=BudgetOptions(target_failure_rate=alpha, step=0.0), exploration=budget)
+        return GateRules(
+            budget=BudgetOptions(target_failure_rate=alpha, step=0.0, excess_allowance=excess_allowance),
+            exploration=budget,
+        )
     if gate == "conformal":
         return GateRules(GateOptions(confidence_threshold=1.0 - alpha), exploration=budget)
     return GateRules(GateOptions(confidence_threshold=0.5))
@@ -147,6 +170,9 @@ def replay_stream(
     fleet: tuple[np.ndarray, np.ndarray] | None = None,
     trace: list[Decision] | None = None,
     draw: Callable[[], float] | None = None,
+    probe: ProbeOptions | None = None,
+    readings: np.ndarray | None = None,
+    excess_allowance: float | None = None,
 ) -> StreamResult:
     """The online robot over one stream; see the module docstring.
 
@@ -165,13 +191,24 @@ def replay_stream(
         fleet: Rows and labels κ̂ learns before the stream (a fleet prior), or None (cold).
         trace: If given, each decision is appended to it (the same `gate_decision` the tree's gate makes).
         draw: The exploration draws, uniform in [0, 1) (default: a generator seeded with ``seed``).
+        probe: The budget gate's heft test (gate.probe; the rules' `probe_first`): it hefts actions in its band
+            first (None: no probe).
+        readings: (n, 5) what the recorded probe felt (PROBE_COLUMNS; NaN where the arm never held the product
+            up); None: the stream has no probe readings, so no probe is possible.
+        excess_allowance: The strict promise: exploration only while one more failure keeps F ≤ α · A + this
+            (gate.budget.has_credit); None: without it (the tree's ``exploration_credit: false``).
     """
     from scone_bt.confidence import make_estimator
     from scone_bt.confidence.grounded import is_grounded
     from scone_bt.gate.budget import BudgetCounts
     from scone_bt.gate.rules import GateInput, gate_decision
     from scone_bt.gate.types import DecisionKind
+    from scone_bt.motion.probe import ProbeReading, ProbeSettings, judge_probe
     from scone_bt.relevance.types import RankedAction
+
+    settings = ProbeSettings.of(probe) if probe is not None else None
+    if readings is None:
+        probe = None
 
     options = {"gripper_opening_m": opening_m} if estimator == "physical" else {}
     est = make_estimator(estimator, seed=seed, **options)
@@ -179,7 +216,7 @@ def replay_stream(
     X = _features(vectors, context, grounded)
     if fleet is not None:
         est.fit(fleet[0] if grounded else fleet[0][:, : vectors.shape[1]], fleet[1])
-    rules = replay_rules(gate, alpha, opening_m)
+    rules = replay_rules(gate, alpha, opening_m, probe, excess_allowance)
     draw = draw or np.random.default_rng(seed).random
     counts = BudgetCounts(learnt=est.n_observations)
     out = StreamResult()
@@ -212,6 +249,27 @@ def replay_stream(
         tau = result.threshold
         act = result.decision.kind is DecisionKind.ACT
         explored = result.decision.explored
+        aborted = False
+        if result.decision.probe:
+            assert readings is not None and settings is not None
+            out.probes += t >= warmup
+            held, load, first, grip, seconds = readings[t]
+            if not np.isnan(
+                held
+            ):  # the arm held it up: the probe felt it (else it failed before, as recorded)
+                if t >= warmup:
+                    out.probe_s += seconds
+                    out.probes_felt += 1
+                reading = ProbeReading(bool(held), float(load), float(first), float(grip), float(seconds))
+                aborted = not judge_probe(reading, settings)[0]
+        if aborted:
+            # set back where it stood: no attempt, no failure; the person fetches it; κ̂ learns it did not carry
+            act = False
+            est.update(X[t], False)
+            learnt.add(products[t])
+            counts = BudgetCounts(
+                counts.attempts, counts.failures, counts.explored_failures, est.n_observations
+            )
         novel = products[t] not in learnt
         scored = t >= warmup
         out.all_decisions += 1
@@ -234,12 +292,18 @@ def replay_stream(
                 explored_failures=counts.explored_failures + (explored and not ok),
                 learnt=est.n_observations,
             )
+            out.max_excess = max(out.max_excess, counts.failures - alpha * counts.attempts)
         else:
             out.all_asked += 1
         if not scored:
             continue
         out.decisions += 1
         out.explored += explored
+        if aborted:
+            out.aborted += 1
+            out.aborted_would_succeed += ok
+            out.probe_caught += not ok
+            continue
         if act:
             out.attempts += 1
             out.failures += not ok
@@ -256,8 +320,9 @@ def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
     tot = {
         k: sum(getattr(r, k) for r in results)
         for k in StreamResult.__dataclass_fields__
-        if k not in ("thresholds", "trace")
+        if k not in ("thresholds", "trace", "max_excess", "probe_s")
     }
+    probe_s = sum(r.probe_s for r in results)
     n = max(tot["decisions"], 1)
     att = tot["attempts"]
     seen_att = att - tot["novel_attempts"]
@@ -270,7 +335,13 @@ def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
         "decisions": tot["decisions"],
         "attempts": att,
         "success_rate": round((att - tot["failures"]) / n, 4),
-        "help_rate": round((tot["asked_ok"] + tot["asked_fail"]) / n, 4),
+        # an aborted probe is an ask for the person: counted in the help rate (and apart, aborted_rate)
+        "help_rate": round((tot["asked_ok"] + tot["asked_fail"] + tot["aborted"]) / n, 4),
+        "aborted_rate": round(tot["aborted"] / n, 4),
+        "probes": tot["probes"],
+        "probe_s_mean": round(probe_s / tot["probes_felt"], 3) if tot["probes_felt"] else None,
+        "aborted_would_have_succeeded": tot["aborted_would_succeed"],
+        "aborted_would_have_failed": tot["probe_caught"],
         "over_ask_rate": round(tot["asked_ok"] / n, 4),
         "over_step_rate": round(tot["failures"] / n, 4),
         "attempt_failure_rate": ratio(tot["failures"], att),
@@ -283,6 +354,7 @@ def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
         "wide_attempts_after_first_wide_failure": tot["wide_after_failure"],
         "wide_attempts_after_first_wide_failure_max_per_stream": max(r.wide_after_failure for r in results),
         "attempt_failure_rate_per_stream": [ratio(r.failures, r.attempts) for r in results],
+        "max_excess_failures": round(max(r.max_excess for r in results), 4),
         "all_decisions": {
             "attempt_failure_rate": ratio(tot["all_failures"], tot["all_attempts"]),
             "help_rate": round(tot["all_asked"] / max(tot["all_decisions"], 1), 4),
@@ -297,6 +369,7 @@ class _Streams:
     context: list[np.ndarray]
     success: list[np.ndarray]
     products: list[tuple[str, ...]]
+    readings: list[np.ndarray | None] = field(default_factory=list)
 
 
 def _datasets_folder(args: argparse.Namespace) -> Path:
@@ -338,7 +411,15 @@ def _load(args: argparse.Namespace, oracle: bool, folder: Path | None = None) ->
         context,
         [np.asarray(d.success) for d in datasets],
         [tuple(d.objects) for d in datasets],
+        [_readings(d) for d in datasets],
     )
+
+
+def _readings(d: Any) -> np.ndarray | None:
+    """(n, 5) probe readings in PROBE_COLUMNS order, or None for a dataset recorded without the probe."""
+    if any(c not in d.context for c in PROBE_COLUMNS):
+        return None
+    return np.column_stack([d.context[c] for c in PROBE_COLUMNS])
 
 
 def _glass(d: Any) -> np.ndarray:
@@ -361,8 +442,9 @@ def _method(
     args: argparse.Namespace,
     fleet: bool = False,
     taught: _Streams | None = None,
+    probe: ProbeOptions | None = None,
 ) -> dict[str, Any]:
-    return _rates(_stream_results(streams, estimator, gate, alpha, args, fleet, taught))
+    return _rates(_stream_results(streams, estimator, gate, alpha, args, fleet, taught, probe))
 
 
 def _stream_results(
@@ -373,8 +455,10 @@ def _stream_results(
     args: argparse.Namespace,
     fleet: bool = False,
     taught: _Streams | None = None,
+    probe: ProbeOptions | None = None,
 ) -> list[StreamResult]:
-    """Every stream replayed; ``taught`` (--prior): κ̂ first learns the same-named stream of it."""
+    """Every stream replayed; ``taught`` (--prior): κ̂ first learns the same-named stream of it; ``probe``: the
+    budget gate's heft test (None: none)."""
     results = []
     for j in range(len(streams.names)):
         parts = []
@@ -397,17 +481,28 @@ def _stream_results(
                 args.warmup,
                 args.opening,
                 prior,
+                probe=probe,
+                readings=streams.readings[j] if streams.readings else None,
+                excess_allowance=getattr(args, "excess_allowance", None),
             )
         )
     return results
 
 
-def _tree_defaults() -> tuple[str, float]:
+def _tree_defaults(args: argparse.Namespace) -> tuple[str, float, ProbeOptions | None]:
+    """The tree's κ̂, target failure rate and probe options (None: the probe is off; ``--probe``/``--no-probe``
+    override the tree's ``probe.enabled``); sets ``args.excess_allowance`` from the tree's ``exploration_credit``
+    (or ``--exploration-credit``/``--no-exploration-credit``): 1 when on, None when off."""
     from scone_bt.config.tree_parameters import TreeParameters
+    from scone_bt.gate.probe import ProbeOptions
     from scone_bt.tree import load_tree_spec
 
     params = TreeParameters.model_validate(load_tree_spec("assistive_cooking").parameters)
-    return params.estimator, params.target_failure_rate
+    probing = params.probe.enabled if args.probe is None else args.probe
+    credit = params.exploration_credit if args.exploration_credit is None else args.exploration_credit
+    args.excess_allowance = 1.0 if credit else None
+    probe = ProbeOptions.of(params.probe.model_copy(update={"enabled": True})) if probing else None
+    return params.estimator, params.target_failure_rate, probe
 
 
 def _plot(report: dict[str, Any], path: Path) -> None:
@@ -597,7 +692,11 @@ def _decision_path(
 
 
 def _replay(
-    args: argparse.Namespace, estimators: list[str], default_estimator: str, default_target: float
+    args: argparse.Namespace,
+    estimators: list[str],
+    default_estimator: str,
+    default_target: float,
+    probe: ProbeOptions | None = None,
 ) -> dict[str, Any]:
     """The online replay of every method over the datasets (the report's replay part)."""
     from scone_bt.errors import SconeError
@@ -630,14 +729,27 @@ def _replay(
         }
     default = methods.get(f"budget:{default_estimator}")
     if default is None or f"{default_target:g}" not in default:
-        cold = _method(streams, default_estimator, "budget", default_target, args, taught=taught)
+        plain = _method(streams, default_estimator, "budget", default_target, args, taught=taught)
     else:
-        cold = default[f"{default_target:g}"]
+        plain = default[f"{default_target:g}"]
+    probing = probe is not None and any(r is not None for r in streams.readings)
+    if (
+        probing
+    ):  # the tree's gate hefts what it is unsure of (gate.probe): its own sweep beside the plain budget
+        methods[f"budget+probe:{default_estimator}"] = {
+            f"{a:g}": _method(streams, default_estimator, "budget", a, args, taught=taught, probe=probe)
+            for a in TARGETS
+        }
+        cold = methods[f"budget+probe:{default_estimator}"][f"{default_target:g}"]
+    else:
+        cold = plain
     # The fleet-warm variant relearns the other streams' 1,000 rows at every update: --no-sweep leaves it out.
     warm = (
         None
         if args.no_sweep
-        else _method(streams, default_estimator, "budget", default_target, args, fleet=True, taught=taught)
+        else _method(
+            streams, default_estimator, "budget", default_target, args, fleet=True, taught=taught, probe=probe
+        )
     )
     extra: dict[str, Any] = {}
     if taught is not None:
@@ -654,6 +766,18 @@ def _replay(
             "attempt_failure_rate_seen": cold["attempt_failure_rate_seen"],
             "attempt_success_rate": cold["attempt_success_rate"],
             "help_rate": cold["help_rate"],
+            "max_excess_failures": cold["max_excess_failures"],
+            "exploration_credit": getattr(args, "excess_allowance", None) is not None,
+            "probe": probing,
+            "aborted_rate": cold["aborted_rate"],
+            "probe_s_mean": cold["probe_s_mean"],
+            "probes": cold["probes"],
+            "aborted_would_have_succeeded": cold["aborted_would_have_succeeded"],
+            "aborted_would_have_failed": cold["aborted_would_have_failed"],
+            "without_probe": {
+                k: plain[k]
+                for k in ("attempt_failure_rate", "attempt_success_rate", "help_rate", "max_excess_failures")
+            },
             "fleet_warm": None
             if warm is None
             else {
@@ -663,6 +787,7 @@ def _replay(
                     "attempt_failure_rate_novel",
                     "attempt_success_rate",
                     "help_rate",
+                    "aborted_rate",
                 )
             },
         },
@@ -743,7 +868,7 @@ def _run(args: argparse.Namespace) -> int:
     if args.episodes < 0 or args.recipes < 1:
         raise SconeError("--episodes must be ≥ 0 and --recipes ≥ 1")
     started = time.perf_counter()
-    default_estimator, default_target = _tree_defaults()
+    default_estimator, default_target, probe = _tree_defaults(args)
     estimators = [e for e in args.estimators.split(",") if e] or [default_estimator]
     from scone_bt.cli.run import _check_estimator  # one check of registry names, before any work
 
@@ -761,7 +886,7 @@ def _run(args: argparse.Namespace) -> int:
         "gripper_opening_m": args.opening,
     }
     if not args.no_replay:
-        report.update(_replay(args, estimators, default_estimator, default_target))
+        report.update(_replay(args, estimators, default_estimator, default_target, probe))
     if args.episodes:
         report["episodes"] = _episodes(args)
     report["wall_s"] = round(time.perf_counter() - started, 1)
@@ -817,6 +942,20 @@ def register(sub: argparse._SubParsersAction) -> None:
         action="store_true",
         help="replay only the tree's default gate, cold (and --prior's cross-engine figures): no method sweep, "
         "no fleet-warm variant",
+    )
+    p.add_argument(
+        "--probe",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="replay the heft test too (datasets with probe readings, e.g. tools/data/sc_probe; default: the "
+        "tree's probe.enabled)",
+    )
+    p.add_argument(
+        "--exploration-credit",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="the strict promise: explore only while one more failure keeps F ≤ α·A + 1 (default: the tree's "
+        "exploration_credit)",
     )
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")

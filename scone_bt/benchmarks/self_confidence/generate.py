@@ -37,12 +37,14 @@ from scone_bt.benchmarks.self_confidence.profiles import Profile
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
 from scone_bt.errors import ConfigError
 from scone_bt.experience.types import ExecutionContext
+from scone_bt.motion.probe import ProbeSettings
 from scone_bt.perception import context as perception_context
 from scone_bt.perception.types import Detection, Frame
 
 __all__ = [
     "ENGINES",
     "INJECTED_FORCE_FACTOR",
+    "RECORDING_PROBE",
     "ExecutionTask",
     "choose_objects",
     "drawable_products",
@@ -50,6 +52,10 @@ __all__ = [
     "perceived_context",
     "run_execution",
 ]
+
+RECORDING_PROBE = ProbeSettings(set_back=False)
+"""Every execution hefts its product first and records what the fingers felt, then always carries on (the probe
+only senses): a replay decides afterwards whether a robot that probes would have set it back (benchmarks.gate)."""
 
 INJECTED_FORCE_FACTOR = 0.1
 """An injected grasp failure closes the gripper with this fraction of its force."""
@@ -298,6 +304,7 @@ def run_execution(
     target_name: str | None = None,
     pool: Sequence[ObjectSpec] | None = None,
     engine: str = "sim",
+    probe: ProbeSettings = RECORDING_PROBE,
 ) -> tuple[ExecutionRecord, float]:
     """Run execution `index` of `profile`; returns the record and its wall time (s).
 
@@ -309,6 +316,8 @@ def run_execution(
         target_name: Force this target instead of the seeded draw (for per-product sweeps).
         pool: Products to draw from (default: drawable_products of the kitchen's catalogue).
         engine: The backend the execution runs on (`ENGINES`: ``sim`` is PyBullet, ``mujoco``).
+        probe: The heft test's settings (default: sensing only, always carrying on; with ``set_back`` a probe
+            that sets the product back is recorded as a failure without a stage, its detail saying so).
     """
     t0 = time.perf_counter()
     seed = profile.execution_seed(index)
@@ -341,7 +350,10 @@ def run_execution(
     )
     ctx, unit, slot = perceived_context(target.name, perceived, seen_frames, kcfg)
 
+    reading: list[object] = []  # the heft test's reading, once the motion ran
+
     def record(success: bool, stage: str | None, detail: str) -> tuple[ExecutionRecord, float]:
+        felt = reading[0] if reading else None
         rec = ExecutionRecord(
             index=index,
             action=action_text(target.name),
@@ -363,6 +375,15 @@ def run_execution(
             height_m=round(target.height, 4),
             mass_kg=round(target.mass, 4),
             material=target.material,
+            detected_depth_m=ctx.detected_depth_m,
+            detected_fill=ctx.detected_fill,
+            depth_m=round(max(target.size[0], target.size[1]), 4),
+            shape=str(target.shape.value),
+            probe_held=None if felt is None else bool(felt.held),  # type: ignore[attr-defined]
+            probe_load_n=None if felt is None else felt.load_n,  # type: ignore[attr-defined]
+            probe_load_first_n=None if felt is None else felt.load_first_n,  # type: ignore[attr-defined]
+            probe_grip_n=None if felt is None else felt.grip_n,  # type: ignore[attr-defined]
+            probe_s=None if felt is None else felt.seconds,  # type: ignore[attr-defined]
         )
         return rec, time.perf_counter() - t0
 
@@ -375,6 +396,7 @@ def run_execution(
     obstacles = [(d, catalogue.get(n)) for n, d in by_name.items() if n != target.name]
     with _motion_system(kitchen, rcfg) as system:
         task = system.pick_and_place(by_name[target.name], target, obstacles, rng_seed=seed)
+        task.probe = probe
         task.start()
         settled = None
         while settled is None and kitchen.sim_time < _MAX_SIM_S:
@@ -382,6 +404,8 @@ def run_execution(
                 task.wait_planned()  # simulated time must not depend on the planning thread's speed
             kitchen.advance(_ADVANCE_S)
             settled = _settled(task)
+        if task.probe_reading is not None:
+            reading.append(task.probe_reading)
         if settled is None:
             task.cancel()
             return record(False, "timeout", f"not finished after {_MAX_SIM_S:.0f} simulated seconds")
