@@ -699,34 +699,9 @@ def _replay(
     probe: ProbeOptions | None = None,
 ) -> dict[str, Any]:
     """The online replay of every method over the datasets (the report's replay part)."""
-    from scone_bt.errors import SconeError
-
     streams = _load(args, oracle=False)
-    taught = taught_oracle = None
-    if args.prior is not None:
-        taught = _load(args, oracle=False, folder=Path(args.prior))
-        taught_oracle = None if args.no_sweep else _load(args, oracle=True, folder=Path(args.prior))
-        missing = [n for n in streams.names if n not in taught.names]
-        if missing:
-            raise SconeError(
-                f"--prior {args.prior}: no dataset {missing[0]!r} (it holds {', '.join(taught.names)}); "
-                "κ̂ learns the same-named dataset before each stream"
-            )
-    methods: dict[str, dict[str, Any]] = {}
-    for est in estimators if not args.no_sweep else ():
-        for gate in ("budget", "fixed"):
-            methods[f"{gate}:{est}"] = {
-                f"{a:g}": _method(streams, est, gate, a, args, taught=taught) for a in TARGETS
-            }
-    if not args.no_sweep:
-        methods["conformal"] = {
-            f"{a:g}": _method(streams, "conformal", "conformal", a, args, taught=taught) for a in TARGETS
-        }
-        methods["paper"] = {"0.5": _method(streams, "eps-knn", "paper", 0.5, args, taught=taught)}
-        oracle = _load(args, oracle=True)
-        methods["oracle"] = {
-            f"{a:g}": _method(oracle, "physical", "budget", a, args, taught=taught_oracle) for a in TARGETS
-        }
+    taught, taught_oracle = _taught(args, streams)
+    methods = {} if args.no_sweep else _sweep(args, streams, estimators, taught, taught_oracle)
     default = methods.get(f"budget:{default_estimator}")
     if default is None or f"{default_target:g}" not in default:
         plain = _method(streams, default_estimator, "budget", default_target, args, taught=taught)
@@ -768,16 +743,7 @@ def _replay(
             "help_rate": cold["help_rate"],
             "max_excess_failures": cold["max_excess_failures"],
             "exploration_credit": getattr(args, "excess_allowance", None) is not None,
-            "probe": probing,
-            "aborted_rate": cold["aborted_rate"],
-            "probe_s_mean": cold["probe_s_mean"],
-            "probes": cold["probes"],
-            "aborted_would_have_succeeded": cold["aborted_would_have_succeeded"],
-            "aborted_would_have_failed": cold["aborted_would_have_failed"],
-            "without_probe": {
-                k: plain[k]
-                for k in ("attempt_failure_rate", "attempt_success_rate", "help_rate", "max_excess_failures")
-            },
+            **_probe_keys(cold, plain, probing),
             "fleet_warm": None
             if warm is None
             else {
@@ -795,6 +761,64 @@ def _replay(
         **extra,
         "decision_path_ms": _decision_path(streams, default_estimator, args),
     }
+
+
+def _sweep(
+    args: argparse.Namespace,
+    streams: _Streams,
+    estimators: list[str],
+    taught: _Streams | None,
+    taught_oracle: _Streams | None,
+) -> dict[str, dict[str, Any]]:
+    """Every method at every target (the report's ``methods``)."""
+    methods: dict[str, dict[str, Any]] = {}
+    for est in estimators:
+        for gate in ("budget", "fixed"):
+            methods[f"{gate}:{est}"] = {
+                f"{a:g}": _method(streams, est, gate, a, args, taught=taught) for a in TARGETS
+            }
+    methods["conformal"] = {
+        f"{a:g}": _method(streams, "conformal", "conformal", a, args, taught=taught) for a in TARGETS
+    }
+    methods["paper"] = {"0.5": _method(streams, "eps-knn", "paper", 0.5, args, taught=taught)}
+    oracle = _load(args, oracle=True)
+    methods["oracle"] = {
+        f"{a:g}": _method(oracle, "physical", "budget", a, args, taught=taught_oracle) for a in TARGETS
+    }
+    return methods
+
+
+def _probe_keys(cold: dict[str, Any], plain: dict[str, Any], probing: bool) -> dict[str, Any]:
+    """The heft test's ``default.*`` keys: what it cost and caught, and the same gate without it."""
+    return {
+        "probe": probing,
+        "aborted_rate": cold["aborted_rate"],
+        "probe_s_mean": cold["probe_s_mean"],
+        "probes": cold["probes"],
+        "aborted_would_have_succeeded": cold["aborted_would_have_succeeded"],
+        "aborted_would_have_failed": cold["aborted_would_have_failed"],
+        "without_probe": {
+            k: plain[k]
+            for k in ("attempt_failure_rate", "attempt_success_rate", "help_rate", "max_excess_failures")
+        },
+    }
+
+
+def _taught(args: argparse.Namespace, streams: _Streams) -> tuple[_Streams | None, _Streams | None]:
+    """--prior's datasets (κ̂ learns the same-named one before each stream) and their oracle view, or None."""
+    from scone_bt.errors import SconeError
+
+    if args.prior is None:
+        return None, None
+    taught = _load(args, oracle=False, folder=Path(args.prior))
+    taught_oracle = None if args.no_sweep else _load(args, oracle=True, folder=Path(args.prior))
+    missing = [n for n in streams.names if n not in taught.names]
+    if missing:
+        raise SconeError(
+            f"--prior {args.prior}: no dataset {missing[0]!r} (it holds {', '.join(taught.names)}); "
+            "κ̂ learns the same-named dataset before each stream"
+        )
+    return taught, taught_oracle
 
 
 def _cross_engine(
