@@ -48,6 +48,16 @@ class ProbeParameters(StrictModel):
             description="probe actions whose κ̂ is up to this far above τ (0: only what would be asked)",
         ),
     ] = 0.45
+    full_band_at: Annotated[
+        float,
+        Field(
+            ge=0,
+            lt=1,
+            allow_inf_nan=False,
+            description="under this target_failure_rate the band below τ narrows as below × (α / this)⁴, so a "
+            "strict promise probes only what κ̂ is nearly sure of (0: never narrows)",
+        ),
+    ] = 0.15
     lift_m: Annotated[
         float,
         Field(

@@ -225,7 +225,8 @@ def probe_first(decision: Decision, seen: GateInput, rules: GateRules) -> Decisi
     options, _ = threshold_options(rules, seen.counts)
     tau = options.act_threshold
     credit = probe_credit(rules.probe, rules.budget, seen.counts) if rules.budget is not None else True
-    if not in_band(decision.confidence, tau, rules.probe, credit):
+    alpha = rules.budget.target_failure_rate if rules.budget is not None else None
+    if not in_band(decision.confidence, tau, rules.probe, credit, alpha):
         return decision
     why = (
         f"unsure (confidence {decision.confidence:.2f}, threshold {tau:.2f}): "
