@@ -501,6 +501,7 @@ def _tree_defaults(args: argparse.Namespace) -> tuple[str, float, ProbeOptions |
     probing = params.probe.enabled if args.probe is None else args.probe
     credit = params.exploration_credit if args.exploration_credit is None else args.exploration_credit
     args.excess_allowance = 1.0 if credit else None
+    args.probe_on = probing
     probe = ProbeOptions.of(params.probe.model_copy(update={"enabled": True})) if probing else None
     return params.estimator, params.target_failure_rate, probe
 
@@ -565,10 +566,24 @@ def check_plot_path(path: Path, inputs: dict[str, list[Path]], force: bool) -> N
 def _episode_counts(events: Sequence[Any]) -> dict[str, Any]:
     """What one episode showed the human: failed attempts, help requests, interventions, and infeasible plans
     of an action planned again (a PlanInfeasible, or a failure at planning, after the first for that action)."""
-    from scone_bt.events import ActOutcome, DecisionMade, HelpRequested, Intervention, PlanInfeasible
+    from scone_bt.events import (
+        ActOutcome,
+        DecisionMade,
+        HelpRequested,
+        Intervention,
+        PlanInfeasible,
+        ProbeAborted,
+    )
     from scone_bt.motion.types import FailureStage
 
-    out = {"failures": 0, "help": 0, "interventions": 0, "attempts": 0, "repeated_infeasible_plans": 0}
+    out = {
+        "failures": 0,
+        "help": 0,
+        "interventions": 0,
+        "attempts": 0,
+        "repeated_infeasible_plans": 0,
+        "aborted": 0,
+    }
     infeasible: set[str] = set()
     planning: list[float] = []
     for e in events:
@@ -585,6 +600,8 @@ def _episode_counts(events: Sequence[Any]) -> dict[str, Any]:
             out["help"] += 1
         elif isinstance(e, Intervention):
             out["interventions"] += 1
+        elif isinstance(e, ProbeAborted):
+            out["aborted"] += 1
         elif isinstance(e, DecisionMade) and e.planning_s is not None:
             planning.append(e.planning_s)
     out["planning_s"] = planning
@@ -602,14 +619,18 @@ def _episodes(args: argparse.Namespace) -> dict[str, Any]:
     slots = len(load_kitchen().scene.shelf_slots())
     recipes = pick_recipes(args.recipes, args.seed, slots - args.distractors)
     out: dict[str, Any] = {"episodes": args.episodes, "recipes": len(set(recipes[: args.episodes]))}
-    conditions = {
+    conditions: dict[str, dict[str, Any]] = {
         "self_confidence_on": {},
         "control": {"use_self_confidence": False, "gate": "paper"},
     }
+    if getattr(args, "probe_on", False):  # --probe: the heft test beside the tree's default
+        credit = getattr(args, "excess_allowance", None) is not None
+        conditions["self_confidence_on_probe"] = {"probe": {"enabled": True}, "exploration_credit": credit}
     for label, extra in conditions.items():
         totals: dict[str, float] = {}
         planning: list[float] = []
         completed = 0
+        sim_s = 0.0
         t0 = time.perf_counter()
         for i in range(args.episodes):
             events: list[Any] = []
@@ -632,6 +653,7 @@ def _episodes(args: argparse.Namespace) -> dict[str, Any]:
             for k, v in counts.items():
                 totals[k] = totals.get(k, 0) + v
             completed += bool(summary.completed)
+            sim_s += summary.sim_time
             if not args.quiet:
                 print(f"{label} episode {i + 1}/{args.episodes}: {counts}", file=sys.stderr)
         n = max(args.episodes, 1)
@@ -639,6 +661,8 @@ def _episodes(args: argparse.Namespace) -> dict[str, Any]:
             "failures_per_episode": round(totals.get("failures", 0) / n, 3),
             "help_per_episode": round(totals.get("help", 0) / n, 3),
             "interventions_per_episode": round(totals.get("interventions", 0) / n, 3),
+            "aborted_per_episode": round(totals.get("aborted", 0) / n, 3),
+            "sim_s_per_episode": round(sim_s / n, 2),
             "repeated_infeasible_plans": int(totals.get("repeated_infeasible_plans", 0)),
             "attempts": int(totals.get("attempts", 0)),
             "attempt_success_rate": round(

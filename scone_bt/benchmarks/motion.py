@@ -31,6 +31,10 @@ simplification; building its environment is ``vamp_env_ms``), ``ratio`` (ompl/va
 path re-checked with the mesh checker at OMPL's motion-validation step), and a summary. Without the flag the report
 is what it was.
 
+With ``--probe`` every query hefts its target before carrying it (scone_bt/motion/probe.py, the default settings):
+``probe_aborted`` counts the targets set back (neither a success nor a failure). The same seeded queries with and
+without it tell whether the probe ever turns a success into a failure.
+
     scone-bench motion --queries 20                     # development
     scone-bench motion --json runs/motion.json          # 200 queries x both arms (long on 2 cores)
     scone-bench motion --jobs 2 --json runs/motion.json # the same report, queries spread over 2 processes
@@ -211,10 +215,13 @@ def _query(
     table_objects: int,
     i: int,
     compare_vamp: bool = False,
+    probe: bool = False,
 ) -> dict[str, Any]:
     """Plan and execute query i of one arm in a fresh kitchen; one record of what happened (seeded by [seed, i]).
 
     With `compare_vamp`, the record also holds ``planners``: the OMPL queries of the plan solved by both planners.
+    With `probe`, every query hefts its target first (motion.probe, the default settings) and may set it back
+    (``aborted``: neither a success nor a failure).
     """
     import numpy as np
 
@@ -256,6 +263,10 @@ def _query(
             task = system.pick_and_place(
                 _detect(kitchen, target.name), target, shelf, rng_seed=i, table_obstacles=table
             )
+            if probe:
+                from scone_bt.motion.probe import ProbeSettings
+
+                task.probe = ProbeSettings()
             start = kitchen.sim_time
             task.start()
             while not task.done():
@@ -273,6 +284,7 @@ def _query(
         "fits_gripper": bool(fits_gripper),
         "fits_payload": bool(fits_payload),
         "success": bool(outcome.success),
+        "aborted": bool(getattr(outcome, "aborted", False)),
         "stage": outcome.stage.value if outcome.stage else None,
         "message": outcome.message,
         "sim_s": sim_s,
@@ -322,7 +334,7 @@ def _bench_arm(args: argparse.Namespace, kcfg: Any, arm_name: str) -> dict[str, 
         # Queries are independent and seeded by their index: the records (and the report) do not depend on how
         # many processes ran them.
         with cf.ProcessPoolExecutor(args.jobs, mp_context=mp.get_context("spawn")) as pool:
-            futures = [pool.submit(_query, *jobs, i, compare_vamp) for i in range(args.queries)]
+            futures = [pool.submit(_query, *jobs, i, compare_vamp, args.probe) for i in range(args.queries)]
             records = []
             for f in futures:
                 records.append(f.result())
@@ -330,7 +342,7 @@ def _bench_arm(args: argparse.Namespace, kcfg: Any, arm_name: str) -> dict[str, 
     else:
         records = []
         for i in range(args.queries):
-            records.append(_query(*jobs, i, compare_vamp))
+            records.append(_query(*jobs, i, compare_vamp, args.probe))
             _print_record(args, arm_name, records[-1])
     # The workers' CPU time is counted once they have exited (the pool is closed by now).
     children = os.times().children_user + os.times().children_system - children0
@@ -439,6 +451,8 @@ def _report(records: list[dict[str, Any]], cpu_total: float) -> dict[str, Any]:
             blocked = fits_gripper and rec["reason"] == "grasps_blocked"
             counts["blocked_graspable"] += blocked
             counts["blocked_by_scene_only"] += blocked and rec.get("scene_only", False)
+        counts["aborted"] += rec.get("aborted", False)
+        counts["aborted_graspable"] += rec.get("aborted", False) and fits_gripper and fits_payload
         if rec["success"]:
             counts["success"] += 1
             counts["success_graspable"] += fits_gripper and fits_payload
@@ -460,6 +474,8 @@ def _report(records: list[dict[str, Any]], cpu_total: float) -> dict[str, Any]:
             counts["success_graspable"], counts["fits_gripper_and_payload"]
         ),
         "physical_success_rate_all": _rate(counts["success"], counts["queries"]),
+        "probe_aborted": counts["aborted"],
+        "probe_aborted_graspable": counts["aborted_graspable"],
         "plan_success_rate_on_reachable": _rate(counts["planned"], counts["reachable"]),
         "pick_place_plan_ms_p50": _pct(plan_ms, 50),
         "pick_place_plan_ms_p95": _pct(plan_ms, 95),
@@ -506,6 +522,7 @@ def run(args: argparse.Namespace) -> int:
         "table_objects": args.table_objects,
         "catalogue_size": len(kcfg.catalogue),
         "seed": args.seed,
+        **({"probe": True} if args.probe else {}),
         "targets": {k: f"{op} {v}" for k, (op, v) in TARGETS.items()},
         "arms": {arm: _bench_arm(args, kcfg, arm) for arm in arms},
         "wall_s": None,
@@ -539,6 +556,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--seed", type=int, default=0)
     b.add_argument("--json", help="also write the JSON report to this file")
     b.add_argument("--verbose", action="store_true", help="one line per query")
+    b.add_argument(
+        "--probe",
+        action="store_true",
+        help="heft every target first (the heft test, default settings): a product that slips is set back "
+        "(probe_aborted), not carried",
+    )
     b.add_argument(
         "--jobs",
         type=int,
