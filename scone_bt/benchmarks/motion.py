@@ -456,6 +456,8 @@ def _report(records: list[dict[str, Any]], cpu_total: float) -> dict[str, Any]:
         if rec["success"]:
             counts["success"] += 1
             counts["success_graspable"] += fits_gripper and fits_payload
+        elif rec.get("aborted", False):  # set back where it stood (--probe): neither a success nor a failure
+            reasons["probe: set back"] += 1
         else:
             failed_objects[rec["target"]] += 1
             key = f"physical: {rec['stage'] or 'place'}" if rec["planned"] else f"planning: {rec['reason']}"
