@@ -35,6 +35,7 @@ __all__ = [
     "HelpRequested",
     "ClarificationAsked",
     "PlanInfeasible",
+    "ProbeAborted",
     "TakeOver",
     "HelpDeclined",
     "HelpGiven",
@@ -128,7 +129,9 @@ class DecisionMade(Event):
             arm moved), "missing" (the step needs an item the robot cannot see), "declined" (the human declined
             to fetch it: the robot tries itself, or waits), "too-wide" (measured wider than the gripper
             opens), "self-confidence-off" (the
-            control condition acted without consulting κ̂); "" when κ̂ and the threshold decided.
+            control condition acted without consulting κ̂), "probe" (the heft test set it back before: asked);
+            "" when κ̂ and the threshold decided.
+        probe: ACT with the heft test first (κ̂ within the probe band around the threshold; gate.probe).
         planning_s: Wall seconds the robot planned before committing (plan before commit), or None.
     """
 
@@ -147,6 +150,7 @@ class DecisionMade(Event):
     context: ExecutionContext | None = None
     rule: str = ""
     planning_s: float | None = None
+    probe: bool = False
 
     def to_json(self) -> dict[str, Any]:
         out = super().to_json()
@@ -186,6 +190,25 @@ class ActOutcome(_ActionEvent):
     stage: str | None
     duration_s: float = 0.0
     message: str = ""
+
+
+@dataclass(frozen=True)
+class ProbeAborted(_ActionEvent):
+    """The heft test set the product back where it stood (an *aborted* attempt): not an attempt of the failure
+    budget, not a failure; the person has to fetch it, so it is asked for next (counted in the help rate).
+
+    Attributes:
+        reason: The robot's words ("the jar slips in my fingers").
+        duration_s: Simulated seconds from the start of the motion to the hand back home.
+        probe_s: Simulated seconds the probe itself took (lift, hold, set-down, release, leaving).
+        load_n: The load the fingers felt, newtons.
+    """
+
+    kind: ClassVar[str] = "aborted"
+    reason: str
+    duration_s: float = 0.0
+    probe_s: float = 0.0
+    load_n: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -335,6 +358,7 @@ EVENT_TYPES: Mapping[str, type[Event]] = MappingProxyType(
             DecisionMade,
             ActStarted,
             ActOutcome,
+            ProbeAborted,
             PlanInfeasible,
             ActCancelled,
             HelpRequested,
@@ -414,6 +438,8 @@ class EpisodeStats:
         failures_by_action: Action text → failures.
         explored_failures: Failed exploratory attempts (ε-greedy or the budget's exploration).
         exploring: The last decision was an exploratory ACT (its outcome is counted as explored).
+        aborted: Attempts the heft test set back (`ProbeAborted`): neither successes nor failures.
+        probe_reasons: Action text → why its probe set it back (the last one).
     """
 
     decisions: int = 0
@@ -432,6 +458,8 @@ class EpisodeStats:
     failures_by_action: Mapping[str, int] = field(default_factory=dict)
     explored_failures: int = 0
     exploring: bool = False
+    aborted: int = 0
+    probe_reasons: Mapping[str, str] = field(default_factory=dict)
 
 
 def _bump(counts: Mapping[str, int], key: str) -> dict[str, int]:
@@ -470,6 +498,13 @@ def fold(stats: EpisodeStats, event: Event) -> EpisodeStats:
             failures=stats.failures + 1,
             failures_by_stage=_bump(stats.failures_by_stage, stage),
             failures_by_action=_bump(stats.failures_by_action, event.action),
+        )
+    if isinstance(event, ProbeAborted):
+        return replace(
+            stats,
+            aborted=stats.aborted + 1,
+            exploring=False,
+            probe_reasons={**stats.probe_reasons, event.action: event.reason},
         )
     name = _COUNTERS.get(type(event))
     return stats if name is None else replace(stats, **{name: getattr(stats, name) + 1})
@@ -510,3 +545,7 @@ class EventLog:
         """(labelled attempts, their failures, failed explorations) so far: what the failure budget reads."""
         s = self.stats
         return s.successes + s.failures, s.failures, s.explored_failures
+
+    def probe_reason(self, action: str) -> str | None:
+        """Why the heft test set this action's product back in this episode, or None if it never did."""
+        return self.stats.probe_reasons.get(action)

@@ -23,6 +23,7 @@ from scone_bt.events import (
     HelpRequested,
     Intervention,
     PlanInfeasible,
+    ProbeAborted,
     StepDone,
     TakeOver,
     TrustEstimated,
@@ -36,6 +37,8 @@ EPISODE = [
     ActStarted(0.5, "Put salt on table", "salt", 0.5),
     ActOutcome(9.0, "Put salt on table", "salt", False, "grasp", 8.5, "slipped"),
     PlanInfeasible(9.05, "Put salt on table", "salt", "grasps_blocked", "every grasp of salt collides"),
+    ActStarted(9.06, "Put salt on table", "salt", 0.5),
+    ProbeAborted(9.08, "Put salt on table", "salt", "the salt slips in my fingers", 7.5, 2.4, 1.3),
     DecisionMade(9.1, 1, "Add salt.", "Put salt on table", 0.6, 0.3, DecisionKind.ASK, "now", (), "salt"),
     HelpRequested(9.1, "Put salt on table", "salt"),
     HelpGiven(15.1, "salt", "fetched by the human"),
@@ -102,7 +105,7 @@ def test_a_take_over_in_an_old_log_reads_as_a_take_over() -> None:
 
 
 def test_bad_rows_are_one_line_errors() -> None:
-    with pytest.raises(SconeError, match="unknown event kind 'party'; valid: act, cancelled"):
+    with pytest.raises(SconeError, match="unknown event kind 'party'; valid: aborted, act, cancelled"):
         from_json("party", {})
     with pytest.raises(SconeError, match="event 'act' lacks 'object'"):
         from_json("act", {"sim_time": 1.0, "action": "x", "confidence": 0.5})
@@ -112,7 +115,7 @@ def test_summary_is_the_fold_of_the_events() -> None:
     stats = summarise(EPISODE)
     assert stats == EpisodeStats(
         decisions=3,
-        attempted=2,
+        attempted=3,
         successes=0,
         failures=1,
         help_requests=2,
@@ -125,8 +128,10 @@ def test_summary_is_the_fold_of_the_events() -> None:
         steps_done=1,
         failures_by_stage={"grasp": 1},
         failures_by_action={"Put salt on table": 1},
+        aborted=1,
+        probe_reasons={"Put salt on table": "the salt slips in my fingers"},
     )
-    assert stats.attempted == stats.successes + stats.failures + stats.cancelled
+    assert stats.attempted == stats.successes + stats.failures + stats.cancelled + stats.aborted
 
 
 def test_an_explored_attempt_counts_in_the_budget_and_apart_as_an_exploration() -> None:

@@ -26,6 +26,7 @@ from scone_bt.confidence.grounded import grounded_features, is_grounded
 from scone_bt.events import DecisionMade, EventSink
 from scone_bt.experience.types import ExecutionContext
 from scone_bt.gate.budget import BudgetCounts, BudgetOptions
+from scone_bt.gate.probe import ProbeOptions
 from scone_bt.gate.rules import (
     GateInput,
     GateRules,
@@ -123,6 +124,7 @@ class ConfidenceGate(StageBehaviour):
         robot: Robot | None = None,
         seeds: PlannerSeeds | None = None,
         opening_m: float | None = None,
+        probe: ProbeOptions | None = None,
     ) -> None:
         """``human`` is read only for the human's current step in the recipe-blind setting (no tracked step).
 
@@ -147,6 +149,7 @@ class ConfidenceGate(StageBehaviour):
         self._pending: _Pending | None = None
         self._infeasible: dict[tuple[object, ...], Infeasible] = {}
         self.opening_m = opening_m  # None: no too-wide rule (the paper's gate)
+        self.probe = probe  # None: no heft test (gate.probe)
 
     @classmethod
     def from_context(cls, name: str, context: EpisodeContext) -> ConfidenceGate:
@@ -155,7 +158,10 @@ class ConfidenceGate(StageBehaviour):
 
         opts = context.options
         budget = (
-            BudgetOptions(target_failure_rate=float(opts.target_failure_rate))
+            BudgetOptions(
+                target_failure_rate=float(opts.target_failure_rate),
+                excess_allowance=1.0 if opts.exploration_credit else None,
+            )
             if opts.gate == "budget" and opts.use_self_confidence
             else None
         )
@@ -182,6 +188,7 @@ class ConfidenceGate(StageBehaviour):
             robot=context.robot if budget is not None else None,
             seeds=context.seeds,
             opening_m=context.gripper_opening_m if budget is not None else None,
+            probe=ProbeOptions.of(opts.probe) if budget is not None and opts.probe is not None else None,
         )
 
     def setup(self, **kwargs: object) -> None:
@@ -198,6 +205,7 @@ class ConfidenceGate(StageBehaviour):
             exploration=self.budget,
             failure_limit=self.limit,
             opening_m=self.opening_m,
+            probe=self.probe,
         )
 
     def _counts(self) -> BudgetCounts:
@@ -235,8 +243,19 @@ class ConfidenceGate(StageBehaviour):
             declined=self.human.declined,
             draw=self._rng.random,
             draw_every_decision=True,  # one draw per decision while exploring: seeded episodes repeat
+            probe_reasons=self._probe_reasons(ranked) if self.probe is not None else {},
         )
         return seen, contexts
+
+    def _probe_reasons(self, ranked: list[RankedAction]) -> dict[str, str]:
+        """Why a heft test set each candidate's product back in this episode (only those it did)."""
+        reason_of = getattr(
+            self.history, "probe_reason", None
+        )  # an EventLog's; a history without probes: none
+        if reason_of is None:
+            return {}
+        reasons = {r.text: reason_of(r.text) for r in ranked}
+        return {text: why for text, why in reasons.items() if why is not None}
 
     def update(self) -> py_trees.common.Status:
         if self._pending is not None:  # planning before commitment: poll, never block
@@ -259,6 +278,10 @@ class ConfidenceGate(StageBehaviour):
                 self.read(Keys.TABLE_DETECTIONS, None),
                 self.seeds.next_seed(),
             )
+            if decision.probe and self.probe is not None:
+                from scone_bt.motion.probe import ProbeSettings
+
+                request = replace(request, probe=ProbeSettings.of(self.probe))
             key = scene_key(request)
             known = self._infeasible.get(key)
             if known is not None:  # the same request in an unchanged scene: no plan exists, ask again at once
@@ -370,6 +393,7 @@ class ConfidenceGate(StageBehaviour):
             context=context,
             rule=decision.rule,
             planning_s=None if planning_s is None else round(planning_s, 4),
+            probe=decision.probe,
         )
 
 

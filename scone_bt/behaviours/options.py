@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from scone_bt.config.tree_parameters import GateName
+    from scone_bt.config.tree_parameters import GateName, ProbeParameters
 
 __all__ = ["BehaviourOptions"]
 
@@ -34,6 +34,10 @@ class BehaviourOptions:
             person likely over-trusts, say the robot's confidence in words. The gate itself does not change.
         takeover_window_s: Simulated seconds the robot announces an attempt before it moves, when a person can take
             over (a human channel with ``announces_attempts``; the tablet).
+        exploration_credit: Explore only while one more failure keeps failures ≤ α × attempts + 1 (the strict
+            promise, gate.budget.has_credit); off: the budget's exploration rule alone.
+        probe: The heft test's settings (config.tree_parameters.ProbeParameters; the budget gate only). Only the
+            fields set on it (``model_fields_set``) override the tree file's ``probe:`` section (`resolve`).
         cache_dir: On-disk embedding cache, or None.
         experience_path: Experience store: an SQLite file, a postgresql:// URL (a fleet's shared store), or None
             for in-memory learning only.
@@ -45,7 +49,7 @@ class BehaviourOptions:
 
     The fields of the tree file's ``parameters:`` (embedder, estimator, the thresholds, recipe_aware,
     clarify_margin, max_failures_per_action, gate, target_failure_rate, trust_aware,
-    takeover_window_s) left at None come from the
+    takeover_window_s, exploration_credit, probe) left at None come from the
     tree file (`resolve`): one source. They are `TreeParameters`' fields, each optional, of the same types (a test holds
     them to it); `scone-run` sets them from the options `scone_bt.cli.tree_options` derives from that model.
     """
@@ -62,6 +66,8 @@ class BehaviourOptions:
     target_failure_rate: float | None = None
     trust_aware: bool | None = None
     takeover_window_s: float | None = None
+    exploration_credit: bool | None = None
+    probe: ProbeParameters | None = None
     cache_dir: Path | None = None
     experience_path: Path | str | None = None
     robot_id: str = ""
@@ -76,6 +82,10 @@ class BehaviourOptions:
 
         base = TreeParameters(**dict(parameters or {}))
         filled = {k: getattr(base, k) for k in PARAMETER_NAMES if getattr(self, k) is None}
+        probe = self.probe
+        if probe is not None:  # a partial section (a scenario's mapping, scone-run's --probe-*): key by key
+            given = probe if isinstance(probe, Mapping) else probe.model_dump(include=probe.model_fields_set)
+            filled["probe"] = base.probe.model_validate({**base.probe.model_dump(), **given})
         return replace(self, **filled) if filled else self
 
     @property

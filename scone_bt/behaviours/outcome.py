@@ -17,7 +17,7 @@ from scone_bt.behaviours.base import Keys, StageBehaviour
 from scone_bt.behaviours.context import EpisodeContext, OutcomeLabels
 from scone_bt.behaviours.ports import Clock, OutcomeRecorder, Provider, SelfConfidence
 from scone_bt.confidence.grounded import grounded_features, is_grounded
-from scone_bt.events import ActCancelled, ActOutcome, EventSink, PlanInfeasible
+from scone_bt.events import ActCancelled, ActOutcome, EventSink, PlanInfeasible, ProbeAborted
 from scone_bt.experience.types import Outcome
 from scone_bt.motion.types import FailureStage, MotionOutcome
 from scone_bt.robot.interface import Robot
@@ -100,6 +100,22 @@ class ObserveOutcome(_RecordsOutcomes):
         if motion.stage is FailureStage.CANCELLED:
             self.events(ActCancelled(now, action, name))
             self.write(Keys.OUTCOME, None)
+            return py_trees.common.Status.SUCCESS
+        if motion.aborted:  # the heft test set it back where it stood: κ̂ learns it could not carry it
+            outcome = self._record(target, False, FailureStage.PROBE.value, probe=motion.probe_reason)
+            reading = motion.probe
+            self.events(
+                ProbeAborted(
+                    now,
+                    action,
+                    name,
+                    motion.probe_reason,
+                    duration_s=float(motion.duration),
+                    probe_s=float(getattr(reading, "seconds", 0.0)),
+                    load_n=float(getattr(reading, "load_n", 0.0)),
+                )
+            )
+            self.write(Keys.OUTCOME, outcome)
             return py_trees.common.Status.SUCCESS
         # The robot's outcome sensor: is the object resting on the table now?
         success, stage = label_outcome(motion, self.robot.is_on_table(name))

@@ -183,7 +183,10 @@ class PickAndPlace(StageBehaviour):
         outcome = task.outcome()
         self.write(Keys.MOTION_OUTCOME, outcome)
         self.write(Keys.MOTION_COMPUTING, False)
-        self.feedback_message = "done" if outcome.success else f"failed at {outcome.stage.value}"
+        if outcome.aborted:
+            self.feedback_message = f"set back: {outcome.probe_reason}"
+        else:
+            self.feedback_message = "done" if outcome.success else f"failed at {outcome.stage.value}"
         return py_trees.common.Status.SUCCESS
 
     def terminate(self, new_status: py_trees.common.Status) -> None:

@@ -13,7 +13,9 @@ Per method and per target failure rate α (0.05 … 0.40), pooled over the strea
 would have succeeded), ``over_step_rate`` (acted, failed), ``attempt_failure_rate`` (failed attempts / attempts),
 its split into ``attempt_failure_rate_novel`` (products κ̂ had no outcome of in the stream) and ``_seen``,
 ``wide_attempts_after_first_wide_failure`` (attempts of products perceived wider than the gripper's opening after a
-stream's first failed one, summed and the largest per stream), and the realised rate per stream. Methods:
+stream's first failed one, summed and the largest per stream), the realised rate per stream, and
+``max_excess_failures``: the largest F − α · A reached at any point of any stream, warm-up included (the strict
+promise keeps it ≤ 1 wherever confident attempts did not fail; gate.budget.has_credit). Methods:
 
 - ``budget:<κ̂>``: the failure-budget gate (scone_bt.gate.budget) over κ̂ (the tree's default: ``physical``);
 - ``fixed:<κ̂>``: the same κ̂ and exploration with a threshold fixed at τ₀ (1 − 3α) (no online calibration);
@@ -55,8 +57,10 @@ from scone_bt.reporting import emit_report
 
 if TYPE_CHECKING:
     from scone_bt.gate.budget import BudgetCounts
+    from scone_bt.gate.probe import ProbeOptions
     from scone_bt.gate.rules import GateInput, GateRules
     from scone_bt.gate.types import Decision
+    from scone_bt.motion.probe import ProbeSettings
 
 __all__ = ["register", "StreamResult", "replay_stream", "replay_rules", "TARGETS"]
 
@@ -67,6 +71,8 @@ _CONTEXT = CONTEXT_FIELDS
 """The context columns in replay order (decision_time_context's)."""
 _WIDTH = _CONTEXT.index("detected_width_m")
 """The column of the perceived width (what the too-wide rule reads)."""
+PROBE_COLUMNS = ("probe_held", "probe_load_n", "probe_load_first_n", "probe_grip_n", "probe_s")
+"""What the generator's probe felt (dataset columns), in the order replay_stream reads them."""
 
 
 @dataclass
@@ -86,13 +92,28 @@ class StreamResult:
     all_attempts: int = 0
     all_failures: int = 0
     all_asked: int = 0
+    max_excess: float = 0.0
+    probes: int = 0
+    aborted: int = 0
+    aborted_would_succeed: int = 0
+    probe_caught: int = 0
+    probe_s: float = 0.0
+    probes_felt: int = 0
     thresholds: list[float] = field(default_factory=list)
     trace: list[int] = field(default_factory=list)
     """Every decision in order: 1 acted and succeeded, 0 acted and failed, -1 asked."""
 
 
-def replay_rules(gate: str, alpha: float, opening_m: float) -> GateRules:
-    """The gate's rules for a replayed method (see `replay_stream`'s ``gate``).
+def replay_rules(
+    gate: str,
+    alpha: float,
+    opening_m: float,
+    probe: ProbeOptions | None = None,
+    excess_allowance: float | None = None,
+) -> GateRules:
+    """The gate's rules for a replayed method (see `replay_stream`'s ``gate``); ``probe``: the budget gate's heft
+    test (None: none); ``excess_allowance``: exploration spends only credit (gate.budget.has_credit; None: the
+    budget's exploration rule alone).
 
     The per-action failure limit is not among them: it counts failures within one episode, and a stream's
     executions are each from another.
@@ -101,12 +122,15 @@ def replay_rules(gate: str, alpha: float, opening_m: float) -> GateRules:
     from scone_bt.gate.budget import BudgetOptions
     from scone_bt.gate.rules import GateRules
 
-    budget = BudgetOptions(target_failure_rate=alpha)
+    budget = BudgetOptions(target_failure_rate=alpha, excess_allowance=excess_allowance)
     # one candidate of relevance 1 a decision: the relevance threshold never idles it
     if gate == "budget":
-        return GateRules(budget=budget, exploration=budget, opening_m=opening_m)
+        return GateRules(budget=budget, exploration=budget, opening_m=opening_m, probe=probe)
     if gate == "fixed":
-        return GateRules(budget=BudgetOptions(target_failure_rate=alpha, step=0.0), exploration=budget)
+        return GateRules(
+            budget=BudgetOptions(target_failure_rate=alpha, step=0.0, excess_allowance=excess_allowance),
+            exploration=budget,
+        )
     if gate == "conformal":
         return GateRules(GateOptions(confidence_threshold=1.0 - alpha), exploration=budget)
     return GateRules(GateOptions(confidence_threshold=0.5))
@@ -147,6 +171,8 @@ class _Replay:
         explore_fn: The paper's ε-greedy κ̂'s own draw (``paper`` gate only), else None.
         widths: (n,) the perceived widths, m (NaN unknown).
         wide: (n,) whether each product was perceived wider than the gripper's opening.
+        probe: The heft test's motion settings, or None (no probe, or a stream without probe readings).
+        readings: (n, 5) what the recorded probe felt (PROBE_COLUMNS), or None.
     """
 
     estimator: Any
@@ -157,6 +183,8 @@ class _Replay:
     explore_fn: Callable[[np.ndarray], np.ndarray] | None
     widths: np.ndarray
     wide: np.ndarray
+    probe: ProbeSettings | None
+    readings: np.ndarray | None
 
 
 def _start_replay(
@@ -169,11 +197,18 @@ def _start_replay(
     opening_m: float,
     fleet: tuple[np.ndarray, np.ndarray] | None,
     draw: Callable[[], float] | None,
+    probe: ProbeOptions | None,
+    readings: np.ndarray | None,
+    excess_allowance: float | None,
 ) -> _Replay:
     """κ̂ (fitted on the fleet prior), its rows, the method's rules and the draws (`replay_stream`'s arguments)."""
     from scone_bt.confidence import make_estimator
     from scone_bt.confidence.grounded import is_grounded
+    from scone_bt.motion.probe import ProbeSettings
 
+    settings = ProbeSettings.of(probe) if probe is not None and readings is not None else None
+    if readings is None:  # no readings, no probe: a stream recorded without the heft test cannot replay one
+        probe = None
     options = {"gripper_opening_m": opening_m} if estimator == "physical" else {}
     est = make_estimator(estimator, seed=seed, **options)
     grounded = is_grounded(est)
@@ -184,12 +219,14 @@ def _start_replay(
     return _Replay(
         estimator=est,
         rows=X,
-        rules=replay_rules(gate, alpha, opening_m),
+        rules=replay_rules(gate, alpha, opening_m, probe, excess_allowance),
         draw=draw or np.random.default_rng(seed).random,
         belief=getattr(est, "belief", est.predict),
         explore_fn=getattr(est, "explores", None) if gate == "paper" else None,
         widths=widths,
         wide=np.nan_to_num(widths, nan=0.0) > opening_m,
+        probe=settings,
+        readings=readings if settings is not None else None,
     )
 
 
@@ -216,38 +253,87 @@ def _gate_input(
     )
 
 
-def _learn(
+def _probe_sets_back(replay: _Replay, out: StreamResult, t: int, scored: bool) -> bool:
+    """Whether the heft test of decision ``t`` sets the product back, from what the recorded probe felt."""
+    from scone_bt.motion.probe import ProbeReading, judge_probe
+
+    assert replay.readings is not None and replay.probe is not None  # a probe decision needs both
+    out.probes += scored
+    held, load, first, grip, seconds = replay.readings[t]
+    if np.isnan(held):  # the arm never held it up: it failed before the probe, as recorded
+        return False
+    if scored:
+        out.probe_s += seconds
+        out.probes_felt += 1
+    reading = ProbeReading(bool(held), float(load), float(first), float(grip), float(seconds))
+    return not judge_probe(reading, replay.probe)[0]
+
+
+def _set_back(replay: _Replay, t: int, product: str, counts: BudgetCounts, learnt: set[str]) -> BudgetCounts:
+    """An aborted probe: no attempt and no failure, the person fetches it, κ̂ learns it could not carry it."""
+    from scone_bt.gate.budget import BudgetCounts
+
+    est = replay.estimator
+    est.update(replay.rows[t], False)
+    learnt.add(product)
+    return BudgetCounts(counts.attempts, counts.failures, counts.explored_failures, est.n_observations)
+
+
+@dataclass
+class _Walk:
+    """The replay's running state: the budget's counts, the products κ̂ has an outcome of, failures per product,
+    and whether a product wider than the gripper has failed yet."""
+
+    counts: BudgetCounts
+    learnt: set[str] = field(default_factory=set)
+    failed: dict[str, int] = field(default_factory=dict)
+    wide_failed: bool = False
+
+
+def _attempted(
     replay: _Replay,
+    walk: _Walk,
+    out: StreamResult,
     t: int,
     product: str,
     ok: bool,
     explored: bool,
-    counts: BudgetCounts,
-    learnt: set[str],
-    failed: dict[str, int],
-) -> BudgetCounts:
-    """κ̂ learns attempt ``t``'s outcome (an attempt is the only labelled kind), ``learnt`` and ``failed`` note
-    the product; returns the budget's counts after it."""
+    scored: bool,
+    alpha: float,
+) -> None:
+    """Attempt ``t`` happened: tally it, κ̂ learns its outcome (an attempt is the only labelled kind), and the
+    budget's counts move on."""
     from scone_bt.gate.budget import BudgetCounts
 
-    est = replay.estimator
+    est, counts = replay.estimator, walk.counts
+    out.all_attempts += 1
+    out.all_failures += not ok
+    if replay.wide[t] and walk.wide_failed and scored:
+        out.wide_after_failure += 1
+    if replay.wide[t] and not ok:
+        walk.wide_failed = True
     est.update(replay.rows[t], ok)
-    learnt.add(product)
+    walk.learnt.add(product)
     if not ok:
-        failed[product] = failed.get(product, 0) + 1
-    return BudgetCounts(
+        walk.failed[product] = walk.failed.get(product, 0) + 1
+    walk.counts = BudgetCounts(
         attempts=counts.attempts + 1,
         failures=counts.failures + (not ok),
         explored_failures=counts.explored_failures + (explored and not ok),
         learnt=est.n_observations,
     )
+    out.max_excess = max(out.max_excess, walk.counts.failures - alpha * walk.counts.attempts)
 
 
-def _score(out: StreamResult, act: bool, ok: bool, explored: bool, novel: bool) -> None:
+def _score(out: StreamResult, act: bool, ok: bool, explored: bool, novel: bool, aborted: bool) -> None:
     """Tally one decision after the warm-up."""
     out.decisions += 1
     out.explored += explored
-    if act:
+    if aborted:
+        out.aborted += 1
+        out.aborted_would_succeed += ok
+        out.probe_caught += not ok
+    elif act:
         out.attempts += 1
         out.failures += not ok
         out.novel_attempts += novel
@@ -272,6 +358,9 @@ def replay_stream(
     fleet: tuple[np.ndarray, np.ndarray] | None = None,
     trace: list[Decision] | None = None,
     draw: Callable[[], float] | None = None,
+    probe: ProbeOptions | None = None,
+    readings: np.ndarray | None = None,
+    excess_allowance: float | None = None,
 ) -> StreamResult:
     """The online robot over one stream; see the module docstring.
 
@@ -290,42 +379,50 @@ def replay_stream(
         fleet: Rows and labels κ̂ learns before the stream (a fleet prior), or None (cold).
         trace: If given, each decision is appended to it (the same `gate_decision` the tree's gate makes).
         draw: The exploration draws, uniform in [0, 1) (default: a generator seeded with ``seed``).
+        probe: The budget gate's heft test (gate.probe, the rules' `probe_first`), or None.
+        readings: (n, 5) what the recorded probe felt (PROBE_COLUMNS; NaN: never held up), or None (no probe).
+        excess_allowance: Explore only while one more failure keeps F ≤ α · A + this (gate.budget.has_credit);
+            None: no such limit (the tree's ``exploration_credit: false``).
     """
     from scone_bt.gate.budget import BudgetCounts
     from scone_bt.gate.rules import gate_decision
     from scone_bt.gate.types import DecisionKind
 
-    replay = _start_replay(vectors, context, estimator, gate, alpha, seed, opening_m, fleet, draw)
-    counts = BudgetCounts(learnt=replay.estimator.n_observations)
+    replay = _start_replay(
+        vectors,
+        context,
+        estimator,
+        gate,
+        alpha,
+        seed,
+        opening_m,
+        fleet,
+        draw,
+        probe,
+        readings,
+        excess_allowance,
+    )
+    walk = _Walk(BudgetCounts(learnt=replay.estimator.n_observations))
     out = StreamResult()
-    learnt: set[str] = set()
-    failed: dict[str, int] = {}
-    wide_failed = False
-    for t in range(len(success)):
-        ok = bool(success[t])
-        product = products[t]
-        result = gate_decision(replay.rules, _gate_input(replay, t, product, counts, failed))
+    for t in range(len(success)):  # one decision a row, in stream order
+        ok, product, scored = bool(success[t]), products[t], t >= warmup
+        result = gate_decision(replay.rules, _gate_input(replay, t, product, walk.counts, walk.failed))
         if trace is not None:
             trace.append(result.decision)
         act = result.decision.kind is DecisionKind.ACT
-        explored = result.decision.explored
-        novel = product not in learnt
-        scored = t >= warmup
+        aborted = bool(result.decision.probe) and _probe_sets_back(replay, out, t, scored)
+        if aborted:
+            act = False
+            walk.counts = _set_back(replay, t, product, walk.counts, walk.learnt)
+        novel = product not in walk.learnt
         out.all_decisions += 1
         out.thresholds.append(result.threshold)
         out.trace.append(int(ok) if act else -1)
         if act:
-            out.all_attempts += 1
-            out.all_failures += not ok
-            if replay.wide[t] and wide_failed and scored:
-                out.wide_after_failure += 1
-            if replay.wide[t] and not ok:
-                wide_failed = True
-            counts = _learn(replay, t, product, ok, explored, counts, learnt, failed)
-        else:
-            out.all_asked += 1
+            _attempted(replay, walk, out, t, product, ok, result.decision.explored, scored, alpha)
+        out.all_asked += not act
         if scored:
-            _score(out, act, ok, explored, novel)
+            _score(out, act, ok, result.decision.explored, novel, aborted)
     return out
 
 
@@ -333,8 +430,9 @@ def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
     tot = {
         k: sum(getattr(r, k) for r in results)
         for k in StreamResult.__dataclass_fields__
-        if k not in ("thresholds", "trace")
+        if k not in ("thresholds", "trace", "max_excess", "probe_s")
     }
+    probe_s = sum(r.probe_s for r in results)
     n = max(tot["decisions"], 1)
     att = tot["attempts"]
     seen_att = att - tot["novel_attempts"]
@@ -347,7 +445,13 @@ def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
         "decisions": tot["decisions"],
         "attempts": att,
         "success_rate": round((att - tot["failures"]) / n, 4),
-        "help_rate": round((tot["asked_ok"] + tot["asked_fail"]) / n, 4),
+        # an aborted probe is an ask for the person: counted in the help rate (and apart, aborted_rate)
+        "help_rate": round((tot["asked_ok"] + tot["asked_fail"] + tot["aborted"]) / n, 4),
+        "aborted_rate": round(tot["aborted"] / n, 4),
+        "probes": tot["probes"],
+        "probe_s_mean": round(probe_s / tot["probes_felt"], 3) if tot["probes_felt"] else None,
+        "aborted_would_have_succeeded": tot["aborted_would_succeed"],
+        "aborted_would_have_failed": tot["probe_caught"],
         "over_ask_rate": round(tot["asked_ok"] / n, 4),
         "over_step_rate": round(tot["failures"] / n, 4),
         "attempt_failure_rate": ratio(tot["failures"], att),
@@ -360,6 +464,7 @@ def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
         "wide_attempts_after_first_wide_failure": tot["wide_after_failure"],
         "wide_attempts_after_first_wide_failure_max_per_stream": max(r.wide_after_failure for r in results),
         "attempt_failure_rate_per_stream": [ratio(r.failures, r.attempts) for r in results],
+        "max_excess_failures": round(max(r.max_excess for r in results), 4),
         "all_decisions": {
             "attempt_failure_rate": ratio(tot["all_failures"], tot["all_attempts"]),
             "help_rate": round(tot["all_asked"] / max(tot["all_decisions"], 1), 4),
@@ -374,6 +479,7 @@ class _Streams:
     context: list[np.ndarray]
     success: list[np.ndarray]
     products: list[tuple[str, ...]]
+    readings: list[np.ndarray | None] = field(default_factory=list)
 
 
 def _datasets_folder(args: argparse.Namespace) -> Path:
@@ -415,7 +521,15 @@ def _load(args: argparse.Namespace, oracle: bool, folder: Path | None = None) ->
         context,
         [np.asarray(d.success) for d in datasets],
         [tuple(d.objects) for d in datasets],
+        [_readings(d) for d in datasets],
     )
+
+
+def _readings(d: Any) -> np.ndarray | None:
+    """(n, 5) probe readings in PROBE_COLUMNS order, or None for a dataset recorded without the probe."""
+    if any(c not in d.context for c in PROBE_COLUMNS):
+        return None
+    return np.column_stack([d.context[c] for c in PROBE_COLUMNS])
 
 
 def _glass(d: Any) -> np.ndarray:
@@ -430,6 +544,19 @@ def _rows(streams: _Streams, which: Sequence[int]) -> tuple[np.ndarray, np.ndarr
     )
 
 
+def _method(
+    streams: _Streams,
+    estimator: str,
+    gate: str,
+    alpha: float,
+    args: argparse.Namespace,
+    fleet: bool = False,
+    taught: _Streams | None = None,
+    probe: ProbeOptions | None = None,
+) -> dict[str, Any]:
+    return _rates(_stream_results(streams, estimator, gate, alpha, args, fleet, taught, probe))
+
+
 def _stream_results(
     streams: _Streams,
     estimator: str,
@@ -438,8 +565,10 @@ def _stream_results(
     args: argparse.Namespace,
     fleet: bool = False,
     taught: _Streams | None = None,
+    probe: ProbeOptions | None = None,
 ) -> list[StreamResult]:
-    """Every stream replayed; ``taught`` (--prior): κ̂ first learns the same-named stream of it."""
+    """Every stream replayed; ``taught`` (--prior): κ̂ first learns the same-named stream of it; ``probe``: the
+    budget gate's heft test (None: none)."""
     results = []
     for j in range(len(streams.names)):
         parts = []
@@ -462,17 +591,29 @@ def _stream_results(
                 args.warmup,
                 args.opening,
                 prior,
+                probe=probe,
+                readings=streams.readings[j] if streams.readings else None,
+                excess_allowance=getattr(args, "excess_allowance", None),
             )
         )
     return results
 
 
-def _tree_defaults() -> tuple[str, float]:
+def _tree_defaults(args: argparse.Namespace) -> tuple[str, float, ProbeOptions | None]:
+    """The tree's κ̂, target failure rate and probe options (None: the probe is off; ``--probe``/``--no-probe``
+    override the tree's ``probe.enabled``); sets ``args.excess_allowance`` from the tree's ``exploration_credit``
+    (or ``--exploration-credit``/``--no-exploration-credit``): 1 when on, None when off."""
     from scone_bt.config.tree_parameters import TreeParameters
+    from scone_bt.gate.probe import ProbeOptions
     from scone_bt.tree import load_tree_spec
 
     params = TreeParameters.model_validate(load_tree_spec("assistive_cooking").parameters)
-    return params.estimator, params.target_failure_rate
+    probing = params.probe.enabled if args.probe is None else args.probe
+    credit = params.exploration_credit if args.exploration_credit is None else args.exploration_credit
+    args.excess_allowance = 1.0 if credit else None
+    args.probe_on = probing
+    probe = ProbeOptions.of(params.probe.model_copy(update={"enabled": True})) if probing else None
+    return params.estimator, params.target_failure_rate, probe
 
 
 def _plot(report: dict[str, Any], path: Path) -> None:
@@ -535,10 +676,24 @@ def check_plot_path(path: Path, inputs: dict[str, list[Path]], force: bool) -> N
 def _episode_counts(events: Sequence[Any]) -> dict[str, Any]:
     """What one episode showed the human: failed attempts, help requests, interventions, and infeasible plans
     of an action planned again (a PlanInfeasible, or a failure at planning, after the first for that action)."""
-    from scone_bt.events import ActOutcome, DecisionMade, HelpRequested, Intervention, PlanInfeasible
+    from scone_bt.events import (
+        ActOutcome,
+        DecisionMade,
+        HelpRequested,
+        Intervention,
+        PlanInfeasible,
+        ProbeAborted,
+    )
     from scone_bt.motion.types import FailureStage
 
-    out = {"failures": 0, "help": 0, "interventions": 0, "attempts": 0, "repeated_infeasible_plans": 0}
+    out = {
+        "failures": 0,
+        "help": 0,
+        "interventions": 0,
+        "attempts": 0,
+        "repeated_infeasible_plans": 0,
+        "aborted": 0,
+    }
     infeasible: set[str] = set()
     planning: list[float] = []
     for e in events:
@@ -555,6 +710,8 @@ def _episode_counts(events: Sequence[Any]) -> dict[str, Any]:
             out["help"] += 1
         elif isinstance(e, Intervention):
             out["interventions"] += 1
+        elif isinstance(e, ProbeAborted):
+            out["aborted"] += 1
         elif isinstance(e, DecisionMade) and e.planning_s is not None:
             planning.append(e.planning_s)
     out["planning_s"] = planning
@@ -572,14 +729,18 @@ def _episodes(args: argparse.Namespace) -> dict[str, Any]:
     slots = len(load_kitchen().scene.shelf_slots())
     recipes = pick_recipes(args.recipes, args.seed, slots - args.distractors)
     out: dict[str, Any] = {"episodes": args.episodes, "recipes": len(set(recipes[: args.episodes]))}
-    conditions = {
+    conditions: dict[str, dict[str, Any]] = {
         "self_confidence_on": {},
         "control": {"use_self_confidence": False, "gate": "paper"},
     }
+    if getattr(args, "probe_on", False):  # --probe: the heft test beside the tree's default
+        credit = getattr(args, "excess_allowance", None) is not None
+        conditions["self_confidence_on_probe"] = {"probe": {"enabled": True}, "exploration_credit": credit}
     for label, extra in conditions.items():
         totals: dict[str, float] = {}
         planning: list[float] = []
         completed = 0
+        sim_s = 0.0
         t0 = time.perf_counter()
         for i in range(args.episodes):
             events: list[Any] = []
@@ -602,6 +763,7 @@ def _episodes(args: argparse.Namespace) -> dict[str, Any]:
             for k, v in counts.items():
                 totals[k] = totals.get(k, 0) + v
             completed += bool(summary.completed)
+            sim_s += summary.sim_time
             if not args.quiet:
                 print(f"{label} episode {i + 1}/{args.episodes}: {counts}", file=sys.stderr)
         n = max(args.episodes, 1)
@@ -609,6 +771,8 @@ def _episodes(args: argparse.Namespace) -> dict[str, Any]:
             "failures_per_episode": round(totals.get("failures", 0) / n, 3),
             "help_per_episode": round(totals.get("help", 0) / n, 3),
             "interventions_per_episode": round(totals.get("interventions", 0) / n, 3),
+            "aborted_per_episode": round(totals.get("aborted", 0) / n, 3),
+            "sim_s_per_episode": round(sim_s / n, 2),
             "repeated_infeasible_plans": int(totals.get("repeated_infeasible_plans", 0)),
             "attempts": int(totals.get("attempts", 0)),
             "attempt_success_rate": round(
@@ -661,68 +825,39 @@ def _decision_path(
     return {"objects": 21, "estimator": estimator, **_percentiles_ms(samples), "target_p50_ms": 10.0}
 
 
-def _sweep(
+def _replay(
     args: argparse.Namespace,
     estimators: list[str],
-    streams: _Streams,
-    taught: _Streams | None,
-    taught_oracle: _Streams | None,
-) -> dict[str, dict[str, Any]]:
-    """Every method's rates per target failure rate (none with --no-sweep)."""
-    methods: dict[str, dict[str, Any]] = {}
-    if args.no_sweep:
-        return methods
-    for est in estimators:
-        for gate in ("budget", "fixed"):
-            methods[f"{gate}:{est}"] = {
-                f"{a:g}": _rates(_stream_results(streams, est, gate, a, args, taught=taught)) for a in TARGETS
-            }
-    methods["conformal"] = {
-        f"{a:g}": _rates(_stream_results(streams, "conformal", "conformal", a, args, taught=taught))
-        for a in TARGETS
-    }
-    methods["paper"] = {"0.5": _rates(_stream_results(streams, "eps-knn", "paper", 0.5, args, taught=taught))}
-    oracle = _load(args, oracle=True)
-    methods["oracle"] = {
-        f"{a:g}": _rates(_stream_results(oracle, "physical", "budget", a, args, taught=taught_oracle))
-        for a in TARGETS
-    }
-    return methods
-
-
-def _replay(
-    args: argparse.Namespace, estimators: list[str], default_estimator: str, default_target: float
+    default_estimator: str,
+    default_target: float,
+    probe: ProbeOptions | None = None,
 ) -> dict[str, Any]:
     """The online replay of every method over the datasets (the report's replay part)."""
-    from scone_bt.errors import SconeError
-
     streams = _load(args, oracle=False)
-    taught = taught_oracle = None
-    if args.prior is not None:
-        taught = _load(args, oracle=False, folder=Path(args.prior))
-        taught_oracle = None if args.no_sweep else _load(args, oracle=True, folder=Path(args.prior))
-        missing = [n for n in streams.names if n not in taught.names]
-        if missing:
-            raise SconeError(
-                f"--prior {args.prior}: no dataset {missing[0]!r} (it holds {', '.join(taught.names)}); "
-                "κ̂ learns the same-named dataset before each stream"
-            )
-    methods = _sweep(args, estimators, streams, taught, taught_oracle)
+    taught, taught_oracle = _taught(args, streams)
+    methods = {} if args.no_sweep else _sweep(args, streams, estimators, taught, taught_oracle)
     default = methods.get(f"budget:{default_estimator}")
     if default is None or f"{default_target:g}" not in default:
-        cold = _rates(
-            _stream_results(streams, default_estimator, "budget", default_target, args, taught=taught)
-        )
+        plain = _method(streams, default_estimator, "budget", default_target, args, taught=taught)
     else:
-        cold = default[f"{default_target:g}"]
+        plain = default[f"{default_target:g}"]
+    probing = probe is not None and any(r is not None for r in streams.readings)
+    if (
+        probing
+    ):  # the tree's gate hefts what it is unsure of (gate.probe): its own sweep beside the plain budget
+        methods[f"budget+probe:{default_estimator}"] = {
+            f"{a:g}": _method(streams, default_estimator, "budget", a, args, taught=taught, probe=probe)
+            for a in TARGETS
+        }
+        cold = methods[f"budget+probe:{default_estimator}"][f"{default_target:g}"]
+    else:
+        cold = plain
     # The fleet-warm variant relearns the other streams' 1,000 rows at every update: --no-sweep leaves it out.
     warm = (
         None
         if args.no_sweep
-        else _rates(
-            _stream_results(
-                streams, default_estimator, "budget", default_target, args, fleet=True, taught=taught
-            )
+        else _method(
+            streams, default_estimator, "budget", default_target, args, fleet=True, taught=taught, probe=probe
         )
     )
     extra: dict[str, Any] = {}
@@ -740,6 +875,9 @@ def _replay(
             "attempt_failure_rate_seen": cold["attempt_failure_rate_seen"],
             "attempt_success_rate": cold["attempt_success_rate"],
             "help_rate": cold["help_rate"],
+            "max_excess_failures": cold["max_excess_failures"],
+            "exploration_credit": getattr(args, "excess_allowance", None) is not None,
+            **_probe_keys(cold, plain, probing),
             "fleet_warm": None
             if warm is None
             else {
@@ -749,6 +887,7 @@ def _replay(
                     "attempt_failure_rate_novel",
                     "attempt_success_rate",
                     "help_rate",
+                    "aborted_rate",
                 )
             },
         },
@@ -756,6 +895,64 @@ def _replay(
         **extra,
         "decision_path_ms": _decision_path(streams, default_estimator, args),
     }
+
+
+def _sweep(
+    args: argparse.Namespace,
+    streams: _Streams,
+    estimators: list[str],
+    taught: _Streams | None,
+    taught_oracle: _Streams | None,
+) -> dict[str, dict[str, Any]]:
+    """Every method at every target (the report's ``methods``)."""
+    methods: dict[str, dict[str, Any]] = {}
+    for est in estimators:
+        for gate in ("budget", "fixed"):
+            methods[f"{gate}:{est}"] = {
+                f"{a:g}": _method(streams, est, gate, a, args, taught=taught) for a in TARGETS
+            }
+    methods["conformal"] = {
+        f"{a:g}": _method(streams, "conformal", "conformal", a, args, taught=taught) for a in TARGETS
+    }
+    methods["paper"] = {"0.5": _method(streams, "eps-knn", "paper", 0.5, args, taught=taught)}
+    oracle = _load(args, oracle=True)
+    methods["oracle"] = {
+        f"{a:g}": _method(oracle, "physical", "budget", a, args, taught=taught_oracle) for a in TARGETS
+    }
+    return methods
+
+
+def _probe_keys(cold: dict[str, Any], plain: dict[str, Any], probing: bool) -> dict[str, Any]:
+    """The heft test's ``default.*`` keys: what it cost and caught, and the same gate without it."""
+    return {
+        "probe": probing,
+        "aborted_rate": cold["aborted_rate"],
+        "probe_s_mean": cold["probe_s_mean"],
+        "probes": cold["probes"],
+        "aborted_would_have_succeeded": cold["aborted_would_have_succeeded"],
+        "aborted_would_have_failed": cold["aborted_would_have_failed"],
+        "without_probe": {
+            k: plain[k]
+            for k in ("attempt_failure_rate", "attempt_success_rate", "help_rate", "max_excess_failures")
+        },
+    }
+
+
+def _taught(args: argparse.Namespace, streams: _Streams) -> tuple[_Streams | None, _Streams | None]:
+    """--prior's datasets (κ̂ learns the same-named one before each stream) and their oracle view, or None."""
+    from scone_bt.errors import SconeError
+
+    if args.prior is None:
+        return None, None
+    taught = _load(args, oracle=False, folder=Path(args.prior))
+    taught_oracle = None if args.no_sweep else _load(args, oracle=True, folder=Path(args.prior))
+    missing = [n for n in streams.names if n not in taught.names]
+    if missing:
+        raise SconeError(
+            f"--prior {args.prior}: no dataset {missing[0]!r} (it holds {', '.join(taught.names)}); "
+            "κ̂ learns the same-named dataset before each stream"
+        )
+    return taught, taught_oracle
 
 
 def _cross_engine(
@@ -829,7 +1026,7 @@ def _run(args: argparse.Namespace) -> int:
     if args.episodes < 0 or args.recipes < 1:
         raise SconeError("--episodes must be ≥ 0 and --recipes ≥ 1")
     started = time.perf_counter()
-    default_estimator, default_target = _tree_defaults()
+    default_estimator, default_target, probe = _tree_defaults(args)
     estimators = [e for e in args.estimators.split(",") if e] or [default_estimator]
     from scone_bt.cli.run import _check_estimator  # one check of registry names, before any work
 
@@ -847,7 +1044,7 @@ def _run(args: argparse.Namespace) -> int:
         "gripper_opening_m": args.opening,
     }
     if not args.no_replay:
-        report.update(_replay(args, estimators, default_estimator, default_target))
+        report.update(_replay(args, estimators, default_estimator, default_target, probe))
     if args.episodes:
         report["episodes"] = _episodes(args)
     report["wall_s"] = round(time.perf_counter() - started, 1)
@@ -903,6 +1100,20 @@ def register(sub: argparse._SubParsersAction) -> None:
         action="store_true",
         help="replay only the tree's default gate, cold (and --prior's cross-engine figures): no method sweep, "
         "no fleet-warm variant",
+    )
+    p.add_argument(
+        "--probe",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="replay the heft test too (datasets with probe readings, e.g. tools/data/sc_probe; default: the "
+        "tree's probe.enabled)",
+    )
+    p.add_argument(
+        "--exploration-credit",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="the strict promise: explore only while one more failure keeps F ≤ α·A + 1 (default: the tree's "
+        "exploration_credit)",
     )
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")

@@ -31,6 +31,10 @@ simplification; building its environment is ``vamp_env_ms``), ``ratio`` (ompl/va
 path re-checked with the mesh checker at OMPL's motion-validation step), and a summary. Without the flag the report
 is what it was.
 
+With ``--probe`` every query hefts its target before carrying it (scone_bt/motion/probe.py, the default settings):
+``probe_aborted`` counts the targets set back (neither a success nor a failure). The same seeded queries with and
+without it tell whether the probe ever turns a success into a failure.
+
     scone-bench motion --queries 20                     # development
     scone-bench motion --json runs/motion.json          # 200 queries x both arms (long on 2 cores)
     scone-bench motion --jobs 2 --json runs/motion.json # the same report, queries spread over 2 processes
@@ -248,10 +252,13 @@ def _query(
     table_objects: int,
     i: int,
     compare_vamp: bool = False,
+    probe: bool = False,
 ) -> dict[str, Any]:
     """Plan and execute query i of one arm in a fresh kitchen; one record of what happened (seeded by [seed, i]).
 
     With `compare_vamp`, the record also holds ``planners``: the OMPL queries of the plan solved by both planners.
+    With `probe`, every query hefts its target first (motion.probe, the default settings) and may set it back
+    (``aborted``: neither a success nor a failure).
     """
     from scone_bt.quiet import quiet_backends
 
@@ -305,6 +312,10 @@ def _execute(w: dict[str, Any], draw: _Draw, clutter: int, i: int, compare_vamp:
             task = system.pick_and_place(
                 _detect(kitchen, target.name), target, shelf, rng_seed=i, table_obstacles=table
             )
+            if probe:
+                from scone_bt.motion.probe import ProbeSettings
+
+                task.probe = ProbeSettings()
             start = kitchen.sim_time
             task.start()
             while not task.done():
@@ -331,6 +342,7 @@ def _record(
         "fits_gripper": fits_gripper,
         "fits_payload": fits_payload,
         "success": bool(outcome.success),
+        "aborted": bool(getattr(outcome, "aborted", False)),
         "stage": outcome.stage.value if outcome.stage else None,
         "message": outcome.message,
         "sim_s": executed.sim_s,
@@ -380,7 +392,7 @@ def _bench_arm(args: argparse.Namespace, kcfg: Any, arm_name: str) -> dict[str, 
         # Queries are independent and seeded by their index: the records (and the report) do not depend on how
         # many processes ran them.
         with cf.ProcessPoolExecutor(args.jobs, mp_context=mp.get_context("spawn")) as pool:
-            futures = [pool.submit(_query, *jobs, i, compare_vamp) for i in range(args.queries)]
+            futures = [pool.submit(_query, *jobs, i, compare_vamp, args.probe) for i in range(args.queries)]
             records = []
             for f in futures:
                 records.append(f.result())
@@ -388,7 +400,7 @@ def _bench_arm(args: argparse.Namespace, kcfg: Any, arm_name: str) -> dict[str, 
     else:
         records = []
         for i in range(args.queries):
-            records.append(_query(*jobs, i, compare_vamp))
+            records.append(_query(*jobs, i, compare_vamp, args.probe))
             _print_record(args, arm_name, records[-1])
     # The workers' CPU time is counted once they have exited (the pool is closed by now).
     children = os.times().children_user + os.times().children_system - children0
@@ -462,6 +474,15 @@ def _print_record(args: argparse.Namespace, arm_name: str, rec: dict[str, Any]) 
         print(f"[{arm_name} {rec['i']}] {rec['target']}: {what}", flush=True)
 
 
+def _probe_counts(records: list[dict[str, Any]]) -> dict[str, int]:
+    """Targets the heft test set back (--probe), all and those that fit the gripper and the payload."""
+    aborted = [r for r in records if r.get("aborted", False)]
+    return {
+        "probe_aborted": len(aborted),
+        "probe_aborted_graspable": sum(r["fits_gripper"] and r["fits_payload"] for r in aborted),
+    }
+
+
 def _report(records: list[dict[str, Any]], cpu_total: float) -> dict[str, Any]:
     counts: Counter[str] = Counter()
     reasons: Counter[str] = Counter()
@@ -500,6 +521,8 @@ def _report(records: list[dict[str, Any]], cpu_total: float) -> dict[str, Any]:
         if rec["success"]:
             counts["success"] += 1
             counts["success_graspable"] += fits_gripper and fits_payload
+        elif rec.get("aborted", False):  # set back where it stood (--probe): neither a success nor a failure
+            reasons["probe: set back"] += 1
         else:
             failed_objects[rec["target"]] += 1
             key = f"physical: {rec['stage'] or 'place'}" if rec["planned"] else f"planning: {rec['reason']}"
@@ -518,6 +541,7 @@ def _report(records: list[dict[str, Any]], cpu_total: float) -> dict[str, Any]:
             counts["success_graspable"], counts["fits_gripper_and_payload"]
         ),
         "physical_success_rate_all": _rate(counts["success"], counts["queries"]),
+        **_probe_counts(records),
         "plan_success_rate_on_reachable": _rate(counts["planned"], counts["reachable"]),
         "pick_place_plan_ms_p50": _pct(plan_ms, 50),
         "pick_place_plan_ms_p95": _pct(plan_ms, 95),
@@ -564,6 +588,7 @@ def run(args: argparse.Namespace) -> int:
         "table_objects": args.table_objects,
         "catalogue_size": len(kcfg.catalogue),
         "seed": args.seed,
+        **({"probe": True} if args.probe else {}),
         "targets": {k: f"{op} {v}" for k, (op, v) in TARGETS.items()},
         "arms": {arm: _bench_arm(args, kcfg, arm) for arm in arms},
         "wall_s": None,
@@ -597,6 +622,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--seed", type=int, default=0)
     b.add_argument("--json", help="also write the JSON report to this file")
     b.add_argument("--verbose", action="store_true", help="one line per query")
+    b.add_argument(
+        "--probe",
+        action="store_true",
+        help="heft every target first (the heft test, default settings): a product that slips is set back "
+        "(probe_aborted), not carried",
+    )
     b.add_argument(
         "--jobs",
         type=int,

@@ -2,9 +2,10 @@
 
 Each field of `scone_bt.config.tree_parameters.TreeParameters` becomes ``--<field-name>`` (underscores as
 dashes) with its description as help text and its default shown as the tree default; a ``Literal`` is a choice, a
-bool a ``--x/--no-x`` pair. An option left out is None, and the tree file's value applies
-(`BehaviourOptions.resolve`). A setting added to the model is an option of every command that calls
-`add_tree_options`, with nothing to map by hand.
+bool a ``--x/--no-x`` pair. A nested section (``probe:``, a model of its own) gives one option per field of it,
+``--probe-below`` for ``probe.below``. An option left out is None, and the tree file's value applies
+(`BehaviourOptions.resolve`; for a nested section, key by key). A setting added to the model is an option of every
+command that calls `add_tree_options`, with nothing to map by hand.
 """
 
 from __future__ import annotations
@@ -12,43 +13,80 @@ from __future__ import annotations
 import argparse
 import typing
 from collections.abc import Callable
-from typing import Any, cast
+from typing import TYPE_CHECKING, Any, cast
 
 from scone_bt.errors import SconeError
 
-__all__ = ["add_tree_options", "tree_overrides", "flag_of"]
+if TYPE_CHECKING:
+    from pydantic.fields import FieldInfo
+
+__all__ = ["add_tree_options", "tree_overrides", "flag_of", "dest_of", "option_fields"]
 
 
-def flag_of(name: str) -> str:
-    """The command-line option of a tree parameter: ``--target-failure-rate`` for ``target_failure_rate``."""
-    return "--" + name.replace("_", "-")
+def flag_of(name: str | tuple[str, ...]) -> str:
+    """The command-line option of a tree parameter: ``--target-failure-rate`` for ``target_failure_rate``,
+    ``--probe-lift-m`` for ``("probe", "lift_m")`` (a field of a nested section)."""
+    path = (name,) if isinstance(name, str) else name
+    return "--" + "-".join(path).replace("_", "-")
+
+
+def dest_of(path: tuple[str, ...]) -> str:
+    """The option's attribute on the parsed arguments: ``probe_lift_m`` for ``("probe", "lift_m")``."""
+    return "_".join(path)
+
+
+def _is_section(kind: object) -> bool:
+    from pydantic import BaseModel
+
+    return isinstance(kind, type) and issubclass(kind, BaseModel)
+
+
+def option_fields() -> tuple[tuple[tuple[str, ...], FieldInfo], ...]:
+    """Every tree parameter that is an option, by its path in the tree file: a nested section's fields, each
+    (``("probe", "below")``), in place of the section."""
+    from scone_bt.config.tree_parameters import TreeParameters
+
+    out: list[tuple[tuple[str, ...], FieldInfo]] = []
+    for name, field in TreeParameters.model_fields.items():
+        if _is_section(field.annotation):
+            section: Any = field.annotation
+            out.extend(((name, sub), f) for sub, f in section.model_fields.items())
+        else:
+            out.append(((name,), field))
+    return tuple(out)
 
 
 def add_tree_options(parser: argparse.ArgumentParser | argparse._ArgumentGroup) -> None:
     """Add one option per tree parameter (default None: the tree file's value)."""
-    from scone_bt.config.tree_parameters import TreeParameters
-
-    for name, field in TreeParameters.model_fields.items():
-        kind = field.annotation
+    for path, field in option_fields():
+        kind: Any = field.annotation
         default = "true" if field.default is True else "false" if field.default is False else field.default
         text = f"{field.description} (tree default: {default})"
+        flag, dest = flag_of(path), dest_of(path)
         if kind is bool:
-            parser.add_argument(flag_of(name), action=argparse.BooleanOptionalAction, default=None, help=text)
+            parser.add_argument(
+                flag, dest=dest, action=argparse.BooleanOptionalAction, default=None, help=text
+            )
         elif typing.get_origin(kind) is typing.Literal:
-            parser.add_argument(flag_of(name), choices=typing.get_args(kind), default=None, help=text)
+            parser.add_argument(flag, dest=dest, choices=typing.get_args(kind), default=None, help=text)
         else:
             convert = cast(Callable[[str], Any], kind)  # float, int or str: each parses its own text
             metavar = "NUMBER" if kind is float else "N" if kind is int else "NAME"
-            parser.add_argument(flag_of(name), type=convert, default=None, metavar=metavar, help=text)
+            parser.add_argument(flag, dest=dest, type=convert, default=None, metavar=metavar, help=text)
 
 
-def _bounds(name: str) -> str | None:
+def _field(path: tuple[str, ...]) -> FieldInfo | None:
+    return dict(option_fields()).get(path)
+
+
+def _bounds(path: tuple[str, ...]) -> str | None:
     """A numeric parameter's range as the user reads it ("[0, 1]", "(0, 1)"), or None."""
-    from scone_bt.config.tree_parameters import TreeParameters
-
+    field = _field(path)
+    if field is None:
+        return None
     lo = hi = None
     left, right = "[", "]"
-    for item in TreeParameters.model_fields[name].metadata:
+    for item in field.metadata:
         for attr, side in (("ge", "["), ("gt", "(")):
             if getattr(item, attr, None) is not None:
                 lo, left = getattr(item, attr), side
@@ -62,7 +100,7 @@ def _bounds(name: str) -> str | None:
 
 def _words(error: typing.Mapping[str, Any]) -> str | None:
     """A bad option in the words of the range it must be in (None: pydantic's own words)."""
-    bounds = _bounds(str(error["loc"][0])) if error.get("loc") else None
+    bounds = _bounds(tuple(str(k) for k in error["loc"])) if error.get("loc") else None
     return f"must be a number in {bounds}" if bounds is not None else None
 
 
@@ -71,14 +109,25 @@ def tree_overrides(args: argparse.Namespace) -> dict[str, Any]:
     from pydantic import ValidationError
 
     from scone_bt.config.schema import format_validation_error
-    from scone_bt.config.tree_parameters import PARAMETER_NAMES, TreeParameters
+    from scone_bt.config.tree_parameters import TreeParameters
 
-    given = {name: getattr(args, name) for name in PARAMETER_NAMES if getattr(args, name, None) is not None}
+    given: dict[str, Any] = {}
+    values: dict[tuple[str, ...], Any] = {}
+    for path, _ in option_fields():
+        value = getattr(args, dest_of(path), None)
+        if value is None:
+            continue
+        values[path] = value
+        if len(path) == 1:
+            given[path[0]] = value
+        else:  # a nested section's field: only the keys given (the rest stay the tree file's)
+            given.setdefault(path[0], {})[path[1]] = value
     try:
         TreeParameters.model_validate(given)
     except ValidationError as exc:
-        name = str(exc.errors(include_url=False)[0]["loc"][0])
+        loc = tuple(str(k) for k in exc.errors(include_url=False)[0]["loc"])
+        path = loc if loc in values else loc[:1]
         raise SconeError(
-            format_validation_error(exc, f"{flag_of(name)} {given[name]}", words=_words)
+            format_validation_error(exc, f"{flag_of(path)} {values.get(path)}", words=_words)
         ) from None
     return given

@@ -7,7 +7,9 @@ arms through a fleet store:
 - the perceived width over the gripper's opening, and how far it is past 85 % of the opening (a hinge: a product
   near or over the opening slips or cannot be grasped at all; docs/results/gate.md shows the step in the data);
 - the perceived height (m), whether the target's marker was detected at all, the lowest and the top tier, the
-  clearance to the nearest neighbour (capped at 15 cm: beyond that the fingers are free) and the neighbour count.
+  clearance to the nearest neighbour (capped at 15 cm: beyond that the fingers are free) and the neighbour count;
+- the perceived depth (the lid's longer extent, m) and whether its lid is round (a cylinder: its fill below
+  _ROUND_BELOW; unknown counts as neither).
 
 The action's embedding enters as its first 16 principal components, computed without labels over every action
 κ̂ has been asked about (what the name tells of mass, fragility and packaging). A logistic regression (L2, C=1;
@@ -37,12 +39,22 @@ _PC_WEIGHT = 0.5  # the principal components' scale beside the context features 
 _MEMORY = 2.0  # weight of the model's prediction against an action's own record, in attempts
 _HINGE_AT = 0.85  # share of the opening from which the hinge grows
 _CLEARANCE_CAP_M = 0.15
+_ROUND_BELOW = 0.88
+"""A lid filling less than this of its bounding rectangle is round (π/4 ≈ 0.79 for a disc, ~1 for a box lid)."""
 
 
 def physical_features(context: np.ndarray, opening_m: float) -> np.ndarray:
-    """(n, 8) hardware-relative features of (n, 6) context rows in CONTEXT_FIELDS order (NaN: unknown)."""
+    """(n, 10) hardware-relative features of context rows in CONTEXT_FIELDS order (NaN: unknown)."""
     C = np.atleast_2d(np.asarray(context, dtype=np.float64))
-    tier, clearance, neighbours, detected, width, height = (C[:, i] for i in range(_N_CONTEXT))
+
+    def col(name: str) -> np.ndarray:
+        return C[:, CONTEXT_FIELDS.index(name)]
+
+    tier, clearance, neighbours, detected = (
+        col(n) for n in ("shelf_tier", "clearance_m", "neighbours", "detected")
+    )
+    width, height = col("detected_width_m"), col("detected_height_m")
+    depth, fill = col("detected_depth_m"), col("detected_fill")
     ratio = np.nan_to_num(width / opening_m, nan=0.0)
     return np.column_stack(
         [
@@ -54,6 +66,8 @@ def physical_features(context: np.ndarray, opening_m: float) -> np.ndarray:
             (tier == 2).astype(float),
             10.0 * np.minimum(np.nan_to_num(clearance, nan=_CLEARANCE_CAP_M), _CLEARANCE_CAP_M),
             np.nan_to_num(neighbours, nan=0.0) / 3.0,
+            5.0 * np.nan_to_num(depth, nan=0.0),
+            (np.nan_to_num(fill, nan=1.0) < _ROUND_BELOW).astype(float),
         ]
     )
 

@@ -13,11 +13,66 @@ from pydantic import Field
 
 from scone_bt.config.schema import StrictModel
 
-__all__ = ["TreeParameters", "PARAMETER_NAMES", "GateName"]
+__all__ = ["ProbeParameters", "TreeParameters", "PARAMETER_NAMES", "GateName"]
 
 
 GateName = Literal["budget", "paper"]
 """The gate rules a tree can run: the failure budget, or the paper's fixed threshold (scone_bt.gate.budget.GATES)."""
+
+
+class ProbeParameters(StrictModel):
+    """The heft test (scone_bt/gate/probe.py, scone_bt/motion/probe.py): when the budget gate probes, and how.
+
+    A nested section of the tree file (``probe:``); `scone-run` has one option per field, ``--probe-<name>``
+    (`scone_bt.cli.tree_options`), and a field given there overrides only that key of the tree file's section.
+    """
+
+    enabled: Annotated[
+        bool, Field(description="heft what κ̂ is unsure of before carrying it (the budget gate only)")
+    ] = False
+    below: Annotated[
+        float,
+        Field(
+            ge=0,
+            le=1,
+            allow_inf_nan=False,
+            description="probe actions whose κ̂ is down to this far below the budget's threshold τ",
+        ),
+    ] = 1.0
+    above: Annotated[
+        float,
+        Field(
+            ge=0,
+            le=1,
+            allow_inf_nan=False,
+            description="probe actions whose κ̂ is up to this far above τ (0: only what would be asked)",
+        ),
+    ] = 0.45
+    full_band_at: Annotated[
+        float,
+        Field(
+            ge=0,
+            lt=1,
+            allow_inf_nan=False,
+            description="under this target_failure_rate the band below τ narrows as below × (α / this)⁴, so a "
+            "strict promise probes only what κ̂ is nearly sure of (0: never narrows)",
+        ),
+    ] = 0.15
+    lift_m: Annotated[
+        float,
+        Field(
+            ge=0.005, le=0.05, allow_inf_nan=False, description="how far the probe lifts the product, metres"
+        ),
+    ] = 0.015
+    hold_s: Annotated[
+        float,
+        Field(
+            ge=0.1,
+            le=3,
+            allow_inf_nan=False,
+            description="how long the probe holds it up while the fingers feel its load, simulated seconds",
+        ),
+    ] = 0.5
 
 
 class TreeParameters(StrictModel):
@@ -110,6 +165,17 @@ class TreeParameters(StrictModel):
             "tablet can take over (simulated humans get no window)",
         ),
     ] = 2.0
+    exploration_credit: Annotated[
+        bool,
+        Field(
+            description="the strict promise: explore (attempt below the threshold) only while one more failure "
+            "keeps failures ≤ target_failure_rate × attempts + 1; off: explore while still learning"
+        ),
+    ] = False
+    probe: Annotated[
+        ProbeParameters,
+        Field(description="the heft test: when the budget gate lifts a product a little to feel it first"),
+    ] = ProbeParameters()
 
 
 PARAMETER_NAMES: tuple[str, ...] = tuple(TreeParameters.model_fields)

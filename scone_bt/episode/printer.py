@@ -7,7 +7,15 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from scone_bt.affordances.types import object_of_action
-from scone_bt.events import ActCancelled, ActOutcome, ClarificationAsked, DecisionMade, Event, HelpRequested
+from scone_bt.events import (
+    ActCancelled,
+    ActOutcome,
+    ClarificationAsked,
+    DecisionMade,
+    Event,
+    HelpRequested,
+    ProbeAborted,
+)
 from scone_bt.gate.types import DecisionKind
 from scone_bt.motion.types import PLACED
 
@@ -159,6 +167,8 @@ class LinePrinter:
                 )
             else:
                 self.printer(f"    x failure at {event.stage}: {event.message}")
+        elif isinstance(event, ProbeAborted):
+            self.printer(f"    - set back after the probe: {event.reason} ({event.probe_s:.1f} s hefting it)")
         elif isinstance(event, ActCancelled):
             self.printer(f"    ~ the human took over: {event.action}")
         elif isinstance(event, HelpRequested) and event.reason:  # the gate's asks print as decisions

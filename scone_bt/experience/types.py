@@ -29,6 +29,9 @@ class ExecutionContext:
         detected: Whether perception detected the target's marker.
         detected_width_m: Width of the target as perceived, metres (None if not measured).
         detected_height_m: Height of the target as perceived, metres (None if not measured).
+        detected_depth_m: Longer horizontal extent of the target's lid as perceived, metres (None likewise).
+        detected_fill: The lid's area over its bounding rectangle as perceived: about π/4 (0.79) for a cylinder,
+            1 for a box (None likewise).
     """
 
     shelf_tier: int | None = None
@@ -37,9 +40,11 @@ class ExecutionContext:
     detected: bool | None = None
     detected_width_m: float | None = None
     detected_height_m: float | None = None
+    detected_depth_m: float | None = None
+    detected_fill: float | None = None
 
     def vector(self) -> np.ndarray:
-        """(6,) float64 in CONTEXT_FIELDS order, NaN for None."""
+        """(len(CONTEXT_FIELDS),) float64 in CONTEXT_FIELDS order, NaN for None."""
         return np.array([np.nan if v is None else float(v) for v in astuple(self)], dtype=np.float64)
 
     def to_json(self) -> dict[str, Any]:

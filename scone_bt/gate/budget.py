@@ -22,11 +22,18 @@ probability ``explore_rate`` (a seeded draw), so a cold robot learns although as
 Exploratory attempts count in the realised rate and move τ like any other attempt: they are the stated price of
 learning, paid from the same budget.
 
+With ``excess_allowance`` set (the tree's ``exploration_credit: true`` sets it to 1; None, the default, keeps the
+rule above alone), exploration spends only credit (`has_credit`): an attempt below τ is allowed only while one more
+failure would keep F ≤ α · A + ``excess_allowance``, counted after that attempt. So a short episode keeps a strict
+promise from its first attempt: with α = 0.05 a robot that explored and failed once does not explore again until
+successes have earned it (the tomato pasta with a weak gripper failed 2 of 3 attempts before this rule). A robot
+with no credit asks instead (or probes, gate.probe). Confident attempts (κ̂ ≥ τ) are not limited by it.
+
 What the robot knows of its own hardware comes before κ̂: a product its depth image measures wider than its
 gripper opens (`too_wide`) cannot be held, so it is asked about, never attempted or explored. In the self-confidence
 datasets 2 of the 177 executions of such products succeeded (docs/results/gate.md).
 
-`threshold`, `may_explore` and `too_wide` are pure functions; the caller keeps the counts (the episode folds
+`threshold`, `may_explore`, `has_credit` and `too_wide` are pure functions; the caller keeps the counts (the episode folds
 them from its events, the replay from its stream).
 """
 
@@ -42,6 +49,8 @@ __all__ = [
     "BudgetCounts",
     "threshold",
     "may_explore",
+    "has_credit",
+    "excess_failures",
     "initial_threshold",
     "too_wide",
     "GATES",
@@ -63,6 +72,8 @@ class BudgetOptions:
         explore_rate: Chance of trying an action below τ while exploring, in [0, 1].
         explore_until: Exploration stops once κ̂ has learnt from this many outcomes.
         explore_failures: Exploration stops once this many exploratory attempts failed.
+        excess_allowance: Failures beyond α × attempts an exploratory attempt may risk (`has_credit`), ≥ 0;
+            None: exploration needs no credit (the rule before the strict promise).
     """
 
     target_failure_rate: float = 0.15
@@ -72,6 +83,7 @@ class BudgetOptions:
     explore_rate: float = 0.5
     explore_until: int = 10
     explore_failures: int = 6
+    excess_allowance: float | None = None
 
     def __post_init__(self) -> None:
         checks = (
@@ -82,6 +94,11 @@ class BudgetOptions:
             ("explore_rate", 0.0 <= self.explore_rate <= 1.0, "in [0, 1]"),
             ("explore_until", self.explore_until >= 0, "≥ 0"),
             ("explore_failures", self.explore_failures >= 0, "≥ 0"),
+            (
+                "excess_allowance",
+                self.excess_allowance is None or self.excess_allowance >= 0.0,
+                "≥ 0 or None",
+            ),
         )
         for name, ok, allowed in checks:
             value = getattr(self, name)
@@ -113,14 +130,34 @@ def initial_threshold(options: BudgetOptions) -> float:
 
 def threshold(options: BudgetOptions, counts: BudgetCounts) -> float:
     """The confidence an action needs now for ACT (module docstring)."""
-    excess = counts.failures - options.target_failure_rate * counts.attempts
+    excess = excess_failures(options, counts)
     raw = initial_threshold(options) + options.step * excess
     return min(options.tau_max, max(options.tau_min, raw))
 
 
+def excess_failures(options: BudgetOptions, counts: BudgetCounts) -> float:
+    """F − α · A: failures beyond the budget so far (negative while successes have earned credit)."""
+    return counts.failures - options.target_failure_rate * counts.attempts
+
+
+def has_credit(options: BudgetOptions, counts: BudgetCounts) -> bool:
+    """Whether one more attempt may fail within the promise: F + 1 ≤ α · (A + 1) + excess_allowance (always
+    True without an allowance)."""
+    if options.excess_allowance is None:
+        return True
+    after = BudgetCounts(counts.attempts + 1, counts.failures + 1)
+    # a hair of tolerance: α · A is a float product, and the bound itself is allowed
+    return excess_failures(options, after) <= options.excess_allowance + 1e-9
+
+
 def may_explore(options: BudgetOptions, counts: BudgetCounts) -> bool:
-    """Whether an action below τ may still be tried to learn (before the seeded draw)."""
-    return counts.learnt < options.explore_until and counts.explored_failures < options.explore_failures
+    """Whether an action below τ may still be tried to learn (before the seeded draw): still learning, and
+    credit left (`has_credit`)."""
+    return (
+        counts.learnt < options.explore_until
+        and counts.explored_failures < options.explore_failures
+        and has_credit(options, counts)
+    )
 
 
 def too_wide(width_m: float | None, opening_m: float | None) -> bool:

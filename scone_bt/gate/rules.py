@@ -8,9 +8,9 @@ failure budget measures the very rules the robot runs. It composes named steps, 
 2. `exploration_draws`: per candidate, whether an action below τ is tried to learn: κ̂'s own ε-greedy draw where
    κ̂ has one, else (while the budget may explore) the budget's seeded draw, never for an action that failed.
 3. `decide` (`gate.gate`): relevance and recipe rules, κ̂ against τ, exploration (rule 4).
-4. `OVERRULES`, each ``(decision, seen, rules) -> decision``: the failure limit, the object the action moves, a
-   product wider than the gripper opens, and a help request the human declined. A new rule is one more function
-   in that tuple.
+4. `OVERRULES`, each ``(decision, seen, rules) -> decision``: the failure limit, the object the action moves, the
+   heft test (`probe_first`: ask about what a probe set back, probe what κ̂ is unsure of), a product wider than
+   the gripper opens, and a help request the human declined. A new rule is one more function in that tuple.
 
 Rules about planning (no plan exists: `infeasible_decision`) and about items the robot sees nowhere
 (`waiting`, `ask_for_missing`) come after a plan or a look at the step; the behaviour calls them, and they are
@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING
 
 from scone_bt.gate.budget import BudgetCounts, BudgetOptions, may_explore, threshold, too_wide
 from scone_bt.gate.gate import GateOptions, decide
+from scone_bt.gate.probe import ProbeOptions, in_band, probe_credit
 from scone_bt.gate.types import Decision, DecisionKind
 
 if TYPE_CHECKING:
@@ -42,6 +43,7 @@ __all__ = [
     "exploration_draws",
     "apply_failure_limit",
     "name_object",
+    "probe_first",
     "ask_if_too_wide",
     "after_decline",
     "overruled",
@@ -67,6 +69,7 @@ class GateRules:
             ε-greedy draws explore).
         failure_limit: After this many failures of the same action, ask whatever κ̂ says (None: no limit).
         opening_m: The gripper's opening, metres: a product perceived wider is asked about (None: no such rule).
+        probe: The heft test's band around τ (`probe_first`; None: no probe). The budget gate's only.
     """
 
     options: GateOptions = field(default_factory=GateOptions)
@@ -74,6 +77,7 @@ class GateRules:
     exploration: BudgetOptions | None = None
     failure_limit: int | None = None
     opening_m: float | None = None
+    probe: ProbeOptions | None = None
 
 
 @dataclass(frozen=True)
@@ -95,6 +99,9 @@ class GateInput:
         draw_every_decision: Draw once per decision while the budget may explore (the robot: its seeded episodes
             repeat so), rather than only when a candidate below τ may be explored (the replay). The rule applied
             is the same; only how many numbers the generator gives differs.
+        probe_reasons: Action text → why a heft test set its product back earlier in this episode (the robot's
+            words, "the jar slips in my fingers"); empty in a replay, whose executions are each from another
+            episode.
     """
 
     ranked: Sequence[RankedAction]
@@ -108,6 +115,7 @@ class GateInput:
     declined: Callable[[str], bool] = _never
     draw: Callable[[], float] | None = None
     draw_every_decision: bool = False
+    probe_reasons: Mapping[str, str] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -170,8 +178,9 @@ def exploration_draws(rules: GateRules, seen: GateInput, exploring: bool) -> Seq
 
 
 def overruled(decision: Decision, kind: DecisionKind, reason: str, rule: str) -> Decision:
-    """The decision as a rule made it rather than κ̂ against the threshold (never an exploration draw)."""
-    return replace(decision, kind=kind, reason=reason, rule=rule, explored=False)
+    """The decision as a rule made it rather than κ̂ against the threshold (never an exploration draw, never a
+    probe)."""
+    return replace(decision, kind=kind, reason=reason, rule=rule, explored=False, probe=False)
 
 
 def apply_failure_limit(decision: Decision, failures: int, limit: int) -> Decision:
@@ -197,6 +206,34 @@ def name_object(decision: Decision, seen: GateInput, rules: GateRules) -> Decisi
     if decision.action is None or decision.action not in seen.objects:
         return decision
     return replace(decision, object_name=seen.objects[decision.action])
+
+
+def probe_first(decision: Decision, seen: GateInput, rules: GateRules) -> Decision:
+    """The heft test (gate.probe): ask about what a probe already set back in this episode, saying why; else
+    ACT with a probe first when κ̂ is unsure (within the probe band around τ, whether κ̂'s decision was to act,
+    explore or ask; below τ only with the probe's credit, `probe_credit`), unless the action already failed. A
+    decision a rule made is left alone."""
+    if rules.probe is None or decision.action not in seen.objects or decision.rule != "":
+        return decision
+    if decision.kind not in (DecisionKind.ACT, DecisionKind.ASK):
+        return decision
+    reason = seen.probe_reasons.get(str(decision.action))
+    if reason is not None:
+        return overruled(decision, DecisionKind.ASK, f"{reason}: please bring it", "probe")
+    if seen.failures.get(str(decision.action), 0) > 0:
+        return decision  # as with exploration: an action that failed is not tried again on a probe's word
+    options, _ = threshold_options(rules, seen.counts)
+    tau = options.act_threshold
+    credit = probe_credit(rules.probe, rules.budget, seen.counts) if rules.budget is not None else True
+    alpha = rules.budget.target_failure_rate if rules.budget is not None else None
+    if not in_band(decision.confidence, tau, rules.probe, credit, alpha):
+        return decision
+    why = (
+        f"unsure (confidence {decision.confidence:.2f}, threshold {tau:.2f}): "
+        f"hefting the {decision.object_name} first"
+    )
+    # a probe spends no exploration credit: a product that slips is set back, not dropped (gate.probe)
+    return replace(decision, kind=DecisionKind.ACT, reason=why, explored=False, probe=True)
 
 
 def ask_if_too_wide(decision: Decision, seen: GateInput, rules: GateRules) -> Decision:
@@ -246,7 +283,7 @@ def after_decline(decision: Decision, seen: GateInput, rules: GateRules) -> Deci
     )
 
 
-OVERRULES: tuple[GateStep, ...] = (_failure_limit, name_object, ask_if_too_wide, after_decline)
+OVERRULES: tuple[GateStep, ...] = (_failure_limit, name_object, probe_first, ask_if_too_wide, after_decline)
 """Step 4: the rules after κ̂'s decision, in the order they apply."""
 
 

@@ -37,6 +37,7 @@ class Decision:
         explored: ACT although κ̂ was below the threshold, because the ε-greedy estimator drew exploration for
             this action (the robot tries it to learn; ``confidence`` is still κ̂'s belief).
         rule: What decided when it was not κ̂ against the threshold (see `DecisionMade.rule`); "" otherwise.
+        probe: ACT, but heft the product first (κ̂ is unsure: within the probe band; gate.probe).
     """
 
     kind: DecisionKind
@@ -49,3 +50,4 @@ class Decision:
     object_name: str | None = None
     explored: bool = False
     rule: str = ""
+    probe: bool = False

@@ -48,6 +48,7 @@ from scone_bt.motion.pick_place import (
 )
 from scone_bt.motion.placement import PlacementOptions, TableRegion
 from scone_bt.motion.planner import PlannerOptions, silence_ompl
+from scone_bt.motion.probe import ProbeSettings
 from scone_bt.motion.timing import KinematicLimits, limits_of
 from scone_bt.motion.types import FailureStage, MotionOutcome, MotionPhase, MotionProgress
 from scone_bt.perception.types import Detection
@@ -223,6 +224,7 @@ class PickAndPlace:
         self._outcome: MotionOutcome | None = None
         self._q_start: np.ndarray | None = None
         self._request: PickPlaceRequest | None = None
+        self.probe: ProbeSettings | None = None  # set before start(): heft the product first (motion.probe)
 
     # ------------------------------------------------------------------------------------- lifecycle
     def submit_plan(self) -> None:
@@ -272,16 +274,17 @@ class PickAndPlace:
             sys_._active._abandon()
         sys_._active = self
         self.submit_plan()
-        self._controller = PickPlaceController(
-            cell,
-            self.target.name,
-            self._q_start,
-            self._poll_plan,
-            self._request_home,
-            sys_.settings,
-            self._remember,
-            self._request_new_spot,
-        )
+        args = (cell, self.target.name, self._q_start, self._poll_plan, self._request_home, sys_.settings)
+        more = {"on_placed": self._remember, "request_new_spot": self._request_new_spot}
+        if self.probe is not None:
+            from scone_bt.motion.probe import ProbeController
+
+            arm = sys_.arm
+            self._controller = ProbeController(
+                *args, probe=self.probe, hand_z=lambda q: float(arm.fk(q)[2, 3]), **more
+            )
+        else:
+            self._controller = PickPlaceController(*args, **more)
         cell.add_controller(self._controller)
 
     def _poll_plan(self, block: bool) -> object | None:
@@ -436,7 +439,15 @@ class PickAndPlace:
         c = self._controller
         if c is None or c.phase not in self.HOMEWARD:
             return None
+        if getattr(c, "aborted", False):
+            return False, None, c.message
         return c.success, None if c.success else (c.stage or FailureStage.PLACE), c.message
+
+    @property
+    def probe_reading(self) -> object | None:
+        """What the heft test felt (motion.probe.ProbeReading) once it held the product up; None before or
+        without one."""
+        return getattr(self._controller, "reading", None)
 
     def outcome(self) -> MotionOutcome | None:
         """How it ended, once `done()`; else None.
@@ -454,7 +465,8 @@ class PickAndPlace:
         start = c.exec_start if c.exec_start is not None else c.start_time
         end = c.end_time if c.end_time is not None else self.system.cell.sim_time
         ee = c.plan.ee_path(self.system.arm) if c.plan is not None else None
-        stage = None if c.success else (c.stage or FailureStage.PLACE)
+        aborted = bool(getattr(c, "aborted", False)) and c.stage is None
+        stage = None if c.success or aborted else (c.stage or FailureStage.PLACE)
         self._outcome = MotionOutcome(
             success=c.success,
             stage=stage,
@@ -464,5 +476,8 @@ class PickAndPlace:
             ee_path=ee,
             reason=c.reason,
             still_held=c.still_held,
+            aborted=aborted,
+            probe=getattr(c, "reading", None),
+            probe_reason=getattr(c, "probe_reason", ""),
         )
         return self._outcome

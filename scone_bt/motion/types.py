@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from enum import Enum
+from typing import Any
 
 import numpy as np
 
@@ -41,6 +42,9 @@ class MotionPhase(str, Enum):  # noqa: UP042 (compares equal to the phase string
     SETTLE = "settle"
     HOME = "home"
     NEW_SPOT = "new_spot"  # carrying: the place spot was taken; holding while the worker plans another
+    PROBE = "probe"  # the heft test: lifting the grasped product a little (motion.probe)
+    PROBE_HOLD = "probe_hold"  # holding it there while the fingers feel its load and slip
+    SET_DOWN = "set_down"  # the probe said no: lowering it back where it stood
     RECOVER = "recover"  # after a failure: holding while the worker plans a way home
     RECOVER_HOME = "recover_home"
     DONE = "done"
@@ -64,6 +68,7 @@ class FailureStage(str, Enum):  # noqa: UP042 (str() of members is relied upon e
     PLACE = "place"  # released but not resting upright on the table
     TIMEOUT = "timeout"
     CANCELLED = "cancelled"  # the human took over
+    PROBE = "probe"  # set back where it stood after the heft test (motion.probe): an aborted attempt, not a failure
 
 
 class PlanFailureReason(str, Enum):  # noqa: UP042
@@ -144,6 +149,10 @@ class MotionOutcome:
         reason: For a planning or IK failure, which stage ran out of options; else None.
         still_held: The object the fingers still gripped when the attempt ended (it stuck between the open fingers
             and came back with the arm), by the arm's own finger sensors; None when the hand is empty.
+        aborted: The heft test (motion.probe) set the product back where it stood: not a success, not a failure
+            (``stage`` None); the person has to fetch it.
+        probe: What the heft test felt (a motion.probe.ProbeReading), or None when there was none.
+        probe_reason: Why it was set back, in the robot's words ("the jar slips in my fingers"); "" otherwise.
     """
 
     success: bool
@@ -154,6 +163,9 @@ class MotionOutcome:
     ee_path: np.ndarray | None = field(default=None)
     reason: PlanFailureReason | None = None
     still_held: str | None = None
+    aborted: bool = False
+    probe: Any = None
+    probe_reason: str = ""
 
 
 @dataclass(frozen=True)

@@ -1,8 +1,8 @@
 """The execution context of a candidate action, from one tick's perception (what a grounded κ̂ sees).
 
 For each detected target: its shelf tier (the step under the detected top face, from the scene file), the clearance
-along its tier to the nearest detected product there, how many detected products stand near it, and its width and
-height measured in the depth image. Everything comes from the robot's own detections and frames, never from the
+along its tier to the nearest detected product there, how many detected products stand near it, and its width,
+height, depth and lid fill (round or rectangular) measured in the depth image. Everything comes from the robot's own detections and frames, never from the
 simulator's state, so it is what the robot knows when it decides (and what a real robot would compute).
 
 This is the one context function: the tree's gate calls it every tick (`ContextExtractor`), the self-confidence
@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
+from typing import NamedTuple
 
 import numpy as np
 
@@ -27,6 +28,7 @@ from scone_bt.perception.types import Detection, Frame
 
 __all__ = [
     "ALONE_CLEARANCE_M",
+    "PerceivedSize",
     "ContextExtractor",
     "NEIGHBOUR_RADIUS_M",
     "execution_contexts",
@@ -79,12 +81,30 @@ def shelf_place(scene: SceneSpec, position: Sequence[float]) -> tuple[str, int] 
     return None if best is None else (best[1], best[2])
 
 
-def perceived_size(frame: Frame, det: Detection, scene: SceneSpec) -> tuple[float, float] | None:
-    """Width (narrowest horizontal extent of the lid) and height of a detected product from the depth image, m.
+class PerceivedSize(NamedTuple):
+    """What the depth image says of a product's shape (metres; NaN height where no shelf step lies under it).
+
+    Attributes:
+        width: Narrowest horizontal extent of the lid (what the fingers must span).
+        height: Top face above the shelf step under it.
+        depth: Longest horizontal extent of the lid (its other principal axis).
+        fill: The lid's area (its convex hull) over the rectangle of its principal extents: π/4 ≈ 0.79 for a
+            round lid (a cylinder), about 1 for a rectangular one (a box).
+    """
+
+    width: float
+    height: float
+    depth: float = float("nan")
+    fill: float = float("nan")
+
+
+def perceived_size(frame: Frame, det: Detection, scene: SceneSpec) -> PerceivedSize | None:
+    """Width, height, depth and fill (`PerceivedSize`) of a detected product from the depth image.
 
     The lid is the connected patch of depth points within _LID_BAND_M of the detected top face around the marker;
-    its width is its extent across the narrower principal axis. The height is the top face above the shelf step
-    under it (the robot knows its shelving from the scene file). None if the lid cannot be measured.
+    its width and depth are its extents across and along its principal axes, and its fill the area of its convex
+    hull over their product. The height is the top face above the shelf step under it (the robot knows its
+    shelving from the scene file). None if the lid cannot be measured.
     """
     import cv2  # the marker detector's library: already loaded, unlike scipy (a third of a second to import)
 
@@ -123,9 +143,15 @@ def perceived_size(frame: Frame, det: Detection, scene: SceneSpec) -> tuple[floa
     proj = centred @ vt.T
     extents = np.percentile(proj, 99, axis=0) - np.percentile(proj, 1, axis=0)
     width = float(min(extents))
+    # The longer axis from the outermost points (the 1–99 % range cuts a few millimetres off a long lid); the
+    # patch is one connected component of the lid band, so there are no strays to trim.
+    depth = float(max(proj.max(axis=0) - proj.min(axis=0)))
+    hull = cv2.convexHull(proj.astype(np.float32))
+    box = float(np.prod(proj.max(axis=0) - proj.min(axis=0)))
+    fill = float(cv2.contourArea(hull)) / box if box > 0 else float("nan")
     surface = surface_below(scene, float(top[0]), float(top[1]), float(top[2]))
     height = float(top[2] - surface) if surface is not None else float("nan")
-    return round(width, 4), round(height, 4)
+    return PerceivedSize(round(width, 4), round(height, 4), round(depth, 4), round(fill, 3))
 
 
 def _project(frame: Frame, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -138,7 +164,7 @@ def _project(frame: Frame, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return uv[:, :2] / uv[:, 2:3], z
 
 
-def size_from_frames(det: Detection, frames: Sequence[Frame], scene: SceneSpec) -> tuple[float, float] | None:
+def size_from_frames(det: Detection, frames: Sequence[Frame], scene: SceneSpec) -> PerceivedSize | None:
     """perceived_size from the nearest frame in which the detected top face is visible, or None.
 
     A merged detection does not say which camera saw it, so its box is rebuilt per frame: the image box of a
@@ -169,8 +195,8 @@ def size_from_frames(det: Detection, frames: Sequence[Frame], scene: SceneSpec) 
     return None
 
 
-SizeMeasure = Callable[[Detection, Sequence[Frame], SceneSpec], tuple[float, float] | None]
-"""Width and height of a detected product from the frames, metres (None: not measurable)."""
+SizeMeasure = Callable[[Detection, Sequence[Frame], SceneSpec], PerceivedSize | None]
+"""Width, height, depth and fill of a detected product from the frames (None: not measurable)."""
 
 
 def execution_contexts(
@@ -235,8 +261,16 @@ def execution_contexts(
             detected=True,
             detected_width_m=None if size is None else size[0],
             detected_height_m=None if size is None else (None if np.isnan(size[1]) else size[1]),
+            detected_depth_m=_known(size, "depth"),
+            detected_fill=_known(size, "fill"),
         )
     return out
+
+
+def _known(size: PerceivedSize | tuple[float, ...] | None, field: str) -> float | None:
+    """A field of a measured size, None when unmeasured or NaN (a measure that gives width and height only)."""
+    value = getattr(size, field, None)
+    return None if value is None or np.isnan(value) else float(value)
 
 
 class ContextExtractor:
@@ -255,12 +289,10 @@ class ContextExtractor:
     def __init__(self, scene: SceneSpec, catalogue: Catalogue) -> None:
         self.scene = scene
         self.catalogue = catalogue
-        self._sizes: dict[str, tuple[np.ndarray, tuple[float, float]]] = {}
+        self._sizes: dict[str, tuple[np.ndarray, PerceivedSize]] = {}
         self.measured = 0  # depth measurements made (the cache's misses)
 
-    def _measure(
-        self, det: Detection, frames: Sequence[Frame], scene: SceneSpec
-    ) -> tuple[float, float] | None:
+    def _measure(self, det: Detection, frames: Sequence[Frame], scene: SceneSpec) -> PerceivedSize | None:
         where = np.asarray(det.position, dtype=float)
         known = self._sizes.get(det.name)
         if known is not None and np.all(np.abs(known[0] - where) <= _SAME_PLACE_M):

@@ -36,12 +36,14 @@ class PickRequest:
         table: What stands on the table as the table camera sees it; None while the table is not observed
             (the robot then knows only what it placed itself).
         rng_seed: Seeds the planner (a seeded episode plans the same way every time).
+        probe: Heft the product before carrying it (motion.probe.ProbeSettings), or None.
     """
 
     target: Detection
     obstacles: tuple[Detection, ...]
     table: tuple[Detection, ...] | None
     rng_seed: int
+    probe: object | None = None
 
 
 @runtime_checkable

@@ -110,13 +110,15 @@ class SimRobot:
 
     def _task(self, request: PickRequest) -> PickAndPlace:
         target = request.target
-        return self.motion.pick_and_place(
+        task = self.motion.pick_and_place(
             target,
             self._spec(target.name),
             self._with_specs(request.obstacles),
             rng_seed=request.rng_seed,
             table_obstacles=None if request.table is None else self._with_specs(request.table),
         )
+        task.probe = request.probe  # type: ignore[assignment]
+        return task
 
     def start_pick_and_place(self, request: PickRequest) -> MotionHandle:
         task = self._task(request)

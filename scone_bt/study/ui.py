@@ -20,7 +20,16 @@ from importlib import resources
 from typing import Any
 
 from scone_bt.errors import SconeError
-from scone_bt.events import ActOutcome, ActStarted, DecisionMade, Event, EventSink, HelpRequested, TakeOver
+from scone_bt.events import (
+    ActOutcome,
+    ActStarted,
+    DecisionMade,
+    Event,
+    EventSink,
+    HelpRequested,
+    ProbeAborted,
+    TakeOver,
+)
 from scone_bt.gate.types import DecisionKind
 from scone_bt.study.questionnaires import QUESTIONNAIRES, Questionnaire
 from scone_bt.study.tablet import AlreadySubmittedError, TabletHuman, TabletState
@@ -622,6 +631,9 @@ class TabletServer:
                 say=f"You took over: I stopped. Please bring the {event.object_name} to the table.",
                 window_until=None,
             )
+        elif isinstance(event, ProbeAborted):
+            s.set_robot(status="idle")
+            s.note(f"The robot hefted the {event.object_name} and set it back: {event.reason}.")
         elif isinstance(event, HelpRequested):
             why = event.reason or self._why.pop(event.object_name, "")
             s.set_robot(status="asking", say=why or f"Please bring the {event.object_name}.")

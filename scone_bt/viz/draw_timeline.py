@@ -55,6 +55,6 @@ def _log_level(line: str) -> rr.TextLogLevel:
     head = line.lstrip().lower()
     if head.startswith(("error", "failed", "failure")):
         return rr.TextLogLevel.ERROR
-    if head.startswith(("warn", "ask", "help")):
+    if head.startswith(("warn", "ask", "help", "- set back")):
         return rr.TextLogLevel.WARN
     return rr.TextLogLevel.INFO

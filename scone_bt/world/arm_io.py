@@ -143,6 +143,24 @@ class ArmIO:
             common = bodies if common is None else common & bodies
         return min(common) if common else None
 
+    def finger_forces(self, held: str) -> tuple[float, float]:
+        """(vertical load, grip) in newtons the fingers feel from ``held``: the upward force their contacts
+        exert on it (what they carry of its weight) and the sum of their normal forces (how hard they squeeze).
+        What a fingertip force sensor measures; (0, 0) when the fingers do not touch it."""
+        k = self.kitchen
+        body = k.objects.get(held)
+        if body is None:
+            return 0.0, 0.0
+        load = grip = 0.0
+        for f in self.finger_ids:
+            for c in k.bc.getContactPoints(bodyA=k.robot_id, bodyB=body, linkIndexA=f):
+                # the contact normal points from B to A: the force on B along it is −normal·n; friction acts on
+                # B along its directions with the reported signs reversed (PyBullet reports them on A)
+                normal, f1, d1, f2, d2 = c[9], c[10], c[11], c[12], c[13]
+                load += -(normal * c[7][2]) - (f1 * d1[2] + f2 * d2[2])
+                grip += normal
+        return float(load), float(grip)
+
     def held_object(self, min_force: float) -> str | None:
         """The name of `held_body`."""
         body = self.held_body(min_force)

@@ -424,6 +424,10 @@ class Kitchen(GroundTruth, SimClock):
         """What every finger touches with at least min_force newtons, by name, else None."""
         return self.arm_io.held_object(min_force)
 
+    def finger_forces(self, held: str) -> tuple[float, float]:
+        """(vertical load, grip) in newtons the fingers feel from ``held`` (`motion.probe.ForceSensing`)."""
+        return self.arm_io.finger_forces(held)
+
     def unexpected_contact(self, allow_gripper: bool, held: str | None, min_force: float) -> str | None:
         """'<link> hit <what>' for the first robot link pushing on something it should not touch, else None."""
         return self.arm_io.unexpected_contact(allow_gripper, held, min_force)

@@ -344,6 +344,33 @@ class MjKitchen(GroundTruth, SimClock):
         common = set.intersection(*touching.values()) if touching else set()
         return self._names[min(common)] if common else None
 
+    def finger_forces(self, held: str) -> tuple[float, float]:
+        """(vertical load, grip) in newtons the fingers feel from ``held`` (`motion.probe.ForceSensing`, as
+        `world.arm_io.ArmIO.finger_forces`): the upward force their contacts exert on it and the sum of their normal
+        forces; (0, 0) when they do not touch it."""
+        body = self.objects.get(held)
+        if body is None:
+            return 0.0, 0.0
+        m, d = self.model, self.data
+        fingers = set(self.finger_bodies)
+        wrench = np.zeros(6)
+        load = grip = 0.0
+        for i in range(d.ncon):
+            c = d.contact[i]
+            a, b = int(m.geom_bodyid[c.geom1]), int(m.geom_bodyid[c.geom2])
+            # MuJoCo's contact force acts on geom2's body as given (in the contact frame), on geom1's reversed
+            if a in fingers and b == body:
+                sign = 1.0
+            elif b in fingers and a == body:
+                sign = -1.0
+            else:
+                continue
+            self.mujoco.mj_contactForce(m, d, i, wrench)
+            world = np.asarray(c.frame).reshape(3, 3).T @ wrench[:3]
+            load += sign * float(world[2])
+            grip += float(wrench[0])
+        return load, grip
+
     def _what(self, geom: int, body: int) -> str:
         if body in self._names:
             return self._names[body]

@@ -150,6 +150,20 @@ def test_the_budget_stops_exploring_after_explore_failures_and_they_count_agains
     assert second.reason == "asking for help: confidence 0.30 < 0.59"
 
 
+def test_a_strict_promise_is_kept_from_the_first_attempt() -> None:
+    """The tomato pasta with a weak gripper at α = 0.05: after one failed exploration (spaghetti) the robot asks
+    about the crushed tomatoes instead of exploring again (2 failures in 2 attempts would break F ≤ α · A + 1)."""
+    events = EventLog()
+    budget = BudgetOptions(
+        target_failure_rate=0.05, explore_rate=1.0, explore_until=100, excess_allowance=1.0
+    )
+    gate, bb = _gate(events, _Kappa(0.3, n_observations=0), budget), _salt_step()
+    assert _tick(gate, bb).explored
+    events(ActOutcome(3.5, SUGAR, "sugar", False, "grasp"))  # another product's exploration failed
+    second = _tick(gate, bb)
+    assert (second.kind, second.explored) == (DecisionKind.ASK, False)
+
+
 def test_the_gate_without_a_budget_never_explores_on_its_own() -> None:
     gate, bb = _gate(EventLog(), _Kappa(0.3, n_observations=0), None), _salt_step()
     assert _tick(gate, bb).kind is DecisionKind.ASK

@@ -105,7 +105,7 @@ def test_an_ungrounded_kappa_sees_embeddings_only_and_the_context_is_still_kept(
 def test_without_a_context_source_a_grounded_kappa_sees_every_context_value_missing() -> None:
     kappa, events, bb = _decide(grounded=True, contexts=None)
     (X,) = kappa.predicted
-    assert X.shape == (2, 8) and np.isnan(X[:, 2:]).all()
+    assert X.shape == (2, 2 + len(CONTEXT_FIELDS)) and np.isnan(X[:, 2:]).all()
     assert bb.get(Keys.TARGET_CONTEXT) is None and events.events[0].context is None
 
 

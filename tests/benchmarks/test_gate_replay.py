@@ -300,3 +300,17 @@ def test_prior_teaches_the_same_robot_first_and_reports_the_gap(tmp_path: Path, 
     assert main([*base, "--prior", str(prior)]) == 2
     err = capsys.readouterr().err.strip()
     assert "--prior" in err and "no dataset 'b'" in err and "\n" not in err
+
+
+def test_an_episode_counts_an_aborted_probe_apart_and_its_ask_as_help() -> None:
+    """``--episodes``: the set-back is not a failure or an attempt; the ask that follows it is help."""
+    from scone_bt.benchmarks.gate import _episode_counts
+    from scone_bt.events import ActOutcome, HelpRequested, ProbeAborted
+
+    events = [
+        ProbeAborted(1.0, "Put olive oil on table", "olive oil", "the olive oil slips in my fingers"),
+        HelpRequested(2.0, "Put olive oil on table", "olive oil"),
+        ActOutcome(3.0, "Put salt on table", "salt", True, None),
+    ]
+    counts = _episode_counts(events)
+    assert (counts["aborted"], counts["help"], counts["attempts"], counts["failures"]) == (1, 1, 1, 0)

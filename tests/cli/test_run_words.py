@@ -111,20 +111,20 @@ def test_every_tree_default_the_help_states_is_the_tree_files() -> None:
 
     import yaml
 
-    from scone_bt.cli.tree_options import flag_of
-    from scone_bt.config.tree_parameters import PARAMETER_NAMES
+    from scone_bt.cli.tree_options import flag_of, option_fields
     from scone_bt.tree.build import load_tree_spec
 
     params = load_tree_spec().parameters
-    dests = {flag_of(name): name for name in PARAMETER_NAMES}
+    dests = {flag_of(path): path for path, _ in option_fields()}
     stated = {}
     for action in build_parser()._actions:
         match = re.search(r"\(tree default: ([^)]+)\)", action.help or "")
         if match and action.option_strings:
             stated[action.option_strings[0]] = match.group(1)
     assert set(stated) == set(dests)
-    for flag, key in dests.items():
-        assert yaml.safe_load(stated[flag]) == params[key], flag  # as the tree file writes it
+    for flag, path in dests.items():
+        value = params[path[0]] if len(path) == 1 else params[path[0]][path[1]]  # probe: its section's key
+        assert yaml.safe_load(stated[flag]) == value, flag  # as the tree file writes it
 
 
 def test_a_recipe_that_needs_nothing_from_the_shelf_says_so(tmp_path, capsys):

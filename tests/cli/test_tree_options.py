@@ -10,22 +10,33 @@ import pytest
 import scone_bt.behaviours.options as options_module
 from scone_bt.behaviours import BehaviourOptions
 from scone_bt.cli.run import build_parser, main, options_from_args
-from scone_bt.cli.tree_options import flag_of
-from scone_bt.config.tree_parameters import PARAMETER_NAMES, GateName, TreeParameters
+from scone_bt.cli.tree_options import dest_of, flag_of, option_fields
+from scone_bt.config.tree_parameters import PARAMETER_NAMES, GateName, ProbeParameters, TreeParameters
 
 
 def test_every_tree_parameter_is_a_scone_run_option_with_its_description_as_help() -> None:
     actions = {a.dest: a for a in build_parser()._actions}
-    for name, field in TreeParameters.model_fields.items():
-        action = actions[name]
-        assert flag_of(name) in action.option_strings
+    leaves = {
+        (name, *sub)
+        for name, field in TreeParameters.model_fields.items()
+        for sub in (
+            [(s,) for s in ProbeParameters.model_fields] if field.annotation is ProbeParameters else [()]
+        )
+    }
+    assert {path for path, _ in option_fields()} == leaves  # a nested section: one option per field of it
+    for path, field in option_fields():
+        action = actions[dest_of(path)]
+        assert flag_of(path) in action.option_strings
         assert action.default is None  # left out: the tree file's value
         assert field.description and field.description in (action.help or "")
     assert actions["gate"].choices == typing.get_args(GateName)
+    assert "--probe-lift-m" in actions["probe_lift_m"].option_strings
+    assert "--no-probe-enabled" in actions["probe_enabled"].option_strings
 
 
 def test_behaviour_options_hold_the_tree_parameters_with_their_types() -> None:
-    hints = typing.get_type_hints(BehaviourOptions, {**vars(options_module), "GateName": GateName})
+    names = {"GateName": GateName, "ProbeParameters": ProbeParameters}
+    hints = typing.get_type_hints(BehaviourOptions, {**vars(options_module), **names})
     defaults = {f.name: f.default for f in dataclasses.fields(BehaviourOptions)}
     for name in PARAMETER_NAMES:
         assert defaults[name] is None, name
@@ -51,6 +62,14 @@ def test_options_reach_the_behaviour_options_unmapped() -> None:
     assert behaviour.gate == "paper" and behaviour.estimator is None  # not given: the tree file's
 
 
+def test_a_probe_option_overrides_only_its_key_of_the_tree_files_section() -> None:
+    argv = ["--probe-below", "0.1", "--no-probe-enabled"]
+    behaviour = options_from_args(build_parser().parse_args(argv)).behaviour
+    resolved = behaviour.resolve({"probe": {"hold_s": 1.0, "below": 0.4}})
+    assert resolved.probe == ProbeParameters(enabled=False, below=0.1, hold_s=1.0)
+    assert BehaviourOptions().resolve({"probe": {"hold_s": 1.0}}).probe == ProbeParameters(hold_s=1.0)
+
+
 @pytest.mark.parametrize(
     ("argv", "line"),
     [
@@ -58,6 +77,7 @@ def test_options_reach_the_behaviour_options_unmapped() -> None:
         (["--max-failures-per-action", "0"], "--max-failures-per-action 0: must be a number in [1, 1000]"),
         (["--target-failure-rate", "1"], "--target-failure-rate 1.0: must be a number in (0, 1)"),
         (["--confidence-threshold", "nan"], "--confidence-threshold nan: must be a number in [0, 1]"),
+        (["--probe-lift-m", "0.2"], "--probe-lift-m 0.2: must be a number in [0.005, 0.05]"),
     ],
 )
 def test_a_bad_setting_is_one_line_naming_the_option_and_its_range(argv, line, capsys) -> None:

@@ -7,7 +7,15 @@ import numpy as np
 import pytest
 
 from scone_bt.errors import SconeError
-from scone_bt.gate.budget import BudgetCounts, BudgetOptions, initial_threshold, may_explore, threshold
+from scone_bt.gate.budget import (
+    BudgetCounts,
+    BudgetOptions,
+    excess_failures,
+    has_credit,
+    initial_threshold,
+    may_explore,
+    threshold,
+)
 
 _N = 8000  # decisions; the miscalibration jumps half-way
 _LAST = 3000  # the realised rate is read over these last decisions (1000 after the jump)
@@ -168,3 +176,47 @@ def test_too_wide_is_strictly_wider_than_the_opening_and_unknown_is_not_wide(wid
     from scone_bt.gate.budget import too_wide
 
     assert too_wide(width, opening) is wide
+
+
+def test_exploration_spends_only_earned_credit_from_the_first_attempt() -> None:
+    """The tomato pasta at α = 0.05 with the strict rule on (the tree's exploration_credit): one failed
+    exploration, then no more until successes earn credit."""
+    options = BudgetOptions(target_failure_rate=0.05, excess_allowance=1.0)
+    assert has_credit(options, BudgetCounts())  # F + 1 = 1 ≤ 0.05 · 1 + 1
+    after_one = BudgetCounts(attempts=1, failures=1, explored_failures=1, learnt=1)
+    assert not has_credit(options, after_one)  # a second failure: 2 > 0.05 · 2 + 1
+    assert not may_explore(options, after_one)
+    # 19 successes later, α · A has grown by ~1: one more failure fits again
+    assert has_credit(options, BudgetCounts(attempts=19, failures=1))
+    assert not has_credit(options, BudgetCounts(attempts=18, failures=1))
+    assert excess_failures(options, BudgetCounts(attempts=20, failures=2)) == pytest.approx(1.0)
+
+
+def test_the_strict_rule_bounds_excess_failures_of_any_exploration_sequence() -> None:
+    """Whatever the outcomes, exploring only with credit keeps F ≤ α · A + 1 after every attempt."""
+    rng = np.random.default_rng(0)
+    for alpha in (0.05, 0.15, 0.4):
+        options = BudgetOptions(
+            target_failure_rate=alpha, explore_until=10**6, explore_failures=10**6, excess_allowance=1.0
+        )
+        counts = BudgetCounts()
+        for _ in range(300):
+            if not may_explore(options, counts):
+                counts = BudgetCounts(counts.attempts + 1, counts.failures, counts.explored_failures)
+                continue  # a confident attempt that succeeds (the rule leaves those alone)
+            ok = bool(rng.random() < 0.3)
+            counts = BudgetCounts(counts.attempts + 1, counts.failures + (not ok), counts.explored_failures)
+            assert counts.failures <= alpha * counts.attempts + 1 + 1e-9
+
+
+def test_excess_allowance_is_validated() -> None:
+    with pytest.raises(SconeError, match="excess_allowance must be ≥ 0 or None"):
+        BudgetOptions(excess_allowance=-1.0)
+
+
+def test_without_the_strict_rule_exploration_needs_no_credit() -> None:
+    """The default (exploration_credit: false): the budget explores while learning, whatever the excess."""
+    options = BudgetOptions(target_failure_rate=0.05)
+    after_one = BudgetCounts(attempts=1, failures=1, explored_failures=1, learnt=1)
+    assert has_credit(options, after_one)
+    assert may_explore(options, after_one)

@@ -7,21 +7,24 @@ import numpy as np
 import pytest
 
 from scone_bt.behaviours import ConfidenceGate, Keys
-from scone_bt.benchmarks.gate import replay_stream
+from scone_bt.benchmarks.gate import PROBE_COLUMNS, replay_stream
 from scone_bt.confidence import make_estimator
 from scone_bt.confidence.grounded import grounded_features
 from scone_bt.events import ActOutcome, EventLog
-from scone_bt.experience.types import ExecutionContext
+from scone_bt.experience.types import CONTEXT_FIELDS, ExecutionContext
 from scone_bt.gate import GateOptions
 from scone_bt.gate.budget import BudgetOptions
+from scone_bt.gate.probe import ProbeOptions
 from scone_bt.gate.rules import GateInput, GateRules, gate_decision
 from scone_bt.gate.types import Decision, DecisionKind
+from scone_bt.motion.probe import ProbeReading, ProbeSettings, judge_probe
 from scone_bt.relevance.types import RankedAction
 from tests.behaviours.fakes import FakeHuman, FakeRobot, affordance, blackboard
 
 OPENING_M = 0.08
 ALPHA = 0.1
 SEED = 3
+PROBE = ProbeOptions(below=0.5, above=0.2)
 
 
 def _stream(n: int = 60, seed: int = 5) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]:
@@ -31,9 +34,27 @@ def _stream(n: int = 60, seed: int = 5) -> tuple[np.ndarray, np.ndarray, np.ndar
     widths = np.linspace(0.03, 0.12, 10)
     pick = rng.integers(0, 10, n)
     w = widths[pick]
-    context = np.column_stack([np.ones(n), np.full(n, 0.1), np.ones(n), np.ones(n), w, np.full(n, 0.1)])
+    context = np.column_stack(
+        [np.ones(n), np.full(n, 0.1), np.ones(n), np.ones(n), w, np.full(n, 0.1), w, np.full(n, 0.785)]
+    )
+    assert context.shape[1] == len(CONTEXT_FIELDS)
     success = (w < 0.075) ^ (rng.random(n) < 0.1)
     return table[pick], context, success, [f"product {i}" for i in pick]
+
+
+def _readings(stream, seed: int = 7) -> np.ndarray:
+    """What a recorded probe felt per execution (PROBE_COLUMNS): the products that fail mostly slip in the
+    fingers (their load changes during the hold), a few never were held up (NaN: failed before the probe)."""
+    _, _, success, _ = stream
+    rng = np.random.default_rng(seed)
+    n = len(success)
+    slips = ~success & (rng.random(n) < 0.7)
+    load = np.full(n, 2.0)
+    first = np.where(slips, 2.4, 2.0)
+    rows = np.column_stack([np.ones(n), load, first, np.full(n, 40.0), np.full(n, 1.2)])
+    rows[rng.random(n) < 0.05] = np.nan
+    assert rows.shape[1] == len(PROBE_COLUMNS)
+    return rows
 
 
 class _Draws:
@@ -53,7 +74,9 @@ class _ConstantDraw:
         return 0.3  # below the explore rate: every draw explores (the timing of draws cannot matter)
 
 
-def _replay(gate: str, stream) -> list[Decision]:
+def _replay(
+    gate: str, stream, probe: ProbeOptions | None = None, readings=None, allowance: float | None = None
+) -> list[Decision]:
     vectors, context, success, products = stream
     trace: list[Decision] = []
     replay_stream(
@@ -69,17 +92,35 @@ def _replay(gate: str, stream) -> list[Decision]:
         OPENING_M,
         trace=trace,
         draw=_ConstantDraw().random,
+        probe=probe,
+        readings=readings,
+        excess_allowance=allowance,
     )
     return trace
 
 
-def _behaviour(gate_name: str, stream) -> list[Decision]:
+def _aborted(readings, t: int) -> bool:
+    """Whether the probe of execution t set the product back (what the arm's ObserveOutcome would see)."""
+    held, load, first, grip, seconds = readings[t]
+    if np.isnan(held):
+        return False
+    reading = ProbeReading(bool(held), float(load), float(first), float(grip), float(seconds))
+    return not judge_probe(reading, ProbeSettings.of(PROBE))[0]
+
+
+def _behaviour(
+    gate_name: str, stream, probe: ProbeOptions | None = None, readings=None, allowance: float | None = None
+) -> list[Decision]:
     """The tree's gate ticked on the same stream: one candidate per tick, its outcome folded into the events."""
     vectors, context, success, products = stream
     kappa = make_estimator("physical", seed=SEED, gripper_opening_m=OPENING_M)
     events = EventLog()
     now: dict[str, ExecutionContext] = {}
-    budget = BudgetOptions(target_failure_rate=ALPHA) if gate_name == "budget" else None
+    budget = (
+        BudgetOptions(target_failure_rate=ALPHA, excess_allowance=allowance)
+        if gate_name == "budget"
+        else None
+    )
     gate = ConfidenceGate(
         "gate",
         lambda: kappa,
@@ -95,6 +136,7 @@ def _behaviour(gate_name: str, stream) -> list[Decision]:
         budget=budget,
         seed=SEED,
         opening_m=OPENING_M if budget is not None else None,
+        probe=probe,
     )
     gate.setup()
     gate._rng = _ConstantDraw()  # type: ignore[assignment]  # the replay's draws
@@ -103,7 +145,7 @@ def _behaviour(gate_name: str, stream) -> list[Decision]:
         aff = affordance(product)
         row = context[t]
         ctx = ExecutionContext(
-            int(row[0]), float(row[1]), int(row[2]), bool(row[3]), float(row[4]), float(row[5])
+            int(row[0]), float(row[1]), int(row[2]), bool(row[3]), *(float(v) for v in row[4:])
         )
         now.clear()
         now[product] = ctx
@@ -118,28 +160,82 @@ def _behaviour(gate_name: str, stream) -> list[Decision]:
         gate.tick_once()
         decision = bb.get(Keys.DECISION)
         decisions.append(decision)
-        if decision.kind is DecisionKind.ACT:  # as UpdateSelfConfidence and the outcome sensor do
-            ok = bool(success[t])
-            kappa.update(grounded_features(vectors[t : t + 1], [ctx])[0], ok)
-            events(ActOutcome(float(t), aff.text, product, ok, None if ok else "grasp"))
+        if decision.kind is not DecisionKind.ACT:
+            continue
+        features = grounded_features(vectors[t : t + 1], [ctx])[0]
+        if decision.probe and _aborted(readings, t):
+            # set back: κ̂ learns it could not carry it, no attempt is counted; not folded as ProbeAborted, since a
+            # stream's executions are each from another episode (the episode's memory of it: test_probe.py)
+            kappa.update(features, False)
+            continue
+        ok = bool(success[t])  # as UpdateSelfConfidence and the outcome sensor do
+        kappa.update(features, ok)
+        events(ActOutcome(float(t), aff.text, product, ok, None if ok else "grasp"))
     return decisions
 
 
 def _key(d: Decision) -> tuple[object, ...]:
-    return (d.kind, d.explored, d.rule, d.reason, round(d.confidence, 12), d.object_name)
+    return (d.kind, d.explored, d.probe, d.rule, d.reason, round(d.confidence, 12), d.object_name)
 
 
-@pytest.mark.parametrize("gate", ["budget", "paper"])
-def test_the_tree_and_the_replay_decide_the_same_on_the_same_stream(gate: str) -> None:
+@pytest.mark.parametrize(("gate", "allowance"), [("budget", None), ("budget", 1.0), ("paper", None)])
+def test_the_tree_and_the_replay_decide_the_same_on_the_same_stream(
+    gate: str, allowance: float | None
+) -> None:
+    """Allowance 1: the strict promise (exploration_credit) on in both."""
     stream = _stream()
-    replayed = _replay(gate, stream)
-    ticked = _behaviour(gate, stream)
+    replayed = _replay(gate, stream, allowance=allowance)
+    ticked = _behaviour(gate, stream, allowance=allowance)
     assert [_key(d) for d in ticked] == [_key(d) for d in replayed]
     kinds = {d.kind for d in replayed}
     assert {DecisionKind.ACT, DecisionKind.ASK} <= kinds  # both outcomes are exercised
     if gate == "budget":
         rules = {d.rule for d in replayed}
         assert "too-wide" in rules and any(d.explored for d in replayed)
+
+
+def test_the_tree_and_the_replay_probe_the_same_on_a_stream_with_probe_readings() -> None:
+    """The heft test is a step of the one decision (`probe_first`): fed the same stream and the same probe
+    readings, both probe the same executions and set back the same ones."""
+    stream = _stream(n=80, seed=11)
+    readings = _readings(stream)
+    replayed = _replay("budget", stream, PROBE, readings)
+    ticked = _behaviour("budget", stream, PROBE, readings)
+    assert [_key(d) for d in ticked] == [_key(d) for d in replayed]
+    probed = [t for t, d in enumerate(replayed) if d.probe]
+    assert probed and all(replayed[t].kind is DecisionKind.ACT for t in probed)
+    assert any(_aborted(readings, t) for t in probed)  # some set back, some carried on
+    assert not all(_aborted(readings, t) for t in probed)
+    assert all(not d.probe for d in replayed if d.rule == "too-wide")  # too wide: asked, never hefted
+    assert "too-wide" in {d.rule for d in replayed}
+
+
+def test_the_probe_step_asks_about_what_a_probe_set_back_in_this_episode() -> None:
+    budget = BudgetOptions(target_failure_rate=0.2)
+    band = ProbeOptions(below=0.3, above=0.0)  # κ̂ in [0.1, 0.4) against τ₀ = 0.4
+    rules = GateRules(budget=budget, exploration=budget, opening_m=OPENING_M, probe=band)
+    text = "Put jar on table"
+    seen = GateInput(
+        ranked=(RankedAction(text, 0.9),),
+        confidences=(0.3,),  # τ₀ = 0.4: within the band below it
+        objects={text: "jar"},
+        widths_m={text: 0.05},
+        draw=lambda: 0.99,  # no exploration draw
+    )
+    probed = gate_decision(rules, seen).decision
+    assert (probed.kind, probed.probe, probed.explored) == (DecisionKind.ACT, True, False)
+    assert probed.reason == "unsure (confidence 0.30, threshold 0.40): hefting the jar first"
+    again = gate_decision(rules, GateInput(**{**seen.__dict__, "probe_reasons": {text: "the jar slips"}}))
+    assert (again.decision.kind, again.decision.rule, again.decision.probe) == (
+        DecisionKind.ASK,
+        "probe",
+        False,
+    )
+    assert again.decision.reason == "the jar slips: please bring it"
+    sure = gate_decision(rules, GateInput(**{**seen.__dict__, "confidences": (0.05,)})).decision
+    assert (sure.kind, sure.probe) == (DecisionKind.ASK, False)  # below the band: asked as before
+    failed = gate_decision(rules, GateInput(**{**seen.__dict__, "failures": {text: 1}})).decision
+    assert (failed.kind, failed.probe) == (DecisionKind.ASK, False)  # an action that failed is not probed
 
 
 def test_steps_can_be_read_one_by_one() -> None:

@@ -213,7 +213,7 @@ def test_a_count_naming_no_product_or_stage_is_an_error_not_a_vacuous_pass(tmp_p
     msg = _error(tmp_path, "description: d\nexpect:\n  - {count: {kind: outcome, stage: grsp}, max: 0}\n")
     assert msg.endswith(
         "expect[0].count.stage: unknown failure stage 'grsp'; valid: perception, ik, planning, grasp, transit, "
-        "collision, place, timeout, cancelled"
+        "collision, place, timeout, cancelled, probe"
     )
     msg = _error(tmp_path, BASE + "events:\n  - {when: {kind: outcome, stage: grsp}, remove: salt}\n")
     assert "events[0].when.stage: unknown failure stage 'grsp'" in msg

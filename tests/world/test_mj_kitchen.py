@@ -156,3 +156,31 @@ def test_a_users_catalogue_file_works_unchanged_on_mujoco(tmp_path, robot_cfg):
         assert "saffron syrup" in found  # named from its own marker id, 900
         error = np.linalg.norm(np.subtract(found["saffron syrup"].position, _top(kitchen, "saffron syrup")))
         assert error <= 0.005
+
+
+def test_the_heft_test_feels_the_products_weight_in_mujocos_fingers(kitchen_cfg, robot_cfg):
+    """The probe's fingertip force sensing on MuJoCo (`MjKitchen.finger_forces`, as PyBullet's `ArmIO`): lifted a
+    little and held, the salt weighs on the fingers about its own weight, and the recording probe carries on."""
+    from scone_bt.motion import MotionSystem
+    from scone_bt.motion.probe import ProbeSettings
+    from scone_bt.perception.types import Detection
+    from scone_bt.world.mj_kitchen import MjKitchen
+
+    with MjKitchen(kitchen_cfg, robot_cfg) as kitchen:
+        kitchen.spawn([kitchen_cfg.catalogue.get("salt")], np.random.default_rng(1))
+        assert kitchen.finger_forces("salt") == (0.0, 0.0)  # untouched
+        det = Detection(
+            "salt", 0, tuple(_top(kitchen, "salt")), kitchen.object_yaw("salt"), 1.0, (0, 0, 1, 1)
+        )
+        with MotionSystem.build(kitchen) as system:
+            task = system.pick_and_place(det, kitchen.specs["salt"], [], rng_seed=1)
+            task.probe = ProbeSettings(set_back=False)
+            task.start()
+            while not task.done():
+                kitchen.advance(0.1)
+            outcome = task.outcome()
+            reading = task.probe_reading
+        assert outcome.success, outcome.message
+        assert reading is not None and reading.held
+        weight = kitchen.specs["salt"].mass * 9.81
+        assert reading.load_n == pytest.approx(weight, rel=0.25) and reading.grip_n > reading.load_n

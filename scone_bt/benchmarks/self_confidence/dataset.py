@@ -22,8 +22,17 @@ object and outcome):
     height_m           catalogue height, metres
     mass_kg            catalogue mass, kilograms
     material           catalogue material
+    detected_depth_m   perceived longer horizontal extent of the lid, metres (empty when not measured)
+    detected_fill      perceived lid area over its bounding rectangle (π/4 cylinder, 1 box; empty likewise)
+    depth_m            catalogue longer horizontal extent, metres
+    shape              catalogue shape (box, cylinder)
+    probe_held         the heft test (motion.probe, sensing only): 1 if the fingers still held it after the hold
+    probe_load_n       vertical load the fingers carried over the hold's second half, newtons
+    probe_load_first_n the same over its first half, newtons
+    probe_grip_n       the fingers' summed grip force over the second half, newtons
+    probe_s            simulated seconds the probe took (all probe columns empty when the arm never held it up)
 
-Every column from shelf_unit to detected_height_m is what the robot perceived, computed by the episode's own
+The last nine columns came later: a file without them is still read (they are then unknown). Every column from shelf_unit to detected_height_m is what the robot perceived, computed by the episode's own
 context function (`scone_bt.perception.context.execution_contexts`, see generate.perceived_context); an undetected
 target leaves them empty (detected 0). width_m to material describe the product, not what the robot knew.
 
@@ -79,6 +88,15 @@ COLUMNS = (
     "height_m",
     "mass_kg",
     "material",
+    "detected_depth_m",
+    "detected_fill",
+    "depth_m",
+    "shape",
+    "probe_held",
+    "probe_load_n",
+    "probe_load_first_n",
+    "probe_grip_n",
+    "probe_s",
 )
 """Columns the generator writes, in this order (see the module docstring)."""
 
@@ -93,8 +111,29 @@ CONTEXT_COLUMNS = (
     "width_m",
     "height_m",
     "mass_kg",
+    "detected_depth_m",
+    "detected_fill",
+    "depth_m",
+    "probe_held",
+    "probe_load_n",
+    "probe_load_first_n",
+    "probe_grip_n",
+    "probe_s",
 )
 """Numeric context columns, read into `Dataset.context` as float arrays (NaN where a row leaves one empty)."""
+
+_LATER = (
+    "detected_depth_m",
+    "detected_fill",
+    "depth_m",
+    "shape",
+    "probe_held",
+    "probe_load_n",
+    "probe_load_first_n",
+    "probe_grip_n",
+    "probe_s",
+)
+"""Columns a file of the previous schema lacks (read as unknown)."""
 
 _TRUE = {"success", "1", "true", "yes", "ok"}
 _FALSE = {"failure", "0", "false", "no", "fail"}
@@ -148,6 +187,15 @@ class ExecutionRecord:
     height_m: float = float("nan")
     mass_kg: float = float("nan")
     material: str = ""
+    detected_depth_m: float | None = None
+    detected_fill: float | None = None
+    depth_m: float = float("nan")
+    shape: str = ""
+    probe_held: bool | None = None
+    probe_load_n: float | None = None
+    probe_load_first_n: float | None = None
+    probe_grip_n: float | None = None
+    probe_s: float | None = None
 
     def row(self) -> list[str]:
         """The CSV row, in COLUMNS order."""
@@ -179,6 +227,15 @@ class ExecutionRecord:
             num(self.height_m),
             num(self.mass_kg),
             self.material,
+            num(self.detected_depth_m),
+            num(self.detected_fill),
+            num(self.depth_m),
+            self.shape,
+            "" if self.probe_held is None else str(int(self.probe_held)),
+            num(self.probe_load_n),
+            num(self.probe_load_first_n),
+            num(self.probe_grip_n),
+            num(self.probe_s),
         ]
 
 
@@ -265,7 +322,7 @@ def read_records(path: Path | str) -> list[ExecutionRecord]:
     # The header is checked even without rows: a file of one line (someone's notes, another CSV's header) is not
     # a generator file whose run was cut short, and would otherwise be written over.
     header = reader.fieldnames or []
-    missing = [c for c in COLUMNS if header and c not in header]
+    missing = [c for c in COLUMNS if header and c not in header and c not in _LATER]
     if missing:
         raise ConfigError(
             f"{path}: not a generator file of this version (missing column {missing[0]!r}); delete it to regenerate"
@@ -274,7 +331,7 @@ def read_records(path: Path | str) -> list[ExecutionRecord]:
     for i, r in enumerate(rows):
 
         def opt(column: str, r: dict[str, str] = r, i: int = i) -> float | None:
-            v = _float(r[column], path, i, column)
+            v = _float(r.get(column) or "", path, i, column)
             return None if v != v else v
 
         def opt_int(column: str, r: dict[str, str] = r, i: int = i) -> int | None:
@@ -302,6 +359,15 @@ def read_records(path: Path | str) -> list[ExecutionRecord]:
                 height_m=_float(r["height_m"], path, i, "height_m"),
                 mass_kg=_float(r["mass_kg"], path, i, "mass_kg"),
                 material=r["material"],
+                detected_depth_m=opt("detected_depth_m"),
+                detected_fill=opt("detected_fill"),
+                depth_m=opt("depth_m") or float("nan"),
+                shape=r.get("shape") or "",
+                probe_held=None if not r.get("probe_held") else r["probe_held"].strip() == "1",
+                probe_load_n=opt("probe_load_n"),
+                probe_load_first_n=opt("probe_load_first_n"),
+                probe_grip_n=opt("probe_grip_n"),
+                probe_s=opt("probe_s"),
             )
         )
     return out

@@ -38,6 +38,7 @@ from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
 from scone_bt.config.catalogue import Catalogue
 from scone_bt.errors import ConfigError
 from scone_bt.experience.types import ExecutionContext
+from scone_bt.motion.probe import ProbeReading, ProbeSettings
 from scone_bt.perception import context as perception_context
 from scone_bt.perception.types import Detection, Frame
 
@@ -49,8 +50,13 @@ __all__ = [
     "drawable_products",
     "execute_task",
     "perceived_context",
+    "RECORDING_PROBE",
     "run_execution",
 ]
+
+RECORDING_PROBE = ProbeSettings(set_back=False)
+"""Every execution hefts its product first and records what the fingers felt, then always carries on (the probe
+only senses): a replay decides afterwards whether a robot that probes would have set it back (benchmarks.gate)."""
 
 INJECTED_FORCE_FACTOR = 0.1
 """An injected grasp failure closes the gripper with this fraction of its force."""
@@ -353,18 +359,19 @@ def _perceive(
 
 
 def _record(
-    index: int, seed: int, target: ObjectSpec, seen: _Perceived, success: bool, stage: str | None, detail: str
+    index: int, seed: int, target: ObjectSpec, seen: _Perceived, attempt: _Attempt
 ) -> ExecutionRecord:
-    """The execution's row: its outcome, the target's perceived context and its true size and mass."""
-    ctx = seen.context
+    """The execution's row: its outcome, the target's perceived context, its true size and mass, and what the
+    fingers felt when they hefted it (None: no probe ran)."""
+    ctx, felt = seen.context, attempt.felt
     return ExecutionRecord(
         index=index,
         action=action_text(target.name),
         object=target.name,
-        success=success,
-        failure_stage=stage,
+        success=attempt.success,
+        failure_stage=attempt.stage,
         seed=seed,
-        detail=detail,
+        detail=attempt.detail,
         family=target.family,
         shelf_unit=seen.unit,
         shelf_tier=ctx.shelf_tier,
@@ -378,7 +385,27 @@ def _record(
         height_m=round(target.height, 4),
         mass_kg=round(target.mass, 4),
         material=target.material,
+        detected_depth_m=ctx.detected_depth_m,
+        detected_fill=ctx.detected_fill,
+        depth_m=round(max(target.size[0], target.size[1]), 4),
+        shape=str(target.shape.value),
+        probe_held=None if felt is None else bool(felt.held),
+        probe_load_n=None if felt is None else felt.load_n,
+        probe_load_first_n=None if felt is None else felt.load_first_n,
+        probe_grip_n=None if felt is None else felt.grip_n,
+        probe_s=None if felt is None else felt.seconds,
     )
+
+
+@dataclass(frozen=True)
+class _Attempt:
+    """An attempt's outcome: success, failure stage (None: none), detail, and the heft test's reading (None: the
+    motion never hefted the product)."""
+
+    success: bool
+    stage: str | None
+    detail: str
+    felt: ProbeReading | None = None
 
 
 def _attempt(
@@ -389,18 +416,20 @@ def _attempt(
     seen: _Perceived,
     seed: int,
     injected: frozenset[str],
-) -> tuple[bool, str | None, str]:
-    """Pick and place the target as perceived, in simulated time; (success, failure stage, detail)."""
+    probe: ProbeSettings,
+) -> _Attempt:
+    """Pick and place the target as perceived, hefting it first (``probe``), in simulated time."""
     by_name = seen.by_name
     if "perception" in injected:
-        return False, "perception", "injected: target not detected"
+        return _Attempt(False, "perception", "injected: target not detected")
     if target.name not in by_name:
-        return False, "perception", f"target not detected ({len(by_name)} products seen)"
+        return _Attempt(False, "perception", f"target not detected ({len(by_name)} products seen)")
     if "planning" in injected:
-        return False, "planning", "injected: no plan within the budget"
+        return _Attempt(False, "planning", "injected: no plan within the budget")
     obstacles = [(d, catalogue.get(n)) for n, d in by_name.items() if n != target.name]
     with _motion_system(kitchen, rcfg) as system:
         task = system.pick_and_place(by_name[target.name], target, obstacles, rng_seed=seed)
+        task.probe = probe
         task.start()
         settled = None
         while settled is None and kitchen.sim_time < _MAX_SIM_S:
@@ -408,11 +437,12 @@ def _attempt(
                 task.wait_planned()  # simulated time must not depend on the planning thread's speed
             kitchen.advance(_ADVANCE_S)
             settled = _settled(task)
+        felt = task.probe_reading if isinstance(task.probe_reading, ProbeReading) else None
         if settled is None:
             task.cancel()
-            return False, "timeout", f"not finished after {_MAX_SIM_S:.0f} simulated seconds"
+            return _Attempt(False, "timeout", f"not finished after {_MAX_SIM_S:.0f} simulated seconds", felt)
     success, stage, message = settled
-    return success, stage, ("injected weak grasp; " if "grasp" in injected else "") + message
+    return _Attempt(success, stage, ("injected weak grasp; " if "grasp" in injected else "") + message, felt)
 
 
 def run_execution(
@@ -423,6 +453,7 @@ def run_execution(
     target_name: str | None = None,
     pool: Sequence[ObjectSpec] | None = None,
     engine: str = "sim",
+    probe: ProbeSettings = RECORDING_PROBE,
 ) -> tuple[ExecutionRecord, float]:
     """Run execution `index` of `profile`; returns the record and its wall time (s).
 
@@ -434,6 +465,8 @@ def run_execution(
         target_name: Force this target instead of the seeded draw (for per-product sweeps).
         pool: Products to draw from (default: drawable_products of the kitchen's catalogue).
         engine: The backend the execution runs on (`ENGINES`: ``sim`` is PyBullet, ``mujoco``).
+        probe: The heft test's settings (default: sensing only, always carrying on; with ``set_back`` a probe
+            that sets the product back is recorded as a failure without a stage, its detail saying so).
     """
     t0 = time.perf_counter()
     seed = profile.execution_seed(index)
@@ -444,8 +477,8 @@ def run_execution(
     kitchen = _WORKER.empty_kitchen(kcfg, rcfg, engine)
     kitchen.spawn([target, *others], rng)
     seen = _perceive(kitchen, kcfg, seed, profile, target.name, injected)
-    success, stage, detail = _attempt(kitchen, rcfg, kitchen_cfg.catalogue, target, seen, seed, injected)
-    return _record(index, seed, target, seen, success, stage, detail), time.perf_counter() - t0
+    attempt = _attempt(kitchen, rcfg, kitchen_cfg.catalogue, target, seen, seed, injected, probe)
+    return _record(index, seed, target, seen, attempt), time.perf_counter() - t0
 
 
 def _settled(task: Any) -> tuple[bool, str | None, str] | None:

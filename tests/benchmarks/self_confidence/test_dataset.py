@@ -20,7 +20,9 @@ from scone_bt.errors import ConfigError
 
 CONTRACT = (
     "index, action, object, family, outcome, failure_stage, seed, detail, shelf_unit, shelf_tier, slot, "
-    "clearance_m, neighbours, detected, detected_width_m, detected_height_m, width_m, height_m, mass_kg, material"
+    "clearance_m, neighbours, detected, detected_width_m, detected_height_m, width_m, height_m, mass_kg, material, "
+    "detected_depth_m, detected_fill, depth_m, shape, probe_held, probe_load_n, probe_load_first_n, probe_grip_n, "
+    "probe_s"
 )
 
 
@@ -46,6 +48,10 @@ def _records() -> list[ExecutionRecord]:
         height_m=0.25,
         mass_kg=0.9,
         material="glass",
+        detected_depth_m=0.0655,
+        detected_fill=0.781,
+        depth_m=0.065,
+        shape="cylinder",
     )
     missed = dataclasses.replace(
         seen,
@@ -56,6 +62,8 @@ def _records() -> list[ExecutionRecord]:
         detected=False,
         detected_width_m=None,
         detected_height_m=None,
+        detected_depth_m=None,
+        detected_fill=None,
         shelf_tier=2,
         clearance_m=0.5,
     )
@@ -130,3 +138,14 @@ def test_a_malformed_number_names_the_row_and_column(tmp_path):
     path.write_text(text)
     with pytest.raises(ConfigError, match=r"row 2: clearance_m 'wide' is not a number"):
         read_records(path)
+
+
+def test_a_file_without_the_later_shape_columns_is_still_read(tmp_path):
+    path = write_records(tmp_path / "p.csv", _records())
+    import csv
+
+    rows = list(csv.reader(path.open(newline="")))
+    with path.open("w", newline="") as f:
+        csv.writer(f).writerows(r[:20] for r in rows)  # the previous schema: up to material
+    back = read_records(path)
+    assert back[1].detected_depth_m is None and back[1].shape == "" and back[1].material == "glass"

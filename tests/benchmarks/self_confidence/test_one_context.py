@@ -47,6 +47,8 @@ def _record_context(record: Any) -> tuple[object, ...]:
         record.detected,
         record.detected_width_m,
         record.detected_height_m,
+        record.detected_depth_m,
+        record.detected_fill,
     )
 
 
@@ -98,11 +100,11 @@ def test_an_undetected_target_records_nothing_perceived(
     prof = load_profile(PROFILES / "p08_transparent_blind.yaml")  # execution 0: glass, detection dropped
     record, _ = fresh_worker.run_execution(prof, 0, kitchen_cfg, robot_cfg)
     assert record.failure_stage == "perception" and not record.detected
-    assert _record_context(record) == (None, None, None, False, None, None)
+    assert _record_context(record) == (None, None, None, False, None, None, None, None)
     assert record.shelf_unit == "" and record.slot is None
     assert not any(record.object in [t.name for t in c["targets"]] for c in calls)
     row = dict(zip(COLUMNS, record.row(), strict=True))
-    assert [row[c] for c in CONTEXT_FIELDS] == ["", "", "", "0", "", ""]  # empty cells in the CSV
+    assert [row[c] for c in CONTEXT_FIELDS] == ["", "", "", "0", "", "", "", ""]  # empty cells in the CSV
 
 
 def test_the_evaluation_and_the_gate_replay_read_the_recorded_context(
@@ -115,7 +117,7 @@ def test_the_evaluation_and_the_gate_replay_read_the_recorded_context(
     (first, _) = load_datasets(folder)
     got = evaldata.decision_time_context(first)
     recorded = np.array(
-        [[float(r[c]) if r[c] != "" else np.nan for c in CONTEXT_FIELDS] for r in rows], dtype=np.float64
+        [[float(r[c]) if r.get(c) else np.nan for c in CONTEXT_FIELDS] for r in rows], dtype=np.float64
     )
     np.testing.assert_array_equal(got, recorded)  # as recorded: NaN stays NaN, detected 0 stays 0
     undetected = recorded[:, CONTEXT_FIELDS.index("detected")] == 0

@@ -1,0 +1,143 @@
+"""When to heft a product before committing: the probe band around the budget's threshold.
+
+An action κ̂ is sure of is acted on (κ̂ ≥ τ + ``above``) or asked about (κ̂ < τ − ``below``) as before. In between
+κ̂ is unsure, and a grasp and a 1–2 cm lift tell more than asking does (motion.probe): the robot probes, then
+carries on or sets the product back and asks. A probe below τ needs no exploration credit (gate.budget.has_credit):
+a product that slips is set back, not dropped, so the probe spends no failure it has not earned; what it cannot
+catch (a product that holds in the probe and falls later) counts against the budget like any attempt.
+
+The band below τ narrows with the promise: at a target failure rate α under ``full_band_at`` it is
+``below · (α / full_band_at)⁴`` (`band_below`). A probe that passes still carries on a product that may fall later
+(about one in eight of those the fingers held fast, on the development streams), so at a strict α the robot probes
+only what κ̂ is nearly sure of; at α ≥ ``full_band_at`` every action down to ``below`` under τ is probed. The
+power was chosen on `tools/data/sc_probe` (docs/results/probe.md): the smallest of 1–4 that keeps the realised
+rate within α + 0.02 at α = 0.05, 0.10, 0.15 and 0.20.
+
+`ProbeOptions` carries the band and the motion's settings (the tree file's ``probe:`` parameters, validated here:
+one line naming the key and its range); `in_band` is a pure function.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from scone_bt.errors import SconeError
+
+if TYPE_CHECKING:
+    from scone_bt.gate.budget import BudgetCounts, BudgetOptions
+
+__all__ = ["ProbeOptions", "in_band", "band_below", "probe_credit", "NARROWING_POWER"]
+
+NARROWING_POWER = 4.0
+"""How fast the band below τ narrows under ``full_band_at`` (`band_below`)."""
+
+
+@dataclass(frozen=True)
+class ProbeOptions:
+    """The probe band and the heft test's motion.
+
+    Attributes:
+        below: Probe actions down to this far below the threshold τ (probability), in [0, 1], at a target
+            failure rate of ``full_band_at`` or more (`band_below`).
+        above: Probe actions up to this far above τ (probability), in [0, 1]; 0 probes only what would be asked.
+        lift_m: How far the product is lifted, metres, in [0.005, 0.05].
+        hold_s: How long it is held up while the fingers feel it, seconds, in [0.1, 3].
+        max_unsteady: Set back when the felt load changes by more than this share during the hold, in (0, 1].
+        max_traction: Set back when the felt load over the grip force exceeds this, in (0, 10].
+        full_band_at: Under this target failure rate α the band below τ narrows (`band_below`), in [0, 1); 0:
+            never.
+        credit: A probe below τ is made only while one more failure keeps failures ≤ α × attempts + ``credit``
+            (gate.budget.has_credit with this allowance; None: always): what a probe cannot feel (a product that
+            holds in the fingers and fails later) is paid for from a bounded excess.
+    """
+
+    below: float = 1.0
+    above: float = 0.45
+    lift_m: float = 0.015
+    hold_s: float = 0.5
+    max_unsteady: float = 0.01
+    max_traction: float = 0.3
+    credit: float | None = None
+    full_band_at: float = 0.15
+
+    def __post_init__(self) -> None:
+        names = (
+            "below",
+            "above",
+            "lift_m",
+            "hold_s",
+            "max_unsteady",
+            "max_traction",
+            "credit",
+            "full_band_at",
+        )
+        for name in names:
+            value = getattr(self, name)
+            if name == "credit" and value is None:
+                continue
+            if isinstance(value, bool) or not isinstance(value, int | float):
+                raise SconeError(f"probe.{name} must be a number, got {value!r}")
+        checks = (
+            ("below", 0.0 <= self.below <= 1.0, "in [0, 1]"),
+            ("above", 0.0 <= self.above <= 1.0, "in [0, 1]"),
+            ("lift_m", 0.005 <= self.lift_m <= 0.05, "in [0.005, 0.05] (metres)"),
+            ("hold_s", 0.1 <= self.hold_s <= 3.0, "in [0.1, 3] (seconds)"),
+            ("max_unsteady", 0.0 < self.max_unsteady <= 1.0, "in (0, 1]"),
+            ("max_traction", 0.0 < self.max_traction <= 10.0, "in (0, 10]"),
+            ("credit", self.credit is None or 0.0 <= self.credit <= 100.0, "None or in [0, 100]"),
+            ("full_band_at", 0.0 <= self.full_band_at < 1.0, "in [0, 1)"),
+        )
+        for name, ok, allowed in checks:
+            value = getattr(self, name)
+            if not ok or (value is not None and not math.isfinite(float(value))):
+                raise SconeError(f"probe.{name} must be {allowed}, got {value}")
+
+    @classmethod
+    def of(cls, params: object) -> ProbeOptions | None:
+        """From a tree file's validated ``probe:`` section (config.tree_parameters.ProbeParameters, read by its
+        attributes); None when it is not enabled."""
+        if not getattr(params, "enabled", True):
+            return None
+        names = ("below", "above", "lift_m", "hold_s", "full_band_at")
+        return cls(**{n: getattr(params, n) for n in names if hasattr(params, n)})
+
+
+def band_below(options: ProbeOptions, alpha: float | None) -> float:
+    """How far below τ the robot probes at target failure rate ``alpha`` (None: no budget, the full band)."""
+    if alpha is None or options.full_band_at <= 0.0 or alpha >= options.full_band_at:
+        return options.below
+    return options.below * (alpha / options.full_band_at) ** NARROWING_POWER
+
+
+def in_band(
+    confidence: float,
+    threshold: float,
+    options: ProbeOptions | None,
+    credit: bool = True,
+    alpha: float | None = None,
+) -> bool:
+    """Whether κ̂'s ``confidence`` is unsure enough, against the gate's ``threshold``, to probe first.
+
+    ``credit``: whether the failure budget has room for one more failure within ``options.credit``
+    (`probe_credit`); read only below the threshold. ``alpha``: the budget's target failure rate (the band below
+    τ narrows under ``options.full_band_at``, `band_below`); None: the full band.
+    """
+    if options is None or not math.isfinite(confidence):
+        return False
+    if confidence < threshold and options.credit is not None and not credit:
+        return False
+    return threshold - band_below(options, alpha) <= confidence < threshold + options.above
+
+
+def probe_credit(options: ProbeOptions | None, budget: BudgetOptions, counts: BudgetCounts) -> bool:
+    """Whether a probe below τ has room for one more failure: gate.budget.has_credit with the probe's allowance
+    (True without one)."""
+    if options is None or options.credit is None:
+        return True
+    from dataclasses import replace
+
+    from scone_bt.gate.budget import has_credit
+
+    return has_credit(replace(budget, excess_allowance=options.credit), counts)

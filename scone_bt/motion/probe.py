@@ -1,0 +1,306 @@
+"""The heft test: grasp, lift the product a little, hold it, feel its load and slip, then carry on or set it back.
+
+A person hefts an unfamiliar item before carrying it; the robot does the same for an action κ̂ is unsure of
+(gate.probe decides when). `ProbeController` is the pick-and-place controller with the plan's lift split in two:
+first ``lift_m`` up (`MotionPhase.PROBE`), a hold of ``hold_s`` (`MotionPhase.PROBE_HOLD`) in which the fingers
+sample what they feel (`ForceSensing.finger_forces`: the vertical load they carry and how hard they squeeze),
+then `judge_probe` on the samples:
+
+- it holds: the rest of the lift, and the plan goes on;
+- it slips (the fingers no longer hold it, or the load they carry changes during the hold as the product slides)
+  or the grip is near its friction limit (load over grip above ``max_traction``: the carry's accelerations would
+  make it slip): the product is set down where it stood (`MotionPhase.SET_DOWN`, the probe's lift reversed), the
+  fingers open, the hand leaves as it came (the descent reversed) and heads home. The outcome is *aborted*: no
+  failure, since the product is where it was, but the person has to fetch it.
+
+Everything is sensed by the arm (joints, finger contacts and positions), never read from the simulator's state.
+With ``set_back`` False the probe only senses and always carries on (the self-confidence generator records
+readings that way, so one dataset serves both with and without the probe).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+from scone_bt.errors import SconeError
+from scone_bt.motion.execution import PickPlaceController, Segment
+from scone_bt.motion.types import MotionPhase, TimedTrajectory
+
+__all__ = ["ForceSensing", "ProbeController", "ProbeReading", "ProbeSettings", "judge_probe", "min_jerk"]
+
+_AS_TRACKED = {MotionPhase.PROBE: MotionPhase.LIFT, MotionPhase.SET_DOWN: MotionPhase.LOWER}
+"""The probe's motions are watched for collisions as the lift and the lowering they are part of."""
+_SAMPLE_S = 0.02
+"""Simulated seconds between two samples of the finger forces during the hold."""
+_G = 9.81
+
+
+@runtime_checkable
+class ForceSensing(Protocol):
+    """What the probe needs of the arm beyond `ArmExecutor`: fingertip force sensing."""
+
+    def finger_forces(self, held: str) -> tuple[float, float]:
+        """(vertical load the fingers carry, their summed grip force) in newtons from ``held``."""
+        ...
+
+
+@dataclass(frozen=True)
+class ProbeSettings:
+    """How far and how long the robot hefts a product, and when it sets it back.
+
+    Attributes:
+        lift_m: How far the product is lifted, metres, in [0.005, 0.05].
+        hold_s: How long it is held there while the fingers feel it, seconds, in [0.1, 3].
+        up_s: Time for the little lift (and for setting it down), seconds.
+        max_traction: Set back when the carried load over the grip force exceeds this (near the friction limit).
+        max_unsteady: Set back when the carried load changes by more than this share between the hold's halves (a
+            product held fast weighs the same throughout, to a tenth of a percent; one sliding in the fingers
+            does not).
+        set_back: False: only sense, always carry on (the generator's recording mode).
+    """
+
+    lift_m: float = 0.015
+    hold_s: float = 0.5
+    up_s: float = 0.4
+    max_traction: float = 0.3
+    max_unsteady: float = 0.01
+    set_back: bool = True
+
+    @classmethod
+    def of(cls, options: object) -> ProbeSettings:
+        """The motion's settings from the gate's probe options (gate.probe.ProbeOptions, read by attributes)."""
+        names = ("lift_m", "hold_s", "max_unsteady", "max_traction")
+        return cls(**{n: getattr(options, n) for n in names})
+
+    def __post_init__(self) -> None:
+        checks = (
+            ("lift_m", 0.005 <= self.lift_m <= 0.05, "in [0.005, 0.05] m"),
+            ("hold_s", 0.1 <= self.hold_s <= 3.0, "in [0.1, 3] s"),
+            ("up_s", 0.1 <= self.up_s <= 3.0, "in [0.1, 3] s"),
+            ("max_traction", 0.0 < self.max_traction <= 10.0, "in (0, 10]"),
+            ("max_unsteady", 0.0 < self.max_unsteady <= 1.0, "in (0, 1]"),
+        )
+        for name, ok, allowed in checks:
+            value = getattr(self, name)
+            if not ok or not math.isfinite(float(value)):
+                raise SconeError(f"probe {name} must be {allowed}, got {value}")
+
+
+@dataclass(frozen=True)
+class ProbeReading:
+    """What the fingers felt while holding the product up (newtons; the samples' means over the hold's halves).
+
+    Attributes:
+        held: Both fingers still held it at the end of the hold.
+        load_n: Vertical load the fingers carried over the hold's second half.
+        load_first_n: The same over its first half.
+        grip_n: Summed grip (normal) force over the second half.
+        seconds: Simulated seconds the probe took (lift, hold and, if it set back, the set-down).
+    """
+
+    held: bool
+    load_n: float
+    load_first_n: float
+    grip_n: float
+    seconds: float = 0.0
+
+    @property
+    def traction(self) -> float:
+        """Load over grip: how close the grip is to sliding (a product slips past the friction coefficient)."""
+        return self.load_n / self.grip_n if self.grip_n > 1e-6 else math.inf
+
+    @property
+    def unsteady(self) -> float:
+        """Share by which the load changed between the hold's halves (0: steady; a sliding product's varies)."""
+        if self.load_first_n <= 1e-6:
+            return 1.0
+        return abs(self.load_n - self.load_first_n) / self.load_first_n
+
+    @property
+    def mass_kg(self) -> float:
+        """The mass the load stands for (kilograms)."""
+        return max(0.0, self.load_n) / _G
+
+
+def judge_probe(reading: ProbeReading, settings: ProbeSettings) -> tuple[bool, str]:
+    """(carry on, why) from a probe's reading: why is the robot's words for setting it back, or ""."""
+    if not reading.held:
+        return False, "slips out of my fingers"
+    if reading.unsteady > settings.max_unsteady:
+        return False, "slips in my fingers"
+    if reading.traction > settings.max_traction:
+        return False, f"is too heavy for my grip (about {reading.mass_kg * 1000:.0f} g)"
+    return True, ""
+
+
+def min_jerk(q0: np.ndarray, q1: np.ndarray, duration_s: float, rate_hz: float) -> TimedTrajectory:
+    """A rest-to-rest joint motion from q0 to q1 along the straight joint line (minimum-jerk timing)."""
+    q0, q1 = np.asarray(q0, dtype=float), np.asarray(q1, dtype=float)
+    n = max(2, int(math.ceil(duration_s * rate_hz)) + 1)
+    t = np.linspace(0.0, duration_s, n)
+    s = t / duration_s
+    pos = 10 * s**3 - 15 * s**4 + 6 * s**5
+    vel = (30 * s**2 - 60 * s**3 + 30 * s**4) / duration_s
+    acc = (60 * s - 180 * s**2 + 120 * s**3) / duration_s**2
+    d = q1 - q0
+    return TimedTrajectory(t, q0 + pos[:, None] * d, vel[:, None] * d, acc[:, None] * d)
+
+
+def _reversed(traj: TimedTrajectory) -> TimedTrajectory:
+    """The same motion backwards in time (rest to rest stays rest to rest)."""
+    return TimedTrajectory(
+        traj.duration - traj.times[::-1],
+        traj.positions[::-1].copy(),
+        -traj.velocities[::-1],
+        traj.accelerations[::-1].copy(),
+    )
+
+
+class ProbeController(PickPlaceController):
+    """PickPlaceController with the heft test between the grasp and the lift (module docstring).
+
+    Args (besides PickPlaceController's, passed through):
+        probe: The probe's settings.
+        hand_z: Height of the hand (metres) at given joints, from the arm's kinematic model.
+    """
+
+    def __init__(
+        self,
+        *args: object,
+        probe: ProbeSettings,
+        hand_z: Callable[[np.ndarray], float],
+        **kwargs: object,
+    ) -> None:
+        super().__init__(*args, **kwargs)  # type: ignore[arg-type]
+        self.probe = probe
+        self._hand_z = hand_z
+        self.reading: ProbeReading | None = None
+        self.aborted = False
+        self.probe_reason = ""
+        self._samples: list[tuple[float, float]] = []
+        self._probe_start: float | None = None
+        self._descend: Segment | None = None
+        self._up: TimedTrajectory | None = None
+        self._rest: list[tuple[MotionPhase, Segment | None]] = []
+
+    # ------------------------------------------------------------------------------------- the plan, split
+    def _start_plan(self, ready: object) -> None:
+        super()._start_plan(ready)
+        if self.plan is None or self.stage is not None:
+            return
+        i = next((k for k, (ph, _) in enumerate(self.queue) if ph is MotionPhase.LIFT), None)
+        d = next((seg for ph, seg in self.queue if ph is MotionPhase.DESCEND), None)
+        if i is None or d is None:
+            return
+        lift = self.queue[i][1]
+        assert lift is not None
+        traj = lift.trajectory
+        q0 = traj.positions[0]
+        # The first straight piece of the lift (its waypoints are rest points): the probe lifts along it.
+        way = (
+            lift.waypoints
+            if lift.waypoints is not None and len(lift.waypoints) >= 2
+            else traj.positions[[0, -1]]
+        )
+        q1 = np.asarray(way[1], dtype=float)
+        rise = self._hand_z(q1) - self._hand_z(q0)
+        if rise <= self.probe.lift_m * 1.5:
+            return  # too short a lift to heft within it: no probe
+        f = self.probe.lift_m / rise
+        q_probe = q0 + f * (q1 - q0)
+        rate = self.cfg.control.rate_hz
+        self._up = min_jerk(q0, q_probe, self.probe.up_s, rate)
+        # The rest of that piece from rest at the probe's height, at the piece's own pace (never faster).
+        k1 = int(np.argmin(np.linalg.norm(traj.positions - q1, axis=1)))
+        piece_s = float(traj.times[k1]) if k1 > 0 else traj.duration
+        rest = min_jerk(q_probe, q1, max(piece_s * (1.0 - f) * 1.5, 0.3), rate)
+        if k1 < len(traj.times) - 1:  # further pieces: the lift's own samples from that rest point on
+            tail = slice(k1 + 1, None)
+            rest = TimedTrajectory(
+                np.concatenate([rest.times, rest.duration + traj.times[tail] - traj.times[k1]]),
+                np.vstack([rest.positions, traj.positions[tail]]),
+                np.vstack([rest.velocities, traj.velocities[tail]]),
+                np.vstack([rest.accelerations, traj.accelerations[tail]]),
+            )
+        self._descend = d
+        self.queue[i : i + 1] = [
+            (MotionPhase.PROBE, Segment(MotionPhase.PROBE, self._up)),
+            (MotionPhase.PROBE_HOLD, None),
+            (MotionPhase.LIFT, Segment(MotionPhase.LIFT, rest)),
+        ]
+        self.total_exec_s += self._up.duration + self.probe.hold_s + rest.duration - traj.duration
+
+    # ------------------------------------------------------------------------------------- the hold
+    def __call__(self, arm: object) -> None:
+        if self.finished or self.phase is not MotionPhase.PROBE_HOLD:
+            if self.phase is MotionPhase.PROBE and self._probe_start is None:
+                self._probe_start = self.arm.sim_time
+            super().__call__(arm)  # type: ignore[arg-type]
+            return
+        dt = self.arm.time_step
+        self._command(self.hold_q)
+        every = max(1, round(_SAMPLE_S / dt))
+        if self.phase_steps % every == 0 and self.held is not None and isinstance(self.arm, ForceSensing):
+            self._samples.append(self.arm.finger_forces(self.held))
+        if self.phase_steps * dt >= self.probe.hold_s:
+            self._decide()
+        self.phase_steps += 1
+
+    def _decide(self) -> None:
+        half = max(1, len(self._samples) // 2)
+        first, second = self._samples[:half], self._samples[half:] or self._samples[:half]
+
+        def mean(xs: list[tuple[float, float]], i: int) -> float:
+            return float(np.mean([abs(x[i]) for x in xs])) if xs else 0.0
+
+        started = self._probe_start if self._probe_start is not None else self.arm.sim_time
+        self.reading = ProbeReading(
+            held=self._holding(),
+            load_n=round(mean(second, 0), 4),
+            load_first_n=round(mean(first, 0), 4),
+            grip_n=round(mean(second, 1), 4),
+            seconds=round(self.arm.sim_time - started, 4),
+        )
+        carry, why = judge_probe(self.reading, self.probe)
+        if carry or not self.probe.set_back:
+            self._next()
+            return
+        self._set_back(why)
+
+    def _set_back(self, why: str) -> None:
+        """Lower it where it stood, open, leave as the hand came, and head home: an aborted attempt."""
+        assert self._up is not None and self._descend is not None
+        self.aborted = True
+        self.probe_reason = f"the {self.target_name} {why}"
+        self.message = f"set back after the probe: {self.probe_reason}"
+        self.queue = [
+            (MotionPhase.SET_DOWN, Segment(MotionPhase.SET_DOWN, _reversed(self._up))),
+            (MotionPhase.RELEASE, None),
+            (MotionPhase.RETREAT, Segment(MotionPhase.RETREAT, _reversed(self._descend.trajectory))),
+        ]
+        self._next()
+
+    def _next(self) -> None:
+        if self.aborted and not self.queue and self.phase is MotionPhase.RETREAT:
+            # back above the shelf with an empty hand: the way home is planned from here, as after a failure
+            if self.reading is not None and self._probe_start is not None:
+                self.reading = _with_seconds(self.reading, self.arm.sim_time - self._probe_start)
+            self.hold_q = self.arm.arm_joint_positions()
+            self._home_poll = self._request_home(self.hold_q)
+            self._enter(MotionPhase.RECOVER)
+            return
+        super()._next()
+
+    def _check(self, phase: MotionPhase, q_cmd: np.ndarray) -> bool:
+        return super()._check(_AS_TRACKED.get(phase, phase), q_cmd)
+
+
+def _with_seconds(reading: ProbeReading, seconds: float) -> ProbeReading:
+    from dataclasses import replace
+
+    return replace(reading, seconds=round(seconds, 4))

@@ -1,0 +1,182 @@
+"""The heft test in the tree (gate.probe, motion.probe): an action κ̂ is unsure of is probed before carrying; a
+probe that sets the product back is stored as an aborted attempt (not a failure, not counted by the budget), and the
+robot then asks for the product, saying why."""
+
+from __future__ import annotations
+
+import numpy as np
+import py_trees
+import pytest
+
+from scone_bt.behaviours import ConfidenceGate, Keys, ObserveOutcome
+from scone_bt.behaviours.context import OutcomeLabels
+from scone_bt.episode.seeds import PlannerSeedStream, SeedPlan
+from scone_bt.errors import SconeError
+from scone_bt.events import DecisionMade, EventLog, ProbeAborted
+from scone_bt.gate import GateOptions
+from scone_bt.gate.budget import BudgetOptions
+from scone_bt.gate.probe import ProbeOptions, in_band
+from scone_bt.gate.types import DecisionKind
+from scone_bt.motion.probe import ProbeReading, ProbeSettings, judge_probe
+from scone_bt.motion.types import MotionOutcome
+from scone_bt.relevance.types import RankedAction
+from tests.behaviours.fakes import FakeHuman, FakeRobot, affordance, blackboard, det
+
+JAM = "Put strawberry jam on table"
+LABELS = OutcomeLabels(embedder="onehot", robot_id="r1", arm="panda", context={"robot": "panda"})
+
+
+class _Kappa:
+    def __init__(self, confidence: float) -> None:
+        self.confidence = confidence
+        self.n_observations = 100  # not exploring: only the probe can make it act below τ
+        self.learnt: list[bool] = []
+
+    def predict(self, x: np.ndarray) -> np.ndarray:
+        return np.full(len(x), self.confidence)
+
+    def update(self, x, success) -> None:
+        self.learnt.append(bool(success))
+
+
+class _Store:
+    def __init__(self) -> None:
+        self.stored: list = []
+
+    def append(self, outcome) -> None:
+        self.stored.append(outcome)
+
+
+def _gate(robot: FakeRobot, events: EventLog, kappa: _Kappa, probe: ProbeOptions | None) -> ConfidenceGate:
+    gate = ConfidenceGate(
+        "gate",
+        lambda: kappa,
+        GateOptions(),
+        3,
+        events,
+        events,
+        robot.now,
+        FakeHuman(),
+        4,
+        budget=BudgetOptions(explore_rate=0.0),  # τ₀ = 0.55 at the default 0.15
+        robot=robot,
+        seeds=PlannerSeedStream(SeedPlan(0)),
+        probe=probe,
+    )
+    gate.setup()
+    return gate
+
+
+def _scene() -> py_trees.blackboard.Client:
+    return blackboard(
+        RANKED=[RankedAction(JAM, 0.7)],
+        ACTION_EMBEDDINGS={JAM: np.array([1.0, 0.0], dtype=np.float32)},
+        INSTRUCTION="Spread the strawberry jam.",
+        AFFORDANCES=[affordance("strawberry jam")],
+        DETECTIONS=[det("strawberry jam")],
+        TABLE_DETECTIONS=(),
+    )
+
+
+def test_an_unsure_action_is_probed_then_set_back_and_asked_for_saying_why() -> None:
+    robot, events, kappa = FakeRobot(time=3.0), EventLog(), _Kappa(0.45)
+    bb = _scene()
+    gate = _gate(robot, events, kappa, ProbeOptions(below=0.3, above=0.0))
+    gate.tick_once()
+    decision = bb.get(Keys.DECISION)
+    # κ̂ 0.45 is below τ = 0.55 but inside the band: it acts, hefting first, instead of asking
+    assert decision.kind is DecisionKind.ACT and decision.probe and not decision.explored
+    assert "hefting the strawberry jam first" in decision.reason
+    (request,) = robot.plans
+    assert isinstance(request.probe, ProbeSettings) and request.probe.lift_m == 0.015
+    assert isinstance(events.events[-1], DecisionMade) and events.events[-1].probe
+
+    # The arm lifted it, felt it slip, and set it back where it stood: an aborted attempt.
+    store = _Store()
+    reading = ProbeReading(held=True, load_n=2.1, load_first_n=2.9, grip_n=16.0, seconds=2.4)
+    motion = MotionOutcome(
+        False,
+        None,
+        "set back after the probe: the strawberry jam slips in my fingers",
+        7.5,
+        aborted=True,
+        probe=reading,
+        probe_reason="the strawberry jam slips in my fingers",
+    )
+    bb.set(Keys.MOTION_OUTCOME, motion)
+    observe = ObserveOutcome("observe", robot, lambda: store, events, LABELS)
+    observe.setup()
+    observe.tick_once()
+    aborted = events.events[-1]
+    assert isinstance(aborted, ProbeAborted)
+    assert (aborted.reason, aborted.probe_s, aborted.load_n) == (
+        "the strawberry jam slips in my fingers",
+        2.4,
+        2.1,
+    )
+    (stored,) = store.stored
+    assert not stored.success and stored.failure_stage == "probe"  # κ̂ learns it could not carry it
+    # neither a success nor a failure for the promise; counted apart
+    assert events.budget_counts() == (0, 0, 0) and events.stats.aborted == 1
+
+    # The next decision about it asks, in the probe's words, and does not probe again.
+    gate.tick_once()
+    asked = bb.get(Keys.DECISION)
+    assert asked.kind is DecisionKind.ASK and asked.rule == "probe" and not asked.probe
+    assert asked.reason == "the strawberry jam slips in my fingers: please bring it"
+    assert len(robot.plans) == 1
+
+
+@pytest.mark.parametrize(("confidence", "probed"), [(0.2, False), (0.31, True), (0.54, True), (0.6, False)])
+def test_only_actions_inside_the_band_are_probed(confidence: float, probed: bool) -> None:
+    robot, events = FakeRobot(time=3.0), EventLog()
+    bb = _scene()
+    _gate(robot, events, _Kappa(confidence), ProbeOptions(below=0.25, above=0.0)).tick_once()
+    decision = bb.get(Keys.DECISION)
+    assert decision.probe is probed
+    assert decision.kind is (DecisionKind.ACT if confidence > 0.3 else DecisionKind.ASK)
+    assert in_band(confidence, 0.55, ProbeOptions(below=0.25, above=0.0)) is probed
+
+
+def test_without_the_probe_the_unsure_action_is_asked_about() -> None:
+    robot, events = FakeRobot(time=3.0), EventLog()
+    bb = _scene()
+    _gate(robot, events, _Kappa(0.45), None).tick_once()
+    assert bb.get(Keys.DECISION).kind is DecisionKind.ASK and not robot.plans
+
+
+def test_the_judge_carries_a_steady_load_and_sets_back_a_sliding_one() -> None:
+    settings = ProbeSettings()
+    steady = ProbeReading(held=True, load_n=4.905, load_first_n=4.907, grip_n=80.0)
+    assert judge_probe(steady, settings) == (True, "")
+    assert judge_probe(ProbeReading(True, 2.2, 2.5, 16.0), settings) == (False, "slips in my fingers")
+    assert judge_probe(ProbeReading(False, 0.0, 1.0, 0.0), settings) == (False, "slips out of my fingers")
+    heavy = ProbeSettings(max_traction=0.2)
+    assert judge_probe(ProbeReading(True, 4.4, 4.4, 16.0), heavy)[1].startswith("is too heavy for my grip")
+
+
+@pytest.mark.parametrize(
+    ("key", "value", "message"),
+    [
+        ("lift_m", 0.2, "probe.lift_m must be in [0.005, 0.05] (metres), got 0.2"),
+        ("hold_s", 0.0, "probe.hold_s must be in [0.1, 3] (seconds), got 0.0"),
+        ("below", 1.5, "probe.below must be in [0, 1], got 1.5"),
+        ("above", "x", "probe.above must be a number, got 'x'"),
+    ],
+)
+def test_bad_probe_settings_are_refused_in_one_line(key: str, value: object, message: str) -> None:
+    with pytest.raises(SconeError) as err:
+        ProbeOptions(**{key: value})  # type: ignore[arg-type]
+    assert str(err.value) == message
+
+
+def test_bad_probe_settings_in_the_tree_file_name_key_and_range() -> None:
+    import pydantic
+
+    from scone_bt.config.schema import format_validation_error
+    from scone_bt.config.tree_parameters import TreeParameters
+
+    with pytest.raises(pydantic.ValidationError) as err:
+        TreeParameters(probe={"lift_m": 0.2})
+    line = format_validation_error(err.value, "parameters", TreeParameters)
+    assert "\n" not in line and "probe.lift_m" in line and "0.05" in line

@@ -1,0 +1,55 @@
+"""The heft test in PyBullet (motion.probe): a heavy glass bottle held by a weak gripper slips during the probe; the
+robot feels it in its fingers, sets the bottle back on its shelf, upright, and the outcome is aborted (not a
+failure), in words the gate asks with. A bottle the gripper holds is carried on as without the probe."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from scone_bt.benchmarks.self_confidence import generate
+from scone_bt.benchmarks.self_confidence.profiles import load_profile
+from scone_bt.motion.probe import ProbeSettings
+
+pytestmark = pytest.mark.slow
+
+PROFILES = Path(__file__).resolve().parents[2] / "tools" / "profiles"
+
+
+@pytest.fixture
+def worker():
+    """The generator's worker: its kitchen is the one the execution ran in (read after it, ground truth)."""
+    return generate._WORKER
+
+
+def test_a_heavy_bottle_that_slips_in_the_probe_is_set_back_on_its_shelf(
+    kitchen_cfg, robot_cfg, worker
+) -> None:
+    weak = load_profile(PROFILES / "p01_weak_gripper.yaml")  # 8 N a finger
+    record, _ = generate.run_execution(
+        weak, 0, kitchen_cfg, robot_cfg, target_name="olive oil", probe=ProbeSettings()
+    )
+    assert record.detail == "set back after the probe: the olive oil slips in my fingers", record.detail
+    assert not record.success and record.failure_stage is None  # aborted: neither a success nor a failure
+    assert record.probe_held is not None and record.probe_load_n < 0.9 * 9.81  # it never carried its weight
+    kitchen = worker.kitchen
+    state = kitchen.object_state("olive oil")
+    # Ground truth, for the test only: the bottle stands upright on a shelf, not on the table, not held.
+    up = np.asarray(kitchen.bc.getMatrixFromQuaternion(state.orientation)).reshape(3, 3)[:, 2]
+    assert up[2] > np.cos(np.radians(5.0))
+    assert not kitchen.is_on_table("olive oil")
+    from scone_bt.perception.context import shelf_place
+
+    assert shelf_place(kitchen_cfg.scene, state.position) is not None
+    assert kitchen.held_object(0.1) is None
+
+
+def test_a_bottle_the_gripper_holds_is_carried_on_after_the_probe(kitchen_cfg, robot_cfg, worker) -> None:
+    nominal = load_profile(PROFILES / "p00_nominal.yaml")  # 40 N a finger
+    record, _ = generate.run_execution(
+        nominal, 0, kitchen_cfg, robot_cfg, target_name="olive oil", probe=ProbeSettings()
+    )
+    assert record.success, record.detail
+    assert record.probe_load_n == pytest.approx(0.9 * 9.81, rel=0.02)  # the fingers felt its weight

@@ -1,0 +1,76 @@
+"""Sweep the heft probe's band over target failure rates on datasets with probe readings (docs/results/probe.md §5).
+
+Each configuration is replayed as ``scone-bench gate`` replays the tree's gate (cold, censored, warm-up 20, the
+strict credit rule on unless ``allowance`` is null), with `scone_bt.benchmarks.gate.replay_stream`; one JSON line
+per (configuration, α). A configuration is a `ProbeOptions` mapping (``below``, ``above``, ``credit``,
+``full_band_at``, …), ``{"below": null}`` for no probe, plus ``allowance`` (the strict rule's, default 1) and
+``power`` (how fast the band narrows under ``full_band_at``: `scone_bt.gate.probe.NARROWING_POWER`, default 4).
+
+    PYTHONPATH=$PWD python tools/probe_band_sweep.py --datasets tools/data/sc_probe \\
+        --configs '[{"below": 1.0, "above": 0.45, "full_band_at": 0.0}, {"below": 1.0, "above": 0.45}]'
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+
+
+def main() -> None:
+    from scone_bt.benchmarks import gate as replay
+    from scone_bt.confidence.physical import DEFAULT_OPENING_M
+    from scone_bt.gate import probe as band
+    from scone_bt.gate.probe import ProbeOptions
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--datasets", default="tools/data/sc_probe")
+    ap.add_argument("--configs", required=True, help="a JSON list of configurations (module docstring)")
+    ap.add_argument("--alphas", default="0.05,0.1,0.15,0.2")
+    a = ap.parse_args()
+    args = argparse.Namespace(
+        datasets=a.datasets, embedder="minilm", seed=0, warmup=20, opening=DEFAULT_OPENING_M
+    )
+    streams = replay._load(args, oracle=False)
+    for cfg in json.loads(a.configs):
+        for alpha in (float(x) for x in a.alphas.split(",")):
+            t0 = time.time()
+            options = dict(cfg)
+            allowance = options.pop("allowance", 1.0)
+            band.NARROWING_POWER = float(options.pop("power", 4.0))  # band_below reads it at each call
+            probe = ProbeOptions(**options) if options.get("below") is not None else None
+            results = [
+                replay.replay_stream(
+                    streams.vectors[j],
+                    streams.context[j],
+                    streams.success[j],
+                    streams.products[j],
+                    "physical",
+                    "budget",
+                    alpha,
+                    args.seed + j,
+                    args.warmup,
+                    args.opening,
+                    None,
+                    probe=probe,
+                    readings=streams.readings[j],
+                    excess_allowance=allowance,
+                )
+                for j in range(len(streams.names))
+            ]
+            r = replay._rates(results)
+            line = {
+                "config": cfg,
+                "alpha": alpha,
+                "attempt_failure_rate": r["attempt_failure_rate"],
+                "help_rate": r["help_rate"],
+                "aborted_rate": r["aborted_rate"],
+                "probe_s_mean": r["probe_s_mean"],
+                "max_excess_failures": r["max_excess_failures"],
+                "wall_s": round(time.time() - t0, 1),
+            }
+            print(json.dumps(line), flush=True)
+
+
+if __name__ == "__main__":
+    main()
