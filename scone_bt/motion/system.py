@@ -250,7 +250,7 @@ class PickAndPlace:
             rng_seed=self.rng_seed,
             table=sys_.table,
             table_obstacles=table_objects,
-            place_spots=() if self.place_spot is None else (tuple(self.place_spot),),
+            place_spots=() if self.place_spot is None else (self.place_spot,),
             params=sys_.params,
             placement=sys_.placement,
             preferred_yaw=sys_.preferred_yaw,
@@ -272,10 +272,12 @@ class PickAndPlace:
             sys_._active._abandon()
         sys_._active = self
         self.submit_plan()
+        q_start = self._q_start
+        assert q_start is not None  # submit_plan read it, now or before
         self._controller = PickPlaceController(
             cell,
             self.target.name,
-            self._q_start,
+            q_start,
             self._poll_plan,
             self._request_home,
             sys_.settings,
