@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any, Literal, Union
 
 import numpy as np
-from pydantic import Discriminator, Field, Tag, ValidationError, field_validator, model_validator
+from pydantic import BaseModel, Discriminator, Field, Tag, ValidationError, field_validator, model_validator
 
 from scone_bt.config.schema import StrictModel, format_validation_error
 from scone_bt.config.yaml_io import read_yaml
@@ -54,6 +54,13 @@ _Name = Annotated[str, Field(min_length=1, max_length=200)]
 
 EVENT_KINDS: tuple[str, ...] = tuple(EVENT_TYPES)
 """Stored event kinds (`scone_bt.events.EVENT_TYPES`) a condition or a count may name."""
+
+# The kinds are the event registry's keys, known when the module runs: a type checker sees a string, pydantic the
+# Literal of them (its JSON Schema enum and its error naming each).
+if TYPE_CHECKING:
+    _EventKind = str
+else:
+    _EventKind = Literal[EVENT_KINDS]
 
 
 # ------------------------------------------------------------------------------------------------ the world
@@ -170,7 +177,7 @@ class HumanSection(StrictModel):
 class EventMatch(StrictModel):
     """Matches one typed event: its stored ``kind`` and, if given, its fields."""
 
-    kind: Literal[EVENT_KINDS]
+    kind: _EventKind
     object: _Name | None = None
     success: bool | None = None
     stage: _Name | None = None
@@ -279,7 +286,12 @@ def _union(table: Mapping[str, type[StrictModel]], what: str) -> Any:
     ]
 
 
-ScenarioEvent = _union(EVENT_ACTIONS, "an event")
+# Built from the table, so that a new event is one entry there: a type checker sees the members' base class,
+# pydantic the union tagged by each member's key.
+if TYPE_CHECKING:
+    ScenarioEvent = _Timing
+else:
+    ScenarioEvent = _union(EVENT_ACTIONS, "an event")
 
 
 # ------------------------------------------------------------------------------------------------ expectations
@@ -386,7 +398,11 @@ EXPECTATION_KINDS: dict[str, type[_Expectation]] = {
 }
 """Expectation key → its model."""
 
-Expectation = _union(EXPECTATION_KINDS, "an expectation")
+# As ScenarioEvent: the members' base class for a type checker, the tagged union for pydantic.
+if TYPE_CHECKING:
+    Expectation = _Expectation
+else:
+    Expectation = _union(EXPECTATION_KINDS, "an expectation")
 
 
 # ------------------------------------------------------------------------------------------------ sweeps
@@ -545,10 +561,8 @@ def _short(value: Any, limit: int = 60) -> str:
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
-def _owner(loc: Sequence[Any]) -> type[StrictModel] | None:
+def _owner(loc: Sequence[Any]) -> type[BaseModel] | None:
     """The model whose key ``loc[-1]`` is unknown."""
-    from pydantic import BaseModel
-
     tables = {**EVENT_ACTIONS, **EXPECTATION_KINDS}
     current: Any = ScenarioFile
     for i, part in enumerate(loc[:-1]):
