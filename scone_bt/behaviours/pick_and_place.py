@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import Any
 
 import py_trees
@@ -23,7 +24,7 @@ _GRID_M = 0.02  # positions are compared on this grid: a product that moved less
 
 
 def pick_request(
-    target: Detection, detections: list[Detection], table: tuple[Detection, ...] | None, seed: int
+    target: Detection, detections: Sequence[Detection], table: Sequence[Detection] | None, seed: int
 ) -> PickRequest:
     """What the robot asks its arm to do, from what it perceives: the target, the rest of the shelf and the table."""
     name = target.name
@@ -33,6 +34,11 @@ def pick_request(
         table=None if table is None else obstacles_except(table, name),
         rng_seed=seed,
     )
+
+
+def _stage(outcome: MotionOutcome) -> str:
+    """Where a motion failed (a failed outcome names its stage)."""
+    return "?" if outcome.stage is None else outcome.stage.value
 
 
 def scene_key(request: PickRequest) -> tuple[object, ...]:
@@ -143,7 +149,7 @@ class PickAndPlace(StageBehaviour):
         if self._planned is not None:
             self.task = self._planned.execute()
         else:
-            table: tuple[Detection, ...] | None = self.read(Keys.TABLE_DETECTIONS, None)
+            table: Sequence[Detection] | None = self.read(Keys.TABLE_DETECTIONS, None)
             request = pick_request(
                 self._target.detection, self.read(Keys.DETECTIONS, []), table, self.seeds.next_seed()
             )
@@ -181,12 +187,13 @@ class PickAndPlace(StageBehaviour):
             self.feedback_message = f"{MotionPhase(progress.phase).value} {progress.fraction:.0%}"
             return py_trees.common.Status.RUNNING
         outcome = task.outcome()
+        assert outcome is not None  # the task is done
         self.write(Keys.MOTION_OUTCOME, outcome)
         self.write(Keys.MOTION_COMPUTING, False)
         if outcome.aborted:
             self.feedback_message = f"set back: {outcome.probe_reason}"
         else:
-            self.feedback_message = "done" if outcome.success else f"failed at {outcome.stage.value}"
+            self.feedback_message = "done" if outcome.success else f"failed at {_stage(outcome)}"
         return py_trees.common.Status.SUCCESS
 
     def terminate(self, new_status: py_trees.common.Status) -> None:

@@ -17,6 +17,8 @@ from scone_bt.behaviours.context import EpisodeContext
 from scone_bt.behaviours.ports import HumanChannel, Provider
 
 if TYPE_CHECKING:
+    import numpy as np
+
     from scone_bt.embedding import Embedder
     from scone_bt.relevance.recipe_aware import SelectionOptions
 
@@ -58,12 +60,14 @@ class RankByRelevance(StageBehaviour):
         from scone_bt.relevance.recipe_aware import SelectionOptions
 
         recipe, opts = context.recipe, context.options
+        rho, margin = opts.relevance_threshold, opts.clarify_margin
+        assert rho is not None and margin is not None  # the episode's options are resolved
         return cls(
             name,
             context.embedder,
             tuple(step.instruction for step in recipe.steps),
             {n: tuple(context.catalogue.get(n).aliases) for n in recipe.needed},
-            SelectionOptions(rho=opts.relevance_threshold, margin=opts.clarify_margin),
+            SelectionOptions(rho=rho, margin=margin),
             bool(opts.recipe_aware),
             context.human,
         )
@@ -77,7 +81,7 @@ class RankByRelevance(StageBehaviour):
 
         affordances = self.read(Keys.AFFORDANCES, [])
         texts = [a.text for a in affordances]
-        vectors = self.embedder.embed(texts) if texts else []
+        vectors: np.ndarray | Sequence[np.ndarray] = self.embedder.embed(texts) if texts else []
         self.write(Keys.ACTION_EMBEDDINGS, dict(zip(texts, vectors, strict=True)))
         if not self.recipe_aware:
             instruction = self.human.current_instruction

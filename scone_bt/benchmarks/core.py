@@ -170,7 +170,7 @@ def bench_recipe_aware_path(emb, estimators: list[str], reps: int) -> dict:  # n
                     RankedAction(a, scores.get(o, 0.0), view.selection.need(o) or "")
                     for a, o in zip(actions, OBJECTS, strict=True)
                 ]
-                conf = est.predict(emb.embed(actions))
+                conf = est.predict(emb.embed(actions)).tolist()
                 decide(ranked, conf, options, tuple(f"Put {i} on table" for i in view.selection.ambiguous))
                 samples.append(time.perf_counter() - t0)
         out[name] = {"after_update": _percentiles(samples), "decisions": len(samples)}
@@ -196,7 +196,7 @@ def bench_decision_path(emb, estimators: list[str], reps: int) -> dict:  # noqa:
                         est.forget_predictions()
                     t0 = time.perf_counter()
                     ranked = rank_actions(instruction, actions, emb)
-                    conf = est.predict(emb.embed([r.text for r in ranked]))
+                    conf = est.predict(emb.embed([r.text for r in ranked])).tolist()
                     decision = decide(ranked, conf, options)
                     samples.append(time.perf_counter() - t0)
                 kinds[decision.kind.value] = kinds.get(decision.kind.value, 0) + 1

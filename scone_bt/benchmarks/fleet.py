@@ -44,6 +44,11 @@ GATE = 0.5
 FIRST_N = 20
 
 
+def _stderr(proc: subprocess.Popen[str]) -> str:
+    """What a finished robot process wrote to its standard error (piped), stripped."""
+    return proc.stderr.read().strip() if proc.stderr is not None else ""
+
+
 # ----- part 1: the store ---------------------------------------------------------------------------------------
 def store_trial(
     spec: str,
@@ -58,7 +63,7 @@ def store_trial(
     open_store(spec).close()  # create the schema before the robots start
     env = {**os.environ, "OMP_NUM_THREADS": "1"}
 
-    def launch(k: int) -> subprocess.Popen:
+    def launch(k: int) -> subprocess.Popen[str]:
         path = datasets[k]
         args = [spec, f"robot{k}", "panda", path.stem, str(path), str(per_robot), str(interval_s)]
         return subprocess.Popen(
@@ -74,7 +79,7 @@ def store_trial(
     acked: dict[int, set[int]] = {k: set() for k in range(len(datasets))}
     latencies: list[float] = []
 
-    def read(k: int, proc: subprocess.Popen, stop_after: int | None = None) -> None:
+    def read(k: int, proc: subprocess.Popen[str], stop_after: int | None = None) -> None:
         assert proc.stdout is not None
         for line in proc.stdout:
             attempt, ms = line.split()
@@ -90,11 +95,11 @@ def store_trial(
     killed_at = len(acked[0])
     for k in range(1, len(procs)):
         read(k, procs[k])
-    errors = [p.stderr.read().strip() for p in procs[1:] if p.wait() != 0]
+    errors = [_stderr(p) for p in procs[1:] if p.wait() != 0]
     restarted = launch(0)
     read(0, restarted)
     if restarted.wait() != 0:
-        errors.append(restarted.stderr.read().strip())
+        errors.append(_stderr(restarted))
     for p in [*procs, restarted]:
         for stream in (p.stdout, p.stderr):
             if stream is not None:
@@ -183,8 +188,9 @@ def load_models(sc_dir: Path, iiwa_dir: Path | None, embed: Callable[[list[str]]
     """Every dataset as a Model (Panda profiles from sc_dir, iiwa7 ones from iiwa_dir if present)."""
     from scone_bt.benchmarks.self_confidence import load_datasets
 
-    has_iiwa = iiwa_dir is not None and any(iiwa_dir.glob("[!.]*.csv"))
-    sources = [("panda", sc_dir)] + ([("iiwa7", iiwa_dir)] if has_iiwa else [])
+    sources = [("panda", sc_dir)]
+    if iiwa_dir is not None and any(iiwa_dir.glob("[!.]*.csv")):
+        sources.append(("iiwa7", iiwa_dir))
     models = []
     for arm, folder in sources:
         for d in load_datasets(folder, min_rows=FIRST_N + 1):

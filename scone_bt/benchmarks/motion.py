@@ -265,7 +265,7 @@ def _query(
     quiet_backends()
     w = _setup(kitchen_file, arm_name)
     draw = _draw(w["kcfg"], seed, clutter + table_objects, i)
-    executed = _execute(w, draw, clutter, i, compare_vamp)
+    executed = _execute(w, draw, clutter, i, compare_vamp, probe)
     g, params, target = w["rcfg"].gripper, w["params"], draw.target
     opening = 2.0 * (g.open_position - g.closed_position)
     fits_gripper = target.grasp_width <= opening - params.opening_margin
@@ -286,7 +286,9 @@ def _draw(kcfg: Any, seed: int, others: int, i: int) -> _Draw:
     return _Draw(target, [rest[int(j)] for j in picks], rng)
 
 
-def _execute(w: dict[str, Any], draw: _Draw, clutter: int, i: int, compare_vamp: bool) -> _Executed:
+def _execute(
+    w: dict[str, Any], draw: _Draw, clutter: int, i: int, compare_vamp: bool, probe: bool = False
+) -> _Executed:
     """Stock a fresh kitchen with the draw, then plan and execute the pick-and-place (seeded by i)."""
     from scone_bt.motion import MotionSystem
     from scone_bt.motion.execution import ExecutionSettings

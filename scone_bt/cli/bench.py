@@ -15,11 +15,15 @@ import contextlib
 import importlib
 import os
 import sys
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from scone_bt.checks import check_output_file, check_seed
 from scone_bt.errors import SconeError
+
+if TYPE_CHECKING:
+    from scone_bt.resources import DataKind
 
 __all__ = [
     "main",
@@ -98,7 +102,10 @@ def _inputs(args: argparse.Namespace, outputs: Sequence[str]) -> dict[str, list[
     from scone_bt.resources import resolve_file
 
     # Options naming a kitchen or robot (a name or a path): their files and the files those read are inputs.
-    descriptions = {"kitchen": ("perception", kitchen_inputs), "arm": ("robots", robot_inputs)}
+    descriptions: dict[str, tuple[DataKind, Callable[[Path], list[Path]]]] = {
+        "kitchen": ("perception", kitchen_inputs),
+        "arm": ("robots", robot_inputs),
+    }
     out: dict[str, list[Path]] = {}
     for dest, value in vars(args).items():
         # A subcommand's name is no path (a folder of that name in the working folder is not its input).

@@ -15,6 +15,13 @@ import os
 import signal
 import sys
 import threading
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from collections.abc import Callable
+    from types import FrameType
+
+    from scone_bt.resources import DataKind
 
 
 class _Interrupts:
@@ -31,7 +38,7 @@ class _Interrupts:
 
     def __init__(self) -> None:
         self.phase = self.EARLY
-        self.previous: object = None
+        self.previous: Callable[[int, FrameType | None], Any] | int | None = None  # SIGINT's handler before
 
     def install(self) -> None:
         if threading.current_thread() is threading.main_thread():  # signals can only be set from there
@@ -49,7 +56,7 @@ class _Interrupts:
             signal.signal(signal.SIGINT, self.previous)
             self.previous = None
 
-    def _handle(self, signum: int, frame: object) -> None:
+    def _handle(self, signum: int, frame: FrameType | None) -> None:
         if self.phase == self.RUNNING:
             self.phase = self.REPORTED  # a second Ctrl-C while the first unwinds ends the process at once
             raise KeyboardInterrupt
@@ -342,7 +349,7 @@ def _run_inputs(args: argparse.Namespace) -> dict[str, list[Path]]:
 
     out: dict[str, list[Path]] = {}
 
-    def resolved(kind: str, name: str) -> Path | None:
+    def resolved(kind: DataKind, name: str) -> Path | None:
         try:
             return resolve_file(kind, name, (".yaml", ".yml"))
         except SconeError:
@@ -433,11 +440,12 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
     if args.embedder is not None:
         _check_embedder(args.embedder)
     # a missing path is named as a file that is not there, not as an unknown robot/kitchen/tree name
-    for flag, kind, name in (
+    named: tuple[tuple[str, DataKind, str], ...] = (
         ("--arm", "robots", args.arm),
         ("--kitchen", "perception", args.kitchen),
         ("--tree", "trees", args.tree),
-    ):
+    )
+    for flag, kind, name in named:
         resolve_file(kind, name, (".yaml", ".yml"), flag=flag)
     for catalogue in args.catalogue:  # a device or FIFO would hang the loader: refused by what it is, unread
         try:

@@ -197,15 +197,17 @@ MAX_LIST_LENGTH = 16
 
 # strict per value (no "yes" for true, no true for 1, no "0.3" for 0.3) but a YAML list is fine for a tuple
 _Number = Annotated[float, Field(strict=True, ge=0, allow_inf_nan=False)]
-_Positive = Annotated[float, Field(strict=True, gt=0, allow_inf_nan=False)]
 
 
-def _number(key: str) -> Any:
-    """The pydantic type of one number of the `grasp:` key `key`."""
+def _bounds(key: str) -> Any:
+    """The constraints of one number of the `grasp:` key `key` (``Annotated[float, _bounds(key)]``); `Field`
+    returns Any."""
     if key in _BOUNDS:
         lo, hi = _BOUNDS[key]
-        return Annotated[float, Field(strict=True, ge=lo, le=hi, allow_inf_nan=False)]
-    return _Positive if key in _POSITIVE else _Number
+        return Field(strict=True, ge=lo, le=hi, allow_inf_nan=False)
+    if key in _POSITIVE:
+        return Field(strict=True, gt=0, allow_inf_nan=False)
+    return Field(strict=True, ge=0, allow_inf_nan=False)
 
 
 def _section_field(f: Field_) -> tuple[str, tuple[Any, Any]]:
@@ -221,16 +223,17 @@ def _section_field(f: Field_) -> tuple[str, tuple[Any, Any]]:
     elif f.name == "family_cost":
         kind = tuple[_Number, _Number, _Number]
     elif isinstance(default, tuple):
-        kind = Annotated[tuple[_number(key), ...], Field(max_length=MAX_LIST_LENGTH)]
+        kind = Annotated[tuple[Annotated[float, _bounds(key)], ...], Field(max_length=MAX_LIST_LENGTH)]
     else:
-        kind = _number(key)
+        kind = Annotated[float, _bounds(key)]
     return key, (kind, None)
 
 
+# Any: the field types are built at run time from GraspParams, and mypy checks a **-unpacked mapping's values
+# against every keyword of create_model (__config__, __base__, ...), not only against the field definitions.
+_SECTION_FIELDS: dict[str, Any] = dict(_section_field(f) for f in fields(GraspParams))
 _GraspSection: type[BaseModel] = create_model(
-    "GraspSection",
-    __config__=ConfigDict(extra="forbid", frozen=True),
-    **dict(_section_field(f) for f in fields(GraspParams)),
+    "GraspSection", __config__=ConfigDict(extra="forbid", frozen=True), **_SECTION_FIELDS
 )
 """The `grasp:` section as a pydantic model: every key optional, unknown keys refused."""
 

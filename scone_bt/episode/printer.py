@@ -53,8 +53,10 @@ def condition_line(options: BehaviourOptions) -> str:
     if not options.use_self_confidence:
         return f"self-confidence OFF (the paper's control: always act, {failures})"
     if options.gate == "budget":
+        rate = options.target_failure_rate
+        assert rate is not None  # resolved: every tree parameter is set
         return (
-            f"self-confidence on ({options.estimator}, failure budget: {percent(options.target_failure_rate)} "
+            f"self-confidence on ({options.estimator}, failure budget: {percent(rate)} "
             f"of attempts, kept over the long run), {failures}"
         )
     return f"self-confidence on ({options.estimator}, threshold {options.confidence_threshold:g}), {failures}"

@@ -112,7 +112,7 @@ class EpisodeResources:
                 from scone_bt.experience import open_store
 
                 self._store = open_store(self.options.experience_path)
-                if getattr(self._store, "notice", None):
+                if self._store.notice:
                     self.printer(self._store.notice)
         return self._store
 

@@ -7,7 +7,7 @@ store.outcomes(arm="panda")                                 # LearnFrom.SAME_MOD
 """
 
 from scone_bt.experience.base import SCHEMA_VERSION, OutcomeStore, attempted_outcome_ids
-from scone_bt.experience.learn_from import LearnFrom
+from scone_bt.experience.learn_from import LearnFrom, StoreFilters
 from scone_bt.experience.open import count_stored, open_store
 from scone_bt.experience.postgres import PostgresExperienceStore, is_postgres_url, redact_url
 from scone_bt.experience.store import APPLICATION_ID, ExperienceStore
@@ -22,6 +22,7 @@ __all__ = [
     "Outcome",
     "OutcomeStore",
     "PostgresExperienceStore",
+    "StoreFilters",
     "is_postgres_url",
     "new_outcome_id",
     "count_stored",

@@ -148,6 +148,8 @@ class OutcomeStore(ABC):
 
     #: Where the store lives, for messages (a path, or a URL without its password).
     location: str
+    #: One line to show the user when opening changed something (a schema upgrade), else None.
+    notice: str | None
 
     @abstractmethod
     def append(self, outcome: Outcome) -> int:

@@ -3,10 +3,19 @@
 from __future__ import annotations
 
 from enum import Enum
+from typing import TypedDict
 
 from scone_bt.errors import UnknownNameError
 
-__all__ = ["LearnFrom"]
+__all__ = ["LearnFrom", "StoreFilters"]
+
+
+class StoreFilters(TypedDict, total=False):
+    """The equality filters of `OutcomeStore.outcomes` a `LearnFrom` selects by (none: every outcome)."""
+
+    robot_id: str
+    arm: str
+    profile: str
 
 
 class LearnFrom(Enum):
@@ -24,7 +33,7 @@ class LearnFrom(Enum):
                 return member
         raise UnknownNameError("--learn-from value", name, [m.value for m in cls])
 
-    def filters(self, robot_id: str, arm: str, profile: str = "") -> dict[str, str]:
+    def filters(self, robot_id: str, arm: str, profile: str = "") -> StoreFilters:
         """Keyword filters for OutcomeStore.outcomes().
 
         A model is an arm with a profile (gripper pads, camera, planner settings): robots of one model fail at

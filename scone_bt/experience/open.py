@@ -5,6 +5,7 @@ from __future__ import annotations
 import sqlite3
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 from urllib.parse import quote
 
 from scone_bt.experience.base import OutcomeStore
@@ -41,11 +42,11 @@ def count_stored(spec: str | Path, outcome_ids: Sequence[str], timeout_s: float 
 
             with psycopg.connect(str(spec), connect_timeout=max(1, int(timeout_s))) as conn:
                 return sum(
-                    int(
+                    _count(
                         conn.execute(
                             "SELECT COUNT(*) FROM scone_outcomes WHERE outcome_id = ANY(%s)",
                             (ids[i : i + _CHUNK],),
-                        ).fetchone()[0]
+                        ).fetchone()
                     )
                     for i in range(0, len(ids), _CHUNK)
                 )
@@ -55,21 +56,28 @@ def count_stored(spec: str | Path, outcome_ids: Sequence[str], timeout_s: float 
     if not path.is_file():
         return 0
     try:
-        conn = sqlite3.connect(f"file:{quote(str(path.resolve()))}?mode=ro", uri=True, timeout=timeout_s)
+        db = sqlite3.connect(f"file:{quote(str(path.resolve()))}?mode=ro", uri=True, timeout=timeout_s)
     except sqlite3.Error:
         return None
     try:
         total = 0
         for i in range(0, len(ids), _CHUNK):
             chunk = ids[i : i + _CHUNK]
-            total += int(
-                conn.execute(
+            total += _count(
+                db.execute(
                     f"SELECT COUNT(*) FROM outcomes WHERE outcome_id IN ({', '.join('?' * len(chunk))})",
                     chunk,
-                ).fetchone()[0]
+                ).fetchone()
             )
         return total
     except sqlite3.Error:
         return None
     finally:
-        conn.close()
+        db.close()
+
+
+def _count(row: tuple[Any, ...] | None) -> int:
+    """The value of a ``SELECT COUNT(*)`` row (such a query always returns one row)."""
+    if row is None:
+        raise sqlite3.DatabaseError("COUNT(*) returned no row")
+    return int(row[0])

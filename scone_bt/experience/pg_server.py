@@ -52,11 +52,12 @@ class TemporaryPostgres:
     """
 
     def __init__(self) -> None:
-        self.bin = find_postgres_bin()
-        if self.bin is None:
+        found = find_postgres_bin()
+        if found is None:
             raise ExperienceStoreError(
                 "PostgreSQL server binaries (initdb, pg_ctl) not found; install Debian's postgresql package"
             )
+        self.bin: Path = found
         self.folder: Path | None = None
         self.port = 0
         self.url = ""

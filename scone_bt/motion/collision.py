@@ -156,7 +156,8 @@ class CollisionWorld:
         )
         self._pairs = self._pairs[:n_pairs]
         ee_in_joint = arm._ee_in_joint
-        self._held_pose = None if attached is None else ee_in_joint @ attached.pose
+        # The held object's pose in the hand's joint frame; set exactly when an object is attached.
+        self._held_pose: np.ndarray | None = None if attached is None else ee_in_joint @ attached.pose
         self.checks = 0
         self.check_time = 0.0  # wall seconds spent in is_valid
         # Answers by the state's bytes: OMPL and the straight-line checks ask about one state again and again (one
@@ -188,7 +189,7 @@ class CollisionWorld:
         if spheres is None:
             return None
         held = None
-        if attached is not None:
+        if attached is not None and self._held_pose is not None:
             size = tuple(float(v) - 2 * ATTACHED_SHRINK_M for v in attached.size)
             held = (attached.name, attached.shape, size, self._held_pose, arm.ee_joint)
         return SphereChecks(
@@ -215,9 +216,9 @@ class CollisionWorld:
         base = np.asarray(arm.config.base_position)
         for ob in self._obstacles:
             gm.addGeometryObject(_placed(ob, self._padding, base))
-        if self._attached is not None:
+        pose = self._held_pose
+        if self._attached is not None and pose is not None:
             ee = self.model.frames[arm.ee_frame]
-            pose = self._held_pose
             # Slightly smaller than the object: it rests on (touches) its support when the grasp closes.
             obj = pin.GeometryObject(
                 f"attached:{self._attached.name}",

@@ -363,15 +363,21 @@ class ArmModel:
         if options.restarts:
             seeds[1:] = rng.uniform(self.lower, self.upper, size=(options.restarts, self.dof))
         if self.chain is not None:
-            return self._ik_compiled(goal, seeds, options)
+            return self._ik_compiled(goal, seeds, options, self.chain)
         return self._ik_pinocchio(goal, list(seeds), options)
 
-    def _ik_compiled(self, goal: np.ndarray, seeds: np.ndarray, options: IKOptions) -> IKSolution | None:
-        """`ik` by the compiled kernel (`motion.compiled.ik_search`): the same steps, 1.4 us an iteration (~50 us
-        from Python with Pinocchio; 200 solves 44.6 -> 7.7 ms)."""
+    def _ik_compiled(
+        self,
+        goal: np.ndarray,
+        seeds: np.ndarray,
+        options: IKOptions,
+        chain: tuple[np.ndarray, np.ndarray, np.ndarray],
+    ) -> IKSolution | None:
+        """`ik` by the compiled kernel (`motion.compiled.ik_search`) on ``chain`` (`self.chain`): the same steps,
+        1.4 us an iteration (~50 us from Python with Pinocchio; 200 solves 44.6 -> 7.7 ms)."""
         from scone_bt.motion.compiled import ik_search
 
-        parents, placements, axes = self.chain
+        parents, placements, axes = chain
         settings = np.array(
             [
                 options.max_iterations,

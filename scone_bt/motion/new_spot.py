@@ -156,9 +156,9 @@ def plan_new_spot(
     if not home.success:
         return f"no way home from another spot ({home.status.value})"
     segments = (
-        session.timed(MotionPhase.TRANSIT, transit.path),
+        session.timed(MotionPhase.TRANSIT, transit.waypoints),
         session.timed(MotionPhase.LOWER, placement.lower, slow=True),
         session.timed(MotionPhase.RETREAT, placement.retreat, slow=True),
-        session.timed(MotionPhase.HOME, home.path),
+        session.timed(MotionPhase.HOME, home.waypoints),
     )
     return NewSpot(segments, placed, placement.spot, True)

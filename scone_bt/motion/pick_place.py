@@ -199,13 +199,13 @@ def assemble_plan(
     """Every segment timed with ruckig, in order, with the plan's statistics."""
     grasp, placement = paths.grasp, paths.placement
     segments = (
-        session.timed(MotionPhase.APPROACH, paths.approach.path),
+        session.timed(MotionPhase.APPROACH, paths.approach.waypoints),
         session.timed(MotionPhase.DESCEND, grasp.descend, slow=True),
         session.timed(MotionPhase.LIFT, grasp.lift, slow=True),
-        session.timed(MotionPhase.TRANSIT, paths.transit.path),
+        session.timed(MotionPhase.TRANSIT, paths.transit.waypoints),
         session.timed(MotionPhase.LOWER, placement.lower, slow=True),
         session.timed(MotionPhase.RETREAT, placement.retreat, slow=True),
-        session.timed(MotionPhase.HOME, paths.home.path),
+        session.timed(MotionPhase.HOME, paths.home.waypoints),
     )
     return PickPlacePlan(
         segments=segments,
@@ -307,8 +307,8 @@ def plan_home(
         result = p.plan(up, np.asarray(home, dtype=float), world)
         if not result.success:
             return None
-        return p.timed(MotionPhase.HOME, np.vstack([q_start, result.path]))
+        return p.timed(MotionPhase.HOME, np.vstack([q_start, result.waypoints]))
     result = p.plan(q_start, np.asarray(home, dtype=float), world)
     if not result.success:
         return None
-    return p.timed(MotionPhase.HOME, result.path)
+    return p.timed(MotionPhase.HOME, result.waypoints)

@@ -252,7 +252,7 @@ class PickAndPlace:
             rng_seed=self.rng_seed,
             table=sys_.table,
             table_obstacles=table_objects,
-            place_spots=() if self.place_spot is None else (tuple(self.place_spot),),
+            place_spots=() if self.place_spot is None else (self.place_spot,),
             params=sys_.params,
             placement=sys_.placement,
             preferred_yaw=sys_.preferred_yaw,
@@ -274,17 +274,24 @@ class PickAndPlace:
             sys_._active._abandon()
         sys_._active = self
         self.submit_plan()
-        args = (cell, self.target.name, self._q_start, self._poll_plan, self._request_home, sys_.settings)
-        more = {"on_placed": self._remember, "request_new_spot": self._request_new_spot}
+        q_start = self._q_start
+        assert q_start is not None  # submit_plan read it, now or before
+        args = (cell, self.target.name, q_start, self._poll_plan, self._request_home, sys_.settings)
         if self.probe is not None:
             from scone_bt.motion.probe import ProbeController
 
             arm = sys_.arm
             self._controller = ProbeController(
-                *args, probe=self.probe, hand_z=lambda q: float(arm.fk(q)[2, 3]), **more
+                *args,
+                on_placed=self._remember,
+                request_new_spot=self._request_new_spot,
+                probe=self.probe,
+                hand_z=lambda q: float(arm.fk(q)[2, 3]),
             )
         else:
-            self._controller = PickPlaceController(*args, **more)
+            self._controller = PickPlaceController(
+                *args, on_placed=self._remember, request_new_spot=self._request_new_spot
+            )
         cell.add_controller(self._controller)
 
     def _poll_plan(self, block: bool) -> object | None:

@@ -8,6 +8,8 @@ from typing import Any
 
 import numpy as np
 
+from scone_bt.errors import SconeError
+
 __all__ = [
     "MotionPhase",
     "FailureStage",
@@ -112,6 +114,17 @@ class PlanResult:
     @property
     def success(self) -> bool:
         return self.status is PlanStatus.SUCCESS
+
+    @property
+    def waypoints(self) -> np.ndarray:
+        """The path of a successful result (`path`, known to be there).
+
+        Raises:
+            SconeError: the query failed, so there is no path.
+        """
+        if self.path is None:
+            raise SconeError(f"no path: the planning query failed ({self.status.value}: {self.message})")
+        return self.path
 
 
 @dataclass(frozen=True, eq=False)

@@ -88,19 +88,19 @@ class Tracker:
         out = []
         for name in sorted(best):
             det = best[name]
-            track = self._tracks.get(name)
-            if track is None:
+            known = self._tracks.get(name)
+            if known is None:
                 track = Track(
                     len(self._tracks), name, det.position, det.yaw, det.confidence, sim_time, sim_time, 1, 0
                 )
             else:
                 track = replace(
-                    track,
+                    known,
                     position=det.position,
                     yaw=det.yaw,
-                    confidence=a * det.confidence + (1 - a) * track.confidence,
+                    confidence=a * det.confidence + (1 - a) * known.confidence,
                     last_seen=sim_time,
-                    hits=track.hits + 1,
+                    hits=known.hits + 1,
                 )
             self._tracks[name] = track
             out.append(replace(det, track_id=track.track_id))

@@ -368,17 +368,21 @@ class SimWorld:
             motion = self.robot.motion
             motion.planner = dataclasses.replace(motion.planner, time_limit_s=float(planner_budget_s))
         if calibration_offset is not None:
-            self.robot.calibration_offset = tuple(float(c) for c in calibration_offset)
-        scales = {
-            "velocity_scale": velocity_scale,
-            "acceleration_scale": acceleration_scale,
-            "jerk_scale": jerk_scale,
-        }
-        given = {k: float(v) for k, v in scales.items() if v is not None}
-        if given:
+            x, y, z = calibration_offset
+            self.robot.calibration_offset = (float(x), float(y), float(z))
+        if velocity_scale is not None or acceleration_scale is not None or jerk_scale is not None:
             from scone_bt.motion.timing import limits_of
 
             cfg = self.robot.robot_config
-            cfg = dataclasses.replace(cfg, limits=dataclasses.replace(cfg.limits, **given))
+            lim = cfg.limits
+            lim = dataclasses.replace(
+                lim,
+                velocity_scale=lim.velocity_scale if velocity_scale is None else float(velocity_scale),
+                acceleration_scale=(
+                    lim.acceleration_scale if acceleration_scale is None else float(acceleration_scale)
+                ),
+                jerk_scale=lim.jerk_scale if jerk_scale is None else float(jerk_scale),
+            )
+            cfg = dataclasses.replace(cfg, limits=lim)
             self.robot.robot_config = cfg
             self.robot.motion.limits = limits_of(cfg)

@@ -161,9 +161,8 @@ class SimRobot:
 
 def _shifted(det: Detection, offset: Sequence[float]) -> Detection:
     """The detection as a robot whose camera-to-robot calibration is off by ``offset`` (m) perceives it."""
-    return dataclasses.replace(
-        det, position=tuple(float(a + b) for a, b in zip(det.position, offset, strict=True))
-    )
+    x, y, z = (float(a + b) for a, b in zip(det.position, offset, strict=True))
+    return dataclasses.replace(det, position=(x, y, z))
 
 
 # Planner failures that the scene's geometry decides (the same request fails again); NO_PATH is the planner

@@ -96,7 +96,7 @@ def is_junit_report(path: Path) -> bool:
     return not head or _JUNIT_HEAD.match(text) is not None
 
 
-def _scenario_inputs(paths: Sequence[str], cases: Sequence[object]) -> list[Path]:
+def _scenario_inputs(paths: Sequence[str], cases: Sequence[Case]) -> list[Path]:
     """The run's input files: the scenario files, and the robot, kitchen, recipe... files they name."""
     from scone_bt.scenario.model import profile_path, resolve_input, scenario_files
 
@@ -162,7 +162,7 @@ def check_schema_file(path: Path, force: bool) -> Path:
     return check_output_file(path, "schema", kind="json", force=force)
 
 
-def summary_table(results: Sequence[object]) -> str:
+def summary_table(results: Sequence[CaseResult]) -> str:
     """One row per case: verdict, simulated and wall seconds, name, reason."""
     rows = [f"{'verdict':<8} {'sim s':>7} {'wall s':>7}  name"]
     for r in results:
@@ -173,7 +173,7 @@ def summary_table(results: Sequence[object]) -> str:
     return "\n".join(rows)
 
 
-def junit_xml(results: Sequence[object], wall_s: float) -> bytes:
+def junit_xml(results: Sequence[CaseResult], wall_s: float) -> bytes:
     """A JUnit report: one testcase per case; a failure with the report, an expected failure as skipped."""
     suite = ET.Element(
         "testsuite",

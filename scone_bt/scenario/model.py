@@ -18,16 +18,21 @@ import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Annotated, Any, Literal, Union
+from typing import TYPE_CHECKING, Annotated, Any, Literal, Union
 
 import numpy as np
-from pydantic import Discriminator, Field, Tag, ValidationError, field_validator, model_validator
+from pydantic import BaseModel, Discriminator, Field, Tag, ValidationError, field_validator, model_validator
 
 from scone_bt.config.schema import StrictModel, format_validation_error
 from scone_bt.config.yaml_io import read_yaml
 from scone_bt.defaults import EPISODE
 from scone_bt.errors import ConfigError, SconeError
 from scone_bt.events import EVENT_TYPES
+from scone_bt.stocking.validate import SLOT_PATTERN, KitchenNames, kitchen_names, slots_beside
+
+if TYPE_CHECKING:
+    from scone_bt.config.kitchen import KitchenConfig
+    from scone_bt.stocking.shelf import ShelfStock
 
 __all__ = [
     "EVENT_ACTIONS",
@@ -46,10 +51,16 @@ _NonNeg = Annotated[float, Field(ge=0, allow_inf_nan=False)]
 _Prob = Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)]
 _Scale = Annotated[float, Field(gt=0, le=4, allow_inf_nan=False)]
 _Name = Annotated[str, Field(min_length=1, max_length=200)]
-_SLOT = re.compile(r"^([A-Za-z0-9_-]+)/(\d+)/(\d+)$")
 
 EVENT_KINDS: tuple[str, ...] = tuple(EVENT_TYPES)
 """Stored event kinds (`scone_bt.events.EVENT_TYPES`) a condition or a count may name."""
+
+# The kinds are the event registry's keys, known when the module runs: a type checker sees a string, pydantic the
+# Literal of them (its JSON Schema enum and its error naming each).
+if TYPE_CHECKING:
+    _EventKind = str
+else:
+    _EventKind = Literal[EVENT_KINDS]
 
 
 # ------------------------------------------------------------------------------------------------ the world
@@ -59,19 +70,14 @@ class Placement(StrictModel):
     ``gap_m``, that far from its sides (metres; the first further along the tier, the second back; at most 2)."""
 
     product: _Name
-    slot: Annotated[str, Field(pattern=_SLOT.pattern)]
+    slot: Annotated[str, Field(pattern=SLOT_PATTERN)]
     yaw_deg: Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False)] = 0.0
     neighbours: Annotated[list[_Name], Field(max_length=8)] = []
     gap_m: Annotated[float, Field(ge=0, le=0.3, allow_inf_nan=False)] | None = None
 
     def neighbour_slots(self, slots_on_tier: int) -> list[tuple[str, str]]:
         """(product, slot) for each neighbour: the free slots beside this one, nearest first, right first."""
-        m = _SLOT.fullmatch(self.slot)
-        assert m is not None  # the pattern was checked
-        unit, tier, index = m.group(1), int(m.group(2)), int(m.group(3))
-        around = [index + d * s for d in range(1, slots_on_tier) for s in (1, -1)]
-        free = [i for i in around if 0 <= i < slots_on_tier]
-        return [(n, f"{unit}/{tier}/{i}") for n, i in zip(self.neighbours, free, strict=False)]
+        return list(zip(self.neighbours, slots_beside(self.slot, slots_on_tier), strict=False))
 
 
 class WorldSection(StrictModel):
@@ -171,7 +177,7 @@ class HumanSection(StrictModel):
 class EventMatch(StrictModel):
     """Matches one typed event: its stored ``kind`` and, if given, its fields."""
 
-    kind: Literal[EVENT_KINDS]
+    kind: _EventKind
     object: _Name | None = None
     success: bool | None = None
     stage: _Name | None = None
@@ -280,7 +286,12 @@ def _union(table: Mapping[str, type[StrictModel]], what: str) -> Any:
     ]
 
 
-ScenarioEvent = _union(EVENT_ACTIONS, "an event")
+# Built from the table, so that a new event is one entry there: a type checker sees the members' base class,
+# pydantic the union tagged by each member's key.
+if TYPE_CHECKING:
+    ScenarioEvent = _Timing
+else:
+    ScenarioEvent = _union(EVENT_ACTIONS, "an event")
 
 
 # ------------------------------------------------------------------------------------------------ expectations
@@ -387,7 +398,11 @@ EXPECTATION_KINDS: dict[str, type[_Expectation]] = {
 }
 """Expectation key → its model."""
 
-Expectation = _union(EXPECTATION_KINDS, "an expectation")
+# As ScenarioEvent: the members' base class for a type checker, the tagged union for pydantic.
+if TYPE_CHECKING:
+    Expectation = _Expectation
+else:
+    Expectation = _union(EXPECTATION_KINDS, "an expectation")
 
 
 # ------------------------------------------------------------------------------------------------ sweeps
@@ -546,10 +561,8 @@ def _short(value: Any, limit: int = 60) -> str:
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
-def _owner(loc: Sequence[Any]) -> type[StrictModel] | None:
+def _owner(loc: Sequence[Any]) -> type[BaseModel] | None:
     """The model whose key ``loc[-1]`` is unknown."""
-    from pydantic import BaseModel
-
     tables = {**EVENT_ACTIONS, **EXPECTATION_KINDS}
     current: Any = ScenarioFile
     for i, part in enumerate(loc[:-1]):
@@ -706,60 +719,26 @@ def resolve_input(value: str, base: Path) -> str:
 
 
 @dataclass(frozen=True)
-class _Kitchen:
-    """What a scenario's names are checked against: the products stocked in this episode, the catalogue's, the
-    shelf units, the cameras, the recipe's step count and the episode's end (s); `where` starts each error."""
+class _Episode:
+    """What a scenario is checked against: the stocked kitchen's names (`scone_bt.stocking.validate`), the
+    recipe's step count and the episode's end (s)."""
 
-    where: str
-    present: frozenset[str]
-    catalogue: frozenset[str]
-    units: dict[str, Any]
-    cameras: tuple[str, ...]
+    names: KitchenNames
     steps: int
     end_s: float
 
-    def product(self, name: str, key: str) -> None:
-        """`name` is stocked in this episode, or one line saying why not."""
-        if name in self.present:
-            return
-        why = (
-            "is not a product of the catalogue"
-            if name not in self.catalogue
-            else "is not stocked in this episode"
-        )
-        raise ConfigError(f"{self.where}: {key}: {name!r} {why}; valid: {', '.join(sorted(self.present))}")
-
-    def slot(self, text: str, key: str) -> None:
-        """`text` ("unit/tier/index") names a slot of the kitchen's shelves."""
-        m = _SLOT.fullmatch(text)
-        assert m is not None  # the pattern was checked by the model
-        unit, tier, index = m.group(1), int(m.group(2)), int(m.group(3))
-        if unit not in self.units:
-            raise ConfigError(
-                f"{self.where}: {key}: unknown shelf unit {unit!r}; valid: {', '.join(self.units)}"
-            )
-        tiers = self.units[unit].tiers
-        if tier >= len(tiers):
-            raise ConfigError(f"{self.where}: {key}: unit {unit!r} has tiers 0-{len(tiers) - 1} (got {tier})")
-        if index >= len(tiers[tier].slots):
-            raise ConfigError(
-                f"{self.where}: {key}: tier {unit}/{tier} has slots 0-{len(tiers[tier].slots) - 1} (got {index})"
-            )
-
-    def camera(self, name: str, key: str) -> None:
-        """`name` is one of the kitchen's cameras."""
-        if name not in self.cameras:
-            raise ConfigError(
-                f"{self.where}: {key}: unknown camera {name!r}; valid: {', '.join(self.cameras)}"
-            )
+    @property
+    def where(self) -> str:
+        """What starts each error: the file, and the case of a sweep."""
+        return self.names.where
 
 
-def _kitchen_of(spec: ScenarioFile, path: Path, where: str) -> _Kitchen:
+def _episode_of(spec: ScenarioFile, path: Path, where: str) -> _Episode:
     """The kitchen the scenario names, stocked for its seed (its files loaded; the profile's name checked)."""
     base = path.parent
     w = spec.world
     try:
-        kitchen, present, steps = _episode_world(
+        kitchen, stock, steps = _episode_world(
             resolve_input(w.kitchen, base),
             tuple(resolve_input(c, base) for c in w.catalogues),
             resolve_input(w.arm, base),
@@ -772,16 +751,7 @@ def _kitchen_of(spec: ScenarioFile, path: Path, where: str) -> _Kitchen:
             profile_path(spec.robot.profile, base)
     except SconeError as exc:
         raise ConfigError(f"{where}: world: {exc}") from None
-    cameras = (*kitchen.shelf_cameras, *[c for c in kitchen.cameras if c.role != "shelf"])
-    return _Kitchen(
-        where,
-        frozenset(present),
-        frozenset(kitchen.catalogue.names()),
-        {u.name: u for u in kitchen.scene.shelves},
-        tuple(c.name for c in cameras),
-        steps,
-        w.max_ticks * w.tick_period,
-    )
+    return _Episode(kitchen_names(kitchen, stock, where), steps, w.max_ticks * w.tick_period)
 
 
 def check_world(spec: ScenarioFile, path: Path, where: str) -> None:
@@ -790,47 +760,18 @@ def check_world(spec: ScenarioFile, path: Path, where: str) -> None:
     Loads the kitchen, catalogue, recipe, robot and tree files and draws the seeded stocking (pure and cheap), so
     a name that is not in this episode's kitchen is an error before the simulator starts.
     """
-    k = _kitchen_of(spec, path, where)
-    _check_placements(spec.world, k)
+    k = _episode_of(spec, path, where)
+    w = spec.world
+    k.names.placements(w.place)
+    k.names.products(w.hidden_markers, "world.hidden_markers")
+    k.names.products(w.on_table, "world.on_table")
     for i, ev in enumerate(spec.events):
         _check_event(ev, f"events[{i}]", k)
     for i, ex in enumerate(spec.expect):
         _check_expectation(ex, f"expect[{i}]", k)
 
 
-def _check_placements(w: Any, k: _Kitchen) -> None:
-    """world.place (products, slots, one product a slot, room for the neighbours), hidden_markers, on_table."""
-    where = k.where
-    pinned: dict[str, int] = {}
-    for i, pl in enumerate(w.place):
-        k.product(pl.product, f"world.place[{i}].product")
-        k.slot(pl.slot, f"world.place[{i}].slot")
-        if pl.slot in pinned:  # the later pin would move the earlier product away, and its pin would not hold
-            raise ConfigError(
-                f"{where}: world.place[{i}].slot: {pl.slot} is already world.place[{pinned[pl.slot]}]'s "
-                f"({w.place[pinned[pl.slot]].product}); give each product its own slot"
-            )
-        pinned[pl.slot] = i
-        for j, name in enumerate(pl.neighbours):
-            k.product(name, f"world.place[{i}].neighbours[{j}]")
-        unit_name, tier_index = pl.slot.split("/")[:2]
-        room = len(k.units[unit_name].tiers[int(tier_index)].slots)
-        if pl.gap_m is not None and len(pl.neighbours) > 2:
-            raise ConfigError(
-                f"{where}: world.place[{i}].gap_m: a gap places at most 2 neighbours, one on each side "
-                f"(got {len(pl.neighbours)})"
-            )
-        if pl.gap_m is None and len(pl.neighbour_slots(room)) < len(pl.neighbours):
-            raise ConfigError(
-                f"{where}: world.place[{i}].neighbours: tier {unit_name}/{tier_index} has {room} slots, no room "
-                f"for {len(pl.neighbours)} neighbours beside slot {pl.slot}"
-            )
-    for key in ("hidden_markers", "on_table"):
-        for i, name in enumerate(getattr(w, key)):
-            k.product(name, f"world.{key}[{i}]")
-
-
-def _check_event(ev: Any, key: str, k: _Kitchen) -> None:
+def _check_event(ev: Any, key: str, k: _Episode) -> None:
     """One event: its time within the episode, the products, slot and camera it names, its condition."""
     if ev.at is not None and ev.at > k.end_s:
         raise ConfigError(
@@ -838,34 +779,33 @@ def _check_event(ev: Any, key: str, k: _Kitchen) -> None:
         )
     for field in ("remove", "to_table", "hide_marker", "show_marker"):
         if getattr(ev, field, None) is not None:
-            k.product(getattr(ev, field), f"{key}.{field}")
+            k.names.product(getattr(ev, field), f"{key}.{field}")
     if isinstance(ev, SwapEvent):
-        k.product(ev.swap.product, f"{key}.swap.product")
-        k.product(ev.swap.with_, f"{key}.swap.with")
+        k.names.product(ev.swap.product, f"{key}.swap.product")
+        k.names.product(ev.swap.with_, f"{key}.swap.with")
     if isinstance(ev, MoveEvent):
-        k.product(ev.move.product, f"{key}.move.product")
-        k.slot(ev.move.slot, f"{key}.move.slot")
+        k.names.product(ev.move.product, f"{key}.move.product")
+        k.names.slot(ev.move.slot, f"{key}.move.slot")
     for field in ("cover_camera", "uncover_camera"):
         cam = getattr(ev, field, None)
         if cam is not None:
-            k.camera(cam, f"{key}.{field}")
+            k.names.camera(cam, f"{key}.{field}")
     if ev.when is not None:
-        _check_match(ev.when, f"{k.where}: {key}.when", set(k.catalogue))
+        _check_match(ev.when, f"{k.where}: {key}.when", set(k.names.catalogue))
         if ev.when.object is not None:
-            k.product(ev.when.object, f"{key}.when.object")
+            k.names.product(ev.when.object, f"{key}.when.object")
 
 
-def _check_expectation(ex: Any, key: str, k: _Kitchen) -> None:
+def _check_expectation(ex: Any, key: str, k: _Episode) -> None:
     """One expectation: the products and events it names, its step within the recipe, its time within the
     episode."""
     if isinstance(ex, Count):  # a misspelt name would match no event, and the count would pass vacuously
-        _check_match(ex.count, f"{k.where}: {key}.count", set(k.catalogue))
+        _check_match(ex.count, f"{k.where}: {key}.count", set(k.names.catalogue))
     for field in ("asks_before_attempt", "never_attempts", "kappa"):
         if getattr(ex, field, None) is not None:
-            k.product(getattr(ex, field), f"{key}.{field}")
+            k.names.product(getattr(ex, field), f"{key}.{field}")
     if isinstance(ex, OnTable):
-        for j, name in enumerate(ex.on_table):
-            k.product(name, f"{key}.on_table[{j}]")
+        k.names.products(ex.on_table, f"{key}.on_table")
     if isinstance(ex, CompletesStep) and ex.completes_step > k.steps:
         raise ConfigError(
             f"{k.where}: {key}.completes_step: the recipe has steps 1-{k.steps} (got {ex.completes_step})"
@@ -898,9 +838,9 @@ def _episode_world(
     recipe: str,
     distractors: int,
     seed: int,
-) -> tuple[Any, tuple[str, ...], int]:
-    """The kitchen, the products on its shelf and the recipe's step count, as the episode will draw them
-    (cached: the cases of a sweep share one world)."""
+) -> tuple[KitchenConfig, ShelfStock, int]:
+    """The kitchen, its stocking and the recipe's step count, as the episode will draw them (cached: the cases of
+    a sweep share one world)."""
     from scone_bt.config import load_kitchen, load_robot
     from scone_bt.recipes import load_recipe
     from scone_bt.stocking import stock_shelf
@@ -917,9 +857,7 @@ def _episode_world(
         np.random.default_rng(seed),
         option="distractors",
     )
-    off = (*shelf.recipe.unstocked, *shelf.recipe.off_shelf)
-    present = tuple(n for n in (*shelf.recipe.needed, *shelf.distractors) if n not in off)
-    return kitchen, present, len(shelf.recipe.steps)
+    return kitchen, shelf, len(shelf.recipe.steps)
 
 
 def profile_path(name: str, base: Path) -> Path:

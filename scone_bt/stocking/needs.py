@@ -183,18 +183,8 @@ class ProductIndex:
         words = _WORD.findall(_lower(item))
         if not words:
             return None
-        if line:
-            # Only a phrase around the item's first mention: "milk or almond milk" is milk.
-            head = item_key(words[-1])
-            text = _fold(re.sub(r"\([^)]*\)", " ", line))
-            first = re.search(rf"\b{re.escape(words[-1])}\b", text)
-            for alias, name in self._phrases if first else ():
-                if alias not in text or head not in {item_key(w) for w in alias.split()}:
-                    continue
-                for m in _word_pattern(alias).finditer(text):
-                    if m.start() <= first.start() < m.end():
-                        exact = self._exact(words)
-                        return ProductMatch(name, MatchRule.EXACT if exact == name else MatchRule.IN_LINE)
+        if line and (found := self._in_line(words, line)) is not None:
+            return found
         graded = [
             w for w in _WORD.findall(_FAT_GRADE.sub(" ", _lower(item))) if w not in _GRADE_WORDS
         ] or words
@@ -226,6 +216,22 @@ class ProductIndex:
             for close in difflib.get_close_matches(key, self._keys, n=5, cutoff=0.8):
                 if _same_words_misspelt(key.split(), close.split()):
                     return ProductMatch(self._by_key[close], MatchRule.SPELLING)
+        return None
+
+    def _in_line(self, words: list[str], line: str) -> ProductMatch | None:
+        """A product's phrase around the item's first mention in its line: "milk or almond milk" is milk."""
+        head = item_key(words[-1])
+        text = _fold(re.sub(r"\([^)]*\)", " ", line))
+        first = re.search(rf"\b{re.escape(words[-1])}\b", text)
+        if first is None:
+            return None
+        for alias, name in self._phrases:
+            if alias not in text or head not in {item_key(w) for w in alias.split()}:
+                continue
+            for m in _word_pattern(alias).finditer(text):
+                if m.start() <= first.start() < m.end():
+                    exact = self._exact(words)
+                    return ProductMatch(name, MatchRule.EXACT if exact == name else MatchRule.IN_LINE)
         return None
 
 

@@ -143,6 +143,7 @@ class AnalysisOptions:
         return FACTORS[self.specification]
 
     def priors_json(self) -> dict[str, Any]:
+        assert self.priors is not None  # filled in on construction
         out: dict[str, Any] = asdict(self.priors)
         if self.specification == "paper":
             out["question_mean_sd"] = QUESTION_MEAN_SD

@@ -17,6 +17,7 @@ acknowledgement, `unacknowledged_stored` counts stored sets no client was told a
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import sys
 import tempfile
@@ -234,7 +235,7 @@ def run_load_test(options: LoadTestOptions, db: Path | None = None) -> LoadTestR
                         sessions.append(sid)
                         server.state.label = f"round {len(sessions)}"
                         server.ask_questionnaires(
-                            lambda name, answers, sid=sid: log.record_responses(sid, name, answers),
+                            functools.partial(log.record_responses, sid),
                             tuple(QUESTIONNAIRES.values()),
                         )
                         while not stop.is_set() and not server.wait_questionnaires(0.05):

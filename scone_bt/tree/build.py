@@ -7,7 +7,7 @@ import typing
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import py_trees
 from pydantic import BaseModel, Field, ValidationError, create_model, field_validator
@@ -18,6 +18,9 @@ from scone_bt.config.tree_parameters import TreeParameters
 from scone_bt.config.yaml_io import read_yaml
 from scone_bt.errors import ConfigError, UnknownNameError
 from scone_bt.resources import resolve_file
+
+if TYPE_CHECKING:
+    from scone_bt.behaviours.base import StageBehaviour
 
 __all__ = ["TreeSpec", "TreeParameters", "ARG_MODELS", "load_tree_spec", "build_tree", "render_tree"]
 
@@ -62,7 +65,7 @@ ARG_MODELS: dict[str, type[StrictModel]] = {"DecisionIs": _DecisionIsArgs, "Wait
 """Argument schemas of behaviours that take arguments; others are checked against their constructor's signature."""
 
 
-def _signature_model(cls: type) -> type[BaseModel]:
+def _signature_model(cls: type[StageBehaviour]) -> type[BaseModel]:
     """A pydantic model of a behaviour's keyword arguments (those of `from_context` after name and context)."""
     build = cls.from_context
     try:

@@ -197,7 +197,7 @@ def camera_image(kitchen: BulletParts, camera: PinholeView) -> CameraImage:
         ):
             windows = None
     _STATS.full_pixels += spec.width * spec.height
-    _STATS.last_windows = windows or ()
+    _STATS.last_windows = tuple(windows or ())
     if windows is None or base is None:
         rgb, depth = _render(kitchen, camera)
         _STATS.full += 1
@@ -210,7 +210,7 @@ def camera_image(kitchen: BulletParts, camera: PinholeView) -> CameraImage:
     return CameraImage(rgb, depth, fresh=True)
 
 
-def _corners(lo: Sequence[float], hi: Sequence[float]) -> np.ndarray:
+def _corners(lo: Sequence[float] | np.ndarray, hi: Sequence[float] | np.ndarray) -> np.ndarray:
     return np.array([(x, y, z) for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
 
 

@@ -167,7 +167,7 @@ class Kitchen(GroundTruth, SimClock):
         self.keep_backgrounds = True
         self._awake_until = 0.0
         self._frozen: dict[str, tuple[object, object]] = {}  # name -> pose when frozen
-        self._frozen_boxes: dict[str, object] = {}  # name -> bounding box when frozen (it stands still)
+        self._frozen_boxes: dict[str, _Box] = {}  # name -> bounding box when frozen (it stands still)
         self._settle_until = 0.0
         self.freeze_resting = self.FREEZE_RESTING_DEFAULT if freeze_resting is None else freeze_resting
 
@@ -509,7 +509,7 @@ class Kitchen(GroundTruth, SimClock):
         # the same).
         frozen_boxes, get_aabb = self._frozen_boxes, bc.getAABB
         names = list(objects)
-        boxes = []
+        boxes: list[_Box] = []
         resting: dict[str, bool] = {}
         rid = self.robot_id
         movers = [get_aabb(rid, j) for j in self._robot_links]
