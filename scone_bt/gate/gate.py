@@ -20,7 +20,7 @@ Only the single most relevant action is considered (as in the paper); ties in re
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from scone_bt.errors import SconeError
@@ -110,7 +110,8 @@ def decide(
     conf = _probability(action, confidences[best])
     if not options.recipe_aware and action.relevance < options.relevance_threshold:
         return _irrelevant(action, conf, options.relevance_threshold)
-    return _act_or_ask(action, conf, options, bool(explore and explore[best]))
+    # the flag is read only below the threshold: reading it may draw a random number (a lazy ε-greedy draw)
+    return _act_or_ask(action, conf, options, lambda: bool(explore and explore[best]))
 
 
 def _check_aligned(
@@ -170,9 +171,11 @@ def _irrelevant(action: RankedAction, conf: float, relevance_threshold: float) -
     )
 
 
-def _act_or_ask(action: RankedAction, conf: float, options: GateOptions, explored: bool) -> Decision:
+def _act_or_ask(
+    action: RankedAction, conf: float, options: GateOptions, explored: Callable[[], bool]
+) -> Decision:
     """ACT without self-confidence (rule 2) or when κ̂ reaches the threshold (rule 3); below it, ACT on an
-    exploration draw (rule 4), else ASK."""
+    exploration draw (rule 4, `explored` read only here), else ASK."""
     need = action.need
     if not options.use_self_confidence:
         return Decision(
@@ -194,7 +197,7 @@ def _act_or_ask(action: RankedAction, conf: float, options: GateOptions, explore
             "confident: {} ≥ {}".format(*_told_apart(conf, threshold)),
             need,
         )
-    if explored:
+    if explored():
         return Decision(
             DecisionKind.ACT,
             action.text,

@@ -140,3 +140,24 @@ def test_exploration_acts_below_the_threshold_and_keeps_the_belief():
     )
     with pytest.raises(SconeError, match="exploration flags"):
         decide(RANKED, [0.2, 0.1], options, explore=[True])
+
+
+class _Counted(list):
+    """Exploration flags that count how often they are read (a lazy ε-greedy draw consumes a random number)."""
+
+    reads = 0
+
+    def __getitem__(self, i):
+        type(self).reads += 1
+        return super().__getitem__(i)
+
+
+def test_the_exploration_flag_is_read_only_below_the_threshold():
+    # Reading it may draw from the exploration stream; a confident act must leave that stream untouched, or every
+    # later seeded decision moves (the benchmark's replay changed when a refactor read it eagerly).
+    options = GateOptions(confidence_threshold=0.5)
+    _Counted.reads = 0
+    act = decide([RankedAction("Put salt on table", 0.9)], [0.9], options, explore=_Counted([True]))
+    assert act.kind is DecisionKind.ACT and not act.explored and _Counted.reads == 0
+    explored = decide([RankedAction("Put salt on table", 0.9)], [0.2], options, explore=_Counted([True]))
+    assert explored.explored and _Counted.reads == 1
