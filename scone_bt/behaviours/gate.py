@@ -84,6 +84,11 @@ class ConfidenceGate(StageBehaviour):
     With a context source it also builds each ranked action's ExecutionContext from this tick's perception
     (`Keys.CONTEXTS`, the target's in `Keys.TARGET_CONTEXT`, stored with its outcome); a grounded κ̂ (is_grounded)
     predicts from the embeddings followed by those contexts, any other κ̂ from the embeddings alone.
+
+    Built from two bundles (behaviours.gate_config): ``ports`` (κ̂, history, events, clock, human, contexts, robot,
+    planner seeds) and ``settings`` (gate, budget and probe options, failure limit, opening, seed, step count). Each
+    tick runs named steps: see (κ̂ and contexts, gate_steps), decide (gate.rules.gate_decision), plan before
+    committing when a robot is given (polled, never blocking), settle and report (gate_steps).
     """
 
     READS = (
