@@ -180,11 +180,8 @@ class ConfidenceGate(StageBehaviour):
         seen, contexts = self._seen(ranked, affordances)
         decision = gate_decision(self.rules, seen).decision
         target = affordances.get(decision.action) if decision.action is not None else None
+        self._write_seen(ranked, seen.confidences, contexts)
         view = self.read(Keys.STEP)
-        self.write(Keys.CONFIDENCES, dict(zip([r.text for r in ranked], seen.confidences, strict=True)))
-        self.write(Keys.CONTEXTS, contexts)
-        self.write(Keys.PLANNED, None)
-        self.write(Keys.PLAN_VERDICT, None)
         pending = _Pending(decision, target, contexts, None if view is None else view.index)
         if decision.kind is DecisionKind.ACT and target is not None and self.ports.robot is not None:
             return self._plan_first(pending, target)
@@ -220,6 +217,15 @@ class ConfidenceGate(StageBehaviour):
             probe_reasons=probe_reasons(history, ranked) if probe is not None else {},
         )
         return seen, contexts
+
+    def _write_seen(
+        self, ranked: list[RankedAction], beliefs: list[float], contexts: dict[str, ExecutionContext]
+    ) -> None:
+        """This tick's κ̂ and contexts on the blackboard; no plan and no verdict yet."""
+        self.write(Keys.CONFIDENCES, dict(zip([r.text for r in ranked], beliefs, strict=True)))
+        self.write(Keys.CONTEXTS, contexts)
+        self.write(Keys.PLANNED, None)
+        self.write(Keys.PLAN_VERDICT, None)
 
     def _plan_first(self, pending: _Pending, target: Affordance) -> py_trees.common.Status:
         """Planning before commitment: request the plan (or reuse a known verdict) and poll it."""
