@@ -9,6 +9,7 @@ from scone_bt.behaviours.affordances import GenerateAffordances
 from scone_bt.behaviours.base import Keys, StageBehaviour
 from scone_bt.behaviours.context import EpisodeContext, OutcomeLabels
 from scone_bt.behaviours.gate import ConfidenceGate, DecisionIs
+from scone_bt.behaviours.gate_config import GatePorts, GateSettings
 from scone_bt.behaviours.help import AskForHelp, AskToClarify, ClearGripper, WaitForHuman
 from scone_bt.behaviours.options import BehaviourOptions
 from scone_bt.behaviours.outcome import ObserveOutcome, RecordInfeasible, UpdateSelfConfidence
@@ -46,6 +47,8 @@ __all__ = [
     "ConfidenceGate",
     "DecisionIs",
     "EpisodeContext",
+    "GatePorts",
+    "GateSettings",
     "GenerateAffordances",
     "Keys",
     "ObserveOutcome",

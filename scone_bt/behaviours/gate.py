@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING
 
 import numpy as np
 import py_trees
@@ -12,18 +11,20 @@ import py_trees
 from scone_bt.affordances.types import Affordance, action_text
 from scone_bt.behaviours.base import Keys, StageBehaviour
 from scone_bt.behaviours.context import EpisodeContext
-from scone_bt.behaviours.pick_and_place import pick_request, scene_key
-from scone_bt.behaviours.ports import (
-    AttemptHistory,
-    Clock,
-    ContextSource,
-    HumanChannel,
-    PlannerSeeds,
-    Provider,
-    SelfConfidence,
+from scone_bt.behaviours.gate_config import GatePorts, GateSettings
+from scone_bt.behaviours.gate_steps import (
+    CARD_ITEMS_LEFT,
+    EVERY_STEP_SERVED,
+    budget_counts,
+    candidate_contexts,
+    confidences,
+    decision_event,
+    past_the_end,
+    probe_reasons,
+    settle_idle,
+    shown_target,
 )
-from scone_bt.confidence.grounded import grounded_features, is_grounded
-from scone_bt.events import DecisionMade, EventSink
+from scone_bt.behaviours.pick_and_place import pick_request, scene_key
 from scone_bt.experience.types import ExecutionContext
 from scone_bt.gate.budget import BudgetCounts, BudgetOptions
 from scone_bt.gate.probe import ProbeOptions
@@ -31,27 +32,26 @@ from scone_bt.gate.rules import (
     GateInput,
     GateRules,
     apply_failure_limit,
-    ask_for_missing,
     gate_decision,
     infeasible_decision,
     say_infeasible,
-    waiting,
 )
 from scone_bt.gate.types import Decision, DecisionKind
 from scone_bt.relevance.types import RankedAction
-from scone_bt.robot.interface import Infeasible, PlannedPick, Robot
+from scone_bt.robot.interface import Infeasible, PlannedPick
 
-if TYPE_CHECKING:
-    from scone_bt.gate import GateOptions
-
-# apply_failure_limit and say_infeasible live in scone_bt.gate.rules; kept here for their callers
-__all__ = ["ConfidenceGate", "DecisionIs", "apply_failure_limit", "say_infeasible"]
-
-EVERY_STEP_SERVED = "(every step is served)"
-"""The instruction a decision reports past the recipe's last step, with nothing of the card left to fetch."""
-CARD_ITEMS_LEFT = "(past the last step: items on the card)"
-"""The instruction a decision reports past the recipe's last step while items of the card that no open step names
-are still on the shelf (fetched as needed later; e.g. after the human answered "none of those" to a question)."""
+# apply_failure_limit and say_infeasible live in scone_bt.gate.rules, the sentinel instructions in
+# behaviours.gate_steps; kept here for their callers
+__all__ = [
+    "CARD_ITEMS_LEFT",
+    "EVERY_STEP_SERVED",
+    "ConfidenceGate",
+    "DecisionIs",
+    "GatePorts",
+    "GateSettings",
+    "apply_failure_limit",
+    "say_infeasible",
+]
 
 
 @dataclass(frozen=True)
@@ -84,6 +84,11 @@ class ConfidenceGate(StageBehaviour):
     With a context source it also builds each ranked action's ExecutionContext from this tick's perception
     (`Keys.CONTEXTS`, the target's in `Keys.TARGET_CONTEXT`, stored with its outcome); a grounded κ̂ (is_grounded)
     predicts from the embeddings followed by those contexts, any other κ̂ from the embeddings alone.
+
+    Built from two bundles (behaviours.gate_config): ``ports`` (κ̂, history, events, clock, human, contexts, robot,
+    planner seeds) and ``settings`` (gate, budget and probe options, failure limit, opening, seed, step count). Each
+    tick runs named steps: see (κ̂ and contexts, gate_steps), decide (gate.rules.gate_decision), plan before
+    committing when a robot is given (polled, never blocking), settle and report (gate_steps).
     """
 
     READS = (
@@ -107,49 +112,13 @@ class ConfidenceGate(StageBehaviour):
         Keys.MOTION_COMPUTING,
     )
 
-    def __init__(
-        self,
-        name: str,
-        kappa: Provider[SelfConfidence],
-        gate: GateOptions,
-        max_failures_per_action: int,
-        history: AttemptHistory,
-        events: EventSink,
-        clock: Clock,
-        human: HumanChannel,
-        steps_total: int,
-        contexts: ContextSource | None = None,
-        budget: BudgetOptions | None = None,
-        seed: int = 0,
-        robot: Robot | None = None,
-        seeds: PlannerSeeds | None = None,
-        opening_m: float | None = None,
-        probe: ProbeOptions | None = None,
-    ) -> None:
-        """``human`` is read only for the human's current step in the recipe-blind setting (no tracked step).
-
-        ``contexts`` builds execution contexts from the tick's detections and frames (None: none are built; a
-        grounded κ̂ then sees every context value as missing).
-        """
+    def __init__(self, name: str, ports: GatePorts, settings: GateSettings) -> None:
         super().__init__(name)
-        self.contexts = contexts
-        self._kappa = kappa
-        self.gate_options = gate
-        self.limit = max_failures_per_action
-        self.history = history
-        self.events = events
-        self.clock = clock
-        self.human = human
-        self.steps_total = steps_total
-        self.budget = budget
-        self.seed = seed
+        self.ports = ports
+        self.settings = settings
         self._asked_missing: set[str] = set()
-        self.robot = robot  # None: no planning before commitment (PickAndPlace plans when it starts)
-        self.seeds = seeds
         self._pending: _Pending | None = None
         self._infeasible: dict[tuple[object, ...], Infeasible] = {}
-        self.opening_m = opening_m  # None: no too-wide rule (the paper's gate)
-        self.probe = probe  # None: no heft test (gate.probe)
 
     @classmethod
     def from_context(cls, name: str, context: EpisodeContext) -> ConfidenceGate:
@@ -165,97 +134,43 @@ class ConfidenceGate(StageBehaviour):
             if opts.gate == "budget" and opts.use_self_confidence
             else None
         )
-        return cls(
-            name,
-            context.kappa,
-            GateOptions(
+        ports = GatePorts(
+            kappa=context.kappa,
+            history=context.history,
+            events=context.events,
+            clock=context.robot.now,
+            human=context.human,
+            contexts=ContextExtractor(context.scene, context.catalogue),
+            # planning before commitment and asking for unseen items come with the budget gate; the paper's gate
+            # and its control condition stay as the paper ran them (Table I, the study's control)
+            robot=context.robot if budget is not None else None,
+            seeds=context.seeds,
+        )
+        settings = GateSettings(
+            gate=GateOptions(
                 confidence_threshold=opts.confidence_threshold,
                 relevance_threshold=opts.relevance_threshold,
                 use_self_confidence=opts.use_self_confidence,
                 recipe_aware=opts.recipe_aware,
             ),
-            int(opts.max_failures_per_action),
-            context.history,
-            context.events,
-            context.robot.now,
-            context.human,
-            len(context.recipe.steps),
-            ContextExtractor(context.scene, context.catalogue),
+            max_failures_per_action=int(opts.max_failures_per_action),
+            steps_total=len(context.recipe.steps),
             budget=budget,
             seed=opts.seed,
-            # planning before commitment and asking for unseen items come with the budget gate; the paper's gate
-            # and its control condition stay as the paper ran them (Table I, the study's control)
-            robot=context.robot if budget is not None else None,
-            seeds=context.seeds,
             opening_m=context.gripper_opening_m if budget is not None else None,
             probe=ProbeOptions.of(opts.probe) if budget is not None and opts.probe is not None else None,
         )
+        return cls(name, ports, settings)
 
     def setup(self, **kwargs: object) -> None:
-        self.estimator = self._kappa()  # κ̂ rebuilt from the store on first use
+        self.estimator = self.ports.kappa()  # κ̂ rebuilt from the store on first use
         # the budget's exploration draws: their own seeded stream (κ̂'s draws are unchanged by them)
-        self._rng = np.random.default_rng([self.seed, 0x6A7E])
+        self._rng = np.random.default_rng([self.settings.seed, 0x6A7E])
 
     @property
     def rules(self) -> GateRules:
         """The gate's rules (scone_bt.gate.rules), as this behaviour was configured."""
-        return GateRules(
-            options=self.gate_options,
-            budget=self.budget,
-            exploration=self.budget,
-            failure_limit=self.limit,
-            opening_m=self.opening_m,
-            probe=self.probe,
-        )
-
-    def _counts(self) -> BudgetCounts:
-        """The attempts so far (folded from the events) and what κ̂ has learnt, as the budget reads them."""
-        attempts, failures, explored_failures = self.history.budget_counts()
-        return BudgetCounts(
-            attempts, failures, explored_failures, int(getattr(self.estimator, "n_observations", 0))
-        )
-
-    def _seen(
-        self, ranked: list[RankedAction], affordances: dict[str, Affordance]
-    ) -> tuple[GateInput, dict[str, ExecutionContext]]:
-        """What the gate sees this tick: κ̂ on the ranked actions, their contexts, the episode's counts."""
-        vectors = self.read(Keys.ACTION_EMBEDDINGS, {})
-        contexts = self._contexts([affordances[r.text] for r in ranked if r.text in affordances])
-        if ranked:
-            X = np.stack([vectors[r.text] for r in ranked])
-            if is_grounded(self.estimator):
-                X = grounded_features(X, [contexts.get(r.text) for r in ranked])
-            confidences, explore = self._confidences(X)
-        else:
-            confidences, explore = [], []
-        view = self.read(Keys.STEP)
-        ambiguous = tuple(action_text(i) for i in view.selection.ambiguous) if view is not None else ()
-        counts = self._counts() if self.budget is not None else BudgetCounts()
-        seen = GateInput(
-            ranked=ranked,
-            confidences=confidences,
-            kappa_explores=explore,
-            ambiguous=ambiguous,
-            objects={r.text: affordances[r.text].object_name for r in ranked if r.text in affordances},
-            widths_m={t: c.detected_width_m for t, c in contexts.items()},
-            counts=counts,
-            failures={r.text: self.history.failures_of(r.text) for r in ranked},
-            declined=self.human.declined,
-            draw=self._rng.random,
-            draw_every_decision=True,  # one draw per decision while exploring: seeded episodes repeat
-            probe_reasons=self._probe_reasons(ranked) if self.probe is not None else {},
-        )
-        return seen, contexts
-
-    def _probe_reasons(self, ranked: list[RankedAction]) -> dict[str, str]:
-        """Why a heft test set each candidate's product back in this episode (only those it did)."""
-        reason_of = getattr(
-            self.history, "probe_reason", None
-        )  # an EventLog's; a history without probes: none
-        if reason_of is None:
-            return {}
-        reasons = {r.text: reason_of(r.text) for r in ranked}
-        return {text: why for text, why in reasons.items() if why is not None}
+        return self.settings.rules
 
     def update(self) -> py_trees.common.Status:
         if self._pending is not None:  # planning before commitment: poll, never block
@@ -265,33 +180,76 @@ class ConfidenceGate(StageBehaviour):
         seen, contexts = self._seen(ranked, affordances)
         decision = gate_decision(self.rules, seen).decision
         target = affordances.get(decision.action) if decision.action is not None else None
+        self._write_seen(ranked, seen.confidences, contexts)
         view = self.read(Keys.STEP)
-        self.write(Keys.CONFIDENCES, dict(zip([r.text for r in ranked], seen.confidences, strict=True)))
+        pending = _Pending(decision, target, contexts, None if view is None else view.index)
+        if decision.kind is DecisionKind.ACT and target is not None and self.ports.robot is not None:
+            return self._plan_first(pending, target)
+        return self._finish(pending, decision)
+
+    def _seen(
+        self, ranked: list[RankedAction], affordances: dict[str, Affordance]
+    ) -> tuple[GateInput, dict[str, ExecutionContext]]:
+        """What the gate sees this tick: κ̂ on the ranked actions, their contexts, the episode's counts."""
+        history, budget, probe = self.ports.history, self.settings.budget, self.settings.probe
+        contexts = candidate_contexts(
+            self.ports.contexts,
+            [affordances[r.text] for r in ranked if r.text in affordances],
+            self.read(Keys.DETECTIONS, []),
+            self.read(Keys.FRAMES, {}),
+        )
+        beliefs, explore = confidences(
+            self.estimator, ranked, self.read(Keys.ACTION_EMBEDDINGS, {}), contexts
+        )
+        view = self.read(Keys.STEP)
+        seen = GateInput(
+            ranked=ranked,
+            confidences=beliefs,
+            kappa_explores=explore,
+            ambiguous=tuple(action_text(i) for i in view.selection.ambiguous) if view is not None else (),
+            objects={r.text: affordances[r.text].object_name for r in ranked if r.text in affordances},
+            widths_m={t: c.detected_width_m for t, c in contexts.items()},
+            counts=budget_counts(history, self.estimator) if budget is not None else BudgetCounts(),
+            failures={r.text: history.failures_of(r.text) for r in ranked},
+            declined=self.ports.human.declined,
+            draw=self._rng.random,
+            draw_every_decision=True,  # one draw per decision while exploring: seeded episodes repeat
+            probe_reasons=probe_reasons(history, ranked) if probe is not None else {},
+        )
+        return seen, contexts
+
+    def _write_seen(
+        self, ranked: list[RankedAction], beliefs: list[float], contexts: dict[str, ExecutionContext]
+    ) -> None:
+        """This tick's κ̂ and contexts on the blackboard; no plan and no verdict yet."""
+        self.write(Keys.CONFIDENCES, dict(zip([r.text for r in ranked], beliefs, strict=True)))
         self.write(Keys.CONTEXTS, contexts)
         self.write(Keys.PLANNED, None)
         self.write(Keys.PLAN_VERDICT, None)
-        pending = _Pending(decision, target, contexts, None if view is None else view.index)
-        if decision.kind is DecisionKind.ACT and target is not None and self.robot is not None:
-            request = pick_request(
-                target.detection,
-                self.read(Keys.DETECTIONS, []),
-                self.read(Keys.TABLE_DETECTIONS, None),
-                self.seeds.next_seed(),
-            )
-            if decision.probe and self.probe is not None:
-                from scone_bt.motion.probe import ProbeSettings
 
-                request = replace(request, probe=ProbeSettings.of(self.probe))
-            key = scene_key(request)
-            known = self._infeasible.get(key)
-            if known is not None:  # the same request in an unchanged scene: no plan exists, ask again at once
-                return self._finish(pending, self._infeasible_decision(decision, known, again=True))
-            self._pending = replace(
-                pending, key=key, planned=self.robot.plan_pick_and_place(request), started=time.perf_counter()
-            )
-            self.write(Keys.MOTION_COMPUTING, True)  # the episode holds simulated time while the arm plans
-            return self._poll_plan()
-        return self._finish(pending, decision)
+    def _plan_first(self, pending: _Pending, target: Affordance) -> py_trees.common.Status:
+        """Planning before commitment: request the plan (or reuse a known verdict) and poll it."""
+        robot, seeds, probe = self.ports.robot, self.ports.seeds, self.settings.probe
+        assert robot is not None and seeds is not None
+        request = pick_request(
+            target.detection,
+            self.read(Keys.DETECTIONS, []),
+            self.read(Keys.TABLE_DETECTIONS, None),
+            seeds.next_seed(),
+        )
+        if pending.decision.probe and probe is not None:
+            from scone_bt.motion.probe import ProbeSettings
+
+            request = replace(request, probe=ProbeSettings.of(probe))
+        key = scene_key(request)
+        known = self._infeasible.get(key)
+        if known is not None:  # the same request in an unchanged scene: no plan exists, ask again at once
+            return self._finish(pending, self._infeasible_decision(pending.decision, known, again=True))
+        self._pending = replace(
+            pending, key=key, planned=robot.plan_pick_and_place(request), started=time.perf_counter()
+        )
+        self.write(Keys.MOTION_COMPUTING, True)  # the episode holds simulated time while the arm plans
+        return self._poll_plan()
 
     def _poll_plan(self) -> py_trees.common.Status:
         pending = self._pending
@@ -315,26 +273,37 @@ class ConfidenceGate(StageBehaviour):
     ) -> Decision:
         """ASK-HELP instead of ACT: no plan exists in this scene, known before the arm moved (IDLE, waiting for
         the human, when the human already declined to fetch it)."""
-        declined = self.human.declined(str(decision.object_name))
+        declined = self.ports.human.declined(str(decision.object_name))
         return infeasible_decision(decision, infeasible, declined, again)
 
     def _finish(
         self, pending: _Pending, decision: Decision, planning_s: float | None = None
     ) -> py_trees.common.Status:
-        target = pending.target
         view = self.read(Keys.STEP)
-        if decision.kind is DecisionKind.IDLE and view is not None and view.missing:
-            if self.budget is not None:
-                decision = ask_for_missing(decision, view.missing, self._asked_missing)
-            else:  # the paper's robot does not ask for what it cannot see: it says what it waits for
-                decision = waiting(view.missing, "", "")
-        if decision.kind is not DecisionKind.ACT:
-            target = target if decision.kind is DecisionKind.ASK and decision.rule != "missing" else None
+        if view is not None:
+            decision = settle_idle(
+                decision, view.missing, self.settings.budget is not None, self._asked_missing
+            )
+        target = shown_target(decision, pending.target)
+        target_context = pending.contexts.get(target.text) if target is not None else None
         self.write(Keys.DECISION, decision)
         self.write(Keys.TARGET, target)
-        target_context = pending.contexts.get(target.text) if target is not None else None
         self.write(Keys.TARGET_CONTEXT, target_context)
-        self.events(self._event(decision, pending.step_index, target_context, planning_s))
+        # the robot's own place in the recipe; None: the human's step (the recipe-blind setting)
+        index = self.ports.human.step_index if pending.step_index is None else pending.step_index
+        instruction = self.read(Keys.INSTRUCTION) or past_the_end(
+            view is not None and bool(view.selection.later)
+        )
+        self.ports.events(
+            decision_event(
+                decision,
+                sim_time=self.ports.clock(),
+                step=min(self.settings.steps_total, index + 1),
+                instruction=instruction,
+                context=target_context,
+                planning_s=planning_s,
+            )
+        )
         self.feedback_message = decision.reason
         return py_trees.common.Status.SUCCESS
 
@@ -342,59 +311,6 @@ class ConfidenceGate(StageBehaviour):
         if new_status is py_trees.common.Status.INVALID and self._pending is not None:
             self._pending = None  # interrupted while planning: nothing was committed
             self.write(Keys.MOTION_COMPUTING, False)
-
-    def _contexts(self, candidates: list[Affordance]) -> dict[str, ExecutionContext]:
-        """Each candidate affordance's execution context by action text, from this tick's perception."""
-        if self.contexts is None or not candidates:
-            return {}
-        by_name = self.contexts(
-            [a.detection for a in candidates], self.read(Keys.DETECTIONS, []), self.read(Keys.FRAMES, {})
-        )
-        return {a.text: by_name[a.object_name] for a in candidates if a.object_name in by_name}
-
-    def _confidences(self, X: np.ndarray) -> tuple[list[float], list[bool]]:
-        """κ̂'s belief per action, and the ε-greedy exploration draws (empty for estimators that do not explore).
-
-        The belief is what the gate compares, prints and logs; an exploration draw only lets the gate act despite
-        it (gate rule 4), so a user never reads a draw as a confidence.
-        """
-        belief, explores = getattr(self.estimator, "belief", None), getattr(self.estimator, "explores", None)
-        if belief is None or explores is None:
-            return [float(c) for c in self.estimator.predict(X)], []
-        return [float(c) for c in belief(X)], [bool(e) for e in explores(X)]
-
-    def _past_the_end(self) -> str:
-        """What a decision past the recipe's last step is about: nothing left, or the card's leftover items."""
-        view = self.read(Keys.STEP)
-        return CARD_ITEMS_LEFT if view is not None and view.selection.later else EVERY_STEP_SERVED
-
-    def _event(
-        self,
-        decision: Decision,
-        step_index: int | None,
-        context: ExecutionContext | None,
-        planning_s: float | None = None,
-    ) -> DecisionMade:
-        """``step_index``: the robot's own place in the recipe (None: the human's step, the recipe-blind setting)."""
-        index = self.human.step_index if step_index is None else step_index
-        return DecisionMade(
-            sim_time=self.clock(),
-            step=min(self.steps_total, index + 1),
-            instruction=self.read(Keys.INSTRUCTION) or self._past_the_end(),
-            action=decision.action,
-            relevance=decision.relevance,
-            confidence=decision.confidence,
-            verdict=decision.kind,
-            need=decision.need,
-            candidates=tuple(decision.candidates),
-            object_name=decision.object_name,
-            reason=decision.reason,
-            explored=decision.explored,
-            context=context,
-            rule=decision.rule,
-            planning_s=None if planning_s is None else round(planning_s, 4),
-            probe=decision.probe,
-        )
 
 
 class DecisionIs(StageBehaviour):

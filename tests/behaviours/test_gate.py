@@ -7,7 +7,7 @@ import numpy as np
 import py_trees
 import pytest
 
-from scone_bt.behaviours import ConfidenceGate, DecisionIs, Keys
+from scone_bt.behaviours import ConfidenceGate, DecisionIs, GatePorts, GateSettings, Keys
 from scone_bt.behaviours.gate import apply_failure_limit
 from scone_bt.events import ActOutcome, DecisionMade, EventLog
 from scone_bt.gate import GateOptions
@@ -32,14 +32,18 @@ class _Kappa:
 def _gate(events: EventLog, confidence: float = 0.9, human: FakeHuman | None = None) -> ConfidenceGate:
     gate = ConfidenceGate(
         "gate",
-        lambda: _Kappa(confidence),
-        GateOptions(confidence_threshold=0.5, relevance_threshold=0.3),
-        3,
-        events,
-        events,
-        FakeRobot(time=7.0).now,
-        human or FakeHuman(step_index=1),
-        4,
+        GatePorts(
+            kappa=lambda: _Kappa(confidence),
+            history=events,
+            events=events,
+            clock=FakeRobot(time=7.0).now,
+            human=human or FakeHuman(step_index=1),
+        ),
+        GateSettings(
+            gate=GateOptions(confidence_threshold=0.5, relevance_threshold=0.3),
+            max_failures_per_action=3,
+            steps_total=4,
+        ),
     )
     gate.setup()
     return gate
@@ -136,14 +140,18 @@ def test_exploration_acts_but_the_decision_shows_the_belief(epsilon, kind, explo
     )
     gate = ConfidenceGate(
         "gate",
-        wrapped,
-        GateOptions(confidence_threshold=0.6, relevance_threshold=0.3),
-        3,
-        events,
-        events,
-        FakeRobot(time=7.0).now,
-        FakeHuman(step_index=1),
-        4,
+        GatePorts(
+            kappa=wrapped,
+            history=events,
+            events=events,
+            clock=FakeRobot(time=7.0).now,
+            human=FakeHuman(step_index=1),
+        ),
+        GateSettings(
+            gate=GateOptions(confidence_threshold=0.6, relevance_threshold=0.3),
+            max_failures_per_action=3,
+            steps_total=4,
+        ),
     )
     gate.setup()
     gate.tick_once()

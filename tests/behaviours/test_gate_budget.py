@@ -8,7 +8,7 @@ import numpy as np
 import py_trees
 import pytest
 
-from scone_bt.behaviours import AskForHelp, ConfidenceGate, Keys
+from scone_bt.behaviours import AskForHelp, ConfidenceGate, GatePorts, GateSettings, Keys
 from scone_bt.events import ActOutcome, DecisionMade, EventLog, HelpRequested
 from scone_bt.gate import GateOptions
 from scone_bt.gate.budget import BudgetOptions
@@ -44,16 +44,21 @@ def _gate(
 ) -> ConfidenceGate:
     gate = ConfidenceGate(
         "gate",
-        lambda: kappa,
-        GateOptions(confidence_threshold=0.6, relevance_threshold=0.3),
-        99,  # the paper's failure limit out of the way: only the budget may turn ACT into ASK here
-        events,
-        events,
-        FakeRobot(time=3.0).now,
-        human or FakeHuman(),
-        4,
-        budget=budget,
-        seed=seed,
+        GatePorts(
+            kappa=lambda: kappa,
+            history=events,
+            events=events,
+            clock=FakeRobot(time=3.0).now,
+            human=human or FakeHuman(),
+        ),
+        GateSettings(
+            gate=GateOptions(confidence_threshold=0.6, relevance_threshold=0.3),
+            # the paper's failure limit out of the way: only the budget may turn ACT into ASK here
+            max_failures_per_action=99,
+            steps_total=4,
+            budget=budget,
+            seed=seed,
+        ),
     )
     gate.setup()
     return gate
@@ -274,15 +279,19 @@ def _declining_gate(limit: int = 99) -> tuple[ConfidenceGate, EventLog]:
     human = FakeHuman(declines={"salt"})
     gate = ConfidenceGate(
         "gate",
-        lambda: _Kappa(0.3),
-        GateOptions(confidence_threshold=0.6, relevance_threshold=0.3),
-        limit,
-        events,
-        events,
-        FakeRobot(time=3.0).now,
-        human,
-        4,
-        budget=BudgetOptions(explore_rate=0.0),
+        GatePorts(
+            kappa=lambda: _Kappa(0.3),
+            history=events,
+            events=events,
+            clock=FakeRobot(time=3.0).now,
+            human=human,
+        ),
+        GateSettings(
+            gate=GateOptions(confidence_threshold=0.6, relevance_threshold=0.3),
+            max_failures_per_action=limit,
+            steps_total=4,
+            budget=BudgetOptions(explore_rate=0.0),
+        ),
     )
     gate.setup()
     return gate, events
@@ -306,7 +315,7 @@ def test_after_the_human_declined_an_item_that_failed_too_often_is_waited_for() 
 
 def test_an_undeclined_item_is_still_asked_for() -> None:
     gate, _ = _declining_gate()
-    gate.human.declines.clear()  # type: ignore[attr-defined]
+    gate.ports.human.declines.clear()  # type: ignore[attr-defined]
     assert _tick(gate, _salt_step()).kind is DecisionKind.ASK
 
 
@@ -317,19 +326,23 @@ def _wide_gate(opening_m: float | None) -> ConfidenceGate:
     budget = BudgetOptions(explore_rate=1.0, explore_until=100)  # it would explore: the width still wins
     gate = ConfidenceGate(
         "gate",
-        lambda: _Kappa(0.9, n_observations=0),
-        GateOptions(confidence_threshold=0.6, relevance_threshold=0.3),
-        99,
-        events,
-        events,
-        FakeRobot(time=3.0).now,
-        FakeHuman(),
-        4,
-        contexts=lambda targets, seen, frames: {
-            t.name: ExecutionContext(detected=True, detected_width_m=0.095) for t in targets
-        },
-        budget=budget,
-        opening_m=opening_m,
+        GatePorts(
+            kappa=lambda: _Kappa(0.9, n_observations=0),
+            history=events,
+            events=events,
+            clock=FakeRobot(time=3.0).now,
+            human=FakeHuman(),
+            contexts=lambda targets, seen, frames: {
+                t.name: ExecutionContext(detected=True, detected_width_m=0.095) for t in targets
+            },
+        ),
+        GateSettings(
+            gate=GateOptions(confidence_threshold=0.6, relevance_threshold=0.3),
+            max_failures_per_action=99,
+            steps_total=4,
+            budget=budget,
+            opening_m=opening_m,
+        ),
     )
     gate.setup()
     return gate

@@ -6,7 +6,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from scone_bt.behaviours import ConfidenceGate, Keys, ObserveOutcome, OutcomeLabels, UpdateSelfConfidence
+from scone_bt.behaviours import (
+    ConfidenceGate,
+    GatePorts,
+    GateSettings,
+    Keys,
+    ObserveOutcome,
+    OutcomeLabels,
+    UpdateSelfConfidence,
+)
 from scone_bt.events import DecisionMade, EventLog
 from scone_bt.experience.types import CONTEXT_FIELDS, ExecutionContext
 from scone_bt.gate import GateOptions
@@ -51,15 +59,19 @@ class _Contexts:
 def _gate(kappa: _Kappa, events: EventLog, contexts: _Contexts | None) -> ConfidenceGate:
     gate = ConfidenceGate(
         "gate",
-        lambda: kappa,
-        GateOptions(confidence_threshold=0.5, relevance_threshold=0.3),
-        3,
-        events,
-        events,
-        FakeRobot(time=7.0).now,
-        FakeHuman(step_index=1),
-        4,
-        contexts,
+        GatePorts(
+            kappa=lambda: kappa,
+            history=events,
+            events=events,
+            clock=FakeRobot(time=7.0).now,
+            human=FakeHuman(step_index=1),
+            contexts=contexts,
+        ),
+        GateSettings(
+            gate=GateOptions(confidence_threshold=0.5, relevance_threshold=0.3),
+            max_failures_per_action=3,
+            steps_total=4,
+        ),
     )
     gate.setup()
     return gate

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import py_trees
 
-from scone_bt.behaviours import ConfidenceGate, Keys, PickAndPlace, RecordInfeasible
+from scone_bt.behaviours import ConfidenceGate, GatePorts, GateSettings, Keys, PickAndPlace, RecordInfeasible
 from scone_bt.behaviours.context import OutcomeLabels
 from scone_bt.behaviours.gate import say_infeasible
 from scone_bt.episode.seeds import PlannerSeedStream, SeedPlan
@@ -46,17 +46,21 @@ class _Store:
 def _gate(robot: FakeRobot, events: EventLog, budget: BudgetOptions | None = BUDGET) -> ConfidenceGate:
     gate = ConfidenceGate(
         "gate",
-        lambda: _Kappa(),
-        GateOptions(confidence_threshold=0.5),
-        3,
-        events,
-        events,
-        robot.now,
-        FakeHuman(),
-        4,
-        budget=budget,
-        robot=robot if budget is not None else None,
-        seeds=PlannerSeedStream(SeedPlan(0)),
+        GatePorts(
+            kappa=lambda: _Kappa(),
+            history=events,
+            events=events,
+            clock=robot.now,
+            human=FakeHuman(),
+            robot=robot if budget is not None else None,
+            seeds=PlannerSeedStream(SeedPlan(0)),
+        ),
+        GateSettings(
+            gate=GateOptions(confidence_threshold=0.5),
+            max_failures_per_action=3,
+            steps_total=4,
+            budget=budget,
+        ),
     )
     gate.setup()
     return gate

@@ -8,7 +8,7 @@ import numpy as np
 import py_trees
 import pytest
 
-from scone_bt.behaviours import ConfidenceGate, Keys, ObserveOutcome
+from scone_bt.behaviours import ConfidenceGate, GatePorts, GateSettings, Keys, ObserveOutcome
 from scone_bt.behaviours.context import OutcomeLabels
 from scone_bt.episode.seeds import PlannerSeedStream, SeedPlan
 from scone_bt.errors import SconeError
@@ -50,18 +50,22 @@ class _Store:
 def _gate(robot: FakeRobot, events: EventLog, kappa: _Kappa, probe: ProbeOptions | None) -> ConfidenceGate:
     gate = ConfidenceGate(
         "gate",
-        lambda: kappa,
-        GateOptions(),
-        3,
-        events,
-        events,
-        robot.now,
-        FakeHuman(),
-        4,
-        budget=BudgetOptions(explore_rate=0.0),  # τ₀ = 0.55 at the default 0.15
-        robot=robot,
-        seeds=PlannerSeedStream(SeedPlan(0)),
-        probe=probe,
+        GatePorts(
+            kappa=lambda: kappa,
+            history=events,
+            events=events,
+            clock=robot.now,
+            human=FakeHuman(),
+            robot=robot,
+            seeds=PlannerSeedStream(SeedPlan(0)),
+        ),
+        GateSettings(
+            gate=GateOptions(),
+            max_failures_per_action=3,
+            steps_total=4,
+            budget=BudgetOptions(explore_rate=0.0),  # τ₀ = 0.55 at the default 0.15
+            probe=probe,
+        ),
     )
     gate.setup()
     return gate

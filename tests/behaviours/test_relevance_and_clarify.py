@@ -7,7 +7,15 @@ import numpy as np
 import py_trees
 
 from scone_bt.affordances.types import Affordance, action_text
-from scone_bt.behaviours import AskToClarify, BehaviourOptions, ConfidenceGate, Keys, RankByRelevance
+from scone_bt.behaviours import (
+    AskToClarify,
+    BehaviourOptions,
+    ConfidenceGate,
+    GatePorts,
+    GateSettings,
+    Keys,
+    RankByRelevance,
+)
 from scone_bt.embedding import load_embedder
 from scone_bt.events import ClarificationAsked, DecisionMade, EventLog
 from scone_bt.gate.types import DecisionKind
@@ -52,14 +60,18 @@ class _Episode:
         gate = GateOptions(confidence_threshold=0.5, relevance_threshold=0.5, recipe_aware=True)
         return ConfidenceGate(
             "gate",
-            _Confident,
-            gate,
-            3,
-            self.events,
-            self.events,
-            self.robot.now,
-            self.human,
-            len(self.steps),
+            GatePorts(
+                kappa=_Confident,
+                history=self.events,
+                events=self.events,
+                clock=self.robot.now,
+                human=self.human,
+            ),
+            GateSettings(
+                gate=gate,
+                max_failures_per_action=3,
+                steps_total=len(self.steps),
+            ),
         )
 
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from scone_bt.behaviours import ConfidenceGate, Keys
+from scone_bt.behaviours import ConfidenceGate, GatePorts, GateSettings, Keys
 from scone_bt.benchmarks.gate import PROBE_COLUMNS, replay_stream
 from scone_bt.confidence import make_estimator
 from scone_bt.confidence.grounded import grounded_features
@@ -123,20 +123,24 @@ def _behaviour(
     )
     gate = ConfidenceGate(
         "gate",
-        lambda: kappa,
-        GateOptions(confidence_threshold=0.5, relevance_threshold=0.0),
-        # the per-episode failure limit out of the way: a stream's executions are each from another episode
-        10_000,
-        events,
-        events,
-        FakeRobot(time=1.0).now,
-        FakeHuman(),
-        1,
-        contexts=lambda detections, seen, frames: dict(now),
-        budget=budget,
-        seed=SEED,
-        opening_m=OPENING_M if budget is not None else None,
-        probe=probe,
+        GatePorts(
+            kappa=lambda: kappa,
+            history=events,
+            events=events,
+            clock=FakeRobot(time=1.0).now,
+            human=FakeHuman(),
+            contexts=lambda detections, seen, frames: dict(now),
+        ),
+        GateSettings(
+            gate=GateOptions(confidence_threshold=0.5, relevance_threshold=0.0),
+            # the per-episode failure limit out of the way: a stream's executions are each from another episode
+            max_failures_per_action=10_000,
+            steps_total=1,
+            budget=budget,
+            seed=SEED,
+            opening_m=OPENING_M if budget is not None else None,
+            probe=probe,
+        ),
     )
     gate.setup()
     gate._rng = _ConstantDraw()  # type: ignore[assignment]  # the replay's draws
