@@ -51,6 +51,8 @@ class EpisodeSample:
         store_bytes: The experience store's file size, bytes (main file plus its WAL).
         outcomes: Outcomes in the experience store.
         embedding_cache_entries: Texts the shared embedder holds in memory.
+        steps: Recipe steps done, "done/total".
+        control_ticks: Control ticks the episode ran (its limit is ``--max-ticks``).
     """
 
     episode: int
@@ -66,6 +68,8 @@ class EpisodeSample:
     store_bytes: int
     outcomes: int
     embedding_cache_entries: int
+    steps: str = ""
+    control_ticks: int = 0
 
 
 def _status_field(name: str) -> int:
@@ -180,6 +184,7 @@ def run(args: argparse.Namespace) -> int:
         check_output_file(Path(args.plot), "--plot", kind="image", inputs=inputs, force=args.force)
     recipes = corpus_recipes(args.episodes, args.seed, args.max_steps)
     samples: list[EpisodeSample] = []
+    unfinished: list[dict[str, Any]] = []
     started = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="scone-soak-") as tmp, ModelPool() as models:
         store = Path(tmp) / "experience.sqlite"
@@ -222,8 +227,14 @@ def run(args: argparse.Namespace) -> int:
                         store_bytes=_store_bytes(store),
                         outcomes=_outcomes(store),
                         embedding_cache_entries=sum(len(c) for c in caches if c is not None),
+                        steps=f"{summary.steps_completed}/{summary.steps_total}",
+                        control_ticks=summary.control_ticks,
                     )
                 )
+                if not summary.completed:  # what the robot and the human did last, to find why it never ended
+                    unfinished.append(
+                        {"episode": i, "recipe": recipe, "decisions_last": list(summary.decision_log[-12:])}
+                    )
                 bar.set_postfix_str(f"{rss_mb:.0f} MB, {fds} fds, {threads} threads")
                 bar.update()
         except KeyboardInterrupt:
@@ -262,6 +273,7 @@ def run(args: argparse.Namespace) -> int:
         "wall_s": round(time.perf_counter() - started, 1),
         "cpu_count": os.cpu_count(),
         "targets": TARGETS,
+        "unfinished": unfinished,
         "per_episode": [asdict(s) for s in samples],
     }
     result["meets_targets"] = bool(

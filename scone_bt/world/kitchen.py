@@ -455,6 +455,10 @@ class Kitchen:
         """True if the object touches the robot (in or against the gripper: a person does not grab it away)."""
         return bool(self.bc.getContactPoints(bodyA=self._body(name), bodyB=self.robot_id))
 
+    def put_away(self, name: str) -> None:
+        """The simulated human takes a product the recipe has used off the table, out of the kitchen."""
+        self.park_object(name)
+
     def human_place_on_table(self, name: str) -> bool:
         """The simulated human carries the object to a free table spot (by hand, not by the robot)."""
         return self.place_on_table(name)

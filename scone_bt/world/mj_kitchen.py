@@ -263,6 +263,10 @@ class MjKitchen(GroundTruth):
         self.place_object(name, spot, 0.0)
         return True
 
+    def put_away(self, name: str) -> None:
+        """The simulated human takes a product the recipe has used off the table, out of the kitchen."""
+        self.park_object(name)
+
     def human_place_on_table(self, name: str) -> bool:
         """The simulated human carries the object to a free table spot."""
         return self.place_on_table(name)
