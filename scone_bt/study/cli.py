@@ -509,7 +509,9 @@ def _memory_probe(args: argparse.Namespace) -> MemoryProbe | None:
     if args.memory is None:
         return None
     if args.ray or args.jobs > 1:
-        raise SconeError("--memory samples this process: run the participants in it (no --jobs, no --ray)")
+        raise SconeError(
+            "--memory: it samples this process, so the participants must run in it (no --jobs, --ray)"
+        )
     from scone_bt.checks import check_output_file
     from scone_bt.study.memory import MemoryProbe
 
