@@ -516,7 +516,9 @@ def _memory_probe(args: argparse.Namespace) -> MemoryProbe | None:
     from scone_bt.study.memory import MemoryProbe
 
     check_output_file(args.memory, "--memory", kind="json", inputs={"--db": [args.db]})
-    return MemoryProbe()
+    settings = {"participants": args.participants, "mode": "fast" if args.fast else "physics"}
+    settings |= {"recipe": args.recipe, "robot": args.robot, "arm": args.arm, "seed": args.seed}
+    return MemoryProbe(args.memory, settings)
 
 
 def _simulate(args: argparse.Namespace) -> int:
@@ -563,9 +565,7 @@ def _simulate(args: argparse.Namespace) -> int:
     if probe is not None:
         from scone_bt.reporting import emit_report
 
-        settings = {"participants": args.participants, "mode": "fast" if args.fast else "physics"}
-        settings |= {"recipe": args.recipe, "robot": args.robot, "arm": args.arm, "seed": args.seed}
-        emit_report(probe.report(settings), args.memory)
+        emit_report(probe.report(), args.memory)
     if args.analyze is not None:
         from scone_bt.study.analysis import load_study
 

@@ -12,6 +12,7 @@ import gc
 import os
 import time
 from dataclasses import asdict, dataclass, field
+from pathlib import Path
 from typing import Any
 
 __all__ = ["MemoryProbe", "ParticipantSample", "SESSIONS_PER_PARTICIPANT", "WARMUP_PARTICIPANTS"]
@@ -43,8 +44,14 @@ class ParticipantSample:
 
 @dataclass
 class MemoryProbe:
-    """Samples the process after each participant (`sample`), and reports (`report`)."""
+    """Samples the process after each participant (`sample`), and reports (`report`).
 
+    With ``path`` the report so far is written there after every participant, so a study stopped part way (hours
+    of physics episodes) still leaves the samples it took (``participants_run`` says how many).
+    """
+
+    path: Path | None = None
+    settings: dict[str, Any] = field(default_factory=dict)
     started: float = field(default_factory=time.perf_counter)
     samples: list[ParticipantSample] = field(default_factory=list)
 
@@ -55,9 +62,14 @@ class MemoryProbe:
         rss_mb, fds, threads = process_sample()
         wall = round(time.perf_counter() - self.started, 1)
         self.samples.append(ParticipantSample(participant, round(rss_mb, 2), fds, threads, wall))
+        if self.path is not None:
+            from scone_bt.checks import write_atomic
+            from scone_bt.strict_json import dumps
 
-    def report(self, settings: dict[str, Any]) -> dict[str, Any]:
-        """The JSON report: ``settings`` (what was simulated), the slope and growths, the per-participant table."""
+            write_atomic(self.path, dumps(self.report(), indent=2) + "\n")
+
+    def report(self) -> dict[str, Any]:
+        """The JSON report: the settings (what was simulated), the slope and growths, the per-participant table."""
         from scone_bt.benchmarks.soak import TARGETS, slope
 
         if not self.samples:
@@ -68,7 +80,7 @@ class MemoryProbe:
         base, last = self.samples[max(warmup - 1, 0)], self.samples[-1]
         target = TARGETS["rss_growth_mb_per_episode"]
         return {
-            **settings,
+            **self.settings,
             "participants_run": len(self.samples),
             "sessions_run": SESSIONS_PER_PARTICIPANT * len(self.samples),
             "warmup_participants": warmup,
