@@ -13,8 +13,9 @@ request, so the time the robot waits on the human never counts. A clean-up of an
 becomes that help request (the item is brought at the robot's request, not counted as an intervention). Fetching
 takes ``fetch_time_s`` of simulated time. When the table has no room for a fetched product, the human makes room
 first: they put away, one by one (earliest step first), the products on the table that the current and later steps
-no longer need (`put_away_products`), as a cook clears what they have used; a product that still does not fit
-stays with the human, who tries again on the robot's next request.
+no longer need (`put_away_products`), as a cook clears what they have used. A product the robot asked for that
+still does not fit is declined ("no room on the table", a `HelpDeclined` event): the robot stops asking for it, and
+the human brings it once its step needs it (the robot idle for ``patience_s``), clearing that step's predecessors.
 
 When the robot asks which item a step means (ASK-CLARIFY), the human names the candidates its current step
 needs, else those the next step that needs any of them needs, else none ("none of those"); answering takes
@@ -152,11 +153,7 @@ class SimulatedHuman:
     def request_help(self, object_name: str) -> None:
         """The robot asks the human to fetch this object (a declining human says so: a HelpDeclined event)."""
         if self.options.help_answer is HelpAnswer.DECLINE:
-            self.help_declined += 1
-            self._declined_objects.add(object_name)
-            self._declined.append(
-                HelpDeclined(self.kitchen.sim_time, object_name, "the human declined: try it yourself")
-            )
+            self._decline(object_name, "the human declined: try it yourself")
             return
         for fetch in self._fetches:
             if fetch.object_name == object_name and fetch.kind is FetchReason.INTERVENTION:
@@ -169,6 +166,12 @@ class SimulatedHuman:
             self._fetches.append(
                 _Fetch(object_name, self.kitchen.sim_time + self.options.fetch_time_s, FetchReason.HELP)
             )
+
+    def _decline(self, object_name: str, detail: str) -> None:
+        """Answer the robot's request for this object with no (reported with the next update())."""
+        self.help_declined += 1
+        self._declined_objects.add(object_name)
+        self._declined.append(HelpDeclined(self.kitchen.sim_time, object_name, detail))
 
     def declined(self, object_name: str) -> bool:
         """The human declined a help request for this object."""
@@ -260,6 +263,12 @@ class SimulatedHuman:
                     else:
                         self.interventions += 1
                         new.append(Intervention(now, fetch.object_name, "fetched by the human", fetch.cause))
+                elif fetch.kind is FetchReason.HELP:
+                    # No room even after clearing what was used: the human says so (the robot then stops asking
+                    # and waits, `gate.rules.after_decline`), and brings it when its step needs it and room is made.
+                    self._decline(fetch.object_name, "the human found no room on the table for it")
+                    new += self._declined
+                    self._declined = []
         if self.done:
             self.events += new
             return new

@@ -89,3 +89,25 @@ def test_a_full_table_is_cleared_of_used_products_so_a_fetch_lands(kitchen, kitc
     assert human.put_away_products and not set(human.put_away_products) & set(last)
     assert not any(kitchen.is_on_table(o) for o in human.put_away_products)
     assert all(kitchen.is_on_table(o) for o in placed_last)
+
+
+def test_a_product_that_fits_nowhere_is_declined_so_the_robot_stops_asking(kitchen, kitchen_cfg, rng):
+    # The soak's first episode: in step 1 the robot asked for the chicken (needed later) on a table full of
+    # products every step still needed; nothing could be put away, the fetch failed without a word, and the robot
+    # asked again until the tick limit while the human waited for the butter.
+    from scone_bt.events import HelpDeclined
+
+    recipe = stock_recipe(load_recipe("pdr:one-pot-chicken-tetrazzini"), kitchen_cfg.catalogue)
+    kitchen.spawn([kitchen_cfg.catalogue.get(n) for n in recipe.needed], rng)
+    for name in recipe.needed:
+        if name != "chicken":
+            kitchen.place_on_table(name)
+    assert kitchen.free_place_spot(kitchen_cfg.catalogue.get("chicken")) is None
+    opts = HumanOptions(fetch_time_s=0.5, cook_time_s=100.0, patience_s=1e9)
+    human = SimulatedHuman(kitchen, recipe, opts)
+    human.request_help("chicken")
+    events = [e for _ in range(10) for e in (kitchen.advance(0.1), human.update())[1]]
+    (declined,) = [e for e in events if isinstance(e, HelpDeclined)]
+    assert declined.object_name == "chicken" and "no room" in declined.detail
+    assert human.declined("chicken") and not human.put_away_products and human.step_index == 0
+    assert not kitchen.is_on_table("chicken") and human.help_given == 0 and human.help_declined == 1
