@@ -29,6 +29,7 @@ from pathlib import Path
 from typing import Any
 
 from scone_bt.benchmarks.progress import progress_bar
+from scone_bt.process_stats import process_sample, slope
 from scone_bt.reporting import emit_report
 
 __all__ = ["EpisodeSample", "TARGETS", "corpus_recipes", "process_sample", "register", "run", "slope"]
@@ -76,33 +77,6 @@ class EpisodeSample:
     steps: str = ""
     control_ticks: int = 0
     recording_bytes: int = 0
-
-
-def _status_field(name: str) -> int:
-    """A numeric field of /proc/self/status (the first number on its line)."""
-    with open("/proc/self/status", encoding="ascii") as f:
-        for line in f:
-            if line.startswith(name + ":"):
-                return int(line.split()[1])
-    raise RuntimeError(f"/proc/self/status has no {name} line")
-
-
-def process_sample() -> tuple[float, int, int]:
-    """Resident memory (MB), open file descriptors and OS threads of this process (Linux /proc)."""
-    rss_mb = _status_field("VmRSS") / 1024.0
-    fds = len(os.listdir("/proc/self/fd")) - 1  # the listing's own descriptor
-    return rss_mb, fds, _status_field("Threads")
-
-
-def slope(values: list[float]) -> float | None:
-    """Least-squares slope of ``values`` against their index (per step); None for fewer than two."""
-    n = len(values)
-    if n < 2:
-        return None
-    mean_x, mean_y = (n - 1) / 2.0, sum(values) / n
-    num = sum((i - mean_x) * (v - mean_y) for i, v in enumerate(values))
-    den = sum((i - mean_x) ** 2 for i in range(n))
-    return num / den
 
 
 def corpus_recipes(count: int, seed: int, max_steps: int) -> list[str]:

@@ -3,7 +3,7 @@
 A study runs dozens of sessions in one process: whatever a session leaves behind adds up. After each participant
 (two sessions, each one episode) the process's resident memory, open file descriptors and OS threads are sampled,
 as ``scone-bench soak`` samples after each episode; the report gives the memory slope per session after a warm-up
-and the descriptors' and threads' growth (`scone_bt.benchmarks.soak.TARGETS`).
+and the descriptors' and threads' growth.
 """
 
 from __future__ import annotations
@@ -15,12 +15,20 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-__all__ = ["MemoryProbe", "ParticipantSample", "SESSIONS_PER_PARTICIPANT", "WARMUP_PARTICIPANTS"]
+__all__ = [
+    "MemoryProbe",
+    "ParticipantSample",
+    "SESSIONS_PER_PARTICIPANT",
+    "TARGET_MB_PER_SESSION",
+    "WARMUP_PARTICIPANTS",
+]
 
 SESSIONS_PER_PARTICIPANT = 2
 """Each simulated participant runs two sessions (one per condition)."""
 WARMUP_PARTICIPANTS = 5
 """Participants before the memory slope is fitted: ten sessions, the soak's ten-episode warm-up."""
+TARGET_MB_PER_SESSION = 0.5
+"""The soak's memory target (`scone_bt.benchmarks.soak.TARGETS`), per session: a session is one episode."""
 
 
 @dataclass(frozen=True)
@@ -56,7 +64,7 @@ class MemoryProbe:
     samples: list[ParticipantSample] = field(default_factory=list)
 
     def sample(self, participant: int) -> None:
-        from scone_bt.benchmarks.soak import process_sample
+        from scone_bt.process_stats import process_sample
 
         gc.collect()  # what is still reachable is what the sample should see
         rss_mb, fds, threads = process_sample()
@@ -70,7 +78,7 @@ class MemoryProbe:
 
     def report(self) -> dict[str, Any]:
         """The JSON report: the settings (what was simulated), the slope and growths, the per-participant table."""
-        from scone_bt.benchmarks.soak import TARGETS, slope
+        from scone_bt.process_stats import slope
 
         if not self.samples:
             raise ValueError("no participant was sampled")
@@ -78,7 +86,7 @@ class MemoryProbe:
         per_participant = slope([s.rss_mb for s in self.samples[warmup:]])
         per_session = None if per_participant is None else per_participant / SESSIONS_PER_PARTICIPANT
         base, last = self.samples[max(warmup - 1, 0)], self.samples[-1]
-        target = TARGETS["rss_growth_mb_per_episode"]
+        target = TARGET_MB_PER_SESSION
         return {
             **self.settings,
             "participants_run": len(self.samples),

@@ -296,7 +296,7 @@ def test_a_run_that_ended_early_never_replaces_a_recording(tmp_path):
 def test_closed_recorders_leave_no_threads_behind_and_each_file_has_its_blueprint(tmp_path):
     # rerun kept every closed recording's native stream, and its blueprint's, with their batcher and sink
     # threads: four more OS threads per recorded episode of a long-running process (scone-bench soak --record).
-    from scone_bt.benchmarks.soak import process_sample
+    from scone_bt.process_stats import process_sample
 
     def record(i: int) -> int:
         with Recorder(save=tmp_path / f"{i}.rrd", recording_id=f"r{i}") as rec:
