@@ -83,25 +83,42 @@ def cold_first_decision(
 
 def run(args: argparse.Namespace) -> int:
     """Run the episodes; print the JSON report (and write it to --json)."""
-    import numpy as np
+    recipes = _check_args(args)
+    load_before = os.getloadavg()
+    episodes = _run_episodes(args, recipes)
+    cold = (
+        None
+        if args.no_cold
+        else cold_first_decision(
+            args.arm, args.robot, recipes[0], args.seed, args.distractors, args.max_ticks
+        )
+    )
+    result = _report(args, recipes, episodes, cold, load_before)
+    emit_report(result, args.json)
+    return 0
 
-    from scone_bt.behaviours import BehaviourOptions
+
+def _check_args(args: argparse.Namespace) -> list[str]:
+    """The recipe ids; a bad option is one line now, not after the first episode's start-up."""
     from scone_bt.checks import check_positive_int
     from scone_bt.config import load_robot
-    from scone_bt.episode import EpisodeOptions, ModelPool, run_episode
     from scone_bt.errors import ConfigError
-    from scone_bt.quiet import c_stdout_silenced
 
     check_positive_int(args.max_ticks, "--max-ticks")
-    load_robot(args.arm)  # a bad robot file is one line now, not after the first episode's start-up
+    load_robot(args.arm)
     recipes = [r.strip() for r in args.recipes.split(",") if r.strip()]
     if not recipes:
         raise ConfigError("--recipes: list at least one recipe id (e.g. example:hummus)")
-    load_before = os.getloadavg()
+    return recipes
+
+
+def _run_episodes(args: argparse.Namespace, recipes: list[str]) -> list[dict[str, Any]]:
+    """Each recipe as one episode (seed ``--seed`` + its index), all in this process: one row each."""
+    from scone_bt.behaviours import BehaviourOptions
+    from scone_bt.episode import EpisodeOptions, ModelPool, run_episode
+    from scone_bt.quiet import c_stdout_silenced
+
     episodes: list[dict[str, Any]] = []
-    total_sim = total_wall = total_cpu = 0.0
-    breakdown: dict[str, float] = {}
-    cpu_breakdown: dict[str, float] = {}
     bar = progress_bar(len(recipes), "episodes", args.quiet, unit="episode")
     # One pool for every episode, as a robot running all day has: the embedder and its cache load once, not once
     # per episode (each load read the whole cache file into memory again).
@@ -120,49 +137,65 @@ def run(args: argparse.Namespace) -> int:
         cpu0 = time.process_time()
         with c_stdout_silenced():
             summary = run_episode(options, printer=lambda _line: None, models=models)
-        cpu = time.process_time() - cpu0
+        episodes.append(_episode_row(recipe, options.seed, summary, time.process_time() - cpu0))
         bar.update()
-        total_sim += summary.sim_time
-        total_wall += summary.wall_time
-        total_cpu += cpu
-        for part, seconds in summary.wall_breakdown.items():
-            breakdown[part] = breakdown.get(part, 0.0) + seconds
-        for part, seconds in summary.cpu_breakdown.items():
-            cpu_breakdown[part] = cpu_breakdown.get(part, 0.0) + seconds
-        episodes.append(
-            {
-                "recipe": recipe,
-                "seed": options.seed,
-                "completed": summary.completed,
-                "steps": f"{summary.steps_completed}/{summary.steps_total}",
-                "decisions": summary.decisions,
-                "attempted": summary.attempted,
-                "successes": summary.successes,
-                "help_requests": summary.help_requests,
-                "sim_s": summary.sim_time,
-                "wall_s": round(summary.wall_time, 3),
-                "cpu_s": round(cpu, 3),
-                "sim_per_wall": round(summary.sim_time / summary.wall_time, 3),
-                "startup_to_first_decision_s": summary.startup_to_first_decision_s,
-                "physics_steps": summary.physics_steps,
-                "physics_steps_skipped": summary.physics_steps_skipped,
-                "renders": summary.renders,
-                "wall_breakdown_s": summary.wall_breakdown,
-                "cpu_breakdown_s": summary.cpu_breakdown,
-            }
-        )
     bar.close()
     models.close()
-    cold = (
-        None
-        if args.no_cold
-        else cold_first_decision(
-            args.arm, args.robot, recipes[0], args.seed, args.distractors, args.max_ticks
-        )
-    )
+    return episodes
+
+
+def _episode_row(recipe: str, seed: int, summary: Any, cpu: float) -> dict[str, Any]:
+    """One episode's row of the report (``cpu``: the process's CPU seconds during it)."""
+    return {
+        "recipe": recipe,
+        "seed": seed,
+        "completed": summary.completed,
+        "steps": f"{summary.steps_completed}/{summary.steps_total}",
+        "decisions": summary.decisions,
+        "attempted": summary.attempted,
+        "successes": summary.successes,
+        "help_requests": summary.help_requests,
+        "sim_s": summary.sim_time,
+        "wall_s": round(summary.wall_time, 3),
+        "cpu_s": round(cpu, 3),
+        "sim_per_wall": round(summary.sim_time / summary.wall_time, 3),
+        "startup_to_first_decision_s": summary.startup_to_first_decision_s,
+        "physics_steps": summary.physics_steps,
+        "physics_steps_skipped": summary.physics_steps_skipped,
+        "renders": summary.renders,
+        # unrounded: the totals below are summed from these
+        "wall_breakdown_s": summary.wall_breakdown,
+        "cpu_breakdown_s": summary.cpu_breakdown,
+    }
+
+
+def _summed(episodes: list[dict[str, Any]], key: str) -> dict[str, float]:
+    """The per-part seconds of every episode's ``key`` breakdown, summed."""
+    total: dict[str, float] = {}
+    for e in episodes:
+        for part, seconds in e[key].items():
+            total[part] = total.get(part, 0.0) + seconds
+    return total
+
+
+def _report(
+    args: argparse.Namespace,
+    recipes: list[str],
+    episodes: list[dict[str, Any]],
+    cold: dict[str, Any] | None,
+    load_before: tuple[float, float, float],
+) -> dict[str, Any]:
+    """The JSON report: totals over the episodes, the first decisions (cold, warm), the breakdowns, the targets."""
+    import numpy as np
+
+    total_sim = sum(e["sim_s"] for e in episodes)
+    total_wall = sum(e["wall_s"] for e in episodes)
+    total_cpu = sum(e["cpu_s"] for e in episodes)
+    breakdown, cpu_breakdown = _summed(episodes, "wall_breakdown_s"), _summed(episodes, "cpu_breakdown_s")
     firsts = [
         e["startup_to_first_decision_s"] for e in episodes if e["startup_to_first_decision_s"] is not None
     ]
+    cold_first = round(cold["first"], 3) if cold and cold["first"] is not None else None
     result: dict[str, Any] = {
         "recipes": recipes,
         "robot": args.robot,
@@ -180,9 +213,7 @@ def run(args: argparse.Namespace) -> int:
         if firsts[1:]
         else None,
         # The first recipe again, in a fresh process with an empty embedding cache: what a new recipe waits.
-        "startup_to_first_decision_cold_s": round(cold["first"], 3)
-        if cold and cold["first"] is not None
-        else None,
+        "startup_to_first_decision_cold_s": cold_first,
         "startup_cpu_s": [e["cpu_breakdown_s"].get("startup") for e in episodes],
         "wall_breakdown_s": {k: round(v, 3) for k, v in sorted(breakdown.items())},
         "wall_breakdown_fraction": {k: round(v / total_wall, 4) for k, v in sorted(breakdown.items())},
@@ -199,14 +230,10 @@ def run(args: argparse.Namespace) -> int:
         and result["startup_to_first_decision_s"] <= TARGETS["startup_to_first_decision_s"]
         and (
             cold is None
-            or (
-                result["startup_to_first_decision_cold_s"] is not None
-                and result["startup_to_first_decision_cold_s"] <= TARGETS["startup_to_first_decision_cold_s"]
-            )
+            or (cold_first is not None and cold_first <= TARGETS["startup_to_first_decision_cold_s"])
         )
     )
-    emit_report(result, args.json)
-    return 0
+    return result
 
 
 def register(sub: argparse._SubParsersAction) -> None:

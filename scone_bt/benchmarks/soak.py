@@ -9,6 +9,10 @@ threads, the backend's bodies and constraints, the experience store's size, and 
 (``--warmup``, 10 by default: the models and the first recipes' caches load there). ``fd_growth`` and
 ``thread_growth`` are the last episode's count less the count at the end of the warm-up.
 
+``--record`` records every episode with rerun, as ``scone-run --save`` does, to a file deleted after the episode's
+sample (its size is ``recording_bytes``): what the recorder keeps in the process after closing shows in the memory,
+descriptors and threads sampled.
+
     scone-bench soak --episodes 200 --json docs/results/soak.json --plot docs/results/soak.png
 """
 
@@ -25,6 +29,7 @@ from pathlib import Path
 from typing import Any
 
 from scone_bt.benchmarks.progress import progress_bar
+from scone_bt.process_stats import process_sample, slope
 from scone_bt.reporting import emit_report
 
 __all__ = ["EpisodeSample", "TARGETS", "corpus_recipes", "process_sample", "register", "run", "slope"]
@@ -51,6 +56,9 @@ class EpisodeSample:
         store_bytes: The experience store's file size, bytes (main file plus its WAL).
         outcomes: Outcomes in the experience store.
         embedding_cache_entries: Texts the shared embedder holds in memory.
+        steps: Recipe steps done, "done/total".
+        control_ticks: Control ticks the episode ran (its limit is ``--max-ticks``).
+        recording_bytes: With ``--record``: the size of the episode's rerun recording (.rrd), bytes; else 0.
     """
 
     episode: int
@@ -66,33 +74,9 @@ class EpisodeSample:
     store_bytes: int
     outcomes: int
     embedding_cache_entries: int
-
-
-def _status_field(name: str) -> int:
-    """A numeric field of /proc/self/status (the first number on its line)."""
-    with open("/proc/self/status", encoding="ascii") as f:
-        for line in f:
-            if line.startswith(name + ":"):
-                return int(line.split()[1])
-    raise RuntimeError(f"/proc/self/status has no {name} line")
-
-
-def process_sample() -> tuple[float, int, int]:
-    """Resident memory (MB), open file descriptors and OS threads of this process (Linux /proc)."""
-    rss_mb = _status_field("VmRSS") / 1024.0
-    fds = len(os.listdir("/proc/self/fd")) - 1  # the listing's own descriptor
-    return rss_mb, fds, _status_field("Threads")
-
-
-def slope(values: list[float]) -> float | None:
-    """Least-squares slope of ``values`` against their index (per step); None for fewer than two."""
-    n = len(values)
-    if n < 2:
-        return None
-    mean_x, mean_y = (n - 1) / 2.0, sum(values) / n
-    num = sum((i - mean_x) * (v - mean_y) for i, v in enumerate(values))
-    den = sum((i - mean_x) ** 2 for i in range(n))
-    return num / den
+    steps: str = ""
+    control_ticks: int = 0
+    recording_bytes: int = 0
 
 
 def corpus_recipes(count: int, seed: int, max_steps: int) -> list[str]:
@@ -162,79 +146,141 @@ def _plot(samples: list[EpisodeSample], warmup: int, path: Path) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run the soak; print the JSON report (and write it to --json, the plot to --plot)."""
-    from scone_bt.behaviours import BehaviourOptions
+    _check_args(args)
+    recipes = corpus_recipes(args.episodes, args.seed, args.max_steps)
+    started = time.perf_counter()
+    samples, unfinished, interrupted = _run_episodes(args, recipes)
+    if not samples:
+        raise KeyboardInterrupt
+    result = _report(args, samples, unfinished, interrupted, time.perf_counter() - started)
+    if args.plot:
+        _plot(samples, result["warmup"], Path(args.plot))
+    emit_report(result, args.json)
+    return 0
+
+
+def _check_args(args: argparse.Namespace) -> None:
+    """Every bad option is one line now, before hours of episodes."""
     from scone_bt.checks import check_output_file, check_positive_int
     from scone_bt.config import load_robot
-    from scone_bt.episode import EpisodeOptions, run_episode
-    from scone_bt.episode.resources import ModelPool
-    from scone_bt.quiet import c_stdout_silenced
     from scone_bt.robot.registry import backend_factory
 
     check_positive_int(args.episodes, "--episodes")
     check_positive_int(args.max_ticks, "--max-ticks")
     check_positive_int(args.max_steps, "--max-steps")
-    backend_factory(args.robot)  # an unknown backend is one line now
+    backend_factory(args.robot)
     load_robot(args.arm)
-    if args.plot:  # before hours of episodes: a file the plot must not replace is one line now
+    if args.plot:  # a file the plot must not replace
         inputs = {"--json": [args.json]} if args.json else {}
         check_output_file(Path(args.plot), "--plot", kind="image", inputs=inputs, force=args.force)
-    recipes = corpus_recipes(args.episodes, args.seed, args.max_steps)
+
+
+def _run_episodes(
+    args: argparse.Namespace, recipes: list[str]
+) -> tuple[list[EpisodeSample], list[dict[str, Any]], bool]:
+    """The episodes back to back, one sample after each: (samples, unfinished episodes, interrupted)."""
+    from scone_bt.episode.resources import ModelPool
+
     samples: list[EpisodeSample] = []
-    started = time.perf_counter()
+    unfinished: list[dict[str, Any]] = []
+    interrupted = False
     with tempfile.TemporaryDirectory(prefix="scone-soak-") as tmp, ModelPool() as models:
         store = Path(tmp) / "experience.sqlite"
         # A cache folder of the soak's own: every recipe starts with its texts unembedded, as a new user's would,
         # and the user's own cache is neither used nor filled.
         cache_dir = Path(args.cache_dir) if args.cache_dir else Path(tmp) / "cache"
+        # With --record every episode is recorded, as `scone-run --save` does, to a file thrown away after it.
+        recording = Path(tmp) / "episode.rrd" if args.record else None
         bar = progress_bar(len(recipes), "soak", args.quiet, unit="episode")
-        interrupted = False
         try:
             for i, recipe in enumerate(recipes):
                 bar.set_postfix_str(recipe)
-                options = EpisodeOptions(
-                    robot=args.arm,
-                    backend=args.robot,
-                    recipe=recipe,
-                    seed=args.seed + i,
-                    distractors=args.distractors,
-                    max_ticks=args.max_ticks,
-                    behaviour=BehaviourOptions(
-                        seed=args.seed + i, experience_path=store, cache_dir=cache_dir
-                    ),
-                )
-                with c_stdout_silenced():
-                    summary = run_episode(options, printer=lambda _line: None, models=models)
-                gc.collect()  # what is still reachable is what the sample should see, not garbage awaiting a pass
-                rss_mb, fds, threads = process_sample()
-                caches = [getattr(e, "cache", None) for e in models.embedders()]
-                samples.append(
-                    EpisodeSample(
-                        episode=i,
-                        recipe=recipe,
-                        completed=summary.completed,
-                        wall_s=round(summary.wall_time, 3),
-                        rss_mb=round(rss_mb, 2),
-                        fds=fds,
-                        threads=threads,
-                        python_threads=threading.active_count(),
-                        bodies=summary.bodies,
-                        constraints=summary.constraints,
-                        store_bytes=_store_bytes(store),
-                        outcomes=_outcomes(store),
-                        embedding_cache_entries=sum(len(c) for c in caches if c is not None),
+                summary = _episode(args, recipe, i, store, cache_dir, recording, models)
+                sample = _sample(i, recipe, summary, store, recording, models)
+                samples.append(sample)
+                if not summary.completed:  # what the robot and the human did last, to find why it never ended
+                    unfinished.append(
+                        {"episode": i, "recipe": recipe, "decisions_last": list(summary.decision_log[-12:])}
                     )
-                )
-                bar.set_postfix_str(f"{rss_mb:.0f} MB, {fds} fds, {threads} threads")
+                bar.set_postfix_str(f"{sample.rss_mb:.0f} MB, {sample.fds} fds, {sample.threads} threads")
                 bar.update()
         except KeyboardInterrupt:
             # Hours of samples are not lost to a Ctrl-C: the report covers the episodes that ran.
             interrupted = True
         bar.close()
-    if not samples:
-        raise KeyboardInterrupt
+    return samples, unfinished, interrupted
+
+
+def _episode(
+    args: argparse.Namespace,
+    recipe: str,
+    index: int,
+    store: Path,
+    cache_dir: Path,
+    recording: Path | None,
+    models: Any,
+) -> Any:
+    """Episode ``index`` of the soak (seed ``--seed`` + index), on the shared store, cache and models."""
+    from scone_bt.behaviours import BehaviourOptions
+    from scone_bt.episode import EpisodeOptions, run_episode
+    from scone_bt.quiet import c_stdout_silenced
+
+    seed = args.seed + index
+    options = EpisodeOptions(
+        robot=args.arm,
+        backend=args.robot,
+        recipe=recipe,
+        seed=seed,
+        distractors=args.distractors,
+        max_ticks=args.max_ticks,
+        behaviour=BehaviourOptions(seed=seed, experience_path=store, cache_dir=cache_dir),
+        save=recording,
+    )
+    with c_stdout_silenced():
+        return run_episode(options, printer=lambda _line: None, models=models)
+
+
+def _sample(
+    index: int, recipe: str, summary: Any, store: Path, recording: Path | None, models: Any
+) -> EpisodeSample:
+    """The process right after the episode (its recording, if any, measured and deleted)."""
+    recording_bytes = 0
+    if recording is not None and recording.exists():
+        recording_bytes = recording.stat().st_size
+        recording.unlink()  # the file is not what is measured: what the process keeps after closing it is
+    gc.collect()  # what is still reachable is what the sample should see, not garbage awaiting a pass
+    rss_mb, fds, threads = process_sample()
+    caches = [getattr(e, "cache", None) for e in models.embedders()]
+    return EpisodeSample(
+        episode=index,
+        recipe=recipe,
+        completed=summary.completed,
+        wall_s=round(summary.wall_time, 3),
+        rss_mb=round(rss_mb, 2),
+        fds=fds,
+        threads=threads,
+        python_threads=threading.active_count(),
+        bodies=summary.bodies,
+        constraints=summary.constraints,
+        store_bytes=_store_bytes(store),
+        outcomes=_outcomes(store),
+        embedding_cache_entries=sum(len(c) for c in caches if c is not None),
+        steps=f"{summary.steps_completed}/{summary.steps_total}",
+        control_ticks=summary.control_ticks,
+        recording_bytes=recording_bytes,
+    )
+
+
+def _report(
+    args: argparse.Namespace,
+    samples: list[EpisodeSample],
+    unfinished: list[dict[str, Any]],
+    interrupted: bool,
+    wall_s: float,
+) -> dict[str, Any]:
+    """The JSON report: the slopes and growths after the warm-up, the targets, the per-episode table."""
     warmup = min(args.warmup, len(samples) - 1)
-    after = samples[warmup:]
-    growth = slope([s.rss_mb for s in after])
+    growth = slope([s.rss_mb for s in samples[warmup:]])
     last = samples[-1]
     base = samples[warmup - 1] if warmup > 0 else samples[0]
     result: dict[str, Any] = {
@@ -244,6 +290,7 @@ def run(args: argparse.Namespace) -> int:
         "seed": args.seed,
         "max_steps": args.max_steps,
         "max_ticks": args.max_ticks,
+        "record": bool(args.record),
         "warmup": warmup,
         "episodes_completed": sum(s.completed for s in samples),
         "episodes_run": len(samples),
@@ -259,9 +306,13 @@ def run(args: argparse.Namespace) -> int:
         "constraints_growth": last.constraints - base.constraints,
         "store_bytes_per_outcome": round(last.store_bytes / last.outcomes, 1) if last.outcomes else None,
         "outcomes": last.outcomes,
-        "wall_s": round(time.perf_counter() - started, 1),
+        "recording_mb_mean": round(sum(s.recording_bytes for s in samples) / len(samples) / 2**20, 2)
+        if args.record
+        else None,
+        "wall_s": round(wall_s, 1),
         "cpu_count": os.cpu_count(),
         "targets": TARGETS,
+        "unfinished": unfinished,
         "per_episode": [asdict(s) for s in samples],
     }
     result["meets_targets"] = bool(
@@ -271,10 +322,7 @@ def run(args: argparse.Namespace) -> int:
         and result["thread_growth"] <= 0
         and result["episodes_completed"] == args.episodes
     )
-    if args.plot:
-        _plot(samples, warmup, Path(args.plot))
-    emit_report(result, args.json)
-    return 0
+    return result
 
 
 def _outcomes(path: Path) -> int:
@@ -315,6 +363,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         type=int,
         default=12,
         help="draw corpus recipes of at most this many steps (default 12)",
+    )
+    p.add_argument(
+        "--record",
+        action="store_true",
+        help="record every episode with rerun to a throwaway .rrd (as scone-run --save): the recorder's memory",
     )
     p.add_argument("--cache-dir", type=Path, help="embedding cache folder (default: a temporary one, empty)")
     p.add_argument("--plot", type=Path, help="also plot the per-episode series to this PNG")

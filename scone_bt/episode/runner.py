@@ -479,7 +479,8 @@ def _summarise(
         tree_ticks=ticks,
         sim_time=round(world.sim_time, 3),
         wall_time=time.perf_counter() - started,
-        needed_on_table={n: world.is_on_table(n) for n in recipe.needed},
+        # a product the human put away after its step (to make room) was on the table when it was needed
+        needed_on_table={n: world.is_on_table(n) or n in human.put_away_products for n in recipe.needed},
         decision_log=tuple(ep.log_lines.lines),
         startup_to_first_decision_s=first_decision,
         wall_breakdown={str(k): round(v, 4) for k, v in sorted(parts.items())},

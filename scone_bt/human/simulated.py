@@ -11,7 +11,11 @@ Take-overs and clean-ups are interventions, each with its cause (`scone_bt.event
 neither acting nor asking: the patience clock restarts whenever the robot stops acting or stops waiting on its own
 request, so the time the robot waits on the human never counts. A clean-up of an item the robot then asks for
 becomes that help request (the item is brought at the robot's request, not counted as an intervention). Fetching
-takes ``fetch_time_s`` of simulated time.
+takes ``fetch_time_s`` of simulated time. When the table has no room for a fetched product, the human makes room
+first: they put away, one by one (earliest step first), the products on the table that the current and later steps
+no longer need (`put_away_products`), as a cook clears what they have used. A product the robot asked for that
+still does not fit is declined ("no room on the table", a `HelpDeclined` event): the robot stops asking for it, and
+the human brings it once its step needs it (the robot idle for ``patience_s``), clearing that step's predecessors.
 
 When the robot asks which item a step means (ASK-CLARIFY), the human names the candidates its current step
 needs, else those the next step that needs any of them needs, else none ("none of those"); answering takes
@@ -119,6 +123,7 @@ class SimulatedHuman:
         self.help_declined = 0
         self._declined: list[Event] = []  # answers to requests, reported with the next update()
         self._declined_objects: set[str] = set()
+        self.put_away_products: list[str] = []  # used products taken off the table to make room, in order
         self.events: list[Event] = []
 
     # -------------------------------------------------------------------------------------------- state
@@ -148,11 +153,7 @@ class SimulatedHuman:
     def request_help(self, object_name: str) -> None:
         """The robot asks the human to fetch this object (a declining human says so: a HelpDeclined event)."""
         if self.options.help_answer is HelpAnswer.DECLINE:
-            self.help_declined += 1
-            self._declined_objects.add(object_name)
-            self._declined.append(
-                HelpDeclined(self.kitchen.sim_time, object_name, "the human declined: try it yourself")
-            )
+            self._decline(object_name, "the human declined: try it yourself")
             return
         for fetch in self._fetches:
             if fetch.object_name == object_name and fetch.kind is FetchReason.INTERVENTION:
@@ -165,6 +166,12 @@ class SimulatedHuman:
             self._fetches.append(
                 _Fetch(object_name, self.kitchen.sim_time + self.options.fetch_time_s, FetchReason.HELP)
             )
+
+    def _decline(self, object_name: str, detail: str) -> None:
+        """Answer the robot's request for this object with no (reported with the next update())."""
+        self.help_declined += 1
+        self._declined_objects.add(object_name)
+        self._declined.append(HelpDeclined(self.kitchen.sim_time, object_name, detail))
 
     def declined(self, object_name: str) -> bool:
         """The human declined a help request for this object."""
@@ -216,6 +223,28 @@ class SimulatedHuman:
         self._robot_busy_since = self.kitchen.sim_time if busy else None
         self._idle_since = self.kitchen.sim_time
 
+    # -------------------------------------------------------------------------------------------- table
+    def _place_on_table(self, name: str) -> bool:
+        """Put the fetched product on the table, making room when it is full (see the module docstring).
+
+        Without this a full table made every fetch fail quietly: the robot asked again and again for a product
+        too wide for its gripper until the episode's tick limit.
+        """
+        if self.kitchen.place_on_table(name):
+            return True
+        for used in self._used_on_table():
+            self.kitchen.put_away(used)
+            self.put_away_products.append(used)
+            if self.kitchen.place_on_table(name):
+                return True
+        return False
+
+    def _used_on_table(self) -> list[str]:
+        """Products on the table that only steps before the current one needed, earliest step first."""
+        still_needed = {o for step in self.recipe.steps[self.step_index :] for o in step.objects}
+        used = dict.fromkeys(o for step in self.recipe.steps[: self.step_index] for o in step.objects)
+        return [o for o in used if o not in still_needed and self.kitchen.is_on_table(o)]
+
     # -------------------------------------------------------------------------------------------- tick
     def update(self) -> list[Event]:
         """Advance the human by one tick; returns the events of this tick."""
@@ -227,13 +256,19 @@ class SimulatedHuman:
                 self._fetches.remove(fetch)
                 if self.kitchen.is_on_table(fetch.object_name):
                     continue
-                if self.kitchen.place_on_table(fetch.object_name):
+                if self._place_on_table(fetch.object_name):
                     if fetch.kind is FetchReason.HELP:
                         self.help_given += 1
                         new.append(HelpGiven(now, fetch.object_name, "fetched by the human"))
                     else:
                         self.interventions += 1
                         new.append(Intervention(now, fetch.object_name, "fetched by the human", fetch.cause))
+                elif fetch.kind is FetchReason.HELP:
+                    # No room even after clearing what was used: the human says so (the robot then stops asking
+                    # and waits, `gate.rules.after_decline`), and brings it when its step needs it and room is made.
+                    self._decline(fetch.object_name, "the human found no room on the table for it")
+                    new += self._declined
+                    self._declined = []
         if self.done:
             self.events += new
             return new

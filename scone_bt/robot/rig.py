@@ -71,6 +71,10 @@ class HumanWorld(Protocol):
         """Put the product on a free table spot by hand; False when the table is full."""
         ...
 
+    def put_away(self, name: str) -> None:
+        """Take a product the recipe has used off the table, out of the kitchen (room for the next one)."""
+        ...
+
 
 class World(HumanWorld, Protocol):
     """What the episode loop and a scenario can do to the world and read from it."""
@@ -296,6 +300,9 @@ class SimWorld:
 
     def place_on_table(self, name: str) -> bool:
         return self.kitchen.place_on_table(name)
+
+    def put_away(self, name: str) -> None:
+        self.kitchen.park_object(name)
 
     def remove(self, name: str) -> None:
         self.kitchen.park_object(name)

@@ -16,10 +16,14 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from scone_bt.defaults import EPISODE
 from scone_bt.errors import SconeError
 from scone_bt.robot.flags import add_robot_options, check_backend
+
+if TYPE_CHECKING:
+    from scone_bt.study.memory import MemoryProbe
 
 __all__ = ["main", "build_parser"]
 
@@ -117,6 +121,13 @@ def _add_simulate_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentPa
     )
     _add_trust_params(m)
     m.add_argument("--analyze", type=Path, metavar="DIR", help="analyse the result into DIR afterwards")
+    m.add_argument(
+        "--memory",
+        type=Path,
+        metavar="FILE",
+        help="write the process's memory, descriptors and threads after each participant to FILE (JSON; one "
+        "process: not with --jobs or --ray)",
+    )
     m.add_argument(
         "--jobs",
         type=int,
@@ -531,6 +542,23 @@ def _session(args: argparse.Namespace) -> int:
     return 0
 
 
+def _memory_probe(args: argparse.Namespace) -> MemoryProbe | None:
+    """With ``--memory``: the probe sampling this process after each participant (None without it)."""
+    if args.memory is None:
+        return None
+    if args.ray or args.jobs > 1:
+        raise SconeError(
+            "--memory: it samples this process, so the participants must run in it (no --jobs, --ray)"
+        )
+    from scone_bt.checks import check_output_file
+    from scone_bt.study.memory import MemoryProbe
+
+    check_output_file(args.memory, "--memory", kind="json", inputs={"--db": [args.db]})
+    settings = {"participants": args.participants, "mode": "fast" if args.fast else "physics"}
+    settings |= {"recipe": args.recipe, "robot": args.robot, "arm": args.arm, "seed": args.seed}
+    return MemoryProbe(args.memory, settings)
+
+
 def _simulate(args: argparse.Namespace) -> int:
     from scone_bt.study.simulate import SimulationOptions, simulate_study
     from scone_bt.study.synthetic import SyntheticOptions
@@ -559,8 +587,12 @@ def _simulate(args: argparse.Namespace) -> int:
     engine = engine_from_args(args, args.jobs) if args.ray or args.jobs > 1 else None
     from scone_bt.checks import sqlite_files
 
+    probe = _memory_probe(args)
     try:
-        log = simulate_study(args.db, options, engine=engine)  # the same log on any engine and worker count
+        # the same log on any engine and worker count
+        log = simulate_study(
+            args.db, options, engine=engine, after_participant=probe.sample if probe is not None else None
+        )
     except Exception:
         # A failed simulation stores nothing: the file it began (checked above not to exist) is removed, so the
         # same command can be run again.
@@ -568,6 +600,10 @@ def _simulate(args: argparse.Namespace) -> int:
             path.unlink(missing_ok=True)
         raise
     print(f"SIMULATED study written to {args.db}; {trust.label}")
+    if probe is not None:
+        from scone_bt.reporting import emit_report
+
+        emit_report(probe.report(), args.memory)
     if args.analyze is not None:
         from scone_bt.study.analysis import load_study
 

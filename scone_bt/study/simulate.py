@@ -171,12 +171,14 @@ def simulate_study(
     options: SimulationOptions,
     printer: Callable[[str], None] = print,
     engine: Any = None,
+    after_participant: Callable[[int], None] | None = None,
 ) -> StudyLog:
     """Run the simulated study into a new SIMULATED StudyLog at db_path (refuses an existing file).
 
     Participants are independent work items: with `engine` (scone_bt.distributed.EngineOptions, e.g. Ray) they
     run in parallel; the log is written in participant order whatever order they finish in, so the file's
     content does not depend on the engine or the number of workers. Default: one after another, in this process.
+    ``after_participant`` is called with each participant's index once its sessions are in the log.
     """
     from scone_bt.distributed import EngineOptions, imap_tasks, start_engine
 
@@ -205,5 +207,7 @@ def simulate_study(
                         log.record_responses(sid, name, answers)
                     log.end_session(sid, rec.summary)
                 printer(rec.line)
+            if after_participant is not None:
+                after_participant(next_index)
             next_index += 1
     return log

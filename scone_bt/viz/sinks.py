@@ -14,6 +14,7 @@ import sys
 import threading
 import time
 import uuid
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -42,6 +43,41 @@ VIEWER_STALL_TIMEOUT_S = 5.0
 """A live viewer that has not taken the data logged so far within this many seconds is dropped (the run goes on)."""
 
 _log = logging.getLogger(__name__)
+
+
+def _set_sinks(stream: Any, sinks: Sequence[Any], blueprint: Any) -> None:
+    """``stream.set_sinks(*sinks, default_blueprint=blueprint)`` without rerun 0.41's leak of the blueprint stream.
+
+    rerun builds the blueprint in a stream of its own whose memory sink and stream hold each other: it is never
+    freed, and its two threads (batcher and sink) outlived every recording, four a recording with the default
+    blueprint (`scone-bench soak --record`). The same steps as `rerun.sinks.set_sinks`, then that stream is
+    disconnected once its contents are handed over, which breaks the cycle (the file keeps the blueprint).
+    """
+    from rerun import bindings
+    from rerun.recording_stream import RecordingStream
+
+    blueprint_stream = RecordingStream._from_native(
+        bindings.new_blueprint(
+            application_id=APPLICATION_ID, make_default=False, make_thread_default=False, default_enabled=True
+        )
+    )
+    blueprint_stream.set_time("blueprint", sequence=0)
+    blueprint.to_blueprint()._log_to_stream(blueprint_stream)
+    storage = blueprint_stream.memory_recording().storage
+    bindings.set_sinks(list(sinks), default_blueprint=storage, recording=stream.to_native())
+    blueprint_stream.disconnect()
+
+
+def _release_closed_streams() -> None:
+    """Free the native side of recording streams no Python object holds any more (their threads with it).
+
+    rerun drops a stream's native half only in this sweep (`rerun.init` runs it too); without it the batcher and
+    sink threads of every closed recording stayed. It flushes what it frees without a deadline, so it runs only
+    for recorders that never streamed to a viewer (a stalled viewer's stream would hold it forever).
+    """
+    from rerun import bindings
+
+    bindings.flush_and_cleanup_orphaned_recordings()
 
 
 class _Nowhere:
@@ -147,7 +183,7 @@ class Sinks:
             self.save_path.parent.mkdir(parents=True, exist_ok=True)
             self._sink_path = temporary_beside(self.save_path, ".rrd")
             self._file_rec = self._stream()
-            self._file_rec.set_sinks(rr.FileSink(str(self._sink_path)), default_blueprint=blueprint)
+            _set_sinks(self._file_rec, [rr.FileSink(str(self._sink_path))], blueprint)
         self.rec: Any = self._routing()
         self._viewer_checked_at = time.monotonic()
         self.stream_error: str | None = None
@@ -193,6 +229,9 @@ class Sinks:
             self._file_rec.disconnect()
             self.saved_to = self._put_in_place(complete)
         self.rec = _Nowhere()
+        self._file_rec = None  # the last reference: the stream is an orphan rerun can free
+        if not self._viewer_urls:
+            _release_closed_streams()
 
     def _put_in_place(self, complete: bool) -> Path:
         """Rename the finished file to `save` (or, for a run that ended early, beside an existing one)."""
@@ -229,7 +268,7 @@ class Sinks:
 
         def attach() -> None:
             try:
-                self._view_rec.set_sinks(*sinks, default_blueprint=blueprint)
+                _set_sinks(self._view_rec, sinks, blueprint)
             except Exception as exc:  # noqa: BLE001 - re-raised on the caller's thread
                 failed.append(exc)
 

@@ -129,6 +129,10 @@ class GroundTruth:
         """The simulated human carries the object to a free table spot (by hand, not by the robot)."""
         return self.place_on_table(name)
 
+    def put_away(self, name: str) -> None:
+        """The simulated human takes a product the recipe has used off the table, out of the kitchen."""
+        self.park_object(name)
+
     def park_object(self, name: str) -> None:
         """Take the product out of the kitchen: it stands on the floor far from the shelving, table and cameras."""
         self._body(name)  # the one-line error for an unknown name

@@ -59,3 +59,18 @@ def test_twenty_episodes_leave_descriptors_and_threads_flat(tmp_path, capsys):
     # Each episode's world was its own: bodies are the scene, the arm and that episode's products, nothing kept.
     assert all(r["bodies"] > 0 for r in rows) and all(r["constraints"] <= 1 for r in rows)
     assert rows[-1]["outcomes"] >= rows[0]["outcomes"] and report["store_bytes_per_outcome"] > 0
+
+
+@pytest.mark.slow
+@pytest.mark.timeout(1200)  # 3 short recorded episodes: under a minute on an idle 2-core machine
+def test_recorded_episodes_leave_no_threads_behind(tmp_path, capsys):
+    # Every recording's rerun streams kept two threads each (four a recording) until the recorder freed them.
+    out = tmp_path / "soak.json"
+    args = ["soak", "--episodes", "3", "--warmup", "1", "--max-steps", "3", "--distractors", "1", "--record"]
+    assert main([*args, "--quiet", "--json", str(out)]) == 0
+    report = json.loads(out.read_text())
+    capsys.readouterr()
+    rows = report["per_episode"]
+    assert report["record"] and all(r["recording_bytes"] > 100_000 for r in rows)
+    assert {r["threads"] for r in rows} == {rows[0]["threads"]} and report["thread_growth"] == 0
+    assert {r["fds"] for r in rows} == {rows[0]["fds"]}

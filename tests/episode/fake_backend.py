@@ -82,6 +82,10 @@ class FakeWorld:
         self.on_table.add(name)
         return True
 
+    def put_away(self, name: str) -> None:
+        self.on_table.discard(name)
+        self.where[name] = None
+
     # ------------------------------------------------------------------------------------------- World
     def advance(self, seconds: float) -> None:
         self.sim_time += seconds

@@ -1,3 +1,4 @@
+from scone_bt.events import HelpGiven
 from scone_bt.human import HumanOptions, SimulatedHuman
 from scone_bt.recipes import load_recipe
 from scone_bt.stocking import stock_recipe
@@ -62,3 +63,52 @@ def test_clarification_answers_right_wrong_or_none(kitchen, kitchen_cfg, rng):
     assert answers[ClarifyAnswer.RIGHT] == (first,)
     assert answers[ClarifyAnswer.WRONG] == (other,)
     assert answers[ClarifyAnswer.NONE] == ()
+
+
+def test_a_full_table_is_cleared_of_used_products_so_a_fetch_lands(kitchen, kitchen_cfg, rng):
+    # The chicken tetrazzini episode that never ended: the table held the first three steps' products and two of
+    # the last step's, the chicken (25 x 18 cm) had no room, and every fetch of it failed without a word.
+    recipe = stock_recipe(load_recipe("pdr:one-pot-chicken-tetrazzini"), kitchen_cfg.catalogue)
+    kitchen.spawn([kitchen_cfg.catalogue.get(n) for n in recipe.needed], rng)
+    last = recipe.steps[-1].objects
+    earlier = [o for s in recipe.steps[:-1] for o in s.objects]
+    assert "chicken" in last and "chicken" not in earlier
+    for name in dict.fromkeys(earlier):
+        assert kitchen.place_on_table(name)
+    placed_last = [o for o in last if o != "chicken" and kitchen.place_on_table(o)]
+    assert kitchen.free_place_spot(kitchen_cfg.catalogue.get("chicken")) is None  # the table is full
+    human = SimulatedHuman(kitchen, recipe, HumanOptions(fetch_time_s=0.5, cook_time_s=0.1, patience_s=1e9))
+    for _ in range(20):  # the earlier steps' products are all there: the human cooks through to the last step
+        kitchen.advance(0.1)
+        human.update()
+    assert human.step_index == len(recipe.steps) - 1
+    human.request_help("chicken")
+    events = [e for _ in range(10) for e in (kitchen.advance(0.1), human.update())[1]]
+    assert kitchen.is_on_table("chicken") and human.help_given == 1
+    assert any(isinstance(e, HelpGiven) and e.object_name == "chicken" for e in events)
+    # Only products no remaining step needs were put away, and they are off the table; the last step's stayed.
+    assert human.put_away_products and not set(human.put_away_products) & set(last)
+    assert not any(kitchen.is_on_table(o) for o in human.put_away_products)
+    assert all(kitchen.is_on_table(o) for o in placed_last)
+
+
+def test_a_product_that_fits_nowhere_is_declined_so_the_robot_stops_asking(kitchen, kitchen_cfg, rng):
+    # The soak's first episode: in step 1 the robot asked for the chicken (needed later) on a table full of
+    # products every step still needed; nothing could be put away, the fetch failed without a word, and the robot
+    # asked again until the tick limit while the human waited for the butter.
+    from scone_bt.events import HelpDeclined
+
+    recipe = stock_recipe(load_recipe("pdr:one-pot-chicken-tetrazzini"), kitchen_cfg.catalogue)
+    kitchen.spawn([kitchen_cfg.catalogue.get(n) for n in recipe.needed], rng)
+    for name in recipe.needed:
+        if name != "chicken":
+            kitchen.place_on_table(name)
+    assert kitchen.free_place_spot(kitchen_cfg.catalogue.get("chicken")) is None
+    opts = HumanOptions(fetch_time_s=0.5, cook_time_s=100.0, patience_s=1e9)
+    human = SimulatedHuman(kitchen, recipe, opts)
+    human.request_help("chicken")
+    events = [e for _ in range(10) for e in (kitchen.advance(0.1), human.update())[1]]
+    (declined,) = [e for e in events if isinstance(e, HelpDeclined)]
+    assert declined.object_name == "chicken" and "no room" in declined.detail
+    assert human.declined("chicken") and not human.put_away_products and human.step_index == 0
+    assert not kitchen.is_on_table("chicken") and human.help_given == 0 and human.help_declined == 1

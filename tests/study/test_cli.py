@@ -121,6 +121,8 @@ def test_a_store_that_cannot_be_one_is_refused_before_a_session_row_exists(tmp_p
         (["simulate", "--fast", "--condition-effect", "nan"], "--condition-effect nan"),
         (["simulate", "--fast", "--condition-effect", "inf"], "--condition-effect inf"),
         (["simulate", "--fast", "--analyze", "/proc/x"], "--analyze /proc/x"),
+        (["simulate", "--fast", "--memory", "/proc/x"], "--memory /proc/x"),
+        (["simulate", "--fast", "--jobs", "2", "--memory", "never.json"], "--memory"),
     ],
 )
 def test_bad_simulate_options_are_one_line_before_any_file(argv, flag, tmp_path, capsys):
@@ -191,3 +193,15 @@ def test_a_failed_simulation_leaves_no_file_behind(tmp_path, monkeypatch, capsys
     assert main(["simulate", "--fast", "--participants", "2", "--db", str(db)]) == 3
     assert "nothing was stored" in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_simulate_memory_samples_the_process_after_each_participant(tmp_path, capsys):
+    db, report = tmp_path / "sim.db", tmp_path / "memory.json"
+    assert main(["simulate", "--fast", "--participants", "7", "--db", str(db), "--memory", str(report)]) == 0
+    capsys.readouterr()
+    data = json.loads(report.read_text())
+    assert data["mode"] == "fast" and data["participants"] == 7 and data["sessions_run"] == 14
+    assert [r["participant"] for r in data["per_participant"]] == list(range(7))
+    assert all(r["rss_mb"] > 0 and r["fds"] > 0 and r["threads"] > 0 for r in data["per_participant"])
+    assert data["warmup_participants"] == 5 and data["rss_growth_mb_per_session"] is not None
+    assert data["fd_growth"] == data["per_participant"][-1]["fds"] - data["per_participant"][4]["fds"]

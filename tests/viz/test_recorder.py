@@ -291,3 +291,18 @@ def test_a_run_that_ended_early_never_replaces_a_recording(tmp_path):
     rec.close(complete=False)
     assert rec.saved_to == fresh and fresh.stat().st_size > 100
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
+
+
+def test_closed_recorders_leave_no_threads_behind_and_each_file_has_its_blueprint(tmp_path):
+    # rerun kept every closed recording's native stream, and its blueprint's, with their batcher and sink
+    # threads: four more OS threads per recorded episode of a long-running process (scone-bench soak --record).
+    from scone_bt.process_stats import process_sample
+
+    def record(i: int) -> int:
+        with Recorder(save=tmp_path / f"{i}.rrd", recording_id=f"r{i}") as rec:
+            rec._rec.log("probe", __import__("rerun").Points3D([[0.0, 0.0, 0.0]]))
+        return process_sample()[2]
+
+    first = record(0)
+    assert [record(i) for i in range(1, 4)] == [first] * 3
+    assert all(summarize_recording(tmp_path / f"{i}.rrd").has_blueprint for i in range(4))
