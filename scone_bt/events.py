@@ -28,6 +28,7 @@ from scone_bt.gate.types import DecisionKind
 __all__ = [
     "Event",
     "EventSink",
+    "NO_ROOM",
     "DecisionMade",
     "ActStarted",
     "ActOutcome",
@@ -274,6 +275,11 @@ class HelpDeclined(_HumanFetch):
     """The human declined to fetch an object the robot asked for ("try it yourself"); ``detail`` says so."""
 
     kind: ClassVar[str] = "declined"
+
+
+NO_ROOM = "the human found no room on the table for it"
+"""`HelpDeclined.detail` when the human declines because the product fits nowhere on the table, not as a "try it
+yourself"."""
 
 
 INTERVENTION_CAUSES: Mapping[str, str] = MappingProxyType(

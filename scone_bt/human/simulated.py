@@ -31,7 +31,15 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from scone_bt.events import CleanUpStarted, Event, HelpDeclined, HelpGiven, Intervention, StepDone
+from scone_bt.events import (
+    NO_ROOM,
+    CleanUpStarted,
+    Event,
+    HelpDeclined,
+    HelpGiven,
+    Intervention,
+    StepDone,
+)
 from scone_bt.stocking import StockedRecipe
 
 if TYPE_CHECKING:  # the human reads the world only through the test rig's protocol, never the simulator
@@ -266,7 +274,7 @@ class SimulatedHuman:
                 elif fetch.kind is FetchReason.HELP:
                     # No room even after clearing what was used: the human says so (the robot then stops asking
                     # and waits, `gate.rules.after_decline`), and brings it when its step needs it and room is made.
-                    self._decline(fetch.object_name, "the human found no room on the table for it")
+                    self._decline(fetch.object_name, NO_ROOM)
                     new += self._declined
                     self._declined = []
         if self.done:

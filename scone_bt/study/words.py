@@ -11,6 +11,7 @@ import math
 import re
 
 from scone_bt.events import (
+    NO_ROOM,
     ActCancelled,
     ActOutcome,
     ActStarted,
@@ -153,6 +154,8 @@ def feed_line(event: Event) -> str | None:
     if isinstance(event, (HelpGiven, Intervention)):
         return f"You brought the {event.object_name}."
     if isinstance(event, HelpDeclined):
+        if event.detail == NO_ROOM:
+            return f"There was no room on the table for the {event.object_name}."
         return f"You asked the robot to try the {event.object_name} itself."
     if isinstance(event, ClarificationAsked):
         said = ", ".join(event.answer) or "none of those"

@@ -58,3 +58,13 @@ def test_the_feed_uses_the_participants_words():
     )
     failed = feed_line(ActOutcome(1.0, "Put parmesan on table", "parmesan", False, "planning"))
     assert failed == "The robot could not fetch the parmesan: it could not find a safe way to move."
+
+
+def test_a_decline_for_want_of_room_is_not_told_as_try_it_yourself():
+    from scone_bt.events import NO_ROOM, HelpDeclined
+
+    assert (
+        feed_line(HelpDeclined(2.0, "chicken", NO_ROOM)) == "There was no room on the table for the chicken."
+    )
+    asked = feed_line(HelpDeclined(2.0, "chicken", "the human declined: try it yourself"))
+    assert asked == "You asked the robot to try the chicken itself."
