@@ -300,7 +300,7 @@ def test_closed_recorders_leave_no_threads_behind_and_each_file_has_its_blueprin
 
     def record(i: int) -> int:
         with Recorder(save=tmp_path / f"{i}.rrd", recording_id=f"r{i}") as rec:
-            rec._rec.log("probe", __import__("rerun").Points3D([[0.0, 0.0, 0.0]]))
+            rec._sinks.rec.log("probe", __import__("rerun").Points3D([[0.0, 0.0, 0.0]]))
         return process_sample()[2]
 
     first = record(0)
