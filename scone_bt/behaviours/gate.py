@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from typing import TypeVar
 
 import numpy as np
 import py_trees
@@ -52,6 +54,15 @@ __all__ = [
     "apply_failure_limit",
     "say_infeasible",
 ]
+
+
+_T = TypeVar("_T")
+
+
+def _resolved(value: _T | None) -> _T:
+    """A tree parameter of a context's options: resolved (BehaviourOptions.resolve), so never None."""
+    assert value is not None, "BehaviourOptions not resolved"
+    return value
 
 
 @dataclass(frozen=True)
@@ -128,7 +139,7 @@ class ConfidenceGate(StageBehaviour):
         opts = context.options
         budget = (
             BudgetOptions(
-                target_failure_rate=float(opts.target_failure_rate),
+                target_failure_rate=float(_resolved(opts.target_failure_rate)),
                 excess_allowance=1.0 if opts.exploration_credit else None,
             )
             if opts.gate == "budget" and opts.use_self_confidence
@@ -148,12 +159,12 @@ class ConfidenceGate(StageBehaviour):
         )
         settings = GateSettings(
             gate=GateOptions(
-                confidence_threshold=opts.confidence_threshold,
-                relevance_threshold=opts.relevance_threshold,
+                confidence_threshold=_resolved(opts.confidence_threshold),
+                relevance_threshold=_resolved(opts.relevance_threshold),
                 use_self_confidence=opts.use_self_confidence,
-                recipe_aware=opts.recipe_aware,
+                recipe_aware=_resolved(opts.recipe_aware),
             ),
-            max_failures_per_action=int(opts.max_failures_per_action),
+            max_failures_per_action=int(_resolved(opts.max_failures_per_action)),
             steps_total=len(context.recipe.steps),
             budget=budget,
             seed=opts.seed,
@@ -188,7 +199,7 @@ class ConfidenceGate(StageBehaviour):
         return self._finish(pending, decision)
 
     def _seen(
-        self, ranked: list[RankedAction], affordances: dict[str, Affordance]
+        self, ranked: Sequence[RankedAction], affordances: dict[str, Affordance]
     ) -> tuple[GateInput, dict[str, ExecutionContext]]:
         """What the gate sees this tick: κ̂ on the ranked actions, their contexts, the episode's counts."""
         history, budget, probe = self.ports.history, self.settings.budget, self.settings.probe
@@ -219,7 +230,7 @@ class ConfidenceGate(StageBehaviour):
         return seen, contexts
 
     def _write_seen(
-        self, ranked: list[RankedAction], beliefs: list[float], contexts: dict[str, ExecutionContext]
+        self, ranked: Sequence[RankedAction], beliefs: Sequence[float], contexts: dict[str, ExecutionContext]
     ) -> None:
         """This tick's κ̂ and contexts on the blackboard; no plan and no verdict yet."""
         self.write(Keys.CONFIDENCES, dict(zip([r.text for r in ranked], beliefs, strict=True)))
@@ -323,7 +334,11 @@ class DecisionIs(StageBehaviour):
         self.kind = DecisionKind(kind)
 
     @classmethod
-    def from_context(cls, name: str, context: EpisodeContext, kind: str) -> DecisionIs:
+    def from_context(cls, name: str, context: EpisodeContext, kind: str | None = None) -> DecisionIs:
+        # optional only to match StageBehaviour.from_context; the tree builder requires it (_DecisionIsArgs)
+        if kind is None:
+            options = ", ".join(k.value for k in DecisionKind)
+            raise ValueError(f"DecisionIs {name!r}: args.kind is required, one of: {options}")
         return cls(name, kind)
 
     def update(self) -> py_trees.common.Status:

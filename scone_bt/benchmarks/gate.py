@@ -714,8 +714,7 @@ def _episode_counts(events: Sequence[Any]) -> dict[str, Any]:
             out["aborted"] += 1
         elif isinstance(e, DecisionMade) and e.planning_s is not None:
             planning.append(e.planning_s)
-    out["planning_s"] = planning
-    return out
+    return {**out, "planning_s": planning}
 
 
 def _episodes(args: argparse.Namespace) -> dict[str, Any]:

@@ -11,7 +11,7 @@ seeding of the global generators, so the results are identical on any engine and
 from __future__ import annotations
 
 import sys
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Generator, Sequence
 from typing import Any, TypeVar
 
 from scone_bt.distributed.options import EngineKind, EngineOptions
@@ -40,7 +40,7 @@ def imap_tasks(
     *,
     engine: EngineOptions | None = None,
     shared: Any = _NO_SHARED,
-) -> Iterator[tuple[int, R]]:
+) -> Generator[tuple[int, R], None, None]:
     """Yield (index, fn(items[index])) as tasks finish (any order), each index exactly once.
 
     Args:

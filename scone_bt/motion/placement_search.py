@@ -106,11 +106,17 @@ def obstacle_footprint(ob: Obstacle) -> Footprint:
     return Footprint(ob.name, x, y, float(sx) / 2, float(sz))
 
 
+def _xyz(spot: tuple[float, float, float]) -> tuple[float, float, float]:
+    """A spot as a tuple of its three values (a caller's spot may be any sequence of three)."""
+    x, y, z = spot
+    return (x, y, z)
+
+
 def find_spots(scene: PickScene) -> PlacementSpots:
     """The request's spots, or spots sampled on the observed free table area; none without a table."""
     req = scene.request
     if req.place_spots:
-        return PlacementSpots(tuple((tuple(s), ()) for s in req.place_spots))
+        return PlacementSpots(tuple((_xyz(s), ()) for s in req.place_spots))
     if req.table is None:
         return PlacementSpots(())
     sampled = sample_placements(
@@ -286,7 +292,7 @@ def _place_at(
     back, why, names = _retreat(session, scene, grasp, ee_place, lower, fingers)
     if back is None:
         return None, stats.blocked(why, names)
-    return Placement(tuple(spot), ee_place, q_pp, lower, back), stats
+    return Placement(_xyz(spot), ee_place, q_pp, lower, back), stats
 
 
 def _retreat(

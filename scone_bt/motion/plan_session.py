@@ -8,6 +8,7 @@ make a seeded plan repeat exactly.
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -91,7 +92,7 @@ class PlanSession:
 
     def world(
         self,
-        obstacles: list[Obstacle],
+        obstacles: Sequence[Obstacle],
         attached: Obstacle | None = None,
         *,
         padding: float = 0.01,

@@ -162,3 +162,10 @@ def test_exploration_acts_but_the_decision_shows_the_belief(epsilon, kind, explo
     event = [e for e in events.events if isinstance(e, DecisionMade)][-1]
     assert event.explored is explored and event.confidence == prior
     assert bb.get(Keys.CONFIDENCES)[SALT] == prior
+
+
+def test_decision_is_from_context_needs_a_kind():
+    # kind is optional in the signature only to match StageBehaviour.from_context; missing, it fails in one line
+    assert DecisionIs.from_context("act?", object(), kind="act").kind is DecisionKind.ACT
+    with pytest.raises(ValueError, match="args.kind is required, one of: .*act"):
+        DecisionIs.from_context("act?", object())

@@ -22,7 +22,7 @@ import platform
 import sys
 import time
 from collections import Counter
-from collections.abc import Iterator, Sequence
+from collections.abc import Generator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -567,7 +567,7 @@ def _execute(args: argparse.Namespace, setup: _Setup, work: _Work, pool_engine: 
     if skipped:
         _note(bar, f"resuming: {skipped} executions already recorded, {len(tasks)} to run")
     stopped = False
-    results: Iterator[tuple[int, tuple[str, ExecutionRecord, float]]] = imap_tasks(
+    results: Generator[tuple[int, tuple[str, ExecutionRecord, float]], None, None] = imap_tasks(
         execute_task, tasks, engine=pool_engine
     )
     try:

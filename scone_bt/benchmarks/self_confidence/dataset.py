@@ -418,6 +418,7 @@ def read_dataset(path: Path | str) -> list[Dataset]:
         raise ConfigError(
             f"{path}: missing column {missing[0]}; a dataset needs action, object, outcome, failure_stage, seed"
         )
+    assert obj_col is not None and out_col is not None  # none missing: both were found above
     groups: dict[str, list[int]] = {}
     for i, r in enumerate(rows):
         groups.setdefault(_group(r, path, i), []).append(i)

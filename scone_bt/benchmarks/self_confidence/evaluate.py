@@ -58,6 +58,7 @@ from scone_bt.benchmarks.self_confidence.report_types import (
     clean_report,
 )
 from scone_bt.checks import OutputKind
+from scone_bt.confidence.base import ConfidenceEstimator
 from scone_bt.confidence.calibration import CALIBRATION_FOLDS
 from scone_bt.errors import ConfigError, SconeError, UnknownNameError
 
@@ -150,18 +151,20 @@ def evaluate_pair(
     return evaluate_protocols(embedder, estimator, _as_eval(datasets), features, make, protocols, opts)
 
 
-class _Prior:
+class _Prior(ConfidenceEstimator):
     """Predicts the training prefix's Laplace-smoothed success rate for every action (what κ̂ must beat)."""
 
-    def fit(self, X: np.ndarray, y: np.ndarray) -> _Prior:
+    handles_one_class = True  # the smoothed rate is defined for no data or one class too (0.5 with none)
+
+    def __init__(self) -> None:
+        super().__init__("prior")
+        self.rate = 0.5
+
+    def _fit_model(self, X: np.ndarray, y: np.ndarray) -> None:
         self.rate = (float(np.sum(y)) + 1.0) / (len(y) + 2.0)
-        return self
 
-    def belief(self, X: np.ndarray) -> np.ndarray:
+    def _predict_model(self, X: np.ndarray) -> np.ndarray:
         return np.full(len(X), self.rate)
-
-    def decide(self, X: np.ndarray, threshold: float = 0.5) -> np.ndarray:
-        return self.belief(X) >= threshold
 
 
 def prior_baseline(

@@ -103,7 +103,7 @@ def expected_calibration_error(p: np.ndarray, y: np.ndarray, bins: int = 10) -> 
     return float(total / sum(b.count for b in table))
 
 
-def normalised_auc(steps: Sequence[float], values: Sequence[float]) -> float:
+def normalised_auc(steps: Sequence[float], values: Sequence[float] | np.ndarray) -> float:
     """Trapezoidal area under a curve over its x range, divided by that range (a curve of 1 gives 1)."""
     x = np.asarray(steps, dtype=float)
     v = np.asarray(values, dtype=float)

@@ -28,6 +28,7 @@ import sys
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -274,7 +275,7 @@ def _run_ceilings(
                 est,
                 datasets,
                 X,
-                lambda seed, e=est: make_estimator(e, seed=seed),
+                partial(make_estimator, est),
                 _PROTOCOLS,
                 options,
             )

@@ -288,6 +288,16 @@ def run_online(
     return beliefs, RobotBehaviour(rows=last, **counts), np.array(observed, dtype=int)
 
 
+def _base_of(est: ConfidenceEstimator) -> ConfidenceEstimator:
+    """A wrapper's fitted base estimator (a calibrated estimator's `base`), which `with_base` scores too."""
+    base = getattr(est, "base", None)
+    if not isinstance(base, ConfidenceEstimator):
+        raise ConfigError(
+            f"{est.name}: with_base needs an estimator with a base estimator, not {type(est).__name__}"
+        )
+    return base
+
+
 def _offline(
     make: EstimatorFactory,
     seed: int,
@@ -307,7 +317,7 @@ def _offline(
         rows = stream[: min(n, len(stream))]
         est = make(seed)
         est.fit(X[rows], y[rows])
-        views = (est, est.base) if with_base else (est,)
+        views = (est, _base_of(est)) if with_base else (est,)
         for beliefs, view in zip(out, views, strict=True):
             beliefs[n] = view.belief(X[eval_rows]) if len(eval_rows) else np.zeros(0)
     return out

@@ -214,7 +214,8 @@ def _check(value: object, tp: Any, key: str) -> None:
             except _Malformed as exc:
                 errors.append(str(exc))
         raise _Malformed(errors[-1])
-    if isinstance(tp, type) and typing.is_typeddict(tp):
+    # is_typeddict is False for anything but a TypedDict class; tp stays Any so its __required_keys__ reads
+    if typing.is_typeddict(tp):
         if not isinstance(value, dict):
             raise _Malformed(f"{key}: expected an object, got {_kind(value)}")
         for name in sorted(tp.__required_keys__ - set(value)):
