@@ -15,8 +15,6 @@ from scone_bt.behaviours.base import Keys, StageBehaviour
 from scone_bt.behaviours.context import EpisodeContext
 from scone_bt.behaviours.gate_config import GatePorts, GateSettings
 from scone_bt.behaviours.gate_steps import (
-    CARD_ITEMS_LEFT,
-    EVERY_STEP_SERVED,
     budget_counts,
     candidate_contexts,
     confidences,
@@ -42,11 +40,8 @@ from scone_bt.gate.types import Decision, DecisionKind
 from scone_bt.relevance.types import RankedAction
 from scone_bt.robot.interface import Infeasible, PlannedPick
 
-# apply_failure_limit and say_infeasible live in scone_bt.gate.rules, the sentinel instructions in
-# behaviours.gate_steps; kept here for their callers
+# apply_failure_limit and say_infeasible live in scone_bt.gate.rules; kept here for their callers
 __all__ = [
-    "CARD_ITEMS_LEFT",
-    "EVERY_STEP_SERVED",
     "ConfidenceGate",
     "DecisionIs",
     "GatePorts",

@@ -554,6 +554,7 @@ def _method(
     taught: _Streams | None = None,
     probe: ProbeOptions | None = None,
 ) -> dict[str, Any]:
+    """One method's pooled rates over every stream (`_stream_results`, then `_rates`)."""
     return _rates(_stream_results(streams, estimator, gate, alpha, args, fleet, taught, probe))
 
 

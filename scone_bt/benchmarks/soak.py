@@ -32,7 +32,7 @@ from scone_bt.benchmarks.progress import progress_bar
 from scone_bt.process_stats import process_sample, slope
 from scone_bt.reporting import emit_report
 
-__all__ = ["EpisodeSample", "TARGETS", "corpus_recipes", "process_sample", "register", "run", "slope"]
+__all__ = ["EpisodeSample", "TARGETS", "corpus_recipes", "register", "run"]
 
 TARGETS = {"rss_growth_mb_per_episode": 0.5, "fd_growth": 0, "thread_growth": 0}
 """Issue 51's targets over 200 episodes: memory (MB per episode after the warm-up), descriptors and threads flat."""

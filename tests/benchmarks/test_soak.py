@@ -10,8 +10,9 @@ import json
 
 import pytest
 
-from scone_bt.benchmarks.soak import corpus_recipes, slope
+from scone_bt.benchmarks.soak import corpus_recipes
 from scone_bt.cli.bench import main
+from scone_bt.process_stats import slope
 
 
 def test_slope_is_the_least_squares_fit():

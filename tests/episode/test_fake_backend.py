@@ -159,7 +159,7 @@ def test_a_whole_episode_imports_no_scientific_stack_for_its_self_confidence(tmp
 def test_after_none_of_those_a_fetch_past_the_last_step_is_not_called_every_step_served(tmp_path) -> None:
     """The human says "none of those" to the cheese question: the robot is past the last step, yet still fetches
     the card's cheeses (needed later). Such a line names them as the card's items, not "(every step is served)"."""
-    from scone_bt.behaviours.gate import CARD_ITEMS_LEFT, EVERY_STEP_SERVED
+    from scone_bt.behaviours.gate_steps import CARD_ITEMS_LEFT, EVERY_STEP_SERVED
     from scone_bt.human import ClarifyAnswer, HumanOptions
 
     lines: list[str] = []

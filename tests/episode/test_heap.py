@@ -6,8 +6,8 @@ import platform
 
 import numpy as np
 
-from scone_bt.benchmarks.soak import process_sample
 from scone_bt.episode.heap import _malloc_trim, release_free_heap
+from scone_bt.process_stats import process_sample
 
 
 def test_release_free_heap_returns_what_small_freed_blocks_held():

@@ -122,18 +122,8 @@ CONTEXT_COLUMNS = (
 )
 """Numeric context columns, read into `Dataset.context` as float arrays (NaN where a row leaves one empty)."""
 
-_LATER = (
-    "detected_depth_m",
-    "detected_fill",
-    "depth_m",
-    "shape",
-    "probe_held",
-    "probe_load_n",
-    "probe_load_first_n",
-    "probe_grip_n",
-    "probe_s",
-)
-"""Columns a file of the previous schema lacks (read as unknown)."""
+_LATER = COLUMNS[COLUMNS.index("detected_depth_m") :]
+"""Columns a file of the previous schema lacks (read as unknown): those after ``material``, the last it had."""
 
 _TRUE = {"success", "1", "true", "yes", "ok"}
 _FALSE = {"failure", "0", "false", "no", "fail"}
