@@ -184,12 +184,21 @@ def test_ctrl_c_stops_the_workers_at_once_and_says_how_far_the_run_got(
 ) -> None:
     path = _scenario(tmp_path)
     marker = tmp_path / "a-slow-case-finished"
+    go = tmp_path / "go"
     load, run_cases = model.load_scenarios, runner.run_cases
 
     def with_slow_cases(paths: Any) -> list[model.Case]:
         (case,) = load(paths)
-        # each would leave the marker 3 s into its run, were it not terminated
-        slow = _InWorker(f"import time, pathlib; time.sleep(3); pathlib.Path({str(marker)!r}).touch()")
+        # Each waits for `go` (written only after the interrupt), then leaves the marker: a worker left running
+        # would do so; one terminated cannot. Waiting on a file, not a sleep, keeps a loaded machine (a first case
+        # slower than any fixed sleep) from finishing a slow case before the interrupt.
+        slow = _InWorker(
+            "import os, pathlib, time\n"
+            "end = time.monotonic() + 60\n"
+            f"while not os.path.exists({str(go)!r}) and time.monotonic() < end:\n"
+            "    time.sleep(0.02)\n"
+            f"pathlib.Path({str(marker)!r}).touch()\n"
+        )
         return [case] + [replace(case, name=f"slow{k}", sweep=(("doom", slow),)) for k in range(3)]
 
     def interrupted_after_the_first(*args: Any, on_result: Any = None, **kwargs: Any) -> list[run.CaseResult]:
@@ -210,7 +219,8 @@ def test_ctrl_c_stops_the_workers_at_once_and_says_how_far_the_run_got(
     )
     import time
 
-    time.sleep(4.0)  # time enough for a slow case to finish, had its worker been left running
+    go.touch()
+    time.sleep(2.0)  # time enough for a slow case to see `go` and finish, had its worker been left running
     assert not marker.exists() and not junit.exists()
 
 
