@@ -126,18 +126,21 @@ def in_band(
     """
     if options is None or not math.isfinite(confidence):
         return False
-    if confidence < threshold and options.credit is not None and not credit:
+    if confidence < threshold and not credit:
         return False
     return threshold - band_below(options, alpha) <= confidence < threshold + options.above
 
 
 def probe_credit(options: ProbeOptions | None, budget: BudgetOptions, counts: BudgetCounts) -> bool:
-    """Whether a probe below τ has room for one more failure: gate.budget.has_credit with the probe's allowance
-    (True without one)."""
-    if options is None or options.credit is None:
-        return True
+    """Whether a probe below τ has room for one more failure: gate.budget.has_credit with the probe's allowance,
+    else with the budget's own (the strict promise, ``exploration_credit: true``: a probe below τ is an attempt
+    below τ, and it can fail before the fingers feel anything, at the grasp); True without either."""
     from dataclasses import replace
 
     from scone_bt.gate.budget import has_credit
 
+    if options is None:
+        return True
+    if options.credit is None:
+        return has_credit(budget, counts)
     return has_credit(replace(budget, excess_allowance=options.credit), counts)
