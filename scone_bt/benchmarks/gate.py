@@ -62,7 +62,7 @@ from scone_bt.reporting import emit_report
 if TYPE_CHECKING:
     from scone_bt.gate.budget import BudgetCounts
     from scone_bt.gate.probe import ProbeOptions
-    from scone_bt.gate.rules import GateInput, GateRules
+    from scone_bt.gate.rules import GateInput, GateResult, GateRules
     from scone_bt.gate.types import Decision
     from scone_bt.motion.probe import ProbeSettings
 
@@ -279,7 +279,13 @@ class _Probed:
 
 
 def _after_probe(
-    replay: _Replay, out: StreamResult, t: int, product: str, counts: BudgetCounts, scored: bool, before: float
+    replay: _Replay,
+    out: StreamResult,
+    t: int,
+    product: str,
+    counts: BudgetCounts,
+    scored: bool,
+    before: float,
 ) -> _Probed:
     """What the recorded probe of decision ``t`` felt, judged by the gate's one post-probe decision
     (gate.after_probe: the hard judge, then κ̂ on the context after the probe, then the strict rule's credit)."""
@@ -303,6 +309,29 @@ def _after_probe(
     confidence = float(replay.belief(row[None])[0])
     verdict = after_probe(replay.rules, counts, product, judge_probe(reading, replay.probe), confidence)
     return _Probed(not verdict.carry, verdict.explored, confidence, row, verdict.carry or verdict.felt_unsafe)
+
+
+def _committed(
+    replay: _Replay,
+    walk: _Walk,
+    out: StreamResult,
+    t: int,
+    product: str,
+    ok: bool,
+    result: GateResult,
+    scored: bool,
+) -> tuple[bool, _Act]:
+    """What decision ``t`` commits to: (set back, the attempt as κ̂ at the final decision saw it). A probe is
+    judged by gate.after_probe; a set-back is tallied here (κ̂ learns it when the fingers said so)."""
+    decision = result.decision
+    attempt = _Act(ok, decision.explored, decision.confidence >= result.threshold, replay.rows[t])
+    if not decision.probe:
+        return False, attempt
+    probed = _after_probe(replay, out, t, product, walk.counts, scored, decision.confidence)
+    attempt = _Act(ok, probed.explored, probed.confidence >= result.threshold, probed.row)
+    if probed.aborted:
+        walk.counts = _set_back(replay, probed.row, product, walk.counts, walk.learnt, probed.label)
+    return probed.aborted, attempt
 
 
 def _set_back(
@@ -342,7 +371,14 @@ class _Act:
 
 
 def _attempted(
-    replay: _Replay, walk: _Walk, out: StreamResult, t: int, product: str, act: _Act, scored: bool, alpha: float
+    replay: _Replay,
+    walk: _Walk,
+    out: StreamResult,
+    t: int,
+    product: str,
+    act: _Act,
+    scored: bool,
+    alpha: float,
 ) -> None:
     """Attempt ``t`` happened: tally it, κ̂ learns its outcome (an attempt is the only labelled kind), and the
     budget's counts move on."""
@@ -455,15 +491,9 @@ def replay_stream(
             trace.append(result.decision)
         decision = result.decision
         act = decision.kind is DecisionKind.ACT
-        attempt = _Act(ok, decision.explored, decision.confidence >= result.threshold, replay.rows[t])
-        aborted, label = False, True
-        if decision.probe:
-            probed = _after_probe(replay, out, t, product, walk.counts, scored, decision.confidence)
-            aborted, label = probed.aborted, probed.label
-            attempt = _Act(ok, probed.explored, probed.confidence >= result.threshold, probed.row)
+        aborted, attempt = _committed(replay, walk, out, t, product, ok, result, scored)
         if aborted:
             act = False
-            walk.counts = _set_back(replay, attempt.row, product, walk.counts, walk.learnt, label)
         novel = product not in walk.learnt
         out.all_decisions += 1
         out.thresholds.append(result.threshold)

@@ -60,7 +60,14 @@ def felt_context(context: ExecutionContext | None, reading: FeltReading | None) 
     felt; unchanged without a reading."""
     if reading is None:
         return context
-    return replace(context if context is not None else ExecutionContext(), **felt_values(reading))
+    v = felt_values(reading)
+    return replace(
+        context if context is not None else ExecutionContext(),
+        felt_held=bool(v["felt_held"]),
+        felt_traction=float(v["felt_traction"]),
+        felt_unsteady=float(v["felt_unsteady"]),
+        felt_mass_kg=float(v["felt_mass_kg"]),
+    )
 
 
 def felt_row(row: np.ndarray, reading: FeltReading) -> np.ndarray:
