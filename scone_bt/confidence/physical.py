@@ -10,10 +10,12 @@ arms through a fleet store:
   clearance to the nearest neighbour (capped at 15 cm: beyond that the fingers are free) and the neighbour count;
 - the perceived depth (the lid's longer extent, m) and whether its lid is round (a cylinder: its fill below
   _ROUND_BELOW; unknown counts as neither);
-- what the heft test felt, where the action was probed (experience.felt; all 0 where it was not): that it was
-  probed, that the fingers lost it, the traction (load over grip, capped at 1), how unsteady the load was (on a
-  log scale: 0 at 0.1 % or less, which a product held fast never exceeds, 3 at 100 %) and the felt mass (capped
-  at 2 kg).
+- what the heft test felt, where the action was probed (experience.felt; all 0 where it was not): that the
+  fingers lost it, the traction (load over grip, capped at 1, × 3) and how unsteady the load was (on a log scale:
+  0 at 0.1 % or less, which a product held fast never exceeds, 3 at 100 %). Chosen on the development streams
+  (tools/data/sc_probe, docs/results/probe.md): an indicator that a probe happened, and the felt mass
+  (``felt_mass_kg``, stored but not read), each cost help at α = 0.15 (probed rows are the unsure ones, so the
+  indicator learns "probed, so risky" rather than what the fingers felt).
 
 The action's embedding enters as its first 16 principal components, computed without labels over every action
 κ̂ has been asked about (what the name tells of mass, fragility and packaging). A logistic regression (L2, C=1;
@@ -48,11 +50,10 @@ _ROUND_BELOW = 0.88
 _UNSTEADY_FROM = 1e-3
 """The felt load's change (share) from which unsteadiness counts."""
 _TRACTION_WEIGHT = 3.0
-_MASS_CAP_KG = 2.0
 
 
 def felt_features(C: np.ndarray) -> np.ndarray:
-    """(n, 5) what the heft test felt, from context rows in CONTEXT_FIELDS order (all 0 where not probed)."""
+    """(n, 3) what the heft test felt, from context rows in CONTEXT_FIELDS order (all 0 where not probed)."""
 
     def col(name: str) -> np.ndarray:
         return C[:, CONTEXT_FIELDS.index(name)]
@@ -64,17 +65,15 @@ def felt_features(C: np.ndarray) -> np.ndarray:
     steadiness = np.clip(np.log10(np.maximum(unsteady, 1e-9) / _UNSTEADY_FROM), 0.0, 3.0)
     return np.column_stack(
         [
-            probed.astype(float),
             (probed & (held < 0.5)).astype(float),
             _TRACTION_WEIGHT * np.minimum(np.nan_to_num(col("felt_traction"), nan=0.0), 1.0),
             np.where(probed, steadiness, 0.0),
-            np.minimum(np.nan_to_num(col("felt_mass_kg"), nan=0.0), _MASS_CAP_KG),
         ]
     )
 
 
 def physical_features(context: np.ndarray, opening_m: float) -> np.ndarray:
-    """(n, 15) hardware-relative features of context rows in CONTEXT_FIELDS order (NaN: unknown): what the camera
+    """(n, 13) hardware-relative features of context rows in CONTEXT_FIELDS order (NaN: unknown): what the camera
     perceived, then what the heft test felt (`felt_features`)."""
     C = np.atleast_2d(np.asarray(context, dtype=np.float64))
 
