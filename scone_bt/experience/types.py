@@ -78,7 +78,9 @@ class ExecutionContext:
             v = data.get(f.name)
             if v is None:
                 continue
-            kind = {"shelf_tier": int, "neighbours": int, "detected": bool, "felt_held": bool}.get(f.name, float)
+            kind = {"shelf_tier": int, "neighbours": int, "detected": bool, "felt_held": bool}.get(
+                f.name, float
+            )
             ok = (
                 isinstance(v, bool)
                 if kind is bool

@@ -77,7 +77,9 @@ def after_probe(
     tau = threshold_options(rules, counts)[0].act_threshold
     holds, why = felt
     if not holds:
-        return ProbeVerdict(False, f"the {item} {why}", confidence=confidence, threshold=tau, felt_unsafe=True)
+        return ProbeVerdict(
+            False, f"the {item} {why}", confidence=confidence, threshold=tau, felt_unsafe=True
+        )
     budget = rules.budget
     if budget is None or budget.excess_allowance is None or confidence >= tau:
         return ProbeVerdict(True, confidence=confidence, threshold=tau)
