@@ -168,7 +168,7 @@ class ProbeController(PickPlaceController):
         probe: The probe's settings.
         hand_z: Height of the hand (metres) at given joints, from the arm's kinematic model.
         judge: Decides from the reading: (carry on, the robot's full words for setting it back, "the jar slips
-            in my fingers"), and keeps what it decided (`judgement`, the tree's gate.after_probe verdict); None:
+            in my fingers") (the tree's: behaviours.probe_judge.ProbeJudge, gate.after_probe); None:
             `judge_probe` alone.
     """
 
