@@ -184,6 +184,8 @@ class ActOutcome(_ActionEvent):
         stage: Where it failed (a FailureStage value), None on success.
         duration_s: Simulated seconds the attempt took.
         message: The motion system's first line of detail.
+        explored: The attempt carried on after a heft test although κ̂ on what it felt was below the threshold,
+            on the strict rule's credit (gate.after_probe): counted as explored, like an ε-greedy attempt.
     """
 
     kind: ClassVar[str] = "outcome"
@@ -191,6 +193,7 @@ class ActOutcome(_ActionEvent):
     stage: str | None
     duration_s: float = 0.0
     message: str = ""
+    explored: bool = False
 
 
 @dataclass(frozen=True)
@@ -494,7 +497,7 @@ def fold(stats: EpisodeStats, event: Event) -> EpisodeStats:
         explored = event.explored and event.verdict is DecisionKind.ACT
         return replace(stats, decisions=stats.decisions + 1, exploring=explored)
     if isinstance(event, ActOutcome):
-        if stats.exploring:
+        if stats.exploring or event.explored:
             stats = replace(stats, explored_failures=stats.explored_failures + (not event.success))
         if event.success:
             return replace(stats, successes=stats.successes + 1)

@@ -67,6 +67,8 @@ def main() -> None:
                 "aborted_rate": r["aborted_rate"],
                 "probe_s_mean": r["probe_s_mean"],
                 "max_excess_failures": r["max_excess_failures"],
+                "max_excess_failures_where_confident_held": r["max_excess_failures_where_confident_held"],
+                "streams_where_confident_held": r["streams_where_confident_held"],
                 "wall_s": round(time.time() - t0, 1),
             }
             print(json.dumps(line), flush=True)

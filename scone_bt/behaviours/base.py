@@ -93,6 +93,8 @@ class Keys:
     PLANNED: Key[Any] = Key("/gate/planned", object, optional=True)
     # An Infeasible found by this decision's planning (a scene the robot had not planned in), else None.
     PLAN_VERDICT: Key[Infeasible] = Key("/gate/plan_verdict", Infeasible, optional=True)
+    # The judge after a heft test (behaviours.probe_judge.ProbeJudge) when the decision probes, else None.
+    PROBE_JUDGE: Key[Any] = Key("/gate/probe_judge", object, optional=True)
     MOTION_OUTCOME: Key[MotionOutcome] = Key("/motion/outcome", MotionOutcome, optional=True)
     # The running pick-and-place (a MotionHandle).
     MOTION_TASK: Key[Any] = Key("/motion/task", object, optional=True)

@@ -25,6 +25,7 @@ from scone_bt.behaviours.gate_steps import (
     shown_target,
 )
 from scone_bt.behaviours.pick_and_place import pick_request, scene_key
+from scone_bt.behaviours.probe_judge import ProbeJudge, belief_of
 from scone_bt.experience.types import ExecutionContext
 from scone_bt.gate.budget import BudgetCounts, BudgetOptions
 from scone_bt.gate.probe import ProbeOptions
@@ -71,6 +72,7 @@ class _Pending:
     key: tuple[object, ...] = ()
     planned: PlannedPick | None = None
     started: float = 0.0
+    judge: ProbeJudge | None = None
 
 
 class ConfidenceGate(StageBehaviour):
@@ -116,6 +118,7 @@ class ConfidenceGate(StageBehaviour):
         Keys.PLANNED,
         Keys.PLAN_VERDICT,
         Keys.MOTION_COMPUTING,
+        Keys.PROBE_JUDGE,
     )
 
     def __init__(self, name: str, ports: GatePorts, settings: GateSettings) -> None:
@@ -188,7 +191,13 @@ class ConfidenceGate(StageBehaviour):
         target = affordances.get(decision.action) if decision.action is not None else None
         self._write_seen(ranked, seen.confidences, contexts)
         view = self.read(Keys.STEP)
-        pending = _Pending(decision, target, contexts, None if view is None else view.index)
+        pending = _Pending(
+            decision,
+            target,
+            contexts,
+            None if view is None else view.index,
+            judge=self._judge(decision, seen, contexts),
+        )
         if decision.kind is DecisionKind.ACT and target is not None and self.ports.robot is not None:
             return self._plan_first(pending, target)
         return self._finish(pending, decision)
@@ -224,6 +233,27 @@ class ConfidenceGate(StageBehaviour):
         )
         return seen, contexts
 
+    def _judge(
+        self, decision: Decision, seen: GateInput, contexts: dict[str, ExecutionContext]
+    ) -> ProbeJudge | None:
+        """The judge after the heft test when the decision probes (gate.after_probe, behaviours.probe_judge)."""
+        probe = self.settings.probe
+        if not decision.probe or probe is None or decision.action is None:
+            return None
+        from functools import partial
+
+        from scone_bt.motion.probe import ProbeSettings
+
+        vector = self.read(Keys.ACTION_EMBEDDINGS, {})[decision.action]
+        return ProbeJudge(
+            self.rules,
+            seen.counts,
+            str(decision.object_name),
+            ProbeSettings.of(probe),
+            partial(belief_of, self.estimator, vector),
+            contexts.get(decision.action),
+        )
+
     def _write_seen(
         self, ranked: Sequence[RankedAction], beliefs: Sequence[float], contexts: dict[str, ExecutionContext]
     ) -> None:
@@ -246,7 +276,7 @@ class ConfidenceGate(StageBehaviour):
         if pending.decision.probe and probe is not None:
             from scone_bt.motion.probe import ProbeSettings
 
-            request = replace(request, probe=ProbeSettings.of(probe))
+            request = replace(request, probe=ProbeSettings.of(probe), judge=pending.judge)
         key = scene_key(request)
         known = self._infeasible.get(key)
         if known is not None:  # the same request in an unchanged scene: no plan exists, ask again at once
@@ -295,6 +325,7 @@ class ConfidenceGate(StageBehaviour):
         self.write(Keys.DECISION, decision)
         self.write(Keys.TARGET, target)
         self.write(Keys.TARGET_CONTEXT, target_context)
+        self.write(Keys.PROBE_JUDGE, pending.judge if decision.probe else None)
         # the robot's own place in the recipe; None: the human's step (the recipe-blind setting)
         index = self.ports.human.step_index if pending.step_index is None else pending.step_index
         instruction = self.read(Keys.INSTRUCTION) or past_the_end(

@@ -2,8 +2,14 @@
 
 The outcome is committed to the experience store before it is emitted (and so before it is printed or logged):
 whatever a user or the study log has seen reported is stored, even if the process is killed right after. It
-carries the execution context the gate perceived when it chose the action (`Keys.TARGET_CONTEXT`), so a grounded κ̂
-learns from, and a restarted robot rebuilds from, the context the attempt ran in.
+carries the execution context the gate perceived when it chose the action (`Keys.TARGET_CONTEXT`), with what the
+heft test felt when the action was probed (experience.felt): the context the robot had when it committed, so a
+grounded κ̂ learns from, and a restarted robot rebuilds from, the context the attempt ran in.
+
+After a probe, the judge's verdict (`Keys.PROBE_JUDGE`, gate.after_probe) says whether the attempt that carried on
+was explored (below τ, on the strict rule's credit: a failure counts as an explored one), and whether a set-back
+was the fingers' word (stored: κ̂ learns it could not carry it) or κ̂'s own doubt (not stored: like an ask, it
+teaches nothing).
 """
 
 from __future__ import annotations
@@ -18,6 +24,7 @@ from scone_bt.behaviours.context import EpisodeContext, OutcomeLabels
 from scone_bt.behaviours.ports import Clock, OutcomeRecorder, Provider, SelfConfidence
 from scone_bt.confidence.grounded import grounded_features, is_grounded
 from scone_bt.events import ActCancelled, ActOutcome, EventSink, PlanInfeasible, ProbeAborted
+from scone_bt.experience.felt import felt_context
 from scone_bt.experience.types import Outcome
 from scone_bt.motion.types import FailureStage, MotionOutcome
 from scone_bt.robot.interface import Robot
@@ -52,8 +59,16 @@ class _RecordsOutcomes(StageBehaviour):
     def setup(self, **kwargs: object) -> None:
         self.store = self._recorder()
 
-    def _record(self, target: Affordance, success: bool, stage: str | None, **extra: object) -> Outcome:
-        """The outcome of ``target`` with its labels and perceived context, committed to the store (if any)."""
+    def _record(
+        self,
+        target: Affordance,
+        success: bool,
+        stage: str | None,
+        felt: object | None = None,
+        **extra: object,
+    ) -> Outcome:
+        """The outcome of ``target`` with its labels and perceived context (with what a probe ``felt``, a
+        motion.probe.ProbeReading), committed to the store (if any)."""
         labels = self.labels
         outcome = Outcome(
             time=time.time(),
@@ -66,7 +81,7 @@ class _RecordsOutcomes(StageBehaviour):
             robot_id=labels.robot_id,
             arm=labels.arm,
             profile=labels.profile,
-            execution=self.read(Keys.TARGET_CONTEXT),
+            execution=felt_context(self.read(Keys.TARGET_CONTEXT), felt),  # type: ignore[arg-type]
         )
         if self.store is not None:
             self.store.append(outcome)  # committed before it is reported, and before κ̂ changes
@@ -74,7 +89,7 @@ class _RecordsOutcomes(StageBehaviour):
 
 
 class ObserveOutcome(_RecordsOutcomes):
-    READS = (Keys.TARGET, Keys.TARGET_CONTEXT, Keys.MOTION_OUTCOME)
+    READS = (Keys.TARGET, Keys.TARGET_CONTEXT, Keys.MOTION_OUTCOME, Keys.PROBE_JUDGE)
     WRITES = (Keys.OUTCOME,)
 
     def __init__(
@@ -101,8 +116,16 @@ class ObserveOutcome(_RecordsOutcomes):
             self.events(ActCancelled(now, action, name))
             self.write(Keys.OUTCOME, None)
             return py_trees.common.Status.SUCCESS
-        if motion.aborted:  # the heft test set it back where it stood: κ̂ learns it could not carry it
-            outcome = self._record(target, False, FailureStage.PROBE.value, probe=motion.probe_reason)
+        judge = self.read(Keys.PROBE_JUDGE, None)
+        verdict = getattr(judge, "verdict", None)
+        if motion.aborted:  # the heft test set it back where it stood
+            # the fingers' word is a label (κ̂ learns it could not carry it); κ̂'s own doubt is not
+            felt_unsafe = verdict is None or verdict.felt_unsafe
+            outcome = (
+                self._record(target, False, FailureStage.PROBE.value, motion.probe, probe=motion.probe_reason)
+                if felt_unsafe
+                else None
+            )
             reading = motion.probe
             self.events(
                 ProbeAborted(
@@ -119,7 +142,7 @@ class ObserveOutcome(_RecordsOutcomes):
             return py_trees.common.Status.SUCCESS
         # The robot's outcome sensor: is the object resting on the table now?
         success, stage = label_outcome(motion, self.robot.is_on_table(name))
-        outcome = self._record(target, success, None if stage is None else stage.value)
+        outcome = self._record(target, success, None if stage is None else stage.value, motion.probe)
         self.events(
             ActOutcome(
                 now,
@@ -129,6 +152,7 @@ class ObserveOutcome(_RecordsOutcomes):
                 outcome.failure_stage,
                 duration_s=float(motion.duration),
                 message=motion.message.split(";")[0],
+                explored=bool(getattr(verdict, "explored", False)),
             )
         )
         self.write(Keys.OUTCOME, outcome)

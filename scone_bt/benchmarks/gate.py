@@ -14,8 +14,12 @@ would have succeeded), ``over_step_rate`` (acted, failed), ``attempt_failure_rat
 its split into ``attempt_failure_rate_novel`` (products κ̂ had no outcome of in the stream) and ``_seen``,
 ``wide_attempts_after_first_wide_failure`` (attempts of products perceived wider than the gripper's opening after a
 stream's first failed one, summed and the largest per stream), the realised rate per stream, and
-``max_excess_failures``: the largest F − α · A reached at any point of any stream, warm-up included (the strict
-promise keeps it ≤ 1 wherever confident attempts did not fail; gate.budget.has_credit). Methods:
+``max_excess_failures``: the largest F − α · A reached at any point of any stream, warm-up included, and
+``max_excess_failures_where_confident_held``: the same over only the streams in which no confident attempt failed
+(null if there is none; ``streams_where_confident_held`` says how many). An attempt is *confident* when κ̂ at its
+final decision was at or above the threshold τ: the gate's κ̂ for an action that was not probed, κ̂ on the
+context after the probe (what the fingers felt) for one that was. With the strict promise on
+(``--exploration-credit``: gate.budget.has_credit, gate.after_probe) that key is ≤ 1. Methods:
 
 - ``budget:<κ̂>``: the failure-budget gate (scone_bt.gate.budget) over κ̂ (the tree's default: ``physical``);
 - ``fixed:<κ̂>``: the same κ̂ and exploration with a threshold fixed at τ₀ (1 − 3α) (no online calibration);
@@ -58,7 +62,7 @@ from scone_bt.reporting import emit_report
 if TYPE_CHECKING:
     from scone_bt.gate.budget import BudgetCounts
     from scone_bt.gate.probe import ProbeOptions
-    from scone_bt.gate.rules import GateInput, GateRules
+    from scone_bt.gate.rules import GateInput, GateResult, GateRules
     from scone_bt.gate.types import Decision
     from scone_bt.motion.probe import ProbeSettings
 
@@ -99,6 +103,8 @@ class StreamResult:
     probe_caught: int = 0
     probe_s: float = 0.0
     probes_felt: int = 0
+    confident_failures: int = 0
+    """Failed attempts, warm-up included, whose κ̂ at the final decision (after the probe, if probed) was ≥ τ."""
     thresholds: list[float] = field(default_factory=list)
     trace: list[int] = field(default_factory=list)
     """Every decision in order: 1 acted and succeeded, 0 acted and failed, -1 asked."""
@@ -173,6 +179,8 @@ class _Replay:
         wide: (n,) whether each product was perceived wider than the gripper's opening.
         probe: The heft test's motion settings, or None (no probe, or a stream without probe readings).
         readings: (n, 5) what the recorded probe felt (PROBE_COLUMNS), or None.
+        context: (n, len(CONTEXT_FIELDS)) the perceived context, as at each decision.
+        grounded: Whether κ̂ reads the context (its rows end with it).
     """
 
     estimator: Any
@@ -185,6 +193,8 @@ class _Replay:
     wide: np.ndarray
     probe: ProbeSettings | None
     readings: np.ndarray | None
+    context: np.ndarray
+    grounded: bool
 
 
 def _start_replay(
@@ -227,6 +237,8 @@ def _start_replay(
         wide=np.nan_to_num(widths, nan=0.0) > opening_m,
         probe=settings,
         readings=readings if settings is not None else None,
+        context=context,
+        grounded=grounded,
     )
 
 
@@ -253,29 +265,86 @@ def _gate_input(
     )
 
 
-def _probe_sets_back(replay: _Replay, out: StreamResult, t: int, scored: bool) -> bool:
-    """Whether the heft test of decision ``t`` sets the product back, from what the recorded probe felt."""
+@dataclass(frozen=True)
+class _Probed:
+    """How decision ``t``'s heft test ended: set back, carried on as an explored attempt, κ̂ at the final
+    decision, and the row κ̂ learns from (the context after the probe; the decision's row if the arm never held
+    the product up)."""
+
+    aborted: bool
+    explored: bool
+    confidence: float
+    row: np.ndarray
+    label: bool = True
+
+
+def _after_probe(
+    replay: _Replay,
+    out: StreamResult,
+    t: int,
+    product: str,
+    counts: BudgetCounts,
+    scored: bool,
+    before: float,
+) -> _Probed:
+    """What the recorded probe of decision ``t`` felt, judged by the gate's one post-probe decision
+    (gate.after_probe: the hard judge, then κ̂ on the context after the probe, then the strict rule's credit)."""
+    from scone_bt.experience.felt import felt_row
+    from scone_bt.gate.after_probe import after_probe
     from scone_bt.motion.probe import ProbeReading, judge_probe
 
     assert replay.readings is not None and replay.probe is not None  # a probe decision needs both
     out.probes += scored
     held, load, first, grip, seconds = replay.readings[t]
     if np.isnan(held):  # the arm never held it up: it failed before the probe, as recorded
-        return False
+        return _Probed(False, False, before, replay.rows[t])
     if scored:
         out.probe_s += seconds
         out.probes_felt += 1
     reading = ProbeReading(bool(held), float(load), float(first), float(grip), float(seconds))
-    return not judge_probe(reading, replay.probe)[0]
+    row = replay.rows[t]
+    if replay.grounded:  # κ̂ reads the context: the one it has after the probe
+        context = felt_row(replay.context[t], reading)
+        row = np.concatenate([row[: len(row) - len(context)], context]).astype(row.dtype)
+    confidence = float(replay.belief(row[None])[0])
+    verdict = after_probe(replay.rules, counts, product, judge_probe(reading, replay.probe), confidence)
+    return _Probed(not verdict.carry, verdict.explored, confidence, row, verdict.carry or verdict.felt_unsafe)
 
 
-def _set_back(replay: _Replay, t: int, product: str, counts: BudgetCounts, learnt: set[str]) -> BudgetCounts:
-    """An aborted probe: no attempt and no failure, the person fetches it, κ̂ learns it could not carry it."""
+def _committed(
+    replay: _Replay,
+    walk: _Walk,
+    out: StreamResult,
+    t: int,
+    product: str,
+    ok: bool,
+    result: GateResult,
+    scored: bool,
+) -> tuple[bool, _Act]:
+    """What decision ``t`` commits to: (set back, the attempt as κ̂ at the final decision saw it). A probe is
+    judged by gate.after_probe; a set-back is tallied here (κ̂ learns it when the fingers said so)."""
+    decision = result.decision
+    attempt = _Act(ok, decision.explored, decision.confidence >= result.threshold, replay.rows[t])
+    if not decision.probe:
+        return False, attempt
+    probed = _after_probe(replay, out, t, product, walk.counts, scored, decision.confidence)
+    attempt = _Act(ok, probed.explored, probed.confidence >= result.threshold, probed.row)
+    if probed.aborted:
+        walk.counts = _set_back(replay, probed.row, product, walk.counts, walk.learnt, probed.label)
+    return probed.aborted, attempt
+
+
+def _set_back(
+    replay: _Replay, row: np.ndarray, product: str, counts: BudgetCounts, learnt: set[str], label: bool
+) -> BudgetCounts:
+    """An aborted probe: no attempt and no failure, the person fetches it; κ̂ learns it could not carry it (from
+    the context after the probe) when the fingers said so (``label``), nothing when its own doubt set it back."""
     from scone_bt.gate.budget import BudgetCounts
 
     est = replay.estimator
-    est.update(replay.rows[t], False)
-    learnt.add(product)
+    if label:
+        est.update(row, False)
+        learnt.add(product)
     return BudgetCounts(counts.attempts, counts.failures, counts.explored_failures, est.n_observations)
 
 
@@ -290,14 +359,24 @@ class _Walk:
     wide_failed: bool = False
 
 
+@dataclass(frozen=True)
+class _Act:
+    """One attempt: its outcome, whether it was explored (below τ on the budget's draw or its credit), whether κ̂
+    at the final decision was at or above τ (confident), and the row κ̂ learns from."""
+
+    ok: bool
+    explored: bool
+    confident: bool
+    row: np.ndarray
+
+
 def _attempted(
     replay: _Replay,
     walk: _Walk,
     out: StreamResult,
     t: int,
     product: str,
-    ok: bool,
-    explored: bool,
+    act: _Act,
     scored: bool,
     alpha: float,
 ) -> None:
@@ -305,21 +384,22 @@ def _attempted(
     budget's counts move on."""
     from scone_bt.gate.budget import BudgetCounts
 
-    est, counts = replay.estimator, walk.counts
+    est, counts, ok = replay.estimator, walk.counts, act.ok
     out.all_attempts += 1
     out.all_failures += not ok
+    out.confident_failures += act.confident and not ok
     if replay.wide[t] and walk.wide_failed and scored:
         out.wide_after_failure += 1
     if replay.wide[t] and not ok:
         walk.wide_failed = True
-    est.update(replay.rows[t], ok)
+    est.update(act.row, ok)
     walk.learnt.add(product)
     if not ok:
         walk.failed[product] = walk.failed.get(product, 0) + 1
     walk.counts = BudgetCounts(
         attempts=counts.attempts + 1,
         failures=counts.failures + (not ok),
-        explored_failures=counts.explored_failures + (explored and not ok),
+        explored_failures=counts.explored_failures + (act.explored and not ok),
         learnt=est.n_observations,
     )
     out.max_excess = max(out.max_excess, walk.counts.failures - alpha * walk.counts.attempts)
@@ -409,20 +489,20 @@ def replay_stream(
         result = gate_decision(replay.rules, _gate_input(replay, t, product, walk.counts, walk.failed))
         if trace is not None:
             trace.append(result.decision)
-        act = result.decision.kind is DecisionKind.ACT
-        aborted = bool(result.decision.probe) and _probe_sets_back(replay, out, t, scored)
+        decision = result.decision
+        act = decision.kind is DecisionKind.ACT
+        aborted, attempt = _committed(replay, walk, out, t, product, ok, result, scored)
         if aborted:
             act = False
-            walk.counts = _set_back(replay, t, product, walk.counts, walk.learnt)
         novel = product not in walk.learnt
         out.all_decisions += 1
         out.thresholds.append(result.threshold)
         out.trace.append(int(ok) if act else -1)
         if act:
-            _attempted(replay, walk, out, t, product, ok, result.decision.explored, scored, alpha)
+            _attempted(replay, walk, out, t, product, attempt, scored, alpha)
         out.all_asked += not act
         if scored:
-            _score(out, act, ok, result.decision.explored, novel, aborted)
+            _score(out, act, ok, attempt.explored if act else decision.explored, novel, aborted)
     return out
 
 
@@ -433,6 +513,7 @@ def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
         if k not in ("thresholds", "trace", "max_excess", "probe_s")
     }
     probe_s = sum(r.probe_s for r in results)
+    held = [r.max_excess for r in results if r.confident_failures == 0]
     n = max(tot["decisions"], 1)
     att = tot["attempts"]
     seen_att = att - tot["novel_attempts"]
@@ -465,6 +546,9 @@ def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
         "wide_attempts_after_first_wide_failure_max_per_stream": max(r.wide_after_failure for r in results),
         "attempt_failure_rate_per_stream": [ratio(r.failures, r.attempts) for r in results],
         "max_excess_failures": round(max(r.max_excess for r in results), 4),
+        # the promise's condition: streams where every failed attempt had κ̂ < τ at its final decision
+        "max_excess_failures_where_confident_held": round(max(held), 4) if held else None,
+        "streams_where_confident_held": len(held),
         "all_decisions": {
             "attempt_failure_rate": ratio(tot["all_failures"], tot["all_attempts"]),
             "help_rate": round(tot["all_asked"] / max(tot["all_decisions"], 1), 4),
@@ -876,6 +960,8 @@ def _replay(
             "attempt_success_rate": cold["attempt_success_rate"],
             "help_rate": cold["help_rate"],
             "max_excess_failures": cold["max_excess_failures"],
+            "max_excess_failures_where_confident_held": cold["max_excess_failures_where_confident_held"],
+            "streams_where_confident_held": cold["streams_where_confident_held"],
             "exploration_credit": getattr(args, "excess_allowance", None) is not None,
             **_probe_keys(cold, plain, probing),
             "fleet_warm": None

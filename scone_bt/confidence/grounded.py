@@ -31,7 +31,7 @@ from scone_bt.confidence.base import ConfidenceEstimator
 from scone_bt.errors import SconeError
 
 # ExecutionContext is defined beside Outcome (the store persists it); re-exported here, where κ̂ reads it.
-from scone_bt.experience.types import CONTEXT_FIELDS, ExecutionContext
+from scone_bt.experience.types import CONTEXT_FIELDS, FELT_FIELDS, ExecutionContext
 
 __all__ = ["CONTEXT_FIELDS", "ExecutionContext", "GroundedEstimator", "grounded_features", "is_grounded"]
 
@@ -58,6 +58,9 @@ def grounded_features(embeddings: np.ndarray, contexts: Sequence[ExecutionContex
 class GroundedEstimator(ConfidenceEstimator):
     """Wraps an estimator over [embedding | context]; the last `n_context` input columns are the context.
 
+    With the full context (``n_context`` = len(CONTEXT_FIELDS)) it reads the perceived columns only: what a
+    heft test felt (FELT_FIELDS) is read by the ``physical`` κ̂, which knows its scale (confidence.physical).
+
     Args:
         base: The estimator that learns from the prepared features (it also owns the cold start).
         n_context: Context columns at the end of every input row.
@@ -76,8 +79,13 @@ class GroundedEstimator(ConfidenceEstimator):
         self.base = base
         self.n_context = n_context
         self.context_weight = context_weight
-        self._mean = np.zeros(n_context)
-        self._std = np.ones(n_context)
+        self._read = (
+            np.array([i for i, f in enumerate(CONTEXT_FIELDS) if f not in FELT_FIELDS])
+            if n_context == len(CONTEXT_FIELDS)
+            else np.arange(n_context)
+        )
+        self._mean = np.zeros(len(self._read))
+        self._std = np.ones(len(self._read))
 
     def _split(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         if X.shape[1] <= self.n_context:
@@ -85,22 +93,23 @@ class GroundedEstimator(ConfidenceEstimator):
                 f"{self.name}: rows need an embedding plus {self.n_context} context values, got {X.shape[1]} "
                 "columns (build them with grounded_features)"
             )
-        return X[:, : -self.n_context], X[:, -self.n_context :].astype(np.float64)
+        return X[:, : -self.n_context], X[:, -self.n_context :][:, self._read].astype(np.float64)
 
     def transform(self, X: np.ndarray) -> np.ndarray:
         """Prepared features: embedding, standardised and imputed context, missing-value indicators."""
         emb, ctx = self._split(np.atleast_2d(X))
         missing = np.isnan(ctx)
         z = np.where(missing, 0.0, (ctx - self._mean) / self._std)
-        scale = self.context_weight / math.sqrt(self.n_context)
+        scale = self.context_weight / math.sqrt(len(self._read))
         return np.hstack([emb, scale * z, scale * missing]).astype(np.float32)
 
     def _fit_model(self, X: np.ndarray, y: np.ndarray) -> None:
-        _, ctx = self._split(X) if len(X) else (None, np.zeros((0, self.n_context)))
+        n = len(self._read)
+        _, ctx = self._split(X) if len(X) else (None, np.zeros((0, n)))
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)  # an all-NaN column: imputed with 0 below
-            mean = np.nanmean(ctx, axis=0) if len(ctx) else np.zeros(self.n_context)
-            std = np.nanstd(ctx, axis=0) if len(ctx) else np.ones(self.n_context)
+            mean = np.nanmean(ctx, axis=0) if len(ctx) else np.zeros(n)
+            std = np.nanstd(ctx, axis=0) if len(ctx) else np.ones(n)
         self._mean = np.where(np.isfinite(mean), mean, 0.0)
         self._std = np.where(np.isfinite(std) & (std > 1e-9), std, 1.0)
         if len(X):

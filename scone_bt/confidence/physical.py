@@ -9,7 +9,13 @@ arms through a fleet store:
 - the perceived height (m), whether the target's marker was detected at all, the lowest and the top tier, the
   clearance to the nearest neighbour (capped at 15 cm: beyond that the fingers are free) and the neighbour count;
 - the perceived depth (the lid's longer extent, m) and whether its lid is round (a cylinder: its fill below
-  _ROUND_BELOW; unknown counts as neither).
+  _ROUND_BELOW; unknown counts as neither);
+- what the heft test felt, where the action was probed (experience.felt; all 0 where it was not): that the
+  fingers lost it, the traction (load over grip, capped at 1, × 3) and how unsteady the load was (on a log scale:
+  0 at 0.1 % or less, which a product held fast never exceeds, 3 at 100 %). Chosen on the development streams
+  (tools/data/sc_probe, docs/results/probe.md): an indicator that a probe happened, and the felt mass
+  (``felt_mass_kg``, stored but not read), each cost help at α = 0.15 (probed rows are the unsure ones, so the
+  indicator learns "probed, so risky" rather than what the fingers felt).
 
 The action's embedding enters as its first 16 principal components, computed without labels over every action
 κ̂ has been asked about (what the name tells of mass, fragility and packaging). A logistic regression (L2, C=1;
@@ -28,7 +34,7 @@ from scone_bt.confidence.logistic import LogisticModel, fit_logistic
 from scone_bt.errors import SconeError
 from scone_bt.experience.types import CONTEXT_FIELDS
 
-__all__ = ["PhysicalEstimator", "DEFAULT_OPENING_M", "physical_features"]
+__all__ = ["PhysicalEstimator", "DEFAULT_OPENING_M", "felt_features", "physical_features"]
 
 DEFAULT_OPENING_M = 0.08
 """The Panda's gripper opening (robots/panda.yaml: 2 × open_position), metres."""
@@ -41,10 +47,34 @@ _HINGE_AT = 0.85  # share of the opening from which the hinge grows
 _CLEARANCE_CAP_M = 0.15
 _ROUND_BELOW = 0.88
 """A lid filling less than this of its bounding rectangle is round (π/4 ≈ 0.79 for a disc, ~1 for a box lid)."""
+_UNSTEADY_FROM = 1e-3
+"""The felt load's change (share) from which unsteadiness counts."""
+_TRACTION_WEIGHT = 3.0
+
+
+def felt_features(C: np.ndarray) -> np.ndarray:
+    """(n, 3) what the heft test felt, from context rows in CONTEXT_FIELDS order (all 0 where not probed)."""
+
+    def col(name: str) -> np.ndarray:
+        return C[:, CONTEXT_FIELDS.index(name)]
+
+    held = col("felt_held")
+    probed = np.isfinite(held)
+    unsteady = np.nan_to_num(col("felt_unsteady"), nan=0.0)
+    # a product held fast varies by under 0.1 %; one sliding by a percent or more (tools/data/sc_probe)
+    steadiness = np.clip(np.log10(np.maximum(unsteady, 1e-9) / _UNSTEADY_FROM), 0.0, 3.0)
+    return np.column_stack(
+        [
+            (probed & (held < 0.5)).astype(float),
+            _TRACTION_WEIGHT * np.minimum(np.nan_to_num(col("felt_traction"), nan=0.0), 1.0),
+            np.where(probed, steadiness, 0.0),
+        ]
+    )
 
 
 def physical_features(context: np.ndarray, opening_m: float) -> np.ndarray:
-    """(n, 10) hardware-relative features of context rows in CONTEXT_FIELDS order (NaN: unknown)."""
+    """(n, 13) hardware-relative features of context rows in CONTEXT_FIELDS order (NaN: unknown): what the camera
+    perceived, then what the heft test felt (`felt_features`)."""
     C = np.atleast_2d(np.asarray(context, dtype=np.float64))
 
     def col(name: str) -> np.ndarray:
@@ -68,6 +98,7 @@ def physical_features(context: np.ndarray, opening_m: float) -> np.ndarray:
             np.nan_to_num(neighbours, nan=0.0) / 3.0,
             5.0 * np.nan_to_num(depth, nan=0.0),
             (np.nan_to_num(fill, nan=1.0) < _ROUND_BELOW).astype(float),
+            felt_features(C),
         ]
     )
 

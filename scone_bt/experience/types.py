@@ -12,7 +12,7 @@ import numpy as np
 
 from scone_bt.errors import SconeError
 
-__all__ = ["CONTEXT_FIELDS", "ExecutionContext", "Outcome", "new_outcome_id"]
+__all__ = ["CONTEXT_FIELDS", "FELT_FIELDS", "ExecutionContext", "Outcome", "new_outcome_id"]
 
 
 @dataclass(frozen=True)
@@ -32,6 +32,12 @@ class ExecutionContext:
         detected_depth_m: Longer horizontal extent of the target's lid as perceived, metres (None likewise).
         detected_fill: The lid's area over its bounding rectangle as perceived: about π/4 (0.79) for a cylinder,
             1 for a box (None likewise).
+        felt_held: The heft test (motion.probe) ended with the product still in both fingers; None: the action
+            was not probed (every ``felt_`` field is None then; experience.felt sets them).
+        felt_traction: The load the fingers carried over their grip force during the hold (1 is about where a
+            rubber fingertip slides), capped at 10.
+        felt_unsteady: The share by which that load changed between the hold's halves (0: held fast), capped at 1.
+        felt_mass_kg: The mass the load stands for, kilograms, capped at 10.
     """
 
     shelf_tier: int | None = None
@@ -42,6 +48,10 @@ class ExecutionContext:
     detected_height_m: float | None = None
     detected_depth_m: float | None = None
     detected_fill: float | None = None
+    felt_held: bool | None = None
+    felt_traction: float | None = None
+    felt_unsteady: float | None = None
+    felt_mass_kg: float | None = None
 
     def vector(self) -> np.ndarray:
         """(len(CONTEXT_FIELDS),) float64 in CONTEXT_FIELDS order, NaN for None."""
@@ -68,7 +78,9 @@ class ExecutionContext:
             v = data.get(f.name)
             if v is None:
                 continue
-            kind = {"shelf_tier": int, "neighbours": int, "detected": bool}.get(f.name, float)
+            kind = {"shelf_tier": int, "neighbours": int, "detected": bool, "felt_held": bool}.get(
+                f.name, float
+            )
             ok = (
                 isinstance(v, bool)
                 if kind is bool
@@ -81,7 +93,11 @@ class ExecutionContext:
 
 
 CONTEXT_FIELDS: tuple[str, ...] = tuple(f.name for f in fields(ExecutionContext))
-"""Context columns, in the order of ExecutionContext.vector() (also the dataset CSV column names)."""
+"""Context columns, in the order of ExecutionContext.vector() (also the dataset CSV column names, but for the
+``felt_`` ones: a dataset records its probe's raw readings apart, and the replay makes them felt only where it
+probed)."""
+FELT_FIELDS: tuple[str, ...] = tuple(f for f in CONTEXT_FIELDS if f.startswith("felt_"))
+"""The context the heft test adds (experience.felt); NaN in a row of an action that was not probed."""
 
 
 def new_outcome_id() -> str:

@@ -2,9 +2,12 @@
 
 An action κ̂ is sure of is acted on (κ̂ ≥ τ + ``above``) or asked about (κ̂ < τ − ``below``) as before. In between
 κ̂ is unsure, and a grasp and a 1–2 cm lift tell more than asking does (motion.probe): the robot probes, then
-carries on or sets the product back and asks. A probe below τ needs no exploration credit (gate.budget.has_credit):
-a product that slips is set back, not dropped, so the probe spends no failure it has not earned; what it cannot
-catch (a product that holds in the probe and falls later) counts against the budget like any attempt.
+carries on or sets the product back and asks (gate.after_probe decides which). Without the strict promise a probe
+below τ needs no exploration credit: a product that slips is set back, not dropped; what it cannot catch (a
+product that holds in the probe and falls later, or one the fingers never got hold of) counts against the budget
+like any attempt. With the strict promise (``exploration_credit: true``) a probe below τ is an attempt below τ:
+it grasps, and can fail at the grasp before the fingers feel anything, so it needs the same credit as exploration
+(`probe_credit`, gate.budget.has_credit); without credit the robot asks.
 
 The band below τ narrows with the promise: at a target failure rate α under ``full_band_at`` it is
 ``below · (α / full_band_at)⁴`` (`band_below`). A probe that passes still carries on a product that may fall later
@@ -49,7 +52,8 @@ class ProbeOptions:
         full_band_at: Under this target failure rate α the band below τ narrows (`band_below`), in [0, 1); 0:
             never.
         credit: A probe below τ is made only while one more failure keeps failures ≤ α × attempts + ``credit``
-            (gate.budget.has_credit with this allowance; None: always): what a probe cannot feel (a product that
+            (gate.budget.has_credit with this allowance; None: the budget's own allowance, i.e. only with
+            credit under the strict promise and always without it): what a probe cannot feel (a product that
             holds in the fingers and fails later) is paid for from a bounded excess.
     """
 
@@ -126,18 +130,21 @@ def in_band(
     """
     if options is None or not math.isfinite(confidence):
         return False
-    if confidence < threshold and options.credit is not None and not credit:
+    if confidence < threshold and not credit:
         return False
     return threshold - band_below(options, alpha) <= confidence < threshold + options.above
 
 
 def probe_credit(options: ProbeOptions | None, budget: BudgetOptions, counts: BudgetCounts) -> bool:
-    """Whether a probe below τ has room for one more failure: gate.budget.has_credit with the probe's allowance
-    (True without one)."""
-    if options is None or options.credit is None:
-        return True
+    """Whether a probe below τ has room for one more failure: gate.budget.has_credit with the probe's allowance,
+    else with the budget's own (the strict promise, ``exploration_credit: true``: a probe below τ is an attempt
+    below τ, and it can fail before the fingers feel anything, at the grasp); True without either."""
     from dataclasses import replace
 
     from scone_bt.gate.budget import has_credit
 
+    if options is None:
+        return True
+    if options.credit is None:
+        return has_credit(budget, counts)
     return has_credit(replace(budget, excess_allowance=options.credit), counts)

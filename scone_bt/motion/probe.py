@@ -167,6 +167,9 @@ class ProbeController(PickPlaceController):
     Args (besides PickPlaceController's, passed through):
         probe: The probe's settings.
         hand_z: Height of the hand (metres) at given joints, from the arm's kinematic model.
+        judge: Decides from the reading: (carry on, the robot's full words for setting it back, "the jar slips
+            in my fingers") (the tree's: behaviours.probe_judge.ProbeJudge, gate.after_probe); None:
+            `judge_probe` alone.
     """
 
     def __init__(
@@ -174,11 +177,13 @@ class ProbeController(PickPlaceController):
         *args: object,
         probe: ProbeSettings,
         hand_z: Callable[[np.ndarray], float],
+        judge: Callable[[ProbeReading], tuple[bool, str]] | None = None,
         **kwargs: object,
     ) -> None:
         super().__init__(*args, **kwargs)  # type: ignore[arg-type]
         self.probe = probe
         self._hand_z = hand_z
+        self.judge = judge
         self.reading: ProbeReading | None = None
         self.aborted = False
         self.probe_reason = ""
@@ -266,17 +271,21 @@ class ProbeController(PickPlaceController):
             grip_n=round(mean(second, 1), 4),
             seconds=round(self.arm.sim_time - started, 4),
         )
-        carry, why = judge_probe(self.reading, self.probe)
+        if self.judge is not None:
+            carry, reason = self.judge(self.reading)
+        else:
+            carry, why = judge_probe(self.reading, self.probe)
+            reason = f"the {self.target_name} {why}"
         if carry or not self.probe.set_back:
             self._next()
             return
-        self._set_back(why)
+        self._set_back(reason)
 
-    def _set_back(self, why: str) -> None:
+    def _set_back(self, reason: str) -> None:
         """Lower it where it stood, open, leave as the hand came, and head home: an aborted attempt."""
         assert self._up is not None and self._descend is not None
         self.aborted = True
-        self.probe_reason = f"the {self.target_name} {why}"
+        self.probe_reason = reason
         self.message = f"set back after the probe: {self.probe_reason}"
         self.queue = [
             (MotionPhase.SET_DOWN, Segment(MotionPhase.SET_DOWN, _reversed(self._up))),

@@ -48,7 +48,7 @@ from scone_bt.motion.pick_place import (
 )
 from scone_bt.motion.placement import PlacementOptions, TableRegion
 from scone_bt.motion.planner import PlannerOptions, silence_ompl
-from scone_bt.motion.probe import ProbeSettings
+from scone_bt.motion.probe import ProbeReading, ProbeSettings
 from scone_bt.motion.timing import KinematicLimits, limits_of
 from scone_bt.motion.types import FailureStage, MotionOutcome, MotionPhase, MotionProgress
 from scone_bt.perception.types import Detection
@@ -225,6 +225,9 @@ class PickAndPlace:
         self._q_start: np.ndarray | None = None
         self._request: PickPlaceRequest | None = None
         self.probe: ProbeSettings | None = None  # set before start(): heft the product first (motion.probe)
+        self.judge: Callable[[ProbeReading], tuple[bool, str]] | None = (
+            None  # the probe's decision (ProbeController)
+        )
 
     # ------------------------------------------------------------------------------------- lifecycle
     def submit_plan(self) -> None:
@@ -287,6 +290,7 @@ class PickAndPlace:
                 request_new_spot=self._request_new_spot,
                 probe=self.probe,
                 hand_z=lambda q: float(arm.fk(q)[2, 3]),
+                judge=self.judge,
             )
         else:
             self._controller = PickPlaceController(

@@ -7,9 +7,9 @@ the robot's outcome sensor whether the object now rests on the table.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Protocol, runtime_checkable
+from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
 
 if TYPE_CHECKING:  # the interface itself imports nothing heavy (scone-run --help imports it)
     from scone_bt.motion.types import MotionOutcome, MotionProgress
@@ -37,6 +37,8 @@ class PickRequest:
             (the robot then knows only what it placed itself).
         rng_seed: Seeds the planner (a seeded episode plans the same way every time).
         probe: Heft the product before carrying it (motion.probe.ProbeSettings), or None.
+        judge: What decides after the probe, from its reading (motion.probe.ProbeController's ``judge``: the
+            gate's post-probe decision, gate.after_probe), or None (the probe's own safety judge).
     """
 
     target: Detection
@@ -44,6 +46,7 @@ class PickRequest:
     table: tuple[Detection, ...] | None
     rng_seed: int
     probe: object | None = None
+    judge: Callable[[Any], tuple[bool, str]] | None = None
 
 
 @runtime_checkable

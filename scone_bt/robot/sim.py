@@ -118,6 +118,7 @@ class SimRobot:
             table_obstacles=None if request.table is None else self._with_specs(request.table),
         )
         task.probe = request.probe  # type: ignore[assignment]
+        task.judge = request.judge
         return task
 
     def start_pick_and_place(self, request: PickRequest) -> MotionHandle:

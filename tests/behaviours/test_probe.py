@@ -184,3 +184,88 @@ def test_bad_probe_settings_in_the_tree_file_name_key_and_range() -> None:
         TreeParameters(probe={"lift_m": 0.2})
     line = format_validation_error(err.value, "parameters", TreeParameters)
     assert "\n" not in line and "probe.lift_m" in line and "0.05" in line
+
+
+class _FeelingKappa:
+    """A grounded κ̂ that is sure before the probe (0.6, τ₀ = 0.55) and unsure once it has felt the product."""
+
+    grounded = True
+    n_observations = 100
+
+    def __init__(self) -> None:
+        self.seen: list[np.ndarray] = []
+
+    def predict(self, x: np.ndarray) -> np.ndarray:
+        from scone_bt.experience.types import CONTEXT_FIELDS
+
+        self.seen.extend(np.atleast_2d(x))
+        felt = np.atleast_2d(x)[:, -len(CONTEXT_FIELDS) + CONTEXT_FIELDS.index("felt_traction")]
+        return np.where(np.isfinite(felt), 0.3, 0.6)
+
+    def update(self, x, success) -> None:
+        pass
+
+
+def _strict_gate(robot: FakeRobot, events: EventLog, kappa: object) -> ConfidenceGate:
+    gate = _gate(robot, events, kappa, ProbeOptions(below=0.3, above=0.45))  # type: ignore[arg-type]
+    budget = BudgetOptions(explore_rate=0.0, excess_allowance=1.0)  # the strict promise
+    from dataclasses import replace
+
+    gate.settings = replace(gate.settings, budget=budget)
+    return gate
+
+
+HELD_FAST = ProbeReading(held=True, load_n=2.0, load_first_n=2.0005, grip_n=20.0, seconds=0.9)
+
+
+def test_unsure_after_the_probe_and_without_credit_it_sets_back_and_asks() -> None:
+    from scone_bt.events import ActOutcome
+
+    robot, events, kappa = FakeRobot(time=3.0), EventLog(), _FeelingKappa()
+    events(ActOutcome(1.0, "Put honey on table", "honey", False, "grasp"))  # 1 failure in 1: no credit left
+    bb = _scene()
+    bb.set(Keys.CONTEXTS, {})
+    gate = _strict_gate(robot, events, kappa)
+    gate.tick_once()
+    decision = bb.get(Keys.DECISION)
+    assert decision.kind is DecisionKind.ACT and decision.probe  # 0.6 ≥ τ but inside the band above it
+    (request,) = robot.plans
+    carry, reason = request.judge(HELD_FAST)  # what the probe's controller calls after the hold
+    assert (carry, reason) == (False, "I am not sure I can carry the strawberry jam")
+    assert bb.get(Keys.PROBE_JUDGE).verdict.felt_unsafe is False
+
+    store = _Store()
+    bb.set(
+        Keys.MOTION_OUTCOME,
+        MotionOutcome(False, None, reason, 6.0, aborted=True, probe=HELD_FAST, probe_reason=reason),
+    )
+    observe = ObserveOutcome("observe", robot, lambda: store, events, LABELS)
+    observe.setup()
+    observe.tick_once()
+    assert isinstance(events.events[-1], ProbeAborted) and store.stored == []  # κ̂'s doubt teaches nothing
+    assert bb.get(Keys.OUTCOME) is None
+    gate.tick_once()
+    asked = bb.get(Keys.DECISION)
+    assert (asked.kind, asked.rule) == (DecisionKind.ASK, "probe")
+    assert asked.reason == "I am not sure I can carry the strawberry jam: please bring it"
+
+
+def test_unsure_after_the_probe_with_credit_it_carries_on_as_an_explored_attempt() -> None:
+    robot, events, kappa = FakeRobot(time=3.0), EventLog(), _FeelingKappa()
+    bb = _scene()
+    gate = _strict_gate(robot, events, kappa)
+    gate.tick_once()
+    (request,) = robot.plans
+    assert request.judge(HELD_FAST) == (True, "")
+    assert bb.get(Keys.PROBE_JUDGE).verdict.explored
+
+    store = _Store()
+    robot.on_table = set()  # it fell on the way: a failure
+    bb.set(Keys.MOTION_OUTCOME, MotionOutcome(False, None, "dropped", 9.0, probe=HELD_FAST))
+    observe = ObserveOutcome("observe", robot, lambda: store, events, LABELS)
+    observe.setup()
+    observe.tick_once()
+    (stored,) = store.stored
+    # stored with the context it committed in: what the fingers felt included
+    assert stored.execution.felt_held is True and stored.execution.felt_traction == pytest.approx(0.1)
+    assert events.budget_counts() == (1, 1, 1)  # an explored failure

@@ -81,7 +81,9 @@ def test_seeded_fits_repeat_exactly():
 @pytest.mark.parametrize("name", ["gp", "grounded-gp"])
 def test_out_of_fold_gps_keep_the_kernel_the_full_model_optimised(name):
     rng = np.random.default_rng(3)
-    X = rng.standard_normal((40, 12)).astype(np.float32)
+    X = rng.standard_normal((40, 16)).astype(
+        np.float32
+    )  # grounded: 4 embedding dims, then the 12 of the context
     y = X[:, 0] + 0.3 * rng.standard_normal(40) > 0
     cal = make_estimator(f"{name}-cal", seed=0).fit(X, y)
     full = cal.base.base if name.startswith("grounded-") else cal.base

@@ -202,10 +202,11 @@ def test_gp_generalises_by_embedding_distance():
 
 def test_grounded_estimator_prepares_context_from_its_training_rows_only():
     from scone_bt.confidence import CONTEXT_FIELDS, ExecutionContext, grounded_features
+    from scone_bt.experience.types import FELT_FIELDS
 
     ctx = ExecutionContext(shelf_tier=1, clearance_m=0.02, detected=False)
     v = ctx.vector()
-    assert len(v) == len(CONTEXT_FIELDS) == 8 and v[0] == 1.0 and v[3] == 0.0 and np.isnan(v[4])
+    assert len(v) == len(CONTEXT_FIELDS) == 12 and v[0] == 1.0 and v[3] == 0.0 and np.isnan(v[4])
     emb = np.eye(4)[[0, 0, 1, 1, 2, 2, 3, 3]]
     clearance = [0.01, 0.06, 0.01, 0.06, 0.01, 0.06, 0.01, 0.06]
     contexts = [ExecutionContext(clearance_m=c, detected=True, detected_width_m=None) for c in clearance]
@@ -215,7 +216,8 @@ def test_grounded_estimator_prepares_context_from_its_training_rows_only():
     est = make_estimator("grounded-knn", seed=0, k=1).fit(F, y)
     assert est.name == "grounded-knn"
     Z = est.transform(F)
-    assert Z.shape == (8, 4 + 2 * len(CONTEXT_FIELDS))
+    # the perceived columns only: what a probe felt is the physical κ̂'s (FELT_FIELDS)
+    assert Z.shape == (8, 4 + 2 * (len(CONTEXT_FIELDS) - len(FELT_FIELDS)))
     assert np.isfinite(Z).all()  # imputed
     assert est.predict(F).tolist() == y.astype(float).tolist()
     plain = make_estimator("knn", seed=0, k=1).fit(emb, y)

@@ -10,14 +10,16 @@ import pytest
 from scone_bt.confidence import make_estimator
 from scone_bt.confidence.physical import DEFAULT_OPENING_M, PhysicalEstimator, physical_features
 from scone_bt.errors import SconeError
+from scone_bt.experience.types import FELT_FIELDS
 
 _DIM = 8
 
 
 def _row(embedding: np.ndarray, width_m: float) -> np.ndarray:
     """ζ followed by a context (tier 1, 10 cm clearance, one neighbour, detected, this width, 12 cm tall, depth
-    and lid shape not measured)."""
-    return np.concatenate([embedding, [1.0, 0.10, 1.0, 1.0, width_m, 0.12, np.nan, np.nan]]).astype(
+    and lid shape not measured, not probed)."""
+    unfelt = [np.nan] * len(FELT_FIELDS)
+    return np.concatenate([embedding, [1.0, 0.10, 1.0, 1.0, width_m, 0.12, np.nan, np.nan, *unfelt]]).astype(
         np.float32
     )
 
@@ -41,7 +43,7 @@ def test_one_wide_failure_transfers_to_another_wide_product_through_the_width() 
 
 
 def test_the_same_width_is_wide_for_a_6_cm_opening_and_not_for_10_cm() -> None:
-    context = np.array([[1.0, 0.10, 1.0, 1.0, 0.08, 0.12, 0.08, 0.78]])
+    context = np.array([[1.0, 0.10, 1.0, 1.0, 0.08, 0.12, 0.08, 0.78] + [np.nan] * len(FELT_FIELDS)])
     small, large = physical_features(context, 0.06)[0], physical_features(context, 0.10)[0]
     assert small[0] == pytest.approx(0.08 / 0.06) and large[0] == pytest.approx(0.8)
     assert small[1] > 0.0 and large[1] == 0.0  # the hinge past 85 % of the opening
@@ -69,13 +71,13 @@ def test_cold_predictions_are_the_prior(prior: float) -> None:
     assert PhysicalEstimator().prior == 0.5 and DEFAULT_OPENING_M == 0.08
 
 
-@pytest.mark.parametrize("columns", [3, 8])
-def test_rows_without_the_eight_context_columns_are_refused_in_one_line(columns: int) -> None:
+@pytest.mark.parametrize("columns", [3, 12])
+def test_rows_without_the_twelve_context_columns_are_refused_in_one_line(columns: int) -> None:
     kappa = PhysicalEstimator()
     with pytest.raises(SconeError) as err:
         kappa.predict(np.zeros((2, columns), dtype=np.float32))
     message = str(err.value)
-    assert "\n" not in message and "8 context values" in message and "grounded_features" in message
+    assert "\n" not in message and "12 context values" in message and "grounded_features" in message
 
 
 def test_a_bad_gripper_opening_is_refused_in_one_line() -> None:

@@ -81,7 +81,7 @@ def test_rows_stored_before_contexts_load_without_one(tmp_path) -> None:
         (old,) = store.outcomes()
         assert old.execution is None and old.context == {"robot": "panda", "sim_time": 3.0}
         assert store.notice is None  # no migration: nothing was rewritten
-        assert all(math.isnan(v) for v in ExecutionContext().vector()) and len(CONTEXT_FIELDS) == 8
+        assert all(math.isnan(v) for v in ExecutionContext().vector()) and len(CONTEXT_FIELDS) == 12
 
 
 def test_a_damaged_stored_context_is_quarantined_with_a_warning_and_left_alone(tmp_path, capsys) -> None:

@@ -11,7 +11,8 @@ from scone_bt.benchmarks.gate import PROBE_COLUMNS, replay_stream
 from scone_bt.confidence import make_estimator
 from scone_bt.confidence.grounded import grounded_features
 from scone_bt.events import ActOutcome, EventLog
-from scone_bt.experience.types import CONTEXT_FIELDS, ExecutionContext
+from scone_bt.experience.felt import felt_context
+from scone_bt.experience.types import CONTEXT_FIELDS, FELT_FIELDS, ExecutionContext
 from scone_bt.gate import GateOptions
 from scone_bt.gate.budget import BudgetOptions
 from scone_bt.gate.probe import ProbeOptions
@@ -25,6 +26,8 @@ OPENING_M = 0.08
 ALPHA = 0.1
 SEED = 3
 PROBE = ProbeOptions(below=0.5, above=0.2)
+FULL_BAND = ProbeOptions(below=0.5, above=0.3, full_band_at=0.0)
+"""A band that does not narrow at α = 0.1: more probes (some carried on confident, some explored on credit)."""
 
 
 def _stream(n: int = 60, seed: int = 5) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]:
@@ -34,8 +37,19 @@ def _stream(n: int = 60, seed: int = 5) -> tuple[np.ndarray, np.ndarray, np.ndar
     widths = np.linspace(0.03, 0.12, 10)
     pick = rng.integers(0, 10, n)
     w = widths[pick]
+    unfelt = np.full((n, len(FELT_FIELDS)), np.nan)  # nothing felt before a probe
     context = np.column_stack(
-        [np.ones(n), np.full(n, 0.1), np.ones(n), np.ones(n), w, np.full(n, 0.1), w, np.full(n, 0.785)]
+        [
+            np.ones(n),
+            np.full(n, 0.1),
+            np.ones(n),
+            np.ones(n),
+            w,
+            np.full(n, 0.1),
+            w,
+            np.full(n, 0.785),
+            unfelt,
+        ]
     )
     assert context.shape[1] == len(CONTEXT_FIELDS)
     success = (w < 0.075) ^ (rng.random(n) < 0.1)
@@ -75,11 +89,16 @@ class _ConstantDraw:
 
 
 def _replay(
-    gate: str, stream, probe: ProbeOptions | None = None, readings=None, allowance: float | None = None
+    gate: str,
+    stream,
+    probe: ProbeOptions | None = None,
+    readings=None,
+    allowance: float | None = None,
+    outcomes: list[int] | None = None,
 ) -> list[Decision]:
     vectors, context, success, products = stream
     trace: list[Decision] = []
-    replay_stream(
+    result = replay_stream(
         vectors,
         context,
         success,
@@ -96,7 +115,16 @@ def _replay(
         readings=readings,
         excess_allowance=allowance,
     )
+    if outcomes is not None:
+        outcomes.extend(result.trace)
     return trace
+
+
+def _reading(readings, t: int) -> ProbeReading | None:
+    held, load, first, grip, seconds = readings[t]
+    if np.isnan(held):
+        return None
+    return ProbeReading(bool(held), float(load), float(first), float(grip), float(seconds))
 
 
 def _aborted(readings, t: int) -> bool:
@@ -109,9 +137,19 @@ def _aborted(readings, t: int) -> bool:
 
 
 def _behaviour(
-    gate_name: str, stream, probe: ProbeOptions | None = None, readings=None, allowance: float | None = None
+    gate_name: str,
+    stream,
+    probe: ProbeOptions | None = None,
+    readings=None,
+    allowance: float | None = None,
+    outcomes: list[int] | None = None,
+    judged: bool = False,
 ) -> list[Decision]:
-    """The tree's gate ticked on the same stream: one candidate per tick, its outcome folded into the events."""
+    """The tree's gate ticked on the same stream: one candidate per tick, its outcome folded into the events.
+
+    ``judged``: a probe is decided by the gate's own judge (`Keys.PROBE_JUDGE`, what the arm's probe controller
+    calls with its reading), and κ̂ learns from the context after the probe, as ObserveOutcome stores it; else by
+    the hard judge alone (the rule before κ̂ read the probe)."""
     vectors, context, success, products = stream
     kappa = make_estimator("physical", seed=SEED, gripper_opening_m=OPENING_M)
     events = EventLog()
@@ -149,7 +187,7 @@ def _behaviour(
         aff = affordance(product)
         row = context[t]
         ctx = ExecutionContext(
-            int(row[0]), float(row[1]), int(row[2]), bool(row[3]), *(float(v) for v in row[4:])
+            int(row[0]), float(row[1]), int(row[2]), bool(row[3]), *(float(v) for v in row[4:8])
         )
         now.clear()
         now[product] = ctx
@@ -165,8 +203,32 @@ def _behaviour(
         decision = bb.get(Keys.DECISION)
         decisions.append(decision)
         if decision.kind is not DecisionKind.ACT:
+            if outcomes is not None:
+                outcomes.append(-1)
             continue
         features = grounded_features(vectors[t : t + 1], [ctx])[0]
+        judge = bb.get(Keys.PROBE_JUDGE)
+        reading = _reading(readings, t) if decision.probe else None
+        if judged and reading is not None:
+            assert judge is not None
+            carry, _ = judge(reading)  # as the probe controller calls it after the hold
+            after = grounded_features(vectors[t : t + 1], [felt_context(ctx, reading)])[0]
+            if not carry:
+                if judge.verdict.felt_unsafe:  # stored and learnt; κ̂'s own doubt is not
+                    kappa.update(after, False)
+                if outcomes is not None:
+                    outcomes.append(-1)
+                continue
+            ok = bool(success[t])
+            kappa.update(after, ok)
+            events(
+                ActOutcome(
+                    float(t), aff.text, product, ok, None if ok else "grasp", explored=judge.verdict.explored
+                )
+            )
+            if outcomes is not None:
+                outcomes.append(int(ok))
+            continue
         if decision.probe and _aborted(readings, t):
             # set back: κ̂ learns it could not carry it, no attempt is counted; not folded as ProbeAborted, since a
             # stream's executions are each from another episode (the episode's memory of it: test_probe.py)
@@ -175,6 +237,8 @@ def _behaviour(
         ok = bool(success[t])  # as UpdateSelfConfidence and the outcome sensor do
         kappa.update(features, ok)
         events(ActOutcome(float(t), aff.text, product, ok, None if ok else "grasp"))
+        if outcomes is not None:
+            outcomes.append(int(ok))
     return decisions
 
 
@@ -198,14 +262,22 @@ def test_the_tree_and_the_replay_decide_the_same_on_the_same_stream(
         assert "too-wide" in rules and any(d.explored for d in replayed)
 
 
-def test_the_tree_and_the_replay_probe_the_same_on_a_stream_with_probe_readings() -> None:
-    """The heft test is a step of the one decision (`probe_first`): fed the same stream and the same probe
-    readings, both probe the same executions and set back the same ones."""
-    stream = _stream(n=80, seed=11)
+@pytest.mark.parametrize("allowance", [None, 1.0])
+def test_the_tree_and_the_replay_probe_the_same_on_a_stream_with_probe_readings(
+    allowance: float | None,
+) -> None:
+    """The heft test is a step of the one decision (`probe_first`), and what follows it is one function
+    (gate.after_probe: the tree's judge, the replay's): fed the same stream and the same probe readings, both
+    probe the same executions, carry on and set back the same ones, and κ̂ learns the same (the context after the
+    probe). Allowance 1: the strict promise, under which κ̂'s doubt after the probe can set a product back."""
+    stream = _stream(n=100, seed=12)
     readings = _readings(stream)
-    replayed = _replay("budget", stream, PROBE, readings)
-    ticked = _behaviour("budget", stream, PROBE, readings)
+    replay_outcomes: list[int] = []
+    tree_outcomes: list[int] = []
+    replayed = _replay("budget", stream, FULL_BAND, readings, allowance, outcomes=replay_outcomes)
+    ticked = _behaviour("budget", stream, FULL_BAND, readings, allowance, outcomes=tree_outcomes, judged=True)
     assert [_key(d) for d in ticked] == [_key(d) for d in replayed]
+    assert tree_outcomes == replay_outcomes  # the same carried on (1/0) and set back or asked (-1)
     probed = [t for t, d in enumerate(replayed) if d.probe]
     assert probed and all(replayed[t].kind is DecisionKind.ACT for t in probed)
     assert any(_aborted(readings, t) for t in probed)  # some set back, some carried on

@@ -21,6 +21,7 @@ from scone_bt.benchmarks.self_confidence import load_profile
 from scone_bt.benchmarks.self_confidence.dataset import COLUMNS, load_datasets
 from scone_bt.benchmarks.self_confidence.generate import drawable_products
 from scone_bt.confidence.grounded import CONTEXT_FIELDS
+from scone_bt.experience.types import FELT_FIELDS
 
 PROFILES = Path(__file__).resolve().parents[3] / "tools" / "profiles"
 
@@ -82,7 +83,8 @@ def test_one_context_function_for_training_and_deciding(
     assert [t.name for t in call["targets"]] == [record.object]
     assert len(call["frames"]) >= 1 and len(call["detections"]) >= 1
     context = call["out"][record.object]
-    assert _record_context(record) == astuple(context)  # the record holds exactly what the function returned
+    # the record holds exactly what the function returned; perception feels nothing (that is the probe's)
+    assert _record_context(record) + (None,) * len(FELT_FIELDS) == astuple(context)
     assert record.detected_height_m == pytest.approx(record.height_m + prof.calibration_offset[2], abs=0.01)
     assert record.detected_width_m == pytest.approx(record.width_m, abs=0.01)
     # The tree's path (ConfidenceGate's ContextExtractor) on the same perception: the same function, same context.
@@ -104,7 +106,8 @@ def test_an_undetected_target_records_nothing_perceived(
     assert record.shelf_unit == "" and record.slot is None
     assert not any(record.object in [t.name for t in c["targets"]] for c in calls)
     row = dict(zip(COLUMNS, record.row(), strict=True))
-    assert [row[c] for c in CONTEXT_FIELDS] == ["", "", "", "0", "", "", "", ""]  # empty cells in the CSV
+    perceived = [c for c in CONTEXT_FIELDS if c not in FELT_FIELDS]  # a dataset records no felt_ columns
+    assert [row[c] for c in perceived] == ["", "", "", "0", "", "", "", ""]  # empty cells in the CSV
 
 
 def test_the_evaluation_and_the_gate_replay_read_the_recorded_context(

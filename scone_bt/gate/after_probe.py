@@ -1,0 +1,88 @@
+"""The decision after the heft test: carry the product on, or set it back and ask (`after_probe`).
+
+One pure function for the robot and the benchmark: the tree passes it to the probe's controller as its judge
+(behaviours.gate_steps.probe_judge), the replay (``scone-bench gate --probe``) calls it on each recorded reading.
+In order:
+
+1. The hard safety judge (motion.probe.judge_probe: the fingers lost it, the load slid, the grip is near its
+   friction limit): set back, in its words ("the olive oil slips in my fingers").
+2. Without the strict promise (``exploration_credit: false``: the budget has no ``excess_allowance``) a product
+   that held carries on, as before.
+3. κ̂ again, on the context after the probe (what the fingers felt, experience.felt): at or above the threshold τ
+   it carries on as a *confident* attempt.
+4. Below τ it carries on only while the strict rule's credit allows one more failure (gate.budget.has_credit):
+   an *explored* attempt (a failure counts as an explored failure).
+5. Else it is set back and the robot asks: "I am not sure I can carry the olive oil: please bring it". κ̂ learns
+   nothing from that (as from an ask); it learns a failure only from what the hard judge set back.
+
+So with the strict promise on, every attempt whose κ̂ at the final decision was below τ was made with credit, and
+failures beyond α · attempts + 1 can come only from confident attempts (κ̂ ≥ τ at the final decision).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from scone_bt.gate.budget import BudgetCounts, has_credit
+from scone_bt.gate.rules import GateRules, threshold_options
+
+__all__ = ["ProbeVerdict", "after_probe"]
+
+
+@dataclass(frozen=True)
+class ProbeVerdict:
+    """What the robot does once it has hefted a product.
+
+    Attributes:
+        carry: Carry it on (else it is set back where it stood: an aborted attempt).
+        reason: The robot's words for setting it back ("the jar slips in my fingers"); "" when it carries on.
+        explored: It carries on although κ̂ after the probe is below τ, on the strict rule's credit.
+        confidence: κ̂ on the context after the probe, in [0, 1] (NaN: not asked, the hard judge decided).
+        threshold: τ it was compared with (probability).
+        felt_unsafe: Set back on the hard judge's word (the fingers felt it slip or strain): a label κ̂ learns
+            (it could not carry it). A set-back on κ̂'s own doubt teaches nothing, like an ask: learning it as a
+            failure would only confirm the doubt.
+    """
+
+    carry: bool
+    reason: str = ""
+    explored: bool = False
+    confidence: float = math.nan
+    threshold: float = math.nan
+    felt_unsafe: bool = False
+
+    @property
+    def confident(self) -> bool:
+        """It carries on with κ̂ after the probe at or above τ."""
+        return self.carry and not self.explored and self.confidence >= self.threshold
+
+
+def after_probe(
+    rules: GateRules,
+    counts: BudgetCounts,
+    item: str,
+    felt: tuple[bool, str],
+    confidence: float,
+) -> ProbeVerdict:
+    """Carry on or set back (module docstring).
+
+    Args:
+        rules: The gate's rules (the budget's τ and its strict rule).
+        counts: The attempts so far, as at the decision to probe (a probe changes none of them).
+        item: The product's name, for the robot's words.
+        felt: The hard judge's (carry on, why not) on the probe's reading, e.g. (False, "slips in my fingers").
+        confidence: κ̂ on the context after the probe (experience.felt).
+    """
+    tau = threshold_options(rules, counts)[0].act_threshold
+    holds, why = felt
+    if not holds:
+        return ProbeVerdict(
+            False, f"the {item} {why}", confidence=confidence, threshold=tau, felt_unsafe=True
+        )
+    budget = rules.budget
+    if budget is None or budget.excess_allowance is None or confidence >= tau:
+        return ProbeVerdict(True, confidence=confidence, threshold=tau)
+    if has_credit(budget, counts):
+        return ProbeVerdict(True, explored=True, confidence=confidence, threshold=tau)
+    return ProbeVerdict(False, f"I am not sure I can carry the {item}", confidence=confidence, threshold=tau)

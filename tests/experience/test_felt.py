@@ -1,0 +1,54 @@
+"""What the heft test felt becomes execution context through one function (experience.felt), for the tree and the
+replay alike; contexts and stores without it still load."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from scone_bt.confidence.physical import felt_features, physical_features
+from scone_bt.experience.felt import felt_context, felt_row, felt_values
+from scone_bt.experience.types import CONTEXT_FIELDS, FELT_FIELDS, ExecutionContext
+from scone_bt.motion.probe import ProbeReading
+
+
+def test_a_reading_becomes_the_felt_fields() -> None:
+    held_fast = ProbeReading(True, 1.178, 1.1785, 20.0, 0.9)  # a 0.12 kg lemon
+    v = felt_values(held_fast)
+    assert v["felt_held"] is True and v["felt_traction"] == round(1.178 / 20.0, 6)
+    assert v["felt_unsteady"] < 0.001 and math.isclose(v["felt_mass_kg"], 1.178 / 9.81, rel_tol=1e-5)
+    lost = felt_values(ProbeReading(False, 0.0, 0.0, 0.0))
+    assert lost == {"felt_held": False, "felt_traction": 10.0, "felt_unsteady": 1.0, "felt_mass_kg": 0.0}
+
+
+def test_the_tree_and_the_replay_get_the_same_row() -> None:
+    seen = ExecutionContext(
+        shelf_tier=1, clearance_m=0.05, neighbours=2, detected=True, detected_width_m=0.06
+    )
+    reading = ProbeReading(True, 2.0, 2.3, 8.0, 0.9)
+    after = felt_context(seen, reading)
+    assert after is not None and after.shelf_tier == 1 and after.felt_held is True
+    np.testing.assert_array_equal(after.vector(), felt_row(seen.vector(), reading))
+    assert felt_context(seen, None) is seen  # not probed: unchanged
+    assert np.isnan(seen.vector()[[CONTEXT_FIELDS.index(f) for f in FELT_FIELDS]]).all()
+
+
+def test_a_stored_context_without_the_felt_fields_loads_as_not_probed() -> None:
+    old = ExecutionContext.from_json({"shelf_tier": 0, "detected": True, "detected_width_m": 0.05})
+    assert all(getattr(old, f) is None for f in FELT_FIELDS)
+    after = felt_context(old, ProbeReading(True, 2.0, 2.0, 10.0))
+    assert after is not None and ExecutionContext.from_json(after.to_json()) == after  # round trip
+
+
+def test_physical_kappa_feels_nothing_where_nothing_was_probed() -> None:
+    seen = ExecutionContext(shelf_tier=1, detected=True, detected_width_m=0.05)
+    slipping = felt_context(seen, ProbeReading(True, 2.0, 2.4, 5.0))
+    assert slipping is not None
+    rows = np.stack([seen.vector(), slipping.vector()])
+    F = felt_features(rows)
+    assert F[0].tolist() == [0.0, 0.0, 0.0]
+    assert F[1, 0] == 0.0 and F[1, 1] > 1.0 and F[1, 2] > 2.0  # held, high traction, unsteady by 20 %
+    # the perceived features do not change with what was felt
+    P = physical_features(rows, 0.08)
+    np.testing.assert_array_equal(P[0, :10], P[1, :10])
