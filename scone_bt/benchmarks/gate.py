@@ -1045,6 +1045,20 @@ def _run(args: argparse.Namespace) -> int:
     }
     if not args.no_replay:
         report.update(_replay(args, estimators, default_estimator, default_target, probe))
+    if args.unseen:  # products κ̂ has no outcome of: cold, the fleet, its own store (gate_unseen)
+        from scone_bt.benchmarks.gate_unseen import unseen_report
+
+        report["unseen"] = unseen_report(
+            _load(args, oracle=False),
+            replay_stream,
+            default_estimator,
+            default_target,
+            args.seed,
+            args.warmup,
+            args.opening,
+            probe,
+            args.excess_allowance,
+        )
     if args.episodes:
         report["episodes"] = _episodes(args)
     report["wall_s"] = round(time.perf_counter() - started, 1)
@@ -1100,6 +1114,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         action="store_true",
         help="replay only the tree's default gate, cold (and --prior's cross-engine figures): no method sweep, "
         "no fleet-warm variant",
+    )
+    p.add_argument(
+        "--unseen",
+        action="store_true",
+        help="also measure what the fleet prior and the robot's own store add on products κ̂ has no outcome of "
+        "(leave-products-out; the report's unseen section)",
     )
     p.add_argument(
         "--probe",
