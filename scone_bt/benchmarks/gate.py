@@ -36,6 +36,11 @@ gate taught and cold, with the decisions its budget needs before the realised ra
     scone-bench gate --datasets tools/data/sc_mujoco --prior tools/data/sc --json docs/results/gate_mujoco.json
 
     scone-bench gate --json docs/results/gate.json --plot docs/results/gate.png
+
+``--unseen`` adds the ``unseen`` section (`scone_bt.benchmarks.gate_unseen`): on decisions about products κ̂ has
+no outcome of (leave-products-out), the default gate cold, after the fleet prior and after the robot's own store.
+
+    scone-bench gate --no-sweep --unseen --json docs/results/unseen.json
 """
 
 from __future__ import annotations
