@@ -368,6 +368,7 @@ def _own_store_design(setup: _Setup, streams: UnseenStreams) -> dict[str, Any]:
             **{k: _with_promise(outcome_rates(v), alpha) for k, v in pooled.items()},
             "own_store_minus_cold": _paired_difference(pooled["cold"], pooled["own_store"], setup.seed),
             "fleet_minus_cold": _paired_difference(pooled["cold"], pooled["fleet"], setup.seed),
+            "fleet_minus_own_store": _paired_difference(pooled["own_store"], pooled["fleet"], setup.seed),
             "fleet_and_own_store_minus_fleet": _paired_difference(
                 pooled["fleet"], pooled["fleet_and_own_store"], setup.seed
             ),
