@@ -45,6 +45,7 @@ __all__ = [
     "leave_products_out",
     "first_occurrences",
     "outcome_rates",
+    "Neighbours",
     "nearest_seen",
     "unseen_report",
 ]
@@ -142,29 +143,50 @@ def outcome_rates(trace: np.ndarray) -> dict[str, Any]:
     }
 
 
-def nearest_seen(
-    vectors: np.ndarray, context: np.ndarray, prior: Prior, dim: int
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Per row: the highest cosine similarity in ζ to a prior row, that row's outcome, and the smallest
-    perceived-size distance (mm, over the sizes both rows have; NaN where the row has none)."""
+@dataclass(frozen=True)
+class Neighbours:
+    """Each decision's nearest seen neighbour in the prior.
+
+    Attributes:
+        similarity: (n,) the highest cosine similarity in ζ to a prior row (NaN: empty prior).
+        similar_success: (n,) that row's outcome, 1 or 0 (NaN: empty prior).
+        size_mm: (n,) the smallest perceived-size distance to a prior row, mm, over the detected width, height
+            and depth both rows have (NaN: the decision's target has no perceived size, or no row has one).
+        size_success: (n,) that row's outcome, 1 or 0 (NaN likewise).
+    """
+
+    similarity: np.ndarray
+    similar_success: np.ndarray
+    size_mm: np.ndarray
+    size_success: np.ndarray
+
+
+def nearest_seen(vectors: np.ndarray, context: np.ndarray, prior: Prior, dim: int) -> Neighbours:
+    """The nearest seen neighbour of each row (``dim``: the embedding's width in the prior's rows)."""
+    n = len(vectors)
+    none = np.full(n, np.nan)
     if not len(prior):
-        n = len(vectors)
-        return np.full(n, np.nan), np.zeros(n, dtype=bool), np.full(n, np.nan)
+        return Neighbours(none, none.copy(), none.copy(), none.copy())
     E = prior.rows[:, :dim].astype(np.float64)
     V = np.asarray(vectors, dtype=np.float64)
     sim = (V / np.linalg.norm(V, axis=1, keepdims=True)) @ (E / np.linalg.norm(E, axis=1, keepdims=True)).T
-    best = sim.argmax(axis=1)
+    outcome = prior.success.astype(np.float64)
     sizes = prior.rows[:, dim:][:, _SIZE_COLUMNS].astype(np.float64) * 1000.0
     mine = np.asarray(context, dtype=np.float64)[:, _SIZE_COLUMNS] * 1000.0
-    size = np.full(len(V), np.nan)
+    size, size_success = none.copy(), none.copy()
     for i, row in enumerate(mine):
         cols = np.isfinite(row)
-        if not cols.any():
-            continue
-        usable = np.isfinite(sizes[:, cols]).all(axis=1)
-        if usable.any():
-            size[i] = float(np.sqrt(((sizes[usable][:, cols] - row[cols]) ** 2).sum(axis=1)).min())
-    return sim.max(axis=1), prior.success[best].astype(bool), size
+        usable = np.flatnonzero(np.isfinite(sizes[:, cols]).all(axis=1) & cols.any())
+        if len(usable):
+            dist = np.sqrt(((sizes[usable][:, cols] - row[cols]) ** 2).sum(axis=1))
+            size[i] = float(dist.min())
+            size_success[i] = outcome[usable[int(dist.argmin())]]
+    return Neighbours(sim.max(axis=1), outcome[sim.argmax(axis=1)], size, size_success)
+
+
+def _agreement(neighbour_success: np.ndarray, success: np.ndarray) -> np.ndarray:
+    """1 where the neighbour's outcome equals the decision's, 0 where not, NaN where there is no neighbour."""
+    return np.where(np.isnan(neighbour_success), np.nan, (neighbour_success == success).astype(float))
 
 
 def _bins(values: np.ndarray, edges: Sequence[float], unit: str) -> list[tuple[str, np.ndarray]]:
@@ -282,11 +304,15 @@ def _fleet_design(setup: _Setup, streams: UnseenStreams, default_alpha: float) -
         nearest_seen(streams.vectors[j][scored[j]], streams.context[j][scored[j]], lpo[j], dim)
         for j in range(n_streams)
     ]
-    similarity = np.concatenate([s for s, _, _ in near]) if near else np.zeros(0)
-    agrees = np.concatenate(
-        [o == streams.success[j][scored[j]].astype(bool) for j, (_, o, _) in enumerate(near)]
+    outcomes = [streams.success[j][scored[j]].astype(float) for j in range(n_streams)]
+    similarity = np.concatenate([nb.similarity for nb in near])
+    similar_agrees = np.concatenate(
+        [_agreement(nb.similar_success, y) for nb, y in zip(near, outcomes, strict=True)]
     )
-    size_mm = np.concatenate([d for _, _, d in near]) if near else np.zeros(0)
+    size_mm = np.concatenate([nb.size_mm for nb in near])
+    size_agrees = np.concatenate(
+        [_agreement(nb.size_success, y) for nb, y in zip(near, outcomes, strict=True)]
+    )
     per_alpha: dict[str, Any] = {}
     for alpha in UNSEEN_TARGETS:
         traces = {
@@ -303,8 +329,8 @@ def _fleet_design(setup: _Setup, streams: UnseenStreams, default_alpha: float) -
         per_alpha[f"{alpha:g}"] = {
             **{k: _with_promise(outcome_rates(v), alpha) for k, v in pooled.items()},
             "fleet_minus_cold": _paired_difference(pooled["cold"], pooled["fleet"], setup.seed),
-            "by_similarity": _binned(pooled, similarity, agrees, SIMILARITY_EDGES, ""),
-            "by_size_mm": _binned(pooled, size_mm, agrees, SIZE_EDGES_MM, " mm"),
+            "by_similarity": _binned(pooled, similarity, similar_agrees, SIMILARITY_EDGES, ""),
+            "by_size_mm": _binned(pooled, size_mm, size_agrees, SIZE_EDGES_MM, " mm"),
         }
     return {
         "scored_decisions": int(sum(m.sum() for m in scored)),
@@ -312,7 +338,8 @@ def _fleet_design(setup: _Setup, streams: UnseenStreams, default_alpha: float) -
         "prior_rows_removed": [len(p) - len(q) for p, q in zip(priors, lpo, strict=True)],
         "nearest_similarity": _quantiles(similarity),
         "nearest_size_mm": _quantiles(size_mm),
-        "neighbour_outcome_agrees": round(float(agrees.mean()), 4) if len(agrees) else None,
+        "similar_outcome_agrees": _mean(similar_agrees),
+        "size_outcome_agrees": _mean(size_agrees),
         "targets": per_alpha,
     }
 
@@ -384,6 +411,11 @@ def _with_promise(rates: dict[str, Any], alpha: float) -> dict[str, Any]:
     return {**rates, "keeps_promise": afr is not None and afr <= alpha + TOLERANCE + 1e-12}
 
 
+def _mean(values: np.ndarray) -> float | None:
+    v = values[np.isfinite(values)]
+    return round(float(v.mean()), 4) if len(v) else None
+
+
 def _quantiles(values: np.ndarray) -> dict[str, float | None]:
     v = values[np.isfinite(values)]
     if not len(v):
@@ -403,7 +435,7 @@ def _binned(
         cold, fleet = outcome_rates(pooled["cold"][mask]), outcome_rates(pooled["fleet"][mask])
         out[label] = {
             "decisions": int(mask.sum()),
-            "neighbour_outcome_agrees": round(float(agrees[mask].mean()), 4) if mask.any() else None,
+            "neighbour_outcome_agrees": _mean(agrees[mask]),
             "cold": cold,
             "fleet": fleet,
             "success_gain": None

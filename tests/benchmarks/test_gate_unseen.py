@@ -129,7 +129,7 @@ def test_a_close_neighbour_in_the_prior_helps_and_a_misleading_one_does_not() ->
     assert row["fleet"]["success_rate"] < row["cold"]["success_rate"], row
     assert not lying["verdict"]["at_default"]["fleet_helps"]
     # the neighbour's outcome agrees with the decision's in the honest streams, not in the lying ones
-    assert honest["fleet"]["neighbour_outcome_agrees"] > 0.9 > lying["fleet"]["neighbour_outcome_agrees"]
+    assert honest["fleet"]["similar_outcome_agrees"] > 0.9 > lying["fleet"]["similar_outcome_agrees"]
 
 
 def test_nearest_seen_measures_zeta_and_size() -> None:
@@ -138,10 +138,14 @@ def test_nearest_seen_measures_zeta_and_size() -> None:
     prior = Prior(np.hstack([np.eye(2, DIM), ctx]), np.array([True, False]), ("a", "b"))
     query = np.zeros((1, DIM))
     query[0, :2] = (1.0, 0.2)
-    sim, outcome, size = nearest_seen(query, _context(1) + 0.0, prior, DIM)
-    assert sim[0] == pytest.approx(1.0 / np.hypot(1.0, 0.2))
-    assert outcome.tolist() == [True]
-    assert size[0] == 0.0  # prior row 0 is perceived exactly alike
+    near = nearest_seen(query, _context(1), prior, DIM)
+    assert near.similarity[0] == pytest.approx(1.0 / np.hypot(1.0, 0.2))
+    assert near.similar_success.tolist() == [1.0]
+    assert near.size_mm[0] == 0.0  # prior row 0 is perceived exactly alike
+    assert near.size_success.tolist() == [1.0]
+    query[0, :2] = (0.1, 1.0)  # now nearest to row 1 in ζ, still to row 0 in size
+    near = nearest_seen(query, _context(1), prior, DIM)
+    assert (near.similar_success[0], near.size_success[0]) == (0.0, 1.0)
     assert outcome_rates(np.array([1, 0, -1, 1]))["attempt_failure_rate"] == round(1 / 3, 4)
 
 
