@@ -21,7 +21,7 @@ Two designs:
 Per decision the nearest *seen* neighbour is measured in ζ (the highest cosine similarity to an action in the
 fleet prior) and in the perceived size (the smallest distance, mm, over the detected width, height and depth that
 both rows have), and the fleet's effect is reported per bin of each (`SIMILARITY_EDGES`, `SIZE_EDGES_MM`), with
-how often the ζ-neighbour's outcome equals the decision's own. Differences come with a seeded paired bootstrap
+how often that neighbour's outcome equals the decision's own. Differences come with a seeded paired bootstrap
 over decisions (95 % interval).
 """
 
@@ -29,11 +29,14 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
 from scone_bt.experience.types import CONTEXT_FIELDS
+
+if TYPE_CHECKING:
+    from scone_bt.gate.probe import ProbeOptions
 
 __all__ = [
     "UNSEEN_TARGETS",
@@ -247,7 +250,7 @@ class _Setup:
     seed: int
     warmup: int
     opening_m: float
-    probe: Any
+    probe: ProbeOptions | None
     excess_allowance: float | None
 
 
@@ -481,10 +484,22 @@ def unseen_report(
     seed: int,
     warmup: int,
     opening_m: float,
-    probe: Any = None,
+    probe: ProbeOptions | None = None,
     excess_allowance: float | None = None,
 ) -> dict[str, Any]:
-    """The ``unseen`` section of the gate report (module docstring)."""
+    """The ``unseen`` section of the gate report (module docstring).
+
+    Args:
+        streams: The replay's loaded streams (embeddings, perceived context, outcomes, products, probe readings).
+        replay: gate.replay_stream.
+        estimator: κ̂'s registry name (the tree's).
+        default_alpha: The tree's target failure rate (where ``fleet_with_products`` is replayed).
+        seed: Seeds each stream's replay (``seed + stream index``, as the gate report does) and the bootstrap.
+        warmup: Decisions per stream not scored in the fleet design.
+        opening_m: The gripper's opening, metres.
+        probe: The heft test (None: off), as in the rest of the report.
+        excess_allowance: The exploration credit (None: off).
+    """
     setup = _Setup(replay, estimator, seed, warmup, opening_m, probe, excess_allowance)
     fleet = _fleet_design(setup, streams, default_alpha)
     own = _own_store_design(setup, streams)
