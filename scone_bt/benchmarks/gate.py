@@ -40,6 +40,11 @@ gate taught and cold, with the decisions its budget needs before the realised ra
     scone-bench gate --datasets tools/data/sc_mujoco --prior tools/data/sc --json docs/results/gate_mujoco.json
 
     scone-bench gate --json docs/results/gate.json --plot docs/results/gate.png
+
+``--unseen`` adds the ``unseen`` section (`scone_bt.benchmarks.gate_unseen`): on decisions about products κ̂ has
+no outcome of (leave-products-out), the default gate cold, after the fleet prior and after the robot's own store.
+
+    scone-bench gate --no-sweep --unseen --json docs/results/unseen.json
 """
 
 from __future__ import annotations
@@ -1131,6 +1136,20 @@ def _run(args: argparse.Namespace) -> int:
     }
     if not args.no_replay:
         report.update(_replay(args, estimators, default_estimator, default_target, probe))
+    if args.unseen:  # products κ̂ has no outcome of: cold, the fleet, its own store (gate_unseen)
+        from scone_bt.benchmarks.gate_unseen import unseen_report
+
+        report["unseen"] = unseen_report(
+            _load(args, oracle=False),
+            replay_stream,
+            default_estimator,
+            default_target,
+            args.seed,
+            args.warmup,
+            args.opening,
+            probe,
+            args.excess_allowance,
+        )
     if args.episodes:
         report["episodes"] = _episodes(args)
     report["wall_s"] = round(time.perf_counter() - started, 1)
@@ -1186,6 +1205,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         action="store_true",
         help="replay only the tree's default gate, cold (and --prior's cross-engine figures): no method sweep, "
         "no fleet-warm variant",
+    )
+    p.add_argument(
+        "--unseen",
+        action="store_true",
+        help="also measure what the fleet prior and the robot's own store add on products κ̂ has no outcome of "
+        "(leave-products-out; the report's unseen section)",
     )
     p.add_argument(
         "--probe",
