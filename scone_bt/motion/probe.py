@@ -62,6 +62,8 @@ class ProbeSettings:
             product held fast weighs the same throughout, to a tenth of a percent; one sliding in the fingers
             does not).
         set_back: False: only sense, always carry on (the generator's recording mode).
+        payload_kg: The heaviest load the reason quotes as a mass, kilograms (the arm's payload: 3 kg for a
+            Panda); a heavier reading is something else pulling on the product, not its weight.
     """
 
     lift_m: float = 0.015
@@ -70,6 +72,7 @@ class ProbeSettings:
     max_traction: float = 0.3
     max_unsteady: float = 0.01
     set_back: bool = True
+    payload_kg: float = 3.0
 
     @classmethod
     def of(cls, options: object) -> ProbeSettings:
@@ -84,6 +87,7 @@ class ProbeSettings:
             ("up_s", 0.1 <= self.up_s <= 3.0, "in [0.1, 3] s"),
             ("max_traction", 0.0 < self.max_traction <= 10.0, "in (0, 10]"),
             ("max_unsteady", 0.0 < self.max_unsteady <= 1.0, "in (0, 1]"),
+            ("payload_kg", 0.0 < self.payload_kg <= 50.0, "in (0, 50] kg"),
         )
         for name, ok, allowed in checks:
             value = getattr(self, name)
@@ -101,6 +105,9 @@ class ProbeReading:
         load_first_n: The same over its first half.
         grip_n: Summed grip (normal) force over the second half.
         seconds: Simulated seconds the probe took (lift, hold and, if it set back, the set-down).
+        pressed: The fingers' vertical force pointed down over the second half: they pressed on the product
+            (a fingertip on its top) instead of carrying it; ``load_n`` is then the size of that push, not a
+            weight. Not recorded in the datasets (False there).
     """
 
     held: bool
@@ -108,6 +115,7 @@ class ProbeReading:
     load_first_n: float
     grip_n: float
     seconds: float = 0.0
+    pressed: bool = False
 
     @property
     def traction(self) -> float:
@@ -132,10 +140,30 @@ def judge_probe(reading: ProbeReading, settings: ProbeSettings) -> tuple[bool, s
     if not reading.held:
         return False, "slips out of my fingers"
     if reading.unsteady > settings.max_unsteady:
-        return False, "slips in my fingers"
+        return False, _unsteady_reason(reading)
     if reading.traction > settings.max_traction:
-        return False, f"is too heavy for my grip (about {reading.mass_kg * 1000:.0f} g)"
+        return False, _heavy_reason(reading, settings)
     return True, ""
+
+
+def _unsteady_reason(reading: ProbeReading) -> str:
+    """Why a load that changed during a still hold: one sliding in the fingers carries less and less (sliding
+    friction is below sticking friction, and it settles back onto whatever is below), or was left behind on the
+    lift (the fingers' friction then pushes it down: ``pressed``); a load that rises while the product is carried
+    cannot come from the fingers, so something outside pulls or leans on it."""
+    if not reading.pressed and reading.load_n > reading.load_first_n:
+        return "is caught on something"
+    return "slips in my fingers"
+
+
+def _heavy_reason(reading: ProbeReading, settings: ProbeSettings) -> str:
+    """Why a steady load near the grip's friction limit; its mass is quoted only when it can be a weight: the
+    fingers carry it up, a friction grip could hold it (load ≤ grip), and it is within the arm's payload."""
+    if reading.pressed:
+        return "does not come up: my fingers press on it"
+    if reading.traction > 1.0 or reading.mass_kg > settings.payload_kg:
+        return "is caught on something"
+    return f"is too heavy for my grip (about {reading.mass_kg * 1000:.0f} g)"
 
 
 def min_jerk(q0: np.ndarray, q1: np.ndarray, duration_s: float, rate_hz: float) -> TimedTrajectory:
@@ -258,6 +286,9 @@ class ProbeController(PickPlaceController):
         def mean(xs: list[tuple[float, float]], i: int) -> float:
             return float(np.mean([abs(x[i]) for x in xs])) if xs else 0.0
 
+        # The recorded datasets hold the load's size; its sign says whether the fingers carried it or pushed it.
+        pressed = bool(second) and float(np.mean([x[0] for x in second])) < 0.0
+
         started = self._probe_start if self._probe_start is not None else self.arm.sim_time
         self.reading = ProbeReading(
             held=self._holding(),
@@ -265,6 +296,7 @@ class ProbeController(PickPlaceController):
             load_first_n=round(mean(first, 0), 4),
             grip_n=round(mean(second, 1), 4),
             seconds=round(self.arm.sim_time - started, 4),
+            pressed=pressed,
         )
         carry, why = judge_probe(self.reading, self.probe)
         if carry or not self.probe.set_back:

@@ -53,3 +53,16 @@ def test_a_bottle_the_gripper_holds_is_carried_on_after_the_probe(kitchen_cfg, r
     )
     assert record.success, record.detail
     assert record.probe_load_n == pytest.approx(0.9 * 9.81, rel=0.02)  # the fingers felt its weight
+
+
+def test_a_pack_the_fingertips_press_on_is_set_back_without_a_made_up_mass() -> None:
+    from scone_bt.benchmarks.motion import _query
+
+    # The motion benchmark's query 2 (seed 0): the egg roll wrappers, a 3 cm pack wider than the gripper opens;
+    # the fingertips land on its top and push it into the shelf (214 N) instead of lifting it.
+    rec = _query("kitchen", "panda", 0, 11, 2, 2, probe=True)
+    assert rec["target"] == "egg roll wrappers"
+    assert rec["aborted"] and not rec["success"]
+    assert rec["message"] == (
+        "set back after the probe: the egg roll wrappers does not come up: my fingers press on it"
+    )
