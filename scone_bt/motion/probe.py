@@ -140,20 +140,12 @@ def judge_probe(reading: ProbeReading, settings: ProbeSettings) -> tuple[bool, s
     if not reading.held:
         return False, "slips out of my fingers"
     if reading.unsteady > settings.max_unsteady:
-        return False, _unsteady_reason(reading)
+        # Rising or falling: on the development streams 30 of the 31 products whose load rose during the hold
+        # (and did not trip the traction test) slipped out of the gripper while lifting.
+        return False, "slips in my fingers"
     if reading.traction > settings.max_traction:
         return False, _heavy_reason(reading, settings)
     return True, ""
-
-
-def _unsteady_reason(reading: ProbeReading) -> str:
-    """Why a load that changed during a still hold: one sliding in the fingers carries less and less (sliding
-    friction is below sticking friction, and it settles back onto whatever is below), or was left behind on the
-    lift (the fingers' friction then pushes it down: ``pressed``); a load that rises while the product is carried
-    cannot come from the fingers, so something outside pulls or leans on it."""
-    if not reading.pressed and reading.load_n > reading.load_first_n:
-        return "is caught on something"
-    return "slips in my fingers"
 
 
 def _heavy_reason(reading: ProbeReading, settings: ProbeSettings) -> str:

@@ -41,26 +41,17 @@ def test_a_steady_plausible_load_near_the_friction_limit_is_quoted_as_a_mass() -
 
 
 @pytest.mark.parametrize(
-    ("first", "second", "pressed", "words"),
+    ("first", "second", "pressed"),
     [
-        (3.1, 2.4, False, "slips in my fingers"),  # sliding carries less and less
-        (
-            10.8855,
-            11.0575,
-            False,
-            "is caught on something",
-        ),  # the grits: a neighbour leaning on it as it rose
+        (3.1, 2.4, False),  # sliding carries less and less
+        (3.5695, 4.6781, False),  # grits, slippery fingers: the load rose, then it slipped out while lifting
         # the olive oil in an 8 N grip: left on its shelf by the lift, the fingers' friction pushes it down
-        (3.1871, 3.0585, True, "slips in my fingers"),
-        (3.0, 3.2, True, "slips in my fingers"),
+        (3.1871, 3.0585, True),
     ],
 )
-def test_an_unsteady_load_says_which_way_it_went(
-    first: float, second: float, pressed: bool, words: str
-) -> None:
+def test_an_unsteady_load_is_a_slip_and_quotes_no_mass(first: float, second: float, pressed: bool) -> None:
     reading = ProbeReading(held=True, load_n=second, load_first_n=first, grip_n=16.0, pressed=pressed)
-    carry, why = judge_probe(reading, SETTINGS)
-    assert not carry and why == words
+    assert judge_probe(reading, SETTINGS) == (False, "slips in my fingers")
 
 
 def test_the_words_do_not_change_the_verdict() -> None:
