@@ -235,18 +235,13 @@ class ProbeController(PickPlaceController):
         q_probe = q0 + f * (q1 - q0)
         rate = self.cfg.control.rate_hz
         self._up = min_jerk(q0, q_probe, self.probe.up_s, rate)
-        # The rest of that piece from rest at the probe's height, at the piece's own pace (never faster).
-        k1 = int(np.argmin(np.linalg.norm(traj.positions - q1, axis=1)))
-        piece_s = float(traj.times[k1]) if k1 > 0 else traj.duration
-        rest = min_jerk(q_probe, q1, max(piece_s * (1.0 - f) * 1.5, 0.3), rate)
-        if k1 < len(traj.times) - 1:  # further pieces: the lift's own samples from that rest point on
-            tail = slice(k1 + 1, None)
-            rest = TimedTrajectory(
-                np.concatenate([rest.times, rest.duration + traj.times[tail] - traj.times[k1]]),
-                np.vstack([rest.positions, traj.positions[tail]]),
-                np.vstack([rest.velocities, traj.velocities[tail]]),
-                np.vstack([rest.accelerations, traj.accelerations[tail]]),
-            )
+        # The rest of the lift from rest at the probe's height through the lift's own waypoints, timed as the
+        # plan timed the lift (ruckig, the robot's limits at the Cartesian pace): no slower than without the probe.
+        from scone_bt.motion.plan_session import CARTESIAN_SPEED
+        from scone_bt.motion.timing import limits_of, time_path
+
+        rest_path = np.vstack([q_probe, np.asarray(way[1:], dtype=float)])
+        rest, _ = time_path(rest_path, limits_of(self.cfg).scaled(CARTESIAN_SPEED), rate)
         self._descend = d
         self.queue[i : i + 1] = [
             (MotionPhase.PROBE, Segment(MotionPhase.PROBE, self._up)),
