@@ -139,20 +139,21 @@ def judge_probe(reading: ProbeReading, settings: ProbeSettings) -> tuple[bool, s
     """(carry on, why) from a probe's reading: why is the robot's words for setting it back, or ""."""
     if not reading.held:
         return False, "slips out of my fingers"
-    if reading.unsteady > settings.max_unsteady:
-        # Rising or falling: on the development streams 30 of the 31 products whose load rose during the hold
-        # (and did not trip the traction test) slipped out of the gripper while lifting.
-        return False, "slips in my fingers"
-    if reading.traction > settings.max_traction:
-        return False, _heavy_reason(reading, settings)
+    if reading.unsteady > settings.max_unsteady or reading.traction > settings.max_traction:
+        return False, _why(reading, settings)
     return True, ""
 
 
-def _heavy_reason(reading: ProbeReading, settings: ProbeSettings) -> str:
-    """Why a steady load near the grip's friction limit; its mass is quoted only when it can be a weight: the
-    fingers carry it up, a friction grip could hold it (load ≤ grip), and it is within the arm's payload."""
-    if reading.pressed:
+def _why(reading: ProbeReading, settings: ProbeSettings) -> str:
+    """What the fingers sensed, in words; a mass is quoted only when the load can be a weight: steady, carried up
+    by the fingers, no more than a friction grip could hold (load ≤ grip), and within the arm's payload."""
+    if reading.pressed and reading.traction > settings.max_traction:
+        # pushing down about as hard as they squeeze: the contacts' normals are vertical, a fingertip on its top
         return "does not come up: my fingers press on it"
+    if reading.unsteady > settings.max_unsteady:
+        # Rising or falling: on the development streams 30 of the 31 products whose load rose during the hold
+        # (and did not trip the traction test) slipped out of the gripper while lifting.
+        return "slips in my fingers"
     if reading.traction > 1.0 or reading.mass_kg > settings.payload_kg:
         return "is caught on something"
     return f"is too heavy for my grip (about {reading.mass_kg * 1000:.0f} g)"

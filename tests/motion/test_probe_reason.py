@@ -54,6 +54,12 @@ def test_an_unsteady_load_is_a_slip_and_quotes_no_mass(first: float, second: flo
     assert judge_probe(reading, SETTINGS) == (False, "slips in my fingers")
 
 
+def test_a_press_that_relaxes_is_a_press_not_a_slip() -> None:
+    # The tzatziki: the fingertips on its lid pushed 235 N, then 164 N (all of it normal force), while it stayed put.
+    reading = ProbeReading(held=True, load_n=163.79, load_first_n=235.38, grip_n=163.35, pressed=True)
+    assert judge_probe(reading, SETTINGS) == (False, "does not come up: my fingers press on it")
+
+
 def test_the_words_do_not_change_the_verdict() -> None:
     readings = [
         ProbeReading(held=True, load_n=2.0, load_first_n=2.001, grip_n=80.0),
