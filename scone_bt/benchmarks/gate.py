@@ -783,12 +783,16 @@ def _episode_counts(events: Sequence[Any]) -> dict[str, Any]:
         "attempts": 0,
         "repeated_infeasible_plans": 0,
         "aborted": 0,
+        "probed": 0,
+        "act_s": 0.0,
+        "aborted_s": 0.0,
     }
     infeasible: set[str] = set()
     planning: list[float] = []
     for e in events:
         if isinstance(e, ActOutcome):
             out["attempts"] += 1
+            out["act_s"] += e.duration_s
             out["failures"] += not e.success
             if e.stage == FailureStage.PLANNING:
                 out["repeated_infeasible_plans"] += e.action in infeasible
@@ -802,8 +806,11 @@ def _episode_counts(events: Sequence[Any]) -> dict[str, Any]:
             out["interventions"] += 1
         elif isinstance(e, ProbeAborted):
             out["aborted"] += 1
-        elif isinstance(e, DecisionMade) and e.planning_s is not None:
-            planning.append(e.planning_s)
+            out["aborted_s"] += e.duration_s
+        elif isinstance(e, DecisionMade):
+            out["probed"] += e.probe
+            if e.planning_s is not None:
+                planning.append(e.planning_s)
     return {**out, "planning_s": planning}
 
 
@@ -854,13 +861,19 @@ def _episodes(args: argparse.Namespace) -> dict[str, Any]:
             completed += bool(summary.completed)
             sim_s += summary.sim_time
             if not args.quiet:
-                print(f"{label} episode {i + 1}/{args.episodes}: {counts}", file=sys.stderr)
+                print(
+                    f"{label} episode {i + 1}/{args.episodes}: {counts} sim_s={summary.sim_time:.2f}",
+                    file=sys.stderr,
+                )
         n = max(args.episodes, 1)
         out[label] = {
             "failures_per_episode": round(totals.get("failures", 0) / n, 3),
             "help_per_episode": round(totals.get("help", 0) / n, 3),
             "interventions_per_episode": round(totals.get("interventions", 0) / n, 3),
             "aborted_per_episode": round(totals.get("aborted", 0) / n, 3),
+            "probed_per_episode": round(totals.get("probed", 0) / n, 3),
+            "act_s_per_episode": round(totals.get("act_s", 0) / n, 2),
+            "aborted_s_per_episode": round(totals.get("aborted_s", 0) / n, 2),
             "sim_s_per_episode": round(sim_s / n, 2),
             "repeated_infeasible_plans": int(totals.get("repeated_infeasible_plans", 0)),
             "attempts": int(totals.get("attempts", 0)),

@@ -314,3 +314,20 @@ def test_an_episode_counts_an_aborted_probe_apart_and_its_ask_as_help() -> None:
     ]
     counts = _episode_counts(events)
     assert (counts["aborted"], counts["help"], counts["attempts"], counts["failures"]) == (1, 1, 1, 0)
+
+
+def test_an_episode_counts_the_probes_and_their_seconds() -> None:
+    """``--episodes``: hefted decisions, seconds in attempts and in set-backs (where the probe's time goes)."""
+    from scone_bt.benchmarks.gate import _episode_counts
+    from scone_bt.events import ActOutcome, DecisionMade, ProbeAborted
+    from scone_bt.gate.types import DecisionKind
+
+    act = DecisionKind.ACT
+    events = [
+        DecisionMade(0.5, 1, "add oil", "Put olive oil on table", 0.8, 0.5, act, probe=True),
+        ProbeAborted(9.0, "Put olive oil on table", "olive oil", "the olive oil slips in my fingers", 8.5),
+        DecisionMade(12.0, 1, "add salt", "Put salt on table", 0.8, 0.9, act),
+        ActOutcome(23.0, "Put salt on table", "salt", True, None, 11.0),
+    ]
+    counts = _episode_counts(events)
+    assert (counts["probed"], counts["act_s"], counts["aborted_s"]) == (1, 11.0, 8.5)

@@ -53,3 +53,28 @@ def test_a_bottle_the_gripper_holds_is_carried_on_after_the_probe(kitchen_cfg, r
     )
     assert record.success, record.detail
     assert record.probe_load_n == pytest.approx(0.9 * 9.81, rel=0.02)  # the fingers felt its weight
+
+
+def test_a_pack_the_fingertips_press_on_is_set_back_without_a_made_up_mass() -> None:
+    from scone_bt.benchmarks.motion import _query
+
+    # The motion benchmark's query 2 (seed 0): the egg roll wrappers, a 3 cm pack wider than the gripper opens;
+    # the fingertips land on its top and push it into the shelf (214 N) instead of lifting it.
+    rec = _query("kitchen", "panda", 0, 11, 2, 2, probe=True)
+    assert rec["target"] == "egg roll wrappers"
+    assert rec["aborted"] and not rec["success"]
+    assert rec["message"] == (
+        "set back after the probe: the egg roll wrappers does not come up: my fingers press on it"
+    )
+
+
+def test_a_probe_that_carries_on_costs_no_more_than_its_lift_and_hold() -> None:
+    from scone_bt.benchmarks.motion import _query
+
+    # The motion benchmark's query 1 (seed 0): the barbecue sauce, carried on after the probe. The rest of the lift
+    # goes at the plan's own pace, so the probe adds at most its little lift and its hold (simulated seconds).
+    off = _query("kitchen", "panda", 0, 11, 2, 1, probe=False)
+    on = _query("kitchen", "panda", 0, 11, 2, 1, probe=True)
+    assert on["target"] == "barbecue sauce" and on["success"] and off["success"]
+    settings = ProbeSettings()
+    assert on["sim_s"] - off["sim_s"] <= settings.up_s + settings.hold_s + 1e-6

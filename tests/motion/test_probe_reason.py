@@ -1,0 +1,79 @@
+"""The heft test's words (motion.probe.judge_probe): a mass is quoted only when the load can be a weight; otherwise
+the robot says what its fingers sensed. The verdict (carry on or set back) does not depend on the words."""
+
+from __future__ import annotations
+
+import pytest
+
+from scone_bt.motion.probe import ProbeReading, ProbeSettings, judge_probe
+
+SETTINGS = ProbeSettings()
+
+
+def test_fingers_pressing_on_a_product_quote_no_mass() -> None:
+    # What the fingers felt on the egg roll wrappers (a 3 cm pack the fingertips landed on): 214 N pointing down,
+    # all of it normal force, while the pack stayed on its shelf.
+    reading = ProbeReading(
+        held=True, load_n=214.6136, load_first_n=213.3194, grip_n=214.6786, seconds=0.89, pressed=True
+    )
+    carry, why = judge_probe(reading, SETTINGS)
+    assert not carry
+    assert why == "does not come up: my fingers press on it"
+    assert " g)" not in why
+
+
+def test_a_load_past_the_payload_is_not_called_a_weight() -> None:
+    reading = ProbeReading(held=True, load_n=60.0, load_first_n=60.1, grip_n=80.0)  # 6 kg from a 3 kg arm
+    carry, why = judge_probe(reading, SETTINGS)
+    assert not carry and why == "is caught on something"
+
+
+def test_a_load_no_friction_grip_could_carry_is_not_called_a_weight() -> None:
+    reading = ProbeReading(held=True, load_n=12.0, load_first_n=12.0, grip_n=10.0)  # load over grip 1.2
+    carry, why = judge_probe(reading, SETTINGS)
+    assert not carry and why == "is caught on something"
+
+
+def test_a_steady_plausible_load_near_the_friction_limit_is_quoted_as_a_mass() -> None:
+    reading = ProbeReading(held=True, load_n=8.829, load_first_n=8.83, grip_n=16.0)  # 0.9 kg in an 8 N grip
+    carry, why = judge_probe(reading, SETTINGS)
+    assert not carry and why == "is too heavy for my grip (about 900 g)"
+
+
+@pytest.mark.parametrize(
+    ("first", "second", "pressed"),
+    [
+        (3.1, 2.4, False),  # sliding carries less and less
+        (3.5695, 4.6781, False),  # grits, slippery fingers: the load rose, then it slipped out while lifting
+        # the olive oil in an 8 N grip: left on its shelf by the lift, the fingers' friction pushes it down
+        (3.1871, 3.0585, True),
+    ],
+)
+def test_an_unsteady_load_is_a_slip_and_quotes_no_mass(first: float, second: float, pressed: bool) -> None:
+    reading = ProbeReading(held=True, load_n=second, load_first_n=first, grip_n=16.0, pressed=pressed)
+    assert judge_probe(reading, SETTINGS) == (False, "slips in my fingers")
+
+
+def test_a_press_that_relaxes_is_a_press_not_a_slip() -> None:
+    # The tzatziki: the fingertips on its lid pushed 235 N, then 164 N (all of it normal force), while it stayed put.
+    reading = ProbeReading(held=True, load_n=163.79, load_first_n=235.38, grip_n=163.35, pressed=True)
+    assert judge_probe(reading, SETTINGS) == (False, "does not come up: my fingers press on it")
+
+
+def test_the_words_do_not_change_the_verdict() -> None:
+    readings = [
+        ProbeReading(held=True, load_n=2.0, load_first_n=2.001, grip_n=80.0),
+        ProbeReading(held=True, load_n=2.0, load_first_n=2.001, grip_n=80.0, pressed=True),
+        ProbeReading(held=False, load_n=0.0, load_first_n=0.0, grip_n=0.0),
+        ProbeReading(held=True, load_n=214.6, load_first_n=213.3, grip_n=214.7),
+        ProbeReading(held=True, load_n=214.6, load_first_n=213.3, grip_n=214.7, pressed=True),
+    ]
+    verdicts = [judge_probe(r, SETTINGS)[0] for r in readings]
+    assert verdicts == [True, True, False, False, False]
+
+
+def test_a_payload_out_of_range_is_one_line() -> None:
+    from scone_bt.errors import SconeError
+
+    with pytest.raises(SconeError, match=r"^probe payload_kg must be in \(0, 50\] kg, got 0.0$"):
+        ProbeSettings(payload_kg=0.0)
