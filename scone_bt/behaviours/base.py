@@ -16,6 +16,7 @@ from py_trees.common import Access
 
 from scone_bt.affordances.types import Affordance
 from scone_bt.behaviours.context import EpisodeContext
+from scone_bt.behaviours.probe_judge import ProbeJudge
 from scone_bt.errors import SconeError
 from scone_bt.experience.types import ExecutionContext, Outcome
 from scone_bt.gate.types import Decision
@@ -94,7 +95,7 @@ class Keys:
     # An Infeasible found by this decision's planning (a scene the robot had not planned in), else None.
     PLAN_VERDICT: Key[Infeasible] = Key("/gate/plan_verdict", Infeasible, optional=True)
     # The judge after a heft test (behaviours.probe_judge.ProbeJudge) when the decision probes, else None.
-    PROBE_JUDGE: Key[Any] = Key("/gate/probe_judge", object, optional=True)
+    PROBE_JUDGE: Key[ProbeJudge] = Key("/gate/probe_judge", ProbeJudge, optional=True)
     MOTION_OUTCOME: Key[MotionOutcome] = Key("/motion/outcome", MotionOutcome, optional=True)
     # The running pick-and-place (a MotionHandle).
     MOTION_TASK: Key[Any] = Key("/motion/task", object, optional=True)

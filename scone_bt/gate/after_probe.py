@@ -1,7 +1,7 @@
 """The decision after the heft test: carry the product on, or set it back and ask (`after_probe`).
 
 One pure function for the robot and the benchmark: the tree passes it to the probe's controller as its judge
-(behaviours.gate_steps.probe_judge), the replay (``scone-bench gate --probe``) calls it on each recorded reading.
+(behaviours.probe_judge.ProbeJudge), the replay (``scone-bench gate --probe``) calls it on each recorded reading.
 In order:
 
 1. The hard safety judge (motion.probe.judge_probe: the fingers lost it, the load slid, the grip is near its
