@@ -43,6 +43,8 @@ class FeltReading(Protocol):
 
 
 def _finite(value: float, cap: float) -> float:
+    """``value`` clamped to [0, ``cap``]; not finite reads as the cap (a grip of nothing reads an infinite
+    traction, and an unreadable value counts as the worst)."""
     v = float(value)
     return cap if not math.isfinite(v) else round(min(max(v, 0.0), cap), 6)
 

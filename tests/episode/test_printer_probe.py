@@ -32,3 +32,19 @@ def test_rerun_logs_it_as_a_warning(reason: str) -> None:
         ProbeAborted(9.0, "Put olive oil on table", "olive oil", reason, 8.0, 2.6, 2.1)
     )
     assert _log_level(lines[0]) == rr.TextLogLevel.WARN
+
+
+def test_rerun_counts_the_set_backs_apart_from_successes_and_failures() -> None:
+    from scone_bt.episode.snapshot import episode_counters
+    from scone_bt.events import ActStarted, EventLog
+
+    log = EventLog()
+    log(ActStarted(1.0, "Put olive oil on table", "olive oil", 0.5))
+    log(ProbeAborted(9.0, "Put olive oil on table", "olive oil", REASONS[1], 8.0, 2.6, 2.1))
+    counters = episode_counters(log.stats)
+    assert (counters["attempted"], counters["aborted"], counters["successes"], counters["failures"]) == (
+        1,
+        1,
+        0,
+        0,
+    )
