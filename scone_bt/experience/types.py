@@ -93,6 +93,12 @@ class ExecutionContext:
             if f.name in FELT_RANGES and not low <= v <= high:  # NaN fails too: to_json never writes it
                 raise SconeError(f"{where}: {f.name} must be in [{low:g}, {high:g}], got {v!r}")
             out[f.name] = kind(v)
+        felt = [name for name in FELT_FIELDS if name in out]
+        if felt and len(felt) < len(FELT_FIELDS):  # a heft test sets them all (experience.felt)
+            raise SconeError(
+                f"{where}: {', '.join(sorted(set(FELT_FIELDS) - set(felt)))} missing beside {', '.join(felt)} "
+                f"(a probed context has every one of {', '.join(FELT_FIELDS)}, or none)"
+            )
         return cls(**out)
 
 

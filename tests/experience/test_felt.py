@@ -47,6 +47,8 @@ def test_a_stored_context_without_the_felt_fields_loads_as_not_probed() -> None:
 
 def test_physical_kappa_feels_nothing_where_nothing_was_probed() -> None:
     seen = ExecutionContext(shelf_tier=1, detected=True, detected_width_m=0.05)
+    stray = ExecutionContext(shelf_tier=1, felt_traction=0.5)  # not probed (felt_held None): nothing is read
+    assert felt_features(stray.vector()[None]).tolist() == [[0.0, 0.0, 0.0]]
     slipping = felt_context(seen, ProbeReading(True, 2.0, 2.4, 5.0))
     assert slipping is not None
     rows = np.stack([seen.vector(), slipping.vector()])
@@ -66,6 +68,11 @@ def test_physical_kappa_feels_nothing_where_nothing_was_probed() -> None:
         ({"felt_mass_kg": math.nan}, "felt_mass_kg must be in [0, 10], got nan"),
         ({"felt_traction": "slips"}, "felt_traction must be float, got 'slips'"),
         ({"felt_held": 1}, "felt_held must be bool, got 1"),
+        (
+            {"felt_held": True, "felt_traction": 0.1},
+            "felt_mass_kg, felt_unsteady missing beside felt_held, felt_traction (a probed context has every one "
+            "of felt_held, felt_traction, felt_unsteady, felt_mass_kg, or none)",
+        ),
     ],
 )
 def test_a_malformed_felt_value_is_one_line_naming_the_key_and_its_range(stored: dict, message: str) -> None:
