@@ -20,6 +20,7 @@ from scone_bt.confidence import make_estimator
 from scone_bt.events import EventLog, ProbeAborted
 from scone_bt.experience.types import CONTEXT_FIELDS, FELT_FIELDS, ExecutionContext
 from scone_bt.gate import GateOptions
+from scone_bt.gate.after_probe import ProbeVerdict
 from scone_bt.gate.budget import BudgetOptions
 from scone_bt.gate.probe import ProbeOptions
 from scone_bt.gate.rules import GateInput, GateRules, gate_decision
@@ -162,10 +163,11 @@ def _behaviour(
     readings=None,
     allowance: float | None = None,
     outcomes: list[int] | None = None,
+    verdicts: list[ProbeVerdict] | None = None,
 ) -> list[Decision]:
     """The tree's gate ticked on the same stream: one candidate per tick; an ACT ends as the stream recorded (after
-    the probe's judge, when probed), and ObserveOutcome and UpdateSelfConfidence label it, store nothing, fold it
-    into the events and teach κ̂, as in the tree."""
+    the probe's judge, when probed: its verdicts are appended to ``verdicts``), and ObserveOutcome and
+    UpdateSelfConfidence label it, store nothing, fold it into the events and teach κ̂, as in the tree."""
     vectors, context, success, products = stream
     kappa = make_estimator("physical", seed=SEED, gripper_opening_m=OPENING_M)
     events = EventLog()
@@ -231,7 +233,10 @@ def _behaviour(
                 outcomes.append(-1)
             continue
         reading = _reading(readings, t) if decision.probe else None  # only a probe feels anything
-        motion = _ending(bb.get(Keys.PROBE_JUDGE), reading, bool(success[t]))
+        judge = bb.get(Keys.PROBE_JUDGE)
+        motion = _ending(judge, reading, bool(success[t]))
+        if verdicts is not None and judge is not None and judge.verdict is not None:
+            verdicts.append(judge.verdict)
         robot.on_table = {product} if motion.success else set()
         bb.set(Keys.MOTION_OUTCOME, motion)
         for behaviour in (observe, update):
@@ -283,6 +288,26 @@ def test_the_tree_and_the_replay_probe_the_same_on_a_stream_with_probe_readings(
     assert not all(_aborted(readings, t) for t in probed)
     assert all(not d.probe for d in replayed if d.rule == "too-wide")  # too wide: asked, never hefted
     assert "too-wide" in {d.rule for d in replayed}
+
+
+def test_the_tree_and_the_replay_agree_where_kappas_doubt_sets_back_and_credit_carries_on() -> None:
+    """Products that fail hold in the fingers but strain them (7 N of grip for 2 N of load: traction 0.29, under
+    the hard judge's 0.3), so κ̂ learns what high traction means: under the strict promise, with no credit left, a
+    probe above τ can end below τ (set back on κ̂'s doubt, not learnt), and one with credit carries on explored."""
+    stream = _stream(n=100, seed=9)
+    _, _, success, _ = stream
+    n = len(success)
+    grip = np.where(success, 40.0, 7.0)
+    readings = np.column_stack([np.ones(n), np.full(n, 2.0), np.full(n, 2.0), grip, np.full(n, 1.2)])
+    replay_outcomes: list[int] = []
+    tree_outcomes: list[int] = []
+    verdicts: list[ProbeVerdict] = []
+    replayed = _replay("budget", stream, FULL_BAND, readings, 1.0, outcomes=replay_outcomes)
+    ticked = _behaviour("budget", stream, FULL_BAND, readings, 1.0, outcomes=tree_outcomes, verdicts=verdicts)
+    assert [_key(d) for d in ticked] == [_key(d) for d in replayed]
+    assert tree_outcomes == replay_outcomes
+    assert any(not v.carry and not v.felt_unsafe for v in verdicts)  # κ̂'s doubt set something back
+    assert any(v.explored for v in verdicts) and any(v.confident for v in verdicts)
 
 
 def test_the_probe_step_asks_about_what_a_probe_set_back_in_this_episode() -> None:
