@@ -154,3 +154,29 @@ def test_the_event_log_folds_as_it_goes_and_passes_events_on() -> None:
         log(event)
     assert seen == EPISODE and log.stats == summarise(EPISODE)
     assert log.failures_of("Put salt on table") == 1 and log.failures_of("Put a on table") == 0
+
+
+def test_a_carry_on_explored_after_a_probe_counts_as_an_explored_attempt() -> None:
+    """The decision to probe is not explored; the judge after the probe may carry on below τ on credit
+    (gate.after_probe): its outcome says so, and a failure of it is an explored failure."""
+    probe = DecisionMade(
+        0.5, 1, "Add salt.", "Put salt on table", 0.6, 0.5, DecisionKind.ACT, "now", (), "salt", probe=True
+    )
+    on_credit = ActOutcome(9.0, "Put salt on table", "salt", False, "place", 8.5, explored=True)
+    assert summarise([probe, on_credit]).explored_failures == 1
+    confident = ActOutcome(9.0, "Put salt on table", "salt", False, "place", 8.5)
+    assert summarise([probe, confident]).explored_failures == 0
+    assert from_json("outcome", on_credit.to_json()) == on_credit
+    old = {k: v for k, v in on_credit.to_json().items() if k != "explored"}  # a log written before the field
+    assert from_json("outcome", old) == confident
+
+
+def test_a_set_back_on_kappas_doubt_is_an_aborted_attempt_in_its_words() -> None:
+    doubt = ProbeAborted(
+        9.0, "Put salt on table", "salt", "I am not sure I can carry the salt", 7.5, 0.9, 1.2
+    )
+    log = EventLog()
+    log(doubt)
+    assert (log.stats.aborted, log.budget_counts()) == (1, (0, 0, 0))
+    assert log.probe_reason("Put salt on table") == "I am not sure I can carry the salt"
+    assert from_json("aborted", doubt.to_json()) == doubt

@@ -16,13 +16,14 @@ from py_trees.common import Access
 
 from scone_bt.affordances.types import Affordance
 from scone_bt.behaviours.context import EpisodeContext
+from scone_bt.behaviours.probe_judge import ProbeJudge
 from scone_bt.errors import SconeError
 from scone_bt.experience.types import ExecutionContext, Outcome
 from scone_bt.gate.types import Decision
 from scone_bt.motion.types import MotionOutcome
 from scone_bt.perception.types import Frame
 from scone_bt.relevance.tracker import StepView
-from scone_bt.robot.interface import Infeasible
+from scone_bt.robot.interface import Infeasible, MotionHandle, PlannedPick
 
 __all__ = ["BlackboardError", "Key", "Keys", "StageBehaviour"]
 
@@ -90,14 +91,14 @@ class Keys:
     # The target's ExecutionContext (stored with its outcome), or None.
     TARGET_CONTEXT: Key[ExecutionContext] = Key("/gate/target_context", ExecutionContext, optional=True)
     # A PlannedPick for the decided target (plan before commit): PickAndPlace executes it; None once taken.
-    PLANNED: Key[Any] = Key("/gate/planned", object, optional=True)
+    PLANNED: Key[PlannedPick] = Key("/gate/planned", PlannedPick, optional=True)
     # An Infeasible found by this decision's planning (a scene the robot had not planned in), else None.
     PLAN_VERDICT: Key[Infeasible] = Key("/gate/plan_verdict", Infeasible, optional=True)
     # The judge after a heft test (behaviours.probe_judge.ProbeJudge) when the decision probes, else None.
-    PROBE_JUDGE: Key[Any] = Key("/gate/probe_judge", object, optional=True)
+    PROBE_JUDGE: Key[ProbeJudge] = Key("/gate/probe_judge", ProbeJudge, optional=True)
     MOTION_OUTCOME: Key[MotionOutcome] = Key("/motion/outcome", MotionOutcome, optional=True)
     # The running pick-and-place (a MotionHandle).
-    MOTION_TASK: Key[Any] = Key("/motion/task", object, optional=True)
+    MOTION_TASK: Key[MotionHandle] = Key("/motion/task", MotionHandle, optional=True)
     MOTION_COMPUTING: Key[bool] = Key("/motion/computing", bool)
     OUTCOME: Key[Outcome] = Key("/experience/last_outcome", Outcome, optional=True)
 

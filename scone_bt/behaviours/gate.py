@@ -5,6 +5,7 @@ from __future__ import annotations
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from functools import partial
 from typing import TypeVar
 
 import numpy as np
@@ -38,6 +39,7 @@ from scone_bt.gate.rules import (
     say_infeasible,
 )
 from scone_bt.gate.types import Decision, DecisionKind
+from scone_bt.motion.probe import ProbeSettings
 from scone_bt.relevance.types import RankedAction
 from scone_bt.robot.interface import Infeasible, PlannedPick
 
@@ -240,10 +242,6 @@ class ConfidenceGate(StageBehaviour):
         probe = self.settings.probe
         if not decision.probe or probe is None or decision.action is None:
             return None
-        from functools import partial
-
-        from scone_bt.motion.probe import ProbeSettings
-
         vector = self.read(Keys.ACTION_EMBEDDINGS, {})[decision.action]
         return ProbeJudge(
             self.rules,
@@ -274,8 +272,6 @@ class ConfidenceGate(StageBehaviour):
             seeds.next_seed(),
         )
         if pending.decision.probe and probe is not None:
-            from scone_bt.motion.probe import ProbeSettings
-
             request = replace(request, probe=ProbeSettings.of(probe), judge=pending.judge)
         key = scene_key(request)
         known = self._infeasible.get(key)

@@ -8,7 +8,7 @@ import numpy as np
 
 from scone_bt.affordances.types import Affordance
 from scone_bt.behaviours.ports import AttemptHistory, ContextSource, SelfConfidence
-from scone_bt.confidence.grounded import grounded_features, is_grounded
+from scone_bt.confidence.grounded import kappa_rows
 from scone_bt.events import DecisionMade
 from scone_bt.experience.types import ExecutionContext
 from scone_bt.gate.budget import BudgetCounts
@@ -64,9 +64,9 @@ def confidences(
     """
     if not ranked:
         return [], []
-    X = np.stack([vectors[r.text] for r in ranked])
-    if is_grounded(estimator):
-        X = grounded_features(X, [contexts.get(r.text) for r in ranked])
+    X = kappa_rows(
+        estimator, np.stack([vectors[r.text] for r in ranked]), [contexts.get(r.text) for r in ranked]
+    )
     belief, explores = getattr(estimator, "belief", None), getattr(estimator, "explores", None)
     if belief is None or explores is None:
         return [float(c) for c in estimator.predict(X)], []

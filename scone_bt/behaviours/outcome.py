@@ -22,10 +22,11 @@ from scone_bt.affordances.types import Affordance
 from scone_bt.behaviours.base import Keys, StageBehaviour
 from scone_bt.behaviours.context import EpisodeContext, OutcomeLabels
 from scone_bt.behaviours.ports import Clock, OutcomeRecorder, Provider, SelfConfidence
-from scone_bt.confidence.grounded import grounded_features, is_grounded
+from scone_bt.confidence.grounded import kappa_rows
 from scone_bt.events import ActCancelled, ActOutcome, EventSink, PlanInfeasible, ProbeAborted
-from scone_bt.experience.felt import felt_context
+from scone_bt.experience.felt import FeltReading, felt_context
 from scone_bt.experience.types import Outcome
+from scone_bt.gate.after_probe import ProbeVerdict
 from scone_bt.motion.types import FailureStage, MotionOutcome
 from scone_bt.robot.interface import Robot
 
@@ -64,7 +65,7 @@ class _RecordsOutcomes(StageBehaviour):
         target: Affordance,
         success: bool,
         stage: str | None,
-        felt: object | None = None,
+        felt: FeltReading | None = None,
         **extra: object,
     ) -> Outcome:
         """The outcome of ``target`` with its labels and perceived context (with what a probe ``felt``, a
@@ -81,7 +82,7 @@ class _RecordsOutcomes(StageBehaviour):
             robot_id=labels.robot_id,
             arm=labels.arm,
             profile=labels.profile,
-            execution=felt_context(self.read(Keys.TARGET_CONTEXT), felt),  # type: ignore[arg-type]
+            execution=felt_context(self.read(Keys.TARGET_CONTEXT), felt),
         )
         if self.store is not None:
             self.store.append(outcome)  # committed before it is reported, and before κ̂ changes
@@ -117,7 +118,8 @@ class ObserveOutcome(_RecordsOutcomes):
             self.write(Keys.OUTCOME, None)
             return py_trees.common.Status.SUCCESS
         judge = self.read(Keys.PROBE_JUDGE, None)
-        verdict = getattr(judge, "verdict", None)
+        # None: no probe, or the arm never held the product up (no reading to judge)
+        verdict: ProbeVerdict | None = None if judge is None else judge.verdict
         if motion.aborted:  # the heft test set it back where it stood
             # the fingers' word is a label (κ̂ learns it could not carry it); κ̂'s own doubt is not
             felt_unsafe = verdict is None or verdict.felt_unsafe
@@ -152,7 +154,7 @@ class ObserveOutcome(_RecordsOutcomes):
                 outcome.failure_stage,
                 duration_s=float(motion.duration),
                 message=motion.message.split(";")[0],
-                explored=bool(getattr(verdict, "explored", False)),
+                explored=verdict is not None and verdict.explored,
             )
         )
         self.write(Keys.OUTCOME, outcome)
@@ -206,8 +208,8 @@ class UpdateSelfConfidence(StageBehaviour):
             self.feedback_message = "no label (the human took over, or the robot asked)"
             return py_trees.common.Status.SUCCESS
         vector = self.read(Keys.ACTION_EMBEDDINGS, {})[outcome.action]
-        if is_grounded(self.estimator):  # learns from the context the attempt ran in
-            vector = grounded_features(vector[None], [outcome.execution])[0]
+        # a grounded κ̂ learns from the context the attempt ran in (with what a probe felt)
+        vector = kappa_rows(self.estimator, vector[None], [outcome.execution])[0]
         self.estimator.update(vector, outcome.success)
         self.feedback_message = (
             f"κ̂ updated with {'success' if outcome.success else 'failure'} of {outcome.action}"

@@ -14,7 +14,7 @@ from scone_bt.behaviours.ports import HumanChannel, PlannerSeeds
 from scone_bt.events import ActStarted, ConfidenceStated, EventSink, TakeOver
 from scone_bt.motion.types import FailureStage, MotionOutcome, MotionPhase
 from scone_bt.perception.types import Detection
-from scone_bt.robot.interface import MotionHandle, PickRequest, Robot, obstacles_except
+from scone_bt.robot.interface import MotionHandle, PickRequest, PlannedPick, Robot, obstacles_except
 from scone_bt.trust.estimate import confidence_in_words
 
 __all__ = ["PickAndPlace", "pick_request", "scene_key"]
@@ -126,7 +126,8 @@ class PickAndPlace(StageBehaviour):
         target = self.read(Keys.TARGET)
         self.object_name = target.object_name
         self.action = target.text
-        planned = self.read(Keys.PLANNED)  # the gate planned before it committed (plan_pick_and_place)
+        # the gate planned before it committed (plan_pick_and_place)
+        planned: PlannedPick | None = self.read(Keys.PLANNED)
         self.write(Keys.PLANNED, None)
         if self.trust is not None and math.isfinite(decision.confidence):
             self._state_confidence(decision.confidence)

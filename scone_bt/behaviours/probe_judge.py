@@ -12,7 +12,8 @@ from collections.abc import Callable
 
 import numpy as np
 
-from scone_bt.confidence.grounded import grounded_features, is_grounded
+from scone_bt.behaviours.ports import SelfConfidence
+from scone_bt.confidence.grounded import kappa_rows
 from scone_bt.experience.felt import felt_context
 from scone_bt.experience.types import ExecutionContext
 from scone_bt.gate.after_probe import ProbeVerdict, after_probe
@@ -23,12 +24,11 @@ from scone_bt.motion.probe import ProbeReading, ProbeSettings, judge_probe
 __all__ = ["ProbeJudge", "belief_of"]
 
 
-def belief_of(estimator: object, vector: np.ndarray, context: ExecutionContext | None) -> float:
-    """κ̂'s belief for one action in one context (no exploration draw: that would move κ̂'s seeded stream)."""
-    X = np.asarray(vector, dtype=np.float64)[None]
-    if is_grounded(estimator):
-        X = grounded_features(X, [context])
-    belief = getattr(estimator, "belief", None) or estimator.predict  # type: ignore[attr-defined]
+def belief_of(estimator: SelfConfidence, vector: np.ndarray, context: ExecutionContext | None) -> float:
+    """κ̂'s belief in [0, 1] for one action in one context (no exploration draw: that would move κ̂'s seeded
+    stream)."""
+    X = kappa_rows(estimator, np.asarray(vector, dtype=np.float64)[None], [context])
+    belief = getattr(estimator, "belief", None) or estimator.predict
     return float(belief(X)[0])
 
 

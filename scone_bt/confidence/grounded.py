@@ -33,7 +33,14 @@ from scone_bt.errors import SconeError
 # ExecutionContext is defined beside Outcome (the store persists it); re-exported here, where κ̂ reads it.
 from scone_bt.experience.types import CONTEXT_FIELDS, FELT_FIELDS, ExecutionContext
 
-__all__ = ["CONTEXT_FIELDS", "ExecutionContext", "GroundedEstimator", "grounded_features", "is_grounded"]
+__all__ = [
+    "CONTEXT_FIELDS",
+    "ExecutionContext",
+    "GroundedEstimator",
+    "grounded_features",
+    "is_grounded",
+    "kappa_rows",
+]
 
 
 def is_grounded(estimator: object) -> bool:
@@ -42,7 +49,8 @@ def is_grounded(estimator: object) -> bool:
 
 
 def grounded_features(embeddings: np.ndarray, contexts: Sequence[ExecutionContext | None]) -> np.ndarray:
-    """(n, dim + 6) rows for a grounded estimator: each embedding followed by its context vector (None: all NaN)."""
+    """(n, dim + len(CONTEXT_FIELDS)) rows for a grounded estimator: each embedding followed by its context vector
+    (None: all NaN)."""
     E = np.atleast_2d(np.asarray(embeddings, dtype=np.float64))
     if len(contexts) != len(E):
         raise SconeError(f"{len(E)} embeddings but {len(contexts)} contexts")
@@ -53,6 +61,14 @@ def grounded_features(embeddings: np.ndarray, contexts: Sequence[ExecutionContex
         else np.zeros((0, len(CONTEXT_FIELDS)))
     )
     return np.hstack([E, C])
+
+
+def kappa_rows(
+    estimator: object, embeddings: np.ndarray, contexts: Sequence[ExecutionContext | None]
+) -> np.ndarray:
+    """The rows ``estimator`` reads: (n, dim) ``embeddings`` as given, each followed by its context when κ̂ is
+    grounded (`grounded_features`). The one place the gate, the judge after a probe and κ̂'s update build them."""
+    return grounded_features(embeddings, contexts) if is_grounded(estimator) else embeddings
 
 
 class GroundedEstimator(ConfidenceEstimator):

@@ -66,7 +66,9 @@ def felt_features(C: np.ndarray) -> np.ndarray:
     return np.column_stack(
         [
             (probed & (held < 0.5)).astype(float),
-            _TRACTION_WEIGHT * np.minimum(np.nan_to_num(col("felt_traction"), nan=0.0), 1.0),
+            np.where(
+                probed, _TRACTION_WEIGHT * np.minimum(np.nan_to_num(col("felt_traction"), nan=0.0), 1.0), 0.0
+            ),
             np.where(probed, steadiness, 0.0),
         ]
     )

@@ -8,14 +8,29 @@ import numpy as np
 import py_trees
 
 from scone_bt.behaviours import Keys
-from scone_bt.events import EventLog
+from scone_bt.events import EpisodeStats, EventLog
 from scone_bt.motion.types import TimedTrajectory
 from scone_bt.stocking import StockedRecipe
 
 if TYPE_CHECKING:
     from scone_bt.viz.scene import SceneView
 
-__all__ = ["SnapshotBuilder"]
+__all__ = ["SnapshotBuilder", "episode_counters"]
+
+
+def episode_counters(stats: EpisodeStats) -> dict[str, int]:
+    """The running totals the recording shows (rerun's counters): attempts, and how each ended (success, failure,
+    or set back by the heft test: ``aborted``), help requests, clarifications, interventions, steps done."""
+    return {
+        "attempted": stats.attempted,
+        "successes": stats.successes,
+        "failures": stats.failures,
+        "aborted": stats.aborted,
+        "help_requests": stats.help_requests,
+        "clarifications": stats.clarifications,
+        "interventions": stats.interventions,
+        "steps_done": stats.steps_done,
+    }
 
 
 def _concatenate(parts: list[TimedTrajectory]) -> TimedTrajectory | None:
@@ -141,16 +156,7 @@ class SnapshotBuilder:
             current=None if human.done else human.step_index,
             done=tuple(human.step_done),
         )
-        st = self.events.stats
-        counters = {
-            "attempted": st.attempted,
-            "successes": st.successes,
-            "failures": st.failures,
-            "help_requests": st.help_requests,
-            "clarifications": st.clarifications,
-            "interventions": st.interventions,
-            "steps_done": st.steps_done,
-        }
+        counters = episode_counters(self.events.stats)
         lines = list(self.lines)
         self.lines.clear()
         return TickSnapshot(

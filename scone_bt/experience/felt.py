@@ -14,14 +14,16 @@ from typing import Protocol
 
 import numpy as np
 
-from scone_bt.experience.types import CONTEXT_FIELDS, ExecutionContext
+from scone_bt.experience.types import CONTEXT_FIELDS, FELT_RANGES, ExecutionContext
 
 __all__ = ["FeltReading", "felt_values", "felt_context", "felt_row", "MAX_TRACTION", "MAX_MASS_KG"]
 
-MAX_TRACTION = 10.0
+MAX_TRACTION = FELT_RANGES["felt_traction"][1]
 """Load over grip is capped here (a grip of nothing reads infinite)."""
-MAX_MASS_KG = 10.0
-"""The felt mass is capped here: a product sliding out of the fingers can spike the load to tens of kilograms."""
+MAX_MASS_KG = FELT_RANGES["felt_mass_kg"][1]
+"""The felt mass is capped here, kilograms: a product sliding out of the fingers can spike the load to tens of
+kilograms."""
+_MAX_UNSTEADY = FELT_RANGES["felt_unsteady"][1]
 
 
 class FeltReading(Protocol):
@@ -41,6 +43,8 @@ class FeltReading(Protocol):
 
 
 def _finite(value: float, cap: float) -> float:
+    """``value`` clamped to [0, ``cap``]; not finite reads as the cap (a grip of nothing reads an infinite
+    traction, and an unreadable value counts as the worst)."""
     v = float(value)
     return cap if not math.isfinite(v) else round(min(max(v, 0.0), cap), 6)
 
@@ -50,7 +54,7 @@ def felt_values(reading: FeltReading) -> dict[str, bool | float]:
     return {
         "felt_held": bool(reading.held),
         "felt_traction": _finite(reading.traction, MAX_TRACTION),
-        "felt_unsteady": _finite(reading.unsteady, 1.0),
+        "felt_unsteady": _finite(reading.unsteady, _MAX_UNSTEADY),
         "felt_mass_kg": _finite(reading.mass_kg, MAX_MASS_KG),
     }
 

@@ -6,13 +6,14 @@ import math
 import uuid
 from collections.abc import Mapping
 from dataclasses import astuple, dataclass, field, fields
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
 
 from scone_bt.errors import SconeError
 
-__all__ = ["CONTEXT_FIELDS", "FELT_FIELDS", "ExecutionContext", "Outcome", "new_outcome_id"]
+__all__ = ["CONTEXT_FIELDS", "FELT_FIELDS", "FELT_RANGES", "ExecutionContext", "Outcome", "new_outcome_id"]
 
 
 @dataclass(frozen=True)
@@ -88,7 +89,16 @@ class ExecutionContext:
             )
             if not ok or (kind is int and float(v) != int(v)):
                 raise SconeError(f"{where}: {f.name} must be {kind.__name__}, got {v!r}")
+            low, high = FELT_RANGES.get(f.name, (-math.inf, math.inf))
+            if f.name in FELT_RANGES and not low <= v <= high:  # NaN fails too: to_json never writes it
+                raise SconeError(f"{where}: {f.name} must be in [{low:g}, {high:g}], got {v!r}")
             out[f.name] = kind(v)
+        felt = [name for name in FELT_FIELDS if name in out]
+        if felt and len(felt) < len(FELT_FIELDS):  # a heft test sets them all (experience.felt)
+            raise SconeError(
+                f"{where}: {', '.join(sorted(set(FELT_FIELDS) - set(felt)))} missing beside {', '.join(felt)} "
+                f"(a probed context has every one of {', '.join(FELT_FIELDS)}, or none)"
+            )
         return cls(**out)
 
 
@@ -98,6 +108,11 @@ CONTEXT_FIELDS: tuple[str, ...] = tuple(f.name for f in fields(ExecutionContext)
 probed)."""
 FELT_FIELDS: tuple[str, ...] = tuple(f for f in CONTEXT_FIELDS if f.startswith("felt_"))
 """The context the heft test adds (experience.felt); NaN in a row of an action that was not probed."""
+FELT_RANGES: Mapping[str, tuple[float, float]] = MappingProxyType(
+    {"felt_traction": (0.0, 10.0), "felt_unsteady": (0.0, 1.0), "felt_mass_kg": (0.0, 10.0)}
+)
+"""The numeric ``felt_`` fields' valid ranges (experience.felt caps a reading into them; a stored value outside
+is damage)."""
 
 
 def new_outcome_id() -> str:

@@ -1,7 +1,7 @@
 """The decision after the heft test: carry the product on, or set it back and ask (`after_probe`).
 
 One pure function for the robot and the benchmark: the tree passes it to the probe's controller as its judge
-(behaviours.gate_steps.probe_judge), the replay (``scone-bench gate --probe``) calls it on each recorded reading.
+(behaviours.probe_judge.ProbeJudge), the replay (``scone-bench gate --probe``) calls it on each recorded reading.
 In order:
 
 1. The hard safety judge (motion.probe.judge_probe: the fingers lost it, the load slid, the grip is near its
@@ -38,7 +38,7 @@ class ProbeVerdict:
         carry: Carry it on (else it is set back where it stood: an aborted attempt).
         reason: The robot's words for setting it back ("the jar slips in my fingers"); "" when it carries on.
         explored: It carries on although κ̂ after the probe is below τ, on the strict rule's credit.
-        confidence: κ̂ on the context after the probe, in [0, 1] (NaN: not asked, the hard judge decided).
+        confidence: κ̂ on the context after the probe, in [0, 1] (asked even when the hard judge sets back).
         threshold: τ it was compared with (probability).
         felt_unsafe: Set back on the hard judge's word (the fingers felt it slip or strain): a label κ̂ learns
             (it could not carry it). A set-back on κ̂'s own doubt teaches nothing, like an ask: learning it as a

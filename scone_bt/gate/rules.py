@@ -232,7 +232,8 @@ def probe_first(decision: Decision, seen: GateInput, rules: GateRules) -> Decisi
         f"unsure (confidence {decision.confidence:.2f}, threshold {tau:.2f}): "
         f"hefting the {decision.object_name} first"
     )
-    # a probe spends no exploration credit: a product that slips is set back, not dropped (gate.probe)
+    # not an explored decision: below τ the band already needed the strict rule's credit (probe_credit), and
+    # whether the attempt that carries on is explored is decided after the probe (gate.after_probe)
     return replace(decision, kind=DecisionKind.ACT, reason=why, explored=False, probe=True)
 
 

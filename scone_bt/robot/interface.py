@@ -9,9 +9,10 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
+from typing import TYPE_CHECKING, Protocol, runtime_checkable
 
 if TYPE_CHECKING:  # the interface itself imports nothing heavy (scone-run --help imports it)
+    from scone_bt.motion.probe import ProbeReading, ProbeSettings
     from scone_bt.motion.types import MotionOutcome, MotionProgress
     from scone_bt.perception.observe import Observation
     from scone_bt.perception.types import Detection
@@ -45,8 +46,8 @@ class PickRequest:
     obstacles: tuple[Detection, ...]
     table: tuple[Detection, ...] | None
     rng_seed: int
-    probe: object | None = None
-    judge: Callable[[Any], tuple[bool, str]] | None = None
+    probe: ProbeSettings | None = None
+    judge: Callable[[ProbeReading], tuple[bool, str]] | None = None
 
 
 @runtime_checkable

@@ -117,7 +117,7 @@ class SimRobot:
             rng_seed=request.rng_seed,
             table_obstacles=None if request.table is None else self._with_specs(request.table),
         )
-        task.probe = request.probe  # type: ignore[assignment]
+        task.probe = request.probe
         task.judge = request.judge
         return task
 

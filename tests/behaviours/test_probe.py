@@ -269,3 +269,72 @@ def test_unsure_after_the_probe_with_credit_it_carries_on_as_an_explored_attempt
     # stored with the context it committed in: what the fingers felt included
     assert stored.execution.felt_held is True and stored.execution.felt_traction == pytest.approx(0.1)
     assert events.budget_counts() == (1, 1, 1)  # an explored failure
+
+
+class _LearningFeel(_FeelingKappa):
+    """_FeelingKappa that remembers what it learnt: (the context's felt traction, success)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.learnt: list[tuple[float, bool]] = []
+
+    def update(self, x, success) -> None:
+        from scone_bt.experience.types import CONTEXT_FIELDS
+
+        traction = np.asarray(x)[-len(CONTEXT_FIELDS) + CONTEXT_FIELDS.index("felt_traction")]
+        self.learnt.append((float(traction), bool(success)))
+
+
+SLIPS = ProbeReading(held=True, load_n=2.1, load_first_n=2.9, grip_n=16.0, seconds=2.4)
+
+
+@pytest.mark.parametrize(
+    ("spent", "reading", "on_table", "learnt", "counts", "explored"),
+    [
+        # sure of it before the probe (0.6 ≥ τ₀) and unsure after (0.3): with credit, an explored carry-on
+        (False, HELD_FAST, True, [(0.1, True)], (1, 0, 0), True),
+        (False, HELD_FAST, False, [(0.1, False)], (1, 1, 1), True),
+        # the fingers felt it slip: set back, and κ̂ learns it could not carry it, from what it felt
+        (False, SLIPS, False, [(0.13125, False)], (0, 0, 0), None),
+        (True, SLIPS, False, [(0.13125, False)], (1, 1, 0), None),
+        # no credit left and unsure after feeling it: set back on κ̂'s doubt, which teaches κ̂ nothing
+        (True, HELD_FAST, False, [], (1, 1, 0), None),
+    ],
+)
+def test_what_kappa_learns_after_each_ending_of_a_probe(
+    spent: bool, reading: ProbeReading, on_table: bool, learnt: list, counts: tuple, explored: bool | None
+) -> None:
+    """The judge after the probe, then ObserveOutcome and UpdateSelfConfidence as the tree runs them: κ̂ learns from
+    the context after the probe (what the fingers felt), except where its own doubt set the product back."""
+    from scone_bt.behaviours import UpdateSelfConfidence
+    from scone_bt.events import ActOutcome
+
+    robot, events, kappa = FakeRobot(time=3.0), EventLog(), _LearningFeel()
+    if spent:  # 1 failure in 1: no credit left
+        events(ActOutcome(1.0, "Put honey on table", "honey", False, "grasp"))
+    bb = _scene()
+    gate = _strict_gate(robot, events, kappa)
+    gate.tick_once()
+    (request,) = robot.plans
+    carry, reason = request.judge(reading)
+    robot.on_table = {"strawberry jam"} if on_table else set()
+    motion = (
+        MotionOutcome(True, None, "placed", 9.0, probe=reading)
+        if carry and on_table
+        else MotionOutcome(False, None, "dropped", 9.0, probe=reading)
+        if carry
+        else MotionOutcome(False, None, reason, 6.0, aborted=True, probe=reading, probe_reason=reason)
+    )
+    bb.set(Keys.MOTION_OUTCOME, motion)
+    observe = ObserveOutcome("observe", robot, lambda: None, events, LABELS)
+    update = UpdateSelfConfidence("update", lambda: kappa)
+    for behaviour in (observe, update):
+        behaviour.setup()
+        behaviour.tick_once()
+    assert kappa.learnt == [(pytest.approx(t), ok) for t, ok in learnt]
+    assert events.budget_counts() == counts
+    last = events.events[-1]
+    if explored is None:
+        assert isinstance(last, ProbeAborted) and last.reason == reason
+    else:
+        assert isinstance(last, ActOutcome) and last.explored is explored

@@ -46,6 +46,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import math
 import os
 import tempfile
 from collections.abc import Iterable, Sequence
@@ -285,6 +286,31 @@ def _float(text: str, path: Path, row: int, column: str) -> float:
         raise ConfigError(f"{path} row {row + 2}: {column} {text!r} is not a number") from None
 
 
+_PROBE_COLUMNS = ("probe_held", "probe_load_n", "probe_load_first_n", "probe_grip_n", "probe_s")
+
+
+def _check_probe(context: dict[str, np.ndarray], rows: Sequence[int], path: Path) -> None:
+    """ConfigError (one line: file, row, column, valid values) for a malformed probe reading: ``probe_held`` 0 or
+    1, the others finite and ≥ 0 (newtons, seconds), and every probe column given or none (the arm never held it
+    up). What the replay makes the felt context of (experience.felt) is checked here, where the file is known."""
+    if not any(c in context for c in _PROBE_COLUMNS):
+        return
+    nan = np.full(len(rows), np.nan)
+    held, *rest = (context.get(c, nan) for c in _PROBE_COLUMNS)
+    for j, row in enumerate(rows):
+        where = f"{path} row {row + 2}"
+        if not (np.isnan(held[j]) or held[j] in (0.0, 1.0)):
+            raise ConfigError(f"{where}: probe_held {held[j]:g} must be 0 or 1 (empty: never held up)")
+        for column, values in zip(_PROBE_COLUMNS[1:], rest, strict=True):
+            v = values[j]
+            if np.isnan(v) != np.isnan(held[j]):
+                raise ConfigError(
+                    f"{where}: {column} must be given exactly where probe_held is (every probe column, or none)"
+                )
+            if not np.isnan(v) and not (math.isfinite(v) and v >= 0.0):
+                raise ConfigError(f"{where}: {column} {v:g} must be a finite number ≥ 0 (or empty)")
+
+
 def _int(text: str, path: Path, row: int, column: str) -> int:
     try:
         return int(text)
@@ -415,6 +441,12 @@ def read_dataset(path: Path | str) -> list[Dataset]:
     datasets = []
     for key, idx in groups.items():
         name = path.stem if len(groups) == 1 else f"{path.stem}:{key}"
+        context = {
+            c: np.array([_float(str(rows[i].get(c) or ""), path, i, c) for i in idx], dtype=float)
+            for c in CONTEXT_COLUMNS
+            if c in cols
+        }
+        _check_probe(context, idx, path)
         datasets.append(
             Dataset(
                 name=name,
@@ -423,11 +455,7 @@ def read_dataset(path: Path | str) -> list[Dataset]:
                 success=np.array([_outcome(rows[i][out_col], path, i) for i in idx], dtype=bool),
                 failure_stages=tuple(str(rows[i].get("failure_stage") or "") for i in idx),
                 families=tuple(str(rows[i].get("family") or "") for i in idx),
-                context={
-                    c: np.array([_float(str(rows[i].get(c) or ""), path, i, c) for i in idx], dtype=float)
-                    for c in CONTEXT_COLUMNS
-                    if c in cols
-                },
+                context=context,
                 materials=tuple(str(rows[i].get("material") or "") for i in idx),
                 shelf_units=tuple(str(rows[i].get("shelf_unit") or "") for i in idx),
             )

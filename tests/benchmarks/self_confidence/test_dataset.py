@@ -149,3 +149,34 @@ def test_a_file_without_the_later_shape_columns_is_still_read(tmp_path):
         csv.writer(f).writerows(r[:20] for r in rows)  # the previous schema: up to material
     back = read_records(path)
     assert back[1].detected_depth_m is None and back[1].shape == "" and back[1].material == "glass"
+
+
+_PROBE = "probe_held,probe_load_n,probe_load_first_n,probe_grip_n,probe_s"
+
+
+@pytest.mark.parametrize(
+    ("reading", "message"),
+    [
+        ("2,1.2,1.2,20,0.9", "row 3: probe_held 2 must be 0 or 1 (empty: never held up)"),
+        ("1,-1.2,1.2,20,0.9", "row 3: probe_load_n -1.2 must be a finite number ≥ 0 (or empty)"),
+        ("1,1.2,1.2,inf,0.9", "row 3: probe_grip_n inf must be a finite number ≥ 0 (or empty)"),
+        ("1,,1.2,20,0.9", "row 3: probe_load_n must be given exactly where probe_held is"),
+        (",1.2,,,", "row 3: probe_load_n must be given exactly where probe_held is"),
+    ],
+)
+def test_a_malformed_probe_reading_is_one_line_naming_file_row_column_and_range(tmp_path, reading, message):
+    """What the replay turns into felt context (experience.felt) is checked where the file is known."""
+    path = tmp_path / "p.csv"
+    path.write_text(
+        f"action,object,outcome,{_PROBE}\n"
+        "Put salt on table,salt,1,1,1.2,1.2,20,0.9\n"
+        f"Put salt on table,salt,0,{reading}\n"
+        "Put salt on table,salt,0,,,,,\n"
+    )
+    with pytest.raises(ConfigError) as err:
+        read_dataset(path)
+    assert str(err.value).startswith(f"{path} {message}") and "\n" not in str(err.value)
+    path.write_text(
+        f"action,object,outcome,{_PROBE}\nPut salt on table,salt,1,1,1.2,1.2,20,0.9\nPut salt,salt,0,,,,,\n"
+    )
+    assert np.isnan(read_dataset(path)[0].context["probe_held"][1])  # never held up: every column empty
