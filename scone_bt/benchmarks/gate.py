@@ -60,6 +60,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from scone_bt.benchmarks.self_confidence.dataset import PROBE_COLUMNS
 from scone_bt.experience.types import CONTEXT_FIELDS
 from scone_bt.files import write_via
 from scone_bt.reporting import emit_report
@@ -80,8 +81,6 @@ _CONTEXT = CONTEXT_FIELDS
 """The context columns in replay order (decision_time_context's)."""
 _WIDTH = _CONTEXT.index("detected_width_m")
 """The column of the perceived width (what the too-wide rule reads)."""
-PROBE_COLUMNS = ("probe_held", "probe_load_n", "probe_load_first_n", "probe_grip_n", "probe_s")
-"""What the generator's probe felt (dataset columns), in the order replay_stream reads them."""
 
 
 @dataclass
@@ -451,7 +450,7 @@ def replay_stream(
 
     Args:
         vectors: (n, d) the actions' embeddings, in stream order.
-        context: (n, 6) the perceived context (CONTEXT_FIELDS order, NaN unknown).
+        context: (n, len(CONTEXT_FIELDS)) the perceived context (CONTEXT_FIELDS order, NaN unknown).
         success: (n,) whether each execution succeeded (revealed only if attempted).
         products: (n,) product names (novel = κ̂ has no outcome of it yet in this stream).
         estimator: κ̂ registry name.

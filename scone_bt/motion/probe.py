@@ -139,7 +139,8 @@ def judge_probe(reading: ProbeReading, settings: ProbeSettings) -> tuple[bool, s
     """(carry on, why) from a probe's reading: why is the robot's words for setting it back, or ""."""
     if not reading.held:
         return False, "slips out of my fingers"
-    if reading.unsteady > settings.max_unsteady or reading.traction > settings.max_traction:
+    # written as "not ≤" so that a NaN reading (a sensor fault) sets back rather than carries on
+    if not (reading.unsteady <= settings.max_unsteady and reading.traction <= settings.max_traction):
         return False, _why(reading, settings)
     return True, ""
 
@@ -147,6 +148,8 @@ def judge_probe(reading: ProbeReading, settings: ProbeSettings) -> tuple[bool, s
 def _why(reading: ProbeReading, settings: ProbeSettings) -> str:
     """What the fingers sensed, in words; a mass is quoted only when the load can be a weight: steady, carried up
     by the fingers, no more than a friction grip could hold (load ≤ grip), and within the arm's payload."""
+    if not (math.isfinite(reading.unsteady) and math.isfinite(reading.traction)):
+        return "cannot be felt: my finger sensors give no reading"
     if reading.pressed and reading.traction > settings.max_traction:
         # pushing down about as hard as they squeeze: the contacts' normals are vertical, a fingertip on its top
         return "does not come up: my fingers press on it"

@@ -15,7 +15,8 @@ from scone_bt.behaviours import (
     UpdateSelfConfidence,
 )
 from scone_bt.behaviours.context import OutcomeLabels
-from scone_bt.benchmarks.gate import PROBE_COLUMNS, replay_stream
+from scone_bt.benchmarks.gate import replay_stream
+from scone_bt.benchmarks.self_confidence.dataset import PROBE_COLUMNS
 from scone_bt.confidence import make_estimator
 from scone_bt.events import EventLog, ProbeAborted
 from scone_bt.experience.types import CONTEXT_FIELDS, FELT_FIELDS, ExecutionContext

@@ -77,3 +77,12 @@ def test_a_payload_out_of_range_is_one_line() -> None:
 
     with pytest.raises(SconeError, match=r"^probe payload_kg must be in \(0, 50\] kg, got 0.0$"):
         ProbeSettings(payload_kg=0.0)
+
+
+@pytest.mark.parametrize(
+    ("load", "first", "grip"), [(float("nan"), 5.0, 40.0), (5.0, float("nan"), 40.0), (5.0, 5.0, float("nan"))]
+)
+def test_a_reading_the_sensors_could_not_give_sets_back(load: float, first: float, grip: float) -> None:
+    """A NaN from a faulty sensor is not a steady load: it must never let the product be carried on."""
+    carry, why = judge_probe(ProbeReading(True, load, first, grip), ProbeSettings())
+    assert not carry and why == "cannot be felt: my finger sensors give no reading"

@@ -60,6 +60,7 @@ from scone_bt.errors import ConfigError
 __all__ = [
     "COLUMNS",
     "CONTEXT_COLUMNS",
+    "PROBE_COLUMNS",
     "Dataset",
     "ExecutionRecord",
     "load_datasets",
@@ -286,22 +287,23 @@ def _float(text: str, path: Path, row: int, column: str) -> float:
         raise ConfigError(f"{path} row {row + 2}: {column} {text!r} is not a number") from None
 
 
-_PROBE_COLUMNS = ("probe_held", "probe_load_n", "probe_load_first_n", "probe_grip_n", "probe_s")
+PROBE_COLUMNS = ("probe_held", "probe_load_n", "probe_load_first_n", "probe_grip_n", "probe_s")
+"""What the generator's probe felt, in the order the replay reads them (scone_bt.benchmarks.gate)."""
 
 
 def _check_probe(context: dict[str, np.ndarray], rows: Sequence[int], path: Path) -> None:
     """ConfigError (one line: file, row, column, valid values) for a malformed probe reading: ``probe_held`` 0 or
     1, the others finite and ≥ 0 (newtons, seconds), and every probe column given or none (the arm never held it
     up). What the replay makes the felt context of (experience.felt) is checked here, where the file is known."""
-    if not any(c in context for c in _PROBE_COLUMNS):
+    if not any(c in context for c in PROBE_COLUMNS):
         return
     nan = np.full(len(rows), np.nan)
-    held, *rest = (context.get(c, nan) for c in _PROBE_COLUMNS)
+    held, *rest = (context.get(c, nan) for c in PROBE_COLUMNS)
     for j, row in enumerate(rows):
         where = f"{path} row {row + 2}"
         if not (np.isnan(held[j]) or held[j] in (0.0, 1.0)):
             raise ConfigError(f"{where}: probe_held {held[j]:g} must be 0 or 1 (empty: never held up)")
-        for column, values in zip(_PROBE_COLUMNS[1:], rest, strict=True):
+        for column, values in zip(PROBE_COLUMNS[1:], rest, strict=True):
             v = values[j]
             if np.isnan(v) != np.isnan(held[j]):
                 raise ConfigError(
