@@ -80,7 +80,8 @@ def test_a_payload_out_of_range_is_one_line() -> None:
 
 
 @pytest.mark.parametrize(
-    ("load", "first", "grip"), [(float("nan"), 5.0, 40.0), (5.0, float("nan"), 40.0), (5.0, 5.0, float("nan"))]
+    ("load", "first", "grip"),
+    [(float("nan"), 5.0, 40.0), (5.0, float("nan"), 40.0), (5.0, 5.0, float("nan"))],
 )
 def test_a_reading_the_sensors_could_not_give_sets_back(load: float, first: float, grip: float) -> None:
     """A NaN from a faulty sensor is not a steady load: it must never let the product be carried on."""
