@@ -47,7 +47,7 @@ class ProbeParameters(StrictModel):
             allow_inf_nan=False,
             description="probe actions whose κ̂ is up to this far above τ (0: only what would be asked)",
         ),
-    ] = 0.45
+    ] = 0.3
     full_band_at: Annotated[
         float,
         Field(

@@ -58,7 +58,7 @@ class ProbeOptions:
     """
 
     below: float = 1.0
-    above: float = 0.45
+    above: float = 0.3
     lift_m: float = 0.015
     hold_s: float = 0.5
     max_unsteady: float = 0.01
