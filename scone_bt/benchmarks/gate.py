@@ -271,13 +271,13 @@ def _gate_input(
 
 @dataclass(frozen=True)
 class _Probed:
-    """How decision ``t``'s heft test ended: set back, carried on as an explored attempt, κ̂ at the final
-    decision, and the row κ̂ learns from (the context after the probe; the decision's row if the arm never held
-    the product up)."""
+    """How decision ``t``'s heft test ended: set back, carried on as an explored attempt, carried on confident
+    (gate.after_probe.ProbeVerdict.confident: κ̂ at the final decision ≥ τ), and the row κ̂ learns from (the
+    context after the probe; the decision's row if the arm never held the product up)."""
 
     aborted: bool
     explored: bool
-    confidence: float
+    confident: bool
     row: np.ndarray
     label: bool = True
 
@@ -289,7 +289,7 @@ def _after_probe(
     product: str,
     counts: BudgetCounts,
     scored: bool,
-    before: float,
+    confident_before: bool,
 ) -> _Probed:
     """What the recorded probe of decision ``t`` felt, judged by the gate's one post-probe decision
     (gate.after_probe: the hard judge, then κ̂ on the context after the probe, then the strict rule's credit)."""
@@ -301,7 +301,7 @@ def _after_probe(
     out.probes += scored
     held, load, first, grip, seconds = replay.readings[t]
     if np.isnan(held):  # the arm never held it up: it failed before the probe, as recorded
-        return _Probed(False, False, before, replay.rows[t])
+        return _Probed(False, False, confident_before, replay.rows[t])
     if scored:
         out.probe_s += seconds
         out.probes_felt += 1
@@ -312,7 +312,9 @@ def _after_probe(
         row = np.concatenate([row[: len(row) - len(context)], context]).astype(row.dtype)
     confidence = float(replay.belief(row[None])[0])
     verdict = after_probe(replay.rules, counts, product, judge_probe(reading, replay.probe), confidence)
-    return _Probed(not verdict.carry, verdict.explored, confidence, row, verdict.carry or verdict.felt_unsafe)
+    return _Probed(
+        not verdict.carry, verdict.explored, verdict.confident, row, verdict.carry or verdict.felt_unsafe
+    )
 
 
 def _committed(
@@ -331,8 +333,8 @@ def _committed(
     attempt = _Act(ok, decision.explored, decision.confidence >= result.threshold, replay.rows[t])
     if not decision.probe:
         return False, attempt
-    probed = _after_probe(replay, out, t, product, walk.counts, scored, decision.confidence)
-    attempt = _Act(ok, probed.explored, probed.confidence >= result.threshold, probed.row)
+    probed = _after_probe(replay, out, t, product, walk.counts, scored, attempt.confident)
+    attempt = _Act(ok, probed.explored, probed.confident, probed.row)
     if probed.aborted:
         walk.counts = _set_back(replay, probed.row, product, walk.counts, walk.learnt, probed.label)
     return probed.aborted, attempt

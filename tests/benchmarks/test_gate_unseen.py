@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pytest
 
-from scone_bt.benchmarks.gate import replay_stream
+from scone_bt.benchmarks.gate import _Streams, replay_stream
 from scone_bt.benchmarks.gate_unseen import (
     Prior,
     first_occurrences,
@@ -24,16 +23,6 @@ from scone_bt.experience.types import CONTEXT_FIELDS
 
 OPENING_M = 0.08
 DIM = 8
-
-
-@dataclass(frozen=True)
-class _Streams:
-    names: list[str]
-    vectors: list[np.ndarray]
-    context: list[np.ndarray]
-    success: list[np.ndarray]
-    products: list[tuple[str, ...]]
-    readings: list[np.ndarray | None] = field(default_factory=list)
 
 
 def _context(n: int) -> np.ndarray:
