@@ -129,7 +129,7 @@ class ProbeReading:
     Attributes:
         held: Both fingers still held it at the end of the hold.
         load_n: Vertical load the hand carried over the hold's second half (the wrist's reading: the fingers'
-            and the palm's contacts together; the datasets recorded before 2026-12 hold the fingers' alone).
+            and the palm's contacts together; the committed datasets hold the fingers' alone).
         load_first_n: The same over its first half.
         grip_n: Summed grip (normal) force over the second half.
         seconds: Simulated seconds the probe took (lift, hold and, if it set back, the set-down).
