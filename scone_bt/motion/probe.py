@@ -9,10 +9,11 @@ samples:
 
 - it holds: the rest of the lift, and the plan goes on;
 - it slips (the fingers no longer hold it, or the load the hand carries changes during the hold while the product
-  moves on the pads: it slides) or the grip is near its friction limit (load over grip above ``max_traction``: the carry's accelerations would
-  make it slip): the product is set down where it stood (`MotionPhase.SET_DOWN`, the probe's lift reversed), the
-  fingers open, the hand leaves as it came (the descent reversed) and heads home. The outcome is *aborted*: no
-  failure, since the product is where it was, but the person has to fetch it.
+  moves on the pads: it slides) or the grip is near its friction limit (load over grip above ``max_traction``:
+  the carry's accelerations would make it slip): the product is set down where it stood
+  (`MotionPhase.SET_DOWN`, the probe's lift reversed), the fingers open, the hand leaves as it came (the descent
+  reversed) and heads home. The outcome is *aborted*: no failure, since the product is where it was, but the
+  person has to fetch it.
 
 Everything is sensed by the arm (joints, a wrist force sensor, the fingers' tactile pads), never read from the
 simulator's state.
@@ -82,10 +83,12 @@ class ProbeSettings:
             does not) and the contacts moved on the pads (``max_drift_mm``).
         max_drift_mm: The contacts moved on the pads when their centre on some finger lies farther than this
             (millimetres) from where it was as the probe began. A product held fast moves with the fingers and
-            its contacts stay put (0.0-0.2 mm in the motion benchmark's 40 queries); one sliding along the
-            pads, or left behind as they rise, carries its contacts with it (the olive oil in an 8 N grip: 1.3
-            mm). A load that changes while the contacts stay put is something else pushing on the product (a
-            leaning neighbour), not a slip; the traction test still judges how close the grip is to sliding.
+            its contacts stay put (0.0-0.2 mm on 31 of the 33 products the motion benchmark carries on; a
+            contact patch that changes shape on one pad reads more, which only falls back to the load's
+            verdict); one sliding along the pads, or left behind as they rise, carries its contacts with it on
+            both fingers (the olive oil in an 8 N grip: 1.3 and 1.4 mm). A load that changes while the contacts
+            stay put is something else pushing on the product (a leaning neighbour), not a slip; the traction
+            test still judges how close the grip is to sliding.
         set_back: False: only sense, always carry on (the generator's recording mode).
         payload_kg: The heaviest load the reason quotes as a mass, kilograms (the arm's payload: 3 kg for a
             Panda); a heavier reading is something else pulling on the product, not its weight.
@@ -133,7 +136,7 @@ class ProbeReading:
         load_first_n: The same over its first half.
         grip_n: Summed grip (normal) force over the second half.
         seconds: Simulated seconds the probe took (lift, hold and, if it set back, the set-down).
-        pressed: The fingers' vertical force pointed down over the second half: they pressed on the product
+        pressed: The hand's vertical force pointed down over the second half: they pressed on the product
             (a fingertip on its top) instead of carrying it; ``load_n`` is then the size of that push, not a
             weight. Not recorded in the datasets (False there).
         drift_mm: How far the contacts moved on the pads (millimetres, the farther finger): their centre over the
