@@ -87,8 +87,14 @@ class ProbeSettings:
             contact patch that changes shape on one pad reads more, which only falls back to the load's
             verdict); one sliding along the pads, or left behind as they rise, carries its contacts with it on
             both fingers (the olive oil in an 8 N grip: 1.3 and 1.4 mm). A load that changes while the contacts
-            stay put is something else pushing on the product (a leaning neighbour), not a slip; the traction
-            test still judges how close the grip is to sliding.
+            stay put is something else pushing on the product (a leaning neighbour), not a slip, as long as it
+            changes by no more than ``max_pushed``; the traction test still judges how close the grip is to
+            sliding.
+        max_pushed: The largest change of the load (share, as ``max_unsteady``) that still counts as a push when
+            the contacts stay put. A neighbour leaning on a product shifts its load by a few percent (the grits:
+            1.6 %); a product pivoting out of the grip changes it by a tenth or more with the contacts' centre
+            still (on the development streams regenerated with the pads read, tools/data/sc_probe's profiles:
+            the 6 failures whose contacts stayed put changed by 8.7 % to 52 %, the one success by 5.7 %).
         set_back: False: only sense, always carry on (the generator's recording mode).
         payload_kg: The heaviest load the reason quotes as a mass, kilograms (the arm's payload: 3 kg for a
             Panda); a heavier reading is something else pulling on the product, not its weight.
@@ -100,6 +106,7 @@ class ProbeSettings:
     max_traction: float = 0.3
     max_unsteady: float = 0.01
     max_drift_mm: float = 0.5
+    max_pushed: float = 0.05
     set_back: bool = True
     payload_kg: float = 3.0
 
@@ -117,6 +124,7 @@ class ProbeSettings:
             ("max_traction", 0.0 < self.max_traction <= 10.0, "in (0, 10]"),
             ("max_unsteady", 0.0 < self.max_unsteady <= 1.0, "in (0, 1]"),
             ("max_drift_mm", 0.0 < self.max_drift_mm <= 20.0, "in (0, 20] mm"),
+            ("max_pushed", 0.0 < self.max_pushed <= 1.0, "in (0, 1]"),
             ("payload_kg", 0.0 < self.payload_kg <= 50.0, "in (0, 50] kg"),
         )
         for name, ok, allowed in checks:
@@ -181,14 +189,14 @@ def judge_probe(reading: ProbeReading, settings: ProbeSettings) -> tuple[bool, s
 
 
 def _slides(reading: ProbeReading, settings: ProbeSettings) -> bool:
-    """The load changed during the hold (or cannot be read) and the contacts did not stay put on the pads (or
-    were not measured)."""
+    """The load changed during the hold (or cannot be read), and not as a push: the contacts did not stay put on
+    the pads (or were not measured), or it changed by more than a push does (``max_pushed``)."""
     if reading.unsteady <= settings.max_unsteady:
         return False
-    # Held fast, the product moves with the pads; a load that changes then comes from something else pushing on
-    # it (a neighbour leaning on it), not from a slip. A NaN drift is not "stayed put".
+    # Held fast, the product moves with the pads; a small change of the load then comes from something else
+    # pushing on it (a neighbour leaning on it), not from a slip. A NaN drift is not "stayed put".
     stayed = reading.drift_mm is not None and reading.drift_mm <= settings.max_drift_mm
-    return not (stayed and math.isfinite(reading.unsteady))
+    return not (stayed and reading.unsteady <= settings.max_pushed)
 
 
 def _why(reading: ProbeReading, settings: ProbeSettings) -> str:

@@ -117,6 +117,15 @@ def test_a_load_that_changes_while_the_contacts_move_on_the_pads_is_a_slip() -> 
     assert judge_probe(reading, SETTINGS) == (False, "slips in my fingers")
 
 
+def test_a_load_that_changes_by_more_than_a_push_is_a_slip_though_the_pads_hold_still() -> None:
+    # The ghee with a weak gripper (the development streams regenerated with the pads read): its load fell 20 %
+    # while the contacts' centre moved 0.2 mm, and it slipped out while lifting. A product pivoting in the grip
+    # keeps its contacts where they were.
+    reading = ProbeReading(held=True, load_n=2.454, load_first_n=3.073, grip_n=16.0, drift_mm=0.225)
+    assert SETTINGS.max_pushed < reading.unsteady
+    assert judge_probe(reading, SETTINGS) == (False, "slips in my fingers")
+
+
 def test_without_the_pads_reading_an_unsteady_load_is_judged_as_before() -> None:
     """The recorded datasets have no drift (None): their replay must judge exactly as before the pads were read."""
     assert ProbeReading(**GRITS).drift_mm is None
@@ -124,7 +133,7 @@ def test_without_the_pads_reading_an_unsteady_load_is_judged_as_before() -> None
 
 
 def test_a_changing_load_held_fast_but_past_the_friction_limit_is_not_quoted_as_a_mass() -> None:
-    reading = ProbeReading(held=True, load_n=8.0, load_first_n=7.0, grip_n=16.0, drift_mm=0.0)  # traction 0.5
+    reading = ProbeReading(held=True, load_n=8.0, load_first_n=7.8, grip_n=16.0, drift_mm=0.0)  # traction 0.5
     assert judge_probe(reading, SETTINGS) == (False, "is caught on something")
 
 
@@ -133,3 +142,5 @@ def test_a_drift_threshold_out_of_range_is_one_line() -> None:
 
     with pytest.raises(SconeError, match=r"^probe max_drift_mm must be in \(0, 20\] mm, got 0.0$"):
         ProbeSettings(max_drift_mm=0.0)
+    with pytest.raises(SconeError, match=r"^probe max_pushed must be in \(0, 1\], got 1.5$"):
+        ProbeSettings(max_pushed=1.5)
