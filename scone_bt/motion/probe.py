@@ -401,8 +401,8 @@ def _drift_mm(start: PadContacts, late: list[PadContacts]) -> float | None:
         return None
     far = 0.0
     for k, p0 in enumerate(start):
-        now = [pads[k] for pads in late if k < len(pads) and pads[k] is not None]
-        if not now:
+        now = [c for pads in late if k < len(pads) and (c := pads[k]) is not None]
+        if not now or p0 is None:
             return None
         far = max(far, float(np.linalg.norm(np.mean(now, axis=0) - np.asarray(p0))))
     return round(far * 1000.0, 3)
