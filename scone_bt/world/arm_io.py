@@ -144,22 +144,47 @@ class ArmIO:
         return min(common) if common else None
 
     def finger_forces(self, held: str) -> tuple[float, float]:
-        """(vertical load, grip) in newtons the fingers feel from ``held``: the upward force their contacts
-        exert on it (what they carry of its weight) and the sum of their normal forces (how hard they squeeze).
-        What a fingertip force sensor measures; (0, 0) when the fingers do not touch it."""
+        """(vertical load, grip) in newtons the hand feels holding ``held``: the upward force all the hand's
+        contacts exert on what they touch (fingers, palm and hand links: what a wrist force/torque sensor reads,
+        tared for the hand's own weight) and the sum of the fingers' normal forces on ``held`` (how hard they
+        squeeze: fingertip force sensors). (0, 0) for a product the kitchen does not hold."""
         k = self.kitchen
         body = k.objects.get(held)
         if body is None:
             return 0.0, 0.0
         load = grip = 0.0
-        for f in self.finger_ids:
-            for c in k.bc.getContactPoints(bodyA=k.robot_id, bodyB=body, linkIndexA=f):
-                # the contact normal points from B to A: the force on B along it is −normal·n; friction acts on
-                # B along its directions with the reported signs reversed (PyBullet reports them on A)
-                normal, f1, d1, f2, d2 = c[9], c[10], c[11], c[12], c[13]
-                load += -(normal * c[7][2]) - (f1 * d1[2] + f2 * d2[2])
+        for c in k.bc.getContactPoints(bodyA=k.robot_id):
+            if c[2] == k.robot_id or c[3] not in self.gripper_links:
+                continue
+            # the contact normal points from B to A: the force on B along it is −normal·n; friction acts on
+            # B along its directions with the reported signs reversed (PyBullet reports them on A)
+            normal, f1, d1, f2, d2 = c[9], c[10], c[11], c[12], c[13]
+            load += -(normal * c[7][2]) - (f1 * d1[2] + f2 * d2[2])
+            if c[2] == body and c[3] in self.finger_ids:
                 grip += normal
         return float(load), float(grip)
+
+    def pad_contacts(self, held: str) -> tuple[tuple[float, float, float] | None, ...]:
+        """Where on each finger ``held`` touches it: the contacts' mean position weighted by their normal force,
+        in that finger's own frame (metres; None where the finger does not touch it). What a tactile pad reads."""
+        k = self.kitchen
+        bc = k.bc
+        body = k.objects.get(held)
+        pads: list[tuple[float, float, float] | None] = []
+        for f in self.finger_ids:
+            contacts = [] if body is None else bc.getContactPoints(bodyA=k.robot_id, bodyB=body, linkIndexA=f)
+            total = sum(c[9] for c in contacts)
+            if total <= 0.0:
+                pads.append(None)
+                continue
+            state = bc.getLinkState(k.robot_id, f)
+            to_finger = bc.invertTransform(state[4], state[5])
+            mean = np.zeros(3)
+            for c in contacts:
+                mean += c[9] * np.asarray(bc.multiplyTransforms(*to_finger, c[5], (0, 0, 0, 1))[0])
+            x, y, z = (mean / total).tolist()
+            pads.append((x, y, z))
+        return tuple(pads)
 
     def held_object(self, min_force: float) -> str | None:
         """The name of `held_body`."""

@@ -425,8 +425,12 @@ class Kitchen(GroundTruth, SimClock):
         return self.arm_io.held_object(min_force)
 
     def finger_forces(self, held: str) -> tuple[float, float]:
-        """(vertical load, grip) in newtons the fingers feel from ``held`` (`motion.probe.ForceSensing`)."""
+        """(vertical load the hand carries, the fingers' grip on ``held``) in newtons (`motion.probe.ForceSensing`)."""
         return self.arm_io.finger_forces(held)
+
+    def pad_contacts(self, held: str) -> tuple[tuple[float, float, float] | None, ...]:
+        """Where ``held`` touches each finger, in the finger's frame, metres (`motion.probe.ForceSensing`)."""
+        return self.arm_io.pad_contacts(held)
 
     def unexpected_contact(self, allow_gripper: bool, held: str | None, min_force: float) -> str | None:
         """'<link> hit <what>' for the first robot link pushing on something it should not touch, else None."""

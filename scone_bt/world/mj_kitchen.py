@@ -345,31 +345,61 @@ class MjKitchen(GroundTruth, SimClock):
         return self._names[min(common)] if common else None
 
     def finger_forces(self, held: str) -> tuple[float, float]:
-        """(vertical load, grip) in newtons the fingers feel from ``held`` (`motion.probe.ForceSensing`, as
-        `world.arm_io.ArmIO.finger_forces`): the upward force their contacts exert on it and the sum of their normal
-        forces; (0, 0) when they do not touch it."""
+        """(vertical load, grip) in newtons the hand feels holding ``held`` (`motion.probe.ForceSensing`, as
+        `world.arm_io.ArmIO.finger_forces`): the upward force all the hand's contacts exert on what they touch (a
+        wrist force/torque sensor's reading) and the sum of the fingers' normal forces on ``held``; (0, 0) for a
+        product the kitchen does not hold."""
         body = self.objects.get(held)
         if body is None:
             return 0.0, 0.0
         m, d = self.model, self.data
-        fingers = set(self.finger_bodies)
+        fingers, hand = set(self.finger_bodies), self.gripper_bodies
         wrench = np.zeros(6)
         load = grip = 0.0
         for i in range(d.ncon):
             c = d.contact[i]
             a, b = int(m.geom_bodyid[c.geom1]), int(m.geom_bodyid[c.geom2])
             # MuJoCo's contact force acts on geom2's body as given (in the contact frame), on geom1's reversed
-            if a in fingers and b == body:
-                sign = 1.0
-            elif b in fingers and a == body:
-                sign = -1.0
+            if a in hand and b not in self.robot_bodies:
+                sign, link, other = 1.0, a, b
+            elif b in hand and a not in self.robot_bodies:
+                sign, link, other = -1.0, b, a
             else:
                 continue
             self.mujoco.mj_contactForce(m, d, i, wrench)
             world = np.asarray(c.frame).reshape(3, 3).T @ wrench[:3]
             load += sign * float(world[2])
-            grip += float(wrench[0])
+            if link in fingers and other == body:
+                grip += float(wrench[0])
         return load, grip
+
+    def pad_contacts(self, held: str) -> tuple[tuple[float, float, float] | None, ...]:
+        """Where ``held`` touches each finger (`motion.probe.ForceSensing`, as `world.arm_io.ArmIO.pad_contacts`):
+        the contacts' mean position weighted by their normal force, in the finger's frame (metres; None where the
+        finger does not touch it)."""
+        body = self.objects.get(held)
+        m, d = self.model, self.data
+        wrench = np.zeros(6)
+        sums = {f: (np.zeros(3), 0.0) for f in self.finger_bodies}
+        for i in range(d.ncon if body is not None else 0):
+            c = d.contact[i]
+            a, b = int(m.geom_bodyid[c.geom1]), int(m.geom_bodyid[c.geom2])
+            finger = a if (a in sums and b == body) else b if (b in sums and a == body) else None
+            if finger is None:
+                continue
+            self.mujoco.mj_contactForce(m, d, i, wrench)
+            at, total = sums[finger]
+            sums[finger] = (at + wrench[0] * np.asarray(c.pos), total + float(wrench[0]))
+        pads: list[tuple[float, float, float] | None] = []
+        for f in self.finger_bodies:
+            at, total = sums[f]
+            if total <= 0.0:
+                pads.append(None)
+                continue
+            local = d.xmat[f].reshape(3, 3).T @ (at / total - d.xpos[f])
+            x, y, z = local.tolist()
+            pads.append((x, y, z))
+        return tuple(pads)
 
     def _what(self, geom: int, body: int) -> str:
         if body in self._names:

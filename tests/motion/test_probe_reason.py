@@ -87,3 +87,60 @@ def test_a_reading_the_sensors_could_not_give_sets_back(load: float, first: floa
     """A NaN from a faulty sensor is not a steady load: it must never let the product be carried on."""
     carry, why = judge_probe(ProbeReading(True, load, first, grip), ProbeSettings())
     assert not carry and why == "cannot be felt: my finger sensors give no reading"
+
+
+@pytest.mark.parametrize("drift", [None, 0.0])
+def test_a_nan_load_sets_back_whatever_the_pads_say(drift: float | None) -> None:
+    reading = ProbeReading(True, float("nan"), 5.0, 40.0, drift_mm=drift)
+    assert judge_probe(reading, ProbeSettings()) == (
+        False,
+        "cannot be felt: my finger sensors give no reading",
+    )
+
+
+# The grits in the motion benchmark's query 6 (seed 0): a 1.01 kg bag held fast in an 80 N grip while its neighbour
+# (the ground pork) leans on it; the hand's load rises 1.6 % through the hold, the contacts stay put on the pads.
+GRITS = dict(held=True, load_n=11.0575, load_first_n=10.8855, grip_n=80.0016, seconds=0.8917)
+
+
+def test_a_load_that_changes_while_the_pads_hold_the_product_fast_is_carried_on() -> None:
+    reading = ProbeReading(**GRITS, drift_mm=0.0)
+    assert reading.unsteady > SETTINGS.max_unsteady
+    assert judge_probe(reading, SETTINGS) == (True, "")
+
+
+def test_a_load_that_changes_while_the_contacts_move_on_the_pads_is_a_slip() -> None:
+    # The olive oil in an 8 N grip: left behind as the fingers rise, its contacts moved 1.3 mm on the pads.
+    reading = ProbeReading(
+        held=True, load_n=3.0585, load_first_n=3.1871, grip_n=16.0, pressed=True, drift_mm=1.395
+    )
+    assert judge_probe(reading, SETTINGS) == (False, "slips in my fingers")
+
+
+def test_a_load_that_changes_by_more_than_a_push_is_a_slip_though_the_pads_hold_still() -> None:
+    # The ghee with a weak gripper (the development streams regenerated with the pads read): its load fell 20 %
+    # while the contacts' centre moved 0.2 mm, and it slipped out while lifting. A product pivoting in the grip
+    # keeps its contacts where they were.
+    reading = ProbeReading(held=True, load_n=2.454, load_first_n=3.073, grip_n=16.0, drift_mm=0.225)
+    assert SETTINGS.max_pushed < reading.unsteady
+    assert judge_probe(reading, SETTINGS) == (False, "slips in my fingers")
+
+
+def test_without_the_pads_reading_an_unsteady_load_is_judged_as_before() -> None:
+    """The recorded datasets have no drift (None): their replay must judge exactly as before the pads were read."""
+    assert ProbeReading(**GRITS).drift_mm is None
+    assert judge_probe(ProbeReading(**GRITS), SETTINGS) == (False, "slips in my fingers")
+
+
+def test_a_changing_load_held_fast_but_past_the_friction_limit_is_not_quoted_as_a_mass() -> None:
+    reading = ProbeReading(held=True, load_n=8.0, load_first_n=7.8, grip_n=16.0, drift_mm=0.0)  # traction 0.5
+    assert judge_probe(reading, SETTINGS) == (False, "is caught on something")
+
+
+def test_a_drift_threshold_out_of_range_is_one_line() -> None:
+    from scone_bt.errors import SconeError
+
+    with pytest.raises(SconeError, match=r"^probe max_drift_mm must be in \(0, 20\] mm, got 0.0$"):
+        ProbeSettings(max_drift_mm=0.0)
+    with pytest.raises(SconeError, match=r"^probe max_pushed must be in \(0, 1\], got 1.5$"):
+        ProbeSettings(max_pushed=1.5)

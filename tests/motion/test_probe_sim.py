@@ -78,3 +78,22 @@ def test_a_probe_that_carries_on_costs_no_more_than_its_lift_and_hold() -> None:
     assert on["target"] == "barbecue sauce" and on["success"] and off["success"]
     settings = ProbeSettings()
     assert on["sim_s"] - off["sim_s"] <= settings.up_s + settings.hold_s + 1e-6
+
+
+@pytest.mark.parametrize(
+    ("i", "target"),
+    [
+        # The palm touches the box's top and presses it down: the fingers alone feel 26 → 23 N, the whole hand
+        # (what a wrist force sensor reads) its weight, 5.1 N, steady.
+        (31, "rigatoni"),
+        # A neighbour leans on the bag: the hand's load rises 1.6 % through the hold while the bag's contacts stay
+        # put on the pads (held fast, not sliding).
+        (6, "grits"),
+    ],
+)
+def test_a_product_held_fast_is_carried_on_though_something_pushes_on_it(i: int, target: str) -> None:
+    from scone_bt.benchmarks.motion import _query
+
+    rec = _query("kitchen", "panda", 0, 11, 2, i, probe=True)  # the motion benchmark's query i (seed 0)
+    assert rec["target"] == target
+    assert rec["success"] and not rec["aborted"], rec["message"]

@@ -159,8 +159,9 @@ def test_a_users_catalogue_file_works_unchanged_on_mujoco(tmp_path, robot_cfg):
 
 
 def test_the_heft_test_feels_the_products_weight_in_mujocos_fingers(kitchen_cfg, robot_cfg):
-    """The probe's fingertip force sensing on MuJoCo (`MjKitchen.finger_forces`, as PyBullet's `ArmIO`): lifted a
-    little and held, the salt weighs on the fingers about its own weight, and the recording probe carries on."""
+    """The probe's force and tactile sensing on MuJoCo (`MjKitchen.finger_forces` and `pad_contacts`, as PyBullet's
+    `ArmIO`): lifted a little and held, the salt weighs on the hand about its own weight, its contacts stay put on
+    the pads, and the recording probe carries on."""
     from scone_bt.motion import MotionSystem
     from scone_bt.motion.probe import ProbeSettings
     from scone_bt.perception.types import Detection
@@ -169,6 +170,7 @@ def test_the_heft_test_feels_the_products_weight_in_mujocos_fingers(kitchen_cfg,
     with MjKitchen(kitchen_cfg, robot_cfg) as kitchen:
         kitchen.spawn([kitchen_cfg.catalogue.get("salt")], np.random.default_rng(1))
         assert kitchen.finger_forces("salt") == (0.0, 0.0)  # untouched
+        assert kitchen.pad_contacts("salt") == (None, None)
         det = Detection(
             "salt", 0, tuple(_top(kitchen, "salt")), kitchen.object_yaw("salt"), 1.0, (0, 0, 1, 1)
         )
@@ -184,3 +186,5 @@ def test_the_heft_test_feels_the_products_weight_in_mujocos_fingers(kitchen_cfg,
         assert reading is not None and reading.held
         weight = kitchen.specs["salt"].mass * 9.81
         assert reading.load_n == pytest.approx(weight, rel=0.25) and reading.grip_n > reading.load_n
+        # held fast, the salt's contacts stay put on the pads (`ProbeSettings.max_drift_mm`)
+        assert reading.drift_mm is not None and reading.drift_mm <= ProbeSettings().max_drift_mm, reading
