@@ -72,7 +72,7 @@ if TYPE_CHECKING:
     from scone_bt.gate.types import Decision
     from scone_bt.motion.probe import ProbeSettings
 
-__all__ = ["register", "StreamResult", "replay_stream", "replay_rules", "TARGETS"]
+__all__ = ["register", "StreamResult", "help_floor", "replay_stream", "replay_rules", "TARGETS"]
 
 TARGETS: tuple[float, ...] = (0.05, 0.10, 0.15, 0.20, 0.25, 0.30, 0.40)
 """Target failure rates the report sweeps."""
@@ -528,6 +528,7 @@ def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
     def ratio(a: int, b: int) -> float | None:
         return round(a / b, 4) if b else None
 
+    successes = att - tot["failures"] + tot["asked_ok"] + tot["aborted_would_succeed"]
     return {
         "decisions": tot["decisions"],
         "attempts": att,
@@ -535,6 +536,7 @@ def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
         # an aborted probe is an ask for the person: counted in the help rate (and apart, aborted_rate)
         "help_rate": round((tot["asked_ok"] + tot["asked_fail"] + tot["aborted"]) / n, 4),
         "aborted_rate": round(tot["aborted"] / n, 4),
+        "help_rate_floor": help_floor(successes, tot["decisions"], ratio(tot["failures"], att)),
         "probes": tot["probes"],
         "probe_s_mean": round(probe_s / tot["probes_felt"], 3) if tot["probes_felt"] else None,
         "aborted_would_have_succeeded": tot["aborted_would_succeed"],
@@ -978,6 +980,7 @@ def _replay(
             "attempt_failure_rate_seen": cold["attempt_failure_rate_seen"],
             "attempt_success_rate": cold["attempt_success_rate"],
             "help_rate": cold["help_rate"],
+            "help_rate_floor": cold["help_rate_floor"],
             "max_excess_failures": cold["max_excess_failures"],
             "max_excess_failures_where_confident_held": cold["max_excess_failures_where_confident_held"],
             "streams_where_confident_held": cold["streams_where_confident_held"],
@@ -1025,6 +1028,15 @@ def _sweep(
         f"{a:g}": _method(oracle, "physical", "budget", a, args, taught=taught_oracle) for a in TARGETS
     }
     return methods
+
+
+def help_floor(successes: int, decisions: int, failure_rate: float | None) -> float | None:
+    """The least help rate any gate could reach on these decisions at this attempt failure rate: a clairvoyant
+    attempts every decision that would succeed and as many that would fail as the rate allows, A = S / (1 − f),
+    and asks for the rest. None without decisions or attempts."""
+    if not decisions or failure_rate is None or failure_rate >= 1.0:
+        return None
+    return round(1.0 - min(decisions, successes / (1.0 - failure_rate)) / decisions, 4)
 
 
 def _probe_keys(cold: dict[str, Any], plain: dict[str, Any], probing: bool) -> dict[str, Any]:

@@ -72,6 +72,17 @@ def test_an_asked_action_adds_no_label(monkeypatch: pytest.MonkeyPatch) -> None:
     rates = _rates([out])
     assert rates["help_rate"] == 0.5 and rates["over_ask_rate"] == 0.25 and rates["over_step_rate"] == 0.125
     assert rates["attempt_failure_rate"] == 0.25 and rates["success_rate"] == 0.375
+    # 5 of the 8 would succeed: at a failure rate of 0.25 a clairvoyant attempts 5 / 0.75 and asks for the rest
+    assert rates["help_rate_floor"] == round(1 - (5 / 0.75) / 8, 4)
+
+
+def test_the_help_floor_is_a_clairvoyants() -> None:
+    from scone_bt.benchmarks.gate import help_floor
+
+    assert help_floor(79, 100, 0.15) == 0.0706  # the nominal robot's 79 successes in 100
+    assert help_floor(95, 100, 0.15) == 0.0  # more than enough successes: attempt everything
+    assert help_floor(40, 100, 0.0) == 0.6  # no failure allowed: only the 40 successes
+    assert help_floor(40, 0, 0.1) is None and help_floor(40, 100, None) is None
 
 
 def _physical_stream(n: int = 30, seed: int = 5) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]:
@@ -186,6 +197,9 @@ def test_scone_bench_gate_reports_the_issues_keys(tmp_path: Path) -> None:
             missing = [k for k in _PER_TARGET if k not in metrics]
             assert not missing, (name, target, missing)
             assert metrics["decisions"] == 2 * (15 - 3)
+            # no gate asks less than a clairvoyant at its own failure rate
+            if metrics["help_rate_floor"] is not None:
+                assert metrics["help_rate"] >= metrics["help_rate_floor"], (name, target)
 
 
 def test_the_budget_gate_never_attempts_what_is_wider_than_its_gripper(
