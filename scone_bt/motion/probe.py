@@ -3,14 +3,14 @@
 A person hefts an unfamiliar item before carrying it; the robot does the same for an action κ̂ is unsure of
 (gate.probe decides when). `ProbeController` is the pick-and-place controller with the plan's lift split in two:
 first ``lift_m`` up (`MotionPhase.PROBE`), a hold of ``hold_s`` (`MotionPhase.PROBE_HOLD`) in which the fingers
-sample what they feel (`ForceSensing.finger_forces`: the vertical load the hand carries and how hard the fingers
-squeeze; `ForceSensing.pad_contacts`: where on the fingers' pads the product touches), then `judge_probe` on the
-samples:
+sample what they feel (`ForceSensing.finger_forces`: the vertical load the fingers carry and how hard they squeeze;
+`ForceSensing.wrist_load`: the vertical load the whole hand carries, palm included; `ForceSensing.pad_contacts`:
+where on the fingers' pads the product touches), then `judge_probe` on the samples:
 
 - it holds: the rest of the lift, and the plan goes on;
-- it slips (the fingers no longer hold it, or the load the hand carries changes during the hold while the product
-  moves on the pads: it slides) or the grip is near its friction limit (load over grip above ``max_traction``:
-  the carry's accelerations would make it slip): the product is set down where it stood
+- it slips (the fingers no longer hold it, or the load they carry changes during the hold, the whole hand's too,
+  while the product moves on the pads: it slides) or the grip is near its friction limit (load over grip above
+  ``max_traction``: the carry's accelerations would make it slip): the product is set down where it stood
   (`MotionPhase.SET_DOWN`, the probe's lift reversed), the fingers open, the hand leaves as it came (the descent
   reversed) and heads home. The outcome is *aborted*: no failure, since the product is where it was, but the
   person has to fetch it.
@@ -60,8 +60,13 @@ class ForceSensing(Protocol):
     """What the probe needs of the arm beyond `ArmExecutor`: a wrist force sensor and the fingers' tactile pads."""
 
     def finger_forces(self, held: str) -> tuple[float, float]:
-        """(vertical load the whole hand carries: all its contacts, fingers and palm, as a wrist force/torque
-        sensor reads it; the fingers' summed grip (normal) force on ``held``) in newtons."""
+        """(vertical load the fingers carry of ``held``, their summed grip (normal) force on it) in newtons:
+        fingertip force sensors."""
+        ...
+
+    def wrist_load(self) -> float:
+        """The vertical load all the hand's contacts carry (fingers, palm and the other hand links), newtons:
+        a wrist force/torque sensor, tared for the hand's own weight."""
         ...
 
     def pad_contacts(self, held: str) -> PadContacts:
@@ -78,9 +83,10 @@ class ProbeSettings:
         hold_s: How long it is held there while the fingers feel it, seconds, in [0.1, 3].
         up_s: Time for the little lift (and for setting it down), seconds.
         max_traction: Set back when the carried load over the grip force exceeds this (near the friction limit).
-        max_unsteady: Set back when the carried load changes by more than this share between the hold's halves (a
-            product held fast weighs the same throughout, to a tenth of a percent; one sliding in the fingers
-            does not) and the contacts moved on the pads (``max_drift_mm``).
+        max_unsteady: Set back when the fingers' load changes by more than this share between the hold's halves
+            (a product held fast weighs the same throughout, to a tenth of a percent; one sliding in the fingers
+            does not), the wrist's load too (the same share: else another part of the hand pushes on it, not its
+            weight that moved) and the contacts moved on the pads (``max_drift_mm``).
         max_drift_mm: The contacts moved on the pads when their centre on some finger lies farther than this
             (millimetres) from where it was as the probe began. A product held fast moves with the fingers and
             its contacts stay put (0.0-0.2 mm on 31 of the 33 products the motion benchmark carries on; a
@@ -139,17 +145,19 @@ class ProbeReading:
 
     Attributes:
         held: Both fingers still held it at the end of the hold.
-        load_n: Vertical load the hand carried over the hold's second half (the wrist's reading: the fingers'
-            and the palm's contacts together; the committed datasets hold the fingers' alone).
+        load_n: Vertical load the fingers carried over the hold's second half (the datasets' ``probe_load_n``).
         load_first_n: The same over its first half.
         grip_n: Summed grip (normal) force over the second half.
         seconds: Simulated seconds the probe took (lift, hold and, if it set back, the set-down).
-        pressed: The hand's vertical force pointed down over the second half: they pressed on the product
+        pressed: The fingers' vertical force pointed down over the second half: they pressed on the product
             (a fingertip on its top) instead of carrying it; ``load_n`` is then the size of that push, not a
             weight. Not recorded in the datasets (False there).
         drift_mm: How far the contacts moved on the pads (millimetres, the farther finger): their centre over the
             hold's second half from where it was as the probe began. None: not measured (the datasets); an
             unsteady load then counts as a slip, as it did before the pads were read.
+        wrist_load_n: Vertical load the whole hand carried over the second half (the wrist's reading: fingers,
+            palm and the other hand links, on whatever they touch). None: not measured (the datasets).
+        wrist_load_first_n: The same over the first half.
     """
 
     held: bool
@@ -159,6 +167,8 @@ class ProbeReading:
     seconds: float = 0.0
     pressed: bool = False
     drift_mm: float | None = None
+    wrist_load_n: float | None = None
+    wrist_load_first_n: float | None = None
 
     @property
     def traction(self) -> float:
@@ -171,6 +181,15 @@ class ProbeReading:
         if self.load_first_n <= 1e-6:
             return 1.0
         return abs(self.load_n - self.load_first_n) / self.load_first_n
+
+    @property
+    def wrist_unsteady(self) -> float | None:
+        """Share by which the whole hand's load changed between the hold's halves; None: not measured."""
+        if self.wrist_load_n is None or self.wrist_load_first_n is None:
+            return None
+        if abs(self.wrist_load_first_n) <= 1e-6:
+            return 1.0
+        return abs(self.wrist_load_n - self.wrist_load_first_n) / abs(self.wrist_load_first_n)
 
     @property
     def mass_kg(self) -> float:
@@ -189,9 +208,15 @@ def judge_probe(reading: ProbeReading, settings: ProbeSettings) -> tuple[bool, s
 
 
 def _slides(reading: ProbeReading, settings: ProbeSettings) -> bool:
-    """The load changed during the hold (or cannot be read), and not as a push: the contacts did not stay put on
-    the pads (or were not measured), or it changed by more than a push does (``max_pushed``)."""
+    """The fingers' load changed during the hold (or cannot be read), the whole hand's too (or it was not
+    measured), and not as a push: the contacts did not stay put on the pads (or were not measured), or it changed
+    by more than a push does (``max_pushed``)."""
     if reading.unsteady <= settings.max_unsteady:
+        return False
+    # What the whole hand carries stayed the same: the product's weight did not move; the fingers' share changed
+    # because another part of the hand pushes on it too (the palm on a box's top). A NaN is not "the same".
+    wrist = reading.wrist_unsteady
+    if wrist is not None and wrist <= settings.max_unsteady:
         return False
     # Held fast, the product moves with the pads; a small change of the load then comes from something else
     # pushing on it (a neighbour leaning on it), not from a slip. A NaN drift is not "stayed put".
@@ -267,7 +292,7 @@ class ProbeController(PickPlaceController):
         self.reading: ProbeReading | None = None
         self.aborted = False
         self.probe_reason = ""
-        self._samples: list[tuple[float, float]] = []
+        self._samples: list[tuple[float, float, float]] = []  # the fingers' load and grip, the wrist's load
         self._pads: list[PadContacts] = []  # where the pads touch it: as the probe began, then each sample's
         self._probe_start: float | None = None
         self._descend: Segment | None = None
@@ -329,7 +354,7 @@ class ProbeController(PickPlaceController):
         self._command(self.hold_q)
         every = max(1, round(_SAMPLE_S / dt))
         if self.phase_steps % every == 0 and self.held is not None and isinstance(self.arm, ForceSensing):
-            self._samples.append(self.arm.finger_forces(self.held))
+            self._samples.append((*self.arm.finger_forces(self.held), self.arm.wrist_load()))
             if self._pads:
                 self._pads.append(self.arm.pad_contacts(self.held))
         if self.phase_steps * dt >= self.probe.hold_s:
@@ -340,7 +365,7 @@ class ProbeController(PickPlaceController):
         half = max(1, len(self._samples) // 2)
         first, second = self._samples[:half], self._samples[half:] or self._samples[:half]
 
-        def mean(xs: list[tuple[float, float]], i: int) -> float:
+        def mean(xs: list[tuple[float, float, float]], i: int) -> float:
             return float(np.mean([abs(x[i]) for x in xs])) if xs else 0.0
 
         # The recorded datasets hold the load's size; its sign says whether the fingers carried it or pushed it.
@@ -355,6 +380,8 @@ class ProbeController(PickPlaceController):
             seconds=round(self.arm.sim_time - started, 4),
             pressed=pressed,
             drift_mm=_drift_mm(self._pads[0], self._pads[1 + half :]) if self._pads else None,
+            wrist_load_n=round(mean(second, 2), 4) if second else None,
+            wrist_load_first_n=round(mean(first, 2), 4) if first else None,
         )
         if self.judge is not None:
             carry, reason = self.judge(self.reading)

@@ -9,7 +9,7 @@ success comes from contacts and friction only; nothing attaches the object to th
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -144,25 +144,31 @@ class ArmIO:
         return min(common) if common else None
 
     def finger_forces(self, held: str) -> tuple[float, float]:
-        """(vertical load, grip) in newtons the hand feels holding ``held``: the upward force all the hand's
-        contacts exert on what they touch (fingers, palm and hand links: what a wrist force/torque sensor reads,
-        tared for the hand's own weight) and the sum of the fingers' normal forces on ``held`` (how hard they
-        squeeze: fingertip force sensors). (0, 0) for a product the kitchen does not hold."""
+        """(vertical load, grip) in newtons the fingers feel from ``held``: the upward force their contacts
+        exert on it (what they carry of its weight) and the sum of their normal forces (how hard they squeeze).
+        What a fingertip force sensor measures; (0, 0) when the fingers do not touch it."""
         k = self.kitchen
         body = k.objects.get(held)
         if body is None:
             return 0.0, 0.0
         load = grip = 0.0
-        for c in k.bc.getContactPoints(bodyA=k.robot_id):
-            if c[2] == k.robot_id or c[3] not in self.gripper_links:
-                continue
-            # the contact normal points from B to A: the force on B along it is −normal·n; friction acts on
-            # B along its directions with the reported signs reversed (PyBullet reports them on A)
-            normal, f1, d1, f2, d2 = c[9], c[10], c[11], c[12], c[13]
-            load += -(normal * c[7][2]) - (f1 * d1[2] + f2 * d2[2])
-            if c[2] == body and c[3] in self.finger_ids:
-                grip += normal
+        for f in self.finger_ids:
+            for c in k.bc.getContactPoints(bodyA=k.robot_id, bodyB=body, linkIndexA=f):
+                load += _upward(c)
+                grip += c[9]
         return float(load), float(grip)
+
+    def wrist_load(self) -> float:
+        """The vertical force, in newtons, all the hand's contacts exert on what they touch (fingers, palm and
+        the other hand links): what a wrist force/torque sensor reads, tared for the hand's own weight."""
+        k = self.kitchen
+        return float(
+            sum(
+                _upward(c)
+                for c in k.bc.getContactPoints(bodyA=k.robot_id)
+                if c[2] != k.robot_id and c[3] in self.gripper_links
+            )
+        )
 
     def pad_contacts(self, held: str) -> tuple[tuple[float, float, float] | None, ...]:
         """Where on each finger ``held`` touches it: the contacts' mean position weighted by their normal force,
@@ -230,3 +236,11 @@ class ArmIO:
             if bid == body:
                 return name
         return "the floor" if body == k.floor_id else f"body {body}"
+
+
+def _upward(c: Sequence[Any]) -> float:
+    """The vertical force a PyBullet contact point (robot link A, other body B) exerts on B, newtons."""
+    # the contact normal points from B to A: the force on B along it is −normal·n; friction acts on B along its
+    # directions with the reported signs reversed (PyBullet reports them on A)
+    normal, f1, d1, f2, d2 = c[9], c[10], c[11], c[12], c[13]
+    return float(-(normal * c[7][2]) - (f1 * d1[2] + f2 * d2[2]))

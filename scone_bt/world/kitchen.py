@@ -425,8 +425,12 @@ class Kitchen(GroundTruth, SimClock):
         return self.arm_io.held_object(min_force)
 
     def finger_forces(self, held: str) -> tuple[float, float]:
-        """(vertical load the hand carries, the fingers' grip on ``held``) in newtons (`motion.probe.ForceSensing`)."""
+        """(vertical load, grip) in newtons the fingers feel from ``held`` (`motion.probe.ForceSensing`)."""
         return self.arm_io.finger_forces(held)
+
+    def wrist_load(self) -> float:
+        """The vertical force all the hand's contacts exert, newtons (`motion.probe.ForceSensing`)."""
+        return self.arm_io.wrist_load()
 
     def pad_contacts(self, held: str) -> tuple[tuple[float, float, float] | None, ...]:
         """Where ``held`` touches each finger, in the finger's frame, metres (`motion.probe.ForceSensing`)."""

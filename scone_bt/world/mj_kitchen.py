@@ -345,33 +345,45 @@ class MjKitchen(GroundTruth, SimClock):
         return self._names[min(common)] if common else None
 
     def finger_forces(self, held: str) -> tuple[float, float]:
-        """(vertical load, grip) in newtons the hand feels holding ``held`` (`motion.probe.ForceSensing`, as
-        `world.arm_io.ArmIO.finger_forces`): the upward force all the hand's contacts exert on what they touch (a
-        wrist force/torque sensor's reading) and the sum of the fingers' normal forces on ``held``; (0, 0) for a
-        product the kitchen does not hold."""
+        """(vertical load, grip) in newtons the fingers feel from ``held`` (`motion.probe.ForceSensing`, as
+        `world.arm_io.ArmIO.finger_forces`): the upward force their contacts exert on it and the sum of their normal
+        forces; (0, 0) when they do not touch it."""
         body = self.objects.get(held)
         if body is None:
             return 0.0, 0.0
-        m, d = self.model, self.data
-        fingers, hand = set(self.finger_bodies), self.gripper_bodies
-        wrench = np.zeros(6)
+        fingers = set(self.finger_bodies)
         load = grip = 0.0
+        for _link, other, up, normal in self._hand_contacts():
+            if _link in fingers and other == body:
+                load += up
+                grip += normal
+        return load, grip
+
+    def wrist_load(self) -> float:
+        """The vertical force, in newtons, all the hand's contacts exert on what they touch (a wrist force/torque
+        sensor's reading; `motion.probe.ForceSensing`, as `world.arm_io.ArmIO.wrist_load`)."""
+        return float(sum(up for _link, _other, up, _normal in self._hand_contacts()))
+
+    def _hand_contacts(self) -> list[tuple[int, int, float, float]]:
+        """(hand body, other body, upward force on the other, normal force) of every contact of the hand with
+        something not the robot."""
+        m, d = self.model, self.data
+        wrench = np.zeros(6)
+        out = []
         for i in range(d.ncon):
             c = d.contact[i]
             a, b = int(m.geom_bodyid[c.geom1]), int(m.geom_bodyid[c.geom2])
             # MuJoCo's contact force acts on geom2's body as given (in the contact frame), on geom1's reversed
-            if a in hand and b not in self.robot_bodies:
+            if a in self.gripper_bodies and b not in self.robot_bodies:
                 sign, link, other = 1.0, a, b
-            elif b in hand and a not in self.robot_bodies:
+            elif b in self.gripper_bodies and a not in self.robot_bodies:
                 sign, link, other = -1.0, b, a
             else:
                 continue
             self.mujoco.mj_contactForce(m, d, i, wrench)
             world = np.asarray(c.frame).reshape(3, 3).T @ wrench[:3]
-            load += sign * float(world[2])
-            if link in fingers and other == body:
-                grip += float(wrench[0])
-        return load, grip
+            out.append((link, other, sign * float(world[2]), float(wrench[0])))
+        return out
 
     def pad_contacts(self, held: str) -> tuple[tuple[float, float, float] | None, ...]:
         """Where ``held`` touches each finger (`motion.probe.ForceSensing`, as `world.arm_io.ArmIO.pad_contacts`):

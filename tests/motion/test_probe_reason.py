@@ -126,6 +126,25 @@ def test_a_load_that_changes_by_more_than_a_push_is_a_slip_though_the_pads_hold_
     assert judge_probe(reading, SETTINGS) == (False, "slips in my fingers")
 
 
+def test_a_finger_load_that_changes_while_the_wrist_carries_the_same_is_carried_on() -> None:
+    # The rigatoni in the motion benchmark's query 31: the palm presses the box's top, so the fingers carry its
+    # weight plus that push (25.9 → 22.7 N) while the whole hand carries its weight throughout (5.10 N).
+    reading = ProbeReading(
+        held=True, load_n=22.66, load_first_n=25.95, grip_n=80.0, wrist_load_n=5.101, wrist_load_first_n=5.104
+    )
+    assert reading.unsteady > SETTINGS.max_unsteady and reading.drift_mm is None
+    assert judge_probe(reading, SETTINGS) == (True, "")
+
+
+def test_a_slip_changes_the_wrists_load_too() -> None:
+    reading = ProbeReading(
+        held=True, load_n=2.454, load_first_n=3.073, grip_n=16.0, wrist_load_n=2.45, wrist_load_first_n=3.07
+    )
+    assert judge_probe(reading, SETTINGS) == (False, "slips in my fingers")
+    nan_wrist = ProbeReading(True, 2.454, 3.073, 16.0, wrist_load_n=float("nan"), wrist_load_first_n=3.07)
+    assert judge_probe(nan_wrist, SETTINGS)[0] is False  # a wrist that cannot be read is not "the same"
+
+
 def test_without_the_pads_reading_an_unsteady_load_is_judged_as_before() -> None:
     """The recorded datasets have no drift (None): their replay must judge exactly as before the pads were read."""
     assert ProbeReading(**GRITS).drift_mm is None

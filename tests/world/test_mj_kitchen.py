@@ -159,8 +159,8 @@ def test_a_users_catalogue_file_works_unchanged_on_mujoco(tmp_path, robot_cfg):
 
 
 def test_the_heft_test_feels_the_products_weight_in_mujocos_fingers(kitchen_cfg, robot_cfg):
-    """The probe's force and tactile sensing on MuJoCo (`MjKitchen.finger_forces` and `pad_contacts`, as PyBullet's
-    `ArmIO`): lifted a little and held, the salt weighs on the hand about its own weight, its contacts stay put on
+    """The probe's force and tactile sensing on MuJoCo (`MjKitchen.finger_forces`, `wrist_load` and
+    `pad_contacts`, as PyBullet's `ArmIO`): lifted a little and held, the salt weighs on the hand about its own weight, its contacts stay put on
     the pads, and the recording probe carries on."""
     from scone_bt.motion import MotionSystem
     from scone_bt.motion.probe import ProbeSettings
@@ -188,3 +188,5 @@ def test_the_heft_test_feels_the_products_weight_in_mujocos_fingers(kitchen_cfg,
         assert reading.load_n == pytest.approx(weight, rel=0.25) and reading.grip_n > reading.load_n
         # held fast, the salt's contacts stay put on the pads (`ProbeSettings.max_drift_mm`)
         assert reading.drift_mm is not None and reading.drift_mm <= ProbeSettings().max_drift_mm, reading
+        # nothing else touches the hand: the wrist carries what the fingers carry
+        assert reading.wrist_load_n == pytest.approx(reading.load_n, rel=0.01), reading
