@@ -27,8 +27,7 @@ object and outcome):
     depth_m            catalogue longer horizontal extent, metres
     shape              catalogue shape (box, cylinder)
     probe_held         the heft test (motion.probe, sensing only): 1 if the fingers still held it after the hold
-    probe_load_n       vertical load the hand carried over the hold's second half, newtons (the wrist's reading:
-                       fingers and palm; tools/data/sc_probe and sc_heldout_probe hold the fingers' alone)
+    probe_load_n       vertical load the fingers carried over the hold's second half, newtons
     probe_load_first_n the same over its first half, newtons
     probe_grip_n       the fingers' summed grip force over the second half, newtons
     probe_s            simulated seconds the probe took (all probe columns empty when the arm never held it up)
