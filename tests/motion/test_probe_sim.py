@@ -86,7 +86,7 @@ def test_a_probe_that_carries_on_costs_no_more_than_its_lift_and_hold() -> None:
         # The palm touches the box's top and presses it down: the fingers alone feel 26 → 23 N, the whole hand
         # (what a wrist force sensor reads) its weight, 5.1 N, steady.
         (31, "rigatoni"),
-        # A neighbour leans on the bag: the hand's load rises 1.6 % through the hold while the bag's contacts stay
+        # A neighbour leans on the bag: its load rises 1.6 % through the hold (the wrist's too) while its contacts stay
         # put on the pads (held fast, not sliding).
         (6, "grits"),
     ],
