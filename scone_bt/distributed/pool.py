@@ -14,7 +14,9 @@ from __future__ import annotations
 import concurrent.futures as cf
 import multiprocessing as mp
 import signal
+import time
 from collections.abc import Callable
+from multiprocessing.process import BaseProcess
 from typing import Any
 
 __all__ = ["abort_pool", "spawn_pool"]
@@ -54,7 +56,20 @@ def abort_pool(pool: cf.ProcessPoolExecutor) -> None:
         if process.is_alive():
             process.terminate()
     for process in processes:
-        process.join(timeout=_TERMINATE_WAIT_S)
-        if process.is_alive():  # SIGTERM not handled in time: no second chance
+        if not _reaped(process, _TERMINATE_WAIT_S):  # SIGTERM not handled in time: no second chance
             process.kill()
-            process.join(timeout=_TERMINATE_WAIT_S)
+            _reaped(process, _TERMINATE_WAIT_S)
+
+
+def _reaped(process: BaseProcess, timeout_s: float) -> bool:
+    """Whether ``process`` exited and its exit status is known, waiting up to ``timeout_s`` seconds.
+
+    The pool's own management thread joins its workers too. When it reaps one first, this thread's ``waitpid``
+    gets ECHILD and multiprocessing reports the worker alive until that thread has recorded the status: CI once saw
+    a terminated worker "alive" right after ``abort_pool`` returned. So wait for the status, not only the exit.
+    """
+    deadline = time.monotonic() + timeout_s
+    process.join(timeout=timeout_s)
+    while process.exitcode is None and time.monotonic() < deadline:
+        time.sleep(0.01)
+    return process.exitcode is not None

@@ -29,6 +29,10 @@ def test_abort_terminates_running_workers() -> None:
     processes = list(pool._processes.values())
     pool.submit(time.sleep, 30)
     abort_pool(pool)
+    # A worker left running would sleep on for 30 s: given 10 s, a terminated one has surely been reaped (its
+    # status is recorded by whichever thread reaps it first, the pool's own or this one).
+    for process in processes:
+        process.join(timeout=10.0)
     assert processes and not any(p.is_alive() for p in processes)
 
 
