@@ -344,7 +344,10 @@ class ExperienceStore(OutcomeStore):
             conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
             conn.execute("COMMIT")
         except BaseException:
-            conn.execute("ROLLBACK")
+            # A Ctrl-C raised as COMMIT returns finds the transaction committed: a ROLLBACK then fails ("no
+            # transaction is active") and would replace the interrupt with a "store unusable" error.
+            if conn.in_transaction:
+                conn.execute("ROLLBACK")
             raise
 
     def _backup_path(self) -> Path:

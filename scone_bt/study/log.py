@@ -310,7 +310,8 @@ class StudyLog:
             yield
         except BaseException:
             with self._lock:
-                self._db.execute("ROLLBACK")
+                if self._db.in_transaction:  # an interrupt as COMMIT returned: nothing left to roll back
+                    self._db.execute("ROLLBACK")
             raise
         with self._lock:
             self._db.execute("COMMIT")

@@ -136,3 +136,28 @@ def test_closed_store_says_so(tmp_path):
     store.close()
     with pytest.raises(ExperienceStoreError, match="closed"):
         store.append(_outcome(1))
+
+
+def test_a_ctrl_c_as_the_schema_commits_stays_a_ctrl_c(tmp_path):
+    """A SIGINT handled as COMMIT returns (CI saw it while four runs started): the schema is made, and the
+    interrupt is what the caller gets, not "cannot rollback - no transaction is active" as a "store unusable"."""
+
+    class InterruptedAtCommit:
+        def __init__(self, conn: sqlite3.Connection) -> None:
+            self.conn = conn
+
+        def __getattr__(self, name: str) -> object:
+            return getattr(self.conn, name)
+
+        def execute(self, sql: str, *args: object) -> sqlite3.Cursor:
+            cursor = self.conn.execute(sql, *args)
+            if sql == "COMMIT":
+                raise KeyboardInterrupt
+            return cursor
+
+    conn = sqlite3.connect(tmp_path / "store.db", isolation_level=None)
+    with pytest.raises(KeyboardInterrupt):
+        ExperienceStore._create(InterruptedAtCommit(conn))  # type: ignore[arg-type]
+    assert not conn.in_transaction
+    assert {r[0] for r in conn.execute("SELECT name FROM sqlite_master WHERE type = 'table'")} >= {"outcomes"}
+    conn.close()
