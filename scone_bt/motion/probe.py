@@ -178,23 +178,27 @@ class ProbeReading:
     @property
     def unsteady(self) -> float:
         """Share by which the load changed between the hold's halves (0: steady; a sliding product's varies)."""
-        if self.load_first_n <= 1e-6:
-            return 1.0
-        return abs(self.load_n - self.load_first_n) / self.load_first_n
+        return _changed(self.load_n, self.load_first_n)
 
     @property
     def wrist_unsteady(self) -> float | None:
         """Share by which the whole hand's load changed between the hold's halves; None: not measured."""
         if self.wrist_load_n is None or self.wrist_load_first_n is None:
             return None
-        if abs(self.wrist_load_first_n) <= 1e-6:
-            return 1.0
-        return abs(self.wrist_load_n - self.wrist_load_first_n) / abs(self.wrist_load_first_n)
+        return _changed(self.wrist_load_n, self.wrist_load_first_n)
 
     @property
     def mass_kg(self) -> float:
         """The mass the load stands for (kilograms)."""
         return max(0.0, self.load_n) / _G
+
+
+def _changed(now: float, first: float) -> float:
+    """Share by which a load (newtons, ≥ 0: the hold's mean size) changed from ``first`` to ``now``; 1 when it
+    started at nothing."""
+    if first <= 1e-6:
+        return 1.0
+    return abs(now - first) / first
 
 
 def judge_probe(reading: ProbeReading, settings: ProbeSettings) -> tuple[bool, str]:
@@ -232,9 +236,10 @@ def _why(reading: ProbeReading, settings: ProbeSettings) -> str:
     if reading.pressed and reading.traction > settings.max_traction:
         # pushing down about as hard as they squeeze: the contacts' normals are vertical, a fingertip on its top
         return "does not come up: my fingers press on it"
-    if reading.unsteady > settings.max_unsteady and not _slides(reading, settings):
+    slides = _slides(reading, settings)
+    if reading.unsteady > settings.max_unsteady and not slides:
         return "is caught on something"  # a changing load while held fast: something else pushes on it
-    if _slides(reading, settings):
+    if slides:
         # Rising or falling: on the development streams 30 of the 31 products whose load rose during the hold
         # (and did not trip the traction test) slipped out of the gripper while lifting.
         return "slips in my fingers"
@@ -424,7 +429,7 @@ class ProbeController(PickPlaceController):
 def _drift_mm(start: PadContacts, late: list[PadContacts]) -> float | None:
     """How far the contacts' centre moved on the farther finger (mm): from ``start`` to its mean over ``late``;
     None where a finger touched nothing then (nothing to compare)."""
-    if not late or any(p is None for p in start):
+    if not late:
         return None
     far = 0.0
     for k, p0 in enumerate(start):

@@ -353,8 +353,8 @@ class MjKitchen(GroundTruth, SimClock):
             return 0.0, 0.0
         fingers = set(self.finger_bodies)
         load = grip = 0.0
-        for _link, other, up, normal in self._hand_contacts():
-            if _link in fingers and other == body:
+        for link, other, up, normal, _at in self._hand_contacts():
+            if link in fingers and other == body:
                 load += up
                 grip += normal
         return load, grip
@@ -362,11 +362,11 @@ class MjKitchen(GroundTruth, SimClock):
     def wrist_load(self) -> float:
         """The vertical force, in newtons, all the hand's contacts exert on what they touch (a wrist force/torque
         sensor's reading; `motion.probe.ForceSensing`, as `world.arm_io.ArmIO.wrist_load`)."""
-        return float(sum(up for _link, _other, up, _normal in self._hand_contacts()))
+        return float(sum(up for _link, _other, up, _normal, _at in self._hand_contacts()))
 
-    def _hand_contacts(self) -> list[tuple[int, int, float, float]]:
-        """(hand body, other body, upward force on the other, normal force) of every contact of the hand with
-        something not the robot."""
+    def _hand_contacts(self) -> list[tuple[int, int, float, float, np.ndarray]]:
+        """(hand body, other body, upward force on the other, normal force, world position) of every contact of
+        the hand with something not the robot."""
         m, d = self.model, self.data
         wrench = np.zeros(6)
         out = []
@@ -382,7 +382,7 @@ class MjKitchen(GroundTruth, SimClock):
                 continue
             self.mujoco.mj_contactForce(m, d, i, wrench)
             world = np.asarray(c.frame).reshape(3, 3).T @ wrench[:3]
-            out.append((link, other, sign * float(world[2]), float(wrench[0])))
+            out.append((link, other, sign * float(world[2]), float(wrench[0]), np.asarray(c.pos)))
         return out
 
     def pad_contacts(self, held: str) -> tuple[tuple[float, float, float] | None, ...]:
@@ -390,25 +390,19 @@ class MjKitchen(GroundTruth, SimClock):
         the contacts' mean position weighted by their normal force, in the finger's frame (metres; None where the
         finger does not touch it)."""
         body = self.objects.get(held)
-        m, d = self.model, self.data
-        wrench = np.zeros(6)
+        d = self.data
         sums = {f: (np.zeros(3), 0.0) for f in self.finger_bodies}
-        for i in range(d.ncon if body is not None else 0):
-            c = d.contact[i]
-            a, b = int(m.geom_bodyid[c.geom1]), int(m.geom_bodyid[c.geom2])
-            finger = a if (a in sums and b == body) else b if (b in sums and a == body) else None
-            if finger is None:
-                continue
-            self.mujoco.mj_contactForce(m, d, i, wrench)
-            at, total = sums[finger]
-            sums[finger] = (at + wrench[0] * np.asarray(c.pos), total + float(wrench[0]))
+        for link, other, _up, normal, at in self._hand_contacts() if body is not None else []:
+            if link in sums and other == body:
+                where, total = sums[link]
+                sums[link] = (where + normal * at, total + normal)
         pads: list[tuple[float, float, float] | None] = []
         for f in self.finger_bodies:
-            at, total = sums[f]
+            where, total = sums[f]
             if total <= 0.0:
                 pads.append(None)
                 continue
-            local = d.xmat[f].reshape(3, 3).T @ (at / total - d.xpos[f])
+            local = d.xmat[f].reshape(3, 3).T @ (where / total - d.xpos[f])
             x, y, z = local.tolist()
             pads.append((x, y, z))
         return tuple(pads)

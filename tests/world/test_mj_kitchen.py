@@ -160,8 +160,8 @@ def test_a_users_catalogue_file_works_unchanged_on_mujoco(tmp_path, robot_cfg):
 
 def test_the_heft_test_feels_the_products_weight_in_mujocos_fingers(kitchen_cfg, robot_cfg):
     """The probe's force and tactile sensing on MuJoCo (`MjKitchen.finger_forces`, `wrist_load` and
-    `pad_contacts`, as PyBullet's `ArmIO`): lifted a little and held, the salt weighs on the hand about its own weight, its contacts stay put on
-    the pads, and the recording probe carries on."""
+    `pad_contacts`, as PyBullet's `ArmIO`): lifted a little and held, the salt weighs on the hand about its own
+    weight, its contacts stay put on the pads, and the recording probe carries on."""
     from scone_bt.motion import MotionSystem
     from scone_bt.motion.probe import ProbeSettings
     from scone_bt.perception.types import Detection
