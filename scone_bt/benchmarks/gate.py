@@ -340,6 +340,37 @@ def _committed(
     return probed.aborted, attempt
 
 
+def _asks_anyway(result: GateResult, rule: str) -> GateResult:
+    """What the robot does with an execution it knows before its arm moves it cannot do (`foreseen`'s ``rule``):
+    where the gate decided to act, it asks for the product instead, as the tree does: for a target it sees
+    nowhere (gate.rules.ask_for_missing), for one no plan reaches (gate.rules.infeasible_decision)."""
+    from dataclasses import replace
+
+    from scone_bt.gate.rules import overruled
+    from scone_bt.gate.types import DecisionKind
+
+    decision = result.decision
+    if decision.kind is not DecisionKind.ACT:
+        return result
+    item = decision.object_name
+    why = (
+        f"I cannot see the {item} the step needs: please bring it"
+        if rule == "missing"
+        else f"I cannot plan to fetch the {item}"
+    )
+    return replace(result, decision=overruled(decision, DecisionKind.ASK, why, rule))
+
+
+def _infeasible(replay: _Replay, walk: _Walk, t: int, product: str) -> None:
+    """A plan found infeasible before committing is experience, not an attempt (behaviours.outcome.RecordInfeasible):
+    κ̂ learns a failure at planning; the budget's attempts and failures do not move."""
+    from dataclasses import replace
+
+    replay.estimator.update(replay.rows[t], False)
+    walk.learnt.add(product)
+    walk.counts = replace(walk.counts, learnt=replay.estimator.n_observations)
+
+
 def _set_back(
     replay: _Replay, row: np.ndarray, product: str, counts: BudgetCounts, learnt: set[str], label: bool
 ) -> BudgetCounts:
@@ -447,6 +478,7 @@ def replay_stream(
     probe: ProbeOptions | None = None,
     readings: np.ndarray | None = None,
     excess_allowance: float | None = None,
+    foreseen: np.ndarray | None = None,
 ) -> StreamResult:
     """The online robot over one stream; see the module docstring.
 
@@ -469,6 +501,10 @@ def replay_stream(
         readings: (n, 5) what the recorded probe felt (PROBE_COLUMNS; NaN: never held up), or None (no probe).
         excess_allowance: Explore only while one more failure keeps F ≤ α · A + this (gate.budget.has_credit);
             None: no such limit (the tree's ``exploration_credit: false``).
+        foreseen: (n,) for each execution, the rule by which the robot knows before its arm moves that it cannot
+            do it (`foreseen`: "missing", the target not detected; "infeasible", no plan; "" neither): where the
+            gate decides to act, the robot asks, as the tree does (no attempt, no probe; κ̂ learns a failure at
+            planning from an infeasible plan, nothing from a missing target); None: none.
     """
     from scone_bt.gate.budget import BudgetCounts
     from scone_bt.gate.rules import gate_decision
@@ -493,6 +529,11 @@ def replay_stream(
     for t in range(len(success)):  # one decision a row, in stream order
         ok, product, scored = bool(success[t]), products[t], t >= warmup
         result = gate_decision(replay.rules, _gate_input(replay, t, product, walk.counts, walk.failed))
+        rule = str(foreseen[t]) if foreseen is not None else ""
+        if rule and result.decision.kind is DecisionKind.ACT:
+            result = _asks_anyway(result, rule)
+            if rule == "infeasible":
+                _infeasible(replay, walk, t, product)
         if trace is not None:
             trace.append(result.decision)
         decision = result.decision
@@ -572,6 +613,7 @@ class _Streams:
     success: list[np.ndarray]
     products: list[tuple[str, ...]]
     readings: list[np.ndarray | None] = field(default_factory=list)
+    foreseen: list[np.ndarray] = field(default_factory=list)
 
 
 def _datasets_folder(args: argparse.Namespace) -> Path:
@@ -614,7 +656,24 @@ def _load(args: argparse.Namespace, oracle: bool, folder: Path | None = None) ->
         [np.asarray(d.success) for d in datasets],
         [tuple(d.objects) for d in datasets],
         [_readings(d) for d in datasets],
+        [foreseen(d) for d in datasets],
     )
+
+
+FORESEEN_STAGES: tuple[str, ...] = ("ik", "planning")
+"""Failure stages the robot knows of before its arm moves: no plan exists (motion.pick_place.Diagnosis.stage)."""
+
+
+def foreseen(d: Any) -> np.ndarray:
+    """(n,) str: for each execution of a dataset, the rule by which the robot would ask instead of attempting it:
+    "missing" where its target was not detected (the tree asks for what it sees nowhere, gate.rules.ask_for_missing),
+    "infeasible" where no plan exists (it asks before the arm moves, gate.rules.infeasible_decision), else "".
+    The generator attempts every one and records these as failed executions."""
+    detected = np.nan_to_num(d.context.get("detected", np.ones(len(d))), nan=1.0)
+    rules = np.full(len(d), "", dtype=object)
+    rules[np.array([s in FORESEEN_STAGES for s in d.failure_stages], dtype=bool)] = "infeasible"
+    rules[detected == 0] = "missing"
+    return rules
 
 
 def _readings(d: Any) -> np.ndarray | None:
@@ -629,10 +688,14 @@ def _glass(d: Any) -> np.ndarray:
 
 
 def _rows(streams: _Streams, which: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
-    """Streams' rows as κ̂ learns them (embedding then context) and their outcomes."""
+    """Streams' rows as κ̂ learns them (embedding then context) and their outcomes: a store holds no target that
+    was not detected (`foreseen`: "missing"; a missing item has no context)."""
+    keep = [streams.foreseen[i] != "missing" if streams.foreseen else slice(None) for i in which]
     return (
-        np.vstack([np.hstack([streams.vectors[i], streams.context[i]]) for i in which]),
-        np.concatenate([streams.success[i] for i in which]),
+        np.vstack(
+            [np.hstack([streams.vectors[i], streams.context[i]])[k] for i, k in zip(which, keep, strict=True)]
+        ),
+        np.concatenate([streams.success[i][k] for i, k in zip(which, keep, strict=True)]),
     )
 
 
@@ -687,6 +750,7 @@ def _stream_results(
                 probe=probe,
                 readings=streams.readings[j] if streams.readings else None,
                 excess_allowance=getattr(args, "excess_allowance", None),
+                foreseen=streams.foreseen[j] if streams.foreseen else None,
             )
         )
     return results

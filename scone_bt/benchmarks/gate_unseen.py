@@ -84,6 +84,8 @@ class UnseenStreams(Protocol):
     def products(self) -> list[tuple[str, ...]]: ...
     @property
     def readings(self) -> list[np.ndarray | None]: ...
+    @property
+    def foreseen(self) -> list[np.ndarray]: ...
 
 
 class _Replayed(Protocol):
@@ -254,14 +256,22 @@ class _Setup:
     excess_allowance: float | None
 
 
-def _stream_prior(streams: UnseenStreams, which: Sequence[int]) -> Prior:
+def _stream_prior(streams: UnseenStreams, which: Sequence[int], foreseen: bool = False) -> Prior:
+    """The streams' executions as a fleet's store holds them: none whose target was not detected (gate.foreseen:
+    "missing"), unless ``foreseen`` (every row, aligned with the stream)."""
     if not which:
         d = streams.vectors[0].shape[1] + len(CONTEXT_FIELDS)
         return Prior(np.zeros((0, d), dtype=np.float32), np.zeros(0, dtype=bool), ())
+    keep = {
+        i: streams.foreseen[i] != "missing"
+        if streams.foreseen and not foreseen
+        else np.ones(len(streams.success[i]), bool)
+        for i in which
+    }
     return Prior(
-        np.vstack([np.hstack([streams.vectors[i], streams.context[i]]) for i in which]),
-        np.concatenate([streams.success[i] for i in which]).astype(bool),
-        tuple(p for i in which for p in streams.products[i]),
+        np.vstack([np.hstack([streams.vectors[i], streams.context[i]])[keep[i]] for i in which]),
+        np.concatenate([streams.success[i][keep[i]] for i in which]).astype(bool),
+        tuple(p for i in which for p, k in zip(streams.products[i], keep[i], strict=True) if k),
     )
 
 
@@ -276,6 +286,7 @@ def _run(
 ) -> np.ndarray:
     """Stream ``j``'s decisions in ``window`` replayed after ``prior`` (None: cold): the trace, 1 / 0 / -1."""
     readings = streams.readings[j] if streams.readings else None
+    foreseen = streams.foreseen[j] if streams.foreseen else None
     result = setup.replay(
         streams.vectors[j][window],
         streams.context[j][window],
@@ -291,6 +302,7 @@ def _run(
         probe=setup.probe,
         readings=readings[window] if readings is not None else None,
         excess_allowance=setup.excess_allowance,
+        foreseen=foreseen[window] if foreseen is not None else None,
     )
     return np.asarray(result.trace, dtype=np.int8)
 
@@ -361,7 +373,7 @@ def _own_store_stream(
     later_products = set(streams.products[j][later])
     # the earlier run: the same gate, cold; its store holds only what it attempted
     run = _run(setup, streams, j, earlier, alpha, None, 0)
-    whole = _stream_prior(streams, [j])
+    whole = _stream_prior(streams, [j], foreseen=True)  # aligned with the run's trace, which asked for those
     attempted = np.zeros(len(whole), dtype=bool)
     attempted[:half] = run >= 0
     own = leave_products_out(
