@@ -186,6 +186,8 @@ class ActOutcome(_ActionEvent):
         message: The motion system's first line of detail.
         explored: The attempt carried on after a heft test although κ̂ on what it felt was below the threshold,
             on the strict rule's credit (gate.after_probe): counted as explored, like an ε-greedy attempt.
+        held_fast: The heft test before it felt the product held fast (gate.probe.held_fast): counted in that
+            rule's own record (gate.budget.BudgetCounts.held_fast_record).
     """
 
     kind: ClassVar[str] = "outcome"
@@ -194,6 +196,7 @@ class ActOutcome(_ActionEvent):
     duration_s: float = 0.0
     message: str = ""
     explored: bool = False
+    held_fast: bool = False
 
 
 @dataclass(frozen=True)
@@ -448,6 +451,8 @@ class EpisodeStats:
         explored_failures: Failed exploratory attempts (ε-greedy or the budget's exploration).
         exploring: The last decision was an exploratory ACT (its outcome is counted as explored).
         aborted: Attempts the heft test set back (`ProbeAborted`): neither successes nor failures.
+        held_fast_attempts: Attempts after a heft test that felt the product held fast (`ActOutcome.held_fast`).
+        held_fast_failures: Failures among them.
         probe_reasons: Action text → why its probe set it back (the last one).
     """
 
@@ -469,6 +474,8 @@ class EpisodeStats:
     exploring: bool = False
     aborted: int = 0
     probe_reasons: Mapping[str, str] = field(default_factory=dict)
+    held_fast_attempts: int = 0
+    held_fast_failures: int = 0
 
 
 def _bump(counts: Mapping[str, int], key: str) -> dict[str, int]:
@@ -499,6 +506,12 @@ def fold(stats: EpisodeStats, event: Event) -> EpisodeStats:
     if isinstance(event, ActOutcome):
         if stats.exploring or event.explored:
             stats = replace(stats, explored_failures=stats.explored_failures + (not event.success))
+        if event.held_fast:
+            stats = replace(
+                stats,
+                held_fast_attempts=stats.held_fast_attempts + 1,
+                held_fast_failures=stats.held_fast_failures + (not event.success),
+            )
         if event.success:
             return replace(stats, successes=stats.successes + 1)
         stage = event.stage or "place"
@@ -554,6 +567,10 @@ class EventLog:
         """(labelled attempts, their failures, failed explorations) so far: what the failure budget reads."""
         s = self.stats
         return s.successes + s.failures, s.failures, s.explored_failures
+
+    def held_fast_record(self) -> tuple[int, int]:
+        """(attempts after a heft test that felt the product held fast, their failures) so far."""
+        return self.stats.held_fast_attempts, self.stats.held_fast_failures
 
     def probe_reason(self, action: str) -> str | None:
         """Why the heft test set this action's product back in this episode, or None if it never did."""

@@ -180,3 +180,17 @@ def test_a_set_back_on_kappas_doubt_is_an_aborted_attempt_in_its_words() -> None
     assert (log.stats.aborted, log.budget_counts()) == (1, (0, 0, 0))
     assert log.probe_reason("Put salt on table") == "I am not sure I can carry the salt"
     assert from_json("aborted", doubt.to_json()) == doubt
+
+
+def test_attempts_after_a_probe_that_felt_it_held_fast_keep_a_record_of_their_own() -> None:
+    """gate.after_probe's held-fast rule reads its own record: the attempts whose probe felt the product held
+    fast and their failures, counted within the budget's attempts."""
+    log = EventLog()
+    for event in (
+        ActOutcome(1.0, "Put salt on table", "salt", True, None, held_fast=True),
+        ActOutcome(2.0, "Put jam on table", "jam", False, "place", held_fast=True),
+        ActOutcome(3.0, "Put oil on table", "oil", False, "transit"),
+    ):
+        log(event)
+    assert log.held_fast_record() == (2, 1)
+    assert log.budget_counts() == (3, 2, 0)

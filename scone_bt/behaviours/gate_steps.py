@@ -76,7 +76,10 @@ def confidences(
 def budget_counts(history: AttemptHistory, estimator: SelfConfidence) -> BudgetCounts:
     """The attempts so far (folded from the events) and what κ̂ has learnt, as the budget reads them."""
     attempts, failures, explored_failures = history.budget_counts()
-    return BudgetCounts(attempts, failures, explored_failures, int(getattr(estimator, "n_observations", 0)))
+    record = getattr(history, "held_fast_record", None)  # an EventLog's; a history without probes: none
+    fast, fast_failed = record() if record is not None else (0, 0)
+    learnt = int(getattr(estimator, "n_observations", 0))
+    return BudgetCounts(attempts, failures, explored_failures, learnt, fast, fast_failed)
 
 
 def probe_reasons(history: AttemptHistory, ranked: Sequence[RankedAction]) -> dict[str, str]:

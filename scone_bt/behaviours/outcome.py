@@ -7,7 +7,8 @@ heft test felt when the action was probed (experience.felt): the context the rob
 grounded κ̂ learns from, and a restarted robot rebuilds from, the context the attempt ran in.
 
 After a probe, the judge's verdict (`Keys.PROBE_JUDGE`, gate.after_probe) says whether the attempt that carried on
-was explored (below τ, on the strict rule's credit: a failure counts as an explored one), and whether a set-back
+was explored (below τ, on the strict rule's credit: a failure counts as an explored one), whether the probe felt
+the product held fast (the attempt counts in that rule's own record, gate.after_probe), and whether a set-back
 was the fingers' word (stored: κ̂ learns it could not carry it) or κ̂'s own doubt (not stored: like an ask, it
 teaches nothing).
 """
@@ -155,6 +156,7 @@ class ObserveOutcome(_RecordsOutcomes):
                 duration_s=float(motion.duration),
                 message=motion.message.split(";")[0],
                 explored=verdict is not None and verdict.explored,
+                held_fast=verdict is not None and verdict.held_fast,
             )
         )
         self.write(Keys.OUTCOME, outcome)

@@ -1,8 +1,9 @@
 """The tree's judge after a heft test: gate.after_probe, given to the probe's controller (motion.probe).
 
 The gate decides to probe; the arm lifts and holds the product; this judge then decides from what the fingers
-felt: the hard safety judge (motion.probe.judge_probe), κ̂ on the context after the probe (experience.felt), and
-the strict rule's credit, with the budget's counts as they were at the decision (a probe changes none of them).
+felt: the hard safety judge (motion.probe.judge_probe), κ̂ on the context after the probe (experience.felt), a
+product held fast (gate.probe.held_fast, on its own record) and the strict rule's credit, with the budget's counts
+as they were at the decision (a probe changes none of them).
 The replay (``scone-bench gate --probe``) calls the same gate.after_probe on its recorded readings.
 """
 
@@ -63,7 +64,14 @@ class ProbeJudge:
 
     def __call__(self, reading: ProbeReading) -> tuple[bool, str]:
         after = felt_context(self.context, reading)
+        # a load pressing down (a fingertip on the product's top) is no measure of how fast it is held
+        traction = None if reading.pressed else reading.traction
         self.verdict = after_probe(
-            self.rules, self.counts, self.item, judge_probe(reading, self.settings), self._kappa(after)
+            self.rules,
+            self.counts,
+            self.item,
+            judge_probe(reading, self.settings),
+            self._kappa(after),
+            traction,
         )
         return self.verdict.carry, self.verdict.reason

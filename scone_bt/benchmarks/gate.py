@@ -108,7 +108,15 @@ class StreamResult:
     probe_s: float = 0.0
     probes_felt: int = 0
     confident_failures: int = 0
-    """Failed attempts, warm-up included, whose κ̂ at the final decision (after the probe, if probed) was ≥ τ."""
+    """Failed attempts, warm-up included, whose κ̂ at the final decision (after the probe, if probed) was ≥ τ, or
+    that carried on by feel."""
+    by_feel: int = 0
+    """Attempts, warm-up included, carried on because the probe felt the product held fast, κ̂ below τ."""
+    by_feel_failures: int = 0
+    """Failures among them."""
+    unfelt_probe_failures: int = 0
+    """Probes, warm-up included, that failed before the fingers felt anything (a probe needs no credit: the one way
+    an attempt that is neither confident nor explored can fail)."""
     thresholds: list[float] = field(default_factory=list)
     trace: list[int] = field(default_factory=list)
     """Every decision in order: 1 acted and succeeded, 0 acted and failed, -1 asked."""
@@ -272,14 +280,19 @@ def _gate_input(
 @dataclass(frozen=True)
 class _Probed:
     """How decision ``t``'s heft test ended: set back, carried on as an explored attempt, carried on confident
-    (gate.after_probe.ProbeVerdict.confident: κ̂ at the final decision ≥ τ), and the row κ̂ learns from (the
-    context after the probe; the decision's row if the arm never held the product up)."""
+    (gate.after_probe.ProbeVerdict.confident: κ̂ at the final decision ≥ τ, or by feel), the row κ̂ learns from
+    (the context after the probe; the decision's row if the arm never held the product up), whether a set-back
+    is a label, whether the probe felt it held fast, whether it carried on by feel, and whether the arm never
+    held it up (``unfelt``: it failed before the fingers felt anything)."""
 
     aborted: bool
     explored: bool
     confident: bool
     row: np.ndarray
     label: bool = True
+    held_fast: bool = False
+    by_feel: bool = False
+    unfelt: bool = False
 
 
 def _after_probe(
@@ -292,7 +305,8 @@ def _after_probe(
     confident_before: bool,
 ) -> _Probed:
     """What the recorded probe of decision ``t`` felt, judged by the gate's one post-probe decision
-    (gate.after_probe: the hard judge, then κ̂ on the context after the probe, then the strict rule's credit)."""
+    (gate.after_probe: the hard judge, then κ̂ on the context after the probe, a product held fast, then the
+    strict rule's credit)."""
     from scone_bt.experience.felt import felt_row
     from scone_bt.gate.after_probe import after_probe
     from scone_bt.motion.probe import ProbeReading, judge_probe
@@ -301,7 +315,7 @@ def _after_probe(
     out.probes += scored
     held, load, first, grip, seconds = replay.readings[t]
     if np.isnan(held):  # the arm never held it up: it failed before the probe, as recorded
-        return _Probed(False, False, confident_before, replay.rows[t])
+        return _Probed(False, False, confident_before, replay.rows[t], unfelt=True)
     if scored:
         out.probe_s += seconds
         out.probes_felt += 1
@@ -311,9 +325,17 @@ def _after_probe(
         context = felt_row(replay.context[t], reading)
         row = np.concatenate([row[: len(row) - len(context)], context]).astype(row.dtype)
     confidence = float(replay.belief(row[None])[0])
-    verdict = after_probe(replay.rules, counts, product, judge_probe(reading, replay.probe), confidence)
+    felt = judge_probe(reading, replay.probe)
+    # a recorded load is the hold's mean size: a product pressed down reads about its grip, never held fast
+    verdict = after_probe(replay.rules, counts, product, felt, confidence, reading.traction)
     return _Probed(
-        not verdict.carry, verdict.explored, verdict.confident, row, verdict.carry or verdict.felt_unsafe
+        not verdict.carry,
+        verdict.explored,
+        verdict.confident,
+        row,
+        verdict.carry or verdict.felt_unsafe,
+        verdict.held_fast,
+        verdict.by_feel,
     )
 
 
@@ -334,7 +356,9 @@ def _committed(
     if not decision.probe:
         return False, attempt
     probed = _after_probe(replay, out, t, product, walk.counts, scored, attempt.confident)
-    attempt = _Act(ok, probed.explored, probed.confident, probed.row)
+    attempt = _Act(
+        ok, probed.explored, probed.confident, probed.row, probed.held_fast, probed.by_feel, probed.unfelt
+    )
     if probed.aborted:
         walk.counts = _set_back(replay, probed.row, product, walk.counts, walk.learnt, probed.label)
     return probed.aborted, attempt
@@ -376,13 +400,13 @@ def _set_back(
 ) -> BudgetCounts:
     """An aborted probe: no attempt and no failure, the person fetches it; κ̂ learns it could not carry it (from
     the context after the probe) when the fingers said so (``label``), nothing when its own doubt set it back."""
-    from scone_bt.gate.budget import BudgetCounts
+    from dataclasses import replace
 
     est = replay.estimator
     if label:
         est.update(row, False)
         learnt.add(product)
-    return BudgetCounts(counts.attempts, counts.failures, counts.explored_failures, est.n_observations)
+    return replace(counts, learnt=est.n_observations)
 
 
 @dataclass
@@ -399,12 +423,17 @@ class _Walk:
 @dataclass(frozen=True)
 class _Act:
     """One attempt: its outcome, whether it was explored (below τ on the budget's draw or its credit), whether κ̂
-    at the final decision was at or above τ (confident), and the row κ̂ learns from."""
+    at the final decision was at or above τ or it carried on by feel (confident), the row κ̂ learns from, whether
+    a probe before it felt the product held fast, whether it carried on for that alone (by feel), and whether it
+    was a probe that failed before the fingers felt anything (unfelt)."""
 
     ok: bool
     explored: bool
     confident: bool
     row: np.ndarray
+    held_fast: bool = False
+    by_feel: bool = False
+    unfelt: bool = False
 
 
 def _attempted(
@@ -425,6 +454,9 @@ def _attempted(
     out.all_attempts += 1
     out.all_failures += not ok
     out.confident_failures += act.confident and not ok
+    out.by_feel += act.by_feel
+    out.by_feel_failures += act.by_feel and not ok
+    out.unfelt_probe_failures += act.unfelt and not ok
     if replay.wide[t] and walk.wide_failed and scored:
         out.wide_after_failure += 1
     if replay.wide[t] and not ok:
@@ -438,6 +470,8 @@ def _attempted(
         failures=counts.failures + (not ok),
         explored_failures=counts.explored_failures + (act.explored and not ok),
         learnt=est.n_observations,
+        held_fast_attempts=counts.held_fast_attempts + act.held_fast,
+        held_fast_failures=counts.held_fast_failures + (act.held_fast and not ok),
     )
     out.max_excess = max(out.max_excess, walk.counts.failures - alpha * walk.counts.attempts)
 
@@ -594,6 +628,10 @@ def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
         "wide_attempts_after_first_wide_failure": tot["wide_after_failure"],
         "wide_attempts_after_first_wide_failure_max_per_stream": max(r.wide_after_failure for r in results),
         "attempt_failure_rate_per_stream": [ratio(r.failures, r.attempts) for r in results],
+        "help_rate_per_stream": [ratio(r.asked_ok + r.asked_fail + r.aborted, r.decisions) for r in results],
+        "by_feel_attempts": tot["by_feel"],
+        "by_feel_failures": tot["by_feel_failures"],
+        "probe_failures_before_feeling": tot["unfelt_probe_failures"],
         "max_excess_failures": round(max(r.max_excess for r in results), 4),
         # the promise's condition: streams where every failed attempt had κ̂ < τ at its final decision
         "max_excess_failures_where_confident_held": round(max(held), 4) if held else None,
@@ -1112,6 +1150,10 @@ def _probe_keys(cold: dict[str, Any], plain: dict[str, Any], probing: bool) -> d
         "probes": cold["probes"],
         "aborted_would_have_succeeded": cold["aborted_would_have_succeeded"],
         "aborted_would_have_failed": cold["aborted_would_have_failed"],
+        "by_feel_attempts": cold["by_feel_attempts"],
+        "by_feel_failures": cold["by_feel_failures"],
+        "probe_failures_before_feeling": cold["probe_failures_before_feeling"],
+        "help_rate_per_stream": cold["help_rate_per_stream"],
         "without_probe": {
             k: plain[k]
             for k in ("attempt_failure_rate", "attempt_success_rate", "help_rate", "max_excess_failures")

@@ -10,13 +10,21 @@ In order:
    that held carries on, as before.
 3. κ̂ again, on the context after the probe (what the fingers felt, experience.felt): at or above the threshold τ
    it carries on as a *confident* attempt.
-4. Below τ it carries on only while the strict rule's credit allows one more failure (gate.budget.has_credit):
+4. Held fast (gate.probe.held_fast: the load at most ``sure_traction`` of the grip, a third of the friction limit
+   the judge sets back at): it carries on, confident *by feel*, while the attempts after such probes keep the
+   promise on their own record (one more failure keeps their failures ≤ α × their attempts + the allowance:
+   gate.budget.has_credit on `BudgetCounts.held_fast_record`). A product held that fast does not slip from the
+   carry's accelerations; when on this robot it fails anyway (slippery fingers, a drop at the place), the record
+   runs out and the rule stops.
+5. Below τ it carries on only while the strict rule's credit allows one more failure (gate.budget.has_credit):
    an *explored* attempt (a failure counts as an explored failure).
-5. Else it is set back and the robot asks: "I am not sure I can carry the olive oil: please bring it". κ̂ learns
+6. Else it is set back and the robot asks: "I am not sure I can carry the olive oil: please bring it". κ̂ learns
    nothing from that (as from an ask); it learns a failure only from what the hard judge set back.
 
-So with the strict promise on, every attempt whose κ̂ at the final decision was below τ was made with credit, and
-failures beyond α · attempts + 1 can come only from confident attempts (κ̂ ≥ τ at the final decision).
+So with the strict promise on, every attempt whose κ̂ at the final decision was below τ was made on credit: the
+budget's (explored) or the held-fast record's (by feel). Failures beyond α · attempts + 1 come from confident
+attempts, by κ̂ or by feel, or from what a probe cannot feel before the grasp (fingers closing on nothing): a probe
+needs no credit (gate.probe).
 """
 
 from __future__ import annotations
@@ -25,6 +33,7 @@ import math
 from dataclasses import dataclass
 
 from scone_bt.gate.budget import BudgetCounts, has_credit
+from scone_bt.gate.probe import held_fast
 from scone_bt.gate.rules import GateRules, threshold_options
 
 __all__ = ["ProbeVerdict", "after_probe"]
@@ -43,6 +52,9 @@ class ProbeVerdict:
         felt_unsafe: Set back on the hard judge's word (the fingers felt it slip or strain): a label κ̂ learns
             (it could not carry it). A set-back on κ̂'s own doubt teaches nothing, like an ask: learning it as a
             failure would only confirm the doubt.
+        held_fast: The probe felt the product held fast (gate.probe.held_fast), whatever it then did: an attempt
+            that carries on counts in `BudgetCounts.held_fast_record`.
+        by_feel: It carries on because it felt held fast, with κ̂ below τ (confident by feel, step 4).
     """
 
     carry: bool
@@ -51,11 +63,13 @@ class ProbeVerdict:
     confidence: float = math.nan
     threshold: float = math.nan
     felt_unsafe: bool = False
+    held_fast: bool = False
+    by_feel: bool = False
 
     @property
     def confident(self) -> bool:
-        """It carries on with κ̂ after the probe at or above τ."""
-        return self.carry and not self.explored and self.confidence >= self.threshold
+        """It carries on with κ̂ after the probe at or above τ, or by feel."""
+        return self.carry and not self.explored and (self.by_feel or self.confidence >= self.threshold)
 
 
 def after_probe(
@@ -64,6 +78,7 @@ def after_probe(
     item: str,
     felt: tuple[bool, str],
     confidence: float,
+    traction: float | None = None,
 ) -> ProbeVerdict:
     """Carry on or set back (module docstring).
 
@@ -73,6 +88,8 @@ def after_probe(
         item: The product's name, for the robot's words.
         felt: The hard judge's (carry on, why not) on the probe's reading, e.g. (False, "slips in my fingers").
         confidence: κ̂ on the context after the probe (experience.felt).
+        traction: The load the fingers felt over their grip (motion.probe.ProbeReading.traction); None where it
+            was not measured or the fingers pressed the product down rather than lifted it.
     """
     tau = threshold_options(rules, counts)[0].act_threshold
     holds, why = felt
@@ -80,9 +97,14 @@ def after_probe(
         return ProbeVerdict(
             False, f"the {item} {why}", confidence=confidence, threshold=tau, felt_unsafe=True
         )
+    fast = held_fast(rules.probe, traction)
     budget = rules.budget
     if budget is None or budget.excess_allowance is None or confidence >= tau:
-        return ProbeVerdict(True, confidence=confidence, threshold=tau)
+        return ProbeVerdict(True, confidence=confidence, threshold=tau, held_fast=fast)
+    if fast and has_credit(budget, counts.held_fast_record()):
+        return ProbeVerdict(True, confidence=confidence, threshold=tau, held_fast=True, by_feel=True)
     if has_credit(budget, counts):
-        return ProbeVerdict(True, explored=True, confidence=confidence, threshold=tau)
-    return ProbeVerdict(False, f"I am not sure I can carry the {item}", confidence=confidence, threshold=tau)
+        return ProbeVerdict(True, explored=True, confidence=confidence, threshold=tau, held_fast=fast)
+    return ProbeVerdict(
+        False, f"I am not sure I can carry the {item}", confidence=confidence, threshold=tau, held_fast=fast
+    )

@@ -27,7 +27,8 @@ rule above alone), exploration spends only credit (`has_credit`): an attempt bel
 failure would keep F ≤ α · A + ``excess_allowance``, counted after that attempt. So a short episode keeps a strict
 promise from its first attempt: with α = 0.05 a robot that explored and failed once does not explore again until
 successes have earned it (the tomato pasta with a weak gripper failed 2 of 3 attempts before this rule). A robot
-with no credit asks instead (or probes, gate.probe). Confident attempts (κ̂ ≥ τ) are not limited by it.
+with no credit asks instead (or probes, gate.probe). Confident attempts (κ̂ ≥ τ) are not limited by it; nor is a
+carry after a probe that felt the product held fast, which has a record of its own (gate.after_probe).
 
 What the robot knows of its own hardware comes before κ̂: a product its depth image measures wider than its
 gripper opens (`too_wide`) cannot be held, so it is asked about, never attempted or explored. In the self-confidence
@@ -115,12 +116,22 @@ class BudgetCounts:
         failures: Failures among them.
         explored_failures: Exploratory attempts that failed.
         learnt: Outcomes κ̂ has learnt from (stored experience included).
+        held_fast_attempts: Attempts carried on after a probe that felt the product held fast
+            (gate.probe.held_fast), counted within ``attempts``.
+        held_fast_failures: Failures among them.
     """
 
     attempts: int = 0
     failures: int = 0
     explored_failures: int = 0
     learnt: int = 0
+    held_fast_attempts: int = 0
+    held_fast_failures: int = 0
+
+    def held_fast_record(self) -> BudgetCounts:
+        """The attempts after a probe that felt the product held fast, as counts of their own (`has_credit` on
+        them: may one more such carry fail within the promise?)."""
+        return BudgetCounts(self.held_fast_attempts, self.held_fast_failures)
 
 
 def initial_threshold(options: BudgetOptions) -> float:

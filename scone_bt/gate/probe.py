@@ -2,12 +2,14 @@
 
 An action κ̂ is sure of is acted on (κ̂ ≥ τ + ``above``) or asked about (κ̂ < τ − ``below``) as before. In between
 κ̂ is unsure, and a grasp and a 1–2 cm lift tell more than asking does (motion.probe): the robot probes, then
-carries on or sets the product back and asks (gate.after_probe decides which). Without the strict promise a probe
-below τ needs no exploration credit: a product that slips is set back, not dropped; what it cannot catch (a
-product that holds in the probe and falls later, or one the fingers never got hold of) counts against the budget
-like any attempt. With the strict promise (``exploration_credit: true``) a probe below τ is an attempt below τ:
-it grasps, and can fail at the grasp before the fingers feel anything, so it needs the same credit as exploration
-(`probe_credit`, gate.budget.has_credit); without credit the robot asks.
+carries on or sets the product back and asks (gate.after_probe decides which). A probe is not an exploration: it
+needs no exploration credit, with or without the strict promise (``exploration_credit: true``): a robot with no
+credit asks, or probes. A product that slips is set back, not dropped; what the probe cannot catch (a product that
+holds in the probe and falls later, or one the fingers never got hold of) counts against the budget like any
+attempt. Whether what it felt lets it carry on is gate.after_probe's: κ̂ on the context after the probe, a product
+held fast (`held_fast`, on its own record), or the strict rule's credit. ``credit`` makes a probe below τ need
+credit too (`probe_credit`: tried, docs/results/probe.md; it left a cold robot whose first attempt failed asking
+for everything).
 
 The band below τ narrows with the promise: at a target failure rate α under ``full_band_at`` it is
 ``below · (α / full_band_at)⁴`` (`band_below`). A probe that passes still carries on a product that may fall later
@@ -31,7 +33,7 @@ from scone_bt.errors import SconeError
 if TYPE_CHECKING:
     from scone_bt.gate.budget import BudgetCounts, BudgetOptions
 
-__all__ = ["ProbeOptions", "in_band", "band_below", "probe_credit", "NARROWING_POWER"]
+__all__ = ["ProbeOptions", "in_band", "band_below", "probe_credit", "held_fast", "NARROWING_POWER"]
 
 NARROWING_POWER = 4.0
 """How fast the band below τ narrows under ``full_band_at`` (`band_below`)."""
@@ -52,9 +54,12 @@ class ProbeOptions:
         full_band_at: Under this target failure rate α the band below τ narrows (`band_below`), in [0, 1); 0:
             never.
         credit: A probe below τ is made only while one more failure keeps failures ≤ α × attempts + ``credit``
-            (gate.budget.has_credit with this allowance; None: the budget's own allowance, i.e. only with
-            credit under the strict promise and always without it): what a probe cannot feel (a product that
-            holds in the fingers and fails later) is paid for from a bounded excess.
+            (gate.budget.has_credit with this allowance), in [0, 100]; None (the default): a probe needs no
+            credit.
+        sure_traction: A probe whose fingers held the product fast (the hard judge passed) with the load at most
+            this share of the grip, in (0, ``max_traction``], lets it carry on although κ̂ is unsure, while such
+            carries keep the promise on their own record (`held_fast`, gate.after_probe): a third of the
+            friction limit the judge sets back at.
     """
 
     below: float = 1.0
@@ -65,6 +70,7 @@ class ProbeOptions:
     max_traction: float = 0.3
     credit: float | None = None
     full_band_at: float = 0.15
+    sure_traction: float = 0.1
 
     def __post_init__(self) -> None:
         names = (
@@ -76,6 +82,7 @@ class ProbeOptions:
             "max_traction",
             "credit",
             "full_band_at",
+            "sure_traction",
         )
         for name in names:
             value = getattr(self, name)
@@ -92,6 +99,7 @@ class ProbeOptions:
             ("max_traction", 0.0 < self.max_traction <= 10.0, "in (0, 10]"),
             ("credit", self.credit is None or 0.0 <= self.credit <= 100.0, "None or in [0, 100]"),
             ("full_band_at", 0.0 <= self.full_band_at < 1.0, "in [0, 1)"),
+            ("sure_traction", 0.0 < self.sure_traction <= self.max_traction, "in (0, max_traction]"),
         )
         for name, ok, allowed in checks:
             value = getattr(self, name)
@@ -136,15 +144,18 @@ def in_band(
 
 
 def probe_credit(options: ProbeOptions | None, budget: BudgetOptions, counts: BudgetCounts) -> bool:
-    """Whether a probe below τ has room for one more failure: gate.budget.has_credit with the probe's allowance,
-    else with the budget's own (the strict promise, ``exploration_credit: true``: a probe below τ is an attempt
-    below τ, and it can fail before the fingers feel anything, at the grasp); True without either."""
+    """Whether a probe below τ may be made: always, unless ``options.credit`` is set (then gate.budget.has_credit
+    with that allowance). A probe is not an exploration (module docstring)."""
     from dataclasses import replace
 
     from scone_bt.gate.budget import has_credit
 
-    if options is None:
+    if options is None or options.credit is None:
         return True
-    if options.credit is None:
-        return has_credit(budget, counts)
     return has_credit(replace(budget, excess_allowance=options.credit), counts)
+
+
+def held_fast(options: ProbeOptions | None, traction: float | None) -> bool:
+    """Whether a probe that passed the hard judge felt the product held fast: its load at most ``sure_traction``
+    of the grip (``traction``: load over grip; None or NaN: not measured, or pressed down rather than lifted)."""
+    return options is not None and traction is not None and 0.0 <= traction <= options.sure_traction

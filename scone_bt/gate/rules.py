@@ -211,7 +211,7 @@ def name_object(decision: Decision, seen: GateInput, rules: GateRules) -> Decisi
 def probe_first(decision: Decision, seen: GateInput, rules: GateRules) -> Decision:
     """The heft test (gate.probe): ask about what a probe already set back in this episode, saying why; else
     ACT with a probe first when κ̂ is unsure (within the probe band around τ, whether κ̂'s decision was to act,
-    explore or ask; below τ only with the probe's credit, `probe_credit`), unless the action already failed. A
+    explore or ask; below τ only where `probe_credit` allows, by default always), unless the action already failed. A
     decision a rule made is left alone."""
     if rules.probe is None or decision.action not in seen.objects or decision.rule != "":
         return decision
@@ -232,8 +232,8 @@ def probe_first(decision: Decision, seen: GateInput, rules: GateRules) -> Decisi
         f"unsure (confidence {decision.confidence:.2f}, threshold {tau:.2f}): "
         f"hefting the {decision.object_name} first"
     )
-    # not an explored decision: below τ the band already needed the strict rule's credit (probe_credit), and
-    # whether the attempt that carries on is explored is decided after the probe (gate.after_probe)
+    # not an explored decision: a probe is not an exploration; whether the attempt that carries on is explored
+    # (on the strict rule's credit) is decided after the probe, from what it felt (gate.after_probe)
     return replace(decision, kind=DecisionKind.ACT, reason=why, explored=False, probe=True)
 
 

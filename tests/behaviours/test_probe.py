@@ -215,7 +215,10 @@ def _strict_gate(robot: FakeRobot, events: EventLog, kappa: object) -> Confidenc
     return gate
 
 
-HELD_FAST = ProbeReading(held=True, load_n=2.0, load_first_n=2.0005, grip_n=20.0, seconds=0.9)
+HELD = ProbeReading(held=True, load_n=4.0, load_first_n=4.001, grip_n=20.0, seconds=0.9)
+"""Held steady, but not fast: the load is 0.2 of the grip, above `ProbeOptions.sure_traction` (0.1)."""
+HELD_FAST = ProbeReading(held=True, load_n=1.0, load_first_n=1.0002, grip_n=20.0, seconds=0.9)
+"""Held fast: the load is 0.05 of the grip."""
 
 
 def test_unsure_after_the_probe_and_without_credit_it_sets_back_and_asks() -> None:
@@ -230,14 +233,14 @@ def test_unsure_after_the_probe_and_without_credit_it_sets_back_and_asks() -> No
     decision = bb.get(Keys.DECISION)
     assert decision.kind is DecisionKind.ACT and decision.probe  # 0.6 ≥ τ but inside the band above it
     (request,) = robot.plans
-    carry, reason = request.judge(HELD_FAST)  # what the probe's controller calls after the hold
+    carry, reason = request.judge(HELD)  # what the probe's controller calls after the hold
     assert (carry, reason) == (False, "I am not sure I can carry the strawberry jam")
     assert bb.get(Keys.PROBE_JUDGE).verdict.felt_unsafe is False
 
     store = _Store()
     bb.set(
         Keys.MOTION_OUTCOME,
-        MotionOutcome(False, None, reason, 6.0, aborted=True, probe=HELD_FAST, probe_reason=reason),
+        MotionOutcome(False, None, reason, 6.0, aborted=True, probe=HELD, probe_reason=reason),
     )
     observe = ObserveOutcome("observe", robot, lambda: store, events, LABELS)
     observe.setup()
@@ -256,18 +259,18 @@ def test_unsure_after_the_probe_with_credit_it_carries_on_as_an_explored_attempt
     gate = _strict_gate(robot, events, kappa)
     gate.tick_once()
     (request,) = robot.plans
-    assert request.judge(HELD_FAST) == (True, "")
+    assert request.judge(HELD) == (True, "")
     assert bb.get(Keys.PROBE_JUDGE).verdict.explored
 
     store = _Store()
     robot.on_table = set()  # it fell on the way: a failure
-    bb.set(Keys.MOTION_OUTCOME, MotionOutcome(False, None, "dropped", 9.0, probe=HELD_FAST))
+    bb.set(Keys.MOTION_OUTCOME, MotionOutcome(False, None, "dropped", 9.0, probe=HELD))
     observe = ObserveOutcome("observe", robot, lambda: store, events, LABELS)
     observe.setup()
     observe.tick_once()
     (stored,) = store.stored
     # stored with the context it committed in: what the fingers felt included
-    assert stored.execution.felt_held is True and stored.execution.felt_traction == pytest.approx(0.1)
+    assert stored.execution.felt_held is True and stored.execution.felt_traction == pytest.approx(0.2)
     assert events.budget_counts() == (1, 1, 1)  # an explored failure
 
 
@@ -292,13 +295,13 @@ SLIPS = ProbeReading(held=True, load_n=2.1, load_first_n=2.9, grip_n=16.0, secon
     ("spent", "reading", "on_table", "learnt", "counts", "explored"),
     [
         # sure of it before the probe (0.6 ≥ τ₀) and unsure after (0.3): with credit, an explored carry-on
-        (False, HELD_FAST, True, [(0.1, True)], (1, 0, 0), True),
-        (False, HELD_FAST, False, [(0.1, False)], (1, 1, 1), True),
+        (False, HELD, True, [(0.2, True)], (1, 0, 0), True),
+        (False, HELD, False, [(0.2, False)], (1, 1, 1), True),
         # the fingers felt it slip: set back, and κ̂ learns it could not carry it, from what it felt
         (False, SLIPS, False, [(0.13125, False)], (0, 0, 0), None),
         (True, SLIPS, False, [(0.13125, False)], (1, 1, 0), None),
         # no credit left and unsure after feeling it: set back on κ̂'s doubt, which teaches κ̂ nothing
-        (True, HELD_FAST, False, [], (1, 1, 0), None),
+        (True, HELD, False, [], (1, 1, 0), None),
     ],
 )
 def test_what_kappa_learns_after_each_ending_of_a_probe(
@@ -338,3 +341,36 @@ def test_what_kappa_learns_after_each_ending_of_a_probe(
         assert isinstance(last, ProbeAborted) and last.reason == reason
     else:
         assert isinstance(last, ActOutcome) and last.explored is explored
+
+
+def test_held_fast_without_credit_it_carries_on_by_feel_on_that_rule_s_own_record() -> None:
+    """No credit left (1 failure in 1) and κ̂ unsure after the probe (0.3 < τ), but the fingers held the jam fast
+    (load 0.05 of the grip): it carries on, confident by feel, and the attempt counts in the held-fast record
+    (gate.after_probe's tests: a record without credit sets back)."""
+    from scone_bt.events import ActOutcome
+
+    robot, events, kappa = FakeRobot(time=3.0), EventLog(), _FeelingKappa()
+    events(ActOutcome(1.0, "Put honey on table", "honey", False, "grasp"))  # no credit left
+    bb = _scene()
+    gate = _strict_gate(robot, events, kappa)
+    gate.tick_once()
+    (request,) = robot.plans
+    assert request.judge(HELD) == (False, "I am not sure I can carry the strawberry jam")
+    assert request.judge(HELD_FAST) == (True, "")
+    verdict = bb.get(Keys.PROBE_JUDGE).verdict
+    assert (verdict.by_feel, verdict.held_fast, verdict.confident, verdict.explored) == (
+        True,
+        True,
+        True,
+        False,
+    )
+
+    store = _Store()
+    robot.on_table = set()  # it fell at the place: a failure, counted in the held-fast record
+    bb.set(Keys.MOTION_OUTCOME, MotionOutcome(False, None, "dropped", 9.0, probe=HELD_FAST))
+    observe = ObserveOutcome("observe", robot, lambda: store, events, LABELS)
+    observe.setup()
+    observe.tick_once()
+    last = events.events[-1]
+    assert isinstance(last, ActOutcome) and last.held_fast and not last.explored
+    assert events.held_fast_record() == (1, 1) and events.budget_counts() == (2, 2, 0)

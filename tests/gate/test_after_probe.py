@@ -7,6 +7,7 @@ import math
 
 import pytest
 
+from scone_bt.errors import SconeError
 from scone_bt.gate.after_probe import ProbeVerdict, after_probe
 from scone_bt.gate.budget import BudgetCounts, BudgetOptions
 from scone_bt.gate.probe import ProbeOptions, in_band, probe_credit
@@ -53,15 +54,49 @@ def test_without_the_strict_promise_a_product_that_held_carries_on_as_before() -
     assert not after_probe(_rules(LOOSE), spent, "jar", (False, "slips out of my fingers"), 0.9).carry
 
 
-def test_with_the_strict_promise_a_probe_below_the_threshold_needs_credit() -> None:
-    """A probe grasps: it can fail before the fingers feel anything, so below τ it is an attempt below τ."""
+def test_a_probe_needs_no_credit_unless_the_options_ask_for_it() -> None:
+    """A robot with no credit asks, or probes: a probe is not an exploration. ``credit`` (tried, not the default)
+    makes a probe below τ need credit as exploration does."""
     spent = BudgetCounts(attempts=1, failures=1)
     band = ProbeOptions()
-    assert not probe_credit(band, STRICT, spent) and probe_credit(band, STRICT, BudgetCounts())
-    assert probe_credit(band, LOOSE, spent)  # the rule off: as before
-    assert not in_band(0.4, TAU0, band, probe_credit(band, STRICT, spent), ALPHA)
-    assert in_band(0.6, TAU0, band, probe_credit(band, STRICT, spent), ALPHA)  # above τ: no credit needed
-    assert in_band(0.4, TAU0, band, probe_credit(band, LOOSE, spent), ALPHA)
+    assert probe_credit(band, STRICT, spent) and probe_credit(band, LOOSE, spent)
+    assert in_band(0.4, TAU0, band, probe_credit(band, STRICT, spent), ALPHA)
+    strict = ProbeOptions(credit=1.0)
+    assert not probe_credit(strict, STRICT, spent) and probe_credit(strict, STRICT, BudgetCounts())
+    assert not in_band(0.4, TAU0, strict, probe_credit(strict, STRICT, spent), ALPHA)
+    assert in_band(0.6, TAU0, strict, probe_credit(strict, STRICT, spent), ALPHA)  # above τ: no credit needed
+
+
+def test_held_fast_carries_on_by_feel_while_its_own_record_keeps_the_promise() -> None:
+    """No credit left and κ̂ unsure after the probe, but the fingers held it fast (load ≤ 0.1 of the grip): it
+    carries on, confident by feel, until such carries have failed beyond α × their attempts + 1."""
+    spent = BudgetCounts(attempts=1, failures=1)
+    v = after_probe(_rules(STRICT), spent, "jar", HOLDS, 0.3, traction=0.05)
+    assert (v.carry, v.by_feel, v.held_fast, v.confident, v.explored) == (True, True, True, True, False)
+    # not fast enough (0.2 of the grip), not measured, or the hard judge set it back: the rule does not apply
+    for traction in (0.2, None, math.nan):
+        v = after_probe(_rules(STRICT), spent, "jar", HOLDS, 0.3, traction=traction)
+        assert (v.carry, v.by_feel) == (False, False)
+    v = after_probe(_rules(STRICT), spent, "jar", (False, "slips in my fingers"), 0.3, traction=0.05)
+    assert (v.carry, v.by_feel, v.felt_unsafe) == (False, False, True)
+    # its own record: one held-fast carry that failed leaves no credit (2 > 0.15 · 2 + 1) ...
+    failed = BudgetCounts(attempts=1, failures=1, held_fast_attempts=1, held_fast_failures=1)
+    v = after_probe(_rules(STRICT), failed, "jar", HOLDS, 0.3, traction=0.05)
+    assert (v.carry, v.held_fast, v.reason) == (False, True, "I am not sure I can carry the jar")
+    # ... until successes earn it back, whatever the budget's own credit
+    earned = BudgetCounts(attempts=9, failures=3, held_fast_attempts=8, held_fast_failures=1)
+    assert after_probe(_rules(STRICT), earned, "jar", HOLDS, 0.3, traction=0.05).by_feel
+    # with credit the budget's it is still by feel, spending none of the exploration credit
+    v = after_probe(_rules(STRICT), BudgetCounts(), "jar", HOLDS, 0.3, traction=0.05)
+    assert (v.by_feel, v.explored) == (True, False)
+    # sure after the probe: confident by κ̂, the probe's feel noted for the record
+    v = after_probe(_rules(STRICT), spent, "jar", HOLDS, 0.9, traction=0.05)
+    assert (v.carry, v.by_feel, v.held_fast, v.confident) == (True, False, True, True)
+
+
+def test_sure_traction_is_validated_against_the_friction_limit() -> None:
+    with pytest.raises(SconeError, match=r"probe.sure_traction must be in \(0, max_traction\], got 0.5"):
+        ProbeOptions(sure_traction=0.5)
 
 
 def test_a_verdict_that_sets_back_is_never_confident() -> None:
