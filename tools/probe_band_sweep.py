@@ -3,7 +3,7 @@
 Each configuration is replayed as ``scone-bench gate`` replays the tree's gate (cold, censored, warm-up 20, the
 strict credit rule on unless ``allowance`` is null), with `scone_bt.benchmarks.gate.replay_stream`; one JSON line
 per (configuration, α). A configuration is a `ProbeOptions` mapping (``below``, ``above``, ``credit``,
-``full_band_at``, …), ``{"below": null}`` for no probe, plus ``allowance`` (the strict rule's, default 1) and
+``full_band_at``, ``sure_traction``, …), ``{"below": null}`` for no probe, plus ``allowance`` (the strict rule's, default 1) and
 ``power`` (how fast the band narrows under ``full_band_at``: `scone_bt.gate.probe.NARROWING_POWER`, default 4).
 
     PYTHONPATH=$PWD python tools/probe_band_sweep.py --datasets tools/data/sc_probe \\
@@ -55,6 +55,7 @@ def main() -> None:
                     probe=probe,
                     readings=streams.readings[j],
                     excess_allowance=allowance,
+                    foreseen=streams.foreseen[j],
                 )
                 for j in range(len(streams.names))
             ]
@@ -69,6 +70,9 @@ def main() -> None:
                 "max_excess_failures": r["max_excess_failures"],
                 "max_excess_failures_where_confident_held": r["max_excess_failures_where_confident_held"],
                 "streams_where_confident_held": r["streams_where_confident_held"],
+                "by_feel_attempts": r["by_feel_attempts"],
+                "by_feel_failures": r["by_feel_failures"],
+                "probe_failures_before_feeling": r["probe_failures_before_feeling"],
                 "wall_s": round(time.time() - t0, 1),
             }
             print(json.dumps(line), flush=True)

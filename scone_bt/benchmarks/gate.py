@@ -17,9 +17,17 @@ stream's first failed one, summed and the largest per stream), the realised rate
 ``max_excess_failures``: the largest F − α · A reached at any point of any stream, warm-up included, and
 ``max_excess_failures_where_confident_held``: the same over only the streams in which no confident attempt failed
 (null if there is none; ``streams_where_confident_held`` says how many). An attempt is *confident* when κ̂ at its
-final decision was at or above the threshold τ: the gate's κ̂ for an action that was not probed, κ̂ on the
-context after the probe (what the fingers felt) for one that was. With the strict promise on
-(``--exploration-credit``: gate.budget.has_credit, gate.after_probe) that key is ≤ 1. Methods:
+final decision was at or above the threshold τ (the gate's κ̂ for an action that was not probed, κ̂ on the
+context after the probe, what the fingers felt, for one that was), or when it carried on by feel (the probe felt
+the product held fast, on that rule's own record: ``by_feel_attempts``, ``by_feel_failures``). With the strict
+promise on (``--exploration-credit``: gate.budget.has_credit, gate.after_probe) that key is ≤ 1 but for a probe
+that failed before the fingers felt anything (a probe needs no credit; ``probe_failures_before_feeling`` counts
+them).
+
+The replay decides as the tree does where the robot knows before its arm moves that it cannot act (`foreseen`):
+a target the camera did not detect is asked for (the tree has no affordance for it), and where no plan exists
+the gate's ACT becomes an ask before the arm moves, learnt by κ̂ as a failure at planning (RecordInfeasible), not
+an attempt. The datasets record both as failed executions: the generator attempts every row. Methods:
 
 - ``budget:<κ̂>``: the failure-budget gate (scone_bt.gate.budget) over κ̂ (the tree's default: ``physical``);
 - ``fixed:<κ̂>``: the same κ̂ and exploration with a threshold fixed at τ₀ (1 − 3α) (no online calibration);
@@ -699,17 +707,29 @@ def _load(args: argparse.Namespace, oracle: bool, folder: Path | None = None) ->
 
 
 FORESEEN_STAGES: tuple[str, ...] = ("ik", "planning")
-"""Failure stages the robot knows of before its arm moves: no plan exists (motion.pick_place.Diagnosis.stage)."""
+"""Failure stages at which no plan was made (motion.pick_place.Diagnosis.stage)."""
+
+_TIMED_OUT: tuple[str, ...] = ("no path", "injected: no plan")
+"""How a planning failure's detail begins when the planner only ran out of time (PlanFailureReason.NO_PATH, or the
+generator's injected planning failure): the tree still attempts those (robot.sim: not `infeasible`), so they
+stay failed attempts."""
 
 
 def foreseen(d: Any) -> np.ndarray:
     """(n,) str: for each execution of a dataset, the rule by which the robot would ask instead of attempting it:
     "missing" where its target was not detected (the tree asks for what it sees nowhere, gate.rules.ask_for_missing),
-    "infeasible" where no plan exists (it asks before the arm moves, gate.rules.infeasible_decision), else "".
-    The generator attempts every one and records these as failed executions."""
+    "infeasible" where the scene's geometry left no plan (it asks before the arm moves,
+    gate.rules.infeasible_decision), else "". The generator attempts every one and records these as failed
+    executions; a file without a ``detail`` column cannot tell a planner that ran out of time, so none of its
+    planning failures is foreseen."""
     detected = np.nan_to_num(d.context.get("detected", np.ones(len(d))), nan=1.0)
+    details = d.details or ("",) * len(d)
+    geometric = [
+        stage in FORESEEN_STAGES and bool(detail) and not detail.startswith(_TIMED_OUT)
+        for stage, detail in zip(d.failure_stages, details, strict=True)
+    ]
     rules = np.full(len(d), "", dtype=object)
-    rules[np.array([s in FORESEEN_STAGES for s in d.failure_stages], dtype=bool)] = "infeasible"
+    rules[np.array(geometric, dtype=bool)] = "infeasible"
     rules[detected == 0] = "missing"
     return rules
 

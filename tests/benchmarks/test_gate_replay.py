@@ -353,14 +353,25 @@ def test_what_the_robot_knows_it_cannot_do_before_moving_is_asked_for(
     """A target not detected or one no plan reaches: the tree asks for it before the arm moves (ask_for_missing,
     infeasible_decision), so the replay asks too, whatever κ̂ says: no attempt, no failure of the budget. As the
     tree stores it, κ̂ learns a failure at planning from an infeasible plan, nothing from a target it never saw."""
+    from dataclasses import replace
+
     from scone_bt.benchmarks.gate import foreseen
     from scone_bt.benchmarks.self_confidence.dataset import Dataset
     from scone_bt.experience.types import CONTEXT_FIELDS
 
-    n = 6
+    n = 7
     context = _context([0.05] * n)
     context[1, CONTEXT_FIELDS.index("detected")] = 0.0  # the camera did not see row 1's target
-    stages = ("", "perception", "planning", "grasp", "", "ik")
+    stages = ("", "perception", "planning", "grasp", "", "ik", "planning")
+    details = (
+        "placed upright on the table",
+        "target not detected (5 products seen)",
+        "every grasp of p2 collides with shelf_tier1 (14 tried)",
+        "the fingers closed without holding the object",
+        "placed upright on the table",
+        "no IK solution for any grasp of p5 at the back",
+        "no path to any grasp of p6: timed out",  # the planner ran out of time: the tree attempts it
+    )
     data = Dataset(
         "s",
         tuple(f"Put p{i} on table" for i in range(n)),
@@ -368,9 +379,11 @@ def test_what_the_robot_knows_it_cannot_do_before_moving_is_asked_for(
         np.array([s == "" for s in stages]),
         stages,
         context={"detected": context[:, CONTEXT_FIELDS.index("detected")]},
+        details=details,
     )
     known = foreseen(data)
-    assert known.tolist() == ["", "missing", "infeasible", "", "", "infeasible"]
+    assert known.tolist() == ["", "missing", "infeasible", "", "", "infeasible", ""]
+    assert foreseen(replace(data, details=())).tolist() == ["", "missing", "", "", "", "", ""]
 
     vectors = np.column_stack([np.full(n, 0.9), np.arange(n)]).astype(np.float32)  # κ̂ sure of every one
     success = data.success
@@ -391,14 +404,12 @@ def test_what_the_robot_knows_it_cannot_do_before_moving_is_asked_for(
         trace=trace,
         foreseen=known,
     )
-    assert kappa.learnt == [(0, True), (2, False), (3, False), (4, True), (5, False)]
-    assert (out.all_attempts, out.all_failures, out.all_asked) == (3, 1, 3)
-    assert [d.rule for d in trace] == ["", "missing", "infeasible", "", "", "infeasible"]
+    assert kappa.learnt == [(0, True), (2, False), (3, False), (4, True), (5, False), (6, False)]
+    assert (out.all_attempts, out.all_failures, out.all_asked) == (4, 2, 3)
+    assert [d.rule for d in trace] == ["", "missing", "infeasible", "", "", "infeasible", ""]
     assert "cannot see the p1" in trace[1].reason
 
     _use(monkeypatch, kappa := _Scripted())
     blind = replay_stream(vectors, context, success, list(data.objects), "x", "budget", 0.15, 0, 0, OPENING_M)
-    assert (blind.all_attempts, blind.all_failures) == (
-        6,
-        4,
-    )  # without it: failed attempts the robot never makes
+    # without it: the failed attempts the robot never makes
+    assert (blind.all_attempts, blind.all_failures) == (7, 5)

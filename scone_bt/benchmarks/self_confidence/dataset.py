@@ -245,6 +245,7 @@ class Dataset:
         context: CONTEXT_COLUMNS present in the file → (n,) float array (NaN where a row leaves it empty).
         materials: Material per row ("" when the file has none).
         shelf_units: Shelf unit per row ("" when the file has none).
+        details: The motion system's first line of detail per row ("" when the file has none).
     """
 
     name: str
@@ -256,6 +257,7 @@ class Dataset:
     context: dict[str, np.ndarray] = field(default_factory=dict)
     materials: tuple[str, ...] = ()
     shelf_units: tuple[str, ...] = ()
+    details: tuple[str, ...] = ()
 
     def __len__(self) -> int:
         return len(self.actions)
@@ -460,6 +462,7 @@ def read_dataset(path: Path | str) -> list[Dataset]:
                 context=context,
                 materials=tuple(str(rows[i].get("material") or "") for i in idx),
                 shelf_units=tuple(str(rows[i].get("shelf_unit") or "") for i in idx),
+                details=tuple(str(rows[i].get("detail") or "") for i in idx),
             )
         )
     return datasets
