@@ -70,4 +70,6 @@ def test_where_no_confident_attempt_failed_failures_stay_within_alpha_times_atte
 def test_without_the_strict_promise_the_same_streams_break_it() -> None:
     """The property can fail: the probe without the strict rule lets unsure attempts fail beyond it."""
     results = _replayed(0.10, None)
-    assert any(r.confident_failures == 0 and r.unfelt_probe_failures == 0 and r.max_excess > 1.0 for r in results)
+    assert any(
+        r.confident_failures == 0 and r.unfelt_probe_failures == 0 and r.max_excess > 1.0 for r in results
+    )
