@@ -91,6 +91,23 @@ def _statements(script: str) -> list[str]:
     return [s for s in (p.strip() for p in script.split(";")) if s]
 
 
+@contextlib.contextmanager
+def _transaction(conn: sqlite3.Connection) -> Iterator[None]:
+    """BEGIN IMMEDIATE … COMMIT (the connection has isolation_level None): all or nothing. On any exception,
+    a Ctrl-C included, it rolls back and re-raises, but only while a transaction is open: a Ctrl-C raised as
+    COMMIT returns finds it committed, and a ROLLBACK then fails ("no transaction is active") and would replace
+    the interrupt with a "store unusable" error."""
+    conn.execute("BEGIN IMMEDIATE")
+    try:
+        yield
+        conn.execute("COMMIT")
+    except BaseException:
+        with contextlib.suppress(sqlite3.Error):  # the first error is the one to report
+            if conn.in_transaction:
+                conn.execute("ROLLBACK")
+        raise
+
+
 MIN_FREE_BYTES = 1 << 20
 """Free space the store needs at open (an outcome is about 1 kB; SQLite's journal needs a few pages)."""
 
@@ -336,19 +353,11 @@ class ExperienceStore(OutcomeStore):
 
     @staticmethod
     def _create(conn: sqlite3.Connection) -> None:
-        conn.execute("BEGIN IMMEDIATE")
-        try:
+        with _transaction(conn):
             for stmt in _statements(_SCHEMA_V1) + _statements(_UPGRADE_V2) + _statements(_INDEXES_V2):
                 conn.execute(stmt)
             conn.execute(f"PRAGMA application_id = {APPLICATION_ID}")
             conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
-            conn.execute("COMMIT")
-        except BaseException:
-            # A Ctrl-C raised as COMMIT returns finds the transaction committed: a ROLLBACK then fails ("no
-            # transaction is active") and would replace the interrupt with a "store unusable" error.
-            if conn.in_transaction:
-                conn.execute("ROLLBACK")
-            raise
 
     def _backup_path(self) -> Path:
         p = self.path
@@ -380,44 +389,17 @@ class ExperienceStore(OutcomeStore):
 
     def _upgrade_v1(self, conn: sqlite3.Connection, backup: Path | None) -> None:
         """Schema 1 → 2: add the columns in one transaction (all or nothing), after the backup was written."""
-        conn.execute("BEGIN IMMEDIATE")
         try:
-            if (
-                conn.execute("PRAGMA user_version").fetchone()[0] != 1
-            ):  # another process upgraded it meanwhile
-                conn.execute("ROLLBACK")
-                if backup is not None:
-                    backup.unlink(missing_ok=True)
-                return
-            for stmt in _statements(_UPGRADE_V2):
-                conn.execute(stmt)
-            rows = conn.execute("SELECT id, context FROM outcomes ORDER BY id").fetchall()
-            for row_id, ctx_text in rows:
-                # A row whose context cannot be read gets its columns like any other; its values stay as they
-                # are and reads skip it (see decode_row below).
-                ctx = _context_of(ctx_text)[0] or {}
-                robot = str(ctx.get("robot", ""))
-                conn.execute(
-                    "UPDATE outcomes SET outcome_id = ?, robot_id = ?, arm = ?, profile = ? WHERE id = ?",
-                    (f"v1-{row_id}", robot, robot, str(ctx.get("profile", "")), row_id),
-                )
-            # Every check a read makes, so the notice names each row a read will skip (a bad context or a
-            # wrong-typed column alike), not only those whose context failed to parse.
-            unreadable: dict[int, str] = {}
-            for row_id, *row in conn.execute(f"SELECT id, {', '.join(COLUMNS)} FROM outcomes ORDER BY id"):
-                why = decode_row(tuple(row))[1]
-                if why:
-                    unreadable[row_id] = why
-            for stmt in _statements(_INDEXES_V2):
-                conn.execute(stmt)
-            conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
-            conn.execute("COMMIT")
+            with _transaction(conn):
+                rows, unreadable = self._upgrade_rows(conn)
         except BaseException:
-            if conn.in_transaction:
-                conn.execute("ROLLBACK")
             if backup is not None:
                 backup.unlink(missing_ok=True)  # nothing changed: the backup would only confuse
             raise
+        if rows is None:  # another process upgraded it meanwhile
+            if backup is not None:
+                backup.unlink(missing_ok=True)
+            return
         self.notice = (
             f"upgraded {self.path} from schema 1 to {SCHEMA_VERSION} ({len(rows)} outcomes kept, robot ids added); "
             f"the original is saved as {backup}"
@@ -427,6 +409,36 @@ class ExperienceStore(OutcomeStore):
                 f"; {rows_named(sorted(unreadable), unreadable)} cannot be read: "
                 "kept in the file as they are, not learnt from"
             )
+
+    @staticmethod
+    def _upgrade_rows(conn: sqlite3.Connection) -> tuple[list[Any] | None, dict[int, str]]:
+        """Inside the upgrade's transaction: the schema 2 columns, indexes and version; (the rows it kept, the rows
+        a read will skip and why), or (None, {}) when the file no longer has schema 1."""
+        if conn.execute("PRAGMA user_version").fetchone()[0] != 1:
+            return None, {}
+        for stmt in _statements(_UPGRADE_V2):
+            conn.execute(stmt)
+        rows = conn.execute("SELECT id, context FROM outcomes ORDER BY id").fetchall()
+        for row_id, ctx_text in rows:
+            # A row whose context cannot be read gets its columns like any other; its values stay as they
+            # are and reads skip it (see decode_row below).
+            ctx = _context_of(ctx_text)[0] or {}
+            robot = str(ctx.get("robot", ""))
+            conn.execute(
+                "UPDATE outcomes SET outcome_id = ?, robot_id = ?, arm = ?, profile = ? WHERE id = ?",
+                (f"v1-{row_id}", robot, robot, str(ctx.get("profile", "")), row_id),
+            )
+        # Every check a read makes, so the notice names each row a read will skip (a bad context or a
+        # wrong-typed column alike), not only those whose context failed to parse.
+        unreadable: dict[int, str] = {}
+        for row_id, *row in conn.execute(f"SELECT id, {', '.join(COLUMNS)} FROM outcomes ORDER BY id"):
+            why = decode_row(tuple(row))[1]
+            if why:
+                unreadable[row_id] = why
+        for stmt in _statements(_INDEXES_V2):
+            conn.execute(stmt)
+        conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
+        return rows, unreadable
 
     # ----- writing -----------------------------------------------------------------------------------------
     def append(self, outcome: Outcome) -> int:
@@ -450,26 +462,18 @@ class ExperienceStore(OutcomeStore):
         with self._lock:
             conn = self._connection()
             note_attempt(self.location, outcome.outcome_id)
-            try:
-                conn.execute("BEGIN IMMEDIATE")
-                conn.execute(
-                    f"INSERT INTO outcomes ({', '.join(COLUMNS)}) VALUES ({', '.join('?' * len(COLUMNS))}) "
-                    "ON CONFLICT (outcome_id) DO NOTHING",
-                    row,
-                )
-                row_id = conn.execute(
-                    "SELECT id FROM outcomes WHERE outcome_id = ?", (outcome.outcome_id,)
-                ).fetchone()[0]
-                conn.execute("COMMIT")
+            try:  # an interrupt mid-write: the outcome is stored wholly or not at all (_transaction)
+                with _transaction(conn):
+                    conn.execute(
+                        f"INSERT INTO outcomes ({', '.join(COLUMNS)}) VALUES ({', '.join('?' * len(COLUMNS))}) "
+                        "ON CONFLICT (outcome_id) DO NOTHING",
+                        row,
+                    )
+                    row_id = conn.execute(
+                        "SELECT id FROM outcomes WHERE outcome_id = ?", (outcome.outcome_id,)
+                    ).fetchone()[0]
             except sqlite3.Error as exc:
-                if conn.in_transaction:
-                    conn.execute("ROLLBACK")
                 raise ExperienceStoreError(f"cannot write to experience store {self.path}: {exc}") from None
-            except BaseException:  # an interrupt mid-write: the outcome is stored wholly or not at all
-                with contextlib.suppress(sqlite3.Error):
-                    if conn.in_transaction:
-                        conn.execute("ROLLBACK")
-                raise
             return int(row_id)
 
     # ----- reading -----------------------------------------------------------------------------------------
