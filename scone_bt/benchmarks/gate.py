@@ -393,6 +393,21 @@ def _asks_anyway(result: GateResult, rule: str) -> GateResult:
     return replace(result, decision=overruled(decision, DecisionKind.ASK, why, rule))
 
 
+def _decided(replay: _Replay, walk: _Walk, t: int, product: str, rule: str) -> GateResult:
+    """Decision ``t`` as the tree makes it: the gate's (gate.rules.gate_decision), then, where the robot knows
+    before its arm moves that it cannot act (`foreseen`'s ``rule``, "" if not), an ask instead of an ACT; an
+    infeasible plan is learnt as a failure at planning (`_infeasible`)."""
+    from scone_bt.gate.rules import gate_decision
+    from scone_bt.gate.types import DecisionKind
+
+    result = gate_decision(replay.rules, _gate_input(replay, t, product, walk.counts, walk.failed))
+    if rule and result.decision.kind is DecisionKind.ACT:
+        result = _asks_anyway(result, rule)
+        if rule == "infeasible":
+            _infeasible(replay, walk, t, product)
+    return result
+
+
 def _infeasible(replay: _Replay, walk: _Walk, t: int, product: str) -> None:
     """A plan found infeasible before committing is experience, not an attempt (behaviours.outcome.RecordInfeasible):
     κ̂ learns a failure at planning; the budget's attempts and failures do not move."""
@@ -503,6 +518,44 @@ def _score(out: StreamResult, act: bool, ok: bool, explored: bool, novel: bool, 
         out.asked_fail += 1
 
 
+@dataclass(frozen=True)
+class _Row:
+    """One execution of the stream as the replay decides it: its index, product, outcome (revealed only if
+    attempted), whether it is scored (after the warm-up) and `foreseen`'s rule for it ("" if none)."""
+
+    t: int
+    product: str
+    ok: bool
+    scored: bool
+    rule: str
+
+
+def _step(
+    replay: _Replay, walk: _Walk, out: StreamResult, row: _Row, alpha: float, trace: list[Decision] | None
+) -> None:
+    """One decision: made (`_decided`), committed to (`_committed`: a probe may set it back), learnt and tallied."""
+    from scone_bt.gate.types import DecisionKind
+
+    t, product, ok, scored = row.t, row.product, row.ok, row.scored
+    result = _decided(replay, walk, t, product, row.rule)
+    if trace is not None:
+        trace.append(result.decision)
+    decision = result.decision
+    act = decision.kind is DecisionKind.ACT
+    aborted, attempt = _committed(replay, walk, out, t, product, ok, result, scored)
+    if aborted:
+        act = False
+    novel = product not in walk.learnt
+    out.all_decisions += 1
+    out.thresholds.append(result.threshold)
+    out.trace.append(int(ok) if act else -1)
+    if act:
+        _attempted(replay, walk, out, t, product, attempt, scored, alpha)
+    out.all_asked += not act
+    if scored:
+        _score(out, act, ok, attempt.explored if act else decision.explored, novel, aborted)
+
+
 def replay_stream(
     vectors: np.ndarray,
     context: np.ndarray,
@@ -549,8 +602,6 @@ def replay_stream(
             planning from an infeasible plan, nothing from a missing target); None: none.
     """
     from scone_bt.gate.budget import BudgetCounts
-    from scone_bt.gate.rules import gate_decision
-    from scone_bt.gate.types import DecisionKind
 
     replay = _start_replay(
         vectors,
@@ -569,29 +620,8 @@ def replay_stream(
     walk = _Walk(BudgetCounts(learnt=replay.estimator.n_observations))
     out = StreamResult()
     for t in range(len(success)):  # one decision a row, in stream order
-        ok, product, scored = bool(success[t]), products[t], t >= warmup
-        result = gate_decision(replay.rules, _gate_input(replay, t, product, walk.counts, walk.failed))
         rule = str(foreseen[t]) if foreseen is not None else ""
-        if rule and result.decision.kind is DecisionKind.ACT:
-            result = _asks_anyway(result, rule)
-            if rule == "infeasible":
-                _infeasible(replay, walk, t, product)
-        if trace is not None:
-            trace.append(result.decision)
-        decision = result.decision
-        act = decision.kind is DecisionKind.ACT
-        aborted, attempt = _committed(replay, walk, out, t, product, ok, result, scored)
-        if aborted:
-            act = False
-        novel = product not in walk.learnt
-        out.all_decisions += 1
-        out.thresholds.append(result.threshold)
-        out.trace.append(int(ok) if act else -1)
-        if act:
-            _attempted(replay, walk, out, t, product, attempt, scored, alpha)
-        out.all_asked += not act
-        if scored:
-            _score(out, act, ok, attempt.explored if act else decision.explored, novel, aborted)
+        _step(replay, walk, out, _Row(t, products[t], bool(success[t]), t >= warmup, rule), alpha, trace)
     return out
 
 
