@@ -32,6 +32,12 @@ class _Interrupts:
     raises KeyboardInterrupt, which unwinds the episode (the store closes, an unfinished write rolls back) to
     `main`, which counts what is stored and prints the line; once the line is out, another SIGINT (during the
     interpreter's shutdown) ends the process quietly.
+
+    A Ctrl-C that lands inside an import is not raised there but deferred: importlib's own callbacks report an
+    exception raised in them as "ignored" and go on (the run then finished and exited 0), and one raised while a
+    module lock is held left the next import waiting forever (CI and a stress run saw both). `pending` is set, and
+    the episode's next event raises it (`check`, in plain Python); a run that returns with it set ends as
+    interrupted all the same. So does one whose KeyboardInterrupt a library swallowed.
     """
 
     EARLY, RUNNING, REPORTED = "early", "running", "reported"
@@ -39,6 +45,14 @@ class _Interrupts:
     def __init__(self) -> None:
         self.phase = self.EARLY
         self.previous: Callable[[int, FrameType | None], Any] | int | None = None  # SIGINT's handler before
+        self.pending = False  # a Ctrl-C came while running: the run must end as interrupted
+
+    def check(self) -> None:
+        """Raise a Ctrl-C that came and was deferred or swallowed; only in the main thread, where the episode
+        runs."""
+        if self.pending and threading.current_thread() is threading.main_thread():
+            self.phase = self.REPORTED  # a second Ctrl-C while this one unwinds ends the process at once
+            raise KeyboardInterrupt
 
     def install(self) -> None:
         if threading.current_thread() is threading.main_thread():  # signals can only be set from there
@@ -58,11 +72,23 @@ class _Interrupts:
 
     def _handle(self, signum: int, frame: FrameType | None) -> None:
         if self.phase == self.RUNNING:
+            self.pending = True
+            if _inside_import(frame):
+                return  # raised here it could be ignored or leave a module lock held: the next event raises it
             self.phase = self.REPORTED  # a second Ctrl-C while the first unwinds ends the process at once
             raise KeyboardInterrupt
         if self.phase == self.EARLY:
             _write_line(f"{_PROG}: interrupted; nothing was stored")
         os._exit(130)
+
+
+def _inside_import(frame: FrameType | None) -> bool:
+    """Whether the interrupted code runs inside importlib's machinery (any frame of the stack)."""
+    while frame is not None:
+        if frame.f_code.co_filename.startswith("<frozen importlib"):
+            return True
+        frame = frame.f_back
+    return False
 
 
 def _write_line(line: str) -> None:
@@ -569,7 +595,9 @@ def main(argv: list[str] | None = None) -> int:
     _INTERRUPTS.phase = _Interrupts.RUNNING
     parsed: list[argparse.Namespace] = []  # filled as soon as the arguments are parsed (the store's name)
     try:
-        return _run(argv, parsed)
+        code = _run(argv, parsed)
+        _INTERRUPTS.check()  # a Ctrl-C whose KeyboardInterrupt something swallowed: still an interrupt
+        return code
     except KeyboardInterrupt:
         sys.unraisablehook = lambda _unraisable: None  # half-built objects' __del__ noise is not for the user
         line = _interrupted_line(parsed[0] if parsed else None)
@@ -587,7 +615,19 @@ def main(argv: list[str] | None = None) -> int:
     finally:
         _INTERRUPTS.phase = _Interrupts.REPORTED
         if not _IS_PROGRAM:  # called from Python (tests): Ctrl-C is the caller's again
+            _INTERRUPTS.pending = False
             _INTERRUPTS.restore()
+
+
+def _checked(on_event: Callable[[Any], None] | None) -> Callable[[Any], None]:
+    """The episode's event callback, first raising a Ctrl-C that something swallowed (`_Interrupts.check`)."""
+
+    def seen(event: Any) -> None:
+        _INTERRUPTS.check()
+        if on_event is not None:
+            on_event(event)
+
+    return seen
 
 
 def _run(argv: list[str] | None, parsed: list[argparse.Namespace]) -> int:
@@ -610,7 +650,7 @@ def _run(argv: list[str] | None, parsed: list[argparse.Namespace]) -> int:
             summary = run_episode(
                 options,
                 printer=(lambda _line: None) if args.quiet else print,
-                on_event=server.on_event if server is not None else None,
+                on_event=_checked(server.on_event if server is not None else None),
                 human_factory=server.human_factory if server is not None else None,
                 realtime=server is not None,
             )

@@ -3,6 +3,7 @@ and a store that is intact and holds what the line says. Real processes, real SI
 
 from __future__ import annotations
 
+import contextlib
 import os
 import random
 import re
@@ -150,3 +151,63 @@ def test_a_run_started_with_sigint_ignored_keeps_ignoring_it(tmp_path):
     _out, err = proc.communicate(timeout=120)
     # 1: the run ended as --max-ticks cut it (scone-run's "stopped early"), not 130 (interrupted)
     assert proc.returncode == 1 and "interrupted" not in err, (proc.returncode, err[-2000:])
+
+
+def test_a_ctrl_c_that_something_swallowed_still_ends_the_run_as_interrupted(monkeypatch, capsys):
+    """A KeyboardInterrupt raised inside a library's bare ``except:`` (an import under way) is lost there; the run
+    must still end as interrupted, with the line and 130, not carry on to exit 0. (CI once saw a run exit 0 with
+    nothing on stderr after its Ctrl-C.)"""
+    from scone_bt.cli import run
+
+    def swallowing_run(argv, parsed):
+        with contextlib.suppress(BaseException):  # what a bare except does to the KeyboardInterrupt
+            run._INTERRUPTS._handle(signal.SIGINT, None)
+        assert run._INTERRUPTS.pending
+        with pytest.raises(KeyboardInterrupt):  # the episode's next event raises it again
+            run._checked(None)(object())
+        return 0
+
+    monkeypatch.setattr(run, "_run", swallowing_run)
+    assert run.main([]) == 130
+    assert (
+        capsys.readouterr().err.strip()
+        == "scone-run: interrupted; nothing was stored (no --experience store)"
+    )
+    assert not run._INTERRUPTS.pending  # handed back to the caller clean
+
+
+def test_without_a_ctrl_c_the_event_check_passes_events_on() -> None:
+    from scone_bt.cli import run
+
+    seen: list[object] = []
+    run._checked(seen.append)("event")
+    run._checked(None)("event")
+    assert seen == ["event"]
+
+
+def test_a_ctrl_c_inside_an_import_is_deferred_to_the_next_event(monkeypatch, capsys):
+    """Raised inside importlib's machinery a KeyboardInterrupt can be reported as "ignored" (the run went on to
+    exit 0) or leave a module lock held (the next import waited forever): there it is only noted, and the next
+    event raises it."""
+    from types import SimpleNamespace
+
+    from scone_bt.cli import run
+
+    importing = SimpleNamespace(
+        f_code=SimpleNamespace(co_filename="<frozen importlib._bootstrap>"),
+        f_back=SimpleNamespace(f_code=SimpleNamespace(co_filename="/x/scone_bt/cli/run.py"), f_back=None),
+    )
+    inner = SimpleNamespace(f_code=SimpleNamespace(co_filename="/x/torch/__init__.py"), f_back=importing)
+
+    def run_with_a_ctrl_c_in_an_import(argv, parsed):
+        run._INTERRUPTS._handle(signal.SIGINT, inner)  # returns: nothing raised inside the import
+        assert run._INTERRUPTS.pending
+        run._checked(None)(object())  # the episode's first event raises it
+        return 0
+
+    monkeypatch.setattr(run, "_run", run_with_a_ctrl_c_in_an_import)
+    assert run.main([]) == 130
+    assert (
+        capsys.readouterr().err.strip()
+        == "scone-run: interrupted; nothing was stored (no --experience store)"
+    )
