@@ -64,14 +64,12 @@ class ProbeJudge:
 
     def __call__(self, reading: ProbeReading) -> tuple[bool, str]:
         after = felt_context(self.context, reading)
-        # a load pressing down (a fingertip on the product's top) is no measure of how fast it is held
-        traction = None if reading.pressed else reading.traction
         self.verdict = after_probe(
             self.rules,
             self.counts,
             self.item,
             judge_probe(reading, self.settings),
             self._kappa(after),
-            traction,
+            reading.lift_traction,
         )
         return self.verdict.carry, self.verdict.reason

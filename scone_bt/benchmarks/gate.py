@@ -287,20 +287,14 @@ def _gate_input(
 
 @dataclass(frozen=True)
 class _Probed:
-    """How decision ``t``'s heft test ended: set back, carried on as an explored attempt, carried on confident
-    (gate.after_probe.ProbeVerdict.confident: κ̂ at the final decision ≥ τ, or by feel), the row κ̂ learns from
-    (the context after the probe; the decision's row if the arm never held the product up), whether a set-back
-    is a label, whether the probe felt it held fast, whether it carried on by feel, and whether the arm never
-    held it up (``unfelt``: it failed before the fingers felt anything)."""
+    """How decision ``t``'s heft test ended: set back or not, the attempt as κ̂ at its final decision saw it
+    (`_Act`: explored, confident by κ̂ or by feel, held fast, unfelt; its row the context after the probe, the
+    decision's row if the arm never held the product up), and whether a set-back is a label κ̂ learns (the
+    fingers' word)."""
 
     aborted: bool
-    explored: bool
-    confident: bool
-    row: np.ndarray
+    attempt: _Act
     label: bool = True
-    held_fast: bool = False
-    by_feel: bool = False
-    unfelt: bool = False
 
 
 def _after_probe(
@@ -310,11 +304,13 @@ def _after_probe(
     product: str,
     counts: BudgetCounts,
     scored: bool,
-    confident_before: bool,
+    before: _Act,
 ) -> _Probed:
     """What the recorded probe of decision ``t`` felt, judged by the gate's one post-probe decision
     (gate.after_probe: the hard judge, then κ̂ on the context after the probe, a product held fast, then the
-    strict rule's credit)."""
+    strict rule's credit). ``before``: the attempt as the decision to probe saw it."""
+    from dataclasses import replace
+
     from scone_bt.experience.felt import felt_row
     from scone_bt.gate.after_probe import after_probe
     from scone_bt.motion.probe import ProbeReading, judge_probe
@@ -323,7 +319,7 @@ def _after_probe(
     out.probes += scored
     held, load, first, grip, seconds = replay.readings[t]
     if np.isnan(held):  # the arm never held it up: it failed before the probe, as recorded
-        return _Probed(False, False, confident_before, replay.rows[t], unfelt=True)
+        return _Probed(False, replace(before, unfelt=True))
     if scored:
         out.probe_s += seconds
         out.probes_felt += 1
@@ -334,17 +330,16 @@ def _after_probe(
         row = np.concatenate([row[: len(row) - len(context)], context]).astype(row.dtype)
     confidence = float(replay.belief(row[None])[0])
     felt = judge_probe(reading, replay.probe)
-    # a recorded load is the hold's mean size: a product pressed down reads about its grip, never held fast
-    verdict = after_probe(replay.rules, counts, product, felt, confidence, reading.traction)
-    return _Probed(
-        not verdict.carry,
-        verdict.explored,
-        verdict.confident,
-        row,
-        verdict.carry or verdict.felt_unsafe,
-        verdict.held_fast,
-        verdict.by_feel,
+    verdict = after_probe(replay.rules, counts, product, felt, confidence, reading.lift_traction)
+    attempt = replace(
+        before,
+        explored=verdict.explored,
+        confident=verdict.confident,
+        row=row,
+        held_fast=verdict.held_fast,
+        by_feel=verdict.by_feel,
     )
+    return _Probed(not verdict.carry, attempt, verdict.carry or verdict.felt_unsafe)
 
 
 def _committed(
@@ -363,13 +358,10 @@ def _committed(
     attempt = _Act(ok, decision.explored, decision.confidence >= result.threshold, replay.rows[t])
     if not decision.probe:
         return False, attempt
-    probed = _after_probe(replay, out, t, product, walk.counts, scored, attempt.confident)
-    attempt = _Act(
-        ok, probed.explored, probed.confident, probed.row, probed.held_fast, probed.by_feel, probed.unfelt
-    )
+    probed = _after_probe(replay, out, t, product, walk.counts, scored, attempt)
     if probed.aborted:
-        walk.counts = _set_back(replay, probed.row, product, walk.counts, walk.learnt, probed.label)
-    return probed.aborted, attempt
+        walk.counts = _set_back(replay, probed.attempt.row, product, walk.counts, walk.learnt, probed.label)
+    return probed.aborted, probed.attempt
 
 
 def _asks_anyway(result: GateResult, rule: str) -> GateResult:

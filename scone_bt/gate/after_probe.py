@@ -88,8 +88,8 @@ def after_probe(
         item: The product's name, for the robot's words.
         felt: The hard judge's (carry on, why not) on the probe's reading, e.g. (False, "slips in my fingers").
         confidence: κ̂ on the context after the probe (experience.felt).
-        traction: The load the fingers felt over their grip (motion.probe.ProbeReading.traction); None where it
-            was not measured or the fingers pressed the product down rather than lifted it.
+        traction: The load the fingers felt over their grip (motion.probe.ProbeReading.lift_traction); None
+            where it was not measured or the fingers pressed the product down rather than lifted it.
     """
     tau = threshold_options(rules, counts)[0].act_threshold
     holds, why = felt

@@ -176,6 +176,12 @@ class ProbeReading:
         return self.load_n / self.grip_n if self.grip_n > 1e-6 else math.inf
 
     @property
+    def lift_traction(self) -> float | None:
+        """`traction` where the fingers carried the product up; None where they pressed it down (a fingertip on
+        its top: the load is a push, no measure of how fast it is held)."""
+        return None if self.pressed else self.traction
+
+    @property
     def unsteady(self) -> float:
         """Share by which the load changed between the hold's halves (0: steady; a sliding product's varies)."""
         return _changed(self.load_n, self.load_first_n)
