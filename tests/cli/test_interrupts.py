@@ -153,6 +153,18 @@ def test_a_run_started_with_sigint_ignored_keeps_ignoring_it(tmp_path):
     assert proc.returncode == 1 and "interrupted" not in err, (proc.returncode, err[-2000:])
 
 
+def _ends_interrupted(monkeypatch, capsys, fake_run) -> None:
+    """scone-run's `main` around ``fake_run`` (in place of its work) returns 130 with the one line."""
+    from scone_bt.cli import run
+
+    monkeypatch.setattr(run, "_run", fake_run)
+    assert run.main([]) == 130
+    assert (
+        capsys.readouterr().err.strip()
+        == "scone-run: interrupted; nothing was stored (no --experience store)"
+    )
+
+
 def test_a_ctrl_c_that_something_swallowed_still_ends_the_run_as_interrupted(monkeypatch, capsys):
     """A KeyboardInterrupt raised inside a library's bare ``except:`` (an import under way) is lost there; the run
     must still end as interrupted, with the line and 130, not carry on to exit 0. (CI once saw a run exit 0 with
@@ -167,12 +179,7 @@ def test_a_ctrl_c_that_something_swallowed_still_ends_the_run_as_interrupted(mon
             run._checked(None)(object())
         return 0
 
-    monkeypatch.setattr(run, "_run", swallowing_run)
-    assert run.main([]) == 130
-    assert (
-        capsys.readouterr().err.strip()
-        == "scone-run: interrupted; nothing was stored (no --experience store)"
-    )
+    _ends_interrupted(monkeypatch, capsys, swallowing_run)
     assert not run._INTERRUPTS.pending  # handed back to the caller clean
 
 
@@ -205,9 +212,4 @@ def test_a_ctrl_c_inside_an_import_is_deferred_to_the_next_event(monkeypatch, ca
         run._checked(None)(object())  # the episode's first event raises it
         return 0
 
-    monkeypatch.setattr(run, "_run", run_with_a_ctrl_c_in_an_import)
-    assert run.main([]) == 130
-    assert (
-        capsys.readouterr().err.strip()
-        == "scone-run: interrupted; nothing was stored (no --experience store)"
-    )
+    _ends_interrupted(monkeypatch, capsys, run_with_a_ctrl_c_in_an_import)

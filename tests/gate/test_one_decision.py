@@ -3,6 +3,8 @@ same, because both call `scone_bt.gate.rules.gate_decision`."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 import pytest
 
@@ -291,16 +293,16 @@ def test_the_tree_and_the_replay_probe_the_same_on_a_stream_with_probe_readings(
     assert "too-wide" in {d.rule for d in replayed}
 
 
-def test_the_tree_and_the_replay_agree_where_kappas_doubt_sets_back_and_credit_carries_on() -> None:
-    """Products that fail hold in the fingers but strain them (7 N of grip for 2 N of load: traction 0.29, under
-    the hard judge's 0.3), those that succeed are held well but not fast (15 N: 0.13, above sure_traction), so κ̂
-    learns what high traction means: under the strict promise, with no credit left, a probe above τ can end below
-    τ (set back on κ̂'s doubt, not learnt), and one with credit carries on explored."""
+def _agreeing_verdicts(grip_of: Callable[[np.ndarray], np.ndarray]) -> list[ProbeVerdict]:
+    """The strict promise and the full band over seeded stream 9, every product held up with 2 N of load and the
+    grip ``grip_of(success)``: the tree's verdicts after each probe, once the tree and the replay made the same
+    decisions with the same outcomes."""
     stream = _stream(n=100, seed=9)
     _, _, success, _ = stream
     n = len(success)
-    grip = np.where(success, 15.0, 7.0)
-    readings = np.column_stack([np.ones(n), np.full(n, 2.0), np.full(n, 2.0), grip, np.full(n, 1.2)])
+    readings = np.column_stack(
+        [np.ones(n), np.full(n, 2.0), np.full(n, 2.0), grip_of(success), np.full(n, 1.2)]
+    )
     replay_outcomes: list[int] = []
     tree_outcomes: list[int] = []
     verdicts: list[ProbeVerdict] = []
@@ -308,6 +310,15 @@ def test_the_tree_and_the_replay_agree_where_kappas_doubt_sets_back_and_credit_c
     ticked = _behaviour("budget", stream, FULL_BAND, readings, 1.0, outcomes=tree_outcomes, verdicts=verdicts)
     assert [_key(d) for d in ticked] == [_key(d) for d in replayed]
     assert tree_outcomes == replay_outcomes
+    return verdicts
+
+
+def test_the_tree_and_the_replay_agree_where_kappas_doubt_sets_back_and_credit_carries_on() -> None:
+    """Products that fail hold in the fingers but strain them (7 N of grip for 2 N of load: traction 0.29, under
+    the hard judge's 0.3), those that succeed are held well but not fast (15 N: 0.13, above sure_traction), so κ̂
+    learns what high traction means: under the strict promise, with no credit left, a probe above τ can end below
+    τ (set back on κ̂'s doubt, not learnt), and one with credit carries on explored."""
+    verdicts = _agreeing_verdicts(lambda success: np.where(success, 15.0, 7.0))
     assert any(not v.carry and not v.felt_unsafe for v in verdicts)  # κ̂'s doubt set something back
     assert any(v.explored for v in verdicts) and any(v.confident for v in verdicts)
     assert not any(v.held_fast for v in verdicts)
@@ -317,18 +328,7 @@ def test_the_tree_and_the_replay_agree_where_a_product_held_fast_carries_on_by_f
     """The same stream, but every product is held fast (40 N of grip for 2 N: 0.05), so those that fail fall
     later, at the place: both keep the held-fast record alike, carry on by feel while it has credit, and set back
     on κ̂'s doubt once it has none."""
-    stream = _stream(n=100, seed=9)
-    _, _, success, _ = stream
-    n = len(success)
-    grip = np.full(n, 40.0)
-    readings = np.column_stack([np.ones(n), np.full(n, 2.0), np.full(n, 2.0), grip, np.full(n, 1.2)])
-    replay_outcomes: list[int] = []
-    tree_outcomes: list[int] = []
-    verdicts: list[ProbeVerdict] = []
-    replayed = _replay("budget", stream, FULL_BAND, readings, 1.0, outcomes=replay_outcomes)
-    ticked = _behaviour("budget", stream, FULL_BAND, readings, 1.0, outcomes=tree_outcomes, verdicts=verdicts)
-    assert [_key(d) for d in ticked] == [_key(d) for d in replayed]
-    assert tree_outcomes == replay_outcomes
+    verdicts = _agreeing_verdicts(lambda success: np.full(len(success), 40.0))
     assert any(v.by_feel for v in verdicts)
     assert any(v.held_fast and not v.carry for v in verdicts)  # the record ran out at least once
 
