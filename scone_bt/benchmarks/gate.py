@@ -768,15 +768,12 @@ def _glass(d: Any) -> np.ndarray:
 
 
 def _rows(streams: _Streams, which: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
-    """Streams' rows as κ̂ learns them (embedding then context) and their outcomes: a store holds no target that
-    was not detected (`foreseen`: "missing"; a missing item has no context)."""
-    keep = [streams.foreseen[i] != "missing" if streams.foreseen else slice(None) for i in which]
-    return (
-        np.vstack(
-            [np.hstack([streams.vectors[i], streams.context[i]])[k] for i, k in zip(which, keep, strict=True)]
-        ),
-        np.concatenate([streams.success[i][k] for i, k in zip(which, keep, strict=True)]),
-    )
+    """Streams' rows as κ̂ learns them (embedding then context) and their outcomes, as a store holds them
+    (gate_unseen.stream_prior: no target that was not detected)."""
+    from scone_bt.benchmarks.gate_unseen import stream_prior
+
+    prior = stream_prior(streams, which)
+    return prior.rows, prior.success
 
 
 def _method(

@@ -45,6 +45,7 @@ __all__ = [
     "TOLERANCE",
     "Prior",
     "UnseenStreams",
+    "stream_prior",
     "leave_products_out",
     "first_occurrences",
     "outcome_rates",
@@ -256,7 +257,7 @@ class _Setup:
     excess_allowance: float | None
 
 
-def _stream_prior(streams: UnseenStreams, which: Sequence[int], foreseen: bool = False) -> Prior:
+def stream_prior(streams: UnseenStreams, which: Sequence[int], foreseen: bool = False) -> Prior:
     """The streams' executions as a fleet's store holds them: none whose target was not detected (gate.foreseen:
     "missing"), unless ``foreseen`` (every row, aligned with the stream)."""
     if not which:
@@ -312,7 +313,7 @@ def _fleet_design(setup: _Setup, streams: UnseenStreams, default_alpha: float) -
     n_streams = len(streams.names)
     full = slice(None)
     scored = [first_occurrences(p) & (np.arange(len(p)) >= setup.warmup) for p in streams.products]
-    priors = [_stream_prior(streams, [i for i in range(n_streams) if i != j]) for j in range(n_streams)]
+    priors = [stream_prior(streams, [i for i in range(n_streams) if i != j]) for j in range(n_streams)]
     lpo = [leave_products_out(priors[j], set(streams.products[j])) for j in range(n_streams)]
     dim = streams.vectors[0].shape[1]
     near = [
@@ -373,7 +374,7 @@ def _own_store_stream(
     later_products = set(streams.products[j][later])
     # the earlier run: the same gate, cold; its store holds only what it attempted
     run = _run(setup, streams, j, earlier, alpha, None, 0)
-    whole = _stream_prior(streams, [j], foreseen=True)  # aligned with the run's trace, which asked for those
+    whole = stream_prior(streams, [j], foreseen=True)  # aligned with the run's trace, which asked for those
     attempted = np.zeros(len(whole), dtype=bool)
     attempted[:half] = run >= 0
     own = leave_products_out(
@@ -384,9 +385,7 @@ def _own_store_stream(
         ),
         later_products,
     )
-    fleet = leave_products_out(
-        _stream_prior(streams, [i for i in range(n_streams) if i != j]), later_products
-    )
+    fleet = leave_products_out(stream_prior(streams, [i for i in range(n_streams) if i != j]), later_products)
     both = Prior(
         np.vstack([fleet.rows, own.rows]),
         np.concatenate([fleet.success, own.success]),
