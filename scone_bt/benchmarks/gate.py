@@ -617,6 +617,11 @@ def replay_stream(
     return out
 
 
+def _stream_successes(r: StreamResult) -> int:
+    """Scored decisions of one stream that would have succeeded, whatever the gate did with them."""
+    return r.attempts - r.failures + r.asked_ok + r.aborted_would_succeed
+
+
 def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
     tot = {
         k: sum(getattr(r, k) for r in results)
@@ -633,7 +638,7 @@ def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
     def ratio(a: int, b: int) -> float | None:
         return round(a / b, 4) if b else None
 
-    successes = att - tot["failures"] + tot["asked_ok"] + tot["aborted_would_succeed"]
+    successes = sum(_stream_successes(r) for r in results)
     return {
         "decisions": tot["decisions"],
         "attempts": att,
@@ -659,6 +664,10 @@ def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
         "wide_attempts_after_first_wide_failure_max_per_stream": max(r.wide_after_failure for r in results),
         "attempt_failure_rate_per_stream": [ratio(r.failures, r.attempts) for r in results],
         "help_rate_per_stream": [ratio(r.asked_ok + r.asked_fail + r.aborted, r.decisions) for r in results],
+        # each stream's clairvoyant at that stream's own realised rate: where the help goes beyond what any gate needs
+        "help_rate_floor_per_stream": [
+            help_floor(_stream_successes(r), r.decisions, ratio(r.failures, r.attempts)) for r in results
+        ],
         "by_feel_attempts": tot["by_feel"],
         "by_feel_failures": tot["by_feel_failures"],
         "probe_failures_before_feeling": tot["unfelt_probe_failures"],
@@ -1193,6 +1202,7 @@ def _probe_keys(cold: dict[str, Any], plain: dict[str, Any], probing: bool) -> d
         "by_feel_failures": cold["by_feel_failures"],
         "probe_failures_before_feeling": cold["probe_failures_before_feeling"],
         "help_rate_per_stream": cold["help_rate_per_stream"],
+        "help_rate_floor_per_stream": cold["help_rate_floor_per_stream"],
         "without_probe": {
             k: plain[k]
             for k in ("attempt_failure_rate", "attempt_success_rate", "help_rate", "max_excess_failures")

@@ -12,7 +12,11 @@ arms through a fleet store:
   _ROUND_BELOW; unknown counts as neither);
 - what the heft test felt, where the action was probed (experience.felt; all 0 where it was not): that the
   fingers lost it, the traction (load over grip, capped at 1, × 3) and how unsteady the load was (on a log scale:
-  0 at 0.1 % or less, which a product held fast never exceeds, 3 at 100 %). Chosen on the development streams
+  0 at 0.1 % or less, which a product held fast never exceeds, 3 at 100 %; × 3). The unsteadiness weighs as much
+  as the traction: a probe the hard judge set back for a sliding load teaches κ̂ a failure, and at weight 1 the L2
+  penalty left most of that failure to the intercept, so every product this robot then hefted, held fast or not,
+  looked as risky (help 0.384 → 0.368 at α = 0.15, 0.548 → 0.499 at 0.10, failures within α + 0.02 at every α;
+  weights 3 to 5 gave the same figures). Chosen on the development streams
   (tools/data/sc_probe, docs/results/probe.md): an indicator that a probe happened, and the felt mass
   (``felt_mass_kg``, stored but not read), each cost help at α = 0.15 (probed rows are the unsure ones, so the
   indicator learns "probed, so risky" rather than what the fingers felt).
@@ -50,6 +54,7 @@ _ROUND_BELOW = 0.88
 _UNSTEADY_FROM = 1e-3
 """The felt load's change (share) from which unsteadiness counts."""
 _TRACTION_WEIGHT = 3.0
+_UNSTEADY_WEIGHT = 3.0
 
 
 def felt_features(C: np.ndarray) -> np.ndarray:
@@ -69,7 +74,7 @@ def felt_features(C: np.ndarray) -> np.ndarray:
             np.where(
                 probed, _TRACTION_WEIGHT * np.minimum(np.nan_to_num(col("felt_traction"), nan=0.0), 1.0), 0.0
             ),
-            np.where(probed, steadiness, 0.0),
+            np.where(probed, _UNSTEADY_WEIGHT * steadiness, 0.0),
         ]
     )
 

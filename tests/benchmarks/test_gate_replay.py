@@ -74,6 +74,9 @@ def test_an_asked_action_adds_no_label(monkeypatch: pytest.MonkeyPatch) -> None:
     assert rates["attempt_failure_rate"] == 0.25 and rates["success_rate"] == 0.375
     # 5 of the 8 would succeed: at a failure rate of 0.25 a clairvoyant attempts 5 / 0.75 and asks for the rest
     assert rates["help_rate_floor"] == round(1 - (5 / 0.75) / 8, 4)
+    assert rates["help_rate_floor_per_stream"] == [rates["help_rate_floor"]]  # one stream: its own floor
+    again = _rates([out, out])  # two streams: each at its own rate, here the same
+    assert again["help_rate_floor_per_stream"] == [rates["help_rate_floor"]] * 2
 
 
 def test_the_help_floor_is_a_clairvoyants() -> None:
