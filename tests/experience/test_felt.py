@@ -54,7 +54,8 @@ def test_physical_kappa_feels_nothing_where_nothing_was_probed() -> None:
     rows = np.stack([seen.vector(), slipping.vector()])
     F = felt_features(rows)
     assert F[0].tolist() == [0.0, 0.0, 0.0]
-    assert F[1, 0] == 0.0 and F[1, 1] > 1.0 and F[1, 2] > 6.0  # held, high traction, unsteady by 20 % (log scale × 3)
+    # held, high traction, unsteady by 20 % (log scale × 3)
+    assert F[1, 0] == 0.0 and F[1, 1] > 1.0 and F[1, 2] > 6.0
     # the perceived features do not change with what was felt
     P = physical_features(rows, 0.08)
     np.testing.assert_array_equal(P[0, :10], P[1, :10])
