@@ -17,11 +17,22 @@ import json
 import time
 
 
+def configuration(cfg: dict) -> tuple[object | None, float | None, float]:
+    """(the probe's options or None, the strict rule's allowance, the band's narrowing power) of one configuration.
+    Only an explicit ``{"below": null}`` means no probe: any other keys change the defaults they name."""
+    from scone_bt.gate.probe import ProbeOptions
+
+    options = dict(cfg)
+    allowance = options.pop("allowance", 1.0)
+    power = float(options.pop("power", 4.0))
+    probe = None if "below" in options and options["below"] is None else ProbeOptions(**options)
+    return probe, allowance, power
+
+
 def main() -> None:
     from scone_bt.benchmarks import gate as replay
     from scone_bt.confidence.physical import DEFAULT_OPENING_M
     from scone_bt.gate import probe as band
-    from scone_bt.gate.probe import ProbeOptions
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--datasets", default="tools/data/sc_probe")
@@ -35,10 +46,8 @@ def main() -> None:
     for cfg in json.loads(a.configs):
         for alpha in (float(x) for x in a.alphas.split(",")):
             t0 = time.time()
-            options = dict(cfg)
-            allowance = options.pop("allowance", 1.0)
-            band.NARROWING_POWER = float(options.pop("power", 4.0))  # band_below reads it at each call
-            probe = ProbeOptions(**options) if options.get("below") is not None else None
+            probe, allowance, power = configuration(cfg)
+            band.NARROWING_POWER = power  # band_below reads it at each call
             results = [
                 replay.replay_stream(
                     streams.vectors[j],
