@@ -15,9 +15,13 @@ from __future__ import annotations
 import argparse
 import json
 import time
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from scone_bt.gate.probe import ProbeOptions
 
 
-def configuration(cfg: dict) -> tuple[object | None, float | None, float]:
+def configuration(cfg: dict) -> tuple[ProbeOptions | None, float | None, float]:
     """(the probe's options or None, the strict rule's allowance, the band's narrowing power) of one configuration.
     Only an explicit ``{"below": null}`` means no probe: any other keys change the defaults they name."""
     from scone_bt.gate.probe import ProbeOptions
