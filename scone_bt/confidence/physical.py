@@ -10,16 +10,21 @@ arms through a fleet store:
   clearance to the nearest neighbour (capped at 15 cm: beyond that the fingers are free) and the neighbour count;
 - the perceived depth (the lid's longer extent, m) and whether its lid is round (a cylinder: its fill below
   _ROUND_BELOW; unknown counts as neither);
-- what the heft test felt, where the action was probed (experience.felt; all 0 where it was not): that the
-  fingers lost it, the traction (load over grip, capped at 1, × 3) and how unsteady the load was (on a log scale:
-  0 at 0.1 % or less, which a product held fast never exceeds, 3 at 100 %; × 3). The unsteadiness weighs as much
-  as the traction: a probe the hard judge set back for a sliding load teaches κ̂ a failure, and at weight 1 the L2
-  penalty left most of that failure to the intercept, so every product this robot then hefted, held fast or not,
-  looked as risky (help 0.384 → 0.368 at α = 0.15, 0.548 → 0.499 at 0.10, failures within α + 0.02 at every α;
-  weights 3 to 5 gave the same figures). Chosen on the development streams
-  (tools/data/sc_probe, docs/results/probe.md): an indicator that a probe happened, and the felt mass
-  (``felt_mass_kg``, stored but not read), each cost help at α = 0.15 (probed rows are the unsure ones, so the
-  indicator learns "probed, so risky" rather than what the fingers felt).
+- what the heft test felt, where the action was probed (experience.felt): that the fingers lost it, the traction
+  (load over grip, capped at 1, × 3) and how unsteady the load was (on a log scale: 0 at 0.1 % or less, which a
+  product held fast never exceeds, 3 at 100 %; × 3).
+
+An action not probed has felt nothing: its felt features are the mean of those of the probed rows κ̂ learnt from
+(0 before any). Zeros would read it as a product held perfectly steady: after one steady success every unprobed
+action rose above the probe band (the hummus on MuJoCo: the olive oil, κ̂ 0.94, was not hefted and slipped).
+
+The unsteadiness weighs as much as the traction. A probe the hard judge set back for a sliding load teaches κ̂ a
+failure; at weight 1 the L2 penalty left most of that failure to the intercept, so every product the robot then
+hefted, held fast or not, looked as risky. Weights 1, 2, 3 and 5 on the development streams (tools/data/sc_probe,
+docs/results/probe.md): help 0.3852, 0.3830, 0.3807, 0.3784 at α = 0.15, with failures within α + 0.02 at every
+α; 3, as the traction. Also chosen there: no indicator that a probe happened, and the felt mass
+(``felt_mass_kg``) stored but not read: each cost help at α = 0.15 (probed rows are the unsure ones, so the
+indicator learns "probed, so risky" rather than what the fingers felt).
 
 The action's embedding enters as its first 16 principal components, computed without labels over every action
 κ̂ has been asked about (what the name tells of mass, fragility and packaging). A logistic regression (L2, C=1;
@@ -55,6 +60,15 @@ _UNSTEADY_FROM = 1e-3
 """The felt load's change (share) from which unsteadiness counts."""
 _TRACTION_WEIGHT = 3.0
 _UNSTEADY_WEIGHT = 3.0
+
+
+_N_FELT = 3
+"""Columns `felt_features` adds."""
+
+
+def _probed(C: np.ndarray) -> np.ndarray:
+    """(n,) whether each context row (CONTEXT_FIELDS order) was probed: it has what the fingers felt."""
+    return np.isfinite(C[:, CONTEXT_FIELDS.index("felt_held")])
 
 
 def felt_features(C: np.ndarray) -> np.ndarray:
@@ -146,6 +160,9 @@ class PhysicalEstimator(ConfidenceEstimator):
         self._scale = 1.0
         self._model: LogisticModel | None = None
         self._record: dict[bytes, tuple[int, int]] = {}
+        self._felt_mean: np.ndarray | None = (
+            None  # what the probes learnt from felt, on average (None: none yet)
+        )
 
     # ----------------------------------------------------------------------------------------- features
     def _split(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -179,7 +196,13 @@ class PhysicalEstimator(ConfidenceEstimator):
         pcs = np.zeros((len(E), _COMPONENTS))
         if len(self._axes):
             pcs[:, : len(self._axes)] = (E - self._mean) @ self._axes.T / self._scale
-        return np.hstack([physical_features(C, self.opening_m), _PC_WEIGHT * pcs])
+        P = physical_features(C, self.opening_m)
+        if (
+            self._felt_mean is not None
+        ):  # a row not probed: what a probe would feel is unknown, not "held fast"
+            unprobed = ~_probed(C)
+            P[unprobed, -_N_FELT:] = self._felt_mean
+        return np.hstack([P, _PC_WEIGHT * pcs])
 
     # ----------------------------------------------------------------------------------------- model
     def predict(self, X: np.ndarray) -> np.ndarray:
@@ -197,6 +220,9 @@ class PhysicalEstimator(ConfidenceEstimator):
             s, n = record.get(row_key(e), (0, 0))
             record[row_key(e)] = (s + int(ok), n + 1)
         self._record = record
+        C = self._split(X)[1]
+        probed = _probed(C)
+        self._felt_mean = felt_features(C[probed]).mean(axis=0) if probed.any() else None
         self._model = fit_logistic(self.transform(X), y, C=self.C)
 
     def _predict_model(self, X: np.ndarray) -> np.ndarray:

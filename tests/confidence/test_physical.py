@@ -83,3 +83,25 @@ def test_rows_without_the_twelve_context_columns_are_refused_in_one_line(columns
 def test_a_bad_gripper_opening_is_refused_in_one_line() -> None:
     with pytest.raises(SconeError, match=r"^gripper_opening_m must be in \(0, 1\) metres, got 0\.0$"):
         PhysicalEstimator(gripper_opening_m=0.0)
+
+
+def _probed_row(embedding: np.ndarray, unsteady: float) -> np.ndarray:
+    """`_row` (a 5 cm product) after a probe that held it with traction 0.1 and this unsteadiness."""
+    row = _row(embedding, 0.05)
+    row[-len(FELT_FIELDS) :] = [1.0, 0.1, unsteady, 0.5]
+    return row
+
+
+def test_a_row_not_probed_is_not_read_as_held_fast() -> None:
+    """What a probe would feel of an action not probed is unknown: κ̂ reads the average of what its probes felt,
+    not the zeros of a product held perfectly steady (the hummus on MuJoCo: after one set-back for a sliding load
+    and one steady success, the olive oil, not probed, got κ̂ 0.94, above the probe band, and was dropped)."""
+    E = _embeddings(2)
+    kappa = PhysicalEstimator()
+    kappa.update(_probed_row(E[0], 0.3), False)  # set back: the load slid
+    kappa.update(_probed_row(E[1], 0.0), True)  # held fast and carried
+    steady, sliding, unprobed = kappa.predict(
+        np.stack([_probed_row(E[2], 0.0), _probed_row(E[2], 0.3), _row(E[2], 0.05)])
+    )
+    assert sliding < unprobed < steady
+    assert abs(unprobed - 0.5) < abs(steady - 0.5)  # unknown reads as the probes' average, near the prior
