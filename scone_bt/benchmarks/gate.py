@@ -746,6 +746,23 @@ generator's injected planning failure): the tree still attempts those (robot.sim
 stay failed attempts."""
 
 
+PROBE_DATASETS: tuple[str, ...] = ("tools/data/sc_probe", "tools/data/sc_heldout_probe")
+"""The committed datasets that record the heft test's readings (the others were generated without it)."""
+
+
+def check_probe_readings(args: argparse.Namespace, streams: _Streams) -> None:
+    """ConfigError (one line) when ``--probe`` asks to replay the heft test on datasets none of which recorded it:
+    without readings every stream would be replayed without the probe, and the report would say so only in its
+    ``default.probe`` key. The tree's own ``probe.enabled`` (no ``--probe``) is not checked: it falls back quietly."""
+    from scone_bt.errors import ConfigError
+
+    if getattr(args, "probe", None) is True and not any(r is not None for r in streams.readings):
+        raise ConfigError(
+            f"--probe: no dataset in {_datasets_folder(args)} records the heft test's readings "
+            f"({', '.join(PROBE_COLUMNS)}); datasets that do: {', '.join(PROBE_DATASETS)} (--datasets)"
+        )
+
+
 def foreseen(d: Any) -> np.ndarray:
     """(n,) str: for each execution of a dataset, the rule by which the robot would ask instead of attempting it:
     "missing" where its target was not detected (the tree asks for what it sees nowhere, gate.rules.ask_for_missing),
@@ -1089,6 +1106,7 @@ def _replay(
 ) -> dict[str, Any]:
     """The online replay of every method over the datasets (the report's replay part)."""
     streams = _load(args, oracle=False)
+    check_probe_readings(args, streams)
     taught, taught_oracle = _taught(args, streams)
     methods = {} if args.no_sweep else _sweep(args, streams, estimators, taught, taught_oracle)
     default = methods.get(f"budget:{default_estimator}")
@@ -1320,8 +1338,10 @@ def _run(args: argparse.Namespace) -> int:
     if args.unseen:  # products κ̂ has no outcome of: cold, the fleet, its own store (gate_unseen)
         from scone_bt.benchmarks.gate_unseen import unseen_report
 
+        streams = _load(args, oracle=False)
+        check_probe_readings(args, streams)
         report["unseen"] = unseen_report(
-            _load(args, oracle=False),
+            streams,
             replay_stream,
             default_estimator,
             default_target,

@@ -319,6 +319,22 @@ def test_prior_teaches_the_same_robot_first_and_reports_the_gap(tmp_path: Path, 
     assert "--prior" in err and "no dataset 'b'" in err and "\n" not in err
 
 
+def test_probe_on_datasets_without_probe_readings_is_one_line(tmp_path: Path, capsys) -> None:
+    """``--probe`` on datasets none of which recorded the heft test would replay without it, saying so only in
+    ``default.probe``: it is a one-line error naming the folder, the columns and the datasets that have them. Without
+    ``--probe`` (the tree's setting) the same datasets replay."""
+    folder = _tiny_datasets(tmp_path / "plain")
+    base = ["gate", "--datasets", str(folder), "--embedder", "onehot", "--warmup", "3", "--no-sweep"]
+    capsys.readouterr()
+    assert main([*base, "--probe"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "--probe" in err and str(folder) in err
+    assert "probe_held" in err and "tools/data/sc_probe" in err
+    assert main([*base, "--probe", "--no-replay", "--unseen"]) == 2  # the unseen section replays too
+    assert main([*base, "--json", str(tmp_path / "g.json")]) == 0
+    assert json.loads((tmp_path / "g.json").read_text())["default"]["probe"] is False
+
+
 def test_an_episode_counts_an_aborted_probe_apart_and_its_ask_as_help() -> None:
     """``--episodes``: the set-back is not a failure or an attempt; the ask that follows it is help."""
     from scone_bt.benchmarks.gate import _episode_counts
