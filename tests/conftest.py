@@ -1,8 +1,12 @@
-"""Shared fixtures: configs, and a fresh PyBullet kitchen in DIRECT mode."""
+"""Shared fixtures: configs, a fresh PyBullet kitchen in DIRECT mode, and the scripts in tools/ as modules."""
 
 from __future__ import annotations
 
+import importlib.util
 import os
+from collections.abc import Callable
+from pathlib import Path
+from types import ModuleType
 
 import numpy as np
 import pytest
@@ -37,3 +41,20 @@ def kitchen(kitchen_cfg, robot_cfg):
 @pytest.fixture
 def rng():
     return np.random.default_rng(0)
+
+
+_TOOLS = Path(__file__).resolve().parents[1] / "tools"
+
+
+@pytest.fixture(scope="session")
+def tool() -> Callable[[str], ModuleType]:
+    """Load a script of tools/ as a module by its stem ("motion_replay"); the scripts are not an installed package."""
+
+    def load(name: str) -> ModuleType:
+        spec = importlib.util.spec_from_file_location(name, _TOOLS / f"{name}.py")
+        assert spec is not None and spec.loader is not None
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        return module
+
+    return load

@@ -1099,14 +1099,13 @@ def _decision_path(
 
 def _replay(
     args: argparse.Namespace,
+    streams: _Streams,
     estimators: list[str],
     default_estimator: str,
     default_target: float,
     probe: ProbeOptions | None = None,
 ) -> dict[str, Any]:
     """The online replay of every method over the datasets (the report's replay part)."""
-    streams = _load(args, oracle=False)
-    check_probe_readings(args, streams)
     taught, taught_oracle = _taught(args, streams)
     methods = {} if args.no_sweep else _sweep(args, streams, estimators, taught, taught_oracle)
     default = methods.get(f"budget:{default_estimator}")
@@ -1333,13 +1332,15 @@ def _run(args: argparse.Namespace) -> int:
         "warmup": args.warmup,
         "gripper_opening_m": args.opening,
     }
-    if not args.no_replay:
-        report.update(_replay(args, estimators, default_estimator, default_target, probe))
-    if args.unseen:  # products κ̂ has no outcome of: cold, the fleet, its own store (gate_unseen)
+    # the datasets, loaded and embedded once for the replay and the unseen section
+    streams = _load(args, oracle=False) if not args.no_replay or args.unseen else None
+    if streams is not None:
+        check_probe_readings(args, streams)
+    if streams is not None and not args.no_replay:
+        report.update(_replay(args, streams, estimators, default_estimator, default_target, probe))
+    if streams is not None and args.unseen:  # products κ̂ has no outcome of: cold, the fleet, its own store
         from scone_bt.benchmarks.gate_unseen import unseen_report
 
-        streams = _load(args, oracle=False)
-        check_probe_readings(args, streams)
         report["unseen"] = unseen_report(
             streams,
             replay_stream,

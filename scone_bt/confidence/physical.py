@@ -62,10 +62,6 @@ _TRACTION_WEIGHT = 3.0
 _UNSTEADY_WEIGHT = 3.0
 
 
-_N_FELT = 3
-"""Columns `felt_features` adds."""
-
-
 def _probed(C: np.ndarray) -> np.ndarray:
     """(n,) whether each context row (CONTEXT_FIELDS order) was probed: it has what the fingers felt."""
     return np.isfinite(C[:, CONTEXT_FIELDS.index("felt_held")])
@@ -78,7 +74,7 @@ def felt_features(C: np.ndarray) -> np.ndarray:
         return C[:, CONTEXT_FIELDS.index(name)]
 
     held = col("felt_held")
-    probed = np.isfinite(held)
+    probed = _probed(C)
     unsteady = np.nan_to_num(col("felt_unsteady"), nan=0.0)
     # a product held fast varies by under 0.1 %; one sliding by a percent or more (tools/data/sc_probe)
     steadiness = np.clip(np.log10(np.maximum(unsteady, 1e-9) / _UNSTEADY_FROM), 0.0, 3.0)
@@ -160,9 +156,8 @@ class PhysicalEstimator(ConfidenceEstimator):
         self._scale = 1.0
         self._model: LogisticModel | None = None
         self._record: dict[bytes, tuple[int, int]] = {}
-        self._felt_mean: np.ndarray | None = (
-            None  # what the probes learnt from felt, on average (None: none yet)
-        )
+        # the mean of felt_features over the probed rows learnt from (None: none yet), read for unprobed rows
+        self._felt_mean: np.ndarray | None = None
 
     # ----------------------------------------------------------------------------------------- features
     def _split(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -197,11 +192,8 @@ class PhysicalEstimator(ConfidenceEstimator):
         if len(self._axes):
             pcs[:, : len(self._axes)] = (E - self._mean) @ self._axes.T / self._scale
         P = physical_features(C, self.opening_m)
-        if (
-            self._felt_mean is not None
-        ):  # a row not probed: what a probe would feel is unknown, not "held fast"
-            unprobed = ~_probed(C)
-            P[unprobed, -_N_FELT:] = self._felt_mean
+        if self._felt_mean is not None:  # unprobed: what a probe would feel is unknown, not "held fast"
+            P[~_probed(C), -len(self._felt_mean) :] = self._felt_mean
         return np.hstack([P, _PC_WEIGHT * pcs])
 
     # ----------------------------------------------------------------------------------------- model
@@ -212,7 +204,7 @@ class PhysicalEstimator(ConfidenceEstimator):
         return super().predict(X)
 
     def _fit_model(self, X: np.ndarray, y: np.ndarray) -> None:
-        E, _ = self._split(X)
+        E, C = self._split(X)
         self._remember(E.astype(np.float32))
         self._fit_components()
         record: dict[bytes, tuple[int, int]] = {}
@@ -220,7 +212,6 @@ class PhysicalEstimator(ConfidenceEstimator):
             s, n = record.get(row_key(e), (0, 0))
             record[row_key(e)] = (s + int(ok), n + 1)
         self._record = record
-        C = self._split(X)[1]
         probed = _probed(C)
         self._felt_mean = felt_features(C[probed]).mean(axis=0) if probed.any() else None
         self._model = fit_logistic(self.transform(X), y, C=self.C)
