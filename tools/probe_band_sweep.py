@@ -5,6 +5,8 @@ strict credit rule on unless ``allowance`` is null), with `scone_bt.benchmarks.g
 per (configuration, α). A configuration is a `ProbeOptions` mapping (``below``, ``above``, ``credit``,
 ``full_band_at``, ``sure_traction``, …), ``{"below": null}`` for no probe, plus ``allowance`` (the strict rule's, default 1) and
 ``power`` (how fast the band narrows under ``full_band_at``: `scone_bt.gate.probe.NARROWING_POWER`, default 4).
+``--oracle`` replays the oracle's view instead (κ̂ given each product's true mass, size and glass, as
+``scone-bench gate``'s ``methods.oracle``), with the same probe readings.
 
     PYTHONPATH=$PWD python tools/probe_band_sweep.py --datasets tools/data/sc_probe \\
         --configs '[{"below": 1.0, "above": 0.45, "full_band_at": 0.0}, {"below": 1.0, "above": 0.45}]'
@@ -42,11 +44,12 @@ def main() -> None:
     ap.add_argument("--datasets", default="tools/data/sc_probe")
     ap.add_argument("--configs", required=True, help="a JSON list of configurations (module docstring)")
     ap.add_argument("--alphas", default="0.05,0.1,0.15,0.2")
+    ap.add_argument("--oracle", action="store_true", help="κ̂ given the true mass, size and glass (module docstring)")
     a = ap.parse_args()
     args = argparse.Namespace(
         datasets=a.datasets, embedder="minilm", seed=0, warmup=20, opening=DEFAULT_OPENING_M
     )
-    streams = replay._load(args, oracle=False)
+    streams = replay._load(args, oracle=a.oracle)
     for cfg in json.loads(a.configs):
         for alpha in (float(x) for x in a.alphas.split(",")):
             t0 = time.time()
@@ -75,6 +78,7 @@ def main() -> None:
             r = replay._rates(results)
             line = {
                 "config": cfg,
+                **({"oracle": True} if a.oracle else {}),
                 "alpha": alpha,
                 "attempt_failure_rate": r["attempt_failure_rate"],
                 "help_rate": r["help_rate"],

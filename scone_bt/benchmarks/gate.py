@@ -647,6 +647,8 @@ def _rates(results: Sequence[StreamResult]) -> dict[str, Any]:
         "help_rate": round((tot["asked_ok"] + tot["asked_fail"] + tot["aborted"]) / n, 4),
         "aborted_rate": round(tot["aborted"] / n, 4),
         "help_rate_floor": help_floor(successes, tot["decisions"], ratio(tot["failures"], att)),
+        # a clairvoyant that never fails: it attempts exactly what would succeed (help below it needs failures)
+        "help_rate_floor_without_failures": help_floor(successes, tot["decisions"], 0.0),
         "probes": tot["probes"],
         "probe_s_mean": round(probe_s / tot["probes_felt"], 3) if tot["probes_felt"] else None,
         "aborted_would_have_succeeded": tot["aborted_would_succeed"],
@@ -1148,6 +1150,7 @@ def _replay(
             "attempt_success_rate": cold["attempt_success_rate"],
             "help_rate": cold["help_rate"],
             "help_rate_floor": cold["help_rate_floor"],
+            "help_rate_floor_without_failures": cold["help_rate_floor_without_failures"],
             "max_excess_failures": cold["max_excess_failures"],
             "max_excess_failures_where_confident_held": cold["max_excess_failures_where_confident_held"],
             "streams_where_confident_held": cold["streams_where_confident_held"],

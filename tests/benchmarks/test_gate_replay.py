@@ -75,6 +75,8 @@ def test_an_asked_action_adds_no_label(monkeypatch: pytest.MonkeyPatch) -> None:
     # 5 of the 8 would succeed: at a failure rate of 0.25 a clairvoyant attempts 5 / 0.75 and asks for the rest
     assert rates["help_rate_floor"] == round(1 - (5 / 0.75) / 8, 4)
     assert rates["help_rate_floor_per_stream"] == [rates["help_rate_floor"]]  # one stream: its own floor
+    # a clairvoyant that never fails attempts the 5 and asks for the other 3
+    assert rates["help_rate_floor_without_failures"] == round(3 / 8, 4)
     again = _rates([out, out])  # two streams: each at its own rate, here the same
     assert again["help_rate_floor_per_stream"] == [rates["help_rate_floor"]] * 2
 

@@ -18,3 +18,21 @@ def test_only_an_explicit_null_below_turns_the_probe_off(sweep):
     assert sweep.configuration({"below": None, "allowance": None}) == (None, None, 4.0)
     probe, _, power = sweep.configuration({"below": 0.5, "power": 2})
     assert probe == ProbeOptions(below=0.5) and power == 2.0
+
+
+def test_oracle_replays_the_true_attributes_view(sweep, monkeypatch, capsys):
+    import json
+    import sys
+
+    lines = {}
+    for flags in ([], ["--oracle"]):
+        argv = ["probe_band_sweep", "--configs", "[{}]", "--alphas", "0.15", *flags]
+        monkeypatch.setattr(sys, "argv", argv)
+        sweep.main()
+        lines[bool(flags)] = json.loads(capsys.readouterr().out)
+    assert lines[True]["oracle"] is True and "oracle" not in lines[False]
+    # κ̂ given the true mass, size and glass decides otherwise than κ̂ given the product's name
+    assert (lines[True]["help_rate"], lines[True]["attempt_failure_rate"]) != (
+        lines[False]["help_rate"],
+        lines[False]["attempt_failure_rate"],
+    )
