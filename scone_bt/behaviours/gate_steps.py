@@ -76,18 +76,14 @@ def confidences(
 def budget_counts(history: AttemptHistory, estimator: SelfConfidence) -> BudgetCounts:
     """The attempts so far (folded from the events) and what κ̂ has learnt, as the budget reads them."""
     attempts, failures, explored_failures = history.budget_counts()
-    record = getattr(history, "held_fast_record", None)  # an EventLog's; a history without probes: none
-    fast, fast_failed = record() if record is not None else (0, 0)
+    fast, fast_failed = history.held_fast_record()
     learnt = int(getattr(estimator, "n_observations", 0))
     return BudgetCounts(attempts, failures, explored_failures, learnt, fast, fast_failed)
 
 
 def probe_reasons(history: AttemptHistory, ranked: Sequence[RankedAction]) -> dict[str, str]:
     """Why a heft test set each candidate's product back in this episode (only those it did)."""
-    reason_of = getattr(history, "probe_reason", None)  # an EventLog's; a history without probes: none
-    if reason_of is None:
-        return {}
-    reasons = {r.text: reason_of(r.text) for r in ranked}
+    reasons = {r.text: history.probe_reason(r.text) for r in ranked}
     return {text: why for text, why in reasons.items() if why is not None}
 
 

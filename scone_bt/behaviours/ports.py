@@ -122,6 +122,15 @@ class AttemptHistory(Protocol):
         """(labelled attempts, exploratory ones included, their failures, failed explorations) so far."""
         ...
 
+    def held_fast_record(self) -> tuple[int, int]:
+        """(attempts after a heft test that felt the product held fast, their failures) so far: (0, 0) without
+        probes."""
+        ...
+
+    def probe_reason(self, action: str) -> str | None:
+        """Why a heft test set this action's product back in this episode, or None if none did."""
+        ...
+
 
 @runtime_checkable
 class PlannerSeeds(Protocol):

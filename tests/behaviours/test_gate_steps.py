@@ -11,6 +11,7 @@ from scone_bt.behaviours import GatePorts, GateSettings
 from scone_bt.behaviours.gate_steps import (
     CARD_ITEMS_LEFT,
     EVERY_STEP_SERVED,
+    budget_counts,
     candidate_contexts,
     confidences,
     decision_event,
@@ -19,10 +20,11 @@ from scone_bt.behaviours.gate_steps import (
     settle_idle,
     shown_target,
 )
+from scone_bt.behaviours.ports import AttemptHistory
 from scone_bt.events import EventLog
 from scone_bt.experience.types import ExecutionContext
 from scone_bt.gate import GateOptions
-from scone_bt.gate.budget import BudgetOptions
+from scone_bt.gate.budget import BudgetCounts, BudgetOptions
 from scone_bt.gate.types import Decision, DecisionKind
 from scone_bt.relevance.types import RankedAction
 from tests.behaviours.fakes import FakeHuman, FakeRobot, affordance
@@ -105,14 +107,27 @@ def test_confidences_read_the_belief_and_draws_of_an_exploring_kappa() -> None:
     assert confidences(_Explorer(), [], {}, {}) == ([], [])
 
 
-def test_probe_reasons_only_from_a_history_that_records_them() -> None:
+def test_probe_reasons_name_only_what_a_probe_set_back() -> None:
     class _History:
-        def probe_reason(self, text: str) -> str | None:
-            return "too heavy" if text == SALT else None
+        def failures_of(self, action: str) -> int:
+            return 0
 
+        def budget_counts(self) -> tuple[int, int, int]:
+            return 3, 1, 0
+
+        def held_fast_record(self) -> tuple[int, int]:
+            return 2, 1
+
+        def probe_reason(self, action: str) -> str | None:
+            return "too heavy" if action == SALT else None
+
+    history = _History()
+    assert isinstance(history, AttemptHistory)
     ranked = [RankedAction(SALT, 0.7), RankedAction("Put sugar on table", 0.5)]
-    assert probe_reasons(_History(), ranked) == {SALT: "too heavy"}  # type: ignore[arg-type]
-    assert probe_reasons(object(), ranked) == {}  # type: ignore[arg-type]
+    assert probe_reasons(history, ranked) == {SALT: "too heavy"}
+    assert probe_reasons(EventLog(), ranked) == {}  # no probe yet
+    counts = budget_counts(history, _Explorer())
+    assert (counts.attempts, counts.failures, counts.held_fast_record()) == (3, 1, BudgetCounts(2, 1))
 
 
 def test_the_event_carries_the_decision_and_rounds_the_planning_time() -> None:
