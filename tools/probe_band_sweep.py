@@ -44,7 +44,9 @@ def main() -> None:
     ap.add_argument("--datasets", default="tools/data/sc_probe")
     ap.add_argument("--configs", required=True, help="a JSON list of configurations (module docstring)")
     ap.add_argument("--alphas", default="0.05,0.1,0.15,0.2")
-    ap.add_argument("--oracle", action="store_true", help="κ̂ given the true mass, size and glass (module docstring)")
+    ap.add_argument(
+        "--oracle", action="store_true", help="κ̂ given the true mass, size and glass (module docstring)"
+    )
     a = ap.parse_args()
     args = argparse.Namespace(
         datasets=a.datasets, embedder="minilm", seed=0, warmup=20, opening=DEFAULT_OPENING_M
