@@ -27,6 +27,7 @@ __all__ = [
     "condition_line",
     "decision_line",
     "percent",
+    "promise_words",
     "rule_note",
     "shown_confidence",
     "LinePrinter",
@@ -43,8 +44,16 @@ RULE_LABELS = {
 """How a line names each `DecisionMade.rule` (a rule not listed is shown by its own name)."""
 
 
+def promise_words(strict: bool) -> str:
+    """How the failure budget is kept: over the long run (gate.budget bounds the excess failures, not zero in every
+    episode), or, with the strict promise (``exploration_credit``), from the first attempt (an exploration only
+    while one more failure keeps failures ≤ α × attempts + 1: gate.budget.has_credit)."""
+    return "kept from the first attempt" if strict else "kept over the long run"
+
+
 def condition_line(options: BehaviourOptions) -> str:
-    """The condition an episode runs in: self-confidence on (κ̂ and its threshold) or off, and the failure rule.
+    """The condition an episode runs in: self-confidence on (κ̂ and its threshold, or the failure budget, how it
+    is kept and whether the robot hefts what it is unsure of) or off, and the failure rule.
 
     ``options`` must be resolved (`BehaviourOptions.resolve`).
     """
@@ -54,10 +63,11 @@ def condition_line(options: BehaviourOptions) -> str:
         return f"self-confidence OFF (the paper's control: always act, {failures})"
     if options.gate == "budget":
         rate = options.target_failure_rate
-        assert rate is not None  # resolved: every tree parameter is set
+        assert rate is not None and options.probe is not None  # resolved: every tree parameter is set
+        heft = "; hefts what it is unsure of" if options.probe.enabled else ""
         return (
             f"self-confidence on ({options.estimator}, failure budget: {percent(rate)} "
-            f"of attempts, kept over the long run), {failures}"
+            f"of attempts, {promise_words(bool(options.exploration_credit))}{heft}), {failures}"
         )
     return f"self-confidence on ({options.estimator}, threshold {options.confidence_threshold:g}), {failures}"
 
@@ -93,6 +103,8 @@ def decision_line(event: DecisionMade, steps_total: int) -> str:
     note = "  (needed later)" if event.need == "later" and event.action else ""
     if event.explored:  # κ̂ below the threshold: the robot tries it to learn (ε-greedy)
         note = "  (exploring)" + note
+    if event.probe and event.verdict is DecisionKind.ACT:  # κ̂ unsure: a heft test before it commits
+        note = "  (heft first)" + note
     if event.rule:  # a rule, not κ̂, made the verdict: the line must not read as κ̂'s call
         shown = target == "(" + event.reason + ")"  # the reason is already the target
         note += "  " + (f"({RULE_LABELS.get(event.rule, event.rule)})" if shown else rule_note(event))

@@ -24,7 +24,7 @@ from scone_bt.behaviours import BehaviourOptions, EpisodeContext, Keys, OutcomeL
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig, load_kitchen, load_robot
 from scone_bt.defaults import EPISODE
 from scone_bt.episode.heap import release_free_heap
-from scone_bt.episode.printer import RULE_LABELS, LinePrinter, condition_line, percent
+from scone_bt.episode.printer import RULE_LABELS, LinePrinter, condition_line, percent, promise_words
 from scone_bt.episode.resources import EpisodeResources, ModelPool
 from scone_bt.episode.seeds import PlannerSeedStream, SeedPlan, SeedStage
 from scone_bt.episode.snapshot import SnapshotBuilder
@@ -92,7 +92,9 @@ class EpisodeSummary:
     """What happened. All counts are deterministic for a given seed; times are not.
 
     ``condition`` is the condition the robot ran in (`condition_line`); ``decided_by_rule`` counts the decisions a
-    rule other than κ̂ against the threshold made, by `DecisionMade.rule`.
+    rule other than κ̂ against the threshold made, by `DecisionMade.rule`; ``failure_budget`` is the budget gate's
+    target failure rate (None for another gate), ``strict_promise`` whether it was kept from the first attempt
+    (`promise_words`).
     """
 
     recipe_id: str
@@ -126,6 +128,7 @@ class EpisodeSummary:
     decided_by_rule: dict[str, int] = field(default_factory=dict)
     not_stocked: int = 0
     failure_budget: float | None = None
+    strict_promise: bool = False
     bodies: int = 0
     constraints: int = 0
 
@@ -149,7 +152,7 @@ class EpisodeSummary:
         labelled = self.successes + self.failures
         rate = (
             f"   failure rate {percent(round(self.failures / labelled, 3))} (budget {percent(self.failure_budget)}, "
-            "kept over the long run)"
+            f"{promise_words(self.strict_promise)})"
             if self.failure_budget is not None and labelled
             else ""
         )
@@ -498,6 +501,7 @@ def _summarise(
             if plan.behaviour.use_self_confidence and plan.behaviour.gate == "budget"
             else None
         ),
+        strict_promise=bool(plan.behaviour.exploration_credit),
     )
 
 

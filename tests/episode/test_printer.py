@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import pytest
 
 from scone_bt.behaviours import BehaviourOptions
+from scone_bt.config.tree_parameters import ProbeParameters
 from scone_bt.episode.printer import LinePrinter, condition_line, decision_line, shown_confidence
 from scone_bt.episode.runner import EpisodeSummary
 from scone_bt.events import DecisionMade
@@ -78,6 +80,14 @@ def test_the_condition_names_kappa_and_its_threshold_or_the_control() -> None:
         f"self-confidence on ({paper.estimator}, threshold {paper.confidence_threshold:g}), "
         f"ask after {paper.max_failures_per_action} failures on one action"
     )
+    strict = BehaviourOptions(exploration_credit=True).resolve()
+    assert "failure budget: 15% of attempts, kept from the first attempt), ask after" in condition_line(
+        strict
+    )
+    hefts = BehaviourOptions(exploration_credit=True, probe=ProbeParameters(enabled=True)).resolve()
+    assert "15% of attempts, kept from the first attempt; hefts what it is unsure of), ask" in condition_line(
+        hefts
+    )
     off = BehaviourOptions(use_self_confidence=False, max_failures_per_action=1).resolve()
     assert (
         condition_line(off)
@@ -124,6 +134,13 @@ def test_the_confidence_shown_never_contradicts_the_verdict(
     assert f"conf {shown:>4}  {verdict.label}" in decision_line(event, 5)
 
 
+def test_a_decision_to_heft_first_says_so() -> None:
+    heft = DecisionMade(0.0, 2, "Cook.", "Put garlic on table", 0.39, 0.5, DecisionKind.ACT, probe=True)
+    assert decision_line(heft, 5).endswith("conf 0.50  ACT  (heft first)")
+    plain = dataclasses.replace(heft, probe=False)
+    assert decision_line(plain, 5).endswith("conf 0.50  ACT")
+
+
 def test_the_summary_accounts_for_every_attempt_ingredient_and_the_budget() -> None:
     base = dict(condition="", needed_on_table={"rice noodles": True})
     cut = EpisodeSummary(
@@ -140,4 +157,6 @@ def test_the_summary_accounts_for_every_attempt_ingredient_and_the_budget() -> N
     )  # fmt: skip
     line = next(x for x in failed.format().splitlines() if x.startswith("actions attempted"))
     assert line.endswith("failures 3 (grasp 3)   failure rate 100% (budget 15%, kept over the long run)")
+    strict = dataclasses.replace(failed, strict_promise=True)
+    assert strict.format().count("failure rate 100% (budget 15%, kept from the first attempt)") == 1
     assert "more not stocked" not in failed.format() and "cut short" not in line
