@@ -101,6 +101,12 @@ def decision_words(event: DecisionMade) -> str:
     if kind is DecisionKind.ACT:
         if rule == "declined":
             return f"You asked me to try the {item} myself: I am about to fetch {it_them(item)}."
+        if event.probe:  # the heft test first: the participant sees the arm lift, hold and maybe set it back
+            them = it_them(item)
+            return (
+                f"I am not sure about the {item}: I will lift {them} a little first to feel whether I can hold "
+                f"{them}, then fetch {them} or put {them} back and ask you."
+            )
         return f"I am about to fetch the {item}."
     return help_words(event)
 

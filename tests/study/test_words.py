@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import pytest
@@ -68,3 +69,15 @@ def test_a_decline_for_want_of_room_is_not_told_as_try_it_yourself():
     )
     asked = feed_line(HelpDeclined(2.0, "chicken", "the human declined: try it yourself"))
     assert asked == "You asked the robot to try the chicken itself."
+
+
+def test_a_heft_first_is_told_before_the_arm_lifts():
+    heft = dataclasses.replace(
+        _decision("", "", DecisionKind.ACT, item="olive oil", confidence=0.5), probe=True
+    )
+    assert decision_words(heft) == (
+        "I am not sure about the olive oil: I will lift it a little first to feel whether I can hold it, "
+        "then fetch it or put it back and ask you."
+    )
+    plain = dataclasses.replace(heft, probe=False)
+    assert decision_words(plain) == "I am about to fetch the olive oil."
