@@ -33,3 +33,12 @@ def test_a_set_back_reaches_the_tablet_in_the_robots_words(reason: str) -> None:
     said = reason[0].upper() + reason[1:]
     assert shown["robot"]["status"] == "asking" and shown["robot"]["say"] == f"{said}: please bring it."
     assert f"The robot hefted the olive oil and set it back: {reason}." in shown["feed"]
+
+
+def test_the_tablet_announces_a_heft_before_the_arm_lifts() -> None:
+    heft = DecisionMade(0.5, 1, "Add oil.", OIL, 0.6, 0.5, DecisionKind.ACT, "now", (), "olive oil", probe=True)
+    with TabletServer("127.0.0.1", 0, None) as server:
+        server.state.start_episode(["Add oil."])
+        server.on_event(heft)
+        shown = server.state.snapshot()
+    assert shown["robot"]["say"].startswith("I am not sure about the olive oil: I will lift it a little first")
