@@ -36,9 +36,13 @@ def test_a_set_back_reaches_the_tablet_in_the_robots_words(reason: str) -> None:
 
 
 def test_the_tablet_announces_a_heft_before_the_arm_lifts() -> None:
-    heft = DecisionMade(0.5, 1, "Add oil.", OIL, 0.6, 0.5, DecisionKind.ACT, "now", (), "olive oil", probe=True)
+    heft = DecisionMade(
+        0.5, 1, "Add oil.", OIL, 0.6, 0.5, DecisionKind.ACT, "now", (), "olive oil", probe=True
+    )
     with TabletServer("127.0.0.1", 0, None) as server:
         server.state.start_episode(["Add oil."])
         server.on_event(heft)
         shown = server.state.snapshot()
-    assert shown["robot"]["say"].startswith("I am not sure about the olive oil: I will lift it a little first")
+    assert shown["robot"]["say"].startswith(
+        "I am not sure about the olive oil: I will lift it a little first"
+    )
