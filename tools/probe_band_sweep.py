@@ -1,7 +1,7 @@
 """Sweep the heft probe's band over target failure rates on datasets with probe readings (docs/results/probe.md §5).
 
 Each configuration is replayed as ``scone-bench gate`` replays the tree's gate (cold, censored, warm-up 20, the
-strict credit rule on unless ``allowance`` is null), with `scone_bt.benchmarks.gate.replay_stream`; one JSON line
+strict credit rule on unless ``allowance`` is null), with `scone_bt.benchmarks.replay.replay_stream`; one JSON line
 per (configuration, α). A configuration is a `ProbeOptions` mapping (``below``, ``above``, ``credit``,
 ``full_band_at``, ``sure_traction``, …), ``{"below": null}`` for no probe, plus ``allowance`` (the strict rule's, default 1) and
 ``power`` (how fast the band narrows under ``full_band_at``: `scone_bt.gate.probe.NARROWING_POWER`, default 4).
@@ -36,7 +36,9 @@ def configuration(cfg: dict) -> tuple[ProbeOptions | None, float | None, float]:
 
 
 def main() -> None:
-    from scone_bt.benchmarks import gate as replay
+    from scone_bt.benchmarks import replay
+    from scone_bt.benchmarks.replay_rates import pooled_rates
+    from scone_bt.benchmarks.replay_streams import load_streams
     from scone_bt.confidence.physical import DEFAULT_OPENING_M
     from scone_bt.gate import probe as band
 
@@ -51,7 +53,7 @@ def main() -> None:
     args = argparse.Namespace(
         datasets=a.datasets, embedder="minilm", seed=0, warmup=20, opening=DEFAULT_OPENING_M
     )
-    streams = replay._load(args, oracle=a.oracle)
+    streams = load_streams(args, oracle=a.oracle)
     for cfg in json.loads(a.configs):
         for alpha in (float(x) for x in a.alphas.split(",")):
             t0 = time.time()
@@ -77,7 +79,7 @@ def main() -> None:
                 )
                 for j in range(len(streams.names))
             ]
-            r = replay._rates(results)
+            r = pooled_rates(results)
             line = {
                 "config": cfg,
                 **({"oracle": True} if a.oracle else {}),

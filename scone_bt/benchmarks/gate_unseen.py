@@ -71,7 +71,7 @@ _BOOTSTRAP = 2000
 
 
 class UnseenStreams(Protocol):
-    """The replay's loaded streams (gate._Streams), as this section reads them."""
+    """The replay's loaded streams (benchmarks.replay_streams.Streams), as this section reads them."""
 
     @property
     def names(self) -> list[str]: ...
@@ -95,7 +95,7 @@ class _Replayed(Protocol):
 
 
 Replay = Callable[..., _Replayed]
-"""gate.replay_stream (passed in: the replay module calls this one, so this one does not import it)."""
+"""benchmarks.replay.replay_stream (passed in by benchmarks.gate, which drives both)."""
 
 
 @dataclass(frozen=True)
@@ -258,7 +258,7 @@ class _Setup:
 
 
 def stream_prior(streams: UnseenStreams, which: Sequence[int], foreseen: bool = False) -> Prior:
-    """The streams' executions as a fleet's store holds them: none whose target was not detected (gate.foreseen:
+    """The streams' executions as a fleet's store holds them: none whose target was not detected (benchmarks.replay_streams.foreseen:
     "missing"), unless ``foreseen`` (every row, aligned with the stream)."""
     if not which:
         d = streams.vectors[0].shape[1] + len(CONTEXT_FIELDS)
@@ -502,7 +502,7 @@ def unseen_report(
 
     Args:
         streams: The replay's loaded streams (embeddings, perceived context, outcomes, products, probe readings).
-        replay: gate.replay_stream.
+        replay: benchmarks.replay.replay_stream.
         estimator: κ̂'s registry name (the tree's).
         default_alpha: The tree's target failure rate (where ``fleet_with_products`` is replayed).
         seed: Seeds each stream's replay (``seed + stream index``, as the gate report does) and the bootstrap.

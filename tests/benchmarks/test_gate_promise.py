@@ -16,7 +16,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from scone_bt.benchmarks.gate import StreamResult, _readings, foreseen, replay_stream
+from scone_bt.benchmarks.replay import StreamResult, replay_stream
+from scone_bt.benchmarks.replay_streams import foreseen, probe_readings
 from scone_bt.benchmarks.self_confidence.dataset import load_datasets
 from scone_bt.benchmarks.self_confidence.evaldata import decision_time_context
 from scone_bt.gate.probe import ProbeOptions
@@ -47,7 +48,7 @@ def _replayed(alpha: float, allowance: float | None) -> list[StreamResult]:
                 20,
                 0.08,
                 probe=ProbeOptions(),
-                readings=_readings(d),
+                readings=probe_readings(d),
                 excess_allowance=allowance,
                 foreseen=foreseen(d),
             )

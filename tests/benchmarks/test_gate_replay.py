@@ -10,7 +10,9 @@ import numpy as np
 import pytest
 
 import scone_bt.confidence
-from scone_bt.benchmarks.gate import TARGETS, StreamResult, _rates, replay_stream
+from scone_bt.benchmarks.gate import TARGETS
+from scone_bt.benchmarks.replay import StreamResult, replay_stream
+from scone_bt.benchmarks.replay_rates import pooled_rates
 from scone_bt.cli.bench import main
 
 OPENING_M = 0.08
@@ -69,7 +71,7 @@ def test_an_asked_action_adds_no_label(monkeypatch: pytest.MonkeyPatch) -> None:
     ]  # the attempts' labels, in order, nothing else
     assert (out.all_decisions, out.all_attempts, out.all_asked) == (8, len(acted), 8 - len(acted))
     assert (out.asked_ok, out.asked_fail, out.failures) == (2, 2, 1)
-    rates = _rates([out])
+    rates = pooled_rates([out])
     assert rates["help_rate"] == 0.5 and rates["over_ask_rate"] == 0.25 and rates["over_step_rate"] == 0.125
     assert rates["attempt_failure_rate"] == 0.25 and rates["success_rate"] == 0.375
     # 5 of the 8 would succeed: at a failure rate of 0.25 a clairvoyant attempts 5 / 0.75 and asks for the rest
@@ -77,12 +79,12 @@ def test_an_asked_action_adds_no_label(monkeypatch: pytest.MonkeyPatch) -> None:
     assert rates["help_rate_floor_per_stream"] == [rates["help_rate_floor"]]  # one stream: its own floor
     # a clairvoyant that never fails attempts the 5 and asks for the other 3
     assert rates["help_rate_floor_without_failures"] == round(3 / 8, 4)
-    again = _rates([out, out])  # two streams: each at its own rate, here the same
+    again = pooled_rates([out, out])  # two streams: each at its own rate, here the same
     assert again["help_rate_floor_per_stream"] == [rates["help_rate_floor"]] * 2
 
 
 def test_the_help_floor_is_a_clairvoyants() -> None:
-    from scone_bt.benchmarks.gate import help_floor
+    from scone_bt.benchmarks.replay_rates import help_floor
 
     assert help_floor(79, 100, 0.15) == 0.0706  # the nominal robot's 79 successes in 100
     assert help_floor(95, 100, 0.15) == 0.0  # more than enough successes: attempt everything
@@ -137,7 +139,7 @@ def test_wide_attempts_after_the_first_wide_failure_are_counted(monkeypatch: pyt
     _use(monkeypatch, _Scripted())
     wider_gripper = replay_stream(vectors, _context(widths), success, names, "x", "paper", 0.5, 0, 0, 0.2)
     assert wider_gripper.wide_after_failure == 0
-    rates = _rates([counted, wider_gripper])
+    rates = pooled_rates([counted, wider_gripper])
     assert rates["wide_attempts_after_first_wide_failure"] == 2
     assert rates["wide_attempts_after_first_wide_failure_max_per_stream"] == 2
 
@@ -339,7 +341,7 @@ def test_probe_on_datasets_without_probe_readings_is_one_line(tmp_path: Path, ca
 
 def test_an_episode_counts_an_aborted_probe_apart_and_its_ask_as_help() -> None:
     """``--episodes``: the set-back is not a failure or an attempt; the ask that follows it is help."""
-    from scone_bt.benchmarks.gate import _episode_counts
+    from scone_bt.benchmarks.gate_episodes import episode_counts
     from scone_bt.events import ActOutcome, HelpRequested, ProbeAborted
 
     events = [
@@ -347,13 +349,13 @@ def test_an_episode_counts_an_aborted_probe_apart_and_its_ask_as_help() -> None:
         HelpRequested(2.0, "Put olive oil on table", "olive oil"),
         ActOutcome(3.0, "Put salt on table", "salt", True, None),
     ]
-    counts = _episode_counts(events)
+    counts = episode_counts(events)
     assert (counts["aborted"], counts["help"], counts["attempts"], counts["failures"]) == (1, 1, 1, 0)
 
 
 def test_an_episode_counts_the_probes_and_their_seconds() -> None:
     """``--episodes``: hefted decisions, seconds in attempts and in set-backs (where the probe's time goes)."""
-    from scone_bt.benchmarks.gate import _episode_counts
+    from scone_bt.benchmarks.gate_episodes import episode_counts
     from scone_bt.events import ActOutcome, DecisionMade, ProbeAborted
     from scone_bt.gate.types import DecisionKind
 
@@ -364,7 +366,7 @@ def test_an_episode_counts_the_probes_and_their_seconds() -> None:
         DecisionMade(12.0, 1, "add salt", "Put salt on table", 0.8, 0.9, act),
         ActOutcome(23.0, "Put salt on table", "salt", True, None, 11.0),
     ]
-    counts = _episode_counts(events)
+    counts = episode_counts(events)
     assert (counts["probed"], counts["act_s"], counts["aborted_s"]) == (1, 11.0, 8.5)
 
 
@@ -376,7 +378,7 @@ def test_what_the_robot_knows_it_cannot_do_before_moving_is_asked_for(
     tree stores it, κ̂ learns a failure at planning from an infeasible plan, nothing from a target it never saw."""
     from dataclasses import replace
 
-    from scone_bt.benchmarks.gate import foreseen
+    from scone_bt.benchmarks.replay_streams import foreseen
     from scone_bt.benchmarks.self_confidence.dataset import Dataset
     from scone_bt.experience.types import CONTEXT_FIELDS
 

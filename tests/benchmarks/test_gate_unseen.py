@@ -9,7 +9,6 @@ from typing import Any
 import numpy as np
 import pytest
 
-from scone_bt.benchmarks.gate import _Streams, replay_stream
 from scone_bt.benchmarks.gate_unseen import (
     Prior,
     first_occurrences,
@@ -18,6 +17,8 @@ from scone_bt.benchmarks.gate_unseen import (
     outcome_rates,
     unseen_report,
 )
+from scone_bt.benchmarks.replay import replay_stream
+from scone_bt.benchmarks.replay_streams import Streams
 from scone_bt.cli.bench import main
 from scone_bt.experience.types import CONTEXT_FIELDS
 
@@ -38,7 +39,7 @@ def _context(n: int) -> np.ndarray:
     return np.array([[values.get(f, np.nan) for f in CONTEXT_FIELDS]] * n)
 
 
-def _synthetic(n_streams: int = 3, n: int = 40, twins_lie: bool = False, seed: int = 3) -> _Streams:
+def _synthetic(n_streams: int = 3, n: int = 40, twins_lie: bool = False, seed: int = 3) -> Streams:
     """Streams of products never repeated by name; a product is "good" (succeeds, ζ near e0) or "bad" (fails, near
     e1). In the other streams every product has close neighbours of its kind; with ``twins_lie`` the other
     streams' outcomes are the opposite (their neighbours mislead)."""
@@ -54,10 +55,10 @@ def _synthetic(n_streams: int = 3, n: int = 40, twins_lie: bool = False, seed: i
         context.append(_context(n))
         success.append(good if not (twins_lie and j > 0) else ~good)
         products.append(tuple(f"s{j}-{'good' if g else 'bad'}-{i}" for i, g in enumerate(good)))
-    return _Streams(names, vectors, context, success, products, [None] * n_streams)
+    return Streams(names, vectors, context, success, products, [None] * n_streams)
 
 
-def _report(streams: _Streams, replay: Any = replay_stream) -> dict[str, Any]:
+def _report(streams: Streams, replay: Any = replay_stream) -> dict[str, Any]:
     return unseen_report(streams, replay, "physical", 0.15, seed=0, warmup=5, opening_m=OPENING_M)
 
 
@@ -75,7 +76,7 @@ def test_no_prior_the_report_replays_holds_a_scored_product() -> None:
     decision (fleet and own store alike) must hold none of them, while the fleet-with-products contrast keeps them."""
     base = _synthetic(n=16)
     shared = tuple(f"p{i}" for i in range(16))  # the same 16 products in every stream, in another order
-    streams = _Streams(
+    streams = Streams(
         base.names,
         [base.vectors[0][np.roll(np.arange(16), j)] for j in range(3)],
         base.context,

@@ -17,7 +17,7 @@ from scone_bt.behaviours import (
     UpdateSelfConfidence,
 )
 from scone_bt.behaviours.context import OutcomeLabels
-from scone_bt.benchmarks.gate import replay_stream
+from scone_bt.benchmarks.replay import replay_stream
 from scone_bt.benchmarks.self_confidence.dataset import PROBE_COLUMNS
 from scone_bt.confidence import make_estimator
 from scone_bt.events import EventLog, ProbeAborted

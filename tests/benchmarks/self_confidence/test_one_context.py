@@ -113,7 +113,7 @@ def test_an_undetected_target_records_nothing_perceived(
 def test_the_evaluation_and_the_gate_replay_read_the_recorded_context(
     sc_data: Callable[..., Path], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from scone_bt.benchmarks import gate
+    from scone_bt.benchmarks import replay_streams
 
     folder = sc_data(n_datasets=2, rows=30)
     rows = list(csv.DictReader(next(iter(sorted(folder.glob("*.csv")))).open()))
@@ -136,7 +136,7 @@ def test_the_evaluation_and_the_gate_replay_read_the_recorded_context(
     monkeypatch.setattr(evaldata, "decision_time_context", counting)
     (data, _) = evaldata.load_eval_datasets(folder)
     np.testing.assert_array_equal(data.context, recorded)
-    streams = gate._load(argparse.Namespace(datasets=str(folder)), oracle=True)
+    streams = replay_streams.load_streams(argparse.Namespace(datasets=str(folder)), oracle=True)
     assert seen == [first.name, "p01_robot", first.name, "p01_robot"]
     # The oracle replaces only the size by the product's own, and counts every row as detected.
     oracle = streams.context[0]

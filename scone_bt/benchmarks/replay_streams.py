@@ -1,0 +1,148 @@
+"""The recorded streams the replay walks (`Streams`, `load_streams`): per dataset the actions' embeddings, the
+context the robot perceived, the outcomes, the heft test's readings and what the robot knew before moving."""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from scone_bt.benchmarks.self_confidence.dataset import PROBE_COLUMNS
+from scone_bt.experience.types import CONTEXT_FIELDS
+
+__all__ = [
+    "FORESEEN_STAGES",
+    "PROBE_DATASETS",
+    "Streams",
+    "check_probe_readings",
+    "datasets_folder",
+    "foreseen",
+    "load_streams",
+    "probe_readings",
+    "stream_rows",
+]
+
+
+@dataclass(frozen=True)
+class Streams:
+    names: list[str]
+    vectors: list[np.ndarray]
+    context: list[np.ndarray]
+    success: list[np.ndarray]
+    products: list[tuple[str, ...]]
+    readings: list[np.ndarray | None] = field(default_factory=list)
+    foreseen: list[np.ndarray] = field(default_factory=list)
+
+
+def datasets_folder(args: argparse.Namespace) -> Path:
+    from scone_bt.resources import repo_root
+
+    return Path(args.datasets) if args.datasets else (repo_root() or Path(".")) / "tools" / "data" / "sc"
+
+
+def load_streams(args: argparse.Namespace, oracle: bool, folder: Path | None = None) -> Streams:
+    from scone_bt.benchmarks.self_confidence.dataset import load_datasets
+    from scone_bt.benchmarks.self_confidence.evaldata import decision_time_context
+    from scone_bt.embedding import load_embedder
+
+    if folder is None:
+        folder = datasets_folder(args)
+    datasets = load_datasets(folder)
+
+    def column(d: Any, name: str) -> np.ndarray:
+        return d.context.get(name, np.full(len(d), np.nan))
+
+    # The context the robot perceived, as the self-confidence evaluation reads it (one function for both).
+    context = [decision_time_context(d) for d in datasets]
+    if (
+        oracle
+    ):  # the true size where the robot has a perceived one, always "detected"; mass and glass stand for ζ
+        vectors = [np.column_stack([column(d, "mass_kg"), _glass(d)]) for d in datasets]
+        for d, c in zip(datasets, context, strict=True):
+            c[:, CONTEXT_FIELDS.index("detected")] = 1.0
+            c[:, CONTEXT_FIELDS.index("detected_width_m")] = column(d, "width_m")
+            c[:, CONTEXT_FIELDS.index("detected_height_m")] = column(d, "height_m")
+    else:
+        emb = load_embedder(args.embedder)
+        actions = sorted({a for d in datasets for a in d.actions})
+        table = dict(zip(actions, np.asarray(emb.embed(actions), dtype=np.float32), strict=True))
+        vectors = [np.stack([table[a] for a in d.actions]) for d in datasets]
+    return Streams(
+        [d.name for d in datasets],
+        vectors,
+        context,
+        [np.asarray(d.success) for d in datasets],
+        [tuple(d.objects) for d in datasets],
+        [probe_readings(d) for d in datasets],
+        [foreseen(d) for d in datasets],
+    )
+
+
+FORESEEN_STAGES: tuple[str, ...] = ("ik", "planning")
+"""Failure stages at which no plan was made (motion.pick_place.Diagnosis.stage)."""
+
+
+_TIMED_OUT: tuple[str, ...] = ("no path", "injected: no plan")
+"""How a planning failure's detail begins when the planner only ran out of time (PlanFailureReason.NO_PATH, or the
+generator's injected planning failure): the tree still attempts those (robot.sim: not `infeasible`), so they
+stay failed attempts."""
+
+
+PROBE_DATASETS: tuple[str, ...] = ("tools/data/sc_probe", "tools/data/sc_heldout_probe")
+"""The committed datasets that record the heft test's readings (the others were generated without it)."""
+
+
+def check_probe_readings(args: argparse.Namespace, streams: Streams) -> None:
+    """ConfigError (one line) when ``--probe`` asks to replay the heft test on datasets none of which recorded it:
+    without readings every stream would be replayed without the probe, and the report would say so only in its
+    ``default.probe`` key. The tree's own ``probe.enabled`` (no ``--probe``) is not checked: it falls back quietly."""
+    from scone_bt.errors import ConfigError
+
+    if getattr(args, "probe", None) is True and not any(r is not None for r in streams.readings):
+        raise ConfigError(
+            f"--probe: no dataset in {datasets_folder(args)} records the heft test's readings "
+            f"({', '.join(PROBE_COLUMNS)}); datasets that do: {', '.join(PROBE_DATASETS)} (--datasets)"
+        )
+
+
+def foreseen(d: Any) -> np.ndarray:
+    """(n,) str: for each execution of a dataset, the rule by which the robot would ask instead of attempting it:
+    "missing" where its target was not detected (the tree asks for what it sees nowhere, gate.rules.ask_for_missing),
+    "infeasible" where the scene's geometry left no plan (it asks before the arm moves,
+    gate.rules.infeasible_decision), else "". The generator attempts every one and records these as failed
+    executions; a file without a ``detail`` column cannot tell a planner that ran out of time, so none of its
+    planning failures is foreseen."""
+    detected = np.nan_to_num(d.context.get("detected", np.ones(len(d))), nan=1.0)
+    details = d.details or ("",) * len(d)
+    geometric = [
+        stage in FORESEEN_STAGES and bool(detail) and not detail.startswith(_TIMED_OUT)
+        for stage, detail in zip(d.failure_stages, details, strict=True)
+    ]
+    rules = np.full(len(d), "", dtype=object)
+    rules[np.array(geometric, dtype=bool)] = "infeasible"
+    rules[detected == 0] = "missing"
+    return rules
+
+
+def probe_readings(d: Any) -> np.ndarray | None:
+    """(n, 5) probe readings in PROBE_COLUMNS order, or None for a dataset recorded without the probe."""
+    if any(c not in d.context for c in PROBE_COLUMNS):
+        return None
+    return np.column_stack([d.context[c] for c in PROBE_COLUMNS])
+
+
+def _glass(d: Any) -> np.ndarray:
+    return np.array([m == "glass" for m in d.materials], dtype=float) if d.materials else np.zeros(len(d))
+
+
+def stream_rows(streams: Streams, which: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
+    """Streams' rows as κ̂ learns them (embedding then context) and their outcomes, as a store holds them
+    (gate_unseen.stream_prior: no target that was not detected)."""
+    from scone_bt.benchmarks.gate_unseen import stream_prior
+
+    prior = stream_prior(streams, which)
+    return prior.rows, prior.success
