@@ -568,7 +568,7 @@ class EventLog:
         s = self.stats
         return s.successes + s.failures, s.failures, s.explored_failures
 
-    def held_fast_record(self) -> tuple[int, int]:
+    def held_fast_counts(self) -> tuple[int, int]:
         """(attempts after a heft test that felt the product held fast, their failures) so far."""
         return self.stats.held_fast_attempts, self.stats.held_fast_failures
 

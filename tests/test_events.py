@@ -192,5 +192,5 @@ def test_attempts_after_a_probe_that_felt_it_held_fast_keep_a_record_of_their_ow
         ActOutcome(3.0, "Put oil on table", "oil", False, "transit"),
     ):
         log(event)
-    assert log.held_fast_record() == (2, 1)
+    assert log.held_fast_counts() == (2, 1)
     assert log.budget_counts() == (3, 2, 0)

@@ -76,7 +76,7 @@ def confidences(
 def budget_counts(history: AttemptHistory, estimator: SelfConfidence) -> BudgetCounts:
     """The attempts so far (folded from the events) and what κ̂ has learnt, as the budget reads them."""
     attempts, failures, explored_failures = history.budget_counts()
-    fast, fast_failed = history.held_fast_record()
+    fast, fast_failed = history.held_fast_counts()
     learnt = int(getattr(estimator, "n_observations", 0))
     return BudgetCounts(attempts, failures, explored_failures, learnt, fast, fast_failed)
 

@@ -122,7 +122,7 @@ class AttemptHistory(Protocol):
         """(labelled attempts, exploratory ones included, their failures, failed explorations) so far."""
         ...
 
-    def held_fast_record(self) -> tuple[int, int]:
+    def held_fast_counts(self) -> tuple[int, int]:
         """(attempts after a heft test that felt the product held fast, their failures) so far: (0, 0) without
         probes."""
         ...

@@ -12,6 +12,8 @@ Per method and per target failure rate α (0.05 … 0.40), pooled over the strea
 ``success_rate`` (acted and succeeded / decisions), ``help_rate`` (asked / decisions), ``over_ask_rate`` (asked,
 would have succeeded), ``over_step_rate`` (acted, failed), ``attempt_failure_rate`` (failed attempts / attempts),
 its split into ``attempt_failure_rate_novel`` (products κ̂ had no outcome of in the stream) and ``_seen``,
+``help_rate_floor`` (the least help any gate could reach at the realised rate: a clairvoyant, `help_floor`) and
+``help_rate_floor_without_failures`` (a clairvoyant that never fails; the data's alone),
 ``wide_attempts_after_first_wide_failure`` (attempts of products perceived wider than the gripper's opening after a
 stream's first failed one, summed and the largest per stream), the realised rate per stream, and
 ``max_excess_failures``: the largest F − α · A reached at any point of any stream, warm-up included, and
@@ -24,7 +26,7 @@ promise on (``--exploration-credit``: gate.budget.has_credit, gate.after_probe) 
 that failed before the fingers felt anything (a probe needs no credit; ``probe_failures_before_feeling`` counts
 them).
 
-The replay decides as the tree does where the robot knows before its arm moves that it cannot act (`foreseen`):
+The replay decides as the tree does where the robot knows before its arm moves that it cannot act (`benchmarks.replay_streams.foreseen`):
 a target the camera did not detect is asked for (the tree has no affordance for it), and where no plan exists
 the gate's ACT becomes an ask before the arm moves, learnt by κ̂ as a failure at planning (RecordInfeasible), not
 an attempt. The datasets record both as failed executions: the generator attempts every row. Methods:

@@ -66,7 +66,8 @@ def episode_counts(events: Sequence[Any]) -> dict[str, Any]:
 
 
 def run_episodes(args: argparse.Namespace) -> dict[str, Any]:
-    """Seeded episodes over corpus recipes, self-confidence on (the tree's defaults) and the paper's control."""
+    """Seeded episodes over corpus recipes, self-confidence on (the tree's defaults) and the paper's control, and
+    with ``--probe`` a third condition with the heft test and the strict promise on (``self_confidence_on_probe``)."""
     from scone_bt.behaviours import BehaviourOptions
     from scone_bt.benchmarks.decisions import pick_recipes
     from scone_bt.config import load_kitchen
@@ -139,6 +140,7 @@ def run_episodes(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def percentiles_ms(seconds: Sequence[float]) -> dict[str, float | int | None]:
+    """p50 and p95 of ``seconds`` in milliseconds, and how many (None and 0 for none)."""
     if not seconds:
         return {"p50": None, "p95": None, "n": 0}
     ms = np.asarray(seconds) * 1000.0

@@ -258,8 +258,8 @@ class _Setup:
 
 
 def stream_prior(streams: UnseenStreams, which: Sequence[int], foreseen: bool = False) -> Prior:
-    """The streams' executions as a fleet's store holds them: none whose target was not detected (benchmarks.replay_streams.foreseen:
-    "missing"), unless ``foreseen`` (every row, aligned with the stream)."""
+    """The streams' executions as a fleet's store holds them: none whose target was not detected
+    (benchmarks.replay_streams.foreseen: "missing"), unless ``foreseen`` (every row, aligned with the stream)."""
     if not which:
         d = streams.vectors[0].shape[1] + len(CONTEXT_FIELDS)
         return Prior(np.zeros((0, d), dtype=np.float32), np.zeros(0, dtype=bool), ())

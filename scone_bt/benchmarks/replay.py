@@ -123,6 +123,7 @@ class _LazyDraw(Sequence[bool]):
 
 
 def feature_rows(vectors: np.ndarray, context: np.ndarray, grounded: bool) -> np.ndarray:
+    """κ̂'s input rows: ζ followed by the perceived context for a grounded κ̂, ζ alone otherwise."""
     return np.hstack([vectors, context]) if grounded else vectors
 
 

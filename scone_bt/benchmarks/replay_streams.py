@@ -29,6 +29,18 @@ __all__ = [
 
 @dataclass(frozen=True)
 class Streams:
+    """The datasets as the replay walks them, one entry per stream (dataset), rows in execution order.
+
+    Attributes:
+        names: The datasets' names (the proficiency profiles, e.g. "p00_nominal").
+        vectors: Per stream, ζ of each row's action (the oracle: its true mass and glass instead).
+        context: Per stream, the context the robot perceived (`CONTEXT_FIELDS` columns; the oracle: true sizes).
+        success: Per stream, whether each execution succeeded.
+        products: Per stream, each row's product name.
+        readings: Per stream, the heft test's readings (`PROBE_COLUMNS`), or None where it was not recorded.
+        foreseen: Per stream, what the robot knew before its arm moved (`foreseen`: "", "missing", "infeasible").
+    """
+
     names: list[str]
     vectors: list[np.ndarray]
     context: list[np.ndarray]
@@ -39,12 +51,15 @@ class Streams:
 
 
 def datasets_folder(args: argparse.Namespace) -> Path:
+    """``--datasets``, or the committed development streams (tools/data/sc) when it is not given."""
     from scone_bt.resources import repo_root
 
     return Path(args.datasets) if args.datasets else (repo_root() or Path(".")) / "tools" / "data" / "sc"
 
 
 def load_streams(args: argparse.Namespace, oracle: bool, folder: Path | None = None) -> Streams:
+    """Every dataset of ``folder`` (default `datasets_folder`) with ζ from ``args.embedder`` and the context from the
+    one context function the robot decides with; ``oracle``: the true mass, glass and size instead."""
     from scone_bt.benchmarks.self_confidence.dataset import load_datasets
     from scone_bt.benchmarks.self_confidence.evaldata import decision_time_context
     from scone_bt.embedding import load_embedder

@@ -46,9 +46,10 @@ RULE_LABELS = {
 
 def promise_words(strict: bool) -> str:
     """How the failure budget is kept: over the long run (gate.budget bounds the excess failures, not zero in every
-    episode), or, with the strict promise (``exploration_credit``), from the first attempt (an exploration only
-    while one more failure keeps failures ≤ α × attempts + 1: gate.budget.has_credit)."""
-    return "kept from the first attempt" if strict else "kept over the long run"
+    episode), and with the strict promise (``exploration_credit``) the robot explores only on credit its successes
+    earned (while one more failure keeps failures ≤ α × attempts + 1: gate.budget.has_credit). A confident attempt
+    needs no credit and can still fail, so neither wording says the rate holds in every episode."""
+    return "kept over the long run; explores only on earned credit" if strict else "kept over the long run"
 
 
 def condition_line(options: BehaviourOptions) -> str:

@@ -93,8 +93,8 @@ class EpisodeSummary:
 
     ``condition`` is the condition the robot ran in (`condition_line`); ``decided_by_rule`` counts the decisions a
     rule other than κ̂ against the threshold made, by `DecisionMade.rule`; ``failure_budget`` is the budget gate's
-    target failure rate (None for another gate), ``strict_promise`` whether it was kept from the first attempt
-    (`promise_words`).
+    target failure rate (None for another gate), ``strict_promise`` whether that budget explored only on earned
+    credit (``exploration_credit``; read only with ``failure_budget``, `promise_words`).
     """
 
     recipe_id: str

@@ -115,7 +115,7 @@ def test_probe_reasons_name_only_what_a_probe_set_back() -> None:
         def budget_counts(self) -> tuple[int, int, int]:
             return 3, 1, 0
 
-        def held_fast_record(self) -> tuple[int, int]:
+        def held_fast_counts(self) -> tuple[int, int]:
             return 2, 1
 
         def probe_reason(self, action: str) -> str | None:

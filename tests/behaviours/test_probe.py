@@ -373,4 +373,4 @@ def test_held_fast_without_credit_it_carries_on_by_feel_on_that_rule_s_own_recor
     observe.tick_once()
     last = events.events[-1]
     assert isinstance(last, ActOutcome) and last.held_fast and not last.explored
-    assert events.held_fast_record() == (1, 1) and events.budget_counts() == (2, 2, 0)
+    assert events.held_fast_counts() == (1, 1) and events.budget_counts() == (2, 2, 0)

@@ -196,6 +196,12 @@ def test_scone_bench_gate_reports_the_issues_keys(tmp_path: Path) -> None:
         assert key in report["default"]
     assert 0.0 <= report["default"]["help_rate"] <= 1.0
     methods = report["methods"]
+    # the clairvoyant that never fails depends on the data alone: the same in the default and in every method
+    never_fails = report["default"]["help_rate_floor_without_failures"]
+    assert never_fails is not None and 0.0 <= never_fails <= 1.0
+    assert {m["help_rate_floor_without_failures"] for p in methods.values() for m in p.values()} == {
+        never_fails
+    }
     assert {"budget:physical", "fixed:physical", "conformal", "paper", "oracle"} <= set(methods)
     for name, per_target in methods.items():
         expected = {"0.5"} if name == "paper" else {f"{a:g}" for a in TARGETS}

@@ -81,12 +81,14 @@ def test_the_condition_names_kappa_and_its_threshold_or_the_control() -> None:
         f"ask after {paper.max_failures_per_action} failures on one action"
     )
     strict = BehaviourOptions(exploration_credit=True).resolve()
-    assert "failure budget: 15% of attempts, kept from the first attempt), ask after" in condition_line(
-        strict
+    assert (
+        "failure budget: 15% of attempts, kept over the long run; explores only on earned credit), ask"
+        in condition_line(strict)
     )
     hefts = BehaviourOptions(exploration_credit=True, probe=ProbeParameters(enabled=True)).resolve()
-    assert "15% of attempts, kept from the first attempt; hefts what it is unsure of), ask" in condition_line(
-        hefts
+    assert (
+        "kept over the long run; explores only on earned credit; hefts what it is unsure of), ask"
+        in condition_line(hefts)
     )
     off = BehaviourOptions(use_self_confidence=False, max_failures_per_action=1).resolve()
     assert (
@@ -158,5 +160,10 @@ def test_the_summary_accounts_for_every_attempt_ingredient_and_the_budget() -> N
     line = next(x for x in failed.format().splitlines() if x.startswith("actions attempted"))
     assert line.endswith("failures 3 (grasp 3)   failure rate 100% (budget 15%, kept over the long run)")
     strict = dataclasses.replace(failed, strict_promise=True)
-    assert strict.format().count("failure rate 100% (budget 15%, kept from the first attempt)") == 1
+    assert (
+        strict.format().count(
+            "failure rate 100% (budget 15%, kept over the long run; explores only on earned credit)"
+        )
+        == 1
+    )
     assert "more not stocked" not in failed.format() and "cut short" not in line

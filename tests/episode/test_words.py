@@ -36,3 +36,19 @@ def test_items_the_robot_placed_are_never_reported_missing_and_the_condition_is_
     )
     assert lines[1] == f"condition: {condition}"
     assert summary.condition == condition
+
+
+def test_a_robot_with_the_strict_promise_and_the_heft_test_says_so() -> None:
+    """The hummus with the heft test and the strict promise on: the header and the summary name both, and a decision
+    to heft first says so on its line (the summary's wording comes from the run's options, not a default)."""
+    from scone_bt.config.tree_parameters import ProbeParameters
+
+    lines: list[str] = []
+    behaviour = BehaviourOptions(seed=0, exploration_credit=True, probe=ProbeParameters(enabled=True))
+    summary = run_episode(
+        EpisodeOptions(recipe="example:hummus", seed=0, behaviour=behaviour), printer=lines.append
+    )
+    assert summary.strict_promise
+    assert "explores only on earned credit; hefts what it is unsure of" in lines[1]
+    assert "explores only on earned credit)" in summary.format()
+    assert any(line.endswith("(heft first)") for line in summary.decision_log)

@@ -56,7 +56,7 @@ __all__ = [
 
 RECORDING_PROBE = ProbeSettings(set_back=False)
 """Every execution hefts its product first and records what the fingers felt, then always carries on (the probe
-only senses): a replay decides afterwards whether a robot that probes would have set it back (benchmarks.gate)."""
+only senses): a replay decides afterwards whether a robot that probes would have set it back (benchmarks.replay)."""
 
 INJECTED_FORCE_FACTOR = 0.1
 """An injected grasp failure closes the gripper with this fraction of its force."""
