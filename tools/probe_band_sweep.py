@@ -1,7 +1,7 @@
 """Sweep the heft probe's band over target failure rates on datasets with probe readings (docs/results/probe.md §5).
 
 Each configuration is replayed as ``scone-bench gate`` replays the tree's gate (cold, censored, warm-up 20, the
-strict credit rule on unless ``allowance`` is null), with `scone_bt.benchmarks.replay.replay_stream`; one JSON line
+strict credit rule on unless ``allowance`` is null), with `scone_bt.benchmarks.gate.stream_results`; one JSON line
 per (configuration, α). A configuration is a `ProbeOptions` mapping (``below``, ``above``, ``credit``,
 ``full_band_at``, ``sure_traction``, …), ``{"below": null}`` for no probe, plus ``allowance`` (the strict rule's, default 1) and
 ``power`` (how fast the band narrows under ``full_band_at``: `scone_bt.gate.probe.NARROWING_POWER`, default 4).
@@ -36,7 +36,7 @@ def configuration(cfg: dict) -> tuple[ProbeOptions | None, float | None, float]:
 
 
 def main() -> None:
-    from scone_bt.benchmarks import replay
+    from scone_bt.benchmarks.gate import stream_results
     from scone_bt.benchmarks.replay_rates import pooled_rates
     from scone_bt.benchmarks.replay_streams import load_streams
     from scone_bt.confidence.physical import DEFAULT_OPENING_M
@@ -59,27 +59,8 @@ def main() -> None:
             t0 = time.time()
             probe, allowance, power = configuration(cfg)
             band.NARROWING_POWER = power  # band_below reads it at each call
-            results = [
-                replay.replay_stream(
-                    streams.vectors[j],
-                    streams.context[j],
-                    streams.success[j],
-                    streams.products[j],
-                    "physical",
-                    "budget",
-                    alpha,
-                    args.seed + j,
-                    args.warmup,
-                    args.opening,
-                    None,
-                    probe=probe,
-                    readings=streams.readings[j],
-                    excess_allowance=allowance,
-                    foreseen=streams.foreseen[j],
-                )
-                for j in range(len(streams.names))
-            ]
-            r = pooled_rates(results)
+            args.excess_allowance = allowance
+            r = pooled_rates(stream_results(streams, "physical", "budget", alpha, args, probe=probe))
             line = {
                 "config": cfg,
                 **({"oracle": True} if a.oracle else {}),

@@ -82,7 +82,7 @@ from scone_bt.reporting import emit_report
 if TYPE_CHECKING:
     from scone_bt.gate.probe import ProbeOptions
 
-__all__ = ["register", "TARGETS"]
+__all__ = ["register", "stream_results", "TARGETS"]
 
 TARGETS: tuple[float, ...] = (0.05, 0.10, 0.15, 0.20, 0.25, 0.30, 0.40)
 """Target failure rates the report sweeps."""
@@ -98,11 +98,11 @@ def _method(
     taught: Streams | None = None,
     probe: ProbeOptions | None = None,
 ) -> dict[str, Any]:
-    """One method's pooled rates over every stream (`_stream_results`, then `pooled_rates`)."""
-    return pooled_rates(_stream_results(streams, estimator, gate, alpha, args, fleet, taught, probe))
+    """One method's pooled rates over every stream (`stream_results`, then `pooled_rates`)."""
+    return pooled_rates(stream_results(streams, estimator, gate, alpha, args, fleet, taught, probe))
 
 
-def _stream_results(
+def stream_results(
     streams: Streams,
     estimator: str,
     gate: str,
@@ -112,8 +112,9 @@ def _stream_results(
     taught: Streams | None = None,
     probe: ProbeOptions | None = None,
 ) -> list[StreamResult]:
-    """Every stream replayed; ``taught`` (--prior): κ̂ first learns the same-named stream of it; ``probe``: the
-    budget gate's heft test (None: none)."""
+    """Every stream replayed (`replay_stream`, stream j seeded ``args.seed + j``, ``args.warmup``, ``args.opening``,
+    the strict rule's ``args.excess_allowance`` if set); ``taught`` (--prior): κ̂ first learns the same-named stream
+    of it; ``fleet``: the other streams first; ``probe``: the budget gate's heft test (None: none)."""
     results = []
     for j in range(len(streams.names)):
         parts = []
@@ -405,7 +406,7 @@ def _cross_engine(
     for alpha in CROSS_ENGINE_TARGETS:
         row: dict[str, Any] = {}
         for label, prior in (("prior", taught), ("cold", None)):
-            results = _stream_results(streams, estimator, "budget", alpha, args, taught=prior)
+            results = stream_results(streams, estimator, "budget", alpha, args, taught=prior)
             rates = pooled_rates(results)
             recovery = {
                 n: recovery_decisions(r.trace, alpha) for n, r in zip(streams.names, results, strict=True)

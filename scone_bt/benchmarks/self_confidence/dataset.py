@@ -290,7 +290,8 @@ def _float(text: str, path: Path, row: int, column: str) -> float:
 
 
 PROBE_COLUMNS = ("probe_held", "probe_load_n", "probe_load_first_n", "probe_grip_n", "probe_s")
-"""What the generator's probe felt, in the order the replay reads them (scone_bt.benchmarks.replay_streams.probe_readings)."""
+"""What the generator's probe felt, in the order the replay reads them
+(scone_bt.benchmarks.replay_streams.probe_readings)."""
 
 
 def _check_probe(context: dict[str, np.ndarray], rows: Sequence[int], path: Path) -> None:
