@@ -41,7 +41,7 @@ typecheck: $(STAMP)
 	$(BIN)/python -m mypy
 
 # The documentation site (MkDocs, Material theme) into site/; --strict fails on a broken link or a missing page.
-# Its reference pages are generated from the code at build time (docs/gen_reference.py).
+# Its reference pages are generated from the code at build time (tools/docs_reference.py).
 docs: $(STAMP)
 	NO_MKDOCS_2_WARNING=1 DISABLE_MKDOCS_2_WARNING=true $(BIN)/python -m mkdocs build --strict
 

@@ -309,7 +309,7 @@ def register(subparsers: Any) -> None:
     p = subparsers.add_parser(
         "catalogue",
         help="catalogue size, ingredient normalisation accuracy and recipe coverage (JSON)",
-        description=__doc__.split("\n\n")[0],
+        description=__doc__.split("\n\n")[0].replace("``", ""),
     )
     p.add_argument(
         "--kitchen", default="kitchen", help="kitchen file in perception/ or a path (default: kitchen)"

@@ -617,7 +617,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     b = sub.add_parser("motion", help="pick-and-place planning and physics over the catalogue, both arms")
     b.add_argument("--queries", type=int, default=200, help="queries per arm (default 200)")
     b.add_argument("--arms", default="panda,iiwa7", help="comma-separated robot files (default panda,iiwa7)")
-    add_backend_option(b)
+    add_backend_option(b, arm_flag="--arms")
     b.add_argument("--clutter", type=int, default=11, help="other products on the shelving (default 11)")
     b.add_argument("--table-objects", type=int, default=2, help="products already on the table (default 2)")
     b.add_argument("--kitchen", default="kitchen", help="kitchen file (default perception/kitchen.yaml)")

@@ -144,7 +144,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--table-objects", type=int, default=_DEFAULTS["table_objects"], help="products on the table"
     )
     p.add_argument("--kitchen", default="kitchen", help="kitchen file (default perception/kitchen.yaml)")
-    add_backend_option(p)
+    add_backend_option(p, arm_flag="--arms")
     p.add_argument("--seed", type=int, default=_DEFAULTS["seed"])
     p.add_argument(
         "--jobs", type=int, default=1, help="processes running the queries (the report is the same)"

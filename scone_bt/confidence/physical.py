@@ -9,7 +9,7 @@ arms through a fleet store:
 - the perceived height (m), whether the target's marker was detected at all, the lowest and the top tier, the
   clearance to the nearest neighbour (capped at 15 cm: beyond that the fingers are free) and the neighbour count;
 - the perceived depth (the lid's longer extent, m) and whether its lid is round (a cylinder: its fill below
-  _ROUND_BELOW; unknown counts as neither);
+  ROUND_FILL_BELOW; unknown counts as neither);
 - what the heft test felt, where the action was probed (experience.felt): that the fingers lost it, the traction
   (load over grip, capped at 1, × 3) and how unsteady the load was (on a log scale: 0 at 0.1 % or less, which a
   product held fast never exceeds, 3 at 100 %; × 3).
@@ -41,7 +41,7 @@ import numpy as np
 from scone_bt.confidence.base import ConfidenceEstimator, row_key
 from scone_bt.confidence.logistic import LogisticModel, fit_logistic
 from scone_bt.errors import SconeError
-from scone_bt.experience.types import CONTEXT_FIELDS
+from scone_bt.experience.types import CONTEXT_FIELDS, ROUND_FILL_BELOW
 
 __all__ = ["PhysicalEstimator", "DEFAULT_OPENING_M", "felt_features", "physical_features"]
 
@@ -54,8 +54,6 @@ _PC_WEIGHT = 0.5  # the principal components' scale beside the context features 
 _MEMORY = 2.0  # weight of the model's prediction against an action's own record, in attempts
 _HINGE_AT = 0.85  # share of the opening from which the hinge grows
 _CLEARANCE_CAP_M = 0.15
-_ROUND_BELOW = 0.88
-"""A lid filling less than this of its bounding rectangle is round (π/4 ≈ 0.79 for a disc, ~1 for a box lid)."""
 _UNSTEADY_FROM = 1e-3
 """The felt load's change (share) from which unsteadiness counts."""
 _TRACTION_WEIGHT = 3.0
@@ -114,7 +112,7 @@ def physical_features(context: np.ndarray, opening_m: float) -> np.ndarray:
             10.0 * np.minimum(np.nan_to_num(clearance, nan=_CLEARANCE_CAP_M), _CLEARANCE_CAP_M),
             np.nan_to_num(neighbours, nan=0.0) / 3.0,
             5.0 * np.nan_to_num(depth, nan=0.0),
-            (np.nan_to_num(fill, nan=1.0) < _ROUND_BELOW).astype(float),
+            (np.nan_to_num(fill, nan=1.0) < ROUND_FILL_BELOW).astype(float),
             felt_features(C),
         ]
     )

@@ -13,7 +13,19 @@ import numpy as np
 
 from scone_bt.errors import SconeError
 
-__all__ = ["CONTEXT_FIELDS", "FELT_FIELDS", "FELT_RANGES", "ExecutionContext", "Outcome", "new_outcome_id"]
+__all__ = [
+    "CONTEXT_FIELDS",
+    "FELT_FIELDS",
+    "FELT_RANGES",
+    "ROUND_FILL_BELOW",
+    "ExecutionContext",
+    "Outcome",
+    "new_outcome_id",
+]
+
+ROUND_FILL_BELOW = 0.88
+"""A lid filling less than this of its bounding rectangle (``detected_fill``) is round, a cylinder's (π/4 ≈ 0.79
+for a disc, about 1 for a box lid): perception measures a round lid's width by it, and `physical` κ̂ reads it."""
 
 
 @dataclass(frozen=True)
@@ -32,7 +44,7 @@ class ExecutionContext:
         detected_height_m: Height of the target as perceived, metres (None if not measured).
         detected_depth_m: Longer horizontal extent of the target's lid as perceived, metres (None likewise).
         detected_fill: The lid's area over its bounding rectangle as perceived: about π/4 (0.79) for a cylinder,
-            1 for a box (None likewise).
+            1 for a box (None likewise; round below `ROUND_FILL_BELOW`).
         felt_held: The heft test (motion.probe) ended with the product still in both fingers; None: the action
             was not probed (every ``felt_`` field is None then; experience.felt sets them).
         felt_traction: The load the fingers carried over their grip force during the hold (1 is about where a

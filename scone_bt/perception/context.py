@@ -23,11 +23,13 @@ import numpy as np
 
 from scone_bt.config import Catalogue, SceneSpec
 from scone_bt.config.footprint import footprint
-from scone_bt.experience.types import ExecutionContext
+from scone_bt.experience.types import ROUND_FILL_BELOW, ExecutionContext
 from scone_bt.perception.types import Detection, Frame
 
 __all__ = [
     "ALONE_CLEARANCE_M",
+    "DISC_SPAN",
+    "RECTANGLE_SPAN",
     "PerceivedSize",
     "ContextExtractor",
     "NEIGHBOUR_RADIUS_M",
@@ -52,6 +54,17 @@ _VISIBLE_TOLERANCE_M = 0.02
 """A top face is visible in a frame when the depth at its pixel is within this of its distance, metres."""
 _SAME_PLACE_M = 0.005
 """A product detected within this of where its size was measured (metres, per axis) is not measured again."""
+_TRIM = 1.0
+"""The lid's width is the range between this percentile of its points and 100 minus it, across its principal
+axis: a stray point at its rim does not widen it."""
+RECTANGLE_SPAN = 0.98
+"""The share of a rectangle's side that the 1–99 % range of points spread evenly over it spans."""
+DISC_SPAN = 0.93433
+"""The share of a disc's diameter that the 1–99 % range of points spread evenly over it spans: the root of
+½ + (x·√(1 − x²) + asin x) / π = 0.99, the disc's cumulative share across one axis (tests/perception/test_shape.py
+checks it). The range trims a round lid more than a rectangular one, so a round lid's range is scaled by
+RECTANGLE_SPAN / DISC_SPAN: without it an 8.5 cm eggplant measured 7.9 cm in MuJoCo, narrower than the gripper's
+8 cm opening, and the robot tried to grasp it."""
 
 
 def surface_below(scene: SceneSpec, x: float, y: float, z: float) -> float | None:
@@ -102,9 +115,10 @@ def perceived_size(frame: Frame, det: Detection, scene: SceneSpec) -> PerceivedS
     """Width, height, depth and fill (`PerceivedSize`) of a detected product from the depth image.
 
     The lid is the connected patch of depth points within _LID_BAND_M of the detected top face around the marker;
-    its width and depth are its extents across and along its principal axes, and its fill the area of its convex
-    hull over their product. The height is the top face above the shelf step under it (the robot knows its
-    shelving from the scene file). None if the lid cannot be measured.
+    its width and depth are its extents across and along its principal axes (the width as the 1–99 % range of
+    its points, scaled for a round lid: DISC_SPAN), and its fill the area of its convex hull over their product.
+    The height is the top face above the shelf step under it (the robot knows its shelving from the scene file).
+    None if the lid cannot be measured.
     """
     import cv2  # the marker detector's library: already loaded, unlike scipy (a third of a second to import)
 
@@ -141,14 +155,15 @@ def perceived_size(frame: Frame, det: Detection, scene: SceneSpec) -> PerceivedS
     centred = pts - pts.mean(axis=0)
     _, _, vt = np.linalg.svd(centred, full_matrices=False)
     proj = centred @ vt.T
-    extents = np.percentile(proj, 99, axis=0) - np.percentile(proj, 1, axis=0)
-    width = float(min(extents))
+    extents = np.percentile(proj, 100 - _TRIM, axis=0) - np.percentile(proj, _TRIM, axis=0)
     # The longer axis from the outermost points (the 1–99 % range cuts a few millimetres off a long lid); the
     # patch is one connected component of the lid band, so there are no strays to trim.
     depth = float(max(proj.max(axis=0) - proj.min(axis=0)))
     hull = cv2.convexHull(proj.astype(np.float32))
     box = float(np.prod(proj.max(axis=0) - proj.min(axis=0)))
     fill = float(cv2.contourArea(hull)) / box if box > 0 else float("nan")
+    round_lid = fill < ROUND_FILL_BELOW
+    width = float(min(extents)) * (RECTANGLE_SPAN / DISC_SPAN if round_lid else 1.0)
     surface = surface_below(scene, float(top[0]), float(top[1]), float(top[2]))
     height = float(top[2] - surface) if surface is not None else float("nan")
     return PerceivedSize(round(width, 4), round(height, 4), round(depth, 4), round(fill, 3))

@@ -179,8 +179,9 @@ def load_recipe(id_or_path: str) -> Recipe:
     corpus = recipe_corpus_path()
     if corpus is None:
         raise RecipeError(
-            f"recipe {id_or_path!r}: the corpus ../shared/data/recipes/recipes.jsonl is not here; "
-            f"use a JSON/YAML file or one of: {', '.join('example:' + n for n in example_names())}"
+            f"recipe {id_or_path!r}: the corpus ../shared/data/recipes/recipes.jsonl is not here (set "
+            f"SCONE_BT_SHARED to the folder that holds data/recipes/); use a JSON/YAML file or one of: "
+            f"{', '.join('example:' + n for n in example_names())}"
         )
     ids = []
     for entry in corpus_entries(corpus):

@@ -37,15 +37,18 @@ def _backend_names() -> list[str]:
     return sorted(BACKENDS)
 
 
-def add_backend_option(parser: argparse.ArgumentParser | argparse._ArgumentGroup) -> None:
-    """Add ``--robot BACKEND`` alone (checked by `check_backend` when the command runs)."""
+def add_backend_option(
+    parser: argparse.ArgumentParser | argparse._ArgumentGroup, arm_flag: str = "--arm"
+) -> None:
+    """Add ``--robot BACKEND`` alone (checked by `check_backend` when the command runs); ``arm_flag`` is the flag
+    that names the robot file (``--arms`` where a benchmark takes several)."""
     from scone_bt.robot.registry import DEFAULT_BACKEND
 
     parser.add_argument(
         "--robot",
         default=DEFAULT_BACKEND,
         metavar="BACKEND",
-        help=f"robot backend; valid: {', '.join(_backend_names())} (default: %(default)s); the robot file is --arm",
+        help=f"robot backend; valid: {', '.join(_backend_names())} (default: %(default)s); the robot file is {arm_flag}",
     )
 
 

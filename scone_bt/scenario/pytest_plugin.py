@@ -1,6 +1,7 @@
 """pytest plugin (entry point ``pytest11``): ``pytest scenarios/`` collects scenario files as tests.
 
-Each case of a ``*.yaml`` file in a folder named ``scenarios`` is one test item (a sweep gives one per value), so
+Each case of a ``*.yaml`` file in a folder named ``scenarios``, or of a scenario file (a mapping with ``expect``)
+in a folder or file named on the command line (``pytest runs/demo/``), is one test item (a sweep gives one per value), so
 ``-k``, ``-m <tag>`` (a file's ``tags:``; every case is also marked ``scenario``), ``--junitxml`` and ``-n``
 (pytest-xdist) work as for any test. A case marked ``expected: fail`` is an
 xfail (strict: passing is a failure). A failing case writes its event log and recording into ``--scenario-out``
@@ -55,9 +56,43 @@ def pytest_configure(config: pytest.Config) -> None:
 
 
 def pytest_collect_file(parent: pytest.Collector, file_path: Path) -> pytest.Collector | None:
-    if file_path.suffix == ".yaml" and file_path.parent.name == "scenarios":
+    if file_path.suffix != ".yaml":
+        return None
+    named = _named_on_command_line(parent.config, file_path)
+    if (
+        file_path.parent.name == "scenarios"
+        or named == "file"
+        or (named == "folder" and _may_be_scenario(file_path))
+    ):
         return ScenarioYaml.from_parent(parent, path=file_path)
     return None
+
+
+def _named_on_command_line(config: pytest.Config, file_path: Path) -> str:
+    """ "file" if the file was given as an argument, "folder" if a folder above it other than pytest's root was,
+    else ""."""
+    root, path = Path(config.rootpath).resolve(), file_path.resolve()
+    for arg in (str(a).split("::")[0] for a in config.invocation_params.args):
+        named = (config.invocation_params.dir / arg).resolve()
+        if arg.startswith("-") or not named.exists():
+            continue
+        if named == path:
+            return "file"
+        if named != root and named in path.parents:
+            return "folder"
+    return ""
+
+
+def _may_be_scenario(file_path: Path) -> bool:
+    """Not plainly another kind of YAML file (a tree, robot or kitchen file beside the scenarios): a mapping with
+    ``expect``, or a file that does not parse (collected, so that its error is reported)."""
+    import yaml
+
+    try:
+        data = yaml.safe_load(file_path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, yaml.YAMLError):
+        return True
+    return isinstance(data, dict) and "expect" in data
 
 
 def _out_dir(config: pytest.Config) -> Path:

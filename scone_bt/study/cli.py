@@ -18,6 +18,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from scone_bt.help_format import DefaultsHelpFormatter
 from scone_bt.defaults import EPISODE
 from scone_bt.errors import SconeError
 from scone_bt.robot.flags import add_robot_options, check_backend
@@ -54,7 +55,7 @@ def _add_session_parser(sub: argparse._SubParsersAction) -> None:
     s = sub.add_parser(
         "session",
         help="run one real study session with the tablet UI",
-        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+        formatter_class=DefaultsHelpFormatter,
     )
     s.add_argument("--db", type=Path, required=True, help="study log (SQLite); sessions are appended")
     s.add_argument("--participant", required=True, help="participant id, e.g. P01")
@@ -98,7 +99,7 @@ def _add_simulate_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentPa
     m = sub.add_parser(
         "simulate",
         help="run the whole study with simulated participants (output labelled SIMULATED)",
-        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+        formatter_class=DefaultsHelpFormatter,
     )
     m.add_argument("--participants", type=int, default=31, help="number of simulated participants")
     m.add_argument("--db", type=Path, required=True, help="new study log to write")
@@ -145,7 +146,7 @@ def _add_analyze_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentPar
     a = sub.add_parser(
         "analyze",
         help="the paper's Bayesian analysis: Eq. (3) ordered logit, Eq. (4) Poisson",
-        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+        formatter_class=DefaultsHelpFormatter,
     )
     source = a.add_mutually_exclusive_group(required=True)
     source.add_argument("--db", type=Path, help="study log")
@@ -369,7 +370,7 @@ def _add_power_parser(sub) -> None:  # noqa: ANN001 - argparse's private subpars
     w = sub.add_parser(
         "power",
         help="study planning: P(HDI excludes the ROPE) against the number of participants, by simulation",
-        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+        formatter_class=DefaultsHelpFormatter,
     )
     n = ",".join(map(str, d.participants))
     w.add_argument("--n", default=n, help="comma list of participant numbers")

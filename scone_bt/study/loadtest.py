@@ -27,6 +27,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
+from scone_bt.help_format import DefaultsHelpFormatter
 from scone_bt.reporting import emit_report
 
 __all__ = ["LoadTestOptions", "LoadTestResult", "run_load_test", "register"]
@@ -368,7 +369,7 @@ def register(subparsers: Any) -> None:
     p = subparsers.add_parser(
         "tablet-load",
         help="tablet server load test: concurrent clients poll and submit against 127.0.0.1; lost/duplicated answers, p95 latency",
-        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+        formatter_class=DefaultsHelpFormatter,
     )
     p.add_argument("--clients", type=int, default=50, help="concurrent tablets")
     p.add_argument("--duration", type=float, default=30.0, help="seconds")

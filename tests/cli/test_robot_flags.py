@@ -146,3 +146,31 @@ def test_scone_bench_scenarios_refuses_an_unknown_arm_in_one_line(capsys) -> Non
     assert bench.main(["scenarios", "--arm", "nosuch"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "nosuch" in err and "iiwa7, panda" in err
+
+
+def _help(argv: list[str], build: object, capsys: pytest.CaptureFixture[str]) -> str:
+    with pytest.raises(SystemExit):
+        build().parse_args([*argv, "--help"])  # type: ignore[operator]
+    return " ".join(capsys.readouterr().out.split())
+
+
+def test_help_says_each_default_once_and_only_where_it_means_something(capsys) -> None:
+    session = _help(["session"], study_parser, capsys)
+    assert "(default: None)" not in session and "(default: False)" not in session
+    assert session.count("(default: hidden;") == 1 and "(default: 8765)" in session
+    motion = _help(["motion"], bench._parser, capsys)
+    assert "the robot file is --arms" in motion  # the flag this benchmark has
+
+
+def test_the_defaults_formatter_keeps_a_real_default_and_drops_the_noise() -> None:
+    from scone_bt.help_format import DefaultsHelpFormatter
+
+    p = argparse.ArgumentParser(prog="x", formatter_class=DefaultsHelpFormatter)
+    p.add_argument("--port", type=int, default=8765, help="port")
+    p.add_argument("--db", required=True, help="log")
+    p.add_argument("--token", default=None, help="token")
+    p.add_argument("--fast", action="store_true", help="fast")
+    p.add_argument("--out", default="x.db", help="file (default: a temporary file)")
+    text = " ".join(p.format_help().split())
+    assert "port (default: 8765)" in text and "log --token" in text and "token --fast" in text
+    assert "fast --out" in text and text.count("default") == 2

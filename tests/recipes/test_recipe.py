@@ -67,3 +67,31 @@ def test_a_folder_given_as_the_recipe_says_so(tmp_path):
         f"recipe {str(tmp_path)!r} is a folder; give a recipe file (.json, .yaml), example:<name> "
         "(hummus, pancakes, tomato-pasta) or a corpus id"
     )
+
+
+def test_the_corpus_is_read_from_scone_bt_shared_and_its_absence_says_how_to_point_at_it(
+    tmp_path, monkeypatch
+) -> None:
+    import json
+
+    from scone_bt.recipes import recipe as recipe_module
+
+    corpus = tmp_path / "elsewhere" / "data" / "recipes"
+    corpus.mkdir(parents=True)
+    record = {
+        "id": "mine:toast",
+        "title": "Toast",
+        "ingredients": ["bread", "butter"],
+        "steps": ["Toast the bread.", "Butter the toast."],
+    }
+    (corpus / "recipes.jsonl").write_text(json.dumps(record) + "\n", encoding="utf-8")
+    monkeypatch.setenv("SCONE_BT_SHARED", str(tmp_path / "elsewhere"))
+    assert recipe_corpus_path() == corpus / "recipes.jsonl"
+    assert load_recipe("mine:toast").title == "Toast"
+
+    monkeypatch.setattr(recipe_module, "recipe_corpus_path", lambda: None)
+    with pytest.raises(
+        RecipeError, match=r"is not here \(set SCONE_BT_SHARED .*example:tomato-pasta"
+    ) as info:
+        load_recipe("pdr:aelplermagronen")
+    assert "\n" not in str(info.value)

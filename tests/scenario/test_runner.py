@@ -103,3 +103,33 @@ def test_the_cli_and_the_pytest_plugin_give_each_case_the_same_verdict(
     ran.clear()
     pytester.inline_run(str(folder), "-p", "no:cacheprovider", "-m", "fast", "--scenario-out", str(tmp_path))
     assert sorted(ran) == cli_ran == ["passed", "xfail"]
+
+
+def test_the_pytest_plugin_collects_scenarios_in_a_folder_named_on_the_command_line(
+    tmp_path: Path, pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``pytest runs/demo/`` (the tutorial's folder is not called scenarios/): its scenario files are collected,
+    a tree file beside them is not, and a file that does not parse is reported (one line), not skipped."""
+    ran: list[str] = []
+    _judged_by_name(monkeypatch, ran)
+    demo = pytester.path / "runs" / "demo"
+    demo.mkdir(parents=True)
+    (demo / "passed.yaml").write_text(TINY, encoding="utf-8")
+    (demo / "a-tree.yaml").write_text("root: {sequence: []}\n", encoding="utf-8")
+    result = pytester.inline_run(str(demo), "-p", "no:cacheprovider", "--scenario-out", str(tmp_path))
+    assert ran == ["passed"]
+    result.assertoutcome(passed=1)
+
+    (demo / "broken.yaml").write_text("expect: [\n", encoding="utf-8")
+    ran.clear()
+    result = pytester.inline_run(str(demo), "-p", "no:cacheprovider", "--scenario-out", str(tmp_path))
+    assert len(result.getfailedcollections()) == 1  # pytest stops before running anything
+    assert "broken.yaml: line 2 is not valid YAML" in str(result.getfailedcollections()[0].longrepr)
+
+    # named itself, a file is collected wherever it lies; pytest's root alone collects nothing outside scenarios/
+    ran.clear()
+    pytester.inline_run(str(demo / "passed.yaml"), "-p", "no:cacheprovider", "--scenario-out", str(tmp_path))
+    assert ran == ["passed"]
+    ran.clear()
+    pytester.inline_run(str(pytester.path), "-p", "no:cacheprovider", "--scenario-out", str(tmp_path))
+    assert ran == []

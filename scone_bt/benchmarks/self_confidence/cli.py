@@ -36,7 +36,7 @@ def _register_generate(sc_sub: argparse._SubParsersAction) -> None:
     g = sc_sub.add_parser(
         "generate",
         help="simulated pick-and-place datasets, one CSV per proficiency profile (resumable)",
-        description="Run real executions (perception, OMPL, PyBullet) per proficiency profile; one CSV each.",
+        description="Run real executions (perception, OMPL, the engine --robot names) per proficiency profile; one CSV each.",
     )
     g.add_argument(
         "--profiles",
