@@ -355,11 +355,13 @@ def configure_logging(level: str) -> None:
 
 
 def _experience(spec: str | None) -> Path | str | None:
-    """A PostgreSQL URL stays a string; anything else is an SQLite file path."""
+    """A PostgreSQL URL stays a string; a URL of another scheme is refused; anything else is an SQLite file path."""
     from scone_bt.experience import is_postgres_url
+    from scone_bt.experience.open import check_store_spec
 
     if spec is None or is_postgres_url(spec):
         return spec
+    check_store_spec(spec)
     return Path(spec)
 
 

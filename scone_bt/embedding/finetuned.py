@@ -173,8 +173,6 @@ class FinetunedEmbedder(Embedder):
 
         `load_embedder("finetuned:<dir>")` is the usual way in; it passes itself as `load_base`.
         """
-        from safetensors.numpy import load_file
-
         directory = Path(directory)
         meta_path, head_path = directory / "finetuned.json", directory / "head.safetensors"
         if not meta_path.is_file() or not head_path.is_file():
@@ -182,23 +180,60 @@ class FinetunedEmbedder(Embedder):
                 f"{directory} is not a fine-tuned embedder (needs finetuned.json and head.safetensors); "
                 "train one with scone_bt.embedding.train_finetuned"
             )
-        try:
-            meta = json.loads(meta_path.read_text())
-            tensors = load_file(str(head_path))
-            head = _Head(*(tensors[k] for k in _TENSORS))
-        except (ValueError, KeyError, OSError) as exc:
-            raise ModelUnavailableError(f"cannot read fine-tuned embedder {directory}: {exc}") from None
-        if meta.get("format") != FORMAT or meta.get("version") != _VERSION:
-            raise ModelUnavailableError(
-                f"{meta_path} is not a version-{_VERSION} {FORMAT} file "
-                f"(format={meta.get('format')!r}, version={meta.get('version')!r})"
-            )
+        meta = _read_meta(meta_path)
+        head = _read_head(head_path)
         base = load_base(meta["base"])
         if base.dim != head.w1.shape[1]:
             raise ModelUnavailableError(
                 f"fine-tuned head in {directory} expects {head.w1.shape[1]}-d input but {meta['base']!r} is {base.dim}-d"
             )
         return cls(base, head, meta, directory.resolve(), cache_file)
+
+
+def _read_meta(meta_path: Path) -> dict[str, Any]:
+    """finetuned.json: a mapping of this format and version naming its base embedder, or ModelUnavailableError
+    naming the file and the key."""
+    try:
+        meta = json.loads(meta_path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        raise ModelUnavailableError(f"{meta_path}: cannot read it ({exc})") from None
+    if not isinstance(meta, dict):
+        raise ModelUnavailableError(f"{meta_path}: expected a JSON object, got {type(meta).__name__}")
+    if meta.get("format") != FORMAT or meta.get("version") != _VERSION:
+        raise ModelUnavailableError(
+            f"{meta_path} is not a version-{_VERSION} {FORMAT} file "
+            f"(format={meta.get('format')!r}, version={meta.get('version')!r})"
+        )
+    if not isinstance(meta.get("base"), str) or not meta["base"]:
+        raise ModelUnavailableError(
+            f"{meta_path}: base: missing or not a name; the base embedder's name or path (e.g. 'mpnet')"
+        )
+    return meta
+
+
+def _read_head(head_path: Path) -> _Head:
+    """head.safetensors: the head's tensors, or ModelUnavailableError naming the file and what is wrong."""
+    from safetensors.numpy import load_file
+
+    try:
+        tensors = load_file(str(head_path))
+    except Exception as exc:  # noqa: BLE001 - safetensors raises its own SafetensorError for a damaged file
+        raise ModelUnavailableError(f"{head_path}: not a safetensors file ({exc})") from None
+    missing = [k for k in _TENSORS if k not in tensors]
+    if missing:
+        raise ModelUnavailableError(
+            f"{head_path}: missing tensors {', '.join(missing)}; needs {', '.join(_TENSORS)}"
+        )
+    w1, b1, w2, b2 = (np.asarray(tensors[k]) for k in _TENSORS)
+    if not (
+        w1.ndim == 2 and w2.ndim == 2 and b1.shape == (w1.shape[0],) and w2.shape[1] == w1.shape[0]
+    ) or b2.shape != (w2.shape[0],):
+        shapes = ", ".join(f"{k} {tuple(np.shape(tensors[k]))}" for k in _TENSORS)
+        raise ModelUnavailableError(
+            f"{head_path}: tensor shapes do not make a head ({shapes}); needs w1 (hidden, base dim), b1 (hidden,), "
+            "w2 (dim, hidden), b2 (dim,)"
+        )
+    return _Head(w1, b1, w2, b2)
 
 
 def ranking_accuracy(examples: Iterable[InstructionExample | Sequence], embedder: Embedder) -> float:

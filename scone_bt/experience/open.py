@@ -12,13 +12,32 @@ from scone_bt.experience.base import OutcomeStore
 from scone_bt.experience.postgres import PostgresExperienceStore, is_postgres_url
 from scone_bt.experience.store import ExperienceStore
 
-__all__ = ["open_store", "count_stored"]
+__all__ = ["open_store", "count_stored", "check_store_spec"]
 
 _CHUNK = 500  # ids per query: under SQLite's default limit of bound parameters
 
 
+def check_store_spec(spec: str | Path) -> None:
+    """Refuse a URL of another scheme (``postgresq://…``, ``sqlite:///…``), which would otherwise name an SQLite
+    file of that odd path, and store a fleet's outcomes where no robot of the fleet looks."""
+    import re
+
+    from scone_bt.errors import ExperienceStoreError
+
+    if isinstance(spec, Path) or is_postgres_url(spec):
+        return
+    scheme = re.match(r"^([A-Za-z][A-Za-z0-9+.-]*)://", spec)
+    if scheme is not None:
+        raise ExperienceStoreError(
+            f"experience store {spec!r}: unknown URL scheme {scheme.group(1)!r}; valid: postgresql://… or "
+            "postgres://… (PostgreSQL), or a file path (SQLite)"
+        )
+
+
 def open_store(spec: str | Path) -> OutcomeStore:
-    """`postgresql://…` / `postgres://…` → PostgreSQL (a fleet's shared store); anything else → SQLite file."""
+    """`postgresql://…` / `postgres://…` → PostgreSQL (a fleet's shared store); a file path → SQLite file; another
+    URL scheme → ExperienceStoreError (`check_store_spec`)."""
+    check_store_spec(spec)
     if is_postgres_url(spec):
         from scone_bt.extras import require
 

@@ -13,6 +13,7 @@ import yaml
 from pydantic import Field, field_validator, model_validator
 
 from scone_bt.config.schema import MAX_DATA_FILE_BYTES, StrictModel, read_text, validate
+from scone_bt.config.yaml_io import safe_load
 from scone_bt.errors import RecipeError
 from scone_bt.resources import shared_dir
 
@@ -142,7 +143,7 @@ def recipe_from_record(record: Any, where: str) -> Recipe:
 def _load_file(path: Path) -> Recipe:
     text = read_text(path, error=RecipeError)
     try:
-        record = json.loads(text) if path.suffix == ".json" else yaml.safe_load(text)
+        record = json.loads(text) if path.suffix == ".json" else safe_load(text)
     except RecursionError:
         raise RecipeError(f"{path}: nested too deeply to be a recipe") from None
     except (json.JSONDecodeError, yaml.YAMLError, ValueError, TypeError, OverflowError) as exc:

@@ -88,8 +88,10 @@ def _may_be_scenario(file_path: Path) -> bool:
     ``expect``, or a file that does not parse (collected, so that its error is reported)."""
     import yaml
 
+    from scone_bt.config.yaml_io import safe_load
+
     try:
-        data = yaml.safe_load(file_path.read_text(encoding="utf-8"))
+        data = safe_load(file_path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, yaml.YAMLError):
         return True
     return isinstance(data, dict) and "expect" in data

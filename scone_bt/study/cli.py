@@ -18,9 +18,9 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from scone_bt.help_format import DefaultsHelpFormatter
 from scone_bt.defaults import EPISODE
 from scone_bt.errors import SconeError
+from scone_bt.help_format import DefaultsHelpFormatter
 from scone_bt.robot.flags import add_robot_options, check_backend
 
 if TYPE_CHECKING:
@@ -70,7 +70,10 @@ def _add_session_parser(sub: argparse._SubParsersAction) -> None:
         "--distractors", type=int, default=EPISODE.distractors, help="objects not in the recipe on the shelf"
     )
     s.add_argument("--max-ticks", type=int, default=12000, help="limit on 0.1 s control ticks")
-    s.add_argument("--experience", type=Path, help="experience store κ̂ is rebuilt from")
+    s.add_argument(
+        "--experience",
+        help="experience store κ̂ is rebuilt from: an SQLite file, or postgresql://… for a fleet's shared store",
+    )
     s.add_argument(
         "--host",
         default="127.0.0.1",
@@ -503,6 +506,13 @@ def _session(args: argparse.Namespace) -> int:
         raise SconeError(f"--distractors {args.distractors}: must be 0 or more")
     checks.check_output_file(args.db, "--db")
     _check_host(args.host, args.token)
+    if args.experience is not None:
+        from scone_bt.experience import is_postgres_url
+        from scone_bt.experience.open import check_store_spec
+
+        check_store_spec(args.experience)
+        if not is_postgres_url(args.experience):
+            args.experience = Path(args.experience)
     if isinstance(args.experience, Path):
         # The study log and the robot's store are two databases: one file cannot be both.
         checks.check_output_file(

@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from scone_bt.checks import check_positive_int, check_range, check_seed
 from scone_bt.errors import SconeError
 from scone_bt.study.design import Condition
 
@@ -74,6 +75,8 @@ def _bench(args: argparse.Namespace) -> int:
     from scone_bt.trust.data import DOMAINS, load_trust_data
     from scone_bt.trust.transfer import FITTED_PARAMETERS, fit_transfer
 
+    # an L2 penalty below 0 (or NaN) fits nothing sensible, and --write would ship that fit
+    check_range(args.l2, "--l2", 0.0, 1e6)
     start = time.perf_counter()
     paper = json.loads(PAPER_RESULTS.read_text())
     embedder = load_embedder(args.embedder)
@@ -213,6 +216,9 @@ def calibration(participants: int, steps: int, seed: int) -> dict:
 def _calibration_bench(args: argparse.Namespace) -> int:
     from scone_bt.reporting import emit_report
 
+    check_positive_int(args.participants, "--participants", 10_000)
+    check_positive_int(args.steps, "--steps", 1_000)
+    check_seed(args.seed)
     start = time.perf_counter()
     report = {
         "data": "SIMULATED",

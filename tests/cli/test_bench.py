@@ -186,3 +186,22 @@ def test_out_of_range_shared_options_are_one_line_before_the_benchmark(argv, fla
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith(f"scone-bench: {flag}:")
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["trust", "--l2", "-1", "--write"], "--l2 -1.0: must be a number in [0, 1e+06]"),
+        (["trust", "--l2", "nan"], "--l2 nan: must be a number"),
+        (["trust-calibration", "--participants", "0"], "--participants 0: must be an integer in 1..10000"),
+        (["trust-calibration", "--steps", "-2"], "--steps -2: must be an integer in 1..1000"),
+    ],
+)
+def test_the_trust_benchmarks_refuse_a_fit_they_cannot_make_before_fitting(argv, message, capsys) -> None:
+    from scone_bt.trust.transfer import FITTED_PARAMETERS
+
+    shipped = FITTED_PARAMETERS.read_bytes()
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"scone-bench: {message}") and err.count("\n") == 1
+    assert FITTED_PARAMETERS.read_bytes() == shipped  # --write wrote nothing

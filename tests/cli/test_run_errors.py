@@ -76,6 +76,12 @@ def _free_port() -> int:
         (["--connect", "not-an-address"], "no port"),
         (["--connect", "ftp://127.0.0.1:9876"], "valid: rerun"),
         (["--distractors", "1000"], "available"),
+        # a mistyped store URL was an SQLite file named "postgresq:/u@host/db" in the working folder
+        (
+            ["--experience", "postgresq://u@127.0.0.1:1/db"],
+            "unknown URL scheme 'postgresq'; valid: postgresql://",
+        ),
+        (["--experience", "sqlite:///runs/x.db"], "unknown URL scheme 'sqlite'"),
     ],
 )
 def test_bad_values_are_one_line_errors(argv, expected, capsys):

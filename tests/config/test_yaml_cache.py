@@ -7,6 +7,7 @@ import yaml
 
 from scone_bt.config import yaml_io
 from scone_bt.config.yaml_io import _UNPARSED, _fast_parse, read_yaml
+from scone_bt.errors import ConfigError
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -65,7 +66,7 @@ def test_a_damaged_or_unkeepable_parse_is_parsed_again(store, monkeypatch):
         assert _fast_parse(text) == data
         assert kept.read_bytes() == good  # written anew
     # A date is not kept (marshal holds no dates): parsed every time, the same answer.
-    dated = "day: 2026-12-03\n" + "x: 1\n" * 1000
+    dated = "day: 2026-12-03\n" + "".join(f"x{i}: 1\n" for i in range(1000))
     assert _fast_parse(dated) == yaml.safe_load(dated)
     assert len(list(store.glob("*.marshal"))) == 1
 
@@ -96,3 +97,35 @@ def test_one_rule_switches_a_disk_cache_off(monkeypatch, value, off):
 
     monkeypatch.setenv("SCONE_BT_SOME_CACHE", value)
     assert cache_switched_off("SCONE_BT_SOME_CACHE") is off
+
+
+@pytest.mark.parametrize("libyaml", [True, False])
+def test_a_repeated_key_is_one_line_naming_both_lines_and_1e_minus_5_is_a_number(
+    store, tmp_path, monkeypatch, libyaml
+):
+    if not libyaml:  # PyYAML built without libyaml: the pure-Python loader decides alone
+        monkeypatch.setattr(yaml_io, "_loaders", lambda: (None, yaml_io._strict(yaml.SafeLoader)))
+    tree = tmp_path / "tree.yaml"
+    tree.write_text(
+        "parameters:\n  gate: paper\n  target_failure_rate: 15e-2\n  gate: budget\n", encoding="utf-8"
+    )
+    with pytest.raises(ConfigError) as info:
+        read_yaml(tree)
+    assert str(info.value) == (
+        f"{tree}: line 4 is not valid YAML (the key 'gate' is given twice, first on line 2)"
+    )
+    tree.write_text(
+        "parameters:\n  target_failure_rate: 15e-2\n  solver_residual: -1E-5\n  name: '1e-5'\n", "utf-8"
+    )
+    assert read_yaml(tree) == {
+        "parameters": {"target_failure_rate": 0.15, "solver_residual": -1e-05, "name": "1e-5"}
+    }
+    # a merge key (<<) and the same key in two mappings are not repeats
+    tree.write_text("a: &base {x: 1}\nb:\n  <<: *base\n  x: 2\nc: {x: 3}\n", encoding="utf-8")
+    assert read_yaml(tree) == {"a": {"x": 1}, "b": {"x": 2}, "c": {"x": 3}}
+
+
+def test_a_parse_kept_under_the_old_rules_is_not_reused(store):
+    text = "a: 1e-5\n" + "# padding\n" * (yaml_io.CACHED_MIN_CHARS // 10 + 1)
+    assert _fast_parse(text) == {"a": 1e-05}
+    assert [p.name for p in store.glob("*.marshal")] == [yaml_io._parsed_path(text).name]  # type: ignore[union-attr]

@@ -120,3 +120,36 @@ def test_tuple_examples_and_bad_inputs(trained, tmp_path):
         FinetuneOptions(dropout=1.5)
     with pytest.raises(ModelUnavailableError, match="train_finetuned"):
         load_embedder(f"finetuned:{tmp_path}", tmp_path)
+
+
+def test_a_damaged_fine_tuned_folder_is_one_line_naming_the_file_and_key(trained, tmp_path):
+    import shutil
+
+    _, _, out = trained
+    meta = json.loads((out / "finetuned.json").read_text())
+    cases = {
+        "no base": (
+            "finetuned.json",
+            json.dumps({k: v for k, v in meta.items() if k != "base"}),
+            r"finetuned\.json: base: missing or not a name",
+        ),
+        "a list": ("finetuned.json", "[]", r"finetuned\.json: expected a JSON object, got list"),
+        "not JSON": ("finetuned.json", "{", r"finetuned\.json: cannot read it"),
+        "garbage head": ("head.safetensors", "not tensors", r"head\.safetensors: not a safetensors file"),
+    }
+    for case, (name, text, message) in cases.items():
+        folder = tmp_path / case.replace(" ", "-")
+        shutil.copytree(out, folder)
+        (folder / name).write_text(text, encoding="utf-8")
+        with pytest.raises(ModelUnavailableError, match=message) as info:
+            load_embedder(f"finetuned:{folder}", tmp_path / "cache")
+        assert "\n" not in str(info.value), case
+
+    from safetensors.numpy import load_file, save_file
+
+    folder = tmp_path / "wrong-shapes"
+    shutil.copytree(out, folder)
+    tensors = load_file(str(out / "head.safetensors"))
+    save_file({**tensors, "b1": tensors["b1"][:3]}, str(folder / "head.safetensors"))
+    with pytest.raises(ModelUnavailableError, match=r"tensor shapes do not make a head \(w1 \(64, "):
+        load_embedder(f"finetuned:{folder}", tmp_path / "cache")

@@ -89,6 +89,15 @@ def test_errors_are_one_line(argv, message, capsys, tmp_path, monkeypatch):
     assert err.startswith("scone-study: error:") and message in err and "\n" not in err
 
 
+def test_a_store_url_of_another_scheme_is_refused_not_made_a_file(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    argv = ["session", "--db", "s.db", "--participant", "P01", "--group", "A", "--session", "1"]
+    assert main([*argv, "--experience", "postgresq://lab@db/fleet"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "unknown URL scheme 'postgresq'; valid: postgresql://" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
+
+
 @pytest.mark.parametrize("experience", ["same", "study-log"])
 def test_a_store_that_cannot_be_one_is_refused_before_a_session_row_exists(tmp_path, capsys, experience):
     """--experience naming the study log itself, or another study log: one line, and no session recorded."""
