@@ -32,7 +32,7 @@ _FLOAT_WITHOUT_DOT = re.compile(r"^[-+]?[0-9][0-9_]*[eE][-+]?[0-9]+$")
 def _strict(base: type) -> type:
     """``base`` (PyYAML's SafeLoader or its libyaml twin) refusing a repeated key and reading 1e-5 as a float."""
 
-    class Loader(base):  # type: ignore[valid-type, misc]
+    class Loader(base):
         def construct_mapping(self, node: Any, deep: bool = False) -> Any:
             first: dict[Any, int] = {}
             for key_node, _ in node.value:
