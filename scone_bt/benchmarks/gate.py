@@ -458,6 +458,13 @@ def _run(args: argparse.Namespace) -> int:
         raise SconeError(f"--warmup {args.warmup}: must be 0 or more")
     if args.episodes < 0 or args.recipes < 1:
         raise SconeError("--episodes must be ≥ 0 and --recipes ≥ 1")
+    if args.no_replay and not args.episodes and not args.unseen:
+        raise SconeError("--no-replay with --episodes 0 and no --unseen: nothing to run; give --episodes N")
+    if args.episodes:  # the episodes' robot, checked before minutes of replay
+        from scone_bt.config import load_robot
+        from scone_bt.resources import resolve_file
+
+        load_robot(resolve_file("robots", args.arm, (".yaml", ".yml"), flag="--arm"))
     started = time.perf_counter()
     default_estimator, default_target, probe = _tree_defaults(args)
     estimators = [e for e in args.estimators.split(",") if e] or [default_estimator]
@@ -480,6 +487,12 @@ def _run(args: argparse.Namespace) -> int:
     streams = load_streams(args, oracle=False) if not args.no_replay or args.unseen else None
     if streams is not None:
         check_probe_readings(args, streams)
+        shortest = min(len(v) for v in streams.vectors)
+        if args.warmup >= shortest:
+            raise SconeError(
+                f"--warmup {args.warmup}: leaves no decision to score (the shortest stream has {shortest}); "
+                f"give 0..{shortest - 1}"
+            )
     if streams is not None and not args.no_replay:
         report.update(_replay(args, streams, estimators, default_estimator, default_target, probe))
     if streams is not None and args.unseen:  # products κ̂ has no outcome of: cold, the fleet, its own store

@@ -19,6 +19,7 @@ from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from scone_bt.argparsing import OneLineArgumentParser
 from scone_bt.checks import check_output_file, check_seed
 from scone_bt.errors import SconeError
 
@@ -167,7 +168,7 @@ def check_report_path(args: argparse.Namespace) -> None:
 
 
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    p = OneLineArgumentParser(
         prog="scone-bench", description="Every benchmark of SCONE-BT as one subcommand; each prints JSON."
     )
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")

@@ -13,6 +13,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from scone_bt.argparsing import OneLineArgumentParser
 from scone_bt.errors import SconeError, UnknownNameError
 
 __all__ = ["main"]
@@ -21,7 +22,7 @@ _INSTALLABLE = ("mpnet",)
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="scone-models", description="List and install embedding models.")
+    parser = OneLineArgumentParser(prog="scone-models", description="List and install embedding models.")
     parser.add_argument(
         "--cache-dir", type=Path, default=None, help="cache folder (default ~/.cache/scone_bt)"
     )

@@ -113,6 +113,7 @@ import shlex  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
+from scone_bt.argparsing import OneLineArgumentParser  # noqa: E402
 from scone_bt.checks import internal_error_line  # noqa: E402
 from scone_bt.cli.tree_options import add_tree_options, tree_overrides  # noqa: E402
 from scone_bt.defaults import EPISODE as _EPISODE  # noqa: E402
@@ -152,7 +153,7 @@ PG_CONNECT_TIMEOUT_S = 10  # scone_bt.experience.postgres.CONNECT_TIMEOUT_S
 
 def build_parser() -> argparse.ArgumentParser:
     """`scone-run`'s parser: its option groups, in the order --help lists them."""
-    p = argparse.ArgumentParser(
+    p = OneLineArgumentParser(
         prog="scone-run",
         description=(
             "Run the SCONE assistive-cooking robot: it perceives the shelf, ranks 'Put X on table' actions against "
@@ -354,6 +355,11 @@ def configure_logging(level: str) -> None:
     os.environ.setdefault("RUST_LOG", _RUST_LOG[level])
 
 
+def _has_display() -> bool:
+    """Whether an X or Wayland display is there for a window."""
+    return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
+
+
 def _experience(spec: str | None) -> Path | str | None:
     """A PostgreSQL URL stays a string; a URL of another scheme is refused; anything else is an SQLite file path."""
     from scone_bt.experience import is_postgres_url
@@ -496,6 +502,12 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
         from scone_bt.viz.connect import check_viewer_address
 
         check_viewer_address(args.connect)
+    if args.gui and args.robot == "sim" and sys.platform.startswith("linux") and not _has_display():
+        # PyBullet's GUI connect fails without a word and the process exits 1
+        raise SconeError(
+            "--gui: no display to open PyBullet's window on (DISPLAY is not set); run without --gui and watch it "
+            "with --viewer, or record it with --save"
+        )
     load_tree_spec(args.tree)  # validated now (types and ranges), before the kitchen is built
     # Options not given on the command line come from the tree file's parameters (one source of defaults).
     behaviour = BehaviourOptions(

@@ -265,14 +265,23 @@ MAX_HOME_RAD = 2 * math.pi
 """Largest home angle (rad) of any arm joint; the URDF's own limits are checked at load (`_check_home`)."""
 
 
-def _urdf_root(urdf: Path) -> Any:
-    """The URDF's XML root element, read once for the checks below; None if it cannot be read as XML."""
+def _urdf_root(urdf: Path, where: str) -> Any:
+    """The URDF's XML root element, read once for the checks below; ConfigError (one line, naming the robot file
+    and the URDF) if it is not a ``<robot>`` XML document: the simulators' own errors for it come with lines of
+    their parsers' output."""
     import xml.etree.ElementTree as ET
 
     try:
-        return ET.parse(urdf).getroot()  # noqa: S314 - the user's own robot description
-    except (ET.ParseError, OSError):
-        return None  # the simulator words its own error for a broken URDF
+        root = ET.parse(urdf).getroot()  # noqa: S314 - the user's own robot description
+    except ET.ParseError as exc:
+        raise ConfigError(f"{where}: urdf: {urdf} is not valid XML ({exc})") from None
+    except OSError as exc:
+        raise ConfigError(f"{where}: urdf: cannot read {urdf} ({exc.strerror or exc})") from None
+    if root.tag != "robot":
+        raise ConfigError(
+            f"{where}: urdf: {urdf} is not a URDF (its root element is <{root.tag}>, not <robot>)"
+        )
+    return root
 
 
 def _urdf_limits(root: Any) -> dict[str, tuple[float, float]]:
@@ -366,10 +375,9 @@ def load_robot(name_or_path: str | Path = "panda") -> RobotConfig:
     m = validate(RobotFile, raw, str(path))
     grasp = GraspParams.from_section(m.grasp, str(path))
     urdf = resolve_urdf(m.urdf, path)
-    root = _urdf_root(urdf)
-    if root is not None:
-        _check_names(m, urdf, root, str(path))
-        _check_home(m, urdf, root, str(path))
+    root = _urdf_root(urdf, str(path))
+    _check_names(m, urdf, root, str(path))
+    _check_home(m, urdf, root, str(path))
     return RobotConfig(
         name=m.name,
         urdf=urdf,

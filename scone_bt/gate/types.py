@@ -5,7 +5,19 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import StrEnum
 
-__all__ = ["DecisionKind", "Decision"]
+__all__ = ["DecisionKind", "Decision", "DECISION_RULES"]
+
+DECISION_RULES: tuple[str, ...] = (
+    "failure-limit",
+    "infeasible",
+    "missing",
+    "declined",
+    "too-wide",
+    "self-confidence-off",
+    "probe",
+)
+"""Every `Decision.rule` other than "" (κ̂ against the threshold decided): what a scenario's event match, the printer
+and the tablet may name (`DecisionMade.rule` says what each means)."""
 
 
 class DecisionKind(StrEnum):

@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 from xml.etree import ElementTree as ET
 
+from scone_bt.argparsing import OneLineArgumentParser
 from scone_bt.errors import SconeError
 
 if TYPE_CHECKING:
@@ -35,7 +36,7 @@ __all__ = ["main", "junit_xml", "summary_table"]
 
 
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    p = OneLineArgumentParser(
         prog="scone-scenario", description="Headless scenario tests (docs/scenarios.md)."
     )
     sub = p.add_subparsers(dest="command", required=True)

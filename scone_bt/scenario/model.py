@@ -377,6 +377,12 @@ class Count(_Expectation):
     min: Annotated[int, Field(ge=0)] = 0
     max: Annotated[int, Field(ge=0)] | None = None
 
+    @model_validator(mode="after")
+    def _bounds_meet(self) -> Count:
+        if self.max is not None and self.min > self.max:
+            raise ValueError(f"min {self.min} is above max {self.max}: no count passes")
+        return self
+
 
 class OnTable(_Expectation):
     """At the end, these products rest on the table (ground truth)."""
@@ -817,7 +823,9 @@ def _check_expectation(ex: Any, key: str, k: _Episode) -> None:
 
 
 def _check_match(match: EventMatch, where: str, products: set[str]) -> None:
-    """An event match's product and failure stage against what exists (one line naming the valid ones)."""
+    """An event match's product, failure stage and decision rule against what exists (one line naming the valid
+    ones)."""
+    from scone_bt.gate.types import DECISION_RULES
     from scone_bt.motion.types import FailureStage
 
     if match.object is not None and match.object not in products:
@@ -827,6 +835,12 @@ def _check_match(match: EventMatch, where: str, products: set[str]) -> None:
     stages = [s.value for s in FailureStage]
     if match.stage is not None and match.stage not in stages:
         raise ConfigError(f"{where}.stage: unknown failure stage {match.stage!r}; valid: {', '.join(stages)}")
+    if match.rule is not None and match.rule not in ("", *DECISION_RULES):
+        # a misspelt rule matched nothing, so "max: 0" of it passed whatever the robot did
+        raise ConfigError(
+            f"{where}.rule: unknown decision rule {match.rule!r}; valid: {', '.join(DECISION_RULES)}, "
+            "or '' (κ̂ against the threshold)"
+        )
 
 
 @functools.lru_cache(maxsize=64)

@@ -18,9 +18,9 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from scone_bt.argparsing import DefaultsHelpFormatter, OneLineArgumentParser
 from scone_bt.defaults import EPISODE
 from scone_bt.errors import SconeError
-from scone_bt.help_format import DefaultsHelpFormatter
 from scone_bt.robot.flags import add_robot_options, check_backend
 
 if TYPE_CHECKING:
@@ -31,7 +31,7 @@ __all__ = ["main", "build_parser"]
 
 def build_parser() -> argparse.ArgumentParser:
     """`scone-study`'s parser: one sub-command each, declared in its own function."""
-    p = argparse.ArgumentParser(
+    p = OneLineArgumentParser(
         prog="scone-study",
         description="The trust study toolkit: tablet sessions with durable logging, simulated participants, and the paper's Bayesian analysis.",
         epilog="examples:" + __doc__.split("Examples:", 1)[1],

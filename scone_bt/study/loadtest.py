@@ -27,7 +27,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-from scone_bt.help_format import DefaultsHelpFormatter
+from scone_bt.argparsing import DefaultsHelpFormatter, OneLineArgumentParser
 from scone_bt.reporting import emit_report
 
 __all__ = ["LoadTestOptions", "LoadTestResult", "run_load_test", "register"]
@@ -382,7 +382,7 @@ def register(subparsers: Any) -> None:
 
 
 if __name__ == "__main__":  # pragma: no cover
-    parser = argparse.ArgumentParser(prog="tablet-load")
+    parser = OneLineArgumentParser(prog="tablet-load")
     register(parser.add_subparsers(dest="command", required=True))
     parsed = parser.parse_args(["tablet-load", *sys.argv[1:]])
     sys.exit(parsed.func(parsed))

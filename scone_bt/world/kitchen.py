@@ -213,10 +213,14 @@ class Kitchen(GroundTruth, SimClock):
         if cfg.camera_shapes == "collision":
             # PyBullet then draws the collision shapes: the same bodies and physics, far fewer triangles to render.
             flags |= p.URDF_IGNORE_VISUAL_SHAPES
+        from scone_bt.quiet import c_stdout_silenced
+
         try:
-            rid = self.bc.loadURDF(
-                str(cfg.urdf), basePosition=cfg.base_position, useFixedBase=True, flags=flags
-            )
+            # PyBullet prints its parser's complaints on the C streams, glued to our one-line error
+            with c_stdout_silenced():
+                rid = self.bc.loadURDF(
+                    str(cfg.urdf), basePosition=cfg.base_position, useFixedBase=True, flags=flags
+                )
         except p.error as exc:
             raise ConfigError(f"{cfg.source}: PyBullet could not load URDF {cfg.urdf} ({exc})") from None
         index = {}

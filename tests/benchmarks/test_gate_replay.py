@@ -442,3 +442,12 @@ def test_what_the_robot_knows_it_cannot_do_before_moving_is_asked_for(
     blind = replay_stream(vectors, context, success, list(data.objects), "x", "budget", 0.15, 0, 0, OPENING_M)
     # without it: the failed attempts the robot never makes
     assert (blind.all_attempts, blind.all_failures) == (7, 5)
+
+
+def test_a_warmup_that_leaves_nothing_to_score_is_one_line(tmp_path: Path, capsys) -> None:
+    folder = _tiny_datasets(tmp_path / "plain")
+    capsys.readouterr()
+    argv = ["gate", "--datasets", str(folder), "--embedder", "onehot", "--no-sweep", "--warmup", "100000"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "--warmup 100000: leaves no decision to score (the shortest stream has" in err

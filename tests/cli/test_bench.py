@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import pytest
 
 from scone_bt.cli.bench import BENCHMARK_MODULES, _parser, main
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_every_registered_module_adds_a_subcommand() -> None:
@@ -205,3 +208,38 @@ def test_the_trust_benchmarks_refuse_a_fit_they_cannot_make_before_fitting(argv,
     err = capsys.readouterr().err
     assert err.startswith(f"scone-bench: {message}") and err.count("\n") == 1
     assert FITTED_PARAMETERS.read_bytes() == shipped  # --write wrote nothing
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["gate", "--arm", "foo", "--episodes", "1"], "--arm foo: unknown robot; valid: iiwa7, panda"),
+        (["gate", "--no-replay"], "--no-replay with --episodes 0 and no --unseen: nothing to run"),
+        (
+            ["sc", "evaluate", "--data", "tools/data/sc", "--epsilon", "2"],
+            "--epsilon 2.0: must be a number in [0, 1]",
+        ),
+        (
+            ["sc", "evaluate", "--data", "tools/data/sc", "--cache-dir", "/proc/x"],
+            "--cache-dir /proc/x: cannot write",
+        ),
+        (
+            ["sc", "evaluate", "--data", "tools/data/sc", "--refit-every", "0"],
+            "--refit-every 0: must be an integer",
+        ),
+    ],
+)
+def test_settings_are_checked_before_the_datasets_are_read(argv, message, monkeypatch, capsys) -> None:
+    """Each was found seconds to minutes in (after the replay, the embedding or the first cell)."""
+    from scone_bt.benchmarks import gate
+    from scone_bt.benchmarks.self_confidence import evaluate
+
+    def never(*args: object, **kwargs: object) -> None:
+        raise AssertionError("the datasets were read")
+
+    monkeypatch.setattr(gate, "load_streams", never)
+    monkeypatch.setattr(evaluate, "load_eval_datasets", never)
+    monkeypatch.chdir(ROOT)
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"scone-bench: {message}") and err.count("\n") == 1

@@ -163,7 +163,7 @@ def test_help_says_each_default_once_and_only_where_it_means_something(capsys) -
 
 
 def test_the_defaults_formatter_keeps_a_real_default_and_drops_the_noise() -> None:
-    from scone_bt.help_format import DefaultsHelpFormatter
+    from scone_bt.argparsing import DefaultsHelpFormatter
 
     p = argparse.ArgumentParser(prog="x", formatter_class=DefaultsHelpFormatter)
     p.add_argument("--port", type=int, default=8765, help="port")
@@ -174,3 +174,22 @@ def test_the_defaults_formatter_keeps_a_real_default_and_drops_the_noise() -> No
     text = " ".join(p.format_help().split())
     assert "port (default: 8765)" in text and "log --token" in text and "token --fast" in text
     assert "fast --out" in text and text.count("default") == 2
+
+
+@pytest.mark.parametrize(
+    ("build", "argv"),
+    [
+        (run_parser, ["--seed", "abc"]),
+        (bench._parser, ["gate", "--warmup", "x"]),
+        (bench._parser, ["no-such-benchmark"]),
+        (study_parser, ["session", "--db", "x.db"]),
+        (scenario_cli._parser, ["run", "--jobs", "many"]),
+    ],
+)
+def test_a_usage_error_is_one_line_in_every_command(build, argv, capsys) -> None:
+    """argparse printed its whole usage block (9 to 23 lines) before the error."""
+    with pytest.raises(SystemExit) as info:
+        build().parse_args(argv)
+    err = capsys.readouterr().err
+    assert info.value.code == 2 and err.count("\n") == 1 and ": error: " in err, err
+    assert err.endswith("(--help lists the options)\n")

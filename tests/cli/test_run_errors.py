@@ -211,3 +211,9 @@ def test_a_planner_bug_stops_the_run_and_stores_nothing(tmp_path, capsys, monkey
     assert "failure at planning" not in out.out  # not reported as the robot's failure...
     with ExperienceStore(db) as store:
         assert len(store) == 0  # ...and not learnt from
+
+
+def test_gui_without_a_display_is_one_line_not_a_silent_exit(monkeypatch, capsys):
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    assert "--gui: no display to open PyBullet's window on" in _one_line_error(["--gui"], capsys)

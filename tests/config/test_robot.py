@@ -117,3 +117,20 @@ def test_a_gripper_joint_that_is_an_arm_joint_is_blamed_on_gripper_joints(tmp_pa
         "gripper.joints[0]: 'panda_joint7' is one of arm_joints; a gripper joint moves a finger",
         "panda_finger_joint1",
     )
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ("", "is not valid XML (no element found"),
+        ('<robot name="x"><link name="a"></robot>', "is not valid XML (mismatched tag"),
+        ("<sdf/>", "is not a URDF (its root element is <sdf>, not <robot>)"),
+    ],
+)
+def test_a_urdf_that_is_not_one_is_refused_at_load_in_one_line(tmp_path: Path, text: str, expected: str):
+    """PyBullet glued its parser's output to the error (and an empty file printed a line at exit)."""
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text(text)
+    doc = _robot(tmp_path)
+    doc["urdf"] = str(urdf)
+    _refused(tmp_path, doc, f"urdf: {urdf} {expected}")

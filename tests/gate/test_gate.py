@@ -161,3 +161,24 @@ def test_the_exploration_flag_is_read_only_below_the_threshold():
     assert act.kind is DecisionKind.ACT and not act.explored and _Counted.reads == 0
     explored = decide([RankedAction("Put salt on table", 0.9)], [0.2], options, explore=_Counted([True]))
     assert explored.explored and _Counted.reads == 1
+
+
+def test_every_rule_the_code_names_is_one_of_decision_rules() -> None:
+    """The one list (gate.types.DECISION_RULES) against every rule name the gate's code writes, and the printer's
+    labels: a new rule added without it would be refused by the scenario loader."""
+    import re
+    from pathlib import Path
+
+    import scone_bt
+    from scone_bt.episode.printer import RULE_LABELS
+    from scone_bt.gate.types import DECISION_RULES
+
+    package = Path(scone_bt.__file__).parent
+    named: set[str] = set()
+    for path in [*package.joinpath("gate").glob("*.py"), *package.joinpath("behaviours").glob("*.py")]:
+        text = path.read_text(encoding="utf-8")
+        named |= set(re.findall(r'\brule="([a-z-]+)"', text))
+        named |= set(re.findall(r'overruled\([^()]*?,\s*"([a-z-]+)"\s*,?\s*\)', text, flags=re.S))
+    assert named and named <= set(DECISION_RULES), named - set(DECISION_RULES)
+    assert set(RULE_LABELS) <= set(DECISION_RULES)
+    assert len(named) >= 6, named

@@ -217,6 +217,15 @@ def test_a_count_naming_no_product_or_stage_is_an_error_not_a_vacuous_pass(tmp_p
     )
     msg = _error(tmp_path, BASE + "events:\n  - {when: {kind: outcome, stage: grsp}, remove: salt}\n")
     assert "events[0].when.stage: unknown failure stage 'grsp'" in msg
+    msg = _error(
+        tmp_path, "description: d\nexpect:\n  - {count: {kind: decision, rule: failur-limit}, max: 0}\n"
+    )
+    assert msg.endswith(
+        "expect[0].count.rule: unknown decision rule 'failur-limit'; valid: failure-limit, infeasible, missing, "
+        "declined, too-wide, self-confidence-off, probe, or '' (κ̂ against the threshold)"
+    )
+    msg = _error(tmp_path, "description: d\nexpect:\n  - {count: {kind: decision}, min: 3, max: 1}\n")
+    assert msg.endswith("expect[0]: min 3 is above max 1: no count passes")
     # A product of the catalogue that this episode does not stock may be counted (an ask for a missing item).
     load_scenario(
         _write(tmp_path, "description: d\nexpect:\n  - {count: {kind: decision, object: lard}, max: 0}\n")

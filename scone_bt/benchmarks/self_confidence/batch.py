@@ -419,7 +419,17 @@ def _offset_profiles(args: argparse.Namespace) -> tuple[list[Profile], dict[str,
 
 
 def _check_pool(pool: Sequence[ObjectSpec], products: Sequence[str] | None, profiles: list[Profile]) -> None:
-    """Refuse a product pool smaller than a profile's products per execution, naming those that fit no tier."""
+    """Refuse a product pool smaller than a profile's products per execution, naming those that fit no tier, and
+    an injected failure for a material no product of the pool is made of (it would never fire)."""
+    materials = sorted({o.material for o in pool})
+    for profile in profiles:
+        for k, injection in enumerate(profile.injected):
+            for material in injection.materials:
+                if material not in materials:
+                    raise ConfigError(
+                        f"{profile.source}: injected[{k}].materials: no product to draw is of material "
+                        f"{material!r}; valid: {', '.join(materials)}"
+                    )
     most = max(p.objects_on_shelf for p in profiles)
     if len(pool) < most:
         drawn = {o.name for o in pool}

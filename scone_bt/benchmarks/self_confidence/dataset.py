@@ -283,10 +283,18 @@ def write_records(path: Path | str, records: Iterable[ExecutionRecord]) -> Path:
 
 
 def _float(text: str, path: Path, row: int, column: str) -> float:
+    """A measured quantity (metres, kilograms, newtons, seconds, counts): a finite number ≥ 0, or NaN for an
+    empty cell; else ConfigError naming the file, row and column (an inf or a negative size made κ̂'s confidence
+    NaN, and the replay stopped on it without saying where it came from)."""
+    if text == "":
+        return float("nan")
     try:
-        return float(text) if text != "" else float("nan")
+        value = float(text)
     except ValueError:
         raise ConfigError(f"{path} row {row + 2}: {column} {text!r} is not a number") from None
+    if not (math.isfinite(value) and value >= 0.0):
+        raise ConfigError(f"{path} row {row + 2}: {column} {text!r} must be a finite number ≥ 0 (or empty)")
+    return value
 
 
 PROBE_COLUMNS = ("probe_held", "probe_load_n", "probe_load_first_n", "probe_grip_n", "probe_s")

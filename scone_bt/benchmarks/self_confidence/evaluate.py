@@ -517,6 +517,7 @@ class _Grid:
 
 def _grid(args: argparse.Namespace) -> _Grid:
     """Check the names, --workers and --kitchen, before any work."""
+    from scone_bt.checks import check_output_dir, check_positive_int, check_range
     from scone_bt.config import load_kitchen
     from scone_bt.resources import resolve_file
 
@@ -527,6 +528,13 @@ def _grid(args: argparse.Namespace) -> _Grid:
     )
     if args.workers < 1:
         raise ConfigError(f"--workers must be at least 1, got {args.workers}")
+    # checked now, not when the first cell or the first embedding reaches them (seconds to minutes in)
+    check_range(args.epsilon, "--epsilon", 0.0, 1.0)
+    check_positive_int(args.refit_every, "--refit-every")
+    check_positive_int(args.n_test, "--n-test")
+    check_positive_int(args.shuffles, "--shuffles", 1000)
+    if args.cache_dir is not None:
+        check_output_dir(Path(args.cache_dir), "--cache-dir")
     # read only when a dataset has no family column, so checked now: a bad --kitchen is not found after the work
     load_kitchen(resolve_file("perception", args.kitchen, (".yaml", ".yml"), flag="--kitchen"))
     options = EvalOptions(

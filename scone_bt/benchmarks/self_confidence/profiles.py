@@ -27,6 +27,7 @@ import numpy as np
 from pydantic import Field, field_validator
 
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
+from scone_bt.config.catalogue import Shape
 from scone_bt.config.schema import StrictModel, validate
 from scone_bt.config.yaml_io import read_yaml
 from scone_bt.errors import ConfigError
@@ -175,6 +176,16 @@ class _InjectedModel(StrictModel):
         if stage not in INJECTABLE_STAGES:
             raise ValueError(f"{stage!r} is not one of {', '.join(INJECTABLE_STAGES)}")
         return stage
+
+    @field_validator("shapes")
+    @classmethod
+    def _known_shapes(cls, shapes: list[str]) -> list[str]:
+        # a misspelt shape matched no product, and the injection never fired
+        valid = [s.value for s in Shape]
+        for shape in shapes:
+            if shape not in valid:
+                raise ValueError(f"{shape!r} is not a shape; valid: {', '.join(valid)}")
+        return shapes
 
 
 class _GripperSection(StrictModel):

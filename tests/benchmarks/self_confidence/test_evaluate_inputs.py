@@ -84,6 +84,16 @@ def test_bad_datasets_give_one_line_errors(tmp_path):
     _write_synthetic(tmp_path / "short", n_datasets=1, rows=30)
     with pytest.raises(ConfigError, match="needs at least 100"):
         load_datasets(tmp_path / "short", min_rows=100)
+    # a measured quantity is finite and not negative: an inf made κ̂'s confidence NaN far from its row
+    for column, value in (("detected_height_m", "-inf"), ("width_m", "-0.5"), ("mass_kg", "nan")):
+        (tmp_path / "x.csv").write_text(
+            f"action,object,outcome,{column}\nPut salt on table,salt,success,{value}\n"
+        )
+        with pytest.raises(ConfigError) as info:
+            load_datasets(tmp_path)
+        assert str(info.value) == (
+            f"{tmp_path / 'x.csv'} row 2: {column} '{value}' must be a finite number ≥ 0 (or empty)"
+        )
 
 
 def test_shipped_profiles_are_documented_and_distinct(kitchen_cfg, robot_cfg):

@@ -122,6 +122,31 @@ def test_bad_inputs_are_one_line_errors_before_any_execution(tmp_path, capsys):
     assert not (tmp_path / "o").exists() or not any((tmp_path / "o").glob("*.csv"))
 
 
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        (
+            "materials: [glass]",
+            "materials: [glas]",
+            "injected[0].materials: no product to draw is of material 'glas'; valid: aluminium, carton, foil, "
+            "glass, metal, paper, plastic, produce",
+        ),
+        ("materials: [glass]", "shapes: [cylindre]", "'cylindre' is not a shape; valid: box, cylinder"),
+    ],
+)
+def test_an_injected_failure_that_could_never_fire_is_refused(tmp_path, capsys, old, new, message):
+    """A misspelt material or shape matched no product: the profile generated, and its injection never fired."""
+    folder = tmp_path / "profiles"
+    folder.mkdir()
+    text = (PROFILES / "p08_transparent_blind.yaml").read_text(encoding="utf-8")
+    assert old in text
+    (folder / "p08_transparent_blind.yaml").write_text(text.replace(old, new), encoding="utf-8")
+    argv = ["sc", "generate", "--profiles-dir", str(folder), "--out", str(tmp_path / "o"), "--no-progress"]
+    err = _one_line_error(capsys, argv)
+    assert "p08_transparent_blind.yaml" in err and message in err
+    assert not (tmp_path / "o").exists() or not any((tmp_path / "o").glob("*.csv"))
+
+
 @pytest.mark.parametrize("minutes", ["nan", "inf", "0", "-1"])
 def test_max_minutes_must_be_finite_and_positive(tmp_path, capsys, minutes):
     base = ["sc", "generate", "--profiles-dir", str(PROFILES), "--out", str(tmp_path / "o"), "--no-progress"]

@@ -1,10 +1,21 @@
-"""One help formatter for the command lines: each option's default, said once, where it means something."""
+"""The command lines' argparse pieces: a parser whose usage errors are one line, and one help formatter (each
+option's default said once, where it means something)."""
 
 from __future__ import annotations
 
 import argparse
+from typing import NoReturn
 
-__all__ = ["DefaultsHelpFormatter"]
+__all__ = ["DefaultsHelpFormatter", "OneLineArgumentParser"]
+
+
+class OneLineArgumentParser(argparse.ArgumentParser):
+    """An ArgumentParser whose usage errors ("invalid int value", a missing required option) are one line, like
+    every other bad input: argparse's own prints the whole usage block first (9 to 23 lines). Its subcommands'
+    parsers are of this class too (argparse makes them of the parent's class)."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message} (--help lists the options)\n")
 
 
 class DefaultsHelpFormatter(argparse.HelpFormatter):
