@@ -1,4 +1,5 @@
-"""Small geometry shared by the stages: angle wrapping."""
+"""Small geometry shared by the stages: angle wrapping and unit quaternions (x, y, z, w), in numpy alone (the
+recorder would otherwise load scipy for three rotations, a sixth of a second)."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ from typing import TypeVar
 
 import numpy as np
 
-__all__ = ["wrap_angle"]
+__all__ = ["wrap_angle", "quat_multiply", "quat_inverse", "quat_rotate"]
 
 Angle = TypeVar("Angle", float, np.ndarray)
 
@@ -20,3 +21,32 @@ def wrap_angle(angle: Angle, period: float = 2 * math.pi) -> Angle:
     """
     half = period / 2
     return (angle + half) % period - half
+
+
+def quat_multiply(a: np.ndarray | tuple[float, ...], b: np.ndarray | tuple[float, ...]) -> np.ndarray:
+    """The rotation ``a`` after ``b`` (Hamilton product a · b), quaternions (x, y, z, w)."""
+    ax, ay, az, aw = (float(v) for v in a)
+    bx, by, bz, bw = (float(v) for v in b)
+    return np.array(
+        [
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+            aw * bw - ax * bx - ay * by - az * bz,
+        ]
+    )
+
+
+def quat_inverse(q: np.ndarray | tuple[float, ...]) -> np.ndarray:
+    """The inverse rotation of a unit quaternion (x, y, z, w): its conjugate."""
+    x, y, z, w = (float(v) for v in q)
+    return np.array([-x, -y, -z, w])
+
+
+def quat_rotate(q: np.ndarray | tuple[float, ...], v: np.ndarray | tuple[float, ...]) -> np.ndarray:
+    """Vector ``v`` (3,) turned by the unit quaternion ``q`` (x, y, z, w)."""
+    u = np.array([float(c) for c in q[:3]])
+    w = float(q[3])
+    v = np.asarray(v, dtype=float)
+    t = 2.0 * np.cross(u, v)
+    return v + w * t + np.cross(u, t)

@@ -58,3 +58,20 @@ def test_identical_to_the_formulas_it_replaced():
     for a in angles[:100].tolist():  # plain floats stay plain floats, same bits
         assert wrap_angle(a) == (a + np.pi) % (2 * np.pi) - np.pi
         assert type(wrap_angle(a)) is float
+
+
+def test_the_quaternion_helpers_agree_with_scipy() -> None:
+    import numpy as np
+    from scipy.spatial.transform import Rotation
+
+    from scone_bt.geometry import quat_inverse, quat_multiply, quat_rotate
+
+    rng = np.random.default_rng(0)
+    for _ in range(50):
+        a, b = Rotation.random(random_state=rng), Rotation.random(random_state=rng)
+        v = rng.normal(size=3)
+        np.testing.assert_allclose(
+            np.abs(quat_multiply(a.as_quat(), b.as_quat())), np.abs((a * b).as_quat()), atol=1e-12
+        )
+        np.testing.assert_allclose(quat_rotate(a.as_quat(), v), a.apply(v), atol=1e-12)
+        np.testing.assert_allclose(quat_rotate(quat_inverse(a.as_quat()), a.apply(v)), v, atol=1e-12)

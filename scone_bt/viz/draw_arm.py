@@ -8,9 +8,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import rerun as rr
-from scipy.spatial.transform import Rotation
 
 from scone_bt.errors import ConfigError
+from scone_bt.geometry import quat_inverse, quat_multiply, quat_rotate
 from scone_bt.viz import paths as P
 from scone_bt.viz.colours import rgba255
 from scone_bt.viz.pose_batch import PoseBatch, moved
@@ -166,9 +166,9 @@ class ArmDrawer:
         assert self._robot is not None
         pos = np.asarray(com_pose[0], dtype=float)
         ip, iq = self._robot.root_inertial_position, self._robot.root_inertial_quaternion
-        link = Rotation.from_quat(com_pose[1]) * Rotation.from_quat(iq).inv()  # quaternions (x, y, z, w)
-        link_pos = pos - link.apply(ip)
-        return (tuple(map(float, link_pos)), tuple(map(float, link.as_quat())))
+        link = quat_multiply(com_pose[1], quat_inverse(iq))  # quaternions (x, y, z, w)
+        link_pos = pos - quat_rotate(link, ip)
+        return (tuple(map(float, link_pos)), tuple(map(float, link)))
 
 
 def _piece_geometry(vis: LinkVisual) -> Any:

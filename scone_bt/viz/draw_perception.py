@@ -8,7 +8,6 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import rerun as rr
-from scipy.spatial.transform import Rotation
 
 from scone_bt.perception.camera import intrinsics, world_from_camera
 from scone_bt.viz import paths as P
@@ -85,9 +84,7 @@ class PerceptionDrawer:
             rot = self._camera_pose[:3, :3]
             rec.log(
                 P.CAMERA,
-                rr.Transform3D(
-                    translation=self._camera_pose[:3, 3], quaternion=Rotation.from_matrix(rot).as_quat()
-                ),
+                rr.Transform3D(translation=self._camera_pose[:3, 3], mat3x3=rot),
             )
         if self._camera_k is None or not np.allclose(self._camera_k, k) or self._camera_res != resolution:
             self._camera_k, self._camera_res = np.array(k, dtype=float), resolution
