@@ -277,6 +277,11 @@ def _urdf_root(urdf: Path, where: str) -> Any:
         raise ConfigError(f"{where}: urdf: {urdf} is not valid XML ({exc})") from None
     except OSError as exc:
         raise ConfigError(f"{where}: urdf: cannot read {urdf} ({exc.strerror or exc})") from None
+    for (
+        element
+    ) in root.iter():  # a default namespace (<robot xmlns="...">, as Drake writes) names nothing here
+        if isinstance(element.tag, str):
+            element.tag = element.tag.rpartition("}")[2]
     if root.tag != "robot":
         raise ConfigError(
             f"{where}: urdf: {urdf} is not a URDF (its root element is <{root.tag}>, not <robot>)"

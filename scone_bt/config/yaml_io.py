@@ -33,19 +33,24 @@ def _strict(base: type) -> type:
     """``base`` (PyYAML's SafeLoader or its libyaml twin) refusing a repeated key and reading 1e-5 as a float."""
 
     class Loader(base):
-        def construct_mapping(self, node: Any, deep: bool = False) -> Any:
-            first: dict[Any, int] = {}
-            for key_node, _ in node.value:
-                if not isinstance(key_node, yaml.ScalarNode) or key_node.tag == "tag:yaml.org,2002:merge":
-                    continue
-                key = key_node.value
-                if key in first:
-                    raise yaml.constructor.ConstructorError(
-                        problem=f"the key {key!r} is given twice, first on line {first[key] + 1}",
-                        problem_mark=key_node.start_mark,
-                    )
-                first[key] = key_node.start_mark.line
-            return super().construct_mapping(node, deep=deep)
+        def flatten_mapping(self, node: Any) -> None:
+            # Checked once per mapping, before its merge keys (<<) are folded into it: a merged anchor's keys may
+            # repeat its own, and PyYAML folds a mapping in place, perhaps before it is constructed.
+            checked = self.__dict__.setdefault("_checked_mappings", set())
+            if id(node) not in checked:
+                checked.add(id(node))
+                first: dict[Any, int] = {}
+                for key_node, _ in node.value:
+                    if not isinstance(key_node, yaml.ScalarNode) or key_node.tag == "tag:yaml.org,2002:merge":
+                        continue
+                    key = self.construct_object(key_node)  # 1 and '1' differ; ~ and null do not
+                    if key in first:
+                        raise yaml.constructor.ConstructorError(
+                            problem=f"the key {key!r} is given twice, first on line {first[key] + 1}",
+                            problem_mark=key_node.start_mark,
+                        )
+                    first[key] = key_node.start_mark.line
+            super().flatten_mapping(node)
 
     Loader.add_implicit_resolver("tag:yaml.org,2002:float", _FLOAT_WITHOUT_DOT, list("-+0123456789"))
     return Loader

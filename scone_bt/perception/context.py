@@ -65,6 +65,10 @@ DISC_SPAN = 0.93433
 checks it). The range trims a round lid more than a rectangular one, so a round lid's range is scaled by
 RECTANGLE_SPAN / DISC_SPAN: without it an 8.5 cm eggplant measured 7.9 cm in MuJoCo, narrower than the gripper's
 8 cm opening, and the robot tried to grasp it."""
+_DISC_ASPECT_AT_MOST = 1.15
+"""A lid is scaled as a disc only if its two ranges are within this ratio (a cylinder's: 1.02 median, 1.04 at the
+95th percentile): a box whose fill looks round (seen askew, or a neighbour's edge in its patch) is 1.25–1.85
+long, and scaling it would widen a 7.5 cm tin past the gripper's opening."""
 
 
 def surface_below(scene: SceneSpec, x: float, y: float, z: float) -> float | None:
@@ -162,7 +166,7 @@ def perceived_size(frame: Frame, det: Detection, scene: SceneSpec) -> PerceivedS
     hull = cv2.convexHull(proj.astype(np.float32))
     box = float(np.prod(proj.max(axis=0) - proj.min(axis=0)))
     fill = float(cv2.contourArea(hull)) / box if box > 0 else float("nan")
-    round_lid = fill < ROUND_FILL_BELOW
+    round_lid = fill < ROUND_FILL_BELOW and max(extents) <= _DISC_ASPECT_AT_MOST * min(extents)
     width = float(min(extents)) * (RECTANGLE_SPAN / DISC_SPAN if round_lid else 1.0)
     surface = surface_below(scene, float(top[0]), float(top[1]), float(top[2]))
     height = float(top[2] - surface) if surface is not None else float("nan")

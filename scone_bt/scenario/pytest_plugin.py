@@ -1,7 +1,7 @@
 """pytest plugin (entry point ``pytest11``): ``pytest scenarios/`` collects scenario files as tests.
 
-Each case of a ``*.yaml`` file in a folder named ``scenarios``, or of a scenario file (a mapping with ``expect``)
-in a folder or file named on the command line (``pytest runs/demo/``), is one test item (a sweep gives one per value), so
+Each case of a ``*.yaml`` file in a folder named ``scenarios``, of a file named on the command line, or of a file
+with top-level ``description:`` and ``expect:`` in a folder named there (``pytest runs/demo/``), is one test item (a sweep gives one per value), so
 ``-k``, ``-m <tag>`` (a file's ``tags:``; every case is also marked ``scenario``), ``--junitxml`` and ``-n``
 (pytest-xdist) work as for any test. A case marked ``expected: fail`` is an
 xfail (strict: passing is a failure). A failing case writes its event log and recording into ``--scenario-out``
@@ -62,7 +62,7 @@ def pytest_collect_file(parent: pytest.Collector, file_path: Path) -> pytest.Col
     if (
         file_path.parent.name == "scenarios"
         or named == "file"
-        or (named == "folder" and _may_be_scenario(file_path))
+        or (named == "folder" and _reads_as_scenario(file_path))
     ):
         return ScenarioYaml.from_parent(parent, path=file_path)
     return None
@@ -70,11 +70,12 @@ def pytest_collect_file(parent: pytest.Collector, file_path: Path) -> pytest.Col
 
 def _named_on_command_line(config: pytest.Config, file_path: Path) -> str:
     """ "file" if the file was given as an argument, "folder" if a folder above it other than pytest's root was,
-    else ""."""
+    else "" (the arguments pytest was given, not its ``testpaths``)."""
     root, path = Path(config.rootpath).resolve(), file_path.resolve()
-    for arg in (str(a).split("::")[0] for a in config.invocation_params.args):
-        named = (config.invocation_params.dir / arg).resolve()
-        if arg.startswith("-") or not named.exists():
+    for arg in getattr(config.option, "file_or_dir", None) or ():
+        try:
+            named = (config.invocation_params.dir / str(arg).split("::")[0]).resolve()
+        except (OSError, ValueError):
             continue
         if named == path:
             return "file"
@@ -83,18 +84,19 @@ def _named_on_command_line(config: pytest.Config, file_path: Path) -> str:
     return ""
 
 
-def _may_be_scenario(file_path: Path) -> bool:
-    """Not plainly another kind of YAML file (a tree, robot or kitchen file beside the scenarios): a mapping with
-    ``expect``, or a file that does not parse (collected, so that its error is reported)."""
-    import yaml
-
-    from scone_bt.config.yaml_io import safe_load
+def _reads_as_scenario(file_path: Path) -> bool:
+    """A file with top-level ``description:`` and ``expect:`` lines, read as text: the plugin loads in every pytest
+    run of an environment that has scone-bt, so another project's YAML files beside its tests (several documents,
+    custom tags, fixtures broken on purpose) are left alone rather than parsed. A scenario that does not parse is
+    still collected, and its error reported."""
+    import re
 
     try:
-        data = safe_load(file_path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, yaml.YAMLError):
-        return True
-    return isinstance(data, dict) and "expect" in data
+        with file_path.open(encoding="utf-8") as f:
+            text = f.read(200_000)
+    except (OSError, UnicodeDecodeError):
+        return False
+    return all(re.search(rf"^{key}\s*:", text, flags=re.M) for key in ("description", "expect"))
 
 
 def _out_dir(config: pytest.Config) -> Path:

@@ -134,3 +134,18 @@ def test_a_urdf_that_is_not_one_is_refused_at_load_in_one_line(tmp_path: Path, t
     doc = _robot(tmp_path)
     doc["urdf"] = str(urdf)
     _refused(tmp_path, doc, f"urdf: {urdf} {expected}")
+
+
+def test_a_urdf_with_a_default_namespace_loads(tmp_path: Path):
+    """<robot xmlns="..."> (as Drake writes its URDFs): the same names, checked as without the namespace."""
+    from scone_bt.config.robot import resolve_urdf
+
+    doc = _robot(tmp_path)
+    source = resolve_urdf(doc["urdf"], data_dir("robots") / "panda.yaml")
+    namespaced = tmp_path / "panda_ns.urdf"
+    namespaced.write_text(source.read_text().replace("<robot ", '<robot xmlns="http://drake.mit.edu" ', 1))
+    assert 'xmlns="http://drake.mit.edu"' in namespaced.read_text()
+    doc["urdf"] = str(namespaced)
+    path = tmp_path / "arm.yaml"
+    path.write_text(yaml.safe_dump(doc))
+    assert load_robot(path).urdf == namespaced

@@ -120,9 +120,17 @@ def test_a_repeated_key_is_one_line_naming_both_lines_and_1e_minus_5_is_a_number
     assert read_yaml(tree) == {
         "parameters": {"target_failure_rate": 0.15, "solver_residual": -1e-05, "name": "1e-5"}
     }
-    # a merge key (<<) and the same key in two mappings are not repeats
+    # a merge key (<<), a chain of merges, the same key in two mappings, 1 and '1' are not repeats
     tree.write_text("a: &base {x: 1}\nb:\n  <<: *base\n  x: 2\nc: {x: 3}\n", encoding="utf-8")
     assert read_yaml(tree) == {"a": {"x": 1}, "b": {"x": 2}, "c": {"x": 3}}
+    chain = "d: &d {s: 1}\np:\n  f: &f\n    <<: *d\n    s: 2\ng:\n  <<: *f\n  s: 3\nk: {1: a, '1': b}\n"
+    tree.write_text(chain, encoding="utf-8")
+    assert read_yaml(tree) == {"d": {"s": 1}, "p": {"f": {"s": 2}}, "g": {"s": 3}, "k": {1: "a", "1": "b"}}
+    tree.write_text("k:\n  ~: a\n  null: b\n", encoding="utf-8")  # the same key, None, spelt twice
+    with pytest.raises(
+        ConfigError, match=r"line 3 is not valid YAML \(the key None is given twice, first on line 2\)"
+    ):
+        read_yaml(tree)
 
 
 def test_a_parse_kept_under_the_old_rules_is_not_reused(store):

@@ -5,7 +5,6 @@ fill tells a cylinder from a box."""
 
 from __future__ import annotations
 
-import os
 from collections.abc import Callable, Iterator
 from typing import Any
 
@@ -40,7 +39,6 @@ def _pybullet_stockings(kitchen_cfg, robot_cfg) -> Iterator[Callable[[list[Any],
 
 
 def _mujoco_stockings(kitchen_cfg, robot_cfg) -> Iterator[Callable[[list[Any], np.random.Generator], Any]]:
-    os.environ.setdefault("MUJOCO_GL", "egl")  # before mujoco is first imported (it reads it then)
     pytest.importorskip("mujoco")
     from scone_bt.world.mj_kitchen import MjKitchen
 

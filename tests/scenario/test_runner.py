@@ -108,28 +108,37 @@ def test_the_cli_and_the_pytest_plugin_give_each_case_the_same_verdict(
 def test_the_pytest_plugin_collects_scenarios_in_a_folder_named_on_the_command_line(
     tmp_path: Path, pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """``pytest runs/demo/`` (the tutorial's folder is not called scenarios/): its scenario files are collected,
-    a tree file beside them is not, and a file that does not parse is reported (one line), not skipped."""
+    """``pytest runs/demo/`` (the tutorial's folder is not called scenarios/): its scenario files are collected; a
+    tree file and another project's YAML (several documents, a custom tag) beside them are not, even in a test
+    folder; a scenario that does not parse is reported (one line), not skipped."""
     ran: list[str] = []
     _judged_by_name(monkeypatch, ran)
     demo = pytester.path / "runs" / "demo"
     demo.mkdir(parents=True)
     (demo / "passed.yaml").write_text(TINY, encoding="utf-8")
     (demo / "a-tree.yaml").write_text("root: {sequence: []}\n", encoding="utf-8")
+    (demo / "k8s.yaml").write_text("a: 1\n---\nexpect: 2\n", encoding="utf-8")
+    (demo / "cfn.yaml").write_text("description: x\nexpect: !Ref y\n", encoding="utf-8")
+    result = pytester.inline_run(str(demo), "-p", "no:cacheprovider", "--scenario-out", str(tmp_path))
+    assert len(result.getfailedcollections()) == 1  # cfn.yaml reads as a scenario: its error is reported
+    (demo / "cfn.yaml").unlink()
+    ran.clear()
     result = pytester.inline_run(str(demo), "-p", "no:cacheprovider", "--scenario-out", str(tmp_path))
     assert ran == ["passed"]
     result.assertoutcome(passed=1)
 
-    (demo / "broken.yaml").write_text("expect: [\n", encoding="utf-8")
+    (demo / "broken.yaml").write_text("description: d\nexpect: [\n", encoding="utf-8")
     ran.clear()
     result = pytester.inline_run(str(demo), "-p", "no:cacheprovider", "--scenario-out", str(tmp_path))
     assert len(result.getfailedcollections()) == 1  # pytest stops before running anything
-    assert "broken.yaml: line 2 is not valid YAML" in str(result.getfailedcollections()[0].longrepr)
+    assert "broken.yaml: line 3 is not valid YAML" in str(result.getfailedcollections()[0].longrepr)
 
-    # named itself, a file is collected wherever it lies; pytest's root alone collects nothing outside scenarios/
+    # named itself, a file is collected wherever it lies; pytest's root, a long -k and no argument collect nothing
+    # outside scenarios/
     ran.clear()
     pytester.inline_run(str(demo / "passed.yaml"), "-p", "no:cacheprovider", "--scenario-out", str(tmp_path))
     assert ran == ["passed"]
     ran.clear()
     pytester.inline_run(str(pytester.path), "-p", "no:cacheprovider", "--scenario-out", str(tmp_path))
+    pytester.inline_run("-k", "x" * 300, "-p", "no:cacheprovider", "--scenario-out", str(tmp_path))
     assert ran == []

@@ -418,18 +418,22 @@ def _offset_profiles(args: argparse.Namespace) -> tuple[list[Profile], dict[str,
     return profiles, base_profiles, offset
 
 
-def _check_pool(pool: Sequence[ObjectSpec], products: Sequence[str] | None, profiles: list[Profile]) -> None:
-    """Refuse a product pool smaller than a profile's products per execution, naming those that fit no tier, and
-    an injected failure for a material no product of the pool is made of (it would never fire)."""
-    materials = sorted({o.material for o in pool})
+def _check_injections(catalogue_pool: Sequence[ObjectSpec], profiles: list[Profile]) -> None:
+    """Refuse an injected failure for a material no product of the catalogue is made of: a misspelt one never
+    fires. (Against the whole catalogue, not --products: a run over dairy alone may keep the glass profile.)"""
+    materials = sorted({o.material for o in catalogue_pool})
     for profile in profiles:
         for k, injection in enumerate(profile.injected):
             for material in injection.materials:
                 if material not in materials:
                     raise ConfigError(
-                        f"{profile.source}: injected[{k}].materials: no product to draw is of material "
+                        f"{profile.source}: injected[{k}].materials: no product of the catalogue is of material "
                         f"{material!r}; valid: {', '.join(materials)}"
                     )
+
+
+def _check_pool(pool: Sequence[ObjectSpec], products: Sequence[str] | None, profiles: list[Profile]) -> None:
+    """Refuse a product pool smaller than a profile's products per execution, naming those that fit no tier."""
     most = max(p.objects_on_shelf for p in profiles)
     if len(pool) < most:
         drawn = {o.name for o in pool}
@@ -478,6 +482,7 @@ def _setup(args: argparse.Namespace) -> _Setup:
     profiles, base_profiles, offset = _offset_profiles(args)
     products = parse_products(args.products, kitchen_cfg.catalogue.names())
     pool = drawable_products(kitchen_cfg, products)
+    _check_injections(drawable_products(kitchen_cfg) if products else pool, profiles)
     _check_pool(pool, products, profiles)
     catalogues = tuple(str(c) for c in args.catalogue)
     asked = {

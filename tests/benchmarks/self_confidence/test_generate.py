@@ -128,7 +128,7 @@ def test_bad_inputs_are_one_line_errors_before_any_execution(tmp_path, capsys):
         (
             "materials: [glass]",
             "materials: [glas]",
-            "injected[0].materials: no product to draw is of material 'glas'; valid: aluminium, carton, foil, "
+            "injected[0].materials: no product of the catalogue is of material 'glas'; valid: aluminium, carton, foil, "
             "glass, metal, paper, plastic, produce",
         ),
         ("materials: [glass]", "shapes: [cylindre]", "'cylindre' is not a shape; valid: box, cylinder"),
@@ -145,6 +145,27 @@ def test_an_injected_failure_that_could_never_fire_is_refused(tmp_path, capsys, 
     err = _one_line_error(capsys, argv)
     assert "p08_transparent_blind.yaml" in err and message in err
     assert not (tmp_path / "o").exists() or not any((tmp_path / "o").glob("*.csv"))
+
+
+def test_a_product_subset_without_glass_keeps_the_glass_profile(tmp_path, capsys, monkeypatch):
+    """The materials are checked against the catalogue, not --products: a dairy-only run is not refused for it."""
+    from scone_bt.benchmarks.self_confidence import batch
+
+    def stop(*args: object, **kwargs: object) -> None:
+        raise batch.ConfigError("checked")
+
+    monkeypatch.setattr(batch, "generation_settings", stop)  # the step after the checks
+    argv = [
+        "sc",
+        "generate",
+        "--out",
+        str(tmp_path / "o"),
+        "--no-progress",
+        "--products",
+        "salt,sugar,rice,flour,pasta,butter,milk,brown sugar",
+    ]
+    argv += ["--profiles", "p08_transparent_blind"]
+    assert _one_line_error(capsys, argv) == "scone-bench: checked"
 
 
 @pytest.mark.parametrize("minutes", ["nan", "inf", "0", "-1"])
