@@ -4,6 +4,7 @@ recorder would otherwise load scipy for three rotations, a sixth of a second).""
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import TypeVar
 
 import numpy as np
@@ -23,7 +24,7 @@ def wrap_angle(angle: Angle, period: float = 2 * math.pi) -> Angle:
     return (angle + half) % period - half
 
 
-def quat_multiply(a: np.ndarray | tuple[float, ...], b: np.ndarray | tuple[float, ...]) -> np.ndarray:
+def quat_multiply(a: np.ndarray | Sequence[float], b: np.ndarray | Sequence[float]) -> np.ndarray:
     """The rotation ``a`` after ``b`` (Hamilton product a · b), quaternions (x, y, z, w)."""
     ax, ay, az, aw = (float(v) for v in a)
     bx, by, bz, bw = (float(v) for v in b)
@@ -37,13 +38,13 @@ def quat_multiply(a: np.ndarray | tuple[float, ...], b: np.ndarray | tuple[float
     )
 
 
-def quat_inverse(q: np.ndarray | tuple[float, ...]) -> np.ndarray:
+def quat_inverse(q: np.ndarray | Sequence[float]) -> np.ndarray:
     """The inverse rotation of a unit quaternion (x, y, z, w): its conjugate."""
     x, y, z, w = (float(v) for v in q)
     return np.array([-x, -y, -z, w])
 
 
-def quat_rotate(q: np.ndarray | tuple[float, ...], v: np.ndarray | tuple[float, ...]) -> np.ndarray:
+def quat_rotate(q: np.ndarray | Sequence[float], v: np.ndarray | Sequence[float]) -> np.ndarray:
     """Vector ``v`` (3,) turned by the unit quaternion ``q`` (x, y, z, w)."""
     u = np.array([float(c) for c in q[:3]])
     w = float(q[3])
