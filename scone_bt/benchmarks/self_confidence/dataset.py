@@ -293,7 +293,7 @@ def _float(text: str, path: Path, row: int, column: str) -> float:
     except ValueError:
         raise ConfigError(f"{path} row {row + 2}: {column} {text!r} is not a number") from None
     if not (math.isfinite(value) and value >= 0.0):
-        raise ConfigError(f"{path} row {row + 2}: {column} {text!r} must be a finite number ≥ 0 (or empty)")
+        raise ConfigError(f"{path} row {row + 2}: {column} {value:g} must be a finite number ≥ 0 (or empty)")
     return value
 
 

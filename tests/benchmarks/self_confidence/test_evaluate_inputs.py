@@ -92,7 +92,7 @@ def test_bad_datasets_give_one_line_errors(tmp_path):
         with pytest.raises(ConfigError) as info:
             load_datasets(tmp_path)
         assert str(info.value) == (
-            f"{tmp_path / 'x.csv'} row 2: {column} '{value}' must be a finite number ≥ 0 (or empty)"
+            f"{tmp_path / 'x.csv'} row 2: {column} {float(value):g} must be a finite number ≥ 0 (or empty)"
         )
 
 
