@@ -355,9 +355,14 @@ def configure_logging(level: str) -> None:
     os.environ.setdefault("RUST_LOG", _RUST_LOG[level])
 
 
-def _has_display() -> bool:
-    """Whether an X or Wayland display is there for a window."""
-    return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
+def _check_display(args: argparse.Namespace) -> None:
+    """--gui needs a display: without one PyBullet's GUI connect fails without a word and the process exits 1."""
+    display = os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
+    if args.gui and args.robot == "sim" and sys.platform.startswith("linux") and not display:
+        raise SconeError(
+            "--gui: no display to open PyBullet's window on (DISPLAY is not set); run without --gui and watch it "
+            "with --viewer, or record it with --save"
+        )
 
 
 def _experience(spec: str | None) -> Path | str | None:
@@ -502,12 +507,7 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
         from scone_bt.viz.connect import check_viewer_address
 
         check_viewer_address(args.connect)
-    if args.gui and args.robot == "sim" and sys.platform.startswith("linux") and not _has_display():
-        # PyBullet's GUI connect fails without a word and the process exits 1
-        raise SconeError(
-            "--gui: no display to open PyBullet's window on (DISPLAY is not set); run without --gui and watch it "
-            "with --viewer, or record it with --save"
-        )
+    _check_display(args)
     load_tree_spec(args.tree)  # validated now (types and ranges), before the kitchen is built
     # Options not given on the command line come from the tree file's parameters (one source of defaults).
     behaviour = BehaviourOptions(

@@ -272,7 +272,9 @@ def test_the_report_is_out_before_the_figure_and_a_figure_replaces_only_a_figure
     def broken(report: object, path: Path) -> None:
         raise RuntimeError("cannot draw")
 
-    argv = ["gate", "--no-replay", "--json", str(tmp_path / "g.json"), "--plot", str(tmp_path / "g.png")]
+    folder = _tiny_datasets(tmp_path / "data")
+    argv = ["gate", "--datasets", str(folder), "--embedder", "onehot", "--warmup", "3", "--no-sweep"]
+    argv += ["--json", str(tmp_path / "g.json"), "--plot", str(tmp_path / "g.png")]
     monkeypatch.setattr(gate, "_plot", broken)
     monkeypatch.delenv("SCONE_BT_DEBUG", raising=False)
     assert main(argv) == 1  # a program error, one line
@@ -285,7 +287,7 @@ def test_the_report_is_out_before_the_figure_and_a_figure_replaces_only_a_figure
     report = {"methods": {}, "budget_promise": {}}
     gate._plot(report, old)  # an empty figure is still a figure
     assert "<svg" in old.read_text() and (old.stat().st_mode & 0o777) == 0o640
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["g.json", "old.svg"]  # no temporary left
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["data", "g.json", "old.svg"]  # no temporary left
 
 
 def test_prior_teaches_the_same_robot_first_and_reports_the_gap(tmp_path: Path, capsys) -> None:
