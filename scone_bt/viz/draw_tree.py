@@ -52,7 +52,7 @@ class TreeDrawer:
         shape = tuple(n.node_id for n in nodes)
         if shape != self._shape:
             self._log_shape(nodes, shape)
-        changed = False
+        changed = status_changed = False
         for node in nodes:
             state = (node.status, node.feedback)
             previous = self._state.get(node.node_id)
@@ -60,10 +60,14 @@ class TreeDrawer:
                 continue
             changed = True
             if previous is None or previous[0] != node.status:
+                status_changed = True
                 self._sinks.rec.log(f"{P.TREE_STATUS}/{node.node_id}", rr.StateChange(state=[node.status]))
             self._state[node.node_id] = state
+        # The graph shows statuses only: a feedback message (most ticks' change) redraws the text alone.
+        if status_changed:
+            self._log_graph(nodes)
         if changed:
-            self._log_views(nodes)
+            self._sinks.rec.log(P.TREE_TEXT, rr.TextDocument(tree_text(nodes)))
 
     def _log_shape(self, nodes: list[TreeNode], shape: tuple[str, ...]) -> None:
         """A new tree: its edges, its layout, and each node's status colours (static)."""
@@ -79,7 +83,7 @@ class TreeDrawer:
                 static=True,
             )
 
-    def _log_views(self, nodes: list[TreeNode]) -> None:
+    def _log_graph(self, nodes: list[TreeNode]) -> None:
         self._sinks.rec.log(
             P.TREE_GRAPH,
             rr.GraphNodes(
@@ -90,4 +94,3 @@ class TreeDrawer:
                 radii=[10.0 if n.is_leaf else 14.0 for n in nodes],
             ),
         )
-        self._sinks.rec.log(P.TREE_TEXT, rr.TextDocument(tree_text(nodes)))

@@ -125,7 +125,7 @@ class Recorder:
         if self._closed:
             raise ConfigError("Recorder is closed; create a new one to log more ticks")
         self._sinks.set_time(snap.tick, snap.sim_time)
-        self._timeline.log_sim_time(snap.sim_time)
+        self._timeline.log_sim_time(snap.tick, snap.sim_time)
         if snap.link_poses:
             self._arm.log_links(snap.link_poses)
         if snap.object_poses:
@@ -159,6 +159,8 @@ class Recorder:
         the data in time is dropped (one warning line) and the recording goes on without it. A file-only
         recording waits until written.
         """
+        self._poses.flush()
+        self._timeline.flush()
         return self._sinks.flush(timeout_s)
 
     def close(self, complete: bool = True) -> None:
@@ -172,6 +174,8 @@ class Recorder:
             return
         self._closed = True
         self._arm.log_trace()  # at the last tick's time
+        self._poses.flush()
+        self._timeline.flush()
         self._sinks.close(complete)
 
     def __enter__(self) -> Recorder:
