@@ -366,14 +366,11 @@ def _check_display(args: argparse.Namespace) -> None:
 
 
 def _experience(spec: str | None) -> Path | str | None:
-    """A PostgreSQL URL stays a string; a URL of another scheme is refused; anything else is an SQLite file path."""
-    from scone_bt.experience import is_postgres_url
-    from scone_bt.experience.open import check_store_spec
+    """A PostgreSQL URL stays a string; a URL of another scheme is refused; anything else is an SQLite file path
+    (`experience.open.store_location`)."""
+    from scone_bt.experience.open import store_location
 
-    if spec is None or is_postgres_url(spec):
-        return spec
-    check_store_spec(spec)
-    return Path(spec)
+    return None if spec is None else store_location(spec)
 
 
 def _run_inputs(args: argparse.Namespace) -> dict[str, list[Path]]:

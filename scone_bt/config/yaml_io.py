@@ -33,12 +33,15 @@ def _strict(base: type) -> type:
     """``base`` (PyYAML's SafeLoader or its libyaml twin) refusing a repeated key and reading 1e-5 as a float."""
 
     class Loader(base):
+        def __init__(self, stream: Any) -> None:
+            super().__init__(stream)
+            self._checked: set[int] = set()  # the mappings whose keys were checked, by node id
+
         def flatten_mapping(self, node: Any) -> None:
             # Checked once per mapping, before its merge keys (<<) are folded into it: a merged anchor's keys may
             # repeat its own, and PyYAML folds a mapping in place, perhaps before it is constructed.
-            checked = self.__dict__.setdefault("_checked_mappings", set())
-            if id(node) not in checked:
-                checked.add(id(node))
+            if id(node) not in self._checked:
+                self._checked.add(id(node))
                 first: dict[Any, int] = {}
                 for key_node, _ in node.value:
                     if not isinstance(key_node, yaml.ScalarNode) or key_node.tag == "tag:yaml.org,2002:merge":

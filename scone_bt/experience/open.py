@@ -12,7 +12,7 @@ from scone_bt.experience.base import OutcomeStore
 from scone_bt.experience.postgres import PostgresExperienceStore, is_postgres_url
 from scone_bt.experience.store import ExperienceStore
 
-__all__ = ["open_store", "count_stored", "check_store_spec"]
+__all__ = ["open_store", "count_stored", "check_store_spec", "store_location"]
 
 _CHUNK = 500  # ids per query: under SQLite's default limit of bound parameters
 
@@ -32,6 +32,15 @@ def check_store_spec(spec: str | Path) -> None:
             f"experience store {spec!r}: unknown URL scheme {scheme.group(1)!r}; valid: postgresql://… or "
             "postgres://… (PostgreSQL), or a file path (SQLite)"
         )
+
+
+def store_location(spec: str) -> Path | str:
+    """What a user's ``--experience`` names: a PostgreSQL URL as given, an SQLite file's path, or
+    ExperienceStoreError for a URL of another scheme (`check_store_spec`)."""
+    if is_postgres_url(spec):
+        return spec
+    check_store_spec(spec)
+    return Path(spec)
 
 
 def open_store(spec: str | Path) -> OutcomeStore:

@@ -507,12 +507,9 @@ def _session(args: argparse.Namespace) -> int:
     checks.check_output_file(args.db, "--db")
     _check_host(args.host, args.token)
     if args.experience is not None:
-        from scone_bt.experience import is_postgres_url
-        from scone_bt.experience.open import check_store_spec
+        from scone_bt.experience.open import store_location
 
-        check_store_spec(args.experience)
-        if not is_postgres_url(args.experience):
-            args.experience = Path(args.experience)
+        args.experience = store_location(args.experience)
     if isinstance(args.experience, Path):
         # The study log and the robot's store are two databases: one file cannot be both.
         checks.check_output_file(

@@ -8,11 +8,11 @@ from collections.abc import Mapping, Sequence
 import rerun as rr
 
 from scone_bt.viz import paths as P
-from scone_bt.viz.pose_batch import TickBatch
 from scone_bt.viz.render import recipe_markdown
 from scone_bt.viz.series import NamedSeries
 from scone_bt.viz.sinks import Sinks
 from scone_bt.viz.snapshot import RecipeView
+from scone_bt.viz.tick_rows import TickRows
 
 __all__ = ["TimelineDrawer"]
 
@@ -25,33 +25,21 @@ class TimelineDrawer:
         self._counters: dict[str, int] = {}
         self._counter_series = NamedSeries(sinks, P.COUNTERS, step=True)
         self._recipe: RecipeView | None = None
-        self._times: list[tuple[int, float]] = []
-        self._batch = TickBatch()
+        self._times: TickRows[float] = TickRows(
+            sinks, P.EPISODE_SIM_TIME, lambda times: rr.Scalars.columns(scalars=times)
+        )
 
     def log_static(self) -> None:
         """The simulated-time series' name (static)."""
         self._sinks.rec.log(P.EPISODE_SIM_TIME, rr.SeriesLines(names=["simulated time (s)"]), static=True)
 
     def log_sim_time(self, tick: int, sim_time: float) -> None:
-        """Simulated time at this tick, kept and sent in batches (pose_batch.TickBatch: one call per batch)."""
-        self._times.append((int(tick), float(sim_time)))
-        if self._batch.kept():
-            self.flush()
+        """Simulated time at this tick, sent in batches (viz.tick_rows: one call per batch)."""
+        self._times.keep(tick, sim_time, [float(sim_time)])
 
     def flush(self) -> None:
         """Send the kept simulated times now (the recorder's flush and close call it)."""
-        self._batch.reset()
-        if not self._times:
-            return
-        times, self._times = self._times, []
-        self._sinks.rec.send_columns(
-            P.EPISODE_SIM_TIME,
-            indexes=[
-                rr.TimeColumn(P.TICK, sequence=[t for t, _ in times]),
-                rr.TimeColumn(P.SIM_TIME, duration=[s for _, s in times]),
-            ],
-            columns=rr.Scalars.columns(scalars=[s for _, s in times]),
-        )
+        self._times.flush()
 
     def log_counters(self, counters: Mapping[str, int]) -> None:
         for name, value in counters.items():

@@ -313,7 +313,7 @@ def test_moved_bodies_and_sim_time_go_out_in_batches_with_each_rows_own_tick(mon
     every row keeps the tick and simulated time it was logged at."""
     from types import SimpleNamespace
 
-    from scone_bt.viz import pose_batch
+    from scone_bt.viz import pose_batch, tick_rows
     from scone_bt.viz.draw_timeline import TimelineDrawer
 
     sent: list[tuple[str, list[int]]] = []
@@ -323,21 +323,21 @@ def test_moved_bodies_and_sim_time_go_out_in_batches_with_each_rows_own_tick(mon
         sent.append((str(path), ticks))
 
     sinks = SimpleNamespace(rec=SimpleNamespace(send_columns=send_columns))
-    monkeypatch.setattr(pose_batch.time, "monotonic", lambda: 0.0)  # no wall time passes: batches by ticks
+    monkeypatch.setattr(tick_rows.time, "monotonic", lambda: 0.0)  # no wall time passes: batches by ticks
     poses = pose_batch.PoseBatch(sinks)  # type: ignore[arg-type]
     timeline = TimelineDrawer(sinks)  # type: ignore[arg-type]
     pose = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
-    for tick in range(pose_batch.BATCH_TICKS + 3):
+    for tick in range(tick_rows.BATCH_TICKS + 3):
         poses.add("tf#/a", pose)
         poses.add("tf#/b", pose)
         poses.send(tick, tick * 0.1)
         timeline.log_sim_time(tick, tick * 0.1)
-    first = list(range(pose_batch.BATCH_TICKS))
+    first = list(range(tick_rows.BATCH_TICKS))
     assert sent == [("world/poses", [t for t in first for _ in (0, 1)]), ("episode/sim_time", first)]
     poses.send(99, 9.9)  # nothing moved: nothing kept
     poses.flush()
     timeline.flush()
-    rest = list(range(pose_batch.BATCH_TICKS, pose_batch.BATCH_TICKS + 3))
+    rest = list(range(tick_rows.BATCH_TICKS, tick_rows.BATCH_TICKS + 3))
     assert sent[2:] == [("world/poses", [t for t in rest for _ in (0, 1)]), ("episode/sim_time", rest)]
     poses.flush()  # nothing left: nothing sent
     assert len(sent) == 4

@@ -304,8 +304,9 @@ PROBE_COLUMNS = ("probe_held", "probe_load_n", "probe_load_first_n", "probe_grip
 
 def _check_probe(context: dict[str, np.ndarray], rows: Sequence[int], path: Path) -> None:
     """ConfigError (one line: file, row, column, valid values) for a malformed probe reading: ``probe_held`` 0 or
-    1, the others finite and ≥ 0 (newtons, seconds), and every probe column given or none (the arm never held it
-    up). What the replay makes the felt context of (experience.felt) is checked here, where the file is known."""
+    1, and every probe column given or none (the arm never held it up); that each is finite and ≥ 0 (newtons,
+    seconds) `_float` checked as it read the cell. What the replay makes the felt context of (experience.felt) is
+    checked here, where the file is known."""
     if not any(c in context for c in PROBE_COLUMNS):
         return
     nan = np.full(len(rows), np.nan)
@@ -320,8 +321,6 @@ def _check_probe(context: dict[str, np.ndarray], rows: Sequence[int], path: Path
                 raise ConfigError(
                     f"{where}: {column} must be given exactly where probe_held is (every probe column, or none)"
                 )
-            if not np.isnan(v) and not (math.isfinite(v) and v >= 0.0):
-                raise ConfigError(f"{where}: {column} {v:g} must be a finite number ≥ 0 (or empty)")
 
 
 def _int(text: str, path: Path, row: int, column: str) -> int:
