@@ -60,11 +60,11 @@ class Embedder(ABC):
         return np.stack([found[t] for t in texts])
 
     def embed_uncached(self, texts: Sequence[str]) -> np.ndarray:
-        """Unit vectors for distinct `texts` encoded now, in one pass in the given order, bypassing the cache.
+        """Unit vectors for distinct `texts` encoded now, in the given order, bypassing the cache.
 
-        For training. A backend's low bits depend on how texts were batched (padding changes the summation), so
-        vectors a cache collected over earlier calls can differ from one fresh pass by ~1e-7, and a training
-        run amplifies that into a different model. The same texts in the same order give the same bits.
+        For training: a backend whose low bits depend on how texts were batched would give a training run
+        vectors that depend on what a cache had collected before; here the same texts in the same order give the
+        same bits. (The sentence-transformers backend gives each text the bits it gets alone in any batch.)
         """
         texts = [texts] if isinstance(texts, str) else list(texts)
         if len(set(texts)) != len(texts):

@@ -29,11 +29,16 @@ __all__ = [
     "is_sentence_transformer_dir",
     "model_fingerprint",
     "numpy_runtime",
+    "same_length_batches",
     "RUNTIME_ENV",
+    "VECTOR_FORM",
 ]
 
 _MODELS: dict[str, object] = {}  # loaded once per process, shared by every embedder of the same directory
 _LOCK = threading.Lock()
+VECTOR_FORM = "alone"
+"""Part of the cache key: how a vector's bits were made. Vectors cached before `same_length_batches` (no suffix)
+came from padded batches, and their low bits depended on their neighbours: they are not read."""
 RUNTIME_ENV = "SCONE_BT_EMBED_RUNTIME"
 """``torch``: run every model in sentence-transformers, even one `bert_numpy` computes."""
 
@@ -119,6 +124,25 @@ def numpy_runtime(path: Path) -> bool:
     return os.environ.get(RUNTIME_ENV, "").strip().lower() != "torch" and supports(path)
 
 
+def same_length_batches(token_counts: Sequence[int], batch_size: int) -> list[list[int]]:
+    """Row indices in forward passes of at most ``batch_size`` texts that all have the same token count.
+
+    A text's vector must not depend on what it was batched with: padding to a longer neighbour changes the
+    summation order of the attention and leaves its low bits ~1e-7 off, so the same seeded run gave different
+    vectors depending on what an embedding cache had seen before (and the ε-greedy draw, a hash of the vector,
+    went another way). Rows of equal length need no padding and get the bits they get alone (tested).
+    Longest texts first, as sentence-transformers orders them.
+    """
+    groups: dict[int, list[int]] = {}
+    for i, n in enumerate(token_counts):
+        groups.setdefault(int(n), []).append(i)
+    return [
+        rows[start : start + batch_size]
+        for _, rows in sorted(groups.items(), reverse=True)
+        for start in range(0, len(rows), batch_size)
+    ]
+
+
 class SentenceTransformerEmbedder(Embedder):
     """A sentence-transformers model from a local directory; vectors are the model's pooled, normalised output.
 
@@ -141,7 +165,8 @@ class SentenceTransformerEmbedder(Embedder):
         dim = declared_dim(model_dir)
         if dim is None:  # the layout does not say: load now and measure
             dim = int(self._raw_encode(["probe"]).shape[1])
-        super().__init__(name, dim, f"{name}@{model_fingerprint(model_dir)}", cache_file)
+        key = f"{name}@{model_fingerprint(model_dir)}/{VECTOR_FORM}"
+        super().__init__(name, dim, key, cache_file)
 
     @property
     def model(self) -> Any:
@@ -151,22 +176,40 @@ class SentenceTransformerEmbedder(Embedder):
         return self._model
 
     def _raw_encode(self, texts: Sequence[str]) -> np.ndarray:
+        """Vectors of ``texts`` in input order, each the bits it gets alone (`same_length_batches`)."""
+        from scone_bt.embedding.bert_numpy import NumpyBert
+
+        model = self.model
+        batches = same_length_batches(self._token_counts(texts), self.batch_size)
+        if isinstance(model, NumpyBert):
+            from threadpoolctl import threadpool_limits
+
+            # BLAS threads as torch's (`encode_threads`): on a busy 2-core machine two threads made a batch ~10x
+            # slower than one (each waits for the other's core).
+            with threadpool_limits(limits=encode_threads(), user_api="blas"):
+                parts = [(rows, model.encode([texts[i] for i in rows])) for rows in batches]
+        else:
+            parts = [(rows, self._torch_encode([texts[i] for i in rows])) for rows in batches]
+        # The length comes from the model: `__init__` measures it here when the directory does not declare it.
+        out = np.zeros(
+            (len(texts), parts[0][1].shape[1] if parts else getattr(self, "dim", 0)), dtype=np.float32
+        )
+        for rows, vectors in parts:
+            out[rows] = vectors
+        return out
+
+    def _token_counts(self, texts: Sequence[str]) -> list[int]:
+        """Tokens of each text as the model sees it (special tokens included, after truncation)."""
         from scone_bt.embedding.bert_numpy import NumpyBert
 
         model = self.model
         if isinstance(model, NumpyBert):
-            from threadpoolctl import threadpool_limits
+            return model.token_counts(texts)
+        # `preprocess` is sentence-transformers 5's name for `tokenize` (deprecated there, with a warning).
+        features = (model.preprocess if hasattr(model, "preprocess") else model.tokenize)(list(texts))
+        return [int(n) for n in features["attention_mask"].sum(dim=1).tolist()]
 
-            # Batches of similar lengths pad little (as sentence-transformers batches); rows back in input order.
-            order = sorted(range(len(texts)), key=lambda i: -len(texts[i]))
-            out = np.zeros((len(texts), model.dim), dtype=np.float32)
-            # BLAS threads as torch's (`encode_threads`): on a busy 2-core machine two threads made a batch ~10x
-            # slower than one (each waits for the other's core).
-            with threadpool_limits(limits=encode_threads(), user_api="blas"):
-                for start in range(0, len(order), self.batch_size):
-                    rows = order[start : start + self.batch_size]
-                    out[rows] = model.encode([texts[i] for i in rows])
-            return out
+    def _torch_encode(self, texts: Sequence[str]) -> np.ndarray:
         import torch
 
         before = torch.get_num_threads()
