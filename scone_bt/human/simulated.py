@@ -13,9 +13,13 @@ request, so the time the robot waits on the human never counts. A clean-up of an
 becomes that help request (the item is brought at the robot's request, not counted as an intervention). Fetching
 takes ``fetch_time_s`` of simulated time. When the table has no room for a fetched product, the human makes room
 first: they put away, one by one (earliest step first), the products on the table that the current and later steps
-no longer need (`put_away_products`), as a cook clears what they have used. A product the robot asked for that
-still does not fit is declined ("no room on the table", a `HelpDeclined` event): the robot stops asking for it, and
-the human brings it once its step needs it (the robot idle for ``patience_s``), clearing that step's predecessors.
+no longer need (`put_away_products`), as a cook clears what they have used. A product the step in hand needs that
+still does not fit makes the human set aside, onto the counter, products only later steps need, the latest-needed
+first (`set_aside_products`; a robot working ahead can fill the table with them), and bring each back when its step
+comes: neither help nor an intervention. A product of the step in hand that fits nowhere even then (the step needs
+more than the table holds) is used straight from the human's hands (`used_in_hand`). A product the robot asked for
+that no step in hand needs and that does not fit is declined ("no room on the table", a `HelpDeclined` event): the
+robot stops asking for it, and the human brings it once its step needs it (the robot idle for ``patience_s``).
 
 When the robot asks which item a step means (ASK-CLARIFY), the human names the candidates its current step
 needs, else those the next step that needs any of them needs, else none ("none of those"); answering takes
@@ -89,10 +93,12 @@ class HumanOptions:
 
 
 class FetchReason(Enum):
-    """Why the human fetches an object: the robot asked (HELP), or on their own (INTERVENTION)."""
+    """Why the human fetches an object: the robot asked (HELP), on their own (INTERVENTION), or it is one they set
+    aside themselves to make room and its step has come (SET_ASIDE: the robot's record is not touched)."""
 
     HELP = "help"
     INTERVENTION = "intervention"
+    SET_ASIDE = "set aside"
 
 
 @dataclass
@@ -132,6 +138,13 @@ class SimulatedHuman:
         self._declined: list[Event] = []  # answers to requests, reported with the next update()
         self._declined_objects: set[str] = set()
         self.put_away_products: list[str] = []  # used products taken off the table to make room, in order
+        self.set_aside_products: list[
+            str
+        ] = []  # products of later steps set aside for the step in hand, in order
+        self._aside: set[str] = set()  # set aside and not yet brought back
+        self.used_in_hand: set[str] = (
+            set()
+        )  # brought for the step in hand but used without a place on the table
         self.events: list[Event] = []
 
     # -------------------------------------------------------------------------------------------- state
@@ -245,7 +258,28 @@ class SimulatedHuman:
             self.put_away_products.append(used)
             if self.kitchen.place_on_table(name):
                 return True
+        if self.done or name not in self.recipe.steps[self.step_index].objects:
+            return False
+        # The step in hand cannot wait for room: a table full of what later steps need (a robot working ahead
+        # filled it) left the human waiting for ever on a product it could not put down.
+        for later in self._needed_later_on_table():
+            self.kitchen.put_away(later)
+            self.set_aside_products.append(later)
+            self._aside.add(later)
+            if self.kitchen.place_on_table(name):
+                return True
         return False
+
+    def _needed_later_on_table(self) -> list[str]:
+        """Products on the table that only steps after the current one need, the one needed latest first."""
+        steps = self.recipe.steps
+        now = set(steps[self.step_index].objects)
+        first_need: dict[str, int] = {}
+        for i in range(self.step_index + 1, len(steps)):
+            for o in steps[i].objects:
+                first_need.setdefault(o, i)
+        later = [o for o in first_need if o not in now and self.kitchen.is_on_table(o)]
+        return sorted(later, key=lambda o: -first_need[o])
 
     def _used_on_table(self) -> list[str]:
         """Products on the table that only steps before the current one needed, earliest step first."""
@@ -264,7 +298,20 @@ class SimulatedHuman:
                 self._fetches.remove(fetch)
                 if self.kitchen.is_on_table(fetch.object_name):
                     continue
-                if self._place_on_table(fetch.object_name):
+                placed = self._place_on_table(fetch.object_name)
+                if (
+                    not placed
+                    and not self.done
+                    and fetch.object_name in self.recipe.steps[self.step_index].objects
+                ):
+                    # The step needs more than the table holds: the cook uses it from their hands.
+                    self.kitchen.put_away(fetch.object_name)
+                    self.used_in_hand.add(fetch.object_name)
+                    placed = True
+                if placed:
+                    self._aside.discard(fetch.object_name)
+                    if fetch.kind is FetchReason.SET_ASIDE:
+                        continue  # the human's own doing: no help, no intervention
                     if fetch.kind is FetchReason.HELP:
                         self.help_given += 1
                         new.append(HelpGiven(now, fetch.object_name, "fetched by the human"))
@@ -281,7 +328,7 @@ class SimulatedHuman:
             self.events += new
             return new
         step = self.recipe.steps[self.step_index]
-        missing = [o for o in step.objects if not self.kitchen.is_on_table(o)]
+        missing = [o for o in step.objects if not self.kitchen.is_on_table(o) and o not in self.used_in_hand]
         if self._cooking_until is not None:
             if now >= self._cooking_until:
                 self.step_done[self.step_index] = True
@@ -293,6 +340,12 @@ class SimulatedHuman:
             self._cooking_until = now + self.options.cook_time_s
         else:
             for name in missing:
+                if name in self._aside:
+                    if not self.is_fetching(name):
+                        self._fetches.append(
+                            _Fetch(name, now + self.options.fetch_time_s, FetchReason.SET_ASIDE)
+                        )
+                    continue
                 dropped = not self.kitchen.is_on_shelf(name) and not self.kitchen.touches_robot(name)
                 waited = self._robot_busy_since is None and now - self._idle_since >= self.options.patience_s
                 if (dropped or waited) and not self.is_fetching(name):

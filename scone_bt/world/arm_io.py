@@ -53,7 +53,7 @@ class ArmIO:
 
     def __init__(self, kitchen: BulletParts) -> None:
         self.kitchen = kitchen
-        self._product_bodies: tuple[int, ...] = ()
+        self._products: tuple[tuple[str, int], ...] = ()
         self._product_names: dict[int, str] = {}  # body id → product name (`products_touched`)
         bc = kitchen.bc
         rid = kitchen.robot_id
@@ -216,10 +216,13 @@ class ArmIO:
         or with such a product (one product pushed into the next, up to `PUSH_CHAIN` deep)."""
         k = self.kitchen
         bc = k.bc
-        bodies = tuple(k.objects.values())
-        if bodies != self._product_bodies:  # products spawned (or restocked) since: the body → name map anew
-            self._product_bodies = bodies
-            self._product_names = {b: n for n, b in k.objects.items()}
+        products = tuple(k.objects.items())
+        # Keyed by names and ids: a restocked kitchen hands its new products the old ids (`clear_products`), and a
+        # map keyed by ids alone named the last execution's products (the generator then asked the kitchen about
+        # a product it no longer held: UnknownNameError).
+        if products != self._products:  # products spawned (or restocked) since: the body → name map anew
+            self._products = products
+            self._product_names = {b: n for n, b in products}
         names = self._product_names
         held_body = None if held is None else k.objects.get(held)
         sources = [k.robot_id] if held_body is None else [k.robot_id, held_body]

@@ -112,3 +112,61 @@ def test_a_product_that_fits_nowhere_is_declined_so_the_robot_stops_asking(kitch
     assert declined.object_name == "chicken" and "no room" in declined.detail
     assert human.declined("chicken") and not human.put_away_products and human.step_index == 0
     assert not kitchen.is_on_table("chicken") and human.help_given == 0 and human.help_declined == 1
+
+
+def _ragu(kitchen, kitchen_cfg, rng):
+    """Ragu Napoletano: its first step needs 9 products, the pork tenderloin 18 cm wide and the eggs 9.4 cm."""
+    recipe = stock_recipe(load_recipe("pdr:ragu-napoletano"), kitchen_cfg.catalogue)
+    kitchen.spawn([kitchen_cfg.catalogue.get(n) for n in recipe.needed], rng)
+    first = recipe.steps[0].objects
+    later = [o for s in recipe.steps[1:] for o in s.objects if o not in first]
+    return recipe, first, later
+
+
+def _run(kitchen, human, seconds):
+    events = []
+    for _ in range(int(seconds / 0.1)):
+        kitchen.advance(0.1)
+        events += human.update()
+    return events
+
+
+def test_what_later_steps_need_is_set_aside_for_the_step_in_hand_and_brought_back(kitchen, kitchen_cfg, rng):
+    # The soak's episode 20 that never ended: a robot working ahead had filled the table with what steps 2-9
+    # need, the beef of step 1 found no room, and the human waited for it to the tick limit.
+    recipe, first, later = _ragu(kitchen, kitchen_cfg, rng)
+    for name in later:
+        assert kitchen.place_on_table(name)
+    human = SimulatedHuman(kitchen, recipe, HumanOptions(fetch_time_s=0.5, cook_time_s=0.1, patience_s=1e9))
+    for name in first:
+        human.request_help(name)
+    _run(kitchen, human, 5.0)
+    assert human.set_aside_products and set(human.set_aside_products) <= set(later)
+    assert human.step_index > 0 and human.help_declined == 0
+    # The steps that need what was set aside come, and the human brings it back: no help, no intervention.
+    _run(kitchen, human, 20.0)
+    assert human.done and human.interventions == 0 and human.help_given == len(first)
+
+
+def test_a_step_that_needs_more_than_the_table_holds_is_cooked_from_the_hands(kitchen, kitchen_cfg, rng):
+    # The robot's placements leave gaps the human cannot use: the first step's products but the beef (20 x 14 cm)
+    # and a product of no step (which the human never clears) stand spread over the table, a 3 x 3 grid with no
+    # gap the beef fits.
+    recipe = stock_recipe(load_recipe("pdr:ragu-napoletano"), kitchen_cfg.catalogue)
+    assert "salt" not in recipe.needed
+    kitchen.spawn([kitchen_cfg.catalogue.get(n) for n in (*recipe.needed, "salt")], rng)
+    (cx, cy, _), (sx, sy, _) = kitchen_cfg.scene.table
+    grid = [(cx + i * sx / 3, cy + j * sy / 3) for i in (-1, 0, 1) for j in (-1, 0, 1)]
+    others = [o for o in recipe.steps[0].objects if o != "beef"] + ["salt"]
+    for name, (x, y) in zip(others, grid, strict=True):
+        kitchen.place_object(name, (x, y, kitchen_cfg.scene.table_top_z))
+    assert all(kitchen.is_on_table(o) for o in others)
+    assert kitchen.free_place_spot(kitchen_cfg.catalogue.get("beef")) is None
+    human = SimulatedHuman(kitchen, recipe, HumanOptions(fetch_time_s=0.5, cook_time_s=0.1, patience_s=1e9))
+    human.request_help("beef")
+    events = _run(kitchen, human, 5.0)
+    assert (
+        human.used_in_hand == {"beef"} and not kitchen.is_on_table("beef") and not kitchen.is_on_shelf("beef")
+    )
+    assert human.step_index > 0 and human.help_given == 1 and human.help_declined == 0
+    assert [e.object_name for e in events if isinstance(e, HelpGiven)] == ["beef"]

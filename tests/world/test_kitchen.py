@@ -113,3 +113,22 @@ def test_products_at_a_spot_are_those_standing_on_the_table_within_the_margin(ki
     assert [o.name for o in kitchen.products_at(spot, 0.001)] == ["sugar"]  # honey keeps 3 mm
     kitchen.park_object("sugar")  # taken away: the spot is free of it
     assert [o.name for o in kitchen.products_at(spot, 0.001)] == []
+
+
+def test_products_touched_names_a_restocked_kitchens_products_not_the_last_ones(kitchen, kitchen_cfg, rng):
+    """The generator restocks one kitchen per worker and the new products get the old body ids: the same ids
+    named the previous execution's products, and asking the kitchen about one raised UnknownNameError."""
+    state = kitchen.bc.saveState()
+    (cx, cy, cz), (_, _, sz) = kitchen_cfg.scene.table
+    top = cz + sz / 2
+    for pair in (("salt", "sugar"), ("honey", "ketchup")):
+        kitchen.clear_products(state)
+        kitchen.spawn([kitchen_cfg.catalogue.get(n) for n in pair], rng)
+        first, second = pair
+        kitchen.place_object(first, (cx, cy, top))
+        kitchen.place_object(
+            second,
+            (cx + kitchen.specs[first].grasp_width / 2 + kitchen.specs[second].grasp_width / 2, cy, top),
+        )
+        kitchen.advance(0.3)
+        assert kitchen.products_touched(first) == frozenset({second})
