@@ -12,7 +12,23 @@ __all__ = ["DefaultsHelpFormatter", "OneLineArgumentParser"]
 class OneLineArgumentParser(argparse.ArgumentParser):
     """An ArgumentParser whose usage errors ("invalid int value", a missing required option) are one line, like
     every other bad input: argparse's own prints the whole usage block first (9 to 23 lines). Its subcommands'
-    parsers are of this class too (argparse makes them of the parent's class)."""
+    parsers are of this class too (argparse makes them of the parent's class).
+
+    Parsing a command line also checks the environment variables the code reads (`environment.check_environment`):
+    a bad one is the same one line, before the command does any work.
+    """
+
+    # Untyped: argparse's parse_args is overloaded, and this override keeps its signature.
+    def parse_args(self, args=None, namespace=None):
+        parsed = super().parse_args(args, namespace)
+        from scone_bt.environment import check_environment
+        from scone_bt.errors import SconeError
+
+        try:
+            check_environment()
+        except SconeError as exc:
+            self.exit(2, f"{self.prog}: {exc}\n")
+        return parsed
 
     def error(self, message: str) -> NoReturn:
         self.exit(2, f"{self.prog}: error: {message} (--help lists the options)\n")

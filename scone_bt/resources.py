@@ -6,6 +6,7 @@ import os
 from pathlib import Path
 from typing import Literal
 
+from scone_bt.environment import folder_variable, switch_on
 from scone_bt.errors import ConfigError, UnknownNameError
 
 __all__ = [
@@ -31,15 +32,18 @@ def repo_root() -> Path | None:
 def default_cache_dir() -> Path:
     """Where caches live (embeddings, models, rendered backgrounds): $SCONE_BT_CACHE, else
     $XDG_CACHE_HOME/scone_bt, else ~/.cache/scone_bt."""
-    if env := os.environ.get("SCONE_BT_CACHE"):
-        return Path(env)
+    # Not checked here: a cache that cannot be written is skipped, never a failure. A command refuses a bad
+    # $SCONE_BT_CACHE as it starts (`environment.check_environment`).
+    if env := os.environ.get("SCONE_BT_CACHE", "").strip():
+        return Path(env).expanduser()
     base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
     return Path(base) / "scone_bt"
 
 
 def cache_switched_off(variable: str) -> bool:
-    """True when the environment variable that governs one disk cache says 0 (or false, no, off)."""
-    return os.environ.get(variable, "1").strip().lower() in ("0", "false", "no", "off")
+    """True when the environment variable that governs one disk cache says 0 (or false, no, off; any other value
+    but the ``on`` ones is a ConfigError: `environment.switch_on`)."""
+    return not switch_on(variable)
 
 
 def data_dir(kind: DataKind) -> Path:
@@ -48,8 +52,8 @@ def data_dir(kind: DataKind) -> Path:
     Order: $SCONE_BT_DATA/<kind>, the checkout's top-level folder, the copy inside the wheel.
     """
     candidates = []
-    if env := os.environ.get("SCONE_BT_DATA"):
-        candidates.append(Path(env) / kind)
+    if (env := folder_variable("SCONE_BT_DATA")) is not None:
+        candidates.append(env / kind)
     if (root := repo_root()) is not None:
         candidates.append(root / kind)
     candidates.append(_PACKAGE / "_data" / kind)
@@ -107,7 +111,7 @@ def resolve_file(
 def shared_dir() -> Path | None:
     """The workplace's shared/ folder beside the checkout (holds the recipe corpus), if present."""
     for candidate in (
-        Path(os.environ["SCONE_BT_SHARED"]) if "SCONE_BT_SHARED" in os.environ else None,
+        folder_variable("SCONE_BT_SHARED"),  # set, it must be a folder: no silent fall-back to ../shared
         (repo_root() or Path.cwd()).parent / "shared",
         Path.cwd().parent / "shared",
     ):

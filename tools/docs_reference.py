@@ -77,6 +77,18 @@ def cli_page() -> str:
                 out += [f"### {path}", ""]
             parser.prog = path
             out += ["```text", parser.format_help().rstrip(), "```", ""]
+    from scone_bt.environment import VARIABLES
+
+    out += [
+        "## Environment variables",
+        "",
+        "Every command checks these as it reads its command line: a bad value is one line before any work.",
+        "",
+        "| variable | meaning |",
+        "|---|---|",
+        *(f"| `{name}` | {meaning} |" for name, meaning in VARIABLES.items()),
+        "",
+    ]
     return "\n".join(out)
 
 

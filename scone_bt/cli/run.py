@@ -115,7 +115,7 @@ from pathlib import Path  # noqa: E402
 
 from scone_bt.argparsing import OneLineArgumentParser  # noqa: E402
 from scone_bt.checks import internal_error_line  # noqa: E402
-from scone_bt.cli.tree_options import add_tree_options, tree_overrides  # noqa: E402
+from scone_bt.cli.tree_options import add_tree_options, check_flags_take_effect, tree_overrides  # noqa: E402
 from scone_bt.defaults import EPISODE as _EPISODE  # noqa: E402
 from scone_bt.errors import SconeError  # noqa: E402
 from scone_bt.robot.flags import add_robot_options, check_backend  # noqa: E402
@@ -458,6 +458,7 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
     from scone_bt import checks
     from scone_bt.behaviours import BehaviourOptions
     from scone_bt.config.schema import MAX_FILE_BYTES, check_input_file
+    from scone_bt.config.tree_parameters import TreeParameters
     from scone_bt.episode import EpisodeOptions
     from scone_bt.human import HumanOptions
     from scone_bt.resources import resolve_file
@@ -505,7 +506,9 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
 
         check_viewer_address(args.connect)
     _check_display(args)
-    load_tree_spec(args.tree)  # validated now (types and ranges), before the kitchen is built
+    spec = load_tree_spec(args.tree)  # validated now (types and ranges), before the kitchen is built
+    gate = tree.get("gate") or spec.parameters.get("gate") or TreeParameters().gate
+    check_flags_take_effect(tree, gate, self_confidence=not args.no_self_confidence)
     # Options not given on the command line come from the tree file's parameters (one source of defaults).
     behaviour = BehaviourOptions(
         **tree,

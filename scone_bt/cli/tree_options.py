@@ -20,7 +20,19 @@ from scone_bt.errors import SconeError
 if TYPE_CHECKING:
     from pydantic.fields import FieldInfo
 
-__all__ = ["add_tree_options", "tree_overrides", "flag_of", "dest_of", "option_fields"]
+__all__ = [
+    "add_tree_options",
+    "check_flags_take_effect",
+    "tree_overrides",
+    "flag_of",
+    "dest_of",
+    "option_fields",
+]
+
+_BUDGET_ONLY = ("target_failure_rate", "exploration_credit", "probe")
+"""Tree parameters only the budget gate reads (``probe``: every key of the section)."""
+_PAPER_ONLY = ("confidence_threshold",)
+"""Tree parameters only the paper's fixed-threshold gate reads."""
 
 
 def flag_of(name: str | tuple[str, ...]) -> str:
@@ -131,3 +143,39 @@ def tree_overrides(args: argparse.Namespace) -> dict[str, Any]:
             format_validation_error(exc, f"{flag_of(path)} {values.get(path)}", words=_words)
         ) from None
     return given
+
+
+def check_flags_take_effect(given: dict[str, Any], gate: str, self_confidence: bool) -> None:
+    """Refuse a decision option given on the command line that this run would not read (one meaning per flag):
+    the budget gate's settings with ``gate`` paper, the paper's threshold with the budget gate, and every gate
+    setting without self-confidence (the robot always acts). A tree file may set them all: it holds the values
+    for either gate.
+
+    Args:
+        given: `tree_overrides`' result (the options given, by tree-file key).
+        gate: The gate this run uses (the option, else the tree file's).
+        self_confidence: False with ``--no-self-confidence``.
+
+    Raises:
+        SconeError: the first such option, naming what it needs.
+    """
+
+    def flags(key: str) -> list[str]:
+        value = given.get(key)
+        return [flag_of((key, sub)) for sub in value] if isinstance(value, dict) else [flag_of(key)]
+
+    for key in given:
+        if not self_confidence and key in (*_BUDGET_ONLY, *_PAPER_ONLY, "gate"):
+            raise SconeError(
+                f"{flags(key)[0]} has no effect with --no-self-confidence (the robot always acts, no gate decides)"
+            )
+        if gate == "paper" and key in _BUDGET_ONLY:
+            raise SconeError(
+                f"{flags(key)[0]} has no effect with the paper's gate (it sets the budget gate): "
+                "give --gate budget, or leave it out"
+            )
+        if gate == "budget" and key in _PAPER_ONLY:
+            raise SconeError(
+                f"{flags(key)[0]} has no effect with the budget gate (it sets the paper's gate): "
+                "give --gate paper, or leave it out"
+            )

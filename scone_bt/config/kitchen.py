@@ -5,7 +5,6 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
 
 from scone_bt.config.catalogue import Catalogue, ObjectSpec, catalogue_files, load_catalogue
 from scone_bt.config.scene import (
@@ -31,7 +30,7 @@ class KitchenFile(StrictModel):
     scene: SceneFile
     cameras: list[NamedCameraFile] | None = None
     camera: CameraFile | None = None
-    catalogue: list[Any]
+    catalogue: list[str]
 
 
 KITCHEN_KEYS = tuple(KitchenFile.model_fields)

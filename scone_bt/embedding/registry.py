@@ -16,6 +16,7 @@ from pathlib import Path
 from scone_bt.embedding.base import Embedder
 from scone_bt.embedding.cache import cache_file_for, default_cache_dir
 from scone_bt.embedding.finetuned import FinetunedEmbedder
+from scone_bt.environment import folder_variable
 from scone_bt.errors import ModelUnavailableError, UnknownNameError
 
 __all__ = [
@@ -105,8 +106,8 @@ def minilm_dir() -> Path:
 
 def _mpnet_candidates(cache_dir: Path | None) -> list[Path]:
     roots = []
-    if env := os.environ.get("SCONE_BT_MPNET"):
-        roots.append(Path(env))
+    if (env := folder_variable("SCONE_BT_MPNET")) is not None:
+        roots.append(env)
     if cache_dir is not None:
         roots.append(Path(cache_dir) / "models" / _MPNET_DIRNAME)
     roots.append(default_cache_dir() / "models" / _MPNET_DIRNAME)

@@ -64,9 +64,9 @@ def encode_threads() -> int:
     Half leaves room for the simulator and the tree; on a busy 2-core machine one thread encoded MiniLM ~5x faster
     than two (130-150 vs 26-32 texts/s), since the second thread mostly waits for a core.
     """
-    if env := os.environ.get("SCONE_BT_TORCH_THREADS"):
-        return max(1, int(env))
-    return max(1, (os.cpu_count() or 2) // 2)
+    from scone_bt.environment import torch_threads
+
+    return torch_threads() or max(1, (os.cpu_count() or 2) // 2)
 
 
 _PLAIN_MODULES = {
@@ -120,8 +120,9 @@ def _load_model(path: Path) -> object:
 def numpy_runtime(path: Path) -> bool:
     """Whether the model in ``path`` runs in numpy (`bert_numpy.supports`, unless $SCONE_BT_EMBED_RUNTIME=torch)."""
     from scone_bt.embedding.bert_numpy import supports
+    from scone_bt.environment import embed_runtime
 
-    return os.environ.get(RUNTIME_ENV, "").strip().lower() != "torch" and supports(path)
+    return embed_runtime() != "torch" and supports(path)
 
 
 def same_length_batches(token_counts: Sequence[int], batch_size: int) -> list[list[int]]:

@@ -134,6 +134,14 @@ class MotionSystem:
         if planner is not None and planner.name not in PLANNERS:
             raise UnknownNameError("planner", planner.name, PLANNERS)
         options = planner or PlannerOptions.of(p)
+        if options.backend == "vamp":
+            from scone_bt.motion.vamp_planner import VampUnavailableError, vamp_available
+
+            if not vamp_available():  # every plan would be OMPL's, without a word
+                raise VampUnavailableError(
+                    f"{robot.source}: planner.backend: vamp, but VAMP is not installed; build it with `make vamp` "
+                    "or set backend: ompl"
+                )
         if arm is not None and arm.config != robot:
             raise ValueError("MotionSystem.build: the arm model was built from another robot configuration")
         return cls(

@@ -83,3 +83,41 @@ def test_a_probe_option_overrides_only_its_key_of_the_tree_files_section() -> No
 def test_a_bad_setting_is_one_line_naming_the_option_and_its_range(argv, line, capsys) -> None:
     assert main(argv) == 2
     assert capsys.readouterr().err == f"scone-run: error: {line}\n"
+
+
+@pytest.mark.parametrize(
+    ("argv", "line"),
+    [
+        (["--gate", "paper", "--probe-enabled"], "--probe-enabled has no effect with the paper's gate"),
+        (
+            ["--gate", "paper", "--exploration-credit"],
+            "--exploration-credit has no effect with the paper's gate",
+        ),
+        (
+            ["--gate", "paper", "--target-failure-rate", "0.1"],
+            "--target-failure-rate has no effect with the paper",
+        ),
+        (["--confidence-threshold", "0.9"], "--confidence-threshold has no effect with the budget gate"),
+        (
+            ["--no-self-confidence", "--probe-lift-m", "0.02"],
+            "--probe-lift-m has no effect with --no-self-confidence",
+        ),
+        (["--no-self-confidence", "--gate", "paper"], "--gate has no effect with --no-self-confidence"),
+    ],
+)
+def test_an_option_this_run_would_not_read_is_refused(argv, line, capsys) -> None:
+    """One meaning per flag: `--gate paper --probe-enabled` ran the paper's gate and never probed, without a word."""
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"scone-run: error: {line}") and err.count("\n") == 1
+
+
+def test_the_options_of_the_gate_in_use_are_taken(capsys) -> None:
+    behaviour = options_from_args(
+        build_parser().parse_args(["--gate", "paper", "--confidence-threshold", "0.7"])
+    )
+    assert behaviour.behaviour.confidence_threshold == 0.7
+    budget = options_from_args(
+        build_parser().parse_args(["--probe-enabled", "--exploration-credit"])
+    ).behaviour
+    assert budget.probe is not None and budget.exploration_credit is True

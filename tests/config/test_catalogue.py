@@ -203,3 +203,13 @@ def test_a_kitchen_without_products_names_its_catalogue_key(tmp_path):
     assert str(err.value) == (
         f"{tmp_path}: catalogue entry 'empty': the folder {tmp_path / 'empty'} holds no .yaml family files"
     )
+
+
+def test_a_catalogue_entry_that_is_not_a_name_is_one_line_naming_the_entry(tmp_path):
+    """`catalogue: [5]` was an internal TypeError from pathlib, naming no file."""
+    text = (data_dir("perception") / "kitchen.yaml").read_text()
+    kitchen = tmp_path / "kitchen.yaml"
+    kitchen.write_text(text.replace("catalogue: [catalogue]", "catalogue: [5]"))
+    with pytest.raises(ConfigError) as err:
+        load_kitchen(kitchen)
+    assert str(err.value) == f"{kitchen}: catalogue[0]: Input should be a valid string (got 5)"

@@ -48,3 +48,24 @@ def test_backend_vamp_without_vamp_installed_plans_with_ompl(arm, static_obstacl
     options = PlannerOptions(rng_seed=1, try_direct=False, backend="vamp")
     result = plan_joint_path(home, goal, arm.lower, arm.upper, world.is_valid, options)
     assert result.success and "VAMP is not installed (make vamp): planned with OMPL" in result.message
+
+
+def test_a_robot_file_asking_for_vamp_without_vamp_is_refused_before_the_robot_acts(monkeypatch, tmp_path):
+    """It planned every motion with OMPL without a word (`scone-bench motion` refused the same)."""
+    import dataclasses
+
+    from scone_bt.config import load_robot
+    from scone_bt.motion import MotionSystem, vamp_planner
+    from scone_bt.motion.vamp_planner import VampUnavailableError
+
+    monkeypatch.setattr(vamp_planner, "vamp_available", lambda: False)
+    robot = load_robot("panda")
+    robot = dataclasses.replace(robot, planner=dataclasses.replace(robot.planner, backend="vamp"))
+
+    class Cell:  # build() refuses before it touches the cell
+        robot_config = robot
+
+    with pytest.raises(
+        VampUnavailableError, match=r"planner.backend: vamp, but VAMP is not installed; build it"
+    ):
+        MotionSystem.build(Cell(), robot)  # type: ignore[arg-type]
