@@ -12,6 +12,7 @@ Examples:
 from __future__ import annotations
 
 import os
+import re
 import signal
 import sys
 import threading
@@ -268,6 +269,16 @@ def _add_rerun_options(p: argparse.ArgumentParser) -> None:
     )
 
 
+def _robot_id(text: str) -> str:
+    """--robot-id: letters, digits, '.', '_' and '-' (an id of spaces was stored as '   ' and matched no query)."""
+    if not re.fullmatch(r"[A-Za-z0-9._-]{1,64}", text):
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: a robot id is 1 to 64 letters, digits, '.', '_' or '-' (e.g. panda-2); leave the option "
+            "out for the arm's name"
+        )
+    return text
+
+
 def _add_self_confidence_options(p: argparse.ArgumentParser) -> None:
     """The self-confidence switch and the outcome store κ̂ is rebuilt from."""
     g = p.add_argument_group("self-confidence")
@@ -289,7 +300,10 @@ def _add_self_confidence_options(p: argparse.ArgumentParser) -> None:
         "or the whole fleet's (default: %(default)s)",
     )
     g.add_argument(
-        "--robot-id", default="", help="this robot's id in a shared store (default: the arm's name)"
+        "--robot-id",
+        default=None,
+        type=_robot_id,
+        help="this robot's id in a shared store: letters, digits, '.', '_', '-' (default: the arm's name)",
     )
     g.add_argument(
         "--profile", default="", help="configuration label stored with each outcome (default: none)"
@@ -514,7 +528,7 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
         **tree,
         use_self_confidence=not args.no_self_confidence,
         experience_path=_experience(args.experience),
-        robot_id=args.robot_id,
+        robot_id=args.robot_id or "",
         learn_from=args.learn_from,
         profile=args.profile,
         seed=args.seed,

@@ -220,3 +220,15 @@ def test_gui_without_a_display_is_one_line_not_a_silent_exit(monkeypatch, capsys
     monkeypatch.delenv("DISPLAY", raising=False)
     monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
     assert "--gui: no display to open PyBullet's window on" in _one_line_error(["--gui"], capsys)
+
+
+@pytest.mark.parametrize("robot_id", ["", "   ", "panda 2", "x" * 65])
+def test_a_robot_id_that_no_query_would_match_is_one_line(robot_id, capsys):
+    """'   ' was stored as the robot's id in a shared store; '' silently meant the arm's name."""
+    from scone_bt.cli.run import main
+
+    with pytest.raises(SystemExit) as done:
+        main(["--robot-id", robot_id, "--max-ticks", "1"])
+    assert done.value.code == 2
+    err = capsys.readouterr().err
+    assert "--robot-id" in err and "1 to 64 letters, digits" in err and err.count("\n") == 1
