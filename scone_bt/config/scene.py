@@ -234,6 +234,13 @@ def scene_spec(s: SceneFile, where: str) -> SceneSpec:
                 name = f"{at}.slots[{k}] ({unit.name})"
                 require(key not in seen, f"{name} and {seen.get(key)} are the same slot position {list(key)}")
                 seen[key] = name
+    (tx, ty, _), (sx, sy, _) = s.table.center, s.table.size
+    for k, (x, y) in enumerate(s.place_spots):  # a spot off the table puts a product down on thin air
+        require(
+            abs(x - tx) <= sx / 2 and abs(y - ty) <= sy / 2,
+            f"{where}.place_spots[{k}]: [{x:g}, {y:g}] lies off the table (x in [{tx - sx / 2:g}, {tx + sx / 2:g}], "
+            f"y in [{ty - sy / 2:g}, {ty + sy / 2:g}])",
+        )
     return SceneSpec(
         floor_z=s.floor_z,
         pedestal=s.pedestal.box(),

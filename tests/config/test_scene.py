@@ -67,6 +67,10 @@ def test_camera_size_and_range_are_bounded(tmp_path: Path, key: str, value: Any,
         (lambda d: d["scene"].update(floor_z=math.nan), ("scene.floor_z", "finite")),
         (lambda d: d["scene"]["table"].update(size=[0.5, -0.5, 0.6]), ("scene.table.size", "> 0")),
         (lambda d: d["scene"].update(place_spots=[]), ("scene.place_spots", "at least one")),
+        (  # accepted before: the human put products down 5 m from the table
+            lambda d: d["scene"].update(place_spots=[[0.37, -0.3], [5.0, 5.0]]),
+            ("scene.place_spots[1]: [5, 5] lies off the table", "x in [0.14, 0.7]"),
+        ),
         (
             lambda d: d["scene"]["shelves"][0]["tiers"][0].update(slots=[0.2, 0.3, 0.2]),
             ("tiers[0].slots[2]", "tiers[0].slots[0]", "same slot position"),
