@@ -11,7 +11,7 @@ import math
 import os
 import stat
 import tempfile
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 from typing import Literal
 
@@ -22,24 +22,32 @@ __all__ = [
     "MAX_SEED",
     "OUTPUT_KINDS",
     "OutputKind",
+    "REPORT_KEYS",
     "RRD_MAGIC",
     "check_seed",
     "check_port",
+    "check_at_least",
     "check_range",
     "check_output_file",
     "check_output_dir",
+    "check_not_yaml",
     "check_positive_int",
     "internal_error_line",
     "is_output_kind",
+    "is_report",
     "same_file",
     "sqlite_files",
     "write_atomic",
 ]
 
-OutputKind = Literal["rrd", "json", "csv", "sqlite", "text", "image"]
+OutputKind = Literal["rrd", "json", "report", "csv", "sqlite", "text", "image"]
+REPORT_KEYS = ("benchmark", "wall_s", "seconds", "timing_s", "machine", "meets_targets")
+"""A benchmark report is a JSON object with one of these keys at its top level (every report scone-bench writes
+has one; docs/results/*.json do): a recipe, a scenario schema or a data file there is not a report."""
 OUTPUT_KINDS: dict[str, str] = {
     "rrd": "a rerun recording (.rrd)",
     "json": "a JSON file",
+    "report": f"a benchmark report (a JSON object with a {', '.join(REPORT_KEYS[:-1])} or {REPORT_KEYS[-1]} key)",
     "csv": "a CSV file",
     "sqlite": "an SQLite file",
     "text": "a text file",
@@ -53,6 +61,8 @@ RRD_MAGIC = (b"RRF0", b"RRF1", b"RRF2", b"RRIS")
 _SQLITE_MAGIC = b"SQLite format 3\x00"
 _IMAGE_MAGIC = (b"\x89PNG\r\n\x1a\n", b"%PDF-")
 _SNIFF_BYTES = 1 << 20  # a JSON/CSV/text file is judged on its first MiB: an output of ours is small
+_REPORT_BYTES = 16 << 20  # a report is parsed whole; none of ours is this large (docs/results: < 1 MiB)
+_YAML_SUFFIXES = (".yaml", ".yml")
 _SQLITE_SIDECARS = ("-wal", "-shm", "-journal")
 
 MAX_SEED = 2**32 - 1
@@ -74,6 +84,13 @@ def check_port(value: int, flag: str = "--port") -> int:
 def check_positive_int(value: int, flag: str, maximum: int = 10**9) -> int:
     if not 1 <= value <= maximum:
         raise SconeError(f"{flag} {value}: must be an integer in 1..{maximum}")
+    return value
+
+
+def check_at_least(flag: str, value: int, least: int) -> int:
+    """``value`` of ``flag`` if it is ``least`` or more, else one line naming both ("--chains 0: must be 1 or more")."""
+    if value < least:
+        raise SconeError(f"{flag} {value}: must be {least} or more")
     return value
 
 
@@ -101,16 +118,52 @@ def same_file(a: Path | str, b: Path | str) -> bool:
     return os.path.realpath(a) == os.path.realpath(b)
 
 
+def check_not_yaml(
+    path: Path, flag: str, output: str, suffix: str, *, ours: Callable[[Path], bool] | None = None
+) -> Path:
+    """Refuse an existing YAML file (.yaml/.yml, as named or where a link leads) as the target of an output that
+    is not YAML, even with --force: the project's inputs (scenarios, robots, kitchens, profiles) are YAML files, and
+    no output of ours is one.
+
+    An empty file, and one that `ours` says already holds this output, may be replaced.
+
+    Args:
+        path: The file the output would be written to.
+        flag: The option's name, for the message (e.g. "--junit").
+        output: What is written, for the message (e.g. "a JUnit report").
+        suffix: The output's usual suffix, for the path the message suggests (e.g. ".xml").
+        ours: Whether the existing file already is this output (e.g. `is_junit_report`).
+    """
+    names = (path.name, os.path.basename(os.path.realpath(path)))
+    if not any(Path(n).suffix.lower() in _YAML_SUFFIXES for n in names):
+        return path
+    try:
+        st = os.stat(path)
+    except OSError:
+        return path  # nothing there yet (or a dangling link): nothing to lose
+    if not stat.S_ISREG(st.st_mode) or st.st_size == 0 or (ours is not None and ours(path)):
+        return path  # a folder or device is check_output_file's to word; empty or ours: nothing lost
+    raise SconeError(
+        f"{flag} {path}: is a YAML file (an input such as a scenario, robot or kitchen file, perhaps); "
+        f"{output} never replaces it, even with --force: give another path (e.g. {path.with_suffix(suffix).name})"
+    )
+
+
 def _head(path: Path, n: int) -> bytes:
     with path.open("rb") as f:
         return f.read(n)
+
+
+def is_report(data: object) -> bool:
+    """Whether parsed JSON is a benchmark report: an object with one of `REPORT_KEYS` at its top level."""
+    return isinstance(data, dict) and any(key in data for key in REPORT_KEYS)
 
 
 def is_output_kind(path: Path, kind: OutputKind) -> bool:
     """Whether the existing regular file `path` is of `kind` (so overwriting it loses nothing of another kind).
 
     rrd, sqlite and image (PNG, PDF, SVG) by their first bytes; json when its text parses as JSON (a JSON Lines
-    file: its first line);
+    file: its first line); report when the whole file is a JSON object with one of `REPORT_KEYS` (`is_report`);
     csv and text when they are UTF-8 text without NUL bytes.
     """
     try:
@@ -120,6 +173,13 @@ def is_output_kind(path: Path, kind: OutputKind) -> bool:
         return False
     if size == 0:
         return True  # nothing to lose
+    if kind == "report":
+        if size > _REPORT_BYTES:
+            return False  # none of our reports is this large; do not read it to find out
+        try:
+            return is_report(json.loads(path.read_bytes()))
+        except (OSError, ValueError, RecursionError):  # unreadable, not UTF-8 or not JSON
+            return False
     if kind == "rrd":
         return head[:4] in RRD_MAGIC
     if kind == "sqlite":

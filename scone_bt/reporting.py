@@ -1,13 +1,49 @@
-"""A benchmark's JSON report: printed, and written whole to ``--json FILE`` (strict JSON)."""
+"""A benchmark's JSON report: printed, and written whole to ``--json FILE`` (strict JSON).
+
+One rule for that file, before the benchmark runs (`check_report_option`) and at the write (`emit_report`): not a
+folder, device or input of the run; an existing report may be replaced (benchmarks are re-run into
+docs/results/*.json); any other existing file only with --force; a YAML file never (`check_not_yaml`).
+"""
 
 from __future__ import annotations
 
+import argparse
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 
-from scone_bt.checks import check_output_file, write_atomic
+from scone_bt.checks import check_not_yaml, check_output_file, is_output_kind, write_atomic
 from scone_bt.strict_json import dumps
 
-__all__ = ["emit_report"]
+__all__ = ["check_report_file", "check_report_option", "emit_report"]
+
+
+def _is_report_file(path: Path) -> bool:
+    return is_output_kind(path, "report")
+
+
+def check_report_file(
+    path: Path,
+    flag: str = "--json",
+    *,
+    inputs: Mapping[str, Iterable[Path | str]] | None = None,
+    force: bool = False,
+) -> Path:
+    """Refuse a report FILE that would destroy something (one line naming `flag`): a YAML file that is not a
+    report (even with `force`), a folder, a device, one of `inputs` (even with `force`), an existing file that is
+    not a benchmark report (a JSON object with one of `checks.REPORT_KEYS`) unless `force`, an unwritable
+    folder."""
+    # The run's own inputs first: their message names the input flag.
+    checked = check_output_file(path, flag, kind="report", inputs=inputs, force=force)
+    check_not_yaml(path, flag, "a JSON report", ".json", ours=_is_report_file)
+    return checked
+
+
+def check_report_option(args: argparse.Namespace) -> None:
+    """A benchmark's --json FILE (with its --force), before the benchmark runs: minutes of work are never lost to
+    a path the report cannot be written to, and the write (`emit_report`) applies the same rule."""
+    path = getattr(args, "json", None)
+    if path:
+        check_report_file(Path(path), force=bool(getattr(args, "force", False)))
 
 
 def emit_report(
@@ -19,14 +55,14 @@ def emit_report(
 ) -> None:
     """Print a benchmark's JSON report and, with ``--json FILE``, write the same text there (strict JSON).
 
-    The file is written whole or not at all (a temporary file renamed over it); an existing file that is not JSON
-    is not replaced unless `force` (scone-bench checks this before the benchmark runs, too).
+    The file is written whole or not at all (a temporary file renamed over it); an existing file that is not a
+    benchmark report is not replaced unless `force` (pass the command's --force), a YAML file never
+    (`check_report_file`; scone-bench checks this before the benchmark runs, too).
     """
     text = dumps(report, indent=indent)
     print(text)
     if json_path:
-        path = Path(json_path)
-        if make_parent:
+        path = check_report_file(Path(json_path), force=force)
+        if make_parent:  # after the check: a file where a folder should be is one line, not a traceback
             path.parent.mkdir(parents=True, exist_ok=True)
-        check_output_file(path, "--json", kind="json", force=force)
         write_atomic(path, text + "\n")

@@ -50,7 +50,7 @@ import numpy as np
 from scone_bt.affordances.types import object_of_action
 from scone_bt.events import DecisionMade, Event, StepDone
 from scone_bt.gate.types import DecisionKind
-from scone_bt.reporting import emit_report
+from scone_bt.reporting import check_report_option, emit_report
 
 if TYPE_CHECKING:  # registration stays cheap: the estimators' package is imported by the replay itself
     from scone_bt.confidence.base import ConfidenceEstimator
@@ -399,13 +399,15 @@ def _run(args: argparse.Namespace) -> int:
     from scone_bt.benchmarks.workers import process_pool
     from scone_bt.errors import SconeError
 
+    check_report_option(args)  # --json and --force, before the work (the write applies the same rule)
+    from scone_bt.checks import check_at_least
+
     for flag, value, low in (
         ("--episodes", args.episodes, 0),
         ("--recipes", args.recipes, 1),
         ("--jobs", args.jobs, 1),
     ):
-        if value < low:
-            raise SconeError(f"{flag} {value}: must be {low} or more")
+        check_at_least(flag, value, low)
     for target in args.target_error_rates:  # the gate's own range (GateOptions), checked before any replay
         if not 0.0 < target < 1.0:
             raise SconeError(f"--target-error-rates {target}: must be a number in (0, 1)")
@@ -426,7 +428,7 @@ def _run(args: argparse.Namespace) -> int:
             report["episodes"] = ep
     report["jobs"] = args.jobs
     report["wall_s"] = round(time.perf_counter() - started, 1)
-    emit_report(report, args.json)
+    emit_report(report, args.json, force=args.force)
     return 0
 
 

@@ -36,7 +36,7 @@ from typing import Any
 
 import numpy as np
 
-from scone_bt.reporting import emit_report
+from scone_bt.reporting import check_report_option, emit_report
 
 __all__ = ["register", "store_trial", "learning_trial", "ReplayResult", "replay_new_robot"]
 
@@ -330,6 +330,7 @@ def _handler(args: argparse.Namespace) -> int:
     from scone_bt.errors import SconeError
     from scone_bt.resources import repo_root
 
+    check_report_option(args)  # --json and --force, before the work (the write applies the same rule)
     _check_args(args)
     root = repo_root()
     if root is None:
@@ -364,7 +365,7 @@ def _handler(args: argparse.Namespace) -> int:
             report[key] = report["learning"][key]
     report["wall_s"] = round(time.perf_counter() - t0, 1)
     report["load_average"] = [round(x, 2) for x in os.getloadavg()]
-    emit_report(report, args.json, indent=1, make_parent=True)
+    emit_report(report, args.json, indent=1, make_parent=True, force=args.force)
     ok = all(r["lost"] == 0 and r["duplicated"] == 0 and not r["errors"] for r in report["stores"].values())
     return 0 if ok else 1
 

@@ -77,7 +77,7 @@ from scone_bt.benchmarks.replay_streams import (
     stream_rows,
 )
 from scone_bt.files import write_via
-from scone_bt.reporting import emit_report
+from scone_bt.reporting import check_report_option, emit_report
 
 if TYPE_CHECKING:
     from scone_bt.gate.probe import ProbeOptions
@@ -454,6 +454,7 @@ def _cross_engine(
 def _run(args: argparse.Namespace) -> int:
     from scone_bt.errors import SconeError
 
+    check_report_option(args)  # --json and --force, before the work (the write applies the same rule)
     if args.warmup < 0:
         raise SconeError(f"--warmup {args.warmup}: must be 0 or more")
     if args.episodes < 0 or args.recipes < 1:
@@ -512,7 +513,8 @@ def _run(args: argparse.Namespace) -> int:
     if args.episodes:
         report["episodes"] = run_episodes(args)
     report["wall_s"] = round(time.perf_counter() - started, 1)
-    emit_report(report, args.json)  # the report first: a figure that cannot be drawn loses no numbers
+    # the report first: a figure that cannot be drawn loses no numbers
+    emit_report(report, args.json, force=args.force)
     if args.plot is not None:
         _plot(report, args.plot)
     return 0

@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from scone_bt.argparsing import OneLineArgumentParser
-from scone_bt.checks import check_output_file, check_seed
+from scone_bt.checks import check_seed
 from scone_bt.errors import SconeError
 
 if TYPE_CHECKING:
@@ -149,19 +149,17 @@ def check_backend_option(args: argparse.Namespace) -> None:
 
 
 def check_report_path(args: argparse.Namespace) -> None:
-    """--json of any benchmark, before it runs: not one of its inputs, not a device, not a non-JSON file; its
-    folder made if missing."""
+    """--json of any benchmark, before it runs (`reporting.check_report_file`: not one of its inputs, not a device,
+    not an existing file that is not a report unless --force, never a YAML file); its folder made if missing."""
     path = getattr(args, "json", None)
     if path:
         parent = Path(path).absolute().parent
         if parent.exists() and not parent.is_dir():
             raise SconeError(f"--json {path}: {parent} is not a folder; give another path")
-        check_output_file(
-            Path(path),
-            "--json",
-            kind="json",
-            inputs=_inputs(args, ("json",)),
-            force=bool(getattr(args, "force", False)),
+        from scone_bt.reporting import check_report_file
+
+        check_report_file(
+            Path(path), inputs=_inputs(args, ("json",)), force=bool(getattr(args, "force", False))
         )
         # Made now (the checks above found where it can be): the report is never lost to a missing folder.
         parent.mkdir(parents=True, exist_ok=True)

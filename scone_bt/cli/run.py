@@ -505,7 +505,11 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
             raise SconeError(f"--catalogue {exc}") from None
     inputs = _run_inputs(args)
     if args.save is not None:
+        # The run's inputs first (that message names their flag), then any YAML file: never replaced, even --force.
         checks.check_output_file(args.save, "--save", kind="rrd", inputs=inputs, force=args.force)
+        checks.check_not_yaml(
+            args.save, "--save", "a rerun recording", ".rrd", ours=lambda p: checks.is_output_kind(p, "rrd")
+        )
     if isinstance(_experience(args.experience), Path):  # a postgresql:// URL is checked when it is opened
         others = {flag: files for flag, files in inputs.items() if flag != "--experience"}
         checks.check_output_file(Path(args.experience), "--experience", inputs=others)

@@ -210,6 +210,10 @@ ErrorWords = Callable[[Mapping[str, Any]], "str | None"]
 _UNKNOWN_KEY = ("extra_forbidden", "invalid_key")
 
 
+_NOT_A_MAPPING = frozenset({"model_type", "model_attributes_type", "dict_type"})
+"""pydantic's error types for a value where a mapping (a section of keys) belongs."""
+
+
 def _standard_words(first: Mapping[str, Any], loc: tuple[Any, ...], model: type[BaseModel] | None) -> str:
     """`key.path: problem (got value)`, an unknown key with the valid ones, or a missing key."""
     kind = first.get("type", "")
@@ -221,6 +225,11 @@ def _standard_words(first: Mapping[str, Any], loc: tuple[Any, ...], model: type[
         key = _loc(loc[:-1])
     elif kind == "missing":
         msg = "missing (required)"
+    elif kind in _NOT_A_MAPPING:  # pydantic's words name the model class ("instance of WorldSection")
+        owner = _model_at(model, (*loc, "")) if model is not None else None
+        msg = "must be a mapping of keys to values" + (f" ({', '.join(owner.model_fields)})" if owner else "")
+        if "input" in first and not isinstance(first.get("input"), (dict, list)):
+            msg += f" (got {_short(first.get('input'))})"
     else:
         msg = " ".join(str(first.get("msg", "invalid")).split()).removeprefix("Value error, ")
         value = first.get("input")

@@ -85,14 +85,17 @@ def _bench(args: argparse.Namespace) -> int:
     )
     log = (lambda m: print(m, file=sys.stderr)) if not args.quiet else (lambda _m: None)
     result = run_benchmark(test, train, dev, options, log=log)
-    report = {"states_file": str(args.states), **result.to_json()}
+    report = {"benchmark": "if", "states_file": str(args.states), **result.to_json()}
     print(
         f"IF benchmark on {args.states} ({len(test)} states; fitted on {len(train)} train, {len(dev)} dev states)"
     )
     print(format_table(result))
     print(json.dumps(report, ensure_ascii=False))
     if args.json:  # written whole: an interrupted write leaves the last report as it was
-        write_atomic(args.json, json.dumps(report, indent=2, ensure_ascii=False) + "\n")
+        from scone_bt.reporting import check_report_file
+
+        path = check_report_file(Path(args.json), force=bool(getattr(args, "force", False)))
+        write_atomic(path, json.dumps(report, indent=2, ensure_ascii=False) + "\n")
     return 0
 
 

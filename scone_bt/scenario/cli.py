@@ -116,22 +116,20 @@ def _scenario_inputs(paths: Sequence[str], cases: Sequence[Case]) -> list[Path]:
 def check_junit(path: Path, inputs: Sequence[Path], force: bool) -> Path:
     """Refuse a --junit path that would destroy something, before any case runs (one line each).
 
-    Not a folder or device, not one of the run's inputs (even with --force), not an existing file other than a
-    JUnit report (unless --force), its folder writable.
+    Not a folder or device, not one of the run's inputs and not a YAML file (even with --force: a JUnit report is
+    XML), not an existing file other than a JUnit report (unless --force), its folder writable.
     """
-    from scone_bt.checks import check_output_file
+    from scone_bt.checks import check_not_yaml, check_output_file
 
     # checks.py has no XML kind: the generic checks there, the JUnit kind here
     check_output_file(path, "--junit", inputs={"scenario": inputs}, force=force)
+    check_not_yaml(path, "--junit", "a JUnit report", ".xml", ours=is_junit_report)
     if path.exists() and not force and not is_junit_report(path):
         raise SconeError(
             f"--junit {path}: exists and is not a JUnit XML report; it is not overwritten "
             "(give another path, or --force to replace it)"
         )
     return path
-
-
-_SCENARIO_SUFFIXES = (".yaml", ".yml")
 
 
 def _is_json_schema(path: Path) -> bool:
@@ -148,18 +146,9 @@ def _is_json_schema(path: Path) -> bool:
 def check_schema_file(path: Path, force: bool) -> Path:
     """Refuse a schema FILE that would destroy something: a folder, device, an existing non-JSON file (unless
     --force), and a YAML file (a scenario, perhaps) that is not a JSON Schema, even with --force."""
-    from scone_bt.checks import check_output_file
+    from scone_bt.checks import check_not_yaml, check_output_file
 
-    if (
-        path.is_file()
-        and path.suffix.lower() in _SCENARIO_SUFFIXES
-        and path.stat().st_size > 0
-        and not _is_json_schema(path)
-    ):
-        raise SconeError(
-            f"schema {path}: is a YAML file (a scenario file, perhaps); the schema never replaces it, "
-            "give another path (e.g. scenario.schema.json)"
-        )
+    check_not_yaml(path, "schema", "the schema", ".schema.json", ours=_is_json_schema)
     return check_output_file(path, "schema", kind="json", force=force)
 
 

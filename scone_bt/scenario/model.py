@@ -555,6 +555,10 @@ def _error_line(exc: ValidationError, where: str) -> str:
             text += f" (got {_short(value)})"
         if kind == "missing":
             text = "missing (required)"
+        if kind in ("model_type", "model_attributes_type", "dict_type"):  # pydantic names the model class
+            owner = _owner((*loc, ""))
+            keys = f" ({', '.join(owner.model_fields)})" if owner is not None else ""
+            text = f"must be a mapping of keys to values{keys} (got {_short(value)})"
         if kind == "one_of" and isinstance(value, Mapping):
             text += f" (got keys: {', '.join(map(str, value)) or 'none'})"
         msg = f"{where}: {key}: {text}" if key else f"{where}: {text}"
@@ -807,7 +811,7 @@ def _check_expectation(ex: Any, key: str, k: _Episode) -> None:
     episode."""
     if isinstance(ex, Count):  # a misspelt name would match no event, and the count would pass vacuously
         _check_match(ex.count, f"{k.where}: {key}.count", set(k.names.catalogue))
-    for field in ("asks_before_attempt", "never_attempts", "kappa"):
+    for field in ("asks_before_attempt", "never_attempts", "kappa", "object"):
         if getattr(ex, field, None) is not None:
             k.names.product(getattr(ex, field), f"{key}.{field}")
     if isinstance(ex, OnTable):

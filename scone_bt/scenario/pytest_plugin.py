@@ -53,6 +53,23 @@ def pytest_configure(config: pytest.Config) -> None:
     config.addinivalue_line("markers", "slow: physics-heavy simulation tests (every scenario case is one)")
     config.addinivalue_line("markers", "scenario: a scenario case (scenarios/*.yaml)")
     config.addinivalue_line("markers", "fast: a scenario tagged fast (the subset `make test` runs)")
+    _check_scenario_out(config)
+
+
+def _check_scenario_out(config: pytest.Config) -> None:
+    """--scenario-out, once before any case runs (as ``scone-scenario run`` checks --out): a folder that cannot be
+    made or written is a one-line usage error, not a traceback after the first failing case. Only when given: the
+    plugin loads in every pytest run of an environment that has scone-bt."""
+    given = config.getoption("--scenario-out", default=None)
+    if not given:
+        return
+    from scone_bt.checks import check_output_dir
+    from scone_bt.errors import SconeError
+
+    try:
+        check_output_dir(Path(given), "--scenario-out")
+    except SconeError as exc:
+        raise pytest.UsageError(str(exc)) from None
 
 
 def pytest_collect_file(parent: pytest.Collector, file_path: Path) -> pytest.Collector | None:

@@ -124,10 +124,17 @@ class AnalysisOptions:
             raise UnknownNameError("model", self.specification, SPECIFICATIONS)
         if self.priors is None:
             object.__setattr__(self, "priors", Priors.defaults(self.specification))
-        if self.chains < 1 or self.tune < 0 or self.draws < 10:
-            raise SconeError("sampler settings: chains >= 1, tune >= 0, draws >= 10")
-        if self.cores is not None and self.cores < 1:
-            raise SconeError(f"--cores must be at least 1, got {self.cores}")
+        # named by the flags that set them (scone-study's and scone-bench's alike)
+        from scone_bt.checks import check_at_least
+
+        for flag, value, least in (
+            ("--chains", self.chains, 1),
+            ("--tune", self.tune, 0),
+            ("--draws", self.draws, 10),
+        ):
+            check_at_least(flag, value, least)
+        if self.cores is not None:
+            check_at_least("--cores", self.cores, 1)
         lo, hi = self.rope
         if not lo < hi:
             raise SconeError(f"ROPE must be an interval low < high, got [{lo}, {hi}]")

@@ -39,10 +39,12 @@ def _cpu_s() -> float:
 
 
 def _bench(args: argparse.Namespace) -> int:
+    from scone_bt.checks import check_output_dir
     from scone_bt.quiet import quiet_backends
     from scone_bt.study.analysis import (
         AnalysisOptions,
         analyze,
+        check_outputs,
         contrasts_of,
         fit_poisson,
         load_study,
@@ -53,6 +55,13 @@ def _bench(args: argparse.Namespace) -> int:
     from scone_bt.study.trust import trust_parameters
 
     quiet_backends(("pymc", "pytensor"))
+    # Checked before the study is simulated and sampled: minutes of work are not lost to a bad setting or --out.
+    options = AnalysisOptions(
+        chains=args.chains, tune=args.tune, draws=args.draws, cores=args.cores, seed=args.seed
+    )
+    if args.out:
+        check_output_dir(args.out, "--out")
+        check_outputs(args.out, args.force)
     effect = 1.0
     trust = trust_parameters(args.trust_params).static(condition_effect=effect, response_noise_sd=0.0)
     load = os.getloadavg()[0]
@@ -64,9 +73,6 @@ def _bench(args: argparse.Namespace) -> int:
         )
         data = load_study(log)
         log.close()
-    options = AnalysisOptions(
-        chains=args.chains, tune=args.tune, draws=args.draws, cores=args.cores, seed=args.seed
-    )
     cpu0, start = _cpu_s(), time.perf_counter()
     result = analyze(data, options)
     wall, cpu = time.perf_counter() - start, _cpu_s() - cpu0
@@ -109,7 +115,7 @@ def _bench(args: argparse.Namespace) -> int:
         "load_average_at_start": round(load, 2),
         "cpu_count": os.cpu_count(),
     }
-    emit_report(report, args.json)
+    emit_report(report, args.json, force=bool(getattr(args, "force", False)))
     return 0
 
 
@@ -186,12 +192,15 @@ def _recovery_summary(rs: list[dict], effect: float) -> dict[str, Any]:
 
 def _recovery(args: argparse.Namespace) -> int:
     from scone_bt.quiet import quiet_backends
+    from scone_bt.study.analysis import AnalysisOptions
     from scone_bt.study.models import Priors
     from scone_bt.study.r_clmm import r_unavailable
 
     quiet_backends(("pymc", "pytensor"))
     effect = args.effect
     priors = Priors(args.effect_prior_sd, args.cutpoint_prior_sd, args.scale_prior_sd)
+    # the sampler settings, checked before any study is simulated (each seed's run builds its own options)
+    AnalysisOptions(chains=args.chains, tune=args.tune, draws=args.draws, cores=args.cores, priors=priors)
     without_r = r_unavailable()
     load, start = os.getloadavg()[0], time.perf_counter()
     runs: dict[str, list[dict]] = {"mdmt": [], "tps_hri": [], "interventions_eq4_counts": []}
@@ -218,7 +227,7 @@ def _recovery(args: argparse.Namespace) -> int:
         "wall_s": round(time.perf_counter() - start, 1),
         "load_average_at_start": round(load, 2),
     }
-    emit_report(report, args.json)
+    emit_report(report, args.json, force=bool(getattr(args, "force", False)))
     return 0
 
 

@@ -231,6 +231,8 @@ def _open_log(path: Path, expect_existing: bool = True):  # -> StudyLog
     from scone_bt.study.log import StudyLog
 
     if expect_existing:
+        if path.is_dir():
+            raise SconeError(f"--db {path}: is a folder; give a file path")
         if not path.is_file():
             raise SconeError(f"study log not found: {path}")
         return StudyLog(path, readonly=True)  # reading never changes the file (no WAL switch, no schema)
@@ -480,11 +482,14 @@ def _check_simulate(args: argparse.Namespace) -> None:
         raise SconeError(f"--distractors {args.distractors}: must be 0 or more")
     checks.check_range(args.condition_effect, "--condition-effect", -10.0, 10.0)
     check_backend(args.robot)
-    if not args.fast:  # a bad robot file is one line now, not after the first participant
+    if not args.fast:  # a bad robot file or recipe is one line now, not after the first participant
         from scone_bt.config import load_robot
+        from scone_bt.recipes import load_recipe
 
         load_robot(args.arm)
+        load_recipe(args.recipe)
     checks.check_output_file(args.db, "--db", must_not_exist=True)
+    _check_memory(args)
 
 
 def _session(args: argparse.Namespace) -> int:
@@ -505,6 +510,7 @@ def _session(args: argparse.Namespace) -> int:
     if args.distractors < 0:
         raise SconeError(f"--distractors {args.distractors}: must be 0 or more")
     checks.check_output_file(args.db, "--db")
+    _check_design(args.db, plan)
     _check_host(args.host, args.token)
     if args.experience is not None:
         from scone_bt.experience.open import store_location
@@ -550,18 +556,63 @@ def _session(args: argparse.Namespace) -> int:
     return 0
 
 
-def _memory_probe(args: argparse.Namespace) -> MemoryProbe | None:
-    """With ``--memory``: the probe sampling this process after each participant (None without it)."""
+def _check_design(db: Path, plan) -> None:  # noqa: ANN001 - a SessionPlan
+    """The session against the participant's earlier sessions in the study log (`check_next_session`), read
+    without changing the file; a new log has none."""
+    from scone_bt.study.design import check_next_session
+
+    if not db.is_file():
+        return
+    log = _open_log(db)
+    try:
+        if log.simulated:
+            raise SconeError(f"{db} holds SIMULATED data; record real sessions in another file")
+        check_next_session(plan, log.sessions(), str(db))
+    finally:
+        log.close()
+
+
+def _check_memory(args: argparse.Namespace) -> None:
+    """``--memory FILE`` before any participant is simulated: one process, a writable path that is not the study
+    log or an --analyze result, and no file there but an earlier memory report (replaced; anything else is kept:
+    `simulate` overwrites none of its outputs' files of another kind)."""
     if args.memory is None:
-        return None
+        return
     if args.ray or args.jobs > 1:
         raise SconeError(
             "--memory: it samples this process, so the participants must run in it (no --jobs, --ray)"
         )
-    from scone_bt.checks import check_output_file
+    from scone_bt.checks import check_output_file, same_file, sqlite_files
+    from scone_bt.study.memory import is_memory_report
+
+    path: Path = args.memory
+    check_output_file(path, "--memory", inputs={"--db": sqlite_files(args.db)})
+    if args.analyze is not None:
+        from scone_bt.study.analysis import output_paths
+
+        if any(same_file(path, other) for other in output_paths(args.analyze).values()):
+            raise SconeError(
+                f"--memory {path}: is a result file of --analyze {args.analyze}; give another path"
+            )
+    if path.exists() and not is_memory_report(path):
+        raise SconeError(
+            f"--memory {path}: exists and is not a memory report of scone-study simulate; it is not overwritten, "
+            "give another path"
+        )
+
+
+def _memory_probe(args: argparse.Namespace) -> MemoryProbe | None:
+    """With ``--memory`` (checked by `_check_memory`): the probe sampling this process after each participant,
+    its folder made now so that no sample is lost to a missing one (None without it)."""
+    if args.memory is None:
+        return None
     from scone_bt.study.memory import MemoryProbe
 
-    check_output_file(args.memory, "--memory", kind="json", inputs={"--db": [args.db]})
+    folder = args.memory.parent
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise SconeError(f"--memory {args.memory}: cannot create {folder} ({exc.strerror or exc})") from None
     settings = {"participants": args.participants, "mode": "fast" if args.fast else "physics"}
     settings |= {"recipe": args.recipe, "robot": args.robot, "arm": args.arm, "seed": args.seed}
     return MemoryProbe(args.memory, settings)

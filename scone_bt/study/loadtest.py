@@ -354,7 +354,7 @@ def _bench(args: argparse.Namespace) -> int:
         "wall_s": round(time.perf_counter() - t0, 2),
         "server_process_cpu_s": round(time.process_time() - c0, 2),
     }
-    emit_report(out, args.json, indent=2, make_parent=True)
+    emit_report(out, args.json, indent=2, make_parent=True, force=bool(getattr(args, "force", False)))
     ok = (
         result.lost == 0
         and result.duplicated == 0

@@ -21,6 +21,7 @@ __all__ = [
     "SESSIONS_PER_PARTICIPANT",
     "TARGET_MB_PER_SESSION",
     "WARMUP_PARTICIPANTS",
+    "is_memory_report",
 ]
 
 SESSIONS_PER_PARTICIPANT = 2
@@ -29,6 +30,27 @@ WARMUP_PARTICIPANTS = 5
 """Participants before the memory slope is fitted: ten sessions, the soak's ten-episode warm-up."""
 TARGET_MB_PER_SESSION = 0.5
 """The soak's memory target (`scone_bt.benchmarks.soak.TARGETS`), per session: a session is one episode."""
+
+
+_REPORT_KEYS = frozenset({"participants_run", "sessions_run", "rss_growth_mb_per_session", "per_participant"})
+"""Keys every report of `MemoryProbe.report` has: an existing file with them is an earlier report (replaced)."""
+_MAX_REPORT_BYTES = 64 << 20  # a report of 100 000 participants is about 10 MB
+
+
+def is_memory_report(path: Path) -> bool:
+    """Whether the existing file `path` is empty or a memory report of ``scone-study simulate --memory``: the only
+    files ``--memory`` may replace (a JSON file of anything else, e.g. an analysis' results.json, is kept)."""
+    import json
+
+    try:
+        if path.stat().st_size == 0:
+            return True  # nothing to lose
+        if path.stat().st_size > _MAX_REPORT_BYTES:
+            return False
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError, RecursionError):  # unreadable, not UTF-8, not JSON
+        return False
+    return isinstance(data, dict) and data.keys() >= _REPORT_KEYS
 
 
 @dataclass(frozen=True)

@@ -185,6 +185,10 @@ def simulate_study(
     path = Path(db_path)
     if path.exists():
         raise SconeError(f"{path} exists; a simulated study writes a new file (choose another --db)")
+    if not options.fast:  # an unknown recipe is one line before the log file or its header exists
+        from scone_bt.recipes import load_recipe
+
+        load_recipe(options.recipe)
     start_engine(engine)  # an unreachable cluster fails here, before the log file exists
     log = StudyLog(path, simulated=True)
     mode = "fast (synthetic episodes, no physics)" if options.fast else "physics episodes"

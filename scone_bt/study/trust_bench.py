@@ -113,7 +113,7 @@ def _bench(args: argparse.Namespace) -> int:
     if args.write:
         FITTED_PARAMETERS.write_text(json.dumps(report["household"]["fitted_all"], indent=1) + "\n")
         report["written"] = str(FITTED_PARAMETERS)
-    emit_report(report, args.json)
+    emit_report(report, args.json, force=bool(getattr(args, "force", False)))
     return 0
 
 
@@ -231,7 +231,7 @@ def _calibration_bench(args: argparse.Namespace) -> int:
         **calibration(args.participants, args.steps, args.seed),
     }
     report["wall_s"] = round(time.perf_counter() - start, 2)
-    emit_report(report, args.json)
+    emit_report(report, args.json, force=bool(getattr(args, "force", False)))
     return 0
 
 

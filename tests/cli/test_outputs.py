@@ -124,7 +124,7 @@ def test_bench_json_is_checked_before_the_benchmark_runs(tmp_path, capsys):
     notes.write_text("my notes\n")
     assert bench.main(["viz", "--ticks", "2", "--json", str(notes)]) == 2
     err = capsys.readouterr().err
-    assert "not a JSON file" in err and "\n" not in err.strip()
+    assert "exists and is not a benchmark report" in err and "\n" not in err.strip()
     assert notes.read_text() == "my notes\n"
     assert bench.main(["viz", "--ticks", "2", "--frame-every", "2", "--json", str(notes), "--force"]) == 0
     assert json.loads(notes.read_text())["ticks"] == 2

@@ -29,3 +29,14 @@ def test_saved_episode_reads_back(tmp_path):
     paths = set(rec.entity_paths)
     for expected in ("/world/camera", "/world/robot", "/world/objects", "/tree", "/recipe", "/affordances"):
         assert any(p == expected or p.startswith(expected + "/") for p in paths), expected
+
+
+def test_save_never_replaces_a_yaml_file_even_with_force(tmp_path, capsys):
+    """`--save catalogue.yaml --force` replaced a catalogue file with a recording."""
+    from scone_bt.cli.run import main
+
+    target = tmp_path / "cat.yaml"
+    target.write_text("products: []\n")
+    assert main(["--save", str(target), "--force", "--max-ticks", "1", "--quiet"]) == 2
+    assert target.read_text() == "products: []\n"
+    assert "is a YAML file" in capsys.readouterr().err

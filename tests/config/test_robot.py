@@ -149,3 +149,22 @@ def test_a_urdf_with_a_default_namespace_loads(tmp_path: Path):
     path = tmp_path / "arm.yaml"
     path.write_text(yaml.safe_dump(doc))
     assert load_robot(path).urdf == namespaced
+
+
+def test_a_value_where_a_section_belongs_names_the_sections_keys_not_a_class(tmp_path):
+    """pydantic said "Input should be a valid dictionary or instance of _PlannerFile": a class name, no keys."""
+    from scone_bt.config import load_robot
+    from scone_bt.errors import ConfigError
+    from scone_bt.resources import data_dir
+
+    path = tmp_path / "panda.yaml"
+    path.write_text(
+        (data_dir("robots") / "panda.yaml").read_text().replace("planner:\n", "planner: 7\nunused:\n", 1)
+    )
+    with pytest.raises(ConfigError) as err:
+        load_robot(path)
+    assert (
+        "planner: must be a mapping of keys to values (name, time_limit_s, simplify, rng_seed, backend) (got 7)"
+        in str(err.value)
+    )
+    assert "instance of" not in str(err.value)

@@ -52,6 +52,12 @@ def test_bad_product_lists_the_products_of_the_episode(tmp_path: Path) -> None:
     assert "olive oil" in msg and "salt" in msg
 
 
+def test_a_failure_bound_of_an_unknown_product_is_refused(tmp_path: Path) -> None:
+    """`{max_failures: 1, object: unicorn}` passed `check`: it counted no failures, so it always held."""
+    msg = _error(tmp_path, "description: d\nexpect:\n  - {max_failures: 0, object: unicorn}\n")
+    assert "expect[0].object: 'unicorn' is not a product of the catalogue; valid: " in msg
+
+
 def test_product_of_the_catalogue_not_in_this_episode(tmp_path: Path) -> None:
     msg = _error(tmp_path, BASE + "world: {hidden_markers: [lard]}\n")
     assert "world.hidden_markers[0]: 'lard' is not stocked in this episode; valid: " in msg
@@ -240,3 +246,12 @@ def test_two_pins_on_one_slot_are_an_error(tmp_path: Path) -> None:
     assert msg.endswith(
         "world.place[1].slot: back/0/2 is already world.place[0]'s (olive oil); give each product its own slot"
     )
+
+
+def test_a_value_where_a_section_belongs_names_its_keys_not_a_class(tmp_path: Path) -> None:
+    """pydantic said "Input should be a valid dictionary or instance of WorldSection"."""
+    msg = _error(tmp_path, "description: d\nworld: 5\nexpect: [{completes: true}]\n")
+    assert "world: must be a mapping of keys to values (robot, arm, kitchen" in msg and msg.endswith(
+        "(got 5)"
+    )
+    assert "instance of" not in msg

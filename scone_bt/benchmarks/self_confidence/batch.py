@@ -653,5 +653,5 @@ def run_generate(args: argparse.Namespace) -> int:
         summary,
         setup.engine,
     )
-    emit_report(summary, args.json)
+    emit_report(summary, args.json, force=bool(getattr(args, "force", False)))
     return 0 if all(v["complete"] for v in summary["profiles"].values()) else 1

@@ -685,7 +685,7 @@ def run_evaluate(args: argparse.Namespace) -> int:
     report = clean_report(report)  # NaN → null, the same text as the file
     if args.out is not None:
         _write_report_files(report, args, report_files)
-    emit_report(report, args.json, indent=1, make_parent=True)
+    emit_report(report, args.json, indent=1, make_parent=True, force=bool(getattr(args, "force", False)))
     return 0
 
 

@@ -425,7 +425,7 @@ def run_probe(args: argparse.Namespace) -> int:
         out.mkdir(parents=True, exist_ok=True)
         write_atomic(report_files[".json"], dumps(report, indent=1) + "\n")
         write_atomic(report_files[".md"], probe_markdown(report))
-    emit_report(report, args.json, indent=1, make_parent=True)
+    emit_report(report, args.json, indent=1, make_parent=True, force=bool(getattr(args, "force", False)))
     return 0
 
 
