@@ -27,6 +27,7 @@ __all__ = [
     "check_seed",
     "check_port",
     "check_at_least",
+    "comma_list",
     "check_range",
     "check_output_file",
     "check_output_dir",
@@ -85,6 +86,15 @@ def check_positive_int(value: int, flag: str, maximum: int = 10**9) -> int:
     if not 1 <= value <= maximum:
         raise SconeError(f"{flag} {value}: must be an integer in 1..{maximum}")
     return value
+
+
+def comma_list(text: str, flag: str, example: str) -> tuple[str, ...]:
+    """The items of a comma list given to ``flag``, stripped; an empty list or an empty item ("10,,20", "") is one
+    line naming the flag and an ``example`` (a typo must not silently drop an item or select everything)."""
+    items = tuple(x.strip() for x in text.split(","))
+    if not text.strip() or any(not x for x in items):
+        raise SconeError(f"{flag} {text!r}: a comma list with no empty item, e.g. {example}")
+    return items
 
 
 def check_at_least(flag: str, value: int, least: int) -> int:

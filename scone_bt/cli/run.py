@@ -253,7 +253,7 @@ def _add_rerun_options(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("rerun output")
     g.add_argument(
         "--save",
-        type=Path,
+        type=_file_path,
         metavar="FILE.rrd",
         help="record the episode for the rerun viewer; an existing recording is replaced, any other file is refused "
         "unless --force, and an input or the store of this run is refused even with --force",
@@ -267,6 +267,13 @@ def _add_rerun_options(p: argparse.ArgumentParser) -> None:
         f"a one-line error; a viewer that does not take the data within {VIEWER_STALL_TIMEOUT_S:g} s mid-run is "
         "dropped and the episode goes on",
     )
+
+
+def _file_path(text: str) -> Path:
+    """A file path option: '' is refused (Path('') is '.', the working folder, and the error said "is a folder")."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("an empty path; give a file path, e.g. runs/episode.rrd")
+    return Path(text)
 
 
 def _robot_id(text: str) -> str:

@@ -271,4 +271,18 @@ def _section_words(error: Mapping[str, Any], section: dict[str, Any]) -> str:
             if isinstance(default, tuple)
             else round(math.degrees(default), 6)
         )
-    return f"grasp.{key} must be {type(default).__name__} like {default!r}, got {raw!r}"
+    return f"grasp.{key} must be {_file_words(default)}, got {raw!r}"
+
+
+def _file_words(default: object) -> str:
+    """What a value of the default's type is called in a YAML file, with the default as the file writes it:
+    "true or false (default true)", "a list of numbers, e.g. [25, 45]", "a number, e.g. 0.02"."""
+    if isinstance(default, bool):
+        return f"true or false (default {str(default).lower()})"
+    if isinstance(default, tuple):
+        return f"a list of numbers, e.g. [{', '.join(f'{v:.3g}' for v in default)}]"
+    if isinstance(default, int):
+        return f"a whole number, e.g. {default}"
+    if isinstance(default, float):
+        return f"a number, e.g. {default:g}"
+    return f"like {default!r}"

@@ -252,6 +252,13 @@ class RobotFile(StrictModel):
             ("limits.jerk", self.limits.jerk),
         ):
             if len(values) != n:
+                # The lists agree with one another and not with arm_joints: then arm_joints is the odd one out.
+                lists = (self.home, self.limits.velocity, self.limits.acceleration, self.limits.jerk)
+                if len({len(v) for v in lists}) == 1:
+                    raise ValueError(
+                        f"arm_joints: {n} joints listed, but home and limits give {len(values)} values each; "
+                        f"list one joint per value"
+                    )
                 raise ValueError(f"{key}: expected {n} numbers (one per arm joint), got {len(values)}")
         for i, (joint, q) in enumerate(zip(self.arm_joints, self.home, strict=True)):
             if abs(q) > MAX_HOME_RAD:

@@ -123,6 +123,8 @@ class RecipeRecord(StrictModel):
 
 def recipe_from_record(record: Any, where: str) -> Recipe:
     """Validate one JSON/YAML record of the corpus's shape; RecipeError (one line) if it does not fit."""
+    if record is None:
+        raise RecipeError(f"{where}: is empty; a recipe is a mapping with ingredients and steps")
     if not isinstance(record, dict):
         raise RecipeError(
             f"{where}: a recipe must be a mapping with ingredients and steps (optional: id, title, step_ingredients), "
@@ -172,6 +174,10 @@ def load_recipe(id_or_path: str) -> Recipe:
                 f"unknown example recipe {name!r}; valid: {', '.join('example:' + n for n in example_names())}"
             )
         return _load_file(file)
+    if path.is_file():  # an existing file of another kind: it is no corpus id either
+        raise RecipeError(
+            f"recipe {id_or_path!r}: a recipe file is .json, .yaml or .yml (got {path.suffix or 'no suffix'})"
+        )
     if path.is_dir():  # a folder is no recipe id (ids have no '/'), nor a recipe file
         raise RecipeError(
             f"recipe {id_or_path!r} is a folder; give a recipe file (.json, .yaml), example:<name> "

@@ -255,12 +255,13 @@ def _check_export_out(out: Path) -> None:
 def _analysis_options(
     args: argparse.Namespace, available: tuple[str, ...] | None = None
 ):  # -> AnalysisOptions
+    from scone_bt.checks import comma_list
     from scone_bt.study.analysis import MODELS, AnalysisOptions, check_models
     from scone_bt.study.models import Priors
 
     models = None
-    if args.models:
-        models = tuple(x.strip() for x in args.models.split(",") if x.strip())
+    if args.models is not None:
+        models = comma_list(args.models, "--models", "mdmt,trust")
         check_models(models, available if available is not None else MODELS, "--models")
     defaults = Priors.defaults(args.model)
     priors = Priors(

@@ -108,8 +108,11 @@ class PowerOptions:
     @classmethod
     def from_text(cls, n: str, **kwargs: Any) -> PowerOptions:
         """Options with N given as a comma list ("10,20,31")."""
+        from scone_bt.checks import comma_list
+
+        items = comma_list(n, "--n", "10,20,31")
         try:
-            participants = tuple(sorted({int(x) for x in n.split(",") if x.strip()}))
+            participants = tuple(sorted({int(x) for x in items}))
         except ValueError:
             raise SconeError(f"--n: {n!r} is not a comma list of whole numbers (e.g. 10,20,31)") from None
         return cls(participants=participants, **kwargs)

@@ -71,7 +71,15 @@ class MjCameras:
                 renderer = self.mujoco.Renderer(self.model, height, width)
             except Exception as exc:  # noqa: BLE001
                 check_rendering(self.mujoco)
-                raise ConfigError(f"MuJoCo renderer failed ({str(exc).strip()})") from None
+                import os
+
+                gl = os.environ.get("MUJOCO_GL", "")
+                hint = (
+                    f"; MUJOCO_GL={gl!r}: headless needs egl or osmesa (glfw needs a display)" if gl else ""
+                )
+                raise ConfigError(
+                    f"MuJoCo renderer failed ({str(exc).strip().splitlines()[0]}){hint}"
+                ) from None
             flags = renderer.scene.flags
             for flag in ("mjRND_SHADOW", "mjRND_REFLECTION", "mjRND_SKYBOX", "mjRND_FOG", "mjRND_HAZE"):
                 flags[getattr(self.mujoco.mjtRndFlag, flag)] = 0

@@ -40,3 +40,14 @@ def test_save_never_replaces_a_yaml_file_even_with_force(tmp_path, capsys):
     assert main(["--save", str(target), "--force", "--max-ticks", "1", "--quiet"]) == 2
     assert target.read_text() == "products: []\n"
     assert "is a YAML file" in capsys.readouterr().err
+
+
+def test_an_empty_save_path_says_so(capsys):
+    """`--save ""` said "--save .: is a folder"."""
+    import pytest
+
+    from scone_bt.cli.run import main
+
+    with pytest.raises(SystemExit) as done:
+        main(["--save", "", "--max-ticks", "1"])
+    assert done.value.code == 2 and "an empty path; give a file path" in capsys.readouterr().err

@@ -168,3 +168,20 @@ def test_a_value_where_a_section_belongs_names_the_sections_keys_not_a_class(tmp
         in str(err.value)
     )
     assert "instance of" not in str(err.value)
+
+
+def test_a_short_arm_joints_list_is_named_not_the_home_it_disagrees_with(tmp_path):
+    """`arm_joints: [panda_joint1]` was reported as "home: expected 1 numbers"."""
+    import re
+
+    from scone_bt.config import load_robot
+    from scone_bt.errors import ConfigError
+    from scone_bt.resources import data_dir
+
+    path = tmp_path / "panda.yaml"
+    text = (data_dir("robots") / "panda.yaml").read_text()
+    path.write_text(re.sub(r"(?m)^arm_joints: \[.*\]$", "arm_joints: [panda_joint1]", text))
+    with pytest.raises(
+        ConfigError, match=r"arm_joints: 1 joints listed, but home and limits give 7 values each"
+    ):
+        load_robot(path)

@@ -95,3 +95,17 @@ def test_the_corpus_is_read_from_scone_bt_shared_and_its_absence_says_how_to_poi
     ) as info:
         load_recipe("pdr:aelplermagronen")
     assert "\n" not in str(info.value)
+
+
+def test_an_empty_recipe_file_and_a_file_of_another_kind_say_so(tmp_path) -> None:
+    """An empty file said "got NoneType"; an existing .txt was looked up as a corpus id."""
+    empty = tmp_path / "empty.yaml"
+    empty.write_text("")
+    with pytest.raises(
+        RecipeError, match=r"empty.yaml: is empty; a recipe is a mapping with ingredients and steps"
+    ):
+        load_recipe(str(empty))
+    notes = tmp_path / "notes.txt"
+    notes.write_text("salt\n")
+    with pytest.raises(RecipeError, match=r"a recipe file is \.json, \.yaml or \.yml \(got \.txt\)"):
+        load_recipe(str(notes))
