@@ -251,7 +251,14 @@ def load_catalogue(files: Sequence[Path]) -> Catalogue:
     objects: list[ObjectSpec] = []
     names: dict[str, tuple[str, str]] = {}  # folded name or alias → (product, file)
     markers: dict[int, tuple[str, str]] = {}
+    seen: dict[Path, Path] = {}
     for path in files:
+        same = Path(path).resolve()
+        if same in seen:  # e.g. `--catalogue` naming a family file the kitchen already lists
+            raise ConfigError(
+                f"{path}: this product file is already in the catalogue (as {seen[same]}); give it once"
+            )
+        seen[same] = Path(path)
         for obj in _family_file(Path(path)):
             where = f"{path}: product {obj.name!r}"
             for field, label in (("name", obj.name), *(("aliases", a) for a in obj.aliases)):

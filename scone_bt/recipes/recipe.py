@@ -164,7 +164,8 @@ def load_recipe(id_or_path: str) -> Recipe:
     path = Path(id_or_path)
     if path.suffix in (".json", ".yaml", ".yml"):
         if not path.exists():  # a device or FIFO exists: read_text refuses it with what it is
-            raise RecipeError(f"recipe file not found: {path}")
+            where = "" if path.is_absolute() else f" (looked for {path.absolute()})"
+            raise RecipeError(f"recipe file not found: {path}{where}")
         return _load_file(path)
     if id_or_path.startswith("example:"):
         name = id_or_path.removeprefix("example:")

@@ -721,9 +721,12 @@ def on_backend(case: Case, backend: str | None, arm: str | None = None) -> Case:
 
 
 def resolve_input(value: str, base: Path) -> str:
-    """A file reference as the loaders take it: a path relative to the scenario file when it names one there."""
+    """A file reference as the loaders take it: a path relative to the scenario file when it names one there, else
+    as given (relative to the working folder); a path found in neither names the scenario's folder, so the error
+    says where it was looked for."""
     candidate = base / value
-    if ("/" in value or value.endswith((".yaml", ".yml", ".json"))) and candidate.is_file():
+    looks_like_a_path = "/" in value or value.endswith((".yaml", ".yml", ".json"))
+    if looks_like_a_path and (candidate.is_file() or not Path(value).exists()):
         return str(candidate)
     return value
 

@@ -213,3 +213,12 @@ def test_a_catalogue_entry_that_is_not_a_name_is_one_line_naming_the_entry(tmp_p
     with pytest.raises(ConfigError) as err:
         load_kitchen(kitchen)
     assert str(err.value) == f"{kitchen}: catalogue[0]: Input should be a valid string (got 5)"
+
+
+def test_a_product_file_given_twice_says_so(tmp_path):
+    """`--catalogue perception/catalogue/bags.yaml` said "'flour' is already product 'flour'"."""
+    family = sorted((data_dir("perception") / "catalogue").glob("*.yaml"))[0]
+    with pytest.raises(
+        ConfigError, match=r"this product file is already in the catalogue \(as .*\); give it once"
+    ):
+        load_kitchen("kitchen", [str(family)])

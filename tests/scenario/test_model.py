@@ -255,3 +255,11 @@ def test_a_value_where_a_section_belongs_names_its_keys_not_a_class(tmp_path: Pa
         "(got 5)"
     )
     assert "instance of" not in msg
+
+
+def test_a_missing_recipe_file_names_where_it_was_looked_for(tmp_path: Path) -> None:
+    """It said "recipe file not found: recipes/nope.yaml", relative to nothing said."""
+    msg = _error(
+        tmp_path, "description: d\nworld: {recipe: recipes/nope.yaml}\nexpect: [{completes: true}]\n"
+    )
+    assert msg.endswith(f"recipe file not found: {tmp_path / 'recipes' / 'nope.yaml'}")
