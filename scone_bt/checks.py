@@ -97,7 +97,7 @@ def comma_list(text: str, flag: str, example: str) -> tuple[str, ...]:
     return items
 
 
-def check_at_least(flag: str, value: int, least: int) -> int:
+def check_at_least(value: int, flag: str, least: int) -> int:
     """``value`` of ``flag`` if it is ``least`` or more, else one line naming both ("--chains 0: must be 1 or more")."""
     if value < least:
         raise SconeError(f"{flag} {value}: must be {least} or more")

@@ -33,7 +33,7 @@ VARIABLES: dict[str, str] = {
     "SCONE_BT_DATA": "folder holding robots/, perception/ and trees/ to use instead of the checkout's",
     "SCONE_BT_SHARED": "the shared/ folder that holds data/recipes/, the recipe corpus",
     "SCONE_BT_MPNET": "folder of an assembled all-mpnet-base-v2 model",
-    "SCONE_BT_TORCH_THREADS": "threads of an embedding forward pass: a whole number of 1 or more",
+    "SCONE_BT_TORCH_THREADS": "threads of an embedding forward pass: a whole number from 1 to 1024",
     "SCONE_BT_EMBED_RUNTIME": "torch: run MiniLM in sentence-transformers instead of numpy (valid: numpy, torch)",
     "SCONE_BT_RENDER_CACHE": "0 switches off the disk cache of rendered backgrounds (valid: "
     + ", ".join(SWITCHES)
@@ -46,6 +46,8 @@ VARIABLES: dict[str, str] = {
 """Every variable the code reads, with what it means (the reference lists them)."""
 
 _RUNTIMES = ("numpy", "torch")
+_MAX_THREADS = 1024
+"""Most threads an embedding forward pass may be given (more is a typo: torch refuses it only when it encodes)."""
 
 
 def _value(name: str, environ: Mapping[str, str] | None) -> str | None:
@@ -71,13 +73,15 @@ def torch_threads(environ: Mapping[str, str] | None = None) -> int | None:
     """$SCONE_BT_TORCH_THREADS as a number ≥ 1, or None when unset or empty.
 
     Raises:
-        ConfigError: not a whole number of 1 or more.
+        ConfigError: not a whole number from 1 to `_MAX_THREADS`.
     """
     value = _value("SCONE_BT_TORCH_THREADS", environ)
     if not value:
         return None
-    if not value.isdigit() or int(value) < 1:
-        raise ConfigError(f"SCONE_BT_TORCH_THREADS={value!r}: must be a whole number of 1 or more")
+    if not (value.isascii() and value.isdecimal()) or not 1 <= int(value) <= _MAX_THREADS:
+        raise ConfigError(
+            f"SCONE_BT_TORCH_THREADS={value!r}: must be a whole number from 1 to {_MAX_THREADS}"
+        )
     return int(value)
 
 

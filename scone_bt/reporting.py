@@ -28,14 +28,14 @@ def check_report_file(
     inputs: Mapping[str, Iterable[Path | str]] | None = None,
     force: bool = False,
 ) -> Path:
-    """Refuse a report FILE that would destroy something (one line naming `flag`): a YAML file that is not a
-    report (even with `force`), a folder, a device, one of `inputs` (even with `force`), an existing file that is
-    not a benchmark report (a JSON object with one of `checks.REPORT_KEYS`) unless `force`, an unwritable
-    folder."""
-    # The run's own inputs first: their message names the input flag.
-    checked = check_output_file(path, flag, kind="report", inputs=inputs, force=force)
+    """Refuse a report FILE that would destroy something (one line naming `flag`): a folder, a device, one of
+    `inputs` or an unwritable folder (even with `force`), then a YAML file (even with `force`), then an existing
+    file that is not a benchmark report (a JSON object with one of `checks.REPORT_KEYS`) unless `force`."""
+    # In this order, so each message is the one that holds even with --force: an input of the run (naming its
+    # flag), a YAML file, then a file that is not a report (which --force may replace).
+    check_output_file(path, flag, kind="report", inputs=inputs, force=True)
     check_not_yaml(path, flag, "a JSON report", ".json", ours=_is_report_file)
-    return checked
+    return check_output_file(path, flag, kind="report", inputs=inputs, force=force)
 
 
 def check_report_option(args: argparse.Namespace) -> None:

@@ -20,9 +20,9 @@ def test_a_comma_list_is_its_stripped_items():
 
 
 def test_at_least_names_the_flag_and_the_bound():
-    assert check_at_least("--chains", 2, 1) == 2
+    assert check_at_least(2, "--chains", 1) == 2
     with pytest.raises(SconeError, match=r"^--chains 0: must be 1 or more$"):
-        check_at_least("--chains", 0, 1)
+        check_at_least(0, "--chains", 1)
 
 
 def test_power_and_simulate_refuse_an_empty_item_before_any_work(tmp_path, capsys):

@@ -17,8 +17,10 @@ ROOT = Path(__file__).resolve().parents[1]
 @pytest.mark.parametrize(
     ("name", "value", "says"),
     [
-        ("SCONE_BT_TORCH_THREADS", "abc", "whole number of 1 or more"),
-        ("SCONE_BT_TORCH_THREADS", "0", "whole number of 1 or more"),
+        ("SCONE_BT_TORCH_THREADS", "abc", "whole number from 1 to 1024"),
+        ("SCONE_BT_TORCH_THREADS", "²", "whole number from 1 to 1024"),
+        ("SCONE_BT_TORCH_THREADS", "99999999999", "whole number from 1 to 1024"),
+        ("SCONE_BT_TORCH_THREADS", "0", "whole number from 1 to 1024"),
         ("SCONE_BT_EMBED_RUNTIME", "bogus", "numpy, torch"),
         ("SCONE_BT_RENDER_CACHE", "maybe", "0, false, no, off"),
         ("SCONE_BT_YAML_CACHE", "maybe", "1, true, yes, on"),

@@ -407,7 +407,7 @@ def _run(args: argparse.Namespace) -> int:
         ("--recipes", args.recipes, 1),
         ("--jobs", args.jobs, 1),
     ):
-        check_at_least(flag, value, low)
+        check_at_least(value, flag, low)
     for target in args.target_error_rates:  # the gate's own range (GateOptions), checked before any replay
         if not 0.0 < target < 1.0:
             raise SconeError(f"--target-error-rates {target}: must be a number in (0, 1)")

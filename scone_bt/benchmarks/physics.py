@@ -152,6 +152,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--json", help="also write the JSON report to this file")
     p.add_argument(
-        "--force", action="store_true", help="let --json replace an existing file that is not JSON"
+        "--force",
+        action="store_true",
+        help="let --json replace an existing file that is not a benchmark report (never a YAML file)",
     )
     p.set_defaults(func=run)

@@ -176,7 +176,9 @@ def _parser() -> argparse.ArgumentParser:
         has = {o for a in leaf._actions for o in a.option_strings}
         if "--json" in has and "--force" not in has:
             leaf.add_argument(
-                "--force", action="store_true", help="let --json replace an existing file that is not JSON"
+                "--force",
+                action="store_true",
+                help="let --json replace an existing file that is not a benchmark report (never a YAML file)",
             )
     return p
 

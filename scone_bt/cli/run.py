@@ -475,28 +475,11 @@ def _check_embedder(name: str) -> None:
     )
 
 
-def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
-    from scone_bt import checks
-    from scone_bt.behaviours import BehaviourOptions
+def _check_input_files(args: argparse.Namespace) -> None:
+    """The robot, kitchen and tree files and the extra catalogues: there, and files (not devices)."""
     from scone_bt.config.schema import MAX_FILE_BYTES, check_input_file
-    from scone_bt.config.tree_parameters import TreeParameters
-    from scone_bt.episode import EpisodeOptions
-    from scone_bt.human import HumanOptions
     from scone_bt.resources import resolve_file
-    from scone_bt.tree import load_tree_spec
 
-    # Every value is checked here, before the kitchen is built or a model is loaded.
-    check_backend(args.robot)  # before anything else: a robot file given to --robot says to use --arm
-    checks.check_seed(args.seed)
-    checks.check_positive_int(args.max_ticks, "--max-ticks")
-    if args.distractors < 0:
-        raise SconeError(f"--distractors {args.distractors}: must be 0 or more")
-    checks.check_range(args.takeover_probability, "--takeover-probability", 0.0, 1.0)
-    tree = tree_overrides(args)  # the decision settings given, checked by the tree file's model
-    if args.estimator is not None:
-        _check_estimator(args.estimator)
-    if args.embedder is not None:
-        _check_embedder(args.embedder)
     # a missing path is named as a file that is not there, not as an unknown robot/kitchen/tree name
     named: tuple[tuple[str, DataKind, str], ...] = (
         ("--arm", "robots", args.arm),
@@ -510,19 +493,25 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
             check_input_file(catalogue, limit=MAX_FILE_BYTES)
         except SconeError as exc:
             raise SconeError(f"--catalogue {exc}") from None
+
+
+def _check_outputs(args: argparse.Namespace) -> None:
+    """The recording, the experience store (or the fleet's server) and the viewer address."""
+    from scone_bt import checks
+
     inputs = _run_inputs(args)
     if args.save is not None:
-        # The run's inputs first (that message names their flag), then any YAML file: never replaced, even --force.
-        checks.check_output_file(args.save, "--save", kind="rrd", inputs=inputs, force=args.force)
+        # The run's inputs (naming their flag), then any YAML file, then another file (which --force may replace):
+        # each message is then the one that holds even with --force.
+        checks.check_output_file(args.save, "--save", kind="rrd", inputs=inputs, force=True)
         checks.check_not_yaml(
             args.save, "--save", "a rerun recording", ".rrd", ours=lambda p: checks.is_output_kind(p, "rrd")
         )
+        checks.check_output_file(args.save, "--save", kind="rrd", inputs=inputs, force=args.force)
     if isinstance(_experience(args.experience), Path):  # a postgresql:// URL is checked when it is opened
         others = {flag: files for flag, files in inputs.items() if flag != "--experience"}
         checks.check_output_file(Path(args.experience), "--experience", inputs=others)
-    elif (
-        args.experience is not None
-    ):  # probe the fleet's server now, not after the kitchen and models are loaded
+    elif args.experience is not None:  # probe the fleet's server now, not after the kitchen and models load
         from scone_bt.experience import open_store
 
         open_store(args.experience).close()
@@ -530,10 +519,42 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
         from scone_bt.viz.connect import check_viewer_address
 
         check_viewer_address(args.connect)
-    _check_display(args)
+
+
+def _decision_settings(args: argparse.Namespace) -> dict[str, Any]:
+    """The tree parameters given on the command line, checked: ranges, κ̂ and ζ names, and that this run reads
+    each one (`check_flags_take_effect`, against the tree file's gate where the line names none)."""
+    from scone_bt.config.tree_parameters import TreeParameters
+    from scone_bt.tree import load_tree_spec
+
+    tree = tree_overrides(args)  # the decision settings given, checked by the tree file's model
+    if args.estimator is not None:
+        _check_estimator(args.estimator)
+    if args.embedder is not None:
+        _check_embedder(args.embedder)
     spec = load_tree_spec(args.tree)  # validated now (types and ranges), before the kitchen is built
     gate = tree.get("gate") or spec.parameters.get("gate") or TreeParameters().gate
     check_flags_take_effect(tree, gate, self_confidence=not args.no_self_confidence)
+    return tree
+
+
+def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
+    from scone_bt import checks
+    from scone_bt.behaviours import BehaviourOptions
+    from scone_bt.episode import EpisodeOptions
+    from scone_bt.human import HumanOptions
+
+    # Every value is checked here, before the kitchen is built or a model is loaded.
+    check_backend(args.robot)  # before anything else: a robot file given to --robot says to use --arm
+    checks.check_seed(args.seed)
+    checks.check_positive_int(args.max_ticks, "--max-ticks")
+    if args.distractors < 0:
+        raise SconeError(f"--distractors {args.distractors}: must be 0 or more")
+    checks.check_range(args.takeover_probability, "--takeover-probability", 0.0, 1.0)
+    _check_input_files(args)
+    tree = _decision_settings(args)
+    _check_outputs(args)
+    _check_display(args)
     # Options not given on the command line come from the tree file's parameters (one source of defaults).
     behaviour = BehaviourOptions(
         **tree,

@@ -30,15 +30,21 @@ __all__ = [
     "model_fingerprint",
     "numpy_runtime",
     "same_length_batches",
+    "ALONE_BELOW_TOKENS",
     "RUNTIME_ENV",
     "VECTOR_FORM",
 ]
 
 _MODELS: dict[str, object] = {}  # loaded once per process, shared by every embedder of the same directory
 _LOCK = threading.Lock()
-VECTOR_FORM = "alone"
+VECTOR_FORM = "alone-v2"
 """Part of the cache key: how a vector's bits were made. Vectors cached before `same_length_batches` (no suffix)
-came from padded batches, and their low bits depended on their neighbours: they are not read."""
+came from padded batches, and their low bits depended on their neighbours; those of ``alone`` had one-word texts
+batched (`ALONE_BELOW_TOKENS`): neither is read."""
+ALONE_BELOW_TOKENS = 4
+"""A text of fewer tokens (a one-word text is 3: [CLS] word [SEP]) is encoded on its own: OpenBLAS multiplies a
+matrix of fewer than 4 rows with another kernel, so 'salt' alone and 'salt' among other 3-token texts differed
+in their last bits (found by review; 4 to 7 tokens matched)."""
 RUNTIME_ENV = "SCONE_BT_EMBED_RUNTIME"
 """``torch``: run every model in sentence-transformers, even one `bert_numpy` computes."""
 
@@ -132,15 +138,16 @@ def same_length_batches(token_counts: Sequence[int], batch_size: int) -> list[li
     summation order of the attention and leaves its low bits ~1e-7 off, so the same seeded run gave different
     vectors depending on what an embedding cache had seen before (and the ε-greedy draw, a hash of the vector,
     went another way). Rows of equal length need no padding and get the bits they get alone (tested).
-    Longest texts first, as sentence-transformers orders them.
+    Longest texts first, as sentence-transformers orders them. A text of fewer than `ALONE_BELOW_TOKENS` tokens
+    is encoded alone.
     """
     groups: dict[int, list[int]] = {}
     for i, n in enumerate(token_counts):
         groups.setdefault(int(n), []).append(i)
     return [
-        rows[start : start + batch_size]
-        for _, rows in sorted(groups.items(), reverse=True)
-        for start in range(0, len(rows), batch_size)
+        rows[start : start + (batch_size if tokens >= ALONE_BELOW_TOKENS else 1)]
+        for tokens, rows in sorted(groups.items(), reverse=True)
+        for start in range(0, len(rows), batch_size if tokens >= ALONE_BELOW_TOKENS else 1)
     ]
 
 

@@ -137,14 +137,14 @@ class SimulatedHuman:
         self.help_declined = 0
         self._declined: list[Event] = []  # answers to requests, reported with the next update()
         self._declined_objects: set[str] = set()
-        self.put_away_products: list[str] = []  # used products taken off the table to make room, in order
-        self.set_aside_products: list[
-            str
-        ] = []  # products of later steps set aside for the step in hand, in order
-        self._aside: set[str] = set()  # set aside and not yet brought back
-        self.used_in_hand: set[str] = (
-            set()
-        )  # brought for the step in hand but used without a place on the table
+        # Used products taken off the table to make room, in order.
+        self.put_away_products: list[str] = []
+        # Products of later steps set aside for the step in hand, in order; those not brought back yet.
+        self.set_aside_products: list[str] = []
+        self._aside: set[str] = set()
+        # Brought for a step but used from the hands, with no place on the table (they stay at the stove).
+        self.used_in_hand: set[str] = set()
+        self._acting_on: str | None = None  # the product of the robot's action under way: never set aside
         self.events: list[Event] = []
 
     # -------------------------------------------------------------------------------------------- state
@@ -177,12 +177,15 @@ class SimulatedHuman:
             self._decline(object_name, "the human declined: try it yourself")
             return
         for fetch in self._fetches:
-            if fetch.object_name == object_name and fetch.kind is FetchReason.INTERVENTION:
-                if (
-                    fetch.cause != "takeover"
-                ):  # a clean-up under way: now it is brought because the robot asked
-                    fetch.kind, fetch.cause = FetchReason.HELP, ""
-                return
+            if fetch.object_name != object_name:
+                continue
+            # A clean-up, or a product the human set aside coming back: now brought because the robot asked (a
+            # set-aside fetch kept as it was left the request unanswered: no HelpGiven, no HelpDeclined).
+            if fetch.kind is FetchReason.SET_ASIDE or (
+                fetch.kind is FetchReason.INTERVENTION and fetch.cause != "takeover"
+            ):
+                fetch.kind, fetch.cause = FetchReason.HELP, ""
+            return
         if not self.is_fetching(object_name):
             self._fetches.append(
                 _Fetch(object_name, self.kitchen.sim_time + self.options.fetch_time_s, FetchReason.HELP)
@@ -215,6 +218,7 @@ class SimulatedHuman:
     def decide_takeover(self, object_name: str) -> None:
         """Called once when the robot starts an action on an object: the human decides whether to take over."""
         self._takeover_at = None
+        self._acting_on = object_name
         if self.options.takeover_probability > 0 and self.rng.random() < self.options.takeover_probability:
             self._takeover_at = (object_name, self.kitchen.sim_time + self.options.takeover_delay_s)
 
@@ -243,6 +247,8 @@ class SimulatedHuman:
         """
         self._robot_busy_since = self.kitchen.sim_time if busy else None
         self._idle_since = self.kitchen.sim_time
+        if not busy:
+            self._acting_on = None
 
     # -------------------------------------------------------------------------------------------- table
     def _place_on_table(self, name: str) -> bool:
@@ -278,7 +284,15 @@ class SimulatedHuman:
         for i in range(self.step_index + 1, len(steps)):
             for o in steps[i].objects:
                 first_need.setdefault(o, i)
-        later = [o for o in first_need if o not in now and self.kitchen.is_on_table(o)]
+        # Not what the robot is acting on or touching: one it has just put down is its outcome, judged next tick.
+        later = [
+            o
+            for o in first_need
+            if o not in now
+            and o != self._acting_on
+            and self.kitchen.is_on_table(o)
+            and not self.kitchen.touches_robot(o)
+        ]
         return sorted(later, key=lambda o: -first_need[o])
 
     def _used_on_table(self) -> list[str]:

@@ -1,6 +1,6 @@
 """Compile the motion stage's kernels into numba's on-disk cache before the first run needs them.
 
-numba compiles `motion.compiled`'s kernels on their first call in a fresh install (about 15 s on 2 cores) and
+numba compiles `motion.compiled`'s kernels on their first call in a fresh install (about 18 s on 2 cores) and
 caches them beside the module; every later process loads them in milliseconds. Without this step the first
 episode after an install waits that long for its first plan. `make` runs it once after installing:
 
@@ -54,12 +54,22 @@ def warm_kernels(robot: str = "panda") -> tuple[bool, float]:
         )
     )
     bottle = ObjectSpec(
-        "bottle", (), Shape.CYLINDER, (0.05, 0.05, 0.14), 0.3, 0.6, "warm-up", (1, 1, 1, 1), 0
+        name="bottle",
+        aliases=(),
+        shape=Shape.CYLINDER,
+        size=(0.05, 0.05, 0.14),  # m
+        mass=0.3,  # kg
+        friction=0.6,
+        material="warm-up",
+        rgba=(1, 1, 1, 1),
+        marker_id=0,
     )
     closing = arm.fk(home)[:3, 1]
     request = PickPlaceRequest(
         q_start=home,
-        target=Detection("bottle", 0, (0.42, 0.35, 0.14), 0.0, 1.0, (0, 0, 1, 1)),
+        target=Detection(
+            "bottle", 0, position=(0.42, 0.35, 0.14), yaw=0.0, confidence=1.0, bbox=(0, 0, 1, 1)
+        ),
         spec=bottle,
         obstacles=(),
         static=static,

@@ -132,9 +132,9 @@ class AnalysisOptions:
             ("--tune", self.tune, 0),
             ("--draws", self.draws, 10),
         ):
-            check_at_least(flag, value, least)
+            check_at_least(value, flag, least)
         if self.cores is not None:
-            check_at_least("--cores", self.cores, 1)
+            check_at_least(self.cores, "--cores", 1)
         lo, hi = self.rope
         if not lo < hi:
             raise SconeError(f"ROPE must be an interval low < high, got [{lo}, {hi}]")

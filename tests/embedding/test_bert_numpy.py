@@ -88,7 +88,14 @@ def test_a_vector_is_the_same_to_the_bit_whatever_it_was_batched_with(tmp_path, 
 
     monkeypatch.setenv("SCONE_BT_EMBED_RUNTIME", runtime)
     emb = load_embedder("minilm", cache_dir=tmp_path / runtime)
-    texts = [t for t in TEXTS if t] + ["Put salt on table now", "Put garlic on table"]
+    texts = [t for t in TEXTS if t] + [
+        "Put salt on table now",
+        "Put garlic on table",
+        "salt",
+        "sugar",
+        "flour",
+        "",
+    ]
     alone = np.stack([emb.embed_uncached([t])[0] for t in texts])
     together = emb.embed_uncached(texts)
     reversed_ = emb.embed_uncached(texts[::-1])[::-1]
@@ -99,5 +106,5 @@ def test_same_length_batches_hold_one_token_count_each_and_every_row_once():
     from scone_bt.embedding.sentence import same_length_batches
 
     batches = same_length_batches([5, 3, 5, 9, 5, 3], batch_size=2)
-    assert batches == [[3], [0, 2], [4], [1, 5]]
+    assert batches == [[3], [0, 2], [4], [1], [5]]  # fewer than 4 tokens: one at a time
     assert same_length_batches([], batch_size=4) == []

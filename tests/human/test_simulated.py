@@ -170,3 +170,38 @@ def test_a_step_that_needs_more_than_the_table_holds_is_cooked_from_the_hands(ki
     )
     assert human.step_index > 0 and human.help_given == 1 and human.help_declined == 0
     assert [e.object_name for e in events if isinstance(e, HelpGiven)] == ["beef"]
+
+
+def test_a_request_for_a_product_coming_back_from_aside_is_answered(kitchen, kitchen_cfg, rng):
+    """The robot asked for what the human was bringing back from aside: no HelpGiven, no HelpDeclined followed."""
+    recipe, first, later = _ragu(kitchen, kitchen_cfg, rng)
+    for name in later:
+        assert kitchen.place_on_table(name)
+    human = SimulatedHuman(kitchen, recipe, HumanOptions(fetch_time_s=0.5, cook_time_s=0.1, patience_s=1e9))
+    for name in first:
+        human.request_help(name)
+    events = []
+    for _ in range(400):  # until a product set aside is on its way back, then the robot asks for it
+        kitchen.advance(0.1)
+        events += human.update()
+        coming = [f.object_name for f in human._fetches if f.kind.value == "set aside"]
+        if coming:
+            human.request_help(coming[0])
+            assert human.help_pending(coming[0])
+            events += _run(kitchen, human, 2.0)
+            assert any(isinstance(e, HelpGiven) and e.object_name == coming[0] for e in events)
+            return
+    raise AssertionError("nothing set aside came back")
+
+
+def test_the_product_the_robot_acts_on_is_never_set_aside(kitchen, kitchen_cfg, rng):
+    recipe, first, later = _ragu(kitchen, kitchen_cfg, rng)
+    for name in later:
+        assert kitchen.place_on_table(name)
+    human = SimulatedHuman(kitchen, recipe, HumanOptions(fetch_time_s=0.5, cook_time_s=0.1, patience_s=1e9))
+    latest = human._needed_later_on_table()[0]  # the first the human would set aside
+    human.robot_busy(True)
+    human.decide_takeover(latest)  # the robot has just put it down and its outcome is not yet judged
+    assert latest not in human._needed_later_on_table()
+    human.robot_busy(False)
+    assert human._needed_later_on_table()[0] == latest
