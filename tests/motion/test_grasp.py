@@ -135,7 +135,7 @@ def test_grasp_settings_come_from_the_robot_file_section():
         GraspParams.from_section({"yaw_step": 0.3}, "r.yaml")
     with pytest.raises(ConfigError, match="grasp.approach must be non-negative"):
         GraspParams.from_section({"approach": -0.1}, "r.yaml")
-    with pytest.raises(ConfigError, match="grasp.side_grasps must be bool"):
+    with pytest.raises(ConfigError, match="grasp.side_grasps must be true or false"):
         GraspParams.from_section({"side_grasps": "yes"}, "r.yaml")
 
 
