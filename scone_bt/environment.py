@@ -124,16 +124,17 @@ def folder_variable(
     return path
 
 
-_CHECKS: tuple[Callable[[Mapping[str, str] | None], object], ...] = (
-    lambda env: folder_variable("SCONE_BT_CACHE", env, may_create=True),
-    lambda env: folder_variable("SCONE_BT_DATA", env),
-    lambda env: folder_variable("SCONE_BT_SHARED", env),
-    lambda env: folder_variable("SCONE_BT_MPNET", env),
-    torch_threads,
-    embed_runtime,
-    lambda env: switch_on("SCONE_BT_RENDER_CACHE", env),
-    lambda env: switch_on("SCONE_BT_YAML_CACHE", env),
-)
+_CHECKS: dict[str, Callable[[Mapping[str, str] | None], object]] = {
+    "SCONE_BT_CACHE": lambda env: folder_variable("SCONE_BT_CACHE", env, may_create=True),
+    "SCONE_BT_DATA": lambda env: folder_variable("SCONE_BT_DATA", env),
+    "SCONE_BT_SHARED": lambda env: folder_variable("SCONE_BT_SHARED", env),
+    "SCONE_BT_MPNET": lambda env: folder_variable("SCONE_BT_MPNET", env),
+    "SCONE_BT_TORCH_THREADS": torch_threads,
+    "SCONE_BT_EMBED_RUNTIME": embed_runtime,
+    "SCONE_BT_RENDER_CACHE": lambda env: switch_on("SCONE_BT_RENDER_CACHE", env),
+    "SCONE_BT_YAML_CACHE": lambda env: switch_on("SCONE_BT_YAML_CACHE", env),
+}
+"""How each variable of `VARIABLES` is read (SCONE_BT_DEBUG takes any value); a test keeps the two in step."""
 
 
 def check_environment(environ: Mapping[str, str] | None = None) -> None:
@@ -142,5 +143,5 @@ def check_environment(environ: Mapping[str, str] | None = None) -> None:
     Raises:
         ConfigError: the first bad one, in one line naming it and what it accepts.
     """
-    for check in _CHECKS:
+    for check in _CHECKS.values():
         check(environ)

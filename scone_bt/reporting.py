@@ -1,20 +1,19 @@
 """A benchmark's JSON report: printed, and written whole to ``--json FILE`` (strict JSON).
 
-One rule for that file, before the benchmark runs (`check_report_option`) and at the write (`emit_report`): not a
+One rule for that file, before the benchmark runs (`cli.bench.check_report_path`) and at the write (`emit_report`): not a
 folder, device or input of the run; an existing report may be replaced (benchmarks are re-run into
 docs/results/*.json); any other existing file only with --force; a YAML file never (`check_not_yaml`).
 """
 
 from __future__ import annotations
 
-import argparse
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
 from scone_bt.checks import check_not_yaml, check_output_file, is_output_kind, write_atomic
 from scone_bt.strict_json import dumps
 
-__all__ = ["check_report_file", "check_report_option", "emit_report"]
+__all__ = ["check_report_file", "emit_report"]
 
 
 def _is_report_file(path: Path) -> bool:
@@ -36,14 +35,6 @@ def check_report_file(
     check_output_file(path, flag, kind="report", inputs=inputs, force=True)
     check_not_yaml(path, flag, "a JSON report", ".json", ours=_is_report_file)
     return check_output_file(path, flag, kind="report", inputs=inputs, force=force)
-
-
-def check_report_option(args: argparse.Namespace) -> None:
-    """A benchmark's --json FILE (with its --force), before the benchmark runs: minutes of work are never lost to
-    a path the report cannot be written to, and the write (`emit_report`) applies the same rule."""
-    path = getattr(args, "json", None)
-    if path:
-        check_report_file(Path(path), force=bool(getattr(args, "force", False)))
 
 
 def emit_report(

@@ -89,3 +89,9 @@ def test_every_command_refuses_a_bad_variable_before_any_work(command):
     )
     assert done.returncode == 2, (done.stdout[-500:], done.stderr[-1500:])
     assert done.stderr.strip().count("\n") == 0 and "SCONE_BT_TORCH_THREADS='abc'" in done.stderr
+
+
+def test_every_listed_variable_but_the_debug_switch_is_checked():
+    from scone_bt.environment import _CHECKS
+
+    assert set(_CHECKS) == set(VARIABLES) - {"SCONE_BT_DEBUG"}

@@ -29,7 +29,7 @@ from typing import Any
 
 from scone_bt.benchmarks.progress import progress_bar
 from scone_bt.errors import RecipeError
-from scone_bt.reporting import check_report_option, emit_report
+from scone_bt.reporting import emit_report
 from scone_bt.resources import repo_root
 
 __all__ = [
@@ -292,7 +292,6 @@ def run_catalogue_benchmark(
 
 
 def _run(args: argparse.Namespace) -> int:
-    check_report_option(args)  # --json and --force, before the work (the write applies the same rule)
     result = run_catalogue_benchmark(
         kitchen=args.kitchen,
         catalogues=tuple(args.catalogue),

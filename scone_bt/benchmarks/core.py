@@ -26,7 +26,7 @@ from scone_bt.confidence import ESTIMATORS, make_estimator
 from scone_bt.embedding import load_embedder, mpnet_dir
 from scone_bt.gate import GateOptions, decide
 from scone_bt.relevance import rank_actions
-from scone_bt.reporting import check_report_option, emit_report
+from scone_bt.reporting import emit_report
 
 OBJECTS = [
     "salt", "pepper", "sugar", "flour", "milk", "olive oil", "vinegar", "honey", "rice", "pasta", "tomato sauce",
@@ -211,7 +211,6 @@ def bench_decision_path(emb, estimators: list[str], reps: int) -> dict:  # noqa:
 
 def run(args: argparse.Namespace) -> int:
     """``scone-bench core``: print (and with ``--json FILE`` write) the JSON report."""
-    check_report_option(args)  # --json and --force, before the work (the write applies the same rule)
     reps = 5 if args.quick else 30
     names = ["minilm", "glove", "onehot"] + (["mpnet"] if mpnet_dir() is not None else [])
     # one step per embedder, then κ̂ latency, the decision path, the recipe-aware path (and MPNet's path)

@@ -50,7 +50,7 @@ import numpy as np
 from scone_bt.affordances.types import object_of_action
 from scone_bt.events import DecisionMade, Event, StepDone
 from scone_bt.gate.types import DecisionKind
-from scone_bt.reporting import check_report_option, emit_report
+from scone_bt.reporting import emit_report
 
 if TYPE_CHECKING:  # registration stays cheap: the estimators' package is imported by the replay itself
     from scone_bt.confidence.base import ConfidenceEstimator
@@ -397,10 +397,8 @@ def _gate_metrics(args: argparse.Namespace, pool: Any) -> dict[str, Any]:
 
 def _run(args: argparse.Namespace) -> int:
     from scone_bt.benchmarks.workers import process_pool
-    from scone_bt.errors import SconeError
-
-    check_report_option(args)  # --json and --force, before the work (the write applies the same rule)
     from scone_bt.checks import check_at_least
+    from scone_bt.errors import SconeError
 
     for flag, value, low in (
         ("--episodes", args.episodes, 0),

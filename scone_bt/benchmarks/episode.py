@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from scone_bt.benchmarks.progress import progress_bar
-from scone_bt.reporting import check_report_option, emit_report
+from scone_bt.reporting import emit_report
 
 __all__ = ["register", "run", "DEFAULT_RECIPES", "TARGETS"]
 
@@ -83,7 +83,6 @@ def cold_first_decision(
 
 def run(args: argparse.Namespace) -> int:
     """Run the episodes; print the JSON report (and write it to --json)."""
-    check_report_option(args)  # --json and --force, before the work (the write applies the same rule)
     recipes = _check_args(args)
     load_before = os.getloadavg()
     episodes = _run_episodes(args, recipes)

@@ -36,7 +36,7 @@ from typing import Any
 
 import numpy as np
 
-from scone_bt.reporting import check_report_option, emit_report
+from scone_bt.reporting import emit_report
 
 __all__ = ["register", "store_trial", "learning_trial", "ReplayResult", "replay_new_robot"]
 
@@ -330,7 +330,6 @@ def _handler(args: argparse.Namespace) -> int:
     from scone_bt.errors import SconeError
     from scone_bt.resources import repo_root
 
-    check_report_option(args)  # --json and --force, before the work (the write applies the same rule)
     _check_args(args)
     root = repo_root()
     if root is None:

@@ -77,7 +77,7 @@ from scone_bt.benchmarks.replay_streams import (
     stream_rows,
 )
 from scone_bt.files import write_via
-from scone_bt.reporting import check_report_option, emit_report
+from scone_bt.reporting import emit_report
 
 if TYPE_CHECKING:
     from scone_bt.gate.probe import ProbeOptions
@@ -454,7 +454,6 @@ def _cross_engine(
 def _run(args: argparse.Namespace) -> int:
     from scone_bt.errors import SconeError
 
-    check_report_option(args)  # --json and --force, before the work (the write applies the same rule)
     if args.warmup < 0:
         raise SconeError(f"--warmup {args.warmup}: must be 0 or more")
     if args.episodes < 0 or args.recipes < 1:

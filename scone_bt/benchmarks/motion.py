@@ -54,7 +54,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any, cast
 
-from scone_bt.reporting import check_report_option, emit_report
+from scone_bt.reporting import emit_report
 
 __all__ = ["register", "run", "TARGETS"]
 
@@ -573,7 +573,6 @@ def run(args: argparse.Namespace) -> int:
     from scone_bt.quiet import quiet_backends
     from scone_bt.robot.flags import require_pybullet
 
-    check_report_option(args)  # --json and --force, before the work (the write applies the same rule)
     require_pybullet(args.robot, "scone-bench motion")
     if args.queries < 1 or args.clutter < 0 or args.table_objects < 0 or args.jobs < 1:
         raise ConfigError("--queries and --jobs must be >= 1, --clutter and --table-objects >= 0")

@@ -26,7 +26,7 @@ from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from scone_bt.reporting import check_report_option, emit_report
+from scone_bt.reporting import emit_report
 
 __all__ = ["register", "run", "TARGETS"]
 
@@ -246,7 +246,6 @@ def run(args: argparse.Namespace) -> int:
     from scone_bt.quiet import c_stdout_silenced
     from scone_bt.robot.flags import check_backend
 
-    check_report_option(args)  # --json and --force, before the work (the write applies the same rule)
     for noise in args.noise:  # the scale of a camera's noise_std in a kitchen file
         check_range(noise, "--noise", 0.0, 255.0)
     kitchen_cfg = load_kitchen(args.kitchen, args.catalogue or ())

@@ -16,7 +16,7 @@ import argparse
 import time
 from typing import Any
 
-from scone_bt.reporting import check_report_option, emit_report
+from scone_bt.reporting import emit_report
 
 __all__ = ["compare_query", "outcome_class", "register"]
 
@@ -104,7 +104,6 @@ def run(args: argparse.Namespace) -> int:
     from scone_bt.robot.flags import require_pybullet
     from scone_bt.world.kitchen import FULL_RATE_STEP_S
 
-    check_report_option(args)  # --json and --force, before the work (the write applies the same rule)
     require_pybullet(args.robot, "scone-bench physics")
     if args.queries < 1 or args.jobs < 1 or args.clutter < 0 or args.table_objects < 0:
         raise ConfigError("--queries and --jobs must be >= 1, --clutter and --table-objects >= 0")

@@ -21,7 +21,7 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from scone_bt.reporting import check_report_option, emit_report
+from scone_bt.reporting import emit_report
 
 if TYPE_CHECKING:
     from scone_bt.benchmarks.self_confidence.profiles import Profile
@@ -233,7 +233,6 @@ def _handler(args: argparse.Namespace) -> int:
     from scone_bt.quiet import quiet_backends
     from scone_bt.robot.flags import require_pybullet
 
-    check_report_option(args)  # --json and --force, before the work (the write applies the same rule)
     require_pybullet(args.robot, "scone-bench scale")  # its executions build PyBullet kitchens directly
     quiet_backends()
     os.environ.setdefault("OMP_NUM_THREADS", "1")

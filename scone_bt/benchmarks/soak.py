@@ -30,7 +30,7 @@ from typing import Any
 
 from scone_bt.benchmarks.progress import progress_bar
 from scone_bt.process_stats import process_sample, slope
-from scone_bt.reporting import check_report_option, emit_report
+from scone_bt.reporting import emit_report
 
 __all__ = ["EpisodeSample", "TARGETS", "corpus_recipes", "register", "run"]
 
@@ -146,7 +146,6 @@ def _plot(samples: list[EpisodeSample], warmup: int, path: Path) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run the soak; print the JSON report (and write it to --json, the plot to --plot)."""
-    check_report_option(args)  # --json and --force, before the work (the write applies the same rule)
     _check_args(args)
     recipes = corpus_recipes(args.episodes, args.seed, args.max_steps)
     started = time.perf_counter()

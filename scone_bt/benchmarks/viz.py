@@ -24,7 +24,7 @@ from scone_bt.gate.types import Decision, DecisionKind
 from scone_bt.motion.types import TimedTrajectory
 from scone_bt.perception.camera import Camera
 from scone_bt.perception.detector import Detector
-from scone_bt.reporting import check_report_option, emit_report
+from scone_bt.reporting import emit_report
 from scone_bt.viz import NullRecorder, RecipeView, Recorder, TickSnapshot
 from scone_bt.world import Kitchen
 
@@ -176,7 +176,6 @@ def run(recorder: NullRecorder | Recorder, args: argparse.Namespace) -> dict[str
 
 def main(args: argparse.Namespace) -> int:
     """``scone-bench viz``: run the episode with and without the recorder and print the JSON report."""
-    check_report_option(args)  # --json and --force, before the work (the write applies the same rule)
     null = run(NullRecorder(), args)
     with tempfile.TemporaryDirectory() as tmp:
         path = args.save_demo or Path(tmp) / "bench.rrd"

@@ -138,9 +138,6 @@ class NumpyBert:
         self.tokenizer = Tokenizer.from_file(str(model_dir / "tokenizer.json"))
         self.tokenizer.enable_truncation(max_seq_length)
         self.tokenizer.enable_padding(pad_id=int(config.get("pad_token_id", 0)))
-        self._counting = Tokenizer.from_file(str(model_dir / "tokenizer.json"))  # the same, without padding
-        self._counting.no_padding()
-        self._counting.enable_truncation(max_seq_length)
         w = _read_safetensors(model_dir / "model.safetensors")
         prefix = "bert." if "bert.embeddings.word_embeddings.weight" in w else ""
         self.w = {k.removeprefix(prefix): v for k, v in w.items()}
@@ -148,7 +145,7 @@ class NumpyBert:
 
     def token_counts(self, texts: Sequence[str]) -> list[int]:
         """Tokens of each text as `encode` feeds them (special tokens included, after truncation)."""
-        return [len(e.ids) for e in self._counting.encode_batch(list(texts))]
+        return [sum(e.attention_mask) for e in self.tokenizer.encode_batch(list(texts))]  # padding: mask 0
 
     def encode(self, texts: Sequence[str]) -> np.ndarray:
         """(n, dim) unit vectors of ``texts``: BERT, mean pooling over the tokens, L2 normalisation."""

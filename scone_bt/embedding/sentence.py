@@ -31,7 +31,6 @@ __all__ = [
     "numpy_runtime",
     "same_length_batches",
     "ALONE_BELOW_TOKENS",
-    "RUNTIME_ENV",
     "VECTOR_FORM",
 ]
 
@@ -45,8 +44,6 @@ ALONE_BELOW_TOKENS = 4
 """A text of fewer tokens (a one-word text is 3: [CLS] word [SEP]) is encoded on its own: OpenBLAS multiplies a
 matrix of fewer than 4 rows with another kernel, so 'salt' alone and 'salt' among other 3-token texts differed
 in their last bits (found by review; 4 to 7 tokens matched)."""
-RUNTIME_ENV = "SCONE_BT_EMBED_RUNTIME"
-"""``torch``: run every model in sentence-transformers, even one `bert_numpy` computes."""
 
 
 def is_sentence_transformer_dir(path: Path) -> bool:
@@ -144,11 +141,11 @@ def same_length_batches(token_counts: Sequence[int], batch_size: int) -> list[li
     groups: dict[int, list[int]] = {}
     for i, n in enumerate(token_counts):
         groups.setdefault(int(n), []).append(i)
-    return [
-        rows[start : start + (batch_size if tokens >= ALONE_BELOW_TOKENS else 1)]
-        for tokens, rows in sorted(groups.items(), reverse=True)
-        for start in range(0, len(rows), batch_size if tokens >= ALONE_BELOW_TOKENS else 1)
-    ]
+    batches: list[list[int]] = []
+    for tokens, rows in sorted(groups.items(), reverse=True):
+        size = batch_size if tokens >= ALONE_BELOW_TOKENS else 1
+        batches += [rows[start : start + size] for start in range(0, len(rows), size)]
+    return batches
 
 
 class SentenceTransformerEmbedder(Embedder):

@@ -252,7 +252,9 @@ class SimulatedHuman:
 
     # -------------------------------------------------------------------------------------------- table
     def _place_on_table(self, name: str) -> bool:
-        """Put the fetched product on the table, making room when it is full (see the module docstring).
+        """Put the fetched product on the table, making room when it is full, or, for the step in hand when the
+        table cannot hold it, take it in hand (`used_in_hand`); False: no room, and no step in hand needs it (see
+        the module docstring).
 
         Without this a full table made every fetch fail quietly: the robot asked again and again for a product
         too wide for its gripper until the episode's tick limit.
@@ -274,7 +276,10 @@ class SimulatedHuman:
             self._aside.add(later)
             if self.kitchen.place_on_table(name):
                 return True
-        return False
+        # The step needs more than the table holds: the cook uses it from their hands.
+        self.kitchen.put_away(name)
+        self.used_in_hand.add(name)
+        return True
 
     def _needed_later_on_table(self) -> list[str]:
         """Products on the table that only steps after the current one need, the one needed latest first."""
@@ -312,17 +317,7 @@ class SimulatedHuman:
                 self._fetches.remove(fetch)
                 if self.kitchen.is_on_table(fetch.object_name):
                     continue
-                placed = self._place_on_table(fetch.object_name)
-                if (
-                    not placed
-                    and not self.done
-                    and fetch.object_name in self.recipe.steps[self.step_index].objects
-                ):
-                    # The step needs more than the table holds: the cook uses it from their hands.
-                    self.kitchen.put_away(fetch.object_name)
-                    self.used_in_hand.add(fetch.object_name)
-                    placed = True
-                if placed:
+                if self._place_on_table(fetch.object_name):
                     self._aside.discard(fetch.object_name)
                     if fetch.kind is FetchReason.SET_ASIDE:
                         continue  # the human's own doing: no help, no intervention

@@ -47,11 +47,11 @@ def run(
 
 def _main(args: argparse.Namespace) -> int:
     from scone_bt.checks import check_output_dir
-    from scone_bt.reporting import check_report_option, emit_report
+    from scone_bt.reporting import emit_report
     from scone_bt.scenario.runner import check_jobs
 
     # the outputs before any case runs, as scone-scenario run does: a bad path found after the run loses every result
-    check_report_option(args)
+    # (--json is checked by scone-bench for every benchmark, `cli.bench.check_report_path`)
     if args.out is not None:
         check_output_dir(args.out, "--out")
     report = run(args.paths or ["scenarios"], check_jobs(args.jobs), args.out, args.robot, args.arm)

@@ -128,19 +128,25 @@ def _calls(node: ast.AST, name: str) -> list[ast.Call]:
 
 
 @pytest.mark.parametrize("path", _benchmark_modules(), ids=lambda p: p.name)
-def test_every_benchmark_checks_its_report_file_first_and_passes_force_to_the_write(path: Path) -> None:
-    """A handler that writes a report checks --json (with --force) before its work, and its write gets --force."""
+def test_every_benchmark_passes_force_to_the_write(path: Path) -> None:
+    """A handler that writes a report gives its write --force (the same rule as the check before it runs)."""
     tree = ast.parse(path.read_text(encoding="utf-8"))
     for fn in (n for n in ast.walk(tree) if isinstance(n, ast.FunctionDef)):
         emits = _calls(fn, "emit_report")
-        if not emits:
-            continue
         assert all(any(k.arg == "force" for k in c.keywords) for c in emits), f"{path.name}:{fn.name}"
-        body = [
-            s
-            for s in fn.body
-            if not isinstance(s, (ast.Import, ast.ImportFrom))
-            and not (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant))  # the docstring
-        ]
-        first = body[0]
-        assert _calls(first, "check_report_option"), f"{path.name}:{fn.name} does not check --json first"
+
+
+def test_scone_bench_checks_every_benchmarks_report_file_before_it_runs() -> None:
+    """One place checks --json (with --force) for every benchmark, before dispatching to it
+    (`cli.bench.check_report_path`, with `reporting.check_report_file`'s rule)."""
+    source = (REPO / "scone_bt" / "cli" / "bench.py").read_text(encoding="utf-8")
+    tree = ast.parse(source)
+    main = next(n for n in ast.walk(tree) if isinstance(n, ast.FunctionDef) and n.name == "main")
+    calls = [c for c in ast.walk(main) if isinstance(c, ast.Call)]
+    check = next(c for c in calls if isinstance(c.func, ast.Name) and c.func.id == "check_report_path")
+    dispatch = next(c for c in calls if isinstance(c.func, ast.Attribute) and c.func.attr == "func")
+    assert (check.lineno, check.col_offset) < (dispatch.lineno, dispatch.col_offset)
+    checker = next(
+        n for n in ast.walk(tree) if isinstance(n, ast.FunctionDef) and n.name == "check_report_path"
+    )
+    assert _calls(checker, "check_report_file")

@@ -1,5 +1,5 @@
 from scone_bt.events import HelpGiven
-from scone_bt.human import HumanOptions, SimulatedHuman
+from scone_bt.human import FetchReason, HumanOptions, SimulatedHuman
 from scone_bt.recipes import load_recipe
 from scone_bt.stocking import stock_recipe
 
@@ -114,13 +114,18 @@ def test_a_product_that_fits_nowhere_is_declined_so_the_robot_stops_asking(kitch
     assert not kitchen.is_on_table("chicken") and human.help_given == 0 and human.help_declined == 1
 
 
-def _ragu(kitchen, kitchen_cfg, rng):
-    """Ragu Napoletano: its first step needs 9 products, the pork tenderloin 18 cm wide and the eggs 9.4 cm."""
+def _ragu_with_later_steps_on_the_table(kitchen, kitchen_cfg, rng):
+    """Ragu Napoletano, whose first step needs 9 products (the pork tenderloin 18 cm wide, the eggs 9.4 cm), with
+    the products of its later steps standing on the table, as a robot working ahead leaves it; (human, the first
+    step's products, the later steps' products)."""
     recipe = stock_recipe(load_recipe("pdr:ragu-napoletano"), kitchen_cfg.catalogue)
     kitchen.spawn([kitchen_cfg.catalogue.get(n) for n in recipe.needed], rng)
     first = recipe.steps[0].objects
     later = [o for s in recipe.steps[1:] for o in s.objects if o not in first]
-    return recipe, first, later
+    for name in later:
+        assert kitchen.place_on_table(name)
+    human = SimulatedHuman(kitchen, recipe, HumanOptions(fetch_time_s=0.5, cook_time_s=0.1, patience_s=1e9))
+    return human, first, later
 
 
 def _run(kitchen, human, seconds):
@@ -134,10 +139,7 @@ def _run(kitchen, human, seconds):
 def test_what_later_steps_need_is_set_aside_for_the_step_in_hand_and_brought_back(kitchen, kitchen_cfg, rng):
     # The soak's episode 20 that never ended: a robot working ahead had filled the table with what steps 2-9
     # need, the beef of step 1 found no room, and the human waited for it to the tick limit.
-    recipe, first, later = _ragu(kitchen, kitchen_cfg, rng)
-    for name in later:
-        assert kitchen.place_on_table(name)
-    human = SimulatedHuman(kitchen, recipe, HumanOptions(fetch_time_s=0.5, cook_time_s=0.1, patience_s=1e9))
+    human, first, later = _ragu_with_later_steps_on_the_table(kitchen, kitchen_cfg, rng)
     for name in first:
         human.request_help(name)
     _run(kitchen, human, 5.0)
@@ -174,17 +176,14 @@ def test_a_step_that_needs_more_than_the_table_holds_is_cooked_from_the_hands(ki
 
 def test_a_request_for_a_product_coming_back_from_aside_is_answered(kitchen, kitchen_cfg, rng):
     """The robot asked for what the human was bringing back from aside: no HelpGiven, no HelpDeclined followed."""
-    recipe, first, later = _ragu(kitchen, kitchen_cfg, rng)
-    for name in later:
-        assert kitchen.place_on_table(name)
-    human = SimulatedHuman(kitchen, recipe, HumanOptions(fetch_time_s=0.5, cook_time_s=0.1, patience_s=1e9))
+    human, first, later = _ragu_with_later_steps_on_the_table(kitchen, kitchen_cfg, rng)
     for name in first:
         human.request_help(name)
     events = []
     for _ in range(400):  # until a product set aside is on its way back, then the robot asks for it
         kitchen.advance(0.1)
         events += human.update()
-        coming = [f.object_name for f in human._fetches if f.kind.value == "set aside"]
+        coming = [f.object_name for f in human._fetches if f.kind is FetchReason.SET_ASIDE]
         if coming:
             human.request_help(coming[0])
             assert human.help_pending(coming[0])
@@ -195,10 +194,7 @@ def test_a_request_for_a_product_coming_back_from_aside_is_answered(kitchen, kit
 
 
 def test_the_product_the_robot_acts_on_is_never_set_aside(kitchen, kitchen_cfg, rng):
-    recipe, first, later = _ragu(kitchen, kitchen_cfg, rng)
-    for name in later:
-        assert kitchen.place_on_table(name)
-    human = SimulatedHuman(kitchen, recipe, HumanOptions(fetch_time_s=0.5, cook_time_s=0.1, patience_s=1e9))
+    human, first, later = _ragu_with_later_steps_on_the_table(kitchen, kitchen_cfg, rng)
     latest = human._needed_later_on_table()[0]  # the first the human would set aside
     human.robot_busy(True)
     human.decide_takeover(latest)  # the robot has just put it down and its outcome is not yet judged
