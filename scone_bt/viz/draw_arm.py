@@ -13,10 +13,11 @@ from scone_bt.errors import ConfigError
 from scone_bt.geometry import quat_inverse, quat_multiply, quat_rotate
 from scone_bt.viz import paths as P
 from scone_bt.viz.colours import rgba255
-from scone_bt.viz.pose_batch import PoseBatch, moved
+from scone_bt.viz.pose_batch import MovedFilter, PoseBatch
 from scone_bt.viz.render import slug
 from scone_bt.viz.sinks import Sinks
 from scone_bt.viz.snapshot import Pose
+from scone_bt.viz.tick_rows import TickRows, sim_time_column
 from scone_bt.viz.urdf_visuals import LinkVisual, RobotVisuals, read_robot_visuals
 
 if TYPE_CHECKING:
@@ -29,7 +30,11 @@ ROBOT_FRAME = "robot"
 """Links' transform frame ids are robot/<link>, their geometry's robot/<link>/geometry_<i>."""
 _TRACE_STEP = 0.005  # metres between points of the executed end-effector trace
 _TRACE_MAX = 4000
-_TRACE_PERIOD = 0.25  # simulated seconds between updates of the executed trace
+_TRACE_PERIOD = 0.5  # simulated seconds between updates of the executed trace
+PLANNED = (230, 120, 20)
+"""The planned end-effector path's colour (RGB)."""
+EXECUTED = (30, 120, 230)
+"""The executed end-effector trace's colour (RGB)."""
 _SERIES_SUFFIX = {
     P.PLANNED_POSITION: " planned",
     P.PLANNED_VELOCITY: " velocity",
@@ -53,28 +58,40 @@ class ArmDrawer:
         self._robot: RobotVisuals | None = None
         self._link_frame: dict[str, str] = {}  # link_poses key → transform frame id
         self._ee_link: str | None = None
-        self._last_link: dict[str, Pose] = {}
+        self._moved = MovedFilter()
         self._trace: list[np.ndarray] = []
         self._trace_logged_at = -np.inf
         self._trace_logged_len = 0
         self._last_q: np.ndarray | None = None
+        # Logged every tick the arm moves: kept and sent in batches, like the moved bodies.
+        self._executed_q: TickRows[np.ndarray] = TickRows(
+            sinks, P.EXECUTED_POSITION, lambda rows: rr.Scalars.columns(scalars=np.array(rows))
+        )
 
     def log_static(self, kitchen: SceneView) -> None:
         """The links' geometry and the joint series' names (static)."""
         self._log_robot_geometry(kitchen)
+        # The paths' colours and widths never change: sent once, not with every strip.
+        self._sinks.rec.log(
+            P.EE_PATH, rr.LineStrips3D.from_fields(colors=[PLANNED], radii=[0.004]), static=True
+        )
+        self._sinks.rec.log(
+            P.EE_EXECUTED, rr.LineStrips3D.from_fields(colors=[EXECUTED], radii=[0.003]), static=True
+        )
         joints = list(kitchen.robot_config.arm_joints)
         for entity, suffix in _SERIES_SUFFIX.items():
             self._sinks.rec.log(entity, rr.SeriesLines(names=[f"{j}{suffix}" for j in joints]), static=True)
 
     def log_links(self, link_poses: Mapping[str, Pose]) -> None:
         """The links that moved (into the tick's batch); the end effector extends the executed trace."""
-        for name, pose in link_poses.items():
-            if name == self._ee_link:
-                self._extend_trace(np.asarray(pose[0], dtype=float))
+        ee = link_poses.get(self._ee_link) if self._ee_link is not None else None
+        if ee is not None:
+            self._extend_trace(np.asarray(ee[0], dtype=float))
+        for name in self._moved.moved(link_poses):
             frame = self._link_frame.get(name)
-            if frame is None or not moved(self._last_link.get(name), pose):
+            if frame is None:
                 continue
-            self._last_link[name] = pose
+            pose = link_poses[name]
             if name == "base" and self._robot is not None:
                 pose = self._root_link_frame(pose)
             self._poses.add(frame, pose)
@@ -83,7 +100,7 @@ class ArmDrawer:
         """A new plan's end-effector path (N, 3 metres); the executed trace starts again with it."""
         if path.ndim != 2 or path.shape[1] != 3:
             raise ConfigError(f"ee_path must be an (N, 3) array of metres, got shape {path.shape}")
-        self._sinks.rec.log(P.EE_PATH, rr.LineStrips3D([path], colors=[(230, 120, 20)], radii=[0.004]))
+        self._sinks.rec.log(P.EE_PATH, rr.LineStrips3D([path]))
         self.log_trace()  # finish the previous motion's trace, then start a new one with the new plan
         self._trace, self._trace_logged_len = [], 0
 
@@ -91,7 +108,7 @@ class ArmDrawer:
         """The planned joint positions and velocities, on the simulated time from ``start`` (seconds)."""
         if len(traj.times) == 0:
             return
-        index = [rr.TimeColumn(P.SIM_TIME, duration=start + np.asarray(traj.times, dtype=float))]
+        index = [sim_time_column(start + np.asarray(traj.times, dtype=float))]
         self._sinks.rec.send_columns(
             P.PLANNED_POSITION,
             indexes=index,
@@ -108,16 +125,17 @@ class ArmDrawer:
         q = np.asarray(executed_q, dtype=float)
         if self._last_q is None or q.shape != self._last_q.shape or np.max(np.abs(q - self._last_q)) > 1e-6:
             self._last_q = q
-            self._sinks.rec.log(P.EXECUTED_POSITION, rr.Scalars(q))
+            self._executed_q.keep(self._sinks.tick, self._sinks.now, [q])
+
+    def flush(self) -> None:
+        """Send the kept executed joint positions now (the recorder's flush and close call it)."""
+        self._executed_q.flush()
 
     def log_trace(self) -> None:
         """The executed end-effector trace, if it grew since it was last logged."""
         if len(self._trace) >= 2 and len(self._trace) != self._trace_logged_len:
             self._trace_logged_at, self._trace_logged_len = self._sinks.now, len(self._trace)
-            self._sinks.rec.log(
-                P.EE_EXECUTED,
-                rr.LineStrips3D([np.array(self._trace)], colors=[(30, 120, 230)], radii=[0.003]),
-            )
+            self._sinks.rec.log(P.EE_EXECUTED, rr.LineStrips3D([np.array(self._trace)]))
 
     def _extend_trace(self, position: np.ndarray) -> None:
         if self._trace and np.linalg.norm(position - self._trace[-1]) < _TRACE_STEP:

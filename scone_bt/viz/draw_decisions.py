@@ -18,7 +18,12 @@ from scone_bt.viz.series import NamedSeries
 from scone_bt.viz.sinks import Sinks
 from scone_bt.viz.snapshot import AffordanceRow
 
-__all__ = ["DecisionDrawer"]
+__all__ = ["CONFIDENCE_BARS", "RELEVANCE_BARS", "DecisionDrawer"]
+
+RELEVANCE_BARS = (31, 119, 180)
+"""The relevance bars' colour (RGB)."""
+CONFIDENCE_BARS = (44, 160, 44)
+"""The κ̂ bars' colour (RGB)."""
 
 
 class DecisionDrawer:
@@ -39,6 +44,17 @@ class DecisionDrawer:
             rr.StateConfiguration(values=list(GATE_COLOURS), colors=list(GATE_COLOURS.values())),
             static=True,
         )
+        # The bars' colours never change: sent once, not with every chart. (BarChart.from_fields(color=...)
+        # without values trips rerun's values converter, so the colour goes as its own component.)
+        for path, colour in (
+            (P.AFFORDANCE_RELEVANCE, RELEVANCE_BARS),
+            (P.AFFORDANCE_CONFIDENCE, CONFIDENCE_BARS),
+        ):
+            rec.log(
+                path,
+                [rr.components.ColorBatch([colour]).described(rr.BarChart.descriptor_color())],
+                static=True,
+            )
         rec.log(P.GATE_CONFIDENCE, rr.SeriesLines(names=["chosen action κ̂"]), static=True)
         rec.log(P.GATE_RELEVANCE, rr.SeriesLines(names=["chosen action relevance"]), static=True)
 
@@ -55,8 +71,8 @@ class DecisionDrawer:
             self._contexts = dict(contexts or {})
             relevance = np.nan_to_num(np.array([r[1] for r in self._rows], dtype=float))
             confidence = np.nan_to_num(np.array([r[2] for r in self._rows], dtype=float))
-            rec.log(P.AFFORDANCE_RELEVANCE, rr.BarChart(relevance, color=(31, 119, 180)))
-            rec.log(P.AFFORDANCE_CONFIDENCE, rr.BarChart(confidence, color=(44, 160, 44)))
+            rec.log(P.AFFORDANCE_RELEVANCE, rr.BarChart(relevance))
+            rec.log(P.AFFORDANCE_CONFIDENCE, rr.BarChart(confidence))
         if decision is not None:
             self._log_decision(decision)
         rec.log(

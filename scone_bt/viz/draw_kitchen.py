@@ -10,7 +10,7 @@ import rerun as rr
 from scone_bt.config.catalogue import Shape
 from scone_bt.viz import paths as P
 from scone_bt.viz.colours import SCENE_COLOURS, SHELF_COLOUR, rgba255
-from scone_bt.viz.pose_batch import PoseBatch, moved
+from scone_bt.viz.pose_batch import MovedFilter, PoseBatch
 from scone_bt.viz.render import slug
 from scone_bt.viz.sinks import Sinks
 from scone_bt.viz.snapshot import Pose
@@ -32,7 +32,7 @@ class KitchenDrawer:
         self._sinks = sinks
         self._poses = poses
         self._specs: Mapping[str, ObjectSpec] = {}
-        self._last_object: dict[str, Pose] = {}
+        self._moved = MovedFilter()
         self._objects_drawn: set[str] = set()
 
     def log_static(self, kitchen: SceneView) -> None:
@@ -64,15 +64,12 @@ class KitchenDrawer:
 
     def log_objects(self, poses: Mapping[str, Pose]) -> None:
         """Each product's geometry the first time it is seen; its pose (into the tick's batch) when it moved."""
-        for name, pose in poses.items():
-            frame = f"{OBJECT_FRAME}/{name}"
+        for name in poses:
             if name not in self._objects_drawn:
                 self._objects_drawn.add(name)
-                self._log_object_geometry(name, f"{P.OBJECTS}/{slug(name)}", frame)
-            if not moved(self._last_object.get(name), pose):
-                continue
-            self._last_object[name] = pose
-            self._poses.add(frame, pose)
+                self._log_object_geometry(name, f"{P.OBJECTS}/{slug(name)}", f"{OBJECT_FRAME}/{name}")
+        for name in self._moved.moved(poses):
+            self._poses.add(f"{OBJECT_FRAME}/{name}", poses[name])
 
     def _log_object_geometry(self, name: str, entity: str, frame: str) -> None:
         spec = self._specs.get(name)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any
 
 import py_trees
@@ -9,23 +10,30 @@ import rerun as rr
 
 from scone_bt.viz import paths as P
 from scone_bt.viz.colours import STATUS_COLOURS
-from scone_bt.viz.render import STATUSES, TreeNode, flatten_tree, layout_tree, tree_text
+from scone_bt.viz.render import STATUSES, TreeNode, flatten_tree, layout_tree, status_text, tree_text
 from scone_bt.viz.sinks import Sinks
 
 __all__ = ["TreeDrawer"]
 
-_Signature = tuple[tuple[int, Any, str, int], ...]
+_Signature = tuple[tuple[int, str, Any, str, int], ...]
 
 
 def _tree_signature(root: Any) -> _Signature:
-    """Identity, status, feedback and child count of every behaviour: equal signatures, nothing to log."""
+    """Identity, name, status, feedback and child count of every behaviour, in pre-order (flatten_tree's order):
+    equal signatures, nothing to log."""
     out = []
     stack = [root]
     while stack:
         behaviour = stack.pop()
         children = getattr(behaviour, "children", None) or ()
         out.append(
-            (id(behaviour), behaviour.status, getattr(behaviour, "feedback_message", ""), len(children))
+            (
+                id(behaviour),
+                behaviour.name,
+                behaviour.status,
+                getattr(behaviour, "feedback_message", ""),
+                len(children),
+            )
         )
         stack.extend(reversed(children))
     return tuple(out)
@@ -38,6 +46,8 @@ class TreeDrawer:
         self._sinks = sinks
         self._shape: tuple[str, ...] = ()
         self._signature: _Signature = ()
+        self._structure: tuple[tuple[int, str, int], ...] = ()
+        self._nodes: list[TreeNode] = []
         self._state: dict[str, tuple[str, str]] = {}
         self._layout: dict[str, tuple[float, float]] = {}
 
@@ -48,7 +58,7 @@ class TreeDrawer:
         if signature == self._signature:
             return
         self._signature = signature
-        nodes = flatten_tree(root)
+        nodes = self._nodes_now(root, signature)
         shape = tuple(n.node_id for n in nodes)
         if shape != self._shape:
             self._log_shape(nodes, shape)
@@ -68,6 +78,22 @@ class TreeDrawer:
             self._log_graph(nodes)
         if changed:
             self._sinks.rec.log(P.TREE_TEXT, rr.TextDocument(tree_text(nodes)))
+
+    def _nodes_now(self, root: Any, signature: _Signature) -> list[TreeNode]:
+        """The tree's nodes at this tick: walked again only when its behaviours changed, else the last walk's
+        nodes with this tick's statuses and feedback (most ticks change a feedback message, nothing else)."""
+        structure = tuple((s[0], s[1], s[4]) for s in signature)
+        if structure != self._structure:
+            self._structure, self._nodes = structure, flatten_tree(root)
+            return self._nodes
+        nodes = []
+        for node, (_, _, status, feedback, _) in zip(self._nodes, signature, strict=True):
+            status_now, feedback_now = status_text(status), str(feedback or "")
+            if (status_now, feedback_now) != (node.status, node.feedback):
+                node = replace(node, status=status_now, feedback=feedback_now)
+            nodes.append(node)
+        self._nodes = nodes
+        return nodes
 
     def _log_shape(self, nodes: list[TreeNode], shape: tuple[str, ...]) -> None:
         """A new tree: its edges, its layout, and each node's status colours (static)."""

@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 import rerun as rr
 
@@ -11,20 +13,41 @@ from scone_bt.viz.sinks import Sinks
 from scone_bt.viz.snapshot import Pose
 from scone_bt.viz.tick_rows import TickRows
 
-__all__ = ["POSE_EPS", "PoseBatch", "moved"]
+__all__ = ["POSE_EPS", "MovedFilter", "PoseBatch"]
 
 POSE_EPS = 1e-5
 """Metres / quaternion units: below this a link or object has not moved and is not re-logged."""
 
 
-def moved(a: Pose | None, b: Pose) -> bool:
-    """Whether pose ``b`` differs from ``a`` (None: never logged) by more than POSE_EPS."""
-    # Plain Python: numpy's per-call overhead dominates for 3- and 4-vectors.
-    if a is None:
-        return True
-    return any(abs(x - y) > POSE_EPS for x, y in zip(a[0], b[0], strict=True)) or any(
-        abs(x - y) > POSE_EPS for x, y in zip(a[1], b[1], strict=True)
-    )
+class MovedFilter:
+    """Which bodies moved by more than POSE_EPS (any coordinate) since each was last reported as moved.
+
+    One array comparison for all the bodies of a tick: comparing pose by pose in Python cost more than sending
+    the poses. A body seen for the first time has moved.
+    """
+
+    def __init__(self) -> None:
+        self._names: tuple[str, ...] = ()
+        self._last = np.zeros((0, 7))
+
+    def moved(self, poses: Mapping[str, Pose]) -> list[str]:
+        """The names in ``poses`` that moved, in their order; they are remembered at these poses."""
+        names = tuple(poses)
+        now = np.array([(*p[0], *p[1]) for p in poses.values()], dtype=float).reshape(len(names), 7)
+        if names != self._names:
+            self._realign(names)
+        changed = ~(np.abs(now - self._last) <= POSE_EPS).all(axis=1)  # NaN (never seen) counts as moved
+        self._last[changed] = now[changed]
+        return [names[i] for i in np.flatnonzero(changed)]
+
+    def _realign(self, names: tuple[str, ...]) -> None:
+        """Rows for a new set of names: a name seen before keeps its last pose, a new one has none (NaN)."""
+        index = {name: i for i, name in enumerate(self._names)}
+        last = np.full((len(names), 7), np.nan)
+        for i, name in enumerate(names):
+            if name in index:
+                last[i] = self._last[index[name]]
+        self._names, self._last = names, last
 
 
 def _transforms(rows: list[tuple[str, Pose]]) -> object:

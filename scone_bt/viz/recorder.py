@@ -111,6 +111,7 @@ class Recorder:
         self._kitchen.follow_specs(kitchen.specs)
         self._decisions.log_static()
         self._timeline.log_static()
+        self._perception.log_static()
         # The initial state, so the scene is complete before the first tick.
         self._sinks.set_time(0, kitchen.sim_time)
         self._perception.log_configured_camera(kitchen.config.camera)
@@ -160,6 +161,7 @@ class Recorder:
         recording waits until written.
         """
         self._poses.flush()
+        self._arm.flush()
         self._timeline.flush()
         return self._sinks.flush(timeout_s)
 
@@ -175,6 +177,7 @@ class Recorder:
         self._closed = True
         self._arm.log_trace()  # at the last tick's time
         self._poses.flush()
+        self._arm.flush()
         self._timeline.flush()
         self._sinks.close(complete)
 

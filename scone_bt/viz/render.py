@@ -17,6 +17,7 @@ __all__ = [
     "TreeNode",
     "slug",
     "flatten_tree",
+    "status_text",
     "layout_tree",
     "tree_text",
     "rank_affordances",
@@ -63,6 +64,11 @@ class TreeNode:
     is_leaf: bool
 
 
+def status_text(status: Any) -> str:
+    """A py_trees status as logged ("SUCCESS", ...)."""
+    return str(getattr(status, "value", status))
+
+
 def flatten_tree(root: Any) -> list[TreeNode]:
     """Pre-order list of a py_trees tree's behaviours (root first, children in tick order)."""
     out: list[TreeNode] = []
@@ -76,13 +82,12 @@ def flatten_tree(root: Any) -> list[TreeNode]:
         taken.add(part)
         node_id = part if parent is None else f"{parent}/{part}"
         children = list(getattr(behaviour, "children", []) or [])
-        status = getattr(behaviour.status, "value", str(behaviour.status))
         out.append(
             TreeNode(
                 node_id=node_id,
                 name=str(behaviour.name),
                 kind=type(behaviour).__name__,
-                status=str(status),
+                status=status_text(behaviour.status),
                 feedback=str(getattr(behaviour, "feedback_message", "") or ""),
                 parent=parent,
                 depth=depth,

@@ -143,6 +143,7 @@ class Sinks:
     Attributes:
         rec: Where log calls go now: the file and/or the viewer stream (nowhere once closed).
         now: Simulated time of the tick being logged, seconds.
+        tick: The tick being logged.
         stream_error: Why the live viewer stopped taking data (None while it does, or without one).
         saved_to: Where the recording is once closed (`save`, or `unfinished_path(save)` after a run ended early).
     """
@@ -188,6 +189,7 @@ class Sinks:
         self._viewer_checked_at = time.monotonic()
         self.stream_error: str | None = None
         self.now = 0.0
+        self.tick = 0
 
     @property
     def viewer_attached(self) -> bool:
@@ -196,8 +198,8 @@ class Sinks:
 
     def set_time(self, tick: int, sim_time: float) -> None:
         """Log what follows at this tick and simulated time (seconds)."""
-        self.now = float(sim_time)
-        self.rec.set_time(P.TICK, sequence=int(tick))
+        self.now, self.tick = float(sim_time), int(tick)
+        self.rec.set_time(P.TICK, sequence=self.tick)
         self.rec.set_time(P.SIM_TIME, duration=float(sim_time))
 
     def check_viewer_now_and_then(self) -> None:

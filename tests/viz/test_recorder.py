@@ -170,7 +170,8 @@ def test_recording_holds_every_tick_and_the_expected_entities(recording):
 def test_images_and_trajectories_are_logged_once_per_new_item(recording):
     summary = summarize_recording(recording)
     assert summary.rows["/world/camera/image/rgb"] == len(FRAME_TICKS)
-    assert summary.rows["/world/camera/image/depth"] == len(FRAME_TICKS)
+    # one depth image per frame, plus the static unit and colour map
+    assert summary.rows["/world/camera/image/depth"] == len(FRAME_TICKS) + 1
     # 121 samples of the planned trajectory plus the static series names
     assert summary.rows["/trajectory/planned/position"] == 121 + 1
     assert summary.rows["/trajectory/executed/position"] == TICKS + 1
