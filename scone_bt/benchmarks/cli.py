@@ -19,8 +19,9 @@ def _core(args: argparse.Namespace) -> int:
 
 def _viz(args: argparse.Namespace) -> int:
     from scone_bt.benchmarks.viz import main
-    from scone_bt.checks import check_output_file
+    from scone_bt.checks import check_at_least, check_output_file
 
+    check_at_least(args.headless_runs, "--headless-runs", 0)
     if args.save_demo is not None:  # before the episodes run: the file a user names is not lost to the demo
         inputs = {"--json": [args.json]} if args.json is not None else {}
         check_output_file(args.save_demo, "--save-demo", kind="rrd", inputs=inputs, force=args.force)
@@ -42,6 +43,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     v.add_argument("--frame-every", type=int, default=10, help="camera frame every N ticks (default: 10)")
     v.add_argument("--robot-geometry", default="visual", choices=["visual", "collision"], help="robot meshes")
     v.add_argument("--seed", type=int, default=0)
+    v.add_argument(
+        "--headless-runs",
+        type=int,
+        default=3,
+        help="scone-run processes without and with --save, each (default: 3; 0 skips the headless run)",
+    )
     v.add_argument("--save-demo", type=Path, help="keep the recording here (else a temporary file)")
     v.add_argument("--json", type=Path, help="also write the JSON report to this file")
     v.add_argument(

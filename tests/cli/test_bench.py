@@ -29,11 +29,24 @@ def test_unknown_subcommand_is_a_usage_error(capsys) -> None:
 
 def test_viz_benchmark_prints_and_writes_json(tmp_path, capsys) -> None:
     out = tmp_path / "viz.json"
-    assert main(["viz", "--ticks", "4", "--frame-every", "2", "--json", str(out)]) == 0
+    assert (
+        main(["viz", "--ticks", "4", "--frame-every", "2", "--headless-runs", "0", "--json", str(out)]) == 0
+    )
     printed = json.loads(capsys.readouterr().out)
     assert printed == json.loads(out.read_text())
     assert printed["ticks"] == 4
     assert printed["rerun_recorder"]["tick_ms_mean"] > 0
+    assert printed["headless_run"] is None and printed["headless_run_meets_target"] is None
+
+
+def test_viz_benchmark_times_the_headless_run_without_and_with_its_recording(capsys) -> None:
+    """`make run`'s episode in two fresh processes, one recording: the recording costs something, and is there."""
+    assert main(["viz", "--ticks", "2", "--headless-runs", "1"]) == 0
+    run = json.loads(capsys.readouterr().out)["headless_run"]
+    assert run["runs"] == 1 and run["command"].startswith("scone-run --robot sim --headless --seed 0")
+    for side in ("without_save", "with_save"):
+        assert run[side]["wall_s"] > 0 and run[side]["cpu_s"] > 0
+    assert run["with_save"]["cpu_s"] > run["without_save"]["cpu_s"]  # importing rerun alone takes 0.3 s
 
 
 def test_a_bug_in_a_benchmark_is_one_line_not_a_traceback(monkeypatch, capsys) -> None:
@@ -167,6 +180,7 @@ def test_a_report_is_never_written_over_a_file_of_an_input_folder(tmp_path, monk
     ("argv", "flag"),
     [
         (["viz", "--seed", "-1"], "--seed -1"),
+        (["viz", "--headless-runs", "-1"], "--headless-runs -1"),
         (["tablet-load", "--seed", "-1"], "--seed -1"),
         (["perception", "--seed", "-1"], "--seed -1"),
         (["episode", "--seed", "-1"], "--seed -1"),
