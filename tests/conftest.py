@@ -14,6 +14,9 @@ import pytest
 os.environ.setdefault("HF_HUB_OFFLINE", "1")
 os.environ.setdefault("TRANSFORMERS_OFFLINE", "1")
 os.environ.setdefault("TOKENIZERS_PARALLELISM", "false")
+# mujoco picks its OpenGL backend when first imported, and the tests' `pytest.importorskip("mujoco")` may import it
+# before `world.mj_model.import_mujoco` sets this default: a test run alone then rendered through glfw (no display).
+os.environ.setdefault("MUJOCO_GL", "egl")
 
 
 @pytest.fixture(scope="session")

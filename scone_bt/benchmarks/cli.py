@@ -19,9 +19,8 @@ def _core(args: argparse.Namespace) -> int:
 
 def _viz(args: argparse.Namespace) -> int:
     from scone_bt.benchmarks.viz import main
-    from scone_bt.checks import check_at_least, check_output_file
+    from scone_bt.checks import check_output_file
 
-    check_at_least(args.headless_runs, "--headless-runs", 0)
     if args.save_demo is not None:  # before the episodes run: the file a user names is not lost to the demo
         inputs = {"--json": [args.json]} if args.json is not None else {}
         check_output_file(args.save_demo, "--save-demo", kind="rrd", inputs=inputs, force=args.force)

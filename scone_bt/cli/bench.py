@@ -133,10 +133,10 @@ def check_common_ranges(args: argparse.Namespace) -> None:
     seed = getattr(args, "seed", None)
     if isinstance(seed, int) and not isinstance(seed, bool):
         check_seed(seed)
-    for dest, low in (("distractors", 0), ("jobs", 1), ("warmup", 0)):
+    for dest, low in (("distractors", 0), ("jobs", 1), ("warmup", 0), ("headless_runs", 0)):
         value = getattr(args, dest, None)
         if isinstance(value, int) and not isinstance(value, bool) and value < low:
-            raise SconeError(f"--{dest} {value}: must be an integer >= {low}")
+            raise SconeError(f"--{dest.replace('_', '-')} {value}: must be an integer >= {low}")
 
 
 def check_backend_option(args: argparse.Namespace) -> None:

@@ -43,7 +43,15 @@ if TYPE_CHECKING:
     from scone_bt.tree import TreeSpec
     from scone_bt.viz.scene import SceneView
 
-__all__ = ["EpisodeHook", "EpisodeOptions", "EpisodeSummary", "LoopPart", "WallClock", "run_episode"]
+__all__ = [
+    "EpisodeHook",
+    "EpisodeOptions",
+    "EpisodeSummary",
+    "LoopPart",
+    "WallClock",
+    "delivered",
+    "run_episode",
+]
 
 
 @dataclass(frozen=True)
@@ -174,6 +182,25 @@ class EpisodeSummary:
                 f"time               {self.sim_time:.1f} s simulated, {self.wall_time:.1f} s wall",
             ]
         )
+
+
+NO_TABLE_CAMERA = (
+    "note: {source} has no camera with role: table: the robot cannot see the table, so it waits for what it asked"
+    " for until the step moves on, and places without seeing what already stands there"
+)
+"""Said before the first tick of an episode in a kitchen without a table camera (it runs, less well)."""
+
+
+def delivered(name: str, world: Any, human: Any) -> bool:
+    """Whether a product the recipe needs reached the person: on the table now, or brought and then moved by the
+    human (put away after its step to make room, set aside for a later step, or used from their hands because the
+    step needed more than the table holds)."""
+    return (
+        world.is_on_table(name)
+        or name in human.put_away_products
+        or name in human.set_aside_products
+        or name in human.used_in_hand
+    )
 
 
 def _recording(options: EpisodeOptions) -> bool:
@@ -387,6 +414,8 @@ def _build(
     say(f"condition: {condition_line(behaviour)}")
     if recipe.unstocked or recipe.off_shelf:
         say(f"not stocked (the human brings them): {', '.join((*recipe.unstocked, *recipe.off_shelf))}")
+    if plan.kitchen.table_camera is None:
+        say(NO_TABLE_CAMERA.format(source=plan.kitchen.source))
     backend.setup()
     if hook is not None:
         hook.attach(world, backend.robot, human, events)
@@ -482,8 +511,7 @@ def _summarise(
         tree_ticks=ticks,
         sim_time=round(world.sim_time, 3),
         wall_time=time.perf_counter() - started,
-        # a product the human put away after its step (to make room) was on the table when it was needed
-        needed_on_table={n: world.is_on_table(n) or n in human.put_away_products for n in recipe.needed},
+        needed_on_table={n: delivered(n, world, human) for n in recipe.needed},
         decision_log=tuple(ep.log_lines.lines),
         startup_to_first_decision_s=first_decision,
         wall_breakdown={str(k): round(v, 4) for k, v in sorted(parts.items())},

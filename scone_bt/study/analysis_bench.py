@@ -241,7 +241,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--cores", type=int, default=2, help="processes for the chains")
     b.add_argument("--seed", type=int, default=0)
     b.add_argument("--out", type=Path, help="also write results.json, scores.csv and Fig. 3 here")
-    b.add_argument("--force", action="store_true", help="overwrite earlier results in --out")
+    b.add_argument(
+        "--force",
+        action="store_true",
+        help="overwrite earlier results in --out, and let --json replace an existing file of another kind",
+    )
     b.add_argument(
         "--trust-params",
         choices=("fitted", "hand"),

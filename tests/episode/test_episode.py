@@ -71,3 +71,43 @@ def test_second_arm_runs_a_full_episode():
     assert summary.robot == "iiwa7"
     assert summary.completed and all(summary.needed_on_table.values())
     assert summary.successes >= 1
+
+
+def test_a_product_the_human_moved_after_it_was_brought_counts_as_delivered() -> None:
+    """The summary's "ingredients n/m on the table": a product put away after its step, set aside for a later
+    one or used from the person's hands reached them; one never brought did not."""
+    from types import SimpleNamespace
+
+    from scone_bt.episode.runner import delivered
+
+    world = SimpleNamespace(is_on_table=lambda name: name == "salt")
+    human = SimpleNamespace(put_away_products=["pasta"], set_aside_products=["basil"], used_in_hand={"beef"})
+    assert [delivered(n, world, human) for n in ("salt", "pasta", "basil", "beef", "honey")] == [
+        True,
+        True,
+        True,
+        True,
+        False,
+    ]
+
+
+def test_a_kitchen_without_a_table_camera_runs_and_says_what_it_costs(tmp_path) -> None:
+    """A table camera is optional; the episode says, before its first tick, what the robot cannot do without it."""
+    from scone_bt.episode.runner import NO_TABLE_CAMERA
+    from scone_bt.resources import data_dir
+
+    perception = data_dir("perception")
+    source = (perception / "kitchen.yaml").read_text()
+    start = source.index("  - name: table\n")
+    end = source.index("\n\n", start)  # the table camera is the last of the list
+    kitchen = tmp_path / "kitchen.yaml"
+    catalogue = f"catalogue: [{perception / 'catalogue'}]"
+    kitchen.write_text(source[:start] + source[end + 1 :].replace("catalogue: [catalogue]", catalogue))
+    lines: list[str] = []
+    run_episode(
+        EpisodeOptions(recipe="example:tomato-pasta", kitchen=str(kitchen), max_ticks=5), printer=lines.append
+    )
+    assert NO_TABLE_CAMERA.format(source=kitchen) in lines
+    lines.clear()
+    run_episode(EpisodeOptions(recipe="example:tomato-pasta", max_ticks=5), printer=lines.append)
+    assert not any(line.startswith("note:") and "role: table" in line for line in lines)
