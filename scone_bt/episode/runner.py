@@ -44,6 +44,7 @@ if TYPE_CHECKING:
     from scone_bt.viz.scene import SceneView
 
 __all__ = [
+    "NO_TABLE_CAMERA",
     "EpisodeHook",
     "EpisodeOptions",
     "EpisodeSummary",

@@ -24,7 +24,7 @@ if TYPE_CHECKING:
     from scone_bt.motion.types import TimedTrajectory
     from scone_bt.viz.scene import SceneView
 
-__all__ = ["ROBOT_FRAME", "ArmDrawer"]
+__all__ = ["EXECUTED", "PLANNED", "ROBOT_FRAME", "ArmDrawer"]
 
 ROBOT_FRAME = "robot"
 """Links' transform frame ids are robot/<link>, their geometry's robot/<link>/geometry_<i>."""
@@ -123,9 +123,15 @@ class ArmDrawer:
     def log_executed_q(self, executed_q: np.ndarray | Sequence[float]) -> None:
         """The executed joint positions (radians), when they changed."""
         q = np.asarray(executed_q, dtype=float)
+        if self._last_q is not None and q.shape != self._last_q.shape:
+            self._executed_q.flush()  # a batch's rows are one array: another joint count starts a new batch
         if self._last_q is None or q.shape != self._last_q.shape or np.max(np.abs(q - self._last_q)) > 1e-6:
             self._last_q = q
             self._executed_q.keep(self._sinks.tick, self._sinks.now, [q])
+        else:
+            self._executed_q.keep(
+                self._sinks.tick, self._sinks.now, []
+            )  # what is kept still goes out in time
 
     def flush(self) -> None:
         """Send the kept executed joint positions now (the recorder's flush and close call it)."""

@@ -57,7 +57,8 @@ class PerceptionDrawer:
         rec.log(P.RGB, self._rgb_image(frame.rgb))
         depth = depth_millimetres(frame.depth)
         # The pixels as raw bytes with their format: rerun's own image conversion costs as much again.
-        fmt = rr.components.ImageFormat(width=w, height=h, channel_datatype=rr.ChannelDatatype.U16)
+        dh, dw = depth.shape[:2]
+        fmt = rr.components.ImageFormat(width=dw, height=dh, channel_datatype=rr.ChannelDatatype.U16)
         rec.log(P.DEPTH, rr.DepthImage.from_fields(buffer=depth.reshape(-1).view(np.uint8), format=fmt))
         if not detections:
             rec.log(P.DETECTIONS_2D, rr.Boxes2D.cleared())

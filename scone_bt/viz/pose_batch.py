@@ -36,7 +36,9 @@ class MovedFilter:
         now = np.array([(*p[0], *p[1]) for p in poses.values()], dtype=float).reshape(len(names), 7)
         if names != self._names:
             self._realign(names)
-        changed = ~(np.abs(now - self._last) <= POSE_EPS).all(axis=1)  # NaN (never seen) counts as moved
+        # A body never seen (NaN in _last) has moved; a pose with no number (NaN now) is not sent: the body
+        # stays where it was last drawn.
+        changed = ~(np.abs(now - self._last) <= POSE_EPS).all(axis=1) & np.isfinite(now).all(axis=1)
         self._last[changed] = now[changed]
         return [names[i] for i in np.flatnonzero(changed)]
 

@@ -57,14 +57,19 @@ class TickRows(Generic[Row]):
         self._since: float | None = None
 
     def keep(self, tick: int, sim_time: float, rows: Sequence[Row]) -> None:
-        """This tick's rows (none: nothing kept, no tick counted); the batch goes out once it is due."""
-        if not rows:
-            return
-        self._rows.extend((int(tick), float(sim_time), row) for row in rows)
-        self._ticks += 1
-        if self._since is None:
-            self._since = time.monotonic()
-        if self._ticks >= BATCH_TICKS or time.monotonic() - self._since >= BATCH_WALL_S:
+        """This tick's rows (none: nothing kept, no tick counted); the batch goes out once it is due.
+
+        Call it every tick, with no rows when nothing changed: the wall-time bound is checked here, so rows kept
+        before the arm came to rest go out within BATCH_WALL_S, not when something next moves.
+        """
+        if rows:
+            self._rows.extend((int(tick), float(sim_time), row) for row in rows)
+            self._ticks += 1
+            if self._since is None:
+                self._since = time.monotonic()
+        if self._since is not None and (
+            self._ticks >= BATCH_TICKS or time.monotonic() - self._since >= BATCH_WALL_S
+        ):
             self.flush()
 
     def flush(self) -> None:

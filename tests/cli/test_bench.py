@@ -47,6 +47,7 @@ def test_viz_benchmark_times_the_headless_run_without_and_with_its_recording(cap
     for side in ("without_save", "with_save"):
         assert run[side]["wall_s"] > 0 and run[side]["cpu_s"] > 0
     assert run["with_save"]["cpu_s"] > run["without_save"]["cpu_s"]  # importing rerun alone takes 0.3 s
+    assert run["rrd_mb"] > 0.1  # the episode's recording was written
 
 
 def test_a_bug_in_a_benchmark_is_one_line_not_a_traceback(monkeypatch, capsys) -> None:

@@ -12,11 +12,13 @@ import pytest
 from rerun.time import to_nanos
 
 from scone_bt.viz import paths as P
+from scone_bt.viz import tick_rows
+from scone_bt.viz.draw_arm import ArmDrawer
 from scone_bt.viz.draw_perception import depth_millimetres
 from scone_bt.viz.draw_tree import TreeDrawer
 from scone_bt.viz.pose_batch import POSE_EPS, MovedFilter
 from scone_bt.viz.render import flatten_tree
-from scone_bt.viz.tick_rows import sim_time_column
+from scone_bt.viz.tick_rows import TickRows, sim_time_column
 
 ORIGIN = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
 
@@ -45,7 +47,8 @@ def test_a_new_set_of_bodies_keeps_what_was_known_of_each() -> None:
 
 
 def test_the_sim_time_column_rounds_as_rerun_set_time_does() -> None:
-    seconds = [0.0, 0.1, 0.3, 1 / 3, 66.2, 1234.5678901234]
+    # 0.49999999999999994 s (what adding 0.05 ten times gives) truncates to a nanosecond short of 0.5 s
+    seconds = [0.0, 0.1, 0.3, 1 / 3, 66.2, 1234.5678901234, 0.49999999999999994, sum([0.05] * 10)]
     column = sim_time_column(seconds)
     nanos = [int(v) for v in column.as_arrow_array().cast("int64").to_pylist()]
     assert nanos == [to_nanos(s) for s in seconds]
@@ -101,3 +104,46 @@ def test_a_status_change_alone_redraws_the_node(status: str) -> None:
     drawer.log_tree(root)
     assert drawer._nodes[0].status == status
     assert f"only: {status.lower()}" in _texts(sinks)[-1].lower()
+
+
+def _columns_sink() -> tuple[Any, list[tuple[str, list[int]]]]:
+    sent: list[tuple[str, list[int]]] = []
+
+    def send_columns(path, indexes, columns):  # noqa: ANN001 - rerun's own signature
+        sent.append((str(path), indexes[0].as_arrow_array().to_pylist()))
+
+    return SimpleNamespace(rec=SimpleNamespace(send_columns=send_columns), tick=0, now=0.0), sent
+
+
+def test_kept_rows_go_out_within_the_wall_bound_even_when_nothing_more_changes(monkeypatch) -> None:
+    """The arm comes to rest: its last rows are not held until something next moves."""
+    clock = [0.0]
+    monkeypatch.setattr(tick_rows.time, "monotonic", lambda: clock[0])
+    sinks, sent = _columns_sink()
+    rows: TickRows[float] = TickRows(sinks, "a", lambda r: {"values": r})  # type: ignore[arg-type]
+    rows.keep(0, 0.0, [1.0])
+    rows.keep(1, 0.1, [])
+    assert sent == []
+    clock[0] = tick_rows.BATCH_WALL_S
+    rows.keep(2, 0.2, [])  # nothing new, but what is kept is due
+    assert sent == [("a", [0])]
+    rows.keep(3, 0.3, [])
+    assert len(sent) == 1
+
+
+def test_executed_joints_of_another_count_start_a_new_batch() -> None:
+    """Rows of one batch are one array: a change in the joint count sends what was kept first, not a crash."""
+    sinks, sent = _columns_sink()
+    arm = ArmDrawer(sinks, poses=None, geometry="visual")  # type: ignore[arg-type]
+    for tick, q in enumerate((np.zeros(7), np.ones(7), np.ones(9))):
+        sinks.tick, sinks.now = tick, 0.1 * tick
+        arm.log_executed_q(q)
+    arm.flush()
+    assert sent == [(P.EXECUTED_POSITION, [0, 1]), (P.EXECUTED_POSITION, [2])]
+
+
+def test_a_pose_with_no_number_is_not_sent() -> None:
+    f = MovedFilter()
+    f.moved({"a": ORIGIN})
+    assert f.moved({"a": ((float("nan"), 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))}) == []
+    assert f.moved({"a": at(1.0)}) == ["a"]
