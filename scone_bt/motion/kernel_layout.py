@@ -14,6 +14,7 @@ from __future__ import annotations
 import hashlib
 from collections.abc import Mapping
 from dataclasses import dataclass
+from functools import cached_property
 from math import prod
 from typing import Any
 
@@ -88,7 +89,11 @@ class Layout:
 
     def table(self) -> np.ndarray:
         """(fields, 2, MAX_SIZES + 1) int64: each field's offset and length as linear forms in the sizes
-        (constant, size 1, size 2, size 3); the rest-of-array field's length is `REST`."""
+        (constant, size 1, size 2, size 3); the rest-of-array field's length is `REST`. Read-only, made once."""
+        return self._table
+
+    @cached_property
+    def _table(self) -> np.ndarray:
         out = np.zeros((len(self.fields), 2, MAX_SIZES + 1), dtype=np.int64)
         offset = np.zeros(MAX_SIZES + 1, dtype=np.int64)
         for k, f in enumerate(self.fields):
@@ -103,10 +108,19 @@ class Layout:
 
     def index(self, name: str) -> int:
         """The position of field ``name`` in the layout (its row in `table`)."""
-        for k, f in enumerate(self.fields):
-            if f.name == name:
-                return k
-        raise KeyError(f"layout {self.name} has no field {name!r}; fields: {', '.join(self.names)}")
+        k = self._positions.get(name)
+        if k is None:
+            raise KeyError(f"layout {self.name} has no field {name!r}; fields: {', '.join(self.names)}")
+        return k
+
+    @cached_property
+    def _positions(self) -> dict[str, int]:
+        return {f.name: k for k, f in enumerate(self.fields)}
+
+    @cached_property
+    def _forms(self) -> tuple[tuple[tuple[int, ...], tuple[int, ...]], ...]:
+        """`table` as Python ints, field by field: (offset form, length form)."""
+        return tuple((tuple(map(int, row[0])), tuple(map(int, row[1]))) for row in self._table)
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -114,14 +128,16 @@ class Layout:
 
     def span(self, name: str, sizes: Mapping[str, int], total: int | None = None) -> tuple[int, int]:
         """[start, end) of field ``name`` for these sizes; the rest-of-array field needs the array's ``total``."""
-        table = self.table()[self.index(name)]
-        values = np.array([1, *(int(sizes[s]) for s in self.sizes)] + [0] * (MAX_SIZES - len(self.sizes)))
-        start = int(table[0] @ values)
-        if table[1, 0] == REST:
+        # Plain Python on the table made once: a collision world packs and reads its arrays a few hundred times
+        # per plan, and building the table and numpy vectors per call cost a third of a plan's time.
+        offset, length = self._forms[self.index(name)]
+        values = (1, *(int(sizes[s]) for s in self.sizes), *(0,) * (MAX_SIZES - len(self.sizes)))
+        start = sum(a * b for a, b in zip(offset, values, strict=True))
+        if length[0] == REST:
             if total is None:
                 raise ValueError(f"layout {self.name}: field {name!r} is the rest; give the array's length")
             return start, total
-        return start, start + int(table[1] @ values)
+        return start, start + sum(a * b for a, b in zip(length, values, strict=True))
 
     def unpack(self, array: np.ndarray, sizes: Mapping[str, int]) -> dict[str, np.ndarray]:
         """Every field of ``array`` as a view of its declared shape (rows, *each)."""
