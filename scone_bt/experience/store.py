@@ -87,6 +87,13 @@ CREATE INDEX outcomes_arm ON outcomes (arm);
 """
 
 
+def _remove_new_store(path: Path) -> None:
+    """Remove a store this process began and could not finish creating (with its WAL files): nothing was in it."""
+    for p in (path, path.with_name(path.name + "-wal"), path.with_name(path.name + "-shm")):
+        with contextlib.suppress(OSError):
+            p.unlink()
+
+
 def _statements(script: str) -> list[str]:
     return [s for s in (p.strip() for p in script.split(";")) if s]
 
@@ -318,9 +325,13 @@ class ExperienceStore(OutcomeStore):
                 self._create(conn)
         except sqlite3.DatabaseError as exc:
             conn.close()
+            if not existing:
+                _remove_new_store(path)
             raise ExperienceStoreError(f"experience store {path} is unusable: {exc}") from None
         except BaseException:
             conn.close()
+            if not existing:  # a Ctrl-C between WAL's header and the schema left a database with no tables
+                _remove_new_store(path)
             raise
         return conn
 

@@ -161,3 +161,21 @@ def test_a_ctrl_c_as_the_schema_commits_stays_a_ctrl_c(tmp_path):
     assert not conn.in_transaction
     assert {r[0] for r in conn.execute("SELECT name FROM sqlite_master WHERE type = 'table'")} >= {"outcomes"}
     conn.close()
+
+
+def test_a_store_interrupted_while_it_is_made_is_not_left_behind(tmp_path, monkeypatch) -> None:
+    """A Ctrl-C between the WAL header and the schema left a database with no tables; the file is removed, and
+    the next run makes the store whole."""
+    path = tmp_path / "exp.sqlite"
+
+    def interrupted(conn: object) -> None:
+        raise KeyboardInterrupt
+
+    with monkeypatch.context() as m:
+        m.setattr(ExperienceStore, "_create", staticmethod(interrupted))
+        with pytest.raises(KeyboardInterrupt):
+            ExperienceStore(path)
+    assert not path.exists() and not list(tmp_path.glob("exp.sqlite-*"))
+    store = ExperienceStore(path)
+    assert len(store) == 0
+    store.close()
