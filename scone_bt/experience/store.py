@@ -323,15 +323,12 @@ class ExperienceStore(OutcomeStore):
             conn.execute("PRAGMA journal_mode=WAL")
             if version == 0:
                 self._create(conn)
-        except sqlite3.DatabaseError as exc:
-            conn.close()
-            if not existing:
-                _remove_new_store(path)
-            raise ExperienceStoreError(f"experience store {path} is unusable: {exc}") from None
-        except BaseException:
+        except BaseException as exc:
             conn.close()
             if not existing:  # a Ctrl-C between WAL's header and the schema left a database with no tables
                 _remove_new_store(path)
+            if isinstance(exc, sqlite3.DatabaseError):
+                raise ExperienceStoreError(f"experience store {path} is unusable: {exc}") from None
             raise
         return conn
 

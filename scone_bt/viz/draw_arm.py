@@ -122,16 +122,14 @@ class ArmDrawer:
 
     def log_executed_q(self, executed_q: np.ndarray | Sequence[float]) -> None:
         """The executed joint positions (radians), when they changed."""
-        q = np.asarray(executed_q, dtype=float)
-        if self._last_q is not None and q.shape != self._last_q.shape:
+        q, last = np.asarray(executed_q, dtype=float), self._last_q
+        if last is not None and q.shape != last.shape:
             self._executed_q.flush()  # a batch's rows are one array: another joint count starts a new batch
-        if self._last_q is None or q.shape != self._last_q.shape or np.max(np.abs(q - self._last_q)) > 1e-6:
+        changed = last is None or q.shape != last.shape or np.max(np.abs(q - last)) > 1e-6
+        if changed:
             self._last_q = q
-            self._executed_q.keep(self._sinks.tick, self._sinks.now, [q])
-        else:
-            self._executed_q.keep(
-                self._sinks.tick, self._sinks.now, []
-            )  # what is kept still goes out in time
+        # Kept every tick, with no row when nothing changed: what is kept still goes out in time.
+        self._executed_q.keep(self._sinks.tick, self._sinks.now, [q] if changed else [])
 
     def flush(self) -> None:
         """Send the kept executed joint positions now (the recorder's flush and close call it)."""
