@@ -28,11 +28,21 @@ from typing import Any
 
 from scone_bt.reporting import emit_report
 
-__all__ = ["register", "run", "TARGETS"]
+__all__ = ["register", "run", "TARGETS", "targets_for"]
 
 DEFAULT_OBJECTS = 21
 """Products on the shelving per scene by default: a long recipe's ingredients and four distractors."""
 TARGETS = {"recall_unoccluded": 0.95, "precision": 0.99, "position_error_median_m": 0.01}
+"""PyBullet's targets: recall on unoccluded markers, precision, median 3D error of the top face (metres)."""
+ENGINE_TARGETS = {"mujoco": {**TARGETS, "position_error_median_m": 0.002}}
+"""Where an engine was set a stricter target: MuJoCo's median 3D error ≤ 2 mm (the second body's issue)."""
+
+
+def targets_for(engine: str) -> dict[str, float]:
+    """The targets the report judges an engine's run by (`TARGETS` unless `ENGINE_TARGETS` names it)."""
+    return ENGINE_TARGETS.get(engine, TARGETS)
+
+
 RESOLUTIONS = ((320, 240), (640, 480))
 
 
@@ -274,6 +284,7 @@ def _report(
 ) -> dict[str, Any]:
     """The JSON report: the headline at the kitchen file's resolution, then each variant's."""
     headline = shots.report(cameras.default_key)
+    targets = targets_for(engine)
     table_spec = kitchen_cfg.table_camera
     result: dict[str, Any] = {
         "scenes": args.scenes,
@@ -294,12 +305,12 @@ def _report(
         "table": shots.report("table") if cameras.table is not None else None,
         "resolutions": {key: shots.report(key) for key in cameras.variants},
         "noise": {key: shots.report(key) for key in cameras.noisy},
-        "targets": TARGETS,
+        "targets": targets,
     }
     result["meets_targets"] = bool(
-        headline["recall_unoccluded"] >= TARGETS["recall_unoccluded"]
-        and headline["precision"] >= TARGETS["precision"]
-        and headline["position_error_median_m"] <= TARGETS["position_error_median_m"]
+        headline["recall_unoccluded"] >= targets["recall_unoccluded"]
+        and headline["precision"] >= targets["precision"]
+        and headline["position_error_median_m"] <= targets["position_error_median_m"]
     )
     return result
 

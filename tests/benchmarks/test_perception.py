@@ -35,3 +35,11 @@ def test_noise_outside_the_pixel_scale_is_refused_before_the_kitchen_is_read(tmp
     missing = str(tmp_path / "nofile.yaml")  # reading the kitchen first would be another error
     assert main(["perception", "--kitchen", missing, "--noise", "8", noise]) == 2
     assert capsys.readouterr().err == f"scone-bench: --noise {float(noise)}: must be a number in [0, 255]\n"
+
+
+def test_each_engine_is_judged_by_its_own_targets():
+    from scone_bt.benchmarks.perception import TARGETS, targets_for
+
+    assert targets_for("sim") == TARGETS
+    assert targets_for("mujoco")["position_error_median_m"] == 0.002  # the MuJoCo issue's ≤ 2 mm
+    assert targets_for("mujoco")["recall_unoccluded"] == TARGETS["recall_unoccluded"]

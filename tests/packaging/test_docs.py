@@ -94,3 +94,23 @@ def test_a_parser_that_is_gone_fails_the_build(bad: str):
     with pytest.raises(SystemExit, match="update COMMANDS"):
         docs_reference._parser_of("scone_bt.cli.models", (bad,))
     assert isinstance(docs_reference._parser_of("scone_bt.cli.models", ("_parser",)), argparse.ArgumentParser)
+
+
+def test_the_scenario_page_names_every_key_rule_and_event_kind():
+    """docs/scenarios.md is written by hand: a key, decision rule or event kind added in code must be added there."""
+    from scone_bt.events import EVENT_TYPES
+    from scone_bt.gate.types import DECISION_RULES
+    from scone_bt.scenario import model
+
+    page = (REPO / "docs" / "scenarios.md").read_text(encoding="utf-8")
+    keys = [name for name in model.ScenarioFile.model_fields]
+    keys += [f"world.{name}" for name in model.WorldSection.model_fields]
+    keys += [f"robot.{name}" for name in ("profile", "calibration_offset")]
+    # `world.*` in the page names the section
+    missing = [k for k in keys if f"`{k}`" not in page and f"`{k}." not in page]
+    # the robot's faults and the human's options are listed by name within one row each
+    missing += [f"robot.{n}" for n in model.Fault.model_fields if f"{n}" not in page]
+    missing += [f"human.{n}" for n in model.HumanSection.model_fields if f"`{n}`" not in page]
+    missing += [f"rule {r}" for r in DECISION_RULES if f"`{r}`" not in page]
+    missing += [f"event kind {k}" for k in EVENT_TYPES if f"`{k}`" not in page]
+    assert not missing, f"docs/scenarios.md does not name: {missing}"
