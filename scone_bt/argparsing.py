@@ -4,9 +4,25 @@ option's default said once, where it means something)."""
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 from typing import NoReturn
 
-__all__ = ["DefaultsHelpFormatter", "OneLineArgumentParser"]
+__all__ = ["DefaultsHelpFormatter", "OneLineArgumentParser", "path_arg", "store_arg"]
+
+
+def path_arg(text: str) -> Path:
+    """A path option's value (``type=path_arg``): an empty one is refused, as Path('') is '.', the working folder,
+    where an empty --out or --cache-dir wrote its files."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("an empty path; give a file or folder path")
+    return Path(text)
+
+
+def store_arg(text: str) -> str:
+    """An experience store option's value (an SQLite file or a postgresql:// URL): an empty one is refused."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("an empty store; give an SQLite file or a postgresql:// URL")
+    return text
 
 
 class OneLineArgumentParser(argparse.ArgumentParser):

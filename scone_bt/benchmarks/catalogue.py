@@ -27,6 +27,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from scone_bt.argparsing import path_arg
 from scone_bt.benchmarks.progress import progress_bar
 from scone_bt.errors import RecipeError
 from scone_bt.reporting import emit_report
@@ -321,15 +322,17 @@ def register(subparsers: Any) -> None:
         metavar="FILE",
         help="one more product file merged into the kitchen's catalogue (repeatable)",
     )
-    p.add_argument("--corpus", type=Path, help="recipes.jsonl (default ../shared/data/recipes/recipes.jsonl)")
+    p.add_argument(
+        "--corpus", type=path_arg, help="recipes.jsonl (default ../shared/data/recipes/recipes.jsonl)"
+    )
     p.add_argument(
         "--pdr-labels",
-        type=Path,
+        type=path_arg,
         help="hand-labelled pdr: lines, JSONL with line and item (default tools/data/normalise/pdr_labels.jsonl)",
     )
     p.add_argument(
         "--pdr-heldout",
-        type=Path,
+        type=path_arg,
         help="a second labelled file never tuned on (default tools/data/normalise/pdr_labels_heldout.jsonl)",
     )
     p.add_argument("--json", metavar="FILE", help="also write the JSON here")

@@ -6,7 +6,8 @@ Registration is cheap; each handler imports its benchmark module (which pulls in
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
+
+from scone_bt.argparsing import path_arg
 
 __all__ = ["register"]
 
@@ -31,7 +32,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     """Add ``core`` and ``viz`` to ``scone-bench``."""
     c = sub.add_parser("core", help="embedding throughput, κ̂ latency and the decision path (JSON)")
     c.add_argument("--quick", action="store_true", help="fewer repetitions")
-    c.add_argument("--json", type=Path, help="also write the JSON report to this file")
+    c.add_argument("--json", type=path_arg, help="also write the JSON report to this file")
     c.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
     c.set_defaults(func=_core)
     v = sub.add_parser("viz", help="rerun logging overhead on a headless episode tick (JSON)")
@@ -48,8 +49,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         default=3,
         help="scone-run processes without and with --save, each (default: 3; 0 skips the headless run)",
     )
-    v.add_argument("--save-demo", type=Path, help="keep the recording here (else a temporary file)")
-    v.add_argument("--json", type=Path, help="also write the JSON report to this file")
+    v.add_argument("--save-demo", type=path_arg, help="keep the recording here (else a temporary file)")
+    v.add_argument("--json", type=path_arg, help="also write the JSON report to this file")
     v.add_argument(
         "--force",
         action="store_true",

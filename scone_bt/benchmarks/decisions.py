@@ -48,6 +48,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from scone_bt.affordances.types import object_of_action
+from scone_bt.argparsing import path_arg
 from scone_bt.events import DecisionMade, Event, StepDone
 from scone_bt.gate.types import DecisionKind
 from scone_bt.reporting import emit_report
@@ -462,7 +463,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--datasets", help="self-confidence datasets folder (default tools/data/sc)")
     p.add_argument("--warmup", type=int, default=20, help="calibration executions per stream, not scored")
     p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--json", type=Path, help="also write the JSON report to this file")
+    p.add_argument("--json", type=path_arg, help="also write the JSON report to this file")
     p.add_argument("--no-gate", action="store_true", help="skip the gate replay (episodes only)")
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     p.add_argument(

@@ -21,9 +21,9 @@ from __future__ import annotations
 import argparse
 import os
 import time
-from pathlib import Path
 from typing import Any
 
+from scone_bt.argparsing import path_arg
 from scone_bt.benchmarks.progress import progress_bar
 from scone_bt.reporting import emit_report
 
@@ -252,7 +252,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--max-ticks", type=int, default=4000, help="control-tick limit per episode (default 4000)"
     )
-    p.add_argument("--json", type=Path, help="also write the JSON report to this file")
+    p.add_argument("--json", type=path_arg, help="also write the JSON report to this file")
     p.add_argument(
         "--no-cold", action="store_true", help="skip the first recipe's run with an empty embedding cache"
     )

@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from scone_bt.argparsing import path_arg
 from scone_bt.reporting import emit_report
 
 __all__ = ["register", "store_trial", "learning_trial", "ReplayResult", "replay_new_robot"]
@@ -397,8 +398,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     f.add_argument("--kill-after", type=int, default=20, help="SIGKILL robot 0 after this many (default: 20)")
     f.add_argument("--seeds", type=int, default=10, help="seeds of the learning replay (default: 10)")
     f.add_argument("--estimator", default="eps-knn", help="κ̂ of the learning replay (default: eps-knn)")
-    f.add_argument("--datasets", type=Path, help="Panda datasets (default: tools/data/sc)")
-    f.add_argument("--iiwa-datasets", type=Path, help="iiwa7 datasets (default: tools/data/fleet/iiwa7)")
+    f.add_argument("--datasets", type=path_arg, help="Panda datasets (default: tools/data/sc)")
+    f.add_argument("--iiwa-datasets", type=path_arg, help="iiwa7 datasets (default: tools/data/fleet/iiwa7)")
     f.add_argument("--no-learning", action="store_true", help="only the store trial")
-    f.add_argument("--json", type=Path, help="also write the JSON report to this file")
+    f.add_argument("--json", type=path_arg, help="also write the JSON report to this file")
     f.set_defaults(func=_handler)

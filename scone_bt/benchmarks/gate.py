@@ -66,6 +66,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from scone_bt.argparsing import path_arg
 from scone_bt.benchmarks.gate_episodes import percentiles_ms, run_episodes
 from scone_bt.benchmarks.replay import StreamResult, feature_rows, replay_stream
 from scone_bt.benchmarks.replay_rates import pooled_rates
@@ -530,7 +531,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--datasets", help="self-confidence datasets folder (default tools/data/sc)")
     p.add_argument(
         "--prior",
-        type=Path,
+        type=path_arg,
         default=None,
         metavar="DIR",
         help="datasets κ̂ learns before each same-named stream (the robot's outcomes on another engine)",
@@ -588,8 +589,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
-    p.add_argument("--json", type=Path, help="also write the JSON report to this file")
-    p.add_argument("--plot", type=Path, help="write the curves as a figure (.png, .svg or .pdf)")
+    p.add_argument("--json", type=path_arg, help="also write the JSON report to this file")
+    p.add_argument("--plot", type=path_arg, help="write the curves as a figure (.png, .svg or .pdf)")
     p.add_argument(
         "--force", action="store_true", help="let --json or --plot replace an existing file of another kind"
     )

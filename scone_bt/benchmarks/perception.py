@@ -23,9 +23,9 @@ import argparse
 import copy
 import time
 from dataclasses import asdict, dataclass, replace
-from pathlib import Path
 from typing import Any
 
+from scone_bt.argparsing import path_arg
 from scone_bt.reporting import emit_report
 
 __all__ = ["register", "run", "TARGETS", "targets_for"]
@@ -339,5 +339,5 @@ def register(sub: argparse._SubParsersAction) -> None:
     from scone_bt.robot.flags import add_robot_options
 
     add_robot_options(p)
-    p.add_argument("--json", type=Path, help="also write the JSON report to this file")
+    p.add_argument("--json", type=path_arg, help="also write the JSON report to this file")
     p.set_defaults(func=run)

@@ -18,9 +18,9 @@ import argparse
 import os
 import sys
 import time
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from scone_bt.argparsing import path_arg
 from scone_bt.reporting import emit_report
 
 if TYPE_CHECKING:
@@ -271,5 +271,5 @@ def register(sub: argparse._SubParsersAction) -> None:
     s.add_argument(
         "--overhead-tasks", type=int, default=200, help="empty tasks timed for the overhead (default: 200)"
     )
-    s.add_argument("--json", type=Path, help="also write the JSON report to this file")
+    s.add_argument("--json", type=path_arg, help="also write the JSON report to this file")
     s.set_defaults(func=_handler)

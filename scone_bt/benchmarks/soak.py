@@ -28,6 +28,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
+from scone_bt.argparsing import path_arg
 from scone_bt.benchmarks.progress import progress_bar
 from scone_bt.process_stats import process_sample, slope
 from scone_bt.reporting import emit_report
@@ -369,8 +370,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         action="store_true",
         help="record every episode with rerun to a throwaway .rrd (as scone-run --save): the recorder's memory",
     )
-    p.add_argument("--cache-dir", type=Path, help="embedding cache folder (default: a temporary one, empty)")
-    p.add_argument("--plot", type=Path, help="also plot the per-episode series to this PNG")
-    p.add_argument("--json", type=Path, help="also write the JSON report to this file")
+    p.add_argument(
+        "--cache-dir", type=path_arg, help="embedding cache folder (default: a temporary one, empty)"
+    )
+    p.add_argument("--plot", type=path_arg, help="also plot the per-episode series to this PNG")
+    p.add_argument("--json", type=path_arg, help="also write the JSON report to this file")
     p.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
     p.set_defaults(func=run)

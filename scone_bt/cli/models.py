@@ -11,9 +11,8 @@ from __future__ import annotations
 import argparse
 import sys
 from collections.abc import Sequence
-from pathlib import Path
 
-from scone_bt.argparsing import OneLineArgumentParser
+from scone_bt.argparsing import OneLineArgumentParser, path_arg
 from scone_bt.errors import SconeError, UnknownNameError
 
 __all__ = ["main"]
@@ -24,7 +23,7 @@ _INSTALLABLE = ("mpnet",)
 def _parser() -> argparse.ArgumentParser:
     parser = OneLineArgumentParser(prog="scone-models", description="List and install embedding models.")
     parser.add_argument(
-        "--cache-dir", type=Path, default=None, help="cache folder (default ~/.cache/scone_bt)"
+        "--cache-dir", type=path_arg, default=None, help="cache folder (default ~/.cache/scone_bt)"
     )
     sub = parser.add_subparsers(dest="command")
     sub.add_parser("list", help="show every embedder and whether it is ready")

@@ -114,7 +114,7 @@ import shlex  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from scone_bt.argparsing import OneLineArgumentParser  # noqa: E402
+from scone_bt.argparsing import OneLineArgumentParser, path_arg, store_arg  # noqa: E402
 from scone_bt.checks import internal_error_line  # noqa: E402
 from scone_bt.cli.tree_options import add_tree_options, check_flags_take_effect, tree_overrides  # noqa: E402
 from scone_bt.defaults import EPISODE as _EPISODE  # noqa: E402
@@ -253,7 +253,7 @@ def _add_rerun_options(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("rerun output")
     g.add_argument(
         "--save",
-        type=_file_path,
+        type=path_arg,
         metavar="FILE.rrd",
         help="record the episode for the rerun viewer; an existing recording is replaced, any other file is refused "
         "unless --force, and an input or the store of this run is refused even with --force",
@@ -267,13 +267,6 @@ def _add_rerun_options(p: argparse.ArgumentParser) -> None:
         f"a one-line error; a viewer that does not take the data within {VIEWER_STALL_TIMEOUT_S:g} s mid-run is "
         "dropped and the episode goes on",
     )
-
-
-def _file_path(text: str) -> Path:
-    """A file path option: '' is refused (Path('') is '.', the working folder, and the error said "is a folder")."""
-    if not text.strip():
-        raise argparse.ArgumentTypeError("an empty path; give a file path, e.g. runs/episode.rrd")
-    return Path(text)
 
 
 def _robot_id(text: str) -> str:
@@ -294,6 +287,7 @@ def _add_self_confidence_options(p: argparse.ArgumentParser) -> None:
     )
     g.add_argument(
         "--experience",
+        type=store_arg,
         metavar="DB|URL",
         help="outcome store κ̂ is rebuilt from at start: an SQLite file (any number of robots may share one), or "
         f"postgresql://user@host/db shared by a fleet (a server that does not answer within {PG_CONNECT_TIMEOUT_S} s "

@@ -13,6 +13,7 @@ import sys
 from dataclasses import replace
 from pathlib import Path
 
+from scone_bt.argparsing import path_arg
 from scone_bt.errors import SconeError
 from scone_bt.resources import repo_root
 
@@ -139,7 +140,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     b.add_argument(
         "--finetune-base", default="auto", help="encoder under the fine-tuned head (auto: mpnet if installed)"
     )
-    b.add_argument("--save-finetuned", type=Path, help="folder to save the fine-tuned head in")
+    b.add_argument("--save-finetuned", type=path_arg, help="folder to save the fine-tuned head in")
     b.add_argument("--no-finetune", action="store_true")
     b.add_argument("--no-pddl", action="store_true")
     b.add_argument("--no-ticc", action="store_true")

@@ -9,6 +9,8 @@ import time
 from pathlib import Path
 from typing import Any
 
+from scone_bt.argparsing import path_arg
+
 __all__ = ["register", "run"]
 
 
@@ -77,7 +79,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="robot file every case runs with: a name in robots/ or a YAML path (default: each file's world.arm)",
     )
     p.add_argument(
-        "--out", type=Path, default=None, help="folder for failing cases' event logs and recordings"
+        "--out", type=path_arg, default=None, help="folder for failing cases' event logs and recordings"
     )
     p.add_argument("--json", default=None, help="also write the report to this file")
     p.set_defaults(func=_main)

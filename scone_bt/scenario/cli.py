@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 from xml.etree import ElementTree as ET
 
-from scone_bt.argparsing import OneLineArgumentParser
+from scone_bt.argparsing import OneLineArgumentParser, path_arg
 from scone_bt.errors import SconeError
 
 if TYPE_CHECKING:
@@ -45,10 +45,10 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument(
         "--jobs", type=int, default=1, help="cases run at once, each in its own process (default 1)"
     )
-    r.add_argument("--junit", type=Path, default=None, help="write a JUnit XML report here")
+    r.add_argument("--junit", type=path_arg, default=None, help="write a JUnit XML report here")
     r.add_argument(
         "--out",
-        type=Path,
+        type=path_arg,
         default=None,
         help="folder for a failing case's event log and recording (default: beside the --junit report, else "
         "runs/scenarios)",
@@ -75,7 +75,7 @@ def _parser() -> argparse.ArgumentParser:
     c = sub.add_parser("check", help="validate scenario files without running them")
     c.add_argument("paths", nargs="+")
     s = sub.add_parser("schema", help="print (or write) the JSON Schema of a scenario file")
-    s.add_argument("file", nargs="?", type=Path, default=None)
+    s.add_argument("file", nargs="?", type=path_arg, default=None)
     s.add_argument(
         "--force", action="store_true", help="replace an existing FILE that is not JSON (never a YAML file)"
     )

@@ -25,6 +25,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+from scone_bt.argparsing import path_arg
 from scone_bt.reporting import emit_report
 
 __all__ = ["register"]
@@ -240,7 +241,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--draws", type=int, default=500)
     b.add_argument("--cores", type=int, default=2, help="processes for the chains")
     b.add_argument("--seed", type=int, default=0)
-    b.add_argument("--out", type=Path, help="also write results.json, scores.csv and Fig. 3 here")
+    b.add_argument("--out", type=path_arg, help="also write results.json, scores.csv and Fig. 3 here")
     b.add_argument(
         "--force",
         action="store_true",

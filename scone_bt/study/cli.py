@@ -18,7 +18,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from scone_bt.argparsing import DefaultsHelpFormatter, OneLineArgumentParser
+from scone_bt.argparsing import DefaultsHelpFormatter, OneLineArgumentParser, path_arg, store_arg
 from scone_bt.defaults import EPISODE
 from scone_bt.errors import SconeError
 from scone_bt.robot.flags import add_robot_options, check_backend
@@ -45,8 +45,8 @@ def build_parser() -> argparse.ArgumentParser:
     for parser in (a, m):
         _add_analysis_options(parser)
     e = sub.add_parser("export", help="write sessions, events, responses and scores as CSV")
-    e.add_argument("--db", type=Path, required=True)
-    e.add_argument("--out", type=Path, required=True)
+    e.add_argument("--db", type=path_arg, required=True)
+    e.add_argument("--out", type=path_arg, required=True)
     return p
 
 
@@ -57,7 +57,7 @@ def _add_session_parser(sub: argparse._SubParsersAction) -> None:
         help="run one real study session with the tablet UI",
         formatter_class=DefaultsHelpFormatter,
     )
-    s.add_argument("--db", type=Path, required=True, help="study log (SQLite); sessions are appended")
+    s.add_argument("--db", type=path_arg, required=True, help="study log (SQLite); sessions are appended")
     s.add_argument("--participant", required=True, help="participant id, e.g. P01")
     s.add_argument(
         "--group", required=True, help="condition order: A (self-confidence on first) or B (off first)"
@@ -72,6 +72,7 @@ def _add_session_parser(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--max-ticks", type=int, default=12000, help="limit on 0.1 s control ticks")
     s.add_argument(
         "--experience",
+        type=store_arg,
         help="experience store κ̂ is rebuilt from: an SQLite file, or postgresql://… for a fleet's shared store",
     )
     s.add_argument(
@@ -105,7 +106,7 @@ def _add_simulate_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentPa
         formatter_class=DefaultsHelpFormatter,
     )
     m.add_argument("--participants", type=int, default=31, help="number of simulated participants")
-    m.add_argument("--db", type=Path, required=True, help="new study log to write")
+    m.add_argument("--db", type=path_arg, required=True, help="new study log to write")
     m.add_argument(
         "--fast", action="store_true", help="synthetic episodes without physics (seconds instead of hours)"
     )
@@ -124,10 +125,10 @@ def _add_simulate_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentPa
         "--static-trust", action="store_true", help="trust ignores the episodes (for effect-recovery checks)"
     )
     _add_trust_params(m)
-    m.add_argument("--analyze", type=Path, metavar="DIR", help="analyse the result into DIR afterwards")
+    m.add_argument("--analyze", type=path_arg, metavar="DIR", help="analyse the result into DIR afterwards")
     m.add_argument(
         "--memory",
-        type=Path,
+        type=path_arg,
         metavar="FILE",
         help="write the process's memory, descriptors and threads after each participant to FILE (JSON; one "
         "process: not with --jobs or --ray)",
@@ -152,16 +153,16 @@ def _add_analyze_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentPar
         formatter_class=DefaultsHelpFormatter,
     )
     source = a.add_mutually_exclusive_group(required=True)
-    source.add_argument("--db", type=Path, help="study log")
+    source.add_argument("--db", type=path_arg, help="study log")
     source.add_argument(
         "--ratings",
-        type=Path,
+        type=path_arg,
         help="ratings CSV: participant, condition (on/off), session (1/2), group (A/B), question, rating, "
         "categories[, questionnaire]",
     )
     a.add_argument(
         "--sessions",
-        type=Path,
+        type=path_arg,
         help="with --ratings: sessions CSV (participant, condition, session, group, interventions)",
     )
     a.add_argument(
@@ -169,7 +170,7 @@ def _add_analyze_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentPar
     )
     a.add_argument(
         "--out",
-        type=Path,
+        type=path_arg,
         default=Path("runs/analysis"),
         help="folder for results.json, scores.csv, fig3.png, fig3.pdf",
     )
@@ -406,7 +407,9 @@ def _add_power_parser(sub) -> None:  # noqa: ANN001 - argparse's private subpars
     add_engine_arguments(w)
     w.add_argument("--seed", type=int, default=d.seed, help="seeds every simulated study and its sampler")
     _add_trust_params(w)
-    w.add_argument("--out", type=Path, default=Path("runs/power"), help="folder for power.json, power.png")
+    w.add_argument(
+        "--out", type=path_arg, default=Path("runs/power"), help="folder for power.json, power.png"
+    )
     w.add_argument("--force", action="store_true", help="overwrite earlier results in --out")
 
 

@@ -27,7 +27,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-from scone_bt.argparsing import DefaultsHelpFormatter, OneLineArgumentParser
+from scone_bt.argparsing import DefaultsHelpFormatter, OneLineArgumentParser, path_arg
 from scone_bt.reporting import emit_report
 
 __all__ = ["LoadTestOptions", "LoadTestResult", "run_load_test", "register"]
@@ -376,8 +376,8 @@ def register(subparsers: Any) -> None:
     p.add_argument("--max-requests", type=int, default=500_000, help="bound on all requests together")
     p.add_argument("--think", type=float, default=0.05, help="max seconds a client waits between requests")
     p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--db", type=Path, help="study log to write (default: a temporary file)")
-    p.add_argument("--json", type=Path, metavar="FILE", help="also write the JSON here")
+    p.add_argument("--db", type=path_arg, help="study log to write (default: a temporary file)")
+    p.add_argument("--json", type=path_arg, metavar="FILE", help="also write the JSON here")
     p.set_defaults(func=_bench)
 
 

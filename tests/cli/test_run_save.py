@@ -50,4 +50,4 @@ def test_an_empty_save_path_says_so(capsys):
 
     with pytest.raises(SystemExit) as done:
         main(["--save", "", "--max-ticks", "1"])
-    assert done.value.code == 2 and "an empty path; give a file path" in capsys.readouterr().err
+    assert done.value.code == 2 and "an empty path; give a file or folder path" in capsys.readouterr().err

@@ -15,6 +15,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from scone_bt.argparsing import path_arg
+
 __all__ = ["register", "DEFAULT_PROFILES_DIR", "DEFAULT_OUT_DIR"]
 
 DEFAULT_PROFILES_DIR = Path("tools/profiles")
@@ -47,13 +49,13 @@ def _register_generate(sc_sub: argparse._SubParsersAction) -> None:
     )
     g.add_argument(
         "--profiles-dir",
-        type=Path,
+        type=path_arg,
         default=DEFAULT_PROFILES_DIR,
         help=f"folder of profile YAMLs (default: {DEFAULT_PROFILES_DIR})",
     )
     g.add_argument("--executions", type=int, default=100, help="executions per profile (default: 100)")
     g.add_argument(
-        "--out", type=Path, default=DEFAULT_OUT_DIR, help=f"output folder (default: {DEFAULT_OUT_DIR})"
+        "--out", type=path_arg, default=DEFAULT_OUT_DIR, help=f"output folder (default: {DEFAULT_OUT_DIR})"
     )
     g.add_argument(
         "--catalogue",
@@ -80,7 +82,7 @@ def _register_generate(sc_sub: argparse._SubParsersAction) -> None:
         "--max-minutes", type=float, default=None, help="stop after this long (finished rows are kept)"
     )
     g.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
-    g.add_argument("--json", type=Path, default=None, help="also write the JSON summary to this file")
+    g.add_argument("--json", type=path_arg, default=None, help="also write the JSON summary to this file")
     add_engine_arguments(g)
     g.set_defaults(func=_generate)
 

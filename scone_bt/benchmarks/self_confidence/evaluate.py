@@ -35,6 +35,7 @@ from typing import Protocol as TypingProtocol
 
 import numpy as np
 
+from scone_bt.argparsing import path_arg
 from scone_bt.benchmarks.self_confidence.dataset import Dataset
 from scone_bt.benchmarks.self_confidence.evaldata import EvalDataset, load_eval_datasets
 from scone_bt.benchmarks.self_confidence.protocols import (
@@ -715,7 +716,7 @@ def register_evaluate(sc_sub: argparse._SubParsersAction) -> None:
         ),
     )
     e.add_argument(
-        "--data", type=Path, default=Path("tools/data/sc"), help="datasets folder (default: %(default)s)"
+        "--data", type=path_arg, default=Path("tools/data/sc"), help="datasets folder (default: %(default)s)"
     )
     e.add_argument(
         "--protocols",
@@ -736,8 +737,8 @@ def register_evaluate(sc_sub: argparse._SubParsersAction) -> None:
         help="knn lgbm rf svm mlp xgb(oost) gp conformal, eps-<name>, grounded-<name> (default: "
         f"{','.join(DEFAULT_ESTIMATORS)})",
     )
-    e.add_argument("--json", type=Path, default=None, help="also write the JSON report to this file")
-    e.add_argument("--out", type=Path, default=None, help="folder for <name>.json, .md and PNGs")
+    e.add_argument("--json", type=path_arg, default=None, help="also write the JSON report to this file")
+    e.add_argument("--out", type=path_arg, default=None, help="folder for <name>.json, .md and PNGs")
     e.add_argument(
         "--name", default="self_confidence", help="stem of the files in --out (default: %(default)s)"
     )
@@ -757,7 +758,7 @@ def register_evaluate(sc_sub: argparse._SubParsersAction) -> None:
     )
     e.add_argument("--kitchen", default="kitchen", help="catalogue for families when a file has none")
     e.add_argument(
-        "--cache-dir", type=Path, default=None, help="embedding and cell cache (default: scone_bt's)"
+        "--cache-dir", type=path_arg, default=None, help="embedding and cell cache (default: scone_bt's)"
     )
     e.add_argument(
         "--no-cell-cache",

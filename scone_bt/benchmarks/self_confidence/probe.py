@@ -34,6 +34,7 @@ from typing import Any
 
 import numpy as np
 
+from scone_bt.argparsing import path_arg
 from scone_bt.benchmarks.self_confidence.evaldata import EvalDataset, load_eval_datasets
 from scone_bt.benchmarks.self_confidence.evaluate import (
     DEFAULT_EMBEDDERS,
@@ -439,7 +440,10 @@ def register_probe(sc_sub: argparse._SubParsersAction) -> None:
         "outcomes, and Algorithm 1 / novel-products ceilings of κ̂ on the true and the text-predicted attributes.",
     )
     p.add_argument(
-        "--data", type=Path, default=Path("tools/data/sc"), help="datasets folder (default: tools/data/sc)"
+        "--data",
+        type=path_arg,
+        default=Path("tools/data/sc"),
+        help="datasets folder (default: tools/data/sc)",
     )
     p.add_argument(
         "--kitchen", default="kitchen", help="kitchen whose catalogue is probed (default: kitchen)"
@@ -481,8 +485,8 @@ def register_probe(sc_sub: argparse._SubParsersAction) -> None:
         default=defaults.heavy_kg,
         help=f"heavy from (default: {defaults.heavy_kg} kg)",
     )
-    p.add_argument("--cache-dir", type=Path, default=None, help="embedding cache (default: scone_bt's)")
-    p.add_argument("--json", type=Path, default=None, help="also write the JSON report to this file")
-    p.add_argument("--out", type=Path, default=None, help="folder for <name>.json and .md")
+    p.add_argument("--cache-dir", type=path_arg, default=None, help="embedding cache (default: scone_bt's)")
+    p.add_argument("--json", type=path_arg, default=None, help="also write the JSON report to this file")
+    p.add_argument("--out", type=path_arg, default=None, help="folder for <name>.json and .md")
     p.add_argument("--name", default="self_confidence_probe", help="stem of the files in --out")
     p.set_defaults(func=run_probe)
