@@ -19,9 +19,11 @@ def run(
 ) -> dict[str, Any]:
     """The report of one run of the scenarios under ``paths`` (on the robot backend ``robot`` with the robot file
     ``arm``; None: each file's)."""
-    from scone_bt.scenario.runner import Tally, load_cases, run_cases
+    from scone_bt.scenario.runner import Tally, check_outputs, load_cases, run_cases
 
     cases = load_cases(paths, robot, arm)
+    if out_dir is not None:
+        check_outputs(cases, out_dir)
     started = time.perf_counter()
     results = run_cases(cases, jobs=jobs, out_dir=out_dir)
     wall = time.perf_counter() - started

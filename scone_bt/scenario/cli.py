@@ -70,7 +70,10 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--skip-tag", action="append", default=[], help="leave out cases tagged so")
     r.add_argument("--quiet", action="store_true", help="no progress lines")
     r.add_argument(
-        "--force", action="store_true", help="replace an existing --junit file that is not a JUnit report"
+        "--force",
+        action="store_true",
+        help="replace an existing --junit file that is not a JUnit report, and files in --out that are not a "
+        "case's earlier event log or recording",
     )
     c = sub.add_parser("check", help="validate scenario files without running them")
     c.add_argument("paths", nargs="+")
@@ -226,16 +229,16 @@ class _Progress:
 def _cases(args: argparse.Namespace) -> list[Case]:
     """The cases to run; the outputs checked before any runs (a bad path found after the run would lose every
     result)."""
-    from scone_bt.checks import check_output_dir
-    from scone_bt.scenario.runner import Selection, check_jobs, default_out_dir, load_cases
+    from scone_bt.scenario.runner import Selection, check_jobs, check_outputs, default_out_dir, load_cases
 
     args.out = default_out_dir(args.out, args.junit)
     check_jobs(args.jobs)
     cases = load_cases(args.paths, args.robot, args.arm)
     if args.junit is not None:
         check_junit(args.junit, _scenario_inputs(args.paths, cases), args.force)
-    check_output_dir(args.out, "--out")
-    return Selection(args.select, tuple(args.tag), tuple(args.skip_tag)).apply(cases)
+    selected = Selection(args.select, tuple(args.tag), tuple(args.skip_tag)).apply(cases)
+    check_outputs(selected, args.out, args.force)
+    return selected
 
 
 def _write_junit(path: Path, results: Sequence[CaseResult], wall_s: float) -> None:

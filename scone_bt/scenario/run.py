@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from scone_bt.checks import OutputKind, is_output_kind
 from scone_bt.errors import SconeError
 from scone_bt.events import Event, EventSink, Intervention
 from scone_bt.scenario.expect import ExpectationFailure, Outcome, Record, check, matches
@@ -321,6 +322,17 @@ def safe_name(name: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.=-]+", "_", name).strip("_") or "case"
 
 
+def case_outputs(name: str, out_dir: Path) -> tuple[Path, Path]:
+    """Where a failing case's event log (JSON Lines) and recording (.rrd) are written."""
+    stem = safe_name(name)
+    return out_dir / f"{stem}.events.jsonl", out_dir / f"{stem}.rrd"
+
+
+def _foreign(path: Path, kind: OutputKind) -> bool:
+    """Whether `path` holds something other than an earlier output of its kind (never overwritten)."""
+    return path.exists() and not is_output_kind(path, kind)
+
+
 def _episode(
     case: Case, models: Any, save: Path | None, experience: Path | None
 ) -> tuple[Any, ScenarioHook, list[str]]:
@@ -385,11 +397,15 @@ def run_case(
     replay = ""
     if out_dir is not None and verdict in (Verdict.FAILED, Verdict.XPASS):
         out_dir.mkdir(parents=True, exist_ok=True)
-        log = out_dir / f"{safe_name(case.name)}.events.jsonl"
-        log.write_text("".join(e + "\n" for e in events), encoding="utf-8")
-        artifacts.append(str(log))
-        if record_failures:
-            rrd = out_dir / f"{safe_name(case.name)}.rrd"
+        log, rrd = case_outputs(case.name, out_dir)
+        if _foreign(log, "json"):  # checked before the run too; a file made since is kept, not overwritten
+            artifacts.append(f"{log} not written: it exists and is not an event log")
+        else:
+            log.write_text("".join(e + "\n" for e in events), encoding="utf-8")
+            artifacts.append(str(log))
+        if record_failures and _foreign(rrd, "rrd"):
+            artifacts.append(f"{rrd} not written: it exists and is not a rerun recording")
+        elif record_failures:
             with tempfile.TemporaryDirectory(prefix="scone-scenario-") as tmp:
                 store = Path(tmp) / "experience.sqlite" if case.spec.world.experience_from else None
                 _episode(case, models, rrd, store)

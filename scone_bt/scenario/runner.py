@@ -22,6 +22,7 @@ __all__ = [
     "Tally",
     "WORKER_DIED",
     "check_jobs",
+    "check_outputs",
     "default_out_dir",
     "load_cases",
     "lost_case",
@@ -46,6 +47,20 @@ def default_out_dir(out: Path | None, junit: Path | None) -> Path:
     if out is not None:
         return out
     return junit.parent if junit is not None else Path("runs/scenarios")
+
+
+def check_outputs(cases: Sequence[Case], out_dir: Path, force: bool = False) -> None:
+    """Before any case runs: the files a failing case would write in `out_dir` (`case_outputs`) replace nothing
+    but an earlier event log or recording (unless `force`), and the folder is writable; one line naming the
+    file otherwise."""
+    from scone_bt.checks import check_output_dir, check_output_file
+    from scone_bt.scenario.run import case_outputs
+
+    check_output_dir(out_dir, "--out")
+    for case in cases:
+        log, rrd = case_outputs(case.name, out_dir)
+        check_output_file(log, "--out", kind="json", force=force)
+        check_output_file(rrd, "--out", kind="rrd", force=force)
 
 
 def check_jobs(jobs: int) -> int:

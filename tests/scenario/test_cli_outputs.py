@@ -244,3 +244,32 @@ def test_a_failed_case_reports_the_wall_time_of_its_own_run_not_of_the_recording
     result = run.run_case(case, tmp_path / "out")
     assert result.verdict == run.Verdict.FAILED and result.wall_s == 1.0
     assert (tmp_path / "out" / "f.rrd").exists()
+
+
+@pytest.mark.parametrize("suffix", [".rrd", ".events.jsonl"])
+def test_out_files_that_are_not_earlier_outputs_are_refused_before_any_case_runs(
+    suffix: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = _scenario(tmp_path)
+    out = tmp_path / "out"
+    out.mkdir()
+    notes = out / f"a{suffix}"  # where case "a" would write, a user's own file
+    notes.write_text("my precious notes\n", encoding="utf-8")
+    _no_case_runs(monkeypatch)
+    assert main(["run", str(path), "--out", str(out)]) == 2
+    err = _one_line(capsys)
+    assert f"--out {notes}: exists and is not" in err and "--force" in err, err
+    assert notes.read_text(encoding="utf-8") == "my precious notes\n"
+    # an earlier run's outputs are replaced without --force, a foreign file with it
+    cases = runner.load_cases([path], None)
+    runner.check_outputs(cases, out, force=True)
+    notes.write_text('{"tick": 0}\n', encoding="utf-8") if suffix.endswith("jsonl") else notes.write_bytes(b"")
+    runner.check_outputs(cases, out)
+
+
+def test_a_failing_case_keeps_a_file_made_in_out_after_the_check(tmp_path: Path) -> None:
+    case = runner.load_cases([_scenario(tmp_path)], None)[0]
+    log, rrd = run.case_outputs(case.name, tmp_path)
+    assert (log.name, rrd.name) == ("a.events.jsonl", "a.rrd")
+    log.write_text("not an event log\x00", encoding="utf-8")
+    assert run._foreign(log, "json") and not run._foreign(rrd, "rrd")
