@@ -266,8 +266,15 @@ def run_catalogue_benchmark(
 ) -> dict[str, Any]:
     """Every figure of the catalogue benchmark as one JSON-ready mapping (``progress``: a bar on stderr)."""
     from scone_bt.config import load_kitchen
+    from scone_bt.config.schema import check_input_file
     from scone_bt.recipes.recipe import corpus_entries
 
+    for flag, given in (("--pdr-labels", pdr_labels), ("--pdr-heldout", pdr_heldout)):
+        if given is not None:  # before the corpus is read: a missing file was a traceback at the end
+            try:
+                check_input_file(given, RecipeError)
+            except RecipeError as exc:
+                raise RecipeError(f"{flag} {exc}") from None
     wall0, cpu0 = time.perf_counter(), time.process_time()
     cfg = load_kitchen(kitchen, catalogues)
     cat = cfg.catalogue

@@ -20,8 +20,11 @@ def _core(args: argparse.Namespace) -> int:
 
 def _viz(args: argparse.Namespace) -> int:
     from scone_bt.benchmarks.viz import main
-    from scone_bt.checks import check_output_file
+    from scone_bt.checks import check_output_file, check_positive_int, check_range
 
+    check_positive_int(args.ticks, "--ticks", maximum=100_000)
+    check_positive_int(args.frame_every, "--frame-every", maximum=100_000)
+    check_range(args.tick_seconds, "--tick-seconds", 0.001, 10.0)
     if args.save_demo is not None:  # before the episodes run: the file a user names is not lost to the demo
         inputs = {"--json": [args.json]} if args.json is not None else {}
         check_output_file(args.save_demo, "--save-demo", kind="rrd", inputs=inputs, force=args.force)

@@ -192,11 +192,14 @@ def _recovery_summary(rs: list[dict], effect: float) -> dict[str, Any]:
 
 
 def _recovery(args: argparse.Namespace) -> int:
+    from scone_bt.checks import check_positive_int, check_range
     from scone_bt.quiet import quiet_backends
     from scone_bt.study.analysis import AnalysisOptions
     from scone_bt.study.models import Priors
     from scone_bt.study.r_clmm import r_unavailable
 
+    check_positive_int(args.seeds, "--seeds", maximum=10_000)
+    check_range(args.effect, "--effect", -10.0, 10.0)  # as scone-study simulate --condition-effect
     quiet_backends(("pymc", "pytensor"))
     effect = args.effect
     priors = Priors(args.effect_prior_sd, args.cutpoint_prior_sd, args.scale_prior_sd)

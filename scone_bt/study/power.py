@@ -43,6 +43,10 @@ __all__ = [
 ]
 
 MEASURES = ("mdmt", "tps_hri", "interventions")
+MAX_PARTICIPANTS = 1000
+"""Largest study `--n` plans for: each simulated study is fitted by MCMC, whose time grows with the data."""
+MAX_EFFECT = 10.0
+"""Largest |condition effect| (logit or log-rate), as `scone-study simulate --condition-effect`."""
 _T = TypeVar("_T")
 _R = TypeVar("_R")
 
@@ -91,8 +95,10 @@ class PowerOptions:
     def __post_init__(self) -> None:
         if not (math.isfinite(self.response_noise_sd) and self.response_noise_sd >= 0):
             raise SconeError(f"--answer-noise-sd must be 0 or more, got {self.response_noise_sd}")
-        if not self.participants or min(self.participants) < 2:
-            raise SconeError(f"--n: participant numbers must be 2 or more, got {list(self.participants)}")
+        if not self.participants or min(self.participants) < 2 or max(self.participants) > MAX_PARTICIPANTS:
+            raise SconeError(
+                f"--n: participant numbers must be 2 to {MAX_PARTICIPANTS}, got {list(self.participants)}"
+            )
         if self.repetitions < 1:
             raise SconeError(f"--repetitions must be at least 1, got {self.repetitions}")
         if self.trust_params not in ("fitted", "hand"):
@@ -101,8 +107,9 @@ class PowerOptions:
             raise UnknownNameError("measure", self.measure, MEASURES)
         if self.workers is not None and self.workers < 1:
             raise SconeError(f"--workers must be at least 1, got {self.workers}")
-        if not math.isfinite(self.effect):
-            raise SconeError(f"--effect must be a number, got {self.effect}")
+        if not (math.isfinite(self.effect) and abs(self.effect) <= MAX_EFFECT):
+            # a log-rate of 25 overflowed the simulated counts (Poisson's lam) and the sampler
+            raise SconeError(f"--effect must be in [-{MAX_EFFECT:g}, {MAX_EFFECT:g}], got {self.effect}")
         self.analysis_options(0)  # sampler, ROPE and model checks, before any work starts
 
     @classmethod

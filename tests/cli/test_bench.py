@@ -258,3 +258,36 @@ def test_settings_are_checked_before_the_datasets_are_read(argv, message, monkey
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert err.startswith(f"scone-bench: {message}") and err.count("\n") == 1
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["viz", "--ticks", "0"], "--ticks 0: must be an integer in 1..100000"),
+        (["viz", "--frame-every", "-1"], "--frame-every -1: must be an integer in 1..100000"),
+        (["viz", "--tick-seconds", "0"], "--tick-seconds 0.0: must be a number in [0.001, 10]"),
+        (["study-recovery", "--seeds", "0"], "--seeds 0: must be an integer in 1..10000"),
+        (["study-recovery", "--effect", "nan"], "--effect nan: must be a number in [-10, 10]"),
+        (
+            ["catalogue", "--pdr-heldout", "/nonexistent.jsonl"],
+            "--pdr-heldout /nonexistent.jsonl: file not found",
+        ),
+        (["catalogue", "--pdr-labels", "/"], "--pdr-labels /: "),
+    ],
+)
+def test_bad_settings_crashed_and_are_now_one_line_before_any_work(
+    argv, message, monkeypatch, capsys
+) -> None:
+    """Each was an IndexError, ZeroDivisionError or FileNotFoundError (a program error) before."""
+    from scone_bt.benchmarks import catalogue, viz
+    from scone_bt.recipes import recipe
+
+    def never(*args: object, **kwargs: object) -> None:
+        raise AssertionError("the work started")
+
+    monkeypatch.setattr(viz, "main", never)
+    monkeypatch.setattr(recipe, "corpus_entries", never)
+    monkeypatch.setattr(catalogue, "_normalisation", never)
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"scone-bench: {message}") and err.count("\n") == 1, err

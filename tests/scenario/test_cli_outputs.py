@@ -263,7 +263,9 @@ def test_out_files_that_are_not_earlier_outputs_are_refused_before_any_case_runs
     # an earlier run's outputs are replaced without --force, a foreign file with it
     cases = runner.load_cases([path], None)
     runner.check_outputs(cases, out, force=True)
-    notes.write_text('{"tick": 0}\n', encoding="utf-8") if suffix.endswith("jsonl") else notes.write_bytes(b"")
+    notes.write_text('{"tick": 0}\n', encoding="utf-8") if suffix.endswith("jsonl") else notes.write_bytes(
+        b""
+    )
     runner.check_outputs(cases, out)
 
 

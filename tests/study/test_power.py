@@ -24,8 +24,13 @@ from scone_bt.study.questionnaires import get_questionnaire
 
 
 def test_options_are_checked_before_any_work():
-    with pytest.raises(SconeError, match="participant numbers must be 2 or more"):
+    with pytest.raises(SconeError, match="participant numbers must be 2 to 1000"):
         PowerOptions(participants=(1, 10))
+    with pytest.raises(SconeError, match="participant numbers must be 2 to 1000"):
+        PowerOptions(participants=(10, 100_000_000))  # ran on with no progress
+    for effect in (25.0, -11.0, float("nan")):  # 25 overflowed the simulated counts
+        with pytest.raises(SconeError, match=r"--effect must be in \[-10, 10\]"):
+            PowerOptions(effect=effect, measure="interventions")
     with pytest.raises(UnknownNameError, match="valid: interventions, mdmt, tps_hri"):
         PowerOptions(measure="sus")
     with pytest.raises(SconeError, match="not a comma list of whole numbers"):
