@@ -111,12 +111,16 @@ class WorldSection(StrictModel):
     @classmethod
     def _parameters(cls, value: dict[str, Any]) -> dict[str, Any]:
         from scone_bt.config.tree_parameters import TreeParameters
+        from scone_bt.tree.build import parameter_name_problem
 
         try:
             TreeParameters(**value)
         except ValidationError as exc:
             line = format_validation_error(exc, "parameters", TreeParameters)
             raise ValueError(line.removeprefix("parameters: ")) from None
+        problem = parameter_name_problem(value)  # as a tree file's: not only when the case runs
+        if problem is not None:
+            raise ValueError(problem)
         return value
 
 

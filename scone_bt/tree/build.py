@@ -22,7 +22,15 @@ from scone_bt.resources import resolve_file
 if TYPE_CHECKING:
     from scone_bt.behaviours.base import StageBehaviour
 
-__all__ = ["TreeSpec", "TreeParameters", "ARG_MODELS", "load_tree_spec", "build_tree", "render_tree"]
+__all__ = [
+    "TreeSpec",
+    "TreeParameters",
+    "ARG_MODELS",
+    "load_tree_spec",
+    "build_tree",
+    "render_tree",
+    "parameter_name_problem",
+]
 
 COMPOSITES = ("sequence", "selector")
 
@@ -214,17 +222,23 @@ def _node_words(node: dict[Any, Any], kind: str, error: str, key: str) -> str:
 def _check_parameter_names(params: dict[str, Any], path: Path) -> None:
     """The estimator and embedder a tree file names are ones the registries build, or a one-line ConfigError
     naming the file, the key and the valid names (not only when the robot first needs them)."""
+    problem = parameter_name_problem(params)
+    if problem is not None:
+        raise ConfigError(f"{path}: parameters.{problem}")
+
+
+def parameter_name_problem(params: Mapping[str, Any]) -> str | None:
+    """What is wrong with the estimator or embedder `params` names ("estimator: unknown estimator 'x'; valid:
+    ..."), or None: the tree file's check, and a scenario's ``world.parameters``'."""
     from scone_bt.confidence.registry import estimator_names
 
     estimator = params.get("estimator")
     valid = estimator_names()
     if estimator is not None and estimator not in valid:
-        raise ConfigError(
-            f"{path}: parameters.estimator: unknown estimator {estimator!r}; valid: {', '.join(valid)}"
-        )
+        return f"estimator: unknown estimator {estimator!r}; valid: {', '.join(valid)}"
     embedder = params.get("embedder")
     if embedder is None:
-        return
+        return None
     from scone_bt.embedding.registry import embedder_names, names_an_embedder
 
     names = (
@@ -232,9 +246,9 @@ def _check_parameter_names(params: dict[str, Any], path: Path) -> None:
         "mpnet-ft",
     )  # mpnet-ft: registered once its benchmark is imported
     if embedder == "mpnet-ft" or names_an_embedder(embedder):
-        return
-    raise ConfigError(
-        f"{path}: parameters.embedder: unknown embedder {embedder!r}; valid: {', '.join(sorted(set(names)))}, "
+        return None
+    return (
+        f"embedder: unknown embedder {embedder!r}; valid: {', '.join(sorted(set(names)))}, "
         "finetuned:<dir> or a sentence-transformers model directory"
     )
 

@@ -111,6 +111,13 @@ def test_expected_fail_needs_a_reason_and_parameters_are_checked(tmp_path: Path)
     assert "expected: fail needs a 'reason'" in _error(tmp_path, BASE + "expected: fail\n")
     msg = _error(tmp_path, BASE + "world: {parameters: {gate: bogus}}\n")
     assert msg.endswith("world.parameters: gate: Input should be 'budget' or 'paper' (got 'bogus')")
+    # names the registries cannot build, as a tree file's are (they passed `check` and failed when run)
+    msg = _error(tmp_path, BASE + "world: {parameters: {embedder: nosuch}}\n")
+    assert (
+        "world.parameters: embedder: unknown embedder 'nosuch'; valid: glove, minilm, mpnet, mpnet-ft" in msg
+    )
+    msg = _error(tmp_path, BASE + "world: {parameters: {estimator: nosuch}}\n")
+    assert "world.parameters: estimator: unknown estimator 'nosuch'; valid: conformal" in msg
 
 
 def test_unknown_profile_and_recipe(tmp_path: Path) -> None:
