@@ -410,6 +410,7 @@ def _run(args: argparse.Namespace) -> int:
     for target in args.target_error_rates:  # the gate's own range (GateOptions), checked before any replay
         if not 0.0 < target < 1.0:
             raise SconeError(f"--target-error-rates {target}: must be a number in (0, 1)")
+    _check_names_and_threshold(args)
     started = time.perf_counter()
     report: dict[str, Any] = {
         "benchmark": "decisions",
@@ -429,6 +430,20 @@ def _run(args: argparse.Namespace) -> int:
     report["wall_s"] = round(time.perf_counter() - started, 1)
     emit_report(report, args.json, force=args.force)
     return 0
+
+
+def _check_names_and_threshold(args: argparse.Namespace) -> None:
+    """--estimator, --estimators and --relevance-threshold, before the replay (they failed after it, ~20 s in)."""
+    from scone_bt.checks import check_range
+    from scone_bt.confidence.registry import estimator_names
+    from scone_bt.errors import SconeError
+
+    valid = estimator_names()
+    for flag, names in (("--estimator", [args.estimator]), ("--estimators", args.estimators.split(","))):
+        for name in (n for n in names if n and n not in valid):
+            raise SconeError(f"{flag} {name}: unknown estimator; valid: {', '.join(valid)}")
+    if args.relevance_threshold is not None:  # ρ is a cosine similarity
+        check_range(args.relevance_threshold, "--relevance-threshold", -1.0, 1.0)
 
 
 def _default_jobs() -> int:

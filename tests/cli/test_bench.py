@@ -291,3 +291,27 @@ def test_bad_settings_crashed_and_are_now_one_line_before_any_work(
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert err.startswith(f"scone-bench: {message}") and err.count("\n") == 1, err
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["decisions", "--estimator", "nosuch"], "--estimator nosuch: unknown estimator; valid: conformal"),
+        (["decisions", "--estimators", "knn,nosuch"], "--estimators nosuch: unknown estimator; valid:"),
+        (
+            ["decisions", "--relevance-threshold", "5"],
+            "--relevance-threshold 5.0: must be a number in [-1, 1]",
+        ),
+    ],
+)
+def test_decisions_checks_its_names_before_the_replay(argv, message, monkeypatch, capsys) -> None:
+    from scone_bt.benchmarks import decisions
+
+    def never(*args: object, **kwargs: object) -> None:
+        raise AssertionError("the replay ran")
+
+    monkeypatch.setattr(decisions, "_gate_metrics", never)
+    monkeypatch.setattr(decisions, "_episodes", never)
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"scone-bench: {message}") and err.count("\n") == 1, err
