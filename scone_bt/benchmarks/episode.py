@@ -100,16 +100,12 @@ def run(args: argparse.Namespace) -> int:
 
 def _check_args(args: argparse.Namespace) -> list[str]:
     """The recipe ids; a bad option is one line now, not after the first episode's start-up."""
-    from scone_bt.checks import check_positive_int
+    from scone_bt.checks import check_positive_int, comma_list
     from scone_bt.config import load_robot
-    from scone_bt.errors import ConfigError
 
     check_positive_int(args.max_ticks, "--max-ticks")
     load_robot(args.arm)
-    recipes = [r.strip() for r in args.recipes.split(",") if r.strip()]
-    if not recipes:
-        raise ConfigError("--recipes: list at least one recipe id (e.g. example:hummus)")
-    return recipes
+    return list(comma_list(args.recipes, "--recipes", "example:hummus,example:pancakes"))
 
 
 def _run_episodes(args: argparse.Namespace, recipes: list[str]) -> list[dict[str, Any]]:

@@ -54,6 +54,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any, cast
 
+from scone_bt.checks import comma_list
 from scone_bt.reporting import emit_report
 
 __all__ = ["register", "run", "TARGETS"]
@@ -581,7 +582,7 @@ def run(args: argparse.Namespace) -> int:
         raise ConfigError(f"--planner: ompl, or ompl,vamp (got {args.planner!r})")
     quiet_backends()
     kcfg = load_kitchen(args.kitchen)
-    arms = [a for a in args.arms.split(",") if a]
+    arms = comma_list(args.arms, "--arms", "panda,iiwa7")
     t0 = time.perf_counter()
     report: dict[str, Any] = {
         "benchmark": "motion",

@@ -16,6 +16,7 @@ import argparse
 import time
 from typing import Any
 
+from scone_bt.checks import comma_list
 from scone_bt.reporting import emit_report
 
 __all__ = ["compare_query", "outcome_class", "register"]
@@ -107,7 +108,7 @@ def run(args: argparse.Namespace) -> int:
     require_pybullet(args.robot, "scone-bench physics")
     if args.queries < 1 or args.jobs < 1 or args.clutter < 0 or args.table_objects < 0:
         raise ConfigError("--queries and --jobs must be >= 1, --clutter and --table-objects >= 0")
-    arms = [a for a in args.arms.split(",") if a]
+    arms = comma_list(args.arms, "--arms", "panda,iiwa7")
     started = time.perf_counter()
     report: dict[str, Any] = {
         "benchmark": "physics",

@@ -273,6 +273,9 @@ def test_settings_are_checked_before_the_datasets_are_read(argv, message, monkey
             "--pdr-heldout /nonexistent.jsonl: file not found",
         ),
         (["catalogue", "--pdr-labels", "/"], "--pdr-labels /: "),
+        (["motion", "--arms", ""], "--arms '': a comma list with no empty item"),  # ran with no arm, rc 0
+        (["physics", "--arms", "panda,"], "--arms 'panda,': a comma list with no empty item"),
+        (["episode", "--recipes", "example:hummus,,"], "--recipes 'example:hummus,,': a comma list"),
     ],
 )
 def test_bad_settings_crashed_and_are_now_one_line_before_any_work(
