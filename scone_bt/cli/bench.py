@@ -133,10 +133,21 @@ def check_common_ranges(args: argparse.Namespace) -> None:
     seed = getattr(args, "seed", None)
     if isinstance(seed, int) and not isinstance(seed, bool):
         check_seed(seed)
-    for dest, low in (("distractors", 0), ("jobs", 1), ("warmup", 0), ("headless_runs", 0)):
+    for dest, low in (
+        ("distractors", 0),
+        ("jobs", 1),
+        ("warmup", 0),
+        ("headless_runs", 0),
+        ("overhead_tasks", 1),
+    ):
         value = getattr(args, dest, None)
         if isinstance(value, int) and not isinstance(value, bool) and value < low:
             raise SconeError(f"--{dest.replace('_', '-')} {value}: must be an integer >= {low}")
+    cache_dir = getattr(args, "cache_dir", None)
+    if cache_dir is not None:  # every benchmark's embedding cache: a file or /proc was silently not written
+        from scone_bt.checks import check_output_dir
+
+        check_output_dir(Path(cache_dir), "--cache-dir")
 
 
 def check_backend_option(args: argparse.Namespace) -> None:

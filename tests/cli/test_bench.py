@@ -194,6 +194,9 @@ def test_a_report_is_never_written_over_a_file_of_an_input_folder(tmp_path, monk
         (["gate", "--distractors", "-1"], "--distractors -1"),
         (["decisions", "--warmup", "-1"], "--warmup -1"),
         (["physics", "--jobs", "0"], "--jobs 0"),
+        (["scale", "--overhead-tasks", "-1"], "--overhead-tasks -1"),  # reported a negative overhead
+        (["soak", "--cache-dir", "/proc/x"], "--cache-dir /proc/x"),  # ran and wrote no cache
+        (["sc", "probe", "--cache-dir", "/proc/x"], "--cache-dir /proc/x"),
     ],
 )
 def test_out_of_range_shared_options_are_one_line_before_the_benchmark(argv, flag, monkeypatch, capsys):
