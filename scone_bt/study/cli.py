@@ -486,12 +486,16 @@ def _check_simulate(args: argparse.Namespace) -> None:
         raise SconeError(f"--distractors {args.distractors}: must be 0 or more")
     checks.check_range(args.condition_effect, "--condition-effect", -10.0, 10.0)
     check_backend(args.robot)
-    if not args.fast:  # a bad robot file or recipe is one line now, not after the first participant
-        from scone_bt.config import load_robot
-        from scone_bt.recipes import load_recipe
+    # a bad robot file or recipe is one line now, not after the first participant; with --fast too, where the
+    # synthetic episodes do not use them (a typo there passed silently and failed on the next run without it)
+    from scone_bt.config import load_robot
+    from scone_bt.recipes import load_recipe
 
-        load_robot(args.arm)
-        load_recipe(args.recipe)
+    for flag, load, value in (("--arm", load_robot, args.arm), ("--recipe", load_recipe, args.recipe)):
+        try:
+            load(value)
+        except SconeError as exc:
+            raise SconeError(f"{flag}: {exc}") from None
     checks.check_output_file(args.db, "--db", must_not_exist=True)
     _check_memory(args)
 

@@ -241,3 +241,20 @@ def test_an_empty_participant_id_is_quoted_once(tmp_path, capsys, participant):
     err = _one_line_error(capsys)
     assert f"unknown participant id {participant!r}; valid: any non-empty text, e.g. P01" in err
     assert not db.exists()
+
+
+@pytest.mark.parametrize(
+    ("flag", "value", "expected"),
+    [
+        ("--recipe", "example:nosuch", "--recipe: unknown example recipe 'nosuch'; valid: example:hummus"),
+        ("--arm", "nosuch", "--arm: unknown robot 'nosuch'; valid: iiwa7, panda"),
+    ],
+)
+def test_simulate_fast_checks_the_recipe_and_arm_it_would_use_without_fast(
+    tmp_path, capsys, flag, value, expected
+):
+    db = tmp_path / "s.db"
+    assert main(["simulate", "--participants", "2", "--fast", "--db", str(db), flag, value]) == 2
+    err = capsys.readouterr().err
+    assert expected in err and err.count("\n") == 1, err
+    assert not db.exists()
