@@ -529,6 +529,14 @@ def _decision_settings(args: argparse.Namespace) -> dict[str, Any]:
     spec = load_tree_spec(args.tree)  # validated now (types and ranges), before the kitchen is built
     gate = tree.get("gate") or spec.parameters.get("gate") or TreeParameters().gate
     check_flags_take_effect(tree, gate, self_confidence=not args.no_self_confidence)
+    if tree.get("gate") == "paper":  # the tree file's budget-only switches, which --gate paper would silence
+        on = [k for k in ("exploration_credit",) if spec.parameters.get(k)]
+        on += ["probe.enabled"] if spec.parameters.get("probe", {}).get("enabled") else []
+        if on:
+            raise SconeError(
+                f"--gate paper: the tree file {args.tree} turns on {' and '.join(on)}, which only the budget gate "
+                "reads; give a tree file with it off, or leave --gate out"
+            )
     return tree
 
 

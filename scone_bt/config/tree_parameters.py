@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from scone_bt.config.schema import StrictModel
 
@@ -176,6 +176,26 @@ class TreeParameters(StrictModel):
         ProbeParameters,
         Field(description="the heft test: when the budget gate lifts a product a little to feel it first"),
     ] = ProbeParameters()
+
+    @model_validator(mode="after")
+    def _budget_switches_need_the_budget_gate(self) -> TreeParameters:
+        """One meaning per key: a switch the paper's gate never reads is refused, not silently ignored (the
+        command line's `--gate paper --exploration-credit` is refused the same way)."""
+        if self.gate == "paper":
+            on = [
+                k
+                for k, v in (
+                    ("exploration_credit", self.exploration_credit),
+                    ("probe.enabled", self.probe.enabled),
+                )
+                if v
+            ]
+            if on:
+                raise ValueError(
+                    f"{' and '.join(on)}: true is read by gate: budget only; with gate: paper it does nothing "
+                    "(set gate: budget, or turn it off)"
+                )
+        return self
 
 
 PARAMETER_NAMES: tuple[str, ...] = tuple(TreeParameters.model_fields)

@@ -121,3 +121,32 @@ def test_the_options_of_the_gate_in_use_are_taken(capsys) -> None:
         build_parser().parse_args(["--probe-enabled", "--exploration-credit"])
     ).behaviour
     assert budget.probe is not None and budget.exploration_credit is True
+
+
+@pytest.mark.parametrize(
+    ("edit", "argv", "line"),
+    [
+        (
+            ("gate: budget", "gate: paper"),
+            [],
+            "parameters: exploration_credit: true is read by gate: budget only",
+        ),
+        ((None, None), ["--gate", "paper"], "--gate paper: the tree file"),
+    ],
+)
+def test_a_tree_file_switch_the_paper_gate_never_reads_is_refused(edit, argv, line, tmp_path, capsys) -> None:
+    """A tree file with gate: paper and exploration_credit: true ran the paper's gate without a word."""
+    from scone_bt.resources import data_dir
+
+    text = (data_dir("trees") / "assistive_cooking.yaml").read_text(encoding="utf-8")
+    text = text.replace("  exploration_credit: false", "  exploration_credit: true")
+    if edit[0] is not None:
+        text = text.replace(f"  {edit[0]}", f"  {edit[1]}")
+    tree = tmp_path / "tree.yaml"
+    tree.write_text(text, encoding="utf-8")
+    assert main(["--tree", str(tree), *argv]) == 2
+    err = capsys.readouterr().err
+    assert line in err and err.count("\n") == 1, err
+    assert TreeParameters(gate="paper", exploration_credit=False).gate == "paper"
+    with pytest.raises(ValueError, match="probe.enabled: true is read by gate: budget only"):
+        TreeParameters(gate="paper", probe=ProbeParameters(enabled=True))
