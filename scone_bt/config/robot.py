@@ -173,6 +173,8 @@ class _GripperModel(StrictModel):
 
     @model_validator(mode="after")
     def _opens(self) -> _GripperModel:
+        if len(set(self.joints)) != len(self.joints):
+            raise ValueError("joints: a joint is listed twice (each finger's joint once)")
         if self.open_position <= self.closed_position:
             raise ValueError(
                 f"open_position ({self.open_position}) must be larger than closed_position ({self.closed_position})"
@@ -365,6 +367,22 @@ def _check_home(m: RobotFile, urdf: Path, root: Any, where: str) -> None:
             )
 
 
+def _check_fingers(m: RobotFile, urdf: Path, root: Any, where: str) -> None:
+    """The gripper's open and closed positions within its finger joints' URDF limits (a finger told to open past
+    its limit stops there, so the opening the gate believes in would be wrong), or one line naming the key."""
+    limits = _urdf_limits(root)
+    for joint in m.gripper.joints:
+        if joint not in limits or not limits[joint][0] < limits[joint][1]:
+            continue
+        lo, hi = limits[joint]
+        for key in ("open_position", "closed_position"):
+            q = getattr(m.gripper, key)
+            if not lo - 1e-6 <= q <= hi + 1e-6:
+                raise ConfigError(
+                    f"{where}: gripper.{key}: {q:g} is outside {joint}'s limits [{lo:g}, {hi:g}] in {urdf.name}"
+                )
+
+
 _Spec = TypeVar("_Spec", bound="DataclassInstance")
 
 
@@ -390,6 +408,7 @@ def load_robot(name_or_path: str | Path = "panda") -> RobotConfig:
     root = _urdf_root(urdf, str(path))
     _check_names(m, urdf, root, str(path))
     _check_home(m, urdf, root, str(path))
+    _check_fingers(m, urdf, root, str(path))
     return RobotConfig(
         name=m.name,
         urdf=urdf,

@@ -108,6 +108,16 @@ def test_a_gripper_opening_past_a_metre_names_the_file_and_the_keys(tmp_path: Pa
     _refused(tmp_path, doc, "gripper:", f"open_position ({value})", "closed_position (0.0)", "not below 1 m")
 
 
+def test_a_finger_position_past_the_urdfs_limit_or_a_repeated_finger_joint_is_refused(tmp_path: Path):
+    """Both loaded before: a finger told to open 0.2 m stops at 0.04, and the gate believed in a 0.4 m opening."""
+    doc = _robot(tmp_path)
+    doc["gripper"]["open_position"] = 0.2
+    _refused(tmp_path, doc, "gripper.open_position: 0.2 is outside panda_finger_joint1's limits [0, 0.04]")
+    doc = _robot(tmp_path)
+    doc["gripper"]["joints"] = ["panda_finger_joint1", "panda_finger_joint1"]
+    _refused(tmp_path, doc, "gripper: joints: a joint is listed twice")
+
+
 def test_a_gripper_joint_that_is_an_arm_joint_is_blamed_on_gripper_joints(tmp_path: Path):
     doc = _robot(tmp_path)
     doc["gripper"]["joints"] = ["panda_joint7", "panda_finger_joint2"]
