@@ -26,7 +26,8 @@ if TYPE_CHECKING:
 
 
 class _Interrupts:
-    """Ctrl-C at any moment of scone-run: one line saying what was saved, exit status 130, never a traceback.
+    """Ctrl-C (or SIGTERM: `kill`, `timeout`) at any moment of scone-run: one line saying what was saved, exit
+    status 130, never a traceback.
 
     Phases: before `main` runs its work nothing can have been stored, so SIGINT prints the line and exits at once
     (a KeyboardInterrupt raised inside an import would print a traceback); while the run is under way SIGINT
@@ -46,6 +47,9 @@ class _Interrupts:
     def __init__(self) -> None:
         self.phase = self.EARLY
         self.previous: Callable[[int, FrameType | None], Any] | int | None = None  # SIGINT's handler before
+        self.previous_term: Callable[[int, FrameType | None], Any] | int | None = (
+            None  # SIGTERM's, when taken
+        )
         self.pending = False  # a Ctrl-C came while running: the run must end as interrupted
 
     def check(self) -> None:
@@ -64,12 +68,18 @@ class _Interrupts:
             previous = signal.signal(signal.SIGINT, self._handle)
             if previous != self._handle:
                 self.previous = previous
+            if signal.getsignal(signal.SIGTERM) is signal.SIG_DFL:  # `kill`, `timeout`: an interrupt too
+                signal.signal(signal.SIGTERM, self._handle)
+                self.previous_term = signal.SIG_DFL
 
     def restore(self) -> None:
         """Give SIGINT back to whoever had it (a test runner calling `main`), once the run is over."""
         if self.previous is not None and threading.current_thread() is threading.main_thread():
             signal.signal(signal.SIGINT, self.previous)
             self.previous = None
+        if self.previous_term is not None and threading.current_thread() is threading.main_thread():
+            signal.signal(signal.SIGTERM, self.previous_term)
+            self.previous_term = None
 
     def _handle(self, signum: int, frame: FrameType | None) -> None:
         if self.phase == self.RUNNING:

@@ -680,6 +680,13 @@ def _simulate(args: argparse.Namespace) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
+    from scone_bt.signals import terminate_as_interrupt
+
+    with terminate_as_interrupt():  # `kill` ends a session as Ctrl-C does: its end time written, one line
+        return _main(argv)
+
+
+def _main(argv: list[str] | None) -> int:
     args = build_parser().parse_args(argv)
     _quiet()
     try:

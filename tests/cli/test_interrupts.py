@@ -213,3 +213,29 @@ def test_a_ctrl_c_inside_an_import_is_deferred_to_the_next_event(monkeypatch, ca
         return 0
 
     _ends_interrupted(monkeypatch, capsys, run_with_a_ctrl_c_in_an_import)
+
+
+@pytest.mark.slow
+def test_sigterm_ends_a_run_as_ctrl_c_does(tmp_path):
+    """`kill` or `timeout` killed the run on the spot: no line, the recording not kept. Now SIGTERM is an interrupt."""
+    store = tmp_path / "store.db"
+    proc = _start(tmp_path, store, "example:hummus")
+    assert proc.stdout is not None
+    for line in proc.stdout:
+        if line.lstrip().startswith(("+ success", "x failure")):
+            time.sleep(0.5)
+            proc.send_signal(signal.SIGTERM)
+            break
+    assert _check(proc, store) >= 1
+
+
+def test_sigterm_is_keyboard_interrupt_inside_the_block_only() -> None:
+    from scone_bt.signals import terminate_as_interrupt
+
+    before = signal.signal(signal.SIGTERM, signal.SIG_DFL)  # a test runner's worker may have its own
+    try:
+        with terminate_as_interrupt(), pytest.raises(KeyboardInterrupt):
+            signal.raise_signal(signal.SIGTERM)
+        assert signal.getsignal(signal.SIGTERM) is signal.SIG_DFL
+    finally:
+        signal.signal(signal.SIGTERM, before)
