@@ -106,6 +106,20 @@ class Keys:
 _MISSING: Any = object()
 
 
+def _writers_of(key: str) -> list[str]:
+    """The behaviour classes (by name, as a tree file names them) that declare writing `key`."""
+    found: set[str] = set()
+    todo: list[type] = [StageBehaviour]
+    while todo:
+        cls = todo.pop()
+        todo.extend(cls.__subclasses__())
+        if key in getattr(cls, "WRITES", ()) and not cls.__name__.startswith(
+            "_"
+        ):  # what a tree file can name
+            found.add(cls.__name__)
+    return sorted(found)
+
+
 class StageBehaviour(py_trees.behaviour.Behaviour):
     """A behaviour declaring the blackboard keys it reads and writes.
 
@@ -141,9 +155,10 @@ class StageBehaviour(py_trees.behaviour.Behaviour):
             return self.bb.get(key)
         except KeyError:
             if default is _MISSING:
+                writers = ", ".join(_writers_of(key)) or "no behaviour"
                 raise BlackboardError(
-                    f"{self.name} read blackboard key {key!s} before anything wrote it "
-                    "(its writer runs earlier in the tree)"
+                    f"{self.name} read blackboard key {key!s} before anything wrote it: in the tree file, a node "
+                    f"that writes it ({writers}) must tick before {self.name}"
                 ) from None
             return default
 

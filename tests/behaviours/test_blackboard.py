@@ -44,5 +44,13 @@ def test_reading_an_unwritten_key_is_an_error_unless_a_default_is_given() -> Non
     assert reader.read(Keys.DECISION, None) is None
 
 
+def test_the_error_names_the_node_that_must_tick_first() -> None:
+    """A miswired tree file (PickAndPlace alone) said only that the key was unwritten."""
+    import scone_bt.behaviours  # noqa: F401 (every behaviour class registered)
+
+    with pytest.raises(BlackboardError, match=r"a node that writes it \(ConfidenceGate\) must tick before r"):
+        _Reader("r").read(Keys.DECISION)
+
+
 def test_keys_are_their_paths() -> None:
     assert Keys.DECISION == "/gate/decision" and Keys.DECISION.optional is False and Keys.TARGET.optional
