@@ -91,7 +91,10 @@ class Selection:
         if self.skip_tags:
             chosen = [c for c in chosen if not set(c.spec.tags) & set(self.skip_tags)]
         if not chosen:
-            raise SconeError("no case left after --tag/--skip-tag")
+            known = sorted({t for c in cases for t in c.spec.tags})
+            raise SconeError(
+                f"no case left after --tag/--skip-tag; the cases' tags: {', '.join(known) or '(none)'}"
+            )
         return chosen
 
 

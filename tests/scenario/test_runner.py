@@ -51,7 +51,9 @@ def test_selection_by_name_and_tags_refuses_an_empty_result(tmp_path: Path) -> N
     }
     with pytest.raises(SconeError, match=r"^-k 'nothing': no case name contains it$"):
         runner.Selection(name="nothing").apply(cases)
-    with pytest.raises(SconeError, match=r"^no case left after --tag/--skip-tag$"):
+    with pytest.raises(
+        SconeError, match=r"^no case left after --tag/--skip-tag; the cases' tags: fast, slow$"
+    ):
         runner.Selection(tags=("fast",), skip_tags=("fast",)).apply(cases)
     with pytest.raises(SconeError, match=r"^--jobs 0: give 1 or more$"):
         runner.check_jobs(0)
