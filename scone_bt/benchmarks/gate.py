@@ -60,6 +60,7 @@ no outcome of (leave-products-out), the default gate cold, after the fleet prior
 from __future__ import annotations
 
 import argparse
+import math
 import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -457,8 +458,14 @@ def _run(args: argparse.Namespace) -> int:
 
     if args.warmup < 0:
         raise SconeError(f"--warmup {args.warmup}: must be 0 or more")
-    if args.episodes < 0 or args.recipes < 1:
-        raise SconeError("--episodes must be ≥ 0 and --recipes ≥ 1")
+    if args.episodes < 0:
+        raise SconeError(f"--episodes {args.episodes}: must be 0 or more")
+    if args.recipes < 1:
+        raise SconeError(f"--recipes {args.recipes}: must be 1 or more")
+    from scone_bt.config.robot import MAX_GRIPPER_OPENING_M
+
+    if not (math.isfinite(args.opening) and 0 < args.opening < MAX_GRIPPER_OPENING_M):  # physical κ̂'s range
+        raise SconeError(f"--opening {args.opening}: must be in (0, {MAX_GRIPPER_OPENING_M:g}) metres")
     if args.no_replay and not args.episodes and not args.unseen:
         raise SconeError("--no-replay with --episodes 0 and no --unseen: nothing to run; give --episodes N")
     if args.episodes:  # the episodes' robot, checked before minutes of replay

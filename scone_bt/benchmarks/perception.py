@@ -81,8 +81,13 @@ def _shelf_objects(args: argparse.Namespace, kitchen_cfg: Any) -> int:
 
     slots = len(kitchen_cfg.scene.shelf_slots())
     catalogue = kitchen_cfg.catalogue
-    if args.scenes < 1 or args.table_objects < 0:
-        raise ConfigError("--scenes must be >= 1 and --table-objects >= 0")
+    if args.scenes < 1:
+        raise ConfigError(f"--scenes {args.scenes}: must be 1 or more")
+    if not 0 <= args.table_objects < min(slots, len(catalogue)):  # at least one product stays for the shelves
+        raise ConfigError(
+            f"--table-objects {args.table_objects}: must be in 0-{min(slots, len(catalogue)) - 1} "
+            f"({slots} shelf slots, {len(catalogue)} products)"
+        )
     most = min(slots, len(catalogue)) - args.table_objects
     objects = min(DEFAULT_OBJECTS, most) if args.objects is None else args.objects
     if not 1 <= objects <= most:

@@ -43,3 +43,16 @@ def test_each_engine_is_judged_by_its_own_targets():
     assert targets_for("sim") == TARGETS
     assert targets_for("mujoco")["position_error_median_m"] == 0.002  # the MuJoCo issue's ≤ 2 mm
     assert targets_for("mujoco")["recall_unoccluded"] == TARGETS["recall_unoccluded"]
+
+
+@pytest.mark.parametrize(
+    ("argv", "line"),
+    [
+        (["--table-objects", "1000"], "--table-objects 1000: must be in 0-35"),  # blamed --objects before
+        (["--scenes", "0"], "--scenes 0: must be 1 or more"),
+    ],
+)
+def test_each_count_names_its_own_flag(argv, line, capsys):
+    assert main(["perception", *argv]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"scone-bench: {line}") and err.count("\n") == 1, err

@@ -233,6 +233,8 @@ def test_the_trust_benchmarks_refuse_a_fit_they_cannot_make_before_fitting(argv,
     [
         (["gate", "--arm", "foo", "--episodes", "1"], "--arm foo: unknown robot; valid: iiwa7, panda"),
         (["gate", "--no-replay"], "--no-replay with --episodes 0 and no --unseen: nothing to run"),
+        (["gate", "--opening", "-1"], "--opening -1.0: must be in (0, 1) metres"),  # named an internal key
+        (["gate", "--episodes", "-1"], "--episodes -1: must be 0 or more"),
         (
             ["sc", "evaluate", "--data", "tools/data/sc", "--epsilon", "2"],
             "--epsilon 2.0: must be a number in [0, 1]",
