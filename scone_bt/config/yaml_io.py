@@ -19,7 +19,7 @@ from scone_bt.config.schema import read_text
 from scone_bt.errors import ConfigError
 from scone_bt.resources import cache_switched_off, default_cache_dir
 
-__all__ = ["read_yaml", "require", "safe_load"]
+__all__ = ["read_yaml", "require", "safe_load", "yaml_syntax_error"]
 
 
 _UNPARSED = object()
@@ -154,6 +154,14 @@ def _write_parsed(path: Path, data: Any) -> None:
         return
 
 
+def yaml_syntax_error(path: Path | str, exc: yaml.YAMLError) -> str:
+    """A YAML syntax error as one line naming the file and the line ("f.yaml: line 3 is not valid YAML (...)")."""
+    mark = getattr(exc, "problem_mark", None)
+    where = f" line {mark.line + 1}" if mark is not None else ""
+    problem = getattr(exc, "problem", None) or (str(exc).splitlines() or ["syntax error"])[0]
+    return f"{path}:{where} is not valid YAML ({problem})"
+
+
 def read_yaml(path: Path) -> dict[str, Any]:
     """Parse a UTF-8 YAML mapping or raise ConfigError naming the file (and the line, for syntax errors)."""
     text = read_text(path)
@@ -164,10 +172,7 @@ def read_yaml(path: Path) -> dict[str, Any]:
     except RecursionError:
         raise ConfigError(f"{path}: nested too deeply to be a configuration file") from None
     except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f" line {mark.line + 1}" if mark is not None else ""
-        problem = getattr(exc, "problem", None) or (str(exc).splitlines() or ["syntax error"])[0]
-        raise ConfigError(f"{path}:{where} is not valid YAML ({problem})") from None
+        raise ConfigError(yaml_syntax_error(path, exc)) from None
     except (ValueError, TypeError, OverflowError) as exc:  # e.g. a date like 2020-13-45
         raise ConfigError(f"{path}: is not valid YAML ({exc})") from None
     if data is None:

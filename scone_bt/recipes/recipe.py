@@ -148,7 +148,11 @@ def _load_file(path: Path) -> Recipe:
         record = json.loads(text) if path.suffix == ".json" else safe_load(text)
     except RecursionError:
         raise RecipeError(f"{path}: nested too deeply to be a recipe") from None
-    except (json.JSONDecodeError, yaml.YAMLError, ValueError, TypeError, OverflowError) as exc:
+    except yaml.YAMLError as exc:
+        from scone_bt.config.yaml_io import yaml_syntax_error
+
+        raise RecipeError(yaml_syntax_error(path, exc)) from None
+    except (json.JSONDecodeError, ValueError, TypeError, OverflowError) as exc:
         kind = "JSON" if path.suffix == ".json" else "YAML"
         first = (str(exc).splitlines() or ["syntax error"])[0]
         raise RecipeError(f"{path}: not valid {kind} ({first})") from None

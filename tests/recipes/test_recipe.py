@@ -48,6 +48,10 @@ def test_malformed_and_empty_recipes(tmp_path, kitchen_cfg):
     bad.write_text("{not json")
     with pytest.raises(RecipeError, match="not valid JSON"):
         load_recipe(str(bad))
+    broken = tmp_path / "r.yaml"  # the line is named, as in every other file the robot reads
+    broken.write_text("title: x\nsteps:\n  - [unclosed\n")
+    with pytest.raises(RecipeError, match=r"r.yaml: line 4 is not valid YAML \(expected ','"):
+        load_recipe(str(broken))
     empty = tmp_path / "e.json"
     empty.write_text(json.dumps({"ingredients": ["salt"], "steps": ["  "]}))
     with pytest.raises(RecipeError, match="non-empty"):
