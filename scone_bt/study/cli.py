@@ -249,7 +249,7 @@ def _check_export_out(out: Path) -> None:
     clash = [name for name in EXPORT_FILES if (out / name).exists()]
     if clash:
         raise SconeError(
-            f"--out {out}: {', '.join(clash)} exist already and are never overwritten; give a new folder"
+            f"--out {out}: {', '.join(clash)} {'exists' if len(clash) == 1 else 'exist'} already and {'is' if len(clash) == 1 else 'are'} never overwritten; give a new folder"
         )
 
 

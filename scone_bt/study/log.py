@@ -477,7 +477,9 @@ class StudyLog:
             raise StudyLogError(f"cannot create the export folder {out}: {exc.strerror or exc}") from None
         clash = [name for name in EXPORT_FILES if (out / name).exists()]
         if clash:
-            raise StudyLogError(f"{out}: {', '.join(clash)} exist already and are never overwritten")
+            raise StudyLogError(
+                f"{out}: {', '.join(clash)} {'exists' if len(clash) == 1 else 'exist'} already and {'is' if len(clash) == 1 else 'are'} never overwritten"
+            )
         label = "SIMULATED" if self.simulated else "real"
         sessions = self.sessions()
         responses = self.responses()

@@ -100,6 +100,8 @@ def test_nesting_past_the_limit_is_refused_not_a_recursion_error(tmp_path: Path)
             "nosuch",
             "parameters.embedder: unknown embedder 'nosuch'; valid: glove, minilm, mpnet, ",
         ),
+        # a name that is not text said only "Input should be a valid string"
+        ("estimator", 5, "parameters.estimator: unknown estimator '5'; valid: conformal, "),
     ],
 )
 def test_an_unknown_estimator_or_embedder_names_the_file_and_key(tmp_path: Path, key, value, message):
