@@ -538,7 +538,8 @@ def _decision_settings(args: argparse.Namespace) -> dict[str, Any]:
         _check_embedder(args.embedder)
     spec = load_tree_spec(args.tree)  # validated now (types and ranges), before the kitchen is built
     gate = tree.get("gate") or spec.parameters.get("gate") or TreeParameters().gate
-    check_flags_take_effect(tree, gate, self_confidence=not args.no_self_confidence)
+    probe_on = tree.get("probe", {}).get("enabled", spec.parameters.get("probe", {}).get("enabled", False))
+    check_flags_take_effect(tree, gate, self_confidence=not args.no_self_confidence, probe_enabled=probe_on)
     if tree.get("gate") == "paper":  # the tree file's budget-only switches, which --gate paper would silence
         on = [k for k in ("exploration_credit",) if spec.parameters.get(k)]
         on += ["probe.enabled"] if spec.parameters.get("probe", {}).get("enabled") else []

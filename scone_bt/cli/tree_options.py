@@ -149,16 +149,19 @@ def tree_overrides(args: argparse.Namespace) -> dict[str, Any]:
     return given
 
 
-def check_flags_take_effect(given: dict[str, Any], gate: str, self_confidence: bool) -> None:
+def check_flags_take_effect(
+    given: dict[str, Any], gate: str, self_confidence: bool, probe_enabled: bool = True
+) -> None:
     """Refuse a decision option given on the command line that this run would not read (one meaning per flag):
-    the budget gate's settings with ``gate`` paper, the paper's threshold with the budget gate, and every gate
-    setting without self-confidence (the robot always acts). A tree file may set them all: it holds the values
-    for either gate.
+    the budget gate's settings with ``gate`` paper, the paper's threshold with the budget gate, every gate
+    setting without self-confidence (the robot always acts), and the probe's settings while it is off. A tree file
+    may set them all: it holds the values for either gate.
 
     Args:
         given: `tree_overrides`' result (the options given, by tree-file key).
         gate: The gate this run uses (the option, else the tree file's).
         self_confidence: False with ``--no-self-confidence``.
+        probe_enabled: Whether this run probes (``--probe-enabled``, else the tree file's ``probe.enabled``).
 
     Raises:
         SconeError: the first such option, naming what it needs.
@@ -183,3 +186,8 @@ def check_flags_take_effect(given: dict[str, Any], gate: str, self_confidence: b
                 f"{flags(key)[0]} has no effect with the budget gate (it sets the paper's gate): "
                 "give --gate paper, or leave it out"
             )
+    settings = [flag_of(("probe", sub)) for sub in given.get("probe", {}) if sub != "enabled"]
+    if settings and not probe_enabled:
+        raise SconeError(
+            f"{settings[0]} has no effect while the probe is off: give --probe-enabled too, or leave it out"
+        )

@@ -63,10 +63,10 @@ def test_options_reach_the_behaviour_options_unmapped() -> None:
 
 
 def test_a_probe_option_overrides_only_its_key_of_the_tree_files_section() -> None:
-    argv = ["--probe-below", "0.1", "--no-probe-enabled"]
+    argv = ["--probe-below", "0.1", "--probe-enabled"]
     behaviour = options_from_args(build_parser().parse_args(argv)).behaviour
     resolved = behaviour.resolve({"probe": {"hold_s": 1.0, "below": 0.4}})
-    assert resolved.probe == ProbeParameters(enabled=False, below=0.1, hold_s=1.0)
+    assert resolved.probe == ProbeParameters(enabled=True, below=0.1, hold_s=1.0)
     assert BehaviourOptions().resolve({"probe": {"hold_s": 1.0}}).probe == ProbeParameters(hold_s=1.0)
 
 
@@ -150,3 +150,12 @@ def test_a_tree_file_switch_the_paper_gate_never_reads_is_refused(edit, argv, li
     assert TreeParameters(gate="paper", exploration_credit=False).gate == "paper"
     with pytest.raises(ValueError, match="probe.enabled: true is read by gate: budget only"):
         TreeParameters(gate="paper", probe=ProbeParameters(enabled=True))
+
+
+def test_a_probe_setting_while_the_probe_is_off_is_refused(capsys) -> None:
+    """`--probe-below 0.5` alone changed nothing and said nothing."""
+    assert main(["--probe-below", "0.5"]) == 2
+    err = capsys.readouterr().err
+    assert "--probe-below has no effect while the probe is off: give --probe-enabled too" in err
+    behaviour = options_from_args(build_parser().parse_args(["--probe-enabled", "--probe-below", "0.5"]))
+    assert behaviour.behaviour.resolve({}).probe == ProbeParameters(enabled=True, below=0.5)
