@@ -155,7 +155,7 @@ def check_flags_take_effect(
     """Refuse a decision option given on the command line that this run would not read (one meaning per flag):
     the budget gate's settings with ``gate`` paper, the paper's threshold with the budget gate, every gate
     setting without self-confidence (the robot always acts), and the probe's settings while it is off. A tree file
-    may set them all: it holds the values for either gate.
+    may hold values for either gate (only a switch its gate never reads is refused there, by `TreeParameters`).
 
     Args:
         given: `tree_overrides`' result (the options given, by tree-file key).
