@@ -150,6 +150,22 @@ def check_common_ranges(args: argparse.Namespace) -> None:
         check_output_dir(Path(cache_dir), "--cache-dir")
 
 
+def check_named_files(args: argparse.Namespace) -> None:
+    """--arm, --arms and --kitchen of any benchmark name a robot or kitchen file, checked before it runs and
+    named in the line ("--arm foo: unknown robot; valid: iiwa7, panda")."""
+    from scone_bt.resources import resolve_file
+
+    named = [("--arm", getattr(args, "arm", None))]
+    if isinstance(getattr(args, "arms", None), str):
+        named += [("--arms", a.strip()) for a in args.arms.split(",") if a.strip()]
+    for flag, arm in named:
+        if isinstance(arm, str):
+            resolve_file("robots", arm, (".yaml", ".yml"), flag=flag)
+    kitchen = getattr(args, "kitchen", None)
+    if isinstance(kitchen, str):
+        resolve_file("perception", kitchen, (".yaml", ".yml"), flag="--kitchen")
+
+
 def check_backend_option(args: argparse.Namespace) -> None:
     """--robot of any benchmark names a backend (a robot file given to it is told to use --arm)."""
     robot = getattr(args, "robot", None)
@@ -219,6 +235,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         require("bench", "scone-bench")
         check_common_ranges(args)
         check_backend_option(args)
+        check_named_files(args)
         check_report_path(args)  # before the benchmark runs: minutes of work are not lost to a bad --json
         return int(args.func(args))
     except SconeError as exc:

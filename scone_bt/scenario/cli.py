@@ -233,6 +233,10 @@ def _cases(args: argparse.Namespace) -> list[Case]:
 
     args.out = default_out_dir(args.out, args.junit)
     check_jobs(args.jobs)
+    if args.arm is not None:  # named in the line (the loader's own said only "unknown robot")
+        from scone_bt.resources import resolve_file
+
+        resolve_file("robots", args.arm, (".yaml", ".yml"), flag="--arm")
     cases = load_cases(args.paths, args.robot, args.arm)
     if args.junit is not None:
         check_junit(args.junit, _scenario_inputs(args.paths, cases), args.force)

@@ -25,7 +25,7 @@ def test_an_unknown_robot_is_refused_before_an_episode_runs(monkeypatch, capsys)
 
     monkeypatch.setattr("scone_bt.episode.run_episode", never)
     assert main(["episode", "--arm", "nosuch", "--quiet"]) == 2
-    assert capsys.readouterr().err == "scone-bench: unknown robot 'nosuch'; valid: iiwa7, panda\n"
+    assert capsys.readouterr().err == "scone-bench: --arm nosuch: unknown robot; valid: iiwa7, panda\n"
     # --robot is the backend in every command: a robot file there is told to use --arm
     assert main(["episode", "--robot", "panda", "--quiet"]) == 2
     err = capsys.readouterr().err

@@ -31,7 +31,7 @@ def test_scale_runs_the_same_executions_on_one_and_two_workers():
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
-        (["--arm", "nosuch"], "scone-bench: unknown robot 'nosuch'; valid: iiwa7, panda\n"),
+        (["--arm", "nosuch"], "scone-bench: --arm nosuch: unknown robot; valid: iiwa7, panda\n"),
         (["--workers", "1000"], "scone-bench: --workers 1000: this machine has"),
     ],
 )

@@ -323,3 +323,18 @@ def test_decisions_checks_its_names_before_the_replay(argv, message, monkeypatch
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert err.startswith(f"scone-bench: {message}") and err.count("\n") == 1, err
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["perception", "--arm", "nosuch"], "--arm nosuch: unknown robot; valid: iiwa7, panda"),
+        (["perception", "--kitchen", "nosuch"], "--kitchen nosuch: unknown kitchen; valid: kitchen"),
+        (["motion", "--arms", "panda,nosuch"], "--arms nosuch: unknown robot; valid: iiwa7, panda"),
+    ],
+)
+def test_a_robot_or_kitchen_name_is_checked_with_its_flag_before_any_benchmark(argv, message, capsys) -> None:
+    """The line named neither the flag nor, for --arms, which item."""
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err == f"scone-bench: {message}\n", err

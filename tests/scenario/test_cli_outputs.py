@@ -275,3 +275,9 @@ def test_a_failing_case_keeps_a_file_made_in_out_after_the_check(tmp_path: Path)
     assert (log.name, rrd.name) == ("a.events.jsonl", "a.rrd")
     log.write_text("not an event log\x00", encoding="utf-8")
     assert run._foreign(log, "json") and not run._foreign(rrd, "rrd")
+
+
+def test_an_unknown_arm_names_the_flag(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys) -> None:
+    _no_case_runs(monkeypatch)
+    assert main(["run", str(_scenario(tmp_path)), "--arm", "nosuch"]) == 2
+    assert _one_line(capsys) == "scone-scenario: --arm nosuch: unknown robot; valid: iiwa7, panda\n"
