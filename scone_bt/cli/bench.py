@@ -139,6 +139,10 @@ def check_common_ranges(args: argparse.Namespace) -> None:
         ("warmup", 0),
         ("headless_runs", 0),
         ("overhead_tasks", 1),
+        ("queries", 1),
+        ("executions", 1),
+        ("clutter", 0),
+        ("table_objects", 0),
     ):
         value = getattr(args, dest, None)
         if isinstance(value, int) and not isinstance(value, bool) and value < low:

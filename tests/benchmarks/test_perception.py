@@ -32,8 +32,9 @@ def test_default_object_count_fills_the_shelving(capsys):
 
 @pytest.mark.parametrize("noise", ["nan", "inf", "-1", "256"])
 def test_noise_outside_the_pixel_scale_is_refused_before_the_kitchen_is_read(tmp_path, capsys, noise):
-    missing = str(tmp_path / "nofile.yaml")  # reading the kitchen first would be another error
-    assert main(["perception", "--kitchen", missing, "--noise", "8", noise]) == 2
+    broken = tmp_path / "broken.yaml"  # reading the kitchen first would be another error
+    broken.write_text("[not a kitchen", encoding="utf-8")
+    assert main(["perception", "--kitchen", str(broken), "--noise", "8", noise]) == 2
     assert capsys.readouterr().err == f"scone-bench: --noise {float(noise)}: must be a number in [0, 255]\n"
 
 

@@ -195,6 +195,9 @@ def test_a_report_is_never_written_over_a_file_of_an_input_folder(tmp_path, monk
         (["decisions", "--warmup", "-1"], "--warmup -1"),
         (["physics", "--jobs", "0"], "--jobs 0"),
         (["scale", "--overhead-tasks", "-1"], "--overhead-tasks -1"),  # reported a negative overhead
+        (["motion", "--queries", "0"], "--queries 0"),  # one line named four flags
+        (["physics", "--clutter", "-1"], "--clutter -1"),
+        (["scale", "--executions", "0"], "--executions 0"),
         (["soak", "--cache-dir", "/proc/x"], "--cache-dir /proc/x"),  # ran and wrote no cache
         (["sc", "probe", "--cache-dir", "/proc/x"], "--cache-dir /proc/x"),
     ],
