@@ -74,6 +74,9 @@ def parse_products(value: str | None, names: Sequence[str]) -> tuple[str, ...] |
 
         items = [line.split("#", 1)[0].strip() for line in read_text(path).splitlines()]
         where = f"--products file {value}"
+    elif "," not in value and (Path(value).suffix in (".txt", ".csv") or "/" in value):
+        # a file the user meant (a path or a file name), not a product: say the file is missing
+        raise ConfigError(f"--products {value}: no such file (give a file of product names, or names a,b,c)")
     else:
         items = [v.strip() for v in value.split(",")]
         where = "--products"

@@ -109,6 +109,8 @@ def test_bad_inputs_are_one_line_errors_before_any_execution(tmp_path, capsys):
     assert "unknown profile 'p99_nobody'" in err and "p00_nominal" in err
     err = _one_line_error(capsys, [*base, "--products", "salt,unicorn steak"])
     assert "unknown product 'unicorn steak'" in err
+    err = _one_line_error(capsys, [*base, "--products", str(tmp_path / "draw.txt")])  # said "unknown product"
+    assert f"--products {tmp_path / 'draw.txt'}: no such file" in err
     blocker = tmp_path / "a_file"
     blocker.write_text("")
     err = _one_line_error(
