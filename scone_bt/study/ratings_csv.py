@@ -94,6 +94,8 @@ def _read(
         raise RatingsFileError(
             f"{path}: not UTF-8 text (byte 0x{raw[exc.start]:02x} on row {line}); save the file as UTF-8 CSV"
         ) from None
+    if "\x00" in text:  # as every other loader says it (the header line printed the NULs invisibly)
+        raise RatingsFileError(f"{path}: contains NUL characters; it is not a text file")
     reader = csv.reader(io.StringIO(text, newline=""))
     header = next(reader, None)
     if not header:

@@ -115,6 +115,10 @@ def test_wrong_encoding_and_bad_sessions(tmp_path):
     latin.write_bytes((HEADER + "\nJos\xe9,on,1,A,q1,3,5\n").encode("latin-1"))
     with pytest.raises(RatingsFileError, match=r"latin1\.csv: not UTF-8 text \(byte 0xe9 on row 2\)"):
         load_ratings_csv(latin)
+    nul = tmp_path / "nul.csv"
+    nul.write_bytes(b"part\x00icipant,condition\n")  # the line printed "the header has  garbage"
+    with pytest.raises(RatingsFileError, match=r"nul\.csv: contains NUL characters; it is not a text file"):
+        load_ratings_csv(nul)
     ratings = _write(tmp_path, GOOD)
     header = "participant,condition,session,group,interventions"
     bad = _write(tmp_path, ["P1,on,1,A,0", "P1,off,2,A,-1"], header, "s.csv")
