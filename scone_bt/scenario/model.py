@@ -541,6 +541,8 @@ def _error_line(exc: ValidationError, where: str) -> str:
     for i, part in enumerate(loc):
         if isinstance(part, str) and part in tags and i > 0 and isinstance(loc[i - 1], int):
             continue  # the union member's tag: the key itself follows (or the error is about the whole item)
+        if part in ("list", "range") and i == 2 and loc[0] == "sweep":
+            continue  # a sweep's values: a list or a range (its tags, not keys of the file)
         cleaned.append(part)
     key = ""
     for part in cleaned:

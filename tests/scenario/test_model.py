@@ -155,7 +155,14 @@ def test_a_range_sweep_and_a_bad_value_names_the_case(tmp_path: Path) -> None:
 )
 def test_a_range_sweep_is_bounded_and_says_so(tmp_path: Path, sweep: str, expected: str) -> None:
     msg = _error(tmp_path, BASE + f"sweep:\n  human.patience_s: {sweep}\n")
-    assert "sweep.human.patience_s.range: the range from" in msg and expected in msg
+    assert "sweep.human.patience_s: the range from" in msg and expected in msg
+
+
+def test_a_sweep_error_names_the_file_s_keys_not_the_union_s_tags(tmp_path: Path) -> None:
+    msg = _error(tmp_path, BASE + "sweep:\n  world.seed: {start: 1, stop: 5, step: 0}\n")
+    assert msg.endswith(
+        "sweep.world.seed.step: Input should be greater than 0 (got 0)"
+    )  # was seed.range.step
 
 
 def test_a_sweep_of_too_many_combinations_is_refused(tmp_path: Path) -> None:
