@@ -475,7 +475,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         default=[0.1, 0.2],
         help="conformal gate targets to check",
     )
-    p.add_argument("--datasets", help="self-confidence datasets folder (default tools/data/sc)")
+    p.add_argument(
+        "--datasets", type=path_arg, help="self-confidence datasets folder (default tools/data/sc)"
+    )
     p.add_argument("--warmup", type=int, default=20, help="calibration executions per stream, not scored")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--json", type=path_arg, help="also write the JSON report to this file")

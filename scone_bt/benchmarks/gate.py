@@ -535,7 +535,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "gate", help="does the gate keep its failure budget on new products, and at what help rate"
     )
-    p.add_argument("--datasets", help="self-confidence datasets folder (default tools/data/sc)")
+    p.add_argument(
+        "--datasets", type=path_arg, help="self-confidence datasets folder (default tools/data/sc)"
+    )
     p.add_argument(
         "--prior",
         type=path_arg,

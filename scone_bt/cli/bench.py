@@ -183,6 +183,8 @@ def check_report_path(args: argparse.Namespace) -> None:
     """--json of any benchmark, before it runs (`reporting.check_report_file`: not one of its inputs, not a device,
     not an existing file that is not a report unless --force, never a YAML file); its folder made if missing."""
     path = getattr(args, "json", None)
+    if path is not None and not str(path).strip():  # an empty --json was skipped silently: no report written
+        raise SconeError("--json: an empty path; give a file path, or leave the option out")
     if path:
         parent = Path(path).absolute().parent
         if parent.exists() and not parent.is_dir():

@@ -61,6 +61,9 @@ class _Interrupts:
 
     def install(self) -> None:
         if threading.current_thread() is threading.main_thread():  # signals can only be set from there
+            if signal.getsignal(signal.SIGTERM) is signal.SIG_DFL:  # `kill`, `timeout`: an interrupt too
+                signal.signal(signal.SIGTERM, self._handle)  # also for a job started with SIGINT ignored
+                self.previous_term = signal.SIG_DFL
             if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
                 # Started with SIGINT ignored (`scone-run … &` in a script, nohup): a terminal's Ctrl-C is not
                 # meant for this run, and it keeps ignoring it, as such jobs conventionally do.
@@ -68,9 +71,6 @@ class _Interrupts:
             previous = signal.signal(signal.SIGINT, self._handle)
             if previous != self._handle:
                 self.previous = previous
-            if signal.getsignal(signal.SIGTERM) is signal.SIG_DFL:  # `kill`, `timeout`: an interrupt too
-                signal.signal(signal.SIGTERM, self._handle)
-                self.previous_term = signal.SIG_DFL
 
     def restore(self) -> None:
         """Give SIGINT back to whoever had it (a test runner calling `main`), once the run is over."""

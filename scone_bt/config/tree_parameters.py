@@ -191,9 +191,10 @@ class TreeParameters(StrictModel):
                 if v
             ]
             if on:
+                words = ("are read", "they do", "them") if len(on) > 1 else ("is read", "it does", "it")
                 raise ValueError(
-                    f"{' and '.join(on)}: true is read by gate: budget only; with gate: paper it does nothing "
-                    "(set gate: budget, or turn it off)"
+                    f"{' and '.join(on)}: true {words[0]} by gate: budget only; with gate: paper {words[1]} "
+                    f"nothing (set gate: budget, or turn {words[2]} off)"
                 )
         return self
 

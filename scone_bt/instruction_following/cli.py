@@ -157,8 +157,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_engine_arguments(b)
     b.set_defaults(func=_bench)
     s = sub.add_parser("if-states", help="build the IF states files from the recipe corpus")
-    s.add_argument("--out", default=str(default_states_dir() or "if-states"), help="output folder")
-    s.add_argument("--corpus", help="recipes.jsonl (default ../shared/data/recipes/recipes.jsonl)")
+    s.add_argument(
+        "--out", type=path_arg, default=str(default_states_dir() or "if-states"), help="output folder"
+    )
+    s.add_argument(
+        "--corpus", type=path_arg, help="recipes.jsonl (default ../shared/data/recipes/recipes.jsonl)"
+    )
     s.add_argument("--distractors", type=int, default=5, help="items from other recipes per kitchen")
     s.add_argument("--seed", type=int, default=0)
     s.add_argument(

@@ -15,17 +15,22 @@ __all__ = ["register", "run"]
 
 
 def run(
-    paths: list[str], jobs: int, out_dir: Path | None, robot: str | None = None, arm: str | None = None
+    paths: list[str],
+    jobs: int,
+    out_dir: Path | None,
+    robot: str | None = None,
+    arm: str | None = None,
+    force: bool = False,
 ) -> dict[str, Any]:
     """The report of one run of the scenarios under ``paths`` (on the robot backend ``robot`` with the robot file
-    ``arm``; None: each file's)."""
+    ``arm``; None: each file's; ``force``: failing cases' outputs replace files of another kind in ``out_dir``)."""
     from scone_bt.scenario.runner import Tally, check_outputs, load_cases, run_cases
 
     cases = load_cases(paths, robot, arm)
     if out_dir is not None:
-        check_outputs(cases, out_dir)
+        check_outputs(cases, out_dir, force)
     started = time.perf_counter()
-    results = run_cases(cases, jobs=jobs, out_dir=out_dir)
+    results = run_cases(cases, jobs=jobs, out_dir=out_dir, force=force)
     wall = time.perf_counter() - started
     tally = Tally.of(results)
     return {
@@ -58,8 +63,9 @@ def _main(args: argparse.Namespace) -> int:
     # (--json is checked by scone-bench for every benchmark, `cli.bench.check_report_path`)
     if args.out is not None:
         check_output_dir(args.out, "--out")
-    report = run(args.paths or ["scenarios"], check_jobs(args.jobs), args.out, args.robot, args.arm)
-    emit_report(report, args.json, force=getattr(args, "force", False))
+    force = bool(getattr(args, "force", False))  # scone-bench's --force: --json, and the failing cases' files
+    report = run(args.paths or ["scenarios"], check_jobs(args.jobs), args.out, args.robot, args.arm, force)
+    emit_report(report, args.json, force=force)
     return 0
 
 

@@ -265,7 +265,9 @@ def _run(args: argparse.Namespace) -> int:
     started = time.perf_counter()
     progress = _Progress(len(cases), args.quiet)
     try:
-        results = runner.run_cases(cases, jobs=args.jobs, out_dir=args.out, on_result=progress)
+        results = runner.run_cases(
+            cases, jobs=args.jobs, out_dir=args.out, on_result=progress, force=args.force
+        )
     except KeyboardInterrupt:
         progress.bar.close()
         junit = "" if args.junit is None else f"; --junit {args.junit} was not written"

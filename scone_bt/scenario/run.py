@@ -74,6 +74,8 @@ class CaseResult:
         wall_s: Wall seconds the case's episode took (not the second run that records a failure).
         events: The episode's event log, one JSON line per event (with the tick).
         artifacts: Files written for a failing case (event log, recording).
+        kept: Files a failing case would have written that were left alone: they hold something else (made after
+            the check before the run; --force replaces them).
         replay: The command that opens the recording in the viewer ("" without one).
     """
 
@@ -88,6 +90,7 @@ class CaseResult:
     artifacts: tuple[str, ...] = ()
     replay: str = ""
     log: tuple[str, ...] = field(default=(), compare=False)
+    kept: tuple[str, ...] = ()
 
     @property
     def ok(self) -> bool:
@@ -101,6 +104,8 @@ class CaseResult:
             lines.append(f.format())
         for a in self.artifacts:
             lines.append(f"  wrote {a}")
+        for k in self.kept:
+            lines.append(f"  not written: {k} exists and holds something else (--force replaces it)")
         if self.replay:
             lines.append(f"  replay: {self.replay}")
         return "\n".join(lines)
@@ -359,6 +364,7 @@ def run_case(
     out_dir: Path | None = None,
     models: Any = None,
     record_failures: bool = True,
+    force: bool = False,
 ) -> CaseResult:
     """Run one case and check its expectations.
 
@@ -393,26 +399,9 @@ def run_case(
     else:
         verdict = Verdict.XPASS if expected_fail else Verdict.PASSED
         reason = f"passed although expected to fail ({case.spec.reason})" if expected_fail else ""
-    artifacts: list[str] = []
-    replay = ""
+    written = _Written()
     if out_dir is not None and verdict in (Verdict.FAILED, Verdict.XPASS):
-        out_dir.mkdir(parents=True, exist_ok=True)
-        log, rrd = case_outputs(case.name, out_dir)
-        if _foreign(log, "json"):  # checked before the run too; a file made since is kept, not overwritten
-            artifacts.append(f"{log} not written: it exists and is not an event log")
-        else:
-            log.write_text("".join(e + "\n" for e in events), encoding="utf-8")
-            artifacts.append(str(log))
-        if record_failures and _foreign(rrd, "rrd"):
-            artifacts.append(f"{rrd} not written: it exists and is not a rerun recording")
-        elif record_failures:
-            with tempfile.TemporaryDirectory(prefix="scone-scenario-") as tmp:
-                store = Path(tmp) / "experience.sqlite" if case.spec.world.experience_from else None
-                _episode(case, models, rrd, store)
-            artifacts.append(str(rrd))
-            from scone_bt.cli.run import viewer_command
-
-            replay = viewer_command(rrd)
+        written = _write_artifacts(case, out_dir, events, models, record_failures, force)
     return CaseResult(
         case.name,
         str(case.path),
@@ -422,7 +411,43 @@ def run_case(
         sim_s=summary.sim_time,
         wall_s=wall_s,
         events=events,
-        artifacts=tuple(artifacts),
-        replay=replay,
+        artifacts=written.artifacts,
+        replay=written.replay,
         log=tuple(lines),
+        kept=written.kept,
     )
+
+
+@dataclass(frozen=True)
+class _Written:
+    """What a failing case left in the output folder: files written, files kept (`CaseResult`), the replay."""
+
+    artifacts: tuple[str, ...] = ()
+    kept: tuple[str, ...] = ()
+    replay: str = ""
+
+
+def _write_artifacts(
+    case: Case, out_dir: Path, events: tuple[str, ...], models: Any, record_failures: bool, force: bool
+) -> _Written:
+    """The failing case's event log and (``record_failures``) its recording, run again; a file there of another
+    kind (made after the check before the run) is kept unless ``force``."""
+    out_dir.mkdir(parents=True, exist_ok=True)
+    log, rrd = case_outputs(case.name, out_dir)
+    artifacts: list[str] = []
+    kept: list[str] = []
+    if _foreign(log, "json") and not force:
+        kept.append(str(log))
+    else:
+        log.write_text("".join(e + "\n" for e in events), encoding="utf-8")
+        artifacts.append(str(log))
+    if not record_failures:
+        return _Written(tuple(artifacts), tuple(kept))
+    if _foreign(rrd, "rrd") and not force:
+        return _Written(tuple(artifacts), (*kept, str(rrd)))
+    with tempfile.TemporaryDirectory(prefix="scone-scenario-") as tmp:
+        store = Path(tmp) / "experience.sqlite" if case.spec.world.experience_from else None
+        _episode(case, models, rrd, store)
+    from scone_bt.cli.run import viewer_command
+
+    return _Written((*artifacts, str(rrd)), tuple(kept), viewer_command(rrd))

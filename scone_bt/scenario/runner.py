@@ -53,14 +53,23 @@ def check_outputs(cases: Sequence[Case], out_dir: Path, force: bool = False) -> 
     """Before any case runs: the files a failing case would write in `out_dir` (`case_outputs`) replace nothing
     but an earlier event log or recording (unless `force`), and the folder is writable; one line naming the
     file otherwise."""
-    from scone_bt.checks import check_output_dir, check_output_file
+    from scone_bt.checks import OutputKind, check_output_dir, check_output_file, is_output_kind
     from scone_bt.scenario.run import case_outputs
 
     check_output_dir(out_dir, "--out")
     for case in cases:
         log, rrd = case_outputs(case.name, out_dir)
-        check_output_file(log, "--out", kind="json", force=force)
-        check_output_file(rrd, "--out", kind="rrd", force=force)
+        outputs: tuple[tuple[Path, OutputKind, str], ...] = (
+            (log, "json", "an event log"),
+            (rrd, "rrd", "a rerun recording"),
+        )
+        for path, kind, what in outputs:
+            if not force and path.is_file() and not is_output_kind(path, kind):
+                raise SconeError(
+                    f"--out {out_dir}: {path.name} exists and is not {what}; case {case.name!r} writes there if "
+                    "it fails (give another --out folder, or --force to replace it)"
+                )
+            check_output_file(path, "--out", force=True)  # a folder or device there, a read-only file
 
 
 def check_jobs(jobs: int) -> int:
@@ -146,9 +155,12 @@ def shared_models() -> Any:
     return _MODELS
 
 
-def run_one(case: Case, out_dir: Path | None, record_failures: bool = True) -> CaseResult:
-    """Run one case in this process (`scone_bt.scenario.run.run_case` with this process's models)."""
-    return run_case(case, out_dir, shared_models(), record_failures)
+def run_one(
+    case: Case, out_dir: Path | None, record_failures: bool = True, force: bool = False
+) -> CaseResult:
+    """Run one case in this process (`scone_bt.scenario.run.run_case` with this process's models; ``force``:
+    a failing case's outputs replace files of another kind in ``out_dir``)."""
+    return run_case(case, out_dir, shared_models(), record_failures, force)
 
 
 def run_cases(
@@ -156,6 +168,7 @@ def run_cases(
     jobs: int = 1,
     out_dir: Path | None = None,
     on_result: Callable[[CaseResult], None] | None = None,
+    force: bool = False,
 ) -> list[CaseResult]:
     """Run cases, ``jobs`` at a time in worker processes (each loads the embedder once); results in case order.
 
@@ -165,15 +178,19 @@ def run_cases(
     if jobs <= 1 or len(cases) <= 1:
         results = []
         for case in cases:
-            results.append(run_one(case, out_dir))
+            results.append(run_one(case, out_dir, force=force))
             if on_result is not None:
                 on_result(results[-1])
         return results
-    return _in_workers(cases, jobs, out_dir, on_result)
+    return _in_workers(cases, jobs, out_dir, on_result, force)
 
 
 def _in_workers(
-    cases: Sequence[Case], jobs: int, out_dir: Path | None, on_result: Callable[[CaseResult], None] | None
+    cases: Sequence[Case],
+    jobs: int,
+    out_dir: Path | None,
+    on_result: Callable[[CaseResult], None] | None,
+    force: bool = False,
 ) -> list[CaseResult]:
     import concurrent.futures as cf
     from concurrent.futures.process import BrokenProcessPool
@@ -186,7 +203,7 @@ def _in_workers(
         futures: dict[cf.Future[CaseResult], int] = {}
         try:
             for i, case in enumerate(cases):
-                futures[pool.submit(_worker_run, case, out_dir)] = i
+                futures[pool.submit(_worker_run, case, out_dir, force)] = i
         except BrokenProcessPool:
             pass  # a worker died already: the cases not submitted are reported lost below
         for fut in cf.as_completed(futures):
@@ -228,5 +245,5 @@ def lost_names(results: Sequence[CaseResult]) -> list[str]:
     return [r.name for r in results if r.verdict == Verdict.ERROR and r.reason == WORKER_DIED]
 
 
-def _worker_run(case: Case, out_dir: Path | None) -> CaseResult:
-    return run_one(case, out_dir)
+def _worker_run(case: Case, out_dir: Path | None, force: bool = False) -> CaseResult:
+    return run_one(case, out_dir, force=force)

@@ -682,8 +682,12 @@ def _simulate(args: argparse.Namespace) -> int:
 def main(argv: list[str] | None = None) -> int:
     from scone_bt.signals import terminate_as_interrupt
 
-    with terminate_as_interrupt():  # `kill` ends a session as Ctrl-C does: its end time written, one line
-        return _main(argv)
+    try:
+        with terminate_as_interrupt():  # `kill` ends a command as Ctrl-C does: one line, never a traceback
+            return _main(argv)
+    except KeyboardInterrupt:  # before _main's own handler (parsing the arguments)
+        print("scone-study: interrupted; nothing was recorded yet", file=sys.stderr)
+        return 130
 
 
 def _main(argv: list[str] | None) -> int:

@@ -281,9 +281,7 @@ def load_tree_spec(name_or_path: str | Path = "assistive_cooking") -> TreeSpec:
     if isinstance(params, dict):  # a name that is not text (`estimator: 5`) is told the valid names too
         for key in ("estimator", "embedder"):
             if key in params and not isinstance(params[key], str):
-                problem = parameter_name_problem({key: str(params[key])})
-                if problem is not None:
-                    raise ConfigError(f"{path}: parameters.{problem}")
+                _check_parameter_names({key: str(params[key])}, path)
     validate(TreeParameters, params, f"{path}: parameters")
     _check_parameter_names(params, path)
     return TreeSpec(str(data.get("name", path.stem)), data["root"], params, path)

@@ -18,6 +18,8 @@ CASES = [
     (run_main, ["--robot", "sim", "--save", " "], "--save"),
     (scenario_main, ["run", "scenarios", "--out", ""], "--out"),
     (bench_main, ["episode", "--json", ""], "--json"),
+    (bench_main, ["if-states", "--out", ""], "--out"),  # wrote its files into the working folder
+    (bench_main, ["gate", "--datasets", ""], "--datasets"),  # replayed the default streams instead
 ]
 
 
@@ -30,3 +32,14 @@ def test_an_empty_path_is_one_line_and_writes_nothing(main, argv, flag, tmp_path
     assert done.value.code == 2 and err.count("\n") == 0, err
     assert f"argument {flag}" in err and "an empty" in err, err
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    "command", [["motion"], ["physics"], ["catalogue"], ["scenarios"], ["if", "--states", "s"]]
+)
+def test_an_empty_json_option_is_refused_not_skipped(command, tmp_path, monkeypatch, capsys):
+    """A --json "" was falsy: the benchmark ran and wrote no report, without a word."""
+    monkeypatch.chdir(tmp_path)
+    assert bench_main([*command, "--json", ""]) == 2
+    err = capsys.readouterr().err
+    assert err == "scone-bench: --json: an empty path; give a file path, or leave the option out\n", err

@@ -216,10 +216,12 @@ def test_a_ctrl_c_inside_an_import_is_deferred_to_the_next_event(monkeypatch, ca
 
 
 @pytest.mark.slow
-def test_sigterm_ends_a_run_as_ctrl_c_does(tmp_path):
-    """`kill` or `timeout` killed the run on the spot: no line, the recording not kept. Now SIGTERM is an interrupt."""
+@pytest.mark.parametrize("started", [_sigint_as_from_a_terminal, _sigint_ignored])
+def test_sigterm_ends_a_run_as_ctrl_c_does(tmp_path, started):
+    """`kill` or `timeout` killed the run on the spot: no line, the recording not kept. Now SIGTERM is an
+    interrupt, also for a job started with SIGINT ignored (`scone-run … &` in a script, then `kill $!`)."""
     store = tmp_path / "store.db"
-    proc = _start(tmp_path, store, "example:hummus")
+    proc = _popen(_run_argv(store, "example:hummus", 400), tmp_path, preexec_fn=started)
     assert proc.stdout is not None
     for line in proc.stdout:
         if line.lstrip().startswith(("+ success", "x failure")):
@@ -235,6 +237,8 @@ def test_sigterm_is_keyboard_interrupt_inside_the_block_only() -> None:
     before = signal.signal(signal.SIGTERM, signal.SIG_DFL)  # a test runner's worker may have its own
     try:
         with terminate_as_interrupt(), pytest.raises(KeyboardInterrupt):
+            # never raised with the default action: that would kill the test process itself
+            assert signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL
             signal.raise_signal(signal.SIGTERM)
         assert signal.getsignal(signal.SIGTERM) is signal.SIG_DFL
     finally:

@@ -258,7 +258,10 @@ def test_out_files_that_are_not_earlier_outputs_are_refused_before_any_case_runs
     _no_case_runs(monkeypatch)
     assert main(["run", str(path), "--out", str(out)]) == 2
     err = _one_line(capsys)
-    assert f"--out {notes}: exists and is not" in err and "--force" in err, err
+    assert (
+        f"--out {out}: {notes.name} exists and is not" in err and "case 'a' writes there if it fails" in err
+    )
+    assert "give another --out folder, or --force to replace it" in err, err
     assert notes.read_text(encoding="utf-8") == "my precious notes\n"
     # an earlier run's outputs are replaced without --force, a foreign file with it
     cases = runner.load_cases([path], None)
@@ -269,12 +272,25 @@ def test_out_files_that_are_not_earlier_outputs_are_refused_before_any_case_runs
     runner.check_outputs(cases, out)
 
 
-def test_a_failing_case_keeps_a_file_made_in_out_after_the_check(tmp_path: Path) -> None:
-    case = runner.load_cases([_scenario(tmp_path)], None)[0]
-    log, rrd = run.case_outputs(case.name, tmp_path)
+@pytest.mark.slow
+def test_a_failing_case_keeps_a_foreign_file_unless_forced(tmp_path: Path) -> None:
+    """A file made in --out after the check is kept and the report says so; with --force the case's log replaces
+    it (--force let the run start but then wrote nothing)."""
+    path = tmp_path / "a.yaml"
+    path.write_text(TINY.replace("{completes: false}", "{completes: true}"), encoding="utf-8")  # fails
+    (case,) = model.load_scenarios([path])
+    out = tmp_path / "out"
+    out.mkdir()
+    log, rrd = run.case_outputs(case.name, out)
     assert (log.name, rrd.name) == ("a.events.jsonl", "a.rrd")
     log.write_text("not an event log\x00", encoding="utf-8")
-    assert run._foreign(log, "json") and not run._foreign(rrd, "rrd")
+    kept = run.run_case(case, out, record_failures=False)
+    assert kept.verdict == run.Verdict.FAILED and kept.artifacts == () and kept.kept == (str(log),)
+    assert f"not written: {log} exists and holds something else" in kept.report()
+    assert log.read_text(encoding="utf-8") == "not an event log\x00"
+    forced = run.run_case(case, out, record_failures=False, force=True)
+    assert forced.artifacts == (str(log),) and forced.kept == ()
+    assert log.read_text(encoding="utf-8").startswith('{"tick": ')
 
 
 def test_an_unknown_arm_names_the_flag(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys) -> None:

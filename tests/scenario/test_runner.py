@@ -31,7 +31,7 @@ def _library(folder: Path) -> Path:
 def _judged_by_name(monkeypatch: pytest.MonkeyPatch, ran: list[str]) -> None:
     """Each case runs to the verdict its file is named after (no episode)."""
 
-    def run_one(case: Any, out_dir: Any, record_failures: bool = True) -> CaseResult:
+    def run_one(case: Any, out_dir: Any, record_failures: bool = True, force: bool = False) -> CaseResult:
         ran.append(case.name)
         return CaseResult(case.name, str(case.path), case.name, f"because {case.name}")
 
