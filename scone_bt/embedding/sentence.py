@@ -29,21 +29,19 @@ __all__ = [
     "is_sentence_transformer_dir",
     "model_fingerprint",
     "numpy_runtime",
-    "same_length_batches",
-    "ALONE_BELOW_TOKENS",
     "VECTOR_FORM",
 ]
 
 _MODELS: dict[str, object] = {}  # loaded once per process, shared by every embedder of the same directory
 _LOCK = threading.Lock()
-VECTOR_FORM = "alone-v2"
-"""Part of the cache key: how a vector's bits were made. Vectors cached before `same_length_batches` (no suffix)
-came from padded batches, and their low bits depended on their neighbours; those of ``alone`` had one-word texts
-batched (`ALONE_BELOW_TOKENS`): neither is read."""
-ALONE_BELOW_TOKENS = 4
-"""A text of fewer tokens (a one-word text is 3: [CLS] word [SEP]) is encoded on its own: OpenBLAS multiplies a
-matrix of fewer than 4 rows with another kernel, so 'salt' alone and 'salt' among other 3-token texts differed
-in their last bits (found by review; 4 to 7 tokens matched)."""
+VECTOR_FORM = "alone-v3"
+"""Part of the cache key: how a vector's bits were made. Every text is encoded on its own (`_raw_encode`). A
+text's vector must not depend on what it was encoded with: the ε-greedy draw hashes its bits, so the same seeded
+run went another way depending on what an embedding cache had seen before. Padding to a longer neighbour left the
+low bits ~1e-7 off (no suffix); then texts of the same token count were batched (``alone``, ``alone-v2``), which
+gave a text its own bits only where OpenBLAS's sgemm gives a row the same bits whatever the number of rows (on the
+earlier Intel machine from 4 rows up; on an AMD EPYC with the Haswell kernel, for no two row counts). None of
+those is read. One text per forward pass costs about 2x on a batch of new texts (the cache keeps them)."""
 
 
 def is_sentence_transformer_dir(path: Path) -> bool:
@@ -128,26 +126,6 @@ def numpy_runtime(path: Path) -> bool:
     return embed_runtime() != "torch" and supports(path)
 
 
-def same_length_batches(token_counts: Sequence[int], batch_size: int) -> list[list[int]]:
-    """Row indices in forward passes of at most ``batch_size`` texts that all have the same token count.
-
-    A text's vector must not depend on what it was batched with: padding to a longer neighbour changes the
-    summation order of the attention and leaves its low bits ~1e-7 off, so the same seeded run gave different
-    vectors depending on what an embedding cache had seen before (and the ε-greedy draw, a hash of the vector,
-    went another way). Rows of equal length need no padding and get the bits they get alone (tested).
-    Longest texts first, as sentence-transformers orders them. A text of fewer than `ALONE_BELOW_TOKENS` tokens
-    is encoded alone.
-    """
-    groups: dict[int, list[int]] = {}
-    for i, n in enumerate(token_counts):
-        groups.setdefault(int(n), []).append(i)
-    batches: list[list[int]] = []
-    for tokens, rows in sorted(groups.items(), reverse=True):
-        size = batch_size if tokens >= ALONE_BELOW_TOKENS else 1
-        batches += [rows[start : start + size] for start in range(0, len(rows), size)]
-    return batches
-
-
 class SentenceTransformerEmbedder(Embedder):
     """A sentence-transformers model from a local directory; vectors are the model's pooled, normalised output.
 
@@ -155,17 +133,15 @@ class SentenceTransformerEmbedder(Embedder):
         name: Name reported to users and stored with outcomes.
         model_dir: Directory holding the saved model (modules.json, config.json, weights).
         cache_file: SQLite embedding cache, or None for memory only.
-        batch_size: Texts per forward pass.
     """
 
-    def __init__(self, name: str, model_dir: Path, cache_file: Path | None, batch_size: int = 64) -> None:
+    def __init__(self, name: str, model_dir: Path, cache_file: Path | None) -> None:
         model_dir = Path(model_dir)
         if not is_sentence_transformer_dir(model_dir):
             raise ModelUnavailableError(
                 f"{model_dir} is not a sentence-transformers model directory (no modules.json or config.json)"
             )
         self.model_dir = model_dir
-        self.batch_size = batch_size
         self._model: Any = None  # a SentenceTransformer, imported only when first used
         dim = declared_dim(model_dir)
         if dim is None:  # the layout does not say: load now and measure
@@ -181,11 +157,11 @@ class SentenceTransformerEmbedder(Embedder):
         return self._model
 
     def _raw_encode(self, texts: Sequence[str]) -> np.ndarray:
-        """Vectors of ``texts`` in input order, each the bits it gets alone (`same_length_batches`)."""
+        """Vectors of ``texts`` in input order, each encoded on its own (`VECTOR_FORM`)."""
         from scone_bt.embedding.bert_numpy import NumpyBert
 
         model = self.model
-        batches = same_length_batches(self._token_counts(texts), self.batch_size)
+        batches = [[i] for i in range(len(texts))]
         if isinstance(model, NumpyBert):
             from threadpoolctl import threadpool_limits
 
@@ -203,17 +179,6 @@ class SentenceTransformerEmbedder(Embedder):
             out[rows] = vectors
         return out
 
-    def _token_counts(self, texts: Sequence[str]) -> list[int]:
-        """Tokens of each text as the model sees it (special tokens included, after truncation)."""
-        from scone_bt.embedding.bert_numpy import NumpyBert
-
-        model = self.model
-        if isinstance(model, NumpyBert):
-            return model.token_counts(texts)
-        # `preprocess` is sentence-transformers 5's name for `tokenize` (deprecated there, with a warning).
-        features = (model.preprocess if hasattr(model, "preprocess") else model.tokenize)(list(texts))
-        return [int(n) for n in features["attention_mask"].sum(dim=1).tolist()]
-
     def _torch_encode(self, texts: Sequence[str]) -> np.ndarray:
         import torch
 
@@ -223,7 +188,7 @@ class SentenceTransformerEmbedder(Embedder):
             with torch.inference_mode():
                 out = self.model.encode(
                     list(texts),
-                    batch_size=self.batch_size,
+                    batch_size=1,  # one text per pass (`VECTOR_FORM`)
                     convert_to_numpy=True,
                     normalize_embeddings=True,
                     show_progress_bar=False,

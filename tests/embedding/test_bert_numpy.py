@@ -102,9 +102,21 @@ def test_a_vector_is_the_same_to_the_bit_whatever_it_was_batched_with(tmp_path, 
     assert np.array_equal(alone, together) and np.array_equal(alone, reversed_)
 
 
-def test_same_length_batches_hold_one_token_count_each_and_every_row_once():
-    from scone_bt.embedding.sentence import same_length_batches
+def test_the_numpy_model_sees_one_text_per_forward_pass(tmp_path, monkeypatch):
+    """Batches of equal token count gave a text its own bits only on some BLAS kernels (not on an AMD EPYC with
+    OpenBLAS's Haswell kernel, where every row count differed): every text is encoded on its own."""
+    from scone_bt.embedding import load_embedder
+    from scone_bt.embedding.bert_numpy import NumpyBert
 
-    batches = same_length_batches([5, 3, 5, 9, 5, 3], batch_size=2)
-    assert batches == [[3], [0, 2], [4], [1], [5]]  # fewer than 4 tokens: one at a time
-    assert same_length_batches([], batch_size=4) == []
+    monkeypatch.setenv("SCONE_BT_EMBED_RUNTIME", "")
+    emb = load_embedder("minilm", cache_dir=tmp_path)
+    seen: list[int] = []
+    encode = NumpyBert.encode
+
+    def counting(self, texts):
+        seen.append(len(texts))
+        return encode(self, texts)
+
+    monkeypatch.setattr(NumpyBert, "encode", counting)
+    emb.embed_uncached(["Put salt on table", "Put garlic on table", "salt", "Stir the sauce gently"])
+    assert seen == [1, 1, 1, 1]
