@@ -40,7 +40,7 @@ text's vector must not depend on what it was encoded with: the ε-greedy draw ha
 run went another way depending on what an embedding cache had seen before. Padding to a longer neighbour left the
 low bits ~1e-7 off (no suffix); then texts of the same token count were batched (``alone``, ``alone-v2``), which
 gave a text its own bits only where OpenBLAS's sgemm gives a row the same bits whatever the number of rows (on the
-earlier Intel machine from 4 rows up; on an AMD EPYC with the Haswell kernel, for no two row counts). None of
+earlier development machine from 4 rows up; on an AMD EPYC with the Haswell kernel, for no two row counts). None of
 those is read. One text per forward pass costs about 2x on a batch of new texts (the cache keeps them)."""
 
 
