@@ -113,9 +113,8 @@ def _writers_of(key: str) -> list[str]:
     while todo:
         cls = todo.pop()
         todo.extend(cls.__subclasses__())
-        if key in getattr(cls, "WRITES", ()) and not cls.__name__.startswith(
-            "_"
-        ):  # what a tree file can name
+        named = not cls.__name__.startswith("_")  # what a tree file can name
+        if named and key in getattr(cls, "WRITES", ()):
             found.add(cls.__name__)
     return sorted(found)
 

@@ -435,13 +435,11 @@ def _run(args: argparse.Namespace) -> int:
 def _check_names_and_threshold(args: argparse.Namespace) -> None:
     """--estimator, --estimators and --relevance-threshold, before the replay (they failed after it, ~20 s in)."""
     from scone_bt.checks import check_range
-    from scone_bt.confidence.registry import estimator_names
-    from scone_bt.errors import SconeError
+    from scone_bt.cli.run import _check_estimator  # the one check of registry names (scone-run's, gate's)
 
-    valid = estimator_names()
-    for flag, names in (("--estimator", [args.estimator]), ("--estimators", args.estimators.split(","))):
-        for name in (n for n in names if n and n not in valid):
-            raise SconeError(f"{flag} {name}: unknown estimator; valid: {', '.join(valid)}")
+    _check_estimator(args.estimator)
+    for name in (n for n in args.estimators.split(",") if n):
+        _check_estimator(name, "--estimators")
     if args.relevance_threshold is not None:  # ρ is a cosine similarity
         check_range(args.relevance_threshold, "--relevance-threshold", -1.0, 1.0)
 

@@ -479,7 +479,7 @@ def _run(args: argparse.Namespace) -> int:
     from scone_bt.cli.run import _check_estimator  # one check of registry names, before any work
 
     for e in estimators:
-        _check_estimator(e)
+        _check_estimator(e, "--estimators")
     if args.plot is not None:
         from scone_bt.cli.bench import _inputs
 

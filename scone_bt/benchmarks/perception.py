@@ -83,12 +83,13 @@ def _shelf_objects(args: argparse.Namespace, kitchen_cfg: Any) -> int:
     catalogue = kitchen_cfg.catalogue
     if args.scenes < 1:
         raise ConfigError(f"--scenes {args.scenes}: must be 1 or more")
-    if not 0 <= args.table_objects < min(slots, len(catalogue)):  # at least one product stays for the shelves
+    capacity = min(slots, len(catalogue))
+    if not 0 <= args.table_objects < capacity:  # at least one product stays for the shelves
         raise ConfigError(
-            f"--table-objects {args.table_objects}: must be in 0-{min(slots, len(catalogue)) - 1} "
+            f"--table-objects {args.table_objects}: must be in 0-{capacity - 1} "
             f"({slots} shelf slots, {len(catalogue)} products)"
         )
-    most = min(slots, len(catalogue)) - args.table_objects
+    most = capacity - args.table_objects
     objects = min(DEFAULT_OBJECTS, most) if args.objects is None else args.objects
     if not 1 <= objects <= most:
         raise ConfigError(

@@ -47,9 +47,8 @@ class _Interrupts:
     def __init__(self) -> None:
         self.phase = self.EARLY
         self.previous: Callable[[int, FrameType | None], Any] | int | None = None  # SIGINT's handler before
-        self.previous_term: Callable[[int, FrameType | None], Any] | int | None = (
-            None  # SIGTERM's, when taken
-        )
+        # SIGTERM's handler before, when this took it
+        self.previous_term: Callable[[int, FrameType | None], Any] | int | None = None
         self.pending = False  # a Ctrl-C came while running: the run must end as interrupted
 
     def check(self) -> None:
@@ -436,8 +435,8 @@ def _run_inputs(args: argparse.Namespace) -> dict[str, list[Path]]:
     return out
 
 
-def _check_estimator(name: str) -> None:
-    """--estimator against the κ̂ registry (names only: nothing is built or fitted)."""
+def _check_estimator(name: str, flag: str = "--estimator") -> None:
+    """--estimator (or ``flag``) against the κ̂ registry (names only: nothing is built or fitted)."""
     import difflib
 
     from scone_bt.confidence.registry import CALIBRATED_ESTIMATORS, ESTIMATORS, GROUNDED_ESTIMATORS
@@ -450,7 +449,7 @@ def _check_estimator(name: str) -> None:
     # names outside the eps-/grounded-/-cal patterns (a registry may add some) are listed as they are
     others = [n for n in GROUNDED_ESTIMATORS if not n.startswith("grounded-")]
     raise SconeError(
-        f"--estimator {name!r}: unknown estimator; valid: {', '.join(base + others)}, each of the first "
+        f"{flag} {name!r}: unknown estimator; valid: {', '.join(base + others)}, each of the first "
         f"{len(base)} also as eps-<name>, grounded-<name> (not conformal) or <name>-cal"
         + (f" (did you mean {close[0]}?)" if close else "")
     )
@@ -528,6 +527,8 @@ def _check_outputs(args: argparse.Namespace) -> None:
 def _decision_settings(args: argparse.Namespace) -> dict[str, Any]:
     """The tree parameters given on the command line, checked: ranges, κ̂ and ζ names, and that this run reads
     each one (`check_flags_take_effect`, against the tree file's gate where the line names none)."""
+    from pydantic import ValidationError
+
     from scone_bt.config.tree_parameters import TreeParameters
     from scone_bt.tree import load_tree_spec
 
@@ -538,16 +539,15 @@ def _decision_settings(args: argparse.Namespace) -> dict[str, Any]:
         _check_embedder(args.embedder)
     spec = load_tree_spec(args.tree)  # validated now (types and ranges), before the kitchen is built
     gate = tree.get("gate") or spec.parameters.get("gate") or TreeParameters().gate
-    probe_on = tree.get("probe", {}).get("enabled", spec.parameters.get("probe", {}).get("enabled", False))
-    check_flags_take_effect(tree, gate, self_confidence=not args.no_self_confidence, probe_enabled=probe_on)
-    if tree.get("gate") == "paper":  # the tree file's budget-only switches, which --gate paper would silence
-        on = [k for k in ("exploration_credit",) if spec.parameters.get(k)]
-        on += ["probe.enabled"] if spec.parameters.get("probe", {}).get("enabled") else []
-        if on:
-            raise SconeError(
-                f"--gate paper: the tree file {args.tree} turns on {' and '.join(on)}, which only the budget gate "
-                "reads; give a tree file with it off, or leave --gate out"
-            )
+    probe = {**spec.parameters.get("probe", {}), **tree.get("probe", {})}
+    check_flags_take_effect(
+        tree, gate, self_confidence=not args.no_self_confidence, probe_enabled=probe.get("enabled", False)
+    )
+    try:  # the tree's own rule on what this run reads: --gate paper over a tree file that turns on the probe
+        TreeParameters.model_validate({**spec.parameters, **tree, "probe": probe})
+    except ValidationError as exc:
+        problem = str(exc.errors(include_url=False)[0]["msg"]).removeprefix("Value error, ")
+        raise SconeError(f"--gate {gate} over the tree file {args.tree}: {problem}") from None
     return tree
 
 

@@ -138,9 +138,8 @@ def tree_overrides(args: argparse.Namespace) -> dict[str, Any]:
         TreeParameters.model_validate(given)
     except ValidationError as exc:
         loc = tuple(str(k) for k in exc.errors(include_url=False)[0]["loc"])
-        if (
-            not loc
-        ):  # a combination of keys (the model's own check): check_flags_take_effect names the options
+        # a combination of keys (the model's own check): check_flags_take_effect names the options
+        if not loc:
             return given
         path = loc if loc in values else loc[:1]
         raise SconeError(

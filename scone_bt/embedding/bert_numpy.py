@@ -143,10 +143,6 @@ class NumpyBert:
         self.w = {k.removeprefix(prefix): v for k, v in w.items()}
         self.dim = int(self.w["embeddings.word_embeddings.weight"].shape[1])
 
-    def token_counts(self, texts: Sequence[str]) -> list[int]:
-        """Tokens of each text as `encode` feeds them (special tokens included, after truncation)."""
-        return [sum(e.attention_mask) for e in self.tokenizer.encode_batch(list(texts))]  # padding: mask 0
-
     def encode(self, texts: Sequence[str]) -> np.ndarray:
         """(n, dim) unit vectors of ``texts``: BERT, mean pooling over the tokens, L2 normalisation."""
         if not texts:

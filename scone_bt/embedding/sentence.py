@@ -161,23 +161,20 @@ class SentenceTransformerEmbedder(Embedder):
         from scone_bt.embedding.bert_numpy import NumpyBert
 
         model = self.model
-        batches = [[i] for i in range(len(texts))]
+        if (
+            not texts
+        ):  # the length comes from the model: `__init__` measures it when the directory does not say
+            return np.zeros((0, getattr(self, "dim", 0)), dtype=np.float32)
         if isinstance(model, NumpyBert):
             from threadpoolctl import threadpool_limits
 
             # BLAS threads as torch's (`encode_threads`): on a busy 2-core machine two threads made a batch ~10x
             # slower than one (each waits for the other's core).
             with threadpool_limits(limits=encode_threads(), user_api="blas"):
-                parts = [(rows, model.encode([texts[i] for i in rows])) for rows in batches]
+                rows = [model.encode([text]) for text in texts]
         else:
-            parts = [(rows, self._torch_encode([texts[i] for i in rows])) for rows in batches]
-        # The length comes from the model: `__init__` measures it here when the directory does not declare it.
-        out = np.zeros(
-            (len(texts), parts[0][1].shape[1] if parts else getattr(self, "dim", 0)), dtype=np.float32
-        )
-        for rows, vectors in parts:
-            out[rows] = vectors
-        return out
+            rows = [self._torch_encode([text]) for text in texts]
+        return np.concatenate(rows).astype(np.float32, copy=False)
 
     def _torch_encode(self, texts: Sequence[str]) -> np.ndarray:
         import torch

@@ -307,8 +307,8 @@ def test_bad_settings_crashed_and_are_now_one_line_before_any_work(
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
-        (["decisions", "--estimator", "nosuch"], "--estimator nosuch: unknown estimator; valid: conformal"),
-        (["decisions", "--estimators", "knn,nosuch"], "--estimators nosuch: unknown estimator; valid:"),
+        (["decisions", "--estimator", "nosuch"], "--estimator 'nosuch': unknown estimator; valid: knn, lgbm"),
+        (["decisions", "--estimators", "knn,nosuch"], "--estimators 'nosuch': unknown estimator; valid:"),
         (
             ["decisions", "--relevance-threshold", "5"],
             "--relevance-threshold 5.0: must be a number in [-1, 1]",

@@ -131,7 +131,7 @@ def test_the_options_of_the_gate_in_use_are_taken(capsys) -> None:
             [],
             "parameters: exploration_credit: true is read by gate: budget only",
         ),
-        ((None, None), ["--gate", "paper"], "--gate paper: the tree file"),
+        ((None, None), ["--gate", "paper"], "scone-run: error: --gate paper over the tree file "),
     ],
 )
 def test_a_tree_file_switch_the_paper_gate_never_reads_is_refused(edit, argv, line, tmp_path, capsys) -> None:
@@ -147,6 +147,7 @@ def test_a_tree_file_switch_the_paper_gate_never_reads_is_refused(edit, argv, li
     assert main(["--tree", str(tree), *argv]) == 2
     err = capsys.readouterr().err
     assert line in err and err.count("\n") == 1, err
+    assert "exploration_credit: true is read by gate: budget only" in err  # the tree's one rule, both ways
     assert TreeParameters(gate="paper", exploration_credit=False).gate == "paper"
     with pytest.raises(ValueError, match="probe.enabled: true is read by gate: budget only"):
         TreeParameters(gate="paper", probe=ProbeParameters(enabled=True))
