@@ -16,6 +16,7 @@ import numpy as np
 from scone_bt.motion.collision import Obstacle
 from scone_bt.motion.executor import ArmExecutor
 from scone_bt.motion.new_spot import SPOT_CHECK_S, SPOT_MARGIN, NewSpot
+from scone_bt.motion.path_watch import PATH_SAMPLE_S, PathWatch
 from scone_bt.motion.pick_place import PickPlacePlan, Segment
 from scone_bt.motion.types import PLACED, FailureStage, MotionPhase, PlanFailureReason, TimedTrajectory
 
@@ -92,6 +93,8 @@ class PickPlaceController:
         on_placed: Called once when the object is seen resting on the table after the release.
         request_new_spot: Asks the worker for the rest of the motion to another spot when the planned one is
             taken during the carry (`motion.new_spot`); None: the spot is not looked at again.
+        watch_path: The plan's `PathWatch` (`motion.path_watch`): a product put down in the carry's way is looked
+            for too, and the rest of the motion planned anew with it known; None: only the spot is looked at.
     """
 
     def __init__(
@@ -104,9 +107,12 @@ class PickPlaceController:
         settings: ExecutionSettings = ExecutionSettings(),
         on_placed: Callable[[], None] | None = None,
         request_new_spot: NewSpotRequest | None = None,
+        watch_path: Callable[[PickPlacePlan], PathWatch] | None = None,
     ) -> None:
         self.arm = arm
         self._request_new_spot = request_new_spot
+        self._watch_path = watch_path
+        self._path_watch: PathWatch | None = None
         self._on_placed = on_placed
         self.target_name = target_name
         self.settings = settings
@@ -146,6 +152,7 @@ class PickPlaceController:
         self.spot_changes = 0
         self.spot_notes: list[str] = []
         self.spot_taken_by: tuple[str, ...] = ()
+        self.in_the_way: tuple[str, ...] = ()  # products put down in the carry's way (`motion.path_watch`)
         self._looking = request_new_spot is not None
         self._spot_poll: Callable[[bool], tuple[bool, NewSpot | None]] | None = None
 
@@ -320,6 +327,8 @@ class PickPlaceController:
         self.plan = ready
         self.placed_at, self.place_spot = ready.placed, ready.place_spot
         self._looking = self._looking and ready.placed is not None and ready.feasible is not None
+        if self._looking and self._watch_path is not None:
+            self._path_watch = self._watch_path(ready)
         seg = {s.phase: s for s in ready.segments}
         self.queue = [
             (MotionPhase.APPROACH, seg[MotionPhase.APPROACH]),
@@ -394,36 +403,71 @@ class PickPlaceController:
             self._next()
 
     def _spot_taken(self, arm: ArmExecutor, k: int) -> bool:
-        """While carrying, look at the place spot; if something stands there now, hold and ask the worker for
-        another spot from here (True: the arm holds from now on)."""
+        """While carrying, look at the place spot and, with a `PathWatch`, at the carry's way; if something stands
+        on the spot or in the way now, hold and ask the worker for the rest of the motion from here, with what
+        the plan did not know on the table known (True: the arm holds from now on)."""
         if not self._looking or self.stage is not None or self.placed_at is None:
             return False
         if self.phase_steps % _every(SPOT_CHECK_S, arm.time_step):
             return False
+        if self._request_new_spot is None or self.current is None:
+            return False
         mine = {self.target_name, self.held}
-        blockers = tuple(b for b in arm.products_at(self.placed_at, SPOT_MARGIN) if b.name not in mine)
-        if not blockers or self._request_new_spot is None or self.current is None:
+        rest = self.current.trajectory.positions[k:]
+        on_spot = tuple(b for b in arm.products_at(self.placed_at, SPOT_MARGIN) if b.name not in mine)
+        unknown: tuple[Obstacle, ...] = ()
+        in_way: tuple[Obstacle, ...] = ()
+        if self._path_watch is not None:
+            unknown = self._path_watch.unknown(arm.table_products(), {n for n in mine if n is not None})
+            if unknown and not on_spot:
+                in_way = self._path_watch.in_the_way(self._carry_samples(rest), self._lowering(), unknown)
+        if not on_spot and not in_way:
             return False
         assert self.place_spot is not None
-        rest = self.current.trajectory.positions[k:]
         original = tuple(seg for _, seg in self.queue if seg is not None)  # lower, retreat, home
-        self.spot_taken_by = tuple(sorted(b.name for b in blockers))
+        self.spot_taken_by = tuple(sorted(b.name for b in on_spot))
+        self.in_the_way = tuple(sorted(b.name for b in in_way))
+        # What the plan did not know, all of it: the rest of the motion avoids it too.
+        known = {b.name: b for b in (*unknown, *on_spot)}
+        blockers = tuple(known.values())
+        if self._path_watch is not None:
+            self._path_watch.learn(blockers)
         self._spot_poll = self._request_new_spot(rest, original, self.placed_at, self.place_spot, blockers)
         self.hold_q = rest[0]
         self._enter(MotionPhase.NEW_SPOT)
         return True
 
+    def _carry_samples(self, rest: np.ndarray) -> np.ndarray:
+        """The rest of the transit's commanded samples, every `PATH_SAMPLE_S` and the last."""
+        step = _every(PATH_SAMPLE_S, 1.0 / self.cfg.control.rate_hz)
+        return rest if len(rest) <= 2 else np.vstack([rest[:-1:step], rest[-1:]])
+
+    def _lowering(self) -> np.ndarray | None:
+        """The queued lowering's commanded samples (None when none is queued)."""
+        for phase, seg in self.queue:
+            if phase is MotionPhase.LOWER and seg is not None:
+                return self._carry_samples(seg.trajectory.positions)
+        return None
+
     def _take_new_spot(self, spot: NewSpot) -> None:
         """Carry on with the worker's answer: to another spot, or the original plan resumed (none was found)."""
         self._spot_poll = None
-        taken = ", ".join(self.spot_taken_by)
+        if self.spot_taken_by:
+            taken = ", ".join(self.spot_taken_by)
+            moved, kept = (
+                f"at another spot: {taken} stood on the one planned",
+                f"{taken} stood on the planned spot",
+            )
+        else:
+            taken = ", ".join(self.in_the_way)
+            moved, kept = f"another way: {taken} was put down in its way", f"{taken} was put down in its way"
         if spot.moved:
             self.spot_changes += 1
             self._looking = self.spot_changes < MAX_NEW_SPOTS
-            self.spot_notes.append(f"at another spot: {taken} stood on the one planned")
+            self.spot_notes.append(moved)
         else:
             self._looking = False  # going on as planned: looking again would only stop it again
-            self.spot_notes.append(f"{taken} stood on the planned spot, and {spot.why}")
+            self.spot_notes.append(f"{kept}, and {spot.why}")
         self.placed_at, self.place_spot = spot.placed, spot.place_spot
         transit, lower, retreat, home = spot.segments
         self.queue = [

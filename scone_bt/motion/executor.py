@@ -93,6 +93,10 @@ class ArmExecutor(Protocol):
         ``spot`` (a shape standing upright there) would stand, each as its shape where it stands."""
         ...
 
+    def table_products(self) -> tuple[Obstacle, ...]:
+        """A look at the whole table: every product standing on it, each as its shape where it stands."""
+        ...
+
 
 class SceneBox(Protocol):
     """An immovable box of the cell (centre and full size in metres, world frame)."""

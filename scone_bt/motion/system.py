@@ -37,6 +37,7 @@ from scone_bt.motion.execution import ExecutionSettings, PickPlaceController
 from scone_bt.motion.executor import Workcell
 from scone_bt.motion.model import ArmModel, pose_matrix
 from scone_bt.motion.new_spot import NewSpot, new_spot
+from scone_bt.motion.path_watch import PathWatch
 from scone_bt.motion.pick_place import (
     PickPlaceFailure,
     PickPlacePlan,
@@ -296,13 +297,17 @@ class PickAndPlace:
                 *args,
                 on_placed=self._remember,
                 request_new_spot=self._request_new_spot,
+                watch_path=self._path_watch,
                 probe=self.probe,
                 hand_z=lambda q: float(arm.fk(q)[2, 3]),
                 judge=self.judge,
             )
         else:
             self._controller = PickPlaceController(
-                *args, on_placed=self._remember, request_new_spot=self._request_new_spot
+                *args,
+                on_placed=self._remember,
+                request_new_spot=self._request_new_spot,
+                watch_path=self._path_watch,
             )
         cell.add_controller(self._controller)
 
@@ -320,6 +325,14 @@ class PickAndPlace:
         placed = None if c is None else c.placed_at
         if placed is not None:
             self.system.placed[self.target.name] = placed
+
+    def _path_watch(self, plan: PickPlacePlan) -> PathWatch:
+        """The carry's watch (`motion.path_watch`): the held product as this plan grasps it, and what the request
+        knew stood on the table."""
+        request = self._request
+        assert request is not None and plan.feasible is not None
+        carried = Obstacle(self.target.name, self.spec.shape, self.spec.size, plan.feasible.cand.object_in_ee)
+        return PathWatch.of(self.system.arm, carried, plan.finger_position, request.table_obstacles)
 
     def _request_new_spot(
         self,

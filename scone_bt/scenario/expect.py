@@ -112,7 +112,7 @@ def matches(event: Event, match: EventMatch) -> bool:
     """Whether the event is of the kind and has every field value the match gives."""
     if event.kind != match.kind:
         return False
-    for key in ("object", "success", "stage", "verdict", "rule", "step"):
+    for key in ("object", "success", "stage", "verdict", "rule", "step", "explored"):
         wanted = getattr(match, key)
         if wanted is not None and _field(event, key) != wanted:
             return False

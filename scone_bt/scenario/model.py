@@ -188,6 +188,7 @@ class EventMatch(StrictModel):
     verdict: Literal["act", "ask", "clarify", "idle"] | None = None
     rule: str | None = None
     step: Annotated[int, Field(ge=1)] | None = None
+    explored: bool | None = None
 
 
 # ------------------------------------------------------------------------------------------------ events

@@ -175,7 +175,6 @@ class GroundTruth:
     def products_at(self, spot: Obstacle, margin: float) -> tuple[Obstacle, ...]:
         """Products standing on the table within ``margin`` (m) of the upright shape ``spot``, as obstacles where
         they stand (ground truth: the simulation's look at the spot)."""
-        from scone_bt.motion.collision import Obstacle
         from scone_bt.motion.placement import Footprint, footprint_gaps
         from scone_bt.motion.placement_search import obstacle_footprint
 
@@ -196,15 +195,32 @@ class GroundTruth:
         gaps = footprint_gaps(
             np.array([[shape.x, shape.y]]), np.array([shape.yaw]), shape, [f for _, f, _ in near]
         )[0]
+        return tuple(
+            self._obstacle(n, st) for (n, _, st), gap in zip(near, gaps, strict=True) if gap < margin
+        )
+
+    def table_products(self) -> tuple[Obstacle, ...]:
+        """Every product standing on the table, as its shape where it stands (ground truth: the simulation's look
+        at the table; upright or not, as long as it lies on the table top)."""
+        (cx, cy, cz), (sx, sy, sz) = self.config.scene.table
+        top = cz + sz / 2
         out = []
-        for (n, _, st), gap in zip(near, gaps, strict=True):
-            if gap < margin:
-                pose = np.eye(4)
-                pose[:3, :3] = self._rotation(st.orientation)
-                pose[:3, 3] = st.position
-                spec = self.specs[n]
-                out.append(Obstacle(n, spec.shape, spec.size, pose))
+        for n in self.objects:
+            st = self.object_state(n)
+            x, y, z = st.position
+            if abs(x - cx) <= sx / 2 and abs(y - cy) <= sy / 2 and top - 0.05 <= z <= top + 0.3:
+                out.append(self._obstacle(n, st))
         return tuple(out)
+
+    def _obstacle(self, name: str, state: ObjectState) -> Obstacle:
+        """The product's collision shape where ``state`` has it."""
+        from scone_bt.motion.collision import Obstacle
+
+        pose = np.eye(4)
+        pose[:3, :3] = self._rotation(state.orientation)
+        pose[:3, 3] = state.position
+        spec = self.specs[name]
+        return Obstacle(name, spec.shape, spec.size, pose)
 
     def free_place_spot(self, spec: ObjectSpec | None = None) -> tuple[float, float, float] | None:
         """A free table spot (x, y, table top z), ground truth: what the human sees when putting something down.

@@ -85,3 +85,26 @@ def detect():
 def run_to_end():
     """run_to_end(kitchen, task) -> the MotionOutcome, ticking the kitchen in 0.1 s steps."""
     return _run_to_end
+
+
+@pytest.fixture
+def task_for(detect):
+    """task_for(kitchen, system, name, seed) -> a PickAndPlace of that object, the others as obstacles."""
+
+    def make(kitchen, system, name, seed=3):
+        others = [(detect(kitchen, n), kitchen.specs[n]) for n in kitchen.objects if n != name]
+        return system.pick_and_place(detect(kitchen, name), kitchen.specs[name], others, rng_seed=seed)
+
+    return make
+
+
+@pytest.fixture
+def stocked(kitchen_cfg, robot_cfg):
+    """salt, sugar and honey on the shelving (slots drawn with seed 1)."""
+    from scone_bt.motion import MotionSystem
+    from scone_bt.world import Kitchen
+
+    with Kitchen(kitchen_cfg, robot_cfg) as k:
+        k.spawn([kitchen_cfg.catalogue.get(n) for n in ("salt", "sugar", "honey")], np.random.default_rng(1))
+        with MotionSystem.build(k) as system:
+            yield k, system

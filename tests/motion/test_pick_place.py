@@ -14,26 +14,6 @@ from scone_bt.world import Kitchen
 pytestmark = pytest.mark.slow
 
 
-@pytest.fixture
-def task_for(detect):
-    """task_for(kitchen, system, name, seed) -> a PickAndPlace of that object, the others as obstacles."""
-
-    def make(kitchen, system, name, seed=3):
-        others = [(detect(kitchen, n), kitchen.specs[n]) for n in kitchen.objects if n != name]
-        return system.pick_and_place(detect(kitchen, name), kitchen.specs[name], others, rng_seed=seed)
-
-    return make
-
-
-@pytest.fixture
-def stocked(kitchen_cfg, robot_cfg):
-    """salt, sugar and honey on the shelving (slots drawn with seed 1)."""
-    with Kitchen(kitchen_cfg, robot_cfg) as k:
-        k.spawn([kitchen_cfg.catalogue.get(n) for n in ("salt", "sugar", "honey")], np.random.default_rng(1))
-        with MotionSystem.build(k) as system:
-            yield k, system
-
-
 def test_pick_and_place_puts_the_object_on_the_table(stocked, arm, robot_cfg, assert_within_limits, task_for):
     kitchen, system = stocked
     assert kitchen.is_on_shelf("salt")

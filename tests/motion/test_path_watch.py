@@ -1,0 +1,108 @@
+"""The carry's watch (`motion.path_watch`): products the plan did not know, and which of them the rest of the motion
+would hit; in PyBullet, a product put down in the carry's way is gone around, and without the watch it is hit."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from scone_bt.motion import FailureStage, MotionPhase
+from scone_bt.motion.collision import Obstacle
+from scone_bt.motion.model import pose_matrix
+from scone_bt.motion.path_watch import MOVED_M, PathWatch
+
+
+def _box(name: str, x: float, y: float, z: float = 0.1, size=(0.05, 0.05, 0.1)) -> Obstacle:
+    return Obstacle(name, "box", size, pose_matrix(np.eye(3), (x, y, z)))
+
+
+@pytest.fixture
+def watch(arm):
+    """A watch of a plan that knew the salt at (0.3, -0.4), carrying a 4 cm cube 10 cm below the hand."""
+    carried = _box("tea", 0.0, 0.0, 0.1, (0.04, 0.04, 0.04))
+    return PathWatch.of(arm, carried, None, [_box("salt", 0.3, -0.4)])
+
+
+def test_a_product_is_unknown_when_new_on_the_table_or_moved_beyond_the_camera_error(watch):
+    now = [
+        _box("salt", 0.3 + MOVED_M / 2, -0.4),
+        _box("sugar", 0.5, 0.0),
+        _box("tea", 0.2, 0.2),
+    ]
+    assert [o.name for o in watch.unknown(now, {"tea"})] == ["sugar"]
+    moved = [_box("salt", 0.3 + 1.5 * MOVED_M, -0.4)]
+    assert [o.name for o in watch.unknown(moved, ())] == ["salt"]
+    watch.learn(moved)  # planned anew knowing it there
+    assert watch.unknown(moved, ()) == ()
+
+
+def test_only_a_product_the_rest_of_the_motion_reaches_is_in_the_way(arm, watch):
+    q = np.asarray(arm.config.home, dtype=float)
+    hand = arm.fk(q)[:3, 3]  # the world frame
+    transit = np.array([q, q])
+    at_hand = _box("sugar", *hand)
+    far = _box("honey", hand[0] + 1.5, hand[1] + 1.5, hand[2])
+    assert [o.name for o in watch.in_the_way(transit, None, [at_hand, far])] == ["sugar"]
+    # The far one is cleared where it stands; the one in the way is still in the way when asked again.
+    assert [o.name for o in watch.in_the_way(transit, None, [at_hand, far])] == ["sugar"]
+    # Only the lowering reaches it: in the way all the same.
+    away = np.array([q, q])
+    away[:, 0] += np.pi / 2
+    assert [o.name for o in watch.in_the_way(away, transit, [at_hand])] == ["sugar"]
+
+
+def _in_the_way(system, task, kitchen, name):
+    """A table spot for ``name`` beside the place spot (not on it) that the planned transit or lowering reaches."""
+    plan = task.plan
+    spec = kitchen.specs[name]
+    carried = Obstacle(task.target.name, task.spec.shape, task.spec.size, plan.feasible.cand.object_in_ee)
+    probe = PathWatch.of(system.arm, carried, plan.finger_position, ())
+    segments = {s.phase: s.trajectory.positions for s in plan.segments}
+    x0, y0, top = plan.place_spot
+    for r in (0.10, 0.12, 0.14, 0.08):
+        for a in np.linspace(0.0, 2 * np.pi, 24, endpoint=False):
+            x, y = x0 + r * np.cos(a), y0 + r * np.sin(a)
+            ob = Obstacle(name, spec.shape, spec.size, pose_matrix(np.eye(3), (x, y, top + spec.height / 2)))
+            if probe.in_the_way(segments[MotionPhase.TRANSIT], segments[MotionPhase.LOWER], [ob]):
+                return x, y, top
+    raise AssertionError("no spot beside the place spot lies in the carry's way")
+
+
+def _put_in_the_way_during_the_transit(kitchen, system, task, name):
+    """Run the task; once the carry has begun, a person stands ``name`` in its way. Returns the outcome and
+    where ``name`` was put."""
+    spot = None
+    while not task.done():
+        kitchen.advance(0.1)
+        if spot is None and task.progress().phase is MotionPhase.TRANSIT:
+            spot = _in_the_way(system, task, kitchen, name)
+            kitchen.place_object(name, spot)
+            assert kitchen.is_on_table(name)
+    assert spot is not None
+    return task.outcome(), np.array(spot[:2])
+
+
+@pytest.mark.slow
+def test_a_product_put_down_in_the_carry_s_way_is_gone_around(stocked, task_for):
+    kitchen, system = stocked
+    task = task_for(kitchen, system, "salt")
+    task.start()
+    outcome, put = _put_in_the_way_during_the_transit(kitchen, system, task, "sugar")
+    assert outcome.success, outcome.message
+    assert outcome.message == "placed upright on the table (another way: sugar was put down in its way)"
+    assert kitchen.is_on_table("sugar")
+    assert np.linalg.norm(np.array(kitchen.object_state("sugar").position[:2]) - put) < 0.005  # untouched
+
+
+@pytest.mark.slow
+def test_without_the_watch_the_product_in_the_way_is_hit(stocked, task_for):
+    """The control: the same attempt whose controller looks only at its spot runs into the sugar (so the spot the
+    first test chose is really in the way, and the watch is what saves it)."""
+    kitchen, system = stocked
+    task = task_for(kitchen, system, "salt")
+    task._path_watch = None  # type: ignore[method-assign]
+    task.start()
+    outcome, put = _put_in_the_way_during_the_transit(kitchen, system, task, "sugar")
+    moved = np.linalg.norm(np.array(kitchen.object_state("sugar").position[:2]) - put)
+    assert not outcome.success and outcome.stage is FailureStage.COLLISION, outcome.message
+    assert "sugar" in outcome.message or moved > 0.005
