@@ -95,7 +95,7 @@ class GraspParams:
     retreat: float = 0.10
     max_carry_tilt: float = 0.35
     yaw_step: float = math.pi / 8
-    tilts: tuple[float, ...] = (0.45, 0.8)
+    tilts: tuple[float, ...] = (math.radians(25.0), math.radians(45.0))  # the robot files' tilts_deg
     offsets: tuple[float, ...] = ()
     offset_margin: float = 0.015
     offset_weight: float = 0.5

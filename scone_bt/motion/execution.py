@@ -3,7 +3,9 @@
 The controller runs before every control step (a physics step in simulation; main thread). It tracks the timed
 trajectories with position control and velocity feed-forward, closes the gripper with the YAML's force limit, and
 watches the arm's own sensors through the executor (`motion.executor.ArmExecutor`): finger contacts and finger gap
-(is the object still held?), arm contacts and tracking error (collision). No simulator is imported here.
+(is the object still held?), arm contacts and tracking error (collision). While carrying it looks at the place
+spot and at the rest of its way over the table, and plans the rest of the motion anew when a person put something
+there (`motion.new_spot`, `motion.path_watch`). No simulator is imported here.
 """
 
 from __future__ import annotations
