@@ -18,7 +18,7 @@ import numpy as np
 from scone_bt.motion.collision import Obstacle
 from scone_bt.motion.executor import ArmExecutor
 from scone_bt.motion.new_spot import SPOT_CHECK_S, SPOT_MARGIN, NewSpot
-from scone_bt.motion.path_watch import PATH_SAMPLE_S, PathWatch
+from scone_bt.motion.path_watch import PathWatch
 from scone_bt.motion.pick_place import PickPlacePlan, Segment
 from scone_bt.motion.types import PLACED, FailureStage, MotionPhase, PlanFailureReason, TimedTrajectory
 
@@ -422,33 +422,27 @@ class PickPlaceController:
         if self._path_watch is not None:
             unknown = self._path_watch.unknown(arm.table_products(), {n for n in mine if n is not None})
             if unknown and not on_spot:
-                in_way = self._path_watch.in_the_way(self._carry_samples(rest), self._lowering(), unknown)
+                in_way = self._path_watch.in_the_way(rest, self._lowering(), unknown)
         if not on_spot and not in_way:
             return False
         assert self.place_spot is not None
         original = tuple(seg for _, seg in self.queue if seg is not None)  # lower, retreat, home
         self.spot_taken_by = tuple(sorted(b.name for b in on_spot))
         self.in_the_way = tuple(sorted(b.name for b in in_way))
-        # What the plan did not know, all of it: the rest of the motion avoids it too.
-        known = {b.name: b for b in (*unknown, *on_spot)}
-        blockers = tuple(known.values())
+        # What the plan did not know, all of it (and all learnt at earlier re-plans): the rest of the motion avoids it.
+        blockers = tuple({b.name: b for b in (*unknown, *on_spot)}.values())
         if self._path_watch is not None:
-            self._path_watch.learn(blockers)
+            blockers = self._path_watch.learn(blockers)
         self._spot_poll = self._request_new_spot(rest, original, self.placed_at, self.place_spot, blockers)
         self.hold_q = rest[0]
         self._enter(MotionPhase.NEW_SPOT)
         return True
 
-    def _carry_samples(self, rest: np.ndarray) -> np.ndarray:
-        """The rest of the transit's commanded samples, every `PATH_SAMPLE_S` and the last."""
-        step = _every(PATH_SAMPLE_S, 1.0 / self.cfg.control.rate_hz)
-        return rest if len(rest) <= 2 else np.vstack([rest[:-1:step], rest[-1:]])
-
     def _lowering(self) -> np.ndarray | None:
         """The queued lowering's commanded samples (None when none is queued)."""
         for phase, seg in self.queue:
             if phase is MotionPhase.LOWER and seg is not None:
-                return self._carry_samples(seg.trajectory.positions)
+                return seg.trajectory.positions
         return None
 
     def _take_new_spot(self, spot: NewSpot) -> None:
