@@ -3,10 +3,12 @@ would hit; in PyBullet, a product put down in the carry's way is gone around, an
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
-from scone_bt.motion import FailureStage, MotionPhase
+from scone_bt.motion import ArmModel, FailureStage, MotionPhase
 from scone_bt.motion.collision import Obstacle
 from scone_bt.motion.model import pose_matrix
 from scone_bt.motion.path_watch import MOVED_M, PathWatch
@@ -14,6 +16,18 @@ from scone_bt.motion.path_watch import MOVED_M, PathWatch
 
 def _box(name: str, x: float, y: float, z: float = 0.1, size=(0.05, 0.05, 0.1)) -> Obstacle:
     return Obstacle(name, "box", size, pose_matrix(np.eye(3), (x, y, z)))
+
+
+@pytest.mark.parametrize("base", [(0.0, 0.0, 0.0), (0.5, 0.2, 0.1)])
+def test_products_are_placed_in_the_world_frame_wherever_the_arm_stands(robot_cfg, base):
+    """An arm whose base stands off the origin (both robot files put it there, so this is the only check of the
+    frames): a box at the hand, in world coordinates, is in the way; the same box 1 m away is not."""
+    arm = ArmModel(replace(robot_cfg, base_position=base))
+    q = np.asarray(robot_cfg.home, dtype=float)
+    hand = arm.fk(q)[:3, 3]
+    watch = PathWatch.of(arm, _box("tea", 0.0, 0.0, 0.1, (0.04, 0.04, 0.04)), None, ())
+    assert [o.name for o in watch.in_the_way(np.array([q, q]), None, [_box("sugar", *hand)])] == ["sugar"]
+    assert watch.in_the_way(np.array([q, q]), None, [_box("salt", hand[0], hand[1] + 1.0, hand[2])]) == ()
 
 
 @pytest.fixture
