@@ -30,6 +30,18 @@ def test_products_are_placed_in_the_world_frame_wherever_the_arm_stands(robot_cf
     assert watch.in_the_way(np.array([q, q]), None, [_box("salt", hand[0], hand[1] + 1.0, hand[2])]) == ()
 
 
+def test_the_carried_product_itself_can_be_what_hits(arm, robot_cfg):
+    """A small box 10 cm beyond the hand, where the carried product hangs, is in the way; the same box is clear
+    of a watch whose carried product sits at the hand (so it is the product, not the hand, that would hit it)."""
+    q = np.asarray(robot_cfg.home, dtype=float)
+    beyond = (arm.fk(q) @ np.array([0.0, 0.0, 0.1, 1.0]))[:3]
+    box = _box("sugar", *beyond, size=(0.02, 0.02, 0.02))
+    hanging = PathWatch.of(arm, _box("tea", 0.0, 0.0, 0.1, (0.04, 0.04, 0.04)), None, ())
+    at_hand = PathWatch.of(arm, _box("tea", 0.0, 0.0, 0.0, (0.04, 0.04, 0.04)), None, ())
+    assert [o.name for o in hanging.in_the_way(np.array([q, q]), None, [box])] == ["sugar"]
+    assert at_hand.in_the_way(np.array([q, q]), None, [box]) == ()
+
+
 @pytest.fixture
 def watch(arm):
     """A watch of a plan that knew the salt at (0.3, -0.4), carrying a 4 cm cube 10 cm below the hand."""
