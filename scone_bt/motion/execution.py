@@ -414,13 +414,13 @@ class PickPlaceController:
             return False
         if self._request_new_spot is None or self.current is None:
             return False
-        mine = {self.target_name, self.held}
+        mine = {self.target_name} | ({self.held} if self.held is not None else set())
         rest = self.current.trajectory.positions[k:]
         on_spot = tuple(b for b in arm.products_at(self.placed_at, SPOT_MARGIN) if b.name not in mine)
         unknown: tuple[Obstacle, ...] = ()
         in_way: tuple[Obstacle, ...] = ()
         if self._path_watch is not None:
-            unknown = self._path_watch.unknown(arm.table_products(), {n for n in mine if n is not None})
+            unknown = self._path_watch.unknown(arm.table_products(), mine)
             if unknown and not on_spot:
                 in_way = self._path_watch.in_the_way(rest, self._lowering(), unknown)
         if not on_spot and not in_way:

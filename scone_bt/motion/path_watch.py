@@ -60,6 +60,7 @@ class PathWatch:
     known: dict[str, np.ndarray] = field(default_factory=dict)
     learnt: dict[str, Obstacle] = field(default_factory=dict)
     _cleared: dict[str, np.ndarray] = field(default_factory=dict)  # name -> the pose it was cleared at
+    _bare: CollisionWorld | None = None  # the arm and the carried product alone (built on first need)
 
     @classmethod
     def of(
@@ -67,13 +68,16 @@ class PathWatch:
     ) -> PathWatch:
         """The watch of a plan that knew ``known`` on the table."""
         watch = cls(arm, carried, fingers)
-        watch.known.update((o.name, np.array(o.pose[:2, 3], dtype=float)) for o in known)
+        watch._know(known)
         return watch
+
+    def _know(self, obstacles: Sequence[Obstacle]) -> None:
+        self.known.update((o.name, np.array(o.pose[:2, 3], dtype=float)) for o in obstacles)
 
     def learn(self, obstacles: Sequence[Obstacle]) -> tuple[Obstacle, ...]:
         """The rest of the motion is planned anew knowing ``obstacles`` where they stand; returns every product
         learnt since the first plan (what the re-plan must know). Nothing is cleared for the new motion yet."""
-        self.known.update((o.name, np.array(o.pose[:2, 3], dtype=float)) for o in obstacles)
+        self._know(obstacles)
         self.learnt.update((o.name, o) for o in obstacles)
         self._cleared.clear()
         return tuple(self.learnt.values())
@@ -122,11 +126,11 @@ class PathWatch:
         world = CollisionWorld(self.arm, [ob], self.carried, padding=padding, finger_position=self.fingers)
         if world.states_valid(samples):  # the usual answer, in one compiled pass
             return False
-        bare: CollisionWorld | None = None
         for q in samples:
             if world.is_valid(q):
                 continue
-            bare = bare or CollisionWorld(self.arm, [], self.carried, finger_position=self.fingers)
-            if bare.is_valid(q):
+            if self._bare is None:
+                self._bare = CollisionWorld(self.arm, [], self.carried, finger_position=self.fingers)
+            if self._bare.is_valid(q):
                 return True
         return False

@@ -10,7 +10,7 @@ the rest from it.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -25,6 +25,10 @@ if TYPE_CHECKING:
     from scone_bt.motion.collision import Obstacle
 
 __all__ = ["GroundTruth", "ObjectState", "rotation_of", "yaw_of"]
+
+TABLE_BAND_M = (0.05, 0.3)
+"""Metres below and above the table top a product's centre may be to count as on the table (standing, lying, or
+just set down) for the looks at it (`free_place_spot`, `table_products`)."""
 
 
 @dataclass(frozen=True)
@@ -203,14 +207,19 @@ class GroundTruth:
         """Every product standing on the table, as its shape where it stands (ground truth: the simulation's look
         at the table; upright or not, as long as it lies on the table top)."""
         (cx, cy, cz), (sx, sy, sz) = self.config.scene.table
-        top = cz + sz / 2
-        out = []
+        return tuple(
+            self._obstacle(n, st)
+            for n, st in self._near_table_top(cz + sz / 2)
+            if abs(st.position[0] - cx) <= sx / 2 and abs(st.position[1] - cy) <= sy / 2
+        )
+
+    def _near_table_top(self, top: float) -> Iterator[tuple[str, ObjectState]]:
+        """Each product whose centre lies within `TABLE_BAND_M` of the table top (``top``, metres)."""
+        below, above = TABLE_BAND_M
         for n in self.objects:
             st = self.object_state(n)
-            x, y, z = st.position
-            if abs(x - cx) <= sx / 2 and abs(y - cy) <= sy / 2 and top - 0.05 <= z <= top + 0.3:
-                out.append(self._obstacle(n, st))
-        return tuple(out)
+            if top - below <= st.position[2] <= top + above:
+                yield n, st
 
     def _obstacle(self, name: str, state: ObjectState) -> Obstacle:
         """The product's collision shape where ``state`` has it."""
@@ -237,12 +246,10 @@ class GroundTruth:
         table = TableRegion.from_scene(scene)
         (cx, cy), (sx, sy) = table.center, table.size
         top = table.top_z
-        standing = []
-        for n in self.objects:
-            st = self.object_state(n)
-            x, y, z = st.position
-            if top - 0.05 <= z <= top + 0.3:
-                standing.append(Footprint.of(self.specs[n], x, y, self._yaw(st.orientation)))
+        standing = [
+            Footprint.of(self.specs[n], st.position[0], st.position[1], self._yaw(st.orientation))
+            for n, st in self._near_table_top(top)
+        ]
         grid = [
             (float(x), float(y))
             for x in np.arange(cx - sx / 2 + 0.04, cx + sx / 2 - 0.04 + 1e-9, 0.02)
