@@ -42,10 +42,11 @@ MAX_NEW_SPOTS = 2
 """Most times one attempt moves to another place spot (a person may take the next one too)."""
 
 NewSpotRequest = Callable[
-    [np.ndarray, tuple[Segment, ...], Obstacle, tuple[float, float, float], tuple[Obstacle, ...]],
+    [np.ndarray, tuple[Segment, ...], Obstacle, tuple[float, float, float], tuple[Obstacle, ...], bool],
     Callable[[bool], tuple[bool, NewSpot | None]],
 ]
-"""request(rest of the transit, lower/retreat/home segments, placed shape, spot, blockers) -> poll(block)."""
+"""request(rest of the transit, lower/retreat/home segments, placed shape, spot, blockers, something stands on the
+spot) -> poll(block)."""
 
 
 def _every(seconds: float, time_step: float) -> int:
@@ -433,7 +434,9 @@ class PickPlaceController:
         blockers = tuple({b.name: b for b in (*unknown, *on_spot)}.values())
         if self._path_watch is not None:
             blockers = self._path_watch.learn(blockers)
-        self._spot_poll = self._request_new_spot(rest, original, self.placed_at, self.place_spot, blockers)
+        self._spot_poll = self._request_new_spot(
+            rest, original, self.placed_at, self.place_spot, blockers, bool(on_spot)
+        )
         self.hold_q = rest[0]
         self._enter(MotionPhase.NEW_SPOT)
         return True

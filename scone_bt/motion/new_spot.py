@@ -5,9 +5,11 @@ the robot carries its product over (the `impatient-human` scenario: the olive oi
 The execution looks at the spot while it carries (`ArmExecutor.products_at`); when something stands there, the arm
 holds still and `plan_new_spot` plans, from where it holds, the rest of the motion to another spot among what
 stands on the table now: transit, lowering, retreat and the way home, through the same steps as the first plan
-(`placement_search.search_placements`, OMPL, ruckig), seeded, so a seeded run repeats exactly. Where there is no
-other spot (or the request named its spot), the answer is the rest of the original transit, re-timed from rest:
-the robot goes on as planned, and the attempt says what it knocked over.
+(`placement_search.search_placements`, OMPL, ruckig), seeded, so a seeded run repeats exactly. A request that
+named its spot keeps it: the rest of the motion goes to the same spot another way, around what was put down in
+its way (motion.path_watch). Where there is no other spot (or something stands on the spot the request named), the
+answer is the rest of the original transit, re-timed from rest: the robot goes on as planned, and the attempt says
+what it knocked over.
 """
 
 from __future__ import annotations
@@ -55,7 +57,8 @@ class NewSpot:
         segments: Transit, lower, retreat and home, timed.
         placed: The product's collision shape where it will stand after the release (world frame).
         place_spot: (x, y, table top z) where its centre goes.
-        moved: True for another spot; False for the rest of the original plan (no other spot was found).
+        moved: True for a new plan (another spot, or another way to the spot the request named); False for the
+            rest of the original plan (no other spot was found).
         why: Why no other spot was taken ("" when one was).
     """
 
@@ -76,6 +79,7 @@ def new_spot(
     placed: Obstacle,
     spot: tuple[float, float, float],
     blockers: tuple[Obstacle, ...],
+    spot_taken: bool,
     options: PlannerOptions,
     limits: KinematicLimits,
     rate_hz: float,
@@ -92,13 +96,17 @@ def new_spot(
         original: The original plan's lower, retreat and home segments.
         placed: Where the original plan puts the product (its shape).
         spot: Where its centre goes there (x, y, table top z).
-        blockers: What stands on that spot now (shapes where they stand).
+        blockers: What the plan did not know stands on the table now: on that spot, or in the carry's way (shapes
+            where they stand).
+        spot_taken: Something stands on the spot itself (not only in the way to it).
         options: OMPL's settings.
         limits: The robot's kinematic limits.
         rate_hz: Control rate of the timed segments.
     """
     session = PlanSession(arm, options, limits, rate_hz, request.rng_seed + NEW_SPOT_SEED_OFFSET)
-    found = plan_new_spot(session, request, grasp, fingers, np.asarray(rest[0], dtype=float), blockers)
+    found = plan_new_spot(
+        session, request, grasp, fingers, np.asarray(rest[0], dtype=float), blockers, spot_taken
+    )
     if isinstance(found, NewSpot):
         return found
     return resume_transit(session, rest, original, placed, spot, found)
@@ -127,10 +135,13 @@ def plan_new_spot(
     fingers: float | None,
     q_hold: np.ndarray,
     blockers: tuple[Obstacle, ...],
+    spot_taken: bool,
 ) -> NewSpot | str:
-    """Transit, lower, retreat and home from ``q_hold`` to another spot, with ``blockers`` standing on the table;
-    or why there is none (a line). Arguments as `new_spot`."""
-    if request.place_spots:
+    """Transit, lower, retreat and home from ``q_hold`` to another spot, with ``blockers`` standing on the table
+    (to the same spot another way where the request named it); or why there is none (a line). Arguments as
+    `new_spot`."""
+    named = bool(request.place_spots)  # find_spots then offers only the named spots
+    if named and spot_taken:
         return "the request named its spot"
     taken = {b.name for b in blockers}
     req = replace(
@@ -145,16 +156,21 @@ def plan_new_spot(
         return "no other free spot on the table"
     found = search_placements(session, scene, grasp, spots, fingers)
     if not found.placements or found.carry_world is None:
-        return "no other spot the arm can put it down at"
+        return (
+            "no way down to the spot the request named"
+            if named
+            else "no other spot the arm can put it down at"
+        )
+    goal = "the spot the request named" if named else "another spot"
     params = req.params
     goals = np.array([pl.q_pp for pl in found.placements])
     transit = session.plan(q_hold, goals, found.carry_world, params.path_retries)
     if not transit.success:
-        return f"no way to another spot from where the arm holds ({transit.status.value})"
+        return f"no way to {goal} from where the arm holds ({transit.status.value})"
     placement = found.placements[transit.goal_index]
     placed, home = way_home(session, scene, grasp, placement, fingers)
     if not home.success:
-        return f"no way home from another spot ({home.status.value})"
+        return f"no way home from {goal} ({home.status.value})"
     segments = (
         session.timed(MotionPhase.TRANSIT, transit.waypoints),
         session.timed(MotionPhase.LOWER, placement.lower, slow=True),

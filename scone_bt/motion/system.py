@@ -341,6 +341,7 @@ class PickAndPlace:
         placed: Obstacle,
         spot: tuple[float, float, float],
         blockers: tuple[Obstacle, ...],
+        spot_taken: bool,
     ) -> Callable[[bool], tuple[bool, NewSpot | None]]:
         """Ask the worker for the rest of the motion to another spot (`motion.new_spot`); returns a poll(block)."""
         sys_ = self.system
@@ -357,6 +358,7 @@ class PickAndPlace:
             placed,
             spot,
             blockers,
+            spot_taken,
             sys_.planner,
             sys_.limits,
             sys_.robot.control.rate_hz,

@@ -181,3 +181,43 @@ def test_without_the_watch_the_product_in_the_way_is_hit(stocked, task_for):
     moved = np.linalg.norm(np.array(kitchen.object_state("sugar").position[:2]) - put)
     assert not outcome.success and outcome.stage is FailureStage.COLLISION, outcome.message
     assert "sugar" in outcome.message or moved > 0.005
+
+
+def _named_spot_task(kitchen, system, detect, kitchen_cfg):
+    """The salt's pick-and-place to the kitchen's first named table spot; (task, the spot)."""
+    x, y = kitchen_cfg.scene.place_spots[0]
+    named = (x, y, kitchen_cfg.scene.table_top_z)
+    others = [(detect(kitchen, n), kitchen.specs[n]) for n in kitchen.objects if n != "salt"]
+    spec = kitchen.specs["salt"]
+    return system.pick_and_place(detect(kitchen, "salt"), spec, others, rng_seed=3, place_spot=named), named
+
+
+@pytest.mark.slow
+def test_a_spot_the_request_named_is_kept_and_the_product_in_its_way_gone_around(
+    stocked, detect, kitchen_cfg
+):
+    """A request that names its spot keeps it: the rest of the carry goes there another way, around the sugar."""
+    kitchen, system = stocked
+    task, named = _named_spot_task(kitchen, system, detect, kitchen_cfg)
+    task.start()
+    outcome, put = _put_in_the_way_during_the_transit(kitchen, system, task, "sugar")
+    assert outcome.success, outcome.message
+    assert outcome.message == "placed upright on the table (another way: sugar was put down in its way)"
+    salt = np.array(kitchen.object_state("salt").position[:2])
+    assert np.linalg.norm(salt - np.array(named[:2])) < 0.01  # on the spot it was asked for
+    assert np.linalg.norm(np.array(kitchen.object_state("sugar").position[:2]) - put) < 0.005  # untouched
+
+
+@pytest.mark.slow
+def test_a_spot_the_request_named_is_not_traded_for_another_when_something_stands_on_it(
+    stocked, detect, kitchen_cfg
+):
+    kitchen, system = stocked
+    task, named = _named_spot_task(kitchen, system, detect, kitchen_cfg)
+    task.start()
+    while not task.done():
+        kitchen.advance(0.1)
+        if task.progress().phase is MotionPhase.TRANSIT and not kitchen.is_on_table("sugar"):
+            kitchen.place_object("sugar", named)
+    message = task.outcome().message
+    assert "sugar stood on the planned spot, and the request named its spot" in message, message
