@@ -536,7 +536,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         "gate", help="does the gate keep its failure budget on new products, and at what help rate"
     )
     p.add_argument(
-        "--datasets", type=path_arg, help="self-confidence datasets folder (default tools/data/sc)"
+        "--datasets",
+        type=path_arg,
+        help="self-confidence datasets folder (default tools/data/sc_probe, with the heft test's readings, "
+        "where the replay probes; tools/data/sc with --no-probe)",
     )
     p.add_argument(
         "--prior",
@@ -586,8 +589,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--probe",
         action=argparse.BooleanOptionalAction,
         default=None,
-        help="replay the heft test too (datasets with probe readings, e.g. tools/data/sc_probe; default: the "
-        "tree's probe.enabled)",
+        help="the heft test, in the replay (datasets with probe readings: tools/data/sc_probe by default) and the "
+        "episodes (default: the tree's probe.enabled)",
     )
     p.add_argument(
         "--exploration-credit",

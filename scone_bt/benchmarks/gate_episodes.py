@@ -66,8 +66,9 @@ def episode_counts(events: Sequence[Any]) -> dict[str, Any]:
 
 
 def run_episodes(args: argparse.Namespace) -> dict[str, Any]:
-    """Seeded episodes over corpus recipes, self-confidence on (the tree's defaults) and the paper's control, and
-    with ``--probe`` a third condition with the heft test and the strict promise on (``self_confidence_on_probe``)."""
+    """Seeded episodes over corpus recipes: self-confidence on, the robot as the tree and the flags set it (the
+    heft test and the strict promise: on in the shipped tree, off with ``--no-probe``/``--no-exploration-credit``),
+    and the paper's control."""
     from scone_bt.behaviours import BehaviourOptions
     from scone_bt.benchmarks.decisions import pick_recipes
     from scone_bt.config import load_kitchen
@@ -77,13 +78,14 @@ def run_episodes(args: argparse.Namespace) -> dict[str, Any]:
     slots = len(load_kitchen().scene.shelf_slots())
     recipes = pick_recipes(args.recipes, args.seed, slots - args.distractors)
     out: dict[str, Any] = {"episodes": args.episodes, "recipes": len(set(recipes[: args.episodes]))}
+    robot = {
+        "probe": {"enabled": bool(getattr(args, "probe_on", False))},
+        "exploration_credit": getattr(args, "excess_allowance", None) is not None,
+    }
     conditions: dict[str, dict[str, Any]] = {
-        "self_confidence_on": {},
+        "self_confidence_on": robot,
         "control": {"use_self_confidence": False, "gate": "paper"},
     }
-    if getattr(args, "probe_on", False):  # --probe: the heft test beside the tree's default
-        credit = getattr(args, "excess_allowance", None) is not None
-        conditions["self_confidence_on_probe"] = {"probe": {"enabled": True}, "exploration_credit": credit}
     for label, extra in conditions.items():
         totals: dict[str, float] = {}
         planning: list[float] = []

@@ -51,10 +51,19 @@ class Streams:
 
 
 def datasets_folder(args: argparse.Namespace) -> Path:
-    """``--datasets``, or the committed development streams (tools/data/sc) when it is not given."""
+    """``--datasets``, or the committed development streams when it is not given: those with the heft test's
+    readings (tools/data/sc_probe) where the replay probes (``args.probe_on``: the tree's ``probe.enabled``, or
+    ``--probe``), else tools/data/sc."""
     from scone_bt.resources import repo_root
 
-    return Path(args.datasets) if args.datasets else (repo_root() or Path(".")) / "tools" / "data" / "sc"
+    if args.datasets:
+        return Path(args.datasets)
+    return (
+        (repo_root() or Path("."))
+        / "tools"
+        / "data"
+        / ("sc_probe" if getattr(args, "probe_on", False) else "sc")
+    )
 
 
 def load_streams(args: argparse.Namespace, oracle: bool, folder: Path | None = None) -> Streams:

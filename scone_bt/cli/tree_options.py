@@ -149,12 +149,12 @@ def tree_overrides(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def check_flags_take_effect(
-    given: dict[str, Any], gate: str, self_confidence: bool, probe_enabled: bool = True
+    given: dict[str, Any], gate: str, self_confidence: bool, probe_enabled: bool
 ) -> None:
     """Refuse a decision option given on the command line that this run would not read (one meaning per flag):
     the budget gate's settings with ``gate`` paper, the paper's threshold with the budget gate, every gate
     setting without self-confidence (the robot always acts), and the probe's settings while it is off. A tree file
-    may hold values for either gate (only a switch its gate never reads is refused there, by `TreeParameters`).
+    holds values for both gates; the gate in use reads its own (docs/one_source.md).
 
     Args:
         given: `tree_overrides`' result (the options given, by tree-file key).

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import Field, model_validator
+from pydantic import Field
 
 from scone_bt.config.schema import StrictModel
 
@@ -29,7 +29,7 @@ class ProbeParameters(StrictModel):
 
     enabled: Annotated[
         bool, Field(description="heft what κ̂ is unsure of before carrying it (the budget gate only)")
-    ] = False
+    ] = True
     below: Annotated[
         float,
         Field(
@@ -169,34 +169,14 @@ class TreeParameters(StrictModel):
         bool,
         Field(
             description="the strict promise: explore (attempt below the threshold) only while one more failure "
-            "keeps failures ≤ target_failure_rate × attempts + 1; off: explore while still learning"
+            "keeps failures ≤ target_failure_rate × attempts + 1; off: explore while still learning "
+            "(the budget gate only)"
         ),
-    ] = False
+    ] = True
     probe: Annotated[
         ProbeParameters,
         Field(description="the heft test: when the budget gate lifts a product a little to feel it first"),
     ] = ProbeParameters()
-
-    @model_validator(mode="after")
-    def _budget_switches_need_the_budget_gate(self) -> TreeParameters:
-        """One meaning per key: a switch the paper's gate never reads is refused, not silently ignored (the
-        command line's `--gate paper --exploration-credit` is refused the same way)."""
-        if self.gate == "paper":
-            on = [
-                k
-                for k, v in (
-                    ("exploration_credit", self.exploration_credit),
-                    ("probe.enabled", self.probe.enabled),
-                )
-                if v
-            ]
-            if on:
-                words = ("are read", "they do", "them") if len(on) > 1 else ("is read", "it does", "it")
-                raise ValueError(
-                    f"{' and '.join(on)}: true {words[0]} by gate: budget only; with gate: paper {words[1]} "
-                    f"nothing (set gate: budget, or turn {words[2]} off)"
-                )
-        return self
 
 
 PARAMETER_NAMES: tuple[str, ...] = tuple(TreeParameters.model_fields)

@@ -492,6 +492,13 @@ def _summarise(
         table[LoopPart.PERCEPTION] = seconds
         table[LoopPart.TREE] = table.get(LoopPart.TREE, 0.0) - seconds - table.get(LoopPart.EMBEDDING, 0.0)
     recipe = plan.recipe
+    behaviour = plan.behaviour
+    # the budget gate's promise, and how it is kept; the paper's gate and the control read neither
+    budget = (
+        behaviour.target_failure_rate
+        if behaviour.use_self_confidence and behaviour.gate == "budget"
+        else None
+    )
     return EpisodeSummary(
         recipe_id=recipe.recipe.id,
         recipe_title=recipe.recipe.title,
@@ -525,12 +532,8 @@ def _summarise(
         condition=condition_line(plan.behaviour),
         decided_by_rule=dict(ep.log_lines.rules),
         not_stocked=len(recipe.unstocked) + len(recipe.off_shelf),
-        failure_budget=(
-            plan.behaviour.target_failure_rate
-            if plan.behaviour.use_self_confidence and plan.behaviour.gate == "budget"
-            else None
-        ),
-        strict_promise=bool(plan.behaviour.exploration_credit),
+        failure_budget=budget,
+        strict_promise=budget is not None and bool(plan.behaviour.exploration_credit),
     )
 
 

@@ -12,6 +12,7 @@ from scone_bt.behaviours import BehaviourOptions
 from scone_bt.cli.run import build_parser, main, options_from_args
 from scone_bt.cli.tree_options import dest_of, flag_of, option_fields
 from scone_bt.config.tree_parameters import PARAMETER_NAMES, GateName, ProbeParameters, TreeParameters
+from scone_bt.errors import SconeError
 
 
 def test_every_tree_parameter_is_a_scone_run_option_with_its_description_as_help() -> None:
@@ -123,40 +124,32 @@ def test_the_options_of_the_gate_in_use_are_taken(capsys) -> None:
     assert budget.probe is not None and budget.exploration_credit is True
 
 
-@pytest.mark.parametrize(
-    ("edit", "argv", "line"),
-    [
-        (
-            ("gate: budget", "gate: paper"),
-            [],
-            "parameters: exploration_credit: true is read by gate: budget only",
-        ),
-        ((None, None), ["--gate", "paper"], "scone-run: error: --gate paper over the tree file "),
-    ],
-)
-def test_a_tree_file_switch_the_paper_gate_never_reads_is_refused(edit, argv, line, tmp_path, capsys) -> None:
-    """A tree file with gate: paper and exploration_credit: true ran the paper's gate without a word."""
+def test_the_paper_gate_runs_over_a_tree_whose_budget_switches_are_on(tmp_path) -> None:
+    """The shipped tree turns the heft probe and the strict promise on: `--gate paper` over it, or a tree file
+    with gate: paper, runs the paper's gate, which reads neither (as the budget gate does not read
+    confidence_threshold; scenarios/paper-gate-self-confidence.yaml checks that it never probes); the switches
+    given on the command line with the paper's gate are still refused."""
     from scone_bt.resources import data_dir
+    from scone_bt.tree import load_tree_spec
 
+    shipped = TreeParameters.model_validate(load_tree_spec("assistive_cooking").parameters)
+    assert shipped.probe.enabled and shipped.exploration_credit  # the premise
+    paper = options_from_args(build_parser().parse_args(["--gate", "paper"])).behaviour
+    assert paper.gate == "paper"
     text = (data_dir("trees") / "assistive_cooking.yaml").read_text(encoding="utf-8")
-    text = text.replace("  exploration_credit: false", "  exploration_credit: true")
-    if edit[0] is not None:
-        text = text.replace(f"  {edit[0]}", f"  {edit[1]}")
     tree = tmp_path / "tree.yaml"
-    tree.write_text(text, encoding="utf-8")
-    assert main(["--tree", str(tree), *argv]) == 2
-    err = capsys.readouterr().err
-    assert line in err and err.count("\n") == 1, err
-    assert "exploration_credit: true is read by gate: budget only" in err  # the tree's one rule, both ways
-    assert TreeParameters(gate="paper", exploration_credit=False).gate == "paper"
-    with pytest.raises(ValueError, match="probe.enabled: true is read by gate: budget only"):
-        TreeParameters(gate="paper", probe=ProbeParameters(enabled=True))
+    tree.write_text(text.replace("  gate: budget", "  gate: paper"), encoding="utf-8")
+    assert options_from_args(build_parser().parse_args(["--tree", str(tree)])).behaviour.gate is None
+    assert TreeParameters(gate="paper", probe=ProbeParameters(enabled=True), exploration_credit=True)
+    for argv in (["--gate", "paper", "--probe-enabled"], ["--gate", "paper", "--no-exploration-credit"]):
+        with pytest.raises(SconeError, match="has no effect with the paper's gate"):
+            options_from_args(build_parser().parse_args(argv))
 
 
 def test_a_probe_setting_while_the_probe_is_off_is_refused(capsys) -> None:
-    """`--probe-below 0.5` alone changed nothing and said nothing."""
-    assert main(["--probe-below", "0.5"]) == 2
+    """`--probe-below 0.5` with the probe off changed nothing and said nothing."""
+    assert main(["--no-probe-enabled", "--probe-below", "0.5"]) == 2
     err = capsys.readouterr().err
     assert "--probe-below has no effect while the probe is off: give --probe-enabled too" in err
-    behaviour = options_from_args(build_parser().parse_args(["--probe-enabled", "--probe-below", "0.5"]))
+    behaviour = options_from_args(build_parser().parse_args(["--probe-below", "0.5"]))  # on in the shipped tree
     assert behaviour.behaviour.resolve({}).probe == ProbeParameters(enabled=True, below=0.5)

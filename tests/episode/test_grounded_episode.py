@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 
 import numpy as np
@@ -13,6 +14,7 @@ from scone_bt.confidence.grounded import is_grounded
 from scone_bt.episode import EpisodeOptions, EpisodeResources, run_episode
 from scone_bt.events import ActOutcome, DecisionMade, PlanInfeasible
 from scone_bt.experience import open_store
+from scone_bt.experience.types import ExecutionContext
 from scone_bt.gate.types import DecisionKind
 from scone_bt.tree import load_tree_spec
 from tests.behaviours.fakes import FakeRobot
@@ -50,7 +52,12 @@ def test_a_grounded_episode_stores_contexts_and_a_restart_rebuilds_from_them(tmp
         stored = store.outcomes()
     outcomes = [e for e in events if isinstance(e, ActOutcome | PlanInfeasible)]
     assert [o.success for o in stored] == [isinstance(o, ActOutcome) and o.success for o in outcomes]
-    assert [o.execution for o in stored] == acted[: len(stored)]
+    # what the robot perceived, as it decided; an action it hefted first adds what its fingers felt (the felt_
+    # fields, experience.felt), none of which the decision knew
+    felt = [f.name for f in dataclasses.fields(ExecutionContext) if f.name.startswith("felt_")]
+    perceived = [dataclasses.replace(o.execution, **dict.fromkeys(felt)) for o in stored]
+    assert perceived == acted[: len(stored)]
+    assert any(o.execution.felt_held is not None for o in stored)  # the shipped tree hefts what it is unsure of
 
     # A restarted robot rebuilds the grounded κ̂ from those outcomes and their contexts.
     lines: list[str] = []

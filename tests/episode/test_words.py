@@ -32,7 +32,8 @@ def test_items_the_robot_placed_are_never_reported_missing_and_the_condition_is_
     assert summary.completed
     condition = condition_line(BehaviourOptions(seed=0).resolve())
     assert condition.startswith(
-        "self-confidence on (physical, failure budget: 15% of attempts, kept over the long run)"
+        "self-confidence on (physical, failure budget: 15% of attempts, kept over the long run; explores only on "
+        "earned credit; hefts what it is unsure of)"
     )
     assert lines[1] == f"condition: {condition}"
     assert summary.condition == condition
