@@ -347,6 +347,25 @@ def test_probe_on_datasets_without_probe_readings_is_one_line(tmp_path: Path, ca
     assert json.loads((tmp_path / "g.json").read_text())["default"]["probe"] is False
 
 
+def test_the_replay_of_a_probing_robot_reads_the_streams_with_probe_readings_by_default() -> None:
+    """The shipped tree probes: a plain `scone-bench gate` replays tools/data/sc_probe (tools/data/sc had no
+    readings, so the shipped robot was replayed without its probe); ``--no-probe`` reads tools/data/sc, and
+    ``--datasets`` always wins."""
+    import argparse
+
+    from scone_bt.benchmarks.gate import _tree_defaults
+    from scone_bt.benchmarks.replay_streams import datasets_folder
+
+    def folder(**flags) -> Path:
+        args = argparse.Namespace(**{"datasets": None, "probe": None, "exploration_credit": None, **flags})
+        _tree_defaults(args)
+        return datasets_folder(args)
+
+    assert folder().parts[-2:] == ("data", "sc_probe")
+    assert folder(probe=False).parts[-2:] == ("data", "sc")
+    assert folder(datasets="runs/mine", probe=True) == Path("runs/mine")
+
+
 def test_an_episode_counts_an_aborted_probe_apart_and_its_ask_as_help() -> None:
     """``--episodes``: the set-back is not a failure or an attempt; the ask that follows it is help."""
     from scone_bt.benchmarks.gate_episodes import episode_counts

@@ -151,5 +151,6 @@ def test_a_probe_setting_while_the_probe_is_off_is_refused(capsys) -> None:
     assert main(["--no-probe-enabled", "--probe-below", "0.5"]) == 2
     err = capsys.readouterr().err
     assert "--probe-below has no effect while the probe is off: give --probe-enabled too" in err
-    behaviour = options_from_args(build_parser().parse_args(["--probe-below", "0.5"]))  # on in the shipped tree
+    # the probe is on in the shipped tree
+    behaviour = options_from_args(build_parser().parse_args(["--probe-below", "0.5"]))
     assert behaviour.behaviour.resolve({}).probe == ProbeParameters(enabled=True, below=0.5)

@@ -57,7 +57,8 @@ def test_a_grounded_episode_stores_contexts_and_a_restart_rebuilds_from_them(tmp
     felt = [f.name for f in dataclasses.fields(ExecutionContext) if f.name.startswith("felt_")]
     perceived = [dataclasses.replace(o.execution, **dict.fromkeys(felt)) for o in stored]
     assert perceived == acted[: len(stored)]
-    assert any(o.execution.felt_held is not None for o in stored)  # the shipped tree hefts what it is unsure of
+    # the shipped tree hefts what it is unsure of
+    assert any(o.execution.felt_held is not None for o in stored)
 
     # A restarted robot rebuilds the grounded κ̂ from those outcomes and their contexts.
     lines: list[str] = []
