@@ -1,5 +1,5 @@
-"""``scone-bench gate --episodes N``: seeded full episodes per condition (self-confidence on, the paper's control,
-and with ``--probe`` the heft test), counted from their events (`episode_counts`, `run_episodes`)."""
+"""``scone-bench gate --episodes N``: seeded full episodes per condition (self-confidence on, as the tree and the
+flags set the robot, and the paper's control), counted from their events (`episode_counts`, `run_episodes`)."""
 
 from __future__ import annotations
 

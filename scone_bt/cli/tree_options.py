@@ -138,9 +138,6 @@ def tree_overrides(args: argparse.Namespace) -> dict[str, Any]:
         TreeParameters.model_validate(given)
     except ValidationError as exc:
         loc = tuple(str(k) for k in exc.errors(include_url=False)[0]["loc"])
-        # a combination of keys (the model's own check): check_flags_take_effect names the options
-        if not loc:
-            return given
         path = loc if loc in values else loc[:1]
         raise SconeError(
             format_validation_error(exc, f"{flag_of(path)} {values.get(path)}", words=_words)
@@ -166,9 +163,16 @@ def check_flags_take_effect(
         SconeError: the first such option, naming what it needs.
     """
 
+    def flag(path: tuple[str, ...], value: object) -> str:
+        """The option as given: ``--no-probe-enabled`` for a switch turned off."""
+        name = flag_of(path)
+        return "--no-" + name.removeprefix("--") if value is False else name
+
     def flags(key: str) -> list[str]:
         value = given.get(key)
-        return [flag_of((key, sub)) for sub in value] if isinstance(value, dict) else [flag_of(key)]
+        if isinstance(value, dict):
+            return [flag((key, sub), v) for sub, v in value.items()]
+        return [flag((key,), value)]
 
     for key in given:
         if not self_confidence and key in (*_BUDGET_ONLY, *_PAPER_ONLY, "gate"):

@@ -65,8 +65,14 @@ def test_the_printer_counts_the_decisions_each_rule_made() -> None:
 
 
 def test_the_condition_names_kappa_and_its_threshold_or_the_control() -> None:
-    on = BehaviourOptions().resolve()
+    on = BehaviourOptions().resolve()  # the shipped tree: the strict promise and the heft test on
     assert condition_line(on) == (
+        f"self-confidence on ({on.estimator}, failure budget: 15% of attempts, kept over the long run; explores "
+        f"only on earned credit; hefts what it is unsure of), ask after {on.max_failures_per_action} failures on "
+        "one action"
+    )
+    before = BehaviourOptions(exploration_credit=False, probe=ProbeParameters(enabled=False)).resolve()
+    assert condition_line(before) == (
         f"self-confidence on ({on.estimator}, failure budget: 15% of attempts, kept over the long run), "
         f"ask after {on.max_failures_per_action} failures on one action"
     )
@@ -80,7 +86,7 @@ def test_the_condition_names_kappa_and_its_threshold_or_the_control() -> None:
         f"self-confidence on ({paper.estimator}, threshold {paper.confidence_threshold:g}), "
         f"ask after {paper.max_failures_per_action} failures on one action"
     )
-    strict = BehaviourOptions(exploration_credit=True).resolve()
+    strict = BehaviourOptions(exploration_credit=True, probe=ProbeParameters(enabled=False)).resolve()
     assert (
         "failure budget: 15% of attempts, kept over the long run; explores only on earned credit), ask"
         in condition_line(strict)

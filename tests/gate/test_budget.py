@@ -215,7 +215,8 @@ def test_excess_allowance_is_validated() -> None:
 
 
 def test_without_the_strict_rule_exploration_needs_no_credit() -> None:
-    """The default (exploration_credit: false): the budget explores while learning, whatever the excess."""
+    """Without the strict promise (exploration_credit: false; on in the shipped tree): the budget explores while
+    learning, whatever the excess."""
     options = BudgetOptions(target_failure_rate=0.05)
     after_one = BudgetCounts(attempts=1, failures=1, explored_failures=1, learnt=1)
     assert has_credit(options, after_one)
