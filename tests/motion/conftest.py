@@ -89,11 +89,15 @@ def run_to_end():
 
 @pytest.fixture
 def task_for(detect):
-    """task_for(kitchen, system, name, seed) -> a PickAndPlace of that object, the others as obstacles."""
+    """task_for(kitchen, system, name, seed, place_spot) -> a PickAndPlace of that object, the others as
+    obstacles (``place_spot``: the spot the request names, None: sampled)."""
 
-    def make(kitchen, system, name, seed=3):
+    def make(kitchen, system, name, seed=3, place_spot=None):
         others = [(detect(kitchen, n), kitchen.specs[n]) for n in kitchen.objects if n != name]
-        return system.pick_and_place(detect(kitchen, name), kitchen.specs[name], others, rng_seed=seed)
+        spec = kitchen.specs[name]
+        return system.pick_and_place(
+            detect(kitchen, name), spec, others, rng_seed=seed, place_spot=place_spot
+        )
 
     return make
 

@@ -183,22 +183,20 @@ def test_without_the_watch_the_product_in_the_way_is_hit(stocked, task_for):
     assert "sugar" in outcome.message or moved > 0.005
 
 
-def _named_spot_task(kitchen, system, detect, kitchen_cfg):
-    """The salt's pick-and-place to the kitchen's first named table spot; (task, the spot)."""
+def _named_spot(kitchen_cfg) -> tuple[float, float, float]:
+    """The kitchen's first named table spot (x, y, table top z)."""
     x, y = kitchen_cfg.scene.place_spots[0]
-    named = (x, y, kitchen_cfg.scene.table_top_z)
-    others = [(detect(kitchen, n), kitchen.specs[n]) for n in kitchen.objects if n != "salt"]
-    spec = kitchen.specs["salt"]
-    return system.pick_and_place(detect(kitchen, "salt"), spec, others, rng_seed=3, place_spot=named), named
+    return x, y, kitchen_cfg.scene.table_top_z
 
 
 @pytest.mark.slow
 def test_a_spot_the_request_named_is_kept_and_the_product_in_its_way_gone_around(
-    stocked, detect, kitchen_cfg
+    stocked, task_for, kitchen_cfg
 ):
     """A request that names its spot keeps it: the rest of the carry goes there another way, around the sugar."""
     kitchen, system = stocked
-    task, named = _named_spot_task(kitchen, system, detect, kitchen_cfg)
+    named = _named_spot(kitchen_cfg)
+    task = task_for(kitchen, system, "salt", place_spot=named)
     task.start()
     outcome, put = _put_in_the_way_during_the_transit(kitchen, system, task, "sugar")
     assert outcome.success, outcome.message
@@ -210,10 +208,11 @@ def test_a_spot_the_request_named_is_kept_and_the_product_in_its_way_gone_around
 
 @pytest.mark.slow
 def test_a_spot_the_request_named_is_not_traded_for_another_when_something_stands_on_it(
-    stocked, detect, kitchen_cfg
+    stocked, task_for, kitchen_cfg
 ):
     kitchen, system = stocked
-    task, named = _named_spot_task(kitchen, system, detect, kitchen_cfg)
+    named = _named_spot(kitchen_cfg)
+    task = task_for(kitchen, system, "salt", place_spot=named)
     task.start()
     while not task.done():
         kitchen.advance(0.1)
