@@ -380,12 +380,21 @@ def configure_logging(level: str) -> None:
 
 
 def _check_display(args: argparse.Namespace) -> None:
-    """--gui needs a display: without one PyBullet's GUI connect fails without a word and the process exits 1."""
+    """--gui and --viewer need a display: without one PyBullet's GUI connect fails without a word and the process
+    exits 1, and the spawned rerun viewer dies while the recording waits 5 s for it, then blames --connect."""
     display = os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
-    if args.gui and args.robot == "sim" and sys.platform.startswith("linux") and not display:
+    if display or not sys.platform.startswith("linux"):
+        return
+    if args.gui and args.robot == "sim":
         raise SconeError(
             "--gui: no display to open PyBullet's window on (DISPLAY is not set); run without --gui and watch it "
             "with --viewer, or record it with --save"
+        )
+    if args.viewer:
+        raise SconeError(
+            "--viewer: no display to open rerun's viewer on (neither DISPLAY nor WAYLAND_DISPLAY is set); record "
+            "with --save and open the file where there is a display, or stream with --connect to a viewer "
+            "running elsewhere"
         )
 
 

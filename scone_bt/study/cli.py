@@ -108,7 +108,7 @@ def _add_simulate_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentPa
     m.add_argument("--participants", type=int, default=31, help="number of simulated participants")
     m.add_argument("--db", type=path_arg, required=True, help="new study log to write")
     m.add_argument(
-        "--fast", action="store_true", help="synthetic episodes without physics (seconds instead of hours)"
+        "--fast", action="store_true", help="synthetic episodes without physics (seconds instead of minutes)"
     )
     m.add_argument("--seed", type=int, default=0)
     m.add_argument("--steps", type=int, default=5, help="recipe steps per synthetic episode (--fast)")

@@ -174,6 +174,8 @@ class Sinks:
         if connect_url is not None and connect_url not in urls:  # rerun refuses two sinks to one address
             urls.append(connect_url)
         self._viewer_urls = tuple(urls)
+        # The flag a stalled viewer is reported under: the one the user gave.
+        self._viewer_flag = "--connect" if connect is not None else "--viewer"
         if self._view_rec is not None:  # the viewer first: if it fails, no file was begun
             self._attach_viewer(blueprint)
         self._sink_path: Path | None = None
@@ -281,7 +283,7 @@ class Sinks:
             self._view_rec = None
             _bound_rerun_shutdown()  # the stuck stream must not hold the process at exit either
             raise ConfigError(
-                f"--connect {', '.join(self._viewer_urls)}: the viewer accepted the connection but did not take "
+                f"{self._viewer_flag} {', '.join(self._viewer_urls)}: the viewer accepted the connection but did not take "
                 f"the recording's first data within {VIEWER_STALL_TIMEOUT_S:g} s; is it a rerun viewer that "
                 "responds? Record with --save and open the file later"
             )

@@ -222,6 +222,16 @@ def test_gui_without_a_display_is_one_line_not_a_silent_exit(monkeypatch, capsys
     assert "--gui: no display to open PyBullet's window on" in _one_line_error(["--gui"], capsys)
 
 
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the display check is X/Wayland's")
+def test_viewer_without_a_display_names_viewer_not_connect(monkeypatch, capsys):
+    """It used to spawn a viewer that died at once, wait 5 s, and blame --connect, a flag never given."""
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    err = _one_line_error(["--viewer"], capsys)
+    assert "--viewer: no display to open rerun's viewer on" in err
+    assert "--connect rerun+http" not in err
+
+
 @pytest.mark.parametrize("robot_id", ["", "   ", "panda 2", "x" * 65])
 def test_a_robot_id_that_no_query_would_match_is_one_line(robot_id, capsys):
     """'   ' was stored as the robot's id in a shared store; '' silently meant the arm's name."""
