@@ -4,10 +4,11 @@ option's default said once, where it means something)."""
 from __future__ import annotations
 
 import argparse
+from collections.abc import Mapping
 from pathlib import Path
 from typing import NoReturn
 
-__all__ = ["DefaultsHelpFormatter", "OneLineArgumentParser", "path_arg", "store_arg"]
+__all__ = ["DefaultsHelpFormatter", "OneLineArgumentParser", "path_arg", "refuse_unread", "store_arg"]
 
 
 def path_arg(text: str) -> Path:
@@ -23,6 +24,22 @@ def store_arg(text: str) -> str:
     if not text.strip():
         raise argparse.ArgumentTypeError("an empty store; give an SQLite file or a postgresql:// URL")
     return text
+
+
+def refuse_unread(
+    args: argparse.Namespace, defaults: argparse.Namespace, options: Mapping[str, str], why: str
+) -> None:
+    """One meaning per flag: refuse the first of ``options`` (dest → flag) that this run would not read, given
+    with another value than its default (`defaults`: the command's namespace with nothing given), in one line:
+    "FLAG: WHY". A default given explicitly is no other value."""
+    from scone_bt.errors import SconeError
+
+    for dest, flag in options.items():
+        given, default = getattr(args, dest, None), getattr(defaults, dest, None)
+        if isinstance(given, list | tuple) and isinstance(default, list | tuple):
+            given, default = list(given), list(default)  # nargs: a list given, a tuple as the default
+        if given != default:
+            raise SconeError(f"{flag}: {why}")
 
 
 class OneLineArgumentParser(argparse.ArgumentParser):

@@ -21,6 +21,8 @@ class EpisodeDefaults:
         max_ticks: Limit on control ticks.
         tick_period: Simulated seconds per control tick.
         distractors: Products not in the recipe put on the shelf.
+        takeover_probability: Chance the simulated human takes over an action the robot attempts, in [0, 1].
+        learn_from: Whose stored outcomes rebuild κ̂ from an outcome store: "self", "same-model" or "fleet".
     """
 
     robot: str = "panda"
@@ -31,6 +33,8 @@ class EpisodeDefaults:
     max_ticks: int = 4000
     tick_period: float = 0.1
     distractors: int = 6
+    takeover_probability: float = 0.0
+    learn_from: str = "self"
 
 
 EPISODE = EpisodeDefaults()

@@ -7,6 +7,8 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from scone_bt.defaults import EPISODE
+
 if TYPE_CHECKING:
     from scone_bt.config.tree_parameters import GateName, ProbeParameters
 
@@ -71,7 +73,7 @@ class BehaviourOptions:
     cache_dir: Path | None = None
     experience_path: Path | str | None = None
     robot_id: str = ""
-    learn_from: str = "self"
+    learn_from: str = EPISODE.learn_from
     profile: str = ""
     seed: int = 0
 

@@ -410,6 +410,7 @@ def _run(args: argparse.Namespace) -> int:
     for target in args.target_error_rates:  # the gate's own range (GateOptions), checked before any replay
         if not 0.0 < target < 1.0:
             raise SconeError(f"--target-error-rates {target}: must be a number in (0, 1)")
+    _check_modes(args)
     _check_names_and_threshold(args)
     started = time.perf_counter()
     report: dict[str, Any] = {
@@ -430,6 +431,43 @@ def _run(args: argparse.Namespace) -> int:
     report["wall_s"] = round(time.perf_counter() - started, 1)
     emit_report(report, args.json, force=args.force)
     return 0
+
+
+_GATE_ONLY = {
+    "embedder": "--embedder",
+    "estimators": "--estimators",
+    "target_error_rates": "--target-error-rates",
+    "datasets": "--datasets",
+    "warmup": "--warmup",
+}
+"""Options only the gate replay reads."""
+_EPISODES_ONLY = {
+    "recipes": "--recipes",
+    "distractors": "--distractors",
+    "estimator": "--estimator",
+    "relevance_threshold": "--relevance-threshold",
+    "robot": "--robot",
+    "arm": "--arm",
+}
+"""Options only the episodes read."""
+
+
+def _check_modes(args: argparse.Namespace) -> None:
+    """Something to run, and no option given that neither part reads (one meaning per flag)."""
+    from scone_bt.argparsing import refuse_unread
+    from scone_bt.errors import SconeError
+
+    if args.no_gate and args.episodes == 0:
+        raise SconeError(
+            "--no-gate with --episodes 0: nothing to run; give episodes, or leave the gate replay on"
+        )
+    parser = argparse.ArgumentParser()
+    register(parser.add_subparsers())
+    defaults = parser.parse_args(["decisions"])
+    if args.no_gate:
+        refuse_unread(args, defaults, _GATE_ONLY, "only the gate replay reads it, and --no-gate skips it")
+    if args.episodes == 0:
+        refuse_unread(args, defaults, _EPISODES_ONLY, "only the episodes read it, and --episodes 0 runs none")
 
 
 def _check_names_and_threshold(args: argparse.Namespace) -> None:

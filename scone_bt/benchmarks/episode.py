@@ -102,10 +102,18 @@ def _check_args(args: argparse.Namespace) -> list[str]:
     """The recipe ids; a bad option is one line now, not after the first episode's start-up."""
     from scone_bt.checks import check_positive_int, comma_list
     from scone_bt.config import load_robot
+    from scone_bt.errors import SconeError
+    from scone_bt.recipes import load_recipe
 
     check_positive_int(args.max_ticks, "--max-ticks")
     load_robot(args.arm)
-    return list(comma_list(args.recipes, "--recipes", "example:hummus,example:pancakes"))
+    recipes = list(comma_list(args.recipes, "--recipes", "example:hummus,example:pancakes"))
+    for recipe in recipes:  # before the first episode starts (and its progress bar with it)
+        try:
+            load_recipe(recipe)
+        except SconeError as exc:
+            raise SconeError(f"--recipes: {exc}") from None
+    return recipes
 
 
 def _run_episodes(args: argparse.Namespace, recipes: list[str]) -> list[dict[str, Any]]:

@@ -45,6 +45,12 @@ GATE = 0.5
 FIRST_N = 20
 
 
+DEFAULT_ESTIMATOR = "eps-knn"
+"""κ̂ of the learning replay when --estimator is not given."""
+DEFAULT_SEEDS = 10
+"""Seeds of the learning replay when --seeds is not given."""
+
+
 def _stderr(proc: subprocess.Popen[str]) -> str:
     """What a finished robot process wrote to its standard error (piped), stripped."""
     return proc.stderr.read().strip() if proc.stderr is not None else ""
@@ -158,7 +164,7 @@ def replay_new_robot(
     stream_y: np.ndarray,
     prior_X: np.ndarray,
     prior_y: np.ndarray,
-    estimator: str = "eps-knn",
+    estimator: str = DEFAULT_ESTIMATOR,
     seed: int = 0,
 ) -> ReplayResult:
     """Run the gate over an attempt stream, κ̂ first fitted on the prior outcomes (none: a cold start)."""
@@ -205,7 +211,9 @@ def _ms(values: Sequence[float]) -> dict[str, float]:
     return {"mean": round(float(v.mean()), 3), "std": round(float(v.std(ddof=1)) if len(v) > 1 else 0.0, 3)}
 
 
-def learning_trial(models: Sequence[Model], seeds: int = 10, estimator: str = "eps-knn") -> dict[str, Any]:
+def learning_trial(
+    models: Sequence[Model], seeds: int = DEFAULT_SEEDS, estimator: str = DEFAULT_ESTIMATOR
+) -> dict[str, Any]:
     """Cold vs same-model vs pooled fleet for a new robot of every Panda model; arm transfer if iiwa7 data exists."""
     arms = sorted({m.arm for m in models})
     panda = [m for m in models if m.arm == "panda"]
@@ -324,6 +332,18 @@ def _check_args(args: argparse.Namespace) -> None:
         raise SconeError(
             f"--kill-after {args.kill_after}: must be an integer in 0..{args.outcomes} (0..--outcomes)"
         )
+    if args.no_learning:
+        given = [flag for flag, value in (("--estimator", args.estimator), ("--seeds", args.seeds)) if value]
+        if given:
+            raise SconeError(
+                f"{given[0]}: only the learning trial reads it, and --no-learning skips that trial"
+            )
+        return
+    from scone_bt.cli.run import _check_estimator  # the one check of registry names
+
+    args.estimator = args.estimator or DEFAULT_ESTIMATOR
+    args.seeds = DEFAULT_SEEDS if args.seeds is None else args.seeds
+    _check_estimator(args.estimator)
     check_positive_int(args.seeds, "--seeds", maximum=10_000)
 
 
@@ -396,8 +416,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     f.add_argument("--robots", type=int, default=4, help="concurrent robot processes (default: 4)")
     f.add_argument("--outcomes", type=int, default=50, help="outcomes per robot (default: 50)")
     f.add_argument("--kill-after", type=int, default=20, help="SIGKILL robot 0 after this many (default: 20)")
-    f.add_argument("--seeds", type=int, default=10, help="seeds of the learning replay (default: 10)")
-    f.add_argument("--estimator", default="eps-knn", help="κ̂ of the learning replay (default: eps-knn)")
+    f.add_argument("--seeds", type=int, help=f"seeds of the learning replay (default: {DEFAULT_SEEDS})")
+    f.add_argument("--estimator", help=f"κ̂ of the learning replay (default: {DEFAULT_ESTIMATOR})")
     f.add_argument("--datasets", type=path_arg, help="Panda datasets (default: tools/data/sc)")
     f.add_argument("--iiwa-datasets", type=path_arg, help="iiwa7 datasets (default: tools/data/fleet/iiwa7)")
     f.add_argument("--no-learning", action="store_true", help="only the store trial")

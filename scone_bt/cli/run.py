@@ -304,19 +304,19 @@ def _add_self_confidence_options(p: argparse.ArgumentParser) -> None:
     )
     g.add_argument(
         "--learn-from",
-        default="self",
         choices=("self", "same-model", "fleet"),
-        help="whose stored outcomes rebuild κ̂: this robot's, every robot's with the same arm and --profile, "
-        "or the whole fleet's (default: %(default)s)",
+        help="whose stored outcomes rebuild κ̂ (with --experience): this robot's, every robot's with the same arm "
+        f"and --profile, or the whole fleet's (default: {_EPISODE.learn_from})",
     )
     g.add_argument(
         "--robot-id",
         default=None,
         type=_robot_id,
-        help="this robot's id in a shared store: letters, digits, '.', '_', '-' (default: the arm's name)",
+        help="this robot's id in a shared store (with --experience): letters, digits, '.', '_', '-' (default: "
+        "the arm's name)",
     )
     g.add_argument(
-        "--profile", default="", help="configuration label stored with each outcome (default: none)"
+        "--profile", help="configuration label stored with each outcome (with --experience; default: none)"
     )
 
 
@@ -326,8 +326,8 @@ def _add_human_options(p: argparse.ArgumentParser) -> None:
     g.add_argument(
         "--takeover-probability",
         type=float,
-        default=0.0,
-        help="chance the human takes over an action (default: 0)",
+        help="chance the simulated human takes over an action (not with --ui, where the person decides; default: "
+        f"{_EPISODE.takeover_probability:g})",
     )
 
 
@@ -377,6 +377,27 @@ def configure_logging(level: str) -> None:
         logger.handlers.clear()  # their own handlers would print a second, differently formatted copy
         logger.propagate = True
     os.environ.setdefault("RUST_LOG", _RUST_LOG[level])
+
+
+def _check_flags_read(args: argparse.Namespace) -> None:
+    """One meaning per flag: an option this run would not read is refused, naming what it needs."""
+    if args.experience is None:
+        for flag, value in (("--robot-id", args.robot_id), ("--learn-from", args.learn_from)):
+            if value is not None:
+                raise SconeError(
+                    f"{flag} {value}: it only applies to an outcome store; give --experience DB|URL"
+                )
+        if args.profile is not None:
+            raise SconeError(
+                f"--profile {args.profile}: it labels the outcomes stored; give --experience DB|URL"
+            )
+    if args.force and args.save is None:
+        raise SconeError("--force: it lets --save replace a file, and no --save was given")
+    if args.ui and args.takeover_probability is not None:
+        raise SconeError(
+            f"--takeover-probability {args.takeover_probability:g}: with --ui the person on the tablet decides "
+            "when to take over; leave it out"
+        )
 
 
 def _check_display(args: argparse.Namespace) -> None:
@@ -471,14 +492,28 @@ def _check_embedder(name: str) -> None:
     if name == "minilm":
         minilm_dir()  # one-line ModelUnavailableError if its package is missing
         return
-    if name == "mpnet":
+    if name in ("mpnet", "mpnet-ft"):
         if mpnet_dir() is None:
-            raise SconeError("--embedder mpnet: MPNet is not assembled yet; run `scone-models install mpnet`")
+            raise SconeError(
+                f"--embedder {name}: MPNet is not assembled yet; run `scone-models install mpnet`"
+            )
         return
-    if name in (*EMBEDDER_NAMES, "mpnet-ft"):
+    if name in EMBEDDER_NAMES:
         return
     folder = Path(name.removeprefix("finetuned:")).expanduser()
     if folder.is_dir():
+        # What the loader reads, checked now rather than after the kitchen is built.
+        needs = ("finetuned.json", "head.safetensors") if name.startswith("finetuned:") else None
+        if needs is not None and not all((folder / f).is_file() for f in needs):
+            raise SconeError(
+                f"--embedder {name!r}: not a fine-tuned embedder (needs {' and '.join(needs)}); save one with "
+                "scone-bench if --save-finetuned DIR"
+            )
+        if needs is None and not any((folder / f).is_file() for f in ("modules.json", "config.json")):
+            raise SconeError(
+                f"--embedder {name!r}: not a sentence-transformers model directory (no modules.json or "
+                f"config.json); valid: {', '.join(EMBEDDER_NAMES)}, mpnet-ft, finetuned:<dir> or such a directory"
+            )
         return
     what = "no such folder" if name.startswith("finetuned:") or os.sep in name else "unknown embedder"
     raise SconeError(
@@ -565,7 +600,11 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
     checks.check_positive_int(args.max_ticks, "--max-ticks")
     if args.distractors < 0:
         raise SconeError(f"--distractors {args.distractors}: must be 0 or more")
-    checks.check_range(args.takeover_probability, "--takeover-probability", 0.0, 1.0)
+    _check_flags_read(args)
+    takeover = (
+        _EPISODE.takeover_probability if args.takeover_probability is None else args.takeover_probability
+    )
+    checks.check_range(takeover, "--takeover-probability", 0.0, 1.0)
     _check_input_files(args)
     tree = _decision_settings(args)
     _check_outputs(args)
@@ -575,9 +614,9 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
         **tree,
         use_self_confidence=not args.no_self_confidence,
         experience_path=_experience(args.experience),
-        robot_id=args.robot_id or "",
-        learn_from=args.learn_from,
-        profile=args.profile,
+        robot_id=args.robot_id or "",  # "": the arm's name (BehaviourOptions)
+        learn_from=args.learn_from or _EPISODE.learn_from,
+        profile=args.profile or "",  # "": no label (BehaviourOptions)
         seed=args.seed,
     )
     return EpisodeOptions(
@@ -590,7 +629,7 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
         max_ticks=args.max_ticks,
         distractors=args.distractors,
         behaviour=behaviour,
-        human=HumanOptions(takeover_probability=args.takeover_probability),
+        human=HumanOptions(takeover_probability=takeover),
         save=args.save,
         viewer=args.viewer,
         connect=args.connect,

@@ -35,6 +35,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from scone_bt.defaults import EPISODE
 from scone_bt.events import (
     NO_ROOM,
     CleanUpStarted,
@@ -85,7 +86,7 @@ class HumanOptions:
     fetch_time_s: float = 6.0
     cook_time_s: float = 2.0
     patience_s: float = 20.0
-    takeover_probability: float = 0.0
+    takeover_probability: float = EPISODE.takeover_probability
     takeover_delay_s: float = 1.0
     clarify_time_s: float = 2.0
     help_answer: HelpAnswer = HelpAnswer.FETCH

@@ -57,6 +57,18 @@ def _bench(args: argparse.Namespace) -> int:
             check_embedders(names)
         except SconeError as exc:
             raise SconeError(f"{flag} {','.join(names)}: {exc}") from None
+    if args.save_finetuned is not None:  # before the hours of scoring, not after them
+        from scone_bt.checks import check_output_dir
+
+        if args.no_finetune:
+            raise SconeError(
+                "--save-finetuned: nothing is fine-tuned with --no-finetune; give one or the other"
+            )
+        check_output_dir(args.save_finetuned, "--save-finetuned", must_be_new=True)
+    if args.dev is not None and not Path(args.dev).is_file():
+        raise SconeError(
+            f"--dev {args.dev}: no such file (a JSONL states file, e.g. tools/data/if/dev.jsonl)"
+        )
     folder = default_states_dir()
     train_path = args.train or (folder / "train.jsonl" if folder else None)
     dev_path = args.dev or (folder / "dev.jsonl" if folder else None)

@@ -78,7 +78,9 @@ class RecipeRecord(StrictModel):
 
     id: Annotated[str, Field(min_length=1, max_length=MAX_TEXT)] | None = None
     title: Annotated[str, Field(max_length=MAX_TEXT)] | None = None
-    ingredients: Annotated[list[Annotated[str, Field(max_length=MAX_TEXT)]], Field(max_length=MAX_ITEMS)]
+    ingredients: Annotated[
+        list[Annotated[str, Field(max_length=MAX_TEXT)]], Field(min_length=1, max_length=MAX_ITEMS)
+    ]
     steps: Annotated[list[str], Field(min_length=1, max_length=MAX_ITEMS)]
     step_ingredients: (
         Annotated[
@@ -112,6 +114,17 @@ class RecipeRecord(StrictModel):
                 raise ValueError(f"step {i + 1} has {len(step)} characters (at most {MAX_TEXT})")
         return steps
 
+    @field_validator("ingredients")
+    @classmethod
+    def _ingredients_are_named(cls, ingredients: list[str]) -> list[str]:
+        # A recipe of nothing, or of blank lines, would be "served" without the robot doing anything.
+        for i, item in enumerate(ingredients):
+            if not item.strip():
+                raise ValueError(
+                    f"ingredient {i + 1} of {len(ingredients)} is empty; every ingredient must name an item"
+                )
+        return ingredients
+
     @model_validator(mode="after")
     def _one_list_per_step(self) -> RecipeRecord:
         if self.step_ingredients is not None and len(self.step_ingredients) != len(self.steps):
@@ -142,10 +155,22 @@ def recipe_from_record(record: Any, where: str) -> Recipe:
     )
 
 
+def _unique_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    """A JSON object whose keys are unique (json keeps the last of two silently; the YAML loader refuses them)."""
+    seen: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in seen:
+            raise ValueError(f"the key {key!r} is given twice")
+        seen[key] = value
+    return seen
+
+
 def _load_file(path: Path) -> Recipe:
     text = read_text(path, error=RecipeError)
     try:
-        record = json.loads(text) if path.suffix == ".json" else safe_load(text)
+        record = (
+            json.loads(text, object_pairs_hook=_unique_keys) if path.suffix == ".json" else safe_load(text)
+        )
     except RecursionError:
         raise RecipeError(f"{path}: nested too deeply to be a recipe") from None
     except yaml.YAMLError as exc:

@@ -168,7 +168,7 @@ class HumanSection(StrictModel):
     requests: ``help_answer`` fetch or decline ("try it yourself"), ``clarify_answer`` right, wrong or none."""
 
     patience_s: _NonNeg = 20.0
-    takeover_probability: _Prob = 0.0
+    takeover_probability: _Prob = EPISODE.takeover_probability
     takeover_delay_s: _NonNeg = 1.0
     fetch_time_s: _NonNeg = 6.0
     cook_time_s: _NonNeg = 2.0

@@ -470,10 +470,45 @@ def _check_host(host: str, token: str | None) -> None:
         )
 
 
+_SYNTHETIC_ONLY = {"steps": "--steps"}
+"""`simulate`'s options only the synthetic episodes (--fast) read."""
+_PHYSICS_ONLY = {"recipe": "--recipe", "distractors": "--distractors", "robot": "--robot", "arm": "--arm"}
+"""`simulate`'s options only the physics episodes (without --fast) read."""
+_ANALYSIS_ONLY = {
+    "model": "--model",
+    "effect_prior_sd": "--effect-prior-sd",
+    "cutpoint_prior_sd": "--cutpoint-prior-sd",
+    "scale_prior_sd": "--scale-prior-sd",
+    "chains": "--chains",
+    "tune": "--tune",
+    "draws": "--draws",
+    "cores": "--cores",
+    "rope": "--rope",
+    "models": "--models",
+}
+"""`simulate`'s options only its analysis (--analyze) reads."""
+
+
+def _check_simulate_flags_read(args: argparse.Namespace) -> None:
+    """One meaning per flag: an option `simulate` would not read in this mode is refused, naming what reads it."""
+    from scone_bt.argparsing import refuse_unread
+
+    defaults = build_parser().parse_args(["simulate", "--db", "-"])
+    if not args.fast:
+        refuse_unread(args, defaults, _SYNTHETIC_ONLY, "only the synthetic episodes read it; give --fast")
+    else:
+        refuse_unread(
+            args, defaults, _PHYSICS_ONLY, "only the physics episodes read it, and --fast runs synthetic ones"
+        )
+    if args.analyze is None:
+        refuse_unread(args, defaults, _ANALYSIS_ONLY, "only the analysis reads it; give --analyze DIR")
+
+
 def _check_simulate(args: argparse.Namespace) -> None:
     """`simulate`'s options, before any participant is simulated or file made: one line naming the flag."""
     from scone_bt import checks
 
+    _check_simulate_flags_read(args)
     checks.check_seed(args.seed)
     if not 2 <= args.participants <= MAX_SIMULATED_PARTICIPANTS:
         raise SconeError(
@@ -486,8 +521,8 @@ def _check_simulate(args: argparse.Namespace) -> None:
         raise SconeError(f"--distractors {args.distractors}: must be 0 or more")
     checks.check_range(args.condition_effect, "--condition-effect", -10.0, 10.0)
     check_backend(args.robot)
-    # a bad robot file or recipe is one line now, not after the first participant; with --fast too, where the
-    # synthetic episodes do not use them (a typo there passed silently and failed on the next run without it)
+    # a bad robot file or recipe is one line now, not after the first participant (with --fast, where the
+    # synthetic episodes do not use them, only the defaults get here: another value was refused above)
     from scone_bt.config import load_robot
     from scone_bt.recipes import load_recipe
 

@@ -226,3 +226,24 @@ def test_a_bad_count_names_its_option(
 
     assert main(["decisions", *argv, "--datasets", "/nonexistent"]) == 2
     assert capsys.readouterr().err.strip() == f"scone-bench: {message}"
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--episodes", "0", "--no-gate"], "--no-gate with --episodes 0: nothing to run"),
+        (["--no-gate", "--estimators", "knn"], "--estimators: only the gate replay reads it"),
+        (["--no-gate", "--warmup", "5"], "--warmup: only the gate replay reads it"),
+        (["--episodes", "0", "--estimator", "knn"], "--estimator: only the episodes read it"),
+        (["--episodes", "0", "--distractors", "2"], "--distractors: only the episodes read it"),
+    ],
+)
+def test_an_option_no_part_of_the_run_reads_is_refused(
+    argv: list[str], message: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """They were accepted and ignored (an empty report for the first)."""
+    from scone_bt.cli.bench import main
+
+    assert main(["decisions", *argv, "--jobs", "1"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"scone-bench: {message}") and "\n" not in err

@@ -31,3 +31,18 @@ def test_an_unknown_robot_is_refused_before_an_episode_runs(monkeypatch, capsys)
     err = capsys.readouterr().err
     assert err.startswith("scone-bench: --robot 'panda': --robot names the robot backend (mujoco, sim)")
     assert err.endswith("give the robot file with --arm panda\n") and err.count("\n") == 1
+
+
+def test_an_unknown_recipe_is_refused_before_an_episode_or_its_progress_bar_starts(monkeypatch, capsys):
+    """It failed inside the first episode, its line glued to the progress bar."""
+
+    def never(*args: object, **kwargs: object) -> None:
+        raise AssertionError("an episode ran")
+
+    monkeypatch.setattr("scone_bt.episode.run_episode", never)
+    assert main(["episode", "--recipes", "example:hummus,example:nosuch"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("scone-bench: --recipes: unknown example recipe 'nosuch'; valid: example:hummus"), (
+        err
+    )
+    assert err.count("\n") == 1 and "episodes:" not in err

@@ -77,6 +77,9 @@ def test_learning_trial_reports_cold_and_fleet_with_spread():
         (["--kill-after", "-1"], "--kill-after -1"),
         (["--seeds", "0"], "--seeds 0"),
         (["--stores", "sqlite,mysql"], "--stores sqlite,mysql"),
+        (["--estimator", "nope"], "--estimator 'nope'"),  # was found after the store trial
+        (["--no-learning", "--estimator", "knn"], "--estimator"),  # was ignored
+        (["--no-learning", "--seeds", "3"], "--seeds"),
     ],
 )
 def test_bad_fleet_options_are_one_line_before_any_store(argv, flag, tmp_path, monkeypatch, capsys):

@@ -91,6 +91,27 @@ def test_bad_values_are_one_line_errors(argv, expected, capsys):
 
 
 @pytest.mark.parametrize(
+    ("argv", "expected"),
+    [
+        (
+            ["--robot-id", "panda-2"],
+            "--robot-id panda-2: it only applies to an outcome store; give --experience",
+        ),
+        (
+            ["--learn-from", "fleet"],
+            "--learn-from fleet: it only applies to an outcome store; give --experience",
+        ),
+        (["--profile", "p01"], "--profile p01: it labels the outcomes stored; give --experience"),
+        (["--force"], "--force: it lets --save replace a file, and no --save was given"),
+        (["--ui", "--takeover-probability", "0.5"], "--takeover-probability 0.5: with --ui the person"),
+    ],
+)
+def test_an_option_this_run_would_not_read_is_refused(argv, expected, capsys):
+    """One meaning per flag: these were accepted and ignored."""
+    assert expected in _one_line_error(argv, capsys)
+
+
+@pytest.mark.parametrize(
     ("flag", "what", "valid"),
     [
         ("--arm", "robot", "iiwa7, panda"),
@@ -242,3 +263,18 @@ def test_a_robot_id_that_no_query_would_match_is_one_line(robot_id, capsys):
     assert done.value.code == 2
     err = capsys.readouterr().err
     assert "--robot-id" in err and "1 to 64 letters, digits" in err and err.count("\n") == 1
+
+
+@pytest.mark.parametrize(
+    ("embedder", "expected"),
+    [
+        ("{dir}", "not a sentence-transformers model directory (no modules.json or config.json)"),
+        ("finetuned:{dir}", "not a fine-tuned embedder (needs finetuned.json and head.safetensors)"),
+    ],
+)
+def test_an_embedder_folder_the_loader_cannot_read_is_refused_before_the_kitchen(
+    embedder, expected, tmp_path, capsys
+):
+    """It passed the check and failed after the kitchen was built and the episode's header printed."""
+    err = _one_line_error(["--embedder", embedder.format(dir=tmp_path)], capsys)
+    assert err.startswith("scone-run: error: --embedder") and expected in err

@@ -75,6 +75,27 @@ def test_bad_if_options_are_refused_before_the_states_are_read(tmp_path, capsys,
     assert err.startswith(f"scone-bench: {message}") and "\n" not in err
 
 
+def test_if_outputs_and_dev_file_are_checked_before_any_scoring(tmp_path, capsys) -> None:
+    """A --save-finetuned that could not be written failed after the scoring and the fine-tuning; a --dev that
+    does not exist was skipped, and the stop rule chosen without it."""
+    missing = str(tmp_path / "nope.jsonl")  # reading it would be a different error
+    taken = tmp_path / "notes.txt"
+    taken.write_text("mine\n")
+    cases = [
+        (["--save-finetuned", str(taken)], f"--save-finetuned {taken}: is a file, not a folder"),
+        (
+            ["--save-finetuned", str(tmp_path / "head"), "--no-finetune"],
+            "--save-finetuned: nothing is fine-tuned",
+        ),
+        (["--dev", str(tmp_path / "dev.jsonl")], f"--dev {tmp_path / 'dev.jsonl'}: no such file"),
+    ]
+    for argv, message in cases:
+        assert main(["if", "--states", missing, "--train", missing, *argv]) == 2
+        err = capsys.readouterr().err.strip()
+        assert err.startswith(f"scone-bench: {message}") and "\n" not in err, err
+    assert taken.read_text() == "mine\n"
+
+
 def test_every_if_embedder_the_message_lists_is_accepted() -> None:
     from scone_bt.errors import UnknownNameError
     from scone_bt.instruction_following.bench import check_embedders

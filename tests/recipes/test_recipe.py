@@ -56,6 +56,15 @@ def test_malformed_and_empty_recipes(tmp_path, kitchen_cfg):
     empty.write_text(json.dumps({"ingredients": ["salt"], "steps": ["  "]}))
     with pytest.raises(RecipeError, match="non-empty"):
         load_recipe(str(empty))
+    # A recipe of no ingredients, or of blank ones, used to be "served" without the robot doing anything.
+    for items, message in (([], "at least 1 item"), (["salt", "  "], "ingredient 2 of 2 is empty")):
+        empty.write_text(json.dumps({"ingredients": items, "steps": ["Stir."]}))
+        with pytest.raises(RecipeError, match=f"e.json: ingredients: .*{message}"):
+            load_recipe(str(empty))
+    # JSON keeps the last of two equal keys silently; the YAML loader refuses them, and so does this.
+    empty.write_text('{"id": "a", "id": "b", "ingredients": ["salt"], "steps": ["Stir."]}')
+    with pytest.raises(RecipeError, match=r"e.json: not valid JSON \(the key 'id' is given twice\)"):
+        load_recipe(str(empty))
     # A recipe with nothing stocked still runs: the human brings everything.
     nothing = tmp_path / "n.json"
     nothing.write_text(json.dumps({"ingredients": ["unobtainium", "1 cup water"], "steps": ["Admire it."]}))

@@ -132,6 +132,12 @@ def test_a_store_that_cannot_be_one_is_refused_before_a_session_row_exists(tmp_p
         (["simulate", "--fast", "--analyze", "/proc/x"], "--analyze /proc/x"),
         (["simulate", "--fast", "--memory", "/proc/x"], "--memory /proc/x"),
         (["simulate", "--fast", "--jobs", "2", "--memory", "never.json"], "--memory"),
+        # one meaning per flag: options this mode would not read were accepted and ignored
+        (["simulate", "--steps", "3"], "--steps"),
+        (["simulate", "--fast", "--recipe", "example:pancakes"], "--recipe"),
+        (["simulate", "--fast", "--distractors", "3"], "--distractors"),
+        (["simulate", "--fast", "--chains", "3"], "--chains"),
+        (["simulate", "--fast", "--rope", "0.2", "-0.2"], "--rope"),
     ],
 )
 def test_bad_simulate_options_are_one_line_before_any_file(argv, flag, tmp_path, capsys):
@@ -140,6 +146,26 @@ def test_bad_simulate_options_are_one_line_before_any_file(argv, flag, tmp_path,
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith(f"scone-study: error: {flag}:")
     assert not db.exists()
+
+
+def test_an_option_simulate_would_not_read_says_what_reads_it(tmp_path, capsys):
+    for argv, why in (
+        (["--steps", "3"], "only the synthetic episodes read it; give --fast"),
+        (
+            ["--fast", "--robot", "mujoco"],
+            "only the physics episodes read it, and --fast runs synthetic ones",
+        ),
+        (["--fast", "--model", "extended"], "only the analysis reads it; give --analyze DIR"),
+    ):
+        assert main(["simulate", *argv, "--db", str(tmp_path / "sim.db")]) == 2
+        assert why in capsys.readouterr().err
+    # a default given explicitly is no other value: accepted
+    from scone_bt.study.analysis import AnalysisOptions
+    from scone_bt.study.cli import _check_simulate_flags_read, build_parser
+
+    rope = [str(x) for x in AnalysisOptions.rope]
+    args = build_parser().parse_args(["simulate", "--fast", "--rope", *rope, "--steps", "5", "--db", "x.db"])
+    _check_simulate_flags_read(args)
 
 
 def test_power_refuses_a_negative_seed(tmp_path, capsys):
