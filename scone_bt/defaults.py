@@ -17,7 +17,8 @@ class EpisodeDefaults:
         kitchen: Kitchen file (perception/<name>.yaml).
         tree: Tree file (trees/<name>.yaml).
         recipe: Recipe reference (example:<name>, a corpus id or a file).
-        seed: Seeds everything.
+        seed: The default of both seeds of an episode: the world's and the human's (`EpisodeOptions.seed`) and
+            the robot's own streams (`BehaviourOptions.seed`).
         max_ticks: Limit on control ticks.
         tick_period: Simulated seconds per control tick.
         distractors: Products not in the recipe put on the shelf.

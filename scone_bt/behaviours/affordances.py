@@ -14,6 +14,9 @@ __all__ = ["GenerateAffordances"]
 
 
 class GenerateAffordances(StageBehaviour):
+    """One action per detected product, "Put X on table" (affordances.generate), leaving out what the human is
+    already fetching; always SUCCESS."""
+
     READS = (Keys.DETECTIONS,)
     WRITES = (Keys.AFFORDANCES,)
 

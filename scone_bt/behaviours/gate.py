@@ -16,10 +16,10 @@ from scone_bt.behaviours.base import Keys, StageBehaviour
 from scone_bt.behaviours.context import EpisodeContext
 from scone_bt.behaviours.gate_config import GatePorts, GateSettings
 from scone_bt.behaviours.gate_steps import (
-    budget_counts,
     candidate_contexts,
     confidences,
     decision_event,
+    gate_counts,
     past_the_end,
     probe_reasons,
     settle_idle,
@@ -30,28 +30,13 @@ from scone_bt.behaviours.probe_judge import ProbeJudge, belief_of
 from scone_bt.experience.types import ExecutionContext
 from scone_bt.gate.budget import BudgetCounts, BudgetOptions
 from scone_bt.gate.probe import ProbeOptions
-from scone_bt.gate.rules import (
-    GateInput,
-    GateRules,
-    apply_failure_limit,
-    gate_decision,
-    infeasible_decision,
-    say_infeasible,
-)
+from scone_bt.gate.rules import GateInput, GateRules, gate_decision, infeasible_decision
 from scone_bt.gate.types import Decision, DecisionKind
 from scone_bt.motion.probe import ProbeSettings
 from scone_bt.relevance.types import RankedAction
 from scone_bt.robot.interface import Infeasible, PlannedPick
 
-# apply_failure_limit and say_infeasible live in scone_bt.gate.rules; kept here for their callers
-__all__ = [
-    "ConfidenceGate",
-    "DecisionIs",
-    "GatePorts",
-    "GateSettings",
-    "apply_failure_limit",
-    "say_infeasible",
-]
+__all__ = ["ConfidenceGate", "DecisionIs", "GatePorts", "GateSettings"]
 
 
 _T = TypeVar("_T")
@@ -226,7 +211,7 @@ class ConfidenceGate(StageBehaviour):
             ambiguous=tuple(action_text(i) for i in view.selection.ambiguous) if view is not None else (),
             objects={r.text: affordances[r.text].object_name for r in ranked if r.text in affordances},
             widths_m={t: c.detected_width_m for t, c in contexts.items()},
-            counts=budget_counts(history, self.estimator) if budget is not None else BudgetCounts(),
+            counts=gate_counts(history, self.estimator) if budget is not None else BudgetCounts(),
             failures={r.text: history.failures_of(r.text) for r in ranked},
             declined=self.ports.human.declined,
             draw=self._rng.random,

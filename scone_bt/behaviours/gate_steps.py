@@ -20,7 +20,7 @@ from scone_bt.relevance.types import RankedAction
 __all__ = [
     "CARD_ITEMS_LEFT",
     "EVERY_STEP_SERVED",
-    "budget_counts",
+    "gate_counts",
     "candidate_contexts",
     "confidences",
     "decision_event",
@@ -73,7 +73,7 @@ def confidences(
     return [float(c) for c in belief(X)], [bool(e) for e in explores(X)]
 
 
-def budget_counts(history: AttemptHistory, estimator: SelfConfidence) -> BudgetCounts:
+def gate_counts(history: AttemptHistory, estimator: SelfConfidence) -> BudgetCounts:
     """The attempts so far (folded from the events) and what κ̂ has learnt, as the budget reads them."""
     attempts, failures, explored_failures = history.budget_counts()
     fast, fast_failed = history.held_fast_counts()

@@ -14,7 +14,7 @@ from scone_bt.behaviours.context import EpisodeContext
 from scone_bt.behaviours.ports import Clock, HumanChannel
 from scone_bt.events import ClarificationAsked, EventSink, HelpRequested
 
-__all__ = ["AskForHelp", "AskToClarify", "ClearGripper", "WaitForHuman"]
+__all__ = ["AskForHelp", "AskToClarify", "ClearGripper", "WaitForHuman", "WAIT_S"]
 
 
 class _AskTheHuman(StageBehaviour):
@@ -32,6 +32,9 @@ class _AskTheHuman(StageBehaviour):
 
 
 class AskForHelp(_AskTheHuman):
+    """Asks the human to fetch the decided item (or the one the robot cannot see) and stays RUNNING until they
+    have; nothing is learnt from an ask."""
+
     READS = (Keys.DECISION, Keys.TARGET)
     object_name: str  # set by initialise: the item asked for
 
@@ -93,6 +96,9 @@ class ClearGripper(_AskTheHuman):
 
 
 class AskToClarify(_AskTheHuman):
+    """Asks which of the step's candidate items it means, writes the answer for the ranking (`Keys.CLARIFIED`,
+    by step) and stays RUNNING for the human's answering time."""
+
     READS = (Keys.DECISION, Keys.STEP, Keys.CLARIFIED)
     WRITES = (Keys.CLARIFIED,)
 
@@ -115,16 +121,20 @@ class AskToClarify(_AskTheHuman):
         return py_trees.common.Status.SUCCESS
 
 
+WAIT_S = 1.0
+"""How long `WaitForHuman` waits before the tree looks again, simulated seconds (a tree file's ``seconds:``)."""
+
+
 class WaitForHuman(StageBehaviour):
     """Nothing relevant to do: wait a little (the human works on the step), then look again."""
 
-    def __init__(self, name: str, clock: Clock, seconds: float = 1.0) -> None:
+    def __init__(self, name: str, clock: Clock, seconds: float = WAIT_S) -> None:
         super().__init__(name)
         self.clock = clock
         self.seconds = seconds
 
     @classmethod
-    def from_context(cls, name: str, context: EpisodeContext, seconds: float = 1.0) -> WaitForHuman:
+    def from_context(cls, name: str, context: EpisodeContext, seconds: float = WAIT_S) -> WaitForHuman:
         return cls(name, context.robot.now, seconds)
 
     def initialise(self) -> None:

@@ -46,8 +46,9 @@ class BehaviourOptions:
         robot_id: This robot's id in a fleet, recorded with each outcome ("": the arm's name).
         learn_from: Whose stored outcomes rebuild κ̂: "self", "same-model" (same arm and profile) or "fleet".
         profile: Configuration label recorded with each outcome (e.g. a proficiency profile; "" for none).
-        seed: Seeds perception noise, the estimators and the planners, each from its own stream
-            (`scone_bt.episode.seeds.SeedPlan`).
+        seed: Seeds perception noise, the estimators, the planners and the gate's draws, each from its own
+            stream (`scone_bt.episode.seeds.SeedPlan`); the world and the human are seeded by
+            `EpisodeOptions.seed`: give both to reseed a whole episode.
 
     The fields of the tree file's ``parameters:`` (embedder, estimator, the thresholds, recipe_aware,
     clarify_margin, max_failures_per_action, gate, target_failure_rate, trust_aware,
@@ -75,7 +76,7 @@ class BehaviourOptions:
     robot_id: str = ""
     learn_from: str = EPISODE.learn_from
     profile: str = ""
-    seed: int = 0
+    seed: int = EPISODE.seed
 
     def resolve(self, parameters: Mapping[str, Any] | None = None) -> BehaviourOptions:
         """A copy whose unset tree parameters come from ``parameters`` (a tree file's validated section), then

@@ -91,6 +91,10 @@ class _RecordsOutcomes(StageBehaviour):
 
 
 class ObserveOutcome(_RecordsOutcomes):
+    """Labels a finished attempt from the robot's own sensors (is the product on the table now?) and stores it
+    before anything learns from it; a heft test's set-back is a label only when the fingers felt it unsafe, a
+    cancelled attempt none. Writes the outcome (None: nothing to learn); always SUCCESS."""
+
     READS = (Keys.TARGET, Keys.TARGET_CONTEXT, Keys.MOTION_OUTCOME, Keys.PROBE_JUDGE)
     WRITES = (Keys.OUTCOME,)
 
@@ -191,6 +195,8 @@ class RecordInfeasible(_RecordsOutcomes):
 
 
 class UpdateSelfConfidence(StageBehaviour):
+    """κ̂ learns the last outcome, in the context the attempt ran in (with what a probe felt); always SUCCESS."""
+
     READS = (Keys.OUTCOME, Keys.ACTION_EMBEDDINGS)
 
     def __init__(self, name: str, kappa: Provider[SelfConfidence]) -> None:

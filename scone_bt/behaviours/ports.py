@@ -87,7 +87,10 @@ class SelfConfidence(Protocol):
     """κ̂: success probabilities of action embeddings, updated with each labelled outcome.
 
     A grounded κ̂ (a ``grounded = True`` attribute) takes each embedding followed by its execution context
-    (`scone_bt.confidence.grounded_features`).
+    (`scone_bt.confidence.grounded_features`). The gate also reads, where κ̂ has them (every
+    `scone_bt.confidence.base.ConfidenceEstimator` does; read with ``getattr``, so a minimal κ̂ needs only these
+    two methods): ``belief(x)`` (the probability without an ε-greedy draw), ``explores(x)`` (which rows an
+    ε-greedy κ̂ tries to learn) and ``n_observations`` (outcomes learnt so far).
     """
 
     def predict(self, x: np.ndarray) -> np.ndarray: ...
@@ -119,7 +122,7 @@ class AttemptHistory(Protocol):
     def failures_of(self, action: str) -> int: ...
 
     def budget_counts(self) -> tuple[int, int, int]:
-        """(labelled attempts, exploratory ones included, their failures, failed explorations) so far."""
+        """(labelled attempts, exploratory ones included; their failures; failed explorations) so far."""
         ...
 
     def held_fast_counts(self) -> tuple[int, int]:

@@ -12,6 +12,8 @@ __all__ = ["RecipeDone"]
 
 
 class RecipeDone(StageBehaviour):
+    """SUCCESS once the human has completed every step of the recipe, else FAILURE (a guard for the tree)."""
+
     def __init__(self, name: str, human: HumanChannel, steps_total: int) -> None:
         super().__init__(name)
         self.human = human

@@ -7,7 +7,7 @@ successful placements, `Keys.OUTCOME`; `scone_bt.relevance.tracker`), and each a
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING
 
 import py_trees
@@ -19,13 +19,19 @@ from scone_bt.behaviours.ports import HumanChannel, Provider
 if TYPE_CHECKING:
     import numpy as np
 
+    from scone_bt.affordances.types import Affordance
     from scone_bt.embedding import Embedder
     from scone_bt.relevance.recipe_aware import SelectionOptions
+    from scone_bt.relevance.tracker import StepView
 
 __all__ = ["RankByRelevance"]
 
 
 class RankByRelevance(StageBehaviour):
+    """ρ · ζ: embeds the actions, tracks the robot's place in the recipe from what stands on the table, and
+    ranks the actions by relevance to the step (recipe-aware), or to the human's current instruction alone (the
+    paper's recipe-blind setting); always SUCCESS."""
+
     READS = (Keys.AFFORDANCES, Keys.TABLE_DETECTIONS, Keys.CLARIFIED, Keys.OUTCOME)
     WRITES = (Keys.INSTRUCTION, Keys.RANKED, Keys.ACTION_EMBEDDINGS, Keys.STEP)
 
@@ -76,26 +82,34 @@ class RankByRelevance(StageBehaviour):
         self.embedder = self._embedder()
 
     def update(self) -> py_trees.common.Status:
-        from scone_bt.relevance import RankedAction, rank_actions, relevance_matrix
-        from scone_bt.relevance.tracker import track_recipe
-
         affordances = self.read(Keys.AFFORDANCES, [])
         texts = [a.text for a in affordances]
         vectors: np.ndarray | Sequence[np.ndarray] = self.embedder.embed(texts) if texts else []
         self.write(Keys.ACTION_EMBEDDINGS, dict(zip(texts, vectors, strict=True)))
-        if not self.recipe_aware:
-            instruction = self.human.current_instruction
-            self.write(Keys.INSTRUCTION, instruction)
-            self.write(Keys.STEP, None)
-            ranked = rank_actions(instruction, texts, self.embedder) if texts and instruction else []
-            self.write(Keys.RANKED, ranked)
-            self.feedback_message = (
-                f"best: {ranked[0].text} ({ranked[0].relevance:.2f})" if ranked else "idle"
-            )
-            return py_trees.common.Status.SUCCESS
+        if self.recipe_aware:
+            self._rank_by_recipe(affordances)
+        else:
+            self._rank_by_instruction(texts)
+        return py_trees.common.Status.SUCCESS
+
+    def _rank_by_instruction(self, texts: Sequence[str]) -> None:
+        """The paper's recipe-blind setting: rank by the human's current instruction alone."""
+        from scone_bt.relevance import rank_actions
+
+        instruction = self.human.current_instruction
+        self.write(Keys.INSTRUCTION, instruction)
+        self.write(Keys.STEP, None)
+        ranked = rank_actions(instruction, texts, self.embedder) if texts and instruction else []
+        self.write(Keys.RANKED, ranked)
+        self.feedback_message = f"best: {ranked[0].text} ({ranked[0].relevance:.2f})" if ranked else "idle"
+
+    def _rank_by_recipe(self, affordances: Sequence[Affordance]) -> None:
+        """Track the robot's place in the recipe, then rank the actions by relevance to its step."""
+        from scone_bt.relevance import RankedAction, relevance_matrix
+
+        texts = [a.text for a in affordances]
         names = [a.object_name for a in affordances]
         self._note_placements(names)
-
         scored: dict[str, dict[str, float]] = {}  # the tracker and the ranking below ask for the same steps
 
         def similarity(step: str) -> dict[str, float]:
@@ -103,6 +117,28 @@ class RankByRelevance(StageBehaviour):
                 row = relevance_matrix([step], texts, self.embedder)[0]
                 scored[step] = dict(zip(names, map(float, row), strict=True))
             return scored[step]
+
+        view = self._track(names, similarity)
+        step_text = view.instruction or (self.steps[-1] if self.steps else "")
+        scores = similarity(step_text) if texts and step_text else {}
+        ranked = sorted(
+            (
+                RankedAction(a.text, scores.get(a.object_name, 0.0), view.selection.need(a.object_name) or "")
+                for a in affordances
+            ),
+            key=lambda r: -r.relevance,
+        )
+        self.write(Keys.RANKED, ranked)
+        sel = view.selection
+        self.feedback_message = (
+            f"step {view.index + 1}: now {', '.join(sel.now) or '-'}; later {', '.join(sel.later) or '-'}"
+            + (f"; which of {', '.join(sel.ambiguous)}?" if sel.ambiguous else "")
+        )
+
+    def _track(self, names: Sequence[str], similarity: Callable[[str], dict[str, float]]) -> StepView:
+        """The robot's place in the recipe from what stands on the table and what it placed (written to
+        `Keys.STEP` and `Keys.INSTRUCTION`)."""
+        from scone_bt.relevance.tracker import track_recipe
 
         on_table = frozenset(d.name for d in self.read(Keys.TABLE_DETECTIONS, ()) or ())
         view = track_recipe(
@@ -120,22 +156,7 @@ class RankByRelevance(StageBehaviour):
         self.step = view.index
         self.write(Keys.STEP, view)
         self.write(Keys.INSTRUCTION, view.instruction or None)
-        step_text = view.instruction or (self.steps[-1] if self.steps else "")
-        scores = similarity(step_text) if texts and step_text else {}
-        ranked = sorted(
-            (
-                RankedAction(a.text, scores.get(a.object_name, 0.0), view.selection.need(a.object_name) or "")
-                for a in affordances
-            ),
-            key=lambda r: -r.relevance,
-        )
-        self.write(Keys.RANKED, ranked)
-        sel = view.selection
-        self.feedback_message = (
-            f"step {view.index + 1}: now {', '.join(sel.now) or '-'}; later {', '.join(sel.later) or '-'}"
-            + (f"; which of {', '.join(sel.ambiguous)}?" if sel.ambiguous else "")
-        )
-        return py_trees.common.Status.SUCCESS
+        return view
 
     def _note_placements(self, shelf: Sequence[str]) -> None:
         """Keep `placed` up to date: a new labelled success adds its object; a failure on it, or seeing it on the

@@ -332,16 +332,21 @@ def _check_args(args: argparse.Namespace) -> None:
         raise SconeError(
             f"--kill-after {args.kill_after}: must be an integer in 0..{args.outcomes} (0..--outcomes)"
         )
-    if args.no_learning:
-        given = [flag for flag, value in (("--estimator", args.estimator), ("--seeds", args.seeds)) if value]
-        if given:
-            raise SconeError(
-                f"{given[0]}: only the learning trial reads it, and --no-learning skips that trial"
-            )
+    if args.no_learning:  # a default typed out is no other value (argparsing.refuse_unread)
+        learning_only = (
+            ("--estimator", args.estimator, DEFAULT_ESTIMATOR),
+            ("--seeds", args.seeds, DEFAULT_SEEDS),
+            ("--iiwa-datasets", args.iiwa_datasets, None),
+        )
+        for flag, value, default in learning_only:
+            if value not in (None, default):
+                raise SconeError(
+                    f"{flag}: only the learning trial reads it, and --no-learning skips that trial"
+                )
         return
     from scone_bt.cli.run import _check_estimator  # the one check of registry names
 
-    args.estimator = args.estimator or DEFAULT_ESTIMATOR
+    args.estimator = DEFAULT_ESTIMATOR if args.estimator is None else args.estimator
     args.seeds = DEFAULT_SEEDS if args.seeds is None else args.seeds
     _check_estimator(args.estimator)
     check_positive_int(args.seeds, "--seeds", maximum=10_000)

@@ -47,6 +47,15 @@ def main(argv: Sequence[str] | None = None) -> int:
 
             # Before pip installs anything: a cache that cannot hold the model is one line, not a traceback.
             check_output_dir(args.cache_dir, "--cache-dir")
+        if args.cache_dir is not None and args.cache_dir.exists() and not args.cache_dir.is_dir():
+            # list reads it: a file there would list every cached model as missing, as if nothing were wrong
+            raise SconeError(f"--cache-dir {args.cache_dir}: is a file, not a folder")
+        if args.command == "embed":
+            blank = [i for i, text in enumerate(args.texts, 1) if not text.strip()]
+            if blank:
+                raise SconeError(
+                    f"embed: text {blank[0]} of {len(args.texts)} is empty; give texts to compare"
+                )
         if args.command in (None, "list"):
             infos = available_embedders(args.cache_dir)
             width = max(len(i.name) for i in infos)

@@ -380,20 +380,21 @@ def configure_logging(level: str) -> None:
 
 
 def _check_flags_read(args: argparse.Namespace) -> None:
-    """One meaning per flag: an option this run would not read is refused, naming what it needs."""
+    """One meaning per flag: an option this run would not read is refused, naming what it needs. A default typed
+    out is no other value (as argparsing.refuse_unread): ``--learn-from self`` stays harmless."""
     if args.experience is None:
         for flag, value in (("--robot-id", args.robot_id), ("--learn-from", args.learn_from)):
-            if value is not None:
+            if value not in (None, _EPISODE.learn_from):
                 raise SconeError(
                     f"{flag} {value}: it only applies to an outcome store; give --experience DB|URL"
                 )
-        if args.profile is not None:
+        if args.profile:
             raise SconeError(
                 f"--profile {args.profile}: it labels the outcomes stored; give --experience DB|URL"
             )
     if args.force and args.save is None:
         raise SconeError("--force: it lets --save replace a file, and no --save was given")
-    if args.ui and args.takeover_probability is not None:
+    if args.ui and args.takeover_probability not in (None, _EPISODE.takeover_probability):
         raise SconeError(
             f"--takeover-probability {args.takeover_probability:g}: with --ui the person on the tablet decides "
             "when to take over; leave it out"
@@ -503,16 +504,18 @@ def _check_embedder(name: str) -> None:
     folder = Path(name.removeprefix("finetuned:")).expanduser()
     if folder.is_dir():
         # What the loader reads, checked now rather than after the kitchen is built.
-        needs = ("finetuned.json", "head.safetensors") if name.startswith("finetuned:") else None
-        if needs is not None and not all((folder / f).is_file() for f in needs):
+        head = ("finetuned.json", "head.safetensors")
+        fine_tuned = all((folder / f).is_file() for f in head)
+        if name.startswith("finetuned:") and not fine_tuned:
             raise SconeError(
-                f"--embedder {name!r}: not a fine-tuned embedder (needs {' and '.join(needs)}); save one with "
+                f"--embedder {name!r}: not a fine-tuned embedder (needs {' and '.join(head)}); save one with "
                 "scone-bench if --save-finetuned DIR"
             )
-        if needs is None and not any((folder / f).is_file() for f in ("modules.json", "config.json")):
+        sentence_transformers = any((folder / f).is_file() for f in ("modules.json", "config.json"))
+        if not (fine_tuned or sentence_transformers):
             raise SconeError(
-                f"--embedder {name!r}: not a sentence-transformers model directory (no modules.json or "
-                f"config.json); valid: {', '.join(EMBEDDER_NAMES)}, mpnet-ft, finetuned:<dir> or such a directory"
+                f"--embedder {name!r}: not a model directory (no modules.json or config.json, nor a fine-tuned "
+                f"head); valid: {', '.join(EMBEDDER_NAMES)}, mpnet-ft, finetuned:<dir> or such a directory"
             )
         return
     what = "no such folder" if name.startswith("finetuned:") or os.sep in name else "unknown embedder"

@@ -6,7 +6,8 @@
 
 See base.py for the cold start, epsilon.py for ε-greedy (belief vs. decision), conformal.py for the estimator with
 a stated error rate, gp.py for the GP classifier, grounded.py for κ̂ that also sees the execution context,
-calibration.py for κ̂ whose scores are Platt-scaled on out-of-fold scores ("<name>-cal").
+physical.py for the shipped tree's κ̂ (the context read relative to the arm's gripper), calibration.py for κ̂
+whose scores are Platt-scaled on out-of-fold scores ("<name>-cal").
 """
 
 from scone_bt.confidence.base import ConfidenceEstimator
@@ -28,6 +29,7 @@ from scone_bt.confidence.models import (
     SVMEstimator,
     XGBEstimator,
 )
+from scone_bt.confidence.physical import PhysicalEstimator
 from scone_bt.confidence.rebuild import rebuild_estimator, training_data
 from scone_bt.confidence.registry import (
     BASE_ESTIMATORS,
@@ -53,6 +55,7 @@ __all__ = [
     "KNNEstimator",
     "LGBMEstimator",
     "MLPEstimator",
+    "PhysicalEstimator",
     "RandomForestEstimator",
     "SVMEstimator",
     "XGBEstimator",

@@ -3,9 +3,10 @@
 CALIBRATED_ESTIMATORS ("<name>-cal", for a plain or grounded name) pass the estimator's scores through a Platt
 map learnt from its out-of-fold scores on the training rows (calibration.py).
 
-ESTIMATORS read action embeddings only (the tree's gate, every benchmark over actions). GROUNDED_ESTIMATORS
-("grounded-<base>") read an embedding followed by the execution context (see grounded.py); make_estimator builds
-either. "xgboost" is accepted for "xgb".
+ESTIMATORS read action embeddings only (the paper's κ̂, every benchmark over actions). GROUNDED_ESTIMATORS read
+an embedding followed by the execution context: "grounded-<base>" (grounded.py) and "physical" (physical.py, the
+shipped tree's κ̂, which reads the context relative to the arm's gripper). make_estimator builds any of them.
+"xgboost" is accepted for "xgb".
 """
 
 from __future__ import annotations

@@ -13,11 +13,12 @@ from pydantic import Field
 
 from scone_bt.config.schema import StrictModel
 
-__all__ = ["ProbeParameters", "TreeParameters", "PARAMETER_NAMES", "GateName"]
+__all__ = ["ProbeParameters", "TreeParameters", "PARAMETER_NAMES", "GateName", "TREE_DEFAULTS"]
 
 
 GateName = Literal["budget", "paper"]
-"""The gate rules a tree can run: the failure budget, or the paper's fixed threshold (scone_bt.gate.budget.GATES)."""
+"""The gate rules a tree can run: the failure budget (scone_bt/gate/budget.py), or the paper's fixed threshold
+(scone_bt/gate/gate.py)."""
 
 
 class ProbeParameters(StrictModel):
@@ -180,3 +181,8 @@ class TreeParameters(StrictModel):
 
 
 PARAMETER_NAMES: tuple[str, ...] = tuple(TreeParameters.model_fields)
+
+TREE_DEFAULTS = TreeParameters()
+"""Every tree parameter's default: the robot's decision settings when a tree file and the command line say
+nothing. The gate's and the motion's own option objects (gate.budget.BudgetOptions, gate.probe.ProbeOptions,
+motion.probe.ProbeSettings) take their defaults from here."""

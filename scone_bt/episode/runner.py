@@ -66,6 +66,8 @@ class EpisodeOptions:
         tree: Tree file name in trees/ or a path.
         recipe: Recipe id ("example:<name>", a corpus id) or a JSON/YAML path.
         seed: Seeds object placement and distractors (directly) and the human (its own SeedSequence stream).
+            The robot's own streams (perception, planners, κ̂, the gate's draws) come from ``behaviour.seed``:
+            give both to reseed a whole episode, as ``scone-run --seed`` does.
         max_ticks: Limit on control ticks (each advances the world by tick_period).
         tick_period: Simulated seconds per control tick.
         distractors: Objects not in the recipe, spawned on the shelf too.
@@ -449,7 +451,7 @@ def _loop(
             if log_tick is not None:
                 log_tick(ticks)
             break  # the recipe is done and the robot finished its last cycle
-        # While the planner computes, time in the world stands still (PickAndPlace reads the typed phase).
+        # While the planner computes, time in the world stands still (the PickAndPlace behaviour reads the typed phase).
         computing = reader.get(Keys.MOTION_COMPUTING) if reader.exists(Keys.MOTION_COMPUTING) else False
         if computing:
             with clock(LoopPart.PLANNING_WAIT):

@@ -3,7 +3,9 @@
 Each stage draws from its own stream, so a change in how much randomness one stage uses (a camera that renders
 once more, a planner that samples longer) leaves every other stage's draws as they were. The stocking of the
 shelf (which distractors, where each product stands) is seeded by the episode seed itself, as in every earlier
-run, so a seed names the same kitchen.
+run, so a seed names the same kitchen. The failure budget's exploration draws come from
+``numpy.random.default_rng([seed, 0x6A7E])`` of the behaviour seed (behaviours.gate.ConfidenceGate.setup), a
+stream of their own that leaves κ̂'s draws as they were.
 """
 
 from __future__ import annotations

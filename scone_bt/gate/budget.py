@@ -43,6 +43,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from scone_bt.config.tree_parameters import TREE_DEFAULTS
 from scone_bt.errors import SconeError
 
 __all__ = [
@@ -54,11 +55,7 @@ __all__ = [
     "excess_failures",
     "initial_threshold",
     "too_wide",
-    "GATES",
 ]
-
-GATES: tuple[str, ...] = ("budget", "paper")
-"""Gate rules a tree file's ``gate`` parameter accepts: the failure budget, or the paper's fixed threshold."""
 
 
 @dataclass(frozen=True)
@@ -77,7 +74,7 @@ class BudgetOptions:
             None: exploration needs no credit (the rule before the strict promise).
     """
 
-    target_failure_rate: float = 0.15
+    target_failure_rate: float = TREE_DEFAULTS.target_failure_rate
     step: float = 0.05
     tau_min: float = 0.2
     tau_max: float = 0.95

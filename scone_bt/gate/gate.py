@@ -42,6 +42,9 @@ class GateOptions:
         target_error_rate: If set, in (0, 1), replaces confidence_threshold by 1 − target_error_rate; meant for
             the conformal estimator, where it is the tolerated fraction of would-fail actions attempted.
         recipe_aware: The ranking knows the recipe (rule 0); False is the paper's step-text-only gate (rule 1).
+
+    These defaults are the bare rule's, the paper's step-text-only gate; the robot's come from its tree file
+    (config.tree_parameters: a relevance threshold of 0.33 and a recipe-aware ranking).
     """
 
     confidence_threshold: float = 0.5

@@ -28,6 +28,7 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from scone_bt.config.tree_parameters import TREE_DEFAULTS
 from scone_bt.errors import SconeError
 
 if TYPE_CHECKING:
@@ -62,14 +63,14 @@ class ProbeOptions:
             friction limit the judge sets back at.
     """
 
-    below: float = 1.0
-    above: float = 0.3
-    lift_m: float = 0.015
-    hold_s: float = 0.5
+    below: float = TREE_DEFAULTS.probe.below
+    above: float = TREE_DEFAULTS.probe.above
+    lift_m: float = TREE_DEFAULTS.probe.lift_m
+    hold_s: float = TREE_DEFAULTS.probe.hold_s
     max_unsteady: float = 0.01
     max_traction: float = 0.3
     credit: float | None = None
-    full_band_at: float = 0.15
+    full_band_at: float = TREE_DEFAULTS.probe.full_band_at
     sure_traction: float = 0.1
 
     def __post_init__(self) -> None:

@@ -64,7 +64,15 @@ def _bench(args: argparse.Namespace) -> int:
             raise SconeError(
                 "--save-finetuned: nothing is fine-tuned with --no-finetune; give one or the other"
             )
-        check_output_dir(args.save_finetuned, "--save-finetuned", must_be_new=True)
+        check_output_dir(args.save_finetuned, "--save-finetuned")
+        # A head saved there before is replaced, as any rerun replaces its own output; anything else is kept.
+        head = {"finetuned.json", "head.safetensors"}
+        others = sorted(p.name for p in args.save_finetuned.iterdir()) if args.save_finetuned.is_dir() else []
+        if [name for name in others if name not in head]:
+            raise SconeError(
+                f"--save-finetuned {args.save_finetuned}: holds other files than a fine-tuned head "
+                f"({', '.join(others[:3])}); its files are never overwritten, give a new folder"
+            )
     if args.dev is not None and not Path(args.dev).is_file():
         raise SconeError(
             f"--dev {args.dev}: no such file (a JSONL states file, e.g. tools/data/if/dev.jsonl)"

@@ -20,7 +20,7 @@ from scone_bt.motion.placement import (
     sample_placements,
 )
 from scone_bt.motion.planner import PlannerOptions, plan_joint_path
-from scone_bt.motion.system import MotionSystem, PickAndPlace
+from scone_bt.motion.system import MotionSystem, PickAndPlaceTask
 from scone_bt.motion.timing import KinematicLimits, limits_of, time_path
 from scone_bt.motion.types import (
     FailureStage,
@@ -51,7 +51,7 @@ __all__ = [
     "MotionProgress",
     "MotionSystem",
     "Obstacle",
-    "PickAndPlace",
+    "PickAndPlaceTask",
     "PickPlaceFailure",
     "PickPlacePlan",
     "PickPlaceRequest",

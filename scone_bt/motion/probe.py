@@ -30,6 +30,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
+from scone_bt.config.tree_parameters import TREE_DEFAULTS
 from scone_bt.errors import SconeError
 from scone_bt.motion.execution import PickPlaceController, Segment
 from scone_bt.motion.types import MotionPhase, TimedTrajectory
@@ -106,8 +107,8 @@ class ProbeSettings:
             Panda); a heavier reading is something else pulling on the product, not its weight.
     """
 
-    lift_m: float = 0.015
-    hold_s: float = 0.5
+    lift_m: float = TREE_DEFAULTS.probe.lift_m
+    hold_s: float = TREE_DEFAULTS.probe.hold_s
     up_s: float = 0.4
     max_traction: float = 0.3
     max_unsteady: float = 0.01

@@ -54,7 +54,7 @@ from scone_bt.motion.timing import KinematicLimits, limits_of
 from scone_bt.motion.types import FailureStage, MotionOutcome, MotionPhase, MotionProgress
 from scone_bt.perception.types import Detection
 
-__all__ = ["MotionSystem", "PickAndPlace"]
+__all__ = ["MotionSystem", "PickAndPlaceTask"]
 
 
 def _warm_up(arm: ArmModel, home: np.ndarray, static: Sequence[Obstacle]) -> None:
@@ -106,7 +106,7 @@ class MotionSystem:
         # The process's first IK and collision check load the compiled kernels (numba: about half a second): the
         # planning thread does that now, while the robot starts up, rather than in the first plan.
         self._worker.submit(_warm_up, arm, self.home, self.static)
-        self._active: PickAndPlace | None = None
+        self._active: PickAndPlaceTask | None = None
         # Where this robot put objects on the table: what it knows stands there when the table is not observed.
         self.placed: dict[str, Obstacle] = {}
         y_axis = arm.fk(self.home)[:3, 1]  # the fingers' closing axis at home
@@ -183,7 +183,7 @@ class MotionSystem:
         rng_seed: int,
         place_spot: tuple[float, float, float] | None = None,
         table_obstacles: Sequence[tuple[Detection, ObjectSpec]] | None = None,
-    ) -> PickAndPlace:
+    ) -> PickAndPlaceTask:
         """A task that moves `target` from the shelf to the table. Cheap; starts nothing.
 
         Args:
@@ -196,7 +196,7 @@ class MotionSystem:
                 (then the robot knows only what it placed itself).
         """
         table = None if table_obstacles is None else tuple(table_obstacles)
-        return PickAndPlace(self, target, spec, tuple(obstacles), int(rng_seed), place_spot, table)
+        return PickAndPlaceTask(self, target, spec, tuple(obstacles), int(rng_seed), place_spot, table)
 
     def close(self) -> None:
         self._worker.shutdown(wait=True, cancel_futures=True)
@@ -208,7 +208,7 @@ class MotionSystem:
         self.close()
 
 
-class PickAndPlace:
+class PickAndPlaceTask:
     """One non-blocking pick-and-place: `start()`, then poll `done()` while the cell steps."""
 
     def __init__(

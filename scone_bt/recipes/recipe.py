@@ -269,9 +269,11 @@ def corpus_entries(path: str | Path | None = None) -> Iterator[CorpusEntry]:
         if not line.strip():
             continue
         try:
-            record = json.loads(line)
+            record = json.loads(line, object_pairs_hook=_unique_keys)
         except (json.JSONDecodeError, RecursionError):
             raise RecipeError(f"{corpus}:{line_no}: not valid JSON; the corpus file is damaged") from None
+        except ValueError as exc:  # a key given twice (_unique_keys)
+            raise RecipeError(f"{corpus}:{line_no}: {exc}; the corpus file is damaged") from None
         if not isinstance(record, dict):
             raise RecipeError(
                 f"{corpus}:{line_no}: a recipe must be a JSON object; the corpus file is damaged"

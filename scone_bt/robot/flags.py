@@ -12,11 +12,12 @@ import argparse
 import os
 from pathlib import Path
 
+from scone_bt.defaults import EPISODE
 from scone_bt.errors import SconeError
 
 __all__ = ["add_backend_option", "add_robot_options", "check_backend", "require_pybullet", "robot_file_names"]
 
-DEFAULT_ARM = "panda"
+DEFAULT_ARM = EPISODE.robot
 """The robot file every command uses when ``--arm`` is not given."""
 
 

@@ -22,7 +22,7 @@ from scone_bt.world import Kitchen
 
 if TYPE_CHECKING:
     from scone_bt.motion import ArmModel, MotionSystem
-    from scone_bt.motion.system import PickAndPlace
+    from scone_bt.motion.system import PickAndPlaceTask
     from scone_bt.perception.observe import Observer
 
 __all__ = ["SimBackend", "SimRobot", "sim_backend", "shared_arm"]
@@ -108,7 +108,7 @@ class SimRobot:
     def _with_specs(self, seen: tuple[Detection, ...]) -> list[tuple[Detection, ObjectSpec]]:
         return [(d, self._spec(d.name)) for d in seen]
 
-    def _task(self, request: PickRequest) -> PickAndPlace:
+    def _task(self, request: PickRequest) -> PickAndPlaceTask:
         target = request.target
         task = self.motion.pick_and_place(
             target,
@@ -182,7 +182,7 @@ _GEOMETRIC = frozenset(
 class _PlannedTask:
     """`PlannedPick` over the motion system's task: planned in the background, started on `execute`."""
 
-    def __init__(self, task: PickAndPlace) -> None:
+    def __init__(self, task: PickAndPlaceTask) -> None:
         self.task = task
 
     def ready(self) -> bool:

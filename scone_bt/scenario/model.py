@@ -28,6 +28,7 @@ from scone_bt.config.yaml_io import read_yaml
 from scone_bt.defaults import EPISODE
 from scone_bt.errors import ConfigError, SconeError
 from scone_bt.events import EVENT_TYPES
+from scone_bt.robot.registry import DEFAULT_BACKEND
 from scone_bt.stocking.validate import SLOT_PATTERN, KitchenNames, kitchen_names, slots_beside
 
 if TYPE_CHECKING:
@@ -83,7 +84,7 @@ class Placement(StrictModel):
 class WorldSection(StrictModel):
     """What the episode is: arm, kitchen, recipe, tree and its parameters, seed, and how the shelf is stocked."""
 
-    robot: str = "sim"
+    robot: str = DEFAULT_BACKEND
     """The robot backend (``scone-run --robot``: sim = PyBullet, mujoco); ``--robot`` of the scenario commands
     overrides it."""
     arm: _Name = EPISODE.robot

@@ -137,8 +137,8 @@ class _Episode:
 
 def _decide(ep: _Episode, step: int, instruction: str, name: str, clock: float) -> DecisionKind:
     """The tree's decision on the step's one action (the gate, then the failure limit), emitted."""
-    from scone_bt.behaviours.gate import apply_failure_limit
     from scone_bt.gate import decide
+    from scone_bt.gate.rules import apply_failure_limit
     from scone_bt.relevance.types import RankedAction
 
     action = action_text(name)

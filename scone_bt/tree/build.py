@@ -13,6 +13,7 @@ import py_trees
 from pydantic import BaseModel, Field, ValidationError, create_model, field_validator
 
 from scone_bt.behaviours.context import EpisodeContext
+from scone_bt.behaviours.help import WAIT_S
 from scone_bt.config.schema import StrictModel, format_validation_error, validate
 from scone_bt.config.tree_parameters import TreeParameters
 from scone_bt.config.yaml_io import read_yaml
@@ -66,7 +67,7 @@ class _DecisionIsArgs(StrictModel):
 
 
 class _WaitForHumanArgs(StrictModel):
-    seconds: Annotated[float, Field(gt=0, le=3600, allow_inf_nan=False)] = 1.0
+    seconds: Annotated[float, Field(gt=0, le=3600, allow_inf_nan=False)] = WAIT_S
 
 
 ARG_MODELS: dict[str, type[StrictModel]] = {"DecisionIs": _DecisionIsArgs, "WaitForHuman": _WaitForHumanArgs}

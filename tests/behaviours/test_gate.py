@@ -8,9 +8,9 @@ import py_trees
 import pytest
 
 from scone_bt.behaviours import ConfidenceGate, DecisionIs, GatePorts, GateSettings, Keys
-from scone_bt.behaviours.gate import apply_failure_limit
 from scone_bt.events import ActOutcome, DecisionMade, EventLog
 from scone_bt.gate import GateOptions
+from scone_bt.gate.rules import apply_failure_limit
 from scone_bt.gate.types import Decision, DecisionKind
 from scone_bt.relevance.types import RankedAction
 from tests.behaviours.fakes import FakeHuman, FakeRobot, affordance, blackboard

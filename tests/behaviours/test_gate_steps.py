@@ -11,10 +11,10 @@ from scone_bt.behaviours import GatePorts, GateSettings
 from scone_bt.behaviours.gate_steps import (
     CARD_ITEMS_LEFT,
     EVERY_STEP_SERVED,
-    budget_counts,
     candidate_contexts,
     confidences,
     decision_event,
+    gate_counts,
     past_the_end,
     probe_reasons,
     settle_idle,
@@ -126,7 +126,7 @@ def test_probe_reasons_name_only_what_a_probe_set_back() -> None:
     ranked = [RankedAction(SALT, 0.7), RankedAction("Put sugar on table", 0.5)]
     assert probe_reasons(history, ranked) == {SALT: "too heavy"}
     assert probe_reasons(EventLog(), ranked) == {}  # no probe yet
-    counts = budget_counts(history, _Explorer())
+    counts = gate_counts(history, _Explorer())
     assert (counts.attempts, counts.failures, counts.held_fast_record()) == (3, 1, BudgetCounts(2, 1))
 
 

@@ -8,11 +8,11 @@ import py_trees
 
 from scone_bt.behaviours import ConfidenceGate, GatePorts, GateSettings, Keys, PickAndPlace, RecordInfeasible
 from scone_bt.behaviours.context import OutcomeLabels
-from scone_bt.behaviours.gate import say_infeasible
 from scone_bt.episode.seeds import PlannerSeedStream, SeedPlan
 from scone_bt.events import DecisionMade, EventLog, PlanInfeasible
 from scone_bt.gate import GateOptions
 from scone_bt.gate.budget import BudgetOptions
+from scone_bt.gate.rules import say_infeasible
 from scone_bt.gate.types import DecisionKind
 from scone_bt.relevance.types import RankedAction
 from scone_bt.robot.interface import Infeasible

@@ -16,7 +16,7 @@ from scone_bt.episode.seeds import PlannerSeedStream, SeedPlan
 from scone_bt.events import EventLog
 from scone_bt.experience.store import ExperienceStore
 from scone_bt.human import SimulatedHuman
-from scone_bt.motion.system import PickAndPlace as MotionTask
+from scone_bt.motion.system import PickAndPlaceTask as MotionTask
 from scone_bt.robot import MotionHandle, Robot, SimRobot
 from scone_bt.study.tablet import TabletHuman
 from tests.behaviours.fakes import FakeHandle, FakeHuman, FakeRobot

@@ -80,6 +80,9 @@ def test_learning_trial_reports_cold_and_fleet_with_spread():
         (["--estimator", "nope"], "--estimator 'nope'"),  # was found after the store trial
         (["--no-learning", "--estimator", "knn"], "--estimator"),  # was ignored
         (["--no-learning", "--seeds", "3"], "--seeds"),
+        (["--no-learning", "--seeds", "0"], "--seeds"),
+        (["--no-learning", "--iiwa-datasets", "x"], "--iiwa-datasets"),
+        (["--estimator", ""], "--estimator ''"),
     ],
 )
 def test_bad_fleet_options_are_one_line_before_any_store(argv, flag, tmp_path, monkeypatch, capsys):

@@ -111,6 +111,13 @@ def test_an_option_this_run_would_not_read_is_refused(argv, expected, capsys):
     assert expected in _one_line_error(argv, capsys)
 
 
+def test_a_default_typed_out_is_not_refused_as_unread():
+    from scone_bt.cli.run import _check_flags_read, build_parser
+
+    for argv in (["--learn-from", "self"], ["--ui", "--takeover-probability", "0"], ["--profile", ""]):
+        _check_flags_read(build_parser().parse_args(argv))
+
+
 @pytest.mark.parametrize(
     ("flag", "what", "valid"),
     [
@@ -268,7 +275,7 @@ def test_a_robot_id_that_no_query_would_match_is_one_line(robot_id, capsys):
 @pytest.mark.parametrize(
     ("embedder", "expected"),
     [
-        ("{dir}", "not a sentence-transformers model directory (no modules.json or config.json)"),
+        ("{dir}", "not a model directory (no modules.json or config.json, nor a fine-tuned head)"),
         ("finetuned:{dir}", "not a fine-tuned embedder (needs finetuned.json and head.safetensors)"),
     ],
 )
@@ -278,3 +285,13 @@ def test_an_embedder_folder_the_loader_cannot_read_is_refused_before_the_kitchen
     """It passed the check and failed after the kitchen was built and the episode's header printed."""
     err = _one_line_error(["--embedder", embedder.format(dir=tmp_path)], capsys)
     assert err.startswith("scone-run: error: --embedder") and expected in err
+
+
+def test_a_fine_tuned_folder_is_an_embedder_with_or_without_its_prefix(tmp_path):
+    """The loader reads a bare folder holding a fine-tuned head too (registry.load_embedder)."""
+    from scone_bt.cli.run import _check_embedder
+
+    for name in ("finetuned.json", "head.safetensors"):
+        (tmp_path / name).write_text("{}")
+    _check_embedder(str(tmp_path))
+    _check_embedder(f"finetuned:{tmp_path}")

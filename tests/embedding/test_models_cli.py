@@ -74,3 +74,14 @@ def test_a_cache_dir_that_cannot_hold_the_model_is_one_line_before_pip_runs(tmp_
     err = capsys.readouterr().err
     assert err == f"scone-models: --cache-dir {a_file}: is a file, not a folder; it is never overwritten\n"
     assert a_file.read_text() == "a: 1\n"
+
+
+def test_a_file_given_as_the_cache_and_a_blank_text_are_one_line(tmp_path, capsys):
+    """`list` with a file for its cache called every model missing; `embed` compared empty texts."""
+    taken = tmp_path / "cache.txt"
+    taken.write_text("mine\n")
+    assert main(["--cache-dir", str(taken), "list"]) == 2
+    assert capsys.readouterr().err == f"scone-models: --cache-dir {taken}: is a file, not a folder\n"
+    assert main(["--cache-dir", str(tmp_path / "c"), "embed", "onehot", "salt", " "]) == 2
+    assert capsys.readouterr().err == "scone-models: embed: text 2 of 2 is empty; give texts to compare\n"
+    assert taken.read_text() == "mine\n"

@@ -88,6 +88,10 @@ def test_if_outputs_and_dev_file_are_checked_before_any_scoring(tmp_path, capsys
             "--save-finetuned: nothing is fine-tuned",
         ),
         (["--dev", str(tmp_path / "dev.jsonl")], f"--dev {tmp_path / 'dev.jsonl'}: no such file"),
+        (
+            ["--save-finetuned", str(tmp_path)],
+            f"--save-finetuned {tmp_path}: holds other files than a fine-tuned",
+        ),
     ]
     for argv, message in cases:
         assert main(["if", "--states", missing, "--train", missing, *argv]) == 2
@@ -150,3 +154,14 @@ def test_if_states_help_documents_force(capsys) -> None:
     with pytest.raises(SystemExit):
         main(["if-states", "--help"])
     assert "--force" in capsys.readouterr().out
+
+
+def test_a_folder_holding_an_earlier_head_may_be_saved_to_again(tmp_path, capsys) -> None:
+    """A rerun replaces its own output: the next error is the missing states file, not the folder."""
+    folder = tmp_path / "head"
+    folder.mkdir()
+    for name in ("finetuned.json", "head.safetensors"):
+        (folder / name).write_text("earlier")
+    missing = str(tmp_path / "nope.jsonl")
+    assert main(["if", "--states", missing, "--train", missing, "--save-finetuned", str(folder)]) == 2
+    assert capsys.readouterr().err.startswith("scone-bench: states file not found")

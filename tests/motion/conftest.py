@@ -89,7 +89,7 @@ def run_to_end():
 
 @pytest.fixture
 def task_for(detect):
-    """task_for(kitchen, system, name, seed, place_spot) -> a PickAndPlace of that object, the others as
+    """task_for(kitchen, system, name, seed, place_spot) -> a PickAndPlaceTask of that object, the others as
     obstacles (``place_spot``: the spot the request names, None: sampled)."""
 
     def make(kitchen, system, name, seed=3, place_spot=None):

@@ -244,17 +244,18 @@ def test_an_empty_participant_id_is_quoted_once(tmp_path, capsys, participant):
 
 
 @pytest.mark.parametrize(
-    ("flag", "value", "expected"),
+    ("argv", "expected"),
     [
-        ("--recipe", "example:nosuch", "--recipe: unknown example recipe 'nosuch'; valid: example:hummus"),
-        ("--arm", "nosuch", "--arm: unknown robot 'nosuch'; valid: iiwa7, panda"),
+        (["--recipe", "example:nosuch"], "--recipe: unknown example recipe 'nosuch'; valid: example:hummus"),
+        (["--arm", "nosuch"], "--arm: unknown robot 'nosuch'; valid: iiwa7, panda"),
+        # with --fast the synthetic episodes read neither: another value is refused as not read
+        (["--fast", "--recipe", "example:nosuch"], "--recipe: only the physics episodes read it"),
+        (["--fast", "--arm", "nosuch"], "--arm: only the physics episodes read it"),
     ],
 )
-def test_simulate_fast_checks_the_recipe_and_arm_it_would_use_without_fast(
-    tmp_path, capsys, flag, value, expected
-):
+def test_simulate_checks_the_recipe_and_arm_before_any_participant(tmp_path, capsys, argv, expected):
     db = tmp_path / "s.db"
-    assert main(["simulate", "--participants", "2", "--fast", "--db", str(db), flag, value]) == 2
+    assert main(["simulate", "--participants", "2", "--db", str(db), *argv]) == 2
     err = capsys.readouterr().err
     assert expected in err and err.count("\n") == 1, err
     assert not db.exists()
