@@ -13,7 +13,7 @@ class EpisodeDefaults:
     """What an episode is when nothing says otherwise.
 
     Attributes:
-        robot: Robot file (robots/<name>.yaml).
+        arm: Robot file (robots/<name>.yaml; ``--arm``; the backend it runs on is ``--robot``).
         kitchen: Kitchen file (perception/<name>.yaml).
         tree: Tree file (trees/<name>.yaml).
         recipe: Recipe reference (example:<name>, a corpus id or a file).
@@ -26,7 +26,7 @@ class EpisodeDefaults:
         learn_from: Whose stored outcomes rebuild κ̂ from an outcome store: "self", "same-model" or "fleet".
     """
 
-    robot: str = "panda"
+    arm: str = "panda"
     kitchen: str = "kitchen"
     tree: str = "assistive_cooking"
     recipe: str = "example:tomato-pasta"

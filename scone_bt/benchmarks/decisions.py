@@ -255,7 +255,7 @@ def _episode(
     events: list[Event] = []
     summary = run_episode(
         EpisodeOptions(
-            robot=arm,
+            arm=arm,
             backend=backend,
             recipe=recipe_id,
             seed=seed,

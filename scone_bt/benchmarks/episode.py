@@ -49,7 +49,7 @@ from scone_bt.episode import EpisodeOptions, run_episode
 from scone_bt.quiet import c_stdout_silenced
 arm, backend, recipe, seed, distractors, max_ticks, cache = sys.argv[1:8]
 options = EpisodeOptions(
-    robot=arm, backend=backend, recipe=recipe, seed=int(seed), distractors=int(distractors), max_ticks=int(max_ticks),
+    arm=arm, backend=backend, recipe=recipe, seed=int(seed), distractors=int(distractors), max_ticks=int(max_ticks),
     behaviour=BehaviourOptions(seed=int(seed), cache_dir=Path(cache)),
 )
 with c_stdout_silenced():
@@ -130,7 +130,7 @@ def _run_episodes(args: argparse.Namespace, recipes: list[str]) -> list[dict[str
     for i, recipe in enumerate(recipes):
         bar.set_postfix_str(recipe)
         options = EpisodeOptions(
-            robot=args.arm,
+            arm=args.arm,
             backend=args.robot,
             recipe=recipe,
             seed=args.seed + i,

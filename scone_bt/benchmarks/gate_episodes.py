@@ -97,7 +97,7 @@ def run_episodes(args: argparse.Namespace) -> dict[str, Any]:
             seed = args.seed + i
             summary = run_episode(
                 EpisodeOptions(
-                    robot=args.arm,
+                    arm=args.arm,
                     backend=args.robot,
                     recipe=recipes[i % len(recipes)],
                     seed=seed,

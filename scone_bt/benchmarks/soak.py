@@ -228,7 +228,7 @@ def _episode(
 
     seed = args.seed + index
     options = EpisodeOptions(
-        robot=args.arm,
+        arm=args.arm,
         backend=args.robot,
         recipe=recipe,
         seed=seed,
@@ -350,7 +350,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         default=DEFAULT_BACKEND,
         help=f"robot backend: {', '.join(BACKENDS)} (default {DEFAULT_BACKEND})",
     )
-    p.add_argument("--arm", default=EPISODE.robot, help=f"robot file name or path (default {EPISODE.robot})")
+    p.add_argument("--arm", default=EPISODE.arm, help=f"robot file name or path (default {EPISODE.arm})")
     p.add_argument("--seed", type=int, default=0, help="seeds the recipes' draw; episode i uses seed + i")
     p.add_argument(
         "--warmup", type=int, default=10, help="episodes before the memory slope is fitted (default 10)"

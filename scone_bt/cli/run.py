@@ -192,7 +192,7 @@ def build_parser() -> argparse.ArgumentParser:
 def _add_input_options(p: argparse.ArgumentParser) -> None:
     """What the episode runs: robot, recipe, kitchen, catalogues, tree, distractors."""
     g = p.add_argument_group("input")
-    add_robot_options(g, arm_default=_EPISODE.robot)
+    add_robot_options(g, arm_default=_EPISODE.arm)
     g.add_argument(
         "--recipe",
         default=_EPISODE.recipe,
@@ -623,7 +623,7 @@ def options_from_args(args: argparse.Namespace):  # -> EpisodeOptions
         seed=args.seed,
     )
     return EpisodeOptions(
-        robot=args.arm,
+        arm=args.arm,
         kitchen=args.kitchen,
         catalogues=tuple(args.catalogue),
         tree=args.tree,

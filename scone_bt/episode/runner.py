@@ -60,7 +60,7 @@ class EpisodeOptions:
     """Everything that defines an episode.
 
     Attributes:
-        robot: Robot file name in robots/ or a path.
+        arm: Robot file name in robots/ or a path (``--arm``; the backend is ``backend``, ``--robot``).
         kitchen: Kitchen file name in perception/ or a path.
         catalogues: Extra product files merged into the kitchen's catalogue (a user's own products).
         tree: Tree file name in trees/ or a path.
@@ -80,7 +80,7 @@ class EpisodeOptions:
         backend: The robot backend's name in `scone_bt.robot.registry.BACKENDS` (``scone-run --robot``).
     """
 
-    robot: str = EPISODE.robot
+    arm: str = EPISODE.arm
     kitchen: str = EPISODE.kitchen
     catalogues: tuple[str, ...] = ()
     tree: str = EPISODE.tree
@@ -335,7 +335,7 @@ def _plan(options: EpisodeOptions) -> _Plan:
     behaviour = options.behaviour.resolve(spec.parameters)
     return _Plan(
         kitchen=kitchen,
-        robot=load_robot(options.robot),
+        robot=load_robot(options.arm),
         tree=spec,
         recipe=shelf.recipe,
         distractors=tuple(shelf.distractors),

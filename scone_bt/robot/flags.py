@@ -17,7 +17,7 @@ from scone_bt.errors import SconeError
 
 __all__ = ["add_backend_option", "add_robot_options", "check_backend", "require_pybullet", "robot_file_names"]
 
-DEFAULT_ARM = EPISODE.robot
+DEFAULT_ARM = EPISODE.arm
 """The robot file every command uses when ``--arm`` is not given."""
 
 

@@ -87,7 +87,7 @@ class WorldSection(StrictModel):
     robot: str = DEFAULT_BACKEND
     """The robot backend (``scone-run --robot``: sim = PyBullet, mujoco); ``--robot`` of the scenario commands
     overrides it."""
-    arm: _Name = EPISODE.robot
+    arm: _Name = EPISODE.arm
     kitchen: _Name = EPISODE.kitchen
     catalogues: Annotated[list[_Name], Field(max_length=20)] = []
     recipe: _Name = EPISODE.recipe

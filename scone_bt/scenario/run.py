@@ -288,7 +288,7 @@ def episode_options(
     h = case.spec.human
     return EpisodeOptions(
         backend=w.robot,
-        robot=resolve_input(w.arm, base),
+        arm=resolve_input(w.arm, base),
         kitchen=resolve_input(w.kitchen, base),
         catalogues=tuple(resolve_input(c, base) for c in w.catalogues),
         tree=resolve_input(w.tree, base),

@@ -64,7 +64,7 @@ def _add_session_parser(sub: argparse._SubParsersAction) -> None:
     )
     s.add_argument("--session", type=int, required=True, help="1 or 2; with --group it sets the condition")
     s.add_argument("--recipe", default=EPISODE.recipe, help="recipe id or file")
-    add_robot_options(s, arm_default=EPISODE.robot)
+    add_robot_options(s, arm_default=EPISODE.arm)
     s.add_argument("--seed", type=int, default=EPISODE.seed, help="seeds object placement and the robot")
     s.add_argument(
         "--distractors", type=int, default=EPISODE.distractors, help="objects not in the recipe on the shelf"
@@ -575,7 +575,7 @@ def _session(args: argparse.Namespace) -> int:
     load_robot(args.arm)
     load_recipe(args.recipe)
     options = EpisodeOptions(
-        robot=args.arm,
+        arm=args.arm,
         backend=args.robot,
         recipe=args.recipe,
         seed=args.seed,

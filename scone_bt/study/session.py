@@ -44,7 +44,7 @@ def run_study_session(
     info = {
         "recipe": options.recipe,
         "seed": options.seed,
-        "robot": options.robot,
+        "robot": options.arm,
         "tablet": server.url.split("?")[0],
         # simulated seconds the robot announces each attempt before moving (the time to take over)
         "takeover_window_s": resolved.takeover_window_s,

@@ -92,7 +92,7 @@ def _physics_episode(
         use_self_confidence=condition is Condition.ON, experience_path=options.experience_path, seed=seed
     )
     episode = EpisodeOptions(
-        robot=options.robot,
+        arm=options.robot,
         backend=options.backend,
         recipe=options.recipe,
         seed=seed,

@@ -92,7 +92,7 @@ def test_episodes_run_on_the_named_backend(monkeypatch, capsys) -> None:
     monkeypatch.setattr("scone_bt.episode.run_episode", capture)
     assert bench.main(["episode", "--robot", "other", "--arm", "iiwa7", "--recipes", "example:hummus"]) == 2
     assert "stop here" in capsys.readouterr().err
-    assert seen[0].backend == "other" and seen[0].robot == "iiwa7"
+    assert seen[0].backend == "other" and seen[0].arm == "iiwa7"
 
 
 @pytest.mark.parametrize(

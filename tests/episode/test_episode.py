@@ -14,7 +14,7 @@ def _run(recipe: str, seed: int = 0, events: list | None = None, robot: str = "p
     options = EpisodeOptions(
         recipe=recipe,
         seed=seed,
-        robot=robot,
+        arm=robot,
         distractors=4,
         behaviour=BehaviourOptions(seed=seed, **behaviour),
     )

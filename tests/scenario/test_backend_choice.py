@@ -50,7 +50,7 @@ def test_arm_names_the_robot_file_of_every_case(tmp_path: Path) -> None:
     assert case.spec.world.arm == "panda"
     on_iiwa = on_backend(case, None, "iiwa7")
     assert on_iiwa.spec.world.arm == "iiwa7" and on_iiwa.spec.world.robot == "mujoco"
-    assert episode_options(on_iiwa).robot == "iiwa7"
+    assert episode_options(on_iiwa).arm == "iiwa7"
     with pytest.raises(SconeError) as info:
         on_backend(case, "sim", "nosuch")
     assert "\n" not in str(info.value) and "iiwa7, panda" in str(info.value)
