@@ -2,7 +2,8 @@
 
 from scone_bt.episode.printer import LinePrinter, decision_line
 from scone_bt.episode.resources import EpisodeResources, ModelPool
-from scone_bt.episode.runner import EpisodeOptions, EpisodeSummary, run_episode
+from scone_bt.episode.runner import EpisodeOptions, run_episode
+from scone_bt.episode.summary import EpisodeSummary
 
 __all__ = [
     "EpisodeOptions",

@@ -5,15 +5,15 @@ the robot and its world, builds the human and the tree, then runs the loop over 
 `World`, the human): each control tick ticks the tree once, then advances the world by `tick_period` and lets the
 human act. While the motion planner is still computing in its worker thread, time in the world stands still (the
 robot is thinking; nothing moves), so a seeded episode repeats exactly whatever the machine's speed. Nothing here
-knows which backend runs.
+knows which backend runs. What an episode returns is summary.py's `EpisodeSummary`; where its time went,
+timing.py's `WallClock`.
 """
 
 from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import asdict, dataclass, field
-from enum import StrEnum
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
 
@@ -24,10 +24,12 @@ from scone_bt.behaviours import BehaviourOptions, EpisodeContext, Keys, OutcomeL
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig, load_kitchen, load_robot
 from scone_bt.defaults import EPISODE
 from scone_bt.episode.heap import release_free_heap
-from scone_bt.episode.printer import RULE_LABELS, LinePrinter, condition_line, percent, promise_words
+from scone_bt.episode.printer import LinePrinter, condition_line
 from scone_bt.episode.resources import EpisodeResources, ModelPool
 from scone_bt.episode.seeds import PlannerSeedStream, SeedPlan, SeedStage
 from scone_bt.episode.snapshot import SnapshotBuilder
+from scone_bt.episode.summary import EpisodeSummary
+from scone_bt.episode.timing import LoopPart, TimedEmbedder, WallClock
 from scone_bt.errors import ConfigError
 from scone_bt.events import DecisionMade, Event, EventLog, EventSink
 from scone_bt.human import HumanOptions, SimulatedHuman
@@ -47,9 +49,6 @@ __all__ = [
     "NO_TABLE_CAMERA",
     "EpisodeHook",
     "EpisodeOptions",
-    "EpisodeSummary",
-    "LoopPart",
-    "WallClock",
     "delivered",
     "run_episode",
 ]
@@ -96,95 +95,6 @@ class EpisodeOptions:
     connect: str | None = None
     gui: bool = False
     backend: str = DEFAULT_BACKEND
-
-
-@dataclass(frozen=True)
-class EpisodeSummary:
-    """What happened. All counts are deterministic for a given seed; times are not.
-
-    ``condition`` is the condition the robot ran in (`condition_line`); ``decided_by_rule`` counts the decisions a
-    rule other than κ̂ against the threshold made, by `DecisionMade.rule`; ``failure_budget`` is the budget gate's
-    target failure rate (None for another gate), ``strict_promise`` whether that budget explored only on earned
-    credit (``exploration_credit``; read only with ``failure_budget``, `promise_words`).
-    """
-
-    recipe_id: str
-    recipe_title: str
-    robot: str
-    completed: bool
-    steps_completed: int
-    steps_total: int
-    attempted: int
-    successes: int
-    failures: int
-    failures_by_stage: dict[str, int]
-    help_requests: int
-    clarifications: int
-    interventions: int
-    takeovers: int
-    decisions: int
-    control_ticks: int
-    tree_ticks: int
-    sim_time: float
-    wall_time: float
-    needed_on_table: dict[str, bool]
-    decision_log: tuple[str, ...]
-    startup_to_first_decision_s: float | None = None
-    wall_breakdown: dict[str, float] = field(default_factory=dict)
-    cpu_breakdown: dict[str, float] = field(default_factory=dict)
-    physics_steps: int = 0
-    physics_steps_skipped: int = 0
-    renders: int = 0
-    condition: str = ""
-    decided_by_rule: dict[str, int] = field(default_factory=dict)
-    not_stocked: int = 0
-    failure_budget: float | None = None
-    strict_promise: bool = False
-    bodies: int = 0
-    constraints: int = 0
-
-    def deterministic_part(self) -> dict[str, Any]:
-        """The fields a seeded rerun must reproduce exactly."""
-        d = asdict(self)
-        for timing in ("wall_time", "startup_to_first_decision_s", "wall_breakdown", "cpu_breakdown"):
-            d.pop(timing)
-        d.pop("tree_ticks")  # ticks while the planner thread computes depend on the machine's speed
-        return d
-
-    def format(self) -> str:
-        fails = ", ".join(f"{k} {v}" for k, v in sorted(self.failures_by_stage.items())) or "none"
-        on_table = sum(self.needed_on_table.values())
-        # the recipe's ingredients no product stands for: the human brings them (not counted above)
-        brought = (
-            f"   {self.not_stocked} more not stocked (the human brings them)" if self.not_stocked else ""
-        )
-        # an attempt the episode's end cut short has no outcome: said, so the counts add up
-        cut = self.attempted - self.successes - self.failures - self.takeovers
-        labelled = self.successes + self.failures
-        rate = (
-            f"   failure rate {percent(round(self.failures / labelled, 3))} (budget {percent(self.failure_budget)}, "
-            f"{promise_words(self.strict_promise)})"
-            if self.failure_budget is not None and labelled
-            else ""
-        )
-        rules = ", ".join(f"{RULE_LABELS.get(k, k)} {v}" for k, v in sorted(self.decided_by_rule.items()))
-        return "\n".join(
-            [
-                f"── summary: {self.recipe_title} ({self.recipe_id}) with {self.robot} ──",
-                *([f"condition          {self.condition}"] if self.condition else []),
-                f"steps completed    {self.steps_completed}/{self.steps_total}{'' if self.completed else '  (stopped early)'}",
-                f"ingredients        {on_table}/{len(self.needed_on_table)} on the table{brought}",
-                f"actions attempted  {self.attempted}   successes {self.successes}   failures {self.failures} ({fails})"
-                + (f"   taken over {self.takeovers}" if self.takeovers else "")
-                + (f"   cut short by the end of the episode {cut}" if cut > 0 else "")
-                + rate,
-                f"help requests      {self.help_requests}   clarifications {self.clarifications}"
-                f"   interventions {self.interventions}",
-                f"decisions          {self.decisions}   control ticks {self.control_ticks}"
-                + (f"   made by a rule, not κ̂: {rules}" if rules else ""),
-                f"time               {self.sim_time:.1f} s simulated, {self.wall_time:.1f} s wall",
-            ]
-        )
 
 
 NO_TABLE_CAMERA = (
@@ -243,61 +153,6 @@ class EpisodeHook(Protocol):
     def attach(self, world: World, robot: Robot, human: Any, events: EventSink) -> None: ...
 
     def after_tick(self, control_ticks: int) -> None: ...
-
-
-class LoopPart(StrEnum):
-    """A part of the episode loop whose wall and CPU time the summary reports (the breakdowns' keys)."""
-
-    STARTUP = "startup"
-    TREE = "tree"  # ticking the tree, less perception and embedding
-    PERCEPTION = "perception"
-    EMBEDDING = "embedding"
-    PLANNING_WAIT = "planning_wait"  # simulated time held while the planner computes
-    PHYSICS = "physics"
-    HUMAN = "human"
-    LOGGING = "logging"
-
-
-class WallClock:
-    """Wall and main-thread CPU seconds per part of the episode loop (``with clock(LoopPart.PHYSICS): ...``)."""
-
-    def __init__(self) -> None:
-        self.seconds: dict[LoopPart, float] = {}
-        self.cpu_seconds: dict[LoopPart, float] = {}
-        self._part = LoopPart.STARTUP
-        self._since = self._cpu_since = 0.0
-
-    def __call__(self, part: LoopPart) -> WallClock:
-        self._part = part
-        return self
-
-    def __enter__(self) -> None:
-        self._since, self._cpu_since = time.perf_counter(), time.thread_time()
-
-    def __exit__(self, *exc: object) -> None:
-        self.add(self._part, time.perf_counter() - self._since, time.thread_time() - self._cpu_since)
-
-    def add(self, part: LoopPart, seconds: float, cpu_seconds: float = 0.0) -> None:
-        self.seconds[part] = self.seconds.get(part, 0.0) + seconds
-        self.cpu_seconds[part] = self.cpu_seconds.get(part, 0.0) + cpu_seconds
-
-
-class _TimedEmbedder:
-    """An embedder whose `embed` calls count under "embedding" (a shared embedder itself stays unchanged)."""
-
-    def __init__(self, inner: Any, clock: WallClock) -> None:
-        self._inner = inner
-        self._clock = clock
-
-    def embed(self, texts: Any) -> Any:
-        t, c = time.perf_counter(), time.thread_time()
-        try:
-            return self._inner.embed(texts)
-        finally:
-            self._clock.add(LoopPart.EMBEDDING, time.perf_counter() - t, time.thread_time() - c)
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self._inner, name)
 
 
 @dataclass(frozen=True)
@@ -379,11 +234,11 @@ def _build(
     human = factory(world, recipe, options.human, plan.episode_seeds.integer(SeedStage.HUMAN))
     log_lines = LinePrinter(say, len(recipe.steps))
     events = EventLog(sinks[0], log_lines, *sinks[1:])
-    timed: list[_TimedEmbedder] = []
+    timed: list[TimedEmbedder] = []
 
     def embedder() -> Any:
         if not timed:
-            timed.append(_TimedEmbedder(resources.embedder(), clock))
+            timed.append(TimedEmbedder(resources.embedder(), clock))
         return timed[0]
 
     context = EpisodeContext(

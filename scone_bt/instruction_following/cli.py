@@ -33,6 +33,31 @@ def _engine(args: argparse.Namespace):  # -> EngineOptions | None
     return engine_from_args(args, args.jobs) if args.ray or args.jobs > 1 else None
 
 
+def _check_finetuned_out_and_dev(args: argparse.Namespace) -> None:
+    """``--save-finetuned`` (read only while fine-tuning; a folder empty or holding an earlier head) and
+    ``--dev`` (a file that exists), each one line naming the flag."""
+    if args.save_finetuned is not None:
+        from scone_bt.checks import check_output_dir
+
+        if args.no_finetune:
+            raise SconeError(
+                "--save-finetuned: nothing is fine-tuned with --no-finetune; give one or the other"
+            )
+        check_output_dir(args.save_finetuned, "--save-finetuned")
+        # A head saved there before is replaced, as any rerun replaces its own output; anything else is kept.
+        head = {"finetuned.json", "head.safetensors"}
+        others = sorted(p.name for p in args.save_finetuned.iterdir()) if args.save_finetuned.is_dir() else []
+        if [name for name in others if name not in head]:
+            raise SconeError(
+                f"--save-finetuned {args.save_finetuned}: holds other files than a fine-tuned head "
+                f"({', '.join(others[:3])}); its files are never overwritten, give a new folder"
+            )
+    if args.dev is not None and not Path(args.dev).is_file():
+        raise SconeError(
+            f"--dev {args.dev}: no such file (a JSONL states file, e.g. tools/data/if/dev.jsonl)"
+        )
+
+
 def _bench(args: argparse.Namespace) -> int:
     from scone_bt.checks import check_positive_int
     from scone_bt.files import write_atomic
@@ -57,26 +82,7 @@ def _bench(args: argparse.Namespace) -> int:
             check_embedders(names)
         except SconeError as exc:
             raise SconeError(f"{flag} {','.join(names)}: {exc}") from None
-    if args.save_finetuned is not None:  # before the hours of scoring, not after them
-        from scone_bt.checks import check_output_dir
-
-        if args.no_finetune:
-            raise SconeError(
-                "--save-finetuned: nothing is fine-tuned with --no-finetune; give one or the other"
-            )
-        check_output_dir(args.save_finetuned, "--save-finetuned")
-        # A head saved there before is replaced, as any rerun replaces its own output; anything else is kept.
-        head = {"finetuned.json", "head.safetensors"}
-        others = sorted(p.name for p in args.save_finetuned.iterdir()) if args.save_finetuned.is_dir() else []
-        if [name for name in others if name not in head]:
-            raise SconeError(
-                f"--save-finetuned {args.save_finetuned}: holds other files than a fine-tuned head "
-                f"({', '.join(others[:3])}); its files are never overwritten, give a new folder"
-            )
-    if args.dev is not None and not Path(args.dev).is_file():
-        raise SconeError(
-            f"--dev {args.dev}: no such file (a JSONL states file, e.g. tools/data/if/dev.jsonl)"
-        )
+    _check_finetuned_out_and_dev(args)  # before the hours of scoring, not after them
     folder = default_states_dir()
     train_path = args.train or (folder / "train.jsonl" if folder else None)
     dev_path = args.dev or (folder / "dev.jsonl" if folder else None)

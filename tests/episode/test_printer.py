@@ -10,7 +10,7 @@ import pytest
 from scone_bt.behaviours import BehaviourOptions
 from scone_bt.config.tree_parameters import ProbeParameters
 from scone_bt.episode.printer import LinePrinter, condition_line, decision_line, shown_confidence
-from scone_bt.episode.runner import EpisodeSummary
+from scone_bt.episode.summary import EpisodeSummary
 from scone_bt.events import DecisionMade
 from scone_bt.gate.types import DecisionKind
 
