@@ -21,6 +21,7 @@ import numpy as np
 import py_trees
 
 from scone_bt.behaviours import BehaviourOptions, EpisodeContext, Keys, OutcomeLabels
+from scone_bt.behaviours.base import BlackboardError
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig, load_kitchen, load_robot
 from scone_bt.defaults import EPISODE
 from scone_bt.episode.heap import release_free_heap
@@ -300,7 +301,10 @@ def _loop(
     next_tick = time.perf_counter() + options.tick_period
     while control_ticks < options.max_ticks:
         with clock(LoopPart.TREE):
-            ep.tree.tick()
+            try:
+                ep.tree.tick()
+            except BlackboardError as exc:  # a miswired tree file: say which file
+                raise BlackboardError(f"{ep.plan.tree.source}: {exc}") from None
         ticks += 1
         if human.done and root.status is not py_trees.common.Status.RUNNING:
             if log_tick is not None:

@@ -174,3 +174,25 @@ def test_after_none_of_those_a_fetch_past_the_last_step_is_not_called_every_step
     past = [line for line in decisions if CARD_ITEMS_LEFT in line]
     assert past and all("cheese on table" in line and "(needed later)" in line for line in past)
     assert all("(none)" in line for line in decisions if EVERY_STEP_SERVED in line)
+
+
+def test_a_tree_file_whose_reader_ticks_before_any_writer_is_named_in_the_error(tmp_path) -> None:
+    """The shipped tree without its ConfidenceGate: the error named the node and the key, not the file."""
+    import yaml
+
+    from scone_bt.behaviours.base import BlackboardError
+
+    tree = yaml.safe_load((ROOT / "trees" / "assistive_cooking.yaml").read_text(encoding="utf-8"))
+
+    def without_gate(node: dict) -> dict:
+        if "children" in node:
+            kids = [c for c in node["children"] if c.get("behaviour") != "ConfidenceGate"]
+            node["children"] = [without_gate(c) for c in kids]
+        return node
+
+    tree["root"] = without_gate(tree["root"])
+    path = tmp_path / "no-gate.yaml"
+    path.write_text(yaml.safe_dump(tree, sort_keys=False), encoding="utf-8")
+    options = replace(_options(tmp_path), tree=str(path))
+    with pytest.raises(BlackboardError, match=rf"^{path}: .* before anything wrote it: .*\(ConfidenceGate\)"):
+        run_episode(options, printer=lambda _line: None, backend=fake_backend())
