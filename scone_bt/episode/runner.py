@@ -375,6 +375,7 @@ def _summarise(
         clarifications=stats.clarifications,
         interventions=stats.interventions,
         takeovers=stats.cancelled,
+        set_back=stats.aborted,
         decisions=stats.decisions,
         control_ticks=control_ticks,
         tree_ticks=ticks,

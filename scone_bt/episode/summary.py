@@ -17,7 +17,8 @@ class EpisodeSummary:
     ``condition`` is the condition the robot ran in (`condition_line`); ``decided_by_rule`` counts the decisions a
     rule other than κ̂ against the threshold made, by `DecisionMade.rule`; ``failure_budget`` is the budget gate's
     target failure rate (None for another gate), ``strict_promise`` whether that budget explored only on earned
-    credit (``exploration_credit``; read only with ``failure_budget``, `promise_words`).
+    credit (``exploration_credit``; read only with ``failure_budget``, `promise_words`); ``set_back`` counts
+    the attempts a heft test set back where they stood (neither successes nor failures).
     """
 
     recipe_id: str
@@ -54,6 +55,7 @@ class EpisodeSummary:
     strict_promise: bool = False
     bodies: int = 0
     constraints: int = 0
+    set_back: int = 0
 
     def deterministic_part(self) -> dict[str, Any]:
         """The fields a seeded rerun must reproduce exactly."""
@@ -71,7 +73,7 @@ class EpisodeSummary:
             f"   {self.not_stocked} more not stocked (the human brings them)" if self.not_stocked else ""
         )
         # an attempt the episode's end cut short has no outcome: said, so the counts add up
-        cut = self.attempted - self.successes - self.failures - self.takeovers
+        cut = self.attempted - self.successes - self.failures - self.takeovers - self.set_back
         labelled = self.successes + self.failures
         rate = (
             f"   failure rate {percent(round(self.failures / labelled, 3))} (budget {percent(self.failure_budget)}, "
@@ -88,6 +90,7 @@ class EpisodeSummary:
                 f"ingredients        {on_table}/{len(self.needed_on_table)} on the table{brought}",
                 f"actions attempted  {self.attempted}   successes {self.successes}   failures {self.failures} ({fails})"
                 + (f"   taken over {self.takeovers}" if self.takeovers else "")
+                + (f"   set back after a heft {self.set_back}" if self.set_back else "")
                 + (f"   cut short by the end of the episode {cut}" if cut > 0 else "")
                 + rate,
                 f"help requests      {self.help_requests}   clarifications {self.clarifications}"

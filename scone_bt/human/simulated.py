@@ -339,6 +339,10 @@ class SimulatedHuman:
             return new
         step = self.recipe.steps[self.step_index]
         missing = [o for o in step.objects if not self.kitchen.is_on_table(o) and o not in self.used_in_hand]
+        if self._cooking_until is not None and missing:
+            # Something the step uses left the table while the human cooked (a bottle that slid off after the
+            # robot let go): the step is not done; the human waits for it, or picks it up, as before it started.
+            self._cooking_until = None
         if self._cooking_until is not None:
             if now >= self._cooking_until:
                 self.step_done[self.step_index] = True

@@ -173,3 +173,8 @@ def test_the_summary_accounts_for_every_attempt_ingredient_and_the_budget() -> N
         == 1
     )
     assert "more not stocked" not in failed.format() and "cut short" not in line
+    # A heft test's set-back is neither a success nor a failure, and no attempt the episode's end cut short
+    # (it was counted as cut short).
+    set_back = dataclasses.replace(cut, completed=True, steps_completed=2, set_back=1)
+    line = next(x for x in set_back.format().splitlines() if x.startswith("actions attempted"))
+    assert line.endswith("failures 0 (none)   set back after a heft 1") and "cut short" not in line

@@ -201,3 +201,27 @@ def test_the_product_the_robot_acts_on_is_never_set_aside(kitchen, kitchen_cfg, 
     assert latest not in human._needed_later_on_table()
     human.robot_busy(False)
     assert human._needed_later_on_table()[0] == latest
+
+
+def test_a_step_whose_product_leaves_the_table_while_cooking_is_not_done(kitchen, kitchen_cfg, rng):
+    """On MuJoCo a bottle set down near the edge slid off after the robot let go, and the step was done all the
+    same: nobody picked it up, and the summary said every step was served with an ingredient on the floor."""
+    recipe = stock_recipe(load_recipe("example:tomato-pasta"), kitchen_cfg.catalogue)
+    kitchen.spawn([kitchen_cfg.catalogue.get(n) for n in recipe.needed], rng)
+    human = SimulatedHuman(kitchen, recipe, HumanOptions(fetch_time_s=1.0, cook_time_s=2.0, patience_s=1e9))
+    (first,) = recipe.steps[0].objects
+    human.request_help(first)
+    while not human._cooking_until:  # fetched, and the human starts cooking
+        kitchen.advance(0.1)
+        human.update()
+    floor = kitchen.config.scene.floor_z
+    kitchen.place_object(first, (0.0, -1.5, floor))  # it falls off while the human cooks
+    for _ in range(25):  # longer than the cooking
+        kitchen.advance(0.1)
+        human.update()
+    assert human.step_index == 0 and not human.step_done[0]
+    # It lies on the floor, not on its shelf and not in the hand: the human picks it up (an intervention).
+    for _ in range(40):
+        kitchen.advance(0.1)
+        human.update()
+    assert kitchen.is_on_table(first) and human.interventions == 1 and human.step_done[0]
