@@ -4,11 +4,18 @@ option's default said once, where it means something)."""
 from __future__ import annotations
 
 import argparse
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import NoReturn
 
-__all__ = ["DefaultsHelpFormatter", "OneLineArgumentParser", "path_arg", "refuse_unread", "store_arg"]
+__all__ = [
+    "DefaultsHelpFormatter",
+    "OneLineArgumentParser",
+    "path_arg",
+    "refuse_unread",
+    "store_arg",
+    "subcommand_defaults",
+]
 
 
 def path_arg(text: str) -> Path:
@@ -24,6 +31,16 @@ def store_arg(text: str) -> str:
     if not text.strip():
         raise argparse.ArgumentTypeError("an empty store; give an SQLite file or a postgresql:// URL")
     return text
+
+
+def subcommand_defaults(
+    register: Callable[[argparse._SubParsersAction], object], name: str, *required: str
+) -> argparse.Namespace:
+    """The namespace of subcommand ``name`` with nothing given (``required``: its required options' argv), from
+    the ``register`` that adds it to a command: what `refuse_unread` compares with."""
+    parser = argparse.ArgumentParser()
+    register(parser.add_subparsers())
+    return parser.parse_args([name, *required])
 
 
 def refuse_unread(

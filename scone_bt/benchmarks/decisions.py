@@ -454,16 +454,14 @@ _EPISODES_ONLY = {
 
 def _check_modes(args: argparse.Namespace) -> None:
     """Something to run, and no option given that neither part reads (one meaning per flag)."""
-    from scone_bt.argparsing import refuse_unread
+    from scone_bt.argparsing import refuse_unread, subcommand_defaults
     from scone_bt.errors import SconeError
 
     if args.no_gate and args.episodes == 0:
         raise SconeError(
             "--no-gate with --episodes 0: nothing to run; give episodes, or leave the gate replay on"
         )
-    parser = argparse.ArgumentParser()
-    register(parser.add_subparsers())
-    defaults = parser.parse_args(["decisions"])
+    defaults = subcommand_defaults(register, "decisions")
     if args.no_gate:
         refuse_unread(args, defaults, _GATE_ONLY, "only the gate replay reads it, and --no-gate skips it")
     if args.episodes == 0:

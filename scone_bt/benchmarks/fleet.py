@@ -332,22 +332,15 @@ def _check_args(args: argparse.Namespace) -> None:
         raise SconeError(
             f"--kill-after {args.kill_after}: must be an integer in 0..{args.outcomes} (0..--outcomes)"
         )
-    if args.no_learning:  # a default typed out is no other value (argparsing.refuse_unread)
-        learning_only = (
-            ("--estimator", args.estimator, DEFAULT_ESTIMATOR),
-            ("--seeds", args.seeds, DEFAULT_SEEDS),
-            ("--iiwa-datasets", args.iiwa_datasets, None),
-        )
-        for flag, value, default in learning_only:
-            if value not in (None, default):
-                raise SconeError(
-                    f"{flag}: only the learning trial reads it, and --no-learning skips that trial"
-                )
+    if args.no_learning:
+        from scone_bt.argparsing import refuse_unread, subcommand_defaults
+
+        learning_only = {"estimator": "--estimator", "seeds": "--seeds", "iiwa_datasets": "--iiwa-datasets"}
+        why = "only the learning trial reads it, and --no-learning skips that trial"
+        refuse_unread(args, subcommand_defaults(register, "fleet"), learning_only, why)
         return
     from scone_bt.cli.run import _check_estimator  # the one check of registry names
 
-    args.estimator = DEFAULT_ESTIMATOR if args.estimator is None else args.estimator
-    args.seeds = DEFAULT_SEEDS if args.seeds is None else args.seeds
     _check_estimator(args.estimator)
     check_positive_int(args.seeds, "--seeds", maximum=10_000)
 
@@ -421,8 +414,17 @@ def register(sub: argparse._SubParsersAction) -> None:
     f.add_argument("--robots", type=int, default=4, help="concurrent robot processes (default: 4)")
     f.add_argument("--outcomes", type=int, default=50, help="outcomes per robot (default: 50)")
     f.add_argument("--kill-after", type=int, default=20, help="SIGKILL robot 0 after this many (default: 20)")
-    f.add_argument("--seeds", type=int, help=f"seeds of the learning replay (default: {DEFAULT_SEEDS})")
-    f.add_argument("--estimator", help=f"κ̂ of the learning replay (default: {DEFAULT_ESTIMATOR})")
+    f.add_argument(
+        "--seeds",
+        type=int,
+        default=DEFAULT_SEEDS,
+        help=f"seeds of the learning replay (default: {DEFAULT_SEEDS})",
+    )
+    f.add_argument(
+        "--estimator",
+        default=DEFAULT_ESTIMATOR,
+        help=f"κ̂ of the learning replay (default: {DEFAULT_ESTIMATOR})",
+    )
     f.add_argument("--datasets", type=path_arg, help="Panda datasets (default: tools/data/sc)")
     f.add_argument("--iiwa-datasets", type=path_arg, help="iiwa7 datasets (default: tools/data/fleet/iiwa7)")
     f.add_argument("--no-learning", action="store_true", help="only the store trial")

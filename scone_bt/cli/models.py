@@ -47,8 +47,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 
             # Before pip installs anything: a cache that cannot hold the model is one line, not a traceback.
             check_output_dir(args.cache_dir, "--cache-dir")
-        if args.cache_dir is not None and args.cache_dir.exists() and not args.cache_dir.is_dir():
-            # list reads it: a file there would list every cached model as missing, as if nothing were wrong
+        elif args.cache_dir is not None and args.cache_dir.exists() and not args.cache_dir.is_dir():
+            # list only reads it: a file there would list every cached model as missing, as if nothing were wrong
             raise SconeError(f"--cache-dir {args.cache_dir}: is a file, not a folder")
         if args.command == "embed":
             blank = [i for i, text in enumerate(args.texts, 1) if not text.strip()]

@@ -504,15 +504,16 @@ def _check_embedder(name: str) -> None:
     folder = Path(name.removeprefix("finetuned:")).expanduser()
     if folder.is_dir():
         # What the loader reads, checked now rather than after the kitchen is built.
-        head = ("finetuned.json", "head.safetensors")
-        fine_tuned = all((folder / f).is_file() for f in head)
+        from scone_bt.embedding.finetuned import HEAD_FILES, is_finetuned_dir
+        from scone_bt.embedding.sentence import is_sentence_transformer_dir
+
+        fine_tuned = is_finetuned_dir(folder)
         if name.startswith("finetuned:") and not fine_tuned:
             raise SconeError(
-                f"--embedder {name!r}: not a fine-tuned embedder (needs {' and '.join(head)}); save one with "
-                "scone-bench if --save-finetuned DIR"
+                f"--embedder {name!r}: not a fine-tuned embedder (needs {' and '.join(HEAD_FILES)}); save one "
+                "with scone-bench if --save-finetuned DIR"
             )
-        sentence_transformers = any((folder / f).is_file() for f in ("modules.json", "config.json"))
-        if not (fine_tuned or sentence_transformers):
+        if not (fine_tuned or is_sentence_transformer_dir(folder)):
             raise SconeError(
                 f"--embedder {name!r}: not a model directory (no modules.json or config.json, nor a fine-tuned "
                 f"head); valid: {', '.join(EMBEDDER_NAMES)}, mpnet-ft, finetuned:<dir> or such a directory"

@@ -35,7 +35,9 @@ __all__ = [
     "FORMAT",
     "FinetuneOptions",
     "FinetunedEmbedder",
+    "HEAD_FILES",
     "InstructionExample",
+    "is_finetuned_dir",
     "ranking_accuracy",
     "train_finetuned",
 ]
@@ -43,6 +45,13 @@ __all__ = [
 FORMAT = "scone-bt-finetuned-embedder"
 _VERSION = 1
 _TENSORS = ("w1", "b1", "w2", "b2")
+HEAD_FILES = ("finetuned.json", "head.safetensors")
+"""The files a saved fine-tuned embedder is: its description, then its head's tensors."""
+
+
+def is_finetuned_dir(path: Path) -> bool:
+    """True if `path` holds a saved fine-tuned embedder (both `HEAD_FILES`)."""
+    return all((Path(path) / name).is_file() for name in HEAD_FILES)
 
 
 @dataclass(frozen=True)
@@ -159,8 +168,9 @@ class FinetunedEmbedder(Embedder):
         directory = Path(directory)
         directory.mkdir(parents=True, exist_ok=True)
         tensors = {k: np.ascontiguousarray(getattr(self.head, k), dtype=np.float32) for k in _TENSORS}
-        save_file(tensors, str(directory / "head.safetensors"))
-        (directory / "finetuned.json").write_text(json.dumps(self.meta, indent=2) + "\n")
+        meta_path, head_path = (directory / name for name in HEAD_FILES)
+        save_file(tensors, str(head_path))
+        meta_path.write_text(json.dumps(self.meta, indent=2) + "\n")
         self.directory = directory
         self.name = f"finetuned:{directory}"
         return directory
@@ -174,8 +184,8 @@ class FinetunedEmbedder(Embedder):
         `load_embedder("finetuned:<dir>")` is the usual way in; it passes itself as `load_base`.
         """
         directory = Path(directory)
-        meta_path, head_path = directory / "finetuned.json", directory / "head.safetensors"
-        if not meta_path.is_file() or not head_path.is_file():
+        meta_path, head_path = (directory / name for name in HEAD_FILES)
+        if not is_finetuned_dir(directory):
             raise ModelUnavailableError(
                 f"{directory} is not a fine-tuned embedder (needs finetuned.json and head.safetensors); "
                 "train one with scone_bt.embedding.train_finetuned"

@@ -38,6 +38,7 @@ def _check_finetuned_out_and_dev(args: argparse.Namespace) -> None:
     ``--dev`` (a file that exists), each one line naming the flag."""
     if args.save_finetuned is not None:
         from scone_bt.checks import check_output_dir
+        from scone_bt.embedding.finetuned import HEAD_FILES
 
         if args.no_finetune:
             raise SconeError(
@@ -45,9 +46,8 @@ def _check_finetuned_out_and_dev(args: argparse.Namespace) -> None:
             )
         check_output_dir(args.save_finetuned, "--save-finetuned")
         # A head saved there before is replaced, as any rerun replaces its own output; anything else is kept.
-        head = {"finetuned.json", "head.safetensors"}
         others = sorted(p.name for p in args.save_finetuned.iterdir()) if args.save_finetuned.is_dir() else []
-        if [name for name in others if name not in head]:
+        if [name for name in others if name not in HEAD_FILES]:
             raise SconeError(
                 f"--save-finetuned {args.save_finetuned}: holds other files than a fine-tuned head "
                 f"({', '.join(others[:3])}); its files are never overwritten, give a new folder"
