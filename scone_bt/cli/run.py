@@ -306,7 +306,8 @@ def _add_self_confidence_options(p: argparse.ArgumentParser) -> None:
         "--learn-from",
         choices=("self", "same-model", "fleet"),
         help="whose stored outcomes rebuild κ̂ (with --experience): this robot's, every robot's with the same arm "
-        f"and --profile, or the whole fleet's (default: {_EPISODE.learn_from})",
+        "and --profile (both on this --robot engine only), or the whole fleet's on any engine "
+        f"(default: {_EPISODE.learn_from})",
     )
     g.add_argument(
         "--robot-id",

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 
 from scone_bt.behaviours.options import BehaviourOptions
 from scone_bt.robot.interface import Robot
+from scone_bt.robot.registry import DEFAULT_BACKEND
 
 if TYPE_CHECKING:
     from scone_bt.confidence import ConfidenceEstimator
@@ -71,6 +72,8 @@ class EpisodeResources:
         estimator_seed: Seeds κ̂ (None: the options' seed).
         gripper_opening_m: The arm's gripper opening, metres (the physical κ̂ measures widths against it;
             None: its default, the Panda's).
+        backend: The robot backend's name (`scone_bt.robot.registry.BACKENDS`): "self" and "same-model" learn
+            only from outcomes observed on it (`experience.learn_from`).
     """
 
     def __init__(
@@ -83,8 +86,10 @@ class EpisodeResources:
         models: ModelPool | None = None,
         estimator_seed: int | None = None,
         gripper_opening_m: float | None = None,
+        backend: str = DEFAULT_BACKEND,
     ) -> None:
         self.robot = robot
+        self.backend = backend
         self.gripper_opening_m = gripper_opening_m
         self.estimator_seed = options.seed if estimator_seed is None else estimator_seed
         self.options = options
@@ -119,7 +124,7 @@ class EpisodeResources:
     def estimator(self) -> ConfidenceEstimator:
         """κ̂, rebuilt from this robot's stored outcomes on first use."""
         if self._estimator is None:
-            from scone_bt.confidence import make_estimator, rebuild_estimator
+            from scone_bt.confidence import make_estimator
 
             opts = self.options
             # a hardware-relative κ̂ measures widths against this arm's own gripper
@@ -131,15 +136,29 @@ class EpisodeResources:
             est = make_estimator(str(opts.estimator), seed=self.estimator_seed, **hardware)
             store = self.store()
             if store is not None:
-                from scone_bt.experience import LearnFrom
-
-                learn_from = LearnFrom.parse(opts.learn_from)
-                who = (self.robot_id, self.arm, opts.profile)
-                n = rebuild_estimator(est, store, self.embedder(), **learn_from.filters(*who))
-                if n:
-                    self.printer(f"κ̂ rebuilt from {n} stored outcomes {learn_from.describe(*who)}")
+                self._rebuild(est, store)
             self._estimator = est
         return self._estimator
+
+    def _rebuild(self, est: ConfidenceEstimator, store: OutcomeStore) -> None:
+        """Fit κ̂ on the stored outcomes --learn-from selects, and say how many (and how many name no backend)."""
+        from scone_bt.confidence import rebuild_estimator
+        from scone_bt.experience import LearnFrom, StoreFilters, unlabelled_backend
+
+        learn_from = LearnFrom.parse(self.options.learn_from)
+        who = (self.robot_id, self.arm, self.options.profile, self.backend)
+        filters = learn_from.filters(*who)
+        n = rebuild_estimator(est, store, self.embedder(), **filters)
+        if not n:
+            return
+        line = f"κ̂ rebuilt from {n} stored outcomes {learn_from.describe(*who)}"
+        if "where" in filters:
+            # outcomes stored before outcomes named their backend count for every backend: say how many
+            unlabelled: StoreFilters = {**filters, "where": unlabelled_backend}
+            unnamed = len(store.outcomes(**unlabelled))
+            if unnamed:
+                line += f" ({unnamed} stored before outcomes named their backend, taken as this one's)"
+        self.printer(line)
 
     def close(self) -> None:
         """Release the robot (worker thread, simulation), the store and an own model pool."""

@@ -33,6 +33,7 @@ from scone_bt.episode.summary import EpisodeSummary
 from scone_bt.episode.timing import LoopPart, TimedEmbedder, WallClock
 from scone_bt.errors import ConfigError
 from scone_bt.events import DecisionMade, Event, EventLog, EventSink
+from scone_bt.experience.learn_from import BACKEND_KEY
 from scone_bt.human import HumanOptions, SimulatedHuman
 from scone_bt.recipes import load_recipe
 from scone_bt.robot.backend import Backend, BackendFactory, BackendRequest
@@ -257,7 +258,12 @@ def _build(
             robot_id=resources.robot_id,
             arm=robot_cfg.name,
             profile=behaviour.profile,
-            context={"robot": robot_cfg.name, "seed": options.seed, "recipe": recipe.recipe.id},
+            context={
+                "robot": robot_cfg.name,
+                BACKEND_KEY: options.backend,
+                "seed": options.seed,
+                "recipe": recipe.recipe.id,
+            },
         ),
         embedder=embedder,
         kappa=resources.estimator,
@@ -494,6 +500,7 @@ def run_episode(
         models,
         estimator_seed=plan.robot_seeds.integer(SeedStage.ESTIMATORS),
         gripper_opening_m=plan.robot.gripper.opening_m,
+        backend=options.backend,
     )
     try:
         with resources:

@@ -63,6 +63,12 @@ def test_self_confidence_asks_where_the_control_condition_fails(tmp_path):
     assert "Put eggs on table" in asked
     assert "Put eggs on table" not in acted
     assert scone.completed
+    from scone_bt.experience import BACKEND_KEY, open_store
+
+    with open_store(
+        db
+    ) as store:  # each outcome names the engine it was observed on (--learn-from keeps to it)
+        assert {o.context[BACKEND_KEY] for o in store.outcomes()} == {"sim"}
 
 
 def test_second_arm_runs_a_full_episode():
