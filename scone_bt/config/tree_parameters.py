@@ -7,13 +7,23 @@ at None are filled from here (`BehaviourOptions.resolve`).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from types import MappingProxyType
 from typing import Annotated, Literal
 
 from pydantic import Field
 
+from scone_bt.config.ranges import Range
 from scone_bt.config.schema import StrictModel
 
-__all__ = ["ProbeParameters", "TreeParameters", "PARAMETER_NAMES", "GateName", "TREE_DEFAULTS"]
+__all__ = [
+    "ProbeParameters",
+    "TreeParameters",
+    "PARAMETER_NAMES",
+    "GateName",
+    "PROBE_RANGES",
+    "TREE_DEFAULTS",
+]
 
 
 GateName = Literal["budget", "paper"]
@@ -186,3 +196,18 @@ TREE_DEFAULTS = TreeParameters()
 """Every tree parameter's default: the robot's decision settings when a tree file and the command line say
 nothing. The gate's and the motion's own option objects (gate.budget.BudgetOptions, gate.probe.ProbeOptions,
 motion.probe.ProbeSettings) take their defaults from here."""
+
+PROBE_RANGES: Mapping[str, Range] = MappingProxyType(
+    {
+        "below": Range.of_field(ProbeParameters, "below"),
+        "above": Range.of_field(ProbeParameters, "above"),
+        "full_band_at": Range.of_field(ProbeParameters, "full_band_at"),
+        "lift_m": Range.of_field(ProbeParameters, "lift_m", "metres"),
+        "hold_s": Range.of_field(ProbeParameters, "hold_s", "seconds"),
+        # the set-back judge's limits: not tree parameters, but both the gate's and the motion's options take them
+        "max_unsteady": Range(0.0, 1.0, low_open=True),
+        "max_traction": Range(0.0, 10.0, low_open=True),
+    }
+)
+"""The heft test's intervals, declared once: the tree file's fields, and the judge's limits that
+gate.probe.ProbeOptions and motion.probe.ProbeSettings share (both check their values with these)."""

@@ -28,8 +28,8 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from scone_bt.config.tree_parameters import TREE_DEFAULTS
-from scone_bt.errors import SconeError
+from scone_bt.config.ranges import Range
+from scone_bt.config.tree_parameters import PROBE_RANGES, TREE_DEFAULTS
 
 if TYPE_CHECKING:
     from scone_bt.gate.budget import BudgetCounts, BudgetOptions
@@ -61,6 +61,8 @@ class ProbeOptions:
             this share of the grip, in (0, ``max_traction``], lets it carry on although κ̂ is unsure, while such
             carries keep the promise on their own record (`held_fast`, gate.after_probe): a third of the
             friction limit the judge sets back at.
+
+    The intervals are config.tree_parameters.PROBE_RANGES (the tree file's own, and the judge's limits).
     """
 
     below: float = TREE_DEFAULTS.probe.below
@@ -74,38 +76,12 @@ class ProbeOptions:
     sure_traction: float = 0.1
 
     def __post_init__(self) -> None:
-        names = (
-            "below",
-            "above",
-            "lift_m",
-            "hold_s",
-            "max_unsteady",
-            "max_traction",
-            "credit",
-            "full_band_at",
-            "sure_traction",
-        )
-        for name in names:
-            value = getattr(self, name)
-            if name == "credit" and value is None:
-                continue
-            if isinstance(value, bool) or not isinstance(value, int | float):
-                raise SconeError(f"probe.{name} must be a number, got {value!r}")
-        checks = (
-            ("below", 0.0 <= self.below <= 1.0, "in [0, 1]"),
-            ("above", 0.0 <= self.above <= 1.0, "in [0, 1]"),
-            ("lift_m", 0.005 <= self.lift_m <= 0.05, "in [0.005, 0.05] (metres)"),
-            ("hold_s", 0.1 <= self.hold_s <= 3.0, "in [0.1, 3] (seconds)"),
-            ("max_unsteady", 0.0 < self.max_unsteady <= 1.0, "in (0, 1]"),
-            ("max_traction", 0.0 < self.max_traction <= 10.0, "in (0, 10]"),
-            ("credit", self.credit is None or 0.0 <= self.credit <= 100.0, "None or in [0, 100]"),
-            ("full_band_at", 0.0 <= self.full_band_at < 1.0, "in [0, 1)"),
-            ("sure_traction", 0.0 < self.sure_traction <= self.max_traction, "in (0, max_traction]"),
-        )
-        for name, ok, allowed in checks:
-            value = getattr(self, name)
-            if not ok or (value is not None and not math.isfinite(float(value))):
-                raise SconeError(f"probe.{name} must be {allowed}, got {value}")
+        for name, allowed in PROBE_RANGES.items():
+            allowed.check(f"probe.{name}", getattr(self, name))
+        if self.credit is not None:
+            Range(0.0, 100.0).check("probe.credit", self.credit)
+        sure = Range(0.0, float(self.max_traction), low_open=True)  # its upper end is another field's value
+        sure.check("probe.sure_traction (at most max_traction)", self.sure_traction)
 
     @classmethod
     def of(cls, params: object) -> ProbeOptions | None:

@@ -30,8 +30,8 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from scone_bt.config.tree_parameters import TREE_DEFAULTS
-from scone_bt.errors import SconeError
+from scone_bt.config.ranges import Range
+from scone_bt.config.tree_parameters import PROBE_RANGES, TREE_DEFAULTS
 from scone_bt.motion.execution import PickPlaceController, Segment
 from scone_bt.motion.types import MotionPhase, TimedTrajectory
 
@@ -73,6 +73,15 @@ class ForceSensing(Protocol):
     def pad_contacts(self, held: str) -> PadContacts:
         """Where ``held`` touches each finger's pad (`PadContacts`)."""
         ...
+
+
+_OWN_RANGES = {
+    "up_s": Range(0.1, 3.0, unit="seconds"),
+    "max_drift_mm": Range(0.0, 20.0, low_open=True, unit="millimetres"),
+    "max_pushed": Range(0.0, 1.0, low_open=True),
+    "payload_kg": Range(0.0, 50.0, low_open=True, unit="kilograms"),
+}
+"""The intervals of the motion's own probe settings (those it shares with the gate are PROBE_RANGES)."""
 
 
 @dataclass(frozen=True)
@@ -124,20 +133,16 @@ class ProbeSettings:
         return cls(**{n: getattr(options, n) for n in names})
 
     def __post_init__(self) -> None:
-        checks = (
-            ("lift_m", 0.005 <= self.lift_m <= 0.05, "in [0.005, 0.05] m"),
-            ("hold_s", 0.1 <= self.hold_s <= 3.0, "in [0.1, 3] s"),
-            ("up_s", 0.1 <= self.up_s <= 3.0, "in [0.1, 3] s"),
-            ("max_traction", 0.0 < self.max_traction <= 10.0, "in (0, 10]"),
-            ("max_unsteady", 0.0 < self.max_unsteady <= 1.0, "in (0, 1]"),
-            ("max_drift_mm", 0.0 < self.max_drift_mm <= 20.0, "in (0, 20] mm"),
-            ("max_pushed", 0.0 < self.max_pushed <= 1.0, "in (0, 1]"),
-            ("payload_kg", 0.0 < self.payload_kg <= 50.0, "in (0, 50] kg"),
-        )
-        for name, ok, allowed in checks:
-            value = getattr(self, name)
-            if not ok or not math.isfinite(float(value)):
-                raise SconeError(f"probe {name} must be {allowed}, got {value}")
+        shared = (
+            "lift_m",
+            "hold_s",
+            "max_traction",
+            "max_unsteady",
+        )  # the gate's probe options take them too
+        for name in shared:
+            PROBE_RANGES[name].check(f"probe.{name}", getattr(self, name))
+        for name, allowed in _OWN_RANGES.items():
+            allowed.check(f"probe.{name}", getattr(self, name))
 
 
 @dataclass(frozen=True)

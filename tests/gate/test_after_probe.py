@@ -95,7 +95,9 @@ def test_held_fast_carries_on_by_feel_while_its_own_record_keeps_the_promise() -
 
 
 def test_sure_traction_is_validated_against_the_friction_limit() -> None:
-    with pytest.raises(SconeError, match=r"probe.sure_traction must be in \(0, max_traction\], got 0.5"):
+    with pytest.raises(
+        SconeError, match=r"probe.sure_traction \(at most max_traction\) must be in \(0, 0.3\], got 0.5"
+    ):
         ProbeOptions(sure_traction=0.5)
 
 

@@ -75,7 +75,7 @@ def test_the_words_do_not_change_the_verdict() -> None:
 def test_a_payload_out_of_range_is_one_line() -> None:
     from scone_bt.errors import SconeError
 
-    with pytest.raises(SconeError, match=r"^probe payload_kg must be in \(0, 50\] kg, got 0.0$"):
+    with pytest.raises(SconeError, match=r"^probe.payload_kg must be in \(0, 50\] \(kilograms\), got 0.0$"):
         ProbeSettings(payload_kg=0.0)
 
 
@@ -159,7 +159,9 @@ def test_a_changing_load_held_fast_but_past_the_friction_limit_is_not_quoted_as_
 def test_a_drift_threshold_out_of_range_is_one_line() -> None:
     from scone_bt.errors import SconeError
 
-    with pytest.raises(SconeError, match=r"^probe max_drift_mm must be in \(0, 20\] mm, got 0.0$"):
+    with pytest.raises(
+        SconeError, match=r"^probe.max_drift_mm must be in \(0, 20\] \(millimetres\), got 0.0$"
+    ):
         ProbeSettings(max_drift_mm=0.0)
-    with pytest.raises(SconeError, match=r"^probe max_pushed must be in \(0, 1\], got 1.5$"):
+    with pytest.raises(SconeError, match=r"^probe.max_pushed must be in \(0, 1\], got 1.5$"):
         ProbeSettings(max_pushed=1.5)
