@@ -40,13 +40,12 @@ import numpy as np
 
 from scone_bt.confidence.base import ConfidenceEstimator, row_key
 from scone_bt.confidence.logistic import LogisticModel, fit_logistic
+from scone_bt.config.grasp import DEFAULT_OPENING_M
 from scone_bt.errors import SconeError
 from scone_bt.experience.types import CONTEXT_FIELDS, ROUND_FILL_BELOW
 
 __all__ = ["PhysicalEstimator", "DEFAULT_OPENING_M", "felt_features", "physical_features"]
 
-DEFAULT_OPENING_M = 0.08
-"""The Panda's gripper opening (robots/panda.yaml: 2 × open_position), metres."""
 
 _N_CONTEXT = len(CONTEXT_FIELDS)
 _COMPONENTS = 16

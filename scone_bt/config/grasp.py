@@ -19,7 +19,11 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, create_model
 from scone_bt.config.schema import format_validation_error
 from scone_bt.errors import ConfigError
 
-__all__ = ["GraspParams", "PLANNERS"]
+__all__ = ["DEFAULT_OPENING_M", "GraspParams", "PLANNERS"]
+
+DEFAULT_OPENING_M = 0.08
+"""The Panda's gripper opening (robots/panda.yaml: 2 × open_position), metres: what a product's span is measured
+against where no arm's own opening is given (the grasp's cost, the physical κ̂)."""
 
 PLANNERS = ("RRTConnect", "RRT", "RRTstar", "PRM", "KPIECE1", "BKPIECE1", "LBKPIECE1", "BITstar", "AORRTC")
 """OMPL geometric planners selectable by name."""

@@ -43,7 +43,7 @@ import numpy as np
 
 from scone_bt.config import ObjectSpec
 from scone_bt.config.catalogue import Shape
-from scone_bt.config.grasp import GraspParams
+from scone_bt.config.grasp import DEFAULT_OPENING_M, GraspParams
 from scone_bt.geometry import wrap_angle
 from scone_bt.motion.model import inverse_small
 from scone_bt.perception.types import Detection
@@ -207,7 +207,7 @@ class _CandidateMaker:
         object_pose: (4, 4) pose of its centre, world frame.
         params: Generation settings and cost weights.
         preferred_yaw: Closing-axis yaw (rad) of the arm's home pose.
-        opening: The gripper's full opening (m); None costs spans against 0.08 m.
+        opening: The gripper's full opening (m); None costs spans against DEFAULT_OPENING_M (the Panda's).
     """
 
     spec: ObjectSpec
@@ -231,7 +231,7 @@ class _CandidateMaker:
         wrist = abs(wrap_angle(yaw - self.preferred_yaw)) / (np.pi / 2)
         fc = params.family_cost[_FAMILY_INDEX[family]]
         cost = fc + params.wrist_weight * wrist + params.tilt_weight * abs(tilt)
-        cost += params.span_weight * span / (self.opening or 0.08) + extra
+        cost += params.span_weight * span / (self.opening or DEFAULT_OPENING_M) + extra
         return GraspCandidate(
             closing_yaw=float(yaw),
             rotation=rotation,

@@ -68,7 +68,10 @@ def test_cold_predictions_are_the_prior(prior: float) -> None:
     )
     assert kappa.n_observations == 0
     assert kappa.predict(rows) == pytest.approx(np.full(6, prior))
-    assert PhysicalEstimator().prior == 0.5 and DEFAULT_OPENING_M == 0.08
+    assert PhysicalEstimator().prior == 0.5
+    from scone_bt.config import load_robot
+
+    assert pytest.approx(load_robot("panda").gripper.opening_m) == DEFAULT_OPENING_M  # the shipped arm's
 
 
 @pytest.mark.parametrize("columns", [3, 12])
