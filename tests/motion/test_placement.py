@@ -29,7 +29,7 @@ def test_spots_clear_every_obstacle_and_stay_on_the_table():
     result = sample_placements(TABLE, obstacles, 0.03, 0.1, opts)
     assert len(result.spots) == opts.max_spots
     for s in result.spots:
-        assert _inside(s, 0.03, opts.edge_margin) and s.z == TABLE.top_z
+        assert _inside(s, 0.03, opts.edge_margin + opts.edge_margin_per_height * 0.1) and s.z == TABLE.top_z
         for o in obstacles:
             assert np.hypot(s.x - o.x, s.y - o.y) - o.radius - 0.03 >= opts.clearance - 1e-9
     costs = [s.cost for s in result.spots]
@@ -37,9 +37,11 @@ def test_spots_clear_every_obstacle_and_stay_on_the_table():
 
 
 def test_a_crowded_table_still_has_room_at_its_rim():
-    # Every one of the nine marked spots of the old fixed scheme is taken.
+    # Every one of the nine marked spots of the old fixed scheme is taken; a short product (3 cm: a 1.3 cm edge
+    # margin) still fits between them and the rim (a 10 cm one, kept 2 cm from the edge, would not).
     obstacles = [Footprint(f"o{i}", x, y, 0.035, 0.12) for i, (x, y) in enumerate(OLD_SPOTS)]
-    result = sample_placements(TABLE, obstacles, 0.025, 0.1)
+    result = sample_placements(TABLE, obstacles, 0.025, 0.03)
+    assert not sample_placements(TABLE, obstacles, 0.025, 0.1).spots
     assert result.spots
     assert all(min(np.hypot(s.x - x, s.y - y) for x, y in OLD_SPOTS) > 0.035 + 0.025 for s in result.spots)
 
@@ -181,3 +183,17 @@ def test_the_random_candidates_are_the_generators_uniform_draws():
             expected = np.random.default_rng(seed).uniform((x0, y0), (x1, y1), size=(48, 2))
             draws = np.random.default_rng(seed).random(size=(48, 2))
             assert np.array_equal(low + (high - low) * draws, expected)
+
+
+def test_a_tall_product_is_kept_farther_from_the_edge_than_a_flat_one():
+    """A bottle set down a little off upright tips over an edge a pack stays on: 1 cm + 0.1 × height."""
+    opts = PlacementOptions(random_samples=0, max_spots=1000)
+
+    def nearest_edge(height: float) -> float:
+        spots = sample_placements(TABLE, [], 0.03, height, opts).spots
+        (cx, cy), (sx, sy) = TABLE.center, TABLE.size
+        return min(min(sx / 2 - abs(s.x - cx), sy / 2 - abs(s.y - cy)) - 0.03 for s in spots)
+
+    flat, tall = nearest_edge(0.04), nearest_edge(0.25)
+    assert flat >= 0.01 + 0.1 * 0.04 - 1e-9 and tall >= 0.01 + 0.1 * 0.25 - 1e-9
+    assert tall - flat > 0.015  # the grid still reaches as near as each margin allows, within a grid step
