@@ -19,6 +19,7 @@ from scone_bt.motion import (
     PickPlaceFailure,
     PickPlacePlan,
     PickPlaceRequest,
+    PlacementOptions,
     PlanFailureReason,
     PlannerOptions,
     TableRegion,
@@ -77,6 +78,7 @@ def make_planner(arm, robot_cfg):
             params=kw.pop("params", params),
             preferred_yaw=float(np.arctan2(y_axis[1], y_axis[0])),
             opening=0.08,
+            placement=kw.pop("placement", PlacementOptions()),
         )
         return plan_pick_and_place(arm, request, options, limits_of(robot_cfg), robot_cfg.control.rate_hz)
 
@@ -133,7 +135,10 @@ def test_a_crowded_table_still_takes_an_object(either_arm):
         )
         for i, (x, y) in enumerate(spots)
     ]
-    result = plan(_det("jar", 0.37, 0.30, JAR.height), JAR, table=table)
+    # This table is 12 cm narrower than the kitchen's: its rim has room for the jar only 1 cm from the edge, the
+    # margin of a flat product (the shipped 1 cm + 0.1 × height leaves none; test_placement checks that margin).
+    flat_margin = PlacementOptions(edge_margin_per_height=0.0)
+    result = plan(_det("jar", 0.37, 0.30, JAR.height), JAR, table=table, placement=flat_margin)
     assert isinstance(result, PickPlacePlan), result.message
     x, y, z = result.place_spot
     assert z == TABLE.top_z

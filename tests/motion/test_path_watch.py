@@ -12,6 +12,7 @@ from scone_bt.motion import ArmModel, FailureStage, MotionPhase
 from scone_bt.motion.collision import Obstacle
 from scone_bt.motion.model import pose_matrix
 from scone_bt.motion.path_watch import MOVED_M, PathWatch
+from scone_bt.motion.placement import Footprint, TableRegion, clear_spots
 
 
 def _box(name: str, x: float, y: float, z: float = 0.1, size=(0.05, 0.05, 0.1)) -> Obstacle:
@@ -96,11 +97,16 @@ def _in_the_way(system, task, kitchen, name, transit=None, lower=None, place_spo
     transit = segments[MotionPhase.TRANSIT] if transit is None else transit
     lower = segments[MotionPhase.LOWER] if lower is None else lower
     x0, y0, top = plan.place_spot if place_spot is None else place_spot
+    table = TableRegion.from_scene(kitchen.config.scene)
     for r in (0.10, 0.12, 0.14, 0.08, 0.16, 0.20):
         for a in np.linspace(0.0, 2 * np.pi, 24, endpoint=False):
             x, y = x0 + r * np.cos(a), y0 + r * np.sin(a)
             if avoid is not None and np.hypot(x - avoid[0], y - avoid[1]) < 0.09:
                 continue
+            if not clear_spots(
+                table, [], Footprint.of(spec), np.array([[x, y]]), np.zeros(1), 0.0, 0.01
+            ).free[0]:
+                continue  # a person stands it on the table, not beyond its edge
             ob = Obstacle(name, spec.shape, spec.size, pose_matrix(np.eye(3), (x, y, top + spec.height / 2)))
             if probe.in_the_way(transit, lower, [ob]):
                 return x, y, top
