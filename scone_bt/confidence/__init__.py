@@ -30,7 +30,7 @@ from scone_bt.confidence.models import (
     XGBEstimator,
 )
 from scone_bt.confidence.physical import PhysicalEstimator
-from scone_bt.confidence.rebuild import rebuild_estimator, training_data
+from scone_bt.confidence.rebuild import fit_on_outcomes, rebuild_estimator, training_data
 from scone_bt.confidence.registry import (
     BASE_ESTIMATORS,
     CALIBRATED_ESTIMATORS,
@@ -61,6 +61,7 @@ __all__ = [
     "XGBEstimator",
     "grounded_features",
     "make_estimator",
+    "fit_on_outcomes",
     "rebuild_estimator",
     "training_data",
 ]

@@ -17,7 +17,7 @@ from scone_bt.embedding.base import Embedder
 from scone_bt.experience.base import OutcomeStore
 from scone_bt.experience.types import Outcome
 
-__all__ = ["rebuild_estimator", "training_data"]
+__all__ = ["fit_on_outcomes", "rebuild_estimator", "training_data"]
 
 
 def training_data(
@@ -61,6 +61,11 @@ def rebuild_estimator(
         The number of outcomes learnt from.
     """
     outcomes = store.outcomes(only_embedder, where, robot_id=robot_id, arm=arm, profile=profile)
+    return fit_on_outcomes(estimator, outcomes, embedder)
+
+
+def fit_on_outcomes(estimator: ConfidenceEstimator, outcomes: list[Outcome], embedder: Embedder) -> int:
+    """Fit `estimator` on outcomes already read from a store (re-embedded with `embedder`); how many."""
     X, y = training_data(outcomes, embedder, grounded=is_grounded(estimator))
     if len(y) or estimator.n_observations:
         estimator.fit(X, y)

@@ -142,22 +142,21 @@ class EpisodeResources:
 
     def _rebuild(self, est: ConfidenceEstimator, store: OutcomeStore) -> None:
         """Fit κ̂ on the stored outcomes --learn-from selects, and say how many (and how many name no backend)."""
-        from scone_bt.confidence import rebuild_estimator
-        from scone_bt.experience import LearnFrom, StoreFilters, unlabelled_backend
+        from scone_bt.confidence import fit_on_outcomes
+        from scone_bt.experience import LearnFrom, unlabelled_backend
 
         learn_from = LearnFrom.parse(self.options.learn_from)
         who = (self.robot_id, self.arm, self.options.profile, self.backend)
         filters = learn_from.filters(*who)
-        n = rebuild_estimator(est, store, self.embedder(), **filters)
+        outcomes = store.outcomes(**filters)  # read once: fitted on, and counted below
+        n = fit_on_outcomes(est, outcomes, self.embedder())
         if not n:
             return
         line = f"κ̂ rebuilt from {n} stored outcomes {learn_from.describe(*who)}"
-        if "where" in filters:
-            # outcomes stored before outcomes named their backend count for every backend: say how many
-            unlabelled: StoreFilters = {**filters, "where": unlabelled_backend}
-            unnamed = len(store.outcomes(**unlabelled))
-            if unnamed:
-                line += f" ({unnamed} stored before outcomes named their backend, taken as this one's)"
+        # outcomes stored before outcomes named their backend count for every backend: say how many
+        unnamed = sum(1 for o in outcomes if unlabelled_backend(o)) if "where" in filters else 0
+        if unnamed:
+            line += f" ({unnamed} stored before outcomes named their backend, taken as this one's)"
         self.printer(line)
 
     def close(self) -> None:

@@ -75,6 +75,9 @@ class ForceSensing(Protocol):
         ...
 
 
+_SHARED = ("lift_m", "hold_s", "max_unsteady", "max_traction")
+"""The settings the gate's probe options carry too (read from them by `ProbeSettings.of`; ranges in PROBE_RANGES)."""
+
 _OWN_RANGES = {
     "up_s": Range(0.1, 3.0, unit="seconds"),
     "max_drift_mm": Range(0.0, 20.0, low_open=True, unit="millimetres"),
@@ -129,17 +132,10 @@ class ProbeSettings:
     @classmethod
     def of(cls, options: object) -> ProbeSettings:
         """The motion's settings from the gate's probe options (gate.probe.ProbeOptions, read by attributes)."""
-        names = ("lift_m", "hold_s", "max_unsteady", "max_traction")
-        return cls(**{n: getattr(options, n) for n in names})
+        return cls(**{n: getattr(options, n) for n in _SHARED})
 
     def __post_init__(self) -> None:
-        shared = (
-            "lift_m",
-            "hold_s",
-            "max_traction",
-            "max_unsteady",
-        )  # the gate's probe options take them too
-        for name in shared:
+        for name in _SHARED:
             PROBE_RANGES[name].check(f"probe.{name}", getattr(self, name))
         for name, allowed in _OWN_RANGES.items():
             allowed.check(f"probe.{name}", getattr(self, name))
