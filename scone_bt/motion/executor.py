@@ -80,6 +80,11 @@ class ArmExecutor(Protocol):
         """The outcome sensor: the object rests upright on the table."""
         ...
 
+    def standing_position(self, name: str) -> tuple[float, float, float] | None:
+        """The outcome sensor's look at one product: where it stands upright (its centre, metres), None when it
+        lies or leans (a heft test whose fingers missed it asks whether it still stands where it stood)."""
+        ...
+
     def objects_on_table(self) -> frozenset[str]:
         """The outcome sensor over every product: those resting upright on the table."""
         ...

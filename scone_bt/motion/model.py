@@ -24,6 +24,7 @@ __all__ = [
     "ArmModel",
     "IKOptions",
     "IKSolution",
+    "LIMIT_OVERSHOOT_RAD",
     "inverse_small",
     "pose_matrix",
     "solve_small",
@@ -41,6 +42,9 @@ def _gufunc(name: str) -> Any | None:
 
 FINGER_MODELS_KEPT = 64
 """Finger positions whose collision-model template an `ArmModel` keeps (as `spheres.POSITIONS_KEPT`)."""
+LIMIT_OVERSHOOT_RAD = 0.01
+"""How far past a joint limit a measured joint may read and still be taken at the limit (`ArmModel.as_measured`),
+radians: a joint driven to its limit overshoots it by a few hundredths of a milliradian in the physics."""
 _SOLVE = _gufunc("solve")
 _INV = _gufunc("inv")
 
@@ -313,6 +317,16 @@ class ArmModel:
     def clamp(self, q: np.ndarray) -> np.ndarray:
         """q within the joint limits (np.clip's values; its argument handling cost more than the clamp)."""
         return np.minimum(np.maximum(q, self.lower), self.upper)
+
+    def as_measured(self, q: np.ndarray) -> np.ndarray:
+        """Measured joints ``q`` as a plan may start from them: a joint read past its limit by no more than
+        `LIMIT_OVERSHOOT_RAD` (the physics lets a joint driven to its limit overshoot it a little) is taken at the
+        limit; farther past, ``q`` is returned as read (a start the planner refuses). Without this, a wrist left
+        6e-5 rad past its limit by a slip made every later plan, and the way home, fail at the start."""
+        q = np.asarray(q, dtype=float)
+        if bool(((q >= self.lower - LIMIT_OVERSHOOT_RAD) & (q <= self.upper + LIMIT_OVERSHOOT_RAD)).all()):
+            return self.clamp(q)
+        return q
 
     def within_limits(self, q: np.ndarray, tol: float = 1e-9) -> bool:
         # Called for every validity check: against the tolerance-widened limits, cached as floats (a comparison

@@ -299,6 +299,7 @@ def plan_home(
     """A timed motion back home among the static scene (used after a failure or a cancel); None if impossible."""
     p = PlanSession(arm, options, limits, rate_hz, seed)
     world = p.world(list(static), padding=0.0)
+    q_start = arm.as_measured(q_start)
     if not world.is_valid(q_start):
         # Hand still touching something: back off straight up first if possible.
         up = p.ik(lifted(arm.fk(q_start), 0.08), q_start, restarts=0)

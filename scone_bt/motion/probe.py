@@ -33,7 +33,7 @@ import numpy as np
 from scone_bt.config.ranges import Range
 from scone_bt.config.tree_parameters import PROBE_RANGES, TREE_DEFAULTS
 from scone_bt.motion.execution import PickPlaceController, Segment
-from scone_bt.motion.types import MotionPhase, TimedTrajectory
+from scone_bt.motion.types import FailureStage, MotionPhase, TimedTrajectory
 
 __all__ = [
     "ForceSensing",
@@ -81,8 +81,10 @@ _SHARED = ("lift_m", "hold_s", "max_unsteady", "max_traction")
 _OWN_RANGES = {
     "up_s": Range(0.1, 3.0, unit="seconds"),
     "max_drift_mm": Range(0.0, 20.0, low_open=True, unit="millimetres"),
+    "max_slide_mm": Range(0.0, 20.0, low_open=True, unit="millimetres"),
     "max_pushed": Range(0.0, 1.0, low_open=True),
     "payload_kg": Range(0.0, 50.0, low_open=True, unit="kilograms"),
+    "in_place_m": Range(0.0, 0.1, low_open=True, unit="metres"),
 }
 """The intervals of the motion's own probe settings (those it shares with the gate are PROBE_RANGES)."""
 
@@ -109,6 +111,11 @@ class ProbeSettings:
             stay put is something else pushing on the product (a leaning neighbour), not a slip, as long as it
             changes by no more than ``max_pushed``; the traction test still judges how close the grip is to
             sliding.
+        max_slide_mm: It slides, whatever its load does, when the contacts moved farther than this (millimetres)
+            on both pads (`ProbeReading.drift_both_mm`). Its load can stay steady while it slides: a product whose
+            pads rise past it, still partly resting on the shelf, as a weak grip's slippery fingers do (the garlic
+            in a 3 N grip: 6.6 mm; the olive oil in a 16 N one: 1.2 mm, then it slipped out in the lift). Products
+            carried on after the probe in the 50 seeded episodes moved theirs by at most 0.38 mm on both.
         max_pushed: The largest change of the load (share, as ``max_unsteady``) that still counts as a push when
             the contacts stay put. A neighbour leaning on a product shifts its load by a few percent (the grits:
             1.6 %); a product pivoting out of the grip changes it by a tenth or more with the contacts' centre
@@ -117,6 +124,9 @@ class ProbeSettings:
         set_back: False: only sense, always carry on (the generator's recording mode).
         payload_kg: The heaviest load the reason quotes as a mass, kilograms (the arm's payload: 3 kg for a
             Panda); a heavier reading is something else pulling on the product, not its weight.
+        in_place_m: A probe whose fingers closed on nothing ended with the product back in its place when it
+            stands upright within this distance (metres) of where it stood before the hand came: an aborted
+            attempt, not a failure (the fingers brushed it; a product pushed farther, or over, is a failure).
     """
 
     lift_m: float = TREE_DEFAULTS.probe.lift_m
@@ -125,9 +135,11 @@ class ProbeSettings:
     max_traction: float = 0.3
     max_unsteady: float = 0.01
     max_drift_mm: float = 0.5
+    max_slide_mm: float = 1.0
     max_pushed: float = 0.05
     set_back: bool = True
     payload_kg: float = 3.0
+    in_place_m: float = 0.02
 
     @classmethod
     def of(cls, options: object) -> ProbeSettings:
@@ -157,6 +169,9 @@ class ProbeReading:
         drift_mm: How far the contacts moved on the pads (millimetres, the farther finger): their centre over the
             hold's second half from where it was as the probe began. None: not measured (the datasets); an
             unsteady load then counts as a slip, as it did before the pads were read.
+        drift_both_mm: How far the contacts moved on the nearer finger (millimetres): the least any pad saw them
+            move. A product sliding along the pads, or left behind as they rise, moves on both; a contact patch
+            that changes shape on one pad moves on that one only. None: not measured.
         wrist_load_n: Vertical load the whole hand carried over the second half (the wrist's reading: fingers,
             palm and the other hand links, on whatever they touch). None: not measured (the datasets).
         wrist_load_first_n: The same over the first half.
@@ -169,6 +184,7 @@ class ProbeReading:
     seconds: float = 0.0
     pressed: bool = False
     drift_mm: float | None = None
+    drift_both_mm: float | None = None
     wrist_load_n: float | None = None
     wrist_load_first_n: float | None = None
 
@@ -220,9 +236,11 @@ def judge_probe(reading: ProbeReading, settings: ProbeSettings) -> tuple[bool, s
 
 
 def _slides(reading: ProbeReading, settings: ProbeSettings) -> bool:
-    """The fingers' load changed during the hold (or cannot be read), the whole hand's too (or it was not
-    measured), and not as a push: the contacts did not stay put on the pads (or were not measured), or it changed
-    by more than a push does (``max_pushed``)."""
+    """The contacts moved on both pads past ``max_slide_mm``; or the fingers' load changed during the hold (or
+    cannot be read), the whole hand's too (or it was not measured), and not as a push: the contacts did not stay
+    put on the pads (or were not measured), or it changed by more than a push does (``max_pushed``)."""
+    if reading.drift_both_mm is not None and not reading.drift_both_mm <= settings.max_slide_mm:
+        return True  # left behind on both pads as they rose: it slides, however steady its load (NaN: slides)
     if reading.unsteady <= settings.max_unsteady:
         return False
     # What the whole hand carries stayed the same: the product's weight did not move; the fingers' share changed
@@ -311,6 +329,10 @@ class ProbeController(PickPlaceController):
         self._descend: Segment | None = None
         self._up: TimedTrajectory | None = None
         self._rest: list[tuple[MotionPhase, Segment | None]] = []
+        # Where the product stood before the hand came (the outcome sensor's look), and whether the fingers closed
+        # on nothing: then the attempt ends aborted if it still stands there (`_back_in_place`).
+        self._stood_at: tuple[float, float, float] | None = None
+        self._missed = False
 
     # ------------------------------------------------------------------------------------- the plan, split
     def _start_plan(self, ready: object) -> None:
@@ -354,8 +376,46 @@ class ProbeController(PickPlaceController):
         ]
         self.total_exec_s += self._up.duration + self.probe.hold_s + rest.duration - traj.duration
 
+    # ------------------------------------------------------------------------------------- a missed grasp
+    def fail(self, stage: FailureStage, message: str) -> None:
+        missed = stage is FailureStage.GRASP and self.phase is MotionPhase.CLOSE
+        if missed and self.stage is None and self.probe.set_back and self._descend is not None:
+            # The fingers closed on nothing: nothing is held up, so leave as the hand came and then look whether
+            # the product still stands where it stood (`_after_miss`), instead of heading home from here.
+            self._missed, self.message = True, message
+            self.queue = [
+                (MotionPhase.RELEASE, None),
+                (MotionPhase.RETREAT, Segment(MotionPhase.RETREAT, _reversed(self._descend.trajectory))),
+            ]
+            self._next()
+            return
+        super().fail(stage, message)
+
+    def _after_miss(self) -> None:
+        """Back above the shelf after the fingers closed on nothing: the issue's rule makes a probe that ends with
+        the product back in its place an aborted attempt; a product pushed away or over is a failed grasp."""
+        self._missed = False
+        if self._back_in_place():
+            self.aborted = True
+            self.probe_reason = f"the {self.target_name} is not in my fingers when they close"
+            self.message = f"{self.message}; it stands where it stood: {self.probe_reason}"
+        else:
+            self.stage = FailureStage.GRASP
+        self.hold_q = self.arm.arm_joint_positions()
+        self._home_poll = self._request_home(self.hold_q)
+        self._enter(MotionPhase.RECOVER)
+
+    def _back_in_place(self) -> bool:
+        """The product stands upright within ``in_place_m`` of where it stood before the hand came."""
+        now = self.arm.standing_position(self.target_name)
+        if now is None or self._stood_at is None:
+            return False
+        return float(np.linalg.norm(np.subtract(now, self._stood_at))) <= self.probe.in_place_m
+
     # ------------------------------------------------------------------------------------- the hold
     def __call__(self, arm: object) -> None:
+        if self._stood_at is None and self.phase is MotionPhase.PLANNING:
+            self._stood_at = self.arm.standing_position(self.target_name)
         if self.finished or self.phase is not MotionPhase.PROBE_HOLD:
             if self.phase is MotionPhase.PROBE and self._probe_start is None:
                 self._probe_start = self.arm.sim_time
@@ -393,6 +453,9 @@ class ProbeController(PickPlaceController):
             seconds=round(self.arm.sim_time - started, 4),
             pressed=pressed,
             drift_mm=_drift_mm(self._pads[0], self._pads[1 + half :]) if self._pads else None,
+            drift_both_mm=_drift_mm(self._pads[0], self._pads[1 + half :], on_both=True)
+            if self._pads
+            else None,
             wrist_load_n=round(mean(second, 2), 4) if second else None,
             wrist_load_first_n=round(mean(first, 2), 4) if first else None,
         )
@@ -420,6 +483,9 @@ class ProbeController(PickPlaceController):
         self._next()
 
     def _next(self) -> None:
+        if self._missed and not self.queue and self.phase is MotionPhase.RETREAT:
+            self._after_miss()
+            return
         if self.aborted and not self.queue and self.phase is MotionPhase.RETREAT:
             # back above the shelf with an empty hand: the way home is planned from here, as after a failure
             if self.reading is not None and self._probe_start is not None:
@@ -434,18 +500,20 @@ class ProbeController(PickPlaceController):
         return super()._check(_AS_TRACKED.get(phase, phase), q_cmd)
 
 
-def _drift_mm(start: PadContacts, late: list[PadContacts]) -> float | None:
-    """How far the contacts' centre moved on the farther finger (mm): from ``start`` to its mean over ``late``;
-    None where a finger touched nothing then (nothing to compare)."""
+def _drift_mm(start: PadContacts, late: list[PadContacts], on_both: bool = False) -> float | None:
+    """How far the contacts' centre moved on the farther finger (mm; ``on_both``: on the nearer one, so on both):
+    from ``start`` to its mean over ``late``; None where a finger touched nothing then (nothing to compare)."""
     if not late:
         return None
-    far = 0.0
+    moved: list[float] = []
     for k, p0 in enumerate(start):
         now = [c for pads in late if k < len(pads) and (c := pads[k]) is not None]
         if not now or p0 is None:
             return None
-        far = max(far, float(np.linalg.norm(np.mean(now, axis=0) - np.asarray(p0))))
-    return round(far * 1000.0, 3)
+        moved.append(float(np.linalg.norm(np.mean(now, axis=0) - np.asarray(p0))))
+    if not moved:
+        return None
+    return round((min(moved) if on_both else max(moved)) * 1000.0, 3)
 
 
 def _with_seconds(reading: ProbeReading, seconds: float) -> ProbeReading:

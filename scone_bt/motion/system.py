@@ -244,7 +244,7 @@ class PickAndPlaceTask:
         if self._future is not None or self._outcome is not None:
             return
         sys_ = self.system
-        self._q_start = q_start = sys_.cell.arm_joint_positions()
+        self._q_start = q_start = sys_.arm.as_measured(sys_.cell.arm_joint_positions())
         seen = {d.name for d, _ in self.obstacles} | {self.target.name}
         on_table: dict[str, Obstacle] = {}
         if self.table_obstacles is not None:

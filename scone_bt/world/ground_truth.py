@@ -168,6 +168,12 @@ class GroundTruth:
         resting = abs(z - (cz + sz / 2) - spec.height / 2) < 0.03
         return inside and resting and bool(self._rotation(st.orientation)[2, 2] > 0.9)
 
+    def standing_position(self, name: str) -> tuple[float, float, float] | None:
+        """Where the product stands upright (its centre, world frame, metres), wherever that is; None when it lies
+        or leans more than about 25° (ground truth, as `is_on_table`: the outcome sensor's look at it)."""
+        st = self.object_state(name)
+        return st.position if bool(self._rotation(st.orientation)[2, 2] > 0.9) else None
+
     def objects_on_table(self) -> frozenset[str]:
         """Every product resting upright on the table top (ground truth, as `is_on_table`)."""
         return frozenset(n for n in self.objects if self.is_on_table(n))

@@ -131,6 +131,39 @@ def test_an_unsure_action_is_probed_then_set_back_and_asked_for_saying_why() -> 
     assert len(robot.plans) == 1
 
 
+def test_a_probe_whose_fingers_closed_on_nothing_and_left_it_standing_is_aborted_and_asked_for() -> None:
+    """The issue's rule: a probe that ends with the product back in its place is an aborted attempt, even where the
+    fingers never held it up (no reading): κ̂ learns it could not take it, the budget counts no failure."""
+    robot, events, kappa = FakeRobot(time=3.0), EventLog(), _Kappa(0.45)
+    bb = _scene()
+    gate = _gate(robot, events, kappa, ProbeOptions(below=0.3, above=0.0))
+    gate.tick_once()
+    reason = "the strawberry jam is not in my fingers when they close"
+    motion = MotionOutcome(
+        False,
+        None,
+        f"the fingers closed without holding the object; it stands where it stood: {reason}",
+        5.0,
+        aborted=True,
+        probe_reason=reason,
+    )
+    bb.set(Keys.MOTION_OUTCOME, motion)
+    store = _Store()
+    observe = ObserveOutcome("observe", robot, lambda: store, events, LABELS)
+    observe.setup()
+    observe.tick_once()
+    aborted = events.events[-1]
+    assert isinstance(aborted, ProbeAborted)
+    assert (aborted.reason, aborted.probe_s, aborted.load_n) == (reason, 0.0, 0.0)
+    (stored,) = store.stored
+    assert not stored.success and stored.failure_stage == "probe"
+    assert events.budget_counts() == (0, 0, 0) and events.stats.aborted == 1
+    gate.tick_once()
+    asked = bb.get(Keys.DECISION)
+    assert asked.kind is DecisionKind.ASK and asked.rule == "probe"
+    assert asked.reason == f"{reason}: please bring it"
+
+
 @pytest.mark.parametrize(("confidence", "probed"), [(0.2, False), (0.31, True), (0.54, True), (0.6, False)])
 def test_only_actions_inside_the_band_are_probed(confidence: float, probed: bool) -> None:
     robot, events = FakeRobot(time=3.0), EventLog()

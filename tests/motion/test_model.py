@@ -133,3 +133,25 @@ def test_collision_world_keeps_every_pair_an_obstacle_in_reach_needs(arm, robot_
     }
     assert "obstacle:near" in checked and "obstacle:far" not in checked
     assert not world.is_valid(np.asarray(robot_cfg.home))  # the shoulder box is inside link 1
+
+
+def test_a_joint_measured_just_past_its_limit_is_planned_from_the_limit(arm, robot_cfg):
+    """A slip left the Panda's wrist 6e-5 rad past its limit (the hummus at seed 2): every later plan and the way
+    home failed at the start. A plan takes such a reading at the limit; a joint farther past stays refused."""
+    from scone_bt.motion.model import LIMIT_OVERSHOOT_RAD
+    from scone_bt.motion.pick_place import plan_home
+    from scone_bt.motion.planner import PlannerOptions
+    from scone_bt.motion.timing import limits_of
+
+    read = np.array([1.7682, -0.8067, 1.7087, -1.9793, 0.8764, 1.9452, arm.upper[6] + 6e-5])
+    assert not arm.within_limits(read)
+    taken = arm.as_measured(read)
+    assert arm.within_limits(taken) and taken[6] == arm.upper[6] and np.array_equal(taken[:6], read[:6])
+    far = read.copy()
+    far[6] = arm.upper[6] + 2 * LIMIT_OVERSHOOT_RAD
+    assert np.array_equal(arm.as_measured(far), far)
+    home = np.asarray(robot_cfg.home, dtype=float)
+    options, limits, rate = PlannerOptions(), limits_of(robot_cfg), robot_cfg.control.rate_hz
+    way = plan_home(arm, read, home, (), options, limits, rate, seed=0)
+    assert way is not None and np.allclose(way.trajectory.positions[-1], home, atol=1e-6)
+    assert plan_home(arm, far, home, (), options, limits, rate, seed=0) is None

@@ -97,3 +97,27 @@ def test_a_product_held_fast_is_carried_on_though_something_pushes_on_it(i: int,
     rec = _query("kitchen", "panda", 0, 11, 2, i, probe=True)  # the motion benchmark's query i (seed 0)
     assert rec["target"] == target
     assert rec["success"] and not rec["aborted"], rec["message"]
+
+
+def test_a_probe_whose_fingers_close_on_nothing_leaves_the_product_standing_and_is_aborted(
+    kitchen_cfg, robot_cfg, worker
+) -> None:
+    nominal = load_profile(PROFILES / "p00_nominal.yaml")
+    # Execution 31 of the nominal profile: the fingers close beside the taco shells, which stay where they stood.
+    recorded, _ = generate.run_execution(nominal, 31, kitchen_cfg, robot_cfg)
+    assert recorded.object == "taco shells"
+    assert (recorded.failure_stage, recorded.detail) == (
+        "grasp",
+        "the fingers closed without holding the object",
+    )
+    probed, _ = generate.run_execution(nominal, 31, kitchen_cfg, robot_cfg, probe=ProbeSettings())
+    assert not probed.success and probed.failure_stage is None  # aborted: the product is back in its place
+    assert probed.detail.endswith(
+        "it stands where it stood: the taco shells is not in my fingers when they close"
+    )
+    assert not worker.kitchen.is_on_table("taco shells") and worker.kitchen.held_object(0.1) is None
+    # Pushed farther than it may be to count as in its place: the same miss is a failed grasp.
+    far, _ = generate.run_execution(
+        nominal, 31, kitchen_cfg, robot_cfg, probe=ProbeSettings(in_place_m=0.001)
+    )
+    assert (far.failure_stage, far.detail) == ("grasp", "the fingers closed without holding the object")
