@@ -141,7 +141,8 @@ class _Replay:
         widths: (n,) the perceived widths, m (NaN unknown).
         wide: (n,) whether each product was perceived wider than the gripper's opening.
         probe: The heft test's motion settings, or None (no probe, or a stream without probe readings).
-        readings: (n, 5) what the recorded probe felt (PROBE_COLUMNS), or None.
+        readings: (n, 11) what the recorded probe felt (replay_streams.READING_COLUMNS; (n, 5), PROBE_COLUMNS
+            alone, reads as nothing more measured), or None.
         context: (n, len(CONTEXT_FIELDS)) the perceived context, as at each decision.
         grounded: Whether κ̂ reads the context (its rows end with it).
     """
@@ -260,13 +261,33 @@ def _after_probe(
 
     assert replay.readings is not None and replay.probe is not None  # a probe decision needs both
     out.probes += scored
-    held, load, first, grip, seconds = replay.readings[t]
+    values = replay.readings[t]
+    held, load, first, grip, seconds = values[:5]
+    sensed = [
+        None if np.isnan(v) else float(v) for v in values[5:10]
+    ]  # NaN: unmeasured, or an earlier schema
     if np.isnan(held):  # the arm never held it up: it failed before the probe, as recorded
+        if len(values) > 10 and values[10] == 1.0:
+            # The fingers closed on nothing and the product stood where it stood: aborted, as the tree ends it
+            # (motion.probe.ProbeController._after_miss), and κ̂ learns it could not take it.
+            return _Probed(True, before)
         return _Probed(False, replace(before, unfelt=True))
     if scored:
         out.probe_s += seconds
         out.probes_felt += 1
-    reading = ProbeReading(bool(held), float(load), float(first), float(grip), float(seconds))
+    pressed, drift, drift_both, wrist, wrist_first = sensed + [None] * (5 - len(sensed))
+    reading = ProbeReading(
+        bool(held),
+        float(load),
+        float(first),
+        float(grip),
+        float(seconds),
+        pressed=bool(pressed),
+        drift_mm=drift,
+        drift_both_mm=drift_both,
+        wrist_load_n=wrist,
+        wrist_load_first_n=wrist_first,
+    )
     row = replay.rows[t]
     if replay.grounded:  # κ̂ reads the context: the one it has after the probe
         context = felt_row(replay.context[t], reading)

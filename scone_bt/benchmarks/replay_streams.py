@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from scone_bt.benchmarks.self_confidence.dataset import PROBE_COLUMNS
+from scone_bt.benchmarks.self_confidence.dataset import PROBE_COLUMNS, PROBE_SENSED_COLUMNS
 from scone_bt.experience.types import CONTEXT_FIELDS
 
 __all__ = [
@@ -37,7 +37,7 @@ class Streams:
         context: Per stream, the context the robot perceived (`CONTEXT_FIELDS` columns; the oracle: true sizes).
         success: Per stream, whether each execution succeeded.
         products: Per stream, each row's product name.
-        readings: Per stream, the heft test's readings (`PROBE_COLUMNS`), or None where it was not recorded.
+        readings: Per stream, the heft test's readings (`READING_COLUMNS`), or None where it was not recorded.
         foreseen: Per stream, what the robot knew before its arm moved (`foreseen`: "", "missing", "infeasible").
     """
 
@@ -152,11 +152,17 @@ def foreseen(d: Any) -> np.ndarray:
     return rules
 
 
+READING_COLUMNS = (*PROBE_COLUMNS, *PROBE_SENSED_COLUMNS, "probe_in_place")
+"""The columns of `probe_readings`, in order."""
+
+
 def probe_readings(d: Any) -> np.ndarray | None:
-    """(n, 5) probe readings in PROBE_COLUMNS order, or None for a dataset recorded without the probe."""
+    """(n, 11) probe readings in READING_COLUMNS order (NaN where a file of an earlier schema lacks a column, or
+    a row leaves it empty), or None for a dataset recorded without the probe."""
     if any(c not in d.context for c in PROBE_COLUMNS):
         return None
-    return np.column_stack([d.context[c] for c in PROBE_COLUMNS])
+    unknown = np.full(len(d.context[PROBE_COLUMNS[0]]), np.nan)
+    return np.column_stack([d.context.get(c, unknown) for c in READING_COLUMNS])
 
 
 def _glass(d: Any) -> np.ndarray:

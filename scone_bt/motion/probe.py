@@ -333,6 +333,7 @@ class ProbeController(PickPlaceController):
         # on nothing: then the attempt ends aborted if it still stands there (`_back_in_place`).
         self._stood_at: tuple[float, float, float] | None = None
         self._missed = False
+        self.missed_in_place: bool | None = None  # after the fingers closed on nothing: it still stood there
 
     # ------------------------------------------------------------------------------------- the plan, split
     def _start_plan(self, ready: object) -> None:
@@ -379,7 +380,7 @@ class ProbeController(PickPlaceController):
     # ------------------------------------------------------------------------------------- a missed grasp
     def fail(self, stage: FailureStage, message: str) -> None:
         missed = stage is FailureStage.GRASP and self.phase is MotionPhase.CLOSE
-        if missed and self.stage is None and self.probe.set_back and self._descend is not None:
+        if missed and self.stage is None and self._descend is not None:
             # The fingers closed on nothing: nothing is held up, so leave as the hand came and then look whether
             # the product still stands where it stood (`_after_miss`), instead of heading home from here.
             self._missed, self.message = True, message
@@ -393,9 +394,11 @@ class ProbeController(PickPlaceController):
 
     def _after_miss(self) -> None:
         """Back above the shelf after the fingers closed on nothing: the issue's rule makes a probe that ends with
-        the product back in its place an aborted attempt; a product pushed away or over is a failed grasp."""
+        the product back in its place an aborted attempt; a product pushed away or over is a failed grasp (and, in
+        the generator's sensing-only mode, every miss: it records `missed_in_place` beside the failure)."""
         self._missed = False
-        if self._back_in_place():
+        self.missed_in_place = self._back_in_place()
+        if self.missed_in_place and self.probe.set_back:
             self.aborted = True
             self.probe_reason = f"the {self.target_name} is not in my fingers when they close"
             self.message = f"{self.message}; it stands where it stood: {self.probe_reason}"

@@ -483,6 +483,12 @@ class PickAndPlaceTask:
         without one."""
         return getattr(self._controller, "reading", None)
 
+    @property
+    def missed_in_place(self) -> bool | None:
+        """After a heft test's fingers closed on nothing: whether the product still stood where it stood (the
+        outcome sensor's look, once the hand had left); None otherwise."""
+        return getattr(self._controller, "missed_in_place", None)
+
     def outcome(self) -> MotionOutcome | None:
         """How it ended, once `done()`; else None.
 

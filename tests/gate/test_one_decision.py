@@ -18,7 +18,7 @@ from scone_bt.behaviours import (
 )
 from scone_bt.behaviours.context import OutcomeLabels
 from scone_bt.benchmarks.replay import replay_stream
-from scone_bt.benchmarks.self_confidence.dataset import PROBE_COLUMNS
+from scone_bt.benchmarks.replay_streams import READING_COLUMNS
 from scone_bt.confidence import make_estimator
 from scone_bt.events import EventLog, ProbeAborted
 from scone_bt.experience.types import CONTEXT_FIELDS, FELT_FIELDS, ExecutionContext
@@ -69,17 +69,30 @@ def _stream(n: int = 60, seed: int = 5) -> tuple[np.ndarray, np.ndarray, np.ndar
 
 
 def _readings(stream, seed: int = 7) -> np.ndarray:
-    """What a recorded probe felt per execution (PROBE_COLUMNS): the products that fail mostly slip in the
-    fingers (their load changes during the hold), a few never were held up (NaN: failed before the probe)."""
+    """What a recorded probe felt per execution (READING_COLUMNS): the products that fail mostly slip in the
+    fingers (their load changes during the hold, or it stays steady while their contacts move on both pads), a few
+    never were held up (NaN: failed before the probe; of those, the fingers closed beside some that stayed where
+    they stood: in place)."""
     _, _, success, _ = stream
     rng = np.random.default_rng(seed)
     n = len(success)
     slips = ~success & (rng.random(n) < 0.7)
+    # of the slips, these keep a steady load: only the pads tell (their own draws: the rest stays as it was)
+    slides = slips & (np.random.default_rng(seed + 1).random(n) < 0.5)
     load = np.full(n, 2.0)
-    first = np.where(slips, 2.4, 2.0)
-    rows = np.column_stack([np.ones(n), load, first, np.full(n, 40.0), np.full(n, 1.2)])
-    rows[rng.random(n) < 0.05] = np.nan
-    assert rows.shape[1] == len(PROBE_COLUMNS)
+    first = np.where(slips & ~slides, 2.4, 2.0)
+    drift = np.where(slips, 2.0, 0.1)
+    rows = np.column_stack(
+        [
+            *(np.ones(n), load, first, np.full(n, 40.0), np.full(n, 1.2)),
+            *(np.zeros(n), drift, np.where(slides, 1.5, 0.05), np.full(n, 2.0), np.full(n, 2.0)),
+            np.full(n, np.nan),
+        ]
+    )
+    missed = rng.random(n) < 0.05
+    rows[missed] = np.nan
+    rows[missed, 10] = np.arange(int(missed.sum())) == 0  # the first stood where it stood, the others did not
+    assert rows.shape[1] == len(READING_COLUMNS)
     return rows
 
 
@@ -133,24 +146,45 @@ def _replay(
 
 
 def _reading(readings, t: int) -> ProbeReading | None:
-    held, load, first, grip, seconds = readings[t]
+    held, load, first, grip, seconds = readings[t][:5]
     if np.isnan(held):
         return None
-    return ProbeReading(bool(held), float(load), float(first), float(grip), float(seconds))
+    sensed = [None if np.isnan(v) else float(v) for v in readings[t][5:10]] or [None] * 5
+    pressed, drift, drift_both, wrist, wrist_first = sensed
+    return ProbeReading(
+        bool(held),
+        float(load),
+        float(first),
+        float(grip),
+        float(seconds),
+        pressed=bool(pressed),
+        drift_mm=drift,
+        drift_both_mm=drift_both,
+        wrist_load_n=wrist,
+        wrist_load_first_n=wrist_first,
+    )
+
+
+def _missed_in_place(readings, t: int) -> bool:
+    """The probe's fingers closed on nothing and the product still stood where it stood (an aborted probe)."""
+    return readings.shape[1] > 10 and bool(readings[t][10] == 1.0)
 
 
 def _aborted(readings, t: int) -> bool:
     """Whether the probe of execution t set the product back (what the arm's ObserveOutcome would see)."""
-    held, load, first, grip, seconds = readings[t]
-    if np.isnan(held):
-        return False
-    reading = ProbeReading(bool(held), float(load), float(first), float(grip), float(seconds))
+    reading = _reading(readings, t)
+    if reading is None:
+        return _missed_in_place(readings, t)
     return not judge_probe(reading, ProbeSettings.of(PROBE))[0]
 
 
-def _ending(judge, reading: ProbeReading | None, ok: bool) -> MotionOutcome:
+def _ending(judge, reading: ProbeReading | None, ok: bool, missed_in_place: bool = False) -> MotionOutcome:
     """How the arm's attempt ends: a probe's judge (`Keys.PROBE_JUDGE`, called with the reading as the probe
-    controller calls it after the hold) carries on or sets back; what carries on ends as the stream recorded."""
+    controller calls it after the hold) carries on or sets back; a probe whose fingers closed on nothing beside a
+    product that stayed where it stood is aborted (motion.probe); what carries on ends as the stream recorded."""
+    if missed_in_place:
+        reason = "the product is not in my fingers when they close"
+        return MotionOutcome(False, None, reason, 1.0, aborted=True, probe_reason=reason)
     carry, reason = judge(reading) if reading is not None else (True, "")
     if not carry:
         return MotionOutcome(False, None, reason, 1.0, aborted=True, probe=reading, probe_reason=reason)
@@ -237,7 +271,8 @@ def _behaviour(
             continue
         reading = _reading(readings, t) if decision.probe else None  # only a probe feels anything
         judge = bb.get(Keys.PROBE_JUDGE)
-        motion = _ending(judge, reading, bool(success[t]))
+        missed = bool(decision.probe and _missed_in_place(readings, t))
+        motion = _ending(judge, reading, bool(success[t]), missed)
         if verdicts is not None and judge is not None and judge.verdict is not None:
             verdicts.append(judge.verdict)
         robot.on_table = {product} if motion.success else set()
@@ -289,6 +324,14 @@ def test_the_tree_and_the_replay_probe_the_same_on_a_stream_with_probe_readings(
     assert probed and all(replayed[t].kind is DecisionKind.ACT for t in probed)
     assert any(_aborted(readings, t) for t in probed)  # some set back, some carried on
     assert not all(_aborted(readings, t) for t in probed)
+    # some set back only because their contacts moved on both pads, and some missed but stood where they stood
+    settings = ProbeSettings.of(PROBE)
+    steady = [
+        t for t in probed if (r := _reading(readings, t)) is not None and r.unsteady <= settings.max_unsteady
+    ]
+    assert any(_aborted(readings, t) for t in steady)
+    assert any(_reading(readings, t) is None and _missed_in_place(readings, t) for t in probed)
+    assert any(_reading(readings, t) is None and not _missed_in_place(readings, t) for t in probed)
     assert all(not d.probe for d in replayed if d.rule == "too-wide")  # too wide: asked, never hefted
     assert "too-wide" in {d.rule for d in replayed}
 

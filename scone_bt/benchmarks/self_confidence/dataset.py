@@ -31,8 +31,16 @@ object and outcome):
     probe_load_first_n the same over its first half, newtons
     probe_grip_n       the fingers' summed grip force over the second half, newtons
     probe_s            simulated seconds the probe took (all probe columns empty when the arm never held it up)
+    probe_pressed      1 if the fingers' vertical force pointed down over the second half (a fingertip on the
+                       product's top: the load is a push), else 0 (empty likewise)
+    probe_drift_mm     how far the contacts moved on the farther finger's pad, millimetres (empty: not measured)
+    probe_drift_both_mm the same on the nearer finger: how far they moved on both pads (empty likewise)
+    probe_wrist_load_n the vertical load the whole hand carried over the second half (the wrist's reading), newtons
+    probe_wrist_load_first_n the same over the first half (both empty when not measured)
+    probe_in_place     after fingers that closed on nothing: 1 if the product still stood where it stood once the
+                       hand had left, else 0 (empty for every other execution)
 
-The last nine columns came later: a file without them is still read (they are then unknown). Every column from shelf_unit to detected_height_m is what the robot perceived, computed by the episode's own
+The last fifteen columns came later: a file without them is still read (they are then unknown). Every column from shelf_unit to detected_height_m is what the robot perceived, computed by the episode's own
 context function (`scone_bt.perception.context.execution_contexts`, see generate.perceived_context); an undetected
 target leaves them empty (detected 0). width_m to material describe the product, not what the robot knew.
 
@@ -61,6 +69,7 @@ __all__ = [
     "COLUMNS",
     "CONTEXT_COLUMNS",
     "PROBE_COLUMNS",
+    "PROBE_SENSED_COLUMNS",
     "Dataset",
     "ExecutionRecord",
     "load_datasets",
@@ -99,6 +108,12 @@ COLUMNS = (
     "probe_load_first_n",
     "probe_grip_n",
     "probe_s",
+    "probe_pressed",
+    "probe_drift_mm",
+    "probe_drift_both_mm",
+    "probe_wrist_load_n",
+    "probe_wrist_load_first_n",
+    "probe_in_place",
 )
 """Columns the generator writes, in this order (see the module docstring)."""
 
@@ -121,6 +136,12 @@ CONTEXT_COLUMNS = (
     "probe_load_first_n",
     "probe_grip_n",
     "probe_s",
+    "probe_pressed",
+    "probe_drift_mm",
+    "probe_drift_both_mm",
+    "probe_wrist_load_n",
+    "probe_wrist_load_first_n",
+    "probe_in_place",
 )
 """Numeric context columns, read into `Dataset.context` as float arrays (NaN where a row leaves one empty)."""
 
@@ -157,6 +178,8 @@ class ExecutionRecord:
         height_m: Catalogue height, metres.
         mass_kg: Catalogue mass, kilograms.
         material: Catalogue material.
+        probe_held … probe_in_place: What the heft test felt (the module docstring's columns; None: not felt,
+            not measured, or, for probe_in_place, no miss).
     """
 
     index: int
@@ -188,6 +211,12 @@ class ExecutionRecord:
     probe_load_first_n: float | None = None
     probe_grip_n: float | None = None
     probe_s: float | None = None
+    probe_pressed: bool | None = None
+    probe_drift_mm: float | None = None
+    probe_drift_both_mm: float | None = None
+    probe_wrist_load_n: float | None = None
+    probe_wrist_load_first_n: float | None = None
+    probe_in_place: bool | None = None
 
     def row(self) -> list[str]:
         """The CSV row, in COLUMNS order."""
@@ -197,6 +226,9 @@ class ExecutionRecord:
 
         def count(v: int | None) -> str:
             return "" if v is None else str(v)
+
+        def flag(v: bool | None) -> str:
+            return "" if v is None else str(int(v))
 
         return [
             str(self.index),
@@ -228,6 +260,12 @@ class ExecutionRecord:
             num(self.probe_load_first_n),
             num(self.probe_grip_n),
             num(self.probe_s),
+            flag(self.probe_pressed),
+            num(self.probe_drift_mm),
+            num(self.probe_drift_both_mm),
+            num(self.probe_wrist_load_n),
+            num(self.probe_wrist_load_first_n),
+            flag(self.probe_in_place),
         ]
 
 
@@ -299,28 +337,52 @@ def _float(text: str, path: Path, row: int, column: str) -> float:
 
 PROBE_COLUMNS = ("probe_held", "probe_load_n", "probe_load_first_n", "probe_grip_n", "probe_s")
 """What the generator's probe felt, in the order the replay reads them
-(scone_bt.benchmarks.replay_streams.probe_readings)."""
+(scone_bt.benchmarks.replay_streams.probe_readings): all of them, or none (the arm never held it up)."""
+
+PROBE_SENSED_COLUMNS = (
+    "probe_pressed",
+    "probe_drift_mm",
+    "probe_drift_both_mm",
+    "probe_wrist_load_n",
+    "probe_wrist_load_first_n",
+)
+"""What the hand sensed beside them (a later schema: files before it lack them), in the order the replay reads
+them after PROBE_COLUMNS: each given only where probe_held is, and each may be unmeasured (empty)."""
+
+_FLAGS = ("probe_held", "probe_pressed", "probe_in_place")
+"""Probe columns that are 0 or 1."""
 
 
 def _check_probe(context: dict[str, np.ndarray], rows: Sequence[int], path: Path) -> None:
-    """ConfigError (one line: file, row, column, valid values) for a malformed probe reading: ``probe_held`` 0 or
-    1, and every probe column given or none (the arm never held it up); that each is finite and ≥ 0 (newtons,
-    seconds) `_float` checked as it read the cell. What the replay makes the felt context of (experience.felt) is
+    """ConfigError (one line: file, row, column, valid values) for a malformed probe reading: the flags 0 or 1,
+    every PROBE_COLUMNS column given or none (the arm never held it up), what the hand sensed only where something
+    was felt, and ``probe_in_place`` only where nothing was; that each is finite and ≥ 0 (newtons, seconds,
+    millimetres) `_float` checked as it read the cell. What the replay makes the felt context of (experience.felt) is
     checked here, where the file is known."""
-    if not any(c in context for c in PROBE_COLUMNS):
+    if not any(c in context for c in (*PROBE_COLUMNS, *PROBE_SENSED_COLUMNS, "probe_in_place")):
         return
     nan = np.full(len(rows), np.nan)
     held, *rest = (context.get(c, nan) for c in PROBE_COLUMNS)
     for j, row in enumerate(rows):
         where = f"{path} row {row + 2}"
-        if not (np.isnan(held[j]) or held[j] in (0.0, 1.0)):
-            raise ConfigError(f"{where}: probe_held {held[j]:g} must be 0 or 1 (empty: never held up)")
+        for column in _FLAGS:
+            v = context.get(column, nan)[j]
+            if not (np.isnan(v) or v in (0.0, 1.0)):
+                empty = "empty: never held up" if column == "probe_held" else "or empty"
+                raise ConfigError(f"{where}: {column} {v:g} must be 0 or 1 ({empty})")
         for column, values in zip(PROBE_COLUMNS[1:], rest, strict=True):
             v = values[j]
             if np.isnan(v) != np.isnan(held[j]):
                 raise ConfigError(
                     f"{where}: {column} must be given exactly where probe_held is (every probe column, or none)"
                 )
+        for column in PROBE_SENSED_COLUMNS:
+            if np.isnan(held[j]) and not np.isnan(context.get(column, nan)[j]):
+                raise ConfigError(f"{where}: {column} must be empty where probe_held is (nothing was felt)")
+        if not np.isnan(held[j]) and not np.isnan(context.get("probe_in_place", nan)[j]):
+            raise ConfigError(
+                f"{where}: probe_in_place must be empty where probe_held is given (it held something)"
+            )
 
 
 def _int(text: str, path: Path, row: int, column: str) -> int:
@@ -396,6 +458,12 @@ def read_records(path: Path | str) -> list[ExecutionRecord]:
                 probe_load_first_n=opt("probe_load_first_n"),
                 probe_grip_n=opt("probe_grip_n"),
                 probe_s=opt("probe_s"),
+                probe_pressed=None if not r.get("probe_pressed") else r["probe_pressed"].strip() == "1",
+                probe_drift_mm=opt("probe_drift_mm"),
+                probe_drift_both_mm=opt("probe_drift_both_mm"),
+                probe_wrist_load_n=opt("probe_wrist_load_n"),
+                probe_wrist_load_first_n=opt("probe_wrist_load_first_n"),
+                probe_in_place=None if not r.get("probe_in_place") else r["probe_in_place"].strip() == "1",
             )
         )
     return out

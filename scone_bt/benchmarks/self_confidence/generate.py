@@ -394,18 +394,26 @@ def _record(
         probe_load_first_n=None if felt is None else felt.load_first_n,
         probe_grip_n=None if felt is None else felt.grip_n,
         probe_s=None if felt is None else felt.seconds,
+        probe_pressed=None if felt is None else bool(felt.pressed),
+        probe_drift_mm=None if felt is None else felt.drift_mm,
+        probe_drift_both_mm=None if felt is None else felt.drift_both_mm,
+        probe_wrist_load_n=None if felt is None else felt.wrist_load_n,
+        probe_wrist_load_first_n=None if felt is None else felt.wrist_load_first_n,
+        probe_in_place=attempt.missed_in_place,
     )
 
 
 @dataclass(frozen=True)
 class _Attempt:
-    """An attempt's outcome: success, failure stage (None: none), detail, and the heft test's reading (None: the
-    motion never hefted the product)."""
+    """An attempt's outcome: success, failure stage (None: none), detail, the heft test's reading (None: the
+    motion never hefted the product), and, after fingers that closed on nothing in it, whether the product still
+    stood where it stood (None: no such miss)."""
 
     success: bool
     stage: str | None
     detail: str
     felt: ProbeReading | None = None
+    missed_in_place: bool | None = None
 
 
 def _attempt(
@@ -438,11 +446,13 @@ def _attempt(
             kitchen.advance(_ADVANCE_S)
             settled = _settled(task)
         felt = task.probe_reading if isinstance(task.probe_reading, ProbeReading) else None
+        in_place = task.missed_in_place
         if settled is None:
             task.cancel()
             return _Attempt(False, "timeout", f"not finished after {_MAX_SIM_S:.0f} simulated seconds", felt)
     success, stage, message = settled
-    return _Attempt(success, stage, ("injected weak grasp; " if "grasp" in injected else "") + message, felt)
+    detail = ("injected weak grasp; " if "grasp" in injected else "") + message
+    return _Attempt(success, stage, detail, felt, in_place)
 
 
 def run_execution(

@@ -22,7 +22,8 @@ CONTRACT = (
     "index, action, object, family, outcome, failure_stage, seed, detail, shelf_unit, shelf_tier, slot, "
     "clearance_m, neighbours, detected, detected_width_m, detected_height_m, width_m, height_m, mass_kg, material, "
     "detected_depth_m, detected_fill, depth_m, shape, probe_held, probe_load_n, probe_load_first_n, probe_grip_n, "
-    "probe_s"
+    "probe_s, probe_pressed, probe_drift_mm, probe_drift_both_mm, probe_wrist_load_n, probe_wrist_load_first_n, "
+    "probe_in_place"
 )
 
 
@@ -52,6 +53,16 @@ def _records() -> list[ExecutionRecord]:
         detected_fill=0.781,
         depth_m=0.065,
         shape="cylinder",
+        probe_held=True,
+        probe_load_n=8.8291,
+        probe_load_first_n=8.8302,
+        probe_grip_n=80.0,
+        probe_s=0.8917,
+        probe_pressed=False,
+        probe_drift_mm=0.031,
+        probe_drift_both_mm=0.012,
+        probe_wrist_load_n=8.8291,
+        probe_wrist_load_first_n=8.8302,
     )
     missed = dataclasses.replace(
         seen,
@@ -66,6 +77,10 @@ def _records() -> list[ExecutionRecord]:
         detected_fill=None,
         shelf_tier=2,
         clearance_m=0.5,
+        **dict.fromkeys(("probe_held", "probe_load_n", "probe_load_first_n", "probe_grip_n", "probe_s")),
+        **dict.fromkeys(("probe_pressed", "probe_drift_mm", "probe_drift_both_mm", "probe_wrist_load_n")),
+        probe_wrist_load_first_n=None,
+        probe_in_place=True,  # a probe's fingers closed beside it, and it still stood where it stood
     )
     return [missed, seen]  # written sorted by index
 
@@ -180,3 +195,36 @@ def test_a_malformed_probe_reading_is_one_line_naming_file_row_column_and_range(
         f"action,object,outcome,{_PROBE}\nPut salt on table,salt,1,1,1.2,1.2,20,0.9\nPut salt,salt,0,,,,,\n"
     )
     assert np.isnan(read_dataset(path)[0].context["probe_held"][1])  # never held up: every column empty
+
+
+_SENSED = "probe_pressed,probe_drift_mm,probe_drift_both_mm,probe_wrist_load_n,probe_wrist_load_first_n,probe_in_place"
+
+
+@pytest.mark.parametrize(
+    ("row", "message"),
+    [
+        ("1,1.2,1.2,20,0.9,2,0.1,0.1,1.2,1.2,", "row 3: probe_pressed 2 must be 0 or 1 (or empty)"),
+        ("1,1.2,1.2,20,0.9,0,-0.1,0.1,1.2,1.2,", "row 3: probe_drift_mm -0.1 must be a finite number ≥ 0"),
+        (",,,,,,0.1,,,,1", "row 3: probe_drift_mm must be empty where probe_held is (nothing was felt)"),
+        (",,,,,,,,,,0.5", "row 3: probe_in_place 0.5 must be 0 or 1 (or empty)"),
+        (
+            "1,1.2,1.2,20,0.9,0,0.1,0.1,1.2,1.2,1",
+            "row 3: probe_in_place must be empty where probe_held is given",
+        ),
+    ],
+)
+def test_what_the_hand_sensed_beside_a_reading_is_checked_in_one_line(tmp_path, row, message):
+    path = tmp_path / "p.csv"
+    header = f"action,object,outcome,{_PROBE},{_SENSED}\n"
+    good = "Put salt on table,salt,1,1,1.2,1.2,20,0.9,0,0.1,0.05,1.2,1.2,\n"
+    path.write_text(f"{header}{good}Put salt on table,salt,0,{row}\n")
+    with pytest.raises(ConfigError) as err:
+        read_dataset(path)
+    assert str(err.value).startswith(f"{path} {message}") and "\n" not in str(err.value)
+    # unmeasured drift or wrist beside a reading, and a miss that stood in place: read
+    path.write_text(
+        f"{header}{good}Put salt on table,salt,0,1,1.2,1.2,20,0.9,1,,,,,\nPut salt,salt,0,,,,,,,,,,,1\n"
+    )
+    (ds,) = read_dataset(path)
+    assert np.isnan(ds.context["probe_drift_mm"][1]) and ds.context["probe_pressed"][1] == 1.0
+    assert ds.context["probe_in_place"].tolist()[2] == 1.0
