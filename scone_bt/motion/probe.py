@@ -9,11 +9,15 @@ where on the fingers' pads the product touches), then `judge_probe` on the sampl
 
 - it holds: the rest of the lift, and the plan goes on;
 - it slips (the fingers no longer hold it, or the load they carry changes during the hold, the whole hand's too,
-  while the product moves on the pads: it slides) or the grip is near its friction limit (load over grip above
+  while the product moves on the pads: it slides), it does not come up with them (their vertical force on it
+  points down: `ProbeReading.pressed`) or the grip is near its friction limit (load over grip above
   ``max_traction``: the carry's accelerations would make it slip): the product is set down where it stood
   (`MotionPhase.SET_DOWN`, the probe's lift reversed), the fingers open, the hand leaves as it came (the descent
   reversed) and heads home. The outcome is *aborted*: no failure, since the product is where it was, but the
   person has to fetch it.
+
+A probe whose fingers closed on nothing leaves the same way, then the outcome sensor looks: a product still
+standing where it stood (within ``in_place_m``) makes it aborted too; one pushed away or over, a failed grasp.
 
 Everything is sensed by the arm (joints, a wrist force sensor, the fingers' tactile pads), never read from the
 simulator's state.
@@ -81,7 +85,6 @@ _SHARED = ("lift_m", "hold_s", "max_unsteady", "max_traction")
 _OWN_RANGES = {
     "up_s": Range(0.1, 3.0, unit="seconds"),
     "max_drift_mm": Range(0.0, 20.0, low_open=True, unit="millimetres"),
-    "max_slide_mm": Range(0.0, 20.0, low_open=True, unit="millimetres"),
     "max_pushed": Range(0.0, 1.0, low_open=True),
     "payload_kg": Range(0.0, 50.0, low_open=True, unit="kilograms"),
     "in_place_m": Range(0.0, 0.1, low_open=True, unit="metres"),
@@ -111,11 +114,6 @@ class ProbeSettings:
             stay put is something else pushing on the product (a leaning neighbour), not a slip, as long as it
             changes by no more than ``max_pushed``; the traction test still judges how close the grip is to
             sliding.
-        max_slide_mm: It slides, whatever its load does, when the contacts moved farther than this (millimetres)
-            on both pads (`ProbeReading.drift_both_mm`). Its load can stay steady while it slides: a product whose
-            pads rise past it, still partly resting on the shelf, as a weak grip's slippery fingers do (the garlic
-            in a 3 N grip: 6.6 mm; the olive oil in a 16 N one: 1.2 mm, then it slipped out in the lift). Products
-            carried on after the probe in the 50 seeded episodes moved theirs by at most 0.38 mm on both.
         max_pushed: The largest change of the load (share, as ``max_unsteady``) that still counts as a push when
             the contacts stay put. A neighbour leaning on a product shifts its load by a few percent (the grits:
             1.6 %); a product pivoting out of the grip changes it by a tenth or more with the contacts' centre
@@ -135,7 +133,6 @@ class ProbeSettings:
     max_traction: float = 0.3
     max_unsteady: float = 0.01
     max_drift_mm: float = 0.5
-    max_slide_mm: float = 1.0
     max_pushed: float = 0.05
     set_back: bool = True
     payload_kg: float = 3.0
@@ -164,14 +161,15 @@ class ProbeReading:
         grip_n: Summed grip (normal) force over the second half.
         seconds: Simulated seconds the probe took (lift, hold and, if it set back, the set-down).
         pressed: The fingers' vertical force pointed down over the second half: they pressed on the product
-            (a fingertip on its top) instead of carrying it; ``load_n`` is then the size of that push, not a
-            weight. Not recorded in the datasets (False there).
+            (a fingertip on its top) or rose past it instead of carrying it; ``load_n`` is then the size of that
+            push, not a weight. The datasets' ``probe_pressed`` (False in files recorded before it).
         drift_mm: How far the contacts moved on the pads (millimetres, the farther finger): their centre over the
             hold's second half from where it was as the probe began. None: not measured (the datasets); an
             unsteady load then counts as a slip, as it did before the pads were read.
         drift_both_mm: How far the contacts moved on the nearer finger (millimetres): the least any pad saw them
-            move. A product sliding along the pads, or left behind as they rise, moves on both; a contact patch
-            that changes shape on one pad moves on that one only. None: not measured.
+            move. Recorded, not judged: a product sliding along the pads moves on both, but so do many that are
+            then carried (weak or greasy grips: up to 16 mm on the development streams), so it tells no slip
+            the load, the wrist and `pressed` do not. None: not measured.
         wrist_load_n: Vertical load the whole hand carried over the second half (the wrist's reading: fingers,
             palm and the other hand links, on whatever they touch). None: not measured (the datasets).
         wrist_load_first_n: The same over the first half.
@@ -229,18 +227,19 @@ def judge_probe(reading: ProbeReading, settings: ProbeSettings) -> tuple[bool, s
     """(carry on, why) from a probe's reading: why is the robot's words for setting it back, or ""."""
     if not reading.held:
         return False, "slips out of my fingers"
-    # written as "not ≤" so that a NaN reading (a sensor fault) sets back rather than carries on
-    if _slides(reading, settings) or not reading.traction <= settings.max_traction:
+    # Pressed: the fingers' vertical force on it points down, so they do not carry it up; it stays behind as they
+    # rise, or a fingertip pushes on its top. On the development streams re-recorded with the sign (2026-12-06),
+    # of the 723 probes the rest of this judge carries on, the 10 pressed ones all slipped out in the lift.
+    # Written as "not ≤" so that a NaN reading (a sensor fault) sets back rather than carries on.
+    if reading.pressed or _slides(reading, settings) or not reading.traction <= settings.max_traction:
         return False, _why(reading, settings)
     return True, ""
 
 
 def _slides(reading: ProbeReading, settings: ProbeSettings) -> bool:
-    """The contacts moved on both pads past ``max_slide_mm``; or the fingers' load changed during the hold (or
-    cannot be read), the whole hand's too (or it was not measured), and not as a push: the contacts did not stay
-    put on the pads (or were not measured), or it changed by more than a push does (``max_pushed``)."""
-    if reading.drift_both_mm is not None and not reading.drift_both_mm <= settings.max_slide_mm:
-        return True  # left behind on both pads as they rose: it slides, however steady its load (NaN: slides)
+    """The fingers' load changed during the hold (or cannot be read), the whole hand's too (or it was not
+    measured), and not as a push: the contacts did not stay put on the pads (or were not measured), or it changed
+    by more than a push does (``max_pushed``)."""
     if reading.unsteady <= settings.max_unsteady:
         return False
     # What the whole hand carries stayed the same: the product's weight did not move; the fingers' share changed
@@ -263,6 +262,8 @@ def _why(reading: ProbeReading, settings: ProbeSettings) -> str:
         # pushing down about as hard as they squeeze: the contacts' normals are vertical, a fingertip on its top
         return "does not come up: my fingers press on it"
     slides = _slides(reading, settings)
+    if reading.pressed and not slides:
+        return "does not come up with my fingers"  # they rise past it: a light push down, no carry
     if reading.unsteady > settings.max_unsteady and not slides:
         return "is caught on something"  # a changing load while held fast: something else pushes on it
     if slides:

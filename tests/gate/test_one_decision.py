@@ -70,14 +70,14 @@ def _stream(n: int = 60, seed: int = 5) -> tuple[np.ndarray, np.ndarray, np.ndar
 
 def _readings(stream, seed: int = 7) -> np.ndarray:
     """What a recorded probe felt per execution (READING_COLUMNS): the products that fail mostly slip in the
-    fingers (their load changes during the hold, or it stays steady while their contacts move on both pads), a few
+    fingers (their load changes during the hold, or it stays steady while the fingers rise past them: pressed), a few
     never were held up (NaN: failed before the probe; of those, the fingers closed beside some that stayed where
     they stood: in place)."""
     _, _, success, _ = stream
     rng = np.random.default_rng(seed)
     n = len(success)
     slips = ~success & (rng.random(n) < 0.7)
-    # of the slips, these keep a steady load: only the pads tell (their own draws: the rest stays as it was)
+    # of the slips, these keep a steady load: only the sign tells (their own draws: the rest stays as it was)
     slides = slips & (np.random.default_rng(seed + 1).random(n) < 0.5)
     load = np.full(n, 2.0)
     first = np.where(slips & ~slides, 2.4, 2.0)
@@ -85,7 +85,7 @@ def _readings(stream, seed: int = 7) -> np.ndarray:
     rows = np.column_stack(
         [
             *(np.ones(n), load, first, np.full(n, 40.0), np.full(n, 1.2)),
-            *(np.zeros(n), drift, np.where(slides, 1.5, 0.05), np.full(n, 2.0), np.full(n, 2.0)),
+            *(slides.astype(float), drift, np.where(slips, 1.5, 0.05), np.full(n, 2.0), np.full(n, 2.0)),
             np.full(n, np.nan),
         ]
     )
@@ -324,7 +324,7 @@ def test_the_tree_and_the_replay_probe_the_same_on_a_stream_with_probe_readings(
     assert probed and all(replayed[t].kind is DecisionKind.ACT for t in probed)
     assert any(_aborted(readings, t) for t in probed)  # some set back, some carried on
     assert not all(_aborted(readings, t) for t in probed)
-    # some set back only because their contacts moved on both pads, and some missed but stood where they stood
+    # some set back only because the fingers did not carry them up, and some missed but stood where they stood
     settings = ProbeSettings.of(PROBE)
     steady = [
         t for t in probed if (r := _reading(readings, t)) is not None and r.unsteady <= settings.max_unsteady

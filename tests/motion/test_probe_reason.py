@@ -69,7 +69,8 @@ def test_the_words_do_not_change_the_verdict() -> None:
         ProbeReading(held=True, load_n=214.6, load_first_n=213.3, grip_n=214.7, pressed=True),
     ]
     verdicts = [judge_probe(r, SETTINGS)[0] for r in readings]
-    assert verdicts == [True, True, False, False, False]
+    # the second: a steady load the fingers push down instead of carrying up does not come up with them
+    assert verdicts == [True, False, False, False, False]
 
 
 def test_a_payload_out_of_range_is_one_line() -> None:
@@ -165,17 +166,13 @@ def test_a_drift_threshold_out_of_range_is_one_line() -> None:
         ProbeSettings(max_drift_mm=0.0)
     with pytest.raises(SconeError, match=r"^probe.max_pushed must be in \(0, 1\], got 1.5$"):
         ProbeSettings(max_pushed=1.5)
-    with pytest.raises(
-        SconeError, match=r"^probe.max_slide_mm must be in \(0, 20\] \(millimetres\), got -1.0$"
-    ):
-        ProbeSettings(max_slide_mm=-1.0)
     with pytest.raises(SconeError, match=r"^probe.in_place_m must be in \(0, 0.1\] \(metres\), got 0.5$"):
         ProbeSettings(in_place_m=0.5)
 
 
-def test_contacts_that_move_on_both_pads_are_a_slip_however_steady_the_load() -> None:
-    # The garlic in a 3 N grip (MuJoCo, the iiwa7): the pads rose past it, its load steady at a third of its
-    # weight; carried on, it slipped out in the lift.
+def test_a_product_that_does_not_come_up_with_the_fingers_is_set_back_however_steady_its_load() -> None:
+    # The garlic in a 3 N grip with greasy pads (MuJoCo, the iiwa7): the fingers rose past it, their vertical force
+    # on it pointing down, its load steady; carried on, it slipped out in the lift.
     garlic = ProbeReading(
         held=True,
         load_n=0.1711,
@@ -185,19 +182,10 @@ def test_contacts_that_move_on_both_pads_are_a_slip_however_steady_the_load() ->
         drift_mm=8.646,
         drift_both_mm=6.558,
     )
-    assert judge_probe(garlic, SETTINGS) == (False, "slips in my fingers")
-    # The same reading on one pad only (a contact patch that changed shape as the lift began): carried on.
-    one_pad = ProbeReading(
-        held=True, load_n=2.06, load_first_n=2.061, grip_n=79.7, drift_mm=3.991, drift_both_mm=0.113
+    assert judge_probe(garlic, SETTINGS) == (False, "does not come up with my fingers")
+    # The same steady load carried up by the fingers is carried on, whatever the pads read (many products move
+    # on both pads and are carried: the nearer pad's drift is recorded, not judged).
+    carried = ProbeReading(
+        held=True, load_n=0.1711, load_first_n=0.1721, grip_n=6.0, drift_mm=8.646, drift_both_mm=6.558
     )
-    assert judge_probe(one_pad, SETTINGS) == (True, "")
-    # At the limit it still carries on; just past it, it slides; a sensor fault (NaN) sets back.
-    at = ProbeReading(
-        held=True, load_n=2.06, load_first_n=2.061, grip_n=79.7, drift_mm=1.0, drift_both_mm=1.0
-    )
-    assert judge_probe(at, SETTINGS)[0]
-    assert not judge_probe(at, ProbeSettings(max_slide_mm=0.99))[0]
-    broken = ProbeReading(
-        held=True, load_n=2.06, load_first_n=2.061, grip_n=79.7, drift_mm=0.1, drift_both_mm=float("nan")
-    )
-    assert not judge_probe(broken, SETTINGS)[0]
+    assert judge_probe(carried, SETTINGS) == (True, "")
