@@ -110,6 +110,7 @@ def test_a_probe_whose_fingers_close_on_nothing_leaves_the_product_standing_and_
         "grasp",
         "the fingers closed without holding the object",
     )
+    assert recorded.probe_in_place is True and recorded.probe_held is None  # recorded beside the failure
     probed, _ = generate.run_execution(nominal, 31, kitchen_cfg, robot_cfg, probe=ProbeSettings())
     assert not probed.success and probed.failure_stage is None  # aborted: the product is back in its place
     assert probed.detail.endswith(
