@@ -31,8 +31,8 @@ object and outcome):
     probe_load_first_n the same over its first half, newtons
     probe_grip_n       the fingers' summed grip force over the second half, newtons
     probe_s            simulated seconds the probe took (all probe columns empty when the arm never held it up)
-    probe_pressed      1 if the fingers' vertical force pointed down over the second half (a fingertip on the
-                       product's top: the load is a push), else 0 (empty likewise)
+    probe_pressed      1 if the fingers' vertical force pointed down over the second half (they did not carry it
+                       up: a fingertip on its top, or they rose past it), else 0 (empty likewise)
     probe_drift_mm     how far the contacts moved on the farther finger's pad, millimetres (empty: not measured)
     probe_drift_both_mm the same on the nearer finger: how far they moved on both pads (empty likewise)
     probe_wrist_load_n the vertical load the whole hand carried over the second half (the wrist's reading), newtons
