@@ -255,39 +255,24 @@ def _after_probe(
     strict rule's credit). ``before``: the attempt as the decision to probe saw it."""
     from dataclasses import replace
 
+    from scone_bt.benchmarks.replay_streams import missed_in_place, reading_of
     from scone_bt.experience.felt import felt_row
     from scone_bt.gate.after_probe import after_probe
-    from scone_bt.motion.probe import ProbeReading, judge_probe
+    from scone_bt.motion.probe import judge_probe
 
     assert replay.readings is not None and replay.probe is not None  # a probe decision needs both
     out.probes += scored
     values = replay.readings[t]
-    held, load, first, grip, seconds = values[:5]
-    sensed = [
-        None if np.isnan(v) else float(v) for v in values[5:10]
-    ]  # NaN: unmeasured, or an earlier schema
-    if np.isnan(held):  # the arm never held it up: it failed before the probe, as recorded
-        if len(values) > 10 and values[10] == 1.0:
+    reading = reading_of(values)
+    if reading is None:  # the arm never held it up: it failed before the probe, as recorded
+        if missed_in_place(values):
             # The fingers closed on nothing and the product stood where it stood: aborted, as the tree ends it
             # (motion.probe.ProbeController._after_miss), and κ̂ learns it could not take it.
             return _Probed(True, before)
         return _Probed(False, replace(before, unfelt=True))
     if scored:
-        out.probe_s += seconds
+        out.probe_s += reading.seconds
         out.probes_felt += 1
-    pressed, drift, drift_both, wrist, wrist_first = sensed + [None] * (5 - len(sensed))
-    reading = ProbeReading(
-        bool(held),
-        float(load),
-        float(first),
-        float(grip),
-        float(seconds),
-        pressed=bool(pressed),
-        drift_mm=drift,
-        drift_both_mm=drift_both,
-        wrist_load_n=wrist,
-        wrist_load_first_n=wrist_first,
-    )
     row = replay.rows[t]
     if replay.grounded:  # κ̂ reads the context: the one it has after the probe
         context = felt_row(replay.context[t], reading)

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from scone_bt.benchmarks.self_confidence.dataset import PROBE_COLUMNS, PROBE_SENSED_COLUMNS
+from scone_bt.benchmarks.self_confidence.dataset import PROBE_COLUMNS, PROBE_READING_COLUMNS
 from scone_bt.experience.types import CONTEXT_FIELDS
 
 __all__ = [
@@ -22,7 +22,9 @@ __all__ = [
     "datasets_folder",
     "foreseen",
     "load_streams",
+    "missed_in_place",
     "probe_readings",
+    "reading_of",
     "stream_rows",
 ]
 
@@ -152,7 +154,7 @@ def foreseen(d: Any) -> np.ndarray:
     return rules
 
 
-READING_COLUMNS = (*PROBE_COLUMNS, *PROBE_SENSED_COLUMNS, "probe_in_place")
+READING_COLUMNS = PROBE_READING_COLUMNS
 """The columns of `probe_readings`, in order."""
 
 
@@ -163,6 +165,38 @@ def probe_readings(d: Any) -> np.ndarray | None:
         return None
     unknown = np.full(len(d.context[PROBE_COLUMNS[0]]), np.nan)
     return np.column_stack([d.context.get(c, unknown) for c in READING_COLUMNS])
+
+
+def reading_of(values: np.ndarray) -> Any:
+    """The motion.probe.ProbeReading a recorded row of `probe_readings` stands for, as the robot's hand makes it;
+    None where the arm never held the product up. A row of PROBE_COLUMNS alone (5 values) measured nothing more."""
+    from scone_bt.motion.probe import ProbeReading
+
+    held, load, first, grip, seconds = values[:5]
+    if np.isnan(held):
+        return None
+    sensed = [
+        None if np.isnan(v) else float(v) for v in values[5:10]
+    ]  # NaN: unmeasured, or an earlier schema
+    pressed, drift, drift_both, wrist, wrist_first = sensed + [None] * (5 - len(sensed))
+    return ProbeReading(
+        bool(held),
+        float(load),
+        float(first),
+        float(grip),
+        float(seconds),
+        pressed=bool(pressed),
+        drift_mm=drift,
+        drift_both_mm=drift_both,
+        wrist_load_n=wrist,
+        wrist_load_first_n=wrist_first,
+    )
+
+
+def missed_in_place(values: np.ndarray) -> bool:
+    """A recorded row of `probe_readings` whose fingers closed on nothing beside a product that still stood where
+    it stood (``probe_in_place`` 1): the robot ends that probe aborted."""
+    return len(values) > 10 and bool(values[10] == 1.0)
 
 
 def _glass(d: Any) -> np.ndarray:

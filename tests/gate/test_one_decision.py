@@ -18,7 +18,7 @@ from scone_bt.behaviours import (
 )
 from scone_bt.behaviours.context import OutcomeLabels
 from scone_bt.benchmarks.replay import replay_stream
-from scone_bt.benchmarks.replay_streams import READING_COLUMNS
+from scone_bt.benchmarks.replay_streams import READING_COLUMNS, missed_in_place, reading_of
 from scone_bt.confidence import make_estimator
 from scone_bt.events import EventLog, ProbeAborted
 from scone_bt.experience.types import CONTEXT_FIELDS, FELT_FIELDS, ExecutionContext
@@ -146,28 +146,13 @@ def _replay(
 
 
 def _reading(readings, t: int) -> ProbeReading | None:
-    held, load, first, grip, seconds = readings[t][:5]
-    if np.isnan(held):
-        return None
-    sensed = [None if np.isnan(v) else float(v) for v in readings[t][5:10]] or [None] * 5
-    pressed, drift, drift_both, wrist, wrist_first = sensed
-    return ProbeReading(
-        bool(held),
-        float(load),
-        float(first),
-        float(grip),
-        float(seconds),
-        pressed=bool(pressed),
-        drift_mm=drift,
-        drift_both_mm=drift_both,
-        wrist_load_n=wrist,
-        wrist_load_first_n=wrist_first,
-    )
+    """What the arm's hand felt in execution t's probe (None: never held up), as the replay reads it."""
+    return reading_of(readings[t])
 
 
 def _missed_in_place(readings, t: int) -> bool:
     """The probe's fingers closed on nothing and the product still stood where it stood (an aborted probe)."""
-    return readings.shape[1] > 10 and bool(readings[t][10] == 1.0)
+    return missed_in_place(readings[t])
 
 
 def _aborted(readings, t: int) -> bool:

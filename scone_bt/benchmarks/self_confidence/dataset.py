@@ -69,6 +69,7 @@ __all__ = [
     "COLUMNS",
     "CONTEXT_COLUMNS",
     "PROBE_COLUMNS",
+    "PROBE_READING_COLUMNS",
     "PROBE_SENSED_COLUMNS",
     "Dataset",
     "ExecutionRecord",
@@ -77,6 +78,24 @@ __all__ = [
     "read_records",
     "write_records",
 ]
+
+PROBE_COLUMNS = ("probe_held", "probe_load_n", "probe_load_first_n", "probe_grip_n", "probe_s")
+"""What the generator's probe felt, in the order the replay reads them
+(scone_bt.benchmarks.replay_streams.probe_readings): all of them, or none (the arm never held it up)."""
+
+PROBE_SENSED_COLUMNS = (
+    "probe_pressed",
+    "probe_drift_mm",
+    "probe_drift_both_mm",
+    "probe_wrist_load_n",
+    "probe_wrist_load_first_n",
+)
+"""What the hand sensed beside them (a later schema: files before it lack them), in the order the replay reads
+them after PROBE_COLUMNS: each given only where probe_held is, and each may be unmeasured (empty)."""
+
+PROBE_READING_COLUMNS = (*PROBE_COLUMNS, *PROBE_SENSED_COLUMNS, "probe_in_place")
+"""Every column of a probe's reading, in the order the replay reads them (replay_streams.probe_readings):
+``probe_in_place`` is given only where nothing was felt (a miss)."""
 
 COLUMNS = (
     "index",
@@ -103,17 +122,7 @@ COLUMNS = (
     "detected_fill",
     "depth_m",
     "shape",
-    "probe_held",
-    "probe_load_n",
-    "probe_load_first_n",
-    "probe_grip_n",
-    "probe_s",
-    "probe_pressed",
-    "probe_drift_mm",
-    "probe_drift_both_mm",
-    "probe_wrist_load_n",
-    "probe_wrist_load_first_n",
-    "probe_in_place",
+    *PROBE_READING_COLUMNS,
 )
 """Columns the generator writes, in this order (see the module docstring)."""
 
@@ -131,17 +140,7 @@ CONTEXT_COLUMNS = (
     "detected_depth_m",
     "detected_fill",
     "depth_m",
-    "probe_held",
-    "probe_load_n",
-    "probe_load_first_n",
-    "probe_grip_n",
-    "probe_s",
-    "probe_pressed",
-    "probe_drift_mm",
-    "probe_drift_both_mm",
-    "probe_wrist_load_n",
-    "probe_wrist_load_first_n",
-    "probe_in_place",
+    *PROBE_READING_COLUMNS,
 )
 """Numeric context columns, read into `Dataset.context` as float arrays (NaN where a row leaves one empty)."""
 
@@ -335,20 +334,6 @@ def _float(text: str, path: Path, row: int, column: str) -> float:
     return value
 
 
-PROBE_COLUMNS = ("probe_held", "probe_load_n", "probe_load_first_n", "probe_grip_n", "probe_s")
-"""What the generator's probe felt, in the order the replay reads them
-(scone_bt.benchmarks.replay_streams.probe_readings): all of them, or none (the arm never held it up)."""
-
-PROBE_SENSED_COLUMNS = (
-    "probe_pressed",
-    "probe_drift_mm",
-    "probe_drift_both_mm",
-    "probe_wrist_load_n",
-    "probe_wrist_load_first_n",
-)
-"""What the hand sensed beside them (a later schema: files before it lack them), in the order the replay reads
-them after PROBE_COLUMNS: each given only where probe_held is, and each may be unmeasured (empty)."""
-
 _FLAGS = ("probe_held", "probe_pressed", "probe_in_place")
 """Probe columns that are 0 or 1."""
 
@@ -359,7 +344,7 @@ def _check_probe(context: dict[str, np.ndarray], rows: Sequence[int], path: Path
     was felt, and ``probe_in_place`` only where nothing was; that each is finite and ≥ 0 (newtons, seconds,
     millimetres) `_float` checked as it read the cell. What the replay makes the felt context of (experience.felt) is
     checked here, where the file is known."""
-    if not any(c in context for c in (*PROBE_COLUMNS, *PROBE_SENSED_COLUMNS, "probe_in_place")):
+    if not any(c in context for c in PROBE_READING_COLUMNS):
         return
     nan = np.full(len(rows), np.nan)
     held, *rest = (context.get(c, nan) for c in PROBE_COLUMNS)
