@@ -332,7 +332,7 @@ class ProbeController(PickPlaceController):
         self._rest: list[tuple[MotionPhase, Segment | None]] = []
         # Where the product stood before the hand came (the outcome sensor's look), and whether the fingers closed
         # on nothing: then the attempt ends aborted if it still stands there (`_back_in_place`).
-        self._stood_at: tuple[float, float, float] | None = None
+        self._stood_at = self.arm.standing_position(self.target_name)  # before the arm moves (made at its start)
         self._missed = False
         self.missed_in_place: bool | None = None  # after the fingers closed on nothing: it still stood there
 
@@ -418,8 +418,6 @@ class ProbeController(PickPlaceController):
 
     # ------------------------------------------------------------------------------------- the hold
     def __call__(self, arm: object) -> None:
-        if self._stood_at is None and self.phase is MotionPhase.PLANNING:
-            self._stood_at = self.arm.standing_position(self.target_name)
         if self.finished or self.phase is not MotionPhase.PROBE_HOLD:
             if self.phase is MotionPhase.PROBE and self._probe_start is None:
                 self._probe_start = self.arm.sim_time
