@@ -330,9 +330,10 @@ class ProbeController(PickPlaceController):
         self._descend: Segment | None = None
         self._up: TimedTrajectory | None = None
         self._rest: list[tuple[MotionPhase, Segment | None]] = []
-        # Where the product stood before the hand came (the outcome sensor's look), and whether the fingers closed
-        # on nothing: then the attempt ends aborted if it still stands there (`_back_in_place`).
-        self._stood_at = self.arm.standing_position(self.target_name)  # before the arm moves (made at its start)
+        # Where the product stood before the hand came (the outcome sensor's look, as the controller is made at
+        # the attempt's start), and whether the fingers closed on nothing: then the attempt ends aborted if it
+        # still stands there (`_back_in_place`).
+        self._stood_at = self.arm.standing_position(self.target_name)
         self._missed = False
         self.missed_in_place: bool | None = None  # after the fingers closed on nothing: it still stood there
 
