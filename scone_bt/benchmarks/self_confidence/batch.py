@@ -421,6 +421,24 @@ def _offset_profiles(args: argparse.Namespace) -> tuple[list[Profile], dict[str,
     return profiles, base_profiles, offset
 
 
+def same_seeds(profiles: Sequence[Profile], every: Sequence[Profile]) -> dict[str, list[str]]:
+    """Name → the other profiles of ``every`` (as their files give them) whose executions use the same seeds as
+    this one's (its seed offset by --seed): the same products, slots and neighbours, on another robot. A split
+    meant to hold out new draws wants none."""
+    return {p.name: [q.name for q in every if q.seed == p.seed and q.name != p.name] for p in profiles}
+
+
+def _warn_same_seeds(shared: dict[str, list[str]], offset: int) -> None:
+    """One line on stderr for each profile that draws what another profile draws at --seed 0."""
+    for name, others in shared.items():
+        if others:
+            print(
+                f"note: --seed {offset} gives {name} the seeds of {', '.join(others)} at --seed 0 (the same "
+                "products, slots and neighbours); a split of new draws wants a --seed that shares none",
+                file=sys.stderr,
+            )
+
+
 def _check_injections(catalogue_pool: Sequence[ObjectSpec], profiles: list[Profile]) -> None:
     """Refuse an injected failure for a material no product of the catalogue is made of: a misspelt one never
     fires. (Against the whole catalogue, not --products: a run over dairy alone may keep the glass profile.)"""
@@ -462,6 +480,7 @@ class _Setup:
         pool: The products executions draw from.
         catalogues: The --catalogue files.
         asked: Profile name → the settings this run generates with (`generation_settings`).
+        shared: Profile name → the profiles whose seeds it shares (`same_seeds`).
     """
 
     engine: str
@@ -472,6 +491,7 @@ class _Setup:
     pool: tuple[ObjectSpec, ...]
     catalogues: tuple[str, ...]
     asked: dict[str, dict[str, Any]]
+    shared: dict[str, list[str]]
 
 
 def _setup(args: argparse.Namespace) -> _Setup:
@@ -494,7 +514,8 @@ def _setup(args: argparse.Namespace) -> _Setup:
         )
         for p in profiles
     }
-    return _Setup(engine, profiles, base_profiles, offset, products, pool, catalogues, asked)
+    shared = same_seeds(profiles, load_profiles(args.profiles_dir))
+    return _Setup(engine, profiles, base_profiles, offset, products, pool, catalogues, asked, shared)
 
 
 @dataclass(frozen=True)
@@ -615,7 +636,10 @@ def _summary(
     elapsed = ran.elapsed
     return {
         "profiles": {
-            p.name: summarise(p, work.done[p.name], args.executions, ran.walls[p.name])
+            p.name: {
+                **summarise(p, work.done[p.name], args.executions, ran.walls[p.name]),
+                "same_seeds_as": setup.shared[p.name],
+            }
             for p in setup.profiles
         },
         "executions_run": run,
@@ -646,6 +670,7 @@ def run_generate(args: argparse.Namespace) -> int:
     work = _work(args, setup)
     pool_engine = engine_from_args(args, args.workers)
     start_engine(pool_engine)  # an unreachable Ray cluster fails here, before any work
+    _warn_same_seeds(setup.shared, setup.offset)  # after every check that refuses the run (one line each)
     _record_generations(work, setup.asked)
     ran = _execute(args, setup, work, pool_engine)
     summary = _summary(args, setup, work, ran, pool_engine)

@@ -256,9 +256,22 @@ def test_another_seed_never_wipes_a_complete_dataset(tmp_path, fake_runs, capsys
     assert fake_runs == [] and (out / "p00_nominal.csv").read_bytes() == shipped
 
 
+@pytest.mark.parametrize(("seed", "shared"), [("1", ["p01_weak_gripper"]), ("20", [])])
+def test_a_seed_that_repeats_another_profiles_draws_is_named(tmp_path, fake_runs, capsys, seed, shared):
+    # profile seeds are consecutive (100, 101, ...): --seed 1 gives p00_nominal p01_weak_gripper's executions
+    assert bench([*_generate(tmp_path / "X", "--executions", "1", "--seed", seed), "--json", "-"]) == 0
+    out, err = capsys.readouterr()
+    summary = json.loads(out[out.index("{") :])
+    assert summary["profiles"]["p00_nominal"]["same_seeds_as"] == shared
+    assert ("gives p00_nominal the seeds of p01_weak_gripper" in err) == bool(shared)
+    log = json.loads((tmp_path / "X" / "generation.json").read_text())
+    assert log["runs"][-1]["profiles"]["p00_nominal"]["same_seeds_as"] == shared
+
+
 def test_a_partial_dataset_of_another_seed_is_not_dropped(tmp_path, fake_runs, capsys):
     out = tmp_path / "X"
     assert bench(_generate(out, "--executions", "3", "--seed", "2", "--max-minutes", "0.0000001")) == 1
+    assert "the seeds of p02_slippery_fingers" in capsys.readouterr().err  # the note of that run, not an error
     partial = out / ".p00_nominal.partial.csv"
     before = partial.read_bytes()
     err = _one_line_error(capsys, _generate(out, "--executions", "3"))
