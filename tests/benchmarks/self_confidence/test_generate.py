@@ -271,7 +271,9 @@ def test_a_seed_that_repeats_another_profiles_draws_is_named(tmp_path, fake_runs
 def test_a_partial_dataset_of_another_seed_is_not_dropped(tmp_path, fake_runs, capsys):
     out = tmp_path / "X"
     assert bench(_generate(out, "--executions", "3", "--seed", "2", "--max-minutes", "0.0000001")) == 1
-    assert "the seeds of p02_slippery_fingers" in capsys.readouterr().err  # the note of that run, not an error
+    assert (
+        "the seeds of p02_slippery_fingers" in capsys.readouterr().err
+    )  # the note of that run, not an error
     partial = out / ".p00_nominal.partial.csv"
     before = partial.read_bytes()
     err = _one_line_error(capsys, _generate(out, "--executions", "3"))
