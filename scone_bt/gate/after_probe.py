@@ -11,11 +11,14 @@ In order:
 3. κ̂ again, on the context after the probe (what the fingers felt, experience.felt): at or above the threshold τ
    it carries on as a *confident* attempt.
 4. Held fast (gate.probe.held_fast: the load at most ``sure_traction`` of the grip, a third of the friction limit
-   the judge sets back at): it carries on, confident *by feel*, while the attempts after such probes keep the
-   promise on their own record (one more failure keeps their failures ≤ α × their attempts + the allowance:
-   gate.budget.has_credit on `BudgetCounts.held_fast_record`). A product held that fast does not slip from the
+   the judge sets back at): it carries on, confident *by feel*, while the attempts after such probes keep a
+   promise on their own record (one more failure keeps their failures ≤ α × their attempts + ``feel_allowance``,
+   2: gate.budget.has_credit on `BudgetCounts.held_fast_record`). A product held that fast does not slip from the
    carry's accelerations; when on this robot it fails anyway (slippery fingers, a drop at the place), the record
-   runs out and the rule stops.
+   runs out and the rule stops. Why 2 and not the budget's 1: a cold robot whose first carry held fast and failed
+   anyway (a bag of seeds set down on its side) has spent the budget's credit and this record's at once, and κ̂,
+   having seen only failures, is never sure again: the robot asked for everything after, 4 of 110 cold starts of
+   the development streams (docs/results/probe.md). With 2 the record sees a second held-fast carry first.
 5. Below τ it carries on only while the strict rule's credit allows one more failure (gate.budget.has_credit):
    an *explored* attempt (a failure counts as an explored failure).
 6. Else it is set back and the robot asks: "I am not sure I can carry the olive oil: please bring it". κ̂ learns
@@ -30,7 +33,7 @@ needs no credit (gate.probe).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from scone_bt.gate.budget import BudgetCounts, has_credit
 from scone_bt.gate.probe import held_fast
@@ -101,7 +104,8 @@ def after_probe(
     budget = rules.budget
     if budget is None or budget.excess_allowance is None or confidence >= tau:
         return ProbeVerdict(True, confidence=confidence, threshold=tau, held_fast=fast)
-    if fast and has_credit(budget, counts.held_fast_record()):
+    by_feel = replace(budget, excess_allowance=rules.probe.feel_allowance) if rules.probe else budget
+    if fast and has_credit(by_feel, counts.held_fast_record()):
         return ProbeVerdict(True, confidence=confidence, threshold=tau, held_fast=True, by_feel=True)
     if has_credit(budget, counts):
         return ProbeVerdict(True, explored=True, confidence=confidence, threshold=tau, held_fast=fast)

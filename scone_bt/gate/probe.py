@@ -61,6 +61,9 @@ class ProbeOptions:
             this share of the grip, in (0, ``max_traction``], lets it carry on although κ̂ is unsure, while such
             carries keep the promise on their own record (`held_fast`, gate.after_probe): a third of the
             friction limit the judge sets back at.
+        feel_allowance: Such carries by feel go on while one more failure keeps their failures ≤ α × their
+            attempts + this (gate.budget.has_credit on `BudgetCounts.held_fast_record`), in [0, 100]. 2: a held-fast
+            carry that fails before any success does not end the rule (`gate.after_probe`).
 
     The intervals are config.tree_parameters.PROBE_RANGES (the tree file's own, and the judge's limits).
     """
@@ -74,12 +77,14 @@ class ProbeOptions:
     credit: float | None = None
     full_band_at: float = TREE_DEFAULTS.probe.full_band_at
     sure_traction: float = 0.1
+    feel_allowance: float = 2.0
 
     def __post_init__(self) -> None:
         for name, allowed in PROBE_RANGES.items():
             allowed.check(f"probe.{name}", getattr(self, name))
         if self.credit is not None:
             Range(0.0, 100.0).check("probe.credit", self.credit)
+        Range(0.0, 100.0).check("probe.feel_allowance", self.feel_allowance)
         sure = Range(0.0, float(self.max_traction), low_open=True)  # its upper end is another field's value
         sure.check("probe.sure_traction (at most max_traction)", self.sure_traction)
 

@@ -69,7 +69,8 @@ def test_a_probe_needs_no_credit_unless_the_options_ask_for_it() -> None:
 
 def test_held_fast_carries_on_by_feel_while_its_own_record_keeps_the_promise() -> None:
     """No credit left and κ̂ unsure after the probe, but the fingers held it fast (load ≤ 0.1 of the grip): it
-    carries on, confident by feel, until such carries have failed beyond α × their attempts + 1."""
+    carries on, confident by feel, until such carries have failed beyond α × their attempts + 2
+    (``feel_allowance``)."""
     spent = BudgetCounts(attempts=1, failures=1)
     v = after_probe(_rules(STRICT), spent, "jar", HOLDS, 0.3, traction=0.05)
     assert (v.carry, v.by_feel, v.held_fast, v.confident, v.explored) == (True, True, True, True, False)
@@ -79,8 +80,8 @@ def test_held_fast_carries_on_by_feel_while_its_own_record_keeps_the_promise() -
         assert (v.carry, v.by_feel) == (False, False)
     v = after_probe(_rules(STRICT), spent, "jar", (False, "slips in my fingers"), 0.3, traction=0.05)
     assert (v.carry, v.by_feel, v.felt_unsafe) == (False, False, True)
-    # its own record: one held-fast carry that failed leaves no credit (2 > 0.15 · 2 + 1) ...
-    failed = BudgetCounts(attempts=1, failures=1, held_fast_attempts=1, held_fast_failures=1)
+    # its own record: two held-fast carries that failed leave no credit (3 > 0.15 · 3 + 2) ...
+    failed = BudgetCounts(attempts=2, failures=2, held_fast_attempts=2, held_fast_failures=2)
     v = after_probe(_rules(STRICT), failed, "jar", HOLDS, 0.3, traction=0.05)
     assert (v.carry, v.held_fast, v.reason) == (False, True, "I am not sure I can carry the jar")
     # ... until successes earn it back, whatever the budget's own credit
@@ -92,6 +93,25 @@ def test_held_fast_carries_on_by_feel_while_its_own_record_keeps_the_promise() -
     # sure after the probe: confident by κ̂, the probe's feel noted for the record
     v = after_probe(_rules(STRICT), spent, "jar", HOLDS, 0.9, traction=0.05)
     assert (v.carry, v.by_feel, v.held_fast, v.confident) == (True, False, True, True)
+
+
+def test_a_first_held_fast_carry_that_failed_does_not_end_carrying_by_feel() -> None:
+    """A cold robot's first carry held fast and failed anyway: that one failure spent the budget's credit
+    (2 > 0.15 · 2 + 1) and, with an allowance of 1, the held-fast record's too. κ̂, having seen only failures, is
+    never sure again, so that robot asked for everything after. With ``feel_allowance`` 2 the record sees one more
+    held-fast carry; a success there earns the budget back."""
+    first_failed = BudgetCounts(attempts=1, failures=1, held_fast_attempts=1, held_fast_failures=1)
+    v = after_probe(_rules(STRICT), first_failed, "jar", HOLDS, 0.25, traction=0.05)
+    assert (v.carry, v.by_feel, v.confident, v.explored) == (True, True, True, False)
+    one = GateRules(budget=STRICT, exploration=STRICT, probe=ProbeOptions(feel_allowance=1.0))
+    v = after_probe(one, first_failed, "jar", HOLDS, 0.25, traction=0.05)
+    assert (v.carry, v.reason) == (False, "I am not sure I can carry the jar")
+
+
+@pytest.mark.parametrize("value", [-1.0, 101.0, math.nan])
+def test_feel_allowance_is_validated(value: float) -> None:
+    with pytest.raises(SconeError, match=r"probe.feel_allowance must be in \[0, 100\]"):
+        ProbeOptions(feel_allowance=value)
 
 
 def test_sure_traction_is_validated_against_the_friction_limit() -> None:

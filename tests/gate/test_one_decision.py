@@ -4,6 +4,7 @@ same, because both call `scone_bt.gate.rules.gate_decision`."""
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -321,7 +322,9 @@ def test_the_tree_and_the_replay_probe_the_same_on_a_stream_with_probe_readings(
     assert "too-wide" in {d.rule for d in replayed}
 
 
-def _agreeing_verdicts(grip_of: Callable[[np.ndarray], np.ndarray]) -> list[ProbeVerdict]:
+def _agreeing_verdicts(
+    grip_of: Callable[[np.ndarray], np.ndarray], band: ProbeOptions = FULL_BAND
+) -> list[ProbeVerdict]:
     """The strict promise and the full band over seeded stream 9, every product held up with 2 N of load and the
     grip ``grip_of(success)``: the tree's verdicts after each probe, once the tree and the replay made the same
     decisions with the same outcomes."""
@@ -334,8 +337,8 @@ def _agreeing_verdicts(grip_of: Callable[[np.ndarray], np.ndarray]) -> list[Prob
     replay_outcomes: list[int] = []
     tree_outcomes: list[int] = []
     verdicts: list[ProbeVerdict] = []
-    replayed = _replay("budget", stream, FULL_BAND, readings, 1.0, outcomes=replay_outcomes)
-    ticked = _behaviour("budget", stream, FULL_BAND, readings, 1.0, outcomes=tree_outcomes, verdicts=verdicts)
+    replayed = _replay("budget", stream, band, readings, 1.0, outcomes=replay_outcomes)
+    ticked = _behaviour("budget", stream, band, readings, 1.0, outcomes=tree_outcomes, verdicts=verdicts)
     assert [_key(d) for d in ticked] == [_key(d) for d in replayed]
     assert tree_outcomes == replay_outcomes
     return verdicts
@@ -355,10 +358,13 @@ def test_the_tree_and_the_replay_agree_where_kappas_doubt_sets_back_and_credit_c
 def test_the_tree_and_the_replay_agree_where_a_product_held_fast_carries_on_by_feel() -> None:
     """The same stream, but every product is held fast (40 N of grip for 2 N: 0.05), so those that fail fall
     later, at the place: both keep the held-fast record alike, carry on by feel while it has credit, and set back
-    on κ̂'s doubt once it has none."""
-    verdicts = _agreeing_verdicts(lambda success: np.full(len(success), 40.0))
-    assert any(v.by_feel for v in verdicts)
-    assert any(v.held_fast and not v.carry for v in verdicts)  # the record ran out at least once
+    on κ̂'s doubt once it has none. Each allowance of the record (``feel_allowance``) reaches both alike: on this
+    stream the record runs out with 1, not with the default 2."""
+    for allowance, runs_out in ((1.0, True), (2.0, False)):
+        band = replace(FULL_BAND, feel_allowance=allowance)
+        verdicts = _agreeing_verdicts(lambda success: np.full(len(success), 40.0), band)
+        assert any(v.by_feel for v in verdicts)
+        assert any(v.held_fast and not v.carry for v in verdicts) is runs_out
 
 
 def test_the_probe_step_asks_about_what_a_probe_set_back_in_this_episode() -> None:
