@@ -56,12 +56,19 @@ def main() -> None:
     ap.add_argument("--datasets", default="tools/data/sc_probe")
     ap.add_argument("--step", type=int, default=10, help="start a cold robot at every this many rows")
     ap.add_argument("--alpha", type=float, default=TREE_DEFAULTS.target_failure_rate)
-    ap.add_argument("--feel-allowance", default="2", help="comma-separated ProbeOptions.feel_allowance values")
+    ap.add_argument(
+        "--feel-allowance", default="2", help="comma-separated ProbeOptions.feel_allowance values"
+    )
     a = ap.parse_args()
     if a.step < 1:
         ap.error(f"--step must be ≥ 1, got {a.step}")
     args = argparse.Namespace(
-        datasets=a.datasets, embedder="minilm", seed=0, warmup=20, opening=DEFAULT_OPENING_M, excess_allowance=1.0
+        datasets=a.datasets,
+        embedder="minilm",
+        seed=0,
+        warmup=20,
+        opening=DEFAULT_OPENING_M,
+        excess_allowance=1.0,
     )
     streams = load_streams(args, oracle=False)
     length = min(len(s) for s in streams.success)
@@ -70,7 +77,9 @@ def main() -> None:
         probe = ProbeOptions(feel_allowance=allowance)
         which, helps, failures, attempts = [], [], 0, 0
         for start in range(0, length, a.step):
-            results = stream_results(rotated(streams, start), "physical", "budget", a.alpha, args, probe=probe)
+            results = stream_results(
+                rotated(streams, start), "physical", "budget", a.alpha, args, probe=probe
+            )
             for name, r in zip(streams.names, results, strict=True):
                 helps.append(1.0 - r.attempts / r.decisions)
                 failures, attempts = failures + r.failures, attempts + r.attempts
