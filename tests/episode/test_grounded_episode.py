@@ -12,7 +12,7 @@ from scone_bt.behaviours import BehaviourOptions
 from scone_bt.confidence import grounded_features, make_estimator
 from scone_bt.confidence.grounded import is_grounded
 from scone_bt.episode import EpisodeOptions, EpisodeResources, run_episode
-from scone_bt.events import ActOutcome, DecisionMade, PlanInfeasible
+from scone_bt.events import ActOutcome, DecisionMade, PlanInfeasible, ProbeAborted
 from scone_bt.experience import open_store
 from scone_bt.experience.types import ExecutionContext
 from scone_bt.gate.types import DecisionKind
@@ -32,6 +32,22 @@ def test_the_shipped_tree_uses_the_estimator_the_gate_replay_chose() -> None:
     assert is_grounded(make_estimator(params["estimator"]))
 
 
+def _set_back_on_doubt(events: list) -> list[DecisionMade]:
+    """The ACT decisions whose heft test ended in a set-back on κ̂'s own doubt (the event that ends an act is the
+    next ActOutcome or ProbeAborted; the fingers' own word is stored as a failure, the doubt is not)."""
+    doubted, pending = [], None
+    for e in events:
+        if isinstance(e, DecisionMade) and e.verdict is DecisionKind.ACT:
+            pending = e
+        elif isinstance(e, ProbeAborted) and pending is not None:
+            if e.reason.startswith("I am not sure"):
+                doubted.append(pending)
+            pending = None
+        elif isinstance(e, ActOutcome):
+            pending = None
+    return doubted
+
+
 @pytest.mark.slow
 def test_a_grounded_episode_stores_contexts_and_a_restart_rebuilds_from_them(tmp_path) -> None:
     db = tmp_path / "panda.db"
@@ -45,8 +61,14 @@ def test_a_grounded_episode_stores_contexts_and_a_restart_rebuilds_from_them(tmp
     seen = [d for d in decisions if d.rule != "missing"]  # a missing item has no detection, so no context
     for d in seen:  # each decision about an action it sees carries the context κ̂ saw for it
         assert d.context is not None and d.context.detected is True and d.context.shelf_tier is not None
-    # stored: every attempt, and every plan found infeasible before committing (a failure at planning)
-    labelled = [d for d in seen if d.verdict is DecisionKind.ACT or d.rule == "infeasible"]
+    # stored: every attempt, and every plan found infeasible before committing (a failure at planning); not a
+    # product the heft test set back on κ̂'s own doubt (taught nothing, like an ask)
+    doubted = _set_back_on_doubt(events)
+    labelled = [
+        d
+        for d in seen
+        if (d.verdict is DecisionKind.ACT or d.rule == "infeasible") and not any(d is x for x in doubted)
+    ]
     acted = [d.context for d in labelled]
     with open_store(db) as store:
         stored = store.outcomes()
