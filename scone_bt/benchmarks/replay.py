@@ -141,7 +141,7 @@ class _Replay:
         widths: (n,) the perceived widths, m (NaN unknown).
         wide: (n,) whether each product was perceived wider than the gripper's opening.
         probe: The heft test's motion settings, or None (no probe, or a stream without probe readings).
-        readings: (n, 11) what the recorded probe felt (replay_streams.READING_COLUMNS; (n, 5), PROBE_COLUMNS
+        readings: (n, 11) what the recorded probe felt (dataset.PROBE_READING_COLUMNS; (n, 5), PROBE_COLUMNS
             alone, reads as nothing more measured), or None.
         context: (n, len(CONTEXT_FIELDS)) the perceived context, as at each decision.
         grounded: Whether κ̂ reads the context (its rows end with it).

@@ -39,7 +39,7 @@ class Streams:
         context: Per stream, the context the robot perceived (`CONTEXT_FIELDS` columns; the oracle: true sizes).
         success: Per stream, whether each execution succeeded.
         products: Per stream, each row's product name.
-        readings: Per stream, the heft test's readings (`READING_COLUMNS`), or None where it was not recorded.
+        readings: Per stream, the heft test's readings (`PROBE_READING_COLUMNS`), or None where it was not recorded.
         foreseen: Per stream, what the robot knew before its arm moved (`foreseen`: "", "missing", "infeasible").
     """
 
@@ -154,17 +154,13 @@ def foreseen(d: Any) -> np.ndarray:
     return rules
 
 
-READING_COLUMNS = PROBE_READING_COLUMNS
-"""The columns of `probe_readings`, in order."""
-
-
 def probe_readings(d: Any) -> np.ndarray | None:
-    """(n, 11) probe readings in READING_COLUMNS order (NaN where a file of an earlier schema lacks a column, or
+    """(n, 11) probe readings in PROBE_READING_COLUMNS order (NaN where a file of an earlier schema lacks a column, or
     a row leaves it empty), or None for a dataset recorded without the probe."""
     if any(c not in d.context for c in PROBE_COLUMNS):
         return None
     unknown = np.full(len(d.context[PROBE_COLUMNS[0]]), np.nan)
-    return np.column_stack([d.context.get(c, unknown) for c in READING_COLUMNS])
+    return np.column_stack([d.context.get(c, unknown) for c in PROBE_READING_COLUMNS])
 
 
 def reading_of(values: np.ndarray) -> Any:

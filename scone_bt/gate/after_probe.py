@@ -33,10 +33,10 @@ needs no credit (gate.probe).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 from scone_bt.gate.budget import BudgetCounts, has_credit
-from scone_bt.gate.probe import held_fast
+from scone_bt.gate.probe import feel_credit, held_fast
 from scone_bt.gate.rules import GateRules, threshold_options
 
 __all__ = ["ProbeVerdict", "after_probe"]
@@ -104,8 +104,7 @@ def after_probe(
     budget = rules.budget
     if budget is None or budget.excess_allowance is None or confidence >= tau:
         return ProbeVerdict(True, confidence=confidence, threshold=tau, held_fast=fast)
-    by_feel = replace(budget, excess_allowance=rules.probe.feel_allowance) if rules.probe else budget
-    if fast and has_credit(by_feel, counts.held_fast_record()):
+    if fast and feel_credit(rules.probe, budget, counts):
         return ProbeVerdict(True, confidence=confidence, threshold=tau, held_fast=True, by_feel=True)
     if has_credit(budget, counts):
         return ProbeVerdict(True, explored=True, confidence=confidence, threshold=tau, held_fast=fast)

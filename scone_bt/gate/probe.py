@@ -34,7 +34,15 @@ from scone_bt.config.tree_parameters import PROBE_RANGES, TREE_DEFAULTS
 if TYPE_CHECKING:
     from scone_bt.gate.budget import BudgetCounts, BudgetOptions
 
-__all__ = ["ProbeOptions", "in_band", "band_below", "probe_credit", "held_fast", "NARROWING_POWER"]
+__all__ = [
+    "ProbeOptions",
+    "in_band",
+    "band_below",
+    "probe_credit",
+    "feel_credit",
+    "held_fast",
+    "NARROWING_POWER",
+]
 
 NARROWING_POWER = 4.0
 """How fast the band below τ narrows under ``full_band_at`` (`band_below`)."""
@@ -135,6 +143,18 @@ def probe_credit(options: ProbeOptions | None, budget: BudgetOptions, counts: Bu
     if options is None or options.credit is None:
         return True
     return has_credit(replace(budget, excess_allowance=options.credit), counts)
+
+
+def feel_credit(options: ProbeOptions | None, budget: BudgetOptions, counts: BudgetCounts) -> bool:
+    """Whether one more carry by feel may fail within its own promise: gate.budget.has_credit on the held-fast
+    record (`BudgetCounts.held_fast_record`) with ``options.feel_allowance``; False without a probe."""
+    from dataclasses import replace
+
+    from scone_bt.gate.budget import has_credit
+
+    if options is None:
+        return False
+    return has_credit(replace(budget, excess_allowance=options.feel_allowance), counts.held_fast_record())
 
 
 def held_fast(options: ProbeOptions | None, traction: float | None) -> bool:

@@ -19,7 +19,8 @@ from scone_bt.behaviours import (
 )
 from scone_bt.behaviours.context import OutcomeLabels
 from scone_bt.benchmarks.replay import replay_stream
-from scone_bt.benchmarks.replay_streams import READING_COLUMNS, missed_in_place, reading_of
+from scone_bt.benchmarks.replay_streams import missed_in_place, reading_of
+from scone_bt.benchmarks.self_confidence.dataset import PROBE_READING_COLUMNS
 from scone_bt.confidence import make_estimator
 from scone_bt.events import EventLog, ProbeAborted
 from scone_bt.experience.types import CONTEXT_FIELDS, FELT_FIELDS, ExecutionContext
@@ -70,7 +71,7 @@ def _stream(n: int = 60, seed: int = 5) -> tuple[np.ndarray, np.ndarray, np.ndar
 
 
 def _readings(stream, seed: int = 7) -> np.ndarray:
-    """What a recorded probe felt per execution (READING_COLUMNS): the products that fail mostly slip in the
+    """What a recorded probe felt per execution (PROBE_READING_COLUMNS): the products that fail mostly slip in the
     fingers (their load changes during the hold, or it stays steady while the fingers rise past them: pressed), a few
     never were held up (NaN: failed before the probe; of those, the fingers closed beside some that stayed where
     they stood: in place)."""
@@ -93,7 +94,7 @@ def _readings(stream, seed: int = 7) -> np.ndarray:
     missed = rng.random(n) < 0.05
     rows[missed] = np.nan
     rows[missed, 10] = np.arange(int(missed.sum())) == 0  # the first stood where it stood, the others did not
-    assert rows.shape[1] == len(READING_COLUMNS)
+    assert rows.shape[1] == len(PROBE_READING_COLUMNS)
     return rows
 
 
@@ -146,21 +147,11 @@ def _replay(
     return trace
 
 
-def _reading(readings, t: int) -> ProbeReading | None:
-    """What the arm's hand felt in execution t's probe (None: never held up), as the replay reads it."""
-    return reading_of(readings[t])
-
-
-def _missed_in_place(readings, t: int) -> bool:
-    """The probe's fingers closed on nothing and the product still stood where it stood (an aborted probe)."""
-    return missed_in_place(readings[t])
-
-
 def _aborted(readings, t: int) -> bool:
     """Whether the probe of execution t set the product back (what the arm's ObserveOutcome would see)."""
-    reading = _reading(readings, t)
+    reading = reading_of(readings[t])
     if reading is None:
-        return _missed_in_place(readings, t)
+        return missed_in_place(readings[t])
     return not judge_probe(reading, ProbeSettings.of(PROBE))[0]
 
 
@@ -255,9 +246,9 @@ def _behaviour(
             if outcomes is not None:
                 outcomes.append(-1)
             continue
-        reading = _reading(readings, t) if decision.probe else None  # only a probe feels anything
+        reading = reading_of(readings[t]) if decision.probe else None  # only a probe feels anything
         judge = bb.get(Keys.PROBE_JUDGE)
-        missed = bool(decision.probe and _missed_in_place(readings, t))
+        missed = bool(decision.probe and missed_in_place(readings[t]))
         motion = _ending(judge, reading, bool(success[t]), missed)
         if verdicts is not None and judge is not None and judge.verdict is not None:
             verdicts.append(judge.verdict)
@@ -313,11 +304,13 @@ def test_the_tree_and_the_replay_probe_the_same_on_a_stream_with_probe_readings(
     # some set back only because the fingers did not carry them up, and some missed but stood where they stood
     settings = ProbeSettings.of(PROBE)
     steady = [
-        t for t in probed if (r := _reading(readings, t)) is not None and r.unsteady <= settings.max_unsteady
+        t
+        for t in probed
+        if (r := reading_of(readings[t])) is not None and r.unsteady <= settings.max_unsteady
     ]
     assert any(_aborted(readings, t) for t in steady)
-    assert any(_reading(readings, t) is None and _missed_in_place(readings, t) for t in probed)
-    assert any(_reading(readings, t) is None and not _missed_in_place(readings, t) for t in probed)
+    assert any(reading_of(readings[t]) is None and missed_in_place(readings[t]) for t in probed)
+    assert any(reading_of(readings[t]) is None and not missed_in_place(readings[t]) for t in probed)
     assert all(not d.probe for d in replayed if d.rule == "too-wide")  # too wide: asked, never hefted
     assert "too-wide" in {d.rule for d in replayed}
 
