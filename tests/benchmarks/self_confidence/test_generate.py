@@ -259,9 +259,12 @@ def test_another_seed_never_wipes_a_complete_dataset(tmp_path, fake_runs, capsys
 @pytest.mark.parametrize(("seed", "shared"), [("1", ["p01_weak_gripper"]), ("20", [])])
 def test_a_seed_that_repeats_another_profiles_draws_is_named(tmp_path, fake_runs, capsys, seed, shared):
     # profile seeds are consecutive (100, 101, ...): --seed 1 gives p00_nominal p01_weak_gripper's executions
-    assert bench([*_generate(tmp_path / "X", "--executions", "1", "--seed", seed), "--json", "-"]) == 0
-    out, err = capsys.readouterr()
-    summary = json.loads(out[out.index("{") :])
+    report = tmp_path / "summary.json"
+    assert (
+        bench([*_generate(tmp_path / "X", "--executions", "1", "--seed", seed), "--json", str(report)]) == 0
+    )
+    err = capsys.readouterr().err
+    summary = json.loads(report.read_text())
     assert summary["profiles"]["p00_nominal"]["same_seeds_as"] == shared
     assert ("gives p00_nominal the seeds of p01_weak_gripper" in err) == bool(shared)
     log = json.loads((tmp_path / "X" / "generation.json").read_text())
