@@ -94,6 +94,9 @@ class Keys:
     PLANNED: Key[PlannedPick] = Key("/gate/planned", PlannedPick, optional=True)
     # An Infeasible found by this decision's planning (a scene the robot had not planned in), else None.
     PLAN_VERDICT: Key[Infeasible] = Key("/gate/plan_verdict", Infeasible, optional=True)
+    # Items the step needs and the robot sees nowhere, to look for again with averaged frames at the next look
+    # (perception.exposure; written by the gate, () when none).
+    LOOK_AGAIN: Key[tuple] = Key("/gate/look_again", tuple)
     # The judge after a heft test (behaviours.probe_judge.ProbeJudge) when the decision probes, else None.
     PROBE_JUDGE: Key[ProbeJudge] = Key("/gate/probe_judge", ProbeJudge, optional=True)
     MOTION_OUTCOME: Key[MotionOutcome] = Key("/motion/outcome", MotionOutcome, optional=True)

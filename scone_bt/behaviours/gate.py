@@ -20,6 +20,7 @@ from scone_bt.behaviours.gate_steps import (
     confidences,
     decision_event,
     gate_counts,
+    look_again_first,
     past_the_end,
     probe_reasons,
     settle_idle,
@@ -106,6 +107,7 @@ class ConfidenceGate(StageBehaviour):
         Keys.PLAN_VERDICT,
         Keys.MOTION_COMPUTING,
         Keys.PROBE_JUDGE,
+        Keys.LOOK_AGAIN,
     )
 
     def __init__(self, name: str, ports: GatePorts, settings: GateSettings) -> None:
@@ -113,6 +115,7 @@ class ConfidenceGate(StageBehaviour):
         self.ports = ports
         self.settings = settings
         self._asked_missing: set[str] = set()
+        self._looked_again: set[str] = set()  # items already looked for again with averaged frames
         self._pending: _Pending | None = None
         self._infeasible: dict[tuple[object, ...], Infeasible] = {}
 
@@ -297,10 +300,13 @@ class ConfidenceGate(StageBehaviour):
         self, pending: _Pending, decision: Decision, planning_s: float | None = None
     ) -> py_trees.common.Status:
         view = self.read(Keys.STEP)
+        look_again: tuple[str, ...] = ()
         if view is not None:
+            decision, look_again = look_again_first(decision, view.missing, self._looked_again)
             decision = settle_idle(
                 decision, view.missing, self.settings.budget is not None, self._asked_missing
             )
+        self.write(Keys.LOOK_AGAIN, look_again)
         target = shown_target(decision, pending.target)
         target_context = pending.contexts.get(target.text) if target is not None else None
         self.write(Keys.DECISION, decision)

@@ -27,6 +27,7 @@ __all__ = [
     "past_the_end",
     "probe_reasons",
     "settle_idle",
+    "look_again_first",
     "shown_target",
 ]
 
@@ -85,6 +86,21 @@ def probe_reasons(history: AttemptHistory, ranked: Sequence[RankedAction]) -> di
     """Why a heft test set each candidate's product back in this episode (only those it did)."""
     reasons = {r.text: history.probe_reason(r.text) for r in ranked}
     return {text: why for text, why in reasons.items() if why is not None}
+
+
+def look_again_first(
+    decision: Decision, missing: tuple[str, ...], looked_again: set[str]
+) -> tuple[Decision, tuple[str, ...]]:
+    """An IDLE decision while the step's items are seen nowhere, some of them not looked for again yet: wait one
+    tick (IDLE, rule "missing", "(looking again)") while the next look averages several frames (perception.exposure),
+    and return those items (added to ``looked_again``: once each). Otherwise the decision unchanged and ()."""
+    if decision.kind is not DecisionKind.IDLE:
+        return decision, ()
+    new = tuple(i for i in missing if i not in looked_again)
+    if not new:
+        return decision, ()
+    looked_again.update(new)
+    return waiting(new, " (looking again)", "missing"), new
 
 
 def settle_idle(

@@ -15,6 +15,7 @@ import numpy as np
 from scone_bt.config import Catalogue, KitchenConfig, SceneSpec
 from scone_bt.perception.camera import Camera
 from scone_bt.perception.detector import Detector, DetectorOptions
+from scone_bt.perception.exposure import averaged
 from scone_bt.perception.images import ImageSource
 from scone_bt.perception.tracker import Tracker
 from scone_bt.perception.types import Detection, Frame
@@ -103,15 +104,23 @@ class Observer:
         self._last[camera] = (frame.rgb, frame.depth, detections)
         return detections
 
+    @staticmethod
+    def _capture(camera: Camera, source: ImageSource, rng: np.random.Generator, exposures: int) -> Frame:
+        """One frame of ``camera``, or the mean of ``exposures`` frames (noise drawn afresh for each)."""
+        if exposures <= 1:
+            return camera.capture(source, rng)
+        return averaged([camera.capture(source, rng) for _ in range(exposures)])
+
     @property
     def cameras(self) -> list[Camera]:
         return [*self.shelf_cameras, *([self.table_camera] if self.table_camera is not None else [])]
 
-    def observe(self, source: ImageSource, rng: np.random.Generator) -> Observation:
-        """Capture every camera once from ``source`` (the simulated kitchen re-renders only if the world changed),
-        detect, track."""
+    def observe(self, source: ImageSource, rng: np.random.Generator, exposures: int = 1) -> Observation:
+        """Capture every camera from ``source`` (the simulated kitchen re-renders only if the world changed),
+        detect, track. ``exposures`` > 1: each camera's frames of the still scene averaged into one, a longer look
+        (perception.exposure)."""
         started, started_cpu = time.perf_counter(), time.thread_time()
-        frames = {cam.spec.name: cam.capture(source, rng) for cam in self.cameras}
+        frames = {cam.spec.name: self._capture(cam, source, rng, exposures) for cam in self.cameras}
         shelf = [self._detect(cam.spec.name, frames[cam.spec.name]) for cam in self.shelf_cameras]
         scene, catalogue = self.config.scene, self.config.catalogue
         table: list[Detection] = []

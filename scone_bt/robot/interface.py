@@ -109,8 +109,9 @@ class PlannedPick(Protocol):
 class Robot(Protocol):
     """What the behaviours need of a robot."""
 
-    def perceive(self) -> Observation:
-        """One synchronised capture of the shelf cameras and the table camera: tracked detections of both."""
+    def perceive(self, exposures: int = 1) -> Observation:
+        """One synchronised capture of the shelf cameras and the table camera: tracked detections of both.
+        ``exposures`` > 1: a longer look, each camera's frames of the still scene averaged (perception.exposure)."""
         ...
 
     def start_pick_and_place(self, request: PickRequest) -> MotionHandle:

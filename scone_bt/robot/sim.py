@@ -92,8 +92,8 @@ class SimRobot:
         _ = self.observer, self.motion
 
     # ------------------------------------------------------------------------------------------ Robot
-    def perceive(self) -> Observation:
-        seen = self.observer.observe(self.kitchen, self._rng)
+    def perceive(self, exposures: int = 1) -> Observation:
+        seen = self.observer.observe(self.kitchen, self._rng, exposures)
         if not any(self.calibration_offset):
             return seen
         return dataclasses.replace(

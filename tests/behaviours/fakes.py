@@ -88,8 +88,10 @@ class FakeRobot:
     plans: list[PickRequest] = field(default_factory=list)
     # object name → Infeasible: what plan_pick_and_place says of that object (absent: a plan exists)
     infeasible: dict = field(default_factory=dict)
+    looks: list[int] = field(default_factory=list)  # each look's frames per camera (more: a longer look)
 
-    def perceive(self) -> Observation:
+    def perceive(self, exposures: int = 1) -> Observation:
+        self.looks.append(exposures)
         return Observation(None, {}, tuple(self.shelf), tuple(self.table))  # type: ignore[arg-type]
 
     def start_pick_and_place(self, request: PickRequest) -> FakeHandle:

@@ -245,10 +245,12 @@ class FakeRobot:
         self.world, self.script = world, script
         self.attempts: dict[str, int] = {}
         self.perceived = 0
+        self.exposures: list[int] = []  # each look's frames per camera (1, or more for a longer look)
         self.closed = False
 
-    def perceive(self) -> Observation:
+    def perceive(self, exposures: int = 1) -> Observation:
         self.perceived += 1
+        self.exposures.append(exposures)
         w = self.world
         seen = [] if w.covered_cameras else sorted(n for n, at in w.where.items() if at is not None)
         dets = tuple(self._detection(n) for n in seen if n != w.held and n not in w.hidden_markers)

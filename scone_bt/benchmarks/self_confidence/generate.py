@@ -223,12 +223,18 @@ def _miscalibrated(frame: Frame, offset: Sequence[float]) -> Frame:
     return dataclasses.replace(frame, world_from_camera=pose)
 
 
-def _look(kitchen: Any, kcfg: KitchenConfig, seed: int) -> tuple[dict[str, Detection], list[Frame]]:
+def _look(
+    kitchen: Any, kcfg: KitchenConfig, seed: int, exposures: int = 1
+) -> tuple[dict[str, Detection], list[Frame]]:
     """Render every shelf camera that has a product in view, detect, merge (most confident per product).
 
-    Returns detections by name and every frame rendered (what the episode's context function measures in).
+    ``exposures`` > 1: the longer look the robot takes before saying it cannot see its target, each camera's
+    frames averaged (perception.exposure; its noise drawn from a stream of its own, so the first look's draws
+    stay as they were). Returns detections by name and every frame used (what the episode's context function
+    measures in).
     """
     from scone_bt.perception import Camera
+    from scone_bt.perception.exposure import averaged
     from scone_bt.quiet import c_stdout_silenced
     from scone_bt.world.camera import box_in_view
 
@@ -241,7 +247,11 @@ def _look(kitchen: Any, kcfg: KitchenConfig, seed: int) -> tuple[dict[str, Detec
         if not any(box_in_view(camera, lo, hi) for lo, hi in boxes):
             continue
         with c_stdout_silenced():
-            frame = camera.capture(kitchen, np.random.default_rng([seed, 2, k]))
+            if exposures <= 1:
+                frame = camera.capture(kitchen, np.random.default_rng([seed, 2, k]))
+            else:
+                rng = np.random.default_rng([seed, 3, k])
+                frame = averaged([camera.capture(kitchen, rng) for _ in range(exposures)])
         frames.append(frame)
         for det in detector.detect(frame):
             # A shelf camera may glimpse the table; what stands there is the table camera's (unused here).
@@ -347,8 +357,13 @@ class _Perceived:
 def _perceive(
     kitchen: Any, kcfg: KitchenConfig, seed: int, profile: Profile, target: str, injected: frozenset[str]
 ) -> _Perceived:
-    """Render and detect; shift by the profile's calibration error; the target's context (hidden if injected)."""
+    """Render and detect (looking again, as the tree does, when the target is seen nowhere); shift by the
+    profile's calibration error; the target's context (hidden if injected)."""
+    from scone_bt.perception.exposure import LOOK_AGAIN_EXPOSURES
+
     detections, frames = _look(kitchen, kcfg, seed)
+    if target not in detections and "perception" not in injected:
+        detections, frames = _look(kitchen, kcfg, seed, LOOK_AGAIN_EXPOSURES)
     # What the robot acts on: its camera-to-robot error moves every detection and every depth point alike.
     offset = profile.calibration_offset
     by_name = {n: _shifted(d, offset) for n, d in detections.items()}
