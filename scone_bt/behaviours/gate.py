@@ -303,9 +303,10 @@ class ConfidenceGate(StageBehaviour):
         look_again: tuple[str, ...] = ()
         if view is not None:
             decision, look_again = look_again_first(decision, view.missing, self._looked_again)
-            decision = settle_idle(
-                decision, view.missing, self.settings.budget is not None, self._asked_missing
-            )
+            if not look_again:  # asked for, or waited for, only once a longer look missed it too
+                decision = settle_idle(
+                    decision, view.missing, self.settings.budget is not None, self._asked_missing
+                )
         self.write(Keys.LOOK_AGAIN, look_again)
         target = shown_target(decision, pending.target)
         target_context = pending.contexts.get(target.text) if target is not None else None

@@ -94,7 +94,8 @@ def decision_words(event: DecisionMade) -> str:
     if kind is DecisionKind.IDLE:
         if rule in ("missing", "") and event.reason.startswith("waiting:"):
             items = _drop_notes(event.reason[len("waiting:") :]).replace(" not in sight", "")
-            return _sentence(f"I cannot see the {items}: I am waiting")
+            doing = "looking again" if event.reason.endswith("(looking again)") else "waiting"
+            return _sentence(f"I cannot see the {items}: I am {doing}")
         if rule == "declined":
             return _sentence(_drop_notes(event.reason))
         return "There is nothing for me to do on this step; I am waiting."

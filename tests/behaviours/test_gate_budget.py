@@ -205,7 +205,13 @@ def test_a_missing_item_is_asked_for_once_then_waited_for() -> None:
     events, human = EventLog(), FakeHuman()
     bb = _missing_step("spaghetti")
     gate = _gate(events, _Kappa(0.9), BudgetOptions(), human=human)
+    look = _tick(gate, bb)  # first a longer look (averaged frames), then the ask
+    assert (look.kind, look.rule) == (DecisionKind.IDLE, "missing")
+    assert look.reason == "waiting: spaghetti not in sight (looking again)"
+    assert bb.get(Keys.LOOK_AGAIN) == ("spaghetti",) and human.helped == []
+    events.events.clear()
     ask = _tick(gate, bb)
+    assert bb.get(Keys.LOOK_AGAIN) == ()  # looked again once: not again
     assert (ask.kind, ask.rule, ask.object_name, ask.action) == (
         DecisionKind.ASK,
         "missing",
@@ -238,6 +244,7 @@ def test_waiting_for_a_missing_item_carries_no_other_products_numbers(budgeted: 
     events = EventLog()
     bb = _missing_step("spaghetti")
     gate = _gate(events, _Kappa(0.9), BudgetOptions() if budgeted else None)
+    gate._looked_again.add("spaghetti")  # looked for again and
     gate._asked_missing.add("spaghetti")  # asked for already: now it is waited for
     parmesan = Decision(
         DecisionKind.IDLE, "Put parmesan on table", 0.12, 0.33, "declined: waiting", "later", rule="declined"
@@ -255,8 +262,10 @@ def test_waiting_for_a_missing_item_carries_no_other_products_numbers(budgeted: 
 def test_each_missing_item_is_asked_for_in_turn() -> None:
     bb = _missing_step("spaghetti", "basil")
     gate = _gate(EventLog(), _Kappa(0.9), BudgetOptions())
-    decisions = [_tick(gate, bb) for _ in range(3)]
+    decisions = [_tick(gate, bb) for _ in range(4)]
+    assert decisions[0].reason == "waiting: spaghetti, basil not in sight (looking again)"
     assert [(d.kind, d.object_name) for d in decisions] == [
+        (DecisionKind.IDLE, None),
         (DecisionKind.ASK, "spaghetti"),
         (DecisionKind.ASK, "basil"),
         (DecisionKind.IDLE, None),

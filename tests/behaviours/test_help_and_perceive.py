@@ -111,6 +111,21 @@ def test_perceive_writes_what_the_robot_sees() -> None:
     assert [d.name for d in bb.get(Keys.TABLE_DETECTIONS)] == ["oil"]
 
 
+def test_perceive_looks_longer_only_when_the_gate_asked_to_look_again() -> None:
+    from scone_bt.perception.exposure import LOOK_AGAIN_EXPOSURES
+
+    robot = FakeRobot(shelf=[det("salt")])
+    bb = blackboard()
+    node = Perceive("perceive", robot)
+    node.tick_once()  # nothing written yet by the gate: one frame
+    bb.set(Keys.LOOK_AGAIN, ("spaghetti",))
+    node.tick_once()
+    assert "looked again for spaghetti" in node.feedback_message
+    bb.set(Keys.LOOK_AGAIN, ())
+    node.tick_once()
+    assert robot.looks == [1, LOOK_AGAIN_EXPOSURES, 1] and LOOK_AGAIN_EXPOSURES > 1
+
+
 def test_affordances_are_what_stands_on_the_shelf_and_the_human_is_not_fetching() -> None:
     scene = load_kitchen().scene
     slots = scene.shelf_slots()

@@ -81,3 +81,14 @@ def test_a_heft_first_is_told_before_the_arm_lifts():
     )
     plain = dataclasses.replace(heft, probe=False)
     assert decision_words(plain) == "I am about to fetch the olive oil."
+
+
+def test_a_longer_look_for_a_missing_item_is_told_before_the_robot_waits_for_it():
+    def idle(reason: str) -> str:
+        return decision_words(_decision("missing", reason, DecisionKind.IDLE, item=""))
+
+    assert (
+        idle("waiting: parmesan not in sight (looking again)")
+        == "I cannot see the parmesan: I am looking again."
+    )
+    assert idle("waiting: parmesan not in sight (asked for)") == "I cannot see the parmesan: I am waiting."
