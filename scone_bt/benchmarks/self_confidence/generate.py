@@ -127,8 +127,6 @@ class _Worker:
         self.arms: dict[tuple[str, str], Any] = {}  # ArmModel, imported in the worker
         self.detectors: dict[int, tuple[Any, Any]] = {}  # (catalogue, its Detector)
         self.kitchen: Any = None
-        self.kitchen_key: object = None
-        self.start_state: int | None = None
 
     def arm(self, robot: RobotConfig) -> Any:
         from scone_bt.motion import ArmModel
@@ -147,39 +145,28 @@ class _Worker:
         return self.detectors[key][1]
 
     def empty_kitchen(self, kcfg: KitchenConfig, rcfg: RobotConfig, engine: str = "sim") -> Any:
-        """A kitchen in exactly the state a new one starts in (a PyBullet one is reused when the robot's body is
-        the same; a MuJoCo one is built afresh, as it recompiles its model for every stocking anyway)."""
+        """A new kitchen for every execution, on either engine (the previous one closed).
+
+        PyBullet's kitchen used to be restocked (`Kitchen.clear_products`), but a restocked world is not the world a
+        new one starts as: the solver keeps state across removed bodies and a restored state, so an execution's
+        outcome depended on which executions its worker had run before it, and with ``--workers 2`` on which
+        worker the pool gave it. Two runs of the same executions differed in about 1 row in 60. A kitchen takes
+        about 0.04 s to build: a seeded run now repeats exactly, with any number of workers.
+        """
         from scone_bt.quiet import c_stdout_silenced
 
+        if self.kitchen is not None:
+            self.kitchen.close()
+            self.kitchen = None
         if engine == "mujoco":
             from scone_bt.world.mj_kitchen import MjKitchen
 
-            if self.kitchen is not None:
-                self.kitchen.close()
-            self.kitchen, self.kitchen_key = MjKitchen(kcfg, rcfg), None
+            self.kitchen = MjKitchen(kcfg, rcfg)
             return self.kitchen
         from scone_bt.world import Kitchen
 
-        # Force is only a motor setting (set per command); finger friction, the URDF and the physics rate shape the
-        # built world.
-        key = (
-            kcfg.source,
-            id(kcfg.catalogue),
-            dataclasses.replace(rcfg.gripper, max_force=0.0),
-            rcfg.urdf,
-            rcfg.control.physics_hz,
-        )
-        if self.kitchen is None or key != self.kitchen_key or not hasattr(self.kitchen, "bc"):
-            if self.kitchen is not None:
-                self.kitchen.close()
-            with c_stdout_silenced():
-                self.kitchen = Kitchen(kcfg, rcfg)
-            # Restocked for every execution: each camera's first image is patched over the empty kitchen's
-            # (Kitchen.keep_backgrounds, on for every kitchen).
-            self.kitchen_key = key
-            self.start_state = self.kitchen.bc.saveState()
-        else:
-            self.kitchen.clear_products(self.start_state)
+        with c_stdout_silenced():
+            self.kitchen = Kitchen(kcfg, rcfg)
         self.kitchen.config, self.kitchen.robot_config = kcfg, rcfg
         self.kitchen.hold_arm(rcfg.home)
         self.kitchen.set_gripper_target(rcfg.gripper.open_position)
