@@ -17,32 +17,12 @@ promise on, warm-up 20). One JSON line per ``--feel-allowance`` (`gate.probe.Pro
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import json
 import time
-from typing import TYPE_CHECKING
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from scone_bt.benchmarks.replay_streams import Streams
-
-
-def rotated(streams: Streams, start: int) -> Streams:
-    """Every stream of ``streams`` starting at row ``start`` (modulo its length), the rows before it after its end."""
-
-    def roll(xs: list) -> list:
-        return [None if x is None else np.roll(x, -start, axis=0) for x in xs]
-
-    return dataclasses.replace(
-        streams,
-        vectors=roll(streams.vectors),
-        context=roll(streams.context),
-        success=roll(streams.success),
-        products=[tuple(np.roll(np.array(p, dtype=object), -start)) for p in streams.products],
-        readings=roll(streams.readings),
-        foreseen=roll(streams.foreseen),
-    )
+from scone_bt.benchmarks.replay_streams import rotated
 
 
 def main() -> None:

@@ -76,6 +76,7 @@ from scone_bt.benchmarks.replay_streams import (
     check_probe_readings,
     datasets_folder,
     load_streams,
+    rotated,
     stream_rows,
 )
 from scone_bt.files import write_via
@@ -88,6 +89,9 @@ __all__ = ["register", "stream_results", "TARGETS"]
 
 TARGETS: tuple[float, ...] = (0.05, 0.10, 0.15, 0.20, 0.25, 0.30, 0.40)
 """Target failure rates the report sweeps."""
+
+OVER_STARTS_STEP = 10
+"""``default.over_starts`` starts each stream at every this many rows (`_over_starts`)."""
 
 
 def _method(
@@ -308,6 +312,9 @@ def _replay(
             "streams_where_confident_held": cold["streams_where_confident_held"],
             "exploration_credit": getattr(args, "excess_allowance", None) is not None,
             **_probe_keys(cold, plain, probing),
+            "over_starts": _over_starts(
+                args, streams, default_estimator, default_target, taught, probe if probing else None
+            ),
             "fleet_warm": None
             if warm is None
             else {
@@ -324,6 +331,41 @@ def _replay(
         "methods": methods,
         **extra,
         "decision_path_ms": _decision_path(streams, default_estimator, args),
+    }
+
+
+def _over_starts(
+    args: argparse.Namespace,
+    streams: Streams,
+    estimator: str,
+    alpha: float,
+    taught: Streams | None,
+    probe: ProbeOptions | None,
+) -> dict[str, Any]:
+    """The default gate's pooled rates had every stream started at another row (`rotated`, every
+    `OVER_STARTS_STEP` rows, each start a new cold robot seeded as the first): ``help_rate`` and
+    ``attempt_failure_rate`` are the first start's alone, so a few outcomes early in a stream move them far (a cold
+    robot whose first carries fail asks for much of the rest). The mean, least and most over the starts say how far;
+    ``streams_that_never_attempted``: (stream, start) pairs whose robot attempted nothing after the warm-up."""
+    length = min(len(s) for s in streams.success)
+    helps, failures, never = [], [], []
+    for start in range(0, length, OVER_STARTS_STEP):
+        results = stream_results(
+            rotated(streams, start), estimator, "budget", alpha, args, taught=taught, probe=probe
+        )
+        rates = pooled_rates(results)
+        helps.append(rates["help_rate"])
+        failures.append(rates["attempt_failure_rate"])
+        never += [f"{n}@{start}" for n, r in zip(streams.names, results, strict=True) if r.attempts == 0]
+    known = [f for f in failures if f is not None]
+    return {
+        "step": OVER_STARTS_STEP,
+        "starts": len(helps),
+        "help_rate_mean": round(float(np.mean(helps)), 4),
+        "help_rate_min": round(float(np.min(helps)), 4),
+        "help_rate_max": round(float(np.max(helps)), 4),
+        "attempt_failure_rate_mean": round(float(np.mean(known)), 4) if known else None,
+        "streams_that_never_attempted": never,
     }
 
 

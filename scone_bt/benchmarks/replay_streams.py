@@ -25,6 +25,7 @@ __all__ = [
     "missed_in_place",
     "probe_readings",
     "reading_of",
+    "rotated",
     "stream_rows",
 ]
 
@@ -206,3 +207,23 @@ def stream_rows(streams: Streams, which: Sequence[int]) -> tuple[np.ndarray, np.
 
     prior = stream_prior(streams, which)
     return prior.rows, prior.success
+
+
+def rotated(streams: Streams, start: int) -> Streams:
+    """Every stream of ``streams`` starting at row ``start`` (modulo its length), the rows before it after its end:
+    the same executions met by a robot that started elsewhere in them (`benchmarks.gate`'s ``over_starts``,
+    tools/cold_starts.py)."""
+    import dataclasses
+
+    def roll(xs: list) -> list:
+        return [None if x is None else np.roll(x, -start, axis=0) for x in xs]
+
+    return dataclasses.replace(
+        streams,
+        vectors=roll(streams.vectors),
+        context=roll(streams.context),
+        success=roll(streams.success),
+        products=[tuple(np.roll(np.array(p, dtype=object), -start)) for p in streams.products],
+        readings=roll(streams.readings),
+        foreseen=roll(streams.foreseen),
+    )

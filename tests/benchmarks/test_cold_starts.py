@@ -1,4 +1,5 @@
-"""tools/cold_starts.py: each stream rotated to a new start, and its first start is `scone-bench gate`'s replay."""
+"""Each stream rotated to a new start (replay_streams.rotated), and tools/cold_starts.py's first start is
+`scone-bench gate`'s replay."""
 
 from __future__ import annotations
 
@@ -17,8 +18,8 @@ def cold(tool):
     return tool("cold_starts")
 
 
-def test_a_rotated_stream_starts_at_its_row_and_keeps_every_row(cold):
-    from scone_bt.benchmarks.replay_streams import Streams
+def test_a_rotated_stream_starts_at_its_row_and_keeps_every_row():
+    from scone_bt.benchmarks.replay_streams import Streams, rotated
 
     n = 5
     streams = Streams(
@@ -30,12 +31,12 @@ def test_a_rotated_stream_starts_at_its_row_and_keeps_every_row(cold):
         readings=[None],
         foreseen=[np.array(["", "missing", "", "", ""])],
     )
-    r = cold.rotated(streams, 2)
+    r = rotated(streams, 2)
     assert r.products == [tuple("cdeab")]
     assert r.vectors[0][0].tolist() == [4.0, 5.0] and r.context[0][:, 0].tolist() == [2, 3, 4, 0, 1]
     assert r.success[0].tolist() == [True, True, False, True, False] and r.readings == [None]
     assert r.foreseen[0].tolist() == ["", "", "", "", "missing"]
-    assert cold.rotated(streams, 0).products == streams.products
+    assert rotated(streams, 0).products == streams.products
 
 
 def test_the_first_start_is_the_replay_of_scone_bench_gate(cold, monkeypatch, capsys):

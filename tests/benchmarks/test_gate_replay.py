@@ -213,6 +213,11 @@ def test_scone_bench_gate_reports_the_issues_keys(tmp_path: Path) -> None:
             # no gate asks less than a clairvoyant at its own failure rate
             if metrics["help_rate_floor"] is not None:
                 assert metrics["help_rate"] >= metrics["help_rate_floor"], (name, target)
+    # the default gate started at every 10th row: 15-row streams start at rows 0 and 10, the first is the report's
+    over = report["default"]["over_starts"]
+    assert (over["step"], over["starts"]) == (10, 2)
+    assert over["help_rate_min"] <= report["default"]["help_rate"] <= over["help_rate_max"]
+    assert over["help_rate_min"] <= over["help_rate_mean"] <= over["help_rate_max"]
 
 
 def test_the_budget_gate_never_attempts_what_is_wider_than_its_gripper(
