@@ -1,5 +1,5 @@
 # Two commands: `make run` and `make test`. Both create .venv if it is missing and (re)install when
-# pyproject.toml changed.
+# pyproject.toml or constraints.txt changed.
 PYTHON ?= python3.11
 VENV   := .venv
 BIN    := $(VENV)/bin
@@ -7,9 +7,10 @@ STAMP  := $(VENV)/.installed
 
 .PHONY: run test scenarios lint typecheck docs docs-serve clean vamp
 
-$(STAMP): pyproject.toml
+# constraints.txt pins every dependency's version, so a fresh install is the one the results were measured with.
+$(STAMP): pyproject.toml constraints.txt
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV) || python3 -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e '.[dev]'
+	$(BIN)/python -m pip install --quiet --disable-pip-version-check -c constraints.txt -e '.[dev]'
 	$(BIN)/python -m scone_bt.motion.warm || echo "planner kernels not compiled now: the first plan compiles them"  # ~18 s once, not in the first run
 	@touch $(STAMP)
 
