@@ -120,7 +120,8 @@ def _shifted(det: Detection, offset: Sequence[float]) -> Detection:
 
 
 class _Worker:
-    """What a worker process keeps between executions: configs, the arm model, detectors and one kitchen."""
+    """What a worker process keeps between executions: configs, the arm model, detectors, and the last execution's
+    kitchen (closed when the next execution builds its own)."""
 
     def __init__(self) -> None:
         self.configs: dict[tuple[str, str, tuple[str, ...]], tuple[KitchenConfig, RobotConfig]] = {}
