@@ -14,13 +14,18 @@ not charge the difference.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from scone_bt.errors import ConfigError
 from scone_bt.perception.types import Frame
 
-__all__ = ["LOOK_AGAIN_EXPOSURES", "averaged"]
+if TYPE_CHECKING:
+    from scone_bt.perception.camera import Camera
+    from scone_bt.perception.images import ImageSource
+
+__all__ = ["LOOK_AGAIN_EXPOSURES", "averaged", "look"]
 
 LOOK_AGAIN_EXPOSURES = 8
 """Frames per camera averaged when the robot looks again for a product it sees nowhere (noise / √8)."""
@@ -51,3 +56,11 @@ def averaged(frames: Sequence[Frame]) -> Frame:
         world_from_camera=first.world_from_camera.copy(),
         sim_time=float(first.sim_time),
     )
+
+
+def look(camera: Camera, source: ImageSource, rng: np.random.Generator, exposures: int = 1) -> Frame:
+    """One frame of ``camera`` from ``source``, or the mean of ``exposures`` frames of the still scene, each with its
+    noise drawn afresh from ``rng`` (the robot's looks and the dataset generator's alike)."""
+    if exposures <= 1:
+        return camera.capture(source, rng)
+    return averaged([camera.capture(source, rng) for _ in range(exposures)])

@@ -15,7 +15,7 @@ import numpy as np
 from scone_bt.config import Catalogue, KitchenConfig, SceneSpec
 from scone_bt.perception.camera import Camera
 from scone_bt.perception.detector import Detector, DetectorOptions
-from scone_bt.perception.exposure import averaged
+from scone_bt.perception.exposure import look
 from scone_bt.perception.images import ImageSource
 from scone_bt.perception.tracker import Tracker
 from scone_bt.perception.types import Detection, Frame
@@ -104,13 +104,6 @@ class Observer:
         self._last[camera] = (frame.rgb, frame.depth, detections)
         return detections
 
-    @staticmethod
-    def _capture(camera: Camera, source: ImageSource, rng: np.random.Generator, exposures: int) -> Frame:
-        """One frame of ``camera``, or the mean of ``exposures`` frames (noise drawn afresh for each)."""
-        if exposures <= 1:
-            return camera.capture(source, rng)
-        return averaged([camera.capture(source, rng) for _ in range(exposures)])
-
     @property
     def cameras(self) -> list[Camera]:
         return [*self.shelf_cameras, *([self.table_camera] if self.table_camera is not None else [])]
@@ -120,7 +113,7 @@ class Observer:
         detect, track. ``exposures`` > 1: each camera's frames of the still scene averaged into one, a longer look
         (perception.exposure)."""
         started, started_cpu = time.perf_counter(), time.thread_time()
-        frames = {cam.spec.name: self._capture(cam, source, rng, exposures) for cam in self.cameras}
+        frames = {cam.spec.name: look(cam, source, rng, exposures) for cam in self.cameras}
         shelf = [self._detect(cam.spec.name, frames[cam.spec.name]) for cam in self.shelf_cameras]
         scene, catalogue = self.config.scene, self.config.catalogue
         table: list[Detection] = []

@@ -222,7 +222,7 @@ def _look(
     measures in).
     """
     from scone_bt.perception import Camera
-    from scone_bt.perception.exposure import averaged
+    from scone_bt.perception.exposure import look
     from scone_bt.quiet import c_stdout_silenced
     from scone_bt.world.camera import box_in_view
 
@@ -234,12 +234,9 @@ def _look(
         camera = Camera(spec)
         if not any(box_in_view(camera, lo, hi) for lo, hi in boxes):
             continue
+        rng = np.random.default_rng([seed, 2 if exposures <= 1 else 3, k])
         with c_stdout_silenced():
-            if exposures <= 1:
-                frame = camera.capture(kitchen, np.random.default_rng([seed, 2, k]))
-            else:
-                rng = np.random.default_rng([seed, 3, k])
-                frame = averaged([camera.capture(kitchen, rng) for _ in range(exposures)])
+            frame = look(camera, kitchen, rng, exposures)
         frames.append(frame)
         for det in detector.detect(frame):
             # A shelf camera may glimpse the table; what stands there is the table camera's (unused here).
