@@ -3,7 +3,7 @@
 `scone-bench gate` replays each stream from its first row, so each of its figures rests on one cold start per
 stream. This replays every stream from every ``--step``-th row as well (the stream rotated: the rows before the
 start are appended after its end), each a new cold robot (κ̂ with no outcome, the budget's counts at zero, seeded as
-`scone-bench gate` seeds it), as `benchmarks.gate.stream_results` replays the shipped gate (the probe and the strict
+`scone-bench gate` seeds it), as `benchmarks.gate.results_over_starts` replays the shipped gate (the probe and the strict
 promise on, warm-up 20). One JSON line per ``--feel-allowance`` (`gate.probe.ProbeOptions.feel_allowance`):
 
 - ``cold_starts``: streams × starts; ``asked_for_everything``: those whose robot attempted nothing after the
@@ -22,11 +22,9 @@ import time
 
 import numpy as np
 
-from scone_bt.benchmarks.replay_streams import rotated
-
 
 def main() -> None:
-    from scone_bt.benchmarks.gate import stream_results
+    from scone_bt.benchmarks.gate import results_over_starts
     from scone_bt.benchmarks.replay_streams import load_streams
     from scone_bt.confidence.physical import DEFAULT_OPENING_M
     from scone_bt.config.tree_parameters import TREE_DEFAULTS
@@ -51,15 +49,11 @@ def main() -> None:
         excess_allowance=1.0,
     )
     streams = load_streams(args, oracle=False)
-    length = min(len(s) for s in streams.success)
     for allowance in (float(x) for x in a.feel_allowance.split(",")):
         t0 = time.time()
         probe = ProbeOptions(feel_allowance=allowance)
         which, helps, failures, attempts = [], [], 0, 0
-        for start in range(0, length, a.step):
-            results = stream_results(
-                rotated(streams, start), "physical", "budget", a.alpha, args, probe=probe
-            )
+        for start, results in results_over_starts(streams, a.step, "physical", a.alpha, args, probe=probe):
             for name, r in zip(streams.names, results, strict=True):
                 helps.append(1.0 - r.attempts / r.decisions)
                 failures, attempts = failures + r.failures, attempts + r.attempts

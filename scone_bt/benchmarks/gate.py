@@ -62,6 +62,7 @@ from __future__ import annotations
 import argparse
 import math
 import time
+from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -85,7 +86,7 @@ from scone_bt.reporting import emit_report
 if TYPE_CHECKING:
     from scone_bt.gate.probe import ProbeOptions
 
-__all__ = ["register", "stream_results", "TARGETS"]
+__all__ = ["register", "stream_results", "results_over_starts", "TARGETS"]
 
 TARGETS: tuple[float, ...] = (0.05, 0.10, 0.15, 0.20, 0.25, 0.30, 0.40)
 """Target failure rates the report sweeps."""
@@ -334,6 +335,27 @@ def _replay(
     }
 
 
+def results_over_starts(
+    streams: Streams,
+    step: int,
+    estimator: str,
+    alpha: float,
+    args: argparse.Namespace,
+    taught: Streams | None = None,
+    probe: ProbeOptions | None = None,
+) -> Iterator[tuple[int, list[StreamResult]]]:
+    """(start, `stream_results` of every stream started at row ``start``, `rotated`) for every ``step``-th row of the
+    shortest stream: each start a new cold robot, seeded as the first (`_over_starts`, tools/cold_starts.py)."""
+    length = min(len(s) for s in streams.success)
+    for start in range(0, length, step):
+        yield (
+            start,
+            stream_results(
+                rotated(streams, start), estimator, "budget", alpha, args, taught=taught, probe=probe
+            ),
+        )
+
+
 def _over_starts(
     args: argparse.Namespace,
     streams: Streams,
@@ -347,12 +369,10 @@ def _over_starts(
     ``attempt_failure_rate`` are the first start's alone, so a few outcomes early in a stream move them far (a cold
     robot whose first carries fail asks for much of the rest). The mean, least and most over the starts say how far;
     ``streams_that_never_attempted``: (stream, start) pairs whose robot attempted nothing after the warm-up."""
-    length = min(len(s) for s in streams.success)
     helps, failures, never = [], [], []
-    for start in range(0, length, OVER_STARTS_STEP):
-        results = stream_results(
-            rotated(streams, start), estimator, "budget", alpha, args, taught=taught, probe=probe
-        )
+    for start, results in results_over_starts(
+        streams, OVER_STARTS_STEP, estimator, alpha, args, taught, probe
+    ):
         rates = pooled_rates(results)
         helps.append(rates["help_rate"])
         failures.append(rates["attempt_failure_rate"])

@@ -4,7 +4,7 @@ A cheap RGB-D camera's pixel noise is independent from frame to frame, so the me
 does not move has 1/√n of the noise. The fiducial markers on small lids are what noise destroys first (the
 ``p04_noisy_camera`` profile: image noise std 45 on the 0–255 scale): before this, a target missed in one frame was
 asked for at once. The robot looks again with `LOOK_AGAIN_EXPOSURES` frames once per product it needs and sees
-nowhere (behaviours.gate_steps.settle_idle, the tree's Perceive; the dataset generator alike), and asks only if
+nowhere (behaviours.gate_steps.look_again_first, the tree's Perceive; the dataset generator alike), and asks only if
 the longer look misses it too. Chosen on the development stream of ``p04_noisy_camera`` (tools/data/sc_probe): of
 the 15 targets one frame missed there, the mean of 4, 8 and 16 frames found 9, 12 and 13; 8 it is. A 60 Hz
 camera takes them in about 0.13 s; the robot waits one control tick (0.1 s) for the look, and the simulation does
