@@ -13,7 +13,7 @@ from scone_bt.events import DecisionMade
 from scone_bt.experience.types import ExecutionContext
 from scone_bt.gate.budget import BudgetCounts
 from scone_bt.gate.rules import ask_for_missing, waiting
-from scone_bt.gate.types import Decision, DecisionKind
+from scone_bt.gate.types import LOOKING_AGAIN, Decision, DecisionKind
 from scone_bt.perception.types import Detection, Frame
 from scone_bt.relevance.types import RankedAction
 
@@ -100,7 +100,7 @@ def look_again_first(
     if not new:
         return decision, ()
     looked_again.update(new)
-    return waiting(new, " (looking again)", "missing"), new
+    return waiting(new, LOOKING_AGAIN, "missing"), new
 
 
 def settle_idle(

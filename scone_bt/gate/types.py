@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import StrEnum
 
-__all__ = ["DecisionKind", "Decision", "DECISION_RULES"]
+__all__ = ["DecisionKind", "Decision", "DECISION_RULES", "LOOKING_AGAIN"]
 
 DECISION_RULES: tuple[str, ...] = (
     "failure-limit",
@@ -18,6 +18,10 @@ DECISION_RULES: tuple[str, ...] = (
 )
 """Every `Decision.rule` other than "" (κ̂ against the threshold decided): what a scenario's event match, the printer
 and the tablet may name (`DecisionMade.rule` says what each means)."""
+
+LOOKING_AGAIN = " (looking again)"
+"""The note that ends a wait's reason while the next look averages frames for what the robot sees nowhere
+(behaviours.gate_steps.look_again_first; the tablet reads it, study.words)."""
 
 
 class DecisionKind(StrEnum):

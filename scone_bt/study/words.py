@@ -26,7 +26,7 @@ from scone_bt.events import (
     StepDone,
     TakeOver,
 )
-from scone_bt.gate.types import DecisionKind
+from scone_bt.gate.types import LOOKING_AGAIN, DecisionKind
 from scone_bt.recipes.normalise import item_key
 
 __all__ = ["is_plural", "is_are", "it_them", "decision_words", "help_words", "feed_line", "number_word"]
@@ -94,7 +94,7 @@ def decision_words(event: DecisionMade) -> str:
     if kind is DecisionKind.IDLE:
         if rule in ("missing", "") and event.reason.startswith("waiting:"):
             items = _drop_notes(event.reason[len("waiting:") :]).replace(" not in sight", "")
-            doing = "looking again" if event.reason.endswith("(looking again)") else "waiting"
+            doing = "looking again" if event.reason.endswith(LOOKING_AGAIN) else "waiting"
             return _sentence(f"I cannot see the {items}: I am {doing}")
         if rule == "declined":
             return _sentence(_drop_notes(event.reason))
