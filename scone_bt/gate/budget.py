@@ -9,12 +9,14 @@ feedback only where the robot acted (intermittent feedback: an asked action gets
     τ = clip(τ₀ + η · (F − α · A), τ_min, τ_max)
 
 where A and F are every labelled attempt so far (exploratory ones included: the promise covers every attempt)
-and the failures among them, τ₀ = clip(1 − 3α) and η the step. Each failure raises τ by η(1 − α); each success
-lowers it by ηα, so τ settles where failures are α of the attempts. While τ stays inside its bounds,
+and the failures among them, τ₀ = clip(1 − kα) with k = ``start_margin`` = 3, and η the step. Each failure
+raises τ by η(1 − α); each success lowers it by ηα, so τ settles where failures are α of the attempts. While τ stays inside its bounds,
 F − α · A = (τ − τ₀) / η exactly: the failures in excess of the budget are bounded by (τ_max − τ₀) / η (8 at the
 default α = 0.15) whatever the products are. τ₀ and η were chosen on the development streams (tools/data/sc), not
 on the held-out ones: a larger η tracks a stream of new products faster, and 1 − 3α starts where the physical κ̂,
-whose cold predictions are shrunk towards 0.5, fails about α of its attempts (docs/results/gate.md).
+whose cold predictions are shrunk towards 0.5, fails about α of its attempts (docs/results/gate.md). With the heft
+probe the robot spends about half its budget; a lower start (k = 4–6) trades help for failures at about 0.75 to 1
+and widens that bound on excess failures (tools/budget_start_sweep.py, docs/results/probe.md), so it stays.
 
 Exploration (the paper's ε-greedy, made principled): while κ̂ has learnt from fewer than ``explore_until``
 outcomes and fewer than ``explore_failures`` exploratory attempts failed, an action below τ is tried with
@@ -72,6 +74,7 @@ class BudgetOptions:
         explore_failures: Exploration stops once this many exploratory attempts failed.
         excess_allowance: Failures beyond α × attempts an exploratory attempt may risk (`has_credit`), ≥ 0;
             None: exploration needs no credit (the rule before the strict promise).
+        start_margin: k in τ₀ = 1 − kα (`initial_threshold`), > 0.
     """
 
     target_failure_rate: float = TREE_DEFAULTS.target_failure_rate
@@ -82,6 +85,7 @@ class BudgetOptions:
     explore_until: int = 10
     explore_failures: int = 6
     excess_allowance: float | None = None
+    start_margin: float = 3.0
 
     def __post_init__(self) -> None:
         checks = (
@@ -92,6 +96,7 @@ class BudgetOptions:
             ("explore_rate", 0.0 <= self.explore_rate <= 1.0, "in [0, 1]"),
             ("explore_until", self.explore_until >= 0, "≥ 0"),
             ("explore_failures", self.explore_failures >= 0, "≥ 0"),
+            ("start_margin", self.start_margin > 0.0, "> 0"),
             (
                 "excess_allowance",
                 self.excess_allowance is None or self.excess_allowance >= 0.0,
@@ -132,8 +137,9 @@ class BudgetCounts:
 
 
 def initial_threshold(options: BudgetOptions) -> float:
-    """τ₀ = max(τ_min, 1 − 3α), capped at τ_max."""
-    return min(options.tau_max, max(options.tau_min, 1.0 - 3.0 * options.target_failure_rate))
+    """τ₀ = max(τ_min, 1 − kα) with k = ``start_margin`` (3), capped at τ_max."""
+    start = 1.0 - options.start_margin * options.target_failure_rate
+    return min(options.tau_max, max(options.tau_min, start))
 
 
 def threshold(options: BudgetOptions, counts: BudgetCounts) -> float:

@@ -1,0 +1,53 @@
+"""tools/budget_start_sweep.py replays the gate with another τ₀ and η, and tools/edge_pinch_reach.py tells a pinch
+the arm reaches from one it does not."""
+
+from __future__ import annotations
+
+import pytest
+
+from scone_bt.errors import SconeError
+from scone_bt.gate.budget import BudgetOptions, initial_threshold
+
+
+def test_the_threshold_starts_at_one_less_k_alpha():
+    assert initial_threshold(BudgetOptions(target_failure_rate=0.15)) == pytest.approx(0.55)
+    assert initial_threshold(BudgetOptions(target_failure_rate=0.15, start_margin=5.0)) == pytest.approx(0.25)
+    # clipped to τ_min
+    assert initial_threshold(BudgetOptions(target_failure_rate=0.2, start_margin=6.0)) == pytest.approx(0.2)
+    with pytest.raises(SconeError, match="start_margin must be > 0"):
+        BudgetOptions(start_margin=0.0)
+
+
+def test_the_sweep_s_defaults_reach_the_replay_s_rules_and_are_undone(tool):
+    from scone_bt.benchmarks.replay import replay_rules
+
+    sweep = tool("budget_start_sweep")
+    with sweep.budget_defaults(start_margin=5.0, step=0.02):
+        rules = replay_rules("budget", 0.15, 0.08)
+        assert rules.budget.start_margin == 5.0 and rules.budget.step == 0.02
+    rules = replay_rules("budget", 0.15, 0.08)
+    assert rules.budget.start_margin == 3.0 and rules.budget.step == 0.05
+
+
+@pytest.mark.slow
+def test_a_pack_out_over_the_lowest_tier_is_pinched_not_one_over_a_higher_tier(tool):
+    check = tool("edge_pinch_reach").PinchCheck()
+    tray = (0.14, 0.20, 0.045)
+    assert check.reachable("front", 0, 0.40, tray, 0.045)
+    # the hand's lower half would cut into the tier below, in front of it
+    assert not check.reachable("front", 1, 0.40, tray, 0.045)
+
+
+@pytest.mark.slow
+def test_pybullet_slides_a_meat_tray_out_and_lifts_it_by_its_edge_mujoco_does_not_slide_it(tool, monkeypatch):
+    from scone_bt.config import load_kitchen
+
+    monkeypatch.setenv("MUJOCO_GL", "egl")
+    check = tool("slide_and_pinch_check")
+    tray = load_kitchen("perception/kitchen.yaml").catalogue.get("chicken breast")
+    bullet = check.Run("pybullet", tray, 0.004, 0.045).run()
+    assert bullet["slid_m"] > 0.03 and bullet["on_tier"] and bullet["held"]
+    # MuJoCo takes the larger friction for a product on a shelf (0.8 against Bullet's 0.8 × 0.55): the pads, whose
+    # pairs multiply, cannot drag it (docs/mujoco.md)
+    mujoco = check.Run("mujoco", tray, 0.004, 0.045).run()
+    assert mujoco["slid_m"] < 0.005
