@@ -22,7 +22,7 @@ from scone_bt.stocking import Placement
 from scone_bt.world.arm_io import ArmIO
 from scone_bt.world.camera import camera_image
 from scone_bt.world.ground_truth import GroundTruth, ObjectState
-from scone_bt.world.scene_boxes import StaticBox, box_colour, static_boxes
+from scone_bt.world.scene_boxes import FLOOR_FRICTION, SCENE_FRICTION, StaticBox, box_colour, static_boxes
 from scone_bt.world.sim_clock import REST_ANGULAR_RAD_S, REST_JOINT_RAD_S, REST_LINEAR_M_S, WAKE_S, SimClock
 from scone_bt.world.visuals import create_object_visual
 
@@ -196,13 +196,14 @@ class Kitchen(GroundTruth, SimClock):
             col = self.bc.createCollisionShape(p.GEOM_BOX, halfExtents=half)
             vis = self.bc.createVisualShape(p.GEOM_BOX, halfExtents=half, rgbaColor=box_colour(box.name))
             body = self.bc.createMultiBody(0, col, vis, basePosition=box.center)
-            self.bc.changeDynamics(body, -1, lateralFriction=0.8)
+            self.bc.changeDynamics(body, -1, lateralFriction=SCENE_FRICTION)
             self.static_body_ids[box.name] = body
         plane = self.bc.createCollisionShape(p.GEOM_PLANE)
         plane_vis = self.bc.createVisualShape(
             p.GEOM_BOX, halfExtents=[2, 2, 0.001], rgbaColor=(0.9, 0.9, 0.9, 1)
         )
         self.floor_id = self.bc.createMultiBody(0, plane, plane_vis, basePosition=(0, 0, scene.floor_z))
+        self.bc.changeDynamics(self.floor_id, -1, lateralFriction=FLOOR_FRICTION)
         return boxes
 
     def _load_robot(self) -> tuple[int, dict[str, int]]:

@@ -24,7 +24,7 @@ from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
 from scone_bt.config.catalogue import Shape
 from scone_bt.config.markers import CAP_THICKNESS_M, INK_THICKNESS_M, LAYER_GAP_M, MARKER_CELLS, lid_marker
 from scone_bt.errors import ConfigError
-from scone_bt.world.scene_boxes import StaticBox, box_colour, static_boxes
+from scone_bt.world.scene_boxes import FLOOR_FRICTION, SCENE_FRICTION, StaticBox, box_colour, static_boxes
 
 if TYPE_CHECKING:
     import mujoco
@@ -66,6 +66,9 @@ loads the URDF without self-collision)."""
 FINGER_GROUP = 1 << 2
 """Contact type of the finger pads: they meet the fixed scene, and products only through explicit pairs
 (`_finger_pairs`)."""
+PRODUCT_GROUP = 1 << 3
+"""Contact type of the products: they meet the arm's links, and the fixed scene, the pads and each other only
+through explicit pairs whose friction is the product of both coefficients, as Bullet's (`_product_pairs`)."""
 
 
 @dataclass(frozen=True)
@@ -262,7 +265,7 @@ def _add_scene(spec: mujoco.MjSpec, kitchen: KitchenConfig, boxes: Sequence[Stat
     mujoco = import_mujoco()
     scene = kitchen.scene
     world = spec.worldbody
-    static_bits = 1 | ROBOT_GROUP | FINGER_GROUP
+    static_bits = ROBOT_GROUP | FINGER_GROUP  # products: `_product_pairs`
     for box in boxes:
         geom = world.add_geom()
         geom.name = box.name
@@ -270,7 +273,7 @@ def _add_scene(spec: mujoco.MjSpec, kitchen: KitchenConfig, boxes: Sequence[Stat
         geom.size = [s / 2 for s in box.size]
         geom.pos = list(box.center)
         geom.rgba = list(box_colour(box.name))
-        geom.friction = [0.8, 0.005, 0.0001]
+        geom.friction = [SCENE_FRICTION, 0.005, 0.0001]
         geom.contype = 1
         geom.conaffinity = static_bits
         geom.material = "matte"
@@ -280,6 +283,7 @@ def _add_scene(spec: mujoco.MjSpec, kitchen: KitchenConfig, boxes: Sequence[Stat
     floor.size = [0.0, 0.0, 1.0]
     floor.pos = [0.0, 0.0, scene.floor_z]
     floor.rgba = [0.9, 0.9, 0.9, 1.0]
+    floor.friction = [FLOOR_FRICTION, 0.005, 0.0001]
     floor.contype = 1
     floor.conaffinity = static_bits
     floor.material = "matte"
@@ -328,8 +332,8 @@ def _add_product(spec: mujoco.MjSpec, product: ObjectSpec, index: int) -> None:
     solid.mass = product.mass
     solid.friction = [product.friction, 0.001, 0.0005]
     solid.condim = 4
-    solid.contype = 1
-    solid.conaffinity = 1 | ROBOT_GROUP
+    solid.contype = PRODUCT_GROUP
+    solid.conaffinity = ROBOT_GROUP
     solid.rgba = list(product.rgba)
     solid.material = "matte"
 
@@ -365,6 +369,29 @@ def _add_product(spec: mujoco.MjSpec, product: ObjectSpec, index: int) -> None:
                 (cx, cy, surface - INK_THICKNESS_M / 2),
                 rgba,
             )
+
+
+def _product_pairs(spec: mujoco.MjSpec, products: Sequence[ObjectSpec]) -> None:
+    """Product × fixed scene and product × product contacts with Bullet's friction (the product of both
+    coefficients). MuJoCo's own rule takes the larger: a product held its shelf with 0.8 where PyBullet gives
+    0.8 × its own (0.44 for the catalogue's 0.55), so what slides on one engine stood still on the other."""
+    statics = [g for g in spec.worldbody.geoms if g.contype and g.conaffinity]
+    solids = [spec.geom(p.name) for p in products]
+
+    def pair(a: Any, b: Any) -> None:
+        mu = float(a.friction[0]) * float(b.friction[0])
+        twist = max(float(a.friction[1]), float(b.friction[1]))
+        roll = max(float(a.friction[2]), float(b.friction[2]))
+        contact = spec.add_pair()
+        contact.name = f"{a.name}|{b.name}"
+        contact.geomname1 = a.name
+        contact.geomname2 = b.name
+        contact.condim = max(int(a.condim), int(b.condim))
+        contact.friction = [mu, mu, twist, roll, roll]
+
+    for i, solid in enumerate(solids):
+        for other in (*statics, *solids[i + 1 :]):
+            pair(solid, other)
 
 
 def _finger_pairs(spec: mujoco.MjSpec, robot: RobotConfig, products: Sequence[ObjectSpec]) -> None:
@@ -422,6 +449,7 @@ def build_model(
     for i, product in enumerate(products):
         _add_product(spec, product, i)
     _finger_pairs(spec, robot, products)
+    _product_pairs(spec, products)
     substeps = max(1, int(np.ceil(time_step / SUBSTEP_S - 1e-9)))
     spec.option.timestep = time_step / substeps
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST

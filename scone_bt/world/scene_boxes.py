@@ -8,7 +8,12 @@ from dataclasses import dataclass
 
 from scone_bt.config import KitchenConfig
 
-__all__ = ["StaticBox", "box_colour", "static_boxes"]
+__all__ = ["FLOOR_FRICTION", "SCENE_FRICTION", "StaticBox", "box_colour", "static_boxes"]
+
+SCENE_FRICTION = 0.8
+"""Sliding friction coefficient of the fixed boxes (pedestal, table, shelf tiers), on both engines."""
+FLOOR_FRICTION = 0.5
+"""Sliding friction coefficient of the floor (Bullet's default, which the PyBullet kitchen's plane keeps)."""
 
 _COLOURS = {"pedestal": (0.3, 0.3, 0.3, 1.0), "table": (0.55, 0.40, 0.25, 1.0)}
 _SHELF_COLOUR = (0.75, 0.72, 0.65, 1.0)

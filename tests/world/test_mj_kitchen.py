@@ -190,3 +190,28 @@ def test_the_heft_test_feels_the_products_weight_in_mujocos_fingers(kitchen_cfg,
         assert reading.drift_mm is not None and reading.drift_mm <= ProbeSettings().max_drift_mm, reading
         # nothing else touches the hand: the wrist carries what the fingers carry
         assert reading.wrist_load_n == pytest.approx(reading.load_n, rel=0.01), reading
+
+
+def test_products_meet_the_shelf_and_each_other_with_bullets_friction(stocked):
+    """A product meets the fixed scene and every other product through a contact pair with the product of both
+    surfaces' friction, as PyBullet's, and never through MuJoCo's own rule (the larger one), which held a 0.55
+    product on its shelf at 0.8 instead of 0.44: a pack PyBullet's fingertips slide stood still on MuJoCo."""
+    from scone_bt.world.scene_boxes import SCENE_FRICTION
+
+    m = stocked.model
+    gid = {n: int(m.geom(n).id) for n in NAMES}
+    shelf = int(m.geom("shelf_tier0").id)
+    pairs = {
+        frozenset((int(m.pair_geom1[k]), int(m.pair_geom2[k]))): float(m.pair_friction[k][0])
+        for k in range(m.npair)
+    }
+    salt, sugar = stocked.specs["salt"].friction, stocked.specs["sugar"].friction
+    assert pairs[frozenset((gid["salt"], shelf))] == pytest.approx(salt * SCENE_FRICTION)
+    assert pairs[frozenset((gid["salt"], gid["sugar"]))] == pytest.approx(salt * sugar)
+
+    def collide(a: int, b: int) -> bool:  # MuJoCo's own contact filter
+        return bool(m.geom_contype[a] & m.geom_conaffinity[b] or m.geom_contype[b] & m.geom_conaffinity[a])
+
+    assert not collide(gid["salt"], shelf) and not collide(gid["salt"], gid["sugar"])
+    arm = next(g for g in range(m.ngeom) if m.geom_bodyid[g] == int(m.body("panda_link5").id))
+    assert collide(gid["salt"], arm)  # the arm's links still meet products on their own
