@@ -18,16 +18,19 @@ The arm follows straight lines in joint space between IK poses (with a waypoint 
 slide and the pinch), not the planner's paths, and the pinch is placed from the simulator's pose of the pack after
 the slide: a robot would look again. So a success here is necessary, not sufficient, for a skill.
 
-One JSON line per (engine, product): how far the slide moved the pack towards the robot (``slid_m``), whether it
-stayed on its tier, and whether the fingers held it after the lift (``held``, its centre raised ≥ 8 cm); a last line
-per engine counts them.
+One JSON line per (engine, product): the gripper (newtons per finger, the pads' friction; ``--gripper`` sets a
+proficiency profile's), how far the slide moved the pack towards the robot (``slid_m``), whether it stayed on its
+tier, and whether the fingers held it after the lift (``held``, its centre raised ≥ 8 cm); a last line per engine
+counts them.
 
     PYTHONPATH=$PWD python tools/slide_and_pinch_check.py --engines pybullet,mujoco
+    PYTHONPATH=$PWD python tools/slide_and_pinch_check.py --engines pybullet --gripper 25,0.25   # p02's fingers
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import os
 import time
@@ -51,7 +54,9 @@ def flat_and_wide(spec, opening_m: float, max_height_m: float = 0.07) -> bool:
 class Run:
     """One pack on one engine: the kitchen, the arm's IK and joint-space moves."""
 
-    def __init__(self, engine: str, spec, press_m: float, slide_m: float) -> None:
+    def __init__(
+        self, engine: str, spec, press_m: float, slide_m: float, gripper: tuple[float, float] | None = None
+    ) -> None:
         from scone_bt.config import load_kitchen
         from scone_bt.config.robot import load_robot
         from scone_bt.motion.model import ArmModel
@@ -59,6 +64,12 @@ class Run:
 
         self.kc = load_kitchen("perception/kitchen.yaml")
         self.rc = load_robot("panda")
+        if gripper is not None:  # a proficiency profile's (N per finger, the pads' friction)
+            force, friction = gripper
+            self.rc = dataclasses.replace(
+                self.rc,
+                gripper=dataclasses.replace(self.rc.gripper, max_force=force, finger_friction=friction),
+            )
         self.arm = ArmModel(self.rc)
         if engine == "mujoco":
             from scone_bt.world.mj_kitchen import MjKitchen
@@ -72,9 +83,8 @@ class Run:
         self.unit = self.kc.scene.shelves[0]
         self.tier = self.unit.tiers[0]
         sx, sy, self.height = spec.size
-        self.du = min(
-            sx, sy
-        )  # the stocking turns a pack deeper than its tier: its short side across the tier
+        # the stocking turns a pack deeper than its tier: its short side across the tier
+        self.du = min(sx, sy)
         x, y = self.unit.to_world(self.tier.center, SLOT_V)
         yaw = np.pi / 2 if sx > sy else 0.0
         self.k.spawn_planned([spec], [Placement(spec.name, (x, y, self.tier.top_z), yaw, self.unit.name, 0)])
@@ -176,7 +186,13 @@ def main() -> None:
     )
     ap.add_argument("--slide", type=float, default=0.045, help="metres the pack is slid towards the robot")
     ap.add_argument("--products", default="", help="comma-separated names (default: every flat wide pack)")
+    ap.add_argument(
+        "--gripper",
+        default="",
+        help="FORCE,FRICTION: newtons per finger and the pads' friction (a profile's; default: the robot file's)",
+    )
     a = ap.parse_args()
+    gripper = tuple(float(x) for x in a.gripper.split(",")) if a.gripper else None
     os.environ.setdefault("MUJOCO_GL", "egl")
     catalogue = load_kitchen("perception/kitchen.yaml").catalogue
     names = [n for n in a.products.split(",") if n] or [
@@ -185,13 +201,14 @@ def main() -> None:
     for engine in a.engines.split(","):
         t0, held, n = time.time(), 0, 0
         for name in names:
-            line = {"engine": engine, **Run(engine, catalogue.get(name), a.press, a.slide).run()}
+            run = Run(engine, catalogue.get(name), a.press, a.slide, gripper)  # type: ignore[arg-type]
+            line = {"engine": engine, "gripper": [run.rc.gripper.max_force, run.rc.gripper.finger_friction]}
+            line.update(run.run())
             held += line["held"]
             n += 1
             print(json.dumps(line), flush=True)
-        print(
-            json.dumps({"engine": engine, "products": n, "held": held, "wall_s": round(time.time() - t0, 1)})
-        )
+        summary = {"engine": engine, "gripper": list(gripper) if gripper else "robot file", "products": n}
+        print(json.dumps({**summary, "held": held, "wall_s": round(time.time() - t0, 1)}), flush=True)
 
 
 if __name__ == "__main__":

@@ -50,3 +50,22 @@ def test_fingertips_slide_a_meat_tray_out_and_the_arm_lifts_it_by_its_edge(tool,
     tray = load_kitchen("perception/kitchen.yaml").catalogue.get("chicken breast")
     result = check.Run(engine, tray, 0.004, 0.045).run()
     assert result["slid_m"] > 0.03 and result["on_tier"] and result["held"]
+
+
+def test_the_gain_counts_lowest_tier_flat_packs_held_with_each_streams_gripper(tool, capsys, monkeypatch):
+    import json
+    import sys
+
+    gain = tool("wide_pack_gain")
+    results = ["docs/results/slide_and_pinch.jsonl", "docs/results/slide_and_pinch_profiles.jsonl"]
+    argv = ["wide_pack_gain", "--datasets", "tools/data/sc_heldout_probe", "--results", *results]
+    monkeypatch.setattr(sys, "argv", argv)
+    gain.main()
+    (out,) = json.loads(capsys.readouterr().out)
+    assert out["scored_decisions"] == 240 and out["not_in_results"] == []
+    by_stream = {s["stream"]: s for s in out["streams"]}
+    # the nominal gripper slides and lifts its two; the old robot's pads (0.6) cannot drag a pack the shelf (0.8) holds
+    assert (by_stream["p00_nominal"]["rows"], by_stream["p00_nominal"]["held"]) == (2, 2)
+    assert by_stream["p09_old_robot"]["held"] == 0
+    assert out["held"] == sum(s["held"] for s in out["streams"])
+    assert out["help_rate_drop_at_most"] == round(out["held"] / 240, 4)
