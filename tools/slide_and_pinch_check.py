@@ -203,7 +203,10 @@ def main() -> None:
         for name in names:
             run = Run(engine, catalogue.get(name), a.press, a.slide, gripper)  # type: ignore[arg-type]
             line = {"engine": engine, "gripper": [run.rc.gripper.max_force, run.rc.gripper.finger_friction]}
-            line.update(run.run())
+            try:
+                line.update(run.run())
+            finally:
+                run.k.close()  # one kitchen a product: an engine's client holds its memory until closed
             held += line["held"]
             n += 1
             print(json.dumps(line), flush=True)

@@ -41,7 +41,9 @@ def main() -> None:
                 force, friction = line["gripper"]
                 held[(float(force), float(friction), line["product"])] = bool(line["held"])
     robot = load_robot("panda").gripper
-    print(json.dumps([_gain(d, held, robot, a) for d in a.datasets], indent=1))
+    splits = [_gain(d, held, robot, a) for d in a.datasets]
+    report = {"benchmark": "wide_pack_gain", "engine": a.engine, "results": a.results, "splits": splits}
+    print(json.dumps(report, indent=1))
 
 
 def _gain(datasets: str, held: dict[tuple[float, float, str], bool], robot, a: argparse.Namespace) -> dict:
@@ -75,7 +77,6 @@ def _gain(datasets: str, held: dict[tuple[float, float, str], bool], robot, a: a
         streams.append(mine)
     return {
         "datasets": datasets,
-        "engine": a.engine,
         "scored_decisions": scored,
         "lowest_tier_flat_wide": rows,
         "held": kept,
