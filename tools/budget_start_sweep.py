@@ -44,10 +44,9 @@ def _floats(text: str) -> list[float]:
 
 
 def main() -> None:
-    from scone_bt.benchmarks.gate import results_over_starts
+    from scone_bt.benchmarks.gate import replay_args, results_over_starts
     from scone_bt.benchmarks.replay_rates import pooled_rates
     from scone_bt.benchmarks.replay_streams import load_streams
-    from scone_bt.confidence.physical import DEFAULT_OPENING_M
     from scone_bt.gate.probe import ProbeOptions
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -57,14 +56,7 @@ def main() -> None:
     ap.add_argument("--alphas", default="0.05,0.1,0.15")
     ap.add_argument("--step", type=int, default=10, help="start a cold robot at every this many rows")
     a = ap.parse_args()
-    args = argparse.Namespace(
-        datasets=a.datasets,
-        embedder="minilm",
-        seed=0,
-        warmup=20,
-        opening=DEFAULT_OPENING_M,
-        excess_allowance=1.0,
-    )
+    args = replay_args(a.datasets)
     streams = load_streams(args, oracle=False)
     for margin in _floats(a.margins):
         for eta in _floats(a.steps):

@@ -24,9 +24,8 @@ import numpy as np
 
 
 def main() -> None:
-    from scone_bt.benchmarks.gate import results_over_starts
+    from scone_bt.benchmarks.gate import replay_args, results_over_starts
     from scone_bt.benchmarks.replay_streams import load_streams
-    from scone_bt.confidence.physical import DEFAULT_OPENING_M
     from scone_bt.config.tree_parameters import TREE_DEFAULTS
     from scone_bt.gate.probe import ProbeOptions
 
@@ -40,14 +39,7 @@ def main() -> None:
     a = ap.parse_args()
     if a.step < 1:
         ap.error(f"--step must be ≥ 1, got {a.step}")
-    args = argparse.Namespace(
-        datasets=a.datasets,
-        embedder="minilm",
-        seed=0,
-        warmup=20,
-        opening=DEFAULT_OPENING_M,
-        excess_allowance=1.0,
-    )
+    args = replay_args(a.datasets)
     streams = load_streams(args, oracle=False)
     for allowance in (float(x) for x in a.feel_allowance.split(",")):
         t0 = time.time()

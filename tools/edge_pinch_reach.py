@@ -42,20 +42,14 @@ class PinchCheck:
     def __init__(self, kitchen_file: str = "perception/kitchen.yaml", robot_name: str = "panda") -> None:
         from scone_bt.config import load_kitchen
         from scone_bt.config.robot import load_robot
-        from scone_bt.motion.collision import CollisionWorld, Obstacle
-        from scone_bt.motion.model import ArmModel, pose_matrix
+        from scone_bt.motion.collision import CollisionWorld, fixed_obstacles
+        from scone_bt.motion.model import ArmModel
         from scone_bt.world.scene_boxes import static_boxes
 
         self.kitchen = load_kitchen(kitchen_file)
         self.robot = load_robot(robot_name)
         self.arm = ArmModel(self.robot)
-        floor = self.kitchen.scene.floor_z
-        boxes = static_boxes(self.kitchen)
-        self.static = [Obstacle(b.name, "box", b.size, pose_matrix(np.eye(3), b.center)) for b in boxes]
-        floor_box = Obstacle(
-            "floor", "box", (4.0, 4.0, 0.02), pose_matrix(np.eye(3), (0.0, 0.0, floor - 0.01))
-        )
-        self.static.append(floor_box)
+        self.static = list(fixed_obstacles(static_boxes(self.kitchen), self.kitchen.scene.floor_z))
         self.open_m = self.robot.gripper.open_position
         self.world = CollisionWorld(self.arm, self.static, finger_position=self.open_m)
         self.home = np.asarray(self.robot.home, dtype=float)

@@ -36,10 +36,9 @@ def configuration(cfg: dict) -> tuple[ProbeOptions | None, float | None, float]:
 
 
 def main() -> None:
-    from scone_bt.benchmarks.gate import stream_results
+    from scone_bt.benchmarks.gate import replay_args, stream_results
     from scone_bt.benchmarks.replay_rates import pooled_rates
     from scone_bt.benchmarks.replay_streams import load_streams
-    from scone_bt.confidence.physical import DEFAULT_OPENING_M
     from scone_bt.gate import probe as band
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -50,9 +49,7 @@ def main() -> None:
         "--oracle", action="store_true", help="κ̂ given the true mass, size and glass (module docstring)"
     )
     a = ap.parse_args()
-    args = argparse.Namespace(
-        datasets=a.datasets, embedder="minilm", seed=0, warmup=20, opening=DEFAULT_OPENING_M
-    )
+    args = replay_args(a.datasets)
     streams = load_streams(args, oracle=a.oracle)
     for cfg in json.loads(a.configs):
         for alpha in (float(x) for x in a.alphas.split(",")):

@@ -589,6 +589,17 @@ def _run(args: argparse.Namespace) -> int:
     return 0
 
 
+def replay_args(datasets: str) -> argparse.Namespace:
+    """The arguments with which ``scone-bench gate --datasets DATASETS`` replays the shipped gate: its own defaults
+    (ζ, seed, warm-up, the gripper's opening) and the tree's strict promise (``excess_allowance``, `_tree_defaults`).
+    For tools that replay the shipped gate with one thing changed (tools/cold_starts.py and its kin)."""
+    parser = argparse.ArgumentParser()
+    register(parser.add_subparsers())
+    args = parser.parse_args(["gate", "--datasets", datasets])
+    _tree_defaults(args)
+    return args
+
+
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``gate`` to ``scone-bench``."""
     from scone_bt.confidence.physical import DEFAULT_OPENING_M

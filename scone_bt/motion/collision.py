@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from scone_bt.config.catalogue import Shape
-from scone_bt.motion.model import ArmModel
+from scone_bt.motion.model import ArmModel, pose_matrix
 from scone_bt.motion.pair_kinds import PAIR_HELD_OBSTACLE, PAIR_OBSTACLE, PAIR_ROBOT
 from scone_bt.motion.spheres import POSITIONS_KEPT, Obstacles, SphereChecks, arm_spheres
 
@@ -28,7 +28,7 @@ ATTACHED_SHRINK_M = 0.005
 """A held object's collision shape is this much (m) smaller on every side than the object: it rests on (touches)
 its support when the grasp closes."""
 
-__all__ = ["Obstacle", "CollisionWorld", "HandModel", "interpolated"]
+__all__ = ["Obstacle", "CollisionWorld", "HandModel", "fixed_obstacles", "interpolated"]
 
 
 def interpolated(qa: np.ndarray, qb: np.ndarray, times: np.ndarray) -> np.ndarray:
@@ -52,6 +52,14 @@ class Obstacle:
     shape: str
     size: tuple[float, float, float]
     pose: np.ndarray
+
+
+def fixed_obstacles(boxes: Sequence[Any], floor_z: float) -> tuple[Obstacle, ...]:
+    """The kitchen's fixed boxes (world.scene_boxes.StaticBox: name, centre, full size; metres) as obstacles, then
+    the floor: a 4 m slab 2 cm thick whose top is at ``floor_z``."""
+    out = [Obstacle(b.name, "box", tuple(b.size), pose_matrix(np.eye(3), b.center)) for b in boxes]
+    out.append(Obstacle("floor", "box", (4.0, 4.0, 0.02), pose_matrix(np.eye(3), (0.0, 0.0, floor_z - 0.01))))
+    return tuple(out)
 
 
 def _geometry(shape: str, size: Sequence[float], padding: float) -> Any:

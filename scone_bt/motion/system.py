@@ -32,10 +32,10 @@ import numpy as np
 from scone_bt.config import ObjectSpec, RobotConfig
 from scone_bt.config.grasp import PLANNERS, GraspParams
 from scone_bt.errors import UnknownNameError
-from scone_bt.motion.collision import Obstacle
+from scone_bt.motion.collision import Obstacle, fixed_obstacles
 from scone_bt.motion.execution import ExecutionSettings, PickPlaceController
 from scone_bt.motion.executor import Workcell
-from scone_bt.motion.model import ArmModel, pose_matrix
+from scone_bt.motion.model import ArmModel
 from scone_bt.motion.new_spot import NewSpot, new_spot
 from scone_bt.motion.path_watch import PathWatch
 from scone_bt.motion.pick_place import (
@@ -101,7 +101,7 @@ class MotionSystem:
         self.settings = settings
         self.placement = placement or PlacementOptions()
         self.table = TableRegion.from_scene(cell.config.scene)
-        self.static = self._static_obstacles()
+        self.static = fixed_obstacles(self.cell.static_boxes, self.cell.config.scene.floor_z)
         self._worker = cf.ThreadPoolExecutor(max_workers=1, thread_name_prefix="scone-motion")
         # The process's first IK and collision check load the compiled kernels (numba: about half a second): the
         # planning thread does that now, while the robot starts up, rather than in the first plan.
@@ -154,16 +154,6 @@ class MotionSystem:
             settings or ExecutionSettings(),
             robot,
         )
-
-    def _static_obstacles(self) -> tuple[Obstacle, ...]:
-        out = [
-            Obstacle(b.name, "box", b.size, pose_matrix(np.eye(3), b.center)) for b in self.cell.static_boxes
-        ]
-        floor = self.cell.config.scene.floor_z
-        out.append(
-            Obstacle("floor", "box", (4.0, 4.0, 0.02), pose_matrix(np.eye(3), (0.0, 0.0, floor - 0.01)))
-        )
-        return tuple(out)
 
     @property
     def home(self) -> np.ndarray:

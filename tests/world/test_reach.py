@@ -23,17 +23,11 @@ CAN = ObjectSpec(
 
 
 def _static_obstacles(kitchen_cfg, robot_cfg):
-    from scone_bt.motion import Obstacle
-    from scone_bt.motion.model import pose_matrix
+    from scone_bt.motion.collision import fixed_obstacles
     from scone_bt.world import Kitchen
 
     with Kitchen(kitchen_cfg, robot_cfg) as kitchen:
-        boxes = [
-            Obstacle(b.name, "box", b.size, pose_matrix(np.eye(3), b.center)) for b in kitchen.static_boxes
-        ]
-    floor = kitchen_cfg.scene.floor_z
-    boxes.append(Obstacle("floor", "box", (4.0, 4.0, 0.02), pose_matrix(np.eye(3), (0.0, 0.0, floor - 0.01))))
-    return boxes
+        return list(fixed_obstacles(kitchen.static_boxes, kitchen_cfg.scene.floor_z))
 
 
 def _graspable(arm, static, slot, rng) -> str:
