@@ -13,7 +13,10 @@ Per method and per target failure rate α (0.05 … 0.40), pooled over the strea
 would have succeeded), ``over_step_rate`` (acted, failed), ``attempt_failure_rate`` (failed attempts / attempts),
 its split into ``attempt_failure_rate_novel`` (products κ̂ had no outcome of in the stream) and ``_seen``,
 ``help_rate_floor`` (the least help any gate could reach at the realised rate: a clairvoyant, `help_floor`) and
-``help_rate_floor_without_failures`` (a clairvoyant that never fails; the data's alone),
+``help_rate_floor_without_failures`` (a clairvoyant that never fails; the data's alone), ``help_by_cause`` (the
+decisions asked for, by the rule that asked: "too-wide", "missing", "infeasible", "set-back" for a probe that set
+the product back, "unsure" for κ̂'s own ask, …; each with its rate, how many would have succeeded and how many
+were of a product perceived wider than the gripper: `replay_rates.help_by_cause`),
 ``wide_attempts_after_first_wide_failure`` (attempts of products perceived wider than the gripper's opening after a
 stream's first failed one, summed and the largest per stream), the realised rate per stream, and
 ``max_excess_failures``: the largest F − α · A reached at any point of any stream, warm-up included, and
@@ -293,7 +296,9 @@ def _replay(
     )
     extra: dict[str, Any] = {}
     if taught is not None:
-        extra["cross_engine"] = _cross_engine(args, streams, taught, default_estimator)
+        extra["cross_engine"] = _cross_engine(
+            args, streams, taught, default_estimator, probe if probing else None
+        )
     return {
         "datasets": streams.names,
         **({"prior": str(args.prior), "prior_datasets": taught.names} if taught is not None else {}),
@@ -308,6 +313,7 @@ def _replay(
             "help_rate": cold["help_rate"],
             "help_rate_floor": cold["help_rate_floor"],
             "help_rate_floor_without_failures": cold["help_rate_floor_without_failures"],
+            "help_by_cause": cold["help_by_cause"],
             "max_excess_failures": cold["max_excess_failures"],
             "max_excess_failures_where_confident_held": cold["max_excess_failures_where_confident_held"],
             "streams_where_confident_held": cold["streams_where_confident_held"],
@@ -453,9 +459,14 @@ def _taught(args: argparse.Namespace, streams: Streams) -> tuple[Streams | None,
 
 
 def _cross_engine(
-    args: argparse.Namespace, streams: Streams, taught: Streams, estimator: str
+    args: argparse.Namespace,
+    streams: Streams,
+    taught: Streams,
+    estimator: str,
+    probe: ProbeOptions | None = None,
 ) -> dict[str, Any]:
-    """The gap between the engines per profile, and the default gate taught (--prior) and cold after the move."""
+    """The gap between the engines per profile, and the default gate taught (--prior) and cold after the move,
+    with the heft test where the default gate has it (``probe``; None: none)."""
     from dataclasses import asdict
 
     from scone_bt.benchmarks.cross_engine import (
@@ -470,7 +481,7 @@ def _cross_engine(
     for alpha in CROSS_ENGINE_TARGETS:
         row: dict[str, Any] = {}
         for label, prior in (("prior", taught), ("cold", None)):
-            results = stream_results(streams, estimator, "budget", alpha, args, taught=prior)
+            results = stream_results(streams, estimator, "budget", alpha, args, taught=prior, probe=probe)
             rates = pooled_rates(results)
             recovery = {
                 n: recovery_decisions(r.trace, alpha) for n, r in zip(streams.names, results, strict=True)
@@ -492,6 +503,7 @@ def _cross_engine(
         by_target[f"{alpha:g}"] = row
     return {
         "prior": str(args.prior),
+        "probe": probe is not None,
         "tolerance": TOLERANCE,
         "help_rate_limit": 0.50,
         "recovery_definition": (

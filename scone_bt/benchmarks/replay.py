@@ -25,7 +25,15 @@ if TYPE_CHECKING:
     from scone_bt.gate.types import Decision
     from scone_bt.motion.probe import ProbeSettings
 
-__all__ = ["StreamResult", "feature_rows", "replay_rules", "replay_stream"]
+__all__ = [
+    "SET_BACK",
+    "UNSURE",
+    "StreamResult",
+    "feature_rows",
+    "help_cause",
+    "replay_rules",
+    "replay_stream",
+]
 
 _CONTEXT = CONTEXT_FIELDS
 """The context columns in replay order (decision_time_context's)."""
@@ -70,6 +78,9 @@ class StreamResult:
     thresholds: list[float] = field(default_factory=list)
     trace: list[int] = field(default_factory=list)
     """Every decision in order: 1 acted and succeeded, 0 acted and failed, -1 asked."""
+    help_causes: dict[str, list[int]] = field(default_factory=dict)
+    """Scored decisions the person fetched for, by cause (`help_cause`): [how many, how many would have
+    succeeded, how many were of a product perceived wider than the gripper]."""
 
 
 def replay_rules(
@@ -440,6 +451,26 @@ def _attempted(
     out.max_excess = max(out.max_excess, walk.counts.failures - alpha * walk.counts.attempts)
 
 
+SET_BACK = "set-back"
+"""The help cause of a probe that set its product back (the person fetches it)."""
+UNSURE = "unsure"
+"""The help cause of an ask κ̂ decided (below τ, not explored, not probed): no rule (`Decision.rule` "")."""
+
+
+def help_cause(decision: Decision, aborted: bool) -> str:
+    """Why a decision ended with the person fetching the product: `SET_BACK` after a probe, else the rule that
+    made the ask (`gate.types.DECISION_RULES`: "too-wide", "missing", "infeasible", "probe", …), or `UNSURE`."""
+    return SET_BACK if aborted else (decision.rule or UNSURE)
+
+
+def _tally_help(out: StreamResult, cause: str, ok: bool, wide: bool) -> None:
+    """One scored decision the person fetched for (`StreamResult.help_causes`)."""
+    counts = out.help_causes.setdefault(cause, [0, 0, 0])
+    counts[0] += 1
+    counts[1] += ok
+    counts[2] += wide
+
+
 def _score(out: StreamResult, act: bool, ok: bool, explored: bool, novel: bool, aborted: bool) -> None:
     """Tally one decision after the warm-up."""
     out.decisions += 1
@@ -495,6 +526,8 @@ def _step(
     out.all_asked += not act
     if scored:
         _score(out, act, ok, attempt.explored if act else decision.explored, novel, aborted)
+        if not act:
+            _tally_help(out, help_cause(decision, aborted), ok, bool(replay.wide[t]))
 
 
 def replay_stream(

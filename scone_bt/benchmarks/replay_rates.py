@@ -7,7 +7,7 @@ from typing import Any
 
 from scone_bt.benchmarks.replay import StreamResult
 
-__all__ = ["help_floor", "pooled_rates", "stream_successes"]
+__all__ = ["help_by_cause", "help_floor", "pooled_rates", "stream_successes"]
 
 
 def stream_successes(r: StreamResult) -> int:
@@ -21,7 +21,7 @@ def pooled_rates(results: Sequence[StreamResult]) -> dict[str, Any]:
     tot = {
         k: sum(getattr(r, k) for r in results)
         for k in StreamResult.__dataclass_fields__
-        if k not in ("thresholds", "trace", "max_excess", "probe_s")
+        if k not in ("thresholds", "trace", "max_excess", "probe_s", "help_causes")
     }
     probe_s = sum(r.probe_s for r in results)
     held = [r.max_excess for r in results if r.confident_failures == 0]
@@ -46,6 +46,7 @@ def pooled_rates(results: Sequence[StreamResult]) -> dict[str, Any]:
         "help_rate_floor_without_failures": help_floor(successes, tot["decisions"], 0.0),
         "probes": tot["probes"],
         "probe_s_mean": round(probe_s / tot["probes_felt"], 3) if tot["probes_felt"] else None,
+        "help_by_cause": help_by_cause(results),
         "aborted_would_have_succeeded": tot["aborted_would_succeed"],
         "aborted_would_have_failed": tot["probe_caught"],
         "over_ask_rate": round(tot["asked_ok"] / n, 4),
@@ -76,6 +77,30 @@ def pooled_rates(results: Sequence[StreamResult]) -> dict[str, Any]:
             "attempt_failure_rate": ratio(tot["all_failures"], tot["all_attempts"]),
             "help_rate": round(tot["all_asked"] / max(tot["all_decisions"], 1), 4),
         },
+    }
+
+
+def help_by_cause(results: Sequence[StreamResult]) -> dict[str, dict[str, float | int]]:
+    """The scored decisions the person fetched for, pooled over the streams by cause (`replay.help_cause`: the
+    gate's rule, "unsure" for κ̂'s own ask, "set-back" for a probe that set the product back), most first: how many,
+    their share of the decisions (the causes' rates add up to ``help_rate``), how many would have succeeded had the
+    robot carried them (what a better judgement could still take off), and how many were of a product perceived
+    wider than the gripper opens (what no judgement can)."""
+    pooled: dict[str, list[int]] = {}
+    for r in results:
+        for cause, counts in r.help_causes.items():
+            into = pooled.setdefault(cause, [0, 0, 0])
+            for i, c in enumerate(counts):
+                into[i] += c
+    n = max(sum(r.decisions for r in results), 1)
+    return {
+        cause: {
+            "decisions": c[0],
+            "rate": round(c[0] / n, 4),
+            "would_have_succeeded": c[1],
+            "wider_than_gripper": c[2],
+        }
+        for cause, c in sorted(pooled.items(), key=lambda kv: (-kv[1][0], kv[0]))
     }
 
 

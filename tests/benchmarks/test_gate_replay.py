@@ -144,6 +144,73 @@ def test_wide_attempts_after_the_first_wide_failure_are_counted(monkeypatch: pyt
     assert rates["wide_attempts_after_first_wide_failure_max_per_stream"] == 2
 
 
+def test_every_ask_is_counted_by_its_cause(monkeypatch: pytest.MonkeyPatch) -> None:
+    """κ̂'s own asks are "unsure", the tree's foreseen asks carry their rule; the causes add up to the help rate,
+    with what would have succeeded and what was wider than the gripper counted apart."""
+    scores = np.array([0.9, 0.2, 0.9, 0.9, 0.3, 0.9])
+    success = np.array([True, True, False, False, False, True])
+    foreseen = np.array(["", "", "missing", "infeasible", "", ""])
+    vectors = np.column_stack([scores, np.arange(6)]).astype(np.float32)
+    _use(monkeypatch, _Scripted())
+    out = replay_stream(
+        vectors,
+        _context([0.05, 0.05, 0.05, 0.05, 0.10, 0.05]),
+        success,
+        [f"p{i}" for i in range(6)],
+        "x",
+        "paper",
+        0.5,
+        0,
+        0,
+        OPENING_M,
+        foreseen=foreseen,
+    )
+    causes = pooled_rates([out])["help_by_cause"]
+    assert causes == {
+        "unsure": {
+            "decisions": 2,
+            "rate": round(2 / 6, 4),
+            "would_have_succeeded": 1,
+            "wider_than_gripper": 1,
+        },
+        "infeasible": {
+            "decisions": 1,
+            "rate": round(1 / 6, 4),
+            "would_have_succeeded": 0,
+            "wider_than_gripper": 0,
+        },
+        "missing": {
+            "decisions": 1,
+            "rate": round(1 / 6, 4),
+            "would_have_succeeded": 0,
+            "wider_than_gripper": 0,
+        },
+    }
+    assert list(causes) == ["unsure", "infeasible", "missing"]  # most first, then by name
+    twice = pooled_rates([out, out])["help_by_cause"]
+    assert twice["unsure"]["decisions"] == 4 and twice["unsure"]["rate"] == causes["unsure"]["rate"]
+
+
+def test_on_the_recorded_streams_the_causes_add_up_to_the_help_rate() -> None:
+    """The shipped gate (the probe, the strict promise) on the development recording: every too-wide ask is of a
+    product perceived wider than the gripper, and the set-backs are the aborted probes."""
+    from scone_bt.benchmarks.gate import replay_args, stream_results
+    from scone_bt.benchmarks.replay_streams import load_streams
+    from scone_bt.gate.probe import ProbeOptions
+
+    args = replay_args(str(REPO / "tools/data/sc_probe"))
+    rates = pooled_rates(
+        stream_results(
+            load_streams(args, oracle=False), "physical", "budget", 0.15, args, probe=ProbeOptions()
+        )
+    )
+    causes = rates["help_by_cause"]
+    assert abs(sum(c["rate"] for c in causes.values()) - rates["help_rate"]) < 1e-3
+    assert causes["too-wide"]["wider_than_gripper"] == causes["too-wide"]["decisions"] > 0
+    assert causes["set-back"]["decisions"] == round(rates["aborted_rate"] * rates["decisions"])
+    assert causes["set-back"]["would_have_succeeded"] == rates["aborted_would_have_succeeded"]
+
+
 def test_a_seeded_replay_repeats_exactly() -> None:
     vectors, context, success, products = _physical_stream()
 
@@ -477,3 +544,25 @@ def test_a_warmup_that_leaves_nothing_to_score_is_one_line(tmp_path: Path, capsy
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "--warmup 100000: leaves no decision to score (the shortest stream has" in err
+
+
+def test_the_gate_after_the_move_is_the_shipped_gate_with_its_probe(tmp_path: Path) -> None:
+    """With probe readings in the datasets, the cross-engine section replays the default gate as ``default.*`` does
+    (the heft probe on): its taught figures at the default α are the report's own."""
+    moved, prior = tmp_path / "moved", tmp_path / "prior"
+    for folder, source in ((moved, "sc_mujoco_probe"), (prior, "sc_probe")):
+        folder.mkdir()
+        for name in ("p01_weak_gripper", "p02_slippery_fingers"):  # the streams the probe sets most back on
+            lines = (REPO / "tools/data" / source / f"{name}.csv").read_text(encoding="utf-8").splitlines()
+            (folder / f"{name}.csv").write_text("\n".join(lines[:41]) + "\n", encoding="utf-8")
+    out = tmp_path / "g.json"
+    args = ["gate", "--datasets", str(moved), "--prior", str(prior), "--embedder", "onehot", "--warmup", "5"]
+    assert main([*args, "--no-sweep", "--json", str(out)]) == 0
+    report = json.loads(out.read_text())
+    cross, default = report["cross_engine"], report["default"]
+    assert cross["probe"] is True and default["probe"] is True and default["aborted_rate"] > 0
+    taught = cross["default"][f"{default['target_failure_rate']:g}"]["prior"]
+    assert (taught["attempt_failure_rate"], taught["help_rate"]) == (
+        default["attempt_failure_rate"],
+        default["help_rate"],
+    )
