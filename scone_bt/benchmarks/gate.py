@@ -14,9 +14,10 @@ would have succeeded), ``over_step_rate`` (acted, failed), ``attempt_failure_rat
 its split into ``attempt_failure_rate_novel`` (products κ̂ had no outcome of in the stream) and ``_seen``,
 ``help_rate_floor`` (the least help any gate could reach at the realised rate: a clairvoyant, `help_floor`) and
 ``help_rate_floor_without_failures`` (a clairvoyant that never fails; the data's alone), ``help_by_cause`` (the
-decisions asked for, by the rule that asked: "too-wide", "missing", "infeasible", "set-back" for a probe that set
-the product back, "unsure" for κ̂'s own ask, …; each with its rate, how many would have succeeded and how many
-were of a product perceived wider than the gripper: `replay_rates.help_by_cause`),
+decisions asked for, by the rule that asked: "too-wide", "missing", "infeasible", "unsure" for κ̂'s own ask, …, or
+why a probe set the product back: "set-back-felt", "set-back-unsure", "set-back-missed"; each with its rate, how
+many would have succeeded and how many were of a product perceived wider than the gripper:
+`replay_rates.help_by_cause`),
 ``wide_attempts_after_first_wide_failure`` (attempts of products perceived wider than the gripper's opening after a
 stream's first failed one, summed and the largest per stream), the realised rate per stream, and
 ``max_excess_failures``: the largest F − α · A reached at any point of any stream, warm-up included, and

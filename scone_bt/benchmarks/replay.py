@@ -26,11 +26,13 @@ if TYPE_CHECKING:
     from scone_bt.motion.probe import ProbeSettings
 
 __all__ = [
-    "SET_BACK",
+    "SET_BACK_CAUSES",
+    "SET_BACK_FELT",
+    "SET_BACK_MISSED",
+    "SET_BACK_UNSURE",
     "UNSURE",
     "StreamResult",
     "feature_rows",
-    "help_cause",
     "replay_rules",
     "replay_stream",
 ]
@@ -79,7 +81,7 @@ class StreamResult:
     trace: list[int] = field(default_factory=list)
     """Every decision in order: 1 acted and succeeded, 0 acted and failed, -1 asked."""
     help_causes: dict[str, list[int]] = field(default_factory=dict)
-    """Scored decisions the person fetched for, by cause (`help_cause`): [how many, how many would have
+    """Scored decisions the person fetched for, by cause (`SET_BACK_CAUSES`, the rule that asked, or `UNSURE`): [how many, how many would have
     succeeded, how many were of a product perceived wider than the gripper]."""
 
 
@@ -250,6 +252,8 @@ class _Probed:
     aborted: bool
     attempt: _Act
     label: bool = True
+    cause: str = ""
+    """Why it was set back (`SET_BACK_CAUSES`), "" if it carried on."""
 
 
 def _after_probe(
@@ -279,7 +283,7 @@ def _after_probe(
         if missed_in_place(values):
             # The fingers closed on nothing and the product stood where it stood: aborted, as the tree ends it
             # (motion.probe.ProbeController._after_miss), and κ̂ learns it could not take it.
-            return _Probed(True, before)
+            return _Probed(True, before, cause=SET_BACK_MISSED)
         return _Probed(False, replace(before, unfelt=True))
     if scored:
         out.probe_s += reading.seconds
@@ -299,7 +303,8 @@ def _after_probe(
         held_fast=verdict.held_fast,
         by_feel=verdict.by_feel,
     )
-    return _Probed(not verdict.carry, attempt, verdict.carry or verdict.felt_unsafe)
+    cause = "" if verdict.carry else SET_BACK_FELT if verdict.felt_unsafe else SET_BACK_UNSURE
+    return _Probed(not verdict.carry, attempt, verdict.carry or verdict.felt_unsafe, cause)
 
 
 def _committed(
@@ -311,17 +316,17 @@ def _committed(
     ok: bool,
     result: GateResult,
     scored: bool,
-) -> tuple[bool, _Act]:
-    """What decision ``t`` commits to: (set back, the attempt as κ̂ at the final decision saw it). A probe is
-    judged by gate.after_probe; a set-back is tallied here (κ̂ learns it when the fingers said so)."""
+) -> _Probed:
+    """What decision ``t`` commits to: set back or not (and why), and the attempt as κ̂ at the final decision saw
+    it. A probe is judged by gate.after_probe; a set-back is tallied here (κ̂ learns it when the fingers said so)."""
     decision = result.decision
     attempt = _Act(ok, decision.explored, decision.confidence >= result.threshold, replay.rows[t])
     if not decision.probe:
-        return False, attempt
+        return _Probed(False, attempt)
     probed = _after_probe(replay, out, t, product, walk.counts, scored, attempt)
     if probed.aborted:
         walk.counts = _set_back(replay, probed.attempt.row, product, walk.counts, walk.learnt, probed.label)
-    return probed.aborted, probed.attempt
+    return probed
 
 
 def _asks_anyway(result: GateResult, rule: str) -> GateResult:
@@ -451,16 +456,18 @@ def _attempted(
     out.max_excess = max(out.max_excess, walk.counts.failures - alpha * walk.counts.attempts)
 
 
-SET_BACK = "set-back"
-"""The help cause of a probe that set its product back (the person fetches it)."""
 UNSURE = "unsure"
 """The help cause of an ask κ̂ decided (below τ, not explored, not probed): no rule (`Decision.rule` "")."""
-
-
-def help_cause(decision: Decision, aborted: bool) -> str:
-    """Why a decision ended with the person fetching the product: `SET_BACK` after a probe, else the rule that
-    made the ask (`gate.types.DECISION_RULES`: "too-wide", "missing", "infeasible", "probe", …), or `UNSURE`."""
-    return SET_BACK if aborted else (decision.rule or UNSURE)
+SET_BACK_FELT = "set-back-felt"
+"""A probe the fingers felt slip or strain set the product back (motion.probe.judge_probe)."""
+SET_BACK_UNSURE = "set-back-unsure"
+"""A probe that held set the product back on κ̂'s doubt after it, with no credit to carry on (gate.after_probe)."""
+SET_BACK_MISSED = "set-back-missed"
+"""A probe whose fingers closed on nothing left the product where it stood."""
+SET_BACK_CAUSES = (SET_BACK_FELT, SET_BACK_UNSURE, SET_BACK_MISSED)
+"""Why a heft test ended with the product back in its place (an aborted attempt: the person fetches it). Every
+other help cause is the rule that made the ask (`gate.types.DECISION_RULES`: "too-wide", "missing", …) or
+`UNSURE`."""
 
 
 def _tally_help(out: StreamResult, cause: str, ok: bool, wide: bool) -> None:
@@ -514,7 +521,8 @@ def _step(
         trace.append(result.decision)
     decision = result.decision
     act = decision.kind is DecisionKind.ACT
-    aborted, attempt = _committed(replay, walk, out, t, product, ok, result, scored)
+    probed = _committed(replay, walk, out, t, product, ok, result, scored)
+    aborted, attempt = probed.aborted, probed.attempt
     if aborted:
         act = False
     novel = product not in walk.learnt
@@ -527,7 +535,7 @@ def _step(
     if scored:
         _score(out, act, ok, attempt.explored if act else decision.explored, novel, aborted)
         if not act:
-            _tally_help(out, help_cause(decision, aborted), ok, bool(replay.wide[t]))
+            _tally_help(out, probed.cause or decision.rule or UNSURE, ok, bool(replay.wide[t]))
 
 
 def replay_stream(

@@ -81,11 +81,13 @@ def pooled_rates(results: Sequence[StreamResult]) -> dict[str, Any]:
 
 
 def help_by_cause(results: Sequence[StreamResult]) -> dict[str, dict[str, float | int]]:
-    """The scored decisions the person fetched for, pooled over the streams by cause (`replay.help_cause`: the
-    gate's rule, "unsure" for κ̂'s own ask, "set-back" for a probe that set the product back), most first: how many,
-    their share of the decisions (the causes' rates add up to ``help_rate``), how many would have succeeded had the
-    robot carried them (what a better judgement could still take off), and how many were of a product perceived
-    wider than the gripper opens (what no judgement can)."""
+    """The scored decisions the person fetched for, pooled over the streams by cause, most first: the rule that
+    asked ("too-wide", "missing", "infeasible", …), "unsure" for κ̂'s own ask, or why a heft test set the product
+    back ("set-back-felt": the fingers felt it slip or strain; "set-back-unsure": κ̂'s doubt after a probe that
+    held, with no credit to carry on; "set-back-missed": the fingers closed on nothing; `replay.SET_BACK_CAUSES`).
+    For each: how many, their share of the decisions (the rates add up to ``help_rate``), how many would have
+    succeeded had the robot carried them (what a better judgement could still take off), and how many were of a
+    product perceived wider than the gripper opens (what no judgement can)."""
     pooled: dict[str, list[int]] = {}
     for r in results:
         for cause, counts in r.help_causes.items():
