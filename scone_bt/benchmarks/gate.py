@@ -49,7 +49,8 @@ and fleet-warm (κ̂ first learns every execution of the other streams: a fleet'
 same-named dataset in DIR (the same robot's executions on another engine; ``default.*`` is then the taught robot),
 and the report adds ``cross_engine`` (`scone_bt.benchmarks.cross_engine`): per profile the success rates of the
 same executions on both engines, the executions whose outcome flips, and per α in 0.10, 0.15, 0.20 the default
-gate taught and cold, with the decisions its budget needs before the realised rate is back within α + 0.02.
+gate taught and cold (with the heft probe where ``default.*`` has it: ``cross_engine.probe``), with the decisions
+its budget needs before the realised rate is back within α + 0.02.
 
     scone-bench gate --datasets tools/data/sc_mujoco --prior tools/data/sc --json docs/results/gate_mujoco.json
 

@@ -41,6 +41,18 @@ _CONTEXT = CONTEXT_FIELDS
 """The context columns in replay order (decision_time_context's)."""
 _WIDTH = _CONTEXT.index("detected_width_m")
 """The column of the perceived width (what the too-wide rule reads)."""
+UNSURE = "unsure"
+"""The help cause of an ask κ̂ decided (below τ, not explored, not probed): no rule (`Decision.rule` "")."""
+SET_BACK_FELT = "set-back-felt"
+"""A probe the fingers felt slip or strain set the product back (motion.probe.judge_probe)."""
+SET_BACK_UNSURE = "set-back-unsure"
+"""A probe that held set the product back on κ̂'s doubt after it, with no credit to carry on (gate.after_probe)."""
+SET_BACK_MISSED = "set-back-missed"
+"""A probe whose fingers closed on nothing left the product where it stood."""
+SET_BACK_CAUSES = (SET_BACK_FELT, SET_BACK_UNSURE, SET_BACK_MISSED)
+"""Why a heft test ended with the product back in its place (an aborted attempt: the person fetches it). Every
+other help cause is the rule that made the ask (`gate.types.DECISION_RULES`: "too-wide", "missing", …) or
+`UNSURE`."""
 
 
 @dataclass
@@ -81,8 +93,8 @@ class StreamResult:
     trace: list[int] = field(default_factory=list)
     """Every decision in order: 1 acted and succeeded, 0 acted and failed, -1 asked."""
     help_causes: dict[str, list[int]] = field(default_factory=dict)
-    """Scored decisions the person fetched for, by cause (`SET_BACK_CAUSES`, the rule that asked, or `UNSURE`): [how many, how many would have
-    succeeded, how many were of a product perceived wider than the gripper]."""
+    """Scored decisions the person fetched for, by cause (`SET_BACK_CAUSES`, the rule that asked, or `UNSURE`):
+    [how many, how many would have succeeded, how many were of a product perceived wider than the gripper]."""
 
 
 def replay_rules(
@@ -454,20 +466,6 @@ def _attempted(
         held_fast_failures=counts.held_fast_failures + (act.held_fast and not ok),
     )
     out.max_excess = max(out.max_excess, walk.counts.failures - alpha * walk.counts.attempts)
-
-
-UNSURE = "unsure"
-"""The help cause of an ask κ̂ decided (below τ, not explored, not probed): no rule (`Decision.rule` "")."""
-SET_BACK_FELT = "set-back-felt"
-"""A probe the fingers felt slip or strain set the product back (motion.probe.judge_probe)."""
-SET_BACK_UNSURE = "set-back-unsure"
-"""A probe that held set the product back on κ̂'s doubt after it, with no credit to carry on (gate.after_probe)."""
-SET_BACK_MISSED = "set-back-missed"
-"""A probe whose fingers closed on nothing left the product where it stood."""
-SET_BACK_CAUSES = (SET_BACK_FELT, SET_BACK_UNSURE, SET_BACK_MISSED)
-"""Why a heft test ended with the product back in its place (an aborted attempt: the person fetches it). Every
-other help cause is the rule that made the ask (`gate.types.DECISION_RULES`: "too-wide", "missing", …) or
-`UNSURE`."""
 
 
 def _tally_help(out: StreamResult, cause: str, ok: bool, wide: bool) -> None:

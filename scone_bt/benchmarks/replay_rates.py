@@ -85,7 +85,8 @@ def help_by_cause(results: Sequence[StreamResult]) -> dict[str, dict[str, float 
     asked ("too-wide", "missing", "infeasible", …), "unsure" for κ̂'s own ask, or why a heft test set the product
     back ("set-back-felt": the fingers felt it slip or strain; "set-back-unsure": κ̂'s doubt after a probe that
     held, with no credit to carry on; "set-back-missed": the fingers closed on nothing; `replay.SET_BACK_CAUSES`).
-    For each: how many, their share of the decisions (the rates add up to ``help_rate``), how many would have
+    For each: how many, their share of the decisions (the counts add up to the asks ``help_rate`` counts; the rounded rates to within
+    0.001), how many would have
     succeeded had the robot carried them (what a better judgement could still take off), and how many were of a
     product perceived wider than the gripper opens (what no judgement can)."""
     pooled: dict[str, list[int]] = {}
