@@ -16,27 +16,10 @@ over the starts, and the largest excess of failures over α × attempts in any s
 from __future__ import annotations
 
 import argparse
-import contextlib
-import functools
 import json
 import time
-from collections.abc import Iterator
 
 import numpy as np
-
-
-@contextlib.contextmanager
-def budget_defaults(**overrides: float) -> Iterator[None]:
-    """Within the block, every `BudgetOptions` the replay builds (`benchmarks.replay.replay_rules` imports it when
-    called) takes ``overrides`` as its defaults."""
-    from scone_bt.gate import budget
-
-    original = budget.BudgetOptions
-    budget.BudgetOptions = functools.partial(original, **overrides)  # type: ignore[misc]
-    try:
-        yield
-    finally:
-        budget.BudgetOptions = original  # type: ignore[misc]
 
 
 def _floats(text: str) -> list[float]:
@@ -47,6 +30,7 @@ def main() -> None:
     from scone_bt.benchmarks.gate import replay_args, results_over_starts
     from scone_bt.benchmarks.replay_rates import pooled_rates
     from scone_bt.benchmarks.replay_streams import load_streams
+    from scone_bt.gate.budget import BudgetOptions
     from scone_bt.gate.probe import ProbeOptions
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -62,23 +46,25 @@ def main() -> None:
         for eta in _floats(a.steps):
             t0 = time.time()
             line: dict = {"start_margin": margin, "step": eta}
-            with budget_defaults(start_margin=margin, step=eta):
-                for alpha in _floats(a.alphas):
-                    rates = [
-                        pooled_rates(results)
-                        for _, results in results_over_starts(
-                            streams, a.step, "physical", alpha, args, probe=ProbeOptions()
-                        )
-                    ]
-                    failure = [r["attempt_failure_rate"] for r in rates]
-                    help_ = [r["help_rate"] for r in rates]
-                    line[f"{alpha:g}"] = {
-                        "attempt_failure_rate_mean": round(float(np.mean(failure)), 4),
-                        "attempt_failure_rate_max": round(max(failure), 4),
-                        "help_rate_mean": round(float(np.mean(help_)), 4),
-                        "help_rate_max": round(max(help_), 4),
-                        "max_excess_failures": round(max(r["max_excess_failures"] for r in rates), 2),
-                    }
+            args.budget = BudgetOptions(
+                start_margin=margin, step=eta
+            )  # stream_results hands it to each replay
+            for alpha in _floats(a.alphas):
+                rates = [
+                    pooled_rates(results)
+                    for _, results in results_over_starts(
+                        streams, a.step, "physical", alpha, args, probe=ProbeOptions()
+                    )
+                ]
+                failure = [r["attempt_failure_rate"] for r in rates]
+                help_ = [r["help_rate"] for r in rates]
+                line[f"{alpha:g}"] = {
+                    "attempt_failure_rate_mean": round(float(np.mean(failure)), 4),
+                    "attempt_failure_rate_max": round(max(failure), 4),
+                    "help_rate_mean": round(float(np.mean(help_)), 4),
+                    "help_rate_max": round(max(help_), 4),
+                    "max_excess_failures": round(max(r["max_excess_failures"] for r in rates), 2),
+                }
             line["wall_s"] = round(time.time() - t0, 1)
             print(json.dumps(line), flush=True)
 

@@ -125,7 +125,8 @@ def stream_results(
     probe: ProbeOptions | None = None,
 ) -> list[StreamResult]:
     """Every stream replayed (`replay_stream`, stream j seeded ``args.seed + j``, ``args.warmup``, ``args.opening``,
-    the strict rule's ``args.excess_allowance`` if set); ``taught`` (--prior): κ̂ first learns the same-named stream
+    the strict rule's ``args.excess_allowance`` if set, the budget's start and step ``args.budget`` if set, a
+    `BudgetOptions`: tools/budget_start_sweep.py); ``taught`` (--prior): κ̂ first learns the same-named stream
     of it; ``fleet``: the other streams first; ``probe``: the budget gate's heft test (None: none)."""
     results = []
     for j in range(len(streams.names)):
@@ -153,6 +154,7 @@ def stream_results(
                 readings=streams.readings[j] if streams.readings else None,
                 excess_allowance=getattr(args, "excess_allowance", None),
                 foreseen=streams.foreseen[j] if streams.foreseen else None,
+                budget=getattr(args, "budget", None),
             )
         )
     return results

@@ -19,7 +19,7 @@ import numpy as np
 from scone_bt.experience.types import CONTEXT_FIELDS
 
 if TYPE_CHECKING:
-    from scone_bt.gate.budget import BudgetCounts
+    from scone_bt.gate.budget import BudgetCounts, BudgetOptions
     from scone_bt.gate.probe import ProbeOptions
     from scone_bt.gate.rules import GateInput, GateResult, GateRules
     from scone_bt.gate.types import Decision
@@ -103,25 +103,29 @@ def replay_rules(
     opening_m: float,
     probe: ProbeOptions | None = None,
     excess_allowance: float | None = None,
+    budget: BudgetOptions | None = None,
 ) -> GateRules:
     """The gate's rules for a replayed method (see `replay_stream`'s ``gate``); ``probe``: the budget gate's heft
     test (None: none); ``excess_allowance``: exploration spends only credit (gate.budget.has_credit; None: the
-    budget's exploration rule alone).
+    budget's exploration rule alone); ``budget``: the failure budget's other settings (its start and step; None:
+    the shipped ones), its target failure rate and allowance replaced by ``alpha`` and ``excess_allowance``.
 
     The per-action failure limit is not among them: it counts failures within one episode, and a stream's
     executions are each from another.
     """
+    from dataclasses import replace
+
     from scone_bt.gate import GateOptions
     from scone_bt.gate.budget import BudgetOptions
     from scone_bt.gate.rules import GateRules
 
-    budget = BudgetOptions(target_failure_rate=alpha, excess_allowance=excess_allowance)
+    budget = replace(budget or BudgetOptions(), target_failure_rate=alpha, excess_allowance=excess_allowance)
     # one candidate of relevance 1 a decision: the relevance threshold never idles it
     if gate == "budget":
         return GateRules(budget=budget, exploration=budget, opening_m=opening_m, probe=probe)
     if gate == "fixed":
         return GateRules(
-            budget=BudgetOptions(target_failure_rate=alpha, step=0.0, excess_allowance=excess_allowance),
+            budget=replace(budget, step=0.0),
             exploration=budget,
         )
     if gate == "conformal":
@@ -199,6 +203,7 @@ def _start_replay(
     probe: ProbeOptions | None,
     readings: np.ndarray | None,
     excess_allowance: float | None,
+    budget: BudgetOptions | None = None,
 ) -> _Replay:
     """κ̂ (fitted on the fleet prior), its rows, the method's rules and the draws (`replay_stream`'s arguments)."""
     from scone_bt.confidence import make_estimator
@@ -218,7 +223,7 @@ def _start_replay(
     return _Replay(
         estimator=est,
         rows=X,
-        rules=replay_rules(gate, alpha, opening_m, probe, excess_allowance),
+        rules=replay_rules(gate, alpha, opening_m, probe, excess_allowance, budget),
         draw=draw or np.random.default_rng(seed).random,
         belief=getattr(est, "belief", est.predict),
         explore_fn=getattr(est, "explores", None) if gate == "paper" else None,
@@ -554,6 +559,7 @@ def replay_stream(
     readings: np.ndarray | None = None,
     excess_allowance: float | None = None,
     foreseen: np.ndarray | None = None,
+    budget: BudgetOptions | None = None,
 ) -> StreamResult:
     """The online robot over one stream; see the module docstring.
 
@@ -580,6 +586,7 @@ def replay_stream(
             do it (`foreseen`: "missing", the target not detected; "infeasible", no plan; "" neither): where the
             gate decides to act, the robot asks, as the tree does (no attempt, no probe; κ̂ learns a failure at
             planning from an infeasible plan, nothing from a missing target); None: none.
+        budget: The failure budget's start and step (`replay_rules`; None: the shipped ones).
     """
     from scone_bt.gate.budget import BudgetCounts
 
@@ -596,6 +603,7 @@ def replay_stream(
         probe,
         readings,
         excess_allowance,
+        budget,
     )
     walk = _Walk(BudgetCounts(learnt=replay.estimator.n_observations))
     out = StreamResult()

@@ -18,15 +18,36 @@ def test_the_threshold_starts_at_one_less_k_alpha():
         BudgetOptions(start_margin=0.0)
 
 
-def test_the_sweep_s_defaults_reach_the_replay_s_rules_and_are_undone(tool):
+def test_the_sweep_s_budget_reaches_the_replay_s_rules_with_its_own_rate():
     from scone_bt.benchmarks.replay import replay_rules
 
-    sweep = tool("budget_start_sweep")
-    with sweep.budget_defaults(start_margin=5.0, step=0.02):
-        rules = replay_rules("budget", 0.15, 0.08)
-        assert rules.budget.start_margin == 5.0 and rules.budget.step == 0.02
+    swept = BudgetOptions(start_margin=5.0, step=0.02)
+    rules = replay_rules("budget", 0.10, 0.08, excess_allowance=1.0, budget=swept)
+    assert (rules.budget.start_margin, rules.budget.step) == (5.0, 0.02)
+    assert (rules.budget.target_failure_rate, rules.budget.excess_allowance) == (0.10, 1.0)
+    assert replay_rules("fixed", 0.10, 0.08, budget=swept).budget.step == 0.0  # a fixed threshold stays fixed
     rules = replay_rules("budget", 0.15, 0.08)
     assert rules.budget.start_margin == 3.0 and rules.budget.step == 0.05
+
+
+def test_a_swept_start_changes_the_replay(tool):
+    """args.budget reaches every stream: a lower start asks for less on the same streams."""
+    from scone_bt.benchmarks.gate import replay_args, stream_results
+    from scone_bt.benchmarks.replay_rates import pooled_rates
+    from scone_bt.benchmarks.replay_streams import load_streams
+    from scone_bt.gate.probe import ProbeOptions
+
+    args = replay_args("tools/data/sc_probe")
+    streams = load_streams(args, oracle=False)
+
+    def help_rate() -> float:
+        return pooled_rates(stream_results(streams, "physical", "budget", 0.15, args, probe=ProbeOptions()))[
+            "help_rate"
+        ]
+
+    shipped = help_rate()
+    args.budget = BudgetOptions(start_margin=6.0, step=0.02)
+    assert help_rate() < shipped
 
 
 @pytest.mark.slow
