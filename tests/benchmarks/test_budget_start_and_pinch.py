@@ -94,3 +94,45 @@ def test_the_gain_counts_lowest_tier_flat_packs_held_with_each_streams_gripper(t
     assert by_stream["p09_old_robot"]["held"] == 0
     assert out["held"] == sum(s["held"] for s in out["streams"])
     assert out["help_rate_drop_at_most"] == round(out["held"] / 240, 4)
+
+
+@pytest.mark.slow
+def test_the_what_if_replays_the_shipped_gate_and_a_skill_that_held_every_pack(tool, capsys, monkeypatch):
+    """--replay-margins: as recorded it is the shipped replay itself; with the held packs carried, it asks for
+    no more, and each emulated row is a success the too-wide rule lets the robot try."""
+    import csv
+    import json
+    import sys
+    import tempfile
+    from pathlib import Path
+
+    from scone_bt.config.grasp import DEFAULT_OPENING_M
+    from scone_bt.config.robot import load_robot
+
+    gain = tool("wide_pack_gain")
+    results = ["docs/results/slide_and_pinch.jsonl", "docs/results/slide_and_pinch_profiles.jsonl"]
+    held = {}
+    for path in results:
+        for text in Path(path).read_text(encoding="utf-8").splitlines():
+            line = json.loads(text)
+            if line.get("engine") == "pybullet" and "product" in line:
+                held[(float(line["gripper"][0]), float(line["gripper"][1]), line["product"])] = line["held"]
+    with tempfile.TemporaryDirectory() as tmp:
+        changed = gain._emulate(
+            Path("tools/data/sc_heldout2_probe"), Path(tmp), held, load_robot("panda").gripper
+        )
+        rows = [r for p in sorted(Path(tmp).glob("*.csv")) for r in csv.DictReader(p.open(encoding="utf-8"))]
+    emulated = [r for r in rows if r["detected_width_m"] == f"{DEFAULT_OPENING_M - 0.002:.4f}"]
+    assert changed == len(emulated) > 0 and all(r["outcome"] == "success" for r in emulated)
+    assert all(gain._lowest_tier_flat_wide(r, DEFAULT_OPENING_M) for r in emulated)
+
+    argv = ["wide_pack_gain", "--datasets", "tools/data/sc_heldout2_probe", "--results", *results]
+    monkeypatch.setattr(sys, "argv", [*argv, "--replay-margins", "3"])
+    gain.main()
+    replay = json.loads(capsys.readouterr().out)["replay"]["margins"]["3"]
+    shipped = json.loads(Path("docs/results/probe_alpha_heldout2.json").read_text(encoding="utf-8"))[
+        "default"
+    ]
+    assert replay["recorded"]["help_rate"] == shipped["help_rate"]
+    assert replay["recorded"]["help_rate_over_starts_mean"] == shipped["over_starts"]["help_rate_mean"]
+    assert replay["with_skill"]["help_rate"] < replay["recorded"]["help_rate"]
