@@ -247,6 +247,12 @@ class CollisionWorld:
         return self._pinocchio
 
     @property
+    def holds_object(self) -> bool:
+        """Whether the hand holds an object in this world (a path found in it is then checked again at a finer
+        step: `segments.CARRY_RESOLUTION_SCALE`)."""
+        return self._attached is not None
+
+    @property
     def geom_model(self) -> Any:
         """Pinocchio's geometry model of this world: the arm, the padded obstacles and the held object."""
         return self._meshes()[1]

@@ -13,9 +13,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from scone_bt.motion.collision import CollisionWorld, Obstacle
+from scone_bt.motion.collision import CollisionWorld, Obstacle, interpolated
 from scone_bt.motion.model import ArmModel, IKOptions
 from scone_bt.motion.planner import PlannerOptions, direct_path, plan_joint_path
+from scone_bt.motion.segments import CARRY_RESOLUTION_SCALE, motion_step, segment_times
 from scone_bt.motion.timing import KinematicLimits, time_path
 from scone_bt.motion.types import MotionPhase, PlanResult, PlanStatus, TimedTrajectory
 
@@ -220,16 +221,34 @@ class PlanSession:
         if not self.options.try_direct or not (world.is_valid(qa) and world.is_valid(qb)):
             return None
         result = direct_path(qa, qb, self.arm.lower, self.arm.upper, world.is_valid, self.options)
-        if result is None:
+        if result is None or not self._carry_clear(result, world):
             return None
         self.queries += 1
         self.plans.append(result)
         return result
 
+    def _carry_clear(self, result: PlanResult, world: CollisionWorld) -> bool:
+        """Whether a path found in ``world`` is also free at the carry's finer step, where the hand holds a product
+        (`segments.CARRY_RESOLUTION_SCALE`: the product reaches beyond the fingertips, and sweeps farther between
+        two states of the default step than its clearance). Checked on the path found, not on every candidate:
+        the default step rejects most of them at a quarter of the cost."""
+        if not world.holds_object or result.path is None:
+            return True
+        fine = motion_step(self.arm.lower, self.arm.upper, self.options.resolution * CARRY_RESOLUTION_SCALE)
+        path = np.asarray(result.path)
+        return all(
+            world.states_valid(interpolated(a, b, segment_times(a, b, fine)[1:-1]))
+            for a, b in zip(path[:-1], path[1:], strict=False)
+        )
+
     def _plan_once(self, qa: np.ndarray, qb: np.ndarray, world: CollisionWorld) -> PlanResult:
         opts = replace(self.options, rng_seed=self.seed * 16 + self.queries)
         self.queries += 1
         result = plan_joint_path(qa, qb, self.arm.lower, self.arm.upper, world.is_valid, opts)
+        if result.success and not self._carry_clear(result, world):
+            # a path the default step passed grazes something between its states: plan again at the finer step
+            fine = replace(opts, resolution=opts.resolution * CARRY_RESOLUTION_SCALE)
+            result = plan_joint_path(qa, qb, self.arm.lower, self.arm.upper, world.is_valid, fine)
         self.plans.append(result)
         return result
 

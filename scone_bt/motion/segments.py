@@ -8,10 +8,16 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["MOTION_RESOLUTION", "motion_step", "segment_times"]
+__all__ = ["CARRY_RESOLUTION_SCALE", "MOTION_RESOLUTION", "motion_step", "segment_times"]
 
 MOTION_RESOLUTION = 0.004
 """Default motion-checking step, as a fraction of the joint space's largest extent (L2)."""
+CARRY_RESOLUTION_SCALE = 0.25
+"""The motion-checking step while the hand holds a product, as a fraction of the default one. A carried product
+reaches beyond the fingertips: at the default step (0.054 rad on the Panda) its far end moved 25 to 32 mm between
+two checked states of a transit, while its net clearance is a few millimetres, and a transit that ran 3.5 mm into a
+standing pepper mill passed every check (MuJoCo, episode 10 of the 50 seeded ones). A quarter of the step keeps the
+product's travel between checks under about 8 mm."""
 
 
 def motion_step(lower: np.ndarray, upper: np.ndarray, resolution: float) -> float:

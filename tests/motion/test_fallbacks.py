@@ -351,3 +351,49 @@ def test_a_tight_fit_is_descended_on_with_less_drift_than_the_room_beside_it(set
     off = pts - pts[0]
     drift = np.linalg.norm(off - np.outer(off @ axis, axis), axis=1).max()
     assert drift < 2 * room / 3 < LINE_TOLERANCE, f"the descent drifts {drift * 1000:.2f} mm"
+
+
+def test_a_carried_product_is_checked_at_a_finer_step_than_the_bare_hand(arm, robot_cfg):
+    """A small block that what the hand holds sweeps through between two states of the default step is missed by
+    that step and caught when the path found is checked again at the carry's (`segments.CARRY_RESOLUTION_SCALE`);
+    a query planned through it goes around it."""
+    from scone_bt.motion.collision import CollisionWorld, Obstacle, interpolated
+    from scone_bt.motion.plan_session import PlanSession
+    from scone_bt.motion.segments import CARRY_RESOLUTION_SCALE, motion_step, segment_times
+
+    qa = np.asarray(robot_cfg.home, dtype=float)
+    qb = qa.copy()
+    qb[0] += 0.10  # the base turns: what the hand holds sweeps sideways
+    options = PlannerOptions()
+    coarse = segment_times(qa, qb, motion_step(arm.lower, arm.upper, options.resolution))
+    fine = segment_times(
+        qa, qb, motion_step(arm.lower, arm.upper, options.resolution * CARRY_RESOLUTION_SCALE)
+    )
+    between = fine[(fine > coarse[0]) & (fine < coarse[1])]
+    t = float(between[len(between) // 2])  # a state the finer step checks and the default one does not
+    # a thin stick held along the approach axis (its collision shape 5 mm smaller on every side: 2 mm thick)
+    held = Obstacle("stick", "box", (0.012, 0.012, 0.20), np.eye(4))
+    held.pose[2, 3] = 0.15
+    block_pose = arm.fk(qa + t * (qb - qa)) @ held.pose
+    block_pose[:3, :3] = np.eye(3)
+    block_pose[:3, 3] += np.asarray(
+        arm.config.base_position
+    )  # fk is in the arm's frame, obstacles in the world's
+    block = Obstacle("pepper", "box", (0.004, 0.004, 0.004), block_pose)
+    session = PlanSession(arm, options, limits_of(robot_cfg), 240.0, seed=3)
+    carrying = CollisionWorld(arm, [block], held, padding=0.0)
+    bare = CollisionWorld(arm, [block], padding=0.0)
+    assert all(
+        carrying.is_valid(qa + c * (qb - qa)) for c in coarse
+    )  # free at every state of the default step
+    assert not carrying.is_valid(qa + t * (qb - qa))
+    assert session.direct(qa, qb, carrying) is None  # the finer step finds it
+    assert session.direct(qa, qb, bare) is not None  # the bare hand passes above it, at the default step
+    around = session.plan(
+        qa, qb, carrying
+    )  # OMPL's straight answer grazes it: planned again at the finer step
+    fine_step = motion_step(arm.lower, arm.upper, options.resolution * CARRY_RESOLUTION_SCALE)
+    assert around.success and all(
+        carrying.states_valid(interpolated(a, b, segment_times(a, b, fine_step)))
+        for a, b in zip(around.path[:-1], around.path[1:], strict=False)
+    )
