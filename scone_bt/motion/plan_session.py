@@ -13,10 +13,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from scone_bt.motion.collision import CollisionWorld, Obstacle, interpolated
+from scone_bt.motion.collision import CollisionWorld, Obstacle
 from scone_bt.motion.model import ArmModel, IKOptions
-from scone_bt.motion.planner import PlannerOptions, direct_path, plan_joint_path
-from scone_bt.motion.segments import CARRY_RESOLUTION_SCALE, motion_step, segment_times
+from scone_bt.motion.planner import PlannerOptions, direct_path, path_free, plan_joint_path
+from scone_bt.motion.segments import CARRY_RESOLUTION_SCALE, motion_step
 from scone_bt.motion.timing import KinematicLimits, time_path
 from scone_bt.motion.types import MotionPhase, PlanResult, PlanStatus, TimedTrajectory
 
@@ -235,11 +235,7 @@ class PlanSession:
         if not world.holds_object or result.path is None:
             return True
         fine = motion_step(self.arm.lower, self.arm.upper, self.options.resolution * CARRY_RESOLUTION_SCALE)
-        path = np.asarray(result.path)
-        return all(
-            world.states_valid(interpolated(a, b, segment_times(a, b, fine)[1:-1]))
-            for a, b in zip(path[:-1], path[1:], strict=False)
-        )
+        return path_free(world.is_valid, result.path, fine)
 
     def _plan_once(self, qa: np.ndarray, qb: np.ndarray, world: CollisionWorld) -> PlanResult:
         opts = replace(self.options, rng_seed=self.seed * 16 + self.queries)

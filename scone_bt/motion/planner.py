@@ -30,6 +30,7 @@ __all__ = [
     "PlannerOptions",
     "direct_path",
     "motion_step",
+    "path_free",
     "plan_joint_path",
     "segment_times",
     "silence_ompl",
@@ -211,6 +212,16 @@ def _direct(
         np.array([start, goal]),
         time.perf_counter() - t0,
         "direct: the straight joint-space segment is collision-free",
+    )
+
+
+def path_free(is_valid: Callable[[np.ndarray], bool], path: np.ndarray, step: float) -> bool:
+    """True if every segment of `path` (its waypoints, radians) is free, checked every ``step`` (rad, L2) between
+    its ends, as `_segment_free` checks one."""
+    path = np.asarray(path, dtype=float)
+    return all(
+        _segment_free(is_valid, qa, qb, segment_times(qa, qb, step)[1:-1])
+        for qa, qb in zip(path[:-1], path[1:], strict=True)
     )
 
 
