@@ -31,6 +31,7 @@ __all__ = [
     "SET_BACK_MISSED",
     "SET_BACK_UNSURE",
     "UNSURE",
+    "HelpTally",
     "StreamResult",
     "feature_rows",
     "replay_rules",
@@ -53,6 +54,22 @@ SET_BACK_CAUSES = (SET_BACK_FELT, SET_BACK_UNSURE, SET_BACK_MISSED)
 """Why a heft test ended with the product back in its place (an aborted attempt: the person fetches it). Every
 other help cause is the rule that made the ask (`gate.types.DECISION_RULES`: "too-wide", "missing", …) or
 `UNSURE`."""
+
+
+@dataclass
+class HelpTally:
+    """Scored decisions the person fetched for, of one cause: how many, how many would have succeeded, and how many
+    were of a product perceived wider than the gripper."""
+
+    decisions: int = 0
+    would_have_succeeded: int = 0
+    wider_than_gripper: int = 0
+
+    def add(self, other: HelpTally) -> None:
+        """Pool ``other``'s counts into these."""
+        self.decisions += other.decisions
+        self.would_have_succeeded += other.would_have_succeeded
+        self.wider_than_gripper += other.wider_than_gripper
 
 
 @dataclass
@@ -92,9 +109,8 @@ class StreamResult:
     thresholds: list[float] = field(default_factory=list)
     trace: list[int] = field(default_factory=list)
     """Every decision in order: 1 acted and succeeded, 0 acted and failed, -1 asked."""
-    help_causes: dict[str, list[int]] = field(default_factory=dict)
-    """Scored decisions the person fetched for, by cause (`SET_BACK_CAUSES`, the rule that asked, or `UNSURE`):
-    [how many, how many would have succeeded, how many were of a product perceived wider than the gripper]."""
+    help_causes: dict[str, HelpTally] = field(default_factory=dict)
+    """Scored decisions the person fetched for, by cause (`SET_BACK_CAUSES`, the rule that asked, or `UNSURE`)."""
 
 
 def replay_rules(
@@ -475,10 +491,7 @@ def _attempted(
 
 def _tally_help(out: StreamResult, cause: str, ok: bool, wide: bool) -> None:
     """One scored decision the person fetched for (`StreamResult.help_causes`)."""
-    counts = out.help_causes.setdefault(cause, [0, 0, 0])
-    counts[0] += 1
-    counts[1] += ok
-    counts[2] += wide
+    out.help_causes.setdefault(cause, HelpTally()).add(HelpTally(1, int(ok), int(wide)))
 
 
 def _score(out: StreamResult, act: bool, ok: bool, explored: bool, novel: bool, aborted: bool) -> None:

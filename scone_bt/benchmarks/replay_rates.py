@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from scone_bt.benchmarks.replay import StreamResult
+from scone_bt.benchmarks.replay import HelpTally, StreamResult
 
 __all__ = ["help_by_cause", "help_floor", "pooled_rates", "stream_successes"]
 
@@ -85,25 +85,23 @@ def help_by_cause(results: Sequence[StreamResult]) -> dict[str, dict[str, float 
     asked ("too-wide", "missing", "infeasible", …), "unsure" for κ̂'s own ask, or why a heft test set the product
     back ("set-back-felt": the fingers felt it slip or strain; "set-back-unsure": κ̂'s doubt after a probe that
     held, with no credit to carry on; "set-back-missed": the fingers closed on nothing; `replay.SET_BACK_CAUSES`).
-    For each: how many, their share of the decisions (the counts add up to the asks ``help_rate`` counts; the rounded rates to within
-    0.001), how many would have
-    succeeded had the robot carried them (what a better judgement could still take off), and how many were of a
-    product perceived wider than the gripper opens (what no judgement can)."""
-    pooled: dict[str, list[int]] = {}
+    For each: how many, their share of the decisions (the counts add up to the asks ``help_rate`` counts, the
+    rounded rates to within 0.001), how many would have succeeded had the robot carried them (what a better
+    judgement could still take off), and how many were of a product perceived wider than the gripper opens (what no
+    judgement can)."""
+    pooled: dict[str, HelpTally] = {}
     for r in results:
-        for cause, counts in r.help_causes.items():
-            into = pooled.setdefault(cause, [0, 0, 0])
-            for i, c in enumerate(counts):
-                into[i] += c
+        for cause, tally in r.help_causes.items():
+            pooled.setdefault(cause, HelpTally()).add(tally)
     n = max(sum(r.decisions for r in results), 1)
     return {
         cause: {
-            "decisions": c[0],
-            "rate": round(c[0] / n, 4),
-            "would_have_succeeded": c[1],
-            "wider_than_gripper": c[2],
+            "decisions": c.decisions,
+            "rate": round(c.decisions / n, 4),
+            "would_have_succeeded": c.would_have_succeeded,
+            "wider_than_gripper": c.wider_than_gripper,
         }
-        for cause, c in sorted(pooled.items(), key=lambda kv: (-kv[1][0], kv[0]))
+        for cause, c in sorted(pooled.items(), key=lambda kv: (-kv[1].decisions, kv[0]))
     }
 
 
