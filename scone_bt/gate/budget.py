@@ -12,11 +12,12 @@ where A and F are every labelled attempt so far (exploratory ones included: the 
 and the failures among them, τ₀ = clip(1 − kα) with k = ``start_margin`` = 3, and η the step. Each failure
 raises τ by η(1 − α); each success lowers it by ηα, so τ settles where failures are α of the attempts. While τ
 stays inside its bounds, F − α · A = (τ − τ₀) / η exactly: the failures in excess of the budget are bounded by
-(τ_max − τ₀) / η (8 at the default α = 0.15) whatever the products are. τ₀ and η were chosen on the development streams (tools/data/sc), not
-on the held-out ones: a larger η tracks a stream of new products faster, and 1 − 3α starts where the physical κ̂,
-whose cold predictions are shrunk towards 0.5, fails about α of its attempts (docs/results/gate.md). With the heft
-probe the robot spends about half its budget; a lower start (k = 4–6) trades help for failures at about 0.75 to 1
-and widens that bound on excess failures (tools/budget_start_sweep.py, docs/results/probe.md), so it stays.
+(τ_max − τ₀) / η (8 at the default α = 0.15) whatever the products are. τ₀ and η were chosen on the development
+streams (tools/data/sc), not on the held-out ones: a larger η tracks a stream of new products faster, and 1 − 3α
+starts where the physical κ̂, whose cold predictions are shrunk towards 0.5, fails about α of its attempts
+(docs/results/gate.md). With the heft probe the robot spends about half its budget; a lower start (k = 4–6) trades
+help for failures at about 0.75 to 1 and widens that bound on excess failures (tools/budget_start_sweep.py,
+docs/results/probe.md), so it stays.
 
 Exploration (the paper's ε-greedy, made principled): while κ̂ has learnt from fewer than ``explore_until``
 outcomes and fewer than ``explore_failures`` exploratory attempts failed, an action below τ is tried with
