@@ -50,13 +50,7 @@ def main() -> None:
         help="comma-separated k: replay the what-if at τ₀ = 1 − kα (docstring)",
     )
     a = ap.parse_args()
-    held: dict[tuple[float, float, str], bool] = {}
-    for path in a.results:
-        for text in Path(path).read_text(encoding="utf-8").splitlines():
-            line = json.loads(text)
-            if line.get("engine") == a.engine and "product" in line:
-                force, friction = line["gripper"]
-                held[(float(force), float(friction), line["product"])] = bool(line["held"])
+    held = held_in_check(a.results, a.engine)
     robot = load_robot("panda").gripper
     splits = [_gain(d, held, robot, a) for d in a.datasets]
     report = {"benchmark": "wide_pack_gain", "engine": a.engine, "results": a.results, "splits": splits}
@@ -64,6 +58,19 @@ def main() -> None:
         margins = [float(k) for k in a.replay_margins.split(",")]
         report["replay"] = _replay(a.datasets[0], held, robot, a, margins)
     print(json.dumps(report, indent=1))
+
+
+def held_in_check(results: list[str], engine: str) -> dict[tuple[float, float, str], bool]:
+    """Whether each product held in `slide_and_pinch_check.py`'s runs on ``engine``, by (newtons per finger, the
+    pads' friction, product)."""
+    held: dict[tuple[float, float, str], bool] = {}
+    for path in results:
+        for text in Path(path).read_text(encoding="utf-8").splitlines():
+            line = json.loads(text)
+            if line.get("engine") == engine and "product" in line:
+                force, friction = line["gripper"]
+                held[(float(force), float(friction), line["product"])] = bool(line["held"])
+    return held
 
 
 def _gain(datasets: str, held: dict[tuple[float, float, str], bool], robot, a: argparse.Namespace) -> dict:

@@ -111,12 +111,7 @@ def test_the_what_if_replays_the_shipped_gate_and_a_skill_that_held_every_pack(t
 
     gain = tool("wide_pack_gain")
     results = ["docs/results/slide_and_pinch.jsonl", "docs/results/slide_and_pinch_profiles.jsonl"]
-    held = {}
-    for path in results:
-        for text in Path(path).read_text(encoding="utf-8").splitlines():
-            line = json.loads(text)
-            if line.get("engine") == "pybullet" and "product" in line:
-                held[(float(line["gripper"][0]), float(line["gripper"][1]), line["product"])] = line["held"]
+    held = gain.held_in_check(results, "pybullet")
     with tempfile.TemporaryDirectory() as tmp:
         changed = gain._emulate(
             Path("tools/data/sc_heldout2_probe"), Path(tmp), held, load_robot("panda").gripper
