@@ -167,7 +167,7 @@ def _replay(
     """The shipped gate on ``datasets`` as recorded and as if the skill existed, per start margin (docstring)."""
     import numpy as np
 
-    from scone_bt.benchmarks.gate import OVER_STARTS_STEP, replay_args, results_over_starts, stream_results
+    from scone_bt.benchmarks.gate import OVER_STARTS_STEP, replay_args, results_over_starts
     from scone_bt.benchmarks.replay_rates import pooled_rates
     from scone_bt.benchmarks.replay_streams import load_streams
     from scone_bt.gate.budget import BudgetOptions
@@ -185,15 +185,13 @@ def _replay(
             args.budget = BudgetOptions(start_margin=k)
             line = {}
             for view, streams in views.items():
-                first = pooled_rates(
-                    stream_results(streams, "physical", "budget", 0.15, args, probe=ProbeOptions())
-                )
                 starts = [
                     pooled_rates(r)
                     for _, r in results_over_starts(
                         streams, OVER_STARTS_STEP, "physical", 0.15, args, probe=ProbeOptions()
                     )
                 ]
+                first = starts[0]  # the start at row 0: each stream from its first row, as `stream_results`
                 line[view] = {
                     "attempt_failure_rate": first["attempt_failure_rate"],
                     "help_rate": first["help_rate"],
