@@ -46,9 +46,8 @@ def main() -> None:
         for eta in _floats(a.steps):
             t0 = time.time()
             line: dict = {"start_margin": margin, "step": eta}
-            args.budget = BudgetOptions(
-                start_margin=margin, step=eta
-            )  # stream_results hands it to each replay
+            # stream_results hands it to each replay (replay_rules keeps its own α and allowance)
+            args.budget = BudgetOptions(start_margin=margin, step=eta)
             for alpha in _floats(a.alphas):
                 rates = [
                     pooled_rates(results)
