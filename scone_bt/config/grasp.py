@@ -19,11 +19,28 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, create_model
 from scone_bt.config.schema import format_validation_error
 from scone_bt.errors import ConfigError
 
-__all__ = ["DEFAULT_OPENING_M", "GraspParams", "PLANNERS"]
+__all__ = ["DEFAULT_OPENING_M", "FLAT_PACK_MAX_HEIGHT_M", "GraspParams", "PLANNERS", "flat_pack"]
 
 DEFAULT_OPENING_M = 0.08
 """The Panda's gripper opening (robots/panda.yaml: 2 × open_position), metres: what a product's span is measured
 against where no arm's own opening is given (the grasp's cost, the physical κ̂)."""
+
+FLAT_PACK_MAX_HEIGHT_M = 0.07
+"""The tallest product, metres, that the slide-and-pinch skill takes (`flat_pack`, `motion.slide`): a pack the
+gripper cannot span either way is slid towards the robot and pinched by the edge that then sticks out, the fingers
+closing across its thickness."""
+
+
+def flat_pack(width_m: float | None, height_m: float | None, opening_m: float | None) -> bool:
+    """A flat pack wider than the gripper opens (``width_m``: its narrower horizontal extent) and at most
+    `FLAT_PACK_MAX_HEIGHT_M` tall: what the slide-and-pinch skill takes where it stands on a lowest tier. False
+    where a size is unknown (None or NaN)."""
+    if width_m is None or height_m is None or opening_m is None:
+        return False
+    if math.isnan(width_m) or math.isnan(height_m):
+        return False
+    return width_m > opening_m and height_m <= FLAT_PACK_MAX_HEIGHT_M
+
 
 PLANNERS = ("RRTConnect", "RRT", "RRTstar", "PRM", "KPIECE1", "BKPIECE1", "LBKPIECE1", "BITstar", "AORRTC")
 """OMPL geometric planners selectable by name."""
@@ -85,6 +102,9 @@ class GraspParams:
             with the scene or cannot follow the straight descent and lift.
         path_retries: OMPL queries repeated with a fresh seed (same budget) when one runs out of iterations
             before "no path" is the answer: a sampling planner's miss on one seed is not the scene's verdict.
+        slide_pinch: A flat pack wider than the gripper on a lowest tier (`flat_pack`) is slid towards the robot
+            and pinched by its front edge (`motion.slide`) instead of grasped; the gate lets κ̂ decide on it
+            instead of asking because it is too wide. False: such a pack is asked for.
     """
 
     approach: float = 0.10
@@ -120,6 +140,7 @@ class GraspParams:
     max_goal_placements: int = 4
     ik_alternatives: int = 0
     path_retries: int = 1
+    slide_pinch: bool = True
 
     @classmethod
     def of(cls, robot: _WithGrasp) -> GraspParams:

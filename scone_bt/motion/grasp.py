@@ -70,6 +70,7 @@ class GraspFamily(str, Enum):  # noqa: UP042 (str() of members is used in messag
     TOP = "top"
     TILTED = "tilted"
     SIDE = "side"
+    PINCH = "pinch"  # a flat pack's edge, the fingers closing vertically (motion.slide; no cost of its own)
 
 
 @dataclass(frozen=True, eq=False)
@@ -124,7 +125,7 @@ class GraspCandidate:
         return f"{self.family.value} grasp at yaw {math.degrees(self.closing_yaw):.0f}°"
 
 
-_FAMILY_INDEX = {family: k for k, family in enumerate(GraspFamily)}
+_FAMILY_INDEX = {family: k for k, family in enumerate(GraspFamily) if family is not GraspFamily.PINCH}
 """Each family's place in `GraspParams.family_cost`."""
 
 

@@ -120,7 +120,12 @@ def prepare_grasps(session: PlanSession, scene: PickScene) -> GraspSite:
     """The target's grasp candidates, the hand's pre-shape, the collision worlds and the lift height."""
     req = scene.request
     params = req.params
-    candidates = grasp_candidates(req.target, req.spec, params, req.preferred_yaw, req.opening)
+    if req.pinch is not None:  # a slid flat pack: its front edge, nothing else (motion.slide)
+        from scone_bt.motion.slide import pinch_candidates
+
+        candidates = pinch_candidates(req.target, req.spec, req.pinch, params.approach)
+    else:
+        candidates = grasp_candidates(req.target, req.spec, params, req.preferred_yaw, req.opening)
     fingers = preshape(candidates, req.opening, req.finger_closed, params)
     around = [*scene.fixed, scene.target]
     free_world = session.world(around, finger_position=fingers)

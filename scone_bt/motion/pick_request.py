@@ -10,6 +10,7 @@ from scone_bt.config import ObjectSpec
 from scone_bt.config.grasp import GraspParams
 from scone_bt.motion.collision import Obstacle
 from scone_bt.motion.grasp import object_pose
+from scone_bt.motion.ledge import Ledge
 from scone_bt.motion.model import ArmModel
 from scone_bt.motion.placement import PlacementOptions, TableRegion
 from scone_bt.perception.types import Detection
@@ -37,6 +38,8 @@ class PickPlaceRequest:
         preferred_yaw: Closing-axis yaw (rad) of the home pose; grasps nearest to it cost least.
         opening: The gripper's full opening, metres (None: no span filter, no pre-shaping).
         finger_closed: Each finger's joint position when closed, metres (the opening counts from it).
+        pinch: The ledge a slid flat pack sticks out over: only pinches of its front edge are planned
+            (`motion.slide.pinch_candidates`); None: the usual grasps.
     """
 
     q_start: np.ndarray
@@ -54,6 +57,7 @@ class PickPlaceRequest:
     preferred_yaw: float = -np.pi / 2
     opening: float | None = None
     finger_closed: float = 0.0
+    pinch: Ledge | None = None
 
 
 def detected_obstacle(det: Detection, spec: ObjectSpec) -> Obstacle:

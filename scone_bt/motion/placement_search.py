@@ -18,7 +18,7 @@ import numpy as np
 from scone_bt.config.catalogue import Shape
 from scone_bt.geometry import wrap_angle
 from scone_bt.motion.collision import CollisionWorld, HandModel, Obstacle
-from scone_bt.motion.grasp import GraspFamily, lifted, place_pose
+from scone_bt.motion.grasp import GraspCandidate, GraspFamily, lifted, place_pose
 from scone_bt.motion.grasp_search import FeasibleGrasp
 from scone_bt.motion.pick_request import PickScene
 from scone_bt.motion.placement import Footprint, sample_placements
@@ -241,13 +241,13 @@ def search_placements(
     out: list[Placement] = []
     stats = PlanStats()
     seeds = _IkSeeds()
-    for spot, yaws in spots.spots:
+    for spot, turns in _spots_and_turns(scene, cand, spots):
         if len(out) >= params.max_goal_placements:
             break
         stats = stats.counted()
         radial = float(np.arctan2(spot[1] - scene.base[1], spot[0] - scene.base[0])) - scene.target_dir
         radial = wrap_angle(radial)
-        for turn in _place_turns(radial, yaws, req.target.yaw, cand.family is GraspFamily.TOP):
+        for turn in turns:
             placement, stats = _place_at(
                 session, scene, grasp, worlds, seeds, spot, radial, turn, stats, fingers
             )
@@ -258,6 +258,27 @@ def search_placements(
                 return PlacementSearch(tuple(out), w_carry, stats)
             break
     return PlacementSearch(tuple(out), w_carry, stats)
+
+
+def _spots_and_turns(
+    scene: PickScene, cand: GraspCandidate, spots: PlacementSpots
+) -> list[tuple[tuple[float, float, float], list[float]]]:
+    """Each spot with the hand's turns to try there: a pinched flat pack's at the table's edges
+    (`motion.slide.pinch_placements`), any other's from the spots found (its turns worked out per spot)."""
+    req = scene.request
+    if cand.family is GraspFamily.PINCH:
+        from scone_bt.motion.slide import pinch_placements
+
+        if req.table is None:
+            return []
+        return [(spot, [turn]) for spot, turn in pinch_placements(req.table, req.spec, cand, scene.base)]
+    out: list[tuple[tuple[float, float, float], list[float]]] = []
+    for spot, yaws in spots.spots:
+        radial = wrap_angle(
+            float(np.arctan2(spot[1] - scene.base[1], spot[0] - scene.base[0])) - scene.target_dir
+        )
+        out.append((spot, _place_turns(radial, yaws, req.target.yaw, cand.family is GraspFamily.TOP)))
+    return out
 
 
 def _place_at(
@@ -305,9 +326,9 @@ def _retreat(
 ) -> tuple[np.ndarray | None, str, list[str]]:
     """The hand's way out after the release (as `PlanSession.line` answers)."""
     req, params, cand = scene.request, scene.request.params, grasp.cand
-    if cand.family is GraspFamily.SIDE:
-        # A side grasp's fingers straddle the object below its top: straight up they would drag it along (or stay
-        # around it); they back out along the approach, the way they came in.
+    if cand.family in (GraspFamily.SIDE, GraspFamily.PINCH):
+        # A side grasp's fingers straddle the object below its top (a pinch's lower finger is under it): straight
+        # up they would drag it along (or stay around it); they back out along the approach, the way they came in.
         placed_here = Obstacle(scene.name, req.spec.shape, req.spec.size, ee_place @ cand.object_in_ee)
         w_back = session.world(
             [*scene.fixed, placed_here], ignore_for_hand=[scene.name], padding=0.004, finger_position=fingers

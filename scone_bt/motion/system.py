@@ -20,12 +20,17 @@ What stands on the table comes from the caller (the table camera's detections) o
 robot's memory of its own placements (`MotionSystem.placed`); never from the simulator's ground truth. An
 exception in the planner (a bug, or a configuration error) is not an outcome of the attempt: it is raised from
 the executor's step (`kitchen.advance`) and stops the run.
+
+A flat pack wider than the gripper on a lowest tier is slid and pinched (`motion.slide`) when the task has a way
+to look again (`PickAndPlaceTask.look`, the robot's cameras): the slide is planned and executed first, then the
+task looks, and plans and executes the pinch and the rest of the pick-and-place as one more plan.
 """
 
 from __future__ import annotations
 
 import concurrent.futures as cf
-from collections.abc import Callable, Sequence
+import dataclasses
+from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
@@ -35,6 +40,7 @@ from scone_bt.errors import UnknownNameError
 from scone_bt.motion.collision import Obstacle, fixed_obstacles
 from scone_bt.motion.execution import ExecutionSettings, PickPlaceController
 from scone_bt.motion.executor import Workcell
+from scone_bt.motion.ledge import Ledge
 from scone_bt.motion.model import ArmModel
 from scone_bt.motion.new_spot import NewSpot, new_spot
 from scone_bt.motion.path_watch import PathWatch
@@ -50,6 +56,14 @@ from scone_bt.motion.pick_place import (
 from scone_bt.motion.placement import PlacementOptions, TableRegion
 from scone_bt.motion.planner import PlannerOptions, silence_ompl
 from scone_bt.motion.probe import ProbeReading, ProbeSettings
+from scone_bt.motion.slide import (
+    SlideFailure,
+    SlidePlan,
+    plan_slide,
+    slide_distance,
+    slide_ledge,
+)
+from scone_bt.motion.slide_controller import SlideController
 from scone_bt.motion.timing import KinematicLimits, limits_of
 from scone_bt.motion.types import FailureStage, MotionOutcome, MotionPhase, MotionProgress
 from scone_bt.perception.types import Detection
@@ -218,7 +232,7 @@ class PickAndPlaceTask:
         self.obstacles = obstacles
         self.rng_seed = rng_seed
         self.place_spot = place_spot
-        self._future: cf.Future[PickPlacePlan | PickPlaceFailure] | None = None
+        self._future: cf.Future[PickPlacePlan | PickPlaceFailure | SlidePlan | SlideFailure] | None = None
         self._controller: PickPlaceController | None = None
         self._outcome: MotionOutcome | None = None
         self._q_start: np.ndarray | None = None
@@ -227,6 +241,13 @@ class PickAndPlaceTask:
         self.judge: Callable[[ProbeReading], tuple[bool, str]] | None = (
             None  # the probe's decision (ProbeController)
         )
+        # set before start(): the cameras, looked through again after a slide (by name: the detections seen);
+        # None: a flat pack wider than the gripper is not slid (motion.slide), the usual grasps are planned
+        self.look: Callable[[], Mapping[str, Detection]] | None = None
+        self._ledge: Ledge | None = None  # the slide planned or under way
+        self._distance = 0.0  # how far it slides the pack, metres
+        self._pinch: Ledge | None = None  # a flat pack's ledge: its front edge is pinched (after a slide or not)
+        self._slide: SlideController | None = None  # the slide done, once the pinch is planned
 
     # ------------------------------------------------------------------------------------- lifecycle
     def submit_plan(self) -> None:
@@ -261,10 +282,23 @@ class PickAndPlaceTask:
             opening=sys_.opening,
             finger_closed=sys_.robot.gripper.closed_position,
         )
+        rate = sys_.robot.control.rate_hz
+        if self._pinch is None and self._slide is None and sys_.params.slide_pinch:
+            ledge = slide_ledge(self.target, self.spec, sys_.opening, sys_.cell.config.scene)
+            distance = 0.0 if ledge is None else slide_distance(self.target, self.spec, ledge)
+            if ledge is not None and distance == 0.0:
+                self._pinch = ledge  # it sticks out far enough as it stands
+            elif ledge is not None and self.look is not None:  # slid first, seen again, then pinched
+                self._ledge, self._distance = ledge, distance
+        if self._pinch is not None:
+            request = dataclasses.replace(request, pinch=self._pinch)
         self._request = request
-        self._future = sys_._worker.submit(
-            plan_pick_and_place, sys_.arm, request, sys_.planner, sys_.limits, sys_.robot.control.rate_hz
-        )
+        if self._ledge is not None:
+            self._future = sys_._worker.submit(
+                plan_slide, sys_.arm, request, self._ledge, self._distance, sys_.planner, sys_.limits, rate
+            )
+            return
+        self._future = sys_._worker.submit(plan_pick_and_place, sys_.arm, request, sys_.planner, sys_.limits, rate)
 
     def start(self) -> None:
         """Plan (unless `submit_plan` already did) and register the execution controller: the arm moves."""
@@ -279,7 +313,9 @@ class PickAndPlaceTask:
         q_start = self._q_start
         assert q_start is not None  # submit_plan read it, now or before
         args = (cell, self.target.name, q_start, self._poll_plan, self._request_home, sys_.settings)
-        if self.probe is not None:
+        if self._ledge is not None:
+            self._controller = SlideController(*args)
+        elif self.probe is not None:
             from scone_bt.motion.probe import ProbeController
 
             arm = sys_.arm
@@ -299,7 +335,35 @@ class PickAndPlaceTask:
                 request_new_spot=self._request_new_spot,
                 watch_path=self._path_watch,
             )
+        if self._pinch is not None:
+            how = "slid towards me and pinched by its edge" if self._slide is not None else "pinched by its edge"
+            self._controller.spot_notes.append(how)
         cell.add_controller(self._controller)
+
+    def _after_slide(self) -> None:
+        """Once the slide has risen off the pack: look again, then plan and start the pinch (a slide that failed
+        is the attempt's outcome, as a pick's failure is)."""
+        c = self._controller
+        if not isinstance(c, SlideController) or not c.finished or not c.slid or self._outcome is not None:
+            return
+        assert self.look is not None and c.slide is not None
+        seen = self.look()
+        found = seen.get(self.target.name)
+        if found is None:
+            start = c.exec_start if c.exec_start is not None else c.start_time
+            self._outcome = MotionOutcome(
+                False,
+                FailureStage.PERCEPTION,
+                f"the {self.target.name} was not seen again after sliding it ({len(seen)} products seen)",
+                float(self.system.cell.sim_time - start),
+                trajectories=tuple(c.executed),
+            )
+            return
+        self._slide, self._pinch, self._ledge = c, c.slide.ledge, None
+        self.target = found
+        self.obstacles = tuple((d, s) for d, s in self.obstacles if d.name != found.name)
+        self._future, self._controller = None, None
+        self.start()
 
     def _poll_plan(self, block: bool) -> object | None:
         fut = self._future
@@ -419,14 +483,15 @@ class PickAndPlaceTask:
         return True
 
     @property
-    def plan(self) -> PickPlacePlan | PickPlaceFailure | None:
-        """The worker's result once it is ready."""
+    def plan(self) -> PickPlacePlan | PickPlaceFailure | SlidePlan | SlideFailure | None:
+        """The worker's result once it is ready (a flat pack's slide first, then its pinch: `look`)."""
         fut = self._future
         if fut is None or not fut.done() or fut.cancelled() or fut.exception() is not None:
             return None
         return fut.result()
 
     def done(self) -> bool:
+        self._after_slide()
         if self._outcome is not None:
             return True
         c = self._controller
@@ -434,6 +499,7 @@ class PickAndPlaceTask:
 
     def progress(self) -> MotionProgress:
         """Current phase and the fraction of the planned motion executed so far."""
+        self._after_slide()
         if self.done():
             return MotionProgress(MotionPhase.DONE, 1.0)
         c = self._controller
@@ -456,6 +522,7 @@ class PickAndPlaceTask:
         A batch that restores the kitchen after each attempt (the self-confidence generator) stops here: the
         homing motion changes nothing the outcome holds. None while the outcome is still open.
         """
+        self._after_slide()
         if self.done():
             out = self.outcome()
             assert out is not None
@@ -485,6 +552,7 @@ class PickAndPlaceTask:
         Raises:
             Exception: the planner's own exception, if planning raised one (it is not an outcome).
         """
+        self._after_slide()
         if self._outcome is not None:
             return self._outcome
         c = self._controller
@@ -492,8 +560,10 @@ class PickAndPlaceTask:
             return None
         if c.error is not None:
             raise c.error  # planning broke (a bug or a configuration error): there is no outcome to record
-        start = c.exec_start if c.exec_start is not None else c.start_time
+        first = self._slide or c  # a slid pack's attempt began with the slide
+        start = first.exec_start if first.exec_start is not None else first.start_time
         end = c.end_time if c.end_time is not None else self.system.cell.sim_time
+        slid = tuple(self._slide.executed) if self._slide is not None else ()
         ee = c.plan.ee_path(self.system.arm) if c.plan is not None else None
         aborted = bool(getattr(c, "aborted", False)) and c.stage is None
         stage = None if c.success or aborted else (c.stage or FailureStage.PLACE)
@@ -502,7 +572,7 @@ class PickAndPlaceTask:
             stage=stage,
             message=c.message,
             duration=float(end - start),
-            trajectories=tuple(c.executed),
+            trajectories=(*slid, *c.executed),
             ee_path=ee,
             reason=c.reason,
             still_held=c.still_held,

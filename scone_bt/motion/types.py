@@ -47,6 +47,9 @@ class MotionPhase(str, Enum):  # noqa: UP042 (compares equal to the phase string
     PROBE = "probe"  # the heft test: lifting the grasped product a little (motion.probe)
     PROBE_HOLD = "probe_hold"  # holding it there while the fingers feel its load and slip
     SET_DOWN = "set_down"  # the probe said no: lowering it back where it stood
+    PRESS = "press"  # sliding a flat pack: the closed fingertips pressing on its top (motion.slide)
+    DRAG = "drag"  # pressing, moving it towards the robot
+    RAISE = "raise"  # the fingertips rising off it; the cameras look again, then the pinch is planned
     RECOVER = "recover"  # after a failure: holding while the worker plans a way home
     RECOVER_HOME = "recover_home"
     DONE = "done"

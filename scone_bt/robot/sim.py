@@ -12,6 +12,7 @@ import numpy as np
 
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig
 from scone_bt.motion.pick_place import PickPlaceFailure
+from scone_bt.motion.slide import SlideFailure
 from scone_bt.motion.types import PlanFailureReason
 from scone_bt.perception.observe import Observation
 from scone_bt.perception.types import Detection
@@ -119,7 +120,12 @@ class SimRobot:
         )
         task.probe = request.probe
         task.judge = request.judge
+        task.look = self._look_again
         return task
+
+    def _look_again(self) -> dict[str, Detection]:
+        """The shelf as the cameras see it now, by name (after a slide: `motion.slide`)."""
+        return {d.name: d for d in self.perceive().detections}
 
     def start_pick_and_place(self, request: PickRequest) -> MotionHandle:
         task = self._task(request)
@@ -190,7 +196,7 @@ class _PlannedTask:
 
     def infeasible(self) -> Infeasible | None:
         result = self.task.plan
-        if isinstance(result, PickPlaceFailure) and result.reason in _GEOMETRIC:
+        if isinstance(result, PickPlaceFailure | SlideFailure) and result.reason in _GEOMETRIC:
             return Infeasible(result.reason.value, result.message.split(";")[0], tuple(result.blockers))
         return None
 

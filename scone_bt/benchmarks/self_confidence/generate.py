@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import dataclasses
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, cast
 
@@ -212,13 +212,13 @@ def _miscalibrated(frame: Frame, offset: Sequence[float]) -> Frame:
 
 
 def _look(
-    kitchen: Any, kcfg: KitchenConfig, seed: int, exposures: int = 1
+    kitchen: Any, kcfg: KitchenConfig, seed: int, exposures: int = 1, after_slide: bool = False
 ) -> tuple[dict[str, Detection], list[Frame]]:
     """Render every shelf camera that has a product in view, detect, merge (most confident per product).
 
     ``exposures`` > 1: the longer look the robot takes before saying it cannot see its target, each camera's
     frames averaged (perception.exposure; its noise drawn from a stream of its own, so the first look's draws
-    stay as they were). Returns detections by name and every frame used (what the episode's context function
+    stay as they were; ``after_slide``: the look after a slide, from a stream of its own too). Returns detections by name and every frame used (what the episode's context function
     measures in).
     """
     from scone_bt.perception import Camera
@@ -234,7 +234,7 @@ def _look(
         camera = Camera(spec)
         if not any(box_in_view(camera, lo, hi) for lo, hi in boxes):
             continue
-        rng = np.random.default_rng([seed, 2 if exposures <= 1 else 3, k])
+        rng = np.random.default_rng([seed, 4 if after_slide else 2 if exposures <= 1 else 3, k])
         with c_stdout_silenced():
             frame = look(camera, kitchen, rng, exposures)
         frames.append(frame)
@@ -425,8 +425,10 @@ def _attempt(
     seed: int,
     injected: frozenset[str],
     probe: ProbeSettings,
+    look: Callable[[], Mapping[str, Detection]] | None = None,
 ) -> _Attempt:
-    """Pick and place the target as perceived, hefting it first (``probe``), in simulated time."""
+    """Pick and place the target as perceived, hefting it first (``probe``), in simulated time; ``look``: the
+    cameras looked through again after a flat pack's slide (`motion.slide`)."""
     by_name = seen.by_name
     if "perception" in injected:
         return _Attempt(False, "perception", "injected: target not detected")
@@ -438,6 +440,7 @@ def _attempt(
     with _motion_system(kitchen, rcfg) as system:
         task = system.pick_and_place(by_name[target.name], target, obstacles, rng_seed=seed)
         task.probe = probe
+        task.look = look
         task.start()
         settled = None
         while settled is None and kitchen.sim_time < _MAX_SIM_S:
@@ -487,7 +490,13 @@ def run_execution(
     kitchen = _WORKER.empty_kitchen(kcfg, rcfg, engine)
     kitchen.spawn([target, *others], rng)
     seen = _perceive(kitchen, kcfg, seed, profile, target.name, injected)
-    attempt = _attempt(kitchen, rcfg, kitchen_cfg.catalogue, target, seen, seed, injected, probe)
+    offset = profile.calibration_offset
+
+    def look() -> dict[str, Detection]:
+        detections, _ = _look(kitchen, kcfg, seed, after_slide=True)
+        return {n: _shifted(d, offset) for n, d in detections.items()}
+
+    attempt = _attempt(kitchen, rcfg, kitchen_cfg.catalogue, target, seen, seed, injected, probe, look)
     return _record(index, seed, target, seen, attempt), time.perf_counter() - t0
 
 
