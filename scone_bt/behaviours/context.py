@@ -67,6 +67,8 @@ class EpisodeContext:
         recorder: Opens (once) the experience store, or gives None.
         gripper_opening_m: How wide the arm's gripper opens, metres (None: unknown; the budget gate then never
             asks because a product is too wide).
+        slide_pinch: The arm slides and pinches a flat pack on a lowest tier (its robot file's
+            ``grasp.slide_pinch``): the budget gate lets κ̂ decide on such a pack.
         trust: The person's trust estimated online (`scone_bt.trust.estimate.OnlineTrust`), listening to
             the events; set with the tree parameter ``trust_aware``, else None.
     """
@@ -85,4 +87,5 @@ class EpisodeContext:
     kappa: Callable[[], SelfConfidence]
     recorder: Callable[[], OutcomeRecorder | None]
     gripper_opening_m: float | None = None
+    slide_pinch: bool = False
     trust: Any = None

@@ -31,7 +31,7 @@ from scone_bt.behaviours.probe_judge import ProbeJudge, belief_of
 from scone_bt.experience.types import ExecutionContext
 from scone_bt.gate.budget import BudgetCounts, BudgetOptions
 from scone_bt.gate.probe import ProbeOptions
-from scone_bt.gate.rules import GateInput, GateRules, gate_decision, infeasible_decision
+from scone_bt.gate.rules import GateInput, GateRules, flat_on_lowest, gate_decision, infeasible_decision
 from scone_bt.gate.types import Decision, DecisionKind
 from scone_bt.motion.probe import ProbeSettings
 from scone_bt.relevance.types import RankedAction
@@ -157,6 +157,7 @@ class ConfidenceGate(StageBehaviour):
             budget=budget,
             seed=opts.seed,
             opening_m=context.gripper_opening_m if budget is not None else None,
+            slide_pinch=context.slide_pinch and budget is not None,
             probe=ProbeOptions.of(opts.probe) if budget is not None and opts.probe is not None else None,
         )
         return cls(name, ports, settings)
@@ -214,6 +215,7 @@ class ConfidenceGate(StageBehaviour):
             ambiguous=tuple(action_text(i) for i in view.selection.ambiguous) if view is not None else (),
             objects={r.text: affordances[r.text].object_name for r in ranked if r.text in affordances},
             widths_m={t: c.detected_width_m for t, c in contexts.items()},
+            flat_on_lowest=flat_on_lowest(contexts, self.settings.opening_m),
             counts=gate_counts(history, self.estimator) if budget is not None else BudgetCounts(),
             failures={r.text: history.failures_of(r.text) for r in ranked},
             declined=self.ports.human.declined,

@@ -61,6 +61,7 @@ class GateSettings:
         seed: The episode seed; the budget's exploration draws are their own stream from it.
         opening_m: The gripper's opening, metres (None: no too-wide rule, the paper's gate).
         probe: The heft test (gate.probe; None: none).
+        slide_pinch: The arm slides and pinches a flat pack on a lowest tier (`GateRules.slide_pinch`).
     """
 
     gate: GateOptions
@@ -70,6 +71,7 @@ class GateSettings:
     seed: int = 0
     opening_m: float | None = None
     probe: ProbeOptions | None = None
+    slide_pinch: bool = False
 
     @property
     def rules(self) -> GateRules:
@@ -81,4 +83,5 @@ class GateSettings:
             failure_limit=self.max_failures_per_action,
             opening_m=self.opening_m,
             probe=self.probe,
+            slide_pinch=self.slide_pinch,
         )

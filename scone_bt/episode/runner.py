@@ -23,6 +23,7 @@ import py_trees
 from scone_bt.behaviours import BehaviourOptions, EpisodeContext, Keys, OutcomeLabels
 from scone_bt.behaviours.base import BlackboardError
 from scone_bt.config import KitchenConfig, ObjectSpec, RobotConfig, load_kitchen, load_robot
+from scone_bt.config.grasp import GraspParams
 from scone_bt.defaults import EPISODE
 from scone_bt.episode.heap import release_free_heap
 from scone_bt.episode.printer import LinePrinter, condition_line
@@ -269,6 +270,7 @@ def _build(
         kappa=resources.estimator,
         recorder=resources.store,
         gripper_opening_m=robot_cfg.gripper.opening_m,
+        slide_pinch=GraspParams.of(robot_cfg).slide_pinch,
         trust=_listening_trust(events) if behaviour.trust_aware else None,
     )
     say(

@@ -21,8 +21,9 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
+from scone_bt.config.grasp import flat_pack
 from scone_bt.gate.budget import BudgetCounts, BudgetOptions, may_explore, threshold, too_wide
 from scone_bt.gate.gate import GateOptions, decide
 from scone_bt.gate.probe import ProbeOptions, in_band, probe_credit
@@ -45,6 +46,7 @@ __all__ = [
     "name_object",
     "probe_first",
     "ask_if_too_wide",
+    "flat_on_lowest",
     "after_decline",
     "overruled",
     "waiting",
@@ -69,6 +71,8 @@ class GateRules:
             ε-greedy draws explore).
         failure_limit: After this many failures of the same action, ask whatever κ̂ says (None: no limit).
         opening_m: The gripper's opening, metres: a product perceived wider is asked about (None: no such rule).
+        slide_pinch: The arm slides and pinches a flat pack on a lowest tier (`motion.slide`): such a product
+            (`GateInput.flat_on_lowest`) is κ̂'s to decide, not asked about because it is too wide.
         probe: The heft test's band around τ (`probe_first`; None: no probe). The budget gate's only.
     """
 
@@ -78,6 +82,7 @@ class GateRules:
     failure_limit: int | None = None
     opening_m: float | None = None
     probe: ProbeOptions | None = None
+    slide_pinch: bool = False
 
 
 @dataclass(frozen=True)
@@ -92,6 +97,8 @@ class GateInput:
         ambiguous: Action texts the step could mean about equally (recipe-aware ranking).
         objects: Action text → the object it moves, for the affordances the robot sees.
         widths_m: Action text → its product's perceived width, metres (None or NaN: not measured).
+        flat_on_lowest: Action texts whose product is perceived a flat pack (`config.grasp.flat_pack`) standing
+            on a lowest tier: what an arm with `GateRules.slide_pinch` slides and pinches.
         counts: The attempts so far, as the budget reads them.
         failures: Action text → its failures so far.
         declined: Whether the human declined to fetch an item (by object name).
@@ -110,6 +117,7 @@ class GateInput:
     ambiguous: Sequence[str] = ()
     objects: Mapping[str, str] = field(default_factory=dict)
     widths_m: Mapping[str, float | None] = field(default_factory=dict)
+    flat_on_lowest: frozenset[str] = frozenset()
     counts: BudgetCounts = field(default_factory=BudgetCounts)
     failures: Mapping[str, int] = field(default_factory=dict)
     declined: Callable[[str], bool] = _never
@@ -237,12 +245,35 @@ def probe_first(decision: Decision, seen: GateInput, rules: GateRules) -> Decisi
     return replace(decision, kind=DecisionKind.ACT, reason=why, explored=False, probe=True)
 
 
+class _Perceived(Protocol):
+    """What `flat_on_lowest` reads of a perceived context (`experience.types.ExecutionContext`)."""
+
+    @property
+    def shelf_tier(self) -> int | None: ...
+    @property
+    def detected_width_m(self) -> float | None: ...
+    @property
+    def detected_height_m(self) -> float | None: ...
+
+
+def flat_on_lowest(contexts: Mapping[str, _Perceived], opening_m: float | None) -> frozenset[str]:
+    """The actions whose product is perceived a flat pack wider than ``opening_m`` (`config.grasp.flat_pack`) on
+    a lowest tier (`GateInput.flat_on_lowest`)."""
+    return frozenset(
+        t
+        for t, c in contexts.items()
+        if c.shelf_tier == 0 and flat_pack(c.detected_width_m, c.detected_height_m, opening_m)
+    )
+
+
 def ask_if_too_wide(decision: Decision, seen: GateInput, rules: GateRules) -> Decision:
-    """ASK-HELP instead of ACT (or exploring) for a product measured wider than the gripper opens."""
+    """ASK-HELP instead of ACT (or exploring) for a product measured wider than the gripper opens, but for a flat
+    pack on a lowest tier when the arm slides and pinches those (κ̂ decides on it)."""
     if (
         decision.kind is not DecisionKind.ACT
         or decision.action is None
         or decision.action not in seen.objects
+        or (rules.slide_pinch and decision.action in seen.flat_on_lowest)
     ):
         return decision
     width = seen.widths_m.get(decision.action)

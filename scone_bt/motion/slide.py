@@ -89,7 +89,9 @@ class SlideSettings:
     min_overhang_m: float = 0.015
     table_overhang_m: float = 0.03
     edge_step_m: float = 0.06
-    pinch_yaws: tuple[float, ...] = tuple(math.radians(d) for d in (0.0, 20.0, -20.0, 40.0, -40.0, 60.0, -60.0))
+    pinch_yaws: tuple[float, ...] = tuple(
+        math.radians(d) for d in (0.0, 20.0, -20.0, 40.0, -40.0, 60.0, -60.0)
+    )
 
 
 SLIDE_SETTINGS = SlideSettings()
@@ -351,7 +353,12 @@ def pinch_placements(
     (cx, cy), (sx, sy) = table.center, table.size
     out: list[tuple[tuple[float, float, float], float]] = []
     # each edge: its outward normal and its length's half
-    for nx, ny, half_len in ((1.0, 0.0, sy / 2), (-1.0, 0.0, sy / 2), (0.0, 1.0, sx / 2), (0.0, -1.0, sx / 2)):
+    for nx, ny, half_len in (
+        (1.0, 0.0, sy / 2),
+        (-1.0, 0.0, sy / 2),
+        (0.0, 1.0, sx / 2),
+        (0.0, -1.0, sx / 2),
+    ):
         edge_x = cx + nx * sx / 2
         edge_y = cy + ny * sy / 2
         inset = depth / 2 - settings.table_overhang_m  # the pack's centre this far inside the edge

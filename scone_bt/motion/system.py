@@ -246,7 +246,9 @@ class PickAndPlaceTask:
         self.look: Callable[[], Mapping[str, Detection]] | None = None
         self._ledge: Ledge | None = None  # the slide planned or under way
         self._distance = 0.0  # how far it slides the pack, metres
-        self._pinch: Ledge | None = None  # a flat pack's ledge: its front edge is pinched (after a slide or not)
+        self._pinch: Ledge | None = (
+            None  # a flat pack's ledge: its front edge is pinched (after a slide or not)
+        )
         self._slide: SlideController | None = None  # the slide done, once the pinch is planned
 
     # ------------------------------------------------------------------------------------- lifecycle
@@ -298,7 +300,9 @@ class PickAndPlaceTask:
                 plan_slide, sys_.arm, request, self._ledge, self._distance, sys_.planner, sys_.limits, rate
             )
             return
-        self._future = sys_._worker.submit(plan_pick_and_place, sys_.arm, request, sys_.planner, sys_.limits, rate)
+        self._future = sys_._worker.submit(
+            plan_pick_and_place, sys_.arm, request, sys_.planner, sys_.limits, rate
+        )
 
     def start(self) -> None:
         """Plan (unless `submit_plan` already did) and register the execution controller: the arm moves."""
@@ -336,7 +340,11 @@ class PickAndPlaceTask:
                 watch_path=self._path_watch,
             )
         if self._pinch is not None:
-            how = "slid towards me and pinched by its edge" if self._slide is not None else "pinched by its edge"
+            how = (
+                "slid towards me and pinched by its edge"
+                if self._slide is not None
+                else "pinched by its edge"
+            )
             self._controller.spot_notes.append(how)
         cell.add_controller(self._controller)
 
