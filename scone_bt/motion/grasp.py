@@ -125,7 +125,9 @@ class GraspCandidate:
         return f"{self.family.value} grasp at yaw {math.degrees(self.closing_yaw):.0f}°"
 
 
-_FAMILY_INDEX = {family: k for k, family in enumerate(GraspFamily) if family is not GraspFamily.PINCH}
+_FAMILY_INDEX: dict[GraspFamily, int] = {
+    family: k for k, family in enumerate(GraspFamily) if family is not GraspFamily.PINCH
+}
 """Each family's place in `GraspParams.family_cost`."""
 
 
