@@ -155,6 +155,7 @@ def stream_results(
                 excess_allowance=getattr(args, "excess_allowance", None),
                 foreseen=streams.foreseen[j] if streams.foreseen else None,
                 budget=getattr(args, "budget", None),
+                slide_pinch=bool(streams.slide_pinch and streams.slide_pinch[j]),
             )
         )
     return results

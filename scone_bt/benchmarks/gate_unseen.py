@@ -87,6 +87,8 @@ class UnseenStreams(Protocol):
     def readings(self) -> list[np.ndarray | None]: ...
     @property
     def foreseen(self) -> list[np.ndarray]: ...
+    @property
+    def slide_pinch(self) -> list[bool]: ...
 
 
 class _Replayed(Protocol):
@@ -304,6 +306,7 @@ def _run(
         readings=readings[window] if readings is not None else None,
         excess_allowance=setup.excess_allowance,
         foreseen=foreseen[window] if foreseen is not None else None,
+        slide_pinch=bool(streams.slide_pinch and streams.slide_pinch[j]),
     )
     return np.asarray(result.trace, dtype=np.int8)
 

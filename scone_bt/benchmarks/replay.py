@@ -42,6 +42,26 @@ _CONTEXT = CONTEXT_FIELDS
 """The context columns in replay order (decision_time_context's)."""
 _WIDTH = _CONTEXT.index("detected_width_m")
 """The column of the perceived width (what the too-wide rule reads)."""
+_TIER = _CONTEXT.index("shelf_tier")
+_HEIGHT = _CONTEXT.index("detected_height_m")
+"""The columns `gate.rules.flat_on_lowest` reads besides the width."""
+
+
+@dataclass(frozen=True)
+class _Context:
+    """A row's perceived tier and size as `gate.rules.flat_on_lowest` reads them (NaN: unknown)."""
+
+    shelf_tier: int | None
+    detected_width_m: float
+    detected_height_m: float
+
+    @classmethod
+    def of(cls, row: np.ndarray) -> _Context:
+        """From one row of the perceived context (CONTEXT_FIELDS order)."""
+        tier = float(row[_TIER])
+        return cls(None if np.isnan(tier) else int(tier), float(row[_WIDTH]), float(row[_HEIGHT]))
+
+
 UNSURE = "unsure"
 """The help cause of an ask κ̂ decided (below τ, not explored, not probed): no rule (`Decision.rule` "")."""
 SET_BACK_FELT = "set-back-felt"
@@ -120,11 +140,13 @@ def replay_rules(
     probe: ProbeOptions | None = None,
     excess_allowance: float | None = None,
     budget: BudgetOptions | None = None,
+    slide_pinch: bool = False,
 ) -> GateRules:
     """The gate's rules for a replayed method (see `replay_stream`'s ``gate``); ``probe``: the budget gate's heft
     test (None: none); ``excess_allowance``: exploration spends only credit (gate.budget.has_credit; None: the
     budget's exploration rule alone); ``budget``: the failure budget's other settings (its start and step; None:
-    the shipped ones), its target failure rate and allowance replaced by ``alpha`` and ``excess_allowance``.
+    the shipped ones), its target failure rate and allowance replaced by ``alpha`` and ``excess_allowance``;
+    ``slide_pinch``: the stream's arm slid and pinched flat packs (the budget gate leaves them to κ̂).
 
     The per-action failure limit is not among them: it counts failures within one episode, and a stream's
     executions are each from another.
@@ -138,7 +160,9 @@ def replay_rules(
     budget = replace(budget or BudgetOptions(), target_failure_rate=alpha, excess_allowance=excess_allowance)
     # one candidate of relevance 1 a decision: the relevance threshold never idles it
     if gate == "budget":
-        return GateRules(budget=budget, exploration=budget, opening_m=opening_m, probe=probe)
+        return GateRules(
+            budget=budget, exploration=budget, opening_m=opening_m, probe=probe, slide_pinch=slide_pinch
+        )
     if gate == "fixed":
         return GateRules(
             budget=replace(budget, step=0.0),
@@ -185,6 +209,7 @@ class _Replay:
         explore_fn: The paper's ε-greedy κ̂'s own draw (``paper`` gate only), else None.
         widths: (n,) the perceived widths, m (NaN unknown).
         wide: (n,) whether each product was perceived wider than the gripper's opening.
+        flat_low: (n,) whether each was perceived a flat pack on a lowest tier (`gate.rules.flat_on_lowest`).
         probe: The heft test's motion settings, or None (no probe, or a stream without probe readings).
         readings: (n, 11) what the recorded probe felt (dataset.PROBE_READING_COLUMNS; (n, 5), PROBE_COLUMNS
             alone, reads as nothing more measured), or None.
@@ -200,6 +225,7 @@ class _Replay:
     explore_fn: Callable[[np.ndarray], np.ndarray] | None
     widths: np.ndarray
     wide: np.ndarray
+    flat_low: np.ndarray
     probe: ProbeSettings | None
     readings: np.ndarray | None
     context: np.ndarray
@@ -220,10 +246,12 @@ def _start_replay(
     readings: np.ndarray | None,
     excess_allowance: float | None,
     budget: BudgetOptions | None = None,
+    slide_pinch: bool = False,
 ) -> _Replay:
     """κ̂ (fitted on the fleet prior), its rows, the method's rules and the draws (`replay_stream`'s arguments)."""
     from scone_bt.confidence import make_estimator
     from scone_bt.confidence.grounded import is_grounded
+    from scone_bt.gate.rules import flat_on_lowest
     from scone_bt.motion.probe import ProbeSettings
 
     settings = ProbeSettings.of(probe) if probe is not None and readings is not None else None
@@ -239,12 +267,16 @@ def _start_replay(
     return _Replay(
         estimator=est,
         rows=X,
-        rules=replay_rules(gate, alpha, opening_m, probe, excess_allowance, budget),
+        rules=replay_rules(gate, alpha, opening_m, probe, excess_allowance, budget, slide_pinch),
         draw=draw or np.random.default_rng(seed).random,
         belief=getattr(est, "belief", est.predict),
         explore_fn=getattr(est, "explores", None) if gate == "paper" else None,
         widths=widths,
         wide=np.nan_to_num(widths, nan=0.0) > opening_m,
+        flat_low=np.array(
+            [bool(flat_on_lowest({"": _Context.of(c)}, opening_m)) for c in context],
+            dtype=bool,
+        ),
         probe=settings,
         readings=readings if settings is not None else None,
         context=context,
@@ -269,6 +301,7 @@ def _gate_input(
         kappa_explores=_LazyDraw(partial(_explores, explore_fn, row)) if explore_fn is not None else (),
         objects={product: product},
         widths_m={product: float(replay.widths[t])},
+        flat_on_lowest=frozenset({product}) if replay.flat_low[t] else frozenset(),
         counts=counts,
         failures=failed,
         draw=replay.draw,
@@ -573,6 +606,7 @@ def replay_stream(
     excess_allowance: float | None = None,
     foreseen: np.ndarray | None = None,
     budget: BudgetOptions | None = None,
+    slide_pinch: bool = False,
 ) -> StreamResult:
     """The online robot over one stream; see the module docstring.
 
@@ -600,6 +634,7 @@ def replay_stream(
             gate decides to act, the robot asks, as the tree does (no attempt, no probe; κ̂ learns a failure at
             planning from an infeasible plan, nothing from a missing target); None: none.
         budget: The failure budget's start and step (`replay_rules`; None: the shipped ones).
+        slide_pinch: The stream's arm slid and pinched flat packs on a lowest tier (`Streams.slide_pinch`).
     """
     from scone_bt.gate.budget import BudgetCounts
 
@@ -617,6 +652,7 @@ def replay_stream(
         readings,
         excess_allowance,
         budget,
+        slide_pinch,
     )
     walk = _Walk(BudgetCounts(learnt=replay.estimator.n_observations))
     out = StreamResult()

@@ -42,6 +42,8 @@ class Streams:
         products: Per stream, each row's product name.
         readings: Per stream, the heft test's readings (`PROBE_READING_COLUMNS`), or None where it was not recorded.
         foreseen: Per stream, what the robot knew before its arm moved (`foreseen`: "", "missing", "infeasible").
+        slide_pinch: Per stream, whether its arm slid and pinched flat packs on a lowest tier (its folder's
+            generation.json; `benchmarks.self_confidence.batch.SETTINGS`): its gate leaves those to κ̂.
     """
 
     names: list[str]
@@ -51,6 +53,16 @@ class Streams:
     products: list[tuple[str, ...]]
     readings: list[np.ndarray | None] = field(default_factory=list)
     foreseen: list[np.ndarray] = field(default_factory=list)
+    slide_pinch: list[bool] = field(default_factory=list)
+
+
+def slides_flat_packs(folder: Path, names: Sequence[str]) -> list[bool]:
+    """Per dataset name, whether generation.json in ``folder`` records an arm that slid and pinched flat packs
+    (False where the folder has no log or the log does not name it: recorded before the skill)."""
+    from scone_bt.benchmarks.self_confidence.batch import LOG_NAME, read_log
+
+    generations = read_log(folder / LOG_NAME).get("generations", {})
+    return [bool(generations.get(n, {}).get("slide_pinch", False)) for n in names]
 
 
 def datasets_folder(args: argparse.Namespace) -> Path:
@@ -106,6 +118,7 @@ def load_streams(args: argparse.Namespace, oracle: bool, folder: Path | None = N
         [tuple(d.objects) for d in datasets],
         [probe_readings(d) for d in datasets],
         [foreseen(d) for d in datasets],
+        slides_flat_packs(folder, [d.name for d in datasets]),
     )
 
 

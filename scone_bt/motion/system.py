@@ -285,12 +285,13 @@ class PickAndPlaceTask:
             finger_closed=sys_.robot.gripper.closed_position,
         )
         rate = sys_.robot.control.rate_hz
-        if self._pinch is None and self._slide is None and sys_.params.slide_pinch:
+        # the skill needs the cameras (to look again after a slide): a caller without them plans the usual grasps
+        if self._pinch is None and self._slide is None and sys_.params.slide_pinch and self.look is not None:
             ledge = slide_ledge(self.target, self.spec, sys_.opening, sys_.cell.config.scene)
             distance = 0.0 if ledge is None else slide_distance(self.target, self.spec, ledge)
             if ledge is not None and distance == 0.0:
                 self._pinch = ledge  # it sticks out far enough as it stands
-            elif ledge is not None and self.look is not None:  # slid first, seen again, then pinched
+            elif ledge is not None:  # slid first, seen again, then pinched
                 self._ledge, self._distance = ledge, distance
         if self._pinch is not None:
             request = dataclasses.replace(request, pinch=self._pinch)

@@ -111,14 +111,13 @@ def test_pybullet_slides_a_tray_off_the_back_of_its_tier_pinches_it_and_puts_it_
     from scone_bt.config.grasp import GraspParams
     from scone_bt.config.robot import load_robot
 
-    robot = load_robot("panda")
-    with_skill = dataclasses.replace(
-        robot, grasp=dataclasses.replace(GraspParams.of(robot), slide_pinch=True)
-    )
+    robot = load_robot("panda")  # robots/panda.yaml slides and pinches
+    assert GraspParams.of(robot).slide_pinch
+    without = dataclasses.replace(robot, grasp=dataclasses.replace(GraspParams.of(robot), slide_pinch=False))
     profile = load_profile("tools/profiles/p00_nominal.yaml")
-    rec, _ = run_execution(profile, 0, KITCHEN, with_skill, target_name="chicken breast")
+    rec, _ = run_execution(profile, 0, KITCHEN, robot, target_name="chicken breast")
     assert rec.shelf_tier == 0 and rec.success, rec.detail
     assert "slid towards me and pinched by its edge" in rec.detail
     # the same execution without the skill: the narrowest grasp is tried, and the tray slips out
-    rec, _ = run_execution(profile, 0, KITCHEN, robot, target_name="chicken breast")
+    rec, _ = run_execution(profile, 0, KITCHEN, without, target_name="chicken breast")
     assert not rec.success and "slid" not in rec.detail

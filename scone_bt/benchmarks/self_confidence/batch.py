@@ -37,6 +37,7 @@ from scone_bt.benchmarks.self_confidence.generate import (
 )
 from scone_bt.benchmarks.self_confidence.profiles import Profile, load_profiles
 from scone_bt.config import ObjectSpec
+from scone_bt.config.grasp import GraspParams
 from scone_bt.errors import ConfigError
 from scone_bt.files import write_atomic
 
@@ -126,9 +127,11 @@ SETTINGS: dict[str, str] = {
     "seed": "--seed",
     "profile": "the profile",
     "backend": "--robot",
+    "slide_pinch": "--arm's grasp.slide_pinch",
 }
 """What defines a generation, and the option that sets each (for messages). A generation recorded before the
-engine was a setting has no "backend": it was PyBullet's (``sim``)."""
+engine was a setting has no "backend": it was PyBullet's (``sim``); one recorded before the arm slid and pinched
+flat packs (`motion.slide`) has no "slide_pinch": it did not."""
 
 
 def _file_id(path: Path) -> str:
@@ -153,6 +156,7 @@ def generation_settings(
     products: Sequence[str] | None,
     seed: int,
     backend: str = "sim",
+    slide_pinch: bool = False,
 ) -> dict[str, Any]:
     """What made a profile's rows, as generation.json records it (file names and digests, no machine paths).
 
@@ -164,6 +168,8 @@ def generation_settings(
         products: The --products restriction (None: the whole catalogue).
         seed: The --seed offset (0 without --seed).
         backend: The engine the rows were run on (--robot: sim is PyBullet, mujoco).
+        slide_pinch: The arm slid and pinched flat packs on a lowest tier (the robot file's grasp.slide_pinch):
+            the replay's gate then leaves those to κ̂ (`gate.rules.GateRules.slide_pinch`).
     """
     return {
         "robot": _file_id(robot),
@@ -173,6 +179,7 @@ def generation_settings(
         "seed": seed,
         "profile": _profile_id(profile),
         "backend": backend,
+        "slide_pinch": slide_pinch,
     }
 
 
@@ -207,6 +214,7 @@ def read_log(path: Path) -> dict[str, Any]:
     for name, recorded in generations.items():
         if isinstance(recorded, dict):
             recorded.setdefault("backend", "sim")  # recorded before the engine was a setting: PyBullet's
+            recorded.setdefault("slide_pinch", False)  # recorded before the arm slid flat packs
         if not isinstance(recorded, dict) or set(recorded) != set(SETTINGS):
             raise ConfigError(
                 f'{path}: "generations" / {name!r} must be an object with exactly the keys '
@@ -510,7 +518,14 @@ def _setup(args: argparse.Namespace) -> _Setup:
     catalogues = tuple(str(c) for c in args.catalogue)
     asked = {
         p.name: generation_settings(
-            base_profiles[p.name], robot_cfg.source, kitchen_cfg.source, catalogues, products, offset, engine
+            base_profiles[p.name],
+            robot_cfg.source,
+            kitchen_cfg.source,
+            catalogues,
+            products,
+            offset,
+            engine,
+            GraspParams.of(robot_cfg).slide_pinch,
         )
         for p in profiles
     }
