@@ -104,8 +104,8 @@ class GraspParams:
             before "no path" is the answer: a sampling planner's miss on one seed is not the scene's verdict.
         slide_pinch: A flat pack wider than the gripper on a lowest tier (`flat_pack`) is slid towards the robot
             and pinched by its front edge (`motion.slide`) instead of grasped; the gate lets κ̂ decide on it
-            instead of asking because it is too wide. Off by default: the benchmarks' figures are an arm's without
-            it (a robot file's ``grasp: {slide_pinch: true}`` turns it on).
+            instead of asking because it is too wide. Off unless a robot file turns it on (robots/panda.yaml does;
+            the iiwa7's is not measured).
     """
 
     approach: float = 0.10

@@ -24,6 +24,7 @@ from scone_bt.motion.pick_request import PickScene
 from scone_bt.motion.placement import Footprint, sample_placements
 from scone_bt.motion.plan_session import PlanSession, blockers_at, collision_pair
 from scone_bt.motion.plan_stats import PlanStats, format_point
+from scone_bt.motion.slide import carried_size
 
 __all__ = [
     "CARRY_PADDING",
@@ -224,8 +225,14 @@ def search_placements(
     arm, req = session.arm, scene.request
     params, name, cand = req.params, scene.name, grasp.cand
     carried = Obstacle(name, req.spec.shape, req.spec.size, cand.object_in_ee)
+    # the transit's held shape allows for a pinched pack's droop (motion.slide.carried_size)
+    in_transit = Obstacle(name, req.spec.shape, carried_size(req.spec, cand), cand.object_in_ee)
     w_carry = session.world(
-        scene.fixed, carried, padding=CARRY_PADDING, max_tilt=params.max_carry_tilt, finger_position=fingers
+        scene.fixed,
+        in_transit,
+        padding=CARRY_PADDING,
+        max_tilt=params.max_carry_tilt,
+        finger_position=fingers,
     )
     if not w_carry.is_valid(grasp.q_lift):
         why = f"lifted {name} collides ({collision_pair(w_carry, grasp.q_lift)})"

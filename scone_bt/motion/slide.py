@@ -42,10 +42,12 @@ from scone_bt.motion.types import FailureStage, MotionPhase, PlanFailureReason
 from scone_bt.perception.types import Detection
 
 __all__ = [
+    "PINCH_CARRY_MARGIN_M",
     "SLIDE_SETTINGS",
     "SlideFailure",
     "SlidePlan",
     "SlideSettings",
+    "carried_size",
     "pinch_candidates",
     "pinch_placements",
     "pinch_rotation",
@@ -78,16 +80,16 @@ class SlideSettings:
     """
 
     press_m: float = 0.004
-    overhang_m: float = 0.04
+    overhang_m: float = 0.045
     slide_m: float = 0.06
     min_slide_m: float = 0.01
-    keep_on_m: float = 0.03
+    keep_on_m: float = 0.015
     far_inset_m: float = 0.03
     hover_m: float = 0.05
     clear_m: float = 0.10
     pad_inset_m: float = 0.012
-    min_overhang_m: float = 0.015
-    table_overhang_m: float = 0.03
+    min_overhang_m: float = 0.025
+    table_overhang_m: float = 0.035
     edge_step_m: float = 0.06
     pinch_yaws: tuple[float, ...] = tuple(
         math.radians(d) for d in (0.0, 20.0, -20.0, 40.0, -40.0, 60.0, -60.0)
@@ -283,6 +285,20 @@ def _pose(rotation: np.ndarray, point: np.ndarray) -> np.ndarray:
     return out
 
 
+PINCH_CARRY_MARGIN_M = 0.015
+"""A pinched pack is carried (in the transit) as a box this much longer and wider on every side (metres): held by
+one edge, it droops and turns a little in the fingers under its own weight, which a rigid grasp's 1 mm of
+clearance does not allow for."""
+
+
+def carried_size(spec: ObjectSpec, cand: GraspCandidate) -> tuple[float, float, float]:
+    """The size the planner carries ``spec`` as when held by ``cand`` (`PINCH_CARRY_MARGIN_M` for a pinch)."""
+    if cand.family is not GraspFamily.PINCH:
+        return spec.size
+    m = 2 * PINCH_CARRY_MARGIN_M
+    return (spec.size[0] + m, spec.size[1] + m, spec.size[2])
+
+
 def pinch_rotation(inward: np.ndarray, up: bool = True) -> np.ndarray:
     """End-effector rotation approaching horizontally along ``inward``, the fingers closing vertically (world z;
     ``up`` False: the wrist half-turned, the same pinch)."""
@@ -340,37 +356,36 @@ def pinch_placements(
     centre (x, y, table top z) and the turn (rad about world z) of the hand from its pinch.
 
     The hand's lower half reaches below the pack (the fingers close vertically), so it cannot stand over the
-    table: it puts the pack down at an edge, sticking out ``table_overhang_m`` over it, the hand outside the
-    table and its approach across the edge into it. Each of the table's four edges is tried every
-    ``edge_step_m``, the pack's footprint kept within the edge's length.
+    table: it puts the pack down at an edge, the pads' centre ``table_overhang_m - pad_inset_m`` outside it (the
+    fingers and the hand outside the table, the pack sticking out about ``table_overhang_m``) and its approach
+    square to the edge, into the table. Each of the table's four edges is tried every ``edge_step_m``; a spot is
+    kept where the pack's footprint lies within the edge's length and its centre at least ``keep_on_m`` inside.
     """
     approach = cand.grasp[:3, 2]
     approach_yaw = math.atan2(approach[1], approach[0])
     held = cand.object_in_ee
-    # the pack's extent along the approach and across it, from its pose in the hand (turning keeps both)
-    box = np.abs(held[:3, :3]) @ np.asarray(spec.size, dtype=float)
-    depth, width = float(box[2]), float(box[0])
+    half = np.asarray(spec.size, dtype=float) / 2
+    corners = np.array([[sx_ * half[0], sy_ * half[1], 0.0] for sx_ in (-1, 1) for sy_ in (-1, 1)])
     (cx, cy), (sx, sy) = table.center, table.size
+    pads_out = settings.table_overhang_m - settings.pad_inset_m
     out: list[tuple[tuple[float, float, float], float]] = []
-    # each edge: its outward normal and its length's half
-    for nx, ny, half_len in (
-        (1.0, 0.0, sy / 2),
-        (-1.0, 0.0, sy / 2),
-        (0.0, 1.0, sx / 2),
-        (0.0, -1.0, sx / 2),
-    ):
-        edge_x = cx + nx * sx / 2
-        edge_y = cy + ny * sy / 2
-        inset = depth / 2 - settings.table_overhang_m  # the pack's centre this far inside the edge
-        reach = half_len - width / 2
-        if reach < 0:
-            continue
-        steps = int(reach // settings.edge_step_m)
+    for nx, ny in ((1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)):  # each edge's outward normal
+        normal, along = np.array([nx, ny]), np.array([-ny, nx])
+        edge = np.array([cx + nx * sx / 2, cy + ny * sy / 2])
+        half_len = sy / 2 if nx else sx / 2
         turn = math.atan2(-ny, -nx) - approach_yaw  # the approach points into the table, across the edge
-        for k in range(-steps, steps + 1):
-            t = k * settings.edge_step_m
-            x = edge_x - nx * inset + (t if nx == 0.0 else 0.0)
-            y = edge_y - ny * inset + (t if ny == 0.0 else 0.0)
-            out.append(((float(x), float(y), float(table.top_z)), float(turn)))
+        c, s_ = math.cos(turn), math.sin(turn)
+        turned = np.array([[c, -s_, 0.0], [s_, c, 0.0], [0.0, 0.0, 1.0]]) @ cand.grasp[:3, :3]
+        centre_from_pads = (turned @ held[:3, 3])[:2]
+        footprint = (turned @ held[:3, :3] @ corners.T).T[:, :2]
+        for k in range(-int(half_len // settings.edge_step_m), int(half_len // settings.edge_step_m) + 1):
+            pads = edge + normal * pads_out + along * k * settings.edge_step_m
+            centre = pads + centre_from_pads
+            if (edge - centre) @ normal < settings.keep_on_m:
+                continue
+            span = (centre + footprint - edge) @ along
+            if span.min() < -half_len or span.max() > half_len:
+                continue
+            out.append(((float(centre[0]), float(centre[1]), float(table.top_z)), float(turn)))
     out.sort(key=lambda p: math.hypot(p[0][0] - base[0], p[0][1] - base[1]))
     return out

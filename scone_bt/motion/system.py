@@ -59,6 +59,7 @@ from scone_bt.motion.probe import ProbeReading, ProbeSettings
 from scone_bt.motion.slide import (
     SlideFailure,
     SlidePlan,
+    carried_size,
     plan_slide,
     slide_distance,
     slide_ledge,
@@ -394,7 +395,10 @@ class PickAndPlaceTask:
         knew stood on the table."""
         request = self._request
         assert request is not None and plan.feasible is not None
-        carried = Obstacle(self.target.name, self.spec.shape, self.spec.size, plan.feasible.cand.object_in_ee)
+        cand = plan.feasible.cand
+        carried = Obstacle(
+            self.target.name, self.spec.shape, carried_size(self.spec, cand), cand.object_in_ee
+        )
         return PathWatch.of(self.system.arm, carried, plan.finger_position, request.table_obstacles)
 
     def _request_new_spot(

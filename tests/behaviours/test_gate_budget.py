@@ -328,7 +328,9 @@ def test_an_undeclined_item_is_still_asked_for() -> None:
     assert _tick(gate, _salt_step()).kind is DecisionKind.ASK
 
 
-def _wide_gate(opening_m: float | None) -> ConfidenceGate:
+def _wide_gate(
+    opening_m: float | None, slide_pinch: bool = False, tier: int | None = None, height: float | None = None
+) -> ConfidenceGate:
     from scone_bt.experience.types import ExecutionContext
 
     events = EventLog()
@@ -342,7 +344,10 @@ def _wide_gate(opening_m: float | None) -> ConfidenceGate:
             clock=FakeRobot(time=3.0).now,
             human=FakeHuman(),
             contexts=lambda targets, seen, frames: {
-                t.name: ExecutionContext(detected=True, detected_width_m=0.095) for t in targets
+                t.name: ExecutionContext(
+                    shelf_tier=tier, detected=True, detected_width_m=0.095, detected_height_m=height
+                )
+                for t in targets
             },
         ),
         GateSettings(
@@ -351,6 +356,7 @@ def _wide_gate(opening_m: float | None) -> ConfidenceGate:
             steps_total=4,
             budget=budget,
             opening_m=opening_m,
+            slide_pinch=slide_pinch,
         ),
     )
     gate.setup()
@@ -363,3 +369,15 @@ def test_a_product_measured_wider_than_the_gripper_is_asked_about_not_attempted(
     assert decision.reason == "the salt measures 9.5 cm across and my gripper opens 8.0 cm: please fetch it"
     assert _tick(_wide_gate(0.10), _salt_step()).kind is DecisionKind.ACT  # a wider gripper takes it
     assert _tick(_wide_gate(None), _salt_step()).kind is DecisionKind.ACT  # the paper's gate: no such rule
+
+
+def test_an_arm_that_slides_flat_packs_leaves_one_on_a_lowest_tier_to_kappa() -> None:
+    flat_low = _tick(_wide_gate(0.08, slide_pinch=True, tier=0, height=0.04), _salt_step())
+    assert flat_low.kind is DecisionKind.ACT and flat_low.rule != "too-wide"
+    # the same arm asks for it on a higher tier, or for a tall one; an arm without the skill asks for it anywhere
+    for gate in (
+        _wide_gate(0.08, slide_pinch=True, tier=1, height=0.04),
+        _wide_gate(0.08, slide_pinch=True, tier=0, height=0.12),
+        _wide_gate(0.08, slide_pinch=False, tier=0, height=0.04),
+    ):
+        assert _tick(gate, _salt_step()).rule == "too-wide"

@@ -51,8 +51,8 @@ def test_the_slide_brings_the_front_face_out_by_the_overhang_and_keeps_the_pack_
     assert face.overhang == pytest.approx(0.305 - (0.37 - 0.07))  # its 14 cm across the tier
     assert slide_distance(centred, TRAY, ledge) == pytest.approx(SLIDE_SETTINGS.overhang_m - face.overhang)
     # already sticking out: pinched as it stands; near the edge: slid only as far as keeps its centre on
-    assert slide_distance(_on_front(0.34, math.pi / 2), TRAY, ledge) == 0.0
-    assert slide_distance(_on_front(0.37, 0.0), TRAY, ledge) == 0.0  # its 20 cm across: out 3.5 cm already
+    assert slide_distance(_on_front(0.33, math.pi / 2), TRAY, ledge) == 0.0  # out 4.5 cm
+    assert slide_distance(_on_front(0.36, 0.0), TRAY, ledge) == 0.0  # its 20 cm across: out 4.5 cm already
     farther = dataclasses.replace(
         SLIDE_SETTINGS, overhang_m=0.10
     )  # never so far that its centre nears the edge

@@ -428,3 +428,19 @@ def test_a_mujoco_execution_is_the_same_task_and_repeats_exactly(kitchen_cfg, ro
         bullet.slot,
     )
     assert first.detected and abs(first.detected_width_m - bullet.detected_width_m) < 0.005
+
+
+def test_the_log_records_whether_the_arm_slid_flat_packs_and_the_replay_reads_it(tmp_path, fake_runs):
+    """generation.json's ``slide_pinch`` (the robot file's grasp.slide_pinch) is what the replay's gate reads
+    (`replay_streams.slides_flat_packs`); a log written before it was a setting holds an arm without the skill."""
+    from scone_bt.benchmarks.replay_streams import slides_flat_packs
+
+    out = tmp_path / "X"
+    assert bench(_generate(out, "--executions", "1")) == 0
+    log = json.loads((out / "generation.json").read_text())
+    assert log["generations"]["p00_nominal"]["slide_pinch"] is True  # robots/panda.yaml
+    assert slides_flat_packs(out, ["p00_nominal", "p99_other"]) == [True, False]
+    del log["generations"]["p00_nominal"]["slide_pinch"]
+    (out / "generation.json").write_text(json.dumps(log))
+    assert slides_flat_packs(out, ["p00_nominal"]) == [False]
+    assert slides_flat_packs(tmp_path / "nothing", ["p00_nominal"]) == [False]
