@@ -36,7 +36,7 @@ the gate's ACT becomes an ask before the arm moves, learnt by κ̂ as a failure 
 an attempt. The datasets record both as failed executions: the generator attempts every row. Methods:
 
 - ``budget:<κ̂>``: the failure-budget gate (scone_bt.gate.budget) over κ̂ (the tree's default: ``physical``);
-- ``fixed:<κ̂>``: the same κ̂ and exploration with a threshold fixed at τ₀ (1 − 3α) (no online calibration);
+- ``fixed:<κ̂>``: the same κ̂ and exploration with a threshold fixed at τ₀ (1 − 5α) (no online calibration);
 - ``conformal``: the full conformal KNN gate at α (KnowNo-style; acts when 1 − p-value ≥ 1 − α), with the same
   exploration (without it a cold conformal gate never acts);
 - ``paper``: the paper's ε-KNN at its fixed 0.5 threshold (one point: it states no rate);

@@ -617,7 +617,7 @@ def replay_stream(
         products: (n,) product names (novel = κ̂ has no outcome of it yet in this stream).
         estimator: κ̂ registry name.
         gate: "budget" (the tree's gate: it also asks about a product perceived wider than ``opening_m``),
-            "fixed" (τ₀ = 1 − 3α, no calibration), "conformal" (act at 1 − α) or "paper" (0.5).
+            "fixed" (τ₀ = 1 − 5α, the budget's start, no calibration), "conformal" (act at 1 − α) or "paper" (0.5).
         alpha: Target failure rate.
         seed: Seeds κ̂ and the exploration draws.
         warmup: Decisions not scored.

@@ -67,8 +67,8 @@ def slides_flat_packs(folder: Path, names: Sequence[str]) -> list[bool]:
 
 def datasets_folder(args: argparse.Namespace) -> Path:
     """``--datasets``, or the committed development streams when it is not given: those with the heft test's
-    readings (tools/data/sc_probe) where the replay probes (``args.probe_on``: the tree's ``probe.enabled``, or
-    ``--probe``), else tools/data/sc."""
+    readings, recorded by the shipped arm, which slides and pinches flat packs (tools/data/sc_slide), where the
+    replay probes (``args.probe_on``: the tree's ``probe.enabled``, or ``--probe``), else tools/data/sc."""
     from scone_bt.resources import repo_root
 
     if args.datasets:
@@ -77,7 +77,7 @@ def datasets_folder(args: argparse.Namespace) -> Path:
         (repo_root() or Path("."))
         / "tools"
         / "data"
-        / ("sc_probe" if getattr(args, "probe_on", False) else "sc")
+        / ("sc_slide" if getattr(args, "probe_on", False) else "sc")
     )
 
 
@@ -132,8 +132,14 @@ generator's injected planning failure): the tree still attempts those (robot.sim
 stay failed attempts."""
 
 
-PROBE_DATASETS: tuple[str, ...] = ("tools/data/sc_probe", "tools/data/sc_heldout_probe")
-"""The committed datasets that record the heft test's readings (the others were generated without it)."""
+PROBE_DATASETS: tuple[str, ...] = (
+    "tools/data/sc_slide",
+    "tools/data/sc_heldout_slide",
+    "tools/data/sc_probe",
+    "tools/data/sc_heldout_probe",
+)
+"""Committed datasets that record the heft test's readings (the _slide ones by the arm that slides and pinches flat
+packs; tools/data/sc and the other older folders were generated without the probe)."""
 
 
 def check_probe_readings(args: argparse.Namespace, streams: Streams) -> None:

@@ -89,7 +89,11 @@ def test_the_threshold_rises_after_failures_in_the_event_log(budgeted: bool) -> 
     """τ₀ = 1 − 3 · 0.2 = 0.4; each failure adds 0.1 · 0.8, so κ̂'s 0.65 is enough for ACT until the fourth
     failure (τ = 0.72). The paper's gate (no budget, fixed 0.6) keeps acting on the same events."""
     events = EventLog()
-    budget = BudgetOptions(target_failure_rate=0.2, step=0.1, explore_rate=0.0) if budgeted else None
+    budget = (
+        BudgetOptions(start_margin=3.0, target_failure_rate=0.2, step=0.1, explore_rate=0.0)
+        if budgeted
+        else None
+    )
     gate, bb = _gate(events, _Kappa(0.65), budget), _salt_step()
     kinds = []
     for _ in range(5):
@@ -109,7 +113,7 @@ def test_successes_lower_the_threshold_again() -> None:
     events = EventLog()
     for ok in (False, False):
         events(ActOutcome(1.0, SUGAR, "sugar", ok, None if ok else "grasp"))
-    budget = BudgetOptions(target_failure_rate=0.2, step=0.1, explore_rate=0.0)
+    budget = BudgetOptions(start_margin=3.0, target_failure_rate=0.2, step=0.1, explore_rate=0.0)
     gate, bb = _gate(events, _Kappa(0.5), budget), _salt_step()
     assert _tick(gate, bb).kind is DecisionKind.ASK  # τ = 0.4 + 0.1 · (2 − 0.2 · 2) = 0.56
     for _ in range(4):
@@ -124,7 +128,7 @@ def test_the_budget_explores_only_while_kappa_has_learnt_fewer_than_explore_unti
     learnt, kind, explored
 ) -> None:
     events = EventLog()
-    budget = BudgetOptions(explore_rate=1.0, explore_until=5)
+    budget = BudgetOptions(start_margin=3.0, explore_rate=1.0, explore_until=5)
     gate, bb = _gate(events, _Kappa(0.3, n_observations=learnt), budget), _salt_step()
     decision = _tick(gate, bb)
     assert (decision.kind, decision.explored, decision.confidence) == (kind, explored, 0.3)
@@ -135,7 +139,7 @@ def test_the_budget_explores_only_while_kappa_has_learnt_fewer_than_explore_unti
 def test_an_action_that_already_failed_is_never_explored_again() -> None:
     events = EventLog()
     events(ActOutcome(1.0, SALT, "salt", False, "grasp"))
-    budget = BudgetOptions(explore_rate=1.0, explore_until=5)
+    budget = BudgetOptions(start_margin=3.0, explore_rate=1.0, explore_until=5)
     gate, bb = _gate(events, _Kappa(0.3, n_observations=1), budget), _salt_step()
     decision = _tick(gate, bb)
     assert (decision.kind, decision.explored) == (DecisionKind.ASK, False)
@@ -143,7 +147,7 @@ def test_an_action_that_already_failed_is_never_explored_again() -> None:
 
 def test_the_budget_stops_exploring_after_explore_failures_and_they_count_against_it() -> None:
     events = EventLog()
-    budget = BudgetOptions(explore_rate=1.0, explore_until=100, explore_failures=1)
+    budget = BudgetOptions(start_margin=3.0, explore_rate=1.0, explore_until=100, explore_failures=1)
     gate, bb = _gate(events, _Kappa(0.3, n_observations=0), budget), _salt_step()
     first = _tick(gate, bb)
     assert first.kind is DecisionKind.ACT and first.explored
@@ -160,7 +164,7 @@ def test_a_strict_promise_is_kept_from_the_first_attempt() -> None:
     about the crushed tomatoes instead of exploring again (2 failures in 2 attempts would break F ≤ α · A + 1)."""
     events = EventLog()
     budget = BudgetOptions(
-        target_failure_rate=0.05, explore_rate=1.0, explore_until=100, excess_allowance=1.0
+        start_margin=3.0, target_failure_rate=0.05, explore_rate=1.0, explore_until=100, excess_allowance=1.0
     )
     gate, bb = _gate(events, _Kappa(0.3, n_observations=0), budget), _salt_step()
     assert _tick(gate, bb).explored
@@ -175,7 +179,7 @@ def test_the_gate_without_a_budget_never_explores_on_its_own() -> None:
 
 
 def test_exploration_draws_are_seeded_and_at_the_stated_rate() -> None:
-    budget = BudgetOptions(explore_rate=0.5, explore_until=100)
+    budget = BudgetOptions(start_margin=3.0, explore_rate=0.5, explore_until=100)
 
     def explored(seed: int) -> list[bool]:
         gate, bb = _gate(EventLog(), _Kappa(0.3, n_observations=0), budget, seed=seed), _salt_step()
@@ -204,7 +208,7 @@ def _missing_step(*missing: str) -> py_trees.blackboard.Client:
 def test_a_missing_item_is_asked_for_once_then_waited_for() -> None:
     events, human = EventLog(), FakeHuman()
     bb = _missing_step("spaghetti")
-    gate = _gate(events, _Kappa(0.9), BudgetOptions(), human=human)
+    gate = _gate(events, _Kappa(0.9), BudgetOptions(start_margin=3.0), human=human)
     look = _tick(gate, bb)  # first a longer look (averaged frames), then the ask
     assert (look.kind, look.rule) == (DecisionKind.IDLE, "missing")
     assert look.reason == "waiting: spaghetti not in sight (looking again)"
@@ -243,7 +247,7 @@ def test_waiting_for_a_missing_item_carries_no_other_products_numbers(budgeted: 
 
     events = EventLog()
     bb = _missing_step("spaghetti")
-    gate = _gate(events, _Kappa(0.9), BudgetOptions() if budgeted else None)
+    gate = _gate(events, _Kappa(0.9), BudgetOptions(start_margin=3.0) if budgeted else None)
     gate._looked_again.add("spaghetti")  # looked for again and
     gate._asked_missing.add("spaghetti")  # asked for already: now it is waited for
     parmesan = Decision(
@@ -261,7 +265,7 @@ def test_waiting_for_a_missing_item_carries_no_other_products_numbers(budgeted: 
 
 def test_each_missing_item_is_asked_for_in_turn() -> None:
     bb = _missing_step("spaghetti", "basil")
-    gate = _gate(EventLog(), _Kappa(0.9), BudgetOptions())
+    gate = _gate(EventLog(), _Kappa(0.9), BudgetOptions(start_margin=3.0))
     decisions = [_tick(gate, bb) for _ in range(4)]
     assert decisions[0].reason == "waiting: spaghetti, basil not in sight (looking again)"
     assert [(d.kind, d.object_name) for d in decisions] == [
@@ -275,7 +279,7 @@ def test_each_missing_item_is_asked_for_in_turn() -> None:
 
 def test_nothing_missing_stays_idle() -> None:
     bb = _missing_step()
-    decision = _tick(_gate(EventLog(), _Kappa(0.9), BudgetOptions()), bb)
+    decision = _tick(_gate(EventLog(), _Kappa(0.9), BudgetOptions(start_margin=3.0)), bb)
     assert (
         decision.kind is DecisionKind.IDLE
         and decision.rule == ""
@@ -299,7 +303,7 @@ def _declining_gate(limit: int = 99) -> tuple[ConfidenceGate, EventLog]:
             gate=GateOptions(confidence_threshold=0.6, relevance_threshold=0.3),
             max_failures_per_action=limit,
             steps_total=4,
-            budget=BudgetOptions(explore_rate=0.0),
+            budget=BudgetOptions(start_margin=3.0, explore_rate=0.0),
         ),
     )
     gate.setup()
@@ -334,7 +338,9 @@ def _wide_gate(
     from scone_bt.experience.types import ExecutionContext
 
     events = EventLog()
-    budget = BudgetOptions(explore_rate=1.0, explore_until=100)  # it would explore: the width still wins
+    budget = BudgetOptions(
+        start_margin=3.0, explore_rate=1.0, explore_until=100
+    )  # it would explore: the width still wins
     gate = ConfidenceGate(
         "gate",
         GatePorts(

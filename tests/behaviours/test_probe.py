@@ -63,7 +63,7 @@ def _gate(robot: FakeRobot, events: EventLog, kappa: _Kappa, probe: ProbeOptions
             gate=GateOptions(),
             max_failures_per_action=3,
             steps_total=4,
-            budget=BudgetOptions(explore_rate=0.0),  # τ₀ = 0.55 at the default 0.15
+            budget=BudgetOptions(start_margin=3.0, explore_rate=0.0),  # τ₀ = 0.55 at the default 0.15
             probe=probe,
         ),
     )
@@ -241,7 +241,7 @@ class _FeelingKappa:
 
 def _strict_gate(robot: FakeRobot, events: EventLog, kappa: object) -> ConfidenceGate:
     gate = _gate(robot, events, kappa, ProbeOptions(below=0.3, above=0.45))  # type: ignore[arg-type]
-    budget = BudgetOptions(explore_rate=0.0, excess_allowance=1.0)  # the strict promise
+    budget = BudgetOptions(start_margin=3.0, explore_rate=0.0, excess_allowance=1.0)  # the strict promise
     from dataclasses import replace
 
     gate.settings = replace(gate.settings, budget=budget)

@@ -439,7 +439,7 @@ def test_the_replay_of_a_probing_robot_reads_the_streams_with_probe_readings_by_
         _tree_defaults(args)
         return datasets_folder(args)
 
-    assert folder().parts[-2:] == ("data", "sc_probe")
+    assert folder().parts[-2:] == ("data", "sc_slide")
     assert folder(probe=False).parts[-2:] == ("data", "sc")
     assert folder(datasets="runs/mine", probe=True) == Path("runs/mine")
 

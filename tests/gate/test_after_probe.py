@@ -14,8 +14,8 @@ from scone_bt.gate.probe import ProbeOptions, in_band, probe_credit
 from scone_bt.gate.rules import GateRules
 
 ALPHA = 0.15
-STRICT = BudgetOptions(target_failure_rate=ALPHA, excess_allowance=1.0)
-LOOSE = BudgetOptions(target_failure_rate=ALPHA)
+STRICT = BudgetOptions(start_margin=3.0, target_failure_rate=ALPHA, excess_allowance=1.0)
+LOOSE = BudgetOptions(start_margin=3.0, target_failure_rate=ALPHA)
 TAU0 = 0.55  # 1 − 3α
 HOLDS = (True, "")
 

@@ -52,7 +52,7 @@ def _realised_failure_rate(options: BudgetOptions, p: np.ndarray, success: np.nd
 @pytest.mark.parametrize("alpha", [0.1, 0.2])
 def test_online_threshold_tracks_the_stated_rate_on_a_drifting_stream(alpha: float) -> None:
     p, success = _drifting_stream(seed=0)
-    options = BudgetOptions(target_failure_rate=alpha, explore_until=0)
+    options = BudgetOptions(start_margin=3.0, target_failure_rate=alpha, explore_until=0)
     assert abs(_realised_failure_rate(options, p, success) - alpha) <= _TOLERANCE
 
 
@@ -60,13 +60,13 @@ def test_online_threshold_tracks_the_stated_rate_on_a_drifting_stream(alpha: flo
 def test_a_fixed_threshold_misses_the_rate_on_the_same_stream(alpha: float) -> None:
     """The same rule with step 0 (τ stays τ₀): what the tracking test must be able to tell apart."""
     p, success = _drifting_stream(seed=0)
-    fixed = BudgetOptions(target_failure_rate=alpha, step=0.0, explore_until=0)
+    fixed = BudgetOptions(start_margin=3.0, target_failure_rate=alpha, step=0.0, explore_until=0)
     assert abs(_realised_failure_rate(fixed, p, success) - alpha) > _TOLERANCE
 
 
 def test_excess_failures_equal_the_threshold_shift_while_inside_the_bounds() -> None:
     """F − α·A = (τ − τ₀)/η at every step of a seeded sequence of attempts that keeps τ inside its bounds."""
-    options = BudgetOptions(target_failure_rate=0.2, step=0.01)
+    options = BudgetOptions(start_margin=3.0, target_failure_rate=0.2, step=0.01)
     tau0 = initial_threshold(options)
     rng = np.random.default_rng(3)
     attempts = failures = 0
@@ -82,7 +82,7 @@ def test_excess_failures_equal_the_threshold_shift_while_inside_the_bounds() -> 
 def test_a_failure_raises_tau_by_step_times_one_minus_alpha_and_a_success_lowers_it_by_step_times_alpha() -> (
     None
 ):
-    options = BudgetOptions(target_failure_rate=0.1, step=0.02)
+    options = BudgetOptions(start_margin=3.0, target_failure_rate=0.1, step=0.02)
     base = threshold(options, BudgetCounts(10, 1))
     assert threshold(options, BudgetCounts(11, 2)) - base == pytest.approx(0.02 * 0.9)
     assert threshold(options, BudgetCounts(11, 1)) - base == pytest.approx(-0.02 * 0.1)
@@ -91,21 +91,23 @@ def test_a_failure_raises_tau_by_step_times_one_minus_alpha_and_a_success_lowers
 @pytest.mark.parametrize(
     ("alpha", "tau_min", "tau_max", "tau0"),
     [
-        (0.1, 0.5, 0.95, 0.7),  # 1 − 3α
-        (0.15, 0.2, 0.95, 0.55),  # the tree's default
-        (0.3, 0.5, 0.95, 0.5),  # 1 − 3α = 0.1 below τ_min
-        (0.01, 0.5, 0.95, 0.95),  # 1 − 3α = 0.97 above τ_max
-        (0.2, 0.2, 0.9, 0.4),
+        (0.05, 0.5, 0.95, 0.75),  # 1 − 5α
+        (0.15, 0.2, 0.95, 0.25),  # the tree's default
+        (0.15, 0.3, 0.95, 0.3),  # 1 − 5α = 0.25 below τ_min
+        (0.005, 0.5, 0.95, 0.95),  # 1 − 5α = 0.975 above τ_max
+        (0.1, 0.2, 0.9, 0.5),
     ],
 )
 def test_initial_threshold(alpha: float, tau_min: float, tau_max: float, tau0: float) -> None:
+    """The shipped start, τ₀ = 1 − 5α within [τ_min, τ_max] (the other tests here pin 1 − 3α, the start their
+    figures were worked out at: the mechanics do not depend on it)."""
     options = BudgetOptions(target_failure_rate=alpha, tau_min=tau_min, tau_max=tau_max)
     assert initial_threshold(options) == pytest.approx(tau0)
     assert threshold(options, BudgetCounts()) == pytest.approx(tau0)
 
 
 def test_threshold_is_clipped_to_its_bounds() -> None:
-    options = BudgetOptions(target_failure_rate=0.1, step=0.01, tau_min=0.55, tau_max=0.9)
+    options = BudgetOptions(start_margin=3.0, target_failure_rate=0.1, step=0.01, tau_min=0.55, tau_max=0.9)
     assert threshold(options, BudgetCounts(attempts=100, failures=100)) == 0.9
     assert threshold(options, BudgetCounts(attempts=1000, failures=0)) == 0.55
     # just inside: 0.7 + 0.01 · (10 − 0.1 · 100) = 0.7
@@ -113,7 +115,7 @@ def test_threshold_is_clipped_to_its_bounds() -> None:
 
 
 def test_learnt_outcomes_do_not_move_tau_and_attempts_count_whatever_chose_them() -> None:
-    options = BudgetOptions()
+    options = BudgetOptions(start_margin=3.0)
     assert threshold(options, BudgetCounts(explored_failures=5, learnt=50)) == initial_threshold(options)
     # an exploratory failure is counted in `failures` like any other: the promise covers every attempt
     assert threshold(options, BudgetCounts(attempts=1, failures=1, explored_failures=1)) > initial_threshold(
@@ -122,18 +124,18 @@ def test_learnt_outcomes_do_not_move_tau_and_attempts_count_whatever_chose_them(
 
 
 def test_may_explore_stops_at_explore_until_learnt_outcomes() -> None:
-    options = BudgetOptions(explore_until=10, explore_failures=6)
+    options = BudgetOptions(start_margin=3.0, explore_until=10, explore_failures=6)
     assert may_explore(options, BudgetCounts(learnt=9))
     assert not may_explore(options, BudgetCounts(learnt=10))
     assert not may_explore(options, BudgetCounts(learnt=11))
-    assert not may_explore(BudgetOptions(explore_until=0), BudgetCounts())
+    assert not may_explore(BudgetOptions(start_margin=3.0, explore_until=0), BudgetCounts())
 
 
 def test_may_explore_stops_at_explore_failures_failed_explorations() -> None:
-    options = BudgetOptions(explore_until=10, explore_failures=6)
+    options = BudgetOptions(start_margin=3.0, explore_until=10, explore_failures=6)
     assert may_explore(options, BudgetCounts(explored_failures=5, learnt=0))
     assert not may_explore(options, BudgetCounts(explored_failures=6, learnt=0))
-    assert not may_explore(BudgetOptions(explore_failures=0), BudgetCounts())
+    assert not may_explore(BudgetOptions(start_margin=3.0, explore_failures=0), BudgetCounts())
 
 
 @pytest.mark.parametrize(
@@ -157,14 +159,22 @@ def test_may_explore_stops_at_explore_failures_failed_explorations() -> None:
 )
 def test_budget_options_refuse_out_of_range_values_naming_the_field(field: str, value: float) -> None:
     with pytest.raises(SconeError) as err:
-        BudgetOptions(**{field: value})
+        BudgetOptions(start_margin=3.0, **{field: value})
     message = str(err.value)
     assert message.startswith(f"{field} must be ") and "\n" not in message
 
 
 def test_budget_options_accept_their_boundaries() -> None:
-    BudgetOptions(step=0.0, tau_min=0.0, tau_max=1.0, explore_rate=0.0, explore_until=0, explore_failures=0)
-    BudgetOptions(step=1.0, explore_rate=1.0)
+    BudgetOptions(
+        start_margin=3.0,
+        step=0.0,
+        tau_min=0.0,
+        tau_max=1.0,
+        explore_rate=0.0,
+        explore_until=0,
+        explore_failures=0,
+    )
+    BudgetOptions(start_margin=3.0, step=1.0, explore_rate=1.0)
 
 
 @pytest.mark.parametrize(
@@ -181,7 +191,7 @@ def test_too_wide_is_strictly_wider_than_the_opening_and_unknown_is_not_wide(wid
 def test_exploration_spends_only_earned_credit_from_the_first_attempt() -> None:
     """The tomato pasta at α = 0.05 with the strict rule on (the tree's exploration_credit): one failed
     exploration, then no more until successes earn credit."""
-    options = BudgetOptions(target_failure_rate=0.05, excess_allowance=1.0)
+    options = BudgetOptions(start_margin=3.0, target_failure_rate=0.05, excess_allowance=1.0)
     assert has_credit(options, BudgetCounts())  # F + 1 = 1 ≤ 0.05 · 1 + 1
     after_one = BudgetCounts(attempts=1, failures=1, explored_failures=1, learnt=1)
     assert not has_credit(options, after_one)  # a second failure: 2 > 0.05 · 2 + 1
@@ -197,7 +207,11 @@ def test_the_strict_rule_bounds_excess_failures_of_any_exploration_sequence() ->
     rng = np.random.default_rng(0)
     for alpha in (0.05, 0.15, 0.4):
         options = BudgetOptions(
-            target_failure_rate=alpha, explore_until=10**6, explore_failures=10**6, excess_allowance=1.0
+            start_margin=3.0,
+            target_failure_rate=alpha,
+            explore_until=10**6,
+            explore_failures=10**6,
+            excess_allowance=1.0,
         )
         counts = BudgetCounts()
         for _ in range(300):
@@ -211,13 +225,13 @@ def test_the_strict_rule_bounds_excess_failures_of_any_exploration_sequence() ->
 
 def test_excess_allowance_is_validated() -> None:
     with pytest.raises(SconeError, match="excess_allowance must be ≥ 0 or None"):
-        BudgetOptions(excess_allowance=-1.0)
+        BudgetOptions(start_margin=3.0, excess_allowance=-1.0)
 
 
 def test_without_the_strict_rule_exploration_needs_no_credit() -> None:
     """Without the strict promise (exploration_credit: false; on in the shipped tree): the budget explores while
     learning, whatever the excess."""
-    options = BudgetOptions(target_failure_rate=0.05)
+    options = BudgetOptions(start_margin=3.0, target_failure_rate=0.05)
     after_one = BudgetCounts(attempts=1, failures=1, explored_failures=1, learnt=1)
     assert has_credit(options, after_one)
     assert may_explore(options, after_one)

@@ -141,6 +141,7 @@ def _replay(
         probe=probe,
         readings=readings,
         excess_allowance=allowance,
+        budget=BudgetOptions(start_margin=3.0),  # the start these streams were written for: some explore
     )
     if outcomes is not None:
         outcomes.extend(result.trace)
@@ -188,7 +189,7 @@ def _behaviour(
     robot = FakeRobot(time=1.0)
     now: dict[str, ExecutionContext] = {}
     budget = (
-        BudgetOptions(target_failure_rate=ALPHA, excess_allowance=allowance)
+        BudgetOptions(start_margin=3.0, target_failure_rate=ALPHA, excess_allowance=allowance)
         if gate_name == "budget"
         else None
     )
@@ -361,7 +362,7 @@ def test_the_tree_and_the_replay_agree_where_a_product_held_fast_carries_on_by_f
 
 
 def test_the_probe_step_asks_about_what_a_probe_set_back_in_this_episode() -> None:
-    budget = BudgetOptions(target_failure_rate=0.2)
+    budget = BudgetOptions(start_margin=3.0, target_failure_rate=0.2)
     band = ProbeOptions(below=0.3, above=0.0)  # κ̂ in [0.1, 0.4) against τ₀ = 0.4
     rules = GateRules(budget=budget, exploration=budget, opening_m=OPENING_M, probe=band)
     text = "Put jar on table"
@@ -390,7 +391,7 @@ def test_the_probe_step_asks_about_what_a_probe_set_back_in_this_episode() -> No
 
 def test_steps_can_be_read_one_by_one() -> None:
     """The decision composes named steps: the budget's τ, its exploration, the too-wide rule."""
-    budget = BudgetOptions(target_failure_rate=0.2)
+    budget = BudgetOptions(start_margin=3.0, target_failure_rate=0.2)
     rules = GateRules(budget=budget, exploration=budget, failure_limit=2, opening_m=OPENING_M)
     ranked = (RankedAction("Put pot on table", 0.9),)
     seen = GateInput(
