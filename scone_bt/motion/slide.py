@@ -30,6 +30,7 @@ from scone_bt.config import ObjectSpec
 from scone_bt.config.catalogue import Shape
 from scone_bt.config.grasp import flat_pack
 from scone_bt.config.scene import SceneSpec
+from scone_bt.motion.collision import CollisionWorld
 from scone_bt.motion.grasp import GraspCandidate, GraspFamily, object_pose, top_down_rotation
 from scone_bt.motion.ledge import Ledge, ledge_of
 from scone_bt.motion.model import ArmModel
@@ -227,19 +228,10 @@ def plan_slide(
     around = [*scene.fixed, scene.target]
     free = session.world(around, finger_position=closed)
     touch = session.world(around, ignore_for_hand=[scene.name], padding=0.004, finger_position=closed)
-    hover, press = top + settings.hover_m, top - settings.press_m
     why: str = ""
     blockers: list[str] = []
     for yaw in (facing + math.pi / 2, facing - math.pi / 2, facing, facing + math.pi):
-        rot = top_down_rotation(yaw)
-        poses = [
-            _pose(rot, ledge.world(far_u, v, hover)),
-            _pose(rot, ledge.world(far_u, v, press)),
-            _pose(rot, ledge.world(far_u - distance, v, press)),
-            _pose(rot, ledge.world(far_u - distance, v, hover)),
-            # then up and back towards the robot: out of the cameras' view of the pack (they look again)
-            _pose(rot, ledge.world(far_u - distance - settings.clear_m, v, hover + settings.clear_m)),
-        ]
+        poses = _slide_poses(ledge, top_down_rotation(yaw), far_u, v, top, distance, settings)
         q_pre = session.ik(poses[0], request.q_start, restarts=4)
         if q_pre is None:
             why = why or f"no IK solution above the {scene.name}'s far edge"
@@ -247,16 +239,9 @@ def plan_slide(
         if not free.is_valid(q_pre):
             why = f"above the {scene.name}'s far edge the arm collides ({collision_pair(free, q_pre)})"
             continue
-        lines: list[np.ndarray] = []
-        q = q_pre
-        for pose, what in zip(poses[1:], ("press", "drag", "rise", "rise"), strict=True):
-            path, why_line, names = session.line(q, pose, touch, f"slide {what}")
-            if path is None:
-                why, blockers = why_line, names
-                break
-            lines.append(path)
-            q = path[-1]
-        if len(lines) < 4:
+        lines, why_line, names = _straight_lines(session, q_pre, poses[1:], touch)
+        if lines is None:
+            why, blockers = why_line, names
             continue
         approach = session.direct(request.q_start, q_pre, free) or session.plan(
             request.q_start, q_pre, free, 1
@@ -271,11 +256,54 @@ def plan_slide(
             session.timed(MotionPhase.RAISE, np.vstack([lines[2], lines[3][1:]]), slow=True),
         )
         return SlidePlan(segments, ledge, time.perf_counter() - t0, session.checks)
-    reason = PlanFailureReason.NO_PATH if why.startswith("no path") else PlanFailureReason.GRASPS_BLOCKED
-    stage = FailureStage.IK if why.startswith("no IK") else FailureStage.PLANNING
+    return _no_slide(scene.name, why, blockers)
+
+
+def _slide_poses(
+    ledge: Ledge,
+    rot: np.ndarray,
+    far_u: float,
+    v: float,
+    top: float,
+    distance: float,
+    settings: SlideSettings,
+) -> list[np.ndarray]:
+    """The hand's poses: above the far strip, pressed into it, dragged ``distance`` towards the robot, risen,
+    then up and back towards the robot, out of the cameras' view of the pack (they look again)."""
+    hover, press = top + settings.hover_m, top - settings.press_m
+    near_u = far_u - distance
+    return [
+        _pose(rot, ledge.world(far_u, v, hover)),
+        _pose(rot, ledge.world(far_u, v, press)),
+        _pose(rot, ledge.world(near_u, v, press)),
+        _pose(rot, ledge.world(near_u, v, hover)),
+        _pose(rot, ledge.world(near_u - settings.clear_m, v, hover + settings.clear_m)),
+    ]
+
+
+def _straight_lines(
+    session: PlanSession, q: np.ndarray, poses: list[np.ndarray], touch: CollisionWorld
+) -> tuple[list[np.ndarray] | None, str, list[str]]:
+    """The press, the drag and the two pieces of the rise as straight hand lines from ``q`` (None, why and the
+    blockers where one is out of reach or collides)."""
+    lines: list[np.ndarray] = []
+    for pose, what in zip(poses, ("press", "drag", "rise", "rise"), strict=True):
+        path, why, names = session.line(q, pose, touch, f"slide {what}")
+        if path is None:
+            return None, why, names
+        lines.append(path)
+        q = path[-1]
+    return lines, "", []
+
+
+def _no_slide(name: str, why: str, blockers: list[str]) -> SlideFailure:
+    """Why no slide was found, as a typed failure (no IK: IK; else planning)."""
     if why.startswith("no IK"):
-        reason = PlanFailureReason.NO_GRASP_IK
-    return SlideFailure(stage, f"no slide of the {scene.name}: {why}", reason, tuple(dict.fromkeys(blockers)))
+        return SlideFailure(FailureStage.IK, f"no slide of the {name}: {why}", PlanFailureReason.NO_GRASP_IK)
+    reason = PlanFailureReason.NO_PATH if why.startswith("no path") else PlanFailureReason.GRASPS_BLOCKED
+    return SlideFailure(
+        FailureStage.PLANNING, f"no slide of the {name}: {why}", reason, tuple(dict.fromkeys(blockers))
+    )
 
 
 def _pose(rotation: np.ndarray, point: np.ndarray) -> np.ndarray:

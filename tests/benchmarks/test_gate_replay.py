@@ -199,7 +199,7 @@ def test_on_the_recorded_streams_the_causes_add_up_to_the_help_rate() -> None:
     from scone_bt.benchmarks.replay_streams import load_streams
     from scone_bt.gate.probe import ProbeOptions
 
-    args = replay_args(str(REPO / "tools/data/sc_probe"))
+    args = replay_args(str(REPO / "tools/data/sc_slide"))
     rates = pooled_rates(
         stream_results(
             load_streams(args, oracle=False), "physical", "budget", 0.15, args, probe=ProbeOptions()
