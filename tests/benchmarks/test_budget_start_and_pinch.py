@@ -10,8 +10,10 @@ from scone_bt.gate.budget import BudgetOptions, initial_threshold
 
 
 def test_the_threshold_starts_at_one_less_k_alpha():
-    assert initial_threshold(BudgetOptions(target_failure_rate=0.15)) == pytest.approx(0.55)
-    assert initial_threshold(BudgetOptions(target_failure_rate=0.15, start_margin=5.0)) == pytest.approx(0.25)
+    assert initial_threshold(BudgetOptions(target_failure_rate=0.15)) == pytest.approx(
+        0.25
+    )  # shipped: 1 − 5α
+    assert initial_threshold(BudgetOptions(target_failure_rate=0.15, start_margin=3.0)) == pytest.approx(0.55)
     # clipped to τ_min
     assert initial_threshold(BudgetOptions(target_failure_rate=0.2, start_margin=6.0)) == pytest.approx(0.2)
     with pytest.raises(SconeError, match="start_margin must be > 0"):
@@ -27,7 +29,7 @@ def test_the_sweep_s_budget_reaches_the_replay_s_rules_with_its_own_rate():
     assert (rules.budget.target_failure_rate, rules.budget.excess_allowance) == (0.10, 1.0)
     assert replay_rules("fixed", 0.10, 0.08, budget=swept).budget.step == 0.0  # a fixed threshold stays fixed
     rules = replay_rules("budget", 0.15, 0.08)
-    assert rules.budget.start_margin == 3.0 and rules.budget.step == 0.05
+    assert rules.budget.start_margin == 5.0 and rules.budget.step == 0.05  # the shipped start, 1 − 5α
 
 
 def test_a_swept_start_changes_the_replay(tool):

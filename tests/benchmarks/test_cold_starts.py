@@ -40,13 +40,13 @@ def test_a_rotated_stream_starts_at_its_row_and_keeps_every_row():
 
 
 def test_the_first_start_is_the_replay_of_scone_bench_gate(cold, monkeypatch, capsys):
-    """--step 100 starts each 100-row stream once, at its first row: the committed replay (probe_alpha.json,
-    the shipped gate at α = 0.15), stream by stream."""
-    argv = ["cold_starts", "--datasets", str(ROOT / "tools/data/sc_probe"), "--step", "100"]
+    """--step 100 starts each 100-row stream once, at its first row: the committed replay (probe_slide.json,
+    the shipped gate at α = 0.15 on the shipped arm's recording), stream by stream."""
+    argv = ["cold_starts", "--datasets", str(ROOT / "tools/data/sc_slide"), "--step", "100"]
     monkeypatch.setattr(sys, "argv", argv)
     cold.main()
     (line,) = map(json.loads, capsys.readouterr().out.splitlines())
-    committed = json.loads((ROOT / "docs/results/probe_alpha.json").read_text())["default"]
+    committed = json.loads((ROOT / "docs/results/probe_slide.json").read_text())["default"]
     assert line["cold_starts"] == 11 and line["feel_allowance"] == 2.0
     assert line["help_rate_mean"] == pytest.approx(np.mean(committed["help_rate_per_stream"]), abs=1e-4)
     assert line["attempt_failure_rate"] == pytest.approx(committed["attempt_failure_rate"], abs=1e-4)

@@ -20,6 +20,7 @@ from scone_bt.benchmarks.replay import StreamResult, replay_stream
 from scone_bt.benchmarks.replay_streams import foreseen, probe_readings
 from scone_bt.benchmarks.self_confidence.dataset import load_datasets
 from scone_bt.benchmarks.self_confidence.evaldata import decision_time_context
+from scone_bt.gate.budget import BudgetOptions
 from scone_bt.gate.probe import ProbeOptions
 
 DEV = Path(__file__).resolve().parents[2] / "tools" / "data" / "sc_probe"
@@ -51,6 +52,8 @@ def _replayed(alpha: float, allowance: float | None) -> list[StreamResult]:
                 readings=probe_readings(d),
                 excess_allowance=allowance,
                 foreseen=foreseen(d),
+                # the start these streams were chosen at (the robot before 1 − 5α): they explore, then fail
+                budget=BudgetOptions(start_margin=3.0),
             )
         )
     return out

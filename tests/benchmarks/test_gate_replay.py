@@ -14,6 +14,7 @@ from scone_bt.benchmarks.gate import TARGETS
 from scone_bt.benchmarks.replay import StreamResult, replay_stream
 from scone_bt.benchmarks.replay_rates import pooled_rates
 from scone_bt.cli.bench import main
+from scone_bt.gate.budget import BudgetOptions
 
 OPENING_M = 0.08
 REPO = Path(__file__).resolve().parents[2]
@@ -222,7 +223,17 @@ def test_a_seeded_replay_repeats_exactly() -> None:
 
     def replay(seed: int) -> StreamResult:
         return replay_stream(
-            vectors, context, success, products, "physical", "budget", 0.1, seed, 0, OPENING_M
+            vectors,
+            context,
+            success,
+            products,
+            "physical",
+            "budget",
+            0.1,
+            seed,
+            0,
+            OPENING_M,
+            budget=BudgetOptions(start_margin=3.0),  # a start at which this stream explores
         )
 
     first = replay(0)

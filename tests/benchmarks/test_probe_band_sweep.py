@@ -27,6 +27,16 @@ def test_oracle_replays_the_true_attributes_view(sweep, monkeypatch, capsys):
     import sys
     from pathlib import Path
 
+    import scone_bt.benchmarks.gate as bench_gate
+    from scone_bt.gate.budget import BudgetOptions
+
+    def replay_args_1_3(*a, **k):  # the committed line was measured at the start of its day, 1 − 3α
+        args = real_replay_args(*a, **k)
+        args.budget = BudgetOptions(start_margin=3.0)
+        return args
+
+    real_replay_args = bench_gate.replay_args
+    monkeypatch.setattr(bench_gate, "replay_args", replay_args_1_3)
     lines = {}
     for flags in ([], ["--oracle"]):
         argv = ["probe_band_sweep", "--configs", "[{}]", "--alphas", "0.15", *flags]
