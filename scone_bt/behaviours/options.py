@@ -15,6 +15,10 @@ if TYPE_CHECKING:
 __all__ = ["BehaviourOptions"]
 
 
+PAPER_FAILURE_LIMIT = 3
+"""Failures on one action after which the paper's robot asks: the control condition's (`BehaviourOptions.resolve`)."""
+
+
 @dataclass(frozen=True)
 class BehaviourOptions:
     """Settings the behaviours read.
@@ -28,7 +32,8 @@ class BehaviourOptions:
         recipe_aware: Rank against the recipe the robot knows and track its step from observations; False is
             the paper's setting (the human's current step text alone, ρ on the similarity).
         clarify_margin: Unnamed candidates closer than this in cosine similarity are ambiguous (ASK-CLARIFY).
-        max_failures_per_action: After this many failures on one action in an episode, ask (the paper used 3).
+        max_failures_per_action: After this many failures on one action in an episode, ask (the tree's robot: 1,
+            it never repeats a failure; unset in the control condition, the paper's `PAPER_FAILURE_LIMIT`).
         gate: "budget" (the threshold kept online so that at most target_failure_rate of attempts fail;
             scone_bt.gate.budget) or "paper" (the fixed confidence_threshold).
         target_failure_rate: The promise: the share of the robot's attempts that may fail, in (0, 1).
@@ -85,6 +90,10 @@ class BehaviourOptions:
 
         base = TreeParameters(**dict(parameters or {}))
         filled = {k: getattr(base, k) for k in PARAMETER_NAMES if getattr(self, k) is None}
+        if not self.use_self_confidence and self.max_failures_per_action is None:
+            # the paper's control condition is the paper's robot: it asks after 3 failures, whatever the tree's
+            # robot does (unless told otherwise: scone-run --max-failures-per-action)
+            filled["max_failures_per_action"] = PAPER_FAILURE_LIMIT
         probe = self.probe
         if probe is not None:  # a partial section (a scenario's mapping, scone-run's --probe-*): key by key
             given = probe if isinstance(probe, Mapping) else probe.model_dump(include=probe.model_fields_set)

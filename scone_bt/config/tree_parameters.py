@@ -58,7 +58,7 @@ class ProbeParameters(StrictModel):
             allow_inf_nan=False,
             description="probe actions whose κ̂ is up to this far above τ (0: only what would be asked)",
         ),
-    ] = 0.3
+    ] = 0.45
     full_band_at: Annotated[
         float,
         Field(
@@ -139,9 +139,9 @@ class TreeParameters(StrictModel):
         Field(
             ge=1,
             le=1000,
-            description="after this many failures of one action in an episode, ask (the paper: 3)",
+            description="after this many failures of one action in an episode, ask (the control condition: the paper's 3)",
         ),
-    ] = 3
+    ] = 1
     gate: Annotated[
         GateName,
         Field(

@@ -193,7 +193,7 @@ def test_bad_robot_files_stop_before_the_robot_acts(tmp_path, capsys, old, new, 
         ("{seconds: 1.0}", "{seconds: soon}", "seconds: Input should be a valid number (got 'soon')"),
         ("{kind: ask}", "{kind: maybe}", "unknown decision kind 'maybe'; valid: act, ask"),
         ("confidence_threshold: 0.5", "confidence_threshold: high", "confidence_threshold"),
-        ("max_failures_per_action: 3", "max_failures_per_action: many", "max_failures_per_action"),
+        ("max_failures_per_action: 1", "max_failures_per_action: many", "max_failures_per_action"),
         ("behaviour: AskForHelp", "behaviour: AskForHelp\n                  args: {x: 1}", "takes no args"),
     ],
 )

@@ -68,13 +68,12 @@ def test_the_condition_names_kappa_and_its_threshold_or_the_control() -> None:
     on = BehaviourOptions().resolve()  # the shipped tree: the strict promise and the heft test on
     assert condition_line(on) == (
         f"self-confidence on ({on.estimator}, failure budget: 15% of attempts, kept over the long run; explores "
-        f"only on earned credit; hefts what it is unsure of), ask after {on.max_failures_per_action} failures on "
-        "one action"
+        f"only on earned credit; hefts what it is unsure of), ask after 1 failure on one action"
     )
     before = BehaviourOptions(exploration_credit=False, probe=ProbeParameters(enabled=False)).resolve()
     assert condition_line(before) == (
         f"self-confidence on ({on.estimator}, failure budget: 15% of attempts, kept over the long run), "
-        f"ask after {on.max_failures_per_action} failures on one action"
+        "ask after 1 failure on one action"  # the shipped tree's: it never repeats a failure
     )
     small = BehaviourOptions(target_failure_rate=0.004).resolve()
     assert "failure budget: 0.4% of attempts" in condition_line(small)  # was rounded to "0%"
@@ -84,7 +83,7 @@ def test_the_condition_names_kappa_and_its_threshold_or_the_control() -> None:
     paper = BehaviourOptions(gate="paper").resolve()
     assert condition_line(paper) == (
         f"self-confidence on ({paper.estimator}, threshold {paper.confidence_threshold:g}), "
-        f"ask after {paper.max_failures_per_action} failures on one action"
+        "ask after 1 failure on one action"
     )
     strict = BehaviourOptions(exploration_credit=True, probe=ProbeParameters(enabled=False)).resolve()
     assert (
@@ -96,6 +95,9 @@ def test_the_condition_names_kappa_and_its_threshold_or_the_control() -> None:
         "kept over the long run; explores only on earned credit; hefts what it is unsure of), ask"
         in condition_line(hefts)
     )
+    assert (
+        BehaviourOptions(use_self_confidence=False).resolve().max_failures_per_action == 3
+    )  # the paper's control
     off = BehaviourOptions(use_self_confidence=False, max_failures_per_action=1).resolve()
     assert (
         condition_line(off)
