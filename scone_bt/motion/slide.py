@@ -5,14 +5,16 @@ gripped from above or from the side. A person slides it towards themselves with 
 edge that then sticks out. The robot does the same, in two plans with a look between them:
 
 1. **slide** (`plan_slide`): the fingers closed, the hand pointing down, it comes down over the pack
-   ``far_inset_m`` inside its far edge (`MotionPhase.APPROACH`), presses ``press_m`` into its top
-   (`MotionPhase.PRESS`), moves ``slide_m`` towards the robot (`MotionPhase.DRAG`) and rises away
-   (`MotionPhase.RAISE`). The pads' friction on the pack drags it while it beats the shelf's under it.
+   ``far_inset_m`` inside its far face (`MotionPhase.APPROACH`), presses ``press_m`` into its top
+   (`MotionPhase.PRESS`), moves towards the robot until the front face would stick out ``overhang_m``
+   (`slide_distance`; `MotionPhase.DRAG`) and rises and backs away (`MotionPhase.RAISE`). The pads' friction on the
+   pack drags it while it beats the shelf's under it. A pack that already sticks out is not slid.
 2. **look again**: the cameras find the pack where the slide left it (`motion.system.PickAndPlaceTask`);
-3. **pinch** (`pinch_candidates`, then the usual pick-and-place plan): the hand horizontal, pointing into the shelf,
-   the fingers closing vertically across the pack's thickness ``pad_inset_m`` inside its front edge (one finger
-   above it, one under the part that sticks out), lifted, carried and released ``place_drop_m`` above the table
-   (the lower finger is under it), then backed out the way it came.
+3. **pinch** (`pinch_candidates`, then the usual pick-and-place plan): the hand horizontal, square to the pack's
+   front face (`front_face`), the fingers closing vertically across its thickness ``pad_inset_m`` inside that face
+   (one finger above it, one under the part that sticks out), lifted and carried (as a box `PINCH_CARRY_MARGIN_M`
+   larger: it droops), put down sticking out over a table edge with the hand outside the table
+   (`pinch_placements`), then backed out the way it came.
 
 Only a lowest tier (`ledge_of`): above one, the hand's lower half would cut into the tier in front of it
 (`tools/edge_pinch_reach.py`). Pure geometry and planning (Pinocchio, coal, OMPL and ruckig through a
@@ -45,14 +47,17 @@ from scone_bt.perception.types import Detection
 __all__ = [
     "PINCH_CARRY_MARGIN_M",
     "SLIDE_SETTINGS",
+    "FrontFace",
     "SlideFailure",
     "SlidePlan",
     "SlideSettings",
     "carried_size",
+    "front_face",
     "pinch_candidates",
     "pinch_placements",
     "pinch_rotation",
     "plan_slide",
+    "slide_distance",
     "slide_ledge",
 ]
 
@@ -98,13 +103,8 @@ class SlideSettings:
 
 
 SLIDE_SETTINGS = SlideSettings()
-"""The defaults (measured by `tools/slide_and_pinch_check.py`: 96 of 103 flat packs held on each engine)."""
-
-
-def _extent(spec: ObjectSpec, object_yaw: float, direction_yaw: float) -> float:
-    """A box's full horizontal extent along a world direction, metres."""
-    d = direction_yaw - object_yaw
-    return float(abs(math.cos(d)) * spec.size[0] + abs(math.sin(d)) * spec.size[1])
+"""The defaults (the press and the pads' inset from `tools/slide_and_pinch_check.py`; the rest measured with the
+generator's executions of the catalogue's flat packs, docs/motion.md)."""
 
 
 @dataclass(frozen=True)
