@@ -125,6 +125,16 @@ def test_the_what_if_replays_the_shipped_gate_and_a_skill_that_held_every_pack(t
 
     argv = ["wide_pack_gain", "--datasets", "tools/data/sc_heldout2_probe", "--results", *results]
     monkeypatch.setattr(sys, "argv", [*argv, "--replay-margins", "3"])
+    # the committed replay's gate: the heft band of its day (τ + 0.3; the tree's default since is τ + 0.45)
+    import dataclasses
+
+    import scone_bt.gate.probe as gate_probe
+
+    @dataclasses.dataclass(frozen=True)
+    class BandOfItsDay(gate_probe.ProbeOptions):
+        above: float = 0.3
+
+    monkeypatch.setattr(gate_probe, "ProbeOptions", BandOfItsDay)
     gain.main()
     replay = json.loads(capsys.readouterr().out)["replay"]["margins"]["3"]
     shipped = json.loads(Path("docs/results/probe_alpha_heldout2.json").read_text(encoding="utf-8"))[

@@ -39,7 +39,8 @@ def test_oracle_replays_the_true_attributes_view(sweep, monkeypatch, capsys):
     monkeypatch.setattr(bench_gate, "replay_args", replay_args_1_3)
     lines = {}
     for flags in ([], ["--oracle"]):
-        argv = ["probe_band_sweep", "--configs", "[{}]", "--alphas", "0.15", *flags]
+        # the band of the committed line's day (τ + 0.3; the tree's default since is τ + 0.45)
+        argv = ["probe_band_sweep", "--configs", '[{"above": 0.3}]', "--alphas", "0.15", *flags]
         monkeypatch.setattr(sys, "argv", argv)
         sweep.main()
         lines[bool(flags)] = json.loads(capsys.readouterr().out)
