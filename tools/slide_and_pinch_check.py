@@ -45,10 +45,13 @@ SLOT_V = 0.40
 """Where along the front unit's lowest tier the pack stands, metres."""
 
 
-def flat_and_wide(spec, opening_m: float, max_height_m: float = 0.07) -> bool:
-    """A box wider than ``opening_m`` both ways and at most ``max_height_m`` tall: a flat pack no grasp fits."""
+def flat_and_wide(spec, opening_m: float) -> bool:
+    """A box wider than ``opening_m`` both ways and at most 7 cm tall: a flat pack no grasp fits
+    (`config.grasp.flat_pack`, the rule the robot's skill takes such a pack by)."""
+    from scone_bt.config.grasp import flat_pack
+
     sx, sy, sz = spec.size
-    return spec.shape.value == "box" and min(sx, sy) > opening_m and sz <= max_height_m
+    return spec.shape.value == "box" and flat_pack(min(sx, sy), sz, opening_m)
 
 
 class Run:

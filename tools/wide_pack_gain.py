@@ -110,10 +110,15 @@ def _gain(datasets: str, held: dict[tuple[float, float, str], bool], robot, a: a
 
 def _lowest_tier_flat_wide(row: dict[str, str], opening_m: float) -> bool:
     """A box wider than the gripper both ways, at most 7 cm tall, on a lowest tier (a dataset row's catalogue
-    columns: slide_and_pinch_check.flat_and_wide's rule, where the pinch is reachable)."""
-    flat = row["shape"] == "box" and float(row["height_m"]) <= 0.07
-    sides = (float(row["width_m"]), float(row["depth_m"]))
-    return flat and min(sides) > opening_m and row["shelf_tier"] == "0"
+    columns: `config.grasp.flat_pack`, where the pinch is reachable)."""
+    from scone_bt.config.grasp import flat_pack
+
+    width = min(float(row["width_m"]), float(row["depth_m"]))
+    return (
+        row["shape"] == "box"
+        and flat_pack(width, float(row["height_m"]), opening_m)
+        and row["shelf_tier"] == "0"
+    )
 
 
 def _gripper(profile_name: str, robot) -> tuple[float, float]:

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from scone_bt.experience.types import CONTEXT_FIELDS
+from scone_bt.experience.types import CONTEXT_FIELDS, ExecutionContext
 
 if TYPE_CHECKING:
     from scone_bt.gate.budget import BudgetCounts, BudgetOptions
@@ -47,19 +47,15 @@ _HEIGHT = _CONTEXT.index("detected_height_m")
 """The columns `gate.rules.flat_on_lowest` reads besides the width."""
 
 
-@dataclass(frozen=True)
-class _Context:
-    """A row's perceived tier and size as `gate.rules.flat_on_lowest` reads them (NaN: unknown)."""
-
-    shelf_tier: int | None
-    detected_width_m: float
-    detected_height_m: float
-
-    @classmethod
-    def of(cls, row: np.ndarray) -> _Context:
-        """From one row of the perceived context (CONTEXT_FIELDS order)."""
-        tier = float(row[_TIER])
-        return cls(None if np.isnan(tier) else int(tier), float(row[_WIDTH]), float(row[_HEIGHT]))
+def _perceived(row: np.ndarray) -> ExecutionContext:
+    """A row's perceived tier and size (CONTEXT_FIELDS order; NaN: unknown), as `gate.rules.flat_on_lowest` reads
+    them from the robot's own contexts."""
+    tier = float(row[_TIER])
+    return ExecutionContext(
+        shelf_tier=None if np.isnan(tier) else int(tier),
+        detected_width_m=float(row[_WIDTH]),
+        detected_height_m=float(row[_HEIGHT]),
+    )
 
 
 UNSURE = "unsure"
@@ -274,7 +270,7 @@ def _start_replay(
         widths=widths,
         wide=np.nan_to_num(widths, nan=0.0) > opening_m,
         flat_low=np.array(
-            [bool(flat_on_lowest({"": _Context.of(c)}, opening_m)) for c in context],
+            [bool(flat_on_lowest({"": _perceived(c)}, opening_m)) for c in context],
             dtype=bool,
         ),
         probe=settings,
