@@ -504,7 +504,7 @@ class PickAndPlaceTask:
         return fut.result()
 
     def done(self) -> bool:
-        self._after_slide()
+        self._after_slide()  # progress() and verdict() pass through here first
         if self._outcome is not None:
             return True
         c = self._controller
@@ -512,7 +512,6 @@ class PickAndPlaceTask:
 
     def progress(self) -> MotionProgress:
         """Current phase and the fraction of the planned motion executed so far."""
-        self._after_slide()
         if self.done():
             return MotionProgress(MotionPhase.DONE, 1.0)
         c = self._controller
@@ -535,7 +534,6 @@ class PickAndPlaceTask:
         A batch that restores the kitchen after each attempt (the self-confidence generator) stops here: the
         homing motion changes nothing the outcome holds. None while the outcome is still open.
         """
-        self._after_slide()
         if self.done():
             out = self.outcome()
             assert out is not None
