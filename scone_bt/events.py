@@ -23,6 +23,7 @@ from typing import Any, ClassVar
 
 from scone_bt.errors import SconeError
 from scone_bt.experience.types import ExecutionContext
+from scone_bt.gate.budget import FeltCarry
 from scone_bt.gate.types import DecisionKind
 
 __all__ = [
@@ -188,6 +189,8 @@ class ActOutcome(_ActionEvent):
             on the strict rule's credit (gate.after_probe): counted as explored, like an ε-greedy attempt.
         held_fast: The heft test before it felt the product held fast (gate.probe.held_fast): counted in that
             rule's own record (gate.budget.BudgetCounts.held_fast_record).
+        traction: The load over the grip that heft test felt (dimensionless; None: no heft test, or not
+            measured): where the attempt sits in that record.
     """
 
     kind: ClassVar[str] = "outcome"
@@ -197,6 +200,7 @@ class ActOutcome(_ActionEvent):
     message: str = ""
     explored: bool = False
     held_fast: bool = False
+    traction: float | None = None
 
 
 @dataclass(frozen=True)
@@ -451,8 +455,9 @@ class EpisodeStats:
         explored_failures: Failed exploratory attempts (ε-greedy or the budget's exploration).
         exploring: The last decision was an exploratory ACT (its outcome is counted as explored).
         aborted: Attempts the heft test set back (`ProbeAborted`): neither successes nor failures.
-        held_fast_attempts: Attempts after a heft test that felt the product held fast (`ActOutcome.held_fast`).
-        held_fast_failures: Failures among them.
+        held_fast: The attempts after a heft test that felt the product held fast (`ActOutcome.held_fast`), in
+            order, each with the load it felt and its outcome (an older log's outcome without the load is left
+            out).
         probe_reasons: Action text → why its probe set it back (the last one).
     """
 
@@ -474,8 +479,7 @@ class EpisodeStats:
     exploring: bool = False
     aborted: int = 0
     probe_reasons: Mapping[str, str] = field(default_factory=dict)
-    held_fast_attempts: int = 0
-    held_fast_failures: int = 0
+    held_fast: tuple[FeltCarry, ...] = ()
 
 
 def _bump(counts: Mapping[str, int], key: str) -> dict[str, int]:
@@ -506,12 +510,9 @@ def fold(stats: EpisodeStats, event: Event) -> EpisodeStats:
     if isinstance(event, ActOutcome):
         if stats.exploring or event.explored:
             stats = replace(stats, explored_failures=stats.explored_failures + (not event.success))
-        if event.held_fast:
-            stats = replace(
-                stats,
-                held_fast_attempts=stats.held_fast_attempts + 1,
-                held_fast_failures=stats.held_fast_failures + (not event.success),
-            )
+        if event.held_fast and event.traction is not None:
+            carry = FeltCarry(float(event.traction), event.success)
+            stats = replace(stats, held_fast=(*stats.held_fast, carry))
         if event.success:
             return replace(stats, successes=stats.successes + 1)
         stage = event.stage or "place"
@@ -568,9 +569,9 @@ class EventLog:
         s = self.stats
         return s.successes + s.failures, s.failures, s.explored_failures
 
-    def held_fast_counts(self) -> tuple[int, int]:
-        """(attempts after a heft test that felt the product held fast, their failures) so far."""
-        return self.stats.held_fast_attempts, self.stats.held_fast_failures
+    def held_fast_carries(self) -> tuple[FeltCarry, ...]:
+        """The attempts after a heft test that felt the product held fast so far, with the load each felt."""
+        return self.stats.held_fast
 
     def probe_reason(self, action: str) -> str | None:
         """Why the heft test set this action's product back in this episode, or None if it never did."""

@@ -30,6 +30,7 @@ from scone_bt.events import (
     from_json,
     summarise,
 )
+from scone_bt.gate.budget import FeltCarry
 from scone_bt.gate.types import DecisionKind
 
 EPISODE = [
@@ -187,10 +188,12 @@ def test_attempts_after_a_probe_that_felt_it_held_fast_keep_a_record_of_their_ow
     fast and their failures, counted within the budget's attempts."""
     log = EventLog()
     for event in (
-        ActOutcome(1.0, "Put salt on table", "salt", True, None, held_fast=True),
-        ActOutcome(2.0, "Put jam on table", "jam", False, "place", held_fast=True),
-        ActOutcome(3.0, "Put oil on table", "oil", False, "transit"),
+        ActOutcome(1.0, "Put salt on table", "salt", True, None, held_fast=True, traction=0.03),
+        ActOutcome(2.0, "Put jam on table", "jam", False, "place", held_fast=True, traction=0.06),
+        ActOutcome(3.0, "Put oil on table", "oil", False, "transit", traction=0.2),
+        ActOutcome(4.0, "Put rice on table", "rice", True, None, held_fast=True),  # an older log: no load
     ):
         log(event)
-    assert log.held_fast_counts() == (2, 1)
-    assert log.budget_counts() == (3, 2, 0)
+        assert from_json("outcome", event.to_json()) == event
+    assert log.held_fast_carries() == (FeltCarry(0.03, True), FeltCarry(0.06, False))
+    assert log.budget_counts() == (4, 2, 0)

@@ -77,9 +77,8 @@ def confidences(
 def gate_counts(history: AttemptHistory, estimator: SelfConfidence) -> BudgetCounts:
     """The attempts so far (folded from the events) and what κ̂ has learnt, as the budget reads them."""
     attempts, failures, explored_failures = history.budget_counts()
-    fast, fast_failed = history.held_fast_counts()
     learnt = int(getattr(estimator, "n_observations", 0))
-    return BudgetCounts(attempts, failures, explored_failures, learnt, fast, fast_failed)
+    return BudgetCounts(attempts, failures, explored_failures, learnt, history.held_fast_carries())
 
 
 def probe_reasons(history: AttemptHistory, ranked: Sequence[RankedAction]) -> dict[str, str]:

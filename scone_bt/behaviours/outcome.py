@@ -161,6 +161,7 @@ class ObserveOutcome(_RecordsOutcomes):
                 message=motion.message.split(";")[0],
                 explored=verdict is not None and verdict.explored,
                 held_fast=verdict is not None and verdict.held_fast,
+                traction=getattr(motion.probe, "lift_traction", None),
             )
         )
         self.write(Keys.OUTCOME, outcome)

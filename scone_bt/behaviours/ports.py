@@ -13,6 +13,7 @@ from typing import Protocol, TypeVar, runtime_checkable
 import numpy as np
 
 from scone_bt.experience.types import ExecutionContext, Outcome
+from scone_bt.gate.budget import FeltCarry
 from scone_bt.perception.types import Detection, Frame
 
 __all__ = [
@@ -125,9 +126,9 @@ class AttemptHistory(Protocol):
         """(labelled attempts, exploratory ones included; their failures; failed explorations) so far."""
         ...
 
-    def held_fast_counts(self) -> tuple[int, int]:
-        """(attempts after a heft test that felt the product held fast, their failures) so far: (0, 0) without
-        probes."""
+    def held_fast_carries(self) -> tuple[FeltCarry, ...]:
+        """The attempts after a heft test that felt the product held fast so far, with the load each felt: ()
+        without probes."""
         ...
 
     def probe_reason(self, action: str) -> str | None:

@@ -19,7 +19,7 @@ import numpy as np
 from scone_bt.experience.types import CONTEXT_FIELDS, ExecutionContext
 
 if TYPE_CHECKING:
-    from scone_bt.gate.budget import BudgetCounts, BudgetOptions
+    from scone_bt.gate.budget import BudgetCounts, BudgetOptions, FeltCarry
     from scone_bt.gate.probe import ProbeOptions
     from scone_bt.gate.rules import GateInput, GateResult, GateRules
     from scone_bt.gate.types import Decision
@@ -364,6 +364,7 @@ def _after_probe(
         row=row,
         held_fast=verdict.held_fast,
         by_feel=verdict.by_feel,
+        traction=reading.lift_traction,
     )
     cause = "" if verdict.carry else SET_BACK_FELT if verdict.felt_unsafe else SET_BACK_UNSURE
     return _Probed(not verdict.carry, attempt, verdict.carry or verdict.felt_unsafe, cause)
@@ -476,6 +477,8 @@ class _Act:
     held_fast: bool = False
     by_feel: bool = False
     unfelt: bool = False
+    traction: float | None = None
+    """The load over the grip its probe felt (None: no probe, or not measured)."""
 
 
 def _attempted(
@@ -512,10 +515,18 @@ def _attempted(
         failures=counts.failures + (not ok),
         explored_failures=counts.explored_failures + (act.explored and not ok),
         learnt=est.n_observations,
-        held_fast_attempts=counts.held_fast_attempts + act.held_fast,
-        held_fast_failures=counts.held_fast_failures + (act.held_fast and not ok),
+        held_fast=counts.held_fast + _felt_carry(act),
     )
     out.max_excess = max(out.max_excess, walk.counts.failures - alpha * walk.counts.attempts)
+
+
+def _felt_carry(act: _Act) -> tuple[FeltCarry, ...]:
+    """The attempt as the held-fast record keeps it: () unless its probe felt the product held fast."""
+    from scone_bt.gate.budget import FeltCarry
+
+    if not act.held_fast or act.traction is None:
+        return ()
+    return (FeltCarry(act.traction, act.ok),)
 
 
 def _tally_help(out: StreamResult, cause: str, ok: bool, wide: bool) -> None:

@@ -13,9 +13,11 @@ In order:
 4. Held fast (gate.probe.held_fast: the load at most ``sure_traction`` of the grip, a third of the friction limit
    the judge sets back at): it carries on, confident *by feel*, while the attempts after such probes keep a
    promise on their own record (one more failure keeps their failures ≤ α × their attempts + ``feel_allowance``,
-   2: gate.budget.has_credit on `BudgetCounts.held_fast_record`). A product held that fast does not slip from the
-   carry's accelerations; when on this robot it fails anyway (slippery fingers, a drop at the place), the record
-   runs out and the rule stops. Why 2 and not the budget's 1: a cold robot whose first carry held fast and failed
+   2: gate.budget.has_credit on `BudgetCounts.held_fast_record`). The record is read at the load this probe felt:
+   the held-fast carries that fell although felt no heavier, and those that arrived although felt no lighter. A
+   product held that fast does not slip from the carry's accelerations; when on this robot it fails anyway
+   (slippery fingers, a drop at the place), the record at that load and above runs out and the rule stops there,
+   while lighter products that arrived keep it for what is felt as light. Why 2 and not the budget's 1: a cold robot whose first carry held fast and failed
    anyway (a bag of seeds set down on its side) has spent the budget's credit and this record's at once, and κ̂,
    having seen only failures, is never sure again: the robot asked for everything after, 4 of 110 cold starts of
    the development streams (docs/results/probe.md). With 2 the record sees a second held-fast carry first.
@@ -104,7 +106,7 @@ def after_probe(
     budget = rules.budget
     if budget is None or budget.excess_allowance is None or confidence >= tau:
         return ProbeVerdict(True, confidence=confidence, threshold=tau, held_fast=fast)
-    if fast and feel_credit(rules.probe, budget, counts):
+    if fast and feel_credit(rules.probe, budget, counts, traction):
         return ProbeVerdict(True, confidence=confidence, threshold=tau, held_fast=True, by_feel=True)
     if has_credit(budget, counts):
         return ProbeVerdict(True, explored=True, confidence=confidence, threshold=tau, held_fast=fast)

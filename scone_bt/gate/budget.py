@@ -53,6 +53,7 @@ from scone_bt.errors import SconeError
 __all__ = [
     "BudgetOptions",
     "BudgetCounts",
+    "FeltCarry",
     "threshold",
     "may_explore",
     "has_credit",
@@ -112,6 +113,20 @@ class BudgetOptions:
 
 
 @dataclass(frozen=True)
+class FeltCarry:
+    """One attempt carried on after a heft test that felt the product held fast (gate.probe.held_fast).
+
+    Attributes:
+        traction: The load the fingers felt over their grip during the lift (dimensionless, load N / grip N:
+            motion.probe.ProbeReading.lift_traction).
+        success: The attempt ended with the product on the table.
+    """
+
+    traction: float
+    success: bool
+
+
+@dataclass(frozen=True)
 class BudgetCounts:
     """What the robot has done so far, as the budget reads it.
 
@@ -120,22 +135,46 @@ class BudgetCounts:
         failures: Failures among them.
         explored_failures: Exploratory attempts that failed.
         learnt: Outcomes κ̂ has learnt from (stored experience included).
-        held_fast_attempts: Attempts carried on after a probe that felt the product held fast
-            (gate.probe.held_fast), counted within ``attempts``.
-        held_fast_failures: Failures among them.
+        held_fast: The attempts carried on after a probe that felt the product held fast (gate.probe.held_fast),
+            in order, each with the load it felt; counted within ``attempts``.
     """
 
     attempts: int = 0
     failures: int = 0
     explored_failures: int = 0
     learnt: int = 0
-    held_fast_attempts: int = 0
-    held_fast_failures: int = 0
+    held_fast: tuple[FeltCarry, ...] = ()
 
-    def held_fast_record(self) -> BudgetCounts:
-        """The attempts after a probe that felt the product held fast, as counts of their own (`has_credit` on
-        them: may one more such carry fail within the promise?)."""
-        return BudgetCounts(self.held_fast_attempts, self.held_fast_failures)
+    @property
+    def held_fast_attempts(self) -> int:
+        """Attempts carried on after a probe that felt the product held fast."""
+        return len(self.held_fast)
+
+    @property
+    def held_fast_failures(self) -> int:
+        """Failures among them."""
+        return sum(not c.success for c in self.held_fast)
+
+    def held_fast_record(self, traction: float | None = None) -> BudgetCounts:
+        """The held-fast carries as counts of their own (`has_credit` on them: may one more such carry fail
+        within the promise?).
+
+        With ``traction`` (the load over the grip the next carry's probe felt), only the carries that say
+        something about a product felt that heavy: those that failed although felt no heavier, and those that
+        held although felt no lighter. Slipping in the carry grows with the load the fingers hold (the carry's
+        accelerations add to it in proportion), so a fall at a lighter load counts against this one and a success
+        at a heavier load for it; a success at a lighter load or a fall at a heavier one says nothing. On
+        slippery fingers a 0.3 kg bottle held fast in the probe and fell in the carry while 0.15 kg jars arrived:
+        the whole record ran out for both, this one does not for the jars (docs/results/probe.md).
+        """
+        carries = self.held_fast
+        if traction is not None:
+            carries = tuple(
+                c
+                for c in carries
+                if (c.traction <= traction and not c.success) or (c.traction >= traction and c.success)
+            )
+        return BudgetCounts(len(carries), sum(not c.success for c in carries))
 
 
 def initial_threshold(options: BudgetOptions) -> float:

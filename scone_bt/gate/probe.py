@@ -70,8 +70,9 @@ class ProbeOptions:
             carries keep the promise on their own record (`held_fast`, gate.after_probe): a third of the
             friction limit the judge sets back at.
         feel_allowance: Such carries by feel go on while one more failure keeps their failures ≤ α × their
-            attempts + this (gate.budget.has_credit on `BudgetCounts.held_fast_record`), in [0, 100]. 2: a held-fast
-            carry that fails before any success does not end the rule (`gate.after_probe`).
+            attempts + this (gate.budget.has_credit on `BudgetCounts.held_fast_record` at the load this probe felt:
+            the carries felt no heavier that fell, no lighter that held), in [0, 100]. 2: a held-fast carry that
+            fails before any success does not end the rule (`gate.after_probe`).
 
     The intervals are config.tree_parameters.PROBE_RANGES (the tree file's own, and the judge's limits).
     """
@@ -145,16 +146,21 @@ def probe_credit(options: ProbeOptions | None, budget: BudgetOptions, counts: Bu
     return has_credit(replace(budget, excess_allowance=options.credit), counts)
 
 
-def feel_credit(options: ProbeOptions | None, budget: BudgetOptions, counts: BudgetCounts) -> bool:
+def feel_credit(
+    options: ProbeOptions | None, budget: BudgetOptions, counts: BudgetCounts, traction: float | None = None
+) -> bool:
     """Whether one more carry by feel may fail within its own promise: gate.budget.has_credit on the held-fast
-    record (`BudgetCounts.held_fast_record`) with ``options.feel_allowance``; False without a probe."""
+    record (`BudgetCounts.held_fast_record`: with ``traction``, the load over the grip this probe felt, the
+    carries felt no heavier that fell and no lighter that held) with ``options.feel_allowance``; False without a
+    probe."""
     from dataclasses import replace
 
     from scone_bt.gate.budget import has_credit
 
     if options is None:
         return False
-    return has_credit(replace(budget, excess_allowance=options.feel_allowance), counts.held_fast_record())
+    record = counts.held_fast_record(traction)
+    return has_credit(replace(budget, excess_allowance=options.feel_allowance), record)
 
 
 def held_fast(options: ProbeOptions | None, traction: float | None) -> bool:

@@ -24,7 +24,7 @@ from scone_bt.behaviours.ports import AttemptHistory
 from scone_bt.events import EventLog
 from scone_bt.experience.types import ExecutionContext
 from scone_bt.gate import GateOptions
-from scone_bt.gate.budget import BudgetCounts, BudgetOptions
+from scone_bt.gate.budget import BudgetCounts, BudgetOptions, FeltCarry
 from scone_bt.gate.types import Decision, DecisionKind
 from scone_bt.relevance.types import RankedAction
 from tests.behaviours.fakes import FakeHuman, FakeRobot, affordance
@@ -115,8 +115,8 @@ def test_probe_reasons_name_only_what_a_probe_set_back() -> None:
         def budget_counts(self) -> tuple[int, int, int]:
             return 3, 1, 0
 
-        def held_fast_counts(self) -> tuple[int, int]:
-            return 2, 1
+        def held_fast_carries(self) -> tuple[FeltCarry, ...]:
+            return FeltCarry(0.05, True), FeltCarry(0.04, False)
 
         def probe_reason(self, action: str) -> str | None:
             return "too heavy" if action == SALT else None
@@ -128,6 +128,7 @@ def test_probe_reasons_name_only_what_a_probe_set_back() -> None:
     assert probe_reasons(EventLog(), ranked) == {}  # no probe yet
     counts = gate_counts(history, _Explorer())
     assert (counts.attempts, counts.failures, counts.held_fast_record()) == (3, 1, BudgetCounts(2, 1))
+    assert counts.held_fast_record(0.035) == BudgetCounts(1, 0)  # the fall felt heavier: it says nothing here
 
 
 def test_the_event_carries_the_decision_and_rounds_the_planning_time() -> None:

@@ -14,7 +14,7 @@ from scone_bt.episode.seeds import PlannerSeedStream, SeedPlan
 from scone_bt.errors import SconeError
 from scone_bt.events import DecisionMade, EventLog, ProbeAborted
 from scone_bt.gate import GateOptions
-from scone_bt.gate.budget import BudgetOptions
+from scone_bt.gate.budget import BudgetOptions, FeltCarry
 from scone_bt.gate.probe import ProbeOptions, in_band
 from scone_bt.gate.types import DecisionKind
 from scone_bt.motion.probe import ProbeReading, ProbeSettings, judge_probe
@@ -406,4 +406,6 @@ def test_held_fast_without_credit_it_carries_on_by_feel_on_that_rule_s_own_recor
     observe.tick_once()
     last = events.events[-1]
     assert isinstance(last, ActOutcome) and last.held_fast and not last.explored
-    assert events.held_fast_counts() == (1, 1) and events.budget_counts() == (2, 2, 0)
+    assert last.traction == HELD_FAST.lift_traction
+    assert events.held_fast_carries() == (FeltCarry(HELD_FAST.lift_traction, False),)
+    assert events.budget_counts() == (2, 2, 0)

@@ -99,7 +99,9 @@ def test_the_gain_counts_lowest_tier_flat_packs_held_with_each_streams_gripper(t
 
 
 @pytest.mark.slow
-def test_the_what_if_replays_the_shipped_gate_and_a_skill_that_held_every_pack(tool, capsys, monkeypatch):
+def test_the_what_if_replays_the_shipped_gate_and_a_skill_that_held_every_pack(
+    tool, capsys, monkeypatch, whole_held_fast_record
+):
     """--replay-margins: as recorded it is the shipped replay itself; with the held packs carried, it asks for
     no more, and each emulated row is a success the too-wide rule lets the robot try."""
     import csv

@@ -20,7 +20,7 @@ def test_only_an_explicit_null_below_turns_the_probe_off(sweep):
     assert probe == ProbeOptions(below=0.5) and power == 2.0
 
 
-def test_oracle_replays_the_true_attributes_view(sweep, monkeypatch, capsys):
+def test_oracle_replays_the_true_attributes_view(sweep, monkeypatch, capsys, whole_held_fast_record):
     """--oracle reproduces the committed oracle line (docs/results/probe_oracle.jsonl at α = 0.15: κ̂ given the true
     mass, size and glass, no embedder involved), and only the oracle's lines say so."""
     import json

@@ -9,7 +9,7 @@ import pytest
 
 from scone_bt.errors import SconeError
 from scone_bt.gate.after_probe import ProbeVerdict, after_probe
-from scone_bt.gate.budget import BudgetCounts, BudgetOptions
+from scone_bt.gate.budget import BudgetCounts, BudgetOptions, FeltCarry
 from scone_bt.gate.probe import ProbeOptions, in_band, probe_credit
 from scone_bt.gate.rules import GateRules
 
@@ -81,11 +81,13 @@ def test_held_fast_carries_on_by_feel_while_its_own_record_keeps_the_promise() -
     v = after_probe(_rules(STRICT), spent, "jar", (False, "slips in my fingers"), 0.3, traction=0.05)
     assert (v.carry, v.by_feel, v.felt_unsafe) == (False, False, True)
     # its own record: two held-fast carries that failed leave no credit (3 > 0.15 · 3 + 2) ...
-    failed = BudgetCounts(attempts=2, failures=2, held_fast_attempts=2, held_fast_failures=2)
+    failed = BudgetCounts(attempts=2, failures=2, held_fast=(FeltCarry(0.04, False), FeltCarry(0.03, False)))
     v = after_probe(_rules(STRICT), failed, "jar", HOLDS, 0.3, traction=0.05)
     assert (v.carry, v.held_fast, v.reason) == (False, True, "I am not sure I can carry the jar")
     # ... until successes earn it back, whatever the budget's own credit
-    earned = BudgetCounts(attempts=9, failures=3, held_fast_attempts=8, held_fast_failures=1)
+    earned = BudgetCounts(
+        attempts=9, failures=3, held_fast=(FeltCarry(0.04, False), *[FeltCarry(0.06, True)] * 7)
+    )
     assert after_probe(_rules(STRICT), earned, "jar", HOLDS, 0.3, traction=0.05).by_feel
     # with credit the budget's it is still by feel, spending none of the exploration credit
     v = after_probe(_rules(STRICT), BudgetCounts(), "jar", HOLDS, 0.3, traction=0.05)
@@ -100,12 +102,37 @@ def test_a_first_held_fast_carry_that_failed_does_not_end_carrying_by_feel() -> 
     (2 > 0.15 · 2 + 1) and, with an allowance of 1, the held-fast record's too. κ̂, having seen only failures, is
     never sure again, so that robot asked for everything after. With ``feel_allowance`` 2 the record sees one more
     held-fast carry; a success there earns the budget back."""
-    first_failed = BudgetCounts(attempts=1, failures=1, held_fast_attempts=1, held_fast_failures=1)
+    first_failed = BudgetCounts(attempts=1, failures=1, held_fast=(FeltCarry(0.05, False),))
     v = after_probe(_rules(STRICT), first_failed, "jar", HOLDS, 0.25, traction=0.05)
     assert (v.carry, v.by_feel, v.confident, v.explored) == (True, True, True, False)
     one = GateRules(budget=STRICT, exploration=STRICT, probe=ProbeOptions(feel_allowance=1.0))
     v = after_probe(one, first_failed, "jar", HOLDS, 0.25, traction=0.05)
     assert (v.carry, v.reason) == (False, "I am not sure I can carry the jar")
+
+
+def test_the_held_fast_record_is_read_at_the_load_the_probe_felt() -> None:
+    """Slipping grows with the load the fingers hold: a held-fast carry that fell counts against a product felt
+    at least as heavy, one that arrived for a product felt no heavier. Slippery fingers, as on the development
+    streams: three 0.3 kg bottles (traction 0.06) held fast in the probe and fell in the carry, five 0.15 kg jars
+    (0.03) arrived. The whole record (3 of 8 fell: 4 > 0.15 · 9 + 2) leaves nothing to carry by feel; read at the
+    load, a jar felt at 0.03 sees only the five that arrived, a bottle at 0.06 the three that fell."""
+    carries = (*[FeltCarry(0.06, False)] * 3, *[FeltCarry(0.03, True)] * 5)
+    slippery = BudgetCounts(attempts=10, failures=5, held_fast=carries)
+    assert slippery.held_fast_record() == BudgetCounts(8, 3)
+    assert slippery.held_fast_record(0.03) == BudgetCounts(5, 0)
+    assert slippery.held_fast_record(0.06) == BudgetCounts(3, 3)
+    assert slippery.held_fast_record(0.045) == BudgetCounts(0, 0)  # between the two: neither says anything
+    jar = after_probe(_rules(STRICT), slippery, "jar", HOLDS, 0.3, traction=0.03)
+    assert (jar.carry, jar.by_feel) == (True, True)
+    bottle = after_probe(_rules(STRICT), slippery, "bottle", HOLDS, 0.3, traction=0.06)
+    assert (bottle.carry, bottle.reason) == (False, "I am not sure I can carry the bottle")
+    # a fall at a lighter load counts against a heavier product: three light falls end it for what is heavier
+    light_falls = BudgetCounts(
+        attempts=8, failures=3, held_fast=(*[FeltCarry(0.02, False)] * 3, *carries[3:])
+    )
+    assert light_falls.held_fast_record(0.03) == BudgetCounts(8, 3)
+    assert not after_probe(_rules(STRICT), light_falls, "jar", HOLDS, 0.3, traction=0.03).carry
+    assert (slippery.held_fast_attempts, slippery.held_fast_failures) == (8, 3)
 
 
 @pytest.mark.parametrize("value", [-1.0, 101.0, math.nan])
