@@ -17,7 +17,8 @@ streams, not on the held-out ones: a larger η tracks a stream of new products f
 docs/results/gate.md). The start was 1 − 3α until the arm slid and pinched flat packs: with the heft probe that
 robot spent about half its budget (0.078 of its attempts failed at α = 0.15). On the development streams recorded
 with the skill (tools/data/sc_slide) 1 − 5α spends more of it and asks less: 0.311 of the decisions against 0.326
-(with the heft test's band at τ + 0.45, which the lower start needs to keep feeling a weakened gripper;
+(the held-fast record then read whole; with the heft test's band at τ + 0.45, which the lower start needs to keep
+feeling a weakened gripper;
 tools/budget_start_sweep.py, docs/results/probe.md). The price is that wider bound on excess failures.
 
 Exploration (the paper's ε-greedy, made principled): while κ̂ has learnt from fewer than ``explore_until``
