@@ -146,16 +146,6 @@ class BudgetCounts:
     learnt: int = 0
     held_fast: tuple[FeltCarry, ...] = ()
 
-    @property
-    def held_fast_attempts(self) -> int:
-        """Attempts carried on after a probe that felt the product held fast."""
-        return len(self.held_fast)
-
-    @property
-    def held_fast_failures(self) -> int:
-        """Failures among them."""
-        return sum(not c.success for c in self.held_fast)
-
     def held_fast_record(self, traction: float | None = None) -> BudgetCounts:
         """The held-fast carries as counts of their own (`has_credit` on them: may one more such carry fail
         within the promise?).
