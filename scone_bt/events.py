@@ -189,6 +189,8 @@ class ActOutcome(_ActionEvent):
             on the strict rule's credit (gate.after_probe): counted as explored, like an ε-greedy attempt.
         held_fast: The heft test before it felt the product held fast (gate.probe.held_fast): counted in that
             rule's own record (gate.budget.BudgetCounts.held_fast_record).
+        by_feel: It was carried on by feel alone (gate.after_probe): counted in that record's own
+            (gate.budget.BudgetCounts.by_feel_record).
         traction: The load over the grip that heft test felt (dimensionless; None: no heft test, or not
             measured): where the attempt sits in that record.
     """
@@ -200,6 +202,7 @@ class ActOutcome(_ActionEvent):
     message: str = ""
     explored: bool = False
     held_fast: bool = False
+    by_feel: bool = False
     traction: float | None = None
 
 
@@ -456,8 +459,8 @@ class EpisodeStats:
         exploring: The last decision was an exploratory ACT (its outcome is counted as explored).
         aborted: Attempts the heft test set back (`ProbeAborted`): neither successes nor failures.
         held_fast: The attempts after a heft test that felt the product held fast (`ActOutcome.held_fast`), in
-            order, each with the load it felt and its outcome (an older log's outcome without the load is left
-            out).
+            order, each with the load it felt, its outcome and whether it was carried by feel (an older log's
+            failure without the load is kept at load 0, against every load; its success without one is left out).
         probe_reasons: Action text → why its probe set it back (the last one).
     """
 
@@ -502,6 +505,17 @@ _COUNTERS: Mapping[type[Event], str] = MappingProxyType(
 )
 
 
+def _felt_carry(event: ActOutcome) -> FeltCarry | None:
+    """The outcome as the held-fast record keeps it (None: not held fast, or a success whose load is unknown)."""
+    if not event.held_fast:
+        return None
+    if event.traction is None or not math.isfinite(event.traction):
+        return (
+            None if event.success else FeltCarry(0.0, False, event.by_feel)
+        )  # a fall counts against every load
+    return FeltCarry(float(event.traction), event.success, event.by_feel)
+
+
 def fold(stats: EpisodeStats, event: Event) -> EpisodeStats:
     """The stats after one more event (pure)."""
     if isinstance(event, DecisionMade):
@@ -510,8 +524,8 @@ def fold(stats: EpisodeStats, event: Event) -> EpisodeStats:
     if isinstance(event, ActOutcome):
         if stats.exploring or event.explored:
             stats = replace(stats, explored_failures=stats.explored_failures + (not event.success))
-        if event.held_fast and event.traction is not None:
-            carry = FeltCarry(float(event.traction), event.success)
+        carry = _felt_carry(event)
+        if carry is not None:
             stats = replace(stats, held_fast=(*stats.held_fast, carry))
         if event.success:
             return replace(stats, successes=stats.successes + 1)

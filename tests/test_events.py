@@ -192,8 +192,14 @@ def test_attempts_after_a_probe_that_felt_it_held_fast_keep_a_record_of_their_ow
         ActOutcome(2.0, "Put jam on table", "jam", False, "place", held_fast=True, traction=0.06),
         ActOutcome(3.0, "Put oil on table", "oil", False, "transit", traction=0.2),
         ActOutcome(4.0, "Put rice on table", "rice", True, None, held_fast=True),  # an older log: no load
+        ActOutcome(5.0, "Put jam on table", "jam", False, "transit", held_fast=True, by_feel=True),
     ):
         log(event)
         assert from_json("outcome", event.to_json()) == event
-    assert log.held_fast_carries() == (FeltCarry(0.03, True), FeltCarry(0.06, False))
-    assert log.budget_counts() == (4, 2, 0)
+    # the older log's fall without a load counts against every load; its success without one says nothing
+    assert log.held_fast_carries() == (
+        FeltCarry(0.03, True),
+        FeltCarry(0.06, False),
+        FeltCarry(0.0, False, by_feel=True),
+    )
+    assert log.budget_counts() == (5, 3, 0)

@@ -161,7 +161,8 @@ class ObserveOutcome(_RecordsOutcomes):
                 message=motion.message.split(";")[0],
                 explored=verdict is not None and verdict.explored,
                 held_fast=verdict is not None and verdict.held_fast,
-                traction=getattr(motion.probe, "lift_traction", None),
+                by_feel=verdict is not None and verdict.by_feel,
+                traction=None if verdict is None else verdict.traction,
             )
         )
         self.write(Keys.OUTCOME, outcome)

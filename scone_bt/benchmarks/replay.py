@@ -364,7 +364,7 @@ def _after_probe(
         row=row,
         held_fast=verdict.held_fast,
         by_feel=verdict.by_feel,
-        traction=reading.lift_traction,
+        traction=verdict.traction,
     )
     cause = "" if verdict.carry else SET_BACK_FELT if verdict.felt_unsafe else SET_BACK_UNSURE
     return _Probed(not verdict.carry, attempt, verdict.carry or verdict.felt_unsafe, cause)
@@ -478,7 +478,7 @@ class _Act:
     by_feel: bool = False
     unfelt: bool = False
     traction: float | None = None
-    """The load over the grip its probe felt (None: no probe, or not measured)."""
+    """The load over the grip its probe felt (None: no probe; NaN or inf where not measured, then not held fast)."""
 
 
 def _attempted(
@@ -526,7 +526,7 @@ def _felt_carry(act: _Act) -> tuple[FeltCarry, ...]:
 
     if not act.held_fast or act.traction is None:
         return ()
-    return (FeltCarry(act.traction, act.ok),)
+    return (FeltCarry(act.traction, act.ok, act.by_feel),)
 
 
 def _tally_help(out: StreamResult, cause: str, ok: bool, wide: bool) -> None:

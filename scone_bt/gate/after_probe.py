@@ -17,8 +17,10 @@ In order:
    the held-fast carries that fell although felt no heavier, and those that arrived although felt no lighter. A
    product held that fast does not slip from the carry's accelerations; when on this robot it fails anyway
    (slippery fingers, a drop at the place), the record at that load and above runs out and the rule stops there,
-   while lighter products that arrived keep it for what is felt as light. Why 2 and not the budget's 1: a cold robot whose first carry held fast and failed
-   anyway (a bag of seeds set down on its side) has spent the budget's credit and this record's at once, and κ̂,
+   while lighter products that arrived keep it for what is felt as light. The carries made by feel keep the same
+   promise on their own (`BudgetCounts.by_feel_record`): a fall felt heavier says nothing at a lighter load, so
+   without it falls at ever lighter loads would each find a clean record. Why 2 and not the budget's 1: a cold
+   robot whose first carry held fast and failed anyway (a bag of seeds set down on its side) has spent the budget's credit and this record's at once, and κ̂,
    having seen only failures, is never sure again: the robot asked for everything after, 4 of 110 cold starts of
    the development streams (docs/results/probe.md). With 2 the record sees a second held-fast carry first.
 5. Below τ it carries on only while the strict rule's credit allows one more failure (gate.budget.has_credit):
@@ -36,6 +38,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import partial
 
 from scone_bt.gate.budget import BudgetCounts, has_credit
 from scone_bt.gate.probe import feel_credit, held_fast
@@ -60,6 +63,8 @@ class ProbeVerdict:
         held_fast: The probe felt the product held fast (gate.probe.held_fast), whatever it then did: an attempt
             that carries on counts in `BudgetCounts.held_fast_record`.
         by_feel: It carries on because it felt held fast, with κ̂ below τ (confident by feel, step 4).
+        traction: The load over the grip the probe felt (motion.probe.ProbeReading.lift_traction; None where not
+            measured): where a carry that felt it held fast sits in the held-fast record.
     """
 
     carry: bool
@@ -70,6 +75,7 @@ class ProbeVerdict:
     felt_unsafe: bool = False
     held_fast: bool = False
     by_feel: bool = False
+    traction: float | None = None
 
     @property
     def confident(self) -> bool:
@@ -98,18 +104,15 @@ def after_probe(
     """
     tau = threshold_options(rules, counts)[0].act_threshold
     holds, why = felt
+    verdict = partial(ProbeVerdict, confidence=confidence, threshold=tau, traction=traction)
     if not holds:
-        return ProbeVerdict(
-            False, f"the {item} {why}", confidence=confidence, threshold=tau, felt_unsafe=True
-        )
+        return verdict(False, f"the {item} {why}", felt_unsafe=True)
     fast = held_fast(rules.probe, traction)
     budget = rules.budget
     if budget is None or budget.excess_allowance is None or confidence >= tau:
-        return ProbeVerdict(True, confidence=confidence, threshold=tau, held_fast=fast)
+        return verdict(True, held_fast=fast)
     if fast and feel_credit(rules.probe, budget, counts, traction):
-        return ProbeVerdict(True, confidence=confidence, threshold=tau, held_fast=True, by_feel=True)
+        return verdict(True, held_fast=True, by_feel=True)
     if has_credit(budget, counts):
-        return ProbeVerdict(True, explored=True, confidence=confidence, threshold=tau, held_fast=fast)
-    return ProbeVerdict(
-        False, f"I am not sure I can carry the {item}", confidence=confidence, threshold=tau, held_fast=fast
-    )
+        return verdict(True, explored=True, held_fast=fast)
+    return verdict(False, f"I am not sure I can carry the {item}", held_fast=fast)

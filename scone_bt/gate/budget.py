@@ -119,12 +119,15 @@ class FeltCarry:
 
     Attributes:
         traction: The load the fingers felt over their grip during the lift (dimensionless, load N / grip N:
-            motion.probe.ProbeReading.lift_traction).
+            motion.probe.ProbeReading.lift_traction); 0 for a fall whose load an older log did not keep (it counts
+            against every load).
         success: The attempt ended with the product on the table.
+        by_feel: It was carried on by feel alone (κ̂ below τ: gate.after_probe), not by κ̂'s confidence.
     """
 
     traction: float
     success: bool
+    by_feel: bool = False
 
 
 @dataclass(frozen=True)
@@ -150,21 +153,27 @@ class BudgetCounts:
         """The held-fast carries as counts of their own (`has_credit` on them: may one more such carry fail
         within the promise?).
 
-        With ``traction`` (the load over the grip the next carry's probe felt), only the carries that say
-        something about a product felt that heavy: those that failed although felt no heavier, and those that
-        held although felt no lighter. Slipping in the carry grows with the load the fingers hold (the carry's
+        With ``traction`` (the load over the grip the next carry's probe felt; None or not finite: the whole
+        record), only the carries that say something about a product felt that heavy: those that failed although
+        felt no heavier, and those that held although felt no lighter. Slipping in the carry grows with the load the fingers hold (the carry's
         accelerations add to it in proportion), so a fall at a lighter load counts against this one and a success
         at a heavier load for it; a success at a lighter load or a fall at a heavier one says nothing. On
         slippery fingers a 0.3 kg bottle held fast in the probe and fell in the carry while 0.15 kg jars arrived:
         the whole record ran out for both, this one does not for the jars (docs/results/probe.md).
         """
         carries = self.held_fast
-        if traction is not None:
+        if traction is not None and math.isfinite(traction):
             carries = tuple(
                 c
                 for c in carries
                 if (c.traction <= traction and not c.success) or (c.traction >= traction and c.success)
             )
+        return BudgetCounts(len(carries), sum(not c.success for c in carries))
+
+    def by_feel_record(self) -> BudgetCounts:
+        """The carries made by feel alone, as counts of their own: the record read at a load never counts a fall
+        felt heavier, so falls at ever lighter loads would each find it clean; this one bounds them all."""
+        carries = tuple(c for c in self.held_fast if c.by_feel)
         return BudgetCounts(len(carries), sum(not c.success for c in carries))
 
 

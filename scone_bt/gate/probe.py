@@ -149,18 +149,19 @@ def probe_credit(options: ProbeOptions | None, budget: BudgetOptions, counts: Bu
 def feel_credit(
     options: ProbeOptions | None, budget: BudgetOptions, counts: BudgetCounts, traction: float | None = None
 ) -> bool:
-    """Whether one more carry by feel may fail within its own promise: gate.budget.has_credit on the held-fast
-    record (`BudgetCounts.held_fast_record`: with ``traction``, the load over the grip this probe felt, the
-    carries felt no heavier that fell and no lighter that held) with ``options.feel_allowance``; False without a
-    probe."""
+    """Whether one more carry by feel may fail within its own promise: gate.budget.has_credit, with
+    ``options.feel_allowance``, on the held-fast record read at this load (`BudgetCounts.held_fast_record`: with
+    ``traction``, the load over the grip this probe felt, the carries felt no heavier that fell and no lighter that
+    held) and on the carries made by feel so far (`BudgetCounts.by_feel_record`, which bounds falls at ever
+    lighter loads); False without a probe."""
     from dataclasses import replace
 
     from scone_bt.gate.budget import has_credit
 
     if options is None:
         return False
-    record = counts.held_fast_record(traction)
-    return has_credit(replace(budget, excess_allowance=options.feel_allowance), record)
+    own = replace(budget, excess_allowance=options.feel_allowance)
+    return has_credit(own, counts.held_fast_record(traction)) and has_credit(own, counts.by_feel_record())
 
 
 def held_fast(options: ProbeOptions | None, traction: float | None) -> bool:

@@ -407,5 +407,5 @@ def test_held_fast_without_credit_it_carries_on_by_feel_on_that_rule_s_own_recor
     last = events.events[-1]
     assert isinstance(last, ActOutcome) and last.held_fast and not last.explored
     assert last.traction == HELD_FAST.lift_traction
-    assert events.held_fast_carries() == (FeltCarry(HELD_FAST.lift_traction, False),)
+    assert events.held_fast_carries() == (FeltCarry(HELD_FAST.lift_traction, False, by_feel=True),)
     assert events.budget_counts() == (2, 2, 0)

@@ -4,6 +4,7 @@ the strict rule's credit."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import pytest
 
@@ -132,6 +133,34 @@ def test_the_held_fast_record_is_read_at_the_load_the_probe_felt() -> None:
     )
     assert light_falls.held_fast_record(0.03) == BudgetCounts(8, 3)
     assert not after_probe(_rules(STRICT), light_falls, "jar", HOLDS, 0.3, traction=0.03).carry
+
+
+def test_falls_at_ever_lighter_loads_are_bounded_by_the_carries_made_by_feel() -> None:
+    """A fall felt heavier says nothing at a lighter load, so held-fast carries that each fall a little lighter
+    than the last would each find the record at their load clean. The carries made by feel keep the promise on
+    their own record too (`BudgetCounts.by_feel_record`): with allowance 2, after two falls by feel a third is
+    not risked (3 > 0.15 · 3 + 2)."""
+    counts = BudgetCounts()
+    carried = 0
+    for load in (0.095, 0.09, 0.085, 0.08, 0.075, 0.07, 0.065, 0.06):
+        assert counts.held_fast_record(load) == BudgetCounts(0, 0)  # read at the load: nothing against it
+        v = after_probe(
+            _rules(STRICT), replace(counts, attempts=99, failures=99), "jar", HOLDS, 0.2, traction=load
+        )
+        if not v.by_feel:
+            break
+        carried += 1
+        counts = replace(counts, held_fast=(*counts.held_fast, FeltCarry(load, False, by_feel=True)))
+    assert carried == 2 and counts.by_feel_record() == BudgetCounts(2, 2)
+    # carries κ̂ was sure of count at their load, not in the record of carries by feel
+    sure = BudgetCounts(held_fast=(FeltCarry(0.05, False), FeltCarry(0.05, False), FeltCarry(0.05, False)))
+    assert sure.by_feel_record() == BudgetCounts(0, 0) and sure.held_fast_record(0.06) == BudgetCounts(3, 3)
+
+
+@pytest.mark.parametrize("load", [None, math.nan, math.inf])
+def test_an_unmeasured_load_reads_the_whole_record(load: float | None) -> None:
+    counts = BudgetCounts(held_fast=(FeltCarry(0.06, False), FeltCarry(0.03, True)))
+    assert counts.held_fast_record(load) == BudgetCounts(2, 1)
 
 
 @pytest.mark.parametrize("value", [-1.0, 101.0, math.nan])

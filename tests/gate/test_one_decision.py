@@ -350,13 +350,14 @@ def test_the_tree_and_the_replay_agree_where_kappas_doubt_sets_back_and_credit_c
 
 
 def test_the_tree_and_the_replay_agree_where_a_product_held_fast_carries_on_by_feel() -> None:
-    """The same stream, but every product is held fast (40 N of grip for 2 N: 0.05), so those that fail fall
-    later, at the place: both keep the held-fast record alike, carry on by feel while it has credit, and set back
-    on κ̂'s doubt once it has none. Each allowance of the record (``feel_allowance``) reaches both alike: on this
-    stream the record runs out with 1, not with the default 2."""
+    """The same stream, but every product is held fast, those that succeed at 40 N of grip for 2 N (0.05), those
+    that fail at 25 N (0.08), so those that fail fall later, at the place: both keep the held-fast record alike,
+    read it at each probe's load, carry on by feel while it has credit, and set back on κ̂'s doubt once it has
+    none. Each allowance of the record (``feel_allowance``) reaches both alike: on this stream the record runs out
+    with 1, not with the default 2."""
     for allowance, runs_out in ((1.0, True), (2.0, False)):
         band = replace(FULL_BAND, feel_allowance=allowance)
-        verdicts = _agreeing_verdicts(lambda success: np.full(len(success), 40.0), band)
+        verdicts = _agreeing_verdicts(lambda success: np.where(success, 40.0, 25.0), band)
         assert any(v.by_feel for v in verdicts)
         assert any(v.held_fast and not v.carry for v in verdicts) is runs_out
 
