@@ -7,13 +7,17 @@ import pytest
 
 @pytest.fixture
 def whole_held_fast_record(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The gate as it carried on by feel before 2026-12-07: the held-fast record read whole, whatever load the
-    probe felt (gate.budget.BudgetCounts.held_fast_record without a traction). For tests that compare a replay
-    with results committed before then."""
+    """The gate as it carried on by feel before commit d6da581 (2026-12-07, twenty-first session): the held-fast
+    record read whole, whatever load the probe felt, and no separate record of carries by feel. For tests that
+    compare a replay with results committed before then."""
+    from dataclasses import replace
+
     import scone_bt.gate.after_probe as after_probe
-    from scone_bt.gate.probe import feel_credit
+    from scone_bt.gate.budget import has_credit
 
     def whole(options, budget, counts, traction=None):  # noqa: ANN001, ANN202 - feel_credit's own signature
-        return feel_credit(options, budget, counts)
+        if options is None:
+            return False
+        return has_credit(replace(budget, excess_allowance=options.feel_allowance), counts.held_fast_record())
 
     monkeypatch.setattr(after_probe, "feel_credit", whole)
