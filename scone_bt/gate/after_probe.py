@@ -25,7 +25,9 @@ In order:
    the development streams (docs/results/probe.md). With 2 the record sees a second held-fast carry first.
 5. Below τ it carries on only while the strict rule's credit allows one more failure (gate.budget.has_credit):
    an *explored* attempt (a failure counts as an explored failure).
-6. Else it is set back and the robot asks: "I am not sure I can carry the olive oil: please bring it". κ̂ learns
+6. Else it is set back and the robot asks: "I am not sure I can carry the olive oil: please bring it" (where it
+   held fast, with why it was not carried by feel: "…, as products I felt no heavier have fallen from my fingers",
+   gate.probe.feel_doubt). κ̂ learns
    nothing from that (as from an ask); it learns a failure only from what the hard judge set back.
 
 So with the strict promise on, every attempt whose κ̂ at the final decision was below τ was made on credit: the
@@ -41,7 +43,7 @@ from dataclasses import dataclass
 from functools import partial
 
 from scone_bt.gate.budget import BudgetCounts, has_credit
-from scone_bt.gate.probe import feel_credit, held_fast
+from scone_bt.gate.probe import feel_doubt, held_fast
 from scone_bt.gate.rules import GateRules, threshold_options
 
 __all__ = ["ProbeVerdict", "after_probe"]
@@ -111,8 +113,10 @@ def after_probe(
     budget = rules.budget
     if budget is None or budget.excess_allowance is None or confidence >= tau:
         return verdict(True, held_fast=fast)
-    if fast and feel_credit(rules.probe, budget, counts, traction):
+    doubt = feel_doubt(rules.probe, budget, counts, traction) if fast else ""
+    if doubt is None:
         return verdict(True, held_fast=True, by_feel=True)
     if has_credit(budget, counts):
         return verdict(True, explored=True, held_fast=fast)
-    return verdict(False, f"I am not sure I can carry the {item}", held_fast=fast)
+    why = f", {doubt}" if doubt else ""  # held fast but its record ran out: say which
+    return verdict(False, f"I am not sure I can carry the {item}{why}", held_fast=fast)

@@ -40,6 +40,9 @@ __all__ = [
     "band_below",
     "probe_credit",
     "feel_credit",
+    "feel_doubt",
+    "FELL_NO_HEAVIER",
+    "FELL_BY_FEEL",
     "held_fast",
     "NARROWING_POWER",
 ]
@@ -146,22 +149,42 @@ def probe_credit(options: ProbeOptions | None, budget: BudgetOptions, counts: Bu
     return has_credit(replace(budget, excess_allowance=options.credit), counts)
 
 
-def feel_credit(
+FELL_NO_HEAVIER = "as products I felt no heavier have fallen from my fingers"
+"""Why a product held fast is not carried by feel: the held-fast record at its load has run out (`feel_doubt`)."""
+FELL_BY_FEEL = "as what I carried by feel alone has fallen too often"
+"""Why a product held fast is not carried by feel: the carries by feel have spent their own record (`feel_doubt`)."""
+
+
+def feel_doubt(
     options: ProbeOptions | None, budget: BudgetOptions, counts: BudgetCounts, traction: float | None = None
-) -> bool:
-    """Whether one more carry by feel may fail within its own promise: gate.budget.has_credit, with
-    ``options.feel_allowance``, on the held-fast record read at this load (`BudgetCounts.held_fast_record`: with
-    ``traction``, the load over the grip this probe felt, the carries felt no heavier that fell and no lighter that
-    held) and on the carries made by feel so far (`BudgetCounts.by_feel_record`, which bounds falls at ever
-    lighter loads); False without a probe."""
+) -> str | None:
+    """None where one more carry by feel may fail within its own promise, else why not, in the robot's words.
+
+    The promise: gate.budget.has_credit, with ``options.feel_allowance``, on the held-fast record read at this
+    load (`BudgetCounts.held_fast_record`: with ``traction``, the load over the grip this probe felt, the carries
+    felt no heavier that fell and no lighter that held; else `FELL_NO_HEAVIER`) and on the carries made by feel so
+    far (`BudgetCounts.by_feel_record`, which bounds falls at ever lighter loads; else `FELL_BY_FEEL`). Without a
+    probe there is no feel to carry on: "".
+    """
     from dataclasses import replace
 
     from scone_bt.gate.budget import has_credit
 
     if options is None:
-        return False
+        return ""
     own = replace(budget, excess_allowance=options.feel_allowance)
-    return has_credit(own, counts.held_fast_record(traction)) and has_credit(own, counts.by_feel_record())
+    if not has_credit(own, counts.held_fast_record(traction)):
+        return FELL_NO_HEAVIER
+    if not has_credit(own, counts.by_feel_record()):
+        return FELL_BY_FEEL
+    return None
+
+
+def feel_credit(
+    options: ProbeOptions | None, budget: BudgetOptions, counts: BudgetCounts, traction: float | None = None
+) -> bool:
+    """Whether one more carry by feel may fail within its own promise (`feel_doubt` finds nothing against it)."""
+    return feel_doubt(options, budget, counts, traction) is None
 
 
 def held_fast(options: ProbeOptions | None, traction: float | None) -> bool:

@@ -15,9 +15,10 @@ def whole_held_fast_record(monkeypatch: pytest.MonkeyPatch) -> None:
     import scone_bt.gate.after_probe as after_probe
     from scone_bt.gate.budget import has_credit
 
-    def whole(options, budget, counts, traction=None):  # noqa: ANN001, ANN202 - feel_credit's own signature
+    def whole(options, budget, counts, traction=None):  # noqa: ANN001, ANN202 - feel_doubt's own signature
         if options is None:
-            return False
-        return has_credit(replace(budget, excess_allowance=options.feel_allowance), counts.held_fast_record())
+            return ""
+        own = replace(budget, excess_allowance=options.feel_allowance)
+        return None if has_credit(own, counts.held_fast_record()) else "the record ran out"
 
-    monkeypatch.setattr(after_probe, "feel_credit", whole)
+    monkeypatch.setattr(after_probe, "feel_doubt", whole)

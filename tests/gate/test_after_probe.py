@@ -11,7 +11,7 @@ import pytest
 from scone_bt.errors import SconeError
 from scone_bt.gate.after_probe import ProbeVerdict, after_probe
 from scone_bt.gate.budget import BudgetCounts, BudgetOptions, FeltCarry
-from scone_bt.gate.probe import ProbeOptions, in_band, probe_credit
+from scone_bt.gate.probe import FELL_BY_FEEL, FELL_NO_HEAVIER, ProbeOptions, in_band, probe_credit
 from scone_bt.gate.rules import GateRules
 
 ALPHA = 0.15
@@ -84,7 +84,11 @@ def test_held_fast_carries_on_by_feel_while_its_own_record_keeps_the_promise() -
     # its own record: two held-fast carries that failed leave no credit (3 > 0.15 · 3 + 2) ...
     failed = BudgetCounts(attempts=2, failures=2, held_fast=(FeltCarry(0.04, False), FeltCarry(0.03, False)))
     v = after_probe(_rules(STRICT), failed, "jar", HOLDS, 0.3, traction=0.05)
-    assert (v.carry, v.held_fast, v.reason) == (False, True, "I am not sure I can carry the jar")
+    assert (v.carry, v.held_fast) == (False, True)
+    assert (
+        v.reason
+        == "I am not sure I can carry the jar, as products I felt no heavier have fallen from my fingers"
+    )
     # ... until successes earn it back, whatever the budget's own credit
     earned = BudgetCounts(
         attempts=9, failures=3, held_fast=(FeltCarry(0.04, False), *[FeltCarry(0.06, True)] * 7)
@@ -108,7 +112,7 @@ def test_a_first_held_fast_carry_that_failed_does_not_end_carrying_by_feel() -> 
     assert (v.carry, v.by_feel, v.confident, v.explored) == (True, True, True, False)
     one = GateRules(budget=STRICT, exploration=STRICT, probe=ProbeOptions(feel_allowance=1.0))
     v = after_probe(one, first_failed, "jar", HOLDS, 0.25, traction=0.05)
-    assert (v.carry, v.reason) == (False, "I am not sure I can carry the jar")
+    assert (v.carry, v.reason) == (False, f"I am not sure I can carry the jar, {FELL_NO_HEAVIER}")
 
 
 def test_the_held_fast_record_is_read_at_the_load_the_probe_felt() -> None:
@@ -126,7 +130,10 @@ def test_the_held_fast_record_is_read_at_the_load_the_probe_felt() -> None:
     jar = after_probe(_rules(STRICT), slippery, "jar", HOLDS, 0.3, traction=0.03)
     assert (jar.carry, jar.by_feel) == (True, True)
     bottle = after_probe(_rules(STRICT), slippery, "bottle", HOLDS, 0.3, traction=0.06)
-    assert (bottle.carry, bottle.reason) == (False, "I am not sure I can carry the bottle")
+    assert (bottle.carry, bottle.reason) == (
+        False,
+        f"I am not sure I can carry the bottle, {FELL_NO_HEAVIER}",
+    )
     # a fall at a lighter load counts against a heavier product: three light falls end it for what is heavier
     light_falls = BudgetCounts(
         attempts=8, failures=3, held_fast=(*[FeltCarry(0.02, False)] * 3, *carries[3:])
@@ -152,6 +159,9 @@ def test_falls_at_ever_lighter_loads_are_bounded_by_the_carries_made_by_feel() -
         carried += 1
         counts = replace(counts, held_fast=(*counts.held_fast, FeltCarry(load, False, by_feel=True)))
     assert carried == 2 and counts.by_feel_record() == BudgetCounts(2, 2)
+    assert (
+        v.reason == f"I am not sure I can carry the jar, {FELL_BY_FEEL}"
+    )  # the third: the carries by feel's own
     # carries κ̂ was sure of count at their load, not in the record of carries by feel
     sure = BudgetCounts(held_fast=(FeltCarry(0.05, False), FeltCarry(0.05, False), FeltCarry(0.05, False)))
     assert sure.by_feel_record() == BudgetCounts(0, 0) and sure.held_fast_record(0.06) == BudgetCounts(3, 3)
