@@ -505,17 +505,6 @@ _COUNTERS: Mapping[type[Event], str] = MappingProxyType(
 )
 
 
-def _felt_carry(event: ActOutcome) -> FeltCarry | None:
-    """The outcome as the held-fast record keeps it (None: not held fast, or a success whose load is unknown)."""
-    if not event.held_fast:
-        return None
-    if event.traction is None or not math.isfinite(event.traction):
-        return (
-            None if event.success else FeltCarry(0.0, False, event.by_feel)
-        )  # a fall counts against every load
-    return FeltCarry(float(event.traction), event.success, event.by_feel)
-
-
 def fold(stats: EpisodeStats, event: Event) -> EpisodeStats:
     """The stats after one more event (pure)."""
     if isinstance(event, DecisionMade):
@@ -524,7 +513,7 @@ def fold(stats: EpisodeStats, event: Event) -> EpisodeStats:
     if isinstance(event, ActOutcome):
         if stats.exploring or event.explored:
             stats = replace(stats, explored_failures=stats.explored_failures + (not event.success))
-        carry = _felt_carry(event)
+        carry = FeltCarry.of(event.held_fast, event.traction, event.success, event.by_feel)
         if carry is not None:
             stats = replace(stats, held_fast=(*stats.held_fast, carry))
         if event.success:

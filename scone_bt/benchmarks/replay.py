@@ -19,7 +19,7 @@ import numpy as np
 from scone_bt.experience.types import CONTEXT_FIELDS, ExecutionContext
 
 if TYPE_CHECKING:
-    from scone_bt.gate.budget import BudgetCounts, BudgetOptions, FeltCarry
+    from scone_bt.gate.budget import BudgetCounts, BudgetOptions
     from scone_bt.gate.probe import ProbeOptions
     from scone_bt.gate.rules import GateInput, GateResult, GateRules
     from scone_bt.gate.types import Decision
@@ -493,9 +493,10 @@ def _attempted(
 ) -> None:
     """Attempt ``t`` happened: tally it, κ̂ learns its outcome (an attempt is the only labelled kind), and the
     budget's counts move on."""
-    from scone_bt.gate.budget import BudgetCounts
+    from scone_bt.gate.budget import BudgetCounts, FeltCarry
 
     est, counts, ok = replay.estimator, walk.counts, act.ok
+    carry = FeltCarry.of(act.held_fast, act.traction, ok, act.by_feel)
     out.all_attempts += 1
     out.all_failures += not ok
     out.confident_failures += act.confident and not ok
@@ -515,18 +516,9 @@ def _attempted(
         failures=counts.failures + (not ok),
         explored_failures=counts.explored_failures + (act.explored and not ok),
         learnt=est.n_observations,
-        held_fast=counts.held_fast + _felt_carry(act),
+        held_fast=(*counts.held_fast, carry) if carry is not None else counts.held_fast,
     )
     out.max_excess = max(out.max_excess, walk.counts.failures - alpha * walk.counts.attempts)
-
-
-def _felt_carry(act: _Act) -> tuple[FeltCarry, ...]:
-    """The attempt as the held-fast record keeps it: () unless its probe felt the product held fast."""
-    from scone_bt.gate.budget import FeltCarry
-
-    if not act.held_fast or act.traction is None:
-        return ()
-    return (FeltCarry(act.traction, act.ok, act.by_feel),)
 
 
 def _tally_help(out: StreamResult, cause: str, ok: bool, wide: bool) -> None:

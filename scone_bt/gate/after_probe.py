@@ -20,15 +20,16 @@ In order:
    while lighter products that arrived keep it for what is felt as light. The carries made by feel keep the same
    promise on their own (`BudgetCounts.by_feel_record`): a fall felt heavier says nothing at a lighter load, so
    without it falls at ever lighter loads would each find a clean record. Why 2 and not the budget's 1: a cold
-   robot whose first carry held fast and failed anyway (a bag of seeds set down on its side) has spent the budget's credit and this record's at once, and κ̂,
-   having seen only failures, is never sure again: the robot asked for everything after, 4 of 110 cold starts of
-   the development streams (docs/results/probe.md). With 2 the record sees a second held-fast carry first.
+   robot whose first carry held fast and failed anyway (a bag of seeds set down on its side) has spent the
+   budget's credit and this record's at once, and κ̂, having seen only failures, is never sure again: the robot
+   asked for everything after, 4 of 110 cold starts of the development streams (docs/results/probe.md). With 2
+   the record sees a second held-fast carry first.
 5. Below τ it carries on only while the strict rule's credit allows one more failure (gate.budget.has_credit):
    an *explored* attempt (a failure counts as an explored failure).
 6. Else it is set back and the robot asks: "I am not sure I can carry the olive oil: please bring it" (where it
    held fast, with why it was not carried by feel: "…, as products I felt no heavier have fallen from my fingers",
-   gate.probe.feel_doubt). κ̂ learns
-   nothing from that (as from an ask); it learns a failure only from what the hard judge set back.
+   gate.probe.feel_doubt). κ̂ learns nothing from that (as from an ask); it learns a failure only from what the
+   hard judge set back.
 
 So with the strict promise on, every attempt whose κ̂ at the final decision was below τ was made on credit: the
 budget's (explored) or the held-fast record's (by feel). Failures beyond α · attempts + 1 come from confident

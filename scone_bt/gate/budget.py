@@ -18,8 +18,8 @@ docs/results/gate.md). The start was 1 − 3α until the arm slid and pinched fl
 robot spent about half its budget (0.078 of its attempts failed at α = 0.15). On the development streams recorded
 with the skill (tools/data/sc_slide) 1 − 5α spends more of it and asks less: 0.311 of the decisions against 0.326
 (the held-fast record then read whole; with the heft test's band at τ + 0.45, which the lower start needs to keep
-feeling a weakened gripper;
-tools/budget_start_sweep.py, docs/results/probe.md). The price is that wider bound on excess failures.
+feeling a weakened gripper; tools/budget_start_sweep.py, docs/results/probe.md). The price is that wider bound on
+excess failures.
 
 Exploration (the paper's ε-greedy, made principled): while κ̂ has learnt from fewer than ``explore_until``
 outcomes and fewer than ``explore_failures`` exploratory attempts failed, an action below τ is tried with
@@ -46,6 +46,7 @@ them from its events, the replay from its stream).
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 from scone_bt.config.tree_parameters import TREE_DEFAULTS
@@ -129,6 +130,18 @@ class FeltCarry:
     success: bool
     by_feel: bool = False
 
+    @classmethod
+    def of(
+        cls, held_fast: bool, traction: float | None, success: bool, by_feel: bool = False
+    ) -> FeltCarry | None:
+        """An attempt as the held-fast record keeps it: None unless its probe felt the product held fast. A load
+        not measured (an older log's outcome) keeps a fall at load 0, against every load, and drops a success."""
+        if not held_fast:
+            return None
+        if traction is None or not math.isfinite(traction):
+            return None if success else cls(0.0, False, by_feel)
+        return cls(float(traction), success, by_feel)
+
 
 @dataclass(frozen=True)
 class BudgetCounts:
@@ -155,26 +168,31 @@ class BudgetCounts:
 
         With ``traction`` (the load over the grip the next carry's probe felt; None or not finite: the whole
         record), only the carries that say something about a product felt that heavy: those that failed although
-        felt no heavier, and those that held although felt no lighter. Slipping in the carry grows with the load the fingers hold (the carry's
-        accelerations add to it in proportion), so a fall at a lighter load counts against this one and a success
-        at a heavier load for it; a success at a lighter load or a fall at a heavier one says nothing. On
-        slippery fingers a 0.3 kg bottle held fast in the probe and fell in the carry while 0.15 kg jars arrived:
-        the whole record ran out for both, this one does not for the jars (docs/results/probe.md).
+        felt no heavier, and those that held although felt no lighter. Slipping in the carry grows with the load
+        the fingers hold (the carry's accelerations add to it in proportion), so a fall at a lighter load counts
+        against this one and a success at a heavier load for it; a success at a lighter load or a fall at a
+        heavier one says nothing. On slippery fingers a 0.3 kg bottle held fast in the probe and fell in the carry
+        while 0.15 kg jars arrived: the whole record ran out for both, this one does not for the jars
+        (docs/results/probe.md).
         """
-        carries = self.held_fast
-        if traction is not None and math.isfinite(traction):
-            carries = tuple(
-                c
-                for c in carries
-                if (c.traction <= traction and not c.success) or (c.traction >= traction and c.success)
-            )
-        return BudgetCounts(len(carries), sum(not c.success for c in carries))
+        if traction is None or not math.isfinite(traction):
+            return _record(self.held_fast)
+        return _record(
+            c
+            for c in self.held_fast
+            if (c.traction <= traction and not c.success) or (c.traction >= traction and c.success)
+        )
 
     def by_feel_record(self) -> BudgetCounts:
         """The carries made by feel alone, as counts of their own: the record read at a load never counts a fall
         felt heavier, so falls at ever lighter loads would each find it clean; this one bounds them all."""
-        carries = tuple(c for c in self.held_fast if c.by_feel)
-        return BudgetCounts(len(carries), sum(not c.success for c in carries))
+        return _record(c for c in self.held_fast if c.by_feel)
+
+
+def _record(carries: Iterable[FeltCarry]) -> BudgetCounts:
+    """Carries as counts of their own: (attempts, failures)."""
+    kept = tuple(carries)
+    return BudgetCounts(len(kept), sum(not c.success for c in kept))
 
 
 def initial_threshold(options: BudgetOptions) -> float:

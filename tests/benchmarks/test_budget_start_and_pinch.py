@@ -10,9 +10,8 @@ from scone_bt.gate.budget import BudgetOptions, initial_threshold
 
 
 def test_the_threshold_starts_at_one_less_k_alpha():
-    assert initial_threshold(BudgetOptions(target_failure_rate=0.15)) == pytest.approx(
-        0.25
-    )  # shipped: 1 − 5α
+    shipped = BudgetOptions(target_failure_rate=0.15)  # 1 − 5α
+    assert initial_threshold(shipped) == pytest.approx(0.25)
     assert initial_threshold(BudgetOptions(target_failure_rate=0.15, start_margin=3.0)) == pytest.approx(0.55)
     # clipped to τ_min
     assert initial_threshold(BudgetOptions(target_failure_rate=0.2, start_margin=6.0)) == pytest.approx(0.2)
